@@ -1,0 +1,101 @@
+/*
+ * flat.h — the flat scene: plain arrays of fixed-width scalars, no pointers.
+ *
+ * This is what crosses every boundary: it is broadcast to the MPI workers
+ * as bytes and uploaded to the OpenCL device as buffers.  The same struct
+ * definitions compile as C11 and OpenCL C (see portable.h): every field is a
+ * csg_i32, csg_u32 or `real`, integers first, so there is no padding and the
+ * layout is identical on both sides (tests/test_layout checks it on PoCL).
+ *
+ * The CSG tree of a scene becomes a list of roots.  Each root is a small
+ * program in reverse Polish notation over the node array: OP_PRIM pushes the
+ * interval list of one primitive, OP_UNION / OP_INTERSECT pop two and push
+ * their combination.  Differences and `inverse` were pushed down to the
+ * leaves by the flattener (A - B = A ∩ ¬B, De Morgan), so a primitive may be
+ * complemented (CSG_PF_INVERT) but no other operator exists.
+ */
+#ifndef CSG_FLAT_H
+#define CSG_FLAT_H
+
+#include "portable.h"
+
+enum csg_prim_kind {
+    CSG_PRIM_SPHERE = 0, /* p[0..2] centre, p[3] radius                   */
+    CSG_PRIM_BOX = 1,    /* p[0..2] min corner, p[3..5] max corner         */
+    CSG_PRIM_CONE = 2,   /* local frame: axis +z from z=0 to z=p[2];
+                            p[0] radius at z=0, p[1] radius at z=p[2];
+                            a cylinder is a cone with p[0] == p[1]        */
+    CSG_PRIM_PLANE = 3   /* p[0..2] unit normal, p[3] distance: inside is
+                            dot(n, x) < d                                  */
+};
+
+enum csg_prim_flags {
+    CSG_PF_XFORM = 1,     /* inv[] maps world to local coordinates           */
+    CSG_PF_OPEN = 2,      /* cone/cylinder without caps: caps are invisible  */
+    CSG_PF_INVERT = 4,    /* the leaf is complemented (inverse, difference)  */
+    CSG_PF_NO_SHADOW = 8  /* casts no shadow                                 */
+};
+
+/* Surface sub-indices, per kind. */
+enum csg_surface {
+    CSG_SURF_SPHERE = 0,
+    CSG_SURF_BOX_NEG_X = 0, /* box faces: 2*axis + (1 if the + face)         */
+    CSG_SURF_CONE_SIDE = 0,
+    CSG_SURF_CONE_BASE = 1, /* the z = 0 cap                                 */
+    CSG_SURF_CONE_TOP = 2,  /* the z = h cap                                 */
+    CSG_SURF_PLANE = 0
+};
+
+typedef struct {
+    csg_i32 kind;     /* enum csg_prim_kind                               */
+    csg_i32 flags;    /* enum csg_prim_flags                              */
+    csg_i32 material; /* index into the material table (host side only)   */
+    csg_i32 root;     /* the root (top-level object) this primitive is in */
+    real p[8];        /* shape parameters, see enum csg_prim_kind         */
+    real inv[12];     /* world -> local, row-major 3x4: l = M[:, 0:3] w + M[:, 3] */
+} csg_prim;
+
+enum csg_op { CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2 };
+
+typedef struct {
+    csg_i32 op;   /* enum csg_op                                 */
+    csg_i32 prim; /* primitive index, for CSG_OP_PRIM; else -1   */
+} csg_node;
+
+typedef struct {
+    csg_i32 first_node; /* its program: nodes[first_node .. +node_count) */
+    csg_i32 node_count;
+    csg_i32 stack_depth; /* span lists its program needs at once       */
+    csg_i32 pad;
+    real lo[3];          /* world bounding box; +-inf when unbounded      */
+    real hi[3];
+} csg_root;
+
+/* The camera after POV-Ray's camera statement was applied (see
+ * csg/camera.c): the primary ray of pixel (x, y) of a W x H image is
+ * direction + x0 * right + y0 * up, normalised, from location. */
+typedef struct {
+    real location[3];
+    real direction[3];
+    real right[3];
+    real up[3];
+} csg_camera;
+
+/* A packed surface id: 0 means "no visible surface" (a clipping boundary or
+ * the cap of an open cylinder); otherwise
+ *   ((primitive + 1) << 4) | (sub-surface << 1) | flip
+ * where flip says the outward normal of the solid is the primitive's normal
+ * reversed (the surface bounds a complemented primitive). */
+#define CSG_SURF_NONE 0u
+#define CSG_SURF_PACK(prim, sub, flip) \
+    ((((csg_u32)(prim) + 1u) << 4) | ((csg_u32)(sub) << 1) | (csg_u32)(flip))
+#define CSG_SURF_PRIM(s) ((csg_i32)((s) >> 4) - 1)
+#define CSG_SURF_SUB(s) ((csg_i32)(((s) >> 1) & 7u))
+#define CSG_SURF_FLIP(s) ((s) & 1u)
+#define CSG_MAX_PRIMS ((1 << 27) - 1)
+
+/* Limits of the CSG evaluator; the flattener rejects scenes beyond them. */
+#define CSG_MAX_SPANS 16 /* intervals in one list along one ray   */
+#define CSG_STACK_MAX 8  /* interval lists alive at once          */
+
+#endif

@@ -1,0 +1,565 @@
+/*
+ * intersect.h — ray/primitive intervals, CSG interval combination and the
+ * nearest hit over a flat scene.  Shared by C (workers, tests) and OpenCL C
+ * (the primary pass): one source, the same arithmetic in the same order.
+ *
+ * Algorithm.  Every primitive is a convex solid (a plane is a half-space),
+ * so a ray line meets it in at most one interval [t0, t1]; a complemented
+ * primitive gives at most two.  The leaf interval is clipped to the query
+ * range [tmin, tmax]; a clipped end gets the surface id CSG_SURF_NONE and is
+ * never reported as a hit.  A root's program (flat.h) then combines the
+ * leaf lists with union and intersection, pointwise set operations on
+ * sorted disjoint interval lists.  The hit is the first visible boundary
+ * strictly after tmin.  Restricting every leaf to [tmin, tmax] first is
+ * exact: set operations are pointwise, so the combined set on that range
+ * depends only on the leaves on that range.
+ *
+ * Invariants.  Lists are sorted, disjoint and hold no empty interval
+ * (t0 < t1 strictly), so the difference of two identical solids leaves
+ * nothing behind (no speckles on coincident surfaces): the two computations
+ * give the same bits.  Touching intervals merge in a union: merge's inner
+ * surfaces vanish.  A list that would exceed CSG_MAX_SPANS keeps its nearest
+ * intervals and records in `limit` where knowledge ends; hits beyond the
+ * limit are not reported (the flattener warns when a scene can reach it).
+ *
+ * Nothing here recurses or uses function pointers (OpenCL forbids both).
+ */
+#ifndef CSG_INTERSECT_H
+#define CSG_INTERSECT_H
+
+#include "flat.h"
+#include "vec.h"
+
+typedef struct {
+    vec3 o; /* origin    */
+    vec3 d; /* direction (unit length for camera and secondary rays) */
+} csg_ray;
+
+typedef struct {
+    csg_i32 n;                  /* intervals in use                      */
+    real limit;                 /* nothing is known at or beyond this t  */
+    real t0[CSG_MAX_SPANS];     /* entry parameter                       */
+    real t1[CSG_MAX_SPANS];     /* exit parameter                        */
+    csg_u32 s0[CSG_MAX_SPANS];  /* surface at entry (CSG_SURF_NONE: none) */
+    csg_u32 s1[CSG_MAX_SPANS];  /* surface at exit                       */
+} csg_spans;
+
+/* Pointers to the arrays of a flat scene, in either address space. */
+typedef struct {
+    CSG_GLOBAL const csg_prim *prims;
+    CSG_GLOBAL const csg_node *nodes;
+    CSG_GLOBAL const csg_root *roots;
+    csg_i32 root_count;
+} csg_view;
+
+typedef struct {
+    real t;      /* ray parameter of the hit                  */
+    csg_u32 surf; /* packed surface id, CSG_SURF_NONE: no hit */
+} csg_hit;
+
+/* ---- affine transforms ------------------------------------------------ */
+
+CSG_FN vec3 csg_xform_point(CSG_GLOBAL const real *m, vec3 p)
+{
+    return v3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+              m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+              m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+CSG_FN vec3 csg_xform_vector(CSG_GLOBAL const real *m, vec3 v)
+{
+    return v3(m[0] * v.x + m[1] * v.y + m[2] * v.z,
+              m[4] * v.x + m[5] * v.y + m[6] * v.z,
+              m[8] * v.x + m[9] * v.y + m[10] * v.z);
+}
+
+/* Normals transform with the transpose of the world->local matrix. */
+CSG_FN vec3 csg_xform_normal(CSG_GLOBAL const real *m, vec3 n)
+{
+    return v3(m[0] * n.x + m[4] * n.y + m[8] * n.z,
+              m[1] * n.x + m[5] * n.y + m[9] * n.z,
+              m[2] * n.x + m[6] * n.y + m[10] * n.z);
+}
+
+CSG_FN csg_ray csg_ray_to_local(CSG_GLOBAL const csg_prim *p, csg_ray r)
+{
+    if (p->flags & CSG_PF_XFORM) {
+        csg_ray l;
+        l.o = csg_xform_point(p->inv, r.o);
+        l.d = csg_xform_vector(p->inv, r.d);
+        return l;
+    }
+    return r;
+}
+
+/* ---- one primitive: the interval of the whole ray line ------------------
+ * Each returns 1 and sets [*t0, *t1] with the sub-surfaces of both ends
+ * when the line meets the solid; ends may be -inf / +inf (sub = -1 there). */
+
+/* Ray/sphere after Haines et al., "Precision Improvements for Ray/Sphere
+ * Intersection" (Ray Tracing Gems, ch. 7): the discriminant comes from the
+ * distance of the centre to the line, and the far root from c / q, so
+ * neither cancels catastrophically for small spheres far away. */
+CSG_FN int csg_sphere_span(CSG_GLOBAL const real *p, csg_ray r,
+                           real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    vec3 f = v3_sub(r.o, v3_load(p));
+    real radius = p[3];
+    real a = v3_dot(r.d, r.d);
+    real b = v3_dot(f, r.d);
+    if (!(a > R(0.0)))
+        return 0;
+    vec3 l = v3_sub(f, v3_scale(r.d, b / a));
+    real h = radius * radius - v3_dot(l, l);
+    if (h < R(0.0))
+        return 0;
+    real root = r_sqrt(a * h);
+    real q = b >= R(0.0) ? -(b + root) : -(b - root);
+    real c = v3_dot(f, f) - radius * radius;
+    real ta = q / a;
+    real tb = q != R(0.0) ? c / q : ta;
+    *t0 = r_fmin(ta, tb);
+    *t1 = r_fmax(ta, tb);
+    *s0 = CSG_SURF_SPHERE;
+    *s1 = CSG_SURF_SPHERE;
+    return 1;
+}
+
+/* Narrow [*lo, *hi] by the slab lo_b <= o + t d <= hi_b of one axis. */
+CSG_FN int csg_slab(real o, real d, real lo_b, real hi_b, csg_i32 axis,
+                    real *lo, real *hi, csg_i32 *s_lo, csg_i32 *s_hi)
+{
+    if (d == R(0.0))
+        return o >= lo_b && o <= hi_b;
+    real ta = (lo_b - o) / d;
+    real tb = (hi_b - o) / d;
+    csg_i32 fa = 2 * axis, fb = 2 * axis + 1;
+    if (ta > tb) {
+        real tt = ta;
+        ta = tb;
+        tb = tt;
+        fa = 2 * axis + 1;
+        fb = 2 * axis;
+    }
+    if (ta > *lo) {
+        *lo = ta;
+        *s_lo = fa;
+    }
+    if (tb < *hi) {
+        *hi = tb;
+        *s_hi = fb;
+    }
+    return *lo <= *hi;
+}
+
+CSG_FN int csg_box_span(CSG_GLOBAL const real *p, csg_ray r,
+                        real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    *t0 = -CSG_R_INF;
+    *t1 = CSG_R_INF;
+    *s0 = -1;
+    *s1 = -1;
+    return csg_slab(r.o.x, r.d.x, p[0], p[3], 0, t0, t1, s0, s1) &&
+           csg_slab(r.o.y, r.d.y, p[1], p[4], 1, t0, t1, s0, s1) &&
+           csg_slab(r.o.z, r.d.z, p[2], p[5], 2, t0, t1, s0, s1) &&
+           *t0 < *t1;
+}
+
+/* Truncated cone (or cylinder) along local z in [0, h], radius
+ * r(z) = r0 + k z.  The solid is the slab 0 <= z <= h intersected with
+ * x^2 + y^2 <= r(z)^2, which inside the slab is the one nappe we want.
+ * The quadratic's set on the line is one interval (A > 0), the line minus
+ * one interval (A < 0) or a half-line (A == 0); clipped by the slab the
+ * result is a single interval because the frustum is convex. */
+CSG_FN int csg_cone_span(CSG_GLOBAL const real *p, csg_ray r,
+                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    real r0 = p[0], h = p[2];
+    real k = (p[1] - p[0]) / h;
+    real lo = -CSG_R_INF, hi = CSG_R_INF;
+    csg_i32 slo = -1, shi = -1;
+    if (r.d.z == R(0.0)) {
+        if (!(r.o.z >= R(0.0) && r.o.z <= h))
+            return 0;
+    } else {
+        real ta = (R(0.0) - r.o.z) / r.d.z;
+        real tb = (h - r.o.z) / r.d.z;
+        lo = r_fmin(ta, tb);
+        hi = r_fmax(ta, tb);
+        slo = ta < tb ? CSG_SURF_CONE_BASE : CSG_SURF_CONE_TOP;
+        shi = ta < tb ? CSG_SURF_CONE_TOP : CSG_SURF_CONE_BASE;
+    }
+    real rz = r0 + k * r.o.z; /* radius at the origin's height */
+    real a = r.d.x * r.d.x + r.d.y * r.d.y - k * k * r.d.z * r.d.z;
+    real b = r.o.x * r.d.x + r.o.y * r.d.y - k * rz * r.d.z;
+    real c = r.o.x * r.o.x + r.o.y * r.o.y - rz * rz;
+    /* inside the quadratic: a t^2 + 2 b t + c <= 0 */
+    real qa = -CSG_R_INF, qb = CSG_R_INF; /* the part meeting the slab */
+    csg_i32 sa = -1, sb = -1;
+    if (a == R(0.0)) {
+        if (b == R(0.0)) {
+            if (c > R(0.0))
+                return 0;
+        } else if (b > R(0.0)) {
+            qb = -c / (R(2.0) * b);
+            sb = CSG_SURF_CONE_SIDE;
+        } else {
+            qa = -c / (R(2.0) * b);
+            sa = CSG_SURF_CONE_SIDE;
+        }
+    } else {
+        real disc = b * b - a * c;
+        if (disc < R(0.0)) {
+            if (a > R(0.0))
+                return 0;
+            /* a < 0 and no root: the whole line is inside */
+        } else {
+            real root = r_sqrt(disc);
+            real q = b >= R(0.0) ? -(b + root) : -(b - root);
+            real ra = q / a;
+            real rb = q != R(0.0) ? c / q : ra;
+            real u0 = r_fmin(ra, rb), u1 = r_fmax(ra, rb);
+            if (a > R(0.0)) {
+                qa = u0;
+                qb = u1;
+                sa = CSG_SURF_CONE_SIDE;
+                sb = CSG_SURF_CONE_SIDE;
+            } else {
+                /* (-inf, u0] or [u1, inf): keep the piece inside the slab */
+                real len0 = r_fmin(u0, hi) - lo;
+                real len1 = hi - r_fmax(u1, lo);
+                if (len0 >= len1) {
+                    qb = u0;
+                    sb = CSG_SURF_CONE_SIDE;
+                } else {
+                    qa = u1;
+                    sa = CSG_SURF_CONE_SIDE;
+                }
+            }
+        }
+    }
+    if (qa > lo) {
+        lo = qa;
+        slo = sa;
+    }
+    if (qb < hi) {
+        hi = qb;
+        shi = sb;
+    }
+    *t0 = lo;
+    *t1 = hi;
+    *s0 = slo;
+    *s1 = shi;
+    return lo < hi;
+}
+
+CSG_FN int csg_plane_span(CSG_GLOBAL const real *p, csg_ray r,
+                          real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    vec3 n = v3_load(p);
+    real dn = v3_dot(n, r.d);
+    real side = p[3] - v3_dot(n, r.o); /* > 0: origin inside */
+    *t0 = -CSG_R_INF;
+    *t1 = CSG_R_INF;
+    *s0 = -1;
+    *s1 = -1;
+    if (dn == R(0.0))
+        return side > R(0.0);
+    real t = side / dn;
+    if (dn > R(0.0)) {
+        *t1 = t;
+        *s1 = CSG_SURF_PLANE;
+    } else {
+        *t0 = t;
+        *s0 = CSG_SURF_PLANE;
+    }
+    return 1;
+}
+
+CSG_FN int csg_prim_span(CSG_GLOBAL const csg_prim *p, csg_ray world,
+                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    csg_ray r = csg_ray_to_local(p, world);
+    switch (p->kind) {
+    case CSG_PRIM_SPHERE:
+        return csg_sphere_span(p->p, r, t0, t1, s0, s1);
+    case CSG_PRIM_BOX:
+        return csg_box_span(p->p, r, t0, t1, s0, s1);
+    case CSG_PRIM_CONE:
+        return csg_cone_span(p->p, r, t0, t1, s0, s1);
+    case CSG_PRIM_PLANE:
+        return csg_plane_span(p->p, r, t0, t1, s0, s1);
+    default:
+        return 0;
+    }
+}
+
+/* ---- interval lists ------------------------------------------------------ */
+
+CSG_FN void csg_spans_clear(csg_spans *l, real limit)
+{
+    l->n = 0;
+    l->limit = limit;
+}
+
+/* Append [t0, t1] (already sorted after the last one); empty intervals are
+ * dropped, a touching one is merged, and a full list moves `limit` in. */
+CSG_FN void csg_spans_push(csg_spans *l, real t0, csg_u32 s0, real t1, csg_u32 s1)
+{
+    if (t1 > l->limit) {
+        t1 = l->limit;
+        s1 = CSG_SURF_NONE;
+    }
+    if (!(t0 < t1))
+        return;
+    if (l->n > 0 && t0 <= l->t1[l->n - 1]) {
+        if (t1 > l->t1[l->n - 1]) {
+            l->t1[l->n - 1] = t1;
+            l->s1[l->n - 1] = s1;
+        }
+        return;
+    }
+    if (l->n == CSG_MAX_SPANS) {
+        l->limit = t0;
+        return;
+    }
+    l->t0[l->n] = t0;
+    l->t1[l->n] = t1;
+    l->s0[l->n] = s0;
+    l->s1[l->n] = s1;
+    l->n++;
+}
+
+CSG_FN csg_u32 csg_surf_of(csg_i32 prim, csg_i32 sub, csg_u32 flip, csg_i32 flags)
+{
+    if (sub < 0)
+        return CSG_SURF_NONE;
+    if ((flags & CSG_PF_OPEN) && sub != CSG_SURF_CONE_SIDE)
+        return CSG_SURF_NONE;
+    return CSG_SURF_PACK(prim, sub, flip);
+}
+
+/* The interval list of one primitive on [tmin, tmax]. */
+CSG_FN void csg_leaf_spans(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray r,
+                           real tmin, real tmax, csg_spans *out)
+{
+    CSG_GLOBAL const csg_prim *p = &prims[i];
+    real t0, t1;
+    csg_i32 s0, s1;
+    csg_spans_clear(out, tmax);
+    int hit = csg_prim_span(p, r, &t0, &t1, &s0, &s1);
+    if (!(p->flags & CSG_PF_INVERT)) {
+        if (!hit)
+            return;
+        csg_u32 e0 = t0 < tmin ? CSG_SURF_NONE : csg_surf_of(i, s0, 0u, p->flags);
+        csg_u32 e1 = csg_surf_of(i, s1, 0u, p->flags);
+        csg_spans_push(out, r_fmax(t0, tmin), e0, t1, e1);
+        return;
+    }
+    /* complement: the line minus [t0, t1], normals reversed */
+    if (!hit) {
+        csg_spans_push(out, tmin, CSG_SURF_NONE, tmax, CSG_SURF_NONE);
+        return;
+    }
+    csg_spans_push(out, tmin, CSG_SURF_NONE, t0, csg_surf_of(i, s0, 1u, p->flags));
+    csg_u32 e1 = t1 < tmin ? CSG_SURF_NONE : csg_surf_of(i, s1, 1u, p->flags);
+    csg_spans_push(out, r_fmax(t1, tmin), e1, tmax, CSG_SURF_NONE);
+}
+
+/* out = a ∪ b (out may not alias a or b). */
+CSG_FN void csg_spans_union(const csg_spans *a, const csg_spans *b, csg_spans *out)
+{
+    csg_i32 i = 0, j = 0;
+    csg_spans_clear(out, r_fmin(a->limit, b->limit));
+    while (i < a->n || j < b->n) {
+        int take_a = j >= b->n || (i < a->n && a->t0[i] <= b->t0[j]);
+        if (take_a) {
+            csg_spans_push(out, a->t0[i], a->s0[i], a->t1[i], a->s1[i]);
+            i++;
+        } else {
+            csg_spans_push(out, b->t0[j], b->s0[j], b->t1[j], b->s1[j]);
+            j++;
+        }
+    }
+}
+
+/* out = a ∩ b (out may not alias a or b). */
+CSG_FN void csg_spans_intersect(const csg_spans *a, const csg_spans *b, csg_spans *out)
+{
+    csg_i32 i = 0, j = 0;
+    csg_spans_clear(out, r_fmin(a->limit, b->limit));
+    while (i < a->n && j < b->n) {
+        real t0 = a->t0[i];
+        csg_u32 s0 = a->s0[i];
+        if (b->t0[j] > t0) {
+            t0 = b->t0[j];
+            s0 = b->s0[j];
+        }
+        real t1 = a->t1[i];
+        csg_u32 s1 = a->s1[i];
+        if (b->t1[j] < t1) {
+            t1 = b->t1[j];
+            s1 = b->s1[j];
+        }
+        csg_spans_push(out, t0, s0, t1, s1);
+        if (a->t1[i] < b->t1[j])
+            i++;
+        else
+            j++;
+    }
+}
+
+CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
+{
+    dst->n = src->n;
+    dst->limit = src->limit;
+    for (csg_i32 k = 0; k < src->n; k++) {
+        dst->t0[k] = src->t0[k];
+        dst->t1[k] = src->t1[k];
+        dst->s0[k] = src->s0[k];
+        dst->s1[k] = src->s1[k];
+    }
+}
+
+/* ---- a root ---------------------------------------------------------------- */
+
+/* Does the ray meet the root's box on [tmin, tmax]?  Unbounded boxes hold
+ * infinities; fmin/fmax drop the NaN of 0 * inf so those always pass. */
+CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmin, real tmax)
+{
+    real lo = tmin, hi = tmax;
+    real o[3], d[3];
+    o[0] = r.o.x; o[1] = r.o.y; o[2] = r.o.z;
+    d[0] = r.d.x; d[1] = r.d.y; d[2] = r.d.z;
+    for (int a = 0; a < 3; a++) {
+        if (d[a] == R(0.0)) {
+            if (o[a] < root->lo[a] || o[a] > root->hi[a])
+                return 0;
+            continue;
+        }
+        real ta = (root->lo[a] - o[a]) / d[a];
+        real tb = (root->hi[a] - o[a]) / d[a];
+        lo = r_fmax(lo, r_fmin(ta, tb));
+        hi = r_fmin(hi, r_fmax(ta, tb));
+    }
+    return lo <= hi;
+}
+
+/* The interval list of a whole root on [tmin, tmax], through its program. */
+CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real tmax,
+                           csg_spans *out)
+{
+    CSG_GLOBAL const csg_root *rt = &v.roots[root];
+    if (rt->node_count == 1) {
+        csg_leaf_spans(v.prims, v.nodes[rt->first_node].prim, r, tmin, tmax, out);
+        return;
+    }
+    csg_spans stack[CSG_STACK_MAX];
+    csg_spans tmp;
+    csg_i32 top = 0;
+    for (csg_i32 k = 0; k < rt->node_count; k++) {
+        csg_node n = v.nodes[rt->first_node + k];
+        if (n.op == CSG_OP_PRIM) {
+            if (top == CSG_STACK_MAX) /* the flattener prevents this */
+                break;
+            csg_leaf_spans(v.prims, n.prim, r, tmin, tmax, &stack[top]);
+            top++;
+            continue;
+        }
+        if (top < 2)
+            break;
+        if (n.op == CSG_OP_UNION)
+            csg_spans_union(&stack[top - 2], &stack[top - 1], &tmp);
+        else
+            csg_spans_intersect(&stack[top - 2], &stack[top - 1], &tmp);
+        csg_spans_copy(&tmp, &stack[top - 2]);
+        top--;
+    }
+    if (top == 1)
+        csg_spans_copy(&stack[0], out);
+    else
+        csg_spans_clear(out, tmax);
+}
+
+/* The first visible boundary strictly after tmin. */
+CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
+{
+    csg_hit h;
+    h.t = CSG_R_INF;
+    h.surf = CSG_SURF_NONE;
+    for (csg_i32 k = 0; k < l->n; k++) {
+        if (l->s0[k] != CSG_SURF_NONE && l->t0[k] > tmin) {
+            h.t = l->t0[k];
+            h.surf = l->s0[k];
+            return h;
+        }
+        if (l->s1[k] != CSG_SURF_NONE && l->t1[k] > tmin) {
+            h.t = l->t1[k];
+            h.surf = l->s1[k];
+            return h;
+        }
+    }
+    return h;
+}
+
+/* The nearest visible surface on (tmin, tmax) over every root.  Roots are
+ * visited in order and a later root must be strictly nearer to win, so the
+ * answer is the same wherever this runs. */
+CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
+{
+    csg_hit best;
+    best.t = tmax;
+    best.surf = CSG_SURF_NONE;
+    csg_spans spans;
+    for (csg_i32 i = 0; i < v.root_count; i++) {
+        if (!csg_box_overlaps(&v.roots[i], r, tmin, best.t))
+            continue;
+        csg_root_spans(v, i, r, tmin, best.t, &spans);
+        csg_hit h = csg_first_boundary(&spans, tmin);
+        if (h.surf != CSG_SURF_NONE && h.t < best.t)
+            best = h;
+    }
+    if (best.surf == CSG_SURF_NONE)
+        best.t = CSG_R_INF;
+    return best;
+}
+
+/* ---- normals ---------------------------------------------------------------- */
+
+CSG_FN vec3 csg_local_normal(CSG_GLOBAL const csg_prim *p, csg_i32 sub, vec3 lp)
+{
+    switch (p->kind) {
+    case CSG_PRIM_SPHERE:
+        return v3_sub(lp, v3_load(p->p));
+    case CSG_PRIM_BOX: {
+        real s = (sub & 1) ? R(1.0) : R(-1.0);
+        int axis = sub >> 1;
+        return v3(axis == 0 ? s : R(0.0), axis == 1 ? s : R(0.0), axis == 2 ? s : R(0.0));
+    }
+    case CSG_PRIM_CONE: {
+        if (sub == CSG_SURF_CONE_BASE)
+            return v3(R(0.0), R(0.0), R(-1.0));
+        if (sub == CSG_SURF_CONE_TOP)
+            return v3(R(0.0), R(0.0), R(1.0));
+        real k = (p->p[1] - p->p[0]) / p->p[2];
+        real rz = p->p[0] + k * lp.z;
+        return v3(lp.x, lp.y, -k * rz);
+    }
+    default:
+        return v3_load(p->p);
+    }
+}
+
+/* The unit outward normal of the solid at world point wp on surface s. */
+CSG_FN vec3 csg_surface_normal(CSG_GLOBAL const csg_prim *prims, csg_u32 s, vec3 wp)
+{
+    CSG_GLOBAL const csg_prim *p = &prims[CSG_SURF_PRIM(s)];
+    vec3 lp = (p->flags & CSG_PF_XFORM) ? csg_xform_point(p->inv, wp) : wp;
+    vec3 n = csg_local_normal(p, CSG_SURF_SUB(s), lp);
+    if (p->flags & CSG_PF_XFORM)
+        n = csg_xform_normal(p->inv, n);
+    n = v3_normalize(n);
+    return CSG_SURF_FLIP(s) ? v3_neg(n) : n;
+}
+
+#endif

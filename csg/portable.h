@@ -1,0 +1,69 @@
+/*
+ * portable.h — the one header that lets the geometry code of csg/ compile
+ * both as C11 (host, workers, tests) and as OpenCL C 1.2 (simd_kernels/).
+ *
+ * It maps the few differences: address-space qualifiers, fixed-width
+ * integer names, the scalar type `real` (float, or double with CSG_DOUBLE)
+ * and the handful of math functions the shared code uses.  The shared code
+ * uses only + - * / sqrt fabs fmin fmax on `real`: all correctly rounded in
+ * IEEE 754, so C and OpenCL produce the same bits as long as contraction is
+ * off on both sides (-ffp-contract=off, FP_CONTRACT OFF) and the kernel is
+ * built with -cl-fp32-correctly-rounded-divide-sqrt.
+ *
+ * Literals go through R(): R(0.5) is 0.5f in the float build and 0.5 in
+ * the double build, so no expression silently promotes to double.
+ */
+#ifndef CSG_PORTABLE_H
+#define CSG_PORTABLE_H
+
+#ifdef __OPENCL_VERSION__
+#pragma OPENCL FP_CONTRACT OFF
+#ifdef CSG_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
+#define CSG_GLOBAL __global
+#define CSG_FN static inline
+typedef uint csg_u32;
+typedef int csg_i32;
+#define CSG_R_INF ((real)INFINITY)
+#else
+#include <math.h>
+#include <stdint.h>
+#define CSG_GLOBAL
+#define CSG_FN static inline
+typedef uint32_t csg_u32;
+typedef int32_t csg_i32;
+#define CSG_R_INF ((real)INFINITY)
+#endif
+
+#ifdef CSG_DOUBLE
+typedef double real;
+#define R(x) (x)
+#ifdef __OPENCL_VERSION__
+#define r_sqrt(a) sqrt(a)
+#define r_fabs(a) fabs(a)
+#define r_fmin(a, b) fmin(a, b)
+#define r_fmax(a, b) fmax(a, b)
+#else
+#define r_sqrt(a) sqrt(a)
+#define r_fabs(a) fabs(a)
+#define r_fmin(a, b) fmin(a, b)
+#define r_fmax(a, b) fmax(a, b)
+#endif
+#else
+typedef float real;
+#define R(x) (x##f)
+#ifdef __OPENCL_VERSION__
+#define r_sqrt(a) sqrt(a)
+#define r_fabs(a) fabs(a)
+#define r_fmin(a, b) fmin(a, b)
+#define r_fmax(a, b) fmax(a, b)
+#else
+#define r_sqrt(a) sqrtf(a)
+#define r_fabs(a) fabsf(a)
+#define r_fmin(a, b) fminf(a, b)
+#define r_fmax(a, b) fmaxf(a, b)
+#endif
+#endif
+
+#endif

@@ -1,0 +1,194 @@
+/*
+ * scene.c — the scene tree's support: defaults (POV-Ray 3.7's), affine
+ * transforms in double, and the arena that owns a scene's memory.
+ */
+#include "scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void csg_finish_default(csg_finish *f)
+{
+    memset(f, 0, sizeof *f);
+    f->ambient[0] = f->ambient[1] = f->ambient[2] = 0.1;
+    f->diffuse = 0.6;
+    f->roughness = 0.05;
+    f->phong_size = 40;
+}
+
+void csg_texture_default(csg_texture *t)
+{
+    memset(t, 0, sizeof *t); /* POV-Ray's default pigment is black */
+    csg_finish_default(&t->finish);
+}
+
+void csg_globals_default(csg_globals *g)
+{
+    g->assumed_gamma = 1.0;
+    g->max_trace_level = 5;
+    g->adc_bailout = 1.0 / 255.0;
+    g->ambient_light[0] = g->ambient_light[1] = g->ambient_light[2] = 1.0;
+}
+
+void csg_xform_identity(csg_xform *x)
+{
+    memset(x, 0, sizeof *x);
+    x->m[0][0] = x->m[1][1] = x->m[2][2] = 1.0;
+}
+
+void csg_xform_then(const csg_xform *a, const csg_xform *b, csg_xform *out)
+{
+    csg_xform r;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 4; j++) {
+            double s = j == 3 ? b->m[i][3] : 0.0;
+            for (int k = 0; k < 3; k++)
+                s += b->m[i][k] * a->m[k][j];
+            r.m[i][j] = s;
+        }
+    }
+    *out = r;
+}
+
+bool csg_xform_invert(const csg_xform *x, csg_xform *inv)
+{
+    const double(*m)[4] = x->m;
+    double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    double c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    double c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+    if (!(fabs(det) > 0) || !isfinite(det))
+        return false;
+    double id = 1.0 / det;
+    csg_xform r;
+    r.m[0][0] = c00 * id;
+    r.m[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * id;
+    r.m[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * id;
+    r.m[1][0] = c01 * id;
+    r.m[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * id;
+    r.m[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * id;
+    r.m[2][0] = c02 * id;
+    r.m[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * id;
+    r.m[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * id;
+    for (int i = 0; i < 3; i++)
+        r.m[i][3] = -(r.m[i][0] * m[0][3] + r.m[i][1] * m[1][3] + r.m[i][2] * m[2][3]);
+    *inv = r;
+    return true;
+}
+
+void csg_xform_translate(csg_xform *x, dvec3 t)
+{
+    x->m[0][3] += t.x;
+    x->m[1][3] += t.y;
+    x->m[2][3] += t.z;
+}
+
+void csg_xform_scale(csg_xform *x, dvec3 s)
+{
+    double f[3] = {s.x, s.y, s.z};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            x->m[i][j] *= f[i];
+}
+
+/* Rotation by `deg` degrees about one axis, POV-Ray's (left-handed) sense.
+ * Multiples of 90 degrees are exact, so `rotate 90*y` leaves no 6e-17. */
+static void rotation_about(int axis, double deg, csg_xform *r)
+{
+    double s, c;
+    double q = fmod(deg, 360.0);
+    if (q < 0)
+        q += 360.0;
+    if (q == 0) {
+        s = 0; c = 1;
+    } else if (q == 90) {
+        s = 1; c = 0;
+    } else if (q == 180) {
+        s = 0; c = -1;
+    } else if (q == 270) {
+        s = -1; c = 0;
+    } else {
+        double rad = deg * M_PI / 180.0;
+        s = sin(rad);
+        c = cos(rad);
+    }
+    csg_xform_identity(r);
+    int i = (axis + 1) % 3, j = (axis + 2) % 3;
+    r->m[i][i] = c;
+    r->m[i][j] = -s;
+    r->m[j][i] = s;
+    r->m[j][j] = c;
+}
+
+void csg_xform_rotate(csg_xform *x, dvec3 degrees)
+{
+    double d[3] = {degrees.x, degrees.y, degrees.z};
+    for (int axis = 0; axis < 3; axis++) {
+        if (d[axis] == 0)
+            continue;
+        csg_xform r;
+        rotation_about(axis, d[axis], &r);
+        csg_xform_then(x, &r, x);
+    }
+}
+
+/* ---- arena ---------------------------------------------------------------- */
+
+typedef struct arena_block {
+    struct arena_block *next;
+    size_t used, size;
+    _Alignas(16) unsigned char data[];
+} arena_block;
+
+struct csg_arena {
+    arena_block *head;
+};
+
+csg_arena *csg_arena_new(void)
+{
+    return calloc(1, sizeof(csg_arena));
+}
+
+void *csg_arena_alloc(csg_arena *a, size_t size)
+{
+    size = (size + 15u) & ~(size_t)15u;
+    if (!a->head || a->head->size - a->head->used < size) {
+        size_t cap = size > 65536 ? size : 65536;
+        arena_block *b = malloc(sizeof *b + cap);
+        if (!b)
+            return NULL;
+        b->next = a->head;
+        b->used = 0;
+        b->size = cap;
+        a->head = b;
+    }
+    void *p = a->head->data + a->head->used;
+    a->head->used += size;
+    memset(p, 0, size);
+    return p;
+}
+
+void csg_arena_free(csg_arena *a)
+{
+    if (!a)
+        return;
+    for (arena_block *b = a->head, *next; b; b = next) {
+        next = b->next;
+        free(b);
+    }
+    free(a);
+}
+
+void csg_scene_init(csg_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    csg_globals_default(&s->globals);
+    s->background[0] = s->background[1] = s->background[2] = 0.0;
+}
+
+void csg_scene_free(csg_scene *s)
+{
+    csg_arena_free(s->arena);
+    s->arena = NULL;
+}

@@ -1,0 +1,152 @@
+/*
+ * scene.h — the scene as the parser builds it: a tree of CSG objects with
+ * their transforms and textures, in double precision, on the host only.
+ *
+ * Stages: csg_parse_file() (csg/parser.c) fills a csg_scene; csg_flatten()
+ * (csg/flatten.c) turns it into the flat arrays of flat.h in the chosen
+ * precision.  Every object remembers where it was written so the stages
+ * after parsing can still point at the source in their messages.
+ *
+ * Memory: all nodes, strings and arrays of one scene live in the scene's
+ * arena and are freed together by csg_scene_free().
+ */
+#ifndef CSG_SCENE_H
+#define CSG_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "diag.h"
+
+typedef struct {
+    double x, y, z;
+} dvec3;
+
+/* An affine transform, object -> world: p' = m[0..2][0..2] p + m[0..2][3]. */
+typedef struct {
+    double m[3][4];
+} csg_xform;
+
+enum csg_object_kind {
+    CSG_OBJ_SPHERE,
+    CSG_OBJ_BOX,
+    CSG_OBJ_CYLINDER,
+    CSG_OBJ_CONE,
+    CSG_OBJ_PLANE,
+    CSG_OBJ_UNION,
+    CSG_OBJ_INTERSECTION,
+    CSG_OBJ_DIFFERENCE, /* first child minus every other child */
+    CSG_OBJ_MERGE
+};
+
+/* POV-Ray's pigment, reduced to one colour: red, green, blue, filter, transmit. */
+typedef struct {
+    double rgbft[5];
+} csg_pigment;
+
+/* POV-Ray 3.7 finish; the defaults are POV-Ray's (csg_finish_default). */
+typedef struct {
+    double ambient[3];    /* 0.1                                     */
+    double diffuse;       /* 0.6                                     */
+    double specular;      /* 0 (Blinn highlight)                     */
+    double roughness;     /* 0.05                                    */
+    double phong;         /* 0                                       */
+    double phong_size;    /* 40                                      */
+    double reflection[3]; /* 0                                       */
+} csg_finish;
+
+typedef struct {
+    csg_pigment pigment;
+    csg_finish finish;
+} csg_texture;
+
+typedef struct {
+    double ior; /* 1 */
+} csg_interior;
+
+typedef struct csg_object csg_object;
+struct csg_object {
+    enum csg_object_kind kind;
+    csg_loc loc;          /* where the object's keyword was written          */
+    /* Shape parameters, in object space (before `xform`):
+     *   sphere:   centre a, radius r0
+     *   box:      corners a, b
+     *   cylinder: base a, cap b, radius r0
+     *   cone:     base a, base radius r0, cap b, cap radius r1
+     *   plane:    normal a, distance r0                                  */
+    dvec3 a, b;
+    double r0, r1;
+    bool open;            /* cylinder / cone: no caps                        */
+    bool inverse;         /* `inverse`: the complement of the solid          */
+    bool no_shadow;
+    csg_xform xform;      /* object -> world, every transform applied        */
+    int texture;          /* index into csg_scene.textures; -1: inherited    */
+    int interior;         /* index into csg_scene.interiors; -1: inherited   */
+    csg_object **children; /* CSG operands, in source order                  */
+    int child_count;
+};
+
+typedef struct {
+    dvec3 location;       /* camera vectors after POV-Ray's rules (camera.c) */
+    dvec3 direction;
+    dvec3 right;
+    dvec3 up;
+    dvec3 sky;
+    csg_loc loc;
+} csg_camera_src;
+
+typedef struct {
+    dvec3 position;
+    double color[3];
+    bool shadowless;
+    csg_loc loc;
+} csg_light;
+
+typedef struct {
+    double assumed_gamma;   /* 1 when not given                       */
+    int max_trace_level;    /* 5                                      */
+    double adc_bailout;     /* 1/255                                  */
+    double ambient_light[3]; /* 1                                     */
+} csg_globals;
+
+typedef struct csg_arena csg_arena;
+
+typedef struct {
+    csg_camera_src camera;
+    bool has_camera;
+    double background[5];   /* rgbft; black when not given            */
+    csg_globals globals;
+    csg_light *lights;
+    int light_count;
+    csg_object **objects;   /* top-level objects, in source order      */
+    int object_count;
+    csg_texture *textures;  /* every texture an object uses            */
+    int texture_count;
+    csg_interior *interiors;
+    int interior_count;
+    const char *path;       /* the scene file as given                 */
+    csg_arena *arena;       /* owns everything above                   */
+} csg_scene;
+
+void csg_finish_default(csg_finish *f);
+void csg_texture_default(csg_texture *t);
+void csg_globals_default(csg_globals *g);
+void csg_xform_identity(csg_xform *x);
+/* out = a then b (b applied after a); out may alias either. */
+void csg_xform_then(const csg_xform *a, const csg_xform *b, csg_xform *out);
+/* The inverse of an affine transform; false when it is singular. */
+bool csg_xform_invert(const csg_xform *x, csg_xform *inv);
+void csg_xform_translate(csg_xform *x, dvec3 t);
+void csg_xform_scale(csg_xform *x, dvec3 s);
+/* POV-Ray's rotate <a, b, c>: degrees about x, then y, then z. */
+void csg_xform_rotate(csg_xform *x, dvec3 degrees);
+
+/* The arena: every allocation of a scene, freed at once. */
+csg_arena *csg_arena_new(void);
+void *csg_arena_alloc(csg_arena *a, size_t size); /* zeroed; NULL when out of memory */
+void csg_arena_free(csg_arena *a);
+
+void csg_scene_init(csg_scene *s);
+void csg_scene_free(csg_scene *s);
+
+#endif

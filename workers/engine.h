@@ -1,0 +1,60 @@
+/*
+ * engine.h — the renderer's inner loop behind one small table per
+ * precision, so that main, the MPI master and the workers stay
+ * precision-agnostic and deal only in blobs, tiles and pixel buffers.
+ *
+ * Every pixel is rendered in two steps, whatever the mode:
+ *   1. trace_primary: the primary ray's hit record (t, surface id);
+ *   2. shade: Whitted shading from that record (shadow, reflected and
+ *      refracted rays, recursively up to max_depth).
+ * serial/homo do both on the CPU; hetero does step 1 in one OpenCL pass
+ * over the whole image (simd_kernels/primary.cl, the same shared code of
+ * csg/) and ships the records to the workers, who do step 2.  Because
+ * step 2 only sees the record, the images agree bit for bit exactly when
+ * the records do.
+ *
+ * Hit records are two arrays per tile, row-major: t[] of the blob's `real`
+ * (4 or 8 bytes) and surf[] of uint32 (0: the primary ray hit nothing).
+ */
+#ifndef WORKERS_ENGINE_H
+#define WORKERS_ENGINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../csg/flatten.h"
+
+typedef struct {
+    int x, y;          /* top-left pixel */
+    int width, height; /* edge tiles are smaller */
+} tile_rect;
+
+typedef struct {
+    uint64_t primary, shadow, reflected, refracted;
+} ray_counts;
+
+typedef struct {
+    const char *name;  /* "float" or "double" */
+    size_t real_size;  /* sizeof(real) of this build */
+    bool (*flatten)(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, csg_diag *d);
+    /* Hit records of the primary rays of `rect` (t_out: real[w*h]). */
+    void (*trace_primary)(const void *blob, tile_rect rect, void *t_out, uint32_t *surf_out,
+                          ray_counts *rays);
+    /* RGB (3 floats a pixel, linear, not clamped) of `rect` from its
+     * records; adds the secondary rays it traced to *rays. */
+    void (*shade)(const void *blob, tile_rect rect, const void *t, const uint32_t *surf,
+                  float *rgb_out, ray_counts *rays);
+} engine;
+
+extern const engine engine_float;
+extern const engine engine_double;
+
+/* The engine whose real_size matches the blob's. */
+const engine *engine_for_blob(const void *blob);
+
+/* Convenience for a whole tile: trace_primary then shade. scratch_t and
+ * scratch_surf hold w*h records. */
+void engine_render_tile(const engine *e, const void *blob, tile_rect rect, void *scratch_t,
+                        uint32_t *scratch_surf, float *rgb_out, ray_counts *rays);
+
+#endif
