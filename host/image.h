@@ -1,0 +1,43 @@
+/*
+ * image.h — image files through OpenImageIO (host/image.cpp, the one C++
+ * file: an extern "C" shim that turns every exception into a status).
+ */
+#ifndef HOST_IMAGE_H
+#define HOST_IMAGE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
+ * by the extension.  8-bit and 16-bit formats get the values clamped to
+ * [0, 1] and encoded with the display gamma 2.2 (as POV-Ray 3.7 does with
+ * assumed_gamma 1); float formats (exr, hdr) get them linear.  The file is
+ * written under a temporary name in the same folder and renamed when
+ * complete: a failure never leaves a partial file under `path`.
+ * false with a message in err on failure. */
+bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                   size_t err_size);
+
+/* Reads any image OpenImageIO knows as float RGB (malloc'd, 3 a pixel). */
+bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
+                  size_t err_size);
+
+/* OpenImageIO's ImageBufAlgo::compare of two files, plus the size check it
+ * does not do. */
+typedef struct {
+    bool same_size;
+    double rmse, psnr, max_error;
+    long pixels_over; /* pixels whose difference exceeds `threshold` */
+} img_compare_result;
+bool img_compare_files(const char *a, const char *b, double threshold, img_compare_result *r,
+                       char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

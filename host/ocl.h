@@ -1,0 +1,45 @@
+/*
+ * ocl.h — the data-parallel phase: every primary ray of the image in one
+ * OpenCL pass (simd_kernels/primary.cl, built from the shared csg/ code),
+ * plus the number of hits per tile.
+ */
+#ifndef HOST_OCL_H
+#define HOST_OCL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../csg/diag.h"
+
+typedef struct ocl_ctx ocl_ctx;
+
+typedef struct {
+    const char *device;  /* "--cl-device" value or $CSGTRACE_CL_DEVICE: "P:D"
+                            (platform and device index), a substring of the
+                            device name, or NULL for the first device */
+    int use_double;      /* build the double kernel (needs cl_khr_fp64)    */
+    size_t max_slice_bytes; /* 0: fit the device; tests force small slices */
+} ocl_options;
+
+typedef struct {
+    double compile_s;    /* program build (or cache load)                 */
+    double primary_s;    /* upload + kernels + download                   */
+    int slices;          /* passes the image needed                       */
+    char device_name[256];
+} ocl_timing;
+
+/* Picks the device, builds the program; false with d filled on failure
+ * (the build log goes to stderr). */
+bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d);
+
+/* Traces the primary rays of the whole image of `blob` (its header holds
+ * width and height).  t_out: real[w*h] (the blob's precision), surf_out:
+ * uint32[w*h], row-major; tile_hits: uint32[tiles_x * tiles_y], the number
+ * of pixels of each tile (row-major over tiles of `tile` x `tile`) whose
+ * primary ray hit something. */
+bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uint32_t *surf_out,
+                      uint32_t *tile_hits, ocl_timing *timing, csg_diag *d);
+
+void ocl_close(ocl_ctx *ctx);
+
+#endif

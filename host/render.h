@@ -1,0 +1,30 @@
+/*
+ * render.h — one render as the command line asked for it, and the driver
+ * that runs it in any mode (serial, homo, hetero) on any number of ranks.
+ */
+#ifndef HOST_RENDER_H
+#define HOST_RENDER_H
+
+#include <stdbool.h>
+
+enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
+enum render_precision { PREC_FLOAT, PREC_DOUBLE };
+
+typedef struct {
+    const char *scene_path;
+    const char *out_path;     /* NULL: render, write nothing (compare) */
+    const char *stats_path;   /* NULL: no JSON                       */
+    const char *cl_device;    /* NULL: $CSGTRACE_CL_DEVICE or first  */
+    enum render_mode mode;
+    enum render_precision precision;
+    int width, height;        /* default 320 x 240                   */
+    int tile;                 /* default 32                          */
+    int depth;                /* <= 0: the scene's max_trace_level   */
+    double threshold;         /* < 0: the scene's adc_bailout        */
+    bool progress;            /* progress bar on stderr (a terminal) */
+} render_request;
+
+/* Exit statuses of the program (DESIGN.md). */
+enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };
+
+#endif
