@@ -81,6 +81,28 @@ typedef struct {
     real up[3];
 } csg_camera;
 
+/* Shading data, used by the C workers only (the kernel never reads it). */
+typedef struct {
+    real color[3];      /* pigment rgb                                  */
+    real filter;        /* pigment filter: light through, tinted         */
+    real transmit;      /* pigment transmit: light through, untinted     */
+    real ambient[3];
+    real diffuse;
+    real specular;      /* Blinn highlight strength                      */
+    real roughness;     /* Blinn exponent is 1 / roughness               */
+    real phong;
+    real phong_size;
+    real reflection[3];
+    real ior;           /* interior: index of refraction                 */
+} csg_material;
+
+typedef struct {
+    real position[3];
+    real color[3];
+    csg_i32 shadowless;
+    csg_i32 pad;
+} csg_flat_light;
+
 /* A packed surface id: 0 means "no visible surface" (a clipping boundary or
  * the cap of an open cylinder); otherwise
  *   ((primitive + 1) << 4) | (sub-surface << 1) | flip

@@ -1,0 +1,652 @@
+/*
+ * flatten.c — scene tree (double, pointers) -> flat blob (real, indices).
+ * Compiled twice: as csg_flatten_float and, with -DCSG_DOUBLE, as
+ * csg_flatten_double.
+ *
+ * Steps:
+ *  1. Top-level unions that are not inverted dissolve: their children
+ *     become roots of their own (POV-Ray shows every surface of a union, and
+ *     separate roots keep interval lists short and get their own bounding
+ *     boxes).  Textures, interiors and no_shadow are inherited on the way.
+ *  2. Every other top-level object becomes a root whose CSG tree is compiled
+ *     into an RPN program of union / intersection over primitive leaves:
+ *     complements (inverse, the subtracted operands of difference) are
+ *     pushed to the leaves with De Morgan's laws.  Operands are ordered by
+ *     the number of interval lists they need (Ershov number), largest first,
+ *     so a program needs as few lists at once as possible; a program that
+ *     still needs more than CSG_STACK_MAX is an error.
+ *  3. Primitives get canonical parameters: spheres and boxes under a pure
+ *     translate + scale keep world-space parameters (exact, no matrix);
+ *     everything else stores its world -> local matrix.  Cylinders and
+ *     cones live in a frame with their axis on +z from 0 to their height.
+ *  4. Every root gets a world bounding box, padded outwards so rounding to
+ *     `real` never clips a silhouette.
+ */
+#include "flatten.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "flat.h"
+
+#ifdef CSG_DOUBLE
+#define FLATTEN_FN csg_flatten_double
+#else
+#define FLATTEN_FN csg_flatten_float
+#endif
+
+/* blob.c computes struct sizes from real_size; keep the formulas honest. */
+_Static_assert(sizeof(csg_prim) == 16 + 20 * sizeof(real), "csg_prim layout");
+_Static_assert(sizeof(csg_node) == 8, "csg_node layout");
+_Static_assert(sizeof(csg_root) == 16 + 6 * sizeof(real), "csg_root layout");
+_Static_assert(sizeof(csg_material) == 17 * sizeof(real), "csg_material layout");
+_Static_assert(sizeof(csg_flat_light) == 6 * sizeof(real) + 8, "csg_flat_light layout");
+_Static_assert(sizeof(csg_camera) == 12 * sizeof(real), "csg_camera layout");
+
+typedef struct {
+    double lo[3], hi[3];
+} dbox;
+
+/* Growable arrays of the output, and what the walk inherits. */
+typedef struct {
+    csg_prim *prims;
+    int prim_count, prim_cap;
+    csg_node *nodes;
+    int node_count, node_cap;
+    csg_root *roots;
+    int root_count, root_cap;
+    int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
+    csg_material *mats;
+    int mat_count, mat_cap;
+    const csg_scene *scene;
+    csg_diag *diag;
+    bool oom;
+} flat_builder;
+
+typedef struct {
+    int texture;  /* -1: none yet (the default texture) */
+    int interior; /* -1: none yet (ior 1)               */
+    bool no_shadow;
+} inherited;
+
+static bool grow(void **arr, int *cap, int need, size_t elem)
+{
+    if (need <= *cap)
+        return true;
+    int ncap = *cap ? *cap * 2 : 64;
+    while (ncap < need)
+        ncap *= 2;
+    void *p = realloc(*arr, (size_t)ncap * elem);
+    if (!p)
+        return false;
+    *arr = p;
+    *cap = ncap;
+    return true;
+}
+
+/* ---- boxes ------------------------------------------------------------------ */
+
+static dbox box_infinite(void)
+{
+    dbox b;
+    for (int i = 0; i < 3; i++) {
+        b.lo[i] = -INFINITY;
+        b.hi[i] = INFINITY;
+    }
+    return b;
+}
+
+static dbox box_of_corners(const csg_xform *x, const double lo[3], const double hi[3])
+{
+    dbox b;
+    for (int i = 0; i < 3; i++) {
+        b.lo[i] = INFINITY;
+        b.hi[i] = -INFINITY;
+    }
+    for (int c = 0; c < 8; c++) {
+        double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+        for (int i = 0; i < 3; i++) {
+            double w = x->m[i][0] * p[0] + x->m[i][1] * p[1] + x->m[i][2] * p[2] + x->m[i][3];
+            b.lo[i] = fmin(b.lo[i], w);
+            b.hi[i] = fmax(b.hi[i], w);
+        }
+    }
+    return b;
+}
+
+static dbox box_union(dbox a, dbox b)
+{
+    for (int i = 0; i < 3; i++) {
+        a.lo[i] = fmin(a.lo[i], b.lo[i]);
+        a.hi[i] = fmax(a.hi[i], b.hi[i]);
+    }
+    return a;
+}
+
+static dbox box_intersect(dbox a, dbox b)
+{
+    for (int i = 0; i < 3; i++) {
+        a.lo[i] = fmax(a.lo[i], b.lo[i]);
+        a.hi[i] = fmin(a.hi[i], b.hi[i]);
+    }
+    return a;
+}
+
+/* Round outwards to `real` after a relative pad: the box test runs in
+ * `real` and must never reject a ray that meets the solid. */
+static void box_store(dbox b, real lo[3], real hi[3])
+{
+    for (int i = 0; i < 3; i++) {
+        double pad = 1e-5 * (fabs(b.lo[i]) + fabs(b.hi[i])) + 1e-30;
+        if (!isfinite(pad))
+            pad = 0;
+        double l = b.lo[i] - pad, h = b.hi[i] + pad;
+        real rl = (real)l, rh = (real)h;
+        if ((double)rl > l)
+            rl = (real)nextafter(rl, -CSG_R_INF);
+        if ((double)rh < h)
+            rh = (real)nextafter(rh, CSG_R_INF);
+        lo[i] = rl;
+        hi[i] = rh;
+    }
+}
+
+/* ---- primitives --------------------------------------------------------------- */
+
+static bool is_translate_scale(const csg_xform *x, bool uniform)
+{
+    const double(*m)[4] = x->m;
+    if (m[0][1] != 0 || m[0][2] != 0 || m[1][0] != 0 || m[1][2] != 0 || m[2][0] != 0 || m[2][1] != 0)
+        return false;
+    return !uniform || (fabs(m[0][0]) == fabs(m[1][1]) && fabs(m[1][1]) == fabs(m[2][2]));
+}
+
+static dvec3 xf_point(const csg_xform *x, dvec3 p)
+{
+    const double(*m)[4] = x->m;
+    return (dvec3){m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3],
+                   m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
+                   m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
+}
+
+static void store_inverse(csg_prim *p, const csg_xform *world_to_local)
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            p->inv[i * 4 + j] = (real)world_to_local->m[i][j];
+    p->flags |= CSG_PF_XFORM;
+}
+
+/* The frame of a cylinder/cone: object -> local with the axis from a to b
+ * mapped onto +z from 0 to |b - a|. */
+static void cone_frame(dvec3 a, dvec3 b, csg_xform *obj_to_local, double *height)
+{
+    double ax = b.x - a.x, ay = b.y - a.y, az = b.z - a.z;
+    double h = sqrt(ax * ax + ay * ay + az * az);
+    double w[3] = {ax / h, ay / h, az / h};
+    /* u: any unit vector orthogonal to w; v = w x u */
+    double t[3] = {0, 0, 0};
+    int k = fabs(w[0]) <= fabs(w[1]) ? (fabs(w[0]) <= fabs(w[2]) ? 0 : 2)
+                                     : (fabs(w[1]) <= fabs(w[2]) ? 1 : 2);
+    t[k] = 1;
+    double u[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2], w[0] * t[1] - w[1] * t[0]};
+    double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int i = 0; i < 3; i++)
+        u[i] /= ul;
+    double v[3] = {w[1] * u[2] - w[2] * u[1], w[2] * u[0] - w[0] * u[2], w[0] * u[1] - w[1] * u[0]};
+    const double *rows[3] = {u, v, w};
+    double o[3] = {a.x, a.y, a.z};
+    for (int i = 0; i < 3; i++) {
+        obj_to_local->m[i][3] = 0;
+        for (int j = 0; j < 3; j++) {
+            obj_to_local->m[i][j] = rows[i][j];
+            obj_to_local->m[i][3] -= rows[i][j] * o[j];
+        }
+    }
+    *height = h;
+}
+
+static bool shape_valid(const csg_object *o, csg_diag *d)
+{
+    switch (o->kind) {
+    case CSG_OBJ_SPHERE:
+        if (!(o->r0 > 0))
+            goto bad;
+        return true;
+    case CSG_OBJ_CYLINDER:
+    case CSG_OBJ_CONE: {
+        double dx = o->b.x - o->a.x, dy = o->b.y - o->a.y, dz = o->b.z - o->a.z;
+        double r1 = o->kind == CSG_OBJ_CYLINDER ? o->r0 : o->r1;
+        if (!(dx * dx + dy * dy + dz * dz > 0) || o->r0 < 0 || r1 < 0 || !(o->r0 + r1 > 0))
+            goto bad;
+        return true;
+    }
+    case CSG_OBJ_PLANE: {
+        double n = o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z;
+        if (!(n > 0))
+            goto bad;
+        return true;
+    }
+    default:
+        return true;
+    }
+bad:
+    csg_error(d, o->loc, "degenerate shape: zero size, negative radius or zero normal");
+    return false;
+}
+
+static int material_for(flat_builder *fb, inherited inh)
+{
+    int key = (inh.texture + 1) * (fb->scene->interior_count + 1) + inh.interior + 1;
+    for (int i = 0; i < fb->mat_count; i++)
+        if (fb->mat_keys[i] == key)
+            return i;
+    int cap = fb->mat_cap;
+    if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
+        !grow((void **)&fb->mat_keys, &cap, fb->mat_count + 1, sizeof(int))) {
+        fb->oom = true;
+        return 0;
+    }
+    csg_texture tex;
+    if (inh.texture >= 0)
+        tex = fb->scene->textures[inh.texture];
+    else
+        csg_texture_default(&tex);
+    double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
+    csg_material *m = &fb->mats[fb->mat_count];
+    for (int i = 0; i < 3; i++) {
+        m->color[i] = (real)tex.pigment.rgbft[i];
+        m->ambient[i] = (real)tex.finish.ambient[i];
+        m->reflection[i] = (real)tex.finish.reflection[i];
+    }
+    m->filter = (real)tex.pigment.rgbft[3];
+    m->transmit = (real)tex.pigment.rgbft[4];
+    m->diffuse = (real)tex.finish.diffuse;
+    m->specular = (real)tex.finish.specular;
+    m->roughness = (real)tex.finish.roughness;
+    m->phong = (real)tex.finish.phong;
+    m->phong_size = (real)tex.finish.phong_size;
+    m->ior = (real)ior;
+    fb->mat_keys[fb->mat_count] = key;
+    return fb->mat_count++;
+}
+
+/* Appends the primitive of leaf `o`; returns its index (-1 on failure)
+ * and its world bounding box (before complement). */
+static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool invert, int root,
+                    dbox *box)
+{
+    if (!shape_valid(o, fb->diag))
+        return -1;
+    if (fb->prim_count >= CSG_MAX_PRIMS) {
+        csg_error(fb->diag, o->loc, "too many primitives (limit %d)", CSG_MAX_PRIMS);
+        return -1;
+    }
+    if (!grow((void **)&fb->prims, &fb->prim_cap, fb->prim_count + 1, sizeof(csg_prim))) {
+        fb->oom = true;
+        return -1;
+    }
+    csg_prim *p = &fb->prims[fb->prim_count];
+    memset(p, 0, sizeof *p);
+    p->material = material_for(fb, inh);
+    p->root = root;
+    p->flags = (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
+               (o->open ? CSG_PF_OPEN : 0);
+    csg_xform world_to_obj;
+    if (!csg_xform_invert(&o->xform, &world_to_obj)) {
+        csg_error(fb->diag, o->loc, "the object's transformation is singular (a zero scale?)");
+        return -1;
+    }
+    switch (o->kind) {
+    case CSG_OBJ_SPHERE: {
+        double r = o->r0;
+        double lo[3] = {o->a.x - r, o->a.y - r, o->a.z - r};
+        double hi[3] = {o->a.x + r, o->a.y + r, o->a.z + r};
+        p->kind = CSG_PRIM_SPHERE;
+        if (is_translate_scale(&o->xform, true)) {
+            dvec3 c = xf_point(&o->xform, o->a);
+            double s = fabs(o->xform.m[0][0]);
+            p->p[0] = (real)c.x;
+            p->p[1] = (real)c.y;
+            p->p[2] = (real)c.z;
+            p->p[3] = (real)(r * s);
+        } else {
+            p->p[0] = (real)o->a.x;
+            p->p[1] = (real)o->a.y;
+            p->p[2] = (real)o->a.z;
+            p->p[3] = (real)r;
+            store_inverse(p, &world_to_obj);
+        }
+        *box = box_of_corners(&o->xform, lo, hi);
+        break;
+    }
+    case CSG_OBJ_BOX: {
+        double lo[3] = {fmin(o->a.x, o->b.x), fmin(o->a.y, o->b.y), fmin(o->a.z, o->b.z)};
+        double hi[3] = {fmax(o->a.x, o->b.x), fmax(o->a.y, o->b.y), fmax(o->a.z, o->b.z)};
+        p->kind = CSG_PRIM_BOX;
+        *box = box_of_corners(&o->xform, lo, hi);
+        if (is_translate_scale(&o->xform, false)) {
+            for (int i = 0; i < 3; i++) {
+                p->p[i] = (real)box->lo[i];
+                p->p[3 + i] = (real)box->hi[i];
+            }
+        } else {
+            for (int i = 0; i < 3; i++) {
+                p->p[i] = (real)lo[i];
+                p->p[3 + i] = (real)hi[i];
+            }
+            store_inverse(p, &world_to_obj);
+        }
+        break;
+    }
+    case CSG_OBJ_CYLINDER:
+    case CSG_OBJ_CONE: {
+        csg_xform obj_to_local, world_to_local;
+        double h;
+        cone_frame(o->a, o->b, &obj_to_local, &h);
+        csg_xform_then(&world_to_obj, &obj_to_local, &world_to_local);
+        double r1 = o->kind == CSG_OBJ_CYLINDER ? o->r0 : o->r1;
+        p->kind = CSG_PRIM_CONE;
+        p->p[0] = (real)o->r0;
+        p->p[1] = (real)r1;
+        p->p[2] = (real)h;
+        store_inverse(p, &world_to_local);
+        csg_xform local_to_world;
+        csg_xform_invert(&world_to_local, &local_to_world);
+        double rm = fmax(o->r0, r1);
+        double lo[3] = {-rm, -rm, 0}, hi[3] = {rm, rm, h};
+        *box = box_of_corners(&local_to_world, lo, hi);
+        break;
+    }
+    case CSG_OBJ_PLANE: {
+        double n = sqrt(o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z);
+        p->kind = CSG_PRIM_PLANE;
+        p->p[0] = (real)(o->a.x / n);
+        p->p[1] = (real)(o->a.y / n);
+        p->p[2] = (real)(o->a.z / n);
+        p->p[3] = (real)o->r0;
+        bool identity = is_translate_scale(&o->xform, false) && o->xform.m[0][0] == 1 &&
+                        o->xform.m[1][1] == 1 && o->xform.m[2][2] == 1 && o->xform.m[0][3] == 0 &&
+                        o->xform.m[1][3] == 0 && o->xform.m[2][3] == 0;
+        if (!identity)
+            store_inverse(p, &world_to_obj);
+        *box = box_infinite();
+        break;
+    }
+    default:
+        return -1;
+    }
+    if (invert)
+        *box = box_infinite();
+    return fb->prim_count++;
+}
+
+/* ---- CSG programs --------------------------------------------------------------- */
+
+static bool is_leaf(const csg_object *o) { return o->kind < CSG_OBJ_UNION; }
+
+static inherited inherit(inherited inh, const csg_object *o)
+{
+    if (o->texture >= 0)
+        inh.texture = o->texture;
+    if (o->interior >= 0)
+        inh.interior = o->interior;
+    inh.no_shadow = inh.no_shadow || o->no_shadow;
+    return inh;
+}
+
+/* Interval lists the subtree needs at once (its Ershov number). */
+static int lists_needed(const csg_object *o)
+{
+    if (is_leaf(o) || o->child_count == 0)
+        return 1;
+    int best = 0, second = 0;
+    for (int i = 0; i < o->child_count; i++) {
+        int n = lists_needed(o->children[i]);
+        if (n > best) {
+            second = best;
+            best = n;
+        } else if (n > second) {
+            second = n;
+        }
+    }
+    /* largest first, then every other operand on top of one held result */
+    return o->child_count == 1 ? best : (best > second + 1 ? best : second + 1);
+}
+
+static bool emit(flat_builder *fb, int op, int prim)
+{
+    if (!grow((void **)&fb->nodes, &fb->node_cap, fb->node_count + 1, sizeof(csg_node))) {
+        fb->oom = true;
+        return false;
+    }
+    fb->nodes[fb->node_count].op = op;
+    fb->nodes[fb->node_count].prim = prim;
+    fb->node_count++;
+    return true;
+}
+
+/* Emits the RPN of `o` (complemented when `neg`); returns false on error
+ * and sets *box to the subtree's world bounding box. */
+static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box)
+{
+    inh = inherit(inh, o);
+    neg = neg != o->inverse;
+    if (is_leaf(o)) {
+        int prim = add_prim(fb, o, inh, neg, root, box);
+        return prim >= 0 && emit(fb, CSG_OP_PRIM, prim);
+    }
+    if (o->child_count == 0) {
+        csg_error(fb->diag, o->loc, "a CSG object needs at least one operand");
+        return false;
+    }
+    /* union/merge: U children; intersection: ∩; difference: c0 ∩ ¬c1 ∩ ...
+     * A complement swaps the operator and complements every operand. */
+    bool is_union = o->kind == CSG_OBJ_UNION || o->kind == CSG_OBJ_MERGE;
+    int op = (is_union != neg) ? CSG_OP_UNION : CSG_OP_INTERSECT;
+    bool intersect_like = !is_union; /* before the complement */
+    /* operands, largest need first (a stable selection sort over indices) */
+    int n = o->child_count;
+    int *order = malloc((size_t)n * sizeof *order);
+    int *need = malloc((size_t)n * sizeof *need);
+    if (!order || !need) {
+        free(order);
+        free(need);
+        fb->oom = true;
+        return false;
+    }
+    for (int i = 0; i < n; i++) {
+        order[i] = i;
+        need[i] = lists_needed(o->children[i]);
+    }
+    for (int i = 0; i < n; i++) {
+        int best = i;
+        for (int j = i + 1; j < n; j++)
+            if (need[order[j]] > need[order[best]])
+                best = j;
+        int pick = order[best];
+        memmove(&order[i + 1], &order[i], (size_t)(best - i) * sizeof *order);
+        order[i] = pick;
+    }
+    bool ok = true;
+    for (int k = 0; k < n && ok; k++) {
+        int i = order[k];
+        bool child_neg = neg != (o->kind == CSG_OBJ_DIFFERENCE && i > 0);
+        dbox cb;
+        ok = emit_tree(fb, o->children[i], inh, child_neg, root, &cb);
+        if (!ok)
+            break;
+        if (k == 0)
+            *box = cb;
+        else if (op == CSG_OP_UNION)
+            *box = box_union(*box, cb);
+        else
+            *box = box_intersect(*box, cb);
+        if (k > 0)
+            ok = emit(fb, op, -1);
+    }
+    (void)intersect_like;
+    free(order);
+    free(need);
+    return ok;
+}
+
+static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
+{
+    int depth = lists_needed(o);
+    if (depth > CSG_STACK_MAX) {
+        csg_error(fb->diag, o->loc,
+                  "CSG tree too complex: evaluating it needs %d interval lists at once (limit %d); "
+                  "nest it less deeply or more evenly",
+                  depth, CSG_STACK_MAX);
+        return false;
+    }
+    if (!grow((void **)&fb->roots, &fb->root_cap, fb->root_count + 1, sizeof(csg_root))) {
+        fb->oom = true;
+        return false;
+    }
+    int root = fb->root_count;
+    int first = fb->node_count;
+    dbox box;
+    if (!emit_tree(fb, o, inh, false, root, &box))
+        return false;
+    csg_root *r = &fb->roots[fb->root_count++];
+    memset(r, 0, sizeof *r);
+    r->first_node = first;
+    r->node_count = fb->node_count - first;
+    r->stack_depth = depth;
+    box_store(box, r->lo, r->hi);
+    return true;
+}
+
+static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
+{
+    if (o->kind == CSG_OBJ_UNION && !o->inverse) {
+        inh = inherit(inh, o);
+        for (int i = 0; i < o->child_count; i++)
+            if (!add_top(fb, o->children[i], inh))
+                return false;
+        return true;
+    }
+    return add_root(fb, o, inh);
+}
+
+/* ---- the blob -------------------------------------------------------------------- */
+
+static uint64_t align64(uint64_t n) { return (n + 63u) & ~(uint64_t)63u; }
+
+static void store3(real dst[3], dvec3 v)
+{
+    dst[0] = (real)v.x;
+    dst[1] = (real)v.y;
+    dst[2] = (real)v.z;
+}
+
+static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)
+{
+    const csg_scene *s = fb->scene;
+    csg_blob_header h;
+    memset(&h, 0, sizeof h);
+    h.magic = CSG_BLOB_MAGIC;
+    h.real_size = (uint32_t)sizeof(real);
+    h.width = o->width;
+    h.height = o->height;
+    h.max_depth = o->max_depth > 0 ? o->max_depth : s->globals.max_trace_level;
+    if (h.max_depth < 1)
+        h.max_depth = 1;
+    h.adc_bailout = o->bailout >= 0 ? o->bailout : s->globals.adc_bailout;
+    h.prim_count = fb->prim_count;
+    h.node_count = fb->node_count;
+    h.root_count = fb->root_count;
+    h.material_count = fb->mat_count;
+    h.light_count = s->light_count;
+    for (int i = 0; i < fb->root_count; i++)
+        if (fb->roots[i].stack_depth > h.max_stack)
+            h.max_stack = fb->roots[i].stack_depth;
+    memcpy(h.background, s->background, sizeof h.background);
+    memcpy(h.ambient_light, s->globals.ambient_light, sizeof h.ambient_light);
+    uint64_t off = align64(sizeof h);
+    h.off_prims = off;
+    off = align64(off + (uint64_t)fb->prim_count * sizeof(csg_prim));
+    h.off_nodes = off;
+    off = align64(off + (uint64_t)fb->node_count * sizeof(csg_node));
+    h.off_roots = off;
+    off = align64(off + (uint64_t)fb->root_count * sizeof(csg_root));
+    h.off_materials = off;
+    off = align64(off + (uint64_t)fb->mat_count * sizeof(csg_material));
+    h.off_lights = off;
+    off = align64(off + (uint64_t)s->light_count * sizeof(csg_flat_light));
+    h.off_camera = off;
+    off = align64(off + sizeof(csg_camera));
+    h.total_size = off;
+
+    unsigned char *b = calloc(1, (size_t)off);
+    if (!b)
+        return false;
+    memcpy(b, &h, sizeof h);
+    if (fb->prim_count)
+        memcpy(b + h.off_prims, fb->prims, (size_t)fb->prim_count * sizeof(csg_prim));
+    if (fb->node_count)
+        memcpy(b + h.off_nodes, fb->nodes, (size_t)fb->node_count * sizeof(csg_node));
+    if (fb->root_count)
+        memcpy(b + h.off_roots, fb->roots, (size_t)fb->root_count * sizeof(csg_root));
+    if (fb->mat_count)
+        memcpy(b + h.off_materials, fb->mats, (size_t)fb->mat_count * sizeof(csg_material));
+    csg_flat_light *lights = (csg_flat_light *)(b + h.off_lights);
+    for (int i = 0; i < s->light_count; i++) {
+        store3(lights[i].position, s->lights[i].position);
+        for (int c = 0; c < 3; c++)
+            lights[i].color[c] = (real)s->lights[i].color[c];
+        lights[i].shadowless = s->lights[i].shadowless;
+    }
+    csg_camera_src cam = s->camera;
+    if (!s->has_camera) {
+        cam.location = (dvec3){0, 0, 0};
+        cam.direction = (dvec3){0, 0, 1};
+        cam.up = (dvec3){0, 1, 0};
+        cam.right = (dvec3){1.33, 0, 0};
+    }
+    csg_camera *c = (csg_camera *)(b + h.off_camera);
+    store3(c->location, cam.location);
+    store3(c->direction, cam.direction);
+    store3(c->right, cam.right);
+    store3(c->up, cam.up);
+    out->bytes = b;
+    out->size = (size_t)off;
+    return true;
+}
+
+bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, csg_diag *d)
+{
+    flat_builder fb;
+    memset(&fb, 0, sizeof fb);
+    fb.scene = s;
+    fb.diag = d;
+    out->bytes = NULL;
+    out->size = 0;
+    bool ok = true;
+    if (o->width <= 0 || o->height <= 0) {
+        csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
+        ok = false;
+    }
+    inherited none = {-1, -1, false};
+    for (int i = 0; ok && i < s->object_count; i++)
+        ok = add_top(&fb, s->objects[i], none);
+    if (ok && !fb.oom && !write_blob(&fb, o, out))
+        fb.oom = true;
+    if (fb.oom) {
+        csg_error_plain(d, "out of memory while flattening the scene");
+        ok = false;
+    }
+    free(fb.prims);
+    free(fb.nodes);
+    free(fb.roots);
+    free(fb.mats);
+    free(fb.mat_keys);
+    if (!ok)
+        csg_blob_free(out);
+    return ok;
+}

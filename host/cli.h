@@ -1,0 +1,28 @@
+/*
+ * cli.h — the command line (DESIGN.md's contract) parsed into plain data;
+ * main.c only dispatches.  Bad arguments are bad input: exit status 2.
+ */
+#ifndef HOST_CLI_H
+#define HOST_CLI_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "../csg/diag.h"
+#include "render.h"
+
+enum cli_command { CMD_RENDER, CMD_COMPARE, CMD_CHECK, CMD_EXPORT, CMD_GEN, CMD_HELP, CMD_VERSION };
+
+typedef struct {
+    enum cli_command command;
+    render_request req;   /* render, compare; check and export use scene_path */
+    bool flat;            /* export --flat                                    */
+    const char *out_path; /* export -o, compare -o PREFIX                     */
+    int repeat;           /* compare --repeat                                 */
+} cli_args;
+
+/* Fills *a from argv; false with d filled (a usage error) otherwise. */
+bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d);
+void cli_usage(FILE *out);
+
+#endif

@@ -1,0 +1,99 @@
+/*
+ * main.c — csgtrace's entry point: parse the command line, dispatch.
+ * The stages live elsewhere: csg/ (language, geometry), host/render.c (the
+ * modes and MPI), workers/ (tracing and shading).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "../csg/export_pov.h"
+#include "../csg/flatten.h"
+#include "../csg/parser.h"
+#include "../csg/summary.h"
+#include "cli.h"
+#include "render.h"
+
+#define CSGTRACE_VERSION "0.1"
+
+static int fail(const csg_diag *d, int status)
+{
+    fprintf(stderr, "%s\n", d->message);
+    return status;
+}
+
+/* check: parse, validate by flattening (as a render would), summarise. */
+static int run_check(const cli_args *a)
+{
+    csg_diag d = {0};
+    csg_scene s;
+    if (!csg_parse_file(a->req.scene_path, &s, &d))
+        return fail(&d, EXIT_BAD_INPUT);
+    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1};
+    csg_blob blob;
+    if (!csg_flatten_double(&s, &fo, &blob, &d)) {
+        csg_scene_free(&s);
+        return fail(&d, EXIT_BAD_INPUT);
+    }
+    csg_print_summary(&s, stdout);
+    const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+    printf("flat scene: %d primitives in %d roots, %d CSG nodes, %d materials; "
+           "deepest program needs %d interval lists (limit %d)\n",
+           h->prim_count, h->root_count, h->node_count, h->material_count, h->max_stack,
+           CSG_STACK_MAX);
+    csg_blob_free(&blob);
+    csg_scene_free(&s);
+    return EXIT_OK;
+}
+
+/* export: the parsed scene back as POV-Ray SDL (--flat: geometry and
+ * colours only, for the cross-check against POV-Ray). */
+static int run_export(const cli_args *a)
+{
+    csg_diag d = {0};
+    csg_scene s;
+    if (!csg_parse_file(a->req.scene_path, &s, &d))
+        return fail(&d, EXIT_BAD_INPUT);
+    int status = EXIT_OK;
+    FILE *out = fopen(a->out_path, "w");
+    if (!out) {
+        perror(a->out_path);
+        status = EXIT_FAILURE_RUN;
+    } else {
+        bool ok = csg_export_pov(&s, out, a->flat, &d);
+        if (fclose(out) != 0 || !ok) {
+            if (d.failed)
+                fprintf(stderr, "%s\n", d.message);
+            else
+                perror(a->out_path);
+            remove(a->out_path);
+            status = d.failed ? EXIT_BAD_INPUT : EXIT_FAILURE_RUN;
+        }
+    }
+    csg_scene_free(&s);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    cli_args a;
+    csg_diag d = {0};
+    if (!cli_parse(argc, argv, &a, &d))
+        return fail(&d, EXIT_BAD_INPUT);
+    switch (a.command) {
+    case CMD_HELP:
+        cli_usage(stdout);
+        return EXIT_OK;
+    case CMD_VERSION:
+        printf("csgtrace %s\n", CSGTRACE_VERSION);
+        return EXIT_OK;
+    case CMD_CHECK:
+        return run_check(&a);
+    case CMD_EXPORT:
+        return run_export(&a);
+    case CMD_RENDER:
+        return render_run(&a.req);
+    default:
+        cli_usage(stderr);
+        return EXIT_BAD_INPUT;
+    }
+}

@@ -1,0 +1,332 @@
+/*
+ * test_engine.c — the flattener and the CPU engine on scene trees built by
+ * hand (no parser involved): flattening rules (dissolved unions, De Morgan,
+ * operand order, limits), shading against analytic values, and the
+ * invariants every mode relies on (a tile renders the same pixels whatever
+ * the tiling; records + shade == render).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <math.h>
+
+#include "../csg/flat.h"
+#include "../csg/flatten.h"
+#include "../workers/engine.h"
+
+/* ---- building trees ---------------------------------------------------------- */
+
+static csg_object *obj_new(csg_scene *s, enum csg_object_kind kind)
+{
+    csg_object *o = csg_arena_alloc(s->arena, sizeof *o);
+    assert_non_null(o);
+    o->kind = kind;
+    o->texture = -1;
+    o->interior = -1;
+    o->loc = (csg_loc){"hand.pov", 1, 1};
+    csg_xform_identity(&o->xform);
+    return o;
+}
+
+static csg_object *sphere(csg_scene *s, double x, double y, double z, double r)
+{
+    csg_object *o = obj_new(s, CSG_OBJ_SPHERE);
+    o->a = (dvec3){x, y, z};
+    o->r0 = r;
+    return o;
+}
+
+static csg_object *csg(csg_scene *s, enum csg_object_kind kind, int n, ...)
+{
+    csg_object *o = obj_new(s, kind);
+    o->children = csg_arena_alloc(s->arena, (size_t)n * sizeof(csg_object *));
+    va_list ap;
+    va_start(ap, n);
+    for (int i = 0; i < n; i++)
+        o->children[i] = va_arg(ap, csg_object *);
+    va_end(ap);
+    o->child_count = n;
+    return o;
+}
+
+static void add_top(csg_scene *s, csg_object *o)
+{
+    csg_object **objs = csg_arena_alloc(s->arena, (size_t)(s->object_count + 1) * sizeof *objs);
+    if (s->object_count)
+        memcpy(objs, s->objects, (size_t)s->object_count * sizeof *objs);
+    objs[s->object_count++] = o;
+    s->objects = objs;
+}
+
+static int add_texture(csg_scene *s, double r, double g, double b)
+{
+    csg_texture *t = csg_arena_alloc(s->arena, (size_t)(s->texture_count + 1) * sizeof *t);
+    if (s->texture_count)
+        memcpy(t, s->textures, (size_t)s->texture_count * sizeof *t);
+    csg_texture_default(&t[s->texture_count]);
+    t[s->texture_count].pigment.rgbft[0] = r;
+    t[s->texture_count].pigment.rgbft[1] = g;
+    t[s->texture_count].pigment.rgbft[2] = b;
+    s->textures = t;
+    return s->texture_count++;
+}
+
+static void scene_new(csg_scene *s)
+{
+    csg_scene_init(s);
+    s->arena = csg_arena_new();
+    assert_non_null(s->arena);
+    s->has_camera = true;
+    s->camera.location = (dvec3){0, 0, -5};
+    s->camera.direction = (dvec3){0, 0, 1};
+    s->camera.up = (dvec3){0, 1, 0};
+    s->camera.right = (dvec3){1.33, 0, 0};
+    s->camera.sky = (dvec3){0, 1, 0};
+    s->background[0] = 0.25;
+    s->background[1] = 0.5;
+    s->background[2] = 0.75;
+}
+
+static const csg_blob_header *flatten_ok(const engine *e, csg_scene *s, int w, int h, csg_blob *b)
+{
+    csg_flatten_opts o = {w, h, 0, -1};
+    csg_diag d = {0};
+    bool ok = e->flatten(s, &o, b, &d);
+    if (!ok)
+        fail_msg("flatten failed: %s", d.message);
+    assert_true(csg_blob_valid(b->bytes, b->size));
+    return csg_blob_hdr(b->bytes);
+}
+
+static float *render_all(const engine *e, const void *blob, int w, int h, int tile)
+{
+    float *rgb = calloc((size_t)w * h * 3, sizeof(float));
+    float *trgb = calloc((size_t)tile * tile * 3, sizeof(float));
+    void *t = calloc((size_t)tile * tile, 8);
+    uint32_t *surf = calloc((size_t)tile * tile, 4);
+    assert_true(rgb && trgb && t && surf);
+    ray_counts rays = {0};
+    for (int ty = 0; ty < h; ty += tile) {
+        for (int tx = 0; tx < w; tx += tile) {
+            tile_rect r = {tx, ty, tx + tile <= w ? tile : w - tx, ty + tile <= h ? tile : h - ty};
+            engine_render_tile(e, blob, r, t, surf, trgb, &rays);
+            for (int y = 0; y < r.height; y++)
+                memcpy(&rgb[3 * ((size_t)(ty + y) * w + tx)], &trgb[3 * (size_t)y * r.width],
+                       (size_t)r.width * 3 * sizeof(float));
+        }
+    }
+    assert_int_equal(rays.primary, (uint64_t)w * h);
+    free(trgb);
+    free(t);
+    free(surf);
+    return rgb;
+}
+
+/* ---- tests --------------------------------------------------------------------- */
+
+static void test_background_only(void **state)
+{
+    (void)state;
+    const engine *engines[2] = {&engine_float, &engine_double};
+    for (int k = 0; k < 2; k++) {
+        csg_scene s;
+        scene_new(&s);
+        csg_blob b;
+        const csg_blob_header *h = flatten_ok(engines[k], &s, 7, 5, &b);
+        assert_int_equal(h->root_count, 0);
+        assert_int_equal(h->real_size, engines[k]->real_size);
+        assert_ptr_equal(engine_for_blob(b.bytes), engines[k]);
+        float *rgb = render_all(engines[k], b.bytes, 7, 5, 4);
+        for (int i = 0; i < 7 * 5; i++) {
+            assert_true(rgb[3 * i] == 0.25f && rgb[3 * i + 1] == 0.5f && rgb[3 * i + 2] == 0.75f);
+        }
+        free(rgb);
+        csg_blob_free(&b);
+        csg_scene_free(&s);
+    }
+}
+
+/* Ambient-only red sphere, light behind the camera: the centre pixel is
+ * ambient * pigment + diffuse * cos * pigment with cos = 1 exactly. */
+static void test_lit_sphere_centre(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    csg_object *o = sphere(&s, 0, 0, 0, 1);
+    o->texture = add_texture(&s, 1, 0, 0);
+    add_top(&s, o);
+    csg_light light = {{0, 0, -100}, {1, 1, 1}, false, {"hand.pov", 1, 1}};
+    s.lights = &light;
+    s.light_count = 1;
+    csg_blob b;
+    flatten_ok(&engine_double, &s, 9, 9, &b);
+    float *rgb = render_all(&engine_double, b.bytes, 9, 9, 32);
+    float *c = &rgb[3 * (4 * 9 + 4)];
+    assert_true(fabs((double)c[0] - 0.7) < 1e-4);
+    assert_true(c[1] == 0.0f);
+    /* a corner misses: background */
+    assert_true(rgb[0] == 0.25f);
+    free(rgb);
+    csg_blob_free(&b);
+    s.lights = NULL;
+    csg_scene_free(&s);
+}
+
+/* The same pixels whatever the tile size, in both precisions. */
+static void test_tiling_invariance(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    add_top(&s, csg(&s, CSG_OBJ_DIFFERENCE, 2, sphere(&s, 0, 0, 0, 1.5), sphere(&s, 0.8, 0.5, -1, 0.9)));
+    add_top(&s, sphere(&s, -1.5, -0.5, 1, 0.7));
+    csg_light light = {{3, 4, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}};
+    s.lights = &light;
+    s.light_count = 1;
+    const engine *engines[2] = {&engine_float, &engine_double};
+    for (int k = 0; k < 2; k++) {
+        csg_blob b;
+        flatten_ok(engines[k], &s, 37, 23, &b);
+        float *ref = render_all(engines[k], b.bytes, 37, 23, 64);
+        int tiles[] = {1, 5, 16};
+        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++) {
+            float *img = render_all(engines[k], b.bytes, 37, 23, tiles[i]);
+            assert_memory_equal(ref, img, 37 * 23 * 3 * sizeof(float));
+            free(img);
+        }
+        free(ref);
+        csg_blob_free(&b);
+    }
+    s.lights = NULL;
+    csg_scene_free(&s);
+}
+
+/* difference -> intersection with a complemented leaf; a dissolved union. */
+static void test_flatten_programs(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    add_top(&s, csg(&s, CSG_OBJ_UNION, 2, sphere(&s, 0, 0, 0, 1), sphere(&s, 3, 0, 0, 1)));
+    add_top(&s, csg(&s, CSG_OBJ_DIFFERENCE, 2, sphere(&s, 0, 0, 0, 1), sphere(&s, 1, 0, 0, 1)));
+    csg_blob b;
+    const csg_blob_header *h = flatten_ok(&engine_float, &s, 4, 4, &b);
+    assert_int_equal(h->root_count, 3); /* the union dissolved into two roots */
+    const csg_node *nodes = (const csg_node *)((const char *)b.bytes + h->off_nodes);
+    const csg_prim *prims = (const csg_prim *)((const char *)b.bytes + h->off_prims);
+    const csg_root *roots = (const csg_root *)((const char *)b.bytes + h->off_roots);
+    assert_int_equal(roots[2].node_count, 3);
+    assert_int_equal(nodes[roots[2].first_node + 2].op, CSG_OP_INTERSECT);
+    int second = nodes[roots[2].first_node + 1].prim;
+    assert_true(prims[second].flags & CSG_PF_INVERT);
+    int first = nodes[roots[2].first_node].prim;
+    assert_false(prims[first].flags & CSG_PF_INVERT);
+    assert_int_equal(h->max_stack, 2);
+    csg_blob_free(&b);
+
+    /* an inverted union is not dissolved: it becomes ¬a ∩ ¬b */
+    csg_scene t;
+    scene_new(&t);
+    csg_object *u = csg(&t, CSG_OBJ_UNION, 2, sphere(&t, 0, 0, 0, 1), sphere(&t, 3, 0, 0, 1));
+    u->inverse = true;
+    add_top(&t, u);
+    h = flatten_ok(&engine_float, &t, 4, 4, &b);
+    nodes = (const csg_node *)((const char *)b.bytes + h->off_nodes);
+    prims = (const csg_prim *)((const char *)b.bytes + h->off_prims);
+    assert_int_equal(h->root_count, 1);
+    assert_int_equal(nodes[2].op, CSG_OP_INTERSECT);
+    assert_true(prims[0].flags & CSG_PF_INVERT);
+    assert_true(prims[1].flags & CSG_PF_INVERT);
+    csg_blob_free(&b);
+    csg_scene_free(&t);
+    csg_scene_free(&s);
+}
+
+/* A balanced tree needing more lists than the evaluator has is refused
+ * with the location of its root. */
+static csg_object *balanced(csg_scene *s, int depth)
+{
+    if (depth == 0)
+        return sphere(s, 0, 0, 0, 1);
+    return csg(s, CSG_OBJ_INTERSECTION, 2, balanced(s, depth - 1), balanced(s, depth - 1));
+}
+
+static void test_flatten_stack_limit(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    add_top(&s, balanced(&s, CSG_STACK_MAX - 1)); /* needs CSG_STACK_MAX lists: fine */
+    csg_blob b;
+    const csg_blob_header *h = flatten_ok(&engine_float, &s, 2, 2, &b);
+    assert_int_equal(h->max_stack, CSG_STACK_MAX);
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+
+    scene_new(&s);
+    csg_object *deep = balanced(&s, CSG_STACK_MAX);
+    deep->loc = (csg_loc){"deep.pov", 7, 3};
+    add_top(&s, deep);
+    csg_flatten_opts o = {2, 2, 0, -1};
+    csg_diag d = {0};
+    assert_false(csg_flatten_float(&s, &o, &b, &d));
+    assert_non_null(strstr(d.message, "deep.pov:7:3: error: CSG tree too complex"));
+    assert_null(b.bytes);
+    csg_scene_free(&s);
+}
+
+static void test_flatten_degenerate(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    csg_object *o = sphere(&s, 0, 0, 0, 1);
+    o->xform.m[1][1] = 0; /* scale y by 0: singular */
+    add_top(&s, o);
+    csg_blob b;
+    csg_flatten_opts opts = {2, 2, 0, -1};
+    csg_diag d = {0};
+    assert_false(csg_flatten_double(&s, &opts, &b, &d));
+    assert_non_null(strstr(d.message, "hand.pov:1:1: error: "));
+    csg_scene_free(&s);
+}
+
+/* A corrupted or truncated blob is rejected before anyone reads it. */
+static void test_blob_validation(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    add_top(&s, sphere(&s, 0, 0, 0, 1));
+    csg_blob b;
+    flatten_ok(&engine_float, &s, 3, 3, &b);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    assert_false(csg_blob_valid(b.bytes, b.size - 1));
+    csg_blob_header *h = b.bytes;
+    h->prim_count = 1 << 30;
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    h->prim_count = 1;
+    h->magic = 0;
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_background_only),
+        cmocka_unit_test(test_lit_sphere_centre),
+        cmocka_unit_test(test_tiling_invariance),
+        cmocka_unit_test(test_flatten_programs),
+        cmocka_unit_test(test_flatten_stack_limit),
+        cmocka_unit_test(test_flatten_degenerate),
+        cmocka_unit_test(test_blob_validation),
+    };
+    return cmocka_run_group_tests_name("engine", tests, NULL, NULL);
+}

@@ -1,0 +1,28 @@
+/*
+ * engine.c — the engine table of one precision (compiled twice, see the
+ * Makefile): the flattener and the CPU tracing/shading entry points.
+ */
+#include "engine.h"
+
+#ifdef CSG_DOUBLE
+#define ENGINE_SYM(name) name##_double
+#define ENGINE_NAME "double"
+#define ENGINE_REAL_SIZE 8
+#else
+#define ENGINE_SYM(name) name##_float
+#define ENGINE_NAME "float"
+#define ENGINE_REAL_SIZE 4
+#endif
+
+void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_out,
+                                      uint32_t *surf_out, ray_counts *rays);
+void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t,
+                              const uint32_t *surf, float *rgb_out, ray_counts *rays);
+
+const engine ENGINE_SYM(engine) = {
+    .name = ENGINE_NAME,
+    .real_size = ENGINE_REAL_SIZE,
+    .flatten = ENGINE_SYM(csg_flatten),
+    .trace_primary = ENGINE_SYM(engine_trace_primary),
+    .shade = ENGINE_SYM(engine_shade),
+};

@@ -1,0 +1,287 @@
+/*
+ * shade.c — the CPU side of the renderer, compiled once per precision:
+ * primary hit records for a tile (the same shared code the OpenCL kernel
+ * runs) and Whitted shading from those records.
+ *
+ * Shading follows POV-Ray 3.7's classic model where it is reasonable
+ * (scenes/LANGUAGE.md lists the differences):
+ *   colour = opacity * (ambient * pigment * ambient_light
+ *                       + sum over lights: diffuse * cos * pigment * light)
+ *          + highlights (phong, Blinn specular) * light
+ *          + reflection * trace(reflected ray)
+ *          + (filter * pigment + transmit) * trace(refracted ray)
+ * where opacity = 1 - filter - transmit, the light reaching a point is
+ * the light's colour times the transmittance of every surface between
+ * (shadow rays: each filtering/transmitting surface multiplies by
+ * filter * pigment + transmit, an opaque one blocks), and a secondary ray
+ * is traced only while the trace level is below max_depth and its weight
+ * in the pixel is at least adc_bailout.  Total internal reflection sends
+ * the transmitted weight along the reflected direction.
+ *
+ * Secondary rays start at the hit point moved off the surface by a few
+ * units in the last place along the normal (Wächter and Binder, "A Fast and
+ * Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6),
+ * towards the side the new ray leaves to, so no fixed epsilon is needed at
+ * any scale.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "../csg/camera.h"
+#include "engine.h"
+
+#ifdef CSG_DOUBLE
+#define ENGINE_SYM(name) name##_double
+typedef int64_t real_bits;
+#else
+#define ENGINE_SYM(name) name##_float
+typedef int32_t real_bits;
+#endif
+
+typedef struct {
+    const csg_blob_header *hdr;
+    csg_view view;
+    const csg_material *mats;
+    const csg_flat_light *lights;
+    const csg_camera *cam;
+    vec3 ambient_light;
+    vec3 background;
+    real bailout;
+} shade_ctx;
+
+static shade_ctx ctx_of(const void *blob)
+{
+    const unsigned char *b = blob;
+    shade_ctx c;
+    c.hdr = blob;
+    c.view.prims = (const csg_prim *)(b + c.hdr->off_prims);
+    c.view.nodes = (const csg_node *)(b + c.hdr->off_nodes);
+    c.view.roots = (const csg_root *)(b + c.hdr->off_roots);
+    c.view.root_count = c.hdr->root_count;
+    c.mats = (const csg_material *)(b + c.hdr->off_materials);
+    c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
+    c.cam = (const csg_camera *)(b + c.hdr->off_camera);
+    c.ambient_light = v3((real)c.hdr->ambient_light[0], (real)c.hdr->ambient_light[1],
+                         (real)c.hdr->ambient_light[2]);
+    c.background = v3((real)c.hdr->background[0], (real)c.hdr->background[1],
+                      (real)c.hdr->background[2]);
+    c.bailout = (real)c.hdr->adc_bailout;
+    return c;
+}
+
+/* ---- robust ray origins ------------------------------------------------------ */
+
+static real offset_component(real p, real n)
+{
+    /* constants of Wächter & Binder, scaled for the precision */
+#ifdef CSG_DOUBLE
+    const real origin = R(1.0) / R(32.0), float_scale = R(1.0) / R(1099511627776.0);
+    const real int_scale = R(256.0) * R(2097152.0); /* 2^29 ulps of double ~ 256 of float */
+#else
+    const real origin = R(1.0) / R(32.0), float_scale = R(1.0) / R(65536.0);
+    const real int_scale = R(256.0);
+#endif
+    if (r_fabs(p) < origin)
+        return p + float_scale * n;
+    real_bits step = (real_bits)(int_scale * n);
+    real_bits bits;
+    memcpy(&bits, &p, sizeof p);
+    bits += p < R(0.0) ? -step : step;
+    real q;
+    memcpy(&q, &bits, sizeof q);
+    return q;
+}
+
+/* p moved off the surface with normal n (pointing to the side wanted). */
+static vec3 offset_point(vec3 p, vec3 n)
+{
+    return v3(offset_component(p.x, n.x), offset_component(p.y, n.y), offset_component(p.z, n.z));
+}
+
+/* ---- shadows ------------------------------------------------------------------ */
+
+/* What fraction of the light passes from p (already offset) to the light
+ * `dist` away along unit direction l. */
+static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
+{
+    vec3 pass = v3(R(1.0), R(1.0), R(1.0));
+    csg_ray r;
+    r.o = p;
+    r.d = l;
+    csg_spans spans;
+    for (csg_i32 i = 0; i < c->view.root_count; i++) {
+        if (!csg_box_overlaps(&c->view.roots[i], r, R(0.0), dist))
+            continue;
+        csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
+        for (csg_i32 k = 0; k < spans.n; k++) {
+            csg_u32 ends[2] = {spans.s0[k], spans.s1[k]};
+            real ts[2] = {spans.t0[k], spans.t1[k]};
+            for (int e = 0; e < 2; e++) {
+                if (ends[e] == CSG_SURF_NONE || !(ts[e] > R(0.0)) || !(ts[e] < dist))
+                    continue;
+                const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(ends[e])];
+                if (prim->flags & CSG_PF_NO_SHADOW)
+                    continue;
+                const csg_material *m = &c->mats[prim->material];
+                if (m->filter <= R(0.0) && m->transmit <= R(0.0))
+                    return v3(R(0.0), R(0.0), R(0.0));
+                vec3 pig = v3_load(m->color);
+                pass = v3_mul(pass, v3_add(v3_scale(pig, m->filter),
+                                           v3(m->transmit, m->transmit, m->transmit)));
+            }
+        }
+    }
+    return pass;
+}
+
+/* ---- Whitted ------------------------------------------------------------------- */
+
+static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
+
+static real power(real base, real e)
+{
+#ifdef CSG_DOUBLE
+    return pow(base, e);
+#else
+    return powf(base, e);
+#endif
+}
+
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_counts *rays);
+
+static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
+                      ray_counts *rays)
+{
+    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
+    const csg_material *m = &c->mats[prim->material];
+    vec3 p = v3_add(r.o, v3_scale(r.d, h.t));
+    vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
+    int entering = v3_dot(n, r.d) < R(0.0);
+    vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
+    vec3 pig = v3_load(m->color);
+    real opacity = r_fmax(R(0.0), R(1.0) - m->filter - m->transmit);
+
+    vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
+    vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
+    vec3 above = offset_point(p, nf);
+    vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
+    for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
+        const csg_flat_light *lt = &c->lights[i];
+        vec3 to_light = v3_sub(v3_load(lt->position), above);
+        real dist = v3_length(to_light);
+        if (!(dist > R(0.0)))
+            continue;
+        vec3 l = v3_scale(to_light, R(1.0) / dist);
+        real cosl = v3_dot(nf, l);
+        if (cosl <= R(0.0))
+            continue;
+        vec3 light = v3_load(lt->color);
+        if (!lt->shadowless) {
+            rays->shadow++;
+            light = v3_mul(light, light_transmittance(c, above, l, dist));
+            if (max3(light) <= R(0.0))
+                continue;
+        }
+        surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * cosl));
+        if (m->phong > R(0.0)) {
+            real cr = v3_dot(refl_dir, l);
+            if (cr > R(0.0))
+                highlight = v3_add(highlight, v3_scale(light, m->phong * power(cr, m->phong_size)));
+        }
+        if (m->specular > R(0.0) && m->roughness > R(0.0)) {
+            vec3 half = v3_normalize(v3_sub(l, r.d));
+            real ch = v3_dot(nf, half);
+            if (ch > R(0.0))
+                highlight = v3_add(highlight,
+                                   v3_scale(light, m->specular * power(ch, R(1.0) / m->roughness)));
+        }
+    }
+    vec3 color = v3_add(v3_scale(surface, opacity), highlight);
+    if (level >= c->hdr->max_depth)
+        return color;
+
+    vec3 refl_w = v3_load(m->reflection);
+    vec3 trans_w = v3_add(v3_scale(pig, m->filter), v3(m->transmit, m->transmit, m->transmit));
+    if (max3(trans_w) > R(0.0)) {
+        real eta = entering ? R(1.0) / m->ior : m->ior;
+        real cosi = -v3_dot(r.d, nf);
+        real k = R(1.0) - eta * eta * (R(1.0) - cosi * cosi);
+        if (k < R(0.0)) {
+            refl_w = v3_add(refl_w, trans_w); /* total internal reflection */
+        } else {
+            real tw = weight * max3(trans_w);
+            if (tw >= c->bailout) {
+                csg_ray t;
+                t.d = v3_normalize(v3_add(v3_scale(r.d, eta), v3_scale(nf, eta * cosi - r_sqrt(k))));
+                t.o = offset_point(p, v3_neg(nf));
+                rays->refracted++;
+                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, rays)));
+            }
+        }
+    }
+    real rw = weight * max3(refl_w);
+    if (max3(refl_w) > R(0.0) && rw >= c->bailout) {
+        csg_ray s;
+        s.o = above;
+        s.d = v3_normalize(refl_dir);
+        rays->reflected++;
+        color = v3_add(color, v3_mul(refl_w, trace_ray(c, s, level + 1, rw, rays)));
+    }
+    return color;
+}
+
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_counts *rays)
+{
+    csg_hit h = csg_trace_nearest(c->view, r, R(0.0), CSG_R_INF);
+    if (h.surf == CSG_SURF_NONE)
+        return c->background;
+    return shade_hit(c, r, h, level, weight, rays);
+}
+
+/* ---- the engine entry points ----------------------------------------------------- */
+
+void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_out,
+                                      uint32_t *surf_out, ray_counts *rays)
+{
+    shade_ctx c = ctx_of(blob);
+    real *t = t_out;
+    for (int y = 0; y < rect.height; y++) {
+        for (int x = 0; x < rect.width; x++) {
+            csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x, rect.y + y);
+            csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
+            t[y * rect.width + x] = h.t;
+            surf_out[y * rect.width + x] = h.surf;
+        }
+    }
+    rays->primary += (uint64_t)rect.width * (uint64_t)rect.height;
+}
+
+/* A colour that reaches a pixel is finite: a NaN or infinity produced by a
+ * degenerate configuration becomes black rather than poisoning the image. */
+static float finite_or_zero(real v) { return isfinite(v) ? (float)v : 0.0f; }
+
+void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
+                              const uint32_t *surf, float *rgb_out, ray_counts *rays)
+{
+    shade_ctx c = ctx_of(blob);
+    const real *t = t_in;
+    for (int y = 0; y < rect.height; y++) {
+        for (int x = 0; x < rect.width; x++) {
+            int i = y * rect.width + x;
+            vec3 col;
+            if (surf[i] == CSG_SURF_NONE) {
+                col = c.background;
+            } else {
+                csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                            rect.y + y);
+                csg_hit h;
+                h.t = t[i];
+                h.surf = surf[i];
+                col = shade_hit(&c, r, h, 1, R(1.0), rays);
+            }
+            rgb_out[3 * i + 0] = finite_or_zero(col.x);
+            rgb_out[3 * i + 1] = finite_or_zero(col.y);
+            rgb_out[3 * i + 2] = finite_or_zero(col.z);
+        }
+    }
+}
