@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# e2e_cli.sh — the command line contract of DESIGN.md, end to end:
+# exit statuses (0 ok, 2 bad input, 1 other failure), one-line
+# `file:line:col: error:` messages, no output file left behind on failure,
+# image formats by extension, `check` and `export`.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${CSGTRACE_BIN:-build/csgtrace}
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { echo "ok   - $1"; pass=$((pass + 1)); }
+ko() { echo "FAIL - $1"; fail=$((fail + 1)); }
+
+# expect STATUS DESCRIPTION CMD...: runs CMD, checks its exit status.
+expect() {
+    local want=$1 what=$2
+    shift 2
+    "$@" >"$T/out" 2>"$T/err"
+    local got=$?
+    if [ "$got" -eq "$want" ]; then ok "$what (exit $got)"; else
+        ko "$what: exit $got, wanted $want; stderr: $(head -c 300 "$T/err")"
+    fi
+}
+
+# errmsg REGEX DESCRIPTION: the last stderr is one line matching REGEX.
+errmsg() {
+    local lines
+    lines=$(wc -l <"$T/err")
+    if [ "$lines" -eq 1 ] && grep -Eq "$1" "$T/err"; then ok "$2"; else
+        ko "$2: stderr was: $(head -c 300 "$T/err")"
+    fi
+}
+
+cat >"$T/good.pov" <<'POV'
+camera { location <0, 0, -4> look_at 0 }
+light_source { <2, 4, -3> color rgb 1 }
+sphere { 0, 1 pigment { color rgb <1, 0.5, 0.2> } }
+POV
+printf 'sphere { 0, 1\n  pigment { color rgb 1 }\n  torus { 1, 0.2 }\n}\n' >"$T/bad.pov"
+printf 'sphere { <0,0,0>, -1 }\n' >"$T/negative.pov"
+
+# --- arguments ---
+expect 2 "no command" "$BIN"
+expect 2 "unknown command" "$BIN" frobnicate x.pov
+expect 2 "render without -o" "$BIN" render "$T/good.pov"
+expect 2 "bad --width" "$BIN" render "$T/good.pov" -o "$T/x.png" --width 0
+errmsg '^csgtrace: error: --width expects' "bad --width message"
+expect 2 "bad --mode" "$BIN" render "$T/good.pov" -o "$T/x.png" --mode fast
+expect 2 "bad --precision" "$BIN" render "$T/good.pov" -o "$T/x.png" --precision half
+expect 2 "unknown option" "$BIN" render "$T/good.pov" -o "$T/x.png" --frobnicate
+expect 0 "--help" "$BIN" --help
+
+# --- bad scenes: exit 2, one file:line:col message, no output ---
+expect 2 "missing scene file" "$BIN" render "$T/none.pov" -o "$T/x.png"
+errmsg 'none.pov' "missing scene file message names the file"
+expect 2 "unsupported construct" "$BIN" render "$T/bad.pov" -o "$T/bad.png"
+errmsg "^$T/bad.pov:3:3: error: .*torus" "unsupported construct message with line:col"
+[ ! -e "$T/bad.png" ] && ok "no image after a scene error" || ko "image written after a scene error"
+expect 2 "negative radius" "$BIN" check "$T/negative.pov"
+errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
+
+# --- a failed render never leaves a partial file: existing output untouched ---
+echo "previous" >"$T/keep.png"
+expect 2 "scene error keeps an existing output" "$BIN" render "$T/bad.pov" -o "$T/keep.png"
+[ "$(cat "$T/keep.png")" = previous ] && ok "existing output untouched" || ko "existing output was modified"
+expect 1 "unknown image format" "$BIN" render "$T/good.pov" -o "$T/x.unknownformat" --width 8 --height 6
+[ -z "$(ls -A "$T" | grep -v -e '\.pov$' -e keep.png -e '^out$' -e '^err$')" ] && ok "no stray temporary files" ||
+    ko "stray files: $(ls -A "$T")"
+
+# --- formats by extension ---
+for ext in png exr tif ppm; do
+    expect 0 "render .$ext" "$BIN" render "$T/good.pov" -o "$T/img.$ext" --width 32 --height 24
+    if oiiotool --info "$T/img.$ext" 2>/dev/null | grep -q "32 x  *24"; then ok ".$ext is a 32x24 image"; else
+        ko ".$ext is not a 32x24 image: $(oiiotool --info "$T/img.$ext" 2>&1 | head -c 200)"
+    fi
+done
+
+# --- check and export ---
+expect 0 "check" "$BIN" check "$T/good.pov"
+grep -qi "sphere" "$T/out" && ok "check summary lists the sphere" || ko "check summary: $(head -c 300 "$T/out")"
+expect 0 "export" "$BIN" export "$T/good.pov" -o "$T/exported.pov"
+expect 0 "exported scene parses again" "$BIN" check "$T/exported.pov"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

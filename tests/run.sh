@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# tests/run.sh — every test of csgtrace, as `make test` runs it (after the
+# optimised and the ASan+UBSan builds).  Each suite prints its own results;
+# this script adds them up and ends with the line "N passed, N failed".
+#
+#   tests/run.sh            all suites
+#   tests/run.sh unit       only the cmocka unit tests (both builds)
+set -u
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:allocator_may_return_null=1}
+export LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+mkdir -p "$POCL_CACHE_DIR" build/test-out
+
+passed=0
+failed=0
+failed_suites=()
+
+# A cmocka binary: count its test cases.
+run_cmocka() {
+    local bin=$1 log
+    log=$(mktemp)
+    "$bin" >"$log" 2>&1
+    local rc=$?
+    cat "$log"
+    local p f
+    p=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$log" | tail -1)
+    f=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$log" | tail -1)
+    p=${p:-0}
+    f=${f:-0}
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+        f=1 # crashed or a sanitizer stopped it
+    fi
+    passed=$((passed + p))
+    failed=$((failed + f))
+    [ "$f" -gt 0 ] && failed_suites+=("$bin")
+    rm -f "$log"
+}
+
+# A script suite: it ends with "N passed, N failed".
+run_script() {
+    local script=$1 log
+    shift
+    log=$(mktemp)
+    echo "=== $script $*"
+    bash "$script" "$@" 2>&1 | tee "$log"
+    local rc=${PIPESTATUS[0]}
+    local line p f
+    line=$(grep -E '^[0-9]+ passed, [0-9]+ failed' "$log" | tail -1)
+    p=$(echo "$line" | sed -n 's/^\([0-9]*\) passed.*/\1/p')
+    f=$(echo "$line" | sed -n 's/.* \([0-9]*\) failed.*/\1/p')
+    p=${p:-0}
+    f=${f:-0}
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+        f=1
+    fi
+    passed=$((passed + p))
+    failed=$((failed + f))
+    [ "$f" -gt 0 ] && failed_suites+=("$script")
+    rm -f "$log"
+}
+
+what=${1:-all}
+for bin in build/tests/test_*; do
+    [ -x "$bin" ] && run_cmocka "$bin"
+done
+for bin in build/asan/tests/test_*; do
+    [ -x "$bin" ] && run_cmocka "$bin"
+done
+if [ "$what" = all ]; then
+    for script in tests/e2e_*.sh; do
+        [ -f "$script" ] && run_script "$script"
+    done
+fi
+
+echo
+if [ ${#failed_suites[@]} -gt 0 ]; then
+    echo "failing suites: ${failed_suites[*]}"
+fi
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
