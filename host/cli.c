@@ -17,6 +17,8 @@ void cli_usage(FILE *out)
           "                   [--tile N] [--depth D] [--threshold W] [--precision float|double]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
           "  csgtrace check   SCENE\n"
+          "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
+          "                   [--materials opaque,reflective,transparent] -o scene.pov\n"
           "  csgtrace export  SCENE -o OUT.pov [--flat]\n"
           "  csgtrace help | --help | --version\n"
           "Run the parallel modes under mpirun: mpirun -np K build/csgtrace render ...\n"
@@ -70,7 +72,7 @@ static const struct {
     const char *name;
     enum cli_command cmd;
 } commands[] = {{"render", CMD_RENDER}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
-                {"help", CMD_HELP},
+                {"gen", CMD_GEN},       {"help", CMD_HELP},
                 {"--help", CMD_HELP},   {"-h", CMD_HELP},         {"--version", CMD_VERSION}};
 
 /* One option with its value (argv[*i + 1]); false on a bad one. */

@@ -11,6 +11,7 @@
 #include "../csg/parser.h"
 #include "../csg/summary.h"
 #include "cli.h"
+#include "gen.h"
 #include "render.h"
 
 #define CSGTRACE_VERSION "0.1"
@@ -73,6 +74,23 @@ static int run_export(const cli_args *a)
     return status;
 }
 
+/* gen spheres: a random-sphere scene with a measured occupancy. */
+static int run_gen(int argc, char **argv)
+{
+    csg_diag d = {0};
+    gen_options o;
+    if (!gen_parse_args(argc, argv, &o, &d))
+        return fail(&d, EXIT_BAD_INPUT);
+    gen_result r;
+    if (!gen_spheres(&o, &r, &d))
+        return fail(&d, EXIT_FAILURE_RUN);
+    printf("%s: %d spheres, occupancy %.2f%% at %dx%d (target %.2f%%), radius scale %.4g, "
+           "%d primary passes\n",
+           o.out_path, o.count, 100 * r.occupancy, o.width, o.height, 100 * o.occupancy, r.scale,
+           r.evaluations);
+    return EXIT_OK;
+}
+
 int main(int argc, char **argv)
 {
     cli_args a;
@@ -90,6 +108,8 @@ int main(int argc, char **argv)
         return run_check(&a);
     case CMD_EXPORT:
         return run_export(&a);
+    case CMD_GEN:
+        return run_gen(argc - 2, argv + 2);
     case CMD_RENDER:
         return render_run(&a.req);
     default:
