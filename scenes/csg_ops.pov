@@ -4,11 +4,11 @@
 // Framed for 640x480 (4:3; default right 1.33).
 //
 // Left to right, back row:
-//   union         two overlapping spheres (inner surfaces kept, invisible
-//                 on opaque objects)
+//   union         two overlapping clear red spheres: the inner surfaces
+//                 show through
 //   intersection  box ∩ sphere (a rounded cube)
 //   difference    box minus sphere minus cylinder (first child minus the others)
-//   merge         two overlapping spheres (inner surfaces removed)
+//   merge         the same two spheres, merged: no inner surfaces
 // Front row:
 //   intersection with an `inverse` child: a sphere ∩ (inverse box) is the
 //                 same as sphere minus box
@@ -21,7 +21,7 @@ global_settings { assumed_gamma 1.0 }
 
 camera {
     location <0, 3.6, -7.2>
-    look_at <0, 0.5, 0.3>
+    look_at <0, 0.3, 0>
     angle 58
 }
 
@@ -36,8 +36,8 @@ plane { y, 0 pigment { color rgb <0.4, 0.4, 0.42> } finish { ambient 0.15 diffus
 // union
 union {
     sphere { <-0.35, 0, 0>, 0.6 }
-    sphere { <0.35, 0, 0>, 0.6 pigment { color rgb <0.9, 0.6, 0.1> } }
-    pigment { Red }
+    sphere { <0.35, 0, 0>, 0.6 }
+    pigment { color rgbt <1, 0.2, 0.1, 0.6> }
     finish { Matte }
     translate <-3.6, 0.7, 1.5>
 }
@@ -55,7 +55,7 @@ intersection {
 // difference: the first child minus every other child
 difference {
     box { <-0.6, -0.6, -0.6>, <0.6, 0.6, 0.6> }
-    sphere { <0, 0.6, -0.6>, 0.5 pigment { Yellow } }
+    sphere { <0, 0.6, -0.6>, 0.5 pigment { color Yellow } }
     cylinder { <-1, 0, 0>, <1, 0, 0>, 0.25 }
     pigment { color rgb <0.2, 0.4, 0.9> }
     finish { Matte }
@@ -67,7 +67,7 @@ difference {
 merge {
     sphere { <-0.35, 0, 0>, 0.6 }
     sphere { <0.35, 0, 0>, 0.6 }
-    pigment { Magenta }
+    pigment { color rgbt <1, 0.2, 0.1, 0.6> }
     finish { Matte }
     translate <3.6, 0.7, 1.5>
 }
@@ -76,10 +76,10 @@ merge {
 intersection {
     sphere { <0, 0, 0>, 0.7 }
     box { <-1, 0, -1>, <0, 1, 0> inverse }
-    pigment { Cyan }
+    pigment { color Cyan }
     finish { Matte }
-    rotate <0, 20, 0>
-    translate <-2.4, 0.7, -1.2>
+    rotate <0, -30, 0>
+    translate <-2.6, 0.7, -1.7>
 }
 
 // nested: (sphere ∪ cylinder) minus (box ∩ sphere)
@@ -91,12 +91,12 @@ difference {
     intersection {
         box { <-0.2, 0.3, -1>, <1, 1.5, 1> }
         sphere { <0.2, 0.8, 0>, 0.55 }
-        pigment { White }
+        pigment { color White }
     }
     pigment { color rgb <0.9, 0.3, 0.5> }
     finish { Matte }
-    rotate <0, -40, 0>
-    translate <0, 0, -1.2>
+    rotate <0, 60, 0>
+    translate <0, 0, -1.7>
 }
 
 // a difference nested in a difference
@@ -109,5 +109,5 @@ difference {
     pigment { color rgb <0.95, 0.85, 0.6> }
     finish { Matte }
     rotate <0, 25, 0>
-    translate <2.4, 0, -1.2>
+    translate <2.6, 0, -1.7>
 }

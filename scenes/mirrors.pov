@@ -34,6 +34,6 @@ sphere { <0, 1.6, 0.8>, 0.7 texture { Mirror } }
 cylinder { <0, 0, 0.8>, <0, 0.95, 0.8>, 0.2 pigment { color rgb <0.3, 0.3, 0.3> } finish { ambient 0.1 diffuse 0.6 phong 0.5 } }
 
 // coloured things to be reflected
-sphere { <-1.5, 0.5, -0.5>, 0.5 pigment { Red } finish { ambient 0.1 diffuse 0.7 phong 0.8 phong_size 80 } }
+sphere { <-1.5, 0.5, -0.5>, 0.5 pigment { color Red } finish { ambient 0.1 diffuse 0.7 phong 0.8 phong_size 80 } }
 box { <-0.4, 0, -0.4>, <0.4, 0.8, 0.4> pigment { color rgb <0.1, 0.6, 0.2> } finish { ambient 0.1 diffuse 0.7 } rotate <0, 35, 0> translate <1.6, 0, -0.8> }
 cone { <0, 0, 0>, 0.4, <0, 1.3, 0>, 0 pigment { color rgb <0.2, 0.4, 1> } finish { ambient 0.1 diffuse 0.7 phong 0.5 } translate <0.3, 0, -1.6> }

@@ -23,7 +23,7 @@ light_source { <5, 7, -2> color rgb <0.4, 0.4, 0.4> }
 light_source { <0, 6, -9> color rgb <0.15, 0.15, 0.15> shadowless }
 background { color rgb <0.7, 0.7, 0.75> }
 
-plane { y, 0 pigment { White } finish { ambient 0.1 diffuse 0.8 } }
+plane { y, 0 pigment { color White } finish { ambient 0.1 diffuse 0.8 } }
 
 sphere { <-3, 0.7, 1.5>, 0.7 pigment { color rgb <0.6, 0.6, 0.6> } finish { phong 0.5 } }
 sphere {
@@ -46,5 +46,5 @@ cylinder {
     translate <3.1, 0, 1.5>
 }
 
-sphere { <-0.9, 0.55, -1.2>, 0.55 pigment { Yellow } finish { phong 0.4 } no_shadow }
-sphere { <0.9, 0.55, -1.2>, 0.55 pigment { Yellow } finish { phong 0.4 } }
+sphere { <-0.9, 0.55, -1.2>, 0.55 pigment { color Yellow } finish { phong 0.4 } no_shadow }
+sphere { <0.9, 0.55, -1.2>, 0.55 pigment { color Yellow } finish { phong 0.4 } }

@@ -27,11 +27,11 @@ plane { y, 0 pigment { color rgb <0.3, 0.32, 0.35> } finish { ambient 0.1 diffus
 #declare C = color rgb <0.9, 0.3, 0.2>;
 
 // row z = 2.4: matte
-object { Ball pigment { C } finish { diffuse 0.8 } translate <-2.4, 0, 2.4> }
-object { Ball pigment { C } finish { diffuse 0.8 specular 0.2 roughness 0.1 } translate <-1.2, 0, 2.4> }
-object { Ball pigment { C } finish { diffuse 0.7 specular 0.4 roughness 0.05 } translate <0, 0, 2.4> }
-object { Ball pigment { C } finish { diffuse 0.7 phong 0.6 phong_size 40 } translate <1.2, 0, 2.4> }
-object { Ball pigment { C } finish { diffuse 0.6 phong 0.9 phong_size 200 } translate <2.4, 0, 2.4> }
+object { Ball pigment { color C } finish { diffuse 0.8 } translate <-2.4, 0, 2.4> }
+object { Ball pigment { color C } finish { diffuse 0.8 specular 0.2 roughness 0.1 } translate <-1.2, 0, 2.4> }
+object { Ball pigment { color C } finish { diffuse 0.7 specular 0.4 roughness 0.05 } translate <0, 0, 2.4> }
+object { Ball pigment { color C } finish { diffuse 0.7 phong 0.6 phong_size 40 } translate <1.2, 0, 2.4> }
+object { Ball pigment { color C } finish { diffuse 0.6 phong 0.9 phong_size 200 } translate <2.4, 0, 2.4> }
 // row z = 1.2
 object { Ball pigment { color rgb <0.3, 0.8, 0.3> } finish { diffuse 0.8 reflection 0.1 } translate <-2.4, 0, 1.2> }
 object { Ball pigment { color rgb <0.3, 0.8, 0.3> } finish { diffuse 0.8 specular 0.2 roughness 0.1 reflection 0.1 } translate <-1.2, 0, 1.2> }
