@@ -1,0 +1,348 @@
+/*
+ * export_pov.c — writes a scene tree back as POV-Ray 3.7 SDL.
+ *
+ * Algorithm: one depth-first walk of each top-level object.  The scene tree
+ * stores in every node its COMPLETE object -> world transform (the parents'
+ * transforms included), so:
+ *   - a primitive is written with its own full transform as `matrix <...>`;
+ *   - a CSG node is written with no transform at all.
+ * The union / intersection / difference / merge of the transformed children
+ * is the transformed CSG (and `inverse` commutes with any invertible
+ * transform), so POV-Ray sees exactly the geometry csgtrace sees.
+ * Textures are resolved on the way down (index -1: the parent's) and
+ * written on the primitives only; a top-level object with none gets
+ * POV-Ray's default texture written out explicitly.  Interiors are written
+ * where the source gave them (POV-Ray then applies its own inheritance).
+ *
+ * POV-Ray's `matrix <a..l>` maps the row vector [x y z 1] by a 4x3 matrix:
+ * x' = a x + d y + g z + j, so it is the transpose of csg_xform's m[3][4].
+ *
+ * Numbers are written with the fewest digits that read back to the same
+ * double (15, else 17), so the export loses nothing.
+ *
+ * Invariant: nothing is written for a node before its kind and its texture
+ * and interior indices have been checked, and every error leaves d filled.
+ */
+#include "export_pov.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera_setup.h"
+
+#define EXPORT_MAX_DEPTH 1000 /* deeper trees are refused, not recursed into */
+
+typedef struct {
+    const csg_scene *s;
+    FILE *out;
+    bool flat;
+    csg_diag *d;
+} exporter;
+
+/* ---- numbers and vectors ---------------------------------------------------- */
+
+static void put_num(FILE *out, double v)
+{
+    char buf[40];
+    if (v == 0) {
+        fputs("0", out); /* also for -0 */
+        return;
+    }
+    snprintf(buf, sizeof buf, "%.15g", v);
+    if (strtod(buf, NULL) != v)
+        snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, out);
+}
+
+static void put_vec(FILE *out, const double *v, int n)
+{
+    fputc('<', out);
+    for (int i = 0; i < n; i++) {
+        if (i)
+            fputs(", ", out);
+        put_num(out, v[i]);
+    }
+    fputc('>', out);
+}
+
+static void put_dvec(FILE *out, dvec3 v)
+{
+    double a[3] = {v.x, v.y, v.z};
+    put_vec(out, a, 3);
+}
+
+static void indent(FILE *out, int depth)
+{
+    for (int i = 0; i < depth; i++)
+        fputs("    ", out);
+}
+
+/* ---- global statements ------------------------------------------------------- */
+
+static void write_globals(const exporter *e)
+{
+    const csg_globals *g = &e->s->globals;
+    FILE *out = e->out;
+    static const double one[3] = {1, 1, 1};
+    fputs("global_settings {\n    assumed_gamma 1\n    max_trace_level ", out);
+    fprintf(out, "%d", e->flat ? 1 : g->max_trace_level);
+    fputs("\n    adc_bailout ", out);
+    put_num(out, g->adc_bailout);
+    fputs("\n    ambient_light rgb ", out);
+    put_vec(out, e->flat ? one : g->ambient_light, 3);
+    fputs("\n}\n\n", out);
+}
+
+static void write_camera(const exporter *e)
+{
+    csg_camera_src cam;
+    if (e->s->has_camera)
+        cam = e->s->camera;
+    else
+        csg_camera_default(&cam);
+    FILE *out = e->out;
+    fputs("camera {\n    perspective\n    location ", out);
+    put_dvec(out, cam.location);
+    fputs("\n    direction ", out);
+    put_dvec(out, cam.direction);
+    fputs("\n    right ", out);
+    put_dvec(out, cam.right);
+    fputs("\n    up ", out);
+    put_dvec(out, cam.up);
+    fputs("\n}\n\n", out);
+}
+
+static void write_background_and_lights(const exporter *e)
+{
+    FILE *out = e->out;
+    if (e->flat) {
+        fputs("background { color rgb ", out);
+        put_vec(out, e->s->background, 3);
+    } else {
+        fputs("background { color rgbft ", out);
+        put_vec(out, e->s->background, 5);
+    }
+    fputs(" }\n\n", out);
+    for (int i = 0; i < e->s->light_count; i++) {
+        const csg_light *l = &e->s->lights[i];
+        fputs("light_source { ", out);
+        put_dvec(out, l->position);
+        fputs(" color rgb ", out);
+        put_vec(out, l->color, 3);
+        fputs(l->shadowless ? " shadowless }\n" : " }\n", out);
+    }
+    if (e->s->light_count)
+        fputc('\n', out);
+}
+
+/* ---- objects ------------------------------------------------------------------- */
+
+static void write_texture(const exporter *e, const csg_texture *t, int depth)
+{
+    FILE *out = e->out;
+    indent(out, depth);
+    if (e->flat) {
+        fputs("texture { pigment { color rgb ", out);
+        put_vec(out, t->pigment.rgbft, 3);
+        fputs(" } finish { ambient 1 diffuse 0 } }\n", out);
+        return;
+    }
+    const csg_finish *f = &t->finish;
+    fputs("texture {\n", out);
+    indent(out, depth + 1);
+    fputs("pigment { color rgbft ", out);
+    put_vec(out, t->pigment.rgbft, 5);
+    fputs(" }\n", out);
+    indent(out, depth + 1);
+    fputs("finish { ambient rgb ", out);
+    put_vec(out, f->ambient, 3);
+    fputs(" diffuse ", out);
+    put_num(out, f->diffuse);
+    fputs(" specular ", out);
+    put_num(out, f->specular);
+    fputs(" roughness ", out);
+    put_num(out, f->roughness);
+    fputs(" phong ", out);
+    put_num(out, f->phong);
+    fputs(" phong_size ", out);
+    put_num(out, f->phong_size);
+    fputs(" reflection rgb ", out);
+    put_vec(out, f->reflection, 3);
+    fputs(" }\n", out);
+    indent(out, depth);
+    fputs("}\n", out);
+}
+
+static void write_matrix(FILE *out, const csg_xform *x, int depth)
+{
+    double m[12];
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 3; row++)
+            m[col * 3 + row] = x->m[row][col];
+    indent(out, depth);
+    fputs("matrix ", out);
+    put_vec(out, m, 12);
+    fputc('\n', out);
+}
+
+static const char *object_keyword(enum csg_object_kind k)
+{
+    switch (k) {
+    case CSG_OBJ_SPHERE: return "sphere";
+    case CSG_OBJ_BOX: return "box";
+    case CSG_OBJ_CYLINDER: return "cylinder";
+    case CSG_OBJ_CONE: return "cone";
+    case CSG_OBJ_PLANE: return "plane";
+    case CSG_OBJ_UNION: return "union";
+    case CSG_OBJ_INTERSECTION: return "intersection";
+    case CSG_OBJ_DIFFERENCE: return "difference";
+    case CSG_OBJ_MERGE: return "merge";
+    }
+    return NULL;
+}
+
+static bool is_csg(enum csg_object_kind k)
+{
+    return k == CSG_OBJ_UNION || k == CSG_OBJ_INTERSECTION || k == CSG_OBJ_DIFFERENCE ||
+           k == CSG_OBJ_MERGE;
+}
+
+/* The shape's own parameters, after the opening brace. */
+static void write_shape(FILE *out, const csg_object *o)
+{
+    switch (o->kind) {
+    case CSG_OBJ_SPHERE:
+        put_dvec(out, o->a);
+        fputs(", ", out);
+        put_num(out, o->r0);
+        break;
+    case CSG_OBJ_BOX:
+        put_dvec(out, o->a);
+        fputs(", ", out);
+        put_dvec(out, o->b);
+        break;
+    case CSG_OBJ_CYLINDER:
+        put_dvec(out, o->a);
+        fputs(", ", out);
+        put_dvec(out, o->b);
+        fputs(", ", out);
+        put_num(out, o->r0);
+        break;
+    case CSG_OBJ_CONE:
+        put_dvec(out, o->a);
+        fputs(", ", out);
+        put_num(out, o->r0);
+        fputs(", ", out);
+        put_dvec(out, o->b);
+        fputs(", ", out);
+        put_num(out, o->r1);
+        break;
+    case CSG_OBJ_PLANE:
+        put_dvec(out, o->a);
+        fputs(", ", out);
+        put_num(out, o->r0);
+        break;
+    default:
+        break;
+    }
+    if (o->open && (o->kind == CSG_OBJ_CYLINDER || o->kind == CSG_OBJ_CONE))
+        fputs(" open", out);
+}
+
+static bool check_node(const exporter *e, const csg_object *o, int depth)
+{
+    if (!object_keyword(o->kind)) {
+        csg_error(e->d, o->loc, "export: unknown object kind %d", (int)o->kind);
+        return false;
+    }
+    if (depth > EXPORT_MAX_DEPTH) {
+        csg_error(e->d, o->loc, "export: objects nested deeper than %d levels", EXPORT_MAX_DEPTH);
+        return false;
+    }
+    if (o->texture < -1 || o->texture >= e->s->texture_count) {
+        csg_error(e->d, o->loc, "export: texture index %d out of range", o->texture);
+        return false;
+    }
+    if (o->interior < -1 || o->interior >= e->s->interior_count) {
+        csg_error(e->d, o->loc, "export: interior index %d out of range", o->interior);
+        return false;
+    }
+    if (is_csg(o->kind) && (o->child_count < 0 || (o->child_count > 0 && !o->children))) {
+        csg_error(e->d, o->loc, "export: malformed %s", object_keyword(o->kind));
+        return false;
+    }
+    return true;
+}
+
+/* `texture`: the inherited texture (NULL: none, POV-Ray's default). */
+static bool write_object(const exporter *e, const csg_object *o, const csg_texture *texture,
+                         int depth)
+{
+    if (!check_node(e, o, depth))
+        return false;
+    FILE *out = e->out;
+    if (o->texture >= 0)
+        texture = &e->s->textures[o->texture];
+    indent(out, depth);
+    fputs(object_keyword(o->kind), out);
+    fputs(" {", out);
+    if (is_csg(o->kind)) {
+        fputc('\n', out);
+        for (int i = 0; i < o->child_count; i++)
+            if (!write_object(e, o->children[i], texture, depth + 1))
+                return false;
+    } else {
+        fputc(' ', out);
+        write_shape(out, o);
+        fputc('\n', out);
+        write_matrix(out, &o->xform, depth + 1);
+        csg_texture def;
+        if (!texture) {
+            csg_texture_default(&def);
+            texture = &def;
+        }
+        write_texture(e, texture, depth + 1);
+    }
+    if (!e->flat && o->interior >= 0) {
+        indent(out, depth + 1);
+        fputs("interior { ior ", out);
+        put_num(out, e->s->interiors[o->interior].ior);
+        fputs(" }\n", out);
+    }
+    if (o->inverse) {
+        indent(out, depth + 1);
+        fputs("inverse\n", out);
+    }
+    if (o->no_shadow) {
+        indent(out, depth + 1);
+        fputs("no_shadow\n", out);
+    }
+    indent(out, depth);
+    fputs("}\n", out);
+    return true;
+}
+
+/* ---- entry point ------------------------------------------------------------------- */
+
+bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
+{
+    exporter e = {s, out, flat, d};
+    fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
+            flat ? " (flat: object colours only, for the geometry cross-check)" : "");
+    fputs("#version 3.7;\n\n", out);
+    write_globals(&e);
+    write_camera(&e);
+    write_background_and_lights(&e);
+    for (int i = 0; i < s->object_count; i++) {
+        if (!write_object(&e, s->objects[i], NULL, 0))
+            goto fail;
+        fputc('\n', out);
+    }
+    if (fflush(out) != 0 || ferror(out)) {
+        csg_error_plain(d, "cannot write the exported scene");
+        goto fail;
+    }
+    return true;
+fail:
+    return false;
+}
