@@ -47,15 +47,18 @@ bool is_float_format(const std::string &ext)
     return ext == "exr" || ext == "hdr" || ext == "pfm";
 }
 
-/* The display encoding of 8-bit files: gamma 2.2, like POV-Ray 3.7 with
- * assumed_gamma 1 and its default file gamma. */
+/* The display encoding of 8-bit files: the sRGB transfer curve, which is
+ * what POV-Ray 3.7 writes to PNG with assumed_gamma 1 and its default file
+ * gamma (measured: all 256 levels agree). */
 float encode_display(float v)
 {
     if (!(v > 0.0f))
         return 0.0f;
     if (v >= 1.0f)
         return 1.0f;
-    return std::pow(v, 1.0f / 2.2f);
+    if (v <= 0.0031308f)
+        return 12.92f * v;
+    return 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
 std::string temp_name_for(const std::string &path)
