@@ -59,6 +59,8 @@ struct ocl_ctx {
     cl_kernel k_primary;    /* csg_primary: a record a pixel        */
     cl_kernel k_tiles;      /* csg_tile_hits: a count a tile        */
     cl_kernel k_layout;     /* csg_layout: the layout probe         */
+    size_t group_primary;   /* work-group width (dim 0) of csg_primary   */
+    size_t group_tiles;     /* and of csg_tile_hits                      */
     int use_double;         /* the program was built with CSG_DOUBLE */
     cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
@@ -429,6 +431,17 @@ static void ocl_print_build_log(cl_program prog, cl_device_id dev, const char *n
     free(log);
 }
 
+/* Work-groups of OCL_GROUP_WIDTH x 1 work-items, or what the kernel allows. */
+#define OCL_GROUP_WIDTH 64
+static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
+{
+    size_t max = 0;
+    cl_int err = clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max,
+                                          NULL);
+    *out = max < OCL_GROUP_WIDTH ? (max ? max : 1) : OCL_GROUP_WIDTH;
+    return err;
+}
+
 static bool ocl_build(ocl_ctx *c, const char *name, double *compile_s, csg_diag *d)
 {
     char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 200];
@@ -470,6 +483,11 @@ static bool ocl_build(ocl_ctx *c, const char *name, double *compile_s, csg_diag 
             return false;
         }
     }
+    err = ocl_group_width(c->k_primary, c->device, &c->group_primary);
+    if (err == CL_SUCCESS)
+        err = ocl_group_width(c->k_tiles, c->device, &c->group_tiles);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetKernelWorkGroupInfo(CL_KERNEL_WORK_GROUP_SIZE)", err);
     return true;
 }
 
@@ -656,6 +674,8 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     cl_ulong offs[4] = {h->off_prims, h->off_nodes, h->off_roots, h->off_camera};
     cl_int root_count = h->root_count, width = h->width, height = h->height, cy0 = y0;
     cl_int crows = rows, ctile = tile, tiles_x = (h->width + tile - 1) / tile;
+    int ty0 = y0 / tile;
+    cl_int tile_rows = (y0 + rows - 1) / tile - ty0 + 1; /* tile rows the slice touches */
     const char *kp = "csg_primary", *kt = "csg_tile_hits";
     bool ok = ocl_arg(c->k_primary, kp, 0, sizeof(cl_mem), &b->blob, d) &&
               ocl_arg(c->k_primary, kp, 1, sizeof(cl_ulong), &offs[0], d) &&
@@ -666,24 +686,30 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
               ocl_arg(c->k_primary, kp, 6, sizeof(cl_int), &width, d) &&
               ocl_arg(c->k_primary, kp, 7, sizeof(cl_int), &height, d) &&
               ocl_arg(c->k_primary, kp, 8, sizeof(cl_int), &cy0, d) &&
-              ocl_arg(c->k_primary, kp, 9, sizeof(cl_mem), &b->t, d) &&
-              ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_primary, kp, 9, sizeof(cl_int), &crows, d) &&
+              ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->t, d) &&
+              ocl_arg(c->k_primary, kp, 11, sizeof(cl_mem), &b->surf, d) &&
               ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->surf, d) &&
               ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &width, d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
               ocl_arg(c->k_tiles, kt, 3, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_tiles, kt, 4, sizeof(cl_int), &ctile, d) &&
               ocl_arg(c->k_tiles, kt, 5, sizeof(cl_int), &tiles_x, d) &&
-              ocl_arg(c->k_tiles, kt, 6, sizeof(cl_mem), &b->hits, d);
+              ocl_arg(c->k_tiles, kt, 6, sizeof(cl_int), &tile_rows, d) &&
+              ocl_arg(c->k_tiles, kt, 7, sizeof(cl_mem), &b->hits, d);
     if (!ok)
         return false;
-    int ty0 = y0 / tile, ty1 = (y0 + rows - 1) / tile;
-    size_t pix[2] = {(size_t)h->width, (size_t)rows};
-    size_t tiles[2] = {(size_t)tiles_x, (size_t)(ty1 - ty0 + 1)};
-    cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_primary, 2, NULL, pix, NULL, 0, NULL, NULL);
+    size_t gp = c->group_primary, gt = c->group_tiles;
+    size_t pix[2] = {((size_t)h->width + gp - 1) / gp * gp, (size_t)rows};
+    size_t pix_group[2] = {gp, 1};
+    size_t tiles[2] = {((size_t)tiles_x + gt - 1) / gt * gt, (size_t)tile_rows};
+    size_t tiles_group[2] = {gt, 1};
+    cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_primary, 2, NULL, pix, pix_group, 0, NULL,
+                                        NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_primary)", err);
-    err = clEnqueueNDRangeKernel(c->queue, c->k_tiles, 2, NULL, tiles, NULL, 0, NULL, NULL);
+    err = clEnqueueNDRangeKernel(c->queue, c->k_tiles, 2, NULL, tiles, tiles_group, 0, NULL,
+                                 NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
     size_t npix = (size_t)h->width * (size_t)rows, first = (size_t)h->width * (size_t)y0;
@@ -696,7 +722,7 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                               surf_out + first, 0, NULL, NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueReadBuffer(surf)", err);
-    size_t nt = tiles[0] * tiles[1];
+    size_t nt = (size_t)tiles_x * (size_t)tile_rows;
     err = clEnqueueReadBuffer(c->queue, b->hits, CL_TRUE, 0, nt * sizeof(uint32_t), b->host_hits,
                               0, NULL, NULL);
     if (err != CL_SUCCESS)

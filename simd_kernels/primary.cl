@@ -14,7 +14,10 @@
  * kernels get the byte offsets of its arrays and rebuild a csg_view of
  * __global pointers.  The image is processed in slices of rows (the host
  * picks them to fit the device): rows y0 .. y0 + rows - 1, stored from row 0
- * of the slice buffers.
+ * of the slice buffers.  The host pads the grids to whole work-groups of a
+ * size it chooses (PoCL's own choice, the whole grid as one group, makes
+ * every work-item's private span lists live at once and overflows its
+ * stack), so both kernels first drop the work-items outside the image.
  *
  * Tile counts need no atomics: csg_tile_hits runs after csg_primary on the
  * same in-order queue, one work-item per (tile column, tile row touched by
@@ -27,10 +30,13 @@
 
 __kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off_nodes,
                           ulong off_roots, ulong off_camera, int root_count, int width,
-                          int height, int y0, __global real *t_out, __global uint *surf_out)
+                          int height, int y0, int rows, __global real *t_out,
+                          __global uint *surf_out)
 {
     int x = (int)get_global_id(0);
     int row = (int)get_global_id(1);
+    if (x >= width || row >= rows) /* the grid is padded to whole work-groups */
+        return;
     csg_view v;
     v.prims = (__global const csg_prim *)(blob + off_prims);
     v.nodes = (__global const csg_node *)(blob + off_nodes);
@@ -49,10 +55,12 @@ __kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off
 /* hits[k * tiles_x + tx]: pixels with surf != 0 in tile (tx, y0 / tile + k),
  * restricted to the slice's rows y0 .. y0 + rows - 1. */
 __kernel void csg_tile_hits(__global const uint *surf, int width, int y0, int rows, int tile,
-                            int tiles_x, __global uint *hits)
+                            int tiles_x, int tile_rows, __global uint *hits)
 {
     int tx = (int)get_global_id(0);
     int k = (int)get_global_id(1);
+    if (tx >= tiles_x || k >= tile_rows)
+        return;
     int ty = y0 / tile + k;
     int ya = max(y0, ty * tile);
     int yb = min(y0 + rows, ty * tile + tile);
