@@ -16,7 +16,7 @@
  * ocl_primary_pass uploads the whole flat blob as one read-only buffer (the
  * kernels rebuild __global pointers from the array offsets), then walks the
  * image in slices of rows sized to the device (max allocation, a share of
- * the global memory, and opt->max_slice_bytes).  A slice is a whole number
+ * the global memory, and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number
  * of tile rows whenever one tile row fits; otherwise it is a run of pixel
  * rows inside a tile row.  Per slice: csg_primary (a work-item a pixel),
  * csg_tile_hits (a work-item a tile touched by the slice), then the records
@@ -48,6 +48,11 @@
 #endif
 
 #define OCL_MAX_PLATFORMS 16
+/* Default cap on a slice's device buffers.  A CPU device's "device memory"
+ * is a second copy in host memory, so whole-image buffers would double the
+ * footprint of a large image; 256 MiB slices still hold 32 M pixels, far
+ * more parallelism than any device needs, and cost one launch each. */
+#define OCL_DEFAULT_SLICE_BYTES ((uint64_t)256 << 20)
 #define OCL_MAX_DEVICES 64
 #define OCL_PLATFORM_NOT_FOUND_KHR (-1001) /* cl_khr_icd: no platform installed */
 
@@ -561,8 +566,9 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
     share = share > h->total_size ? share - h->total_size : 0;
     if (share / row_bytes < rows)
         rows = share / row_bytes;
-    if (c->max_slice_bytes && c->max_slice_bytes / row_bytes < rows)
-        rows = c->max_slice_bytes / row_bytes;
+    uint64_t cap = c->max_slice_bytes ? (uint64_t)c->max_slice_bytes : OCL_DEFAULT_SLICE_BYTES;
+    if (cap / row_bytes < rows)
+        rows = cap / row_bytes;
     if (rows >= (uint64_t)tile)
         rows -= rows % (uint64_t)tile;
     if (rows < 1)

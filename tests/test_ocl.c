@@ -24,6 +24,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cmocka.h>
 
 #include "../csg/camera.h"
@@ -617,6 +619,45 @@ static void test_bad_blob(void **state)
     free(s);
 }
 
+/* A kernel that does not compile: a clear error, the build log on stderr;
+ * a missing source folder: an error that names it. */
+static void test_build_failure(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/csgtrace-test-ocl-XXXXXX", sub[64], path[96];
+    assert_non_null(mkdtemp(dir));
+    snprintf(sub, sizeof sub, "%s/simd_kernels", dir);
+    snprintf(path, sizeof path, "%s/primary.cl", sub);
+    assert_int_equal(mkdir(sub, 0700), 0);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("__kernel void csg_primary(__global int *o) { o[0] = undeclared_name; }\n", f);
+    fclose(f);
+    const char *old = getenv("CSGTRACE_SOURCE_DIR");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("CSGTRACE_SOURCE_DIR", dir, 1);
+    ocl_options opt = {0};
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open(&opt, &ctx, &timing, &d);
+    csg_diag d2 = {0};
+    setenv("CSGTRACE_SOURCE_DIR", "/nonexistent/csgtrace-src", 1);
+    bool ok2 = ocl_open(&opt, &ctx, &timing, &d2);
+    if (saved)
+        setenv("CSGTRACE_SOURCE_DIR", saved, 1);
+    else
+        unsetenv("CSGTRACE_SOURCE_DIR");
+    free(saved);
+    remove(path);
+    rmdir(sub);
+    rmdir(dir);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "CL_BUILD_PROGRAM_FAILURE"));
+    assert_false(ok2);
+    assert_non_null(strstr(d2.message, "/nonexistent/csgtrace-src"));
+}
+
 static void test_error_names(void **state)
 {
     (void)state;
@@ -674,6 +715,7 @@ int main(void)
         cmocka_unit_test(test_bad_device),
         cmocka_unit_test(test_device_selectors),
         cmocka_unit_test(test_bad_blob),
+        cmocka_unit_test(test_build_failure),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
