@@ -19,11 +19,15 @@ typedef struct {
                             (platform and device index), a substring of the
                             device name, or NULL for the first device */
     int use_double;      /* build the double kernel (needs cl_khr_fp64)    */
-    size_t max_slice_bytes; /* 0: fit the device; tests force small slices */
+    size_t max_slice_bytes; /* device bytes of one slice's records; 0: fit
+                               the device, at most 256 MiB; tests force
+                               small slices with tiny values             */
 } ocl_options;
 
 typedef struct {
-    double compile_s;    /* program build (or cache load)                 */
+    double compile_s;    /* program build (or PoCL cache load) and one
+                            warm-up launch (PoCL's per-work-group-size
+                            compile), so primary_s holds no compilation */
     double primary_s;    /* upload + kernels + download                   */
     int slices;          /* passes the image needed                       */
     char device_name[256];

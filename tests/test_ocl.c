@@ -578,6 +578,28 @@ static void test_bad_device(void **state)
     }
 }
 
+/* $CSGTRACE_CL_DEVICE is the selector when the options give none. */
+static void test_env_device(void **state)
+{
+    (void)state;
+    const char *old = getenv("CSGTRACE_CL_DEVICE");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("CSGTRACE_CL_DEVICE", "bogus-env-device", 1);
+    ocl_options opt = {0};
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open(&opt, &ctx, &timing, &d);
+    if (saved)
+        setenv("CSGTRACE_CL_DEVICE", saved, 1);
+    else
+        unsetenv("CSGTRACE_CL_DEVICE");
+    free(saved);
+    ocl_close(ctx);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "bogus-env-device"));
+}
+
 /* The device selector "0:0" and a name substring both work. */
 static void test_device_selectors(void **state)
 {
@@ -713,6 +735,7 @@ int main(void)
         cmocka_unit_test(test_forced_slices),
         cmocka_unit_test(test_empty_scene),
         cmocka_unit_test(test_bad_device),
+        cmocka_unit_test(test_env_device),
         cmocka_unit_test(test_device_selectors),
         cmocka_unit_test(test_bad_blob),
         cmocka_unit_test(test_build_failure),
