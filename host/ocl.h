@@ -6,6 +6,7 @@
 #ifndef HOST_OCL_H
 #define HOST_OCL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -18,11 +19,15 @@ typedef struct {
                             (platform and device index), a substring of the
                             device name, or NULL for the first device */
     int use_double;      /* build the double kernel (needs cl_khr_fp64)    */
-    size_t max_slice_bytes; /* 0: fit the device; tests force small slices */
+    size_t max_slice_bytes; /* device bytes of one slice's records; 0: fit
+                               the device, at most 256 MiB; tests force
+                               small slices with tiny values             */
 } ocl_options;
 
 typedef struct {
-    double compile_s;    /* program build (or cache load)                 */
+    double compile_s;    /* program build (or PoCL cache load) and one
+                            warm-up launch (PoCL's per-work-group-size
+                            compile), so primary_s holds no compilation */
     double primary_s;    /* upload + kernels + download                   */
     int slices;          /* passes the image needed                       */
     char device_name[256];
@@ -41,5 +46,14 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d);
 
 void ocl_close(ocl_ctx *ctx);
+
+/* The layout probe (kernel csg_layout): out[0 .. *count) receives the
+ * device's sizeof / offsetof list of simd_kernels/layout_fields.cl in the
+ * context's precision (tests/test_layout.c compares it with the C side). */
+bool ocl_probe_layout(ocl_ctx *ctx, int32_t *out, int cap, int *count, csg_diag *d);
+
+/* "CL_INVALID_VALUE" for -30, ...; "CL_UNKNOWN_ERROR" for codes it does
+ * not know.  (A cl_int.) */
+const char *ocl_error_name(int32_t err);
 
 #endif

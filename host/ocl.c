@@ -1,0 +1,852 @@
+/*
+ * ocl.c — the OpenCL host side of the data-parallel phase (see ocl.h):
+ * device choice, program build, the primary pass in slices, tile counts.
+ *
+ * Algorithm.  ocl_open picks one device (an explicit "P:D" or a name
+ * substring from the options or $CSGTRACE_CL_DEVICE, else the first device
+ * of the first platform that has one), reads <source>/simd_kernels/primary.cl
+ * (<source> is $CSGTRACE_SOURCE_DIR, else the repository root the Makefile
+ * baked in as CSG_SOURCE_DIR) and builds it with absolute -I paths to csg/
+ * and simd_kernels/, correctly rounded divide/sqrt and, for the double build,
+ * -DCSG_DOUBLE.  Nothing that relaxes math is ever passed.  PoCL keeps the
+ * compiled program in its cache (POCL_CACHE_DIR, default ~/.cache/pocl), so
+ * only the first build of a given source + options is slow; compile_s
+ * reports the build either way, apart from primary_s.
+ *
+ * ocl_primary_pass uploads the whole flat blob as one read-only buffer (the
+ * kernels rebuild __global pointers from the array offsets), then walks the
+ * image in slices of rows sized to the device (max allocation, a share of
+ * the global memory, and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number
+ * of tile rows whenever one tile row fits; otherwise it is a run of pixel
+ * rows inside a tile row.  Per slice: csg_primary (a work-item a pixel),
+ * csg_tile_hits (a work-item a tile touched by the slice), then the records
+ * are read straight into the caller's arrays at the slice's first row, and
+ * the per-slice tile counts are added to tile_hits.  The counts are integer
+ * sums, so the result does not depend on the slicing.
+ *
+ * Invariants.  Every OpenCL call is checked and a failure is reported with
+ * the call and the error's name (ocl_error_name); every object is released
+ * on the one cleanup path of each function.  No globals.
+ */
+#define CL_TARGET_OPENCL_VERSION 120
+#include "ocl.h"
+
+#include <CL/cl.h>
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../csg/flat.h"
+#include "../csg/flatten.h"
+
+#ifndef CSG_SOURCE_DIR
+#define CSG_SOURCE_DIR "."
+#endif
+
+#define OCL_MAX_PLATFORMS 16
+/* Default cap on a slice's device buffers.  A CPU device's "device memory"
+ * is a second copy in host memory, so whole-image buffers would double the
+ * footprint of a large image; 256 MiB slices still hold 32 M pixels, far
+ * more parallelism than any device needs, and cost one launch each. */
+#define OCL_DEFAULT_SLICE_BYTES ((uint64_t)256 << 20)
+#define OCL_MAX_DEVICES 64
+#define OCL_PLATFORM_NOT_FOUND_KHR (-1001) /* cl_khr_icd: no platform installed */
+
+struct ocl_ctx {
+    cl_device_id device;
+    cl_context context;
+    cl_command_queue queue;
+    cl_program program;
+    cl_kernel k_primary;    /* csg_primary: a record a pixel        */
+    cl_kernel k_tiles;      /* csg_tile_hits: a count a tile        */
+    cl_kernel k_layout;     /* csg_layout: the layout probe         */
+    size_t group_primary;   /* work-group width (dim 0) of csg_primary   */
+    size_t group_tiles;     /* and of csg_tile_hits                      */
+    int use_double;         /* the program was built with CSG_DOUBLE */
+    cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
+    cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
+    size_t max_slice_bytes; /* 0: no limit beyond the device's       */
+};
+
+/* ---- errors -------------------------------------------------------------- */
+
+typedef struct {
+    int32_t code;
+    const char *name;
+} ocl_err_entry;
+
+static const ocl_err_entry ocl_errors[] = {
+    {0, "CL_SUCCESS"},
+    {-1, "CL_DEVICE_NOT_FOUND"},
+    {-2, "CL_DEVICE_NOT_AVAILABLE"},
+    {-3, "CL_COMPILER_NOT_AVAILABLE"},
+    {-4, "CL_MEM_OBJECT_ALLOCATION_FAILURE"},
+    {-5, "CL_OUT_OF_RESOURCES"},
+    {-6, "CL_OUT_OF_HOST_MEMORY"},
+    {-7, "CL_PROFILING_INFO_NOT_AVAILABLE"},
+    {-8, "CL_MEM_COPY_OVERLAP"},
+    {-9, "CL_IMAGE_FORMAT_MISMATCH"},
+    {-10, "CL_IMAGE_FORMAT_NOT_SUPPORTED"},
+    {-11, "CL_BUILD_PROGRAM_FAILURE"},
+    {-12, "CL_MAP_FAILURE"},
+    {-13, "CL_MISALIGNED_SUB_BUFFER_OFFSET"},
+    {-14, "CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST"},
+    {-15, "CL_COMPILE_PROGRAM_FAILURE"},
+    {-16, "CL_LINKER_NOT_AVAILABLE"},
+    {-17, "CL_LINK_PROGRAM_FAILURE"},
+    {-18, "CL_DEVICE_PARTITION_FAILED"},
+    {-19, "CL_KERNEL_ARG_INFO_NOT_AVAILABLE"},
+    {-30, "CL_INVALID_VALUE"},
+    {-31, "CL_INVALID_DEVICE_TYPE"},
+    {-32, "CL_INVALID_PLATFORM"},
+    {-33, "CL_INVALID_DEVICE"},
+    {-34, "CL_INVALID_CONTEXT"},
+    {-35, "CL_INVALID_QUEUE_PROPERTIES"},
+    {-36, "CL_INVALID_COMMAND_QUEUE"},
+    {-37, "CL_INVALID_HOST_PTR"},
+    {-38, "CL_INVALID_MEM_OBJECT"},
+    {-39, "CL_INVALID_IMAGE_FORMAT_DESCRIPTOR"},
+    {-40, "CL_INVALID_IMAGE_SIZE"},
+    {-41, "CL_INVALID_SAMPLER"},
+    {-42, "CL_INVALID_BINARY"},
+    {-43, "CL_INVALID_BUILD_OPTIONS"},
+    {-44, "CL_INVALID_PROGRAM"},
+    {-45, "CL_INVALID_PROGRAM_EXECUTABLE"},
+    {-46, "CL_INVALID_KERNEL_NAME"},
+    {-47, "CL_INVALID_KERNEL_DEFINITION"},
+    {-48, "CL_INVALID_KERNEL"},
+    {-49, "CL_INVALID_ARG_INDEX"},
+    {-50, "CL_INVALID_ARG_VALUE"},
+    {-51, "CL_INVALID_ARG_SIZE"},
+    {-52, "CL_INVALID_KERNEL_ARGS"},
+    {-53, "CL_INVALID_WORK_DIMENSION"},
+    {-54, "CL_INVALID_WORK_GROUP_SIZE"},
+    {-55, "CL_INVALID_WORK_ITEM_SIZE"},
+    {-56, "CL_INVALID_GLOBAL_OFFSET"},
+    {-57, "CL_INVALID_EVENT_WAIT_LIST"},
+    {-58, "CL_INVALID_EVENT"},
+    {-59, "CL_INVALID_OPERATION"},
+    {-60, "CL_INVALID_GL_OBJECT"},
+    {-61, "CL_INVALID_BUFFER_SIZE"},
+    {-62, "CL_INVALID_MIP_LEVEL"},
+    {-63, "CL_INVALID_GLOBAL_WORK_SIZE"},
+    {-64, "CL_INVALID_PROPERTY"},
+    {-65, "CL_INVALID_IMAGE_DESCRIPTOR"},
+    {-66, "CL_INVALID_COMPILER_OPTIONS"},
+    {-67, "CL_INVALID_LINKER_OPTIONS"},
+    {-68, "CL_INVALID_DEVICE_PARTITION_COUNT"},
+    {-69, "CL_INVALID_PIPE_SIZE"},
+    {-70, "CL_INVALID_DEVICE_QUEUE"},
+    {-71, "CL_INVALID_SPEC_ID"},
+    {-72, "CL_MAX_SIZE_RESTRICTION_EXCEEDED"},
+    {-1001, "CL_PLATFORM_NOT_FOUND_KHR"},
+};
+
+const char *ocl_error_name(int32_t err)
+{
+    for (size_t i = 0; i < sizeof ocl_errors / sizeof ocl_errors[0]; i++)
+        if (ocl_errors[i].code == err)
+            return ocl_errors[i].name;
+    return "CL_UNKNOWN_ERROR";
+}
+
+/* Reports "OpenCL: <what>: <name> (<code>)"; returns false. */
+static bool ocl_fail(csg_diag *d, const char *what, cl_int err)
+{
+    csg_error_plain(d, "OpenCL: %s failed: %s (%d)", what, ocl_error_name(err), (int)err);
+    return false;
+}
+
+static double ocl_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* ---- device choice -------------------------------------------------------- */
+
+typedef struct {
+    cl_platform_id platforms[OCL_MAX_PLATFORMS];
+    cl_uint platform_count;
+    cl_device_id devices[OCL_MAX_PLATFORMS][OCL_MAX_DEVICES];
+    cl_uint device_count[OCL_MAX_PLATFORMS];
+} ocl_inventory;
+
+static bool ocl_list_devices(ocl_inventory *inv, csg_diag *d)
+{
+    cl_int err = clGetPlatformIDs(OCL_MAX_PLATFORMS, inv->platforms, &inv->platform_count);
+    if (err == OCL_PLATFORM_NOT_FOUND_KHR || (err == CL_SUCCESS && inv->platform_count == 0)) {
+        csg_error_plain(d, "OpenCL: no platform found (is an ICD such as pocl-opencl-icd "
+                           "installed?)");
+        return false;
+    }
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetPlatformIDs", err);
+    if (inv->platform_count > OCL_MAX_PLATFORMS)
+        inv->platform_count = OCL_MAX_PLATFORMS;
+    for (cl_uint p = 0; p < inv->platform_count; p++) {
+        cl_uint n = 0;
+        err = clGetDeviceIDs(inv->platforms[p], CL_DEVICE_TYPE_ALL, OCL_MAX_DEVICES,
+                             inv->devices[p], &n);
+        if (err == CL_DEVICE_NOT_FOUND)
+            n = 0;
+        else if (err != CL_SUCCESS)
+            return ocl_fail(d, "clGetDeviceIDs", err);
+        inv->device_count[p] = n > OCL_MAX_DEVICES ? OCL_MAX_DEVICES : n;
+    }
+    return true;
+}
+
+static void ocl_device_name(cl_device_id dev, char *buf, size_t size)
+{
+    if (clGetDeviceInfo(dev, CL_DEVICE_NAME, size, buf, NULL) != CL_SUCCESS)
+        snprintf(buf, size, "(unnamed device)");
+    buf[size - 1] = '\0';
+}
+
+/* Case-insensitive substring test. */
+static bool ocl_contains(const char *hay, const char *needle)
+{
+    size_t n = strlen(needle);
+    for (; *hay; hay++) {
+        size_t i = 0;
+        while (i < n && hay[i] &&
+               tolower((unsigned char)hay[i]) == tolower((unsigned char)needle[i]))
+            i++;
+        if (i == n)
+            return true;
+    }
+    return n == 0;
+}
+
+/* "P:D" with two decimal indices. */
+static bool ocl_parse_index(const char *s, unsigned *p, unsigned *dv)
+{
+    char *end;
+    if (!isdigit((unsigned char)s[0]))
+        return false;
+    errno = 0;
+    unsigned long a = strtoul(s, &end, 10);
+    if (errno || *end != ':' || !isdigit((unsigned char)end[1]))
+        return false;
+    unsigned long b = strtoul(end + 1, &end, 10);
+    if (errno || *end != '\0' || a > UINT_MAX || b > UINT_MAX)
+        return false;
+    *p = (unsigned)a;
+    *dv = (unsigned)b;
+    return true;
+}
+
+/* "0:0 name, 0:1 name, ..." for error messages. */
+static void ocl_describe_devices(const ocl_inventory *inv, char *buf, size_t size)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (cl_uint p = 0; p < inv->platform_count; p++)
+        for (cl_uint i = 0; i < inv->device_count[p]; i++) {
+            char name[128];
+            ocl_device_name(inv->devices[p][i], name, sizeof name);
+            int n = snprintf(buf + used, size - used, "%s%u:%u \"%s\"", used ? ", " : "",
+                             (unsigned)p, (unsigned)i, name);
+            if (n < 0 || (size_t)n >= size - used)
+                return;
+            used += (size_t)n;
+        }
+    if (used == 0)
+        snprintf(buf, size, "none");
+}
+
+static bool ocl_pick_device(const char *sel, cl_device_id *out, csg_diag *d)
+{
+    ocl_inventory inv;
+    if (!ocl_list_devices(&inv, d))
+        return false;
+    unsigned pi, di;
+    if (sel && ocl_parse_index(sel, &pi, &di)) {
+        if (pi < inv.platform_count && di < inv.device_count[pi]) {
+            *out = inv.devices[pi][di];
+            return true;
+        }
+    } else {
+        for (cl_uint p = 0; p < inv.platform_count; p++)
+            for (cl_uint i = 0; i < inv.device_count[p]; i++) {
+                char name[256];
+                ocl_device_name(inv.devices[p][i], name, sizeof name);
+                if (!sel || ocl_contains(name, sel)) {
+                    *out = inv.devices[p][i];
+                    return true;
+                }
+            }
+    }
+    char list[700];
+    ocl_describe_devices(&inv, list, sizeof list);
+    if (sel)
+        csg_error_plain(d, "OpenCL: no device matches \"%s\" (give \"P:D\" or part of a "
+                           "name; devices: %s)", sel, list);
+    else
+        csg_error_plain(d, "OpenCL: no device found on any platform");
+    return false;
+}
+
+/* ---- device properties ------------------------------------------------------ */
+
+static bool ocl_has_extension(cl_device_id dev, const char *ext, csg_diag *d)
+{
+    size_t size = 0;
+    cl_int err = clGetDeviceInfo(dev, CL_DEVICE_EXTENSIONS, 0, NULL, &size);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_EXTENSIONS)", err);
+    char *list = malloc(size + 1);
+    if (!list) {
+        csg_error_plain(d, "out of memory");
+        return false;
+    }
+    err = clGetDeviceInfo(dev, CL_DEVICE_EXTENSIONS, size, list, NULL);
+    if (err != CL_SUCCESS) {
+        free(list);
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_EXTENSIONS)", err);
+    }
+    list[size] = '\0';
+    bool found = false;
+    size_t n = strlen(ext);
+    for (char *tok = list; *tok;) {
+        while (*tok == ' ')
+            tok++;
+        size_t len = strcspn(tok, " ");
+        if (len == n && strncmp(tok, ext, n) == 0)
+            found = true;
+        tok += len;
+    }
+    free(list);
+    return found;
+}
+
+/* The device can run the requested build exactly as the C side computes. */
+static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
+{
+    cl_int err = clGetDeviceInfo(c->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof c->max_alloc,
+                                 &c->max_alloc, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)", err);
+    err = clGetDeviceInfo(c->device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof c->global_mem,
+                          &c->global_mem, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_GLOBAL_MEM_SIZE)", err);
+    cl_device_fp_config fp = 0;
+    err = clGetDeviceInfo(c->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_SINGLE_FP_CONFIG)", err);
+    if (!c->use_double && !(fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)) {
+        csg_error_plain(d, "OpenCL: device \"%s\" has no correctly rounded float divide and "
+                           "sqrt, so its records could not match the C side; use "
+                           "--precision double or another device", name);
+        return false;
+    }
+    if (c->use_double) {
+        csg_diag probe = {0};
+        bool fp64 = ocl_has_extension(c->device, "cl_khr_fp64", &probe);
+        if (probe.failed) {
+            *d = probe;
+            return false;
+        }
+        if (!fp64) {
+            csg_error_plain(d, "OpenCL: device \"%s\" does not support double precision "
+                               "(no cl_khr_fp64); use --precision float or another device",
+                            name);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* ---- program ------------------------------------------------------------------ */
+
+/* The source folder: $CSGTRACE_SOURCE_DIR or CSG_SOURCE_DIR, made absolute
+ * (PoCL compiles a copy of the source elsewhere: -I must be absolute). */
+static bool ocl_source_dir(char *out, size_t size, csg_diag *d)
+{
+    const char *dir = getenv("CSGTRACE_SOURCE_DIR");
+    if (!dir || !*dir)
+        dir = CSG_SOURCE_DIR;
+    char resolved[PATH_MAX];
+    if (!realpath(dir, resolved)) {
+        csg_error_plain(d, "kernel source folder %s: %s (set CSGTRACE_SOURCE_DIR to the "
+                           "csgtrace source tree)", dir, strerror(errno));
+        return false;
+    }
+    if (strpbrk(resolved, " \t\n\"'\\")) {
+        csg_error_plain(d, "kernel source folder \"%s\" holds a space, quote or backslash, "
+                           "which OpenCL build options cannot carry; set CSGTRACE_SOURCE_DIR "
+                           "to a plain path", resolved);
+        return false;
+    }
+    if ((size_t)snprintf(out, size, "%s", resolved) >= size) {
+        csg_error_plain(d, "kernel source folder path too long: %s", resolved);
+        return false;
+    }
+    return true;
+}
+
+static char *ocl_read_file(const char *path, csg_diag *d)
+{
+    char *text = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        goto fail;
+    if (fseek(f, 0, SEEK_END) != 0)
+        goto fail;
+    long len = ftell(f);
+    if (len < 0 || fseek(f, 0, SEEK_SET) != 0)
+        goto fail;
+    text = malloc((size_t)len + 1);
+    if (!text)
+        goto fail;
+    if (fread(text, 1, (size_t)len, f) != (size_t)len)
+        goto fail;
+    text[len] = '\0';
+    fclose(f);
+    return text;
+fail:
+    csg_error_plain(d, "cannot read kernel source %s: %s", path,
+                    errno ? strerror(errno) : "read error");
+    free(text);
+    if (f)
+        fclose(f);
+    return NULL;
+}
+
+static void ocl_print_build_log(cl_program prog, cl_device_id dev, const char *name)
+{
+    size_t size = 0;
+    if (clGetProgramBuildInfo(prog, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &size) != CL_SUCCESS)
+        return;
+    char *log = malloc(size + 1);
+    if (!log)
+        return;
+    if (clGetProgramBuildInfo(prog, dev, CL_PROGRAM_BUILD_LOG, size, log, NULL) == CL_SUCCESS) {
+        log[size] = '\0';
+        fprintf(stderr, "csgtrace: OpenCL build log of simd_kernels/primary.cl on \"%s\":\n%s\n",
+                name, log);
+    }
+    free(log);
+}
+
+/* Work-groups of OCL_GROUP_WIDTH x 1 work-items, or what the kernel allows. */
+#define OCL_GROUP_WIDTH 64
+static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
+{
+    size_t max = 0;
+    cl_int err = clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max,
+                                          NULL);
+    *out = max < OCL_GROUP_WIDTH ? (max ? max : 1) : OCL_GROUP_WIDTH;
+    return err;
+}
+
+static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
+{
+    char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 200];
+    if (!ocl_source_dir(dir, sizeof dir, d))
+        return false;
+    snprintf(path, sizeof path, "%s/simd_kernels/primary.cl", dir);
+    snprintf(options, sizeof options,
+             "-cl-std=CL1.2 -I %s/csg -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s",
+             dir, dir, c->use_double ? " -DCSG_DOUBLE" : "");
+    char *src = ocl_read_file(path, d);
+    if (!src)
+        return false;
+    cl_int err;
+    const char *srcs[1] = {src};
+    c->program = clCreateProgramWithSource(c->context, 1, srcs, NULL, &err);
+    free(src);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clCreateProgramWithSource", err);
+    err = clBuildProgram(c->program, 1, &c->device, options, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        ocl_print_build_log(c->program, c->device, name);
+        csg_error_plain(d, "OpenCL: building %s (%s) failed: %s (%d); the build log is above",
+                        path, options, ocl_error_name(err), (int)err);
+        return false;
+    }
+    struct {
+        cl_kernel *k;
+        const char *name;
+    } kernels[] = {{&c->k_primary, "csg_primary"},
+                   {&c->k_tiles, "csg_tile_hits"},
+                   {&c->k_layout, "csg_layout"}};
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++) {
+        *kernels[i].k = clCreateKernel(c->program, kernels[i].name, &err);
+        if (err != CL_SUCCESS) {
+            csg_error_plain(d, "OpenCL: clCreateKernel(%s) failed: %s (%d)", kernels[i].name,
+                            ocl_error_name(err), (int)err);
+            return false;
+        }
+    }
+    err = ocl_group_width(c->k_primary, c->device, &c->group_primary);
+    if (err == CL_SUCCESS)
+        err = ocl_group_width(c->k_tiles, c->device, &c->group_tiles);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetKernelWorkGroupInfo(CL_KERNEL_WORK_GROUP_SIZE)", err);
+    return true;
+}
+
+/* ---- kernel arguments ----------------------------------------------------------- */
+
+static bool ocl_arg(cl_kernel k, const char *kname, cl_uint i, size_t size, const void *v,
+                    csg_diag *d)
+{
+    cl_int err = clSetKernelArg(k, i, size, v);
+    if (err == CL_SUCCESS)
+        return true;
+    csg_error_plain(d, "OpenCL: clSetKernelArg(%s, %u) failed: %s (%d)", kname, (unsigned)i,
+                    ocl_error_name(err), (int)err);
+    return false;
+}
+
+/* ---- the primary pass ----------------------------------------------------------------- */
+
+/* Bytes of the flat structs in a precision (flat.h: integers then reals,
+ * no padding; tests/test_layout.c checks the device agrees). */
+static uint64_t ocl_prim_size(uint64_t rs) { return 16 + 20 * rs; }
+static uint64_t ocl_root_size(uint64_t rs) { return 16 + 6 * rs; }
+static uint64_t ocl_camera_size(uint64_t rs) { return 12 * rs; }
+_Static_assert(sizeof(csg_prim) == 16 + 20 * sizeof(float), "csg_prim layout");
+_Static_assert(sizeof(csg_root) == 16 + 6 * sizeof(float), "csg_root layout");
+_Static_assert(sizeof(csg_camera) == 12 * sizeof(float), "csg_camera layout");
+_Static_assert(sizeof(csg_node) == 8, "csg_node layout");
+
+static bool ocl_array_fits(uint64_t off, uint64_t count, uint64_t elem, uint64_t total)
+{
+    return off <= total && count <= (total - off) / elem;
+}
+
+static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile, csg_diag *d)
+{
+    uint64_t rs = c->use_double ? 8 : 4;
+    if (h->magic != CSG_BLOB_MAGIC) {
+        csg_error_plain(d, "OpenCL primary pass: not a flat scene blob (bad magic)");
+        return false;
+    }
+    if (h->real_size != rs) {
+        csg_error_plain(d, "OpenCL primary pass: the scene is in %s but the program was built "
+                           "for %s", h->real_size == 8 ? "double" : "float",
+                        c->use_double ? "double" : "float");
+        return false;
+    }
+    if (h->width <= 0 || h->height <= 0 || tile <= 0) {
+        csg_error_plain(d, "OpenCL primary pass: bad image %d x %d or tile %d", h->width,
+                        h->height, tile);
+        return false;
+    }
+    uint64_t T = h->total_size;
+    if (h->prim_count < 0 || h->node_count < 0 || h->root_count < 0 ||
+        !ocl_array_fits(h->off_prims, (uint64_t)h->prim_count, ocl_prim_size(rs), T) ||
+        !ocl_array_fits(h->off_nodes, (uint64_t)h->node_count, 8, T) ||
+        !ocl_array_fits(h->off_roots, (uint64_t)h->root_count, ocl_root_size(rs), T) ||
+        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) || (h->off_prims % 64) ||
+        (h->off_nodes % 64) || (h->off_roots % 64) || (h->off_camera % 64)) {
+        csg_error_plain(d, "OpenCL primary pass: the scene blob's arrays do not fit its size");
+        return false;
+    }
+    return true;
+}
+
+/* Rows of one slice: as many as the device and the options allow, a whole
+ * number of tile rows when at least one fits, and at least one row. */
+static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
+{
+    uint64_t w = (uint64_t)h->width, rs = h->real_size;
+    uint64_t row_bytes = w * (rs + 4);
+    uint64_t rows = c->max_alloc / (w * rs); /* the t buffer is the larger one */
+    uint64_t share = c->global_mem / 2;
+    share = share > h->total_size ? share - h->total_size : 0;
+    if (share / row_bytes < rows)
+        rows = share / row_bytes;
+    uint64_t cap = c->max_slice_bytes ? (uint64_t)c->max_slice_bytes : OCL_DEFAULT_SLICE_BYTES;
+    if (cap / row_bytes < rows)
+        rows = cap / row_bytes;
+    if (rows >= (uint64_t)tile)
+        rows -= rows % (uint64_t)tile;
+    if (rows < 1)
+        rows = 1;
+    if (rows > (uint64_t)h->height)
+        rows = (uint64_t)h->height;
+    return (int)rows;
+}
+
+typedef struct {
+    cl_mem blob, t, surf, hits;
+    uint32_t *host_hits;
+} ocl_pass_buffers;
+
+static void ocl_release_buffers(ocl_pass_buffers *b)
+{
+    if (b->blob)
+        clReleaseMemObject(b->blob);
+    if (b->t)
+        clReleaseMemObject(b->t);
+    if (b->surf)
+        clReleaseMemObject(b->surf);
+    if (b->hits)
+        clReleaseMemObject(b->hits);
+    free(b->host_hits);
+}
+
+static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void *host,
+                              cl_mem *out, const char *what, csg_diag *d)
+{
+    cl_int err;
+    *out = clCreateBuffer(c->context, flags, size, host, &err);
+    if (err == CL_SUCCESS)
+        return true;
+    csg_error_plain(d, "OpenCL: clCreateBuffer(%s, %zu bytes) failed: %s (%d)", what, size,
+                    ocl_error_name(err), (int)err);
+    return false;
+}
+
+/* One slice: rows y0 .. y0 + rows - 1, records into the caller's arrays,
+ * tile counts added to tile_hits. */
+static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
+                          ocl_pass_buffers *b, void *t_out, uint32_t *surf_out,
+                          uint32_t *tile_hits, csg_diag *d)
+{
+    cl_ulong offs[4] = {h->off_prims, h->off_nodes, h->off_roots, h->off_camera};
+    cl_int root_count = h->root_count, width = h->width, height = h->height, cy0 = y0;
+    cl_int crows = rows, ctile = tile, tiles_x = (h->width + tile - 1) / tile;
+    int ty0 = y0 / tile;
+    cl_int tile_rows = (y0 + rows - 1) / tile - ty0 + 1; /* tile rows the slice touches */
+    const char *kp = "csg_primary", *kt = "csg_tile_hits";
+    bool ok = ocl_arg(c->k_primary, kp, 0, sizeof(cl_mem), &b->blob, d) &&
+              ocl_arg(c->k_primary, kp, 1, sizeof(cl_ulong), &offs[0], d) &&
+              ocl_arg(c->k_primary, kp, 2, sizeof(cl_ulong), &offs[1], d) &&
+              ocl_arg(c->k_primary, kp, 3, sizeof(cl_ulong), &offs[2], d) &&
+              ocl_arg(c->k_primary, kp, 4, sizeof(cl_ulong), &offs[3], d) &&
+              ocl_arg(c->k_primary, kp, 5, sizeof(cl_int), &root_count, d) &&
+              ocl_arg(c->k_primary, kp, 6, sizeof(cl_int), &width, d) &&
+              ocl_arg(c->k_primary, kp, 7, sizeof(cl_int), &height, d) &&
+              ocl_arg(c->k_primary, kp, 8, sizeof(cl_int), &cy0, d) &&
+              ocl_arg(c->k_primary, kp, 9, sizeof(cl_int), &crows, d) &&
+              ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->t, d) &&
+              ocl_arg(c->k_primary, kp, 11, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &width, d) &&
+              ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
+              ocl_arg(c->k_tiles, kt, 3, sizeof(cl_int), &crows, d) &&
+              ocl_arg(c->k_tiles, kt, 4, sizeof(cl_int), &ctile, d) &&
+              ocl_arg(c->k_tiles, kt, 5, sizeof(cl_int), &tiles_x, d) &&
+              ocl_arg(c->k_tiles, kt, 6, sizeof(cl_int), &tile_rows, d) &&
+              ocl_arg(c->k_tiles, kt, 7, sizeof(cl_mem), &b->hits, d);
+    if (!ok)
+        return false;
+    size_t gp = c->group_primary, gt = c->group_tiles;
+    size_t pix[2] = {((size_t)h->width + gp - 1) / gp * gp, (size_t)rows};
+    size_t pix_group[2] = {gp, 1};
+    size_t tiles[2] = {((size_t)tiles_x + gt - 1) / gt * gt, (size_t)tile_rows};
+    size_t tiles_group[2] = {gt, 1};
+    cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_primary, 2, NULL, pix, pix_group, 0, NULL,
+                                        NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueNDRangeKernel(csg_primary)", err);
+    err = clEnqueueNDRangeKernel(c->queue, c->k_tiles, 2, NULL, tiles, tiles_group, 0, NULL,
+                                 NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
+    size_t npix = (size_t)h->width * (size_t)rows, first = (size_t)h->width * (size_t)y0;
+    size_t rs = h->real_size;
+    err = clEnqueueReadBuffer(c->queue, b->t, CL_FALSE, 0, npix * rs,
+                              (char *)t_out + first * rs, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueReadBuffer(t)", err);
+    err = clEnqueueReadBuffer(c->queue, b->surf, CL_FALSE, 0, npix * sizeof(uint32_t),
+                              surf_out + first, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueReadBuffer(surf)", err);
+    size_t nt = (size_t)tiles_x * (size_t)tile_rows;
+    err = clEnqueueReadBuffer(c->queue, b->hits, CL_TRUE, 0, nt * sizeof(uint32_t), b->host_hits,
+                              0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueReadBuffer(tile hits)", err);
+    err = clFinish(c->queue);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clFinish", err);
+    uint32_t *dst = tile_hits + (size_t)ty0 * (size_t)tiles_x;
+    for (size_t i = 0; i < nt; i++)
+        dst[i] += b->host_hits[i];
+    return true;
+}
+
+bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint32_t *surf_out,
+                      uint32_t *tile_hits, ocl_timing *timing, csg_diag *d)
+{
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    ocl_pass_buffers b = {0};
+    if (!ocl_check_blob(c, h, tile, d))
+        return false;
+    double t0 = ocl_now();
+    size_t tiles_x = (size_t)((h->width + tile - 1) / tile);
+    size_t tiles_y = (size_t)((h->height + tile - 1) / tile);
+    memset(tile_hits, 0, tiles_x * tiles_y * sizeof(uint32_t));
+    int rows = ocl_slice_rows(c, h, tile);
+    size_t tile_rows = (size_t)(rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
+    if (tile_rows > tiles_y)
+        tile_rows = tiles_y;
+    size_t npix = (size_t)h->width * (size_t)rows;
+    b.host_hits = malloc(tiles_x * tile_rows * sizeof(uint32_t));
+    if (!b.host_hits) {
+        csg_error_plain(d, "out of memory");
+        goto fail;
+    }
+    if (!ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
+                           (void *)blob, &b.blob, "scene", d) ||
+        !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * h->real_size, NULL, &b.t, "t", d) ||
+        !ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &b.surf, "surf",
+                           d) ||
+        !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, tiles_x * tile_rows * sizeof(uint32_t), NULL,
+                           &b.hits, "tile hits", d))
+        goto fail;
+    int slices = 0;
+    for (int y0 = 0; y0 < h->height; y0 += rows) {
+        int n = h->height - y0 < rows ? h->height - y0 : rows;
+        if (!ocl_run_slice(c, h, tile, y0, n, &b, t_out, surf_out, tile_hits, d))
+            goto fail;
+        slices++;
+    }
+    timing->slices = slices;
+    timing->primary_s = ocl_now() - t0;
+    ocl_release_buffers(&b);
+    return true;
+fail:
+    clFinish(c->queue); /* no read may still target the caller's arrays */
+    ocl_release_buffers(&b);
+    return false;
+}
+
+/* ---- opening and closing ---------------------------------------------------------- */
+
+/* PoCL compiles each kernel for its work-group size at the first launch:
+ * one launch on a 1 x 1 image with an empty scene (a zero camera) moves
+ * that into compile_s, out of the first primary_s. */
+static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
+{
+    union {
+        csg_blob_header h;
+        unsigned char bytes[512];
+    } blob;
+    memset(&blob, 0, sizeof blob);
+    uint64_t off = (sizeof blob.h + 63) / 64 * 64;
+    blob.h.magic = CSG_BLOB_MAGIC;
+    blob.h.real_size = c->use_double ? 8 : 4;
+    blob.h.width = 1;
+    blob.h.height = 1;
+    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = off;
+    blob.h.off_materials = blob.h.off_lights = blob.h.off_camera = off;
+    blob.h.total_size = off + ocl_camera_size(8);
+    _Static_assert(sizeof blob.h + 63 + 12 * 8 <= sizeof blob, "warm-up blob size");
+    double t[1];
+    uint32_t surf[1], hits[1];
+    ocl_timing timing;
+    return ocl_primary_pass(c, &blob, 1, t, surf, hits, &timing, d);
+}
+
+bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d)
+{
+    *out = NULL;
+    ocl_ctx *c = calloc(1, sizeof *c);
+    if (!c) {
+        csg_error_plain(d, "out of memory");
+        return false;
+    }
+    c->use_double = opt->use_double;
+    c->max_slice_bytes = opt->max_slice_bytes;
+    const char *sel = opt->device;
+    if (!sel || !*sel)
+        sel = getenv("CSGTRACE_CL_DEVICE");
+    if (sel && !*sel)
+        sel = NULL;
+    if (!ocl_pick_device(sel, &c->device, d))
+        goto fail;
+    char name[256];
+    ocl_device_name(c->device, name, sizeof name);
+    snprintf(timing->device_name, sizeof timing->device_name, "%s", name);
+    if (!ocl_check_device(c, name, d))
+        goto fail;
+    cl_int err;
+    c->context = clCreateContext(NULL, 1, &c->device, NULL, NULL, &err);
+    if (err != CL_SUCCESS) {
+        ocl_fail(d, "clCreateContext", err);
+        goto fail;
+    }
+    c->queue = clCreateCommandQueue(c->context, c->device, 0, &err);
+    if (err != CL_SUCCESS) {
+        ocl_fail(d, "clCreateCommandQueue", err);
+        goto fail;
+    }
+    double t0 = ocl_now();
+    if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
+        goto fail;
+    timing->compile_s = ocl_now() - t0;
+    *out = c;
+    return true;
+fail:
+    ocl_close(c);
+    return false;
+}
+
+void ocl_close(ocl_ctx *c)
+{
+    if (!c)
+        return;
+    if (c->k_primary)
+        clReleaseKernel(c->k_primary);
+    if (c->k_tiles)
+        clReleaseKernel(c->k_tiles);
+    if (c->k_layout)
+        clReleaseKernel(c->k_layout);
+    if (c->program)
+        clReleaseProgram(c->program);
+    if (c->queue)
+        clReleaseCommandQueue(c->queue);
+    if (c->context)
+        clReleaseContext(c->context);
+    free(c);
+}
+
+bool ocl_probe_layout(ocl_ctx *c, int32_t *out, int cap, int *count, csg_diag *d)
+{
+    cl_mem buf = NULL;
+    bool ok = false;
+    size_t one = 1, bytes = (size_t)cap * sizeof(int32_t);
+    *count = 0;
+    if (cap < 1 || !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, bytes, NULL, &buf, "layout", d))
+        goto fail;
+    cl_int ccap = cap;
+    if (!ocl_arg(c->k_layout, "csg_layout", 0, sizeof(cl_mem), &buf, d) ||
+        !ocl_arg(c->k_layout, "csg_layout", 1, sizeof(cl_int), &ccap, d))
+        goto fail;
+    cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_layout, 1, NULL, &one, NULL, 0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        ocl_fail(d, "clEnqueueNDRangeKernel(csg_layout)", err);
+        goto fail;
+    }
+    /* The kernel writes at most cap ints and counts what did not fit. */
+    err = clEnqueueReadBuffer(c->queue, buf, CL_TRUE, 0, bytes, out, 0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        ocl_fail(d, "clEnqueueReadBuffer(layout)", err);
+        goto fail;
+    }
+    if (out[0] < 0 || out[0] >= cap) {
+        csg_error_plain(d, "layout probe: %d entries do not fit %d", (int)out[0], cap);
+        goto fail;
+    }
+    *count = out[0];
+    memmove(out, out + 1, (size_t)out[0] * sizeof(int32_t));
+    ok = true;
+fail:
+    if (buf)
+        clReleaseMemObject(buf);
+    return ok;
+}

@@ -1,0 +1,822 @@
+/*
+ * test_ocl.c — the OpenCL primary pass (host/ocl.c, simd_kernels/primary.cl)
+ * gives exactly the C records: for every pixel, t has the same bits and
+ * surf the same id as csg_primary_ray + csg_trace_nearest run in C, in the
+ * same precision; the tile counts equal a C count; slicing changes nothing.
+ *
+ * Scenes are built by hand in a precision-neutral description (sc_scene,
+ * doubles), then packed into a flat blob (csg/flatten.h layout) per
+ * precision.  The precision-dependent part of this file (blob packing and
+ * the C reference) is written once, below the #else, and compiled twice by
+ * including this file into itself: first with the float headers, then with
+ * the double ones (tests/csg_double.h renames the double copy).
+ *
+ * One OpenCL context per precision is opened in the group setup and shared
+ * by every test (a PoCL build takes seconds when its cache is cold).
+ */
+#ifndef TEST_OCL_PRECISION_PART
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "../csg/camera.h"
+#include "../csg/flatten.h"
+#include "../host/ocl.h"
+
+/* ---- precision-neutral scene description ----------------------------------- */
+
+#define SC_MAX_PRIMS 512
+#define SC_MAX_NODES 1024
+#define SC_MAX_ROOTS 512
+
+typedef struct {
+    int kind, flags;
+    double p[8];
+    double inv[12];
+} sc_prim;
+
+typedef struct {
+    int op, prim;
+} sc_node;
+
+typedef struct {
+    int first, count, depth;
+    double lo[3], hi[3];
+} sc_root;
+
+typedef struct {
+    sc_prim prims[SC_MAX_PRIMS];
+    sc_node nodes[SC_MAX_NODES];
+    sc_root roots[SC_MAX_ROOTS];
+    int np, nn, nr;
+    int open_root;   /* index of the root being built, -1 none */
+    int open_depth;  /* its current stack height             */
+    double cam[12];  /* location, direction, right, up       */
+    int width, height;
+} sc_scene;
+
+static sc_scene *sc_new(int width, int height)
+{
+    sc_scene *s = calloc(1, sizeof *s);
+    assert_non_null(s);
+    s->open_root = -1;
+    s->width = width;
+    s->height = height;
+    double cam[12] = {0, 0.5, -6, 0, 0, 1, (double)width / (double)height, 0, 0, 0, 1, 0};
+    memcpy(s->cam, cam, sizeof cam);
+    return s;
+}
+
+static int sc_prim_add(sc_scene *s, int kind, int flags, const double *p, int np)
+{
+    assert_true(s->np < SC_MAX_PRIMS);
+    sc_prim *q = &s->prims[s->np];
+    q->kind = kind;
+    q->flags = flags;
+    for (int i = 0; i < np; i++)
+        q->p[i] = p[i];
+    return s->np++;
+}
+
+/* World -> local of "rotate by `deg` degrees about axis (0 x, 1 y, 2 z),
+ * then translate by t": local = R^T (w - t). */
+static void sc_prim_xform(sc_scene *s, int prim, int axis, double deg, double tx, double ty,
+                          double tz)
+{
+    double a = deg * 3.14159265358979323846 / 180.0, c = cos(a), sn = sin(a);
+    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    int i = (axis + 1) % 3, j = (axis + 2) % 3;
+    r[i][i] = c;
+    r[i][j] = -sn;
+    r[j][i] = sn;
+    r[j][j] = c;
+    double t[3] = {tx, ty, tz};
+    sc_prim *q = &s->prims[prim];
+    for (int row = 0; row < 3; row++) {
+        double off = 0;
+        for (int col = 0; col < 3; col++) {
+            q->inv[row * 4 + col] = r[col][row]; /* the transpose */
+            off -= r[col][row] * t[col];
+        }
+        q->inv[row * 4 + 3] = off;
+    }
+    q->flags |= CSG_PF_XFORM;
+}
+
+static void sc_begin(sc_scene *s)
+{
+    assert_true(s->nr < SC_MAX_ROOTS && s->open_root < 0);
+    sc_root *r = &s->roots[s->nr];
+    r->first = s->nn;
+    r->count = 0;
+    r->depth = 0;
+    for (int a = 0; a < 3; a++) {
+        r->lo[a] = -INFINITY;
+        r->hi[a] = INFINITY;
+    }
+    s->open_root = s->nr++;
+    s->open_depth = 0;
+}
+
+static void sc_node_add(sc_scene *s, int op, int prim)
+{
+    assert_true(s->nn < SC_MAX_NODES && s->open_root >= 0);
+    sc_root *r = &s->roots[s->open_root];
+    s->nodes[s->nn].op = op;
+    s->nodes[s->nn].prim = prim;
+    s->nn++;
+    r->count++;
+    s->open_depth += op == CSG_OP_PRIM ? 1 : -1;
+    assert_true(s->open_depth >= 1 && s->open_depth <= CSG_STACK_MAX);
+    if (s->open_depth > r->depth)
+        r->depth = s->open_depth;
+}
+
+static void sc_leaf(sc_scene *s, int prim) { sc_node_add(s, CSG_OP_PRIM, prim); }
+static void sc_op(sc_scene *s, int op) { sc_node_add(s, op, -1); }
+
+static void sc_end(sc_scene *s)
+{
+    assert_int_equal(s->open_depth, 1);
+    s->open_root = -1;
+}
+
+static void sc_end_box(sc_scene *s, const double lo[3], const double hi[3])
+{
+    sc_root *r = &s->roots[s->open_root];
+    memcpy(r->lo, lo, sizeof r->lo);
+    memcpy(r->hi, hi, sizeof r->hi);
+    sc_end(s);
+}
+
+/* A root made of one primitive. */
+static int sc_solo(sc_scene *s, int kind, int flags, const double *p, int np)
+{
+    int i = sc_prim_add(s, kind, flags, p, np);
+    sc_begin(s);
+    sc_leaf(s, i);
+    sc_end(s);
+    return i;
+}
+
+static void sc_sphere(sc_scene *s, double x, double y, double z, double r, int bounded)
+{
+    double p[4] = {x, y, z, r};
+    int i = sc_prim_add(s, CSG_PRIM_SPHERE, 0, p, 4);
+    sc_begin(s);
+    sc_leaf(s, i);
+    if (bounded) {
+        double lo[3] = {x - r, y - r, z - r}, hi[3] = {x + r, y + r, z + r};
+        sc_end_box(s, lo, hi);
+    } else {
+        sc_end(s);
+    }
+}
+
+/* ---- precision-dependent part, compiled twice ------------------------------------ */
+
+typedef struct {
+    void *(*make_blob)(const sc_scene *s, size_t *size);
+    /* C records of the whole image and C tile counts */
+    void (*reference)(const void *blob, void *t, uint32_t *surf);
+    size_t real_size;
+    const char *name;
+} precision_ops;
+
+static size_t align64(size_t n) { return (n + 63) & ~(size_t)63; }
+
+static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_size,
+                        size_t prim_size, size_t root_size, size_t camera_size)
+{
+    memset(h, 0, sizeof *h);
+    h->magic = CSG_BLOB_MAGIC;
+    h->real_size = real_size;
+    h->width = s->width;
+    h->height = s->height;
+    h->max_depth = 1;
+    h->prim_count = s->np;
+    h->node_count = s->nn;
+    h->root_count = s->nr;
+    h->max_stack = 1;
+    for (int i = 0; i < s->nr; i++)
+        if (s->roots[i].depth > h->max_stack)
+            h->max_stack = s->roots[i].depth;
+    size_t off = align64(sizeof *h);
+    h->off_prims = off;
+    off = align64(off + (size_t)s->np * prim_size);
+    h->off_nodes = off;
+    off = align64(off + (size_t)s->nn * sizeof(csg_node));
+    h->off_roots = off;
+    off = align64(off + (size_t)s->nr * root_size);
+    h->off_materials = off;
+    h->off_lights = off;
+    h->off_camera = off;
+    h->total_size = off + camera_size;
+}
+
+#define TEST_OCL_PRECISION_PART 1
+#define P(name) name##_f
+#include "test_ocl.c"
+#undef P
+
+#include "csg_double.h"
+#define P(name) name##_d
+#include "test_ocl.c"
+#undef P
+#undef TEST_OCL_PRECISION_PART
+
+static const precision_ops prec_float = {make_blob_f, reference_f, 4, "float"};
+static const precision_ops prec_double = {make_blob_d, reference_d, 8, "double"};
+
+/* ---- the comparison ----------------------------------------------------------------- */
+
+typedef struct {
+    ocl_ctx *ctx[2]; /* float, double */
+} fixture;
+
+static double real_at(const void *t, size_t i, size_t rs)
+{
+    if (rs == 4) {
+        float f;
+        memcpy(&f, (const char *)t + i * 4, 4);
+        return (double)f;
+    }
+    double x;
+    memcpy(&x, (const char *)t + i * 8, 8);
+    return x;
+}
+
+static void c_tile_hits(const uint32_t *surf, int w, int h, int tile, uint32_t *hits)
+{
+    int tx = (w + tile - 1) / tile, ty = (h + tile - 1) / tile;
+    memset(hits, 0, (size_t)tx * (size_t)ty * sizeof *hits);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            if (surf[(size_t)y * (size_t)w + (size_t)x] != CSG_SURF_NONE)
+                hits[(y / tile) * tx + x / tile]++;
+}
+
+/* Runs the pass on ctx and compares with C: records bit for bit, tile
+ * counts for `tile`.  Returns the number of pixels that hit. */
+static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene *s, int tile)
+{
+    size_t size = 0, n = (size_t)s->width * (size_t)s->height, rs = ops->real_size;
+    void *blob = ops->make_blob(s, &size);
+    void *t_ref = malloc(n * rs), *t_cl = malloc(n * rs);
+    uint32_t *s_ref = malloc(n * 4), *s_cl = malloc(n * 4);
+    int tx = (s->width + tile - 1) / tile, ty = (s->height + tile - 1) / tile;
+    uint32_t *h_ref = malloc((size_t)tx * (size_t)ty * 4), *h_cl = malloc((size_t)tx * (size_t)ty * 4);
+    assert_true(blob && t_ref && t_cl && s_ref && s_cl && h_ref && h_cl);
+    memset(t_cl, 0xA5, n * rs);
+    memset(s_cl, 0xA5, n * 4);
+    memset(h_cl, 0xA5, (size_t)tx * (size_t)ty * 4);
+
+    ops->reference(blob, t_ref, s_ref);
+    c_tile_hits(s_ref, s->width, s->height, tile, h_ref);
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    if (!ocl_primary_pass(ctx, blob, tile, t_cl, s_cl, h_cl, &timing, &d))
+        fail_msg("ocl_primary_pass: %s", d.message);
+
+    size_t bad = 0, hits = 0;
+    for (size_t i = 0; i < n; i++) {
+        hits += s_ref[i] != CSG_SURF_NONE;
+        if (memcmp((char *)t_ref + i * rs, (char *)t_cl + i * rs, rs) == 0 && s_ref[i] == s_cl[i])
+            continue;
+        if (bad++ < 5)
+            print_error("%s %dx%d pixel (%zu, %zu): C t=%.17g surf=%u, OpenCL t=%.17g surf=%u\n",
+                        ops->name, s->width, s->height, i % (size_t)s->width,
+                        i / (size_t)s->width, real_at(t_ref, i, rs), (unsigned)s_ref[i],
+                        real_at(t_cl, i, rs), (unsigned)s_cl[i]);
+    }
+    size_t bad_tiles = 0;
+    for (size_t i = 0; i < (size_t)tx * (size_t)ty; i++)
+        if (h_ref[i] != h_cl[i] && bad_tiles++ < 5)
+            print_error("%s tile %zu (size %d): C %u hits, OpenCL %u\n", ops->name, i, tile,
+                        (unsigned)h_ref[i], (unsigned)h_cl[i]);
+    free(blob);
+    free(t_ref);
+    free(t_cl);
+    free(s_ref);
+    free(s_cl);
+    free(h_ref);
+    free(h_cl);
+    assert_int_equal(bad, 0);
+    assert_int_equal(bad_tiles, 0);
+    return hits;
+}
+
+/* Both precisions, three image sizes; the scene must hit somewhere (and
+ * miss somewhere, unless it encloses the camera) at 100 x 37, else the
+ * comparison would prove little. */
+static void check_scene_all(void **state, void (*build)(sc_scene *s), bool encloses)
+{
+    fixture *fx = *state;
+    static const int sizes[3][2] = {{1, 1}, {33, 17}, {100, 37}};
+    for (int p = 0; p < 2; p++)
+        for (int k = 0; k < 3; k++) {
+            sc_scene *s = sc_new(sizes[k][0], sizes[k][1]);
+            build(s);
+            size_t hits = check_pass(fx->ctx[p], p ? &prec_double : &prec_float, s, 8);
+            if (k == 2) {
+                assert_true(hits > 0);
+                assert_true(encloses || hits < (size_t)s->width * (size_t)s->height);
+            }
+            free(s);
+        }
+}
+
+/* ---- scenes ----------------------------------------------------------------------- */
+
+static void build_spheres(sc_scene *s)
+{
+    sc_sphere(s, 0, 0.5, 0, 1, 1);
+    sc_sphere(s, 1.2, 0.3, 0.5, 0.8, 1);   /* overlaps the first */
+    sc_sphere(s, -2, -0.5, 2, 0.7, 0);     /* unbounded root box */
+    sc_sphere(s, 0.4, 1.4, -3, 0.05, 1);   /* small and near     */
+    sc_sphere(s, 0, 0.5, -6, 30, 1);       /* the camera is inside: seen from within */
+}
+
+static void build_spheres_outside(sc_scene *s)
+{
+    sc_sphere(s, 0, 0.5, 0, 1, 1);
+    sc_sphere(s, 1.2, 0.3, 0.5, 0.8, 1);
+    sc_sphere(s, -2, -0.5, 2, 0.7, 0);
+    sc_sphere(s, 0.4, 1.4, -3, 0.05, 1);
+}
+
+static void build_boxes(sc_scene *s)
+{
+    double a[6] = {-1, -1, -1, 0.5, 0.2, 1};
+    sc_solo(s, CSG_PRIM_BOX, 0, a, 6);
+    double b[6] = {-0.5, -0.5, -0.5, 0.5, 0.5, 0.5};
+    int i = sc_solo(s, CSG_PRIM_BOX, 0, b, 6);
+    sc_prim_xform(s, i, 1, 35, 1.6, 1.0, 0.5);
+    double c[6] = {-3, -2, 3, 3, -1.5, 4}; /* a flat slab behind */
+    int j = sc_solo(s, CSG_PRIM_BOX, 0, c, 6);
+    sc_prim_xform(s, j, 2, 20, 0, 0, 0);
+}
+
+static void build_cones(sc_scene *s)
+{
+    double cone[3] = {0.8, 0.2, 1.5};
+    int i = sc_solo(s, CSG_PRIM_CONE, 0, cone, 3);
+    sc_prim_xform(s, i, 0, -90, -1.2, -0.5, 0.5); /* axis up */
+    double cyl[3] = {0.4, 0.4, 2.0};
+    int j = sc_solo(s, CSG_PRIM_CONE, 0, cyl, 3);
+    sc_prim_xform(s, j, 1, 60, 0.5, 0.8, 0);
+    double open[3] = {0.5, 0.5, 1.2};
+    int k = sc_solo(s, CSG_PRIM_CONE, CSG_PF_OPEN, open, 3);
+    sc_prim_xform(s, k, 0, 30, 1.5, -0.6, -0.5); /* inside visible through the open end */
+    double apex[3] = {0.6, 0.0, 1.0};            /* a pointed cone */
+    int m = sc_solo(s, CSG_PRIM_CONE, 0, apex, 3);
+    sc_prim_xform(s, m, 2, 0, -2.2, 1.2, 1);
+}
+
+static void build_planes(sc_scene *s)
+{
+    double floor[4] = {0, 1, 0, -1}; /* y < -1 */
+    sc_solo(s, CSG_PRIM_PLANE, 0, floor, 4);
+    double n = 1.0 / sqrt(2.0);
+    double tilted[4] = {n, 0, -n, -3};
+    sc_solo(s, CSG_PRIM_PLANE, 0, tilted, 4);
+    sc_sphere(s, 0, 0, 0, 0.9, 1);
+    double sky[4] = {0, -1, 0, -4}; /* y > 4, camera outside */
+    sc_solo(s, CSG_PRIM_PLANE, 0, sky, 4);
+}
+
+static void build_csg(sc_scene *s)
+{
+    /* union of two spheres */
+    double a[4] = {-1.5, 1, 0, 0.8}, b[4] = {-0.9, 1.2, 0.2, 0.7};
+    int ia = sc_prim_add(s, CSG_PRIM_SPHERE, 0, a, 4), ib = sc_prim_add(s, CSG_PRIM_SPHERE, 0, b, 4);
+    sc_begin(s);
+    sc_leaf(s, ia);
+    sc_leaf(s, ib);
+    sc_op(s, CSG_OP_UNION);
+    sc_end(s);
+    /* intersection of a sphere and a box */
+    double c[4] = {1.2, 1, 0, 1}, box[6] = {0.5, 0.2, -0.6, 2.0, 1.6, 0.6};
+    int ic = sc_prim_add(s, CSG_PRIM_SPHERE, 0, c, 4);
+    int ibox = sc_prim_add(s, CSG_PRIM_BOX, 0, box, 6);
+    sc_begin(s);
+    sc_leaf(s, ic);
+    sc_leaf(s, ibox);
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_end(s);
+    /* difference: box minus a sphere minus a cylinder (inverted leaves) */
+    double e[6] = {-1, -1.5, -0.5, 1, -0.2, 0.5}, f[4] = {0, -0.5, -0.6, 0.6};
+    double cyl[3] = {0.25, 0.25, 3};
+    int ie = sc_prim_add(s, CSG_PRIM_BOX, 0, e, 6);
+    int jf = sc_prim_add(s, CSG_PRIM_SPHERE, CSG_PF_INVERT, f, 4);
+    int kc = sc_prim_add(s, CSG_PRIM_CONE, CSG_PF_INVERT, cyl, 3);
+    sc_prim_xform(s, kc, 1, 90, -1.5, -0.9, 0);
+    sc_begin(s);
+    sc_leaf(s, ie);
+    sc_leaf(s, jf);
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_leaf(s, kc);
+    sc_op(s, CSG_OP_INTERSECT);
+    double lo[3] = {-1, -1.5, -0.5}, hi[3] = {1, -0.2, 0.5};
+    sc_end_box(s, lo, hi);
+    /* a deeper program: (A ∪ B) ∩ ¬(C ∪ D) with D a plane, depth 3 */
+    double g[4] = {2.2, -0.8, 0, 0.7}, h2[4] = {2.6, -0.5, 0.3, 0.6};
+    double k2[4] = {2.4, -0.6, -0.6, 0.4}, pl[4] = {0, 1, 0, -1.0};
+    int ig = sc_prim_add(s, CSG_PRIM_SPHERE, 0, g, 4);
+    int ih = sc_prim_add(s, CSG_PRIM_SPHERE, 0, h2, 4);
+    int ik = sc_prim_add(s, CSG_PRIM_SPHERE, CSG_PF_INVERT, k2, 4);
+    int ip = sc_prim_add(s, CSG_PRIM_PLANE, CSG_PF_INVERT, pl, 4);
+    sc_begin(s);
+    sc_leaf(s, ig);
+    sc_leaf(s, ih);
+    sc_op(s, CSG_OP_UNION);
+    sc_leaf(s, ik);
+    sc_leaf(s, ip);
+    sc_op(s, CSG_OP_INTERSECT); /* ¬C ∩ ¬D = ¬(C ∪ D) */
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_end(s);
+    /* an inverted leaf alone: everything outside a big sphere around the
+     * camera is solid, seen from inside */
+    double big[4] = {0, 0.5, -6, 40};
+    sc_solo(s, CSG_PRIM_SPHERE, CSG_PF_INVERT, big, 4);
+}
+
+/* A small deterministic generator (no libc rand: same numbers everywhere). */
+static double lcg(uint64_t *st)
+{
+    *st = *st * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*st >> 11) / 9007199254740992.0;
+}
+
+static void build_random(sc_scene *s)
+{
+    uint64_t st = 12345;
+    for (int i = 0; i < 300; i++) {
+        double x = lcg(&st) * 8 - 4, y = lcg(&st) * 5 - 2, z = lcg(&st) * 10;
+        double r = 0.02 + lcg(&st) * 0.3;
+        sc_sphere(s, x, y, z, r, 1);
+    }
+}
+
+static void build_empty(sc_scene *s) { (void)s; }
+
+/* ---- tests -------------------------------------------------------------------------- */
+
+static void test_spheres(void **state) { check_scene_all(state, build_spheres, true); }
+static void test_boxes(void **state) { check_scene_all(state, build_boxes, false); }
+static void test_cones(void **state) { check_scene_all(state, build_cones, false); }
+static void test_planes(void **state) { check_scene_all(state, build_planes, false); }
+static void test_csg(void **state) { check_scene_all(state, build_csg, true); }
+static void test_spheres_outside(void **state)
+{
+    check_scene_all(state, build_spheres_outside, false);
+}
+static void test_random_spheres(void **state) { check_scene_all(state, build_random, false); }
+
+static void test_tile_sizes(void **state)
+{
+    fixture *fx = *state;
+    static const int tiles[] = {1, 7, 32, 101, 1000};
+    for (int p = 0; p < 2; p++)
+        for (size_t k = 0; k < sizeof tiles / sizeof tiles[0]; k++) {
+            sc_scene *s = sc_new(100, 37);
+            build_spheres_outside(s);
+            check_pass(fx->ctx[p], p ? &prec_double : &prec_float, s, tiles[k]);
+            free(s);
+        }
+}
+
+/* Tiny slices (down to one row, and slices that cut tiles) give the same
+ * records and counts as the C reference, hence as one slice. */
+static void test_forced_slices(void **state)
+{
+    (void)state;
+    static const size_t limits[] = {1, 100 * 12 * 3, 100 * 12 * 8};
+    for (int p = 0; p < 2; p++)
+        for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
+            ocl_options opt = {.device = NULL, .use_double = p, .max_slice_bytes = limits[k]};
+            ocl_timing timing = {0};
+            csg_diag d = {0};
+            ocl_ctx *ctx = NULL;
+            if (!ocl_open(&opt, &ctx, &timing, &d))
+                fail_msg("ocl_open: %s", d.message);
+            sc_scene *s = sc_new(100, 37);
+            build_random(s);
+            check_pass(ctx, p ? &prec_double : &prec_float, s, 7);
+            /* and the slicing did happen */
+            size_t size;
+            void *blob = (p ? &prec_double : &prec_float)->make_blob(s, &size);
+            size_t n = 100 * 37;
+            void *t = malloc(n * 8);
+            uint32_t *surf = malloc(n * 4), hits[15 * 6];
+            assert_true(t && surf);
+            bool ok = ocl_primary_pass(ctx, blob, 7, t, surf, hits, &timing, &d);
+            free(blob);
+            free(t);
+            free(surf);
+            free(s);
+            ocl_close(ctx);
+            assert_true(ok);
+            assert_true(timing.slices > 1);
+        }
+}
+
+static void test_empty_scene(void **state)
+{
+    fixture *fx = *state;
+    for (int p = 0; p < 2; p++) {
+        const precision_ops *ops = p ? &prec_double : &prec_float;
+        sc_scene *s = sc_new(33, 17);
+        build_empty(s);
+        size_t size, n = 33 * 17;
+        void *blob = ops->make_blob(s, &size);
+        void *t = malloc(n * 8);
+        uint32_t *surf = malloc(n * 4), hits[5 * 3];
+        assert_true(blob && t && surf);
+        memset(surf, 0xFF, n * 4);
+        memset(hits, 0xFF, sizeof hits);
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        if (!ocl_primary_pass(fx->ctx[p], blob, 7, t, surf, hits, &timing, &d))
+            fail_msg("ocl_primary_pass: %s", d.message);
+        for (size_t i = 0; i < n; i++) {
+            assert_int_equal(surf[i], CSG_SURF_NONE);
+            assert_true(isinf(real_at(t, i, ops->real_size)));
+        }
+        for (size_t i = 0; i < 15; i++)
+            assert_int_equal(hits[i], 0);
+        free(blob);
+        free(t);
+        free(surf);
+        free(s);
+    }
+}
+
+static void test_bad_device(void **state)
+{
+    (void)state;
+    static const char *const sels[] = {"no-such-device-xyz", "7:3"};
+    for (size_t k = 0; k < 2; k++) {
+        ocl_options opt = {.device = sels[k], .use_double = 0, .max_slice_bytes = 0};
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        ocl_ctx *ctx = (ocl_ctx *)&d; /* must be reset to NULL */
+        assert_false(ocl_open(&opt, &ctx, &timing, &d));
+        assert_null(ctx);
+        assert_true(d.failed);
+        assert_non_null(strstr(d.message, sels[k]));
+        assert_non_null(strstr(d.message, "no device matches"));
+    }
+}
+
+/* $CSGTRACE_CL_DEVICE is the selector when the options give none. */
+static void test_env_device(void **state)
+{
+    (void)state;
+    const char *old = getenv("CSGTRACE_CL_DEVICE");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("CSGTRACE_CL_DEVICE", "bogus-env-device", 1);
+    ocl_options opt = {0};
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open(&opt, &ctx, &timing, &d);
+    if (saved)
+        setenv("CSGTRACE_CL_DEVICE", saved, 1);
+    else
+        unsetenv("CSGTRACE_CL_DEVICE");
+    free(saved);
+    ocl_close(ctx);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "bogus-env-device"));
+}
+
+/* The device selector "0:0" and a name substring both work. */
+static void test_device_selectors(void **state)
+{
+    (void)state;
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    ocl_ctx *ctx = NULL;
+    ocl_options opt = {.device = "0:0", .use_double = 0, .max_slice_bytes = 0};
+    if (!ocl_open(&opt, &ctx, &timing, &d))
+        fail_msg("ocl_open(0:0): %s", d.message);
+    ocl_close(ctx);
+    char part[8];
+    snprintf(part, sizeof part, "%.5s", timing.device_name);
+    opt.device = part;
+    if (!ocl_open(&opt, &ctx, &timing, &d))
+        fail_msg("ocl_open(%s): %s", part, d.message);
+    ocl_close(ctx);
+}
+
+/* A blob in the other precision, or a bad one, is refused with a message. */
+static void test_bad_blob(void **state)
+{
+    fixture *fx = *state;
+    sc_scene *s = sc_new(4, 4);
+    build_spheres(s);
+    size_t size;
+    void *blob = prec_double.make_blob(s, &size);
+    double t[16];
+    uint32_t surf[16], hits[1];
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    assert_false(ocl_primary_pass(fx->ctx[0], blob, 4, t, surf, hits, &timing, &d));
+    assert_non_null(strstr(d.message, "double"));
+    ((csg_blob_header *)blob)->off_camera = ((csg_blob_header *)blob)->total_size;
+    d.failed = 0;
+    assert_false(ocl_primary_pass(fx->ctx[1], blob, 4, t, surf, hits, &timing, &d));
+    assert_true(d.failed);
+    free(blob);
+    free(s);
+}
+
+/* A kernel that does not compile: a clear error, the build log on stderr;
+ * a missing source folder: an error that names it. */
+static void test_build_failure(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/csgtrace-test-ocl-XXXXXX", sub[64], path[96];
+    assert_non_null(mkdtemp(dir));
+    snprintf(sub, sizeof sub, "%s/simd_kernels", dir);
+    snprintf(path, sizeof path, "%s/primary.cl", sub);
+    assert_int_equal(mkdir(sub, 0700), 0);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("__kernel void csg_primary(__global int *o) { o[0] = undeclared_name; }\n", f);
+    fclose(f);
+    const char *old = getenv("CSGTRACE_SOURCE_DIR");
+    char *saved = old ? strdup(old) : NULL;
+    setenv("CSGTRACE_SOURCE_DIR", dir, 1);
+    ocl_options opt = {0};
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open(&opt, &ctx, &timing, &d);
+    csg_diag d2 = {0};
+    setenv("CSGTRACE_SOURCE_DIR", "/nonexistent/csgtrace-src", 1);
+    bool ok2 = ocl_open(&opt, &ctx, &timing, &d2);
+    if (saved)
+        setenv("CSGTRACE_SOURCE_DIR", saved, 1);
+    else
+        unsetenv("CSGTRACE_SOURCE_DIR");
+    free(saved);
+    remove(path);
+    rmdir(sub);
+    rmdir(dir);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "CL_BUILD_PROGRAM_FAILURE"));
+    assert_false(ok2);
+    assert_non_null(strstr(d2.message, "/nonexistent/csgtrace-src"));
+}
+
+static void test_error_names(void **state)
+{
+    (void)state;
+    assert_string_equal(ocl_error_name(-30), "CL_INVALID_VALUE");
+    assert_string_equal(ocl_error_name(-11), "CL_BUILD_PROGRAM_FAILURE");
+    assert_string_equal(ocl_error_name(0), "CL_SUCCESS");
+    assert_string_equal(ocl_error_name(-12345), "CL_UNKNOWN_ERROR");
+}
+
+static int group_setup(void **state)
+{
+    fixture *fx = calloc(1, sizeof *fx);
+    if (!fx)
+        return -1;
+    for (int p = 0; p < 2; p++) {
+        ocl_options opt = {.device = NULL, .use_double = p, .max_slice_bytes = 0};
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        if (!ocl_open(&opt, &fx->ctx[p], &timing, &d)) {
+            fprintf(stderr, "ocl_open(%s): %s\n", p ? "double" : "float", d.message);
+            ocl_close(fx->ctx[0]);
+            free(fx);
+            return -1;
+        }
+        fprintf(stderr, "# %s program on \"%s\": built in %.3f s\n", p ? "double" : "float",
+                timing.device_name, timing.compile_s);
+    }
+    *state = fx;
+    return 0;
+}
+
+static int group_teardown(void **state)
+{
+    fixture *fx = *state;
+    ocl_close(fx->ctx[0]);
+    ocl_close(fx->ctx[1]);
+    free(fx);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_error_names),
+        cmocka_unit_test(test_spheres),
+        cmocka_unit_test(test_spheres_outside),
+        cmocka_unit_test(test_boxes),
+        cmocka_unit_test(test_cones),
+        cmocka_unit_test(test_planes),
+        cmocka_unit_test(test_csg),
+        cmocka_unit_test(test_random_spheres),
+        cmocka_unit_test(test_tile_sizes),
+        cmocka_unit_test(test_forced_slices),
+        cmocka_unit_test(test_empty_scene),
+        cmocka_unit_test(test_bad_device),
+        cmocka_unit_test(test_env_device),
+        cmocka_unit_test(test_device_selectors),
+        cmocka_unit_test(test_bad_blob),
+        cmocka_unit_test(test_build_failure),
+    };
+    return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
+
+#else /* TEST_OCL_PRECISION_PART: `real` and the csg_ names are this pass's */
+
+/* The flat blob of s in this precision. */
+static void *P(make_blob)(const sc_scene *s, size_t *size)
+{
+    csg_blob_header h;
+    blob_header(s, &h, (uint32_t)sizeof(real), sizeof(csg_prim), sizeof(csg_root),
+                sizeof(csg_camera));
+    char *b = calloc(1, (size_t)h.total_size);
+    assert_non_null(b);
+    memcpy(b, &h, sizeof h);
+    csg_prim *prims = (csg_prim *)(b + h.off_prims);
+    for (int i = 0; i < s->np; i++) {
+        prims[i].kind = s->prims[i].kind;
+        prims[i].flags = s->prims[i].flags;
+        prims[i].material = 0;
+        prims[i].root = -1;
+        for (int k = 0; k < 8; k++)
+            prims[i].p[k] = (real)s->prims[i].p[k];
+        for (int k = 0; k < 12; k++)
+            prims[i].inv[k] = (real)s->prims[i].inv[k];
+    }
+    csg_node *nodes = (csg_node *)(b + h.off_nodes);
+    for (int i = 0; i < s->nn; i++) {
+        nodes[i].op = s->nodes[i].op;
+        nodes[i].prim = s->nodes[i].prim;
+        if (nodes[i].op == CSG_OP_PRIM) {
+            for (int r = 0; r < s->nr; r++)
+                if (i >= s->roots[r].first && i < s->roots[r].first + s->roots[r].count)
+                    prims[nodes[i].prim].root = r;
+        }
+    }
+    csg_root *roots = (csg_root *)(b + h.off_roots);
+    for (int i = 0; i < s->nr; i++) {
+        roots[i].first_node = s->roots[i].first;
+        roots[i].node_count = s->roots[i].count;
+        roots[i].stack_depth = s->roots[i].depth;
+        roots[i].pad = 0;
+        for (int a = 0; a < 3; a++) {
+            roots[i].lo[a] = (real)s->roots[i].lo[a];
+            roots[i].hi[a] = (real)s->roots[i].hi[a];
+        }
+    }
+    csg_camera *cam = (csg_camera *)(b + h.off_camera);
+    for (int k = 0; k < 3; k++) {
+        cam->location[k] = (real)s->cam[k];
+        cam->direction[k] = (real)s->cam[3 + k];
+        cam->right[k] = (real)s->cam[6 + k];
+        cam->up[k] = (real)s->cam[9 + k];
+    }
+    *size = (size_t)h.total_size;
+    return b;
+}
+
+/* The C records: exactly what a worker computes for a primary ray. */
+static void P(reference)(const void *blob, void *t_out, uint32_t *surf)
+{
+    const csg_blob_header *h = blob;
+    const char *b = blob;
+    csg_view v;
+    v.prims = (const csg_prim *)(b + h->off_prims);
+    v.nodes = (const csg_node *)(b + h->off_nodes);
+    v.roots = (const csg_root *)(b + h->off_roots);
+    v.root_count = h->root_count;
+    const csg_camera *cam = (const csg_camera *)(b + h->off_camera);
+    real *t = t_out;
+    for (int y = 0; y < h->height; y++)
+        for (int x = 0; x < h->width; x++) {
+            csg_ray r = csg_primary_ray(cam, h->width, h->height, x, y);
+            csg_hit hit = csg_trace_nearest(v, r, R(0.0), CSG_R_INF);
+            size_t i = (size_t)y * (size_t)h->width + (size_t)x;
+            t[i] = hit.t;
+            surf[i] = hit.surf;
+        }
+}
+
+#endif
