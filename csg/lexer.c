@@ -1,0 +1,588 @@
+/*
+ * lexer.c — the scene language's tokens (see lexer.h).
+ *
+ * Algorithm: a hand-written scanner over one buffer.  Whitespace and
+ * comments are skipped first: `//` to the end of the line and slash-star ... star-slash
+ * block comments, which nest as in POV-Ray (a depth counter, no recursion).
+ * Words are looked up by binary search in a table sorted by byte order
+ * (kw_table; test_parser checks a sample of it).  A number is scanned to
+ * its extent by the grammar digits [. digits] [e [+-] digits] (or . digits
+ * ...), then converted with strtod on a bounded copy, so strtod's own
+ * extensions (hex, inf, nan) can never be reached.
+ *
+ * Invariants: pos <= len; line/col always describe src[pos]; every token
+ * records where it starts; the scanner never reads past len.
+ */
+#include "lexer.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    const char *name;
+    enum csg_kw kw;
+} kw_entry;
+
+/* Sorted by byte order (LC_ALL=C sort): binary search below. */
+static const kw_entry kw_table[] = {
+    {"abs", CSG_KW_UNSUPPORTED},
+    {"absorption", CSG_KW_UNSUPPORTED},
+    {"accuracy", CSG_KW_UNSUPPORTED},
+    {"acos", CSG_KW_UNSUPPORTED},
+    {"adaptive", CSG_KW_UNSUPPORTED},
+    {"adc_bailout", CSG_KW_ADC_BAILOUT},
+    {"agate", CSG_KW_UNSUPPORTED},
+    {"albedo", CSG_KW_UNSUPPORTED},
+    {"all_intersections", CSG_KW_UNSUPPORTED},
+    {"ambient", CSG_KW_AMBIENT},
+    {"ambient_light", CSG_KW_AMBIENT_LIGHT},
+    {"angle", CSG_KW_ANGLE},
+    {"aperture", CSG_KW_UNSUPPORTED},
+    {"area_illumination", CSG_KW_UNSUPPORTED},
+    {"area_light", CSG_KW_UNSUPPORTED},
+    {"asin", CSG_KW_UNSUPPORTED},
+    {"assumed_gamma", CSG_KW_ASSUMED_GAMMA},
+    {"atan", CSG_KW_UNSUPPORTED},
+    {"atan2", CSG_KW_UNSUPPORTED},
+    {"average", CSG_KW_UNSUPPORTED},
+    {"b_spline", CSG_KW_UNSUPPORTED},
+    {"background", CSG_KW_BACKGROUND},
+    {"bezier_spline", CSG_KW_UNSUPPORTED},
+    {"bicubic_patch", CSG_KW_UNSUPPORTED},
+    {"blob", CSG_KW_UNSUPPORTED},
+    {"blue", CSG_KW_BLUE},
+    {"blur_samples", CSG_KW_UNSUPPORTED},
+    {"bounded_by", CSG_KW_UNSUPPORTED},
+    {"box", CSG_KW_BOX},
+    {"bozo", CSG_KW_UNSUPPORTED},
+    {"brick", CSG_KW_UNSUPPORTED},
+    {"brilliance", CSG_KW_UNSUPPORTED},
+    {"bump_map", CSG_KW_UNSUPPORTED},
+    {"bumps", CSG_KW_UNSUPPORTED},
+    {"camera", CSG_KW_CAMERA},
+    {"caustics", CSG_KW_UNSUPPORTED},
+    {"ceil", CSG_KW_UNSUPPORTED},
+    {"charset", CSG_KW_UNSUPPORTED},
+    {"checker", CSG_KW_UNSUPPORTED},
+    {"chr", CSG_KW_UNSUPPORTED},
+    {"circular", CSG_KW_UNSUPPORTED},
+    {"clipped_by", CSG_KW_UNSUPPORTED},
+    {"clock", CSG_KW_UNSUPPORTED},
+    {"color", CSG_KW_COLOR},
+    {"color_map", CSG_KW_UNSUPPORTED},
+    {"colour", CSG_KW_COLOR},
+    {"colour_map", CSG_KW_UNSUPPORTED},
+    {"concat", CSG_KW_UNSUPPORTED},
+    {"cone", CSG_KW_CONE},
+    {"conserve_energy", CSG_KW_UNSUPPORTED},
+    {"contained_by", CSG_KW_UNSUPPORTED},
+    {"cos", CSG_KW_UNSUPPORTED},
+    {"cosh", CSG_KW_UNSUPPORTED},
+    {"crackle", CSG_KW_UNSUPPORTED},
+    {"crand", CSG_KW_UNSUPPORTED},
+    {"cubic", CSG_KW_UNSUPPORTED},
+    {"cubic_spline", CSG_KW_UNSUPPORTED},
+    {"cylinder", CSG_KW_CYLINDER},
+    {"cylindrical", CSG_KW_UNSUPPORTED},
+    {"degrees", CSG_KW_UNSUPPORTED},
+    {"density", CSG_KW_UNSUPPORTED},
+    {"density_map", CSG_KW_UNSUPPORTED},
+    {"dents", CSG_KW_UNSUPPORTED},
+    {"difference", CSG_KW_DIFFERENCE},
+    {"diffuse", CSG_KW_DIFFUSE},
+    {"direction", CSG_KW_DIRECTION},
+    {"disc", CSG_KW_UNSUPPORTED},
+    {"dispersion", CSG_KW_UNSUPPORTED},
+    {"div", CSG_KW_UNSUPPORTED},
+    {"double_illuminate", CSG_KW_UNSUPPORTED},
+    {"emission", CSG_KW_UNSUPPORTED},
+    {"evaluate", CSG_KW_UNSUPPORTED},
+    {"exp", CSG_KW_UNSUPPORTED},
+    {"fade_color", CSG_KW_UNSUPPORTED},
+    {"fade_distance", CSG_KW_UNSUPPORTED},
+    {"fade_power", CSG_KW_UNSUPPORTED},
+    {"falloff", CSG_KW_UNSUPPORTED},
+    {"false", CSG_KW_FALSE},
+    {"file_exists", CSG_KW_UNSUPPORTED},
+    {"filter", CSG_KW_FILTER},
+    {"final_frame", CSG_KW_UNSUPPORTED},
+    {"finish", CSG_KW_FINISH},
+    {"fisheye", CSG_KW_UNSUPPORTED},
+    {"floor", CSG_KW_UNSUPPORTED},
+    {"focal_point", CSG_KW_UNSUPPORTED},
+    {"fog", CSG_KW_UNSUPPORTED},
+    {"frame_number", CSG_KW_UNSUPPORTED},
+    {"frequency", CSG_KW_UNSUPPORTED},
+    {"fresnel", CSG_KW_UNSUPPORTED},
+    {"function", CSG_KW_UNSUPPORTED},
+    {"gamma", CSG_KW_UNSUPPORTED},
+    {"global_settings", CSG_KW_GLOBAL_SETTINGS},
+    {"gradient", CSG_KW_UNSUPPORTED},
+    {"granite", CSG_KW_UNSUPPORTED},
+    {"green", CSG_KW_GREEN},
+    {"height_field", CSG_KW_UNSUPPORTED},
+    {"hexagon", CSG_KW_UNSUPPORTED},
+    {"hollow", CSG_KW_UNSUPPORTED},
+    {"hypercomplex", CSG_KW_UNSUPPORTED},
+    {"image_height", CSG_KW_UNSUPPORTED},
+    {"image_map", CSG_KW_UNSUPPORTED},
+    {"image_width", CSG_KW_UNSUPPORTED},
+    {"initial_frame", CSG_KW_UNSUPPORTED},
+    {"int", CSG_KW_UNSUPPORTED},
+    {"interior", CSG_KW_INTERIOR},
+    {"internal", CSG_KW_UNSUPPORTED},
+    {"interpolate", CSG_KW_UNSUPPORTED},
+    {"intersection", CSG_KW_INTERSECTION},
+    {"inverse", CSG_KW_INVERSE},
+    {"ior", CSG_KW_IOR},
+    {"irid", CSG_KW_UNSUPPORTED},
+    {"isosurface", CSG_KW_UNSUPPORTED},
+    {"jitter", CSG_KW_UNSUPPORTED},
+    {"julia_fractal", CSG_KW_UNSUPPORTED},
+    {"lambda", CSG_KW_UNSUPPORTED},
+    {"lathe", CSG_KW_UNSUPPORTED},
+    {"lemon", CSG_KW_UNSUPPORTED},
+    {"leopard", CSG_KW_UNSUPPORTED},
+    {"light_group", CSG_KW_UNSUPPORTED},
+    {"light_source", CSG_KW_LIGHT_SOURCE},
+    {"linear_spline", CSG_KW_UNSUPPORTED},
+    {"ln", CSG_KW_UNSUPPORTED},
+    {"location", CSG_KW_LOCATION},
+    {"log", CSG_KW_UNSUPPORTED},
+    {"look_at", CSG_KW_LOOK_AT},
+    {"looks_like", CSG_KW_UNSUPPORTED},
+    {"marble", CSG_KW_UNSUPPORTED},
+    {"material", CSG_KW_UNSUPPORTED},
+    {"material_map", CSG_KW_UNSUPPORTED},
+    {"matrix", CSG_KW_UNSUPPORTED},
+    {"max", CSG_KW_UNSUPPORTED},
+    {"max_gradient", CSG_KW_UNSUPPORTED},
+    {"max_trace_level", CSG_KW_MAX_TRACE_LEVEL},
+    {"media", CSG_KW_UNSUPPORTED},
+    {"media_attenuation", CSG_KW_UNSUPPORTED},
+    {"media_interaction", CSG_KW_UNSUPPORTED},
+    {"merge", CSG_KW_MERGE},
+    {"mesh", CSG_KW_UNSUPPORTED},
+    {"mesh2", CSG_KW_UNSUPPORTED},
+    {"metallic", CSG_KW_UNSUPPORTED},
+    {"min", CSG_KW_UNSUPPORTED},
+    {"mm_per_unit", CSG_KW_UNSUPPORTED},
+    {"mod", CSG_KW_UNSUPPORTED},
+    {"mortar", CSG_KW_UNSUPPORTED},
+    {"natural_spline", CSG_KW_UNSUPPORTED},
+    {"no", CSG_KW_FALSE},
+    {"no_image", CSG_KW_UNSUPPORTED},
+    {"no_radiosity", CSG_KW_UNSUPPORTED},
+    {"no_reflection", CSG_KW_UNSUPPORTED},
+    {"no_shadow", CSG_KW_NO_SHADOW},
+    {"noise_generator", CSG_KW_UNSUPPORTED},
+    {"normal", CSG_KW_UNSUPPORTED},
+    {"normal_map", CSG_KW_UNSUPPORTED},
+    {"object", CSG_KW_OBJECT},
+    {"octaves", CSG_KW_UNSUPPORTED},
+    {"off", CSG_KW_FALSE},
+    {"omega", CSG_KW_UNSUPPORTED},
+    {"omnimax", CSG_KW_UNSUPPORTED},
+    {"on", CSG_KW_TRUE},
+    {"onion", CSG_KW_UNSUPPORTED},
+    {"open", CSG_KW_OPEN},
+    {"orient", CSG_KW_UNSUPPORTED},
+    {"orthographic", CSG_KW_UNSUPPORTED},
+    {"ovus", CSG_KW_UNSUPPORTED},
+    {"panoramic", CSG_KW_UNSUPPORTED},
+    {"parallel", CSG_KW_UNSUPPORTED},
+    {"parametric", CSG_KW_UNSUPPORTED},
+    {"pattern", CSG_KW_UNSUPPORTED},
+    {"perspective", CSG_KW_PERSPECTIVE},
+    {"phase", CSG_KW_UNSUPPORTED},
+    {"phong", CSG_KW_PHONG},
+    {"phong_size", CSG_KW_PHONG_SIZE},
+    {"photons", CSG_KW_UNSUPPORTED},
+    {"pi", CSG_KW_PI},
+    {"pigment", CSG_KW_PIGMENT},
+    {"pigment_map", CSG_KW_UNSUPPORTED},
+    {"plane", CSG_KW_PLANE},
+    {"point_at", CSG_KW_UNSUPPORTED},
+    {"poly", CSG_KW_UNSUPPORTED},
+    {"polygon", CSG_KW_UNSUPPORTED},
+    {"pow", CSG_KW_UNSUPPORTED},
+    {"precompute", CSG_KW_UNSUPPORTED},
+    {"prism", CSG_KW_UNSUPPORTED},
+    {"projected_through", CSG_KW_UNSUPPORTED},
+    {"quadratic_spline", CSG_KW_UNSUPPORTED},
+    {"quadric", CSG_KW_UNSUPPORTED},
+    {"quartic", CSG_KW_UNSUPPORTED},
+    {"quaternion", CSG_KW_UNSUPPORTED},
+    {"radians", CSG_KW_UNSUPPORTED},
+    {"radiosity", CSG_KW_UNSUPPORTED},
+    {"radius", CSG_KW_UNSUPPORTED},
+    {"rainbow", CSG_KW_UNSUPPORTED},
+    {"ramp_wave", CSG_KW_UNSUPPORTED},
+    {"rand", CSG_KW_UNSUPPORTED},
+    {"ratio", CSG_KW_UNSUPPORTED},
+    {"red", CSG_KW_RED},
+    {"reflection", CSG_KW_REFLECTION},
+    {"rgb", CSG_KW_RGB},
+    {"rgbf", CSG_KW_RGBF},
+    {"rgbft", CSG_KW_RGBFT},
+    {"rgbt", CSG_KW_RGBT},
+    {"right", CSG_KW_RIGHT},
+    {"ripples", CSG_KW_UNSUPPORTED},
+    {"rotate", CSG_KW_ROTATE},
+    {"roughness", CSG_KW_ROUGHNESS},
+    {"scale", CSG_KW_SCALE},
+    {"scallop_wave", CSG_KW_UNSUPPORTED},
+    {"scattering", CSG_KW_UNSUPPORTED},
+    {"seed", CSG_KW_UNSUPPORTED},
+    {"select", CSG_KW_UNSUPPORTED},
+    {"shadowless", CSG_KW_SHADOWLESS},
+    {"sin", CSG_KW_UNSUPPORTED},
+    {"sine_wave", CSG_KW_UNSUPPORTED},
+    {"sinh", CSG_KW_UNSUPPORTED},
+    {"sky", CSG_KW_SKY},
+    {"sky_sphere", CSG_KW_UNSUPPORTED},
+    {"slope_map", CSG_KW_UNSUPPORTED},
+    {"smooth_triangle", CSG_KW_UNSUPPORTED},
+    {"sor", CSG_KW_UNSUPPORTED},
+    {"specular", CSG_KW_SPECULAR},
+    {"sphere", CSG_KW_SPHERE},
+    {"sphere_sweep", CSG_KW_UNSUPPORTED},
+    {"spherical", CSG_KW_UNSUPPORTED},
+    {"spline", CSG_KW_UNSUPPORTED},
+    {"spotlight", CSG_KW_UNSUPPORTED},
+    {"spotted", CSG_KW_UNSUPPORTED},
+    {"sqrt", CSG_KW_UNSUPPORTED},
+    {"srgb", CSG_KW_UNSUPPORTED},
+    {"srgbf", CSG_KW_UNSUPPORTED},
+    {"srgbft", CSG_KW_UNSUPPORTED},
+    {"srgbt", CSG_KW_UNSUPPORTED},
+    {"stochastic_seed", CSG_KW_UNSUPPORTED},
+    {"str", CSG_KW_UNSUPPORTED},
+    {"strlen", CSG_KW_UNSUPPORTED},
+    {"sturm", CSG_KW_UNSUPPORTED},
+    {"substr", CSG_KW_UNSUPPORTED},
+    {"subsurface", CSG_KW_UNSUPPORTED},
+    {"superellipsoid", CSG_KW_UNSUPPORTED},
+    {"tan", CSG_KW_UNSUPPORTED},
+    {"tanh", CSG_KW_UNSUPPORTED},
+    {"text", CSG_KW_UNSUPPORTED},
+    {"texture", CSG_KW_TEXTURE},
+    {"texture_map", CSG_KW_UNSUPPORTED},
+    {"threshold", CSG_KW_UNSUPPORTED},
+    {"tightness", CSG_KW_UNSUPPORTED},
+    {"torus", CSG_KW_UNSUPPORTED},
+    {"transform", CSG_KW_UNSUPPORTED},
+    {"translate", CSG_KW_TRANSLATE},
+    {"transmit", CSG_KW_TRANSMIT},
+    {"triangle", CSG_KW_UNSUPPORTED},
+    {"triangle_wave", CSG_KW_UNSUPPORTED},
+    {"true", CSG_KW_TRUE},
+    {"ttf", CSG_KW_UNSUPPORTED},
+    {"turbulence", CSG_KW_UNSUPPORTED},
+    {"ultra_wide_angle", CSG_KW_UNSUPPORTED},
+    {"union", CSG_KW_UNION},
+    {"up", CSG_KW_UP},
+    {"uv_mapping", CSG_KW_UNSUPPORTED},
+    {"vaxis_rotate", CSG_KW_UNSUPPORTED},
+    {"vcross", CSG_KW_UNSUPPORTED},
+    {"vdot", CSG_KW_UNSUPPORTED},
+    {"version", CSG_KW_UNSUPPORTED},
+    {"vlength", CSG_KW_UNSUPPORTED},
+    {"vnormalize", CSG_KW_UNSUPPORTED},
+    {"vrotate", CSG_KW_UNSUPPORTED},
+    {"warp", CSG_KW_UNSUPPORTED},
+    {"waves", CSG_KW_UNSUPPORTED},
+    {"wood", CSG_KW_UNSUPPORTED},
+    {"wrinkles", CSG_KW_UNSUPPORTED},
+    {"x", CSG_KW_X},
+    {"y", CSG_KW_Y},
+    {"yes", CSG_KW_TRUE},
+    {"z", CSG_KW_Z},
+};
+
+static const kw_entry directive_table[] = {
+    {"break", CSG_KW_UNSUPPORTED},
+    {"case", CSG_KW_UNSUPPORTED},
+    {"debug", CSG_KW_UNSUPPORTED},
+    {"declare", CSG_KW_DECLARE},
+    {"default", CSG_KW_UNSUPPORTED},
+    {"else", CSG_KW_UNSUPPORTED},
+    {"elseif", CSG_KW_UNSUPPORTED},
+    {"end", CSG_KW_UNSUPPORTED},
+    {"error", CSG_KW_UNSUPPORTED},
+    {"fclose", CSG_KW_UNSUPPORTED},
+    {"fopen", CSG_KW_UNSUPPORTED},
+    {"for", CSG_KW_UNSUPPORTED},
+    {"if", CSG_KW_UNSUPPORTED},
+    {"ifdef", CSG_KW_UNSUPPORTED},
+    {"ifndef", CSG_KW_UNSUPPORTED},
+    {"include", CSG_KW_INCLUDE},
+    {"local", CSG_KW_LOCAL},
+    {"macro", CSG_KW_UNSUPPORTED},
+    {"range", CSG_KW_UNSUPPORTED},
+    {"read", CSG_KW_UNSUPPORTED},
+    {"render", CSG_KW_UNSUPPORTED},
+    {"statistics", CSG_KW_UNSUPPORTED},
+    {"switch", CSG_KW_UNSUPPORTED},
+    {"undef", CSG_KW_UNSUPPORTED},
+    {"version", CSG_KW_VERSION},
+    {"warning", CSG_KW_UNSUPPORTED},
+    {"while", CSG_KW_UNSUPPORTED},
+    {"write", CSG_KW_UNSUPPORTED},
+};
+
+#define MAX_NUMBER_CHARS 256
+
+static int word_cmp(const char *a, size_t alen, const char *b)
+{
+    size_t blen = strlen(b);
+    int c = memcmp(a, b, alen < blen ? alen : blen);
+    if (c != 0)
+        return c;
+    return alen < blen ? -1 : alen > blen ? 1 : 0;
+}
+
+static enum csg_kw table_lookup(const kw_entry *t, size_t n, const char *text, size_t len)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        int c = word_cmp(text, len, t[mid].name);
+        if (c == 0)
+            return t[mid].kw;
+        if (c < 0)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return CSG_KW_NONE;
+}
+
+enum csg_kw csg_keyword(const char *text, size_t len, bool directive)
+{
+    if (directive)
+        return table_lookup(directive_table, sizeof directive_table / sizeof directive_table[0],
+                            text, len);
+    return table_lookup(kw_table, sizeof kw_table / sizeof kw_table[0], text, len);
+}
+
+void csg_lexer_init(csg_lexer *lx, const char *file, const char *src, size_t len)
+{
+    lx->file = file;
+    lx->src = src;
+    lx->len = len;
+    lx->pos = 0;
+    lx->line = 1;
+    lx->col = 1;
+}
+
+static int peek(const csg_lexer *lx, size_t ahead)
+{
+    return lx->pos + ahead < lx->len ? (unsigned char)lx->src[lx->pos + ahead] : -1;
+}
+
+static void bump(csg_lexer *lx)
+{
+    if (lx->src[lx->pos] == '\n') {
+        lx->line++;
+        lx->col = 1;
+    } else {
+        lx->col++;
+    }
+    lx->pos++;
+}
+
+static csg_loc here(const csg_lexer *lx)
+{
+    return (csg_loc){lx->file, lx->line, lx->col};
+}
+
+static bool is_digit(int c) { return c >= '0' && c <= '9'; }
+static bool is_word_start(int c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+static bool is_word(int c) { return is_word_start(c) || is_digit(c); }
+
+/* Skips blanks and comments; false on an unterminated block comment. */
+static bool skip_space(csg_lexer *lx, csg_diag *d)
+{
+    for (;;) {
+        int c = peek(lx, 0);
+        if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') {
+            bump(lx);
+        } else if (c == '/' && peek(lx, 1) == '/') {
+            while (lx->pos < lx->len && lx->src[lx->pos] != '\n')
+                bump(lx);
+        } else if (c == '/' && peek(lx, 1) == '*') {
+            csg_loc open = here(lx);
+            long depth = 0;
+            do {
+                if (lx->pos >= lx->len) {
+                    csg_error(d, open, "unterminated comment");
+                    return false;
+                }
+                if (peek(lx, 0) == '/' && peek(lx, 1) == '*') {
+                    depth++;
+                    bump(lx);
+                } else if (peek(lx, 0) == '*' && peek(lx, 1) == '/') {
+                    depth--;
+                    bump(lx);
+                }
+                bump(lx);
+            } while (depth > 0);
+        } else {
+            return true;
+        }
+    }
+}
+
+static bool lex_number(csg_lexer *lx, csg_token *t, csg_diag *d)
+{
+    size_t start = lx->pos;
+    while (is_digit(peek(lx, 0)))
+        bump(lx);
+    if (peek(lx, 0) == '.') {
+        bump(lx);
+        while (is_digit(peek(lx, 0)))
+            bump(lx);
+    }
+    int e = peek(lx, 0);
+    if (e == 'e' || e == 'E') {
+        int s = peek(lx, 1);
+        size_t k = (s == '+' || s == '-') ? 2 : 1;
+        if (is_digit(peek(lx, k))) {
+            for (size_t i = 0; i < k; i++)
+                bump(lx);
+            while (is_digit(peek(lx, 0)))
+                bump(lx);
+        } else {
+            bump(lx);
+            csg_error(d, t->loc, "malformed number '%.*s': digits expected after the exponent",
+                      (int)(lx->pos - start), lx->src + start);
+            return false;
+        }
+    }
+    t->len = lx->pos - start;
+    if (is_word_start(peek(lx, 0))) {
+        csg_error(d, t->loc, "malformed number '%.*s%c'", (int)(t->len > 64 ? 64 : t->len),
+                  t->text, peek(lx, 0));
+        return false;
+    }
+    if (t->len > MAX_NUMBER_CHARS) {
+        csg_error(d, t->loc, "number too long (more than %d characters)", MAX_NUMBER_CHARS);
+        return false;
+    }
+    char buf[MAX_NUMBER_CHARS + 1];
+    memcpy(buf, t->text, t->len);
+    buf[t->len] = '\0';
+    if (t->len == 1 && buf[0] == '.') {
+        csg_error(d, t->loc, "unexpected character '.'");
+        return false;
+    }
+    t->number = strtod(buf, NULL);
+    if (!isfinite(t->number)) {
+        csg_error(d, t->loc, "number out of range: '%s'", buf);
+        return false;
+    }
+    t->kind = CSG_TOK_NUMBER;
+    return true;
+}
+
+static bool lex_string(csg_lexer *lx, csg_token *t, csg_diag *d)
+{
+    bump(lx); /* the opening quote */
+    size_t start = lx->pos;
+    for (;;) {
+        int c = peek(lx, 0);
+        if (c < 0 || c == '\n' || c == '\0') {
+            csg_error(d, t->loc, "unterminated string");
+            return false;
+        }
+        if (c == '"')
+            break;
+        if (c == '\\' && peek(lx, 1) >= 0 && peek(lx, 1) != '\n')
+            bump(lx);
+        bump(lx);
+    }
+    t->kind = CSG_TOK_STRING;
+    t->text = lx->src + start;
+    t->len = lx->pos - start;
+    bump(lx); /* the closing quote */
+    return true;
+}
+
+bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
+{
+    if (!skip_space(lx, d))
+        return false;
+    memset(t, 0, sizeof *t);
+    t->loc = here(lx);
+    t->text = lx->src + lx->pos;
+    int c = peek(lx, 0);
+    if (c < 0) {
+        t->kind = CSG_TOK_EOF;
+        return true;
+    }
+    if (is_digit(c) || (c == '.' && is_digit(peek(lx, 1))))
+        return lex_number(lx, t, d);
+    if (c == '"')
+        return lex_string(lx, t, d);
+    if (is_word_start(c)) {
+        while (is_word(peek(lx, 0)))
+            bump(lx);
+        t->kind = CSG_TOK_WORD;
+        t->len = (size_t)(lx->src + lx->pos - t->text);
+        t->kw = csg_keyword(t->text, t->len, false);
+        return true;
+    }
+    if (c == '#') {
+        bump(lx);
+        while (peek(lx, 0) == ' ' || peek(lx, 0) == '\t')
+            bump(lx);
+        const char *w = lx->src + lx->pos;
+        while (is_word(peek(lx, 0)))
+            bump(lx);
+        size_t wlen = (size_t)(lx->src + lx->pos - w);
+        if (wlen == 0) {
+            csg_error(d, t->loc, "a directive name expected after '#'");
+            return false;
+        }
+        t->kind = CSG_TOK_DIRECTIVE;
+        t->text = w;
+        t->len = wlen;
+        t->kw = csg_keyword(w, wlen, true);
+        return true;
+    }
+    if (strchr("{}<>(),;+-*/=", c) && c != '\0') {
+        bump(lx);
+        t->kind = CSG_TOK_PUNCT;
+        t->punct = (char)c;
+        t->len = 1;
+        return true;
+    }
+    if (c >= 0x21 && c < 0x7f)
+        csg_error(d, t->loc, "unexpected character '%c'", c);
+    else
+        csg_error(d, t->loc, "unexpected character (byte 0x%02x)", c);
+    return false;
+}
+
+void csg_token_describe(const csg_token *t, char *buf, size_t size)
+{
+    int n = t->len > 40 ? 40 : (int)t->len;
+    const char *dots = t->len > 40 ? "..." : "";
+    switch (t->kind) {
+    case CSG_TOK_EOF:
+        snprintf(buf, size, "end of file");
+        break;
+    case CSG_TOK_STRING:
+        snprintf(buf, size, "'\"%.*s%s\"'", n, t->text, dots);
+        break;
+    case CSG_TOK_DIRECTIVE:
+        snprintf(buf, size, "'#%.*s%s'", n, t->text, dots);
+        break;
+    default:
+        snprintf(buf, size, "'%.*s%s'", n, t->text, dots);
+        break;
+    }
+}

@@ -1,0 +1,87 @@
+/*
+ * lexer.h — tokens of the scene language (scenes/LANGUAGE.md).
+ *
+ * The lexer walks one source buffer (a file or an #include) and hands out
+ * one token at a time with its file:line:col.  Keywords are classified here
+ * (enum csg_kw) so the parser switches on integers; words that are POV-Ray
+ * keywords csgtrace does not implement come back as CSG_KW_UNSUPPORTED so
+ * the parser can name them in its message.
+ */
+#ifndef CSG_LEXER_H
+#define CSG_LEXER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "diag.h"
+
+enum csg_tok_kind {
+    CSG_TOK_EOF,
+    CSG_TOK_NUMBER,    /* number: a finite double                        */
+    CSG_TOK_STRING,    /* text/len: the contents between the quotes      */
+    CSG_TOK_WORD,      /* identifier or keyword (kw)                     */
+    CSG_TOK_DIRECTIVE, /* '#' word: text/len the word after '#', kw      */
+    CSG_TOK_PUNCT      /* one character: { } < > ( ) , ; + - * / =       */
+};
+
+enum csg_kw {
+    CSG_KW_NONE = 0,    /* a plain identifier                             */
+    CSG_KW_UNSUPPORTED, /* a POV-Ray word csgtrace does not implement     */
+    /* objects */
+    CSG_KW_SPHERE, CSG_KW_BOX, CSG_KW_CYLINDER, CSG_KW_CONE, CSG_KW_PLANE,
+    CSG_KW_UNION, CSG_KW_INTERSECTION, CSG_KW_DIFFERENCE, CSG_KW_MERGE,
+    CSG_KW_OBJECT,
+    /* statements */
+    CSG_KW_CAMERA, CSG_KW_LIGHT_SOURCE, CSG_KW_BACKGROUND, CSG_KW_GLOBAL_SETTINGS,
+    /* camera items */
+    CSG_KW_PERSPECTIVE, CSG_KW_LOCATION, CSG_KW_LOOK_AT, CSG_KW_DIRECTION,
+    CSG_KW_UP, CSG_KW_RIGHT, CSG_KW_SKY, CSG_KW_ANGLE,
+    /* global settings */
+    CSG_KW_ASSUMED_GAMMA, CSG_KW_MAX_TRACE_LEVEL, CSG_KW_ADC_BAILOUT,
+    CSG_KW_AMBIENT_LIGHT,
+    /* light */
+    CSG_KW_SHADOWLESS,
+    /* colours */
+    CSG_KW_COLOR, CSG_KW_RGB, CSG_KW_RGBF, CSG_KW_RGBT, CSG_KW_RGBFT,
+    CSG_KW_RED, CSG_KW_GREEN, CSG_KW_BLUE, CSG_KW_FILTER, CSG_KW_TRANSMIT,
+    /* modifiers */
+    CSG_KW_PIGMENT, CSG_KW_FINISH, CSG_KW_TEXTURE, CSG_KW_INTERIOR,
+    CSG_KW_TRANSLATE, CSG_KW_ROTATE, CSG_KW_SCALE, CSG_KW_INVERSE,
+    CSG_KW_NO_SHADOW, CSG_KW_OPEN,
+    /* finish / interior items */
+    CSG_KW_AMBIENT, CSG_KW_DIFFUSE, CSG_KW_SPECULAR, CSG_KW_ROUGHNESS,
+    CSG_KW_PHONG, CSG_KW_PHONG_SIZE, CSG_KW_REFLECTION, CSG_KW_IOR,
+    /* constants */
+    CSG_KW_PI, CSG_KW_X, CSG_KW_Y, CSG_KW_Z, CSG_KW_TRUE, CSG_KW_FALSE,
+    /* directives (after '#') */
+    CSG_KW_DECLARE, CSG_KW_LOCAL, CSG_KW_INCLUDE, CSG_KW_VERSION
+};
+
+typedef struct {
+    enum csg_tok_kind kind;
+    enum csg_kw kw;     /* CSG_TOK_WORD / CSG_TOK_DIRECTIVE                */
+    csg_loc loc;        /* where the token starts                          */
+    const char *text;   /* the token's characters in the source (not NUL-terminated) */
+    size_t len;
+    double number;      /* CSG_TOK_NUMBER                                  */
+    char punct;         /* CSG_TOK_PUNCT                                   */
+} csg_token;
+
+typedef struct {
+    const char *file;   /* for locations; must outlive the tokens          */
+    const char *src;    /* the buffer, len bytes (NUL bytes are errors)    */
+    size_t len;
+    size_t pos;         /* next byte to read                               */
+    int line, col;      /* of src[pos]                                     */
+} csg_lexer;
+
+void csg_lexer_init(csg_lexer *lx, const char *file, const char *src, size_t len);
+/* The next token; false (d filled) on a lexical error: an unterminated
+ * comment or string, a malformed or non-finite number, a stray character. */
+bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d);
+/* The keyword of a word, CSG_KW_NONE for an identifier. */
+enum csg_kw csg_keyword(const char *text, size_t len, bool directive);
+/* Writes a short quoted description of t into buf ("'sphere'", "end of file"). */
+void csg_token_describe(const csg_token *t, char *buf, size_t size);
+
+#endif
