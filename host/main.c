@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "../csg/export_pov.h"
+#include "../csg/flat.h"
 #include "../csg/flatten.h"
 #include "../csg/parser.h"
 #include "../csg/summary.h"
