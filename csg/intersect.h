@@ -189,10 +189,18 @@ CSG_FN int csg_cone_span_near(CSG_GLOBAL const real *p, csg_ray r,
         slo = ta < tb ? CSG_SURF_CONE_BASE : CSG_SURF_CONE_TOP;
         shi = ta < tb ? CSG_SURF_CONE_TOP : CSG_SURF_CONE_BASE;
     }
-    real rz = r0 + k * r.o.z; /* radius at the origin's height */
-    real a = r.d.x * r.d.x + r.d.y * r.d.y - k * k * r.d.z * r.d.z;
-    real b = r.o.x * r.d.x + r.o.y * r.d.y - k * rz * r.d.z;
-    real c = r.o.x * r.o.x + r.o.y * r.o.y - rz * rz;
+    /* Solve in u = t - tc from o = o + tc d, the closest approach to the
+     * axis kept within the slab's range: there the terms have the size of
+     * the solid, so b*b - a*c does not cancel catastrophically as it does
+     * from a far origin (as for the sphere above). */
+    real dxy = r.d.x * r.d.x + r.d.y * r.d.y;
+    real tc = dxy > R(0.0) ? -(r.o.x * r.d.x + r.o.y * r.d.y) / dxy : R(0.0);
+    tc = r_fmin(r_fmax(tc, lo), hi);
+    vec3 o = v3_madd(r.o, r.d, tc);
+    real rz = r0 + k * o.z; /* radius at that height */
+    real a = dxy - k * k * r.d.z * r.d.z;
+    real b = o.x * r.d.x + o.y * r.d.y - k * rz * r.d.z;
+    real c = o.x * o.x + o.y * o.y - rz * rz;
     /* inside the quadratic: a t^2 + 2 b t + c <= 0 */
     real qa = -CSG_R_INF, qb = CSG_R_INF; /* the part meeting the slab */
     csg_i32 sa = -1, sb = -1;
@@ -201,10 +209,10 @@ CSG_FN int csg_cone_span_near(CSG_GLOBAL const real *p, csg_ray r,
             if (c > R(0.0))
                 return 0;
         } else if (b > R(0.0)) {
-            qb = -c / (R(2.0) * b);
+            qb = tc + -c / (R(2.0) * b);
             sb = CSG_SURF_CONE_SIDE;
         } else {
-            qa = -c / (R(2.0) * b);
+            qa = tc + -c / (R(2.0) * b);
             sa = CSG_SURF_CONE_SIDE;
         }
     } else {
@@ -218,7 +226,7 @@ CSG_FN int csg_cone_span_near(CSG_GLOBAL const real *p, csg_ray r,
             real q = b >= R(0.0) ? -(b + root) : -(b - root);
             real ra = q / a;
             real rb = q != R(0.0) ? c / q : ra;
-            real u0 = r_fmin(ra, rb), u1 = r_fmax(ra, rb);
+            real u0 = tc + r_fmin(ra, rb), u1 = tc + r_fmax(ra, rb);
             if (a > R(0.0)) {
                 qa = u0;
                 qb = u1;
