@@ -171,8 +171,8 @@ CSG_FN int csg_box_span(CSG_GLOBAL const real *p, csg_ray r,
  * The quadratic's set on the line is one interval (A > 0), the line minus
  * one interval (A < 0) or a half-line (A == 0); clipped by the slab the
  * result is a single interval because the frustum is convex. */
-CSG_FN int csg_cone_span_near(CSG_GLOBAL const real *p, csg_ray r,
-                              real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+CSG_FN int csg_cone_span(CSG_GLOBAL const real *p, csg_ray r,
+                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
 {
     real r0 = p[0], h = p[2];
     real k = (p[1] - p[0]) / h;
@@ -259,25 +259,6 @@ CSG_FN int csg_cone_span_near(CSG_GLOBAL const real *p, csg_ray r,
     *s0 = slo;
     *s1 = shi;
     return lo < hi;
-}
-
-CSG_FN int csg_cone_span(CSG_GLOBAL const real *p, csg_ray r,
-                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    /* Solve from the point of the line nearest the frustum's centre: the
-     * coefficients then stay small and the roots keep their precision near
-     * the apex (a far origin otherwise leaves acne on thin tips). */
-    real h = p[2];
-    real dd = v3_dot(r.d, r.d);
-    if (!(dd > R(0.0)))
-        return 0;
-    real shift = (R(0.5) * h - r.o.z) * r.d.z / dd - (r.o.x * r.d.x + r.o.y * r.d.y) / dd;
-    r.o = v3_add(r.o, v3_scale(r.d, shift));
-    if (!csg_cone_span_near(p, r, t0, t1, s0, s1))
-        return 0;
-    *t0 = *t0 + shift;
-    *t1 = *t1 + shift;
-    return 1;
 }
 
 CSG_FN int csg_plane_span(CSG_GLOBAL const real *p, csg_ray r,
