@@ -40,6 +40,8 @@
 #define csg_node dbl_csg_node
 #define csg_root dbl_csg_root
 #define csg_camera dbl_csg_camera
+#define csg_material dbl_csg_material
+#define csg_flat_light dbl_csg_flat_light
 #define csg_ray dbl_csg_ray
 #define csg_spans dbl_csg_spans
 #define csg_view dbl_csg_view
