@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "../workers/protocol.h"
 
@@ -88,12 +89,34 @@ typedef struct {
     int tag;
 } master_msg;
 
+/* Probes until a message from any worker is there.  Not MPI_Probe: a
+ * blocked MPI_Probe spins on a core, which the workers (more ranks than
+ * cores) or the OpenCL pass need; so poll, then sleep with a back-off
+ * capped at MASTER_NAP_MAX_NS (a small delay next to a tile's work). */
+#define MASTER_SPINS 200
+#define MASTER_NAP_MAX_NS 200000L
+static void master_wait(MPI_Status *st)
+{
+    long nap = 1000;
+    for (int spins = 0;; spins++) {
+        int flag = 0;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, st);
+        if (flag)
+            return;
+        if (spins < MASTER_SPINS)
+            continue;
+        struct timespec ts = { 0, nap };
+        nanosleep(&ts, NULL);
+        nap = nap * 2 < MASTER_NAP_MAX_NS ? nap * 2 : MASTER_NAP_MAX_NS;
+    }
+}
+
 /* The next message from any worker, whatever its size. */
 static void master_recv(master_session *m, master_msg *msg)
 {
     MPI_Status st;
     int count = 0;
-    MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
+    master_wait(&st);
     MPI_Get_count(&st, MPI_BYTE, &count);
     if ((size_t)count + 1 > msg->cap) {
         char *p = realloc(msg->data, (size_t)count + 1);

@@ -296,6 +296,13 @@ static int render_image(const render_request *req, master_session *ms, render_st
     return status;
 }
 
+/* The one message of a failed render. */
+static void render_report(const csg_diag *d)
+{
+    fprintf(stderr, "%s\n", d->message[0] ? d->message : "csgtrace: error: render failed");
+    fflush(stderr);
+}
+
 /* The whole render on the process that owns the image. */
 static int render_job(const render_request *req, int ranks)
 {
@@ -310,6 +317,9 @@ static int render_job(const render_request *req, int ranks)
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &d);
+    bool reported = status != EXIT_OK;
+    if (reported) /* before the workers learn it: they exit at once */
+        render_report(&d);
     master_share_scene(&ms, status, (int)req->mode, st.tile, &rs.blob);
     st.setup_s = stats_clock() - t0;
     st.blob_bytes = rs.blob.size;
@@ -330,8 +340,8 @@ static int render_job(const render_request *req, int ranks)
     if (status == EXIT_OK) {
         stats_print_summary(stdout, &st);
         fflush(stdout);
-    } else {
-        fprintf(stderr, "%s\n", d.failed ? d.message : "csgtrace: error: render failed");
+    } else if (!reported) {
+        render_report(&d);
     }
     master_end(&ms, status);
     render_free(&rs);

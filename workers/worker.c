@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "protocol.h"
 
@@ -106,12 +107,35 @@ static void worker_send_fail(int index, const char *text)
     MPI_Send(&f, (int)sizeof f, MPI_BYTE, 0, PROTO_TAG_FAIL, MPI_COMM_WORLD);
 }
 
+/* Probes until a message from the master is there.  Not MPI_Probe: a
+ * blocked probe spins on a core for as long as the master is busy (the
+ * OpenCL pass, other workers' tiles), a core that the others need when
+ * ranks outnumber cores; so poll, then sleep with a back-off capped at
+ * WORKER_NAP_MAX_NS (a small delay next to a tile's work). */
+#define WORKER_SPINS 200
+#define WORKER_NAP_MAX_NS 200000L
+static void worker_wait(MPI_Status *st)
+{
+    long nap = 1000;
+    for (int spins = 0;; spins++) {
+        int flag = 0;
+        MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, st);
+        if (flag)
+            return;
+        if (spins < WORKER_SPINS)
+            continue;
+        struct timespec ts = { 0, nap };
+        nanosleep(&ts, NULL);
+        nap = nap * 2 < WORKER_NAP_MAX_NS ? nap * 2 : WORKER_NAP_MAX_NS;
+    }
+}
+
 /* The next message from the master, whatever its size, into w->in; its tag. */
 static int worker_recv(worker_state *w)
 {
     MPI_Status st;
     int count = 0;
-    MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
+    worker_wait(&st);
     MPI_Get_count(&st, MPI_BYTE, &count);
     if ((size_t)count > w->in_cap) {
         char *p = realloc(w->in, (size_t)count);
