@@ -220,14 +220,9 @@ static bool master_take_result(master_job *job, const master_msg *msg, int index
                         msg->source, (int)h.index, index);
         return false;
     }
-    float *rgb = malloc(n * 3 * sizeof(float)); /* aligned copy of the payload */
-    if (!rgb) {
-        csg_error_plain(d, "master: out of memory");
-        return false;
-    }
-    memcpy(rgb, msg->data + sizeof h, n * 3 * sizeof(float));
+    /* msg->data is malloc'd and sizeof h a multiple of 8: floats aligned */
+    const float *rgb = (const float *)(const void *)(msg->data + sizeof h);
     proto_store_rgb(job->image, job->width, r, rgb);
-    free(rgb);
     ray_counts rays = { h.primary, h.shadow, h.reflected, h.refracted };
     stats_worker *w = &job->workers[msg->source - 1];
     w->rank = msg->source;
@@ -236,7 +231,7 @@ static bool master_take_result(master_job *job, const master_msg *msg, int index
     w->busy_s += h.busy_s;
     stats_add_rays(&w->rays, &rays);
     stats_add_rays(&job->rays, &rays);
-    if (!job->t) /* hetero: counted from the OpenCL tile hits */
+    if (!job->t) /* (hetero counts them from the OpenCL tile hits) */
         job->pixels_hit += h.hits;
     return true;
 }
@@ -287,21 +282,19 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         int index = holding[src];
         holding[src] = -1;
         outstanding--;
-        if (msg.tag == PROTO_TAG_RESULT) {
-            if (!failed && !master_take_result(job, &msg, index, d))
-                failed = true;
-            else if (job->progress)
+        if (failed)
+            continue; /* draining: the first failure is the one reported */
+        if (msg.tag == PROTO_TAG_RESULT && master_take_result(job, &msg, index, d)) {
+            if (job->progress)
                 progress_step(job->progress);
         } else {
-            if (!failed) {
-                if (msg.tag == PROTO_TAG_FAIL)
-                    master_report_fail(&msg, d);
-                else
-                    csg_error_plain(d, "worker %d: unexpected message (tag %d)", src, msg.tag);
-            }
+            if (msg.tag == PROTO_TAG_FAIL)
+                master_report_fail(&msg, d);
+            else if (msg.tag != PROTO_TAG_RESULT)
+                csg_error_plain(d, "worker %d: unexpected message (tag %d)", src, msg.tag);
             failed = true;
         }
-        if (!failed && next < job->todo_count) {
+        if (!failed && next < job->todo_count) { /* self-scheduling: next tile */
             holding[src] = job->todo[next++];
             master_send_tile(m, job, &out, src, holding[src]);
             outstanding++;

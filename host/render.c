@@ -359,3 +359,11 @@ int render_run(const render_request *req)
         return worker_run();
     return render_job(req, size);
 }
+
+int render_rank(void)
+{
+    int rank = 0, size = 1;
+    if (master_launched_by_mpirun() && !master_mpi_start(&rank, &size))
+        return -1;
+    return rank;
+}

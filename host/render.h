@@ -36,4 +36,9 @@ enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };
  * several times in one run (MPI is finalised at exit). */
 int render_run(const render_request *req);
 
+/* This process's rank: 0 without mpirun (MPI is then never touched) and on
+ * the master; -1 when MPI cannot start.  For commands that print more than
+ * render_run does (compare): only rank 0 should. */
+int render_rank(void);
+
 #endif

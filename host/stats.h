@@ -20,8 +20,8 @@
  *                 phase (sent to workers, or done in-process without any)
  *   pixels, pixels_hit, occupancy (pixels_hit / pixels)
  *   rays          {primary, shadow, reflected, refracted, total}
- *   bytes_sent    bytes the master sent to workers (scene broadcast to
- *                 each worker + tile and stop messages)
+ *   bytes_sent    bytes the master sent to workers (the scene broadcast
+ *                 counted once per worker + the tile messages)
  *   bytes_received bytes the master received from workers
  *   blob_bytes    size of the flattened scene
  *   workers       [{rank, tiles, busy_s, hits, rays{...}}] one per rank

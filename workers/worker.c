@@ -250,8 +250,9 @@ int worker_run(void)
     for (;;) {
         int tag = worker_recv(&w);
         if (tag == PROTO_TAG_STOP) {
-            proto_stop stop = { 1, 0 };
-            memcpy(&stop, w.in, w.in_len < sizeof stop ? w.in_len : sizeof stop);
+            proto_stop stop = { 1, 0 }; /* a short STOP still stops, with 1 */
+            if (w.in_len >= sizeof stop)
+                memcpy(&stop, w.in, sizeof stop);
             status = stop.status;
             break;
         }
