@@ -11,8 +11,8 @@
  * A FAIL (or a malformed answer) ends the sending of tiles; the outstanding
  * tiles are still drained so that no rank blocks in a send, then every
  * worker gets STOP(1).  Nothing is ever MPI_Abort'ed for bad input: the
- * only MPI_Abort (code 1) is the master running out of memory for a
- * message it must receive.
+ * only MPI_Abort (code 1) is a rank running out of memory for a message
+ * it must receive.
  *
  * Invariants: holding[r] is the tile rank r is working on (-1: none), so
  * a worker holds at most one tile and STOP only goes to idle workers; the

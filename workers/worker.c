@@ -8,7 +8,9 @@
  *
  * Invariants: the worker never prints (the master reports once) and never
  * exits on its own after the setup: even when it failed it keeps answering
- * until STOP, so that the master can drain and nobody blocks.  Every
+ * until STOP, so that the master can drain and nobody blocks (the one
+ * exception, MPI_Abort with code 1 and a message, is having no memory to
+ * receive a message: MPI can only take it whole).  Every
  * incoming message is received whatever its size (probe + count), then
  * checked against the tile it claims before any byte of it is used.
  */
