@@ -31,4 +31,18 @@ int render_run(const render_request *req);
 /* Exit statuses of the program (DESIGN.md). */
 enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };
 
+/* Runs one render (host/render.c) and returns the exit status.
+ * Without mpirun (no OMPI_COMM_WORLD_SIZE) MPI is never initialised and
+ * everything runs in this process; under mpirun every rank calls it: rank 0
+ * is the master (reads the scene, assembles and writes the image, prints
+ * the one summary line or the one error message, writes the stats), the
+ * other ranks are workers and return the master's status.  It may be called
+ * several times in one run (MPI is finalised at exit). */
+int render_run(const render_request *req);
+
+/* This process's rank: 0 without mpirun (MPI is then never touched) and on
+ * the master; -1 when MPI cannot start.  For commands that print more than
+ * render_run does (compare): only rank 0 should. */
+int render_rank(void);
+
 #endif

@@ -1,0 +1,168 @@
+/*
+ * stats.c — the statistics of a render as one JSON object (see stats.h for
+ * the fields) and as one summary line.
+ *
+ * The writer is a plain fprintf sequence: numbers with %.9g (a non-finite
+ * double, which JSON cannot hold, becomes null), strings escaped.  The file
+ * is written under a mkstemp name in the destination's folder, flushed and
+ * renamed over `path`, so a reader never sees half a file.
+ */
+#include "stats.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+double stats_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void stats_add_rays(ray_counts *a, const ray_counts *b)
+{
+    a->primary += b->primary;
+    a->shadow += b->shadow;
+    a->reflected += b->reflected;
+    a->refracted += b->refracted;
+}
+
+static void stats_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
+        if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p);
+        else if (*p < 0x20)
+            fprintf(f, "\\u%04x", *p);
+        else
+            fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+static void stats_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.9g", v);
+    else
+        fputs("null", f);
+}
+
+static void stats_rays(FILE *f, const ray_counts *r)
+{
+    fprintf(f,
+            "{\"primary\": %llu, \"shadow\": %llu, \"reflected\": %llu, \"refracted\": %llu, "
+            "\"total\": %llu}",
+            (unsigned long long)r->primary, (unsigned long long)r->shadow,
+            (unsigned long long)r->reflected, (unsigned long long)r->refracted,
+            (unsigned long long)(r->primary + r->shadow + r->reflected + r->refracted));
+}
+
+/* "  "key": value,\n" for a double. */
+static void stats_field(FILE *f, const char *key, double v)
+{
+    fprintf(f, "  \"%s\": ", key);
+    stats_number(f, v);
+    fputs(",\n", f);
+}
+
+static void stats_workers(FILE *f, const render_stats *s)
+{
+    fputs("  \"workers\": [", f);
+    for (int i = 0; i < s->worker_count; i++) {
+        const stats_worker *w = &s->workers[i];
+        fprintf(f, "%s\n    {\"rank\": %d, \"tiles\": %llu, \"hits\": %llu, \"busy_s\": ",
+                i ? "," : "", w->rank, (unsigned long long)w->tiles,
+                (unsigned long long)w->hits);
+        stats_number(f, w->busy_s);
+        fputs(", \"rays\": ", f);
+        stats_rays(f, &w->rays);
+        fputc('}', f);
+    }
+    fputs(s->worker_count ? "\n  ]\n" : "]\n", f);
+}
+
+void stats_print_json(FILE *f, const render_stats *s)
+{
+    fputs("{\n  \"mode\": ", f);
+    stats_string(f, s->mode);
+    fputs(",\n  \"precision\": ", f);
+    stats_string(f, s->precision);
+    fputs(",\n  \"device\": ", f);
+    stats_string(f, s->device);
+    fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n",
+            s->width, s->height, s->tile, s->ranks);
+    stats_field(f, "wall_s", s->wall_s);
+    stats_field(f, "setup_s", s->setup_s);
+    stats_field(f, "compile_s", s->compile_s);
+    stats_field(f, "primary_s", s->primary_s);
+    stats_field(f, "secondary_s", s->secondary_s);
+    stats_field(f, "write_s", s->write_s);
+    fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n",
+            s->tiles_total, s->tiles_sent, s->tiles_degenerate);
+    fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n",
+            (unsigned long long)s->pixels, (unsigned long long)s->pixels_hit);
+    stats_field(f, "occupancy", s->pixels ? (double)s->pixels_hit / (double)s->pixels : 0.0);
+    fputs("  \"rays\": ", f);
+    stats_rays(f, &s->rays);
+    fprintf(f, ",\n  \"bytes_sent\": %llu,\n  \"bytes_received\": %llu,\n  \"blob_bytes\": %llu,\n",
+            (unsigned long long)s->bytes_sent, (unsigned long long)s->bytes_received,
+            (unsigned long long)s->blob_bytes);
+    stats_workers(f, s);
+    fputs("}\n", f);
+}
+
+bool stats_write_json(const char *path, const render_stats *s, char *err, size_t err_size)
+{
+    size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
+    char *tmp = malloc(n);
+    FILE *f = NULL;
+    int fd = -1;
+    if (!tmp) {
+        snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
+        return false;
+    }
+    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
+    fd = mkstemp(tmp);
+    if (fd < 0)
+        goto fail;
+    f = fdopen(fd, "w");
+    if (!f)
+        goto fail;
+    fd = -1; /* owned by f now */
+    stats_print_json(f, s);
+    if (fflush(f) != 0 || ferror(f))
+        goto fail;
+    if (fclose(f) != 0) {
+        f = NULL;
+        goto fail;
+    }
+    f = NULL;
+    if (rename(tmp, path) != 0)
+        goto fail;
+    free(tmp);
+    return true;
+
+fail:
+    snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+    if (f)
+        fclose(f);
+    if (fd >= 0)
+        close(fd);
+    unlink(tmp); /* harmless when mkstemp failed: no such file */
+    free(tmp);
+    return false;
+}
+
+void stats_print_summary(FILE *f, const render_stats *s)
+{
+    fprintf(f, "%s %dx%d %s ranks=%d wall=%.3fs tiles=%d sent=%d degenerate=%d occupancy=%.3f\n",
+            s->mode, s->width, s->height, s->precision, s->ranks, s->wall_s, s->tiles_total,
+            s->tiles_sent, s->tiles_degenerate,
+            s->pixels ? (double)s->pixels_hit / (double)s->pixels : 0.0);
+}

@@ -1,0 +1,251 @@
+#!/usr/bin/env bash
+# test_mpi.sh — end-to-end checks of the render driver and the MPI
+# master/worker (host/render.c, host/master.c, workers/worker.c) through
+# build/csgtrace:
+#   - serial == homo == hetero, bit for bit (EXR float pixels compared with
+#     idiff at threshold 0), over the example scenes, tile sizes 1, 7, 32
+#     and larger than the image, K = 1, 2, 3, 5 ranks, sizes that are not
+#     multiples of the tile, both precisions, the TCP transport;
+#   - a scene error under mpirun: exit 2 and one message;
+#   - a worker failure (CSGTRACE_FAIL_WORKER) and an OpenCL failure: exit 1,
+#     one message, no image;
+#   - the stats JSON holds every field, and its counts add up.
+# Prints one line per check and "N passed, N failed"; exits 1 on failure.
+# Usage: tests/test_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
+set -u
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BIN=${1:-$ROOT/build/csgtrace}
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/csgtrace-mpi.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
+mkdir -p "$POCL_CACHE_DIR"
+unset CSGTRACE_FAIL_WORKER
+MPIRUN=(mpirun --bind-to none --oversubscribe)
+W=64 H=48
+
+passed=0 failed=0
+ok()   { passed=$((passed + 1)); echo "ok   - $*"; }
+bad()  { failed=$((failed + 1)); echo "FAIL - $*"; }
+skip() { echo "skip - $*"; }
+check() { # check DESCRIPTION COMMAND...
+    local d=$1; shift
+    if "$@"; then ok "$d"; else bad "$d"; fi
+}
+
+if [ ! -x "$BIN" ]; then
+    echo "FAIL - $BIN is not built"
+    echo "0 passed, 1 failed"
+    exit 1
+fi
+
+# render NAME NP ARGS...: renders into $TMP/NAME.exr; NP 0: without mpirun;
+# $MPIX: more mpirun options.
+# Its stderr is kept in $TMP/NAME.err; returns csgtrace's (mpirun's) status.
+render() {
+    local name=$1 np=$2; shift 2
+    if [ "$np" = 0 ]; then
+        "$BIN" render "$@" -o "$TMP/$name.exr" >"$TMP/$name.out" 2>"$TMP/$name.err"
+    else
+        # Open MPI's own allocations look leaked to LeakSanitizer (an ASan
+        # build given as $1): leaks are checked by the serial runs only.
+        # shellcheck disable=SC2086  # MPIX: extra mpirun options, split
+        ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} \
+        "${MPIRUN[@]}" ${MPIX:-} -np "$np" "$BIN" render "$@" -o "$TMP/$name.exr" \
+            >"$TMP/$name.out" 2>"$TMP/$name.err"
+    fi
+}
+
+# same A B: the two images exist and their pixels are identical.
+same() {
+    [ -f "$TMP/$1.exr" ] && [ -f "$TMP/$2.exr" ] || return 1
+    cmp -s "$TMP/$1.exr" "$TMP/$2.exr" && return 0
+    idiff -fail 0 -failpercent 0 -warn 0 "$TMP/$1.exr" "$TMP/$2.exr" >/dev/null 2>&1
+}
+
+# render_same DESCRIPTION REF NAME NP ARGS...: renders NAME, compares with REF.
+render_same() {
+    local d=$1 ref=$2 name=$3 rc; shift 3
+    render "$name" "$@"
+    rc=$?
+    if [ $rc != 0 ]; then
+        bad "$d (exit $rc: $(grep -m1 ': error: ' "$TMP/$name.err"))"
+    elif same "$ref" "$name"; then
+        ok "$d"
+    else
+        bad "$d (pixels differ from $ref)"
+    fi
+}
+
+# error_lines NAME: lines of our own messages (mpirun's banners excluded).
+error_lines() { grep -c ': error: ' "$TMP/$1.err"; }
+
+# ---- scenes --------------------------------------------------------------
+scenes=()
+for s in "$ROOT"/scenes/*.pov; do [ -f "$s" ] && scenes+=("$s"); done
+if [ ${#scenes[@]} -eq 0 ]; then
+    cat >"$TMP/fallback.pov" <<'EOF'
+camera { location <0, 1, -4> look_at <0, 0, 0> }
+light_source { <3, 5, -4> color rgb <1, 1, 1> }
+background { color rgb <0.1, 0.2, 0.3> }
+difference {
+  sphere { <0, 0, 0>, 1 pigment { color rgb <1, 0.2, 0.2> } finish { reflection 0.3 } }
+  box { <-0.5, -0.5, -2>, <0.5, 0.5, 0> pigment { color rgb <0.2, 1, 0.2> } }
+}
+plane { <0, 1, 0>, -1 pigment { color rgb <0.8, 0.8, 0.8> } }
+EOF
+    scenes=("$TMP/fallback.pov")
+    skip "no scenes/*.pov: using a built-in scene"
+fi
+first=${scenes[0]}
+SZ=(--width "$W" --height "$H")
+
+have_cl=1
+if command -v clinfo >/dev/null 2>&1 && [ "$(clinfo -l 2>/dev/null | grep -c Platform)" = 0 ]; then
+    have_cl=0
+    skip "no OpenCL platform (clinfo -l): hetero checks skipped"
+fi
+
+# ---- every scene: serial == homo == hetero ----------------------------------
+for s in "${scenes[@]}"; do
+    n=$(basename "$s" .pov)
+    if ! render "$n-ref" 0 "$s" "${SZ[@]}" --mode serial; then
+        bad "$n: serial render ($(grep -m1 ': error: ' "$TMP/$n-ref.err"))"
+        continue
+    fi
+    ok "$n: serial render"
+    render_same "$n: serial tile 7 == serial tile 32" "$n-ref" "$n-s7" 0 "$s" "${SZ[@]}" \
+        --mode serial --tile 7
+    render_same "$n: homo K=3 tile 7 == serial" "$n-ref" "$n-h3" 3 "$s" "${SZ[@]}" \
+        --mode homo --tile 7
+    if [ $have_cl = 1 ]; then
+        render_same "$n: hetero K=3 tile 7 == serial" "$n-ref" "$n-x3" 3 "$s" "${SZ[@]}" \
+            --mode hetero --tile 7
+    fi
+done
+
+# ---- the first scene: tiles, ranks, odd sizes, precision, transport ------------
+n=$(basename "$first" .pov)
+R=$n-ref
+render_same "homo K=2 tile 32 == serial" "$R" m-h2 2 "$first" "${SZ[@]}" --mode homo --tile 32
+render_same "homo K=5 tile 1 == serial" "$R" m-h5 5 "$first" "${SZ[@]}" --mode homo --tile 1
+render_same "homo K=3 tile 100 (> image) == serial" "$R" m-hbig 3 "$first" "${SZ[@]}" \
+    --mode homo --tile 100
+render_same "homo K=1 (serial path under mpirun) == serial" "$R" m-h1 1 "$first" "${SZ[@]}" \
+    --mode homo
+MPIX="--mca btl tcp,self" render_same "homo K=3 over TCP (--mca btl tcp,self) == serial" "$R" \
+    m-tcp 3 "$first" "${SZ[@]}" --mode homo --tile 16
+
+if render odd-ref 0 "$first" --width 61 --height 37 --mode serial --tile 32; then
+    ok "61x37 serial render"
+    render_same "61x37 homo K=3 tile 8 == serial" odd-ref odd-h3 3 "$first" \
+        --width 61 --height 37 --mode homo --tile 8
+    [ $have_cl = 1 ] && render_same "61x37 hetero K=2 tile 7 == serial" odd-ref odd-x2 2 \
+        "$first" --width 61 --height 37 --mode hetero --tile 7
+else
+    bad "61x37 serial render"
+fi
+
+if render dbl-ref 0 "$first" "${SZ[@]}" --mode serial --precision double; then
+    ok "double serial render"
+    render_same "double homo K=3 tile 7 == serial" dbl-ref dbl-h3 3 "$first" "${SZ[@]}" \
+        --mode homo --tile 7 --precision double
+    [ $have_cl = 1 ] && render_same "double hetero K=3 tile 7 == serial" dbl-ref dbl-x3 3 \
+        "$first" "${SZ[@]}" --mode hetero --tile 7 --precision double
+else
+    bad "double serial render"
+fi
+
+if [ $have_cl = 1 ]; then
+    render_same "hetero without mpirun == serial" "$R" m-x0 0 "$first" "${SZ[@]}" --mode hetero
+    render_same "hetero K=1 == serial" "$R" m-x1 1 "$first" "${SZ[@]}" --mode hetero --tile 5
+    render_same "hetero K=5 tile 1 == serial" "$R" m-x5 5 "$first" "${SZ[@]}" --mode hetero --tile 1
+    render_same "hetero K=2 tile 100 (> image) == serial" "$R" m-xbig 2 "$first" "${SZ[@]}" \
+        --mode hetero --tile 100
+fi
+
+# ---- stats JSON ----------------------------------------------------------------
+check_stats() { # check_stats FILE MODE RANKS
+    python3 - "$@" <<'EOF'
+import json, sys
+path, mode, ranks = sys.argv[1], sys.argv[2], int(sys.argv[3])
+s = json.load(open(path))
+need = ["mode", "width", "height", "tile", "ranks", "wall_s", "primary_s", "secondary_s",
+        "compile_s", "tiles_total", "tiles_sent", "tiles_degenerate", "occupancy", "rays",
+        "bytes_sent", "precision", "workers"]
+missing = [k for k in need if k not in s]
+missing += ["rays." + k for k in ("primary", "shadow", "reflected", "refracted")
+            if k not in s.get("rays", {})]
+assert not missing, "missing: %s" % missing
+assert s["mode"] == mode and s["ranks"] == ranks, (s["mode"], s["ranks"])
+assert s["tiles_sent"] + s["tiles_degenerate"] == s["tiles_total"]
+assert 0.0 <= s["occupancy"] <= 1.0
+assert s["rays"]["primary"] == s["width"] * s["height"], s["rays"]
+ws = s["workers"]
+assert len(ws) == max(ranks - 1, 1), len(ws)
+for w in ws:
+    for k in ("rank", "tiles", "rays", "busy_s"):
+        assert k in w, "worker field " + k
+assert sum(w["tiles"] for w in ws) == s["tiles_sent"]
+if ranks > 1:
+    assert s["bytes_sent"] > 0
+EOF
+}
+if render st-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/st-h3.json" &&
+    check_stats "$TMP/st-h3.json" homo 3 2>"$TMP/st-h3.py"; then
+    ok "stats JSON of homo K=3: every field, counts add up"
+else
+    bad "stats JSON of homo K=3 ($(tail -1 "$TMP/st-h3.py" 2>/dev/null))"
+fi
+if render st-s 0 "$first" "${SZ[@]}" --mode serial --stats "$TMP/st-s.json" &&
+    check_stats "$TMP/st-s.json" serial 1 2>"$TMP/st-s.py"; then
+    ok "stats JSON of serial: every field, counts add up"
+else
+    bad "stats JSON of serial ($(tail -1 "$TMP/st-s.py" 2>/dev/null))"
+fi
+if [ $have_cl = 1 ]; then
+    if render st-x3 3 "$first" "${SZ[@]}" --mode hetero --tile 8 --stats "$TMP/st-x3.json" &&
+        check_stats "$TMP/st-x3.json" hetero 3 2>"$TMP/st-x3.py"; then
+        ok "stats JSON of hetero K=3: every field, counts add up"
+    else
+        bad "stats JSON of hetero K=3 ($(tail -1 "$TMP/st-x3.py" 2>/dev/null))"
+    fi
+fi
+check "one summary line on stdout" test "$(wc -l <"$TMP/st-h3.out")" = 1
+
+# ---- failures ------------------------------------------------------------------
+printf 'sphere { <0, 0, 0>, 1 \n  pigment { color rgb <1, 0, 0> }\n  @@@ }\n' >"$TMP/bad.pov"
+render bad-h3 3 "$TMP/bad.pov" "${SZ[@]}" --mode homo
+rc=$?
+check "scene error under mpirun K=3: exit 2 (got $rc)" test $rc = 2
+check "scene error under mpirun K=3: one message" test "$(error_lines bad-h3)" = 1
+check "scene error under mpirun K=3: no image" test ! -e "$TMP/bad-h3.exr"
+
+CSGTRACE_FAIL_WORKER=2 render fail-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8
+rc=$?
+check "worker 2 fails (homo K=3): exit 1 (got $rc)" test $rc = 1
+check "worker 2 fails (homo K=3): one message naming worker 2" \
+    test "$(error_lines fail-h3)" = 1 -a "$(grep -c 'worker 2' "$TMP/fail-h3.err")" = 1
+check "worker 2 fails (homo K=3): no image" test ! -e "$TMP/fail-h3.exr"
+
+CSGTRACE_FAIL_WORKER=1 render fail-h2 2 "$first" "${SZ[@]}" --mode homo --tile 100
+rc=$?
+check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
+    test $rc = 1 -a ! -e "$TMP/fail-h2.exr"
+
+if [ $have_cl = 1 ]; then
+    CSGTRACE_FAIL_WORKER=1 render fail-x3 3 "$first" "${SZ[@]}" --mode hetero --tile 4
+    rc=$?
+    check "worker 1 fails (hetero K=3): exit 1, one message, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines fail-x3)" = 1 -a ! -e "$TMP/fail-x3.exr"
+
+    CSGTRACE_CL_DEVICE=no-such-device-xyz render clbad-x3 3 "$first" "${SZ[@]}" --mode hetero
+    rc=$?
+    check "OpenCL failure (hetero K=3): exit 1, one message, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines clbad-x3)" = 1 -a ! -e "$TMP/clbad-x3.exr"
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]
