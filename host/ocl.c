@@ -547,7 +547,10 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
         !ocl_array_fits(h->off_prims, (uint64_t)h->prim_count, ocl_prim_size(rs), T) ||
         !ocl_array_fits(h->off_nodes, (uint64_t)h->node_count, 8, T) ||
         !ocl_array_fits(h->off_roots, (uint64_t)h->root_count, ocl_root_size(rs), T) ||
-        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) || (h->off_prims % 64) ||
+        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) ||
+        h->linear_roots < 0 || h->linear_roots > h->root_count || h->bvh_count < 0 ||
+        !ocl_array_fits(h->off_bvh, (uint64_t)h->bvh_count, 6u * rs + 8u, T) ||
+        (h->off_bvh % 64) || (h->off_prims % 64) ||
         (h->off_nodes % 64) || (h->off_roots % 64) || (h->off_camera % 64)) {
         csg_error_plain(d, "OpenCL primary pass: the scene blob's arrays do not fit its size");
         return false;
@@ -615,7 +618,9 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                           uint32_t *tile_hits, csg_diag *d)
 {
     cl_ulong offs[4] = {h->off_prims, h->off_nodes, h->off_roots, h->off_camera};
-    cl_int root_count = h->root_count, width = h->width, height = h->height, cy0 = y0;
+    cl_int root_count = h->linear_roots, width = h->width, height = h->height, cy0 = y0;
+    cl_ulong off_bvh = h->off_bvh;
+    cl_int bvh_count = h->bvh_count;
     cl_int crows = rows, ctile = tile, tiles_x = (h->width + tile - 1) / tile;
     int ty0 = y0 / tile;
     cl_int tile_rows = (y0 + rows - 1) / tile - ty0 + 1; /* tile rows the slice touches */
@@ -632,6 +637,8 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
               ocl_arg(c->k_primary, kp, 9, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->t, d) &&
               ocl_arg(c->k_primary, kp, 11, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_primary, kp, 12, sizeof(cl_ulong), &off_bvh, d) &&
+              ocl_arg(c->k_primary, kp, 13, sizeof(cl_int), &bvh_count, d) &&
               ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->surf, d) &&
               ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &width, d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
@@ -742,7 +749,7 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
     blob.h.real_size = c->use_double ? 8 : 4;
     blob.h.width = 1;
     blob.h.height = 1;
-    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = off;
+    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = blob.h.off_bvh = off;
     blob.h.off_materials = blob.h.off_lights = blob.h.off_camera = off;
     blob.h.total_size = off + ocl_camera_size(8);
     _Static_assert(sizeof blob.h + 63 + 12 * 8 <= sizeof blob, "warm-up blob size");

@@ -37,16 +37,7 @@
 #include "ocl.h"
 #include "progress.h"
 #include "stats.h"
-
-#if defined(__has_include)
-#if __has_include("../csg/parser.h")
 #include "../csg/parser.h"
-#define RENDER_HAVE_PARSER_H 1
-#endif
-#endif
-#ifndef RENDER_HAVE_PARSER_H
-bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d);
-#endif
 
 #define RENDER_DEFAULT_TILE 32
 

@@ -24,10 +24,6 @@ typedef struct {
     bool progress;            /* progress bar on stderr (a terminal) */
 } render_request;
 
-/* Runs one render in the mode asked for (MPI when launched under mpirun);
- * returns the exit status. */
-int render_run(const render_request *req);
-
 /* Exit statuses of the program (DESIGN.md). */
 enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };
 

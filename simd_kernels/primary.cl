@@ -31,7 +31,7 @@
 __kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off_nodes,
                           ulong off_roots, ulong off_camera, int root_count, int width,
                           int height, int y0, int rows, __global real *t_out,
-                          __global uint *surf_out)
+                          __global uint *surf_out, ulong off_bvh, int bvh_count)
 {
     int x = (int)get_global_id(0);
     int row = (int)get_global_id(1);
@@ -41,7 +41,9 @@ __kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off
     v.prims = (__global const csg_prim *)(blob + off_prims);
     v.nodes = (__global const csg_node *)(blob + off_nodes);
     v.roots = (__global const csg_root *)(blob + off_roots);
-    v.root_count = root_count;
+    v.bvh = (__global const csg_bvh_node *)(blob + off_bvh);
+    v.root_count = root_count; /* the roots tested one by one (linear_roots) */
+    v.bvh_count = bvh_count;
     __global const csg_camera *cam = (__global const csg_camera *)(blob + off_camera);
 
     csg_ray r = csg_primary_ray(cam, width, height, x, y0 + row);

@@ -99,6 +99,9 @@
 #define csg_spans_intersect dbl_csg_spans_intersect
 #define csg_spans_copy dbl_csg_spans_copy
 #define csg_box_overlaps dbl_csg_box_overlaps
+#define csg_aabb_overlaps dbl_csg_aabb_overlaps
+#define csg_try_root dbl_csg_try_root
+#define csg_bvh_node dbl_csg_bvh_node
 #define csg_root_spans dbl_csg_root_spans
 #define csg_first_boundary dbl_csg_first_boundary
 #define csg_trace_nearest dbl_csg_trace_nearest

@@ -147,7 +147,9 @@ static csg_view view(const scene *s)
     v.prims = s->prims;
     v.nodes = s->nodes;
     v.roots = s->roots;
+    v.bvh = NULL;
     v.root_count = s->nr;
+    v.bvh_count = 0;
     return v;
 }
 
