@@ -16,6 +16,7 @@ void cli_usage(FILE *out)
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--precision float|double]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
+          "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
           "                   [--materials opaque,reflective,transparent] -o scene.pov\n"
@@ -71,7 +72,7 @@ static bool parse_choice(const char *opt, const char *s, const char *const *name
 static const struct {
     const char *name;
     enum cli_command cmd;
-} commands[] = {{"render", CMD_RENDER}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
+} commands[] = {{"render", CMD_RENDER}, {"compare", CMD_COMPARE}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
                 {"gen", CMD_GEN},       {"help", CMD_HELP},
                 {"--help", CMD_HELP},   {"-h", CMD_HELP},         {"--version", CMD_VERSION}};
 

@@ -12,6 +12,7 @@
 #include "../csg/parser.h"
 #include "../csg/summary.h"
 #include "cli.h"
+#include "compare.h"
 #include "gen.h"
 #include "render.h"
 
@@ -111,6 +112,8 @@ int main(int argc, char **argv)
         return run_export(&a);
     case CMD_GEN:
         return run_gen(argc - 2, argv + 2);
+    case CMD_COMPARE:
+        return compare_run(&a);
     case CMD_RENDER:
         return render_run(&a.req);
     default:

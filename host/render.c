@@ -97,7 +97,7 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
     ocl_options opt = { device, req->precision == PREC_DOUBLE, 0 };
     ocl_timing tm;
-    ocl_ctx *ctx = NULL;
+    ocl_ctx *ctx = req->cl_keep ? *req->cl_keep : NULL;
     memset(&tm, 0, sizeof tm);
     rs->t = malloc(n * h->real_size);
     rs->surf = malloc(n * sizeof *rs->surf);
@@ -106,10 +106,12 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
-    bool ok = ocl_open(&opt, &ctx, &tm, d) &&
+    bool ok = (ctx || ocl_open(&opt, &ctx, &tm, d)) &&
               ocl_primary_pass(ctx, rs->blob.bytes, st->tile, rs->t, rs->surf, rs->tile_hits,
                                &tm, d);
-    if (ctx)
+    if (req->cl_keep)
+        *req->cl_keep = ctx; /* the caller closes it */
+    else if (ctx)
         ocl_close(ctx);
     st->compile_s = tm.compile_s;
     st->primary_s = tm.primary_s;
@@ -329,7 +331,17 @@ static int render_job(const render_request *req, int ranks)
         }
     }
     if (status == EXIT_OK) {
-        stats_print_summary(stdout, &st);
+        if (req->stats_out) {
+            *req->stats_out = st;
+            req->stats_out->workers = NULL;
+            req->stats_out->worker_count = 0;
+        }
+        if (req->image_out) {
+            *req->image_out = rs.image;
+            rs.image = NULL;
+        }
+        if (!req->stats_out)
+            stats_print_summary(stdout, &st);
         fflush(stdout);
     } else if (!reported) {
         render_report(&d);

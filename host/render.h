@@ -7,6 +7,9 @@
 
 #include <stdbool.h>
 
+struct ocl_ctx;
+struct render_stats;
+
 enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
 enum render_precision { PREC_FLOAT, PREC_DOUBLE };
 
@@ -22,6 +25,14 @@ typedef struct {
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     bool progress;            /* progress bar on stderr (a terminal) */
+    /* For callers that run several renders in one job (compare); NULL in
+     * a plain render.  Used on the master only. */
+    struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and
+                                 leave it there (the caller closes it):
+                                 only the first render pays the build   */
+    struct render_stats *stats_out; /* a copy of the render's statistics
+                                       (its `workers` left NULL)         */
+    float **image_out;        /* receives the image (malloc'd, RGB)     */
 } render_request;
 
 /* Exit statuses of the program (DESIGN.md). */

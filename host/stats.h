@@ -45,7 +45,7 @@ typedef struct {
     double busy_s;   /* time spent rendering its tiles             */
 } stats_worker;
 
-typedef struct {
+typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
     const char *precision;  /* "float", "double"                     */
     char device[256];       /* OpenCL device name, "" if none        */
