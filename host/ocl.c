@@ -727,6 +727,7 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
     }
     timing->slices = slices;
     timing->primary_s = ocl_now() - t0;
+    ocl_device_name(c->device, timing->device_name, sizeof timing->device_name);
     ocl_release_buffers(&b);
     return true;
 fail:
