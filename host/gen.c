@@ -239,6 +239,12 @@ bool gen_spheres(const gen_options *o, gen_result *r, csg_diag *d)
         else
             hi = mid;
     }
+    if (ok && fabs(g.best_occ - o->occupancy) > 0.01) {
+        csg_error_plain(d, "gen spheres: cannot reach occupancy %.2f%% with %d spheres at %dx%d "
+                           "(closest: %.2f%%)",
+                        100 * o->occupancy, o->count, o->width, o->height, 100 * g.best_occ);
+        ok = false;
+    }
     if (ok)
         ok = write_file(o->out_path, g.best_text, g.best_len, d);
     if (ok) {
