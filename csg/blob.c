@@ -86,6 +86,8 @@ bool csg_blob_valid(const void *bytes, size_t blob_size)
         return false;
     if (h->total_size != blob_size || h->width <= 0 || h->height <= 0 || h->max_depth < 1)
         return false;
+    if (h->spp < 1 || h->spp > CSG_MAX_SPP)
+        return false;
     if (h->max_stack < 0 || h->max_stack > CSG_STACK_MAX)
         return false;
     uint32_t rs = h->real_size;

@@ -679,6 +679,7 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     if (h.max_depth < 1)
         h.max_depth = 1;
     h.adc_bailout = o->bailout >= 0 ? o->bailout : s->globals.adc_bailout;
+    h.spp = o->spp > 0 ? o->spp : 1;
     h.prim_count = fb->prim_count;
     h.node_count = fb->node_count;
     h.root_count = fb->root_count;

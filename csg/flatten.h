@@ -19,6 +19,7 @@
 #include "scene.h"
 
 #define CSG_BLOB_MAGIC 0x43534731u /* "CSG1" */
+#define CSG_MAX_SPP 1024          /* samples a pixel, at most          */
 
 typedef struct {
     uint32_t magic;
@@ -30,7 +31,9 @@ typedef struct {
     int32_t linear_roots;    /* roots 0 .. linear_roots-1: unbounded, tested
                                 one by one; the rest hang in the BVH      */
     int32_t bvh_count;       /* BVH nodes (0: no bounded root)            */
-    int32_t pad;
+    int32_t spp;             /* primary samples a pixel (>= 1): the hit
+                                records hold width * spp records a row,
+                                the samples of a pixel side by side     */
     double adc_bailout;      /* rays weighing less are not traced        */
     double background[5];    /* rgbft                                    */
     double ambient_light[3];
@@ -48,6 +51,7 @@ typedef struct {
     int width, height;  /* required, > 0 */
     int max_depth;      /* <= 0: global_settings max_trace_level       */
     double bailout;     /* < 0: global_settings adc_bailout            */
+    int spp;            /* samples a pixel; <= 0: 1                   */
 } csg_flatten_opts;
 
 /* One per precision; false (with d filled) when the scene cannot be

@@ -115,7 +115,7 @@ static void print_table(const cli_args *a, const compare_results *r, bool identi
     print_row_times("wall (median, min-max)", r, offsetof(render_stats, wall_s));
     print_row_times("primary phase", r, offsetof(render_stats, primary_s));
     print_row_times("tile phase", r, offsetof(render_stats, secondary_s));
-    printf("%-22s  %-30s  %-30s\n", "OpenCL device", "-", x->device[0] ? x->device : "(built in warm-up)");
+    printf("%-22s  %-30s  %-30s\n", "OpenCL device", "-", x->device[0] ? x->device : "-");
     char a_cell[64], b_cell[64];
     snprintf(a_cell, sizeof a_cell, "%d / %d", h->tiles_sent, h->tiles_degenerate);
     snprintf(b_cell, sizeof b_cell, "%d / %d", x->tiles_sent, x->tiles_degenerate);

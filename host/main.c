@@ -31,7 +31,7 @@ static int run_check(const cli_args *a)
     csg_scene s;
     if (!csg_parse_file(a->req.scene_path, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
-    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1};
+    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1, 1};
     csg_blob blob;
     if (!csg_flatten_double(&s, &fo, &blob, &d)) {
         csg_scene_free(&s);

@@ -72,7 +72,7 @@ static const char *render_mode_name(enum render_mode m)
 static int render_load(const render_request *req, csg_blob *blob, csg_diag *d)
 {
     const engine *e = req->precision == PREC_DOUBLE ? &engine_double : &engine_float;
-    csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold };
+    csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
     csg_scene_init(&s);
@@ -93,7 +93,7 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
                           render_stats *st, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
-    size_t n = (size_t)h->width * (size_t)h->height;
+    size_t n = (size_t)h->width * (size_t)h->height * (size_t)h->spp; /* records */
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
     ocl_options opt = { device, req->precision == PREC_DOUBLE, 0 };
     ocl_timing tm;
@@ -149,7 +149,7 @@ static void render_plan(render_state *rs, int tiles, render_stats *st, master_jo
     if (rs->tile_hits) { /* the device traced every primary ray */
         for (int i = 0; i < tiles; i++)
             job->pixels_hit += rs->tile_hits[i];
-        job->rays.primary = st->pixels;
+        job->rays.primary = st->pixels * (uint64_t)h->spp;
     }
 }
 
@@ -158,10 +158,11 @@ static int render_local_tiles(master_job *job, csg_diag *d)
 {
     const engine *e = engine_for_blob(job->blob);
     size_t real_size = e ? e->real_size : 8;
+    size_t spp = (size_t)csg_blob_hdr(job->blob)->spp;
     size_t nmax = (size_t)(job->tile < job->width ? job->tile : job->width) *
                   (size_t)(job->tile < job->height ? job->tile : job->height);
-    void *t = malloc(nmax * real_size);
-    uint32_t *surf = malloc(nmax * sizeof *surf);
+    void *t = malloc(nmax * spp * real_size);
+    uint32_t *surf = malloc(nmax * spp * sizeof *surf);
     float *rgb = malloc(nmax * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
     if (!e) {
@@ -177,10 +178,10 @@ static int render_local_tiles(master_job *job, csg_diag *d)
     for (int k = 0; k < job->todo_count; k++) {
         double t0 = stats_clock();
         tile_rect r = proto_tile_rect(job->todo[k], job->width, job->height, job->tile);
-        size_t n = (size_t)r.width * (size_t)r.height;
+        size_t n = (size_t)r.width * (size_t)r.height * spp; /* records */
         ray_counts rays = { 0, 0, 0, 0 };
         if (job->t) {
-            proto_pack_records(job->t, job->surf, job->width, real_size, r, t, surf);
+            proto_pack_records(job->t, job->surf, job->width, (int)spp, real_size, r, t, surf);
             e->shade(job->blob, r, t, surf, rgb, &rays);
         } else {
             engine_render_tile(e, job->blob, r, t, surf, rgb, &rays);
@@ -233,6 +234,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
     st->height = req->height;
     st->tile = req->tile > 0 ? req->tile : RENDER_DEFAULT_TILE;
     st->ranks = ranks;
+    st->spp = req->spp > 0 ? req->spp : 1;
     st->pixels = (uint64_t)req->width * (uint64_t)req->height;
 }
 

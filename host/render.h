@@ -22,6 +22,7 @@ typedef struct {
     enum render_precision precision;
     int width, height;        /* default 320 x 240                   */
     int tile;                 /* default 32                          */
+    int spp;                  /* primary samples a pixel, default 1  */
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     bool progress;            /* progress bar on stderr (a terminal) */

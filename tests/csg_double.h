@@ -108,6 +108,9 @@
 #define csg_local_normal dbl_csg_local_normal
 #define csg_surface_normal dbl_csg_surface_normal
 #define csg_primary_ray dbl_csg_primary_ray
+#define csg_camera_ray dbl_csg_camera_ray
+#define csg_sample_ray dbl_csg_sample_ray
+#define csg_sample_offset dbl_csg_sample_offset
 
 #include "../csg/camera.h"
 

@@ -58,6 +58,18 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
     fi
 done
 
+# --- supersampling: every sample traced by the OpenCL pass, same pixels ---
+for spp in 4 8; do
+    render ss$spp 0 serial "$T/gen_1.pov" --width 96 --height 72 --spp $spp
+    render xs$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16
+    if same "$T/ss$spp.exr" "$T/xs$spp.exr" &&
+        json "$T/xs$spp.json" "j['spp'] == $spp and j['rays']['primary'] == 96 * 72 * $spp and j['tiles_degenerate'] > 0"; then
+        ok "--spp $spp: hetero == serial, $spp primary rays a pixel, degenerate tiles still skipped"
+    else
+        ko "--spp $spp: hetero differs from serial or wrong counts"
+    fi
+done
+
 # --- double precision hetero on a random scene ---
 render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
 render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double

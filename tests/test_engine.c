@@ -94,7 +94,7 @@ static void scene_new(csg_scene *s)
 
 static const csg_blob_header *flatten_ok(const engine *e, csg_scene *s, int w, int h, csg_blob *b)
 {
-    csg_flatten_opts o = {w, h, 0, -1};
+    csg_flatten_opts o = {w, h, 0, -1, 1};
     csg_diag d = {0};
     bool ok = e->flatten(s, &o, b, &d);
     if (!ok)
@@ -277,7 +277,7 @@ static void test_flatten_stack_limit(void **state)
     csg_object *deep = balanced(&s, CSG_STACK_MAX);
     deep->loc = (csg_loc){"deep.pov", 7, 3};
     add_top(&s, deep);
-    csg_flatten_opts o = {2, 2, 0, -1};
+    csg_flatten_opts o = {2, 2, 0, -1, 1};
     csg_diag d = {0};
     assert_false(csg_flatten_float(&s, &o, &b, &d));
     assert_non_null(strstr(d.message, "deep.pov:7:3: error: CSG tree too complex"));
@@ -294,7 +294,7 @@ static void test_flatten_degenerate(void **state)
     o->xform.m[1][1] = 0; /* scale y by 0: singular */
     add_top(&s, o);
     csg_blob b;
-    csg_flatten_opts opts = {2, 2, 0, -1};
+    csg_flatten_opts opts = {2, 2, 0, -1, 1};
     csg_diag d = {0};
     assert_false(csg_flatten_double(&s, &opts, &b, &d));
     assert_non_null(strstr(d.message, "hand.pov:1:1: error: "));
@@ -370,6 +370,33 @@ static void test_bvh_matches_linear(void **state)
     csg_scene_free(&s);
 }
 
+/* The sample pattern: spp = k*k is the grid of cell centres; any other
+ * spp puts exactly one sample in every row and every column of the
+ * spp x spp grid (stratified both ways); spp = 1 is the pixel centre. */
+static void test_sample_pattern(void **state)
+{
+    (void)state;
+    real ox, oy;
+    csg_sample_offset(1, 0, &ox, &oy);
+    assert_true(ox == 0.5f && oy == 0.5f);
+    csg_sample_offset(4, 3, &ox, &oy);
+    assert_true(ox == 0.75f && oy == 0.75f);
+    for (int spp = 2; spp <= 64; spp++) {
+        int k = (int)sqrt((double)spp);
+        if (k * k == spp)
+            continue;
+        char row[64] = {0}, col[64] = {0};
+        for (int s = 0; s < spp; s++) {
+            csg_sample_offset(spp, s, &ox, &oy);
+            assert_true(ox > 0 && ox < 1 && oy > 0 && oy < 1);
+            col[(int)(ox * (real)spp)]++;
+            row[(int)(oy * (real)spp)]++;
+        }
+        for (int i = 0; i < spp; i++)
+            assert_true(row[i] == 1 && col[i] == 1);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -381,6 +408,7 @@ int main(void)
         cmocka_unit_test(test_flatten_degenerate),
         cmocka_unit_test(test_blob_validation),
         cmocka_unit_test(test_bvh_matches_linear),
+        cmocka_unit_test(test_sample_pattern),
     };
     return cmocka_run_group_tests_name("engine", tests, NULL, NULL);
 }

@@ -207,6 +207,7 @@ static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_siz
     h->node_count = s->nn;
     h->root_count = s->nr;
     h->linear_roots = s->nr; /* hand-built scenes have no BVH */
+    h->spp = 1;
     h->max_stack = 1;
     for (int i = 0; i < s->nr; i++)
         if (s->roots[i].depth > h->max_stack)

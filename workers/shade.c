@@ -275,15 +275,20 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
 {
     shade_ctx c = ctx_of(blob);
     real *t = t_out;
+    int spp = c.hdr->spp;
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
-            csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x, rect.y + y);
-            csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
-            t[y * rect.width + x] = h.t;
-            surf_out[y * rect.width + x] = h.surf;
+            for (int s = 0; s < spp; s++) {
+                csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                           rect.y + y, spp, s);
+                csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
+                size_t i = ((size_t)y * (size_t)rect.width + (size_t)x) * (size_t)spp + (size_t)s;
+                t[i] = h.t;
+                surf_out[i] = h.surf;
+            }
         }
     }
-    rays->primary += (uint64_t)rect.width * (uint64_t)rect.height;
+    rays->primary += (uint64_t)rect.width * (uint64_t)rect.height * (uint64_t)spp;
 }
 
 /* A colour that reaches a pixel is finite: a NaN or infinity produced by a
@@ -295,20 +300,35 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
 {
     shade_ctx c = ctx_of(blob);
     const real *t = t_in;
+    int spp = c.hdr->spp;
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
             int i = y * rect.width + x;
-            vec3 col;
-            if (surf[i] == CSG_SURF_NONE) {
-                col = c.background;
-            } else {
-                csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
-                                            rect.y + y);
-                csg_hit h;
-                h.t = t[i];
-                h.surf = surf[i];
-                col = shade_hit(&c, r, h, 1, R(1.0), rays);
+            vec3 col = v3(R(0.0), R(0.0), R(0.0));
+            int hits = 0;
+            for (int s = 0; s < spp; s++) {
+                size_t k = (size_t)i * (size_t)spp + (size_t)s;
+                vec3 one;
+                if (surf[k] == CSG_SURF_NONE) {
+                    one = c.background;
+                } else {
+                    csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                               rect.y + y, spp, s);
+                    csg_hit h;
+                    h.t = t[k];
+                    h.surf = surf[k];
+                    one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, rays);
+                    hits++;
+                }
+                col = spp == 1 ? one : v3_add(col, one);
             }
+            /* A pixel no sample hit is exactly the background, as the
+             * master fills the degenerate tiles of the hetero mode (an
+             * average of spp equal values need not round back to it). */
+            if (hits == 0)
+                col = c.background;
+            else if (spp > 1)
+                col = v3_scale(col, R(1.0) / (real)spp);
             rgb_out[3 * i + 0] = finite_or_zero(col.x);
             rgb_out[3 * i + 1] = finite_or_zero(col.y);
             rgb_out[3 * i + 2] = finite_or_zero(col.z);
