@@ -21,21 +21,21 @@
  * Secondary rays start at the hit point moved off the surface by a few
  * units in the last place along the normal (Wächter and Binder, "A Fast and
  * Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6),
- * towards the side the new ray leaves to, so no fixed epsilon is needed at
- * any scale.
+ * towards the side the new ray leaves to, and at least by the rounding the
+ * ray that found the point carried (workers/offset.h), so no fixed epsilon
+ * is needed at any scale.
  */
 #include <math.h>
 #include <string.h>
 
 #include "../csg/camera.h"
 #include "engine.h"
+#include "offset.h"
 
 #ifdef CSG_DOUBLE
 #define ENGINE_SYM(name) name##_double
-typedef int64_t real_bits;
 #else
 #define ENGINE_SYM(name) name##_float
-typedef int32_t real_bits;
 #endif
 
 typedef struct {
@@ -69,35 +69,6 @@ static shade_ctx ctx_of(const void *blob)
                       (real)c.hdr->background[2]);
     c.bailout = (real)c.hdr->adc_bailout;
     return c;
-}
-
-/* ---- robust ray origins ------------------------------------------------------ */
-
-static real offset_component(real p, real n)
-{
-    /* constants of Wächter & Binder, scaled for the precision */
-#ifdef CSG_DOUBLE
-    const real origin = R(1.0) / R(32.0), float_scale = R(1.0) / R(1099511627776.0);
-    const real int_scale = R(256.0) * R(2097152.0); /* 2^29 ulps of double ~ 256 of float */
-#else
-    const real origin = R(1.0) / R(32.0), float_scale = R(1.0) / R(65536.0);
-    const real int_scale = R(256.0);
-#endif
-    if (r_fabs(p) < origin)
-        return p + float_scale * n;
-    real_bits step = (real_bits)(int_scale * n);
-    real_bits bits;
-    memcpy(&bits, &p, sizeof p);
-    bits += p < R(0.0) ? -step : step;
-    real q;
-    memcpy(&q, &bits, sizeof q);
-    return q;
-}
-
-/* p moved off the surface with normal n (pointing to the side wanted). */
-static vec3 offset_point(vec3 p, vec3 n)
-{
-    return v3(offset_component(p.x, n.x), offset_component(p.y, n.y), offset_component(p.z, n.z));
 }
 
 /* ---- shadows ------------------------------------------------------------------ */
@@ -193,7 +164,8 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
-    vec3 above = offset_point(p, nf);
+    real mag = offset_magnitude(r.o, r.d, h.t);
+    vec3 above = offset_point(p, nf, mag);
     vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
         const csg_flat_light *lt = &c->lights[i];
@@ -243,7 +215,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             if (tw >= c->bailout) {
                 csg_ray t;
                 t.d = v3_normalize(v3_add(v3_scale(r.d, eta), v3_scale(nf, eta * cosi - r_sqrt(k))));
-                t.o = offset_point(p, v3_neg(nf));
+                t.o = offset_point(p, v3_neg(nf), mag);
                 rays->refracted++;
                 color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, rays)));
             }

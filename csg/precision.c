@@ -1,0 +1,203 @@
+/*
+ * precision.c — the `--precision auto` criterion: does the scene need
+ * double, or does float render it to within a fraction of a pixel?
+ *
+ * Model.  A hit point computed in float is off by about
+ *     err = CSG_PREC_ULPS * 2^-24 * M
+ * where M is the largest coordinate magnitude the computation handles: the
+ * camera's distance from the origin, and the object's (its bounding
+ * sphere's centre plus radius).  Float's rounding is relative, so a scene
+ * uniformly scaled keeps err proportional to everything else; what breaks
+ * float is a scene whose coordinates are large against what must be
+ * resolved: a small object or a near camera far from the origin.
+ *
+ * For every primitive (leaves of every CSG tree, subtracted ones too):
+ *   - its world bounding sphere (centre c, radius R), its smallest feature
+ *     size F (sphere radius, shortest box edge, min(cone radius, height),
+ *     scaled by the transform's smallest column norm); planes have no F;
+ *   - its distance D from the camera: to the surface for a sphere or a
+ *     plane, else to the bounding sphere (from inside: to the nearest
+ *     face of the local box, times the smallest scale), a lower bound;
+ *   - the pixel footprint there, D * alpha, with alpha the angle of one
+ *     pixel (|right| / width or |up| / height over |direction|, smaller).
+ * The scene needs double when for some primitive
+ *     err > CSG_PREC_PIXEL_FRACTION * D * alpha    (1/8 of a pixel), or
+ *     err > CSG_PREC_FEATURE_FRACTION * F          (1e-3 of the feature).
+ * The deciding primitive is the one with the largest ratio of err to the
+ * smaller allowance; `why` names it with the numbers.
+ *
+ * Invariants: reads the scene only; recursion depth is the CSG depth,
+ * bounded by the parser (CSG_PARSE_MAX_NESTING).
+ */
+#include "precision.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "camera_setup.h"
+
+typedef struct {
+    dvec3 cam;            /* camera location                       */
+    double alpha;         /* angle of one pixel (radians, approx)  */
+    double worst;         /* largest err / allowance seen          */
+    const csg_object *at; /* the primitive that gave it            */
+    double err, allow_px, allow_feat, dist, mag;
+} prec_walk;
+
+static double len3(dvec3 v) { return sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
+static dvec3 sub3(dvec3 a, dvec3 b) { return (dvec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+
+static dvec3 xf_point(const csg_xform *x, dvec3 p)
+{
+    return (dvec3){x->m[0][0] * p.x + x->m[0][1] * p.y + x->m[0][2] * p.z + x->m[0][3],
+                   x->m[1][0] * p.x + x->m[1][1] * p.y + x->m[1][2] * p.z + x->m[1][3],
+                   x->m[2][0] * p.x + x->m[2][1] * p.y + x->m[2][2] * p.z + x->m[2][3]};
+}
+
+/* Smallest and largest column norm of the linear part: how much the
+ * transform shrinks or stretches (exact for rotations and axis scales). */
+static void xf_scales(const csg_xform *x, double *smin, double *smax)
+{
+    *smin = HUGE_VAL;
+    *smax = 0.0;
+    for (int j = 0; j < 3; j++) {
+        double n = sqrt(x->m[0][j] * x->m[0][j] + x->m[1][j] * x->m[1][j] +
+                        x->m[2][j] * x->m[2][j]);
+        *smin = fmin(*smin, n);
+        *smax = fmax(*smax, n);
+    }
+}
+
+/* Distance from local point p to the surface of the local box lo..hi
+ * (outside: Euclidean; inside: to the nearest face). */
+static double box_distance(dvec3 p, dvec3 lo, dvec3 hi)
+{
+    double q[3] = {p.x, p.y, p.z}, l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    double out = 0.0, in = HUGE_VAL;
+    bool inside = true;
+    for (int i = 0; i < 3; i++) {
+        double d = fmax(l[i] - q[i], q[i] - h[i]);
+        if (d > 0.0) {
+            out += d * d;
+            inside = false;
+        }
+        in = fmin(in, fmin(q[i] - l[i], h[i] - q[i]));
+    }
+    return inside ? in : sqrt(out);
+}
+
+/* One primitive: world bounding sphere, feature size, distance. */
+static void leaf(prec_walk *w, const csg_object *o)
+{
+    double smin, smax;
+    xf_scales(&o->xform, &smin, &smax);
+    const double eps = CSG_PREC_ULPS * ldexp(1.0, -24);
+    double mag = len3(w->cam), dist, feat = HUGE_VAL;
+    if (o->kind == CSG_OBJ_PLANE) {
+        /* the point of the plane nearest the local origin, in world */
+        dvec3 p0 = xf_point(&o->xform, (dvec3){o->a.x * o->r0, o->a.y * o->r0, o->a.z * o->r0});
+        csg_xform inv;
+        if (!csg_xform_invert(&o->xform, &inv))
+            return;
+        dvec3 lc = xf_point(&inv, w->cam);
+        double side = o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
+        mag = fmax(mag, len3(p0));
+        dist = fabs(side) * smin;
+    } else {
+        dvec3 lo, hi, centre;
+        double radius;
+        if (o->kind == CSG_OBJ_SPHERE) {
+            lo = (dvec3){o->a.x - o->r0, o->a.y - o->r0, o->a.z - o->r0};
+            hi = (dvec3){o->a.x + o->r0, o->a.y + o->r0, o->a.z + o->r0};
+            feat = o->r0;
+        } else if (o->kind == CSG_OBJ_BOX) {
+            lo = o->a;
+            hi = o->b;
+            feat = fmin(hi.x - lo.x, fmin(hi.y - lo.y, hi.z - lo.z));
+        } else { /* cylinder, cone: the box around the axis segment */
+            double r = fmax(o->r0, o->kind == CSG_OBJ_CONE ? o->r1 : o->r0);
+            lo = (dvec3){fmin(o->a.x, o->b.x) - r, fmin(o->a.y, o->b.y) - r,
+                         fmin(o->a.z, o->b.z) - r};
+            hi = (dvec3){fmax(o->a.x, o->b.x) + r, fmax(o->a.y, o->b.y) + r,
+                         fmax(o->a.z, o->b.z) + r};
+            feat = fmin(r, len3(sub3(o->b, o->a)));
+        }
+        centre = (dvec3){0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z)};
+        radius = 0.5 * len3(sub3(hi, lo)) * smax;
+        dvec3 wc = xf_point(&o->xform, centre);
+        mag = fmax(mag, len3(wc) + radius);
+        feat *= smin;
+        csg_xform inv;
+        if (!csg_xform_invert(&o->xform, &inv))
+            return;
+        dvec3 lc = xf_point(&inv, w->cam);
+        if (o->kind == CSG_OBJ_SPHERE)
+            dist = fabs(len3(sub3(lc, o->a)) - o->r0) * smin;
+        else if (len3(sub3(w->cam, wc)) > radius)
+            dist = len3(sub3(w->cam, wc)) - radius;
+        else
+            dist = box_distance(lc, lo, hi) * smin;
+    }
+    double err = eps * mag;
+    double allow_px = CSG_PREC_PIXEL_FRACTION * dist * w->alpha;
+    double allow_feat = CSG_PREC_FEATURE_FRACTION * feat;
+    double allow = fmin(allow_px, allow_feat);
+    double ratio = allow > 0.0 ? err / allow : HUGE_VAL;
+    if (w->at == NULL || ratio > w->worst) {
+        w->worst = ratio;
+        w->at = o;
+        w->err = err;
+        w->allow_px = allow_px;
+        w->allow_feat = allow_feat;
+        w->dist = dist;
+        w->mag = mag;
+    }
+}
+
+static void walk(prec_walk *w, const csg_object *o)
+{
+    if (o->kind < CSG_OBJ_UNION) {
+        leaf(w, o);
+        return;
+    }
+    for (int i = 0; i < o->child_count; i++)
+        walk(w, o->children[i]);
+}
+
+static const char *kind_name(enum csg_object_kind k)
+{
+    static const char *const names[] = {"sphere", "box", "cylinder", "cone", "plane"};
+    return k < CSG_OBJ_UNION ? names[k] : "object";
+}
+
+bool csg_needs_double(const csg_scene *s, int width, int height, char *why, size_t why_size)
+{
+    csg_camera_src cam;
+    if (s->has_camera)
+        cam = s->camera;
+    else
+        csg_camera_default(&cam);
+    prec_walk w = {0};
+    w.cam = cam.location;
+    double dl = len3(cam.direction);
+    double ax = len3(cam.right) / (double)(width > 0 ? width : 1);
+    double ay = len3(cam.up) / (double)(height > 0 ? height : 1);
+    w.alpha = dl > 0.0 ? fmin(ax, ay) / dl : 0.0;
+    for (int i = 0; i < s->object_count; i++)
+        walk(&w, s->objects[i]);
+    bool need = w.at != NULL && w.worst > 1.0;
+    if (why && why_size > 0) {
+        if (w.at == NULL) {
+            snprintf(why, why_size, "float: no object");
+        } else {
+            snprintf(why, why_size,
+                     "%s: %s at %s:%d:%d: float error %.3g (2^-24 x %g x |p| %.3g) vs 1/8 pixel "
+                     "%.3g at distance %.3g and 1e-3 of feature %.3g (ratio %.3g)",
+                     need ? "double" : "float", kind_name(w.at->kind),
+                     w.at->loc.file ? w.at->loc.file : "?", w.at->loc.line, w.at->loc.col, w.err,
+                     CSG_PREC_ULPS, w.mag, w.allow_px, w.dist, w.allow_feat, w.worst);
+        }
+    }
+    return need;
+}
