@@ -23,6 +23,9 @@
  * The scene needs double when for some primitive
  *     err > CSG_PREC_PIXEL_FRACTION * D * alpha    (1/8 of a pixel), or
  *     err > CSG_PREC_FEATURE_FRACTION * F          (1e-3 of the feature).
+ * Also double whenever a coordinate magnitude exceeds 2^60 or a feature is
+ * below 2^-60: intersection code squares them, and float's squares
+ * overflow beyond about 1.8e19 (underflow into denormals below 1e-19).
  * The deciding primitive is the one with the largest ratio of err to the
  * smaller allowance; `why` names it with the numbers.
  *
@@ -144,6 +147,9 @@ static void leaf(prec_walk *w, const csg_object *o)
     double allow_feat = CSG_PREC_FEATURE_FRACTION * feat;
     double allow = fmin(allow_px, allow_feat);
     double ratio = allow > 0.0 ? err / allow : HUGE_VAL;
+    /* squares of coordinates or features outside float's range */
+    if (mag > CSG_PREC_MAX_MAG || feat < CSG_PREC_MIN_FEATURE)
+        ratio = HUGE_VAL;
     if (w->at == NULL || ratio > w->worst) {
         w->worst = ratio;
         w->at = o;

@@ -21,6 +21,10 @@
 /* ... or this fraction of the object's smallest feature. */
 #define CSG_PREC_FEATURE_FRACTION 1e-3
 
+/* Beyond these, squares leave float's range: always double. */
+#define CSG_PREC_MAX_MAG 1.152921504606846976e18 /* 2^60 */
+#define CSG_PREC_MIN_FEATURE 8.673617379884035472e-19 /* 2^-60 */
+
 /* True when the scene, rendered at width x height, needs double.  `why`
  * (may be NULL) receives one line naming the deciding object and the
  * numbers: "double: sphere at scene.pov:3:1: ...", or "float: ...". */

@@ -149,9 +149,10 @@ static double luminance(const image *im, int i)
     return ((double)im->rgb[3 * i] + (double)im->rgb[3 * i + 1] + (double)im->rgb[3 * i + 2]) / 3.0;
 }
 
-/* Pixels darker than `frac` of the median of their 8 neighbours, among
- * pixels whose neighbours all share their primary surface: the speckles
- * of acne and of coincident-surface fights. */
+/* Pixels darker than `frac` of all but the darkest of their 8 neighbours,
+ * among pixels whose neighbours all share their primary surface: the
+ * isolated dark speckles of acne and of coincident-surface fights (a
+ * shadow's jagged edge has several dark neighbours and does not count). */
 static int dark_speckles(const image *im, double frac)
 {
     int count = 0;
@@ -180,8 +181,7 @@ static int dark_speckles(const image *im, double frac)
                     nb[q] = nb[q - 1];
                     nb[q - 1] = tmp;
                 }
-            double med = 0.5 * (nb[3] + nb[4]);
-            count += luminance(im, i) < frac * med;
+            count += luminance(im, i) < frac * nb[1];
         }
     }
     return count;
@@ -245,15 +245,65 @@ static char *scene_scaled(double scale, double shift)
 #define W 96
 #define H 72
 
+static const engine *const engines[2] = {&engine_double, &engine_float};
+
+/* Every pixel finite, no isolated wrong-surface speck, no isolated dark
+ * speckle; prints the counts under `what`. */
+static void assert_clean(const image *im, const char *what, int max_specks, int max_dark)
+{
+    int specks = surface_specks(im), dark = dark_speckles(im, 0.5);
+    printf("  %-34s specks %d  dark speckles %d\n", what, specks, dark);
+    assert_true(all_finite(im));
+    assert_true(specks <= max_specks);
+    assert_true(dark <= max_dark);
+}
+
+static int count_surf(const image *im, bool (*pred)(uint32_t))
+{
+    int n = 0;
+    for (int i = 0; i < im->w * im->h; i++)
+        n += pred(im->surf[i]);
+    return n;
+}
+
+static bool is_hit(uint32_t s) { return s != 0; }
+
+/* A matte scene (no mirror, no glass: every dark pixel is a shadow) of
+ * every primitive on a floor, scaled by S about the origin then moved by
+ * `shift` along every axis, camera and light with it; the camera sits at
+ * `cam` (scene units before scaling) with the given field of view. */
+static void lit_scene(char *text, size_t size, double S, double shift, const double cam[3],
+                      double angle)
+{
+    int n = snprintf(
+        text, size,
+        "camera { location <%.17g, %.17g, %.17g> look_at <%.17g, %.17g, %.17g> angle %.17g }\n"
+        "light_source { <%.17g, %.17g, %.17g> color rgb 1 }\n"
+        "union {\n"
+        "  plane { y, 0 pigment { color rgb 0.8 } finish { ambient 0 } }\n"
+        "  sphere { <0, 1, 0>, 1 pigment { color rgb <0.9, 0.4, 0.3> } finish { ambient 0 } }\n"
+        "  box { <1.5, 0, -1>, <2.5, 1.2, 0> pigment { color rgb 0.6 } finish { ambient 0 } }\n"
+        "  cylinder { <-2.5, 0, -0.5>, <-2.5, 1.5, -0.5>, 0.4 pigment { color rgb 0.6 }\n"
+        "             finish { ambient 0 } }\n"
+        "  cone { <-1.2, 0, -2>, 0.5, <-1.2, 1, -2>, 0.1 pigment { color rgb 0.6 }\n"
+        "         finish { ambient 0 } }\n"
+        "  scale %.17g translate %.17g }\n",
+        cam[0] * S + shift, cam[1] * S + shift, cam[2] * S + shift, shift, 0.6 * S + shift, shift,
+        angle, -4.0 * S + shift, 7.0 * S + shift, -3.0 * S + shift, S, shift);
+    assert_true(n > 0 && (size_t)n < size);
+}
+
+/* Scale invariance: double within 1e-3 everywhere, <= 0.1% pixels on
+ * another surface; float within 1/255 on all but 0.2% of the pixels. */
 static void test_scale_invariance(void **state)
 {
     (void)state;
-    const engine *engines[2] = {&engine_double, &engine_float};
     const double scales[2] = {1e-4, 1e6};
     char *unit_text = scene_scaled(1.0, 0.0);
     for (int k = 0; k < 2; k++) {
         image unit = render_text(engines[k], unit_text, W, H);
         dump_ppm(&unit, engines[k]->name);
+        assert_clean(&unit, engines[k]->name, 0, 0);
         for (int j = 0; j < 2; j++) {
             char *text = scene_scaled(scales[j], 0.0);
             image im = render_text(engines[k], text, W, H);
@@ -262,6 +312,14 @@ static void test_scale_invariance(void **state)
             snprintf(what, sizeof what, "%s scale %g", engines[k]->name, scales[j]);
             print_diff(what, d);
             dump_ppm(&im, what);
+            assert_clean(&im, what, 0, 0);
+            assert_true(d.surf_mismatch * 1000 <= d.n);
+            if (k == 0) {
+                assert_true(d.max_abs < 1e-3);
+            } else {
+                assert_true(d.off_8bit * 500 <= d.n);
+                assert_true(d.max_abs < 0.05);
+            }
             image_free(&im);
             free(text);
         }
@@ -270,10 +328,211 @@ static void test_scale_invariance(void **state)
     free(unit_text);
 }
 
+/* A camera 1e-3 from a surface and one 1e5 away. */
+static void test_extreme_cameras(void **state)
+{
+    (void)state;
+    /* 1e-3 above a lit floor and in front of a sphere's surface */
+    static const char near_text[] =
+        "camera { location <0, 1.001, -0.4> look_at <0, 1.001, 1> angle 60 }\n"
+        "light_source { <-3, 6, -4> color rgb 1 }\n"
+        "plane { y, 1 pigment { color rgb <0.8, 0.7, 0.6> } }\n"
+        "sphere { <0, 2, 0.601>, 1 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "box { <-5, 1, 3>, <5, 4, 3.5> pigment { color rgb <0.3, 0.4, 0.9> } }\n";
+    /* the matte scene seen from 1e5 away with a narrow lens */
+    char far_text[2048];
+    const double far_cam[3] = {0.0, 5e4, -8.66e4};
+    lit_scene(far_text, sizeof far_text, 1.0, 0.0, far_cam, 0.0033);
+    image ims[2][2];
+    for (int k = 0; k < 2; k++) {
+        char what[64];
+        ims[k][0] = render_text(engines[k], near_text, W, H);
+        snprintf(what, sizeof what, "%s camera 1e-3 away", engines[k]->name);
+        dump_ppm(&ims[k][0], what);
+        assert_clean(&ims[k][0], what, 0, 0);
+        assert_int_equal(count_surf(&ims[k][0], is_hit), W * H);
+        ims[k][1] = render_text(engines[k], far_text, W, H);
+        snprintf(what, sizeof what, "%s camera 1e5 away", engines[k]->name);
+        dump_ppm(&ims[k][1], what);
+        assert_clean(&ims[k][1], what, 0, 0);
+    }
+    img_diff dn = compare(&ims[0][0], &ims[1][0]);
+    img_diff df = compare(&ims[0][1], &ims[1][1]);
+    print_diff("near: float vs double", dn);
+    print_diff("far: float vs double", df);
+    assert_true(dn.surf_mismatch * 1000 <= dn.n && dn.off_8bit * 1000 <= dn.n);
+    /* far in float: hit points are off by ulps of 1e5 (~0.01): silhouettes
+     * may move by a pixel, shading stays within bounds (no acne: above) */
+    assert_true(df.surf_mismatch * 50 <= df.n);
+    for (int k = 0; k < 2; k++) {
+        image_free(&ims[k][0]);
+        image_free(&ims[k][1]);
+    }
+}
+
+/* Rays exactly tangent to every primitive: an odd image height puts the
+ * middle row's rays exactly horizontal at the camera's height, y = 1,
+ * the top of a unit sphere, of a box, of a cylinder (side, along the
+ * row), the cap of a cylinder, a cone's apex, and a plane. */
+static void test_tangent_rays(void **state)
+{
+    (void)state;
+    static const char text[] =
+        "camera { location <0, 1, -8> direction z up y right 1.3333*x }\n"
+        "light_source { <2, 9, -6> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "sphere { <-3, 0, 0>, 1 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "box { <-1.6, -1, -0.5>, <-0.6, 1, 0.5> pigment { color rgb <0.3, 0.9, 0.3> } }\n"
+        "cylinder { <0, -1, 0>, <0, 1, 0>, 0.4 pigment { color rgb <0.3, 0.3, 0.9> } }\n"
+        "cylinder { <0.8, 0, -1>, <0.8, 0, 1>, 1 pigment { color rgb <0.9, 0.9, 0.3> } }\n"
+        "cone { <2.5, -1, 0>, 0.8, <2.5, 1, 0>, 0 pigment { color rgb <0.9, 0.5, 0.2> } }\n"
+        "plane { y, -1 pigment { color rgb 0.6 } }\n"
+        "difference { plane { y, 1 } sphere { <0, 1, 20>, 30 } pigment { color rgb 0.5 } }\n";
+    const int h = 73; /* odd: row 36 is exactly horizontal */
+    image ims[2];
+    for (int k = 0; k < 2; k++) {
+        char what[64];
+        ims[k] = render_text(engines[k], text, W, h);
+        snprintf(what, sizeof what, "%s tangent rays", engines[k]->name);
+        dump_ppm(&ims[k], what);
+        assert_clean(&ims[k], what, 0, 0);
+    }
+    img_diff d = compare(&ims[0], &ims[1]);
+    print_diff("tangent: float vs double", d);
+    /* only the tangent row itself may decide differently */
+    assert_true(d.surf_mismatch <= W);
+    assert_true(d.off_8bit <= W);
+    image_free(&ims[0]);
+    image_free(&ims[1]);
+}
+
+/* Grazing rays: a camera just above a box top, a plane and a cylinder
+ * side, looking along them; the surfaces are lit, no acne. */
+static void test_grazing_rays(void **state)
+{
+    (void)state;
+    static const char text[] =
+        "camera { location <0, 0.02, -10> look_at <0, 0, 0> angle 40 }\n"
+        "light_source { <-3, 10, -2> color rgb 1 }\n"
+        "plane { y, 0 pigment { color rgb <0.7, 0.7, 0.6> } }\n"
+        "box { <-3, 0, -2>, <-0.5, 0.01, 4> pigment { color rgb <0.3, 0.8, 0.3> } }\n"
+        "cylinder { <1, 0.4, -4>, <1, 0.4, 6>, 0.4 pigment { color rgb <0.3, 0.3, 0.9> } }\n"
+        "cone { <2.5, 0.3, -3>, 0.3, <2.5, 0.3, 5>, 0.1 pigment { color rgb <0.9, 0.5, 0.2> } }\n"
+        "sphere { <-1.5, 3, 20>, 3 pigment { color rgb <0.9, 0.3, 0.3> } }\n";
+    for (int k = 0; k < 2; k++) {
+        char what[64];
+        image im = render_text(engines[k], text, W, H);
+        snprintf(what, sizeof what, "%s grazing rays", engines[k]->name);
+        dump_ppm(&im, what);
+        assert_clean(&im, what, 0, 0);
+        image_free(&im);
+    }
+}
+
+/* A sphere of radius 1e-3 next to one of radius 1e4 (the ground). */
+static void test_tiny_and_huge_radii(void **state)
+{
+    (void)state;
+    static const char text[] =
+        "camera { location <0, 0.0016, -0.006> look_at <0, 0.0008, 0> angle 40 }\n"
+        "light_source { <-3000, 6000, -4000> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "sphere { <0, -10000, 0>, 10000 pigment { color rgb <0.6, 0.7, 0.5> } }\n"
+        "sphere { <0, 0.001, 0>, 0.001 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "sphere { <0.0025, 0.0005, 0.002>, 0.0005 pigment { color rgb <0.3, 0.3, 0.9> } }\n";
+    image ims[2];
+    for (int k = 0; k < 2; k++) {
+        char what[64];
+        ims[k] = render_text(engines[k], text, W, H);
+        snprintf(what, sizeof what, "%s radii 1e-3 and 1e4", engines[k]->name);
+        dump_ppm(&ims[k], what);
+        assert_clean(&ims[k], what, 0, 0);
+    }
+    img_diff d = compare(&ims[0], &ims[1]);
+    print_diff("radii: float vs double", d);
+    assert_true(d.surf_mismatch * 200 <= d.n);
+    image_free(&ims[0]);
+    image_free(&ims[1]);
+}
+
+static bool is_background(uint32_t s) { return s == 0; }
+
+/* Coincident CSG surfaces: identical spheres cancel, flush faces leave no
+ * speckles. */
+static void test_coincident_surfaces(void **state)
+{
+    (void)state;
+    static const char gone[] =
+        "camera { location <0, 1, -5> look_at 0 }\n"
+        "light_source { <-3, 6, -4> color rgb 1 }\n"
+        "difference { sphere { 0, 1 } sphere { 0, 1 } pigment { color rgb 1 } }\n"
+        "difference { box { <1, -1, -1>, <2, 1, 1> } box { <1, -1, -1>, <2, 1, 1> } }\n"
+        "intersection { box { <-2, -1, -1>, <-1, 1, 1> } box { <-1, -1, -1>, <0, 1, 1> } }\n";
+    static const char flush[] =
+        "camera { location <1.5, 2.5, -4> look_at <0, 0.5, 0> angle 60 }\n"
+        "light_source { <-3, 6, -4> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "plane { y, 0 pigment { color rgb 0.7 } }\n"
+        /* a union of two boxes sharing a face, a merge likewise */
+        "union { box { <-2, 0, -1>, <-1, 1, 1> } box { <-1, 0, -1>, <0, 1, 1> }\n"
+        "        pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "merge { box { <0.2, 0, -1>, <1.2, 1, 1> } box { <1.2, 0, -1>, <2.2, 1, 1> }\n"
+        "        pigment { color rgb <0.3, 0.9, 0.3> } }\n"
+        /* a difference whose cut shares the top and front faces */
+        "difference { box { <-1.5, 0, -2.5>, <1.5, 0.6, -1.5> }\n"
+        "             box { <0, 0, -2.5>, <1.5, 0.6, -2> } pigment { color rgb <0.3, 0.3, 0.9> } }\n"
+        /* a sphere sharing the box's top face */
+        "intersection { box { <2.5, 0, -2>, <3.5, 1, -1> } sphere { <3, 1, -1.5>, 0.5 }\n"
+        "               pigment { color rgb <0.9, 0.9, 0.3> } }\n";
+    for (int k = 0; k < 2; k++) {
+        char what[64];
+        image im = render_text(engines[k], gone, W, H);
+        snprintf(what, sizeof what, "%s identical operands", engines[k]->name);
+        assert_clean(&im, what, 0, 0);
+        assert_int_equal(count_surf(&im, is_background), W * H);
+        image_free(&im);
+        im = render_text(engines[k], flush, W, H);
+        snprintf(what, sizeof what, "%s flush faces", engines[k]->name);
+        dump_ppm(&im, what);
+        assert_clean(&im, what, 0, 0);
+        image_free(&im);
+    }
+}
+
+/* The matte scene at scales 1e-4, 1 and 1e6: no dark speckle anywhere
+ * (acne), and the lit side of the floor is lit. */
+static void test_shadow_acne(void **state)
+{
+    (void)state;
+    const double scales[3] = {1e-4, 1.0, 1e6};
+    const double cam[3] = {0.0, 3.0, -6.0};
+    for (int j = 0; j < 3; j++) {
+        char text[2048];
+        lit_scene(text, sizeof text, scales[j], 0.0, cam, 55.0);
+        for (int k = 0; k < 2; k++) {
+            char what[64];
+            image im = render_text(engines[k], text, W, H);
+            snprintf(what, sizeof what, "%s acne scale %g", engines[k]->name, scales[j]);
+            dump_ppm(&im, what);
+            assert_clean(&im, what, 0, 0);
+            /* the top-left of the floor (row 62, columns 2..12) is lit */
+            for (int x = 2; x < 12; x++)
+                assert_true(luminance(&im, 62 * W + x) > 0.2);
+            image_free(&im);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scale_invariance),
+        cmocka_unit_test(test_extreme_cameras),
+        cmocka_unit_test(test_tangent_rays),
+        cmocka_unit_test(test_grazing_rays),
+        cmocka_unit_test(test_tiny_and_huge_radii),
+        cmocka_unit_test(test_coincident_surfaces),
+        cmocka_unit_test(test_shadow_acne),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,9 +18,11 @@
  *      size 1e-4 keeps the same relative offsets as the unit scene.
  *   2. The hit point o + t d inherits the rounding of the ray, not only
  *      its own: a point near a zero coordinate reached from a camera 1e6
- *      away is off by ulps of 1e6.  So the point also moves by
+ *      away is off by ulps of 1e6, and so is a point found on a sphere of
+ *      radius 1e6 however near the origin.  So the point also moves by
  *      OFFSET_ERR_ULPS * unit roundoff * m along the normal, where
- *      m = max(|o|max, t |d|max) is the magnitude of the computation.
+ *      m = max(|o|max, t |d|max, the object's bounding-box magnitude) is
+ *      the magnitude of the computation.
  * For the usual scene (size about 1, camera a few units away) bound 1
  * dominates and the offsets are exactly Wächter and Binder's.
  */
@@ -52,6 +54,21 @@ static inline real offset_magnitude(vec3 o, vec3 d, real t)
     real dm = r_fmax(r_fabs(d.x), r_fmax(r_fabs(d.y), r_fabs(d.z)));
     real m = r_fmax(om, t * dm);
     return m == m ? m : R(0.0); /* a NaN magnitude adds nothing */
+}
+
+/* The magnitude of the object's coordinates, from its world bounding box
+ * (infinite bounds skipped): a point on a sphere of radius 1e4 is found
+ * with errors of ulps of 1e4, however near the ray's origin it lies. */
+static inline real offset_box_magnitude(const real lo[3], const real hi[3])
+{
+    real m = R(0.0);
+    for (int i = 0; i < 3; i++) {
+        if (r_fabs(lo[i]) < CSG_R_INF)
+            m = r_fmax(m, r_fabs(lo[i]));
+        if (r_fabs(hi[i]) < CSG_R_INF)
+            m = r_fmax(m, r_fabs(hi[i]));
+    }
+    return m;
 }
 
 /* Wächter and Binder's offset of one component, near-zero band scaled. */

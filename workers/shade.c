@@ -164,7 +164,8 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
-    real mag = offset_magnitude(r.o, r.d, h.t);
+    const csg_root *root = &c->view.roots[prim->root];
+    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
     vec3 above = offset_point(p, nf, mag);
     vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
