@@ -34,9 +34,11 @@
 #include <math.h>
 
 #include "../csg/flatten.h"
+#include "../csg/intersect.h" /* real = float in this file */
 #include "../csg/parser.h"
 #include "../csg/precision.h"
 #include "../workers/engine.h"
+#include "../workers/offset.h"
 
 /* ---- rendering a scene string ------------------------------------------------ */
 
@@ -523,6 +525,259 @@ static void test_shadow_acne(void **state)
     }
 }
 
+/* ---- robust formulations against naive ones (float) ------------------------- */
+
+/* The textbook quadratic: |o + t d - c|^2 = r^2 with b = 2 f.d, c = f.f - r^2. */
+static int naive_sphere(const real *sp, csg_ray r, real *t0, real *t1)
+{
+    vec3 f = v3_sub(r.o, v3_load(sp));
+    real a = v3_dot(r.d, r.d), b = R(2.0) * v3_dot(f, r.d);
+    real c = v3_dot(f, f) - sp[3] * sp[3];
+    real disc = b * b - R(4.0) * a * c;
+    if (disc < R(0.0))
+        return 0;
+    real root = r_sqrt(disc);
+    *t0 = (-b - root) / (R(2.0) * a);
+    *t1 = (-b + root) / (R(2.0) * a);
+    return 1;
+}
+
+/* A sphere of radius 0.1 at 1e4, rays passing 0 .. 0.2 from its centre:
+ * float's textbook quadratic cancels (c = 1e8 - 0.01 keeps no trace of
+ * the radius) and answers at random; csg_sphere_span is right on every
+ * ray that passes more than 5% of the radius from the rim. */
+static void test_sphere_naive_vs_haines(void **state)
+{
+    (void)state;
+    const real sp[4] = {R(0.0), R(0.0), R(1e4), R(0.1)};
+    const int n = 400;
+    int wrong_naive = 0, wrong_robust = 0, judged = 0;
+    double worst_t = 0.0;
+    for (int i = 0; i < n; i++) {
+        double x = 0.2 * (i + 0.5) / n;
+        double len = sqrt(x * x + 1e8);
+        csg_ray r;
+        r.o = v3(R(0.0), R(0.0), R(0.0));
+        r.d = v3((real)(x / len), R(0.0), (real)(1e4 / len));
+        /* the truth, in double, for the float ray as stored */
+        double dx = (double)r.d.x, dz = (double)r.d.z, dl = sqrt(dx * dx + dz * dz);
+        double along = 1e4 * dz / dl;
+        double perp = fabs(1e4 * dx / dl);
+        if (fabs(perp - 0.1) < 0.005)
+            continue;
+        judged++;
+        bool truth = perp < 0.1;
+        real t0, t1;
+        csg_i32 s0, s1;
+        bool robust = csg_sphere_span(sp, r, &t0, &t1, &s0, &s1) != 0;
+        if (robust && truth)
+            worst_t = fmax(worst_t, fabs((double)t0 * dl - (along - sqrt(0.01 - perp * perp))));
+        wrong_robust += robust != truth;
+        wrong_naive += (naive_sphere(sp, r, &t0, &t1) != 0) != truth;
+    }
+    printf("  sphere at 1e4, r 0.1, float: naive wrong %d/%d, Haines wrong %d/%d, "
+           "max |t - t_exact| %.3g\n",
+           wrong_naive, judged, wrong_robust, judged, worst_t);
+    assert_int_equal(wrong_robust, 0);
+    assert_true(wrong_naive * 5 > judged); /* > 20% */
+    assert_true(worst_t < 0.01);           /* an ulp of 1e4 in float is 0.001 */
+}
+
+/* Shadow rays leaving a lit sphere of radius S at distance 5 S, float:
+ * a fixed epsilon (1e-4) vanishes in the rounding at S = 1e6 (the shadow
+ * ray starts inside and the sphere shadows itself) and swallows the whole
+ * sphere at S = 1e-4; offset_point self-intersects nowhere and moves the
+ * origin by less than 1e-3 of the radius at every scale. */
+static void test_offset_naive_vs_robust(void **state)
+{
+    (void)state;
+    const double scales[3] = {1e-4, 1.0, 1e6};
+    for (int j = 0; j < 3; j++) {
+        double S = scales[j];
+        const real sp[4] = {(real)(0.3 * S), (real)(0.2 * S), (real)(5.0 * S), (real)S};
+        const real lo[3] = {sp[0] - sp[3], sp[1] - sp[3], sp[2] - sp[3]};
+        const real hi[3] = {sp[0] + sp[3], sp[1] + sp[3], sp[2] + sp[3]};
+        int self_naive = 0, self_robust = 0, rays = 0;
+        double move_naive = 0.0, move_robust = 0.0;
+        for (int iy = 0; iy < 20; iy++) {
+            for (int ix = 0; ix < 20; ix++) {
+                csg_ray r;
+                r.o = v3(R(0.0), R(0.0), R(0.0));
+                r.d = v3_normalize(v3((real)(0.3 + 0.09 * (ix - 9.5) / 10.0),
+                                      (real)(0.2 + 0.09 * (iy - 9.5) / 10.0), R(5.0)));
+                real t0, t1;
+                csg_i32 s0, s1;
+                if (!csg_sphere_span(sp, r, &t0, &t1, &s0, &s1))
+                    continue;
+                vec3 p = v3_add(r.o, v3_scale(r.d, t0));
+                vec3 nrm = v3_normalize(v3_sub(p, v3_load(sp)));
+                vec3 l = v3_normalize(v3_add(nrm, v3(R(0.2), R(0.6), R(-0.3))));
+                if (v3_dot(l, nrm) < R(0.2))
+                    continue;
+                rays++;
+                real m = r_fmax(offset_magnitude(r.o, r.d, t0), offset_box_magnitude(lo, hi));
+                vec3 q[2] = {v3_add(p, v3_scale(nrm, R(1e-4))), offset_point(p, nrm, m)};
+                for (int k = 0; k < 2; k++) {
+                    csg_ray sh;
+                    sh.o = q[k];
+                    sh.d = l;
+                    bool self = csg_sphere_span(sp, sh, &t0, &t1, &s0, &s1) && t1 > R(0.0);
+                    double move = (double)v3_length(v3_sub(q[k], p)) / S;
+                    if (k == 0) {
+                        self_naive += self;
+                        move_naive = fmax(move_naive, move);
+                    } else {
+                        self_robust += self;
+                        move_robust = fmax(move_robust, move);
+                    }
+                }
+            }
+        }
+        printf("  offsets at scale %-6g float: fixed 1e-4: %3d/%d self-hits, moved %.3g R; "
+               "offset_point: %d self-hits, moved %.3g R\n",
+               S, self_naive, rays, move_naive, self_robust, move_robust);
+        assert_true(rays > 200);
+        assert_int_equal(self_robust, 0);
+        assert_true(move_robust < 1e-3);
+        if (S > 1e5)
+            assert_true(self_naive * 10 > rays); /* > 10% acne */
+        if (S < 1e-3)
+            assert_true(move_naive > 0.5);       /* half the radius: light leaks */
+    }
+}
+
+/* ---- NaN and infinity ------------------------------------------------------------ */
+
+/* Every object has ambient light on a non-black pigment and the
+ * background is not black, so a pixel exactly black is a NaN or an
+ * infinity the engine zeroed. */
+static int black_pixels(const image *im)
+{
+    int n = 0;
+    for (int i = 0; i < im->w * im->h; i++)
+        n += im->rgb[3 * i] == 0.0f && im->rgb[3 * i + 1] == 0.0f && im->rgb[3 * i + 2] == 0.0f;
+    return n;
+}
+
+static void test_no_nan_or_inf(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {
+        /* a pixel whose direction is exactly zero: direction cancels right
+         * at x0 = -0.4921875 (column 0 of 64), up at row 24 of 49 is 0 */
+        "camera { location <0, 1, -5> direction <0.4921875, 0, 0> right x up y }\n"
+        "light_source { <3, 6, -4> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "sphere { <3, 1, 0>, 1 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "plane { y, 0 pigment { color rgb 0.6 } }\n",
+        /* rays exactly along box faces and edges, cylinder and cone axes */
+        "camera { location <0.5, 0.5, -5> direction z up y right 1.3333*x }\n"
+        "light_source { <0.5, 0.5, -10> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "box { <0.5, 0.5, 0>, <1.5, 1.5, 1> pigment { color rgb <0.3, 0.9, 0.3> } }\n"
+        "cylinder { <0.5, 0.5, 2>, <0.5, 0.5, 3>, 0.2 pigment { color rgb <0.3, 0.3, 0.9> } }\n"
+        "cone { <0.5, 0.5, 4>, 0, <0.5, 0.5, 5>, 0.3 pigment { color rgb <0.9, 0.9, 0.3> } }\n"
+        "cone { <0.5, 0.5, 6>, 1, <0.5, 0.5, 7>, 1 open pigment { color rgb <0.9, 0.3, 0.9> } }\n"
+        "plane { x, 0.5 pigment { color rgb 0.6 } }\n",
+        /* zero-thickness CSG */
+        "camera { location <0.5, 2, -4> look_at <0.5, 0.5, 0> }\n"
+        "light_source { <3, 6, -4> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "intersection { box { <-1, 0, 0>, <0, 1, 1> } box { <0, 0, 0>, <1, 1, 1> } }\n"
+        "difference { box { <0, 0, 0>, <1, 1, 1> } box { <0, 0, 0>, <1, 1, 1> } }\n"
+        "merge { sphere { <2, 1, 0>, 1 } sphere { <2, 1, 0>, 1 inverse } pigment { color rgb 1 } }\n"
+        "intersection { sphere { <-2, 1, 0>, 1 } plane { x, -3 } pigment { color rgb 1 } }\n"
+        "plane { y, 0 pigment { color rgb 0.6 } }\n",
+        /* coordinates of 1e30 */
+        "camera { location <0, 0, 0> look_at <0, 0, 1e30> }\n"
+        "light_source { <0, 1e30, 0> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "sphere { <0, 0, 1e30>, 4e29 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "box { <-1e30, -1e30, 2e30>, <1e30, -3e29, 3e30> pigment { color rgb 0.5 } }\n",
+        /* the camera on a sphere and on a plane */
+        "camera { location <0, 0, -1> look_at <0, 0, 0> }\n"
+        "light_source { <0, 0, 0> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "sphere { <0, 0, 0>, 1 pigment { color rgb <0.9, 0.3, 0.3> } }\n",
+        "camera { location <0, 0, -3> look_at <0, 0, 0> }\n"
+        "light_source { <2, 5, -3> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "plane { y, 0 pigment { color rgb 0.6 } }\n"
+        "sphere { <0, 0, 0>, 1 pigment { color rgb <0.9, 0.3, 0.3> } }\n",
+        /* a light inside an opaque sphere and one inside glass */
+        "camera { location <0, 2, -6> look_at <0, 1, 0> }\n"
+        "light_source { <-2, 1, 0> color rgb 1 }\n"
+        "light_source { <2, 1, 0> color rgb 1 }\n"
+        "background { color rgb <0.4, 0.6, 0.8> }\n"
+        "plane { y, 0 pigment { color rgb 0.6 } }\n"
+        "sphere { <-2, 1, 0>, 0.8 pigment { color rgb <0.9, 0.3, 0.3> } }\n"
+        "sphere { <2, 1, 0>, 0.8 pigment { color rgbf <1, 1, 1, 0.9> } interior { ior 1.5 } }\n",
+    };
+    const int n = (int)(sizeof scenes / sizeof scenes[0]);
+    for (int j = 0; j < n; j++) {
+        for (int k = 0; k < 2; k++) {
+            image im = render_text(engines[k], scenes[j], 64, 49);
+            int black = black_pixels(&im);
+            printf("  %s scene %d: %d hit, %d black\n", engines[k]->name, j,
+                   count_surf(&im, is_hit), black);
+            assert_true(all_finite(&im));
+            assert_int_equal(black, 0);
+            if (j == 3 && k == 0) /* double sees the sphere at 1e30, lit */
+                assert_true(count_surf(&im, is_hit) > 64 * 49 / 10);
+            image_free(&im);
+        }
+    }
+}
+
+/* ---- the --precision auto criterion ------------------------------------------------ */
+
+static bool auto_pick(const char *text, int w, int h)
+{
+    csg_scene s;
+    parse_ok(text, &s);
+    char why[512];
+    bool need = csg_needs_double(&s, w, h, why, sizeof why);
+    printf("  auto: %s\n", why);
+    assert_true(strncmp(why, need ? "double: " : "float: ", need ? 8 : 7) == 0);
+    csg_scene_free(&s);
+    return need;
+}
+
+/* Float where float renders like double (<= 0.1% of the pixels off by
+ * more than 1/255, <= 0.1% on another surface), double where it does not
+ * (> 1% off): the unit scene, scaled by 1e-4 or 1e6, a camera 1e-3 from a
+ * surface -> float; the unit scene moved 1e6 from the origin, a camera
+ * 1e5 away with a narrow lens, radii 1e-3 beside 1e4, 1e30 -> double. */
+static void test_auto_precision(void **state)
+{
+    (void)state;
+    const double cam[3] = {0.0, 3.0, -6.0}, far_cam[3] = {0.0, 5e4, -8.66e4};
+    char texts[6][2048];
+    lit_scene(texts[0], sizeof texts[0], 1.0, 0.0, cam, 55.0);
+    lit_scene(texts[1], sizeof texts[1], 1e-4, 0.0, cam, 55.0);
+    lit_scene(texts[2], sizeof texts[2], 1e6, 0.0, cam, 55.0);
+    lit_scene(texts[3], sizeof texts[3], 1.0, 1e6, cam, 55.0);
+    lit_scene(texts[4], sizeof texts[4], 1.0, 0.0, far_cam, 0.0033);
+    lit_scene(texts[5], sizeof texts[5], 1.0, 3e4, cam, 55.0);
+    const bool want[6] = {false, false, false, true, true, true};
+    for (int j = 0; j < 6; j++) {
+        bool need = auto_pick(texts[j], W, H);
+        image a = render_text(&engine_double, texts[j], W, H);
+        image b = render_text(&engine_float, texts[j], W, H);
+        img_diff d = compare(&a, &b);
+        char what[64];
+        snprintf(what, sizeof what, "float vs double, scene %d", j);
+        print_diff(what, d);
+        assert_true(need == want[j]);
+        if (need)
+            assert_true(d.off_8bit + d.surf_mismatch > d.n / 100);
+        else
+            assert_true(d.off_8bit * 1000 <= d.n && d.surf_mismatch * 1000 <= d.n);
+        image_free(&a);
+        image_free(&b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -533,6 +788,10 @@ int main(void)
         cmocka_unit_test(test_tiny_and_huge_radii),
         cmocka_unit_test(test_coincident_surfaces),
         cmocka_unit_test(test_shadow_acne),
+        cmocka_unit_test(test_sphere_naive_vs_haines),
+        cmocka_unit_test(test_offset_naive_vs_robust),
+        cmocka_unit_test(test_no_nan_or_inf),
+        cmocka_unit_test(test_auto_precision),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
