@@ -28,15 +28,15 @@
 # bench/results/accuracy.png (time versus RMSE, Pareto front marked) and
 # bench/results/accuracy_summary.md (tables quoted in bench/ACCURACY.md).
 #
-#   bench/accuracy.sh              the full run (~6 min at 240x180 on 1 core)
+#   bench/accuracy.sh              the full run: 200x150, about 8 minutes
 #   ACC_WIDTH=120 ACC_HEIGHT=90 ACC_REPS=1 bench/accuracy.sh   a quick look
 #   ACC_SCENES="showcase glass" bench/accuracy.sh             some scenes only
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 BIN=${CSGTRACE:-build/csgtrace}
-W=${ACC_WIDTH:-240}
-H=${ACC_HEIGHT:-180}
+W=${ACC_WIDTH:-200}
+H=${ACC_HEIGHT:-150}
 REPS=${ACC_REPS:-3}
 REF_REPS=${ACC_REF_REPS:-1}
 REF_THR=1e-6

@@ -198,8 +198,9 @@ bool csg_needs_double(const csg_scene *s, int width, int height, char *why, size
             snprintf(why, why_size, "float: no object");
         } else {
             snprintf(why, why_size,
-                     "%s: %s at %s:%d:%d: float error %.3g (2^-24 x %g x |p| %.3g) vs 1/8 pixel "
-                     "%.3g at distance %.3g and 1e-3 of feature %.3g (ratio %.3g)",
+                     "%s: %s at %s:%d:%d: float error %.3g (2^-24 x %g x |p| %.3g) against "
+                     "1/8 pixel = %.3g at distance %.3g, 1e-3 of its feature = %.3g "
+                     "(ratio %.3g)",
                      need ? "double" : "float", kind_name(w.at->kind),
                      w.at->loc.file ? w.at->loc.file : "?", w.at->loc.line, w.at->loc.col, w.err,
                      CSG_PREC_ULPS, w.mag, w.allow_px, w.dist, w.allow_feat, w.worst);
