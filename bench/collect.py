@@ -386,7 +386,7 @@ def cmd_report(args):
     for label, summ, by in (("objects", s_obj, "count"), ("occupancy %", s_obj, "occ_target"),
                             ("size", s_size, "width")):
         for k, g in decompose(summ, by):
-            why.append([label, str(k)] + [fmt(v) for v in g])
+            why.append([label, str(k), fmt(g[0], ".3f")] + [fmt(v) for v in g[1:]])
     fill["why_table"] = md_table(
         ["sweep", "value", "homo s", "worker phase saved %", "SIMD primary %",
          "hetero other %", "tiles skipped %", "adv. %"], why)

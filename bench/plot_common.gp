@@ -3,7 +3,7 @@
 if (!exists("term")) term = 'pngcairo'
 if (term eq 'pngcairo') set terminal pngcairo size 800,500 font ",11"; else set terminal png size 800,500
 set grid
-set key top left
+set key below
 set termoption noenhanced
 set datafile columnheaders
 set ylabel "heterogeneous advantage (homo - hetero) / homo  [%]"

@@ -5,6 +5,7 @@ set output 'objects.png'
 set title "Advantage vs objects (384x384) — cf. the paper's Figure 1"
 set xlabel "objects (spheres)"
 set print $paper
+print "x paper"
 print "10 10"
 print "50 23"
 unset print

@@ -5,6 +5,7 @@ set output 'occupancy.png'
 set title "Advantage vs occupancy (384x384, mean over 10-50 objects) — cf. Figure 2"
 set xlabel "occupancy target [%]"
 set print $paper
+print "x paper"
 print "20 17"
 print "80 12"
 unset print

@@ -5,6 +5,7 @@ set output 'size.png'
 set title "Advantage vs image size (mean over objects and occupancies) — cf. Figure 3"
 set xlabel "image size [pixels, square]"
 set print $paper
+print "x paper"
 print "192 11"
 print "384 17"
 unset print

@@ -6,6 +6,5 @@ set title "Tile size sweep (30 spheres, occupancy 50 %)"
 set xlabel "tile size [pixels, log scale]"
 set ylabel "median time (wall_s - compile_s) [s]"
 set logscale x 2
-set key top right
 plot 'tile.dat' using 1:2 with linespoints lw 2 title "homo", \
      'tile.dat' using 1:3 with linespoints lw 2 title "hetero"
