@@ -56,7 +56,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps test demo bench bench-full clean
+.PHONY: all asan deps test demo bench bench-full golden clean
 all: $(B)/csgtrace $(TEST_BINS)
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
 
@@ -130,6 +130,11 @@ bench: deps
 bench-full: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --full
+
+# New golden images for tests/test_golden.c (look at them before committing).
+golden: $(B)/csgtrace
+	@for s in scenes/*.pov; do n=$$(basename $$s .pov); \
+	  $(B)/csgtrace render $$s -o tests/golden/$$n.png --width 160 --height 120 || exit 1; done
 
 clean:
 	rm -rf build

@@ -71,6 +71,19 @@ typedef struct {
     real hi[3];
 } csg_root;
 
+/* A bounding volume hierarchy over the bounded roots (unbounded ones, such
+ * as planes, are tested one by one before it).  Node 0 is the root of the
+ * tree; an interior node's first child is the next node and its second
+ * child is node `first`; a leaf holds roots first .. first + count - 1. */
+typedef struct {
+    real lo[3];
+    real hi[3];
+    csg_i32 first; /* leaf: first root; interior: index of the second child  */
+    csg_i32 count; /* leaf: number of roots (> 0); interior: -1 - split axis */
+} csg_bvh_node;
+
+#define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
+
 /* The camera after POV-Ray's camera statement was applied (see
  * csg/camera.c): the primary ray of pixel (x, y) of a W x H image is
  * direction + x0 * right + y0 * up, normalised, from location. */

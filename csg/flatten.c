@@ -21,6 +21,10 @@
  *     cones live in a frame with their axis on +z from 0 to their height.
  *  4. Every root gets a world bounding box, padded outwards so rounding to
  *     `real` never clips a silhouette.
+ *  5. Unbounded roots (planes, complements) go first and are tested one by
+ *     one; the bounded ones are reordered into the leaves of a BVH built by
+ *     median splits on the box centres along the widest axis (depth about
+ *     log2 of the root count, far below CSG_BVH_STACK).
  */
 #include "flatten.h"
 
@@ -44,6 +48,7 @@ _Static_assert(sizeof(csg_root) == 16 + 6 * sizeof(real), "csg_root layout");
 _Static_assert(sizeof(csg_material) == 17 * sizeof(real), "csg_material layout");
 _Static_assert(sizeof(csg_flat_light) == 6 * sizeof(real) + 8, "csg_flat_light layout");
 _Static_assert(sizeof(csg_camera) == 12 * sizeof(real), "csg_camera layout");
+_Static_assert(sizeof(csg_bvh_node) == 6 * sizeof(real) + 8, "csg_bvh_node layout");
 
 typedef struct {
     double lo[3], hi[3];
@@ -56,7 +61,11 @@ typedef struct {
     csg_node *nodes;
     int node_count, node_cap;
     csg_root *roots;
-    int root_count, root_cap;
+    dbox *root_boxes;       /* the world box of each root, in double       */
+    int root_count, root_cap, root_box_cap;
+    csg_bvh_node *bvh;
+    int bvh_count, bvh_cap;
+    int linear_roots;       /* unbounded roots, tested one by one (first)  */
     int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
     csg_material *mats;
     int mat_count, mat_cap;
@@ -504,7 +513,8 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
                   depth, CSG_STACK_MAX);
         return false;
     }
-    if (!grow((void **)&fb->roots, &fb->root_cap, fb->root_count + 1, sizeof(csg_root))) {
+    if (!grow((void **)&fb->roots, &fb->root_cap, fb->root_count + 1, sizeof(csg_root)) ||
+        !grow((void **)&fb->root_boxes, &fb->root_box_cap, fb->root_count + 1, sizeof(dbox))) {
         fb->oom = true;
         return false;
     }
@@ -519,6 +529,7 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     r->node_count = fb->node_count - first;
     r->stack_depth = depth;
     box_store(box, r->lo, r->hi);
+    fb->root_boxes[root] = box;
     return true;
 }
 
@@ -532,6 +543,116 @@ static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
         return true;
     }
     return add_root(fb, o, inh);
+}
+
+/* ---- the BVH over bounded roots -------------------------------------------------- */
+
+static bool box_bounded(const dbox *b)
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(b->lo[i]) || !isfinite(b->hi[i]))
+            return false;
+    return true;
+}
+
+typedef struct {
+    double key; /* box centre along the split axis */
+    int root;
+} bvh_item;
+
+static int bvh_item_cmp(const void *a, const void *b)
+{
+    const bvh_item *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return x->root - y->root; /* a total order: the tree is the same everywhere */
+}
+
+/* Builds the subtree over items[0..n) into fb->bvh; `order` receives the
+ * roots in leaf order.  Returns the node index, -1 when out of memory. */
+static int bvh_build(flat_builder *fb, bvh_item *items, int n, int *order, int *placed)
+{
+    if (!grow((void **)&fb->bvh, &fb->bvh_cap, fb->bvh_count + 1, sizeof(csg_bvh_node)))
+        return -1;
+    int k = fb->bvh_count++;
+    dbox box = fb->root_boxes[items[0].root];
+    dbox centres = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    for (int i = 0; i < n; i++) {
+        const dbox *b = &fb->root_boxes[items[i].root];
+        box = box_union(box, *b);
+        for (int a = 0; a < 3; a++) {
+            double c = 0.5 * (b->lo[a] + b->hi[a]);
+            centres.lo[a] = fmin(centres.lo[a], c);
+            centres.hi[a] = fmax(centres.hi[a], c);
+        }
+    }
+    csg_bvh_node node;
+    box_store(box, node.lo, node.hi);
+    if (n <= 2) {
+        node.first = *placed;
+        node.count = n;
+        for (int i = 0; i < n; i++)
+            order[(*placed)++] = items[i].root;
+        fb->bvh[k] = node;
+        return k;
+    }
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (centres.hi[a] - centres.lo[a] > centres.hi[axis] - centres.lo[axis])
+            axis = a;
+    for (int i = 0; i < n; i++) {
+        const dbox *b = &fb->root_boxes[items[i].root];
+        items[i].key = 0.5 * (b->lo[axis] + b->hi[axis]);
+    }
+    qsort(items, (size_t)n, sizeof *items, bvh_item_cmp);
+    int half = n / 2;
+    if (bvh_build(fb, items, half, order, placed) < 0)
+        return -1;
+    int second = bvh_build(fb, items + half, n - half, order, placed);
+    if (second < 0)
+        return -1;
+    node.first = second;
+    node.count = -1 - axis;
+    fb->bvh[k] = node;
+    return k;
+}
+
+/* Reorders the roots: unbounded ones first (source order), then the
+ * bounded ones in the BVH's leaf order; primitives follow their roots. */
+static bool build_bvh(flat_builder *fb)
+{
+    int n = fb->root_count;
+    if (n == 0)
+        return true;
+    int *order = malloc((size_t)n * sizeof *order);
+    int *new_index = malloc((size_t)n * sizeof *new_index);
+    bvh_item *items = malloc((size_t)n * sizeof *items);
+    csg_root *roots = malloc((size_t)n * sizeof *roots);
+    bool ok = order && new_index && items && roots;
+    int placed = 0, bounded = 0;
+    for (int i = 0; ok && i < n; i++) {
+        if (box_bounded(&fb->root_boxes[i]))
+            items[bounded++] = (bvh_item){0, i};
+        else
+            order[placed++] = i;
+    }
+    fb->linear_roots = placed;
+    if (ok && bounded > 0)
+        ok = bvh_build(fb, items, bounded, order, &placed) >= 0;
+    if (ok) {
+        for (int i = 0; i < n; i++) {
+            roots[i] = fb->roots[order[i]];
+            new_index[order[i]] = i;
+        }
+        memcpy(fb->roots, roots, (size_t)n * sizeof *roots);
+        for (int i = 0; i < fb->prim_count; i++)
+            fb->prims[i].root = new_index[fb->prims[i].root];
+    }
+    free(order);
+    free(new_index);
+    free(items);
+    free(roots);
+    return ok;
 }
 
 /* ---- the blob -------------------------------------------------------------------- */
@@ -558,9 +679,12 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     if (h.max_depth < 1)
         h.max_depth = 1;
     h.adc_bailout = o->bailout >= 0 ? o->bailout : s->globals.adc_bailout;
+    h.spp = o->spp > 0 ? o->spp : 1;
     h.prim_count = fb->prim_count;
     h.node_count = fb->node_count;
     h.root_count = fb->root_count;
+    h.linear_roots = fb->linear_roots;
+    h.bvh_count = fb->bvh_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
     for (int i = 0; i < fb->root_count; i++)
@@ -575,6 +699,8 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     off = align64(off + (uint64_t)fb->node_count * sizeof(csg_node));
     h.off_roots = off;
     off = align64(off + (uint64_t)fb->root_count * sizeof(csg_root));
+    h.off_bvh = off;
+    off = align64(off + (uint64_t)fb->bvh_count * sizeof(csg_bvh_node));
     h.off_materials = off;
     off = align64(off + (uint64_t)fb->mat_count * sizeof(csg_material));
     h.off_lights = off;
@@ -593,6 +719,8 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
         memcpy(b + h.off_nodes, fb->nodes, (size_t)fb->node_count * sizeof(csg_node));
     if (fb->root_count)
         memcpy(b + h.off_roots, fb->roots, (size_t)fb->root_count * sizeof(csg_root));
+    if (fb->bvh_count)
+        memcpy(b + h.off_bvh, fb->bvh, (size_t)fb->bvh_count * sizeof(csg_bvh_node));
     if (fb->mat_count)
         memcpy(b + h.off_materials, fb->mats, (size_t)fb->mat_count * sizeof(csg_material));
     csg_flat_light *lights = (csg_flat_light *)(b + h.off_lights);
@@ -635,6 +763,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     inherited none = {-1, -1, false};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none);
+    if (ok && !fb.oom && !build_bvh(&fb))
+        fb.oom = true;
     if (ok && !fb.oom && !write_blob(&fb, o, out))
         fb.oom = true;
     if (fb.oom) {
@@ -644,6 +774,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.prims);
     free(fb.nodes);
     free(fb.roots);
+    free(fb.root_boxes);
+    free(fb.bvh);
     free(fb.mats);
     free(fb.mat_keys);
     if (!ok)

@@ -5,7 +5,7 @@
  *
  * Blob layout: a csg_blob_header, then the arrays at the byte offsets it
  * records (each 64-byte aligned): prims (csg_prim), nodes (csg_node), roots
- * (csg_root), materials (csg_material), lights (csg_flat_light), and one
+ * (csg_root), the BVH over roots (csg_bvh_node), materials (csg_material), lights (csg_flat_light), and one
  * csg_camera.  csg_prim / csg_node / csg_root / csg_camera are the shared
  * structs of flat.h in the blob's precision (header.real_size 4 or 8).
  */
@@ -19,6 +19,7 @@
 #include "scene.h"
 
 #define CSG_BLOB_MAGIC 0x43534731u /* "CSG1" */
+#define CSG_MAX_SPP 1024          /* samples a pixel, at most          */
 
 typedef struct {
     uint32_t magic;
@@ -27,11 +28,16 @@ typedef struct {
     int32_t max_depth;       /* max_trace_level: 1 = primary rays only  */
     int32_t prim_count, node_count, root_count, material_count, light_count;
     int32_t max_stack;       /* deepest root program, <= CSG_STACK_MAX   */
-    int32_t pad;
+    int32_t linear_roots;    /* roots 0 .. linear_roots-1: unbounded, tested
+                                one by one; the rest hang in the BVH      */
+    int32_t bvh_count;       /* BVH nodes (0: no bounded root)            */
+    int32_t spp;             /* primary samples a pixel (>= 1): the hit
+                                records hold width * spp records a row,
+                                the samples of a pixel side by side     */
     double adc_bailout;      /* rays weighing less are not traced        */
     double background[5];    /* rgbft                                    */
     double ambient_light[3];
-    uint64_t off_prims, off_nodes, off_roots, off_materials, off_lights, off_camera;
+    uint64_t off_prims, off_nodes, off_roots, off_bvh, off_materials, off_lights, off_camera;
     uint64_t total_size;     /* bytes of the whole blob                  */
 } csg_blob_header;
 
@@ -45,6 +51,7 @@ typedef struct {
     int width, height;  /* required, > 0 */
     int max_depth;      /* <= 0: global_settings max_trace_level       */
     double bailout;     /* < 0: global_settings adc_bailout            */
+    int spp;            /* samples a pixel; <= 0: 1                   */
 } csg_flatten_opts;
 
 /* One per precision; false (with d filled) when the scene cannot be

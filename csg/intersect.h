@@ -44,12 +44,16 @@ typedef struct {
     csg_u32 s1[CSG_MAX_SPANS];  /* surface at exit                       */
 } csg_spans;
 
-/* Pointers to the arrays of a flat scene, in either address space. */
+/* Pointers to the arrays of a flat scene, in either address space.  The
+ * roots 0 .. root_count - 1 are tested one by one; the others are reached
+ * through the BVH (bvh_count nodes; none when 0). */
 typedef struct {
     CSG_GLOBAL const csg_prim *prims;
     CSG_GLOBAL const csg_node *nodes;
     CSG_GLOBAL const csg_root *roots;
+    CSG_GLOBAL const csg_bvh_node *bvh;
     csg_i32 root_count;
+    csg_i32 bvh_count;
 } csg_view;
 
 typedef struct {
@@ -431,9 +435,10 @@ CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
 
 /* ---- a root ---------------------------------------------------------------- */
 
-/* Does the ray meet the root's box on [tmin, tmax]?  Unbounded boxes hold
+/* Does the ray meet the box lo..hi on [tmin, tmax]?  Unbounded boxes hold
  * infinities; fmin/fmax drop the NaN of 0 * inf so those always pass. */
-CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmin, real tmax)
+CSG_FN int csg_aabb_overlaps(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b, csg_ray r,
+                             real tmin, real tmax)
 {
     real lo = tmin, hi = tmax;
     real o[3], d[3];
@@ -441,16 +446,21 @@ CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmi
     d[0] = r.d.x; d[1] = r.d.y; d[2] = r.d.z;
     for (int a = 0; a < 3; a++) {
         if (d[a] == R(0.0)) {
-            if (o[a] < root->lo[a] || o[a] > root->hi[a])
+            if (o[a] < lo_b[a] || o[a] > hi_b[a])
                 return 0;
             continue;
         }
-        real ta = (root->lo[a] - o[a]) / d[a];
-        real tb = (root->hi[a] - o[a]) / d[a];
+        real ta = (lo_b[a] - o[a]) / d[a];
+        real tb = (hi_b[a] - o[a]) / d[a];
         lo = r_fmax(lo, r_fmin(ta, tb));
         hi = r_fmin(hi, r_fmax(ta, tb));
     }
     return lo <= hi;
+}
+
+CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmin, real tmax)
+{
+    return csg_aabb_overlaps(root->lo, root->hi, r, tmin, tmax);
 }
 
 /* The interval list of a whole root on [tmin, tmax], through its program. */
@@ -510,22 +520,55 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
     return h;
 }
 
-/* The nearest visible surface on (tmin, tmax) over every root.  Roots are
- * visited in order and a later root must be strictly nearer to win, so the
- * answer is the same wherever this runs. */
+/* Root i's first visible boundary, if it is nearer than *best. */
+CSG_FN void csg_try_root(csg_view v, csg_i32 i, csg_ray r, real tmin, csg_hit *best)
+{
+    csg_spans spans;
+    if (!csg_box_overlaps(&v.roots[i], r, tmin, best->t))
+        return;
+    csg_root_spans(v, i, r, tmin, best->t, &spans);
+    csg_hit h = csg_first_boundary(&spans, tmin);
+    if (h.surf != CSG_SURF_NONE && h.t < best->t)
+        *best = h;
+}
+
+/* The nearest visible surface on (tmin, tmax) over every root: first the
+ * roots tested one by one, then the BVH, nearer child first.  A root must
+ * be strictly nearer than the best so far to win, and the visiting order
+ * depends only on the ray, so the answer is the same wherever this runs. */
 CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
 {
     csg_hit best;
     best.t = tmax;
     best.surf = CSG_SURF_NONE;
-    csg_spans spans;
-    for (csg_i32 i = 0; i < v.root_count; i++) {
-        if (!csg_box_overlaps(&v.roots[i], r, tmin, best.t))
+    for (csg_i32 i = 0; i < v.root_count; i++)
+        csg_try_root(v, i, r, tmin, &best);
+    csg_i32 stack[CSG_BVH_STACK];
+    csg_i32 top = 0;
+    if (v.bvh_count > 0)
+        stack[top++] = 0;
+    while (top > 0) {
+        csg_i32 k = stack[--top];
+        CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
+        if (!csg_aabb_overlaps(n->lo, n->hi, r, tmin, best.t))
             continue;
-        csg_root_spans(v, i, r, tmin, best.t, &spans);
-        csg_hit h = csg_first_boundary(&spans, tmin);
-        if (h.surf != CSG_SURF_NONE && h.t < best.t)
-            best = h;
+        if (n->count > 0) {
+            for (csg_i32 i = n->first; i < n->first + n->count; i++)
+                csg_try_root(v, i, r, tmin, &best);
+            continue;
+        }
+        if (top + 2 > CSG_BVH_STACK) /* the flattener prevents this */
+            break;
+        csg_i32 axis = -1 - n->count;
+        real dir = axis == 0 ? r.d.x : (axis == 1 ? r.d.y : r.d.z);
+        /* push the far child first so the near one is visited first */
+        if (dir < R(0.0)) {
+            stack[top++] = k + 1;
+            stack[top++] = n->first;
+        } else {
+            stack[top++] = n->first;
+            stack[top++] = k + 1;
+        }
     }
     if (best.surf == CSG_SURF_NONE)
         best.t = CSG_R_INF;

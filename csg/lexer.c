@@ -156,7 +156,7 @@ static const kw_entry kw_table[] = {
     {"marble", CSG_KW_UNSUPPORTED},
     {"material", CSG_KW_UNSUPPORTED},
     {"material_map", CSG_KW_UNSUPPORTED},
-    {"matrix", CSG_KW_UNSUPPORTED},
+    {"matrix", CSG_KW_MATRIX},
     {"max", CSG_KW_UNSUPPORTED},
     {"max_gradient", CSG_KW_UNSUPPORTED},
     {"max_trace_level", CSG_KW_MAX_TRACE_LEVEL},

@@ -1071,12 +1071,58 @@ static csg_interior *own_interior(parser *p, csg_object *o, int mark)
     return (csg_interior *)p->interiors.data + o->interior;
 }
 
-/* Transforms (translate V, rotate V, scale V|F), shared by objects and lights. */
+/* matrix <m00, m01, m02, m10, ..., m32>: POV-Ray's row-vector form,
+ * p' = p M, applied after the transforms before it. */
+static bool parse_matrix(parser *p, csg_xform *x)
+{
+    if (!next(p))
+        return false;
+    csg_loc open = p->tok.loc;
+    if (!is_punct(p, '<')) {
+        csg_error(p->d, open, "'<' expected after 'matrix'");
+        return false;
+    }
+    if (!enter(p, open) || !next(p))
+        return false;
+    double m[12];
+    for (int i = 0; i < 12; i++) {
+        csg_loc at;
+        if (!parse_float(p, &m[i], &at))
+            return false;
+        if (i < 11) {
+            if (!is_punct(p, ',')) {
+                csg_error(p->d, p->tok.loc, "matrix needs 12 numbers separated by ','");
+                return false;
+            }
+            if (!next(p))
+                return false;
+        }
+    }
+    if (!is_punct(p, '>'))
+        return expected_close(p, '>', "<", open);
+    leave(p);
+    csg_xform t;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            t.m[i][j] = m[3 * j + i]; /* column j of ours is row j of POV-Ray's */
+    csg_xform inv;
+    if (!csg_xform_invert(&t, &inv)) {
+        csg_error(p->d, open, "matrix is singular");
+        return false;
+    }
+    csg_xform_then(x, &t, x);
+    return next(p);
+}
+
+/* Transforms (translate V, rotate V, scale V|F, matrix <...>), shared by
+ * objects and lights. */
 static bool parse_transform(parser *p, csg_xform *x)
 {
     enum csg_kw kw = p->tok.kw;
     csg_loc at;
     dvec3 v;
+    if (kw == CSG_KW_MATRIX)
+        return parse_matrix(p, x);
     if (!next(p) || !parse_vector(p, &v, &at))
         return false;
     if (kw == CSG_KW_TRANSLATE) {
@@ -1095,7 +1141,8 @@ static bool parse_transform(parser *p, csg_xform *x)
 
 static bool is_transform(const parser *p)
 {
-    return is_kw(p, CSG_KW_TRANSLATE) || is_kw(p, CSG_KW_ROTATE) || is_kw(p, CSG_KW_SCALE);
+    return is_kw(p, CSG_KW_TRANSLATE) || is_kw(p, CSG_KW_ROTATE) || is_kw(p, CSG_KW_SCALE) ||
+           is_kw(p, CSG_KW_MATRIX);
 }
 
 /* Modifiers up to and including the closing brace. */

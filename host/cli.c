@@ -5,6 +5,8 @@
  */
 #include "cli.h"
 
+#include "../csg/flatten.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
@@ -14,8 +16,10 @@ void cli_usage(FILE *out)
 {
     fputs("usage:\n"
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
-          "                   [--tile N] [--depth D] [--threshold W] [--precision float|double]\n"
+          "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
+          "                   [--precision float|double|auto]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
+          "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
           "                   [--materials opaque,reflective,transparent] -o scene.pov\n"
@@ -71,7 +75,7 @@ static bool parse_choice(const char *opt, const char *s, const char *const *name
 static const struct {
     const char *name;
     enum cli_command cmd;
-} commands[] = {{"render", CMD_RENDER}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
+} commands[] = {{"render", CMD_RENDER}, {"compare", CMD_COMPARE}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
                 {"gen", CMD_GEN},       {"help", CMD_HELP},
                 {"--help", CMD_HELP},   {"-h", CMD_HELP},         {"--version", CMD_VERSION}};
 
@@ -115,6 +119,8 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         return parse_int(opt, val, 1, 65536, &r->height, d);
     if (strcmp(opt, "--tile") == 0)
         return parse_int(opt, val, 1, 65536, &r->tile, d);
+    if (strcmp(opt, "--spp") == 0)
+        return parse_int(opt, val, 1, CSG_MAX_SPP, &r->spp, d);
     if (strcmp(opt, "--depth") == 0)
         return parse_int(opt, val, 1, 256, &r->depth, d);
     if (strcmp(opt, "--repeat") == 0)
@@ -146,6 +152,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.width = 320;
     a->req.height = 240;
     a->req.tile = 32;
+    a->req.spp = 1;
     a->req.threshold = -1;
     a->repeat = 3;
     if (argc < 2) {

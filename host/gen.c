@@ -130,7 +130,7 @@ static bool measure(const gen_options *o, const char *text, size_t len, double *
     csg_scene s;
     if (!csg_parse_string("<generated>", text, len, &s, d))
         return false;
-    csg_flatten_opts fo = {o->width, o->height, 1, -1};
+    csg_flatten_opts fo = {o->width, o->height, 1, -1, 1};
     csg_blob blob;
     bool ok = csg_flatten_float(&s, &fo, &blob, d);
     csg_scene_free(&s);
@@ -238,6 +238,12 @@ bool gen_spheres(const gen_options *o, gen_result *r, csg_diag *d)
             lo = mid;
         else
             hi = mid;
+    }
+    if (ok && fabs(g.best_occ - o->occupancy) > 0.01) {
+        csg_error_plain(d, "gen spheres: cannot reach occupancy %.2f%% with %d spheres at %dx%d "
+                           "(closest: %.2f%%)",
+                        100 * o->occupancy, o->count, o->width, o->height, 100 * g.best_occ);
+        ok = false;
     }
     if (ok)
         ok = write_file(o->out_path, g.best_text, g.best_len, d);

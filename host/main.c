@@ -12,6 +12,7 @@
 #include "../csg/parser.h"
 #include "../csg/summary.h"
 #include "cli.h"
+#include "compare.h"
 #include "gen.h"
 #include "render.h"
 
@@ -30,7 +31,7 @@ static int run_check(const cli_args *a)
     csg_scene s;
     if (!csg_parse_file(a->req.scene_path, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
-    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1};
+    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1, 1};
     csg_blob blob;
     if (!csg_flatten_double(&s, &fo, &blob, &d)) {
         csg_scene_free(&s);
@@ -111,6 +112,8 @@ int main(int argc, char **argv)
         return run_export(&a);
     case CMD_GEN:
         return run_gen(argc - 2, argv + 2);
+    case CMD_COMPARE:
+        return compare_run(&a);
     case CMD_RENDER:
         return render_run(&a.req);
     default:

@@ -187,7 +187,8 @@ static void master_send_tile(master_session *m, const master_job *job, master_ou
                              int index)
 {
     tile_rect r = proto_tile_rect(index, job->width, job->height, job->tile);
-    size_t n = (size_t)r.width * (size_t)r.height;
+    int spp = csg_blob_hdr(job->blob)->spp;
+    size_t n = (size_t)r.width * (size_t)r.height * (size_t)spp; /* records */
     size_t real_size = csg_blob_hdr(job->blob)->real_size;
     proto_tile h = { index, job->t ? PROTO_WORK_SHADE : PROTO_WORK_RENDER, r.x, r.y, r.width,
                      r.height };
@@ -195,7 +196,7 @@ static void master_send_tile(master_session *m, const master_job *job, master_ou
     memcpy(out->data, &h, sizeof h);
     if (job->t) {
         char *t = out->data + sizeof h;
-        proto_pack_records(job->t, job->surf, job->width, real_size, r, t,
+        proto_pack_records(job->t, job->surf, job->width, spp, real_size, r, t,
                            (uint32_t *)(void *)(t + n * real_size));
         len += n * (real_size + sizeof(uint32_t));
     }
@@ -215,7 +216,7 @@ static bool master_take_result(master_job *job, const master_msg *msg, int index
         return false;
     }
     memcpy(&h, msg->data, sizeof h);
-    if (h.index != index || h.hits > n) {
+    if (h.index != index || h.hits > n * (size_t)csg_blob_hdr(job->blob)->spp) {
         csg_error_plain(d, "worker %d: result for tile %d does not match tile %d sent",
                         msg->source, (int)h.index, index);
         return false;
@@ -248,7 +249,8 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
 
     for (int r = 1; r <= m->workers; r++)
         job->workers[r - 1].rank = r;
-    out.cap = sizeof(proto_tile) + nmax * (real_size + sizeof(uint32_t));
+    out.cap = sizeof(proto_tile) +
+              nmax * (size_t)csg_blob_hdr(job->blob)->spp * (real_size + sizeof(uint32_t));
     out.data = malloc(out.cap);
     holding = malloc(sizeof *holding * (size_t)(m->workers + 1));
     if (!out.data || !holding) {

@@ -537,7 +537,7 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
                         c->use_double ? "double" : "float");
         return false;
     }
-    if (h->width <= 0 || h->height <= 0 || tile <= 0) {
+    if (h->width <= 0 || h->height <= 0 || tile <= 0 || h->spp < 1 || h->spp > CSG_MAX_SPP) {
         csg_error_plain(d, "OpenCL primary pass: bad image %d x %d or tile %d", h->width,
                         h->height, tile);
         return false;
@@ -547,7 +547,10 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
         !ocl_array_fits(h->off_prims, (uint64_t)h->prim_count, ocl_prim_size(rs), T) ||
         !ocl_array_fits(h->off_nodes, (uint64_t)h->node_count, 8, T) ||
         !ocl_array_fits(h->off_roots, (uint64_t)h->root_count, ocl_root_size(rs), T) ||
-        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) || (h->off_prims % 64) ||
+        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) ||
+        h->linear_roots < 0 || h->linear_roots > h->root_count || h->bvh_count < 0 ||
+        !ocl_array_fits(h->off_bvh, (uint64_t)h->bvh_count, 6u * rs + 8u, T) ||
+        (h->off_bvh % 64) || (h->off_prims % 64) ||
         (h->off_nodes % 64) || (h->off_roots % 64) || (h->off_camera % 64)) {
         csg_error_plain(d, "OpenCL primary pass: the scene blob's arrays do not fit its size");
         return false;
@@ -559,7 +562,7 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
  * number of tile rows when at least one fits, and at least one row. */
 static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
 {
-    uint64_t w = (uint64_t)h->width, rs = h->real_size;
+    uint64_t w = (uint64_t)h->width * (uint64_t)h->spp, rs = h->real_size; /* records a row */
     uint64_t row_bytes = w * (rs + 4);
     uint64_t rows = c->max_alloc / (w * rs); /* the t buffer is the larger one */
     uint64_t share = c->global_mem / 2;
@@ -615,7 +618,10 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                           uint32_t *tile_hits, csg_diag *d)
 {
     cl_ulong offs[4] = {h->off_prims, h->off_nodes, h->off_roots, h->off_camera};
-    cl_int root_count = h->root_count, width = h->width, height = h->height, cy0 = y0;
+    cl_int root_count = h->linear_roots, width = h->width, height = h->height, cy0 = y0;
+    cl_int spp = h->spp, record_width = h->width * h->spp;
+    cl_ulong off_bvh = h->off_bvh;
+    cl_int bvh_count = h->bvh_count;
     cl_int crows = rows, ctile = tile, tiles_x = (h->width + tile - 1) / tile;
     int ty0 = y0 / tile;
     cl_int tile_rows = (y0 + rows - 1) / tile - ty0 + 1; /* tile rows the slice touches */
@@ -632,18 +638,22 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
               ocl_arg(c->k_primary, kp, 9, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->t, d) &&
               ocl_arg(c->k_primary, kp, 11, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_primary, kp, 12, sizeof(cl_ulong), &off_bvh, d) &&
+              ocl_arg(c->k_primary, kp, 13, sizeof(cl_int), &bvh_count, d) &&
+              ocl_arg(c->k_primary, kp, 14, sizeof(cl_int), &spp, d) &&
               ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->surf, d) &&
-              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &width, d) &&
+              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &record_width, d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
               ocl_arg(c->k_tiles, kt, 3, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_tiles, kt, 4, sizeof(cl_int), &ctile, d) &&
               ocl_arg(c->k_tiles, kt, 5, sizeof(cl_int), &tiles_x, d) &&
               ocl_arg(c->k_tiles, kt, 6, sizeof(cl_int), &tile_rows, d) &&
-              ocl_arg(c->k_tiles, kt, 7, sizeof(cl_mem), &b->hits, d);
+              ocl_arg(c->k_tiles, kt, 7, sizeof(cl_mem), &b->hits, d) &&
+              ocl_arg(c->k_tiles, kt, 8, sizeof(cl_int), &spp, d);
     if (!ok)
         return false;
     size_t gp = c->group_primary, gt = c->group_tiles;
-    size_t pix[2] = {((size_t)h->width + gp - 1) / gp * gp, (size_t)rows};
+    size_t pix[2] = {((size_t)record_width + gp - 1) / gp * gp, (size_t)rows};
     size_t pix_group[2] = {gp, 1};
     size_t tiles[2] = {((size_t)tiles_x + gt - 1) / gt * gt, (size_t)tile_rows};
     size_t tiles_group[2] = {gt, 1};
@@ -655,7 +665,7 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                                  NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
-    size_t npix = (size_t)h->width * (size_t)rows, first = (size_t)h->width * (size_t)y0;
+    size_t npix = (size_t)record_width * (size_t)rows, first = (size_t)record_width * (size_t)y0;
     size_t rs = h->real_size;
     err = clEnqueueReadBuffer(c->queue, b->t, CL_FALSE, 0, npix * rs,
                               (char *)t_out + first * rs, 0, NULL, NULL);
@@ -694,7 +704,7 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
     size_t tile_rows = (size_t)(rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
     if (tile_rows > tiles_y)
         tile_rows = tiles_y;
-    size_t npix = (size_t)h->width * (size_t)rows;
+    size_t npix = (size_t)h->width * (size_t)h->spp * (size_t)rows; /* records a slice */
     b.host_hits = malloc(tiles_x * tile_rows * sizeof(uint32_t));
     if (!b.host_hits) {
         csg_error_plain(d, "out of memory");
@@ -717,6 +727,7 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
     }
     timing->slices = slices;
     timing->primary_s = ocl_now() - t0;
+    ocl_device_name(c->device, timing->device_name, sizeof timing->device_name);
     ocl_release_buffers(&b);
     return true;
 fail:
@@ -742,7 +753,8 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
     blob.h.real_size = c->use_double ? 8 : 4;
     blob.h.width = 1;
     blob.h.height = 1;
-    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = off;
+    blob.h.spp = 1;
+    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = blob.h.off_bvh = off;
     blob.h.off_materials = blob.h.off_lights = blob.h.off_camera = off;
     blob.h.total_size = off + ocl_camera_size(8);
     _Static_assert(sizeof blob.h + 63 + 12 * 8 <= sizeof blob, "warm-up blob size");

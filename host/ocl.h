@@ -12,7 +12,7 @@
 
 #include "../csg/diag.h"
 
-typedef struct ocl_ctx ocl_ctx;
+typedef struct ocl_ctx ocl_ctx; /* struct ocl_ctx is named in render.h */
 
 typedef struct {
     const char *device;  /* "--cl-device" value or $CSGTRACE_CL_DEVICE: "P:D"

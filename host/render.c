@@ -37,16 +37,7 @@
 #include "ocl.h"
 #include "progress.h"
 #include "stats.h"
-
-#if defined(__has_include)
-#if __has_include("../csg/parser.h")
 #include "../csg/parser.h"
-#define RENDER_HAVE_PARSER_H 1
-#endif
-#endif
-#ifndef RENDER_HAVE_PARSER_H
-bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d);
-#endif
 
 #define RENDER_DEFAULT_TILE 32
 
@@ -81,7 +72,7 @@ static const char *render_mode_name(enum render_mode m)
 static int render_load(const render_request *req, csg_blob *blob, csg_diag *d)
 {
     const engine *e = req->precision == PREC_DOUBLE ? &engine_double : &engine_float;
-    csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold };
+    csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
     csg_scene_init(&s);
@@ -102,11 +93,11 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
                           render_stats *st, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
-    size_t n = (size_t)h->width * (size_t)h->height;
+    size_t n = (size_t)h->width * (size_t)h->height * (size_t)h->spp; /* records */
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
     ocl_options opt = { device, req->precision == PREC_DOUBLE, 0 };
     ocl_timing tm;
-    ocl_ctx *ctx = NULL;
+    ocl_ctx *ctx = req->cl_keep ? *req->cl_keep : NULL;
     memset(&tm, 0, sizeof tm);
     rs->t = malloc(n * h->real_size);
     rs->surf = malloc(n * sizeof *rs->surf);
@@ -115,10 +106,12 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
-    bool ok = ocl_open(&opt, &ctx, &tm, d) &&
+    bool ok = (ctx || ocl_open(&opt, &ctx, &tm, d)) &&
               ocl_primary_pass(ctx, rs->blob.bytes, st->tile, rs->t, rs->surf, rs->tile_hits,
                                &tm, d);
-    if (ctx)
+    if (req->cl_keep)
+        *req->cl_keep = ctx; /* the caller closes it */
+    else if (ctx)
         ocl_close(ctx);
     st->compile_s = tm.compile_s;
     st->primary_s = tm.primary_s;
@@ -156,7 +149,7 @@ static void render_plan(render_state *rs, int tiles, render_stats *st, master_jo
     if (rs->tile_hits) { /* the device traced every primary ray */
         for (int i = 0; i < tiles; i++)
             job->pixels_hit += rs->tile_hits[i];
-        job->rays.primary = st->pixels;
+        job->rays.primary = st->pixels * (uint64_t)h->spp;
     }
 }
 
@@ -165,10 +158,11 @@ static int render_local_tiles(master_job *job, csg_diag *d)
 {
     const engine *e = engine_for_blob(job->blob);
     size_t real_size = e ? e->real_size : 8;
+    size_t spp = (size_t)csg_blob_hdr(job->blob)->spp;
     size_t nmax = (size_t)(job->tile < job->width ? job->tile : job->width) *
                   (size_t)(job->tile < job->height ? job->tile : job->height);
-    void *t = malloc(nmax * real_size);
-    uint32_t *surf = malloc(nmax * sizeof *surf);
+    void *t = malloc(nmax * spp * real_size);
+    uint32_t *surf = malloc(nmax * spp * sizeof *surf);
     float *rgb = malloc(nmax * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
     if (!e) {
@@ -184,10 +178,10 @@ static int render_local_tiles(master_job *job, csg_diag *d)
     for (int k = 0; k < job->todo_count; k++) {
         double t0 = stats_clock();
         tile_rect r = proto_tile_rect(job->todo[k], job->width, job->height, job->tile);
-        size_t n = (size_t)r.width * (size_t)r.height;
+        size_t n = (size_t)r.width * (size_t)r.height * spp; /* records */
         ray_counts rays = { 0, 0, 0, 0 };
         if (job->t) {
-            proto_pack_records(job->t, job->surf, job->width, real_size, r, t, surf);
+            proto_pack_records(job->t, job->surf, job->width, (int)spp, real_size, r, t, surf);
             e->shade(job->blob, r, t, surf, rgb, &rays);
         } else {
             engine_render_tile(e, job->blob, r, t, surf, rgb, &rays);
@@ -240,6 +234,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
     st->height = req->height;
     st->tile = req->tile > 0 ? req->tile : RENDER_DEFAULT_TILE;
     st->ranks = ranks;
+    st->spp = req->spp > 0 ? req->spp : 1;
     st->pixels = (uint64_t)req->width * (uint64_t)req->height;
 }
 
@@ -338,7 +333,17 @@ static int render_job(const render_request *req, int ranks)
         }
     }
     if (status == EXIT_OK) {
-        stats_print_summary(stdout, &st);
+        if (req->stats_out) {
+            *req->stats_out = st;
+            req->stats_out->workers = NULL;
+            req->stats_out->worker_count = 0;
+        }
+        if (req->image_out) {
+            *req->image_out = rs.image;
+            rs.image = NULL;
+        }
+        if (!req->stats_out)
+            stats_print_summary(stdout, &st);
         fflush(stdout);
     } else if (!reported) {
         render_report(&d);

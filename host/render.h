@@ -7,6 +7,9 @@
 
 #include <stdbool.h>
 
+struct ocl_ctx;
+struct render_stats;
+
 enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
 enum render_precision { PREC_FLOAT, PREC_DOUBLE };
 
@@ -19,14 +22,19 @@ typedef struct {
     enum render_precision precision;
     int width, height;        /* default 320 x 240                   */
     int tile;                 /* default 32                          */
+    int spp;                  /* primary samples a pixel, default 1  */
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     bool progress;            /* progress bar on stderr (a terminal) */
+    /* For callers that run several renders in one job (compare); NULL in
+     * a plain render.  Used on the master only. */
+    struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and
+                                 leave it there (the caller closes it):
+                                 only the first render pays the build   */
+    struct render_stats *stats_out; /* a copy of the render's statistics
+                                       (its `workers` left NULL)         */
+    float **image_out;        /* receives the image (malloc'd, RGB)     */
 } render_request;
-
-/* Runs one render in the mode asked for (MPI when launched under mpirun);
- * returns the exit status. */
-int render_run(const render_request *req);
 
 /* Exit statuses of the program (DESIGN.md). */
 enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };

@@ -16,6 +16,12 @@
 #include <time.h>
 #include <unistd.h>
 
+double stats_occupancy(const render_stats *s)
+{
+    double samples = (double)s->pixels * (double)(s->spp > 0 ? s->spp : 1);
+    return samples > 0 ? (double)s->pixels_hit / samples : 0.0;
+}
+
 double stats_clock(void)
 {
     struct timespec ts;
@@ -95,8 +101,9 @@ void stats_print_json(FILE *f, const render_stats *s)
     stats_string(f, s->precision);
     fputs(",\n  \"device\": ", f);
     stats_string(f, s->device);
-    fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n",
-            s->width, s->height, s->tile, s->ranks);
+    fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
+               "  \"spp\": %d,\n",
+            s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1);
     stats_field(f, "wall_s", s->wall_s);
     stats_field(f, "setup_s", s->setup_s);
     stats_field(f, "compile_s", s->compile_s);
@@ -107,7 +114,7 @@ void stats_print_json(FILE *f, const render_stats *s)
             s->tiles_total, s->tiles_sent, s->tiles_degenerate);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n",
             (unsigned long long)s->pixels, (unsigned long long)s->pixels_hit);
-    stats_field(f, "occupancy", s->pixels ? (double)s->pixels_hit / (double)s->pixels : 0.0);
+    stats_field(f, "occupancy", stats_occupancy(s));
     fputs("  \"rays\": ", f);
     stats_rays(f, &s->rays);
     fprintf(f, ",\n  \"bytes_sent\": %llu,\n  \"bytes_received\": %llu,\n  \"blob_bytes\": %llu,\n",
@@ -164,5 +171,5 @@ void stats_print_summary(FILE *f, const render_stats *s)
     fprintf(f, "%s %dx%d %s ranks=%d wall=%.3fs tiles=%d sent=%d degenerate=%d occupancy=%.3f\n",
             s->mode, s->width, s->height, s->precision, s->ranks, s->wall_s, s->tiles_total,
             s->tiles_sent, s->tiles_degenerate,
-            s->pixels ? (double)s->pixels_hit / (double)s->pixels : 0.0);
+            stats_occupancy(s));
 }

@@ -18,7 +18,10 @@
  *                 background by the master, never sent; 0 otherwise)
  *   tiles_sent    tiles_total - tiles_degenerate: the tiles of the tile
  *                 phase (sent to workers, or done in-process without any)
- *   pixels, pixels_hit, occupancy (pixels_hit / pixels)
+ *   spp           primary samples a pixel
+ *   pixels, pixels_hit, occupancy (pixels_hit / (pixels * spp)):
+ *                 pixels_hit counts the primary samples that hit (the
+ *                 pixels, when spp = 1)
  *   rays          {primary, shadow, reflected, refracted, total}
  *   bytes_sent    bytes the master sent to workers (the scene broadcast
  *                 counted once per worker + the tile messages)
@@ -45,11 +48,11 @@ typedef struct {
     double busy_s;   /* time spent rendering its tiles             */
 } stats_worker;
 
-typedef struct {
+typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
     const char *precision;  /* "float", "double"                     */
     char device[256];       /* OpenCL device name, "" if none        */
-    int width, height, tile, ranks;
+    int width, height, tile, ranks, spp;
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;
     int tiles_total, tiles_sent, tiles_degenerate;
     uint64_t pixels, pixels_hit;
@@ -58,6 +61,9 @@ typedef struct {
     int worker_count;
     stats_worker *workers;  /* worker_count entries (not owned)      */
 } render_stats;
+
+/* Share of primary samples that hit something. */
+double stats_occupancy(const render_stats *s);
 
 /* Monotonic seconds, for every timing of a render. */
 double stats_clock(void);

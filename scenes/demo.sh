@@ -2,13 +2,15 @@
 # demo.sh — what `make demo` runs: the showcase rendered by the homogeneous
 # baseline (master/worker over every tile) and by the heterogeneous renderer
 # (OpenCL primary pass, then master/worker over the non-empty tiles only),
-# each on 3 MPI ranks, then a short comparison of the two runs.
+# in one MPI job of 3 ranks by `csgtrace compare` (a warm-up and REPEAT
+# timed runs per mode), which checks that the two images are identical and
+# prints the comparison table.
 #
 # Usage: scenes/demo.sh [SCENE.pov]       (default: scenes/showcase.pov)
 # Environment: CSGTRACE (build/csgtrace), RANKS (3), WIDTH x HEIGHT
-#   (640 x 480), OUT (out/), MPIRUN (mpirun).
-# Writes OUT/NAME_homo.png, OUT/NAME_hetero.png and their stats JSONs.
-# Exit status: 0 both renders done (the comparison only reports), 1 otherwise.
+#   (640 x 480), REPEAT (3), OUT (out/), MPIRUN (mpirun).
+# Writes OUT/NAME-homo.png, OUT/NAME-hetero.png and OUT/NAME-compare.json.
+# Exit status: 0 when both modes rendered the same image, 1 otherwise.
 set -eu
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,6 +18,7 @@ CSGTRACE=${CSGTRACE:-$ROOT/build/csgtrace}
 RANKS=${RANKS:-3}
 WIDTH=${WIDTH:-640}
 HEIGHT=${HEIGHT:-480}
+REPEAT=${REPEAT:-3}
 OUT=${OUT:-$ROOT/out}
 MPIRUN=${MPIRUN:-mpirun}
 SCENE=${1:-$ROOT/scenes/showcase.pov}
@@ -39,62 +42,10 @@ export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 mkdir -p "$OUT" "$POCL_CACHE_DIR"
 
-render() { # MODE
-    local mode=$1
-    echo "demo: $NAME, $mode mode, $RANKS ranks, ${WIDTH}x${HEIGHT}"
-    "$MPIRUN" -np "$RANKS" --oversubscribe --bind-to none \
-        "$CSGTRACE" render "$SCENE" -o "$OUT/${NAME}_$mode.png" --mode "$mode" \
-        --width "$WIDTH" --height "$HEIGHT" --stats "$OUT/${NAME}_$mode.json"
-}
-
-render homo
-render hetero
-
+echo "demo: $NAME at ${WIDTH}x${HEIGHT}, homo then hetero, $RANKS MPI ranks"
+"$MPIRUN" -np "$RANKS" --oversubscribe --bind-to none \
+    "$CSGTRACE" compare "$SCENE" --width "$WIDTH" --height "$HEIGHT" --repeat "$REPEAT" \
+    -o "$OUT/$NAME" --stats "$OUT/$NAME-compare.json"
 echo
-python3 - "$OUT/${NAME}_homo.json" "$OUT/${NAME}_hetero.json" <<'EOF'
-import json, sys
-
-runs = []
-for path in sys.argv[1:]:
-    try:
-        with open(path) as f:
-            runs.append(json.load(f))
-    except (OSError, ValueError) as e:
-        print(f"demo: cannot read {path}: {e}")
-        sys.exit(0)
-
-def cell(run, key):
-    v = run
-    for part in key.split("."):
-        v = v.get(part) if isinstance(v, dict) else None
-    if v is None:
-        return "-"
-    return f"{v:.3f}" if isinstance(v, float) else str(v)
-
-rows = [("wall time (s)", "wall_s"), ("primary pass (s)", "primary_s"),
-        ("secondary (s)", "secondary_s"), ("kernel compile (s)", "compile_s"),
-        ("tiles total", "tiles_total"), ("tiles sent", "tiles_sent"),
-        ("tiles degenerate", "tiles_degenerate"), ("occupancy", "occupancy"),
-        ("primary rays", "rays.primary"), ("shadow rays", "rays.shadow"),
-        ("reflected rays", "rays.reflected"), ("refracted rays", "rays.refracted")]
-print(f"{'':20} {'homo':>14} {'hetero':>14}")
-for label, key in rows:
-    print(f"{label:20} {cell(runs[0], key):>14} {cell(runs[1], key):>14}")
-h, t = runs[0].get("wall_s"), runs[1].get("wall_s")
-if isinstance(h, (int, float)) and isinstance(t, (int, float)) and t > 0:
-    print(f"{'speed-up':20} {'':>14} {h / t:>13.2f}x")
-EOF
-
-a=$OUT/${NAME}_homo.png
-b=$OUT/${NAME}_hetero.png
-if command -v idiff >/dev/null 2>&1; then
-    if idiff -fail 0 -failpercent 0 -warn 0 "$a" "$b" >/dev/null 2>&1; then same=yes; else same=no; fi
-else
-    if cmp -s "$a" "$b"; then same=yes; else same=no; fi
-fi
-echo "identical pixels:    $same"
-echo
-echo "images: $a"
-echo "        $b"
-echo "stats:  $OUT/${NAME}_homo.json"
-echo "        $OUT/${NAME}_hetero.json"
+echo "images: $OUT/$NAME-homo.png  $OUT/$NAME-hetero.png"
+echo "stats:  $OUT/$NAME-compare.json"

@@ -31,31 +31,35 @@
 __kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off_nodes,
                           ulong off_roots, ulong off_camera, int root_count, int width,
                           int height, int y0, int rows, __global real *t_out,
-                          __global uint *surf_out)
+                          __global uint *surf_out, ulong off_bvh, int bvh_count, int spp)
 {
-    int x = (int)get_global_id(0);
+    int col = (int)get_global_id(0); /* one work-item a sample: width * spp a row */
     int row = (int)get_global_id(1);
-    if (x >= width || row >= rows) /* the grid is padded to whole work-groups */
+    if (col >= width * spp || row >= rows) /* the grid is padded to whole work-groups */
         return;
+    int x = col / spp, s = col % spp;
     csg_view v;
     v.prims = (__global const csg_prim *)(blob + off_prims);
     v.nodes = (__global const csg_node *)(blob + off_nodes);
     v.roots = (__global const csg_root *)(blob + off_roots);
-    v.root_count = root_count;
+    v.bvh = (__global const csg_bvh_node *)(blob + off_bvh);
+    v.root_count = root_count; /* the roots tested one by one (linear_roots) */
+    v.bvh_count = bvh_count;
     __global const csg_camera *cam = (__global const csg_camera *)(blob + off_camera);
 
-    csg_ray r = csg_primary_ray(cam, width, height, x, y0 + row);
+    csg_ray r = csg_sample_ray(cam, width, height, x, y0 + row, spp, s);
     csg_hit h = csg_trace_nearest(v, r, R(0.0), CSG_R_INF);
 
-    size_t i = (size_t)row * (size_t)width + (size_t)x;
+    size_t i = (size_t)row * (size_t)width * (size_t)spp + (size_t)col;
     t_out[i] = h.t;
     surf_out[i] = h.surf;
 }
 
-/* hits[k * tiles_x + tx]: pixels with surf != 0 in tile (tx, y0 / tile + k),
- * restricted to the slice's rows y0 .. y0 + rows - 1. */
+/* hits[k * tiles_x + tx]: samples with surf != 0 in tile (tx, y0 / tile + k),
+ * restricted to the slice's rows y0 .. y0 + rows - 1; `width` counts
+ * records (pixels * spp) and a tile is tile * spp records wide. */
 __kernel void csg_tile_hits(__global const uint *surf, int width, int y0, int rows, int tile,
-                            int tiles_x, int tile_rows, __global uint *hits)
+                            int tiles_x, int tile_rows, __global uint *hits, int spp)
 {
     int tx = (int)get_global_id(0);
     int k = (int)get_global_id(1);
@@ -64,8 +68,8 @@ __kernel void csg_tile_hits(__global const uint *surf, int width, int y0, int ro
     int ty = y0 / tile + k;
     int ya = max(y0, ty * tile);
     int yb = min(y0 + rows, ty * tile + tile);
-    int xa = tx * tile;
-    int xb = min(width, xa + tile);
+    int xa = tx * tile * spp;
+    int xb = min(width, xa + tile * spp);
     uint n = 0u;
     for (int y = ya; y < yb; y++) {
         __global const uint *line = surf + (size_t)(y - y0) * (size_t)width;

@@ -99,12 +99,18 @@
 #define csg_spans_intersect dbl_csg_spans_intersect
 #define csg_spans_copy dbl_csg_spans_copy
 #define csg_box_overlaps dbl_csg_box_overlaps
+#define csg_aabb_overlaps dbl_csg_aabb_overlaps
+#define csg_try_root dbl_csg_try_root
+#define csg_bvh_node dbl_csg_bvh_node
 #define csg_root_spans dbl_csg_root_spans
 #define csg_first_boundary dbl_csg_first_boundary
 #define csg_trace_nearest dbl_csg_trace_nearest
 #define csg_local_normal dbl_csg_local_normal
 #define csg_surface_normal dbl_csg_surface_normal
 #define csg_primary_ray dbl_csg_primary_ray
+#define csg_camera_ray dbl_csg_camera_ray
+#define csg_sample_ray dbl_csg_sample_ray
+#define csg_sample_offset dbl_csg_sample_offset
 
 #include "../csg/camera.h"
 

@@ -14,6 +14,7 @@
 #include <cmocka.h>
 #include <math.h>
 
+#include "../csg/camera.h"
 #include "../csg/flat.h"
 #include "../csg/flatten.h"
 #include "../workers/engine.h"
@@ -93,7 +94,7 @@ static void scene_new(csg_scene *s)
 
 static const csg_blob_header *flatten_ok(const engine *e, csg_scene *s, int w, int h, csg_blob *b)
 {
-    csg_flatten_opts o = {w, h, 0, -1};
+    csg_flatten_opts o = {w, h, 0, -1, 1};
     csg_diag d = {0};
     bool ok = e->flatten(s, &o, b, &d);
     if (!ok)
@@ -220,11 +221,15 @@ static void test_flatten_programs(void **state)
     const csg_node *nodes = (const csg_node *)((const char *)b.bytes + h->off_nodes);
     const csg_prim *prims = (const csg_prim *)((const char *)b.bytes + h->off_prims);
     const csg_root *roots = (const csg_root *)((const char *)b.bytes + h->off_roots);
-    assert_int_equal(roots[2].node_count, 3);
-    assert_int_equal(nodes[roots[2].first_node + 2].op, CSG_OP_INTERSECT);
-    int second = nodes[roots[2].first_node + 1].prim;
+    int diff = -1; /* the BVH reorders roots: find the difference's */
+    for (int i = 0; i < h->root_count; i++)
+        if (roots[i].node_count == 3)
+            diff = i;
+    assert_true(diff >= 0);
+    assert_int_equal(nodes[roots[diff].first_node + 2].op, CSG_OP_INTERSECT);
+    int second = nodes[roots[diff].first_node + 1].prim;
     assert_true(prims[second].flags & CSG_PF_INVERT);
-    int first = nodes[roots[2].first_node].prim;
+    int first = nodes[roots[diff].first_node].prim;
     assert_false(prims[first].flags & CSG_PF_INVERT);
     assert_int_equal(h->max_stack, 2);
     csg_blob_free(&b);
@@ -272,7 +277,7 @@ static void test_flatten_stack_limit(void **state)
     csg_object *deep = balanced(&s, CSG_STACK_MAX);
     deep->loc = (csg_loc){"deep.pov", 7, 3};
     add_top(&s, deep);
-    csg_flatten_opts o = {2, 2, 0, -1};
+    csg_flatten_opts o = {2, 2, 0, -1, 1};
     csg_diag d = {0};
     assert_false(csg_flatten_float(&s, &o, &b, &d));
     assert_non_null(strstr(d.message, "deep.pov:7:3: error: CSG tree too complex"));
@@ -289,7 +294,7 @@ static void test_flatten_degenerate(void **state)
     o->xform.m[1][1] = 0; /* scale y by 0: singular */
     add_top(&s, o);
     csg_blob b;
-    csg_flatten_opts opts = {2, 2, 0, -1};
+    csg_flatten_opts opts = {2, 2, 0, -1, 1};
     csg_diag d = {0};
     assert_false(csg_flatten_double(&s, &opts, &b, &d));
     assert_non_null(strstr(d.message, "hand.pov:1:1: error: "));
@@ -317,6 +322,81 @@ static void test_blob_validation(void **state)
     csg_scene_free(&s);
 }
 
+/* The BVH finds exactly the hits a plain loop over every root finds: 300
+ * spheres and a plane, every pixel's record compared bit for bit. */
+static void test_bvh_matches_linear(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    uint64_t seed = 12345;
+    for (int i = 0; i < 300; i++) {
+        double v[4];
+        for (int k = 0; k < 4; k++) {
+            seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+            v[k] = (double)(seed >> 11) * 0x1.0p-53;
+        }
+        add_top(&s, sphere(&s, 8 * v[0] - 4, 6 * v[1] - 3, 6 * v[2], 0.05 + 0.4 * v[3]));
+    }
+    csg_object *floor = obj_new(&s, CSG_OBJ_PLANE);
+    floor->a = (dvec3){0, 1, 0};
+    floor->r0 = -3.2;
+    add_top(&s, floor);
+    csg_blob b;
+    const csg_blob_header *h = flatten_ok(&engine_float, &s, 64, 48, &b);
+    assert_int_equal(h->linear_roots, 1);
+    assert_true(h->bvh_count >= 150);
+    const char *bytes = b.bytes;
+    csg_view bvh = {(const csg_prim *)(bytes + h->off_prims), (const csg_node *)(bytes + h->off_nodes),
+                    (const csg_root *)(bytes + h->off_roots),
+                    (const csg_bvh_node *)(bytes + h->off_bvh), h->linear_roots, h->bvh_count};
+    csg_view linear = bvh;
+    linear.root_count = h->root_count;
+    linear.bvh_count = 0;
+    const csg_camera *cam = (const csg_camera *)(bytes + h->off_camera);
+    int hits = 0;
+    for (int y = 0; y < 48; y++) {
+        for (int x = 0; x < 64; x++) {
+            csg_ray r = csg_primary_ray(cam, 64, 48, x, y);
+            csg_hit a = csg_trace_nearest(bvh, r, 0.0f, CSG_R_INF);
+            csg_hit c = csg_trace_nearest(linear, r, 0.0f, CSG_R_INF);
+            assert_int_equal(a.surf, c.surf);
+            assert_memory_equal(&a.t, &c.t, sizeof a.t);
+            hits += a.surf != 0;
+        }
+    }
+    assert_true(hits > 64 * 48 / 4); /* the scene is not trivially empty */
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
+/* The sample pattern: spp = k*k is the grid of cell centres; any other
+ * spp puts exactly one sample in every row and every column of the
+ * spp x spp grid (stratified both ways); spp = 1 is the pixel centre. */
+static void test_sample_pattern(void **state)
+{
+    (void)state;
+    real ox, oy;
+    csg_sample_offset(1, 0, &ox, &oy);
+    assert_true(ox == 0.5f && oy == 0.5f);
+    csg_sample_offset(4, 3, &ox, &oy);
+    assert_true(ox == 0.75f && oy == 0.75f);
+    for (int spp = 2; spp <= 64; spp++) {
+        int k = (int)sqrt((double)spp);
+        if (k * k == spp)
+            continue;
+        char row[64] = {0}, col[64] = {0};
+        for (int s = 0; s < spp; s++) {
+            csg_sample_offset(spp, s, &ox, &oy);
+            assert_true(ox > 0 && ox < 1 && oy > 0 && oy < 1);
+            col[(int)(ox * (real)spp)]++;
+            row[(int)(oy * (real)spp)]++;
+        }
+        for (int i = 0; i < spp; i++)
+            assert_true(row[i] == 1 && col[i] == 1);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +407,8 @@ int main(void)
         cmocka_unit_test(test_flatten_stack_limit),
         cmocka_unit_test(test_flatten_degenerate),
         cmocka_unit_test(test_blob_validation),
+        cmocka_unit_test(test_bvh_matches_linear),
+        cmocka_unit_test(test_sample_pattern),
     };
     return cmocka_run_group_tests_name("engine", tests, NULL, NULL);
 }

@@ -206,6 +206,8 @@ static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_siz
     h->prim_count = s->np;
     h->node_count = s->nn;
     h->root_count = s->nr;
+    h->linear_roots = s->nr; /* hand-built scenes have no BVH */
+    h->spp = 1;
     h->max_stack = 1;
     for (int i = 0; i < s->nr; i++)
         if (s->roots[i].depth > h->max_stack)
@@ -806,7 +808,9 @@ static void P(reference)(const void *blob, void *t_out, uint32_t *surf)
     v.prims = (const csg_prim *)(b + h->off_prims);
     v.nodes = (const csg_node *)(b + h->off_nodes);
     v.roots = (const csg_root *)(b + h->off_roots);
-    v.root_count = h->root_count;
+    v.bvh = (const csg_bvh_node *)(b + h->off_bvh);
+    v.root_count = h->linear_roots;
+    v.bvh_count = h->bvh_count;
     const csg_camera *cam = (const csg_camera *)(b + h->off_camera);
     real *t = t_out;
     for (int y = 0; y < h->height; y++)

@@ -239,7 +239,8 @@ static void test_transform_order(void **state)
              "sphere { 0, 1 rotate <0, 0, 90> }\n"
              "sphere { 0, 1 rotate <90, 0, 0> }\n"
              "sphere { 0, 1 rotate <90, 90, 0> }\n"
-             "sphere { 0, 1 scale <1, 2, -3> }\n", &s);
+             "sphere { 0, 1 scale <1, 2, -3> }\n"
+             "sphere { 0, 1 translate x matrix <0,1,0, -1,0,0, 0,0,1, 5,6,7> }\n", &s);
     csg_object **o = s.objects;
     assert_vec(apply(&o[0]->xform, (dvec3){0, 0, 0}), 2, 0, 0);
     assert_vec(apply(&o[1]->xform, (dvec3){0, 0, 0}), 1, 0, 0);
@@ -250,6 +251,10 @@ static void test_transform_order(void **state)
     assert_vec(apply(&o[4]->xform, (dvec3){0, 1, 0}), 0, 0, 1);
     assert_vec(apply(&o[5]->xform, (dvec3){0, 1, 0}), 1, 0, 0);
     assert_vec(apply(&o[6]->xform, (dvec3){1, 1, 1}), 1, 2, -3);
+    /* matrix, POV-Ray's rows: p' = p M, after the translate: (1,0,0) is
+     * translated to (2,0,0), then x' = -y + 5, y' = x + 6, z' = z + 7 */
+    assert_vec(apply(&o[7]->xform, (dvec3){0, 0, 0}), 5, 7, 7);
+    assert_vec(apply(&o[7]->xform, (dvec3){0, 1, 0}), 4, 7, 7);
     csg_scene_free(&s);
 }
 
@@ -554,8 +559,12 @@ static void test_errors(void **state)
          "t.pov:1:25: error: unsupported: 'checker' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, sin(1) }",
          "t.pov:1:13: error: unsupported: 'sin' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
-        {"sphere { 0, 1 matrix <1,0,0,0,1,0,0,0,1,0,0,0> }",
-         "t.pov:1:15: error: unsupported: 'matrix' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 transform { scale 2 } }",
+         "t.pov:1:15: error: unsupported: 'transform' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 matrix <1,0,0,0,1,0,0,0,1,0,0> }",
+         "t.pov:1:44: error: matrix needs 12 numbers separated by ','"},
+        {"sphere { 0, 1 matrix <1,0,0,0,0,0,0,0,1,0,0,0> }",
+         "t.pov:1:22: error: matrix is singular"},
         {"#declare Obj = sphere { 0, 1 }\nObj",
          "t.pov:2:1: error: an object or a statement expected, got 'Obj'"},
         {"; ", "t.pov:1:1: error: an object or a statement expected, got ';'"},

@@ -14,7 +14,19 @@
  * the records do.
  *
  * Hit records are two arrays per tile, row-major: t[] of the blob's `real`
- * (4 or 8 bytes) and surf[] of uint32 (0: the primary ray hit nothing).
+ * (4 or 8 bytes) and surf[] of uint32 (0: the primary ray hit nothing),
+ * one record per primary sample (spp of them side by side for a pixel).
+ * That is 8 bytes a sample in float, 12 in double, and it is the minimum a
+ * worker needs to go on without intersecting the primary ray again:
+ *   - surf packs the primitive index, which of its surfaces (box face, cone
+ *     side or cap) and whether the solid's normal is the primitive's
+ *     reversed (a subtracted surface): the material, the normal and the
+ *     inside/outside side all follow from it (flat.h, CSG_SURF_PACK);
+ *   - t gives the hit point o + t d, where the worker rebuilds o and d of
+ *     the primary ray from the pixel and sample indices with the same
+ *     camera code, so the point has exactly the bits the kernel's had.
+ * The point itself (3 reals) or the normal would cost more bytes and are
+ * recomputed bit-identically from these two fields.
  */
 #ifndef WORKERS_ENGINE_H
 #define WORKERS_ENGINE_H

@@ -22,8 +22,9 @@
  *    whoever answers, then drain):
  *      master -> worker  PROTO_TAG_TILE    proto_tile
  *                          [has_records: t[n] (the blob's real) then
- *                           surf[n] (uint32), n = width * height, row-major
- *                           within the tile: proto_pack_records]
+ *                           surf[n] (uint32), n = width * height * spp
+ *                           (the blob's samples a pixel, side by side),
+ *                           row-major within the tile: proto_pack_records]
  *      worker -> master  PROTO_TAG_RESULT  proto_result + rgb[3 n] float
  *                   or   PROTO_TAG_FAIL    proto_fail
  *    Every TILE gets exactly one answer; a worker holds at most one tile.
@@ -125,18 +126,19 @@ static inline tile_rect proto_tile_rect(int index, int width, int height, int ti
     return r;
 }
 
-/* The records of `r` out of whole-image arrays (row-major, image_width
- * wide) into tile arrays (row-major, r.width wide). */
+/* The records of `r` out of whole-image arrays (row-major, image_width *
+ * spp records a row) into tile arrays (row-major, r.width * spp a row). */
 static inline void proto_pack_records(const void *t_image, const uint32_t *surf_image,
-                                      int image_width, size_t real_size, tile_rect r, void *t_out,
-                                      uint32_t *surf_out)
+                                      int image_width, int spp, size_t real_size, tile_rect r,
+                                      void *t_out, uint32_t *surf_out)
 {
+    size_t line = (size_t)r.width * (size_t)spp;
     for (int row = 0; row < r.height; row++) {
-        size_t src = (size_t)(r.y + row) * (size_t)image_width + (size_t)r.x;
-        size_t dst = (size_t)row * (size_t)r.width;
+        size_t src = ((size_t)(r.y + row) * (size_t)image_width + (size_t)r.x) * (size_t)spp;
+        size_t dst = (size_t)row * line;
         memcpy((char *)t_out + dst * real_size, (const char *)t_image + src * real_size,
-               (size_t)r.width * real_size);
-        memcpy(surf_out + dst, surf_image + src, (size_t)r.width * sizeof *surf_out);
+               line * real_size);
+        memcpy(surf_out + dst, surf_image + src, line * sizeof *surf_out);
     }
 }
 

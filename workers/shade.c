@@ -57,7 +57,9 @@ static shade_ctx ctx_of(const void *blob)
     c.view.prims = (const csg_prim *)(b + c.hdr->off_prims);
     c.view.nodes = (const csg_node *)(b + c.hdr->off_nodes);
     c.view.roots = (const csg_root *)(b + c.hdr->off_roots);
-    c.view.root_count = c.hdr->root_count;
+    c.view.bvh = (const csg_bvh_node *)(b + c.hdr->off_bvh);
+    c.view.root_count = c.hdr->linear_roots;
+    c.view.bvh_count = c.hdr->bvh_count;
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
     c.cam = (const csg_camera *)(b + c.hdr->off_camera);
@@ -100,35 +102,63 @@ static vec3 offset_point(vec3 p, vec3 n)
 
 /* ---- shadows ------------------------------------------------------------------ */
 
+/* Multiplies *pass by what root i lets through between the shading point
+ * and the light; false once nothing passes. */
+static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real dist, vec3 *pass)
+{
+    csg_spans spans;
+    if (!csg_box_overlaps(&c->view.roots[i], r, R(0.0), dist))
+        return true;
+    csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
+    for (csg_i32 k = 0; k < spans.n; k++) {
+        csg_u32 ends[2] = {spans.s0[k], spans.s1[k]};
+        real ts[2] = {spans.t0[k], spans.t1[k]};
+        for (int e = 0; e < 2; e++) {
+            if (ends[e] == CSG_SURF_NONE || !(ts[e] > R(0.0)) || !(ts[e] < dist))
+                continue;
+            const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(ends[e])];
+            if (prim->flags & CSG_PF_NO_SHADOW)
+                continue;
+            const csg_material *m = &c->mats[prim->material];
+            if (m->filter <= R(0.0) && m->transmit <= R(0.0))
+                return false;
+            vec3 pig = v3_load(m->color);
+            *pass = v3_mul(*pass, v3_add(v3_scale(pig, m->filter),
+                                         v3(m->transmit, m->transmit, m->transmit)));
+        }
+    }
+    return true;
+}
+
 /* What fraction of the light passes from p (already offset) to the light
- * `dist` away along unit direction l. */
+ * `dist` away along unit direction l: every root the segment may cross,
+ * the unbounded ones and then those the BVH leads to, in a fixed order. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
 {
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
+    const vec3 none = v3(R(0.0), R(0.0), R(0.0));
     csg_ray r;
     r.o = p;
     r.d = l;
-    csg_spans spans;
-    for (csg_i32 i = 0; i < c->view.root_count; i++) {
-        if (!csg_box_overlaps(&c->view.roots[i], r, R(0.0), dist))
+    for (csg_i32 i = 0; i < c->view.root_count; i++)
+        if (!root_transmittance(c, i, r, dist, &pass))
+            return none;
+    csg_i32 stack[CSG_BVH_STACK];
+    csg_i32 top = 0;
+    if (c->view.bvh_count > 0)
+        stack[top++] = 0;
+    while (top > 0) {
+        csg_i32 k = stack[--top];
+        const csg_bvh_node *n = &c->view.bvh[k];
+        if (!csg_aabb_overlaps(n->lo, n->hi, r, R(0.0), dist))
             continue;
-        csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
-        for (csg_i32 k = 0; k < spans.n; k++) {
-            csg_u32 ends[2] = {spans.s0[k], spans.s1[k]};
-            real ts[2] = {spans.t0[k], spans.t1[k]};
-            for (int e = 0; e < 2; e++) {
-                if (ends[e] == CSG_SURF_NONE || !(ts[e] > R(0.0)) || !(ts[e] < dist))
-                    continue;
-                const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(ends[e])];
-                if (prim->flags & CSG_PF_NO_SHADOW)
-                    continue;
-                const csg_material *m = &c->mats[prim->material];
-                if (m->filter <= R(0.0) && m->transmit <= R(0.0))
-                    return v3(R(0.0), R(0.0), R(0.0));
-                vec3 pig = v3_load(m->color);
-                pass = v3_mul(pass, v3_add(v3_scale(pig, m->filter),
-                                           v3(m->transmit, m->transmit, m->transmit)));
-            }
+        if (n->count > 0) {
+            for (csg_i32 i = n->first; i < n->first + n->count; i++)
+                if (!root_transmittance(c, i, r, dist, &pass))
+                    return none;
+        } else if (top + 2 <= CSG_BVH_STACK) {
+            stack[top++] = n->first;
+            stack[top++] = k + 1;
         }
     }
     return pass;
@@ -245,15 +275,20 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
 {
     shade_ctx c = ctx_of(blob);
     real *t = t_out;
+    int spp = c.hdr->spp;
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
-            csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x, rect.y + y);
-            csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
-            t[y * rect.width + x] = h.t;
-            surf_out[y * rect.width + x] = h.surf;
+            for (int s = 0; s < spp; s++) {
+                csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                           rect.y + y, spp, s);
+                csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
+                size_t i = ((size_t)y * (size_t)rect.width + (size_t)x) * (size_t)spp + (size_t)s;
+                t[i] = h.t;
+                surf_out[i] = h.surf;
+            }
         }
     }
-    rays->primary += (uint64_t)rect.width * (uint64_t)rect.height;
+    rays->primary += (uint64_t)rect.width * (uint64_t)rect.height * (uint64_t)spp;
 }
 
 /* A colour that reaches a pixel is finite: a NaN or infinity produced by a
@@ -265,20 +300,35 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
 {
     shade_ctx c = ctx_of(blob);
     const real *t = t_in;
+    int spp = c.hdr->spp;
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
             int i = y * rect.width + x;
-            vec3 col;
-            if (surf[i] == CSG_SURF_NONE) {
-                col = c.background;
-            } else {
-                csg_ray r = csg_primary_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
-                                            rect.y + y);
-                csg_hit h;
-                h.t = t[i];
-                h.surf = surf[i];
-                col = shade_hit(&c, r, h, 1, R(1.0), rays);
+            vec3 col = v3(R(0.0), R(0.0), R(0.0));
+            int hits = 0;
+            for (int s = 0; s < spp; s++) {
+                size_t k = (size_t)i * (size_t)spp + (size_t)s;
+                vec3 one;
+                if (surf[k] == CSG_SURF_NONE) {
+                    one = c.background;
+                } else {
+                    csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                               rect.y + y, spp, s);
+                    csg_hit h;
+                    h.t = t[k];
+                    h.surf = surf[k];
+                    one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, rays);
+                    hits++;
+                }
+                col = spp == 1 ? one : v3_add(col, one);
             }
+            /* A pixel no sample hit is exactly the background, as the
+             * master fills the degenerate tiles of the hetero mode (an
+             * average of spp equal values need not round back to it). */
+            if (hits == 0)
+                col = c.background;
+            else if (spp > 1)
+                col = v3_scale(col, R(1.0) / (real)spp);
             rgb_out[3 * i + 0] = finite_or_zero(col.x);
             rgb_out[3 * i + 1] = finite_or_zero(col.y);
             rgb_out[3 * i + 2] = finite_or_zero(col.z);

@@ -36,6 +36,7 @@ typedef struct {
     const engine *eng;
     int width, height, tile;
     size_t nmax;          /* pixels of the largest tile              */
+    int spp;              /* records a pixel (the blob's samples)    */
     void *t;              /* nmax records                            */
     uint32_t *surf;
     char *in;             /* incoming message                        */
@@ -87,12 +88,14 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     w->width = h->width;
     w->height = h->height;
     w->tile = setup->tile;
+    w->spp = h->spp;
     w->nmax = (size_t)(w->tile < w->width ? w->tile : w->width) *
               (size_t)(w->tile < w->height ? w->tile : w->height);
-    w->t = malloc(w->nmax * w->eng->real_size);
-    w->surf = malloc(w->nmax * sizeof *w->surf);
+    size_t records = w->nmax * (size_t)w->spp;
+    w->t = malloc(records * w->eng->real_size);
+    w->surf = malloc(records * sizeof *w->surf);
     w->out = malloc(sizeof(proto_result) + w->nmax * 3 * sizeof(float));
-    w->in_cap = sizeof(proto_tile) + w->nmax * (w->eng->real_size + sizeof(uint32_t));
+    w->in_cap = sizeof(proto_tile) + records * (w->eng->real_size + sizeof(uint32_t));
     w->in = malloc(w->in_cap);
     if (!w->in)
         w->in_cap = 0;
@@ -167,7 +170,7 @@ static bool worker_do_tile(worker_state *w, const proto_tile *h, const char **wh
         *why = "tile outside the image";
         return false;
     }
-    size_t n = (size_t)r.width * (size_t)r.height;
+    size_t n = (size_t)r.width * (size_t)r.height * (size_t)w->spp; /* records */
     size_t records = n * (w->eng->real_size + sizeof(uint32_t));
     ray_counts rays = { 0, 0, 0, 0 };
     float *rgb = (float *)(void *)(w->out + sizeof(proto_result));

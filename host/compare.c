@@ -1,0 +1,221 @@
+/*
+ * compare.c — the homogeneous versus heterogeneous comparison.
+ *
+ * Within one MPI job: per mode (homo, then hetero) one warm-up render and
+ * R timed renders of the same scene; the OpenCL program is built once, in
+ * the warm-up, and kept (render_request.cl_keep), so no timed hetero run
+ * pays for compilation.  Every rank runs this same loop: on the workers
+ * each render_run is one round of the worker protocol, so the sequence
+ * stays in step with the master's.  The master then checks that the last
+ * homo and hetero images are equal bit for bit, prints one table (medians
+ * with min-max), and the advantage (homo - hetero) / homo of the median
+ * wall times.
+ */
+#include "compare.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "image.h"
+#include "ocl.h"
+#include "render.h"
+#include "stats.h"
+
+enum { COMPARE_MODES = 2 };
+static const enum render_mode compare_modes[COMPARE_MODES] = {MODE_HOMO, MODE_HETERO};
+
+typedef struct {
+    render_stats *runs[COMPARE_MODES]; /* repeat entries each         */
+    float *image[COMPARE_MODES];       /* the last image of each mode  */
+    int repeat;
+} compare_results;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+typedef struct {
+    double median, min, max;
+} spread;
+
+/* Median, min and max of one field over the runs of a mode. */
+static spread spread_of(const render_stats *runs, int n, size_t offset)
+{
+    double v[n];
+    for (int i = 0; i < n; i++)
+        memcpy(&v[i], (const char *)&runs[i] + offset, sizeof v[i]);
+    qsort(v, (size_t)n, sizeof v[0], cmp_double);
+    spread s = {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v[0], v[n - 1]};
+    return s;
+}
+
+static void free_results(compare_results *r)
+{
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        free(r->runs[m]);
+        free(r->image[m]);
+    }
+}
+
+/* The renders; on failure the status of the failed render. */
+static int compare_render_all(const cli_args *a, compare_results *r, ocl_ctx **cl)
+{
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        r->runs[m] = calloc((size_t)r->repeat, sizeof *r->runs[m]);
+        if (!r->runs[m]) {
+            fprintf(stderr, "csgtrace: error: out of memory\n");
+            return EXIT_FAILURE_RUN;
+        }
+        for (int i = 0; i <= r->repeat; i++) { /* i == 0: the warm-up */
+            render_request req = a->req;
+            render_stats st;
+            req.mode = compare_modes[m];
+            req.out_path = NULL;
+            req.stats_path = NULL;
+            req.progress = false;
+            req.cl_keep = cl;
+            req.stats_out = &st;
+            req.image_out = i == r->repeat ? &r->image[m] : NULL;
+            int status = render_run(&req);
+            if (status != EXIT_OK)
+                return status;
+            if (i > 0)
+                r->runs[m][i - 1] = st;
+        }
+    }
+    return EXIT_OK;
+}
+
+static void print_row_times(const char *label, const compare_results *r, size_t offset)
+{
+    printf("%-22s", label);
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        spread s = spread_of(r->runs[m], r->repeat, offset);
+        char cell[64];
+        snprintf(cell, sizeof cell, "%.4f s (%.4f-%.4f)", s.median, s.min, s.max);
+        printf("  %-30s", cell);
+    }
+    printf("\n");
+}
+
+static void print_table(const cli_args *a, const compare_results *r, bool identical,
+                        double advantage)
+{
+    const render_stats *h = &r->runs[0][0], *x = &r->runs[1][0];
+    printf("csgtrace compare %s: %dx%d, tile %d, %d rank%s, %s, %d timed runs per mode after a "
+           "warm-up\n",
+           a->req.scene_path, h->width, h->height, h->tile, h->ranks, h->ranks == 1 ? "" : "s",
+           h->precision, r->repeat);
+    printf("%-22s  %-30s  %-30s\n", "", "homo", "hetero");
+    print_row_times("wall (median, min-max)", r, offsetof(render_stats, wall_s));
+    print_row_times("primary phase", r, offsetof(render_stats, primary_s));
+    print_row_times("tile phase", r, offsetof(render_stats, secondary_s));
+    printf("%-22s  %-30s  %-30s\n", "OpenCL device", "-", x->device[0] ? x->device : "-");
+    char a_cell[64], b_cell[64];
+    snprintf(a_cell, sizeof a_cell, "%d / %d", h->tiles_sent, h->tiles_degenerate);
+    snprintf(b_cell, sizeof b_cell, "%d / %d", x->tiles_sent, x->tiles_degenerate);
+    printf("%-22s  %-30s  %-30s\n", "tiles sent / skipped", a_cell, b_cell);
+    const char *kinds[4] = {"rays primary", "rays shadow", "rays reflected", "rays refracted"};
+    for (int k = 0; k < 4; k++) {
+        const uint64_t *ra = &h->rays.primary + k, *rb = &x->rays.primary + k;
+        snprintf(a_cell, sizeof a_cell, "%llu", (unsigned long long)*ra);
+        snprintf(b_cell, sizeof b_cell, "%llu", (unsigned long long)*rb);
+        printf("%-22s  %-30s  %-30s\n", kinds[k], a_cell, b_cell);
+    }
+    printf("%-22s  %.1f%% of pixels hit\n", "occupancy",
+           h->pixels ? 100.0 * (double)h->pixels_hit / (double)h->pixels : 0.0);
+    printf("%-22s  %s\n", "images", identical ? "identical, bit for bit" : "DIFFERENT");
+    printf("advantage (homo - hetero) / homo: %.1f%%\n", advantage);
+}
+
+static bool write_json(const char *path, const cli_args *a, const compare_results *r,
+                       bool identical, double advantage)
+{
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return false;
+    fprintf(f, "{\n\"command\": \"compare\",\n\"scene\": \"");
+    for (const char *c = a->req.scene_path; *c; c++)
+        fprintf(f, (*c == '"' || *c == '\\') ? "\\%c" : "%c", *c);
+    fprintf(f, "\",\n\"repeat\": %d,\n\"identical\": %s,\n\"advantage_pct\": %.6f,\n", r->repeat,
+            identical ? "true" : "false", advantage);
+    const char *names[COMPARE_MODES] = {"homo", "hetero"};
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        fprintf(f, "\"%s\": [\n", names[m]);
+        for (int i = 0; i < r->repeat; i++) {
+            stats_print_json(f, &r->runs[m][i]);
+            if (i + 1 < r->repeat)
+                fprintf(f, ",\n");
+        }
+        fprintf(f, "]%s\n", m + 1 < COMPARE_MODES ? "," : "");
+    }
+    fprintf(f, "}\n");
+    bool ok = !ferror(f);
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        return false;
+    }
+    return true;
+}
+
+/* PREFIX-homo.png and PREFIX-hetero.png. */
+static bool write_images(const char *prefix, const compare_results *r, int w, int h)
+{
+    const char *names[COMPARE_MODES] = {"homo", "hetero"};
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        char path[4096], err[512];
+        snprintf(path, sizeof path, "%s-%s.png", prefix, names[m]);
+        if (!img_write_rgb(path, r->image[m], w, h, err, sizeof err)) {
+            fprintf(stderr, "csgtrace: error: %s\n", err);
+            return false;
+        }
+    }
+    return true;
+}
+
+int compare_run(const cli_args *a)
+{
+    int rank = render_rank();
+    if (rank < 0) {
+        fprintf(stderr, "csgtrace: error: MPI cannot start\n");
+        return EXIT_FAILURE_RUN;
+    }
+    compare_results r;
+    memset(&r, 0, sizeof r);
+    r.repeat = a->repeat;
+    ocl_ctx *cl = NULL;
+    int status = compare_render_all(a, &r, &cl);
+    if (cl)
+        ocl_close(cl);
+    if (status != EXIT_OK || rank != 0) {
+        free_results(&r);
+        return status;
+    }
+    const render_stats *h = &r.runs[0][0];
+    size_t bytes = (size_t)h->width * (size_t)h->height * 3 * sizeof(float);
+    bool identical = memcmp(r.image[0], r.image[1], bytes) == 0;
+    double homo = spread_of(r.runs[0], r.repeat, offsetof(render_stats, wall_s)).median;
+    double hetero = spread_of(r.runs[1], r.repeat, offsetof(render_stats, wall_s)).median;
+    double advantage = homo > 0 ? 100.0 * (homo - hetero) / homo : 0.0;
+    print_table(a, &r, identical, advantage);
+    if (a->out_path && !write_images(a->out_path, &r, h->width, h->height))
+        status = EXIT_FAILURE_RUN;
+    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage)) {
+        fprintf(stderr, "csgtrace: error: %s: %s\n", a->req.stats_path, strerror(errno));
+        status = EXIT_FAILURE_RUN;
+    }
+    if (!identical) {
+        fprintf(stderr, "csgtrace: error: the homo and hetero images differ: this is a bug\n");
+        status = EXIT_FAILURE_RUN;
+    }
+    free_results(&r);
+    return status;
+}

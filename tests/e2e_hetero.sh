@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# e2e_hetero.sh — the heterogeneous mode and the comparison, end to end:
+# hetero == homo == serial bit for bit on generated random scenes, the
+# degenerate-tile bookkeeping at its extremes (no object: every tile
+# skipped; a screen-filling object: none), a 1x1 image, `compare` (table,
+# identical images, JSON), and the generator's occupancy target on a sample
+# of the benchmark grid.
+set -u
+cd "$(dirname "$0")/.."
+BIN=${CSGTRACE_BIN:-build/csgtrace}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
+MPIRUN=(mpirun --oversubscribe --bind-to none)
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { echo "ok   - $1"; pass=$((pass + 1)); }
+ko() { echo "FAIL - $1"; fail=$((fail + 1)); }
+
+# same A B: the two images have exactly the same pixels.
+same() { idiff -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
+
+# json FILE EXPR: a python expression over the parsed JSON `j` is true.
+json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(0 if ($2) else 1)" "$1"; }
+
+render() { # render NAME RANKS MODE SCENE EXTRA... -> $T/NAME.exr, $T/NAME.json
+    local name=$1 ranks=$2 mode=$3 scene=$4
+    shift 4
+    if [ "$ranks" = 0 ]; then
+        "$BIN" render "$scene" -o "$T/$name.exr" --mode "$mode" --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
+    else
+        "${MPIRUN[@]}" -np "$ranks" "$BIN" render "$scene" -o "$T/$name.exr" --mode "$mode" \
+            --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
+    fi
+}
+
+# --- random scenes: hetero == homo == serial ---
+for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
+    set -- $spec
+    scene="$T/gen_$3.pov"
+    if ! "$BIN" gen spheres --count "$1" --occupancy "$2" --seed "$3" --width 96 --height 72 -o "$scene" >/dev/null; then
+        ko "gen spheres $spec"
+        continue
+    fi
+    render s_$3 0 serial "$scene" --width 96 --height 72 --tile 16
+    render h_$3 3 homo "$scene" --width 96 --height 72 --tile 16
+    render x_$3 3 hetero "$scene" --width 96 --height 72 --tile 16
+    if same "$T/s_$3.exr" "$T/h_$3.exr" && same "$T/s_$3.exr" "$T/x_$3.exr"; then
+        ok "random scene ($1 spheres, occupancy $2): hetero == homo == serial"
+    else
+        ko "random scene ($1 spheres, occupancy $2): images differ"
+    fi
+    if json "$T/x_$3.json" "j['tiles_sent'] + j['tiles_degenerate'] == j['tiles_total'] and j['tiles_sent'] <= j['tiles_total']"; then
+        ok "random scene $3: tiles sent + skipped = total"
+    else
+        ko "random scene $3: tile bookkeeping"
+    fi
+done
+
+# --- supersampling: every sample traced by the OpenCL pass, same pixels ---
+for spp in 4 8; do
+    render ss$spp 0 serial "$T/gen_1.pov" --width 96 --height 72 --spp $spp
+    render xs$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16
+    if same "$T/ss$spp.exr" "$T/xs$spp.exr" &&
+        json "$T/xs$spp.json" "j['spp'] == $spp and j['rays']['primary'] == 96 * 72 * $spp and j['tiles_degenerate'] > 0"; then
+        ok "--spp $spp: hetero == serial, $spp primary rays a pixel, degenerate tiles still skipped"
+    else
+        ko "--spp $spp: hetero differs from serial or wrong counts"
+    fi
+done
+
+# --- double precision hetero on a random scene ---
+render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
+render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double
+same "$T/sd.exr" "$T/xd.exr" && ok "double: hetero == serial" || ko "double: hetero differs from serial"
+
+# --- no object: every tile degenerate, nothing sent ---
+printf 'camera { location <0,0,-5> look_at 0 }\nbackground { color rgb <0.1, 0.2, 0.3> }\n' >"$T/empty.pov"
+render e 3 hetero "$T/empty.pov" --width 100 --height 70
+if json "$T/e.json" "j['tiles_degenerate'] == j['tiles_total'] == 12 and j['tiles_sent'] == 0 and j['occupancy'] == 0"; then
+    ok "empty scene: all 12 tiles degenerate, none sent"
+else
+    ko "empty scene: $(cat "$T/e.json" 2>/dev/null | tr -d '\n' | head -c 300)"
+fi
+render es 0 serial "$T/empty.pov" --width 100 --height 70
+same "$T/e.exr" "$T/es.exr" && ok "empty scene: hetero == serial (background)" || ko "empty scene: background differs"
+
+# --- a screen-filling object: no tile degenerate ---
+printf 'camera { location <0,0,-5> look_at 0 }\nlight_source { <0, 5, -5> color rgb 1 }\nplane { z, 1 pigment { color rgb 1 } }\n' >"$T/full.pov"
+render f 3 hetero "$T/full.pov" --width 100 --height 70
+if json "$T/f.json" "j['tiles_degenerate'] == 0 and j['tiles_sent'] == j['tiles_total'] == 12 and j['occupancy'] == 1"; then
+    ok "screen-filling scene: no tile degenerate"
+else
+    ko "screen-filling scene: $(cat "$T/f.json" 2>/dev/null | tr -d '\n' | head -c 300)"
+fi
+
+# --- a 1x1 image ---
+render o 3 hetero scenes/showcase.pov --width 1 --height 1
+render os 0 serial scenes/showcase.pov --width 1 --height 1
+same "$T/o.exr" "$T/os.exr" && ok "1x1 image: hetero == serial" || ko "1x1 image differs"
+
+# --- compare: the table, identical images, the JSON of both modes ---
+if "${MPIRUN[@]}" -np 3 "$BIN" compare scenes/csg_ops.pov --width 96 --height 72 --repeat 2 \
+    -o "$T/cmp" --stats "$T/cmp.json" >"$T/cmp.out" 2>"$T/cmp.err"; then
+    ok "compare exits 0"
+else
+    ko "compare failed: $(head -c 300 "$T/cmp.err")"
+fi
+grep -q "identical, bit for bit" "$T/cmp.out" && ok "compare reports identical images" || ko "compare table: $(head -c 400 "$T/cmp.out")"
+grep -q "^advantage (homo - hetero) / homo: -\?[0-9.]*%" "$T/cmp.out" && ok "compare prints the advantage" || ko "no advantage line"
+if json "$T/cmp.json" "j['identical'] and len(j['homo']) == 2 and len(j['hetero']) == 2 and j['hetero'][0]['mode'] == 'hetero' and j['hetero'][0]['compile_s'] == 0"; then
+    ok "compare JSON: both modes, R runs each, no compilation in timed runs"
+else
+    ko "compare JSON: $(head -c 300 "$T/cmp.json")"
+fi
+same "$T/cmp-homo.png" "$T/cmp-hetero.png" && ok "compare -o writes both images" || ko "compare images missing or different"
+
+# --- the generator meets its occupancy within +-1 point (sample of the grid) ---
+for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do
+    set -- $spec
+    scene="$T/occ_$3.pov"
+    "$BIN" gen spheres --count "$1" --occupancy "$2" --seed "$3" --width 384 --height 384 -o "$scene" >/dev/null
+    render occ_$3 0 serial "$scene" --width 384 --height 384 --depth 1
+    if json "$T/occ_$3.json" "abs(j['occupancy'] - $2) <= 0.01"; then
+        ok "gen: $1 spheres, target $2: occupancy $(python3 -c "import json;print(round(json.load(open('$T/occ_$3.json'))['occupancy'],4))")"
+    else
+        ko "gen: $1 spheres, target $2: occupancy off by more than 1 point"
+    fi
+done
+"$BIN" gen spheres --count 10 --occupancy 0.5 --seed 7 --width 64 --height 64 -o "$T/g1.pov" >/dev/null
+"$BIN" gen spheres --count 10 --occupancy 0.5 --seed 7 --width 64 --height 64 -o "$T/g2.pov" >/dev/null
+cmp -s "$T/g1.pov" "$T/g2.pov" && ok "gen: same seed, same file" || ko "gen: same seed gave different files"
+"$BIN" gen spheres --count 10 --occupancy 0.5 --seed 8 --width 64 --height 64 -o "$T/g3.pov" >/dev/null
+cmp -s "$T/g1.pov" "$T/g3.pov" && ko "gen: another seed gave the same file" || ok "gen: another seed, another file"
+povray +W64 +H64 -D -A +O"$T/g1.png" "$T/g1.pov" >/dev/null 2>&1 && ok "gen output renders in POV-Ray 3.7" || ko "POV-Ray rejects the generated scene"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

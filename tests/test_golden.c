@@ -1,0 +1,119 @@
+/*
+ * test_golden.c — every example scene (scenes/NAME.pov) rendered in-process
+ * at 160 x 120 and compared with its golden image (tests/golden/NAME.png)
+ * through OpenImageIO's ImageBufAlgo::compare: same size, RMSE <= 0.01 and
+ * PSNR >= 40 dB.  Thresholds, not byte equality: another compiler or libm
+ * may move a highlight by a bit.  `make golden` writes new golden images
+ * (look at them before committing them).
+ */
+#include <dirent.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <cmocka.h>
+
+#include "../csg/flatten.h"
+#include "../csg/parser.h"
+#include "../host/image.h"
+#include "../workers/engine.h"
+
+#define GOLDEN_W 160
+#define GOLDEN_H 120
+
+static float *render_scene(const char *path)
+{
+    csg_scene s;
+    csg_diag d = {0};
+    if (!csg_parse_file(path, &s, &d))
+        fail_msg("%s", d.message);
+    csg_flatten_opts o = {GOLDEN_W, GOLDEN_H, 0, -1, 1};
+    csg_blob b;
+    if (!engine_float.flatten(&s, &o, &b, &d))
+        fail_msg("%s", d.message);
+    csg_scene_free(&s);
+    size_t n = (size_t)GOLDEN_W * GOLDEN_H;
+    float *rgb = malloc(n * 3 * sizeof(float));
+    float *t = malloc(n * sizeof(float));
+    uint32_t *surf = malloc(n * sizeof(uint32_t));
+    assert_true(rgb && t && surf);
+    ray_counts rays = {0};
+    tile_rect all = {0, 0, GOLDEN_W, GOLDEN_H};
+    engine_render_tile(&engine_float, b.bytes, all, t, surf, rgb, &rays);
+    free(t);
+    free(surf);
+    csg_blob_free(&b);
+    return rgb;
+}
+
+static void test_golden_images(void **state)
+{
+    (void)state;
+    const char *root = CSG_SOURCE_DIR;
+    char dir[4096], out_dir[4096];
+    snprintf(dir, sizeof dir, "%s/scenes", root);
+    snprintf(out_dir, sizeof out_dir, "%s/build/test-out", root);
+    mkdir(out_dir, 0755);
+    DIR *dp = opendir(dir);
+    assert_non_null(dp);
+    int scenes = 0;
+    for (struct dirent *e; (e = readdir(dp));) {
+        size_t len = strlen(e->d_name);
+        if (len < 5 || strcmp(e->d_name + len - 4, ".pov") != 0)
+            continue;
+        char scene[4096 + 256], golden[4096 + 256], fresh[4096 + 256], err[512];
+        snprintf(scene, sizeof scene, "%s/%s", dir, e->d_name);
+        snprintf(golden, sizeof golden, "%s/tests/golden/%.*s.png", root, (int)(len - 4), e->d_name);
+        snprintf(fresh, sizeof fresh, "%s/%.*s.png", out_dir, (int)(len - 4), e->d_name);
+        float *rgb = render_scene(scene);
+        if (!img_write_rgb(fresh, rgb, GOLDEN_W, GOLDEN_H, err, sizeof err))
+            fail_msg("%s", err);
+        free(rgb);
+        img_compare_result r;
+        if (!img_compare_files(fresh, golden, 1.0 / 255.0, &r, err, sizeof err))
+            fail_msg("%s: %s (run `make golden` to create it)", golden, err);
+        printf("  %-20s RMSE %.5f  PSNR %6.2f dB  max %.4f  pixels over 1/255: %ld\n", e->d_name,
+               r.rmse, r.psnr, r.max_error, r.pixels_over);
+        if (!r.same_size || r.rmse > 0.01 || r.psnr < 40.0)
+            fail_msg("%s differs from %s: size %s, RMSE %g, PSNR %g", fresh, golden,
+                     r.same_size ? "same" : "DIFFERENT", r.rmse, r.psnr);
+        scenes++;
+    }
+    closedir(dp);
+    assert_true(scenes >= 6);
+}
+
+/* The comparison itself catches a different image and a different size. */
+static void test_compare_detects_differences(void **state)
+{
+    (void)state;
+    char a[4096], b[4096], c[4096], err[512];
+    snprintf(a, sizeof a, "%s/build/test-out/cmp_a.png", CSG_SOURCE_DIR);
+    snprintf(b, sizeof b, "%s/build/test-out/cmp_b.png", CSG_SOURCE_DIR);
+    snprintf(c, sizeof c, "%s/build/test-out/cmp_c.png", CSG_SOURCE_DIR);
+    float img[8 * 8 * 3] = {0};
+    assert_true(img_write_rgb(a, img, 8, 8, err, sizeof err));
+    img[3 * 27 + 1] = 1.0f;
+    assert_true(img_write_rgb(b, img, 8, 8, err, sizeof err));
+    assert_true(img_write_rgb(c, img, 8, 4, err, sizeof err));
+    img_compare_result r;
+    assert_true(img_compare_files(a, a, 1.0 / 255.0, &r, err, sizeof err));
+    assert_true(r.same_size && r.rmse == 0 && r.pixels_over == 0);
+    assert_true(img_compare_files(a, b, 1.0 / 255.0, &r, err, sizeof err));
+    assert_true(r.same_size && r.rmse > 0 && r.pixels_over == 1 && r.max_error > 0.99);
+    assert_true(img_compare_files(a, c, 1.0 / 255.0, &r, err, sizeof err));
+    assert_false(r.same_size);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_compare_detects_differences),
+        cmocka_unit_test(test_golden_images),
+    };
+    return cmocka_run_group_tests_name("golden", tests, NULL, NULL);
+}
