@@ -140,14 +140,24 @@ config() {
 # fresh EXP: start the experiment's CSV afresh.
 fresh() { rm -f "$OUT/$1.csv"; echo "== $1"; }
 
+# report: summaries, RESULTS.md (bench/RESULTS.md for bench/results, else
+# next to the CSVs), one PNG per plot_NAME.gp whose NAME.dat has data.
 report() {
-    $COLLECT report "$OUT" "$ROOT/bench/RESULTS.template.md" "$ROOT/bench/RESULTS.md"
+    local md="$OUT/RESULTS.md"
+    [ "$(cd "$OUT" && pwd)" = "$ROOT/bench/results" ] && md="$ROOT/bench/RESULTS.md"
+    $COLLECT report "$OUT" "$ROOT/bench/RESULTS.template.md" "$md"
     local term=png
     gnuplot -e 'set terminal pngcairo' >/dev/null 2>&1 && term=pngcairo
-    local gp
+    local gp name
     for gp in "$ROOT"/bench/plot_*.gp; do
+        name=$(basename "$gp" .gp); name=${name#plot_}
+        [ "$name" != common ] || continue
+        if [ "$(wc -l <"$OUT/$name.dat" 2>/dev/null || echo 0)" -lt 2 ]; then
+            rm -f "$OUT/$name.png"; continue
+        fi
         (cd "$OUT" && gnuplot -e "term='$term'; bench='$ROOT/bench'" "$gp") || echo "bench/run.sh: $gp failed" >&2
     done
+    echo "bench: report in $md"
 }
 
 # ---- main ------------------------------------------------------------------------
@@ -231,4 +241,4 @@ json.dump({"suite": "$SUITE", "start": "$START", "elapsed_s": $SECONDS, "commit"
           open(sys.argv[1], "w"), indent=1)
 EOF
 report
-echo "bench: done in ${SECONDS}s; bench/RESULTS.md and $OUT/*.csv, *.png"
+echo "bench: done in ${SECONDS}s; CSV and PNG in $OUT"
