@@ -459,7 +459,7 @@ def povray_table(rows):
             rs = by.get(ren, [])
             t = median_of(rs, "time_s")
             line += [fmt(t, ".3f"), fmt(t / pov if pov == pov and pov > 0 else float("nan"), ".2f"),
-                     fmt(median_of(rs, "mean_err"), ".4f"), fmt(median_of(rs, "psnr"), ".1f"),
+                     fmt(median_of(rs, "mean_err"), ".2e"), fmt(median_of(rs, "psnr"), ".1f"),
                      fmt(median_of(rs, "px_over_pct"), ".2f")]
         out.append(line)
     return md_table(["objects", "occ. %", "size", "POV-Ray s",
