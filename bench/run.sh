@@ -17,10 +17,15 @@
 #
 # Method: scenes come from `csgtrace gen spheres` (cached in build/bench/scenes);
 # one warm-up render per mode fills the PoCL kernel cache (POCL_CACHE_DIR) before
-# any timing; each configuration runs R repeats per mode, homo and hetero
-# interleaved; the compared figure is time_s = wall_s - compile_s from the
-# --stats JSON (process start and the kernel build are outside it); the
-# advantage (homo - hetero)/homo comes from the medians (bench/collect.py).
+# any timing.  Each configuration is ONE `csgtrace compare` job: homo then
+# hetero on the same ranks, a warm-up render per mode, then R timed renders
+# per mode; the OpenCL context and program are set up in the warm-up and kept,
+# so the timed hetero renders include neither the kernel build nor the OpenCL
+# set-up, and no figure includes process start.  compare also checks the two
+# images are identical.  The compared figure is time_s = wall_s - compile_s
+# (compile_s is 0 in compare's timed runs) from the per-run stats compare
+# writes; the advantage (homo - hetero)/homo comes from the medians
+# (bench/collect.py).
 #
 # Environment: RANKS (3: 1 master + 2 workers), REPEATS (3 quick, 5 full),
 # CSGTRACE (build/csgtrace), BENCH_OUT (bench/results), BENCH_WORK (build/bench).
@@ -116,17 +121,34 @@ render() {
         || { cat "$WORK/log.txt" >&2; die "render failed: ${cmd[*]}"; }
 }
 
-# config EXP COUNT OCC SEED SIZE TILE: R repeats per mode, interleaved, one CSV row each.
+# compare_runs SCENE SIZE TILE: one `csgtrace compare` job, its runs split into
+# $WORK/run-MODE-R.json (one stats object each, as `render --stats` writes).
+compare_runs() {
+    local sc=$1 size=$2 tile=$3 json="$WORK/compare.json"
+    rm -f "$json" "$WORK"/run-*.json
+    "${MPIRUN[@]}" "$BIN" compare "$sc" --width "$size" --height "$size" --tile "$tile" \
+        --repeat "$REPEATS" --stats "$json" >"$WORK/log.txt" 2>&1 \
+        || { cat "$WORK/log.txt" >&2; die "compare failed on $sc at ${size}x${size}, tile $tile"; }
+    python3 - "$json" "$WORK" <<'PY'
+import json, sys
+runs = json.load(open(sys.argv[1]))
+for mode in ("homo", "hetero"):
+    for r, stats in enumerate(runs[mode], 1):
+        with open(f"{sys.argv[2]}/run-{mode}-{r}.json", "w") as f:
+            json.dump(stats, f)
+PY
+}
+
+# config EXP COUNT OCC SEED SIZE TILE: one compare job, R runs per mode, one CSV row each.
 config() {
     local exp=$1 n=$2 occ=$3 seed=$4 size=$5 tile=$6
     local sc; sc=$(scene "$n" "$occ" "$seed")
     local gocc; gocc=$(gen_occ "$sc")
     local r mode json
+    compare_runs "$sc" "$size" "$tile"
     for r in $(seq 1 "$REPEATS"); do
         for mode in homo hetero; do
-            json="$WORK/stats.json"
-            rm -f "$json"
-            render "$mode" "$sc" "$size" "$tile" "$json"
+            json="$WORK/run-$mode-$r.json"
             $COLLECT append "$OUT/$exp.csv" "$json" experiment="$exp" suite="$SUITE" \
                 commit="$COMMIT" date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" cpu="$CPU" cores="$CORES" \
                 count="$n" occ_target="$occ" occ_gen="$gocc" gen_size="$GEN_SIZE" seed="$seed" \
