@@ -91,7 +91,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         return true;
     }
     if (strcmp(opt, "--progress") == 0 || strcmp(opt, "--no-progress") == 0) {
-        r->progress = opt[2] == 'p';
+        r->progress = opt[2] == 'p' ? PROGRESS_ON : PROGRESS_OFF;
         return true;
     }
     const char *val = *i + 1 < argc ? argv[*i + 1] : NULL;
@@ -153,6 +153,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.height = 240;
     a->req.tile = 32;
     a->req.spp = 1;
+    a->req.progress = PROGRESS_TTY;
     a->req.threshold = -1;
     a->repeat = 3;
     if (argc < 2) {

@@ -77,7 +77,7 @@ static int compare_render_all(const cli_args *a, compare_results *r, ocl_ctx **c
             req.mode = compare_modes[m];
             req.out_path = NULL;
             req.stats_path = NULL;
-            req.progress = false;
+            req.progress = PROGRESS_OFF;
             req.cl_keep = cl;
             req.stats_out = &st;
             req.image_out = i == r->repeat ? &r->image[m] : NULL;

@@ -33,9 +33,9 @@ static void progress_draw(progress_bar *p, double now)
     p->last_draw = now;
 }
 
-void progress_begin(progress_bar *p, int total, bool wanted)
+void progress_begin(progress_bar *p, int total, int wanted)
 {
-    p->enabled = wanted && isatty(STDERR_FILENO);
+    p->enabled = wanted == 2 || (wanted == 1 && isatty(STDERR_FILENO));
     p->total = total;
     p->done = 0;
     p->start = stats_clock();

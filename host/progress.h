@@ -16,7 +16,8 @@ typedef struct {
     double last_draw; /* stats_clock() of the last redraw     */
 } progress_bar;
 
-void progress_begin(progress_bar *p, int total, bool wanted);
+/* wanted: 0 never, 1 when stderr is a terminal, 2 always. */
+void progress_begin(progress_bar *p, int total, int wanted);
 /* One more tile done; redraws at most ten times a second (and at the end). */
 void progress_step(progress_bar *p);
 /* Erases the bar, so that what follows starts on a clean line. */

@@ -272,7 +272,7 @@ static int render_image(const render_request *req, master_session *ms, render_st
     render_plan(rs, tiles, st, &job);
 
     double t0 = stats_clock();
-    progress_begin(&bar, job.todo_count, req->progress);
+    progress_begin(&bar, job.todo_count, (int)req->progress);
     if (use_workers)
         status = master_run_tiles(ms, &job, d) ? EXIT_OK : EXIT_FAILURE_RUN;
     else

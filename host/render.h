@@ -11,6 +11,9 @@ struct ocl_ctx;
 struct render_stats;
 
 enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
+/* The progress bar: never, when stderr is a terminal (mpirun forwards it
+ * through a pipe, so ranks never see one), or always (--progress). */
+enum progress_mode { PROGRESS_OFF, PROGRESS_TTY, PROGRESS_ON };
 enum render_precision { PREC_FLOAT, PREC_DOUBLE };
 
 typedef struct {
@@ -25,7 +28,7 @@ typedef struct {
     int spp;                  /* primary samples a pixel, default 1  */
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
-    bool progress;            /* progress bar on stderr (a terminal) */
+    enum progress_mode progress; /* the bar on stderr                */
     /* For callers that run several renders in one job (compare); NULL in
      * a plain render.  Used on the master only. */
     struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and

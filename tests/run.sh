@@ -71,6 +71,28 @@ run_script() {
     rm -f "$log"
 }
 
+# A python unittest file: count its tests from "Ran N tests" and the
+# failures/errors of its last line.
+run_unittest() {
+    local file=$1 log
+    log=$(mktemp)
+    echo "=== $file"
+    python3 "$file" -v >"$log" 2>&1
+    local rc=$?
+    cat "$log"
+    local n f
+    n=$(sed -n 's/^Ran \([0-9]*\) test.*/\1/p' "$log" | tail -1)
+    n=${n:-0}
+    f=$(grep -c -E ' \.\.\. (FAIL|ERROR)$' "$log")
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+        f=1
+    fi
+    passed=$((passed + n - f))
+    failed=$((failed + f))
+    [ "$f" -gt 0 ] && failed_suites+=("$file")
+    rm -f "$log"
+}
+
 what=${1:-all}
 for bin in build/tests/test_*; do
     [ -x "$bin" ] && run_cmocka "$bin"
@@ -84,6 +106,8 @@ if [ "$what" = all ]; then
     done
     # geometry agreement with POV-Ray 3.7 on every example scene
     run_script tests/crosscheck_povray.sh
+    # the benchmark bookkeeping (medians, advantage, CSV columns)
+    run_unittest bench/test_collect.py
 fi
 
 echo
