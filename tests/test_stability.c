@@ -7,8 +7,8 @@
  * What is asserted (the bounds are the ones bench/ACCURACY.md states):
  *   - scale invariance: the same scene scaled by 1e-4 and 1e6 (objects,
  *     lights and camera together) renders like the unit scene: double
- *     within 1e-3 on 99.9% of the pixels and <= 0.1% pixels with another
- *     primary surface; float within the bound of FLOAT_SCALE_* below;
+ *     within 1e-3 on every pixel and <= 0.1% pixels with another primary
+ *     surface; float within 1/255 on all but 0.2% of the pixels, max 0.05;
  *   - extreme cameras (1e-3 from a surface, 1e5 away), grazing and
  *     tangent rays on every primitive, tiny and huge radii in one scene,
  *     coincident CSG surfaces, shadow acne at every scale: counted as
@@ -17,6 +17,7 @@
  *     textbook quadratic loses a tiny far sphere that csg_sphere_span
  *     finds; a fixed-epsilon ray offset self-shadows where the ulp-scaled
  *     offset of workers/offset.h does not;
+ *     (STABILITY_DUMP=dir writes the renders as PPM for a look)
  *   - NaN and infinity never reach a pixel (degenerate directions, rays
  *     parallel to faces, zero-thickness CSG, coordinates of 1e30, a camera
  *     on a surface, a light inside an object);
