@@ -83,7 +83,7 @@ static const struct {
 static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d)
 {
     static const char *const modes[] = {"serial", "homo", "hetero"};
-    static const char *const precisions[] = {"float", "double"};
+    static const char *const precisions[] = {"float", "double", "auto"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -134,7 +134,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         return true;
     }
     if (strcmp(opt, "--precision") == 0) {
-        if (!parse_choice(opt, val, precisions, 2, &choice, d))
+        if (!parse_choice(opt, val, precisions, 3, &choice, d))
             return false;
         r->precision = (enum render_precision)choice;
         return true;

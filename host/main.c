@@ -10,6 +10,7 @@
 #include "../csg/flat.h"
 #include "../csg/flatten.h"
 #include "../csg/parser.h"
+#include "../csg/precision.h"
 #include "../csg/summary.h"
 #include "cli.h"
 #include "compare.h"
@@ -38,6 +39,9 @@ static int run_check(const cli_args *a)
         return fail(&d, EXIT_BAD_INPUT);
     }
     csg_print_summary(&s, stdout);
+    char why[256];
+    csg_needs_double(&s, a->req.width, a->req.height, why, sizeof why);
+    printf("--precision auto at %dx%d: %s\n", a->req.width, a->req.height, why);
     const csg_blob_header *h = csg_blob_hdr(blob.bytes);
     printf("flat scene: %d primitives in %d roots, %d CSG nodes, %d materials; "
            "deepest program needs %d interval lists (limit %d)\n",

@@ -38,6 +38,7 @@
 #include "progress.h"
 #include "stats.h"
 #include "../csg/parser.h"
+#include "../csg/precision.h"
 
 #define RENDER_DEFAULT_TILE 32
 
@@ -68,21 +69,36 @@ static const char *render_mode_name(enum render_mode m)
     return m == MODE_SERIAL ? "serial" : m == MODE_HOMO ? "homo" : "hetero";
 }
 
-/* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
-static int render_load(const render_request *req, csg_blob *blob, csg_diag *d)
+/* The engine of the request's precision; auto decides from the scene
+ * (csg/precision.h) and leaves its reason in st->precision_why. */
+static const engine *render_engine(const render_request *req, const csg_scene *s,
+                                   render_stats *st)
 {
-    const engine *e = req->precision == PREC_DOUBLE ? &engine_double : &engine_float;
+    if (req->precision == PREC_AUTO) {
+        bool need = csg_needs_double(s, req->width, req->height, st->precision_why,
+                                     sizeof st->precision_why);
+        return need ? &engine_double : &engine_float;
+    }
+    return req->precision == PREC_DOUBLE ? &engine_double : &engine_float;
+}
+
+/* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
+static int render_load(const render_request *req, csg_blob *blob, render_stats *st, csg_diag *d)
+{
     csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
     csg_scene_init(&s);
-    if (!csg_parse_file(req->scene_path, &s, d) || !e->flatten(&s, &o, blob, d)) {
+    if (!csg_parse_file(req->scene_path, &s, d) ||
+        !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
         if (!d->failed)
             csg_error_plain(d, "%s: cannot load the scene", req->scene_path);
         status = EXIT_BAD_INPUT;
     } else if (!csg_blob_valid(blob->bytes, blob->size)) {
         csg_error_plain(d, "internal error: the flattened scene is not valid");
         status = EXIT_FAILURE_RUN;
+    } else {
+        st->precision = csg_blob_hdr(blob->bytes)->real_size == 8 ? "double" : "float";
     }
     csg_scene_free(&s);
     return status;
@@ -95,7 +111,7 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
     size_t n = (size_t)h->width * (size_t)h->height * (size_t)h->spp; /* records */
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
-    ocl_options opt = { device, req->precision == PREC_DOUBLE, 0 };
+    ocl_options opt = { device, h->real_size == 8, 0 };
     ocl_timing tm;
     ocl_ctx *ctx = req->cl_keep ? *req->cl_keep : NULL;
     memset(&tm, 0, sizeof tm);
@@ -311,7 +327,7 @@ static int render_job(const render_request *req, int ranks)
     render_stats_init(req, ranks, &st);
     master_begin(&ms, ranks);
 
-    int status = render_load(req, &rs.blob, &d);
+    int status = render_load(req, &rs.blob, &st, &d);
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);

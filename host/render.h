@@ -14,7 +14,8 @@ enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
 /* The progress bar: never, when stderr is a terminal (mpirun forwards it
  * through a pipe, so ranks never see one), or always (--progress). */
 enum progress_mode { PROGRESS_OFF, PROGRESS_TTY, PROGRESS_ON };
-enum render_precision { PREC_FLOAT, PREC_DOUBLE };
+/* auto: double only when float's rounding could show (csg/precision.h). */
+enum render_precision { PREC_FLOAT, PREC_DOUBLE, PREC_AUTO };
 
 typedef struct {
     const char *scene_path;

@@ -99,6 +99,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     stats_string(f, s->mode);
     fputs(",\n  \"precision\": ", f);
     stats_string(f, s->precision);
+    if (s->precision_why[0]) {
+        fputs(",\n  \"precision_auto\": ", f);
+        stats_string(f, s->precision_why);
+    }
     fputs(",\n  \"device\": ", f);
     stats_string(f, s->device);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"

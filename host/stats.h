@@ -50,7 +50,8 @@ typedef struct {
 
 typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
-    const char *precision;  /* "float", "double"                     */
+    const char *precision;  /* "float", "double" (what ran)          */
+    char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
     int width, height, tile, ranks, spp;
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;

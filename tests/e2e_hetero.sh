@@ -75,6 +75,20 @@ render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
 render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double
 same "$T/sd.exr" "$T/xd.exr" && ok "double: hetero == serial" || ko "double: hetero differs from serial"
 
+# --- --precision auto: float for an ordinary scene, double far from the origin,
+#     the same choice in every mode ---
+printf 'camera { location <1e6, 1e6, 1e6-5> look_at <1e6, 1e6, 1e6> }\nlight_source { <1e6-3, 1e6+4, 1e6-5> color rgb 1 }\nsphere { <1e6, 1e6, 1e6>, 0.5 pigment { color rgb 1 } }\n' >"$T/far.pov"
+render af 0 serial "$T/far.pov" --width 48 --height 36 --precision auto
+render ax 3 hetero "$T/far.pov" --width 48 --height 36 --precision auto
+render ad 0 serial "$T/far.pov" --width 48 --height 36 --precision double
+render an 0 serial scenes/showcase.pov --width 48 --height 36 --precision auto
+if json "$T/af.json" "j['precision'] == 'double' and j['precision_auto'].startswith('double')" &&
+    json "$T/an.json" "j['precision'] == 'float'" && same "$T/af.exr" "$T/ax.exr" && same "$T/af.exr" "$T/ad.exr"; then
+    ok "--precision auto: double far from the origin (in every mode), float for the showcase"
+else
+    ko "--precision auto: wrong choice or modes differ"
+fi
+
 # --- no object: every tile degenerate, nothing sent ---
 printf 'camera { location <0,0,-5> look_at 0 }\nbackground { color rgb <0.1, 0.2, 0.3> }\n' >"$T/empty.pov"
 render e 3 hetero "$T/empty.pov" --width 100 --height 70
