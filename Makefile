@@ -5,7 +5,9 @@
 #                 exact `sudo apt-get install ...` line (non-root)
 #   make test     deps + build + every test (also under ASan + UBSan)
 #   make demo     deps + build + render the showcase in both modes, compare
-#   make bench    deps + build + the quick benchmark suite (bench/)
+#   make bench    deps + build + the quick benchmark suite (bench/, ~6 min)
+#   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
+#   make bench-full       the full suite and the accuracy grid (hours)
 #   make clean
 #
 # The engine sources (flattening, tracing, shading) are compiled twice, once
@@ -56,7 +58,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps test demo bench bench-full golden clean
+.PHONY: all asan deps test demo bench bench-full bench-accuracy golden clean
 all: $(B)/csgtrace $(TEST_BINS)
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
 
@@ -130,6 +132,12 @@ bench: deps
 bench-full: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --full
+	bench/accuracy.sh
+
+# Speed versus accuracy (issue 6): every knob against a reference render.
+bench-accuracy: deps
+	$(MAKE) $(B)/csgtrace
+	bench/accuracy.sh
 
 # New golden images for tests/test_golden.c (look at them before committing).
 golden: $(B)/csgtrace

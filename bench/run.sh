@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench/run.sh — the benchmark suite: the paper's three experiments and beyond.
 #
-#   bench/run.sh --quick          what `make bench` runs (under 10 minutes on 2 cores)
+#   bench/run.sh --quick          what `make bench` runs (about 6 minutes on 2 cores)
 #   bench/run.sh --full           `make bench-full` (about 1.5 hours on 2 idle cores, estimated)
 #   bench/run.sh --quick --only objects,size     run some experiments, keep the other CSVs
 #   bench/run.sh --report         rebuild summaries, plots and RESULTS.md from the CSVs
@@ -58,7 +58,7 @@ MPIRUN=(mpirun -np "$RANKS" --oversubscribe --bind-to none)
 
 # ---- the two suites ---------------------------------------------------------------
 if [ "$SUITE" = quick ]; then
-    REPEATS=${REPEATS:-3}
+    REPEATS=${REPEATS:-5}
     SEEDS=(1)
     GEN_SIZE=192              # occupancy fitted at 192 (4x cheaper); measured again at render size
     SIZE_COUNTS=(10 50); SIZE_OCCS=(20 80); SIZES=(192 256 320)
