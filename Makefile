@@ -118,7 +118,7 @@ deps:
 
 # ---- test, demo, bench -----------------------------------------------------------
 test: deps
-	$(MAKE) all asan
+	$(MAKE) -j$$(nproc) all asan
 	tests/run.sh
 
 demo: deps
