@@ -70,6 +70,17 @@ for spp in 4 8; do
     fi
 done
 
+# --- the other knobs: the same image in every mode ---
+render kd 0 serial scenes/glass.pov --width 64 --height 48 --depth 2 --threshold 0.05
+render kh 3 homo scenes/glass.pov --width 64 --height 48 --depth 2 --threshold 0.05
+render kx 3 hetero scenes/glass.pov --width 64 --height 48 --depth 2 --threshold 0.05
+render k5 0 serial scenes/glass.pov --width 64 --height 48
+if same "$T/kd.exr" "$T/kh.exr" && same "$T/kd.exr" "$T/kx.exr" && ! same "$T/kd.exr" "$T/k5.exr"; then
+    ok "--depth 2 --threshold 0.05: serial == homo == hetero (and not the default image)"
+else
+    ko "--depth/--threshold: modes differ, or the knobs changed nothing"
+fi
+
 # --- double precision hetero on a random scene ---
 render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
 render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double
