@@ -659,6 +659,15 @@ static bool build_bvh(flat_builder *fb)
 
 static uint64_t align64(uint64_t n) { return (n + 63u) & ~(uint64_t)63u; }
 
+/* The offset of an array of `count` elements at *off; *off moves past it,
+ * to the next 64-byte boundary. */
+static uint64_t place(uint64_t *off, int count, size_t elem)
+{
+    uint64_t at = *off;
+    *off = align64(at + (uint64_t)count * elem);
+    return at;
+}
+
 static void store3(real dst[3], dvec3 v)
 {
     dst[0] = (real)v.x;
@@ -693,20 +702,13 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     memcpy(h.background, s->background, sizeof h.background);
     memcpy(h.ambient_light, s->globals.ambient_light, sizeof h.ambient_light);
     uint64_t off = align64(sizeof h);
-    h.off_prims = off;
-    off = align64(off + (uint64_t)fb->prim_count * sizeof(csg_prim));
-    h.off_nodes = off;
-    off = align64(off + (uint64_t)fb->node_count * sizeof(csg_node));
-    h.off_roots = off;
-    off = align64(off + (uint64_t)fb->root_count * sizeof(csg_root));
-    h.off_bvh = off;
-    off = align64(off + (uint64_t)fb->bvh_count * sizeof(csg_bvh_node));
-    h.off_materials = off;
-    off = align64(off + (uint64_t)fb->mat_count * sizeof(csg_material));
-    h.off_lights = off;
-    off = align64(off + (uint64_t)s->light_count * sizeof(csg_flat_light));
-    h.off_camera = off;
-    off = align64(off + sizeof(csg_camera));
+    h.off_prims = place(&off, fb->prim_count, sizeof(csg_prim));
+    h.off_nodes = place(&off, fb->node_count, sizeof(csg_node));
+    h.off_roots = place(&off, fb->root_count, sizeof(csg_root));
+    h.off_bvh = place(&off, fb->bvh_count, sizeof(csg_bvh_node));
+    h.off_materials = place(&off, fb->mat_count, sizeof(csg_material));
+    h.off_lights = place(&off, s->light_count, sizeof(csg_flat_light));
+    h.off_camera = place(&off, 1, sizeof(csg_camera));
     h.total_size = off;
 
     unsigned char *b = calloc(1, (size_t)off);
