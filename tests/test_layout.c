@@ -4,11 +4,11 @@
  *
  * The probe kernel csg_layout (simd_kernels/primary.cl) writes sizeof and
  * offsetof of every entry of CSG_LAYOUT_FIELDS (simd_kernels/
- * layout_fields.cl); this file expands the same list with the C compiler,
- * once with the float headers and once with the double ones
- * (tests/csg_double.h), and compares entry by entry.  The program is built
- * through host/ocl.c, so the probe runs in the very program the renderer
- * uses.
+ * layout_fields.cl); this file expands the same list with the C compiler
+ * in its precision and compares entry by entry.  It is compiled as is
+ * (float) and, through tests/test_layout_double.c, with -DCSG_DOUBLE.  The
+ * program is built through host/ocl.c, so the probe runs in the very
+ * program the renderer uses.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -32,17 +32,7 @@ static const char *const layout_names[] = {
 #define NAME_FIELD(T, f) "offsetof(" #T ", " #f ")",
     CSG_LAYOUT_FIELDS(NAME_SIZE, NAME_FIELD)};
 
-static int c_layout_float(int32_t *out)
-{
-    int n = 0;
-    CSG_LAYOUT_FIELDS(C_SIZE, C_FIELD)
-    return n;
-}
-
-/* From here on the csg/ names mean the double build. */
-#include "csg_double.h"
-
-static int c_layout_double(int32_t *out)
+static int c_layout(int32_t *out)
 {
     int n = 0;
     CSG_LAYOUT_FIELDS(C_SIZE, C_FIELD)
@@ -52,7 +42,7 @@ static int c_layout_double(int32_t *out)
 static void check_layout(int use_double)
 {
     int32_t expect[LAYOUT_CAP], got[LAYOUT_CAP];
-    int n_expect = use_double ? c_layout_double(expect) : c_layout_float(expect);
+    int n_expect = c_layout(expect);
     assert_int_equal(n_expect, (int)(sizeof layout_names / sizeof layout_names[0]));
 
     ocl_options opt = {.device = NULL, .use_double = use_double, .max_slice_bytes = 0};
@@ -77,16 +67,10 @@ static void check_layout(int use_double)
     assert_int_equal(bad, 0);
 }
 
-static void test_layout_float(void **state)
+static void test_layout(void **state)
 {
     (void)state;
-    check_layout(0);
-}
-
-static void test_layout_double(void **state)
-{
-    (void)state;
-    check_layout(1);
+    check_layout(sizeof(real) == 8);
 }
 
 /* The probe itself can fail: a too small output reports an error. */
@@ -111,8 +95,7 @@ static void test_probe_cap(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_layout_float),
-        cmocka_unit_test(test_layout_double),
+        cmocka_unit_test(test_layout),
         cmocka_unit_test(test_probe_cap),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -5,16 +5,13 @@
  * same precision; the tile counts equal a C count; slicing changes nothing.
  *
  * Scenes are built by hand in a precision-neutral description (sc_scene,
- * doubles), then packed into a flat blob (csg/flatten.h layout) per
- * precision.  The precision-dependent part of this file (blob packing and
- * the C reference) is written once, below the #else, and compiled twice by
- * including this file into itself: first with the float headers, then with
- * the double ones (tests/csg_double.h renames the double copy).
+ * doubles), then packed into a flat blob (csg/flatten.h layout) in this
+ * file's precision: it is compiled as is (float) and, through
+ * tests/test_ocl_double.c, with -DCSG_DOUBLE.
  *
- * One OpenCL context per precision is opened in the group setup and shared
- * by every test (a PoCL build takes seconds when its cache is cold).
+ * One OpenCL context is opened in the group setup and shared by every test
+ * (a PoCL build takes seconds when its cache is cold).
  */
-#ifndef TEST_OCL_PRECISION_PART
 
 #include <math.h>
 #include <setjmp.h>
@@ -225,24 +222,19 @@ static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_siz
     h->total_size = off + camera_size;
 }
 
-#define TEST_OCL_PRECISION_PART 1
-#define P(name) name##_f
-#include "test_ocl.c"
-#undef P
+static void *make_blob(const sc_scene *s, size_t *size);
+static void reference(const void *blob, void *t, uint32_t *surf);
 
-#include "csg_double.h"
-#define P(name) name##_d
-#include "test_ocl.c"
-#undef P
-#undef TEST_OCL_PRECISION_PART
-
-static const precision_ops prec_float = {make_blob_f, reference_f, 4, "float"};
-static const precision_ops prec_double = {make_blob_d, reference_d, 8, "double"};
+#ifdef CSG_DOUBLE
+static const precision_ops prec = {make_blob, reference, 8, "double"};
+#else
+static const precision_ops prec = {make_blob, reference, 4, "float"};
+#endif
 
 /* ---- the comparison ----------------------------------------------------------------- */
 
 typedef struct {
-    ocl_ctx *ctx[2]; /* float, double */
+    ocl_ctx *ctx; /* built for this file's precision */
 } fixture;
 
 static double real_at(const void *t, size_t i, size_t rs)
@@ -324,11 +316,10 @@ static void check_scene_all(void **state, void (*build)(sc_scene *s), bool enclo
 {
     fixture *fx = *state;
     static const int sizes[3][2] = {{1, 1}, {33, 17}, {100, 37}};
-    for (int p = 0; p < 2; p++)
-        for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 3; k++) {
             sc_scene *s = sc_new(sizes[k][0], sizes[k][1]);
             build(s);
-            size_t hits = check_pass(fx->ctx[p], p ? &prec_double : &prec_float, s, 8);
+            size_t hits = check_pass(fx->ctx, &prec, s, 8);
             if (k == 2) {
                 assert_true(hits > 0);
                 assert_true(encloses || hits < (size_t)s->width * (size_t)s->height);
@@ -488,11 +479,10 @@ static void test_tile_sizes(void **state)
 {
     fixture *fx = *state;
     static const int tiles[] = {1, 7, 32, 101, 1000};
-    for (int p = 0; p < 2; p++)
-        for (size_t k = 0; k < sizeof tiles / sizeof tiles[0]; k++) {
+    for (size_t k = 0; k < sizeof tiles / sizeof tiles[0]; k++) {
             sc_scene *s = sc_new(100, 37);
             build_spheres_outside(s);
-            check_pass(fx->ctx[p], p ? &prec_double : &prec_float, s, tiles[k]);
+            check_pass(fx->ctx, &prec, s, tiles[k]);
             free(s);
         }
 }
@@ -503,9 +493,9 @@ static void test_forced_slices(void **state)
 {
     (void)state;
     static const size_t limits[] = {1, 100 * 12 * 3, 100 * 12 * 8};
-    for (int p = 0; p < 2; p++)
-        for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
-            ocl_options opt = {.device = NULL, .use_double = p, .max_slice_bytes = limits[k]};
+    for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
+            ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
+                               .max_slice_bytes = limits[k]};
             ocl_timing timing = {0};
             csg_diag d = {0};
             ocl_ctx *ctx = NULL;
@@ -513,10 +503,10 @@ static void test_forced_slices(void **state)
                 fail_msg("ocl_open: %s", d.message);
             sc_scene *s = sc_new(100, 37);
             build_random(s);
-            check_pass(ctx, p ? &prec_double : &prec_float, s, 7);
+            check_pass(ctx, &prec, s, 7);
             /* and the slicing did happen */
             size_t size;
-            void *blob = (p ? &prec_double : &prec_float)->make_blob(s, &size);
+            void *blob = prec.make_blob(s, &size);
             size_t n = 100 * 37;
             void *t = malloc(n * 8);
             uint32_t *surf = malloc(n * 4), hits[15 * 6];
@@ -535,8 +525,8 @@ static void test_forced_slices(void **state)
 static void test_empty_scene(void **state)
 {
     fixture *fx = *state;
-    for (int p = 0; p < 2; p++) {
-        const precision_ops *ops = p ? &prec_double : &prec_float;
+    {
+        const precision_ops *ops = &prec;
         sc_scene *s = sc_new(33, 17);
         build_empty(s);
         size_t size, n = 33 * 17;
@@ -548,7 +538,7 @@ static void test_empty_scene(void **state)
         memset(hits, 0xFF, sizeof hits);
         ocl_timing timing = {0};
         csg_diag d = {0};
-        if (!ocl_primary_pass(fx->ctx[p], blob, 7, t, surf, hits, &timing, &d))
+        if (!ocl_primary_pass(fx->ctx, blob, 7, t, surf, hits, &timing, &d))
             fail_msg("ocl_primary_pass: %s", d.message);
         for (size_t i = 0; i < n; i++) {
             assert_int_equal(surf[i], CSG_SURF_NONE);
@@ -628,16 +618,19 @@ static void test_bad_blob(void **state)
     sc_scene *s = sc_new(4, 4);
     build_spheres(s);
     size_t size;
-    void *blob = prec_double.make_blob(s, &size);
+    void *blob = prec.make_blob(s, &size);
     double t[16];
     uint32_t surf[16], hits[1];
     ocl_timing timing = {0};
     csg_diag d = {0};
-    assert_false(ocl_primary_pass(fx->ctx[0], blob, 4, t, surf, hits, &timing, &d));
-    assert_non_null(strstr(d.message, "double"));
-    ((csg_blob_header *)blob)->off_camera = ((csg_blob_header *)blob)->total_size;
+    csg_blob_header *h = blob;
+    h->real_size = prec.real_size == 8 ? 4 : 8; /* claims the other precision */
+    assert_false(ocl_primary_pass(fx->ctx, blob, 4, t, surf, hits, &timing, &d));
+    assert_non_null(strstr(d.message, prec.real_size == 8 ? "in float" : "in double"));
+    h->real_size = (uint32_t)prec.real_size;
+    h->off_camera = h->total_size;
     d.failed = 0;
-    assert_false(ocl_primary_pass(fx->ctx[1], blob, 4, t, surf, hits, &timing, &d));
+    assert_false(ocl_primary_pass(fx->ctx, blob, 4, t, surf, hits, &timing, &d));
     assert_true(d.failed);
     free(blob);
     free(s);
@@ -696,19 +689,16 @@ static int group_setup(void **state)
     fixture *fx = calloc(1, sizeof *fx);
     if (!fx)
         return -1;
-    for (int p = 0; p < 2; p++) {
-        ocl_options opt = {.device = NULL, .use_double = p, .max_slice_bytes = 0};
-        ocl_timing timing = {0};
-        csg_diag d = {0};
-        if (!ocl_open(&opt, &fx->ctx[p], &timing, &d)) {
-            fprintf(stderr, "ocl_open(%s): %s\n", p ? "double" : "float", d.message);
-            ocl_close(fx->ctx[0]);
-            free(fx);
-            return -1;
-        }
-        fprintf(stderr, "# %s program on \"%s\": built in %.3f s\n", p ? "double" : "float",
-                timing.device_name, timing.compile_s);
+    ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8, .max_slice_bytes = 0};
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    if (!ocl_open(&opt, &fx->ctx, &timing, &d)) {
+        fprintf(stderr, "ocl_open(%s): %s\n", prec.name, d.message);
+        free(fx);
+        return -1;
     }
+    fprintf(stderr, "# %s program on \"%s\": built in %.3f s\n", prec.name, timing.device_name,
+            timing.compile_s);
     *state = fx;
     return 0;
 }
@@ -716,8 +706,7 @@ static int group_setup(void **state)
 static int group_teardown(void **state)
 {
     fixture *fx = *state;
-    ocl_close(fx->ctx[0]);
-    ocl_close(fx->ctx[1]);
+    ocl_close(fx->ctx);
     free(fx);
     return 0;
 }
@@ -725,7 +714,13 @@ static int group_teardown(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+#ifndef CSG_DOUBLE /* the precision-independent ones once, in the float build */
         cmocka_unit_test(test_error_names),
+        cmocka_unit_test(test_bad_device),
+        cmocka_unit_test(test_env_device),
+        cmocka_unit_test(test_device_selectors),
+        cmocka_unit_test(test_build_failure),
+#endif
         cmocka_unit_test(test_spheres),
         cmocka_unit_test(test_spheres_outside),
         cmocka_unit_test(test_boxes),
@@ -736,19 +731,15 @@ int main(void)
         cmocka_unit_test(test_tile_sizes),
         cmocka_unit_test(test_forced_slices),
         cmocka_unit_test(test_empty_scene),
-        cmocka_unit_test(test_bad_device),
-        cmocka_unit_test(test_env_device),
-        cmocka_unit_test(test_device_selectors),
         cmocka_unit_test(test_bad_blob),
-        cmocka_unit_test(test_build_failure),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }
 
-#else /* TEST_OCL_PRECISION_PART: `real` and the csg_ names are this pass's */
+/* ---- blob packing and the C reference, in this file's precision ----------------- */
 
 /* The flat blob of s in this precision. */
-static void *P(make_blob)(const sc_scene *s, size_t *size)
+static void *make_blob(const sc_scene *s, size_t *size)
 {
     csg_blob_header h;
     blob_header(s, &h, (uint32_t)sizeof(real), sizeof(csg_prim), sizeof(csg_root),
@@ -800,7 +791,7 @@ static void *P(make_blob)(const sc_scene *s, size_t *size)
 }
 
 /* The C records: exactly what a worker computes for a primary ray. */
-static void P(reference)(const void *blob, void *t_out, uint32_t *surf)
+static void reference(const void *blob, void *t_out, uint32_t *surf)
 {
     const csg_blob_header *h = blob;
     const char *b = blob;
@@ -822,5 +813,3 @@ static void P(reference)(const void *blob, void *t_out, uint32_t *surf)
             surf[i] = hit.surf;
         }
 }
-
-#endif
