@@ -456,7 +456,6 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
      * A complement swaps the operator and complements every operand. */
     bool is_union = o->kind == CSG_OBJ_UNION || o->kind == CSG_OBJ_MERGE;
     int op = (is_union != neg) ? CSG_OP_UNION : CSG_OP_INTERSECT;
-    bool intersect_like = !is_union; /* before the complement */
     /* operands, largest need first (a stable selection sort over indices) */
     int n = o->child_count;
     int *order = malloc((size_t)n * sizeof *order);
@@ -497,7 +496,6 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
         if (k > 0)
             ok = emit(fb, op, -1);
     }
-    (void)intersect_like;
     free(order);
     free(need);
     return ok;
