@@ -68,7 +68,7 @@ typedef struct {
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
     int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
     csg_material *mats;
-    int mat_count, mat_cap;
+    int mat_count, mat_cap, mat_key_cap;
     const csg_scene *scene;
     csg_diag *diag;
     bool oom;
@@ -252,9 +252,8 @@ static int material_for(flat_builder *fb, inherited inh)
     for (int i = 0; i < fb->mat_count; i++)
         if (fb->mat_keys[i] == key)
             return i;
-    int cap = fb->mat_cap;
     if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
-        !grow((void **)&fb->mat_keys, &cap, fb->mat_count + 1, sizeof(int))) {
+        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(int))) {
         fb->oom = true;
         return 0;
     }
