@@ -521,13 +521,53 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
 }
 
 /* Root i's first visible boundary, if it is nearer than *best. */
+/* The first visible boundary of one uncomplemented primitive on
+ * (tmin, tmax): exactly csg_first_boundary(csg_leaf_spans(...)), without
+ * building the list (most roots are a single primitive). */
+CSG_FN csg_hit csg_leaf_first_hit(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray r,
+                                  real tmin, real tmax)
+{
+    CSG_GLOBAL const csg_prim *p = &prims[i];
+    csg_hit h;
+    h.t = CSG_R_INF;
+    h.surf = CSG_SURF_NONE;
+    real t0, t1;
+    csg_i32 s0, s1;
+    if (!csg_prim_span(p, r, &t0, &t1, &s0, &s1))
+        return h;
+    csg_u32 e0 = t0 < tmin ? CSG_SURF_NONE : csg_surf_of(i, s0, 0u, p->flags);
+    csg_u32 e1 = csg_surf_of(i, s1, 0u, p->flags);
+    real start = r_fmax(t0, tmin), end = t1;
+    if (end > tmax) { /* clipped by the list's limit, as csg_spans_push does */
+        end = tmax;
+        e1 = CSG_SURF_NONE;
+    }
+    if (!(start < end))
+        return h;
+    if (e0 != CSG_SURF_NONE && start > tmin) {
+        h.t = start;
+        h.surf = e0;
+    } else if (e1 != CSG_SURF_NONE && end > tmin) {
+        h.t = end;
+        h.surf = e1;
+    }
+    return h;
+}
+
 CSG_FN void csg_try_root(csg_view v, csg_i32 i, csg_ray r, real tmin, csg_hit *best)
 {
-    csg_spans spans;
-    if (!csg_box_overlaps(&v.roots[i], r, tmin, best->t))
+    CSG_GLOBAL const csg_root *rt = &v.roots[i];
+    if (!csg_box_overlaps(rt, r, tmin, best->t))
         return;
-    csg_root_spans(v, i, r, tmin, best->t, &spans);
-    csg_hit h = csg_first_boundary(&spans, tmin);
+    csg_hit h;
+    csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
+    if (leaf >= 0 && !(v.prims[leaf].flags & CSG_PF_INVERT)) {
+        h = csg_leaf_first_hit(v.prims, leaf, r, tmin, best->t);
+    } else {
+        csg_spans spans;
+        csg_root_spans(v, i, r, tmin, best->t, &spans);
+        h = csg_first_boundary(&spans, tmin);
+    }
     if (h.surf != CSG_SURF_NONE && h.t < best->t)
         *best = h;
 }

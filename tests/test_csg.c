@@ -821,6 +821,54 @@ static void test_box_overlaps(void **state)
     NEAR(h.t, 5, 0);
 }
 
+/* The single-primitive fast path of csg_try_root gives exactly what the
+ * interval list gives (csg_leaf_spans + csg_first_boundary): every kind,
+ * open caps, rays from inside and outside, on the surface, tangent, and
+ * query ranges that clip either end. */
+static void test_leaf_fast_path(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    const real sp[4] = {R(0.2), R(-0.1), R(0.3), R(1.0)};
+    const real bx[6] = {R(-1.0), R(-0.5), R(-0.7), R(0.8), R(1.0), R(0.6)};
+    const real cn[3] = {R(1.0), R(0.25), R(2.0)};
+    const real pl[4] = {R(0.0), R(1.0), R(0.0), R(0.25)};
+    add_prim(&s, CSG_PRIM_SPHERE, 0, sp, 4);
+    add_prim(&s, CSG_PRIM_BOX, 0, bx, 6);
+    add_prim(&s, CSG_PRIM_CONE, 0, cn, 3);
+    add_prim(&s, CSG_PRIM_CONE, CSG_PF_OPEN, cn, 3);
+    add_prim(&s, CSG_PRIM_PLANE, 0, pl, 4);
+    const real ranges[4][2] = {{R(0.0), CSG_R_INF}, {R(0.5), CSG_R_INF}, {R(0.0), R(2.0)},
+                               {R(1.5), R(2.5)}};
+    uint32_t seed = 12345u;
+    int hits = 0;
+    for (int k = 0; k < 20000; k++) {
+        real v[6];
+        for (int j = 0; j < 6; j++) {
+            seed = seed * 1664525u + 1013904223u;
+            v[j] = (real)((double)(seed >> 8) / 16777216.0 * 6.0 - 3.0);
+        }
+        /* aimed at a point near the shapes (v[3..5] / 3 is in [-1, 1]) */
+        real d[3] = {v[3] / R(3.0) - v[0], v[4] / R(3.0) - v[1], v[5] / R(3.0) - v[2]};
+        if (k % 7 == 0) /* exactly axis-aligned directions now and then */
+            d[k % 3] = R(0.0);
+        csg_ray r = ray(v[0], v[1], v[2], d[0], d[1], d[2]);
+        int prim = k % s.np;
+        const real *rg = ranges[(k / s.np) % 4];
+        csg_spans l;
+        csg_leaf_spans(s.prims, prim, r, rg[0], rg[1], &l);
+        csg_hit want = csg_first_boundary(&l, rg[0]);
+        csg_hit got = csg_leaf_first_hit(s.prims, prim, r, rg[0], rg[1]);
+        assert_int_equal(got.surf, want.surf);
+        if (want.surf != CSG_SURF_NONE) {
+            assert_memory_equal(&got.t, &want.t, sizeof got.t);
+            hits++;
+        }
+    }
+    assert_true(hits > 2000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -838,6 +886,7 @@ int main(void)
         cmocka_unit_test(test_span_algebra),
         cmocka_unit_test(test_spans_push),
         cmocka_unit_test(test_box_overlaps),
+        cmocka_unit_test(test_leaf_fast_path),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
