@@ -4,14 +4,7 @@
 # `file:line:col: error:` messages, no output file left behind on failure,
 # image formats by extension, `check` and `export`.
 set -u
-cd "$(dirname "$0")/.."
-BIN=${CSGTRACE_BIN:-build/csgtrace}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { echo "ok   - $1"; pass=$((pass + 1)); }
-ko() { echo "FAIL - $1"; fail=$((fail + 1)); }
+source "$(dirname "$0")/lib_e2e.sh"
 
 # expect STATUS DESCRIPTION CMD...: runs CMD, checks its exit status.
 expect() {
@@ -83,5 +76,4 @@ grep -qi "sphere" "$T/out" && ok "check summary lists the sphere" || ko "check s
 expect 0 "export" "$BIN" export "$T/good.pov" -o "$T/exported.pov"
 expect 0 "exported scene parses again" "$BIN" check "$T/exported.pov"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+e2e_finish

@@ -6,23 +6,10 @@
 # identical images, JSON), and the generator's occupancy target on a sample
 # of the benchmark grid.
 set -u
-cd "$(dirname "$0")/.."
-BIN=${CSGTRACE_BIN:-build/csgtrace}
+source "$(dirname "$0")/lib_e2e.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
 MPIRUN=(mpirun --oversubscribe --bind-to none)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { echo "ok   - $1"; pass=$((pass + 1)); }
-ko() { echo "FAIL - $1"; fail=$((fail + 1)); }
-
-# same A B: the two images have exactly the same pixels.
-same() { idiff -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
-
-# json FILE EXPR: a python expression over the parsed JSON `j` is true.
-json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(0 if ($2) else 1)" "$1"; }
 
 render() { # render NAME RANKS MODE SCENE EXTRA... -> $T/NAME.exr, $T/NAME.json
     local name=$1 ranks=$2 mode=$3 scene=$4
@@ -160,5 +147,4 @@ cmp -s "$T/g1.pov" "$T/g2.pov" && ok "gen: same seed, same file" || ko "gen: sam
 cmp -s "$T/g1.pov" "$T/g3.pov" && ko "gen: another seed gave the same file" || ok "gen: another seed, another file"
 povray +W64 +H64 -D -A +O"$T/g1.png" "$T/g1.pov" >/dev/null 2>&1 && ok "gen output renders in POV-Ray 3.7" || ko "POV-Ray rejects the generated scene"
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+e2e_finish
