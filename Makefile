@@ -5,7 +5,7 @@
 #                 exact `sudo apt-get install ...` line (non-root)
 #   make test     deps + build + every test (also under ASan + UBSan)
 #   make demo     deps + build + render the showcase in both modes, compare
-#   make bench    deps + build + the quick benchmark suite (bench/, ~6 min)
+#   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
 #   make bench-full       the full suite and the accuracy grid (hours)
 #   make clean

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench/run.sh — the benchmark suite: the paper's three experiments and beyond.
 #
-#   bench/run.sh --quick          what `make bench` runs (about 6 minutes on 2 cores)
+#   bench/run.sh --quick          what `make bench` runs (about 3 minutes on 2 cores)
 #   bench/run.sh --full           `make bench-full` (about 1.5 hours on 2 idle cores, estimated)
 #   bench/run.sh --quick --only objects,size     run some experiments, keep the other CSVs
 #   bench/run.sh --report         rebuild summaries, plots and RESULTS.md from the CSVs
