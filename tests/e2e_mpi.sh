@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# test_mpi.sh — end-to-end checks of the render driver and the MPI
+# e2e_mpi.sh — end-to-end checks of the render driver and the MPI
 # master/worker (host/render.c, host/master.c, workers/worker.c) through
 # build/csgtrace:
 #   - serial == homo == hetero, bit for bit (EXR float pixels compared with
@@ -11,7 +11,7 @@
 #     one message, no image;
 #   - the stats JSON holds every field, and its counts add up.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
-# Usage: tests/test_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
+# Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
