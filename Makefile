@@ -7,7 +7,7 @@
 #   make demo     deps + build + render the showcase in both modes, compare
 #   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
-#   make bench-full       the full suite and the accuracy grid (hours)
+#   make bench-full       the full suite and the accuracy grid (~25 min)
 #   make clean
 #
 # The engine sources (flattening, tracing, shading) are compiled twice, once

@@ -2,7 +2,7 @@
 # bench/run.sh — the benchmark suite: the paper's three experiments and beyond.
 #
 #   bench/run.sh --quick          what `make bench` runs (about 3 minutes on 2 cores)
-#   bench/run.sh --full           `make bench-full` (about 1.5 hours on 2 idle cores, estimated)
+#   bench/run.sh --full           `make bench-full` (about 17 minutes on 2 cores)
 #   bench/run.sh --quick --only objects,size     run some experiments, keep the other CSVs
 #   bench/run.sh --report         rebuild summaries, plots and RESULTS.md from the CSVs
 #
