@@ -27,8 +27,9 @@
 # writes; the advantage (homo - hetero)/homo comes from the medians
 # (bench/collect.py).
 #
-# Environment: RANKS (3: 1 master + 2 workers), REPEATS (3 quick, 5 full),
-# CSGTRACE (build/csgtrace), BENCH_OUT (bench/results), BENCH_WORK (build/bench).
+# Environment: RANKS (3: 1 master + 2 workers), REPEATS (5),
+# CSGTRACE (build/csgtrace), BENCH_OUT (bench/results, bench/results-full for
+# --full), BENCH_WORK (build/bench, build/bench-full for --full).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -49,8 +50,11 @@ done
 
 BIN=${CSGTRACE:-$ROOT/build/csgtrace}
 RANKS=${RANKS:-3}
-OUT=${BENCH_OUT:-$ROOT/bench/results}
-WORK=${BENCH_WORK:-$ROOT/build/bench}
+# The full suite keeps its own results (and scene cache) beside the quick one's.
+SUFFIX=""
+[ "$SUITE" = full ] && SUFFIX=-full
+OUT=${BENCH_OUT:-$ROOT/bench/results$SUFFIX}
+WORK=${BENCH_WORK:-$ROOT/build/bench$SUFFIX}
 COLLECT="python3 $ROOT/bench/collect.py"
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
