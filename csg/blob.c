@@ -5,7 +5,7 @@
  * that every array lies inside the received bytes.
  */
 #include "flatten.h"
-#include "flat.h"
+#include "device/flat.h"
 
 #include <stdlib.h>
 

@@ -33,7 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "flat.h"
+#include "device/flat.h"
 
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double

@@ -2,7 +2,7 @@
  * scene.h — the scene as the parser builds it: a tree of CSG objects with
  * their transforms and textures, in double precision, on the host only.
  *
- * Stages: csg_parse_file() (csg/parser.c) fills a csg_scene; csg_flatten()
+ * Stages: csg_parse_file() (csg/lang/parser.c) fills a csg_scene; csg_flatten()
  * (csg/flatten.c) turns it into the flat arrays of flat.h in the chosen
  * precision.  Every object remembers where it was written so the stages
  * after parsing can still point at the source in their messages.
@@ -87,7 +87,7 @@ struct csg_object {
 };
 
 typedef struct {
-    dvec3 location;       /* camera vectors after POV-Ray's rules (camera.c) */
+    dvec3 location;       /* camera vectors after POV-Ray's rules (camera_setup.c) */
     dvec3 direction;
     dvec3 right;
     dvec3 up;

@@ -7,14 +7,14 @@
 #include <stdlib.h>
 
 #include "../csg/export_pov.h"
-#include "../csg/flat.h"
+#include "../csg/device/flat.h"
 #include "../csg/flatten.h"
-#include "../csg/parser.h"
+#include "../csg/lang/parser.h"
 #include "../csg/precision.h"
 #include "../csg/summary.h"
 #include "cli.h"
 #include "compare.h"
-#include "gen.h"
+#include "../scenes/gen.h"
 #include "render.h"
 
 #define CSGTRACE_VERSION "0.1"

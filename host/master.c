@@ -1,5 +1,5 @@
 /*
- * master.c — rank 0 of the tile protocol described in workers/protocol.h.
+ * master.c — rank 0 of the tile protocol described in host/protocol.h.
  *
  * Algorithm (self-scheduling, as in Tachyon and the classic examples):
  *   1. broadcast the status, then the blob in chunks;
@@ -26,7 +26,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../workers/protocol.h"
+#include "protocol.h"
 
 bool master_launched_by_mpirun(void)
 {

@@ -1,5 +1,5 @@
 /*
- * master.h — rank 0's side of the tile protocol (workers/protocol.h): MPI
+ * master.h — rank 0's side of the tile protocol (host/protocol.h): MPI
  * start-up, the scene broadcast, self-scheduled tiles, the final STOP.
  *
  * Use (render.c):

@@ -40,7 +40,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../csg/flat.h"
+#include "../csg/device/flat.h"
 #include "../csg/flatten.h"
 
 #ifndef CSG_SOURCE_DIR
@@ -454,7 +454,7 @@ static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
         return false;
     snprintf(path, sizeof path, "%s/simd_kernels/primary.cl", dir);
     snprintf(options, sizeof options,
-             "-cl-std=CL1.2 -I %s/csg -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s",
+             "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s",
              dir, dir, c->use_double ? " -DCSG_DOUBLE" : "");
     char *src = ocl_read_file(path, d);
     if (!src)

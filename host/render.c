@@ -30,14 +30,14 @@
 
 #include "../csg/flatten.h"
 #include "../workers/engine.h"
-#include "../workers/protocol.h"
+#include "protocol.h"
 #include "../workers/worker.h"
 #include "image.h"
 #include "master.h"
 #include "ocl.h"
 #include "progress.h"
 #include "stats.h"
-#include "../csg/parser.h"
+#include "../csg/lang/parser.h"
 #include "../csg/precision.h"
 
 #define RENDER_DEFAULT_TILE 32

@@ -1,5 +1,5 @@
 /*
- * layout_fields.cl — the list of every shared struct of csg/flat.h and each
+ * layout_fields.cl — the list of every shared struct of csg/device/flat.h and each
  * of its fields, as an X-macro.  Included by the probe kernel (primary.cl,
  * through the -I of the build) and by tests/test_layout.c, which expand it
  * the same way, so the device's and the host's sizeof/offsetof lists line

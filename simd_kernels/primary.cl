@@ -1,7 +1,7 @@
 /*
  * primary.cl — the data-parallel phase of the heterogeneous mode: one
  * work-item per pixel traces the primary ray with the very functions the C
- * workers use (csg/camera.h, csg/intersect.h), then one work-item per tile
+ * workers use (csg/device/camera.h, csg/device/intersect.h), then one work-item per tile
  * counts the pixels whose ray hit something.
  *
  * Built by host/ocl.c with -I <source>/csg -I <source>/simd_kernels

@@ -2,7 +2,7 @@
  * geom_assert.h — the assertions the geometry tests share: closeness of
  * scalars and vectors with the value, the expectation and the tolerance in
  * the failure message, and a ray constructor.  Included by test files that
- * already include cmocka.h, math.h and csg/intersect.h (in either
+ * already include cmocka.h, math.h and csg/device/intersect.h (in either
  * precision: EPS is the precision's machine epsilon).
  */
 #ifndef TESTS_GEOM_ASSERT_H

@@ -1,5 +1,5 @@
 /*
- * test_csg.c — unit tests of the CSG half of csg/intersect.h: interval
+ * test_csg.c — unit tests of the CSG half of csg/device/intersect.h: interval
  * lists (push, union, intersection, the CSG_MAX_SPANS limit), root
  * programs in reverse Polish notation over hand-built csg_prim / csg_node /
  * csg_root arrays, the nearest hit over several roots, and the root boxes.
@@ -19,7 +19,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "../csg/intersect.h"
+#include "../csg/device/intersect.h"
 
 #include "geom_assert.h"
 

@@ -14,8 +14,8 @@
 #include <cmocka.h>
 #include <math.h>
 
-#include "../csg/camera.h"
-#include "../csg/flat.h"
+#include "../csg/device/camera.h"
+#include "../csg/device/flat.h"
 #include "../csg/flatten.h"
 #include "../workers/engine.h"
 

@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../csg/parser.h"
+#include "../csg/lang/parser.h"
 
 #define FUZZ_RUNS 20000
 #define FUZZ_SEED 0x5eed2024cafef00dull

@@ -1,7 +1,7 @@
 /*
  * test_geometry.c — unit tests of the shared ray/primitive geometry:
- * csg/vec.h, the primitive intervals and normals of csg/intersect.h, the
- * CSG_PF_XFORM path, and the primary ray of csg/camera.h.
+ * csg/device/vec.h, the primitive intervals and normals of csg/device/intersect.h, the
+ * CSG_PF_XFORM path, and the primary ray of csg/device/camera.h.
  *
  * The same file is compiled twice: as is (real = float) and through
  * tests/test_geometry_double.c (real = double, CSG_DOUBLE).  Expected values
@@ -19,8 +19,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "../csg/camera.h"
-#include "../csg/intersect.h"
+#include "../csg/device/camera.h"
+#include "../csg/device/intersect.h"
 #include "../csg/scene.h"
 
 #include "geom_assert.h"

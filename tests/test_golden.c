@@ -18,7 +18,7 @@
 #include <cmocka.h>
 
 #include "../csg/flatten.h"
-#include "../csg/parser.h"
+#include "../csg/lang/parser.h"
 #include "../host/image.h"
 #include "../workers/engine.h"
 

@@ -1,5 +1,5 @@
 /*
- * test_layout.c — the shared structs of csg/flat.h have the same layout in
+ * test_layout.c — the shared structs of csg/device/flat.h have the same layout in
  * C and in OpenCL C, in both precisions.
  *
  * The probe kernel csg_layout (simd_kernels/primary.cl) writes sizeof and
@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <cmocka.h>
 
-#include "../csg/camera.h"
+#include "../csg/device/camera.h"
 #include "../host/ocl.h"
 #include "../simd_kernels/layout_fields.cl"
 

@@ -25,7 +25,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "../csg/camera.h"
+#include "../csg/device/camera.h"
 #include "../csg/flatten.h"
 #include "../host/ocl.h"
 

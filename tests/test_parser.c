@@ -19,8 +19,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "../csg/lexer.h"
-#include "../csg/parser.h"
+#include "../csg/lang/lexer.h"
+#include "../csg/lang/parser.h"
 #include "../csg/summary.h"
 
 /* ---- helpers ------------------------------------------------------------- */

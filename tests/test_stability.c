@@ -35,8 +35,8 @@
 #include <math.h>
 
 #include "../csg/flatten.h"
-#include "../csg/intersect.h" /* real = float in this file */
-#include "../csg/parser.h"
+#include "../csg/device/intersect.h" /* real = float in this file */
+#include "../csg/lang/parser.h"
 #include "../csg/precision.h"
 #include "../workers/engine.h"
 #include "../workers/offset.h"

@@ -31,7 +31,7 @@
 
 #include <string.h>
 
-#include "../csg/vec.h"
+#include "../csg/device/vec.h"
 
 #ifdef CSG_DOUBLE
 typedef int64_t offset_bits;

@@ -28,7 +28,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "../csg/camera.h"
+#include "../csg/device/camera.h"
 #include "engine.h"
 #include "offset.h"
 

@@ -24,7 +24,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "protocol.h"
+#include "../host/protocol.h"
 
 typedef struct {
     int rank;

@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "diag.h"
+#include "../diag.h"
 
 enum csg_tok_kind {
     CSG_TOK_EOF,

@@ -6,7 +6,7 @@
  * y0 = 0.5 - (y + 0.5) / H (pixel centres, y down the image), the ray leaves
  * `location` along normalize(direction + x0 * right + y0 * up).  The
  * camera vectors already hold POV-Ray's look_at / angle / sky handling,
- * done once on the host in double (csg/camera.c).
+ * done once on the host in double (csg/camera_setup.c).
  */
 #ifndef CSG_CAMERA_H
 #define CSG_CAMERA_H

@@ -19,8 +19,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "diag.h"
-#include "scene.h"
+#include "../diag.h"
+#include "../scene.h"
 
 /* Braces, objects, parentheses and vectors nested inside each other, and
  * the depth of the resulting CSG tree (through declared objects too). */

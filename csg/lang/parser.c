@@ -39,7 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "camera_setup.h"
+#include "../camera_setup.h"
 #include "lexer.h"
 
 /* ---- values and symbols ------------------------------------------------- */

@@ -46,7 +46,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "engine.h"
+#include "../workers/engine.h"
 
 enum proto_tag {
     PROTO_TAG_READY = 1, /* worker: set up, waiting for tiles  */

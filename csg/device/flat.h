@@ -85,7 +85,7 @@ typedef struct {
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
 
 /* The camera after POV-Ray's camera statement was applied (see
- * csg/camera.c): the primary ray of pixel (x, y) of a W x H image is
+ * csg/camera_setup.c): the primary ray of pixel (x, y) of a W x H image is
  * direction + x0 * right + y0 * up, normalised, from location. */
 typedef struct {
     real location[3];

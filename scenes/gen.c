@@ -23,7 +23,7 @@
 #include <unistd.h>
 
 #include "../csg/flatten.h"
-#include "../csg/parser.h"
+#include "../csg/lang/parser.h"
 #include "../workers/engine.h"
 
 #define GEN_CAMERA_Z (-10.0)
