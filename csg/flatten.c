@@ -33,22 +33,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "device/flat.h"
 
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double
 #else
 #define FLATTEN_FN csg_flatten_float
 #endif
-
-/* blob.c computes struct sizes from real_size; keep the formulas honest. */
-_Static_assert(sizeof(csg_prim) == 16 + 20 * sizeof(real), "csg_prim layout");
-_Static_assert(sizeof(csg_node) == 8, "csg_node layout");
-_Static_assert(sizeof(csg_root) == 16 + 6 * sizeof(real), "csg_root layout");
-_Static_assert(sizeof(csg_material) == 17 * sizeof(real), "csg_material layout");
-_Static_assert(sizeof(csg_flat_light) == 6 * sizeof(real) + 8, "csg_flat_light layout");
-_Static_assert(sizeof(csg_camera) == 12 * sizeof(real), "csg_camera layout");
-_Static_assert(sizeof(csg_bvh_node) == 6 * sizeof(real) + 8, "csg_bvh_node layout");
 
 typedef struct {
     double lo[3], hi[3];
@@ -684,7 +674,6 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     h.max_depth = o->max_depth > 0 ? o->max_depth : s->globals.max_trace_level;
     if (h.max_depth < 1)
         h.max_depth = 1;
-    h.adc_bailout = o->bailout >= 0 ? o->bailout : s->globals.adc_bailout;
     h.spp = o->spp > 0 ? o->spp : 1;
     h.prim_count = fb->prim_count;
     h.node_count = fb->node_count;
@@ -696,8 +685,6 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     for (int i = 0; i < fb->root_count; i++)
         if (fb->roots[i].stack_depth > h.max_stack)
             h.max_stack = fb->roots[i].stack_depth;
-    memcpy(h.background, s->background, sizeof h.background);
-    memcpy(h.ambient_light, s->globals.ambient_light, sizeof h.ambient_light);
     uint64_t off = align64(sizeof h);
     h.off_prims = place(&off, fb->prim_count, sizeof(csg_prim));
     h.off_nodes = place(&off, fb->node_count, sizeof(csg_node));
@@ -706,6 +693,7 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     h.off_materials = place(&off, fb->mat_count, sizeof(csg_material));
     h.off_lights = place(&off, s->light_count, sizeof(csg_flat_light));
     h.off_camera = place(&off, 1, sizeof(csg_camera));
+    h.off_shading = place(&off, 1, sizeof(csg_shading));
     h.total_size = off;
 
     unsigned char *b = calloc(1, (size_t)off);
@@ -729,6 +717,12 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
             lights[i].color[c] = (real)s->lights[i].color[c];
         lights[i].shadowless = s->lights[i].shadowless;
     }
+    csg_shading *sh = (csg_shading *)(b + h.off_shading);
+    for (int c = 0; c < 3; c++) {
+        sh->background[c] = (real)s->background[c];
+        sh->ambient_light[c] = (real)s->globals.ambient_light[c];
+    }
+    sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
     csg_camera_src cam = s->camera;
     if (!s->has_camera) {
         cam.location = (dvec3){0, 0, 0};

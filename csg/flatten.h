@@ -3,11 +3,8 @@
  * plain arrays in the chosen precision: what the master broadcasts to the
  * workers as bytes, and what the OpenCL host uploads.
  *
- * Blob layout: a csg_blob_header, then the arrays at the byte offsets it
- * records (each 64-byte aligned): prims (csg_prim), nodes (csg_node), roots
- * (csg_root), the BVH over roots (csg_bvh_node), materials (csg_material), lights (csg_flat_light), and one
- * csg_camera.  csg_prim / csg_node / csg_root / csg_camera are the shared
- * structs of flat.h in the blob's precision (header.real_size 4 or 8).
+ * The blob's layout (csg_blob_header and the arrays it locates) is defined
+ * once, in device/flat.h; this is the host API that makes and checks it.
  */
 #ifndef CSG_FLATTEN_H
 #define CSG_FLATTEN_H
@@ -15,31 +12,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "device/flat.h"
 #include "diag.h"
 #include "scene.h"
-
-#define CSG_BLOB_MAGIC 0x43534731u /* "CSG1" */
-#define CSG_MAX_SPP 1024          /* samples a pixel, at most          */
-
-typedef struct {
-    uint32_t magic;
-    uint32_t real_size;      /* 4: float build, 8: double build         */
-    int32_t width, height;   /* the image                               */
-    int32_t max_depth;       /* max_trace_level: 1 = primary rays only  */
-    int32_t prim_count, node_count, root_count, material_count, light_count;
-    int32_t max_stack;       /* deepest root program, <= CSG_STACK_MAX   */
-    int32_t linear_roots;    /* roots 0 .. linear_roots-1: unbounded, tested
-                                one by one; the rest hang in the BVH      */
-    int32_t bvh_count;       /* BVH nodes (0: no bounded root)            */
-    int32_t spp;             /* primary samples a pixel (>= 1): the hit
-                                records hold width * spp records a row,
-                                the samples of a pixel side by side     */
-    double adc_bailout;      /* rays weighing less are not traced        */
-    double background[5];    /* rgbft                                    */
-    double ambient_light[3];
-    uint64_t off_prims, off_nodes, off_roots, off_bvh, off_materials, off_lights, off_camera;
-    uint64_t total_size;     /* bytes of the whole blob                  */
-} csg_blob_header;
 
 typedef struct {
     void *bytes;  /* malloc'd, starts with csg_blob_header */

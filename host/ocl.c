@@ -509,50 +509,20 @@ static bool ocl_arg(cl_kernel k, const char *kname, cl_uint i, size_t size, cons
 
 /* ---- the primary pass ----------------------------------------------------------------- */
 
-/* Bytes of the flat structs in a precision (flat.h: integers then reals,
- * no padding; tests/test_layout.c checks the device agrees). */
-static uint64_t ocl_prim_size(uint64_t rs) { return 16 + 20 * rs; }
-static uint64_t ocl_root_size(uint64_t rs) { return 16 + 6 * rs; }
-static uint64_t ocl_camera_size(uint64_t rs) { return 12 * rs; }
-_Static_assert(sizeof(csg_prim) == 16 + 20 * sizeof(float), "csg_prim layout");
-_Static_assert(sizeof(csg_root) == 16 + 6 * sizeof(float), "csg_root layout");
-_Static_assert(sizeof(csg_camera) == 12 * sizeof(float), "csg_camera layout");
-_Static_assert(sizeof(csg_node) == 8, "csg_node layout");
-
-static bool ocl_array_fits(uint64_t off, uint64_t count, uint64_t elem, uint64_t total)
-{
-    return off <= total && count <= (total - off) / elem;
-}
-
+/* The blob is the flattener's, but the device trusts every index in it:
+ * the same validation a worker applies (csg/blob.c), after a precision
+ * check that names the mismatch. */
 static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile, csg_diag *d)
 {
-    uint64_t rs = c->use_double ? 8 : 4;
-    if (h->magic != CSG_BLOB_MAGIC) {
-        csg_error_plain(d, "OpenCL primary pass: not a flat scene blob (bad magic)");
-        return false;
-    }
-    if (h->real_size != rs) {
+    uint32_t rs = c->use_double ? 8 : 4;
+    if (h->magic == CSG_BLOB_MAGIC && h->real_size != rs && (h->real_size == 4 || h->real_size == 8)) {
         csg_error_plain(d, "OpenCL primary pass: the scene is in %s but the program was built "
                            "for %s", h->real_size == 8 ? "double" : "float",
                         c->use_double ? "double" : "float");
         return false;
     }
-    if (h->width <= 0 || h->height <= 0 || tile <= 0 || h->spp < 1 || h->spp > CSG_MAX_SPP) {
-        csg_error_plain(d, "OpenCL primary pass: bad image %d x %d or tile %d", h->width,
-                        h->height, tile);
-        return false;
-    }
-    uint64_t T = h->total_size;
-    if (h->prim_count < 0 || h->node_count < 0 || h->root_count < 0 ||
-        !ocl_array_fits(h->off_prims, (uint64_t)h->prim_count, ocl_prim_size(rs), T) ||
-        !ocl_array_fits(h->off_nodes, (uint64_t)h->node_count, 8, T) ||
-        !ocl_array_fits(h->off_roots, (uint64_t)h->root_count, ocl_root_size(rs), T) ||
-        !ocl_array_fits(h->off_camera, 1, ocl_camera_size(rs), T) ||
-        h->linear_roots < 0 || h->linear_roots > h->root_count || h->bvh_count < 0 ||
-        !ocl_array_fits(h->off_bvh, (uint64_t)h->bvh_count, 6u * rs + 8u, T) ||
-        (h->off_bvh % 64) || (h->off_prims % 64) ||
-        (h->off_nodes % 64) || (h->off_roots % 64) || (h->off_camera % 64)) {
-        csg_error_plain(d, "OpenCL primary pass: the scene blob's arrays do not fit its size");
+    if (tile <= 0 || !csg_blob_valid(h, (size_t)h->total_size)) {
+        csg_error_plain(d, "OpenCL primary pass: not a valid scene blob, or tile %d", tile);
         return false;
     }
     return true;
@@ -617,39 +587,22 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                           ocl_pass_buffers *b, void *t_out, uint32_t *surf_out,
                           uint32_t *tile_hits, csg_diag *d)
 {
-    cl_ulong offs[4] = {h->off_prims, h->off_nodes, h->off_roots, h->off_camera};
-    cl_int root_count = h->linear_roots, width = h->width, height = h->height, cy0 = y0;
-    cl_int spp = h->spp, record_width = h->width * h->spp;
-    cl_ulong off_bvh = h->off_bvh;
-    cl_int bvh_count = h->bvh_count;
-    cl_int crows = rows, ctile = tile, tiles_x = (h->width + tile - 1) / tile;
+    cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
+    cl_int tiles_x = (h->width + tile - 1) / tile;
     int ty0 = y0 / tile;
     cl_int tile_rows = (y0 + rows - 1) / tile - ty0 + 1; /* tile rows the slice touches */
     const char *kp = "csg_primary", *kt = "csg_tile_hits";
     bool ok = ocl_arg(c->k_primary, kp, 0, sizeof(cl_mem), &b->blob, d) &&
-              ocl_arg(c->k_primary, kp, 1, sizeof(cl_ulong), &offs[0], d) &&
-              ocl_arg(c->k_primary, kp, 2, sizeof(cl_ulong), &offs[1], d) &&
-              ocl_arg(c->k_primary, kp, 3, sizeof(cl_ulong), &offs[2], d) &&
-              ocl_arg(c->k_primary, kp, 4, sizeof(cl_ulong), &offs[3], d) &&
-              ocl_arg(c->k_primary, kp, 5, sizeof(cl_int), &root_count, d) &&
-              ocl_arg(c->k_primary, kp, 6, sizeof(cl_int), &width, d) &&
-              ocl_arg(c->k_primary, kp, 7, sizeof(cl_int), &height, d) &&
-              ocl_arg(c->k_primary, kp, 8, sizeof(cl_int), &cy0, d) &&
-              ocl_arg(c->k_primary, kp, 9, sizeof(cl_int), &crows, d) &&
-              ocl_arg(c->k_primary, kp, 10, sizeof(cl_mem), &b->t, d) &&
-              ocl_arg(c->k_primary, kp, 11, sizeof(cl_mem), &b->surf, d) &&
-              ocl_arg(c->k_primary, kp, 12, sizeof(cl_ulong), &off_bvh, d) &&
-              ocl_arg(c->k_primary, kp, 13, sizeof(cl_int), &bvh_count, d) &&
-              ocl_arg(c->k_primary, kp, 14, sizeof(cl_int), &spp, d) &&
-              ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->surf, d) &&
-              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_int), &record_width, d) &&
+              ocl_arg(c->k_primary, kp, 1, sizeof(cl_int), &cy0, d) &&
+              ocl_arg(c->k_primary, kp, 2, sizeof(cl_int), &crows, d) &&
+              ocl_arg(c->k_primary, kp, 3, sizeof(cl_mem), &b->t, d) &&
+              ocl_arg(c->k_primary, kp, 4, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->blob, d) &&
+              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_mem), &b->surf, d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
               ocl_arg(c->k_tiles, kt, 3, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_tiles, kt, 4, sizeof(cl_int), &ctile, d) &&
-              ocl_arg(c->k_tiles, kt, 5, sizeof(cl_int), &tiles_x, d) &&
-              ocl_arg(c->k_tiles, kt, 6, sizeof(cl_int), &tile_rows, d) &&
-              ocl_arg(c->k_tiles, kt, 7, sizeof(cl_mem), &b->hits, d) &&
-              ocl_arg(c->k_tiles, kt, 8, sizeof(cl_int), &spp, d);
+              ocl_arg(c->k_tiles, kt, 5, sizeof(cl_mem), &b->hits, d);
     if (!ok)
         return false;
     size_t gp = c->group_primary, gt = c->group_tiles;
@@ -739,29 +692,23 @@ fail:
 /* ---- opening and closing ---------------------------------------------------------- */
 
 /* PoCL compiles each kernel for its work-group size at the first launch:
- * one launch on a 1 x 1 image with an empty scene (a zero camera) moves
- * that into compile_s, out of the first primary_s. */
+ * one launch on a 1 x 1 image of an empty scene moves that into
+ * compile_s, out of the first primary_s. */
 static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
 {
-    union {
-        csg_blob_header h;
-        unsigned char bytes[512];
-    } blob;
-    memset(&blob, 0, sizeof blob);
-    uint64_t off = (sizeof blob.h + 63) / 64 * 64;
-    blob.h.magic = CSG_BLOB_MAGIC;
-    blob.h.real_size = c->use_double ? 8 : 4;
-    blob.h.width = 1;
-    blob.h.height = 1;
-    blob.h.spp = 1;
-    blob.h.off_prims = blob.h.off_nodes = blob.h.off_roots = blob.h.off_bvh = off;
-    blob.h.off_materials = blob.h.off_lights = blob.h.off_camera = off;
-    blob.h.total_size = off + ocl_camera_size(8);
-    _Static_assert(sizeof blob.h + 63 + 12 * 8 <= sizeof blob, "warm-up blob size");
+    csg_scene empty;
+    csg_blob blob = {NULL, 0};
+    csg_flatten_opts o = {1, 1, 1, -1, 1};
+    csg_scene_init(&empty);
+    bool ok = c->use_double ? csg_flatten_double(&empty, &o, &blob, d)
+                            : csg_flatten_float(&empty, &o, &blob, d);
+    csg_scene_free(&empty);
     double t[1];
     uint32_t surf[1], hits[1];
     ocl_timing timing;
-    return ocl_primary_pass(c, &blob, 1, t, surf, hits, &timing, d);
+    ok = ok && ocl_primary_pass(c, blob.bytes, 1, t, surf, hits, &timing, d);
+    csg_blob_free(&blob);
+    return ok;
 }
 
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d)

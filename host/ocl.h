@@ -48,7 +48,7 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
 void ocl_close(ocl_ctx *ctx);
 
 /* The layout probe (kernel csg_layout): out[0 .. *count) receives the
- * device's sizeof / offsetof list of simd_kernels/layout_fields.cl in the
+ * device's sizeof / offsetof list of CSG_LAYOUT_FIELDS (csg/device/flat.h) in the
  * context's precision (tests/test_layout.c compares it with the C side). */
 bool ocl_probe_layout(ocl_ctx *ctx, int32_t *out, int cap, int *count, csg_diag *d);
 

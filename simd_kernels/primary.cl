@@ -1,20 +1,20 @@
 /*
  * primary.cl — the data-parallel phase of the heterogeneous mode: one
  * work-item per pixel traces the primary ray with the very functions the C
- * workers use (csg/device/camera.h, csg/device/intersect.h), then one work-item per tile
- * counts the pixels whose ray hit something.
+ * workers use (csg/device/camera.h, csg/device/intersect.h), then one
+ * work-item per tile counts the pixels whose ray hit something.
  *
- * Built by host/ocl.c with -I <source>/csg -I <source>/simd_kernels
+ * Built by host/ocl.c with -I <source>/csg/device -I <source>/simd_kernels
  * -cl-fp32-correctly-rounded-divide-sqrt (and -DCSG_DOUBLE for the double
  * build); portable.h turns FP_CONTRACT off.  Nothing here does arithmetic
  * on `real` of its own: every bit of a record comes from the shared code,
  * which is why the records equal the C records bit for bit.
  *
- * The scene arrives as the flat blob (csg/flatten.h) in one buffer; the
- * kernels get the byte offsets of its arrays and rebuild a csg_view of
- * __global pointers.  The image is processed in slices of rows (the host
- * picks them to fit the device): rows y0 .. y0 + rows - 1, stored from row 0
- * of the slice buffers.  The host pads the grids to whole work-groups of a
+ * The scene arrives as the flat blob (csg/device/flat.h) in one buffer;
+ * the kernels find its arrays and the image size through the blob's header
+ * (csg_blob_view, csg_blob_camera), as the C workers do.  The image is
+ * processed in slices of rows (the host picks them to fit the device):
+ * rows y0 .. y0 + rows - 1, stored from row 0 of the slice buffers.  The host pads the grids to whole work-groups of a
  * size it chooses (PoCL's own choice, the whole grid as one group, makes
  * every work-item's private span lists live at once and overflows its
  * stack), so both kernels first drop the work-items outside the image.
@@ -26,41 +26,35 @@
  * two slices).  The result is deterministic.
  */
 #include "camera.h"
-#include "layout_fields.cl"
 
-__kernel void csg_primary(__global const uchar *blob, ulong off_prims, ulong off_nodes,
-                          ulong off_roots, ulong off_camera, int root_count, int width,
-                          int height, int y0, int rows, __global real *t_out,
-                          __global uint *surf_out, ulong off_bvh, int bvh_count, int spp)
+__kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global real *t_out,
+                          __global uint *surf_out)
 {
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp;
     int col = (int)get_global_id(0); /* one work-item a sample: width * spp a row */
     int row = (int)get_global_id(1);
     if (col >= width * spp || row >= rows) /* the grid is padded to whole work-groups */
         return;
     int x = col / spp, s = col % spp;
-    csg_view v;
-    v.prims = (__global const csg_prim *)(blob + off_prims);
-    v.nodes = (__global const csg_node *)(blob + off_nodes);
-    v.roots = (__global const csg_root *)(blob + off_roots);
-    v.bvh = (__global const csg_bvh_node *)(blob + off_bvh);
-    v.root_count = root_count; /* the roots tested one by one (linear_roots) */
-    v.bvh_count = bvh_count;
-    __global const csg_camera *cam = (__global const csg_camera *)(blob + off_camera);
-
-    csg_ray r = csg_sample_ray(cam, width, height, x, y0 + row, spp, s);
-    csg_hit h = csg_trace_nearest(v, r, R(0.0), CSG_R_INF);
+    csg_ray r = csg_sample_ray(csg_blob_camera(blob), width, h->height, x, y0 + row, spp, s);
+    csg_hit hit = csg_trace_nearest(csg_blob_view(blob), r, R(0.0), CSG_R_INF);
 
     size_t i = (size_t)row * (size_t)width * (size_t)spp + (size_t)col;
-    t_out[i] = h.t;
-    surf_out[i] = h.surf;
+    t_out[i] = hit.t;
+    surf_out[i] = hit.surf;
 }
 
 /* hits[k * tiles_x + tx]: samples with surf != 0 in tile (tx, y0 / tile + k),
- * restricted to the slice's rows y0 .. y0 + rows - 1; `width` counts
- * records (pixels * spp) and a tile is tile * spp records wide. */
-__kernel void csg_tile_hits(__global const uint *surf, int width, int y0, int rows, int tile,
-                            int tiles_x, int tile_rows, __global uint *hits, int spp)
+ * restricted to the slice's rows y0 .. y0 + rows - 1; a row holds
+ * width * spp records and a tile is tile * spp records wide. */
+__kernel void csg_tile_hits(__global const uchar *blob, __global const uint *surf, int y0,
+                            int rows, int tile, __global uint *hits)
 {
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width * h->spp, spp = h->spp;
+    int tiles_x = (h->width + tile - 1) / tile;
+    int tile_rows = (y0 + rows - 1) / tile - y0 / tile + 1;
     int tx = (int)get_global_id(0);
     int k = (int)get_global_id(1);
     if (tx >= tiles_x || k >= tile_rows)
@@ -80,8 +74,8 @@ __kernel void csg_tile_hits(__global const uint *surf, int width, int y0, int ro
 }
 
 /* The layout probe: out[0] = number of entries, then sizeof / offsetof of
- * every entry of CSG_LAYOUT_FIELDS, in order (tests/test_layout.c); nothing
- * is written at or beyond out[cap]. */
+ * every entry of CSG_LAYOUT_FIELDS (flat.h), in order (tests/test_layout.c);
+ * nothing is written at or beyond out[cap]. */
 #define CSG_PROBE_PUT(v)                                                           \
     {                                                                              \
         if (n < cap)                                                               \

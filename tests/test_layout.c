@@ -1,10 +1,10 @@
 /*
- * test_layout.c — the shared structs of csg/device/flat.h have the same layout in
- * C and in OpenCL C, in both precisions.
+ * test_layout.c — the structs of csg/device/flat.h that the device reads
+ * have the same layout in C and in OpenCL C, in both precisions.
  *
  * The probe kernel csg_layout (simd_kernels/primary.cl) writes sizeof and
- * offsetof of every entry of CSG_LAYOUT_FIELDS (simd_kernels/
- * layout_fields.cl); this file expands the same list with the C compiler
+ * offsetof of every entry of CSG_LAYOUT_FIELDS (csg/device/flat.h); this
+ * file expands the same list with the C compiler
  * in its precision and compares entry by entry.  It is compiled as is
  * (float) and, through tests/test_layout_double.c, with -DCSG_DOUBLE.  The
  * program is built through host/ocl.c, so the probe runs in the very
@@ -20,7 +20,6 @@
 
 #include "../csg/device/camera.h"
 #include "../host/ocl.h"
-#include "../simd_kernels/layout_fields.cl"
 
 #define LAYOUT_CAP 128
 

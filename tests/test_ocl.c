@@ -191,8 +191,10 @@ typedef struct {
 
 static size_t align64(size_t n) { return (n + 63) & ~(size_t)63; }
 
+/* The sizes come from the structs of this file's precision. */
 static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_size,
-                        size_t prim_size, size_t root_size, size_t camera_size)
+                        size_t prim_size, size_t root_size, size_t camera_size,
+                        size_t material_size, size_t shading_size)
 {
     memset(h, 0, sizeof *h);
     h->magic = CSG_BLOB_MAGIC;
@@ -204,6 +206,7 @@ static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_siz
     h->node_count = s->nn;
     h->root_count = s->nr;
     h->linear_roots = s->nr; /* hand-built scenes have no BVH */
+    h->material_count = 1;   /* every primitive uses material 0 */
     h->spp = 1;
     h->max_stack = 1;
     for (int i = 0; i < s->nr; i++)
@@ -217,9 +220,13 @@ static void blob_header(const sc_scene *s, csg_blob_header *h, uint32_t real_siz
     h->off_roots = off;
     off = align64(off + (size_t)s->nr * root_size);
     h->off_materials = off;
+    off = align64(off + material_size);
     h->off_lights = off;
+    h->off_bvh = off;
     h->off_camera = off;
-    h->total_size = off + camera_size;
+    off = align64(off + camera_size);
+    h->off_shading = off;
+    h->total_size = off + shading_size;
 }
 
 static void *make_blob(const sc_scene *s, size_t *size);
@@ -743,7 +750,7 @@ static void *make_blob(const sc_scene *s, size_t *size)
 {
     csg_blob_header h;
     blob_header(s, &h, (uint32_t)sizeof(real), sizeof(csg_prim), sizeof(csg_root),
-                sizeof(csg_camera));
+                sizeof(csg_camera), sizeof(csg_material), sizeof(csg_shading));
     char *b = calloc(1, (size_t)h.total_size);
     assert_non_null(b);
     memcpy(b, &h, sizeof h);
@@ -794,15 +801,8 @@ static void *make_blob(const sc_scene *s, size_t *size)
 static void reference(const void *blob, void *t_out, uint32_t *surf)
 {
     const csg_blob_header *h = blob;
-    const char *b = blob;
-    csg_view v;
-    v.prims = (const csg_prim *)(b + h->off_prims);
-    v.nodes = (const csg_node *)(b + h->off_nodes);
-    v.roots = (const csg_root *)(b + h->off_roots);
-    v.bvh = (const csg_bvh_node *)(b + h->off_bvh);
-    v.root_count = h->linear_roots;
-    v.bvh_count = h->bvh_count;
-    const csg_camera *cam = (const csg_camera *)(b + h->off_camera);
+    csg_view v = csg_blob_view(blob);
+    const csg_camera *cam = csg_blob_camera(blob);
     real *t = t_out;
     for (int y = 0; y < h->height; y++)
         for (int x = 0; x < h->width; x++) {

@@ -18,6 +18,7 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
                                       uint32_t *surf_out, ray_counts *rays);
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t,
                               const uint32_t *surf, float *rgb_out, ray_counts *rays);
+void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3]);
 
 const engine ENGINE_SYM(engine) = {
     .name = ENGINE_NAME,
@@ -25,4 +26,5 @@ const engine ENGINE_SYM(engine) = {
     .flatten = ENGINE_SYM(csg_flatten),
     .trace_primary = ENGINE_SYM(engine_trace_primary),
     .shade = ENGINE_SYM(engine_shade),
+    .miss_rgb = ENGINE_SYM(engine_miss_rgb),
 };

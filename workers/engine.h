@@ -56,6 +56,9 @@ typedef struct {
      * records; adds the secondary rays it traced to *rays. */
     void (*shade)(const void *blob, tile_rect rect, const void *t, const uint32_t *surf,
                   float *rgb_out, ray_counts *rays);
+    /* The pixel shade gives when no primary sample hit (the background):
+     * what the hetero master fills degenerate tiles with. */
+    void (*miss_rgb)(const void *blob, float rgb[3]);
 } engine;
 
 extern const engine engine_float;

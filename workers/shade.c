@@ -54,20 +54,14 @@ static shade_ctx ctx_of(const void *blob)
     const unsigned char *b = blob;
     shade_ctx c;
     c.hdr = blob;
-    c.view.prims = (const csg_prim *)(b + c.hdr->off_prims);
-    c.view.nodes = (const csg_node *)(b + c.hdr->off_nodes);
-    c.view.roots = (const csg_root *)(b + c.hdr->off_roots);
-    c.view.bvh = (const csg_bvh_node *)(b + c.hdr->off_bvh);
-    c.view.root_count = c.hdr->linear_roots;
-    c.view.bvh_count = c.hdr->bvh_count;
+    c.view = csg_blob_view(b);
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
-    c.cam = (const csg_camera *)(b + c.hdr->off_camera);
-    c.ambient_light = v3((real)c.hdr->ambient_light[0], (real)c.hdr->ambient_light[1],
-                         (real)c.hdr->ambient_light[2]);
-    c.background = v3((real)c.hdr->background[0], (real)c.hdr->background[1],
-                      (real)c.hdr->background[2]);
-    c.bailout = (real)c.hdr->adc_bailout;
+    c.cam = csg_blob_camera(b);
+    const csg_shading *sh = (const csg_shading *)(b + c.hdr->off_shading);
+    c.ambient_light = v3_load(sh->ambient_light);
+    c.background = v3_load(sh->background);
+    c.bailout = sh->adc_bailout;
     return c;
 }
 
@@ -268,6 +262,18 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
  * degenerate configuration becomes black rather than poisoning the image. */
 static float finite_or_zero(real v) { return isfinite(v) ? (float)v : 0.0f; }
 
+static void store_rgb(float *out, vec3 col)
+{
+    out[0] = finite_or_zero(col.x);
+    out[1] = finite_or_zero(col.y);
+    out[2] = finite_or_zero(col.z);
+}
+
+void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
+{
+    store_rgb(rgb, ctx_of(blob).background);
+}
+
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
                               const uint32_t *surf, float *rgb_out, ray_counts *rays)
 {
@@ -302,9 +308,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);
-            rgb_out[3 * i + 0] = finite_or_zero(col.x);
-            rgb_out[3 * i + 1] = finite_or_zero(col.y);
-            rgb_out[3 * i + 2] = finite_or_zero(col.z);
+            store_rgb(rgb_out + 3 * i, col);
         }
     }
 }

@@ -13,6 +13,13 @@
 
 #include "intersect.h"
 
+/* The camera of a blob (flat.h). */
+CSG_FN CSG_GLOBAL const csg_camera *csg_blob_camera(CSG_GLOBAL const csg_u8 *blob)
+{
+    CSG_GLOBAL const csg_blob_header *h = (CSG_GLOBAL const csg_blob_header *)blob;
+    return (CSG_GLOBAL const csg_camera *)(blob + h->off_camera);
+}
+
 /* Where sample s of spp falls inside its pixel (0..1 each way), a fixed
  * stratified pattern: a k x k grid of cell centres when spp = k * k, else
  * the rank-1 lattice (s + 1/2, s * a + 1/2) / spp with a coprime to spp

@@ -4,8 +4,10 @@
  * This is what crosses every boundary: it is broadcast to the MPI workers
  * as bytes and uploaded to the OpenCL device as buffers.  The same struct
  * definitions compile as C11 and OpenCL C (see portable.h): every field is a
- * csg_i32, csg_u32 or `real`, integers first, so there is no padding and the
- * layout is identical on both sides (tests/test_layout checks it on PoCL).
+ * fixed-width integer (csg_i32, csg_u32, csg_u64) or `real`, integers first
+ * and each run of fields a multiple of the next one's alignment, so there
+ * is no padding and the layout is identical on both sides
+ * (CSG_LAYOUT_FIELDS at the end; tests/test_layout checks it on PoCL).
  *
  * The CSG tree of a scene becomes a list of roots.  Each root is a small
  * program in reverse Polish notation over the node array: OP_PRIM pushes the
@@ -25,8 +27,9 @@ enum csg_prim_kind {
     CSG_PRIM_CONE = 2,   /* local frame: axis +z from z=0 to z=p[2];
                             p[0] radius at z=0, p[1] radius at z=p[2];
                             a cylinder is a cone with p[0] == p[1]        */
-    CSG_PRIM_PLANE = 3   /* p[0..2] unit normal, p[3] distance: inside is
+    CSG_PRIM_PLANE = 3,  /* p[0..2] unit normal, p[3] distance: inside is
                             dot(n, x) < d                                  */
+    CSG_PRIM_KIND_COUNT
 };
 
 enum csg_prim_flags {
@@ -76,10 +79,10 @@ typedef struct {
  * tree; an interior node's first child is the next node and its second
  * child is node `first`; a leaf holds roots first .. first + count - 1. */
 typedef struct {
-    real lo[3];
-    real hi[3];
     csg_i32 first; /* leaf: first root; interior: index of the second child  */
     csg_i32 count; /* leaf: number of roots (> 0); interior: -1 - split axis */
+    real lo[3];
+    real hi[3];
 } csg_bvh_node;
 
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
@@ -93,6 +96,14 @@ typedef struct {
     real right[3];
     real up[3];
 } csg_camera;
+
+/* The scene-wide shading values (global_settings, background): C workers
+ * only, like the materials and the lights. */
+typedef struct {
+    real background[3];    /* what a ray that hits nothing sees        */
+    real ambient_light[3];
+    real adc_bailout;      /* rays weighing less are not traced        */
+} csg_shading;
 
 /* Shading data, used by the C workers only (the kernel never reads it). */
 typedef struct {
@@ -132,5 +143,63 @@ typedef struct {
 /* Limits of the CSG evaluator; the flattener rejects scenes beyond them. */
 #define CSG_MAX_SPANS 16 /* intervals in one list along one ray   */
 #define CSG_STACK_MAX 8  /* interval lists alive at once          */
+
+/* ---- the blob ----------------------------------------------------------------
+ * The flat scene travels as one contiguous blob: this header, then every
+ * array at the byte offset the header records (64-byte aligned), in the
+ * precision real_size says.  csg/flatten.c writes it, csg/blob.c validates
+ * it (the only code that knows the sizes: sizeof, compiled per precision),
+ * and the kernel and the workers find their arrays through the header
+ * (csg_blob_view in intersect.h).  Integers only, so OpenCL C reads it as
+ * it is, whatever the precision. */
+#define CSG_BLOB_MAGIC 0x43534732u /* "CSG2" */
+#define CSG_MAX_SPP 1024           /* samples a pixel, at most */
+
+typedef struct {
+    csg_u32 magic;
+    csg_u32 real_size;     /* 4: float build, 8: double build           */
+    csg_i32 width, height; /* the image                                 */
+    csg_i32 spp;           /* primary samples a pixel (>= 1): the hit
+                              records hold width * spp records a row, the
+                              samples of a pixel side by side            */
+    csg_i32 max_depth;     /* max_trace_level: 1 = primary rays only    */
+    csg_i32 prim_count, node_count, root_count, bvh_count;
+    csg_i32 linear_roots;  /* roots 0 .. linear_roots-1: unbounded, tested
+                              one by one; the rest hang in the BVH        */
+    csg_i32 material_count, light_count;
+    csg_i32 max_stack;     /* deepest root program, <= CSG_STACK_MAX      */
+    csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
+    csg_u64 off_materials, off_lights, off_shading;              /* workers */
+    csg_u64 total_size;    /* bytes of the whole blob                    */
+} csg_blob_header;
+
+/* Every struct the device reads and each of its fields, as an X-macro:
+ * S(type) stands for a size, F(type, field) for an offset.  The layout
+ * probe kernel (simd_kernels/primary.cl) and tests/test_layout.c expand the
+ * same list on each side and compare them entry by entry, so a struct the
+ * device reads cannot drift between C and OpenCL C unnoticed.  A new field
+ * or device-read struct goes here. */
+#define CSG_LAYOUT_FIELDS(S, F)                                                            \
+    S(real)                                                                                \
+    S(csg_blob_header) F(csg_blob_header, magic) F(csg_blob_header, real_size)             \
+        F(csg_blob_header, width) F(csg_blob_header, height) F(csg_blob_header, spp)       \
+        F(csg_blob_header, max_depth) F(csg_blob_header, prim_count)                       \
+        F(csg_blob_header, node_count) F(csg_blob_header, root_count)                      \
+        F(csg_blob_header, bvh_count) F(csg_blob_header, linear_roots)                     \
+        F(csg_blob_header, material_count) F(csg_blob_header, light_count)                 \
+        F(csg_blob_header, max_stack) F(csg_blob_header, off_prims)                        \
+        F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
+        F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
+        F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \
+        F(csg_blob_header, off_shading) F(csg_blob_header, total_size)                     \
+    S(csg_prim) F(csg_prim, kind) F(csg_prim, flags) F(csg_prim, material)                 \
+        F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
+    S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
+    S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \
+        F(csg_root, stack_depth) F(csg_root, pad) F(csg_root, lo) F(csg_root, hi)          \
+    S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
+        F(csg_bvh_node, hi)                                                                \
+    S(csg_camera) F(csg_camera, location) F(csg_camera, direction)                         \
+        F(csg_camera, right) F(csg_camera, up)
 
 #endif

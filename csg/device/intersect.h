@@ -56,6 +56,20 @@ typedef struct {
     csg_i32 bvh_count;
 } csg_view;
 
+/* The view of a blob (flat.h), its arrays found through its header. */
+CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
+{
+    CSG_GLOBAL const csg_blob_header *h = (CSG_GLOBAL const csg_blob_header *)blob;
+    csg_view v;
+    v.prims = (CSG_GLOBAL const csg_prim *)(blob + h->off_prims);
+    v.nodes = (CSG_GLOBAL const csg_node *)(blob + h->off_nodes);
+    v.roots = (CSG_GLOBAL const csg_root *)(blob + h->off_roots);
+    v.bvh = (CSG_GLOBAL const csg_bvh_node *)(blob + h->off_bvh);
+    v.root_count = h->linear_roots;
+    v.bvh_count = h->bvh_count;
+    return v;
+}
+
 typedef struct {
     real t;      /* ray parameter of the hit                  */
     csg_u32 surf; /* packed surface id, CSG_SURF_NONE: no hit */

@@ -29,16 +29,20 @@
 #endif
 #define CSG_GLOBAL __global
 #define CSG_FN static inline
+typedef uchar csg_u8;
 typedef uint csg_u32;
 typedef int csg_i32;
+typedef ulong csg_u64;
 #define CSG_R_INF ((real)INFINITY)
 #else
 #include <math.h>
 #include <stdint.h>
 #define CSG_GLOBAL
 #define CSG_FN static inline
+typedef uint8_t csg_u8;
 typedef uint32_t csg_u32;
 typedef int32_t csg_i32;
+typedef uint64_t csg_u64;
 #define CSG_R_INF ((real)INFINITY)
 #endif
 
