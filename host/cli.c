@@ -151,7 +151,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.precision = PREC_FLOAT;
     a->req.width = 320;
     a->req.height = 240;
-    a->req.tile = 32;
+    a->req.tile = RENDER_DEFAULT_TILE;
     a->req.spp = 1;
     a->req.progress = PROGRESS_TTY;
     a->req.threshold = -1;

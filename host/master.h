@@ -1,6 +1,6 @@
 /*
- * master.h — rank 0's side of the tile protocol (host/protocol.h): MPI
- * start-up, the scene broadcast, self-scheduled tiles, the final STOP.
+ * master.h — rank 0's side of the tile protocol (protocol.h): the scene
+ * broadcast, self-scheduled tiles, the final STOP (through link.h).
  *
  * Use (render.c):
  *   master_begin(&m, ranks);                 ranks 1: every call below is a
@@ -17,18 +17,9 @@
 #include <stdint.h>
 
 #include "../csg/flatten.h"
-#include "../workers/engine.h"
+#include "../workers/tile.h"
 #include "progress.h"
 #include "stats.h"
-
-/* True when the process was started by mpirun (Open MPI's
- * OMPI_COMM_WORLD_SIZE, or PMI_SIZE / PMIX_RANK of other launchers). */
-bool master_launched_by_mpirun(void);
-
-/* MPI_Init once per process (MPI_Finalize then runs at exit, so that a
- * program may render several times in one job); this rank and the number
- * of ranks.  false when MPI cannot start. */
-bool master_mpi_start(int *rank, int *size);
 
 typedef struct {
     int workers;              /* ranks - 1                                */
@@ -43,7 +34,7 @@ typedef struct {
 /* One tile phase: what to do and where the results go. */
 typedef struct {
     const void *blob;         /* flattened scene (already validated)      */
-    int width, height, tile;
+    tile_grid grid;           /* the image's tiles                        */
     const void *t;            /* hetero: whole-image records (the blob's  */
     const uint32_t *surf;     /*   real, uint32); t NULL: homo            */
     const int *todo;          /* tile indices, sent in this order         */
@@ -59,12 +50,16 @@ typedef struct {
 void master_begin(master_session *m, int ranks);
 
 /* Broadcasts the status, then (status 0) the blob. */
-void master_share_scene(master_session *m, int status, int mode, int tile, const csg_blob *blob);
+void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob);
 
 /* Handshake, then every tile of job->todo through the workers; false with
  * d filled (one message) when a worker failed: no more tiles are sent, the
  * outstanding ones are drained. */
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
+
+/* Adds one tile's result to the job and to the stats of the rank that
+ * computed it (a worker, or the master's local path). */
+void master_job_count(master_job *job, stats_worker *w, const tile_result *res);
 
 /* STOP(status) to every worker (broadcasting the status first if the scene
  * was never shared, receiving the handshake if it was not yet). */

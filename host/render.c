@@ -29,18 +29,16 @@
 #include <string.h>
 
 #include "../csg/flatten.h"
-#include "../workers/engine.h"
-#include "protocol.h"
+#include "../csg/lang/parser.h"
+#include "../csg/precision.h"
+#include "../workers/tile.h"
 #include "../workers/worker.h"
 #include "image.h"
+#include "link.h"
 #include "master.h"
 #include "ocl.h"
 #include "progress.h"
 #include "stats.h"
-#include "../csg/lang/parser.h"
-#include "../csg/precision.h"
-
-#define RENDER_DEFAULT_TILE 32
 
 /* Everything one render owns; freed in render_free. */
 typedef struct {
@@ -142,17 +140,18 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
 
 /* The tiles of the tile phase into rs->todo; hetero: the others filled with
  * the background (what shade gives a missed primary ray). */
-static void render_plan(render_state *rs, int tiles, render_stats *st, master_job *job)
+static void render_plan(render_state *rs, render_stats *st, master_job *job)
 {
-    const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
-    float bg[3] = { (float)h->background[0], (float)h->background[1], (float)h->background[2] };
+    int tiles = tile_count(&job->grid);
+    float bg[3];
+    engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, bg);
     int count = 0;
     for (int i = 0; i < tiles; i++) {
         if (!rs->tile_hits || rs->tile_hits[i] > 0) {
             rs->todo[count++] = i;
             continue;
         }
-        tile_rect r = proto_tile_rect(i, st->width, st->height, st->tile);
+        tile_rect r = tile_rect_of(&job->grid, i);
         for (int y = r.y; y < r.y + r.height; y++)
             for (int x = r.x; x < r.x + r.width; x++)
                 memcpy(rs->image + ((size_t)y * (size_t)st->width + (size_t)x) * 3, bg,
@@ -165,61 +164,39 @@ static void render_plan(render_state *rs, int tiles, render_stats *st, master_jo
     if (rs->tile_hits) { /* the device traced every primary ray */
         for (int i = 0; i < tiles; i++)
             job->pixels_hit += rs->tile_hits[i];
-        job->rays.primary = st->pixels * (uint64_t)h->spp;
+        job->rays.primary = st->pixels * (uint64_t)job->grid.spp;
     }
 }
 
-/* Step 3 without workers: every tile of the job in this process. */
+/* Step 3 without workers: every tile of the job in this process, through
+ * the very tile_run a worker calls. */
 static int render_local_tiles(master_job *job, csg_diag *d)
 {
-    const engine *e = engine_for_blob(job->blob);
-    size_t real_size = e ? e->real_size : 8;
-    size_t spp = (size_t)csg_blob_hdr(job->blob)->spp;
-    size_t nmax = (size_t)(job->tile < job->width ? job->tile : job->width) *
-                  (size_t)(job->tile < job->height ? job->tile : job->height);
-    void *t = malloc(nmax * spp * real_size);
-    uint32_t *surf = malloc(nmax * spp * sizeof *surf);
-    float *rgb = malloc(nmax * 3 * sizeof *rgb);
+    tile_runner tr;
+    bool ready = tile_runner_init(&tr, job->blob, job->grid.tile);
+    void *records = job->t ? malloc(tile_records_bytes(&job->grid, job->grid.pixels_max)) : NULL;
+    float *rgb = malloc(job->grid.pixels_max * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
-    if (!e) {
-        csg_error_plain(d, "internal error: no engine for the scene's precision");
+    if (!ready || !rgb || (job->t && !records)) {
+        csg_error_plain(d, "out of memory for tiles of %zu pixels", job->grid.pixels_max);
         goto fail;
     }
-    if (!t || !surf || !rgb) {
-        csg_error_plain(d, "out of memory for tiles of %zu pixels", nmax);
-        goto fail;
-    }
-    stats_worker *w = &job->workers[0];
-    w->rank = 0;
+    job->workers[0].rank = 0;
     for (int k = 0; k < job->todo_count; k++) {
-        double t0 = stats_clock();
-        tile_rect r = proto_tile_rect(job->todo[k], job->width, job->height, job->tile);
-        size_t n = (size_t)r.width * (size_t)r.height * spp; /* records */
-        ray_counts rays = { 0, 0, 0, 0 };
-        if (job->t) {
-            proto_pack_records(job->t, job->surf, job->width, (int)spp, real_size, r, t, surf);
-            e->shade(job->blob, r, t, surf, rgb, &rays);
-        } else {
-            engine_render_tile(e, job->blob, r, t, surf, rgb, &rays);
-        }
-        uint64_t hits = 0;
-        for (size_t i = 0; i < n; i++)
-            hits += surf[i] != 0;
-        proto_store_rgb(job->image, job->width, r, rgb);
-        w->tiles++;
-        w->hits += hits;
-        w->busy_s += stats_clock() - t0;
-        stats_add_rays(&w->rays, &rays);
-        stats_add_rays(&job->rays, &rays);
-        if (!job->t)
-            job->pixels_hit += hits;
+        tile_rect r = tile_rect_of(&job->grid, job->todo[k]);
+        tile_result res;
+        if (job->t)
+            tile_pack_records(&job->grid, job->t, job->surf, r, records);
+        tile_run(&tr, job->todo[k], records, rgb, &res);
+        tile_store_rgb(job->image, job->grid.width, r, rgb);
+        master_job_count(job, &job->workers[0], &res);
         if (job->progress)
             progress_step(job->progress);
     }
     status = EXIT_OK;
 fail:
-    free(t);
-    free(surf);
+    tile_runner_free(&tr);
+    free(records);
     free(rgb);
     return status;
 }
@@ -258,7 +235,8 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
 static int render_image(const render_request *req, master_session *ms, render_state *rs,
                         render_stats *st, csg_diag *d)
 {
-    int tiles = proto_tile_count(st->width, st->height, st->tile);
+    tile_grid grid = tile_grid_of(rs->blob.bytes, st->tile);
+    int tiles = tile_count(&grid);
     bool use_workers = ms->workers > 0 && req->mode != MODE_SERIAL;
     int status;
     progress_bar bar;
@@ -277,15 +255,13 @@ static int render_image(const render_request *req, master_session *ms, render_st
         return status;
 
     job.blob = rs->blob.bytes;
-    job.width = st->width;
-    job.height = st->height;
-    job.tile = st->tile;
+    job.grid = grid;
     job.t = rs->t;
     job.surf = rs->surf;
     job.image = rs->image;
     job.progress = &bar;
     job.workers = rs->workers;
-    render_plan(rs, tiles, st, &job);
+    render_plan(rs, st, &job);
 
     double t0 = stats_clock();
     progress_begin(&bar, job.todo_count, (int)req->progress);
@@ -331,7 +307,7 @@ static int render_job(const render_request *req, int ranks)
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
-    master_share_scene(&ms, status, (int)req->mode, st.tile, &rs.blob);
+    master_share_scene(&ms, status, st.tile, &rs.blob);
     st.setup_s = stats_clock() - t0;
     st.blob_bytes = rs.blob.size;
     if (status == EXIT_OK)
@@ -372,19 +348,19 @@ static int render_job(const render_request *req, int ranks)
 int render_run(const render_request *req)
 {
     int rank = 0, size = 1;
-    if (master_launched_by_mpirun() && !master_mpi_start(&rank, &size)) {
+    if (link_launched_by_mpirun() && !link_start(&rank, &size)) {
         fprintf(stderr, "csgtrace: error: MPI cannot start\n");
         return EXIT_FAILURE_RUN;
     }
     if (rank != 0)
-        return worker_run();
+        return worker_run(rank);
     return render_job(req, size);
 }
 
 int render_rank(void)
 {
     int rank = 0, size = 1;
-    if (master_launched_by_mpirun() && !master_mpi_start(&rank, &size))
+    if (link_launched_by_mpirun() && !link_start(&rank, &size))
         return -1;
     return rank;
 }

@@ -11,6 +11,7 @@ struct ocl_ctx;
 struct render_stats;
 
 enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
+#define RENDER_DEFAULT_TILE 32 /* tile edge in pixels, when not given */
 /* The progress bar: never, when stderr is a terminal (mpirun forwards it
  * through a pipe, so ranks never see one), or always (--progress). */
 enum progress_mode { PROGRESS_OFF, PROGRESS_TTY, PROGRESS_ON };
@@ -25,7 +26,7 @@ typedef struct {
     enum render_mode mode;
     enum render_precision precision;
     int width, height;        /* default 320 x 240                   */
-    int tile;                 /* default 32                          */
+    int tile;                 /* <= 0: RENDER_DEFAULT_TILE           */
     int spp;                  /* primary samples a pixel, default 1  */
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */

@@ -1,16 +1,16 @@
 /*
  * worker.h — ranks 1 .. K-1: the worker side of the tile protocol
- * (protocol.h).  A worker needs nothing from the command line: the scene,
+ * (host/protocol.h).  A worker needs nothing from the command line: the scene,
  * the tile size and the work come from the master.
  */
 #ifndef WORKERS_WORKER_H
 #define WORKERS_WORKER_H
 
-/* Runs the worker loop of this rank (MPI already initialised) until the
+/* Runs the worker loop of rank `rank` (MPI already started) until the
  * master's STOP; returns the exit status the master decided (0, 1, 2).
  *
  * Test hook: CSGTRACE_FAIL_WORKER=<rank> in the environment makes that
  * worker answer its first tile with a FAIL ("injected failure"). */
-int worker_run(void);
+int worker_run(int rank);
 
 #endif

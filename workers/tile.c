@@ -1,0 +1,114 @@
+/*
+ * tile.c — tile geometry and tile_run, the one path from a tile to its
+ * pixels (tile.h).
+ *
+ * tile_run: homo and serial trace the tile's primary rays into the
+ * runner's scratch records (engine->trace_primary); hetero hands in the
+ * records of the OpenCL pass.  Either way the pixels then come from
+ * engine->shade over those records, and the hit count from the records'
+ * surface ids, so a pixel depends on nothing but its record.
+ */
+#include "tile.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+tile_grid tile_grid_of(const void *blob, int tile)
+{
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    tile_grid g = {h->width, h->height, tile, h->spp, h->real_size, 0};
+    g.pixels_max = (size_t)(tile < h->width ? tile : h->width) *
+                   (size_t)(tile < h->height ? tile : h->height);
+    return g;
+}
+
+int tile_columns(const tile_grid *g)
+{
+    return (g->width + g->tile - 1) / g->tile;
+}
+
+int tile_count(const tile_grid *g)
+{
+    return tile_columns(g) * ((g->height + g->tile - 1) / g->tile);
+}
+
+tile_rect tile_rect_of(const tile_grid *g, int index)
+{
+    int columns = tile_columns(g);
+    tile_rect r = {index % columns * g->tile, index / columns * g->tile, g->tile, g->tile};
+    if (r.x + r.width > g->width)
+        r.width = g->width - r.x;
+    if (r.y + r.height > g->height)
+        r.height = g->height - r.y;
+    return r;
+}
+
+size_t tile_records_bytes(const tile_grid *g, size_t pixels)
+{
+    return pixels * (size_t)g->spp * (g->real_size + sizeof(uint32_t));
+}
+
+void tile_pack_records(const tile_grid *g, const void *t_image, const uint32_t *surf_image,
+                       tile_rect r, void *out)
+{
+    size_t rs = g->real_size, spp = (size_t)g->spp;
+    size_t line = (size_t)r.width * spp, n = line * (size_t)r.height;
+    uint32_t *surf_out = (uint32_t *)((char *)out + n * rs);
+    for (int row = 0; row < r.height; row++) {
+        size_t src = ((size_t)(r.y + row) * (size_t)g->width + (size_t)r.x) * spp;
+        size_t dst = (size_t)row * line;
+        memcpy((char *)out + dst * rs, (const char *)t_image + src * rs, line * rs);
+        memcpy(surf_out + dst, surf_image + src, line * sizeof *surf_out);
+    }
+}
+
+void tile_store_rgb(float *image, int image_width, tile_rect r, const float *rgb)
+{
+    for (int row = 0; row < r.height; row++) {
+        size_t dst = ((size_t)(r.y + row) * (size_t)image_width + (size_t)r.x) * 3;
+        memcpy(image + dst, rgb + (size_t)row * (size_t)r.width * 3,
+               (size_t)r.width * 3 * sizeof *rgb);
+    }
+}
+
+bool tile_runner_init(tile_runner *tr, const void *blob, int tile)
+{
+    tr->grid = tile_grid_of(blob, tile);
+    tr->eng = engine_for_blob(blob);
+    tr->blob = blob;
+    tr->records = malloc(tile_records_bytes(&tr->grid, tr->grid.pixels_max));
+    return tr->records != NULL;
+}
+
+void tile_runner_free(tile_runner *tr)
+{
+    free(tr->records);
+    tr->records = NULL;
+}
+
+static double tile_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res)
+{
+    double t0 = tile_clock();
+    tile_rect r = tile_rect_of(&tr->grid, index);
+    size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
+    size_t t_bytes = n * tr->grid.real_size;
+    memset(res, 0, sizeof *res);
+    if (!records) {
+        records = tr->records;
+        tr->eng->trace_primary(tr->blob, r, tr->records,
+                               (uint32_t *)(void *)((char *)tr->records + t_bytes), &res->rays);
+    }
+    const uint32_t *surf = (const uint32_t *)(const void *)((const char *)records + t_bytes);
+    tr->eng->shade(tr->blob, r, records, surf, rgb, &res->rays);
+    for (size_t i = 0; i < n; i++)
+        res->hits += surf[i] != CSG_SURF_NONE;
+    res->busy_s = tile_clock() - t0;
+}
