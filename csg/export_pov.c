@@ -185,73 +185,65 @@ static void write_matrix(FILE *out, const csg_xform *x, int depth)
     fputc('\n', out);
 }
 
-static const char *object_keyword(enum csg_object_kind k)
+/* The shape's own parameters, one function a shape kind (CSG_OBJECT_KINDS). */
+static void export_sphere(FILE *out, const csg_object *o)
 {
-    switch (k) {
-    case CSG_OBJ_SPHERE: return "sphere";
-    case CSG_OBJ_BOX: return "box";
-    case CSG_OBJ_CYLINDER: return "cylinder";
-    case CSG_OBJ_CONE: return "cone";
-    case CSG_OBJ_PLANE: return "plane";
-    case CSG_OBJ_UNION: return "union";
-    case CSG_OBJ_INTERSECTION: return "intersection";
-    case CSG_OBJ_DIFFERENCE: return "difference";
-    case CSG_OBJ_MERGE: return "merge";
-    }
-    return NULL;
+    put_dvec(out, o->a);
+    fputs(", ", out);
+    put_num(out, o->r0);
 }
 
-static bool is_csg(enum csg_object_kind k)
+static void export_box(FILE *out, const csg_object *o)
 {
-    return k == CSG_OBJ_UNION || k == CSG_OBJ_INTERSECTION || k == CSG_OBJ_DIFFERENCE ||
-           k == CSG_OBJ_MERGE;
+    put_dvec(out, o->a);
+    fputs(", ", out);
+    put_dvec(out, o->b);
+}
+
+static void export_cylinder(FILE *out, const csg_object *o)
+{
+    export_box(out, o); /* the two end points */
+    fputs(", ", out);
+    put_num(out, o->r0);
+    if (o->open)
+        fputs(" open", out);
+}
+
+static void export_cone(FILE *out, const csg_object *o)
+{
+    put_dvec(out, o->a);
+    fputs(", ", out);
+    put_num(out, o->r0);
+    fputs(", ", out);
+    put_dvec(out, o->b);
+    fputs(", ", out);
+    put_num(out, o->r1);
+    if (o->open)
+        fputs(" open", out);
+}
+
+static void export_plane(FILE *out, const csg_object *o)
+{
+    export_sphere(out, o); /* normal, distance */
 }
 
 /* The shape's own parameters, after the opening brace. */
 static void write_shape(FILE *out, const csg_object *o)
 {
     switch (o->kind) {
-    case CSG_OBJ_SPHERE:
-        put_dvec(out, o->a);
-        fputs(", ", out);
-        put_num(out, o->r0);
+#define EXPORT_SHAPE(ID, name)                                                                     \
+    case CSG_OBJ_##ID:                                                                             \
+        export_##name(out, o);                                                                     \
         break;
-    case CSG_OBJ_BOX:
-        put_dvec(out, o->a);
-        fputs(", ", out);
-        put_dvec(out, o->b);
-        break;
-    case CSG_OBJ_CYLINDER:
-        put_dvec(out, o->a);
-        fputs(", ", out);
-        put_dvec(out, o->b);
-        fputs(", ", out);
-        put_num(out, o->r0);
-        break;
-    case CSG_OBJ_CONE:
-        put_dvec(out, o->a);
-        fputs(", ", out);
-        put_num(out, o->r0);
-        fputs(", ", out);
-        put_dvec(out, o->b);
-        fputs(", ", out);
-        put_num(out, o->r1);
-        break;
-    case CSG_OBJ_PLANE:
-        put_dvec(out, o->a);
-        fputs(", ", out);
-        put_num(out, o->r0);
-        break;
+        CSG_OBJECT_KINDS(EXPORT_SHAPE, CSG_KIND_NONE)
     default:
         break;
     }
-    if (o->open && (o->kind == CSG_OBJ_CYLINDER || o->kind == CSG_OBJ_CONE))
-        fputs(" open", out);
 }
 
 static bool check_node(const exporter *e, const csg_object *o, int depth)
 {
-    if (!object_keyword(o->kind)) {
+    if (!csg_object_kind_name(o->kind)) {
         csg_error(e->d, o->loc, "export: unknown object kind %d", (int)o->kind);
         return false;
     }
@@ -267,8 +259,9 @@ static bool check_node(const exporter *e, const csg_object *o, int depth)
         csg_error(e->d, o->loc, "export: interior index %d out of range", o->interior);
         return false;
     }
-    if (is_csg(o->kind) && (o->child_count < 0 || (o->child_count > 0 && !o->children))) {
-        csg_error(e->d, o->loc, "export: malformed %s", object_keyword(o->kind));
+    if (!csg_object_is_leaf(o->kind) &&
+        (o->child_count < 0 || (o->child_count > 0 && !o->children))) {
+        csg_error(e->d, o->loc, "export: malformed %s", csg_object_kind_name(o->kind));
         return false;
     }
     return true;
@@ -284,9 +277,9 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
     if (o->texture >= 0)
         texture = &e->s->textures[o->texture];
     indent(out, depth);
-    fputs(object_keyword(o->kind), out);
+    fputs(csg_object_kind_name(o->kind), out);
     fputs(" {", out);
-    if (is_csg(o->kind)) {
+    if (!csg_object_is_leaf(o->kind)) {
         fputc('\n', out);
         for (int i = 0; i < o->child_count; i++)
             if (!write_object(e, o->children[i], texture, depth + 1))

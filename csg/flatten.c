@@ -207,35 +207,6 @@ static void cone_frame(dvec3 a, dvec3 b, csg_xform *obj_to_local, double *height
     *height = h;
 }
 
-static bool shape_valid(const csg_object *o, csg_diag *d)
-{
-    switch (o->kind) {
-    case CSG_OBJ_SPHERE:
-        if (!(o->r0 > 0))
-            goto bad;
-        return true;
-    case CSG_OBJ_CYLINDER:
-    case CSG_OBJ_CONE: {
-        double dx = o->b.x - o->a.x, dy = o->b.y - o->a.y, dz = o->b.z - o->a.z;
-        double r1 = o->kind == CSG_OBJ_CYLINDER ? o->r0 : o->r1;
-        if (!(dx * dx + dy * dy + dz * dz > 0) || o->r0 < 0 || r1 < 0 || !(o->r0 + r1 > 0))
-            goto bad;
-        return true;
-    }
-    case CSG_OBJ_PLANE: {
-        double n = o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z;
-        if (!(n > 0))
-            goto bad;
-        return true;
-    }
-    default:
-        return true;
-    }
-bad:
-    csg_error(d, o->loc, "degenerate shape: zero size, negative radius or zero normal");
-    return false;
-}
-
 static int material_for(flat_builder *fb, inherited inh)
 {
     int key = (inh.texture + 1) * (fb->scene->interior_count + 1) + inh.interior + 1;
@@ -271,13 +242,141 @@ static int material_for(flat_builder *fb, inherited inh)
     return fb->mat_count++;
 }
 
+/* ---- one function a shape kind (CSG_OBJECT_KINDS) ----------------------------
+ * Each checks its shape (false, with the error, when it is degenerate),
+ * fills the primitive's kind and parameters (and its world -> local matrix
+ * when the parameters cannot be kept in world space) and the shape's world
+ * bounding box. */
+
+static bool degenerate(flat_builder *fb, const csg_object *o)
+{
+    csg_error(fb->diag, o->loc, "degenerate shape: zero size, negative radius or zero normal");
+    return false;
+}
+
+static bool flatten_sphere(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                           csg_prim *p, dbox *box)
+{
+    double r = o->r0;
+    if (!(r > 0))
+        return degenerate(fb, o);
+    double lo[3] = {o->a.x - r, o->a.y - r, o->a.z - r};
+    double hi[3] = {o->a.x + r, o->a.y + r, o->a.z + r};
+    p->kind = CSG_PRIM_SPHERE;
+    if (is_translate_scale(&o->xform, true)) {
+        dvec3 c = xf_point(&o->xform, o->a);
+        double s = fabs(o->xform.m[0][0]);
+        p->p[0] = (real)c.x;
+        p->p[1] = (real)c.y;
+        p->p[2] = (real)c.z;
+        p->p[3] = (real)(r * s);
+    } else {
+        p->p[0] = (real)o->a.x;
+        p->p[1] = (real)o->a.y;
+        p->p[2] = (real)o->a.z;
+        p->p[3] = (real)r;
+        store_inverse(p, world_to_obj);
+    }
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
+static bool flatten_box(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                        csg_prim *p, dbox *box)
+{
+    (void)fb;
+    double lo[3] = {fmin(o->a.x, o->b.x), fmin(o->a.y, o->b.y), fmin(o->a.z, o->b.z)};
+    double hi[3] = {fmax(o->a.x, o->b.x), fmax(o->a.y, o->b.y), fmax(o->a.z, o->b.z)};
+    p->kind = CSG_PRIM_BOX;
+    *box = box_of_corners(&o->xform, lo, hi);
+    bool world = is_translate_scale(&o->xform, false);
+    for (int i = 0; i < 3; i++) {
+        p->p[i] = (real)(world ? box->lo[i] : lo[i]);
+        p->p[3 + i] = (real)(world ? box->hi[i] : hi[i]);
+    }
+    if (!world)
+        store_inverse(p, world_to_obj);
+    return true;
+}
+
+/* A cone from base a (radius r0) to cap b (radius r1); a cylinder is one
+ * with r0 == r1. */
+static bool flatten_axial(flat_builder *fb, const csg_object *o, double r1,
+                          const csg_xform *world_to_obj, csg_prim *p, dbox *box)
+{
+    double dx = o->b.x - o->a.x, dy = o->b.y - o->a.y, dz = o->b.z - o->a.z;
+    if (!(dx * dx + dy * dy + dz * dz > 0) || o->r0 < 0 || r1 < 0 || !(o->r0 + r1 > 0))
+        return degenerate(fb, o);
+    csg_xform obj_to_local, world_to_local;
+    double h;
+    cone_frame(o->a, o->b, &obj_to_local, &h);
+    csg_xform_then(world_to_obj, &obj_to_local, &world_to_local);
+    p->kind = CSG_PRIM_CONE;
+    p->p[0] = (real)o->r0;
+    p->p[1] = (real)r1;
+    p->p[2] = (real)h;
+    store_inverse(p, &world_to_local);
+    csg_xform local_to_world;
+    csg_xform_invert(&world_to_local, &local_to_world);
+    double rm = fmax(o->r0, r1);
+    double lo[3] = {-rm, -rm, 0}, hi[3] = {rm, rm, h};
+    *box = box_of_corners(&local_to_world, lo, hi);
+    return true;
+}
+
+static bool flatten_cylinder(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                             csg_prim *p, dbox *box)
+{
+    return flatten_axial(fb, o, o->r0, world_to_obj, p, box);
+}
+
+static bool flatten_cone(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                         csg_prim *p, dbox *box)
+{
+    return flatten_axial(fb, o, o->r1, world_to_obj, p, box);
+}
+
+static bool flatten_plane(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          csg_prim *p, dbox *box)
+{
+    double n = sqrt(o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z);
+    if (!(n > 0))
+        return degenerate(fb, o);
+    p->kind = CSG_PRIM_PLANE;
+    p->p[0] = (real)(o->a.x / n);
+    p->p[1] = (real)(o->a.y / n);
+    p->p[2] = (real)(o->a.z / n);
+    p->p[3] = (real)o->r0;
+    const double(*m)[4] = o->xform.m;
+    bool identity = is_translate_scale(&o->xform, false) && m[0][0] == 1 && m[1][1] == 1 &&
+                    m[2][2] == 1 && m[0][3] == 0 && m[1][3] == 0 && m[2][3] == 0;
+    if (!identity)
+        store_inverse(p, world_to_obj);
+    *box = box_infinite();
+    return true;
+}
+
+/* The shape's primitive, through the function of its kind. */
+static bool flatten_shape(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          csg_prim *p, dbox *box)
+{
+    switch (o->kind) {
+#define FLATTEN_SHAPE(ID, name)                                                                    \
+    case CSG_OBJ_##ID:                                                                             \
+        return flatten_##name(fb, o, world_to_obj, p, box);
+        CSG_OBJECT_KINDS(FLATTEN_SHAPE, CSG_KIND_NONE)
+    default:
+        csg_error(fb->diag, o->loc, "internal error: %s is not a shape",
+                  csg_object_kind_name(o->kind) ? csg_object_kind_name(o->kind) : "?");
+        return false;
+    }
+}
+
 /* Appends the primitive of leaf `o`; returns its index (-1 on failure)
  * and its world bounding box (before complement). */
 static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool invert, int root,
                     dbox *box)
 {
-    if (!shape_valid(o, fb->diag))
-        return -1;
     if (fb->prim_count >= CSG_MAX_PRIMS) {
         csg_error(fb->diag, o->loc, "too many primitives (limit %d)", CSG_MAX_PRIMS);
         return -1;
@@ -288,94 +387,19 @@ static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool i
     }
     csg_prim *p = &fb->prims[fb->prim_count];
     memset(p, 0, sizeof *p);
-    p->material = material_for(fb, inh);
-    p->root = root;
-    p->flags = (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
-               (o->open ? CSG_PF_OPEN : 0);
     csg_xform world_to_obj;
-    if (!csg_xform_invert(&o->xform, &world_to_obj)) {
+    csg_xform_identity(&world_to_obj); /* defined even when not invertible */
+    bool invertible = csg_xform_invert(&o->xform, &world_to_obj);
+    if (!flatten_shape(fb, o, &world_to_obj, p, box))
+        return -1;
+    if (!invertible) {
         csg_error(fb->diag, o->loc, "the object's transformation is singular (a zero scale?)");
         return -1;
     }
-    switch (o->kind) {
-    case CSG_OBJ_SPHERE: {
-        double r = o->r0;
-        double lo[3] = {o->a.x - r, o->a.y - r, o->a.z - r};
-        double hi[3] = {o->a.x + r, o->a.y + r, o->a.z + r};
-        p->kind = CSG_PRIM_SPHERE;
-        if (is_translate_scale(&o->xform, true)) {
-            dvec3 c = xf_point(&o->xform, o->a);
-            double s = fabs(o->xform.m[0][0]);
-            p->p[0] = (real)c.x;
-            p->p[1] = (real)c.y;
-            p->p[2] = (real)c.z;
-            p->p[3] = (real)(r * s);
-        } else {
-            p->p[0] = (real)o->a.x;
-            p->p[1] = (real)o->a.y;
-            p->p[2] = (real)o->a.z;
-            p->p[3] = (real)r;
-            store_inverse(p, &world_to_obj);
-        }
-        *box = box_of_corners(&o->xform, lo, hi);
-        break;
-    }
-    case CSG_OBJ_BOX: {
-        double lo[3] = {fmin(o->a.x, o->b.x), fmin(o->a.y, o->b.y), fmin(o->a.z, o->b.z)};
-        double hi[3] = {fmax(o->a.x, o->b.x), fmax(o->a.y, o->b.y), fmax(o->a.z, o->b.z)};
-        p->kind = CSG_PRIM_BOX;
-        *box = box_of_corners(&o->xform, lo, hi);
-        if (is_translate_scale(&o->xform, false)) {
-            for (int i = 0; i < 3; i++) {
-                p->p[i] = (real)box->lo[i];
-                p->p[3 + i] = (real)box->hi[i];
-            }
-        } else {
-            for (int i = 0; i < 3; i++) {
-                p->p[i] = (real)lo[i];
-                p->p[3 + i] = (real)hi[i];
-            }
-            store_inverse(p, &world_to_obj);
-        }
-        break;
-    }
-    case CSG_OBJ_CYLINDER:
-    case CSG_OBJ_CONE: {
-        csg_xform obj_to_local, world_to_local;
-        double h;
-        cone_frame(o->a, o->b, &obj_to_local, &h);
-        csg_xform_then(&world_to_obj, &obj_to_local, &world_to_local);
-        double r1 = o->kind == CSG_OBJ_CYLINDER ? o->r0 : o->r1;
-        p->kind = CSG_PRIM_CONE;
-        p->p[0] = (real)o->r0;
-        p->p[1] = (real)r1;
-        p->p[2] = (real)h;
-        store_inverse(p, &world_to_local);
-        csg_xform local_to_world;
-        csg_xform_invert(&world_to_local, &local_to_world);
-        double rm = fmax(o->r0, r1);
-        double lo[3] = {-rm, -rm, 0}, hi[3] = {rm, rm, h};
-        *box = box_of_corners(&local_to_world, lo, hi);
-        break;
-    }
-    case CSG_OBJ_PLANE: {
-        double n = sqrt(o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z);
-        p->kind = CSG_PRIM_PLANE;
-        p->p[0] = (real)(o->a.x / n);
-        p->p[1] = (real)(o->a.y / n);
-        p->p[2] = (real)(o->a.z / n);
-        p->p[3] = (real)o->r0;
-        bool identity = is_translate_scale(&o->xform, false) && o->xform.m[0][0] == 1 &&
-                        o->xform.m[1][1] == 1 && o->xform.m[2][2] == 1 && o->xform.m[0][3] == 0 &&
-                        o->xform.m[1][3] == 0 && o->xform.m[2][3] == 0;
-        if (!identity)
-            store_inverse(p, &world_to_obj);
-        *box = box_infinite();
-        break;
-    }
-    default:
-        return -1;
-    }
+    p->material = material_for(fb, inh);
+    p->root = root;
+    p->flags |= (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
+                (o->open ? CSG_PF_OPEN : 0);
     if (invert)
         *box = box_infinite();
     return fb->prim_count++;
@@ -383,7 +407,7 @@ static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool i
 
 /* ---- CSG programs --------------------------------------------------------------- */
 
-static bool is_leaf(const csg_object *o) { return o->kind < CSG_OBJ_UNION; }
+static bool is_leaf(const csg_object *o) { return csg_object_is_leaf(o->kind); }
 
 static inherited inherit(inherited inh, const csg_object *o)
 {

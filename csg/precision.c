@@ -90,58 +90,108 @@ static double box_distance(dvec3 p, dvec3 lo, dvec3 hi)
     return inside ? in : sqrt(out);
 }
 
+/* What the criterion needs of one shape, in its own (object) space: a box
+ * around it and its smallest feature; a plane is unbounded and has no
+ * feature.  One function a shape kind (CSG_OBJECT_KINDS). */
+typedef struct {
+    bool bounded;
+    dvec3 lo, hi;
+    double feature;
+} prec_extent;
+
+static prec_extent feature_sphere(const csg_object *o)
+{
+    prec_extent x = {true, {o->a.x - o->r0, o->a.y - o->r0, o->a.z - o->r0},
+                     {o->a.x + o->r0, o->a.y + o->r0, o->a.z + o->r0}, o->r0};
+    return x;
+}
+
+static prec_extent feature_box(const csg_object *o)
+{
+    prec_extent x = {true, o->a, o->b, 0.0};
+    x.feature = fmin(o->b.x - o->a.x, fmin(o->b.y - o->a.y, o->b.z - o->a.z));
+    return x;
+}
+
+/* cylinder, cone: the box around the axis segment */
+static prec_extent feature_axial(const csg_object *o, double r)
+{
+    prec_extent x = {true,
+                     {fmin(o->a.x, o->b.x) - r, fmin(o->a.y, o->b.y) - r, fmin(o->a.z, o->b.z) - r},
+                     {fmax(o->a.x, o->b.x) + r, fmax(o->a.y, o->b.y) + r, fmax(o->a.z, o->b.z) + r},
+                     fmin(r, len3(sub3(o->b, o->a)))};
+    return x;
+}
+
+static prec_extent feature_cylinder(const csg_object *o) { return feature_axial(o, o->r0); }
+static prec_extent feature_cone(const csg_object *o) { return feature_axial(o, fmax(o->r0, o->r1)); }
+
+static prec_extent feature_plane(const csg_object *o)
+{
+    (void)o;
+    prec_extent x = {false, {0, 0, 0}, {0, 0, 0}, HUGE_VAL};
+    return x;
+}
+
+/* A plane: its point nearest the local origin, the camera's distance. */
+static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, double *mag,
+                       double *dist)
+{
+    dvec3 p0 = xf_point(&o->xform, (dvec3){o->a.x * o->r0, o->a.y * o->r0, o->a.z * o->r0});
+    csg_xform inv;
+    if (!csg_xform_invert(&o->xform, &inv))
+        return false;
+    dvec3 lc = xf_point(&inv, w->cam);
+    double side = o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
+    *mag = fmax(*mag, len3(p0));
+    *dist = fabs(side) * smin;
+    return true;
+}
+
+/* A bounded shape: its world bounding sphere, the camera's distance. */
+static bool leaf_bounded(const prec_walk *w, const csg_object *o, const prec_extent *x,
+                         double smin, double smax, double *mag, double *dist)
+{
+    dvec3 centre = {0.5 * (x->lo.x + x->hi.x), 0.5 * (x->lo.y + x->hi.y),
+                    0.5 * (x->lo.z + x->hi.z)};
+    double radius = 0.5 * len3(sub3(x->hi, x->lo)) * smax;
+    dvec3 wc = xf_point(&o->xform, centre);
+    *mag = fmax(*mag, len3(wc) + radius);
+    csg_xform inv;
+    if (!csg_xform_invert(&o->xform, &inv))
+        return false;
+    dvec3 lc = xf_point(&inv, w->cam);
+    if (o->kind == CSG_OBJ_SPHERE) /* exact: to the surface */
+        *dist = fabs(len3(sub3(lc, o->a)) - o->r0) * smin;
+    else if (len3(sub3(w->cam, wc)) > radius)
+        *dist = len3(sub3(w->cam, wc)) - radius;
+    else
+        *dist = box_distance(lc, x->lo, x->hi) * smin;
+    return true;
+}
+
 /* One primitive: world bounding sphere, feature size, distance. */
 static void leaf(prec_walk *w, const csg_object *o)
 {
+    prec_extent x;
+    switch (o->kind) {
+#define PREC_FEATURE(ID, name)                                                                     \
+    case CSG_OBJ_##ID:                                                                             \
+        x = feature_##name(o);                                                                     \
+        break;
+        CSG_OBJECT_KINDS(PREC_FEATURE, CSG_KIND_NONE)
+    default:
+        return;
+    }
     double smin, smax;
     xf_scales(&o->xform, &smin, &smax);
     const double eps = CSG_PREC_ULPS * ldexp(1.0, -24);
-    double mag = len3(w->cam), dist, feat = HUGE_VAL;
-    if (o->kind == CSG_OBJ_PLANE) {
-        /* the point of the plane nearest the local origin, in world */
-        dvec3 p0 = xf_point(&o->xform, (dvec3){o->a.x * o->r0, o->a.y * o->r0, o->a.z * o->r0});
-        csg_xform inv;
-        if (!csg_xform_invert(&o->xform, &inv))
-            return;
-        dvec3 lc = xf_point(&inv, w->cam);
-        double side = o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
-        mag = fmax(mag, len3(p0));
-        dist = fabs(side) * smin;
-    } else {
-        dvec3 lo, hi, centre;
-        double radius;
-        if (o->kind == CSG_OBJ_SPHERE) {
-            lo = (dvec3){o->a.x - o->r0, o->a.y - o->r0, o->a.z - o->r0};
-            hi = (dvec3){o->a.x + o->r0, o->a.y + o->r0, o->a.z + o->r0};
-            feat = o->r0;
-        } else if (o->kind == CSG_OBJ_BOX) {
-            lo = o->a;
-            hi = o->b;
-            feat = fmin(hi.x - lo.x, fmin(hi.y - lo.y, hi.z - lo.z));
-        } else { /* cylinder, cone: the box around the axis segment */
-            double r = fmax(o->r0, o->kind == CSG_OBJ_CONE ? o->r1 : o->r0);
-            lo = (dvec3){fmin(o->a.x, o->b.x) - r, fmin(o->a.y, o->b.y) - r,
-                         fmin(o->a.z, o->b.z) - r};
-            hi = (dvec3){fmax(o->a.x, o->b.x) + r, fmax(o->a.y, o->b.y) + r,
-                         fmax(o->a.z, o->b.z) + r};
-            feat = fmin(r, len3(sub3(o->b, o->a)));
-        }
-        centre = (dvec3){0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z)};
-        radius = 0.5 * len3(sub3(hi, lo)) * smax;
-        dvec3 wc = xf_point(&o->xform, centre);
-        mag = fmax(mag, len3(wc) + radius);
-        feat *= smin;
-        csg_xform inv;
-        if (!csg_xform_invert(&o->xform, &inv))
-            return;
-        dvec3 lc = xf_point(&inv, w->cam);
-        if (o->kind == CSG_OBJ_SPHERE)
-            dist = fabs(len3(sub3(lc, o->a)) - o->r0) * smin;
-        else if (len3(sub3(w->cam, wc)) > radius)
-            dist = len3(sub3(w->cam, wc)) - radius;
-        else
-            dist = box_distance(lc, lo, hi) * smin;
-    }
+    double mag = len3(w->cam), dist;
+    bool ok = x.bounded ? leaf_bounded(w, o, &x, smin, smax, &mag, &dist)
+                        : leaf_plane(w, o, smin, &mag, &dist);
+    if (!ok)
+        return;
+    double feat = x.bounded ? x.feature * smin : x.feature;
     double err = eps * mag;
     double allow_px = CSG_PREC_PIXEL_FRACTION * dist * w->alpha;
     double allow_feat = CSG_PREC_FEATURE_FRACTION * feat;
@@ -163,18 +213,12 @@ static void leaf(prec_walk *w, const csg_object *o)
 
 static void walk(prec_walk *w, const csg_object *o)
 {
-    if (o->kind < CSG_OBJ_UNION) {
+    if (csg_object_is_leaf(o->kind)) {
         leaf(w, o);
         return;
     }
     for (int i = 0; i < o->child_count; i++)
         walk(w, o->children[i]);
-}
-
-static const char *kind_name(enum csg_object_kind k)
-{
-    static const char *const names[] = {"sphere", "box", "cylinder", "cone", "plane"};
-    return k < CSG_OBJ_UNION ? names[k] : "object";
 }
 
 bool csg_needs_double(const csg_scene *s, int width, int height, char *why, size_t why_size)
@@ -201,7 +245,7 @@ bool csg_needs_double(const csg_scene *s, int width, int height, char *why, size
                      "%s: %s at %s:%d:%d: float error %.3g (2^-24 x %g x |p| %.3g) against "
                      "1/8 pixel = %.3g at distance %.3g, 1e-3 of its feature = %.3g "
                      "(ratio %.3g)",
-                     need ? "double" : "float", kind_name(w.at->kind),
+                     need ? "double" : "float", csg_object_kind_name(w.at->kind),
                      w.at->loc.file ? w.at->loc.file : "?", w.at->loc.line, w.at->loc.col, w.err,
                      CSG_PREC_ULPS, w.mag, w.allow_px, w.dist, w.allow_feat, w.worst);
         }

@@ -1,6 +1,7 @@
 /*
  * scene.c — the scene tree's support: defaults (POV-Ray 3.7's), affine
- * transforms in double, and the arena that owns a scene's memory.
+ * transforms in double, the arena that owns a scene's memory, and the
+ * names and roles of the object kinds (CSG_OBJECT_KINDS).
  */
 #include "scene.h"
 
@@ -191,4 +192,26 @@ void csg_scene_free(csg_scene *s)
 {
     csg_arena_free(s->arena);
     s->arena = NULL;
+}
+
+/* ---- the table of object kinds ---------------------------------------------- */
+
+#define SCENE_KIND_NAME(ID, name) [CSG_OBJ_##ID] = #name,
+static const char *const object_kind_names[CSG_OBJ_KIND_COUNT] = {
+    CSG_OBJECT_KINDS(SCENE_KIND_NAME, SCENE_KIND_NAME)};
+
+const char *csg_object_kind_name(int kind)
+{
+    return kind >= 0 && kind < CSG_OBJ_KIND_COUNT ? object_kind_names[kind] : NULL;
+}
+
+bool csg_object_is_leaf(int kind)
+{
+    switch (kind) {
+#define SCENE_KIND_LEAF(ID, name) case CSG_OBJ_##ID:
+        CSG_OBJECT_KINDS(SCENE_KIND_LEAF, CSG_KIND_NONE)
+        return true;
+    default:
+        return false;
+    }
 }

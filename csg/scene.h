@@ -27,17 +27,38 @@ typedef struct {
     double m[3][4];
 } csg_xform;
 
-enum csg_object_kind {
-    CSG_OBJ_SPHERE,
-    CSG_OBJ_BOX,
-    CSG_OBJ_CYLINDER,
-    CSG_OBJ_CONE,
-    CSG_OBJ_PLANE,
-    CSG_OBJ_UNION,
-    CSG_OBJ_INTERSECTION,
-    CSG_OBJ_DIFFERENCE, /* first child minus every other child */
-    CSG_OBJ_MERGE
-};
+/* The table of object kinds, the one list every stage expands:
+ *   LEAF(ID, name)  a shape (its parameters: csg_object below)
+ *   CSG(ID, name)   an operator over the children
+ * ID names the enum value CSG_OBJ_<ID>; `name` is the scene-language
+ * keyword and the suffix of each stage's function for that kind:
+ * flatten_<name> (csg/flatten.c), feature_<name> (csg/precision.c),
+ * export_<name> (csg/export_pov.c).  Those stages dispatch by expanding
+ * this list, so a kind added here and not handled there is a compile
+ * error (an undeclared function), never a silent fallback.  The device
+ * side has its own table of primitive kinds (device/flat.h): a shape may
+ * become one of those (a cylinder is a cone) or several. */
+#define CSG_OBJECT_KINDS(LEAF, CSG)         \
+    LEAF(SPHERE, sphere)                    \
+    LEAF(BOX, box)                          \
+    LEAF(CYLINDER, cylinder)                \
+    LEAF(CONE, cone)                        \
+    LEAF(PLANE, plane)                      \
+    CSG(UNION, union)                       \
+    CSG(INTERSECTION, intersection)         \
+    CSG(DIFFERENCE, difference) /* first child minus every other child */ \
+    CSG(MERGE, merge)
+
+/* Expansion helpers for the table: the enum, and lists that skip a role. */
+#define CSG_KIND_ENUM(ID, name) CSG_OBJ_##ID,
+#define CSG_KIND_NONE(ID, name)
+
+enum csg_object_kind { CSG_OBJECT_KINDS(CSG_KIND_ENUM, CSG_KIND_ENUM) CSG_OBJ_KIND_COUNT };
+
+/* The keyword of a kind ("sphere", "union", ...); NULL out of range. */
+const char *csg_object_kind_name(int kind);
+/* A shape (true) or an operator (false); false out of range. */
+bool csg_object_is_leaf(int kind);
 
 /* POV-Ray's pigment, reduced to one colour: red, green, blue, filter, transmit. */
 typedef struct {

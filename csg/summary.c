@@ -11,18 +11,13 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-enum { KIND_COUNT = CSG_OBJ_MERGE + 1 };
-
 typedef struct {
-    long by_kind[KIND_COUNT];
+    long by_kind[CSG_OBJ_KIND_COUNT];
     long inverted, open, no_shadow;
     int max_depth;
     bool *texture_used;  /* texture_count entries, or NULL */
     bool *interior_used; /* interior_count entries, or NULL */
 } tally;
-
-static const char *const kind_names[KIND_COUNT] = {
-    "sphere", "box", "cylinder", "cone", "plane", "union", "intersection", "difference", "merge"};
 
 static void walk(const csg_scene *s, const csg_object *o, int depth, tally *t)
 {
@@ -63,16 +58,16 @@ void csg_print_summary(const csg_scene *s, FILE *out)
         walk(s, s->objects[i], 1, &t);
 
     long prims = 0, csg = 0;
-    for (int k = 0; k < KIND_COUNT; k++)
-        *(k <= CSG_OBJ_PLANE ? &prims : &csg) += t.by_kind[k];
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++)
+        *(csg_object_is_leaf(k) ? &prims : &csg) += t.by_kind[k];
 
     fprintf(out, "scene: %s\n", s->path ? s->path : "<input>");
     fprintf(out, "objects: %d top-level, %ld primitives, %ld CSG operations, CSG depth %d\n",
             s->object_count, prims, csg, t.max_depth);
     fprintf(out, " ");
-    for (int k = 0; k < KIND_COUNT; k++)
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++)
         if (t.by_kind[k])
-            fprintf(out, " %s %ld", kind_names[k], t.by_kind[k]);
+            fprintf(out, " %s %ld", csg_object_kind_name(k), t.by_kind[k]);
     fprintf(out, "%s\n", prims + csg ? "" : " (none)");
     if (t.inverted || t.open || t.no_shadow)
         fprintf(out, "  inverse %ld, open %ld, no_shadow %ld\n", t.inverted, t.open, t.no_shadow);

@@ -21,16 +21,38 @@
 
 #include "portable.h"
 
-enum csg_prim_kind {
-    CSG_PRIM_SPHERE = 0, /* p[0..2] centre, p[3] radius                   */
-    CSG_PRIM_BOX = 1,    /* p[0..2] min corner, p[3..5] max corner         */
-    CSG_PRIM_CONE = 2,   /* local frame: axis +z from z=0 to z=p[2];
-                            p[0] radius at z=0, p[1] radius at z=p[2];
-                            a cylinder is a cone with p[0] == p[1]        */
-    CSG_PRIM_PLANE = 3,  /* p[0..2] unit normal, p[3] distance: inside is
-                            dot(n, x) < d                                  */
-    CSG_PRIM_KIND_COUNT
-};
+/* The table of primitive kinds the tracers know, X(ID, name), in the
+ * order of their values in a blob.  intersect.h dispatches through
+ * csg_<name>_span and csg_<name>_normal and the blob validator accepts
+ * exactly these kinds, so a kind added here without its functions is a
+ * compile error on both sides (C and OpenCL C), never a silent fallback.
+ * Parameters p[] of each kind:
+ *   sphere  p[0..2] centre, p[3] radius
+ *   box     p[0..2] min corner, p[3..5] max corner
+ *   cone    local frame: axis +z from z=0 to z=p[2]; p[0] radius at z=0,
+ *           p[1] radius at z=p[2]; a cylinder is a cone with p[0] == p[1]
+ *   plane   p[0..2] unit normal, p[3] distance: inside is dot(n, x) < d
+ *
+ * The one assumption every stage shares lives in csg_<name>_span: a
+ * primitive is a convex solid, so the line of a ray meets it in AT MOST
+ * ONE interval [t0, t1] with t0 < t1 (a plane: a half-line); the interval
+ * lists (intersect.h), the complement, the shadow test and the flattener's
+ * CSG_MAX_SPANS bound all build on it.  A primitive that breaks it must
+ * say how it fits:
+ *   - non-convex (a torus, a concave polygon): split it into convex
+ *     pieces joined by union in the flattener, so each leaf still gives
+ *     one interval;
+ *   - not a solid (a triangle, a polygon, an open mesh: surfaces with no
+ *     inside): it has no interval at all.  It may stand only where an
+ *     inside is not needed — a root of its own or a union — and must
+ *     report its hit as a zero-length event the lists carry through (not
+ *     as an interval, which csg_spans_push drops when t0 == t1); inside
+ *     intersection or difference its meaning follows POV-Ray's (a surface
+ *     has no inside), and the flattener must state and test it. */
+#define CSG_PRIM_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
+
+#define CSG_PRIM_ENUM(ID, name) CSG_PRIM_##ID,
+enum csg_prim_kind { CSG_PRIM_KINDS(CSG_PRIM_ENUM) CSG_PRIM_KIND_COUNT };
 
 enum csg_prim_flags {
     CSG_PF_XFORM = 1,     /* inv[] maps world to local coordinates           */

@@ -302,19 +302,18 @@ CSG_FN int csg_plane_span(CSG_GLOBAL const real *p, csg_ray r,
     return 1;
 }
 
+/* The interval of any primitive, dispatched by kind (flat.h's table); an
+ * unknown kind has none (the blob validator lets none through). */
 CSG_FN int csg_prim_span(CSG_GLOBAL const csg_prim *p, csg_ray world,
                          real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
 {
     csg_ray r = csg_ray_to_local(p, world);
     switch (p->kind) {
-    case CSG_PRIM_SPHERE:
-        return csg_sphere_span(p->p, r, t0, t1, s0, s1);
-    case CSG_PRIM_BOX:
-        return csg_box_span(p->p, r, t0, t1, s0, s1);
-    case CSG_PRIM_CONE:
-        return csg_cone_span(p->p, r, t0, t1, s0, s1);
-    case CSG_PRIM_PLANE:
-        return csg_plane_span(p->p, r, t0, t1, s0, s1);
+#define CSG_SPAN_CASE(ID, name)                                                                    \
+    case CSG_PRIM_##ID:                                                                            \
+        return csg_##name##_span(p->p, r, t0, t1, s0, s1);
+        CSG_PRIM_KINDS(CSG_SPAN_CASE)
+#undef CSG_SPAN_CASE
     default:
         return 0;
     }
@@ -631,27 +630,51 @@ CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
 
 /* ---- normals ---------------------------------------------------------------- */
 
+/* The outward normal (not normalised) of each kind at local point lp of
+ * its sub-surface `sub`. */
+CSG_FN vec3 csg_sphere_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    return v3_sub(lp, v3_load(p));
+}
+
+CSG_FN vec3 csg_box_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)p;
+    (void)lp;
+    real s = (sub & 1) ? R(1.0) : R(-1.0);
+    int axis = sub >> 1;
+    return v3(axis == 0 ? s : R(0.0), axis == 1 ? s : R(0.0), axis == 2 ? s : R(0.0));
+}
+
+CSG_FN vec3 csg_cone_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    if (sub == CSG_SURF_CONE_BASE)
+        return v3(R(0.0), R(0.0), R(-1.0));
+    if (sub == CSG_SURF_CONE_TOP)
+        return v3(R(0.0), R(0.0), R(1.0));
+    real k = (p[1] - p[0]) / p[2];
+    real rz = p[0] + k * lp.z;
+    return v3(lp.x, lp.y, -k * rz);
+}
+
+CSG_FN vec3 csg_plane_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    (void)lp;
+    return v3_load(p);
+}
+
 CSG_FN vec3 csg_local_normal(CSG_GLOBAL const csg_prim *p, csg_i32 sub, vec3 lp)
 {
     switch (p->kind) {
-    case CSG_PRIM_SPHERE:
-        return v3_sub(lp, v3_load(p->p));
-    case CSG_PRIM_BOX: {
-        real s = (sub & 1) ? R(1.0) : R(-1.0);
-        int axis = sub >> 1;
-        return v3(axis == 0 ? s : R(0.0), axis == 1 ? s : R(0.0), axis == 2 ? s : R(0.0));
-    }
-    case CSG_PRIM_CONE: {
-        if (sub == CSG_SURF_CONE_BASE)
-            return v3(R(0.0), R(0.0), R(-1.0));
-        if (sub == CSG_SURF_CONE_TOP)
-            return v3(R(0.0), R(0.0), R(1.0));
-        real k = (p->p[1] - p->p[0]) / p->p[2];
-        real rz = p->p[0] + k * lp.z;
-        return v3(lp.x, lp.y, -k * rz);
-    }
+#define CSG_NORMAL_CASE(ID, name)                                                                  \
+    case CSG_PRIM_##ID:                                                                            \
+        return csg_##name##_normal(p->p, sub, lp);
+        CSG_PRIM_KINDS(CSG_NORMAL_CASE)
+#undef CSG_NORMAL_CASE
     default:
-        return v3_load(p->p);
+        return v3(R(0.0), R(0.0), R(0.0));
     }
 }
 
