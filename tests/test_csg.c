@@ -493,7 +493,7 @@ static void test_nearest_roots(void **state)
     ROOT(&s, sp);
     ROOT(&s, bx);
     csg_ray r = ray(0, 0, 0, 1, 0, 0);
-    /* a tie goes to the first root */
+    /* a tie goes to the lower surface id, whatever the root order */
     csg_hit h = nearest(&s, r);
     NEAR(h.t, 4, 0);
     assert_int_equal(h.surf, S(sp, 0));
@@ -504,6 +504,15 @@ static void test_nearest_roots(void **state)
     ROOT(&s2, bx);
     ROOT(&s2, sp);
     h = nearest(&s2, r);
+    NEAR(h.t, 4, 0);
+    assert_int_equal(h.surf, S(bx, 0));
+    scene s3; /* the box's surface id is the lower one, its root comes last */
+    scene_init(&s3);
+    bx = add_box(&s3, 0, 4, -1, -1, 6, 1, 1);
+    sp = add_sphere(&s3, 0, 5, 0, 0, 1);
+    ROOT(&s3, sp);
+    ROOT(&s3, bx);
+    h = nearest(&s3, r);
     NEAR(h.t, 4, 0);
     assert_int_equal(h.surf, S(bx, 0));
     /* a strictly nearer later root wins */

@@ -533,7 +533,6 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
     return h;
 }
 
-/* Root i's first visible boundary, if it is nearer than *best. */
 /* The first visible boundary of one uncomplemented primitive on
  * (tmin, tmax): exactly csg_first_boundary(csg_leaf_spans(...)), without
  * building the list (most roots are a single primitive). */
@@ -567,28 +566,47 @@ CSG_FN csg_hit csg_leaf_first_hit(CSG_GLOBAL const csg_prim *prims, csg_i32 i, c
     return h;
 }
 
+/* How far a root is worth evaluating against the best hit so far: up to
+ * and including best->t once there is a hit, so that a surface exactly as
+ * near is seen and the tie broken (csg_hit_wins). */
+CSG_FN real csg_hit_limit(const csg_hit *best)
+{
+    return best->surf != CSG_SURF_NONE ? r_next_up(best->t) : best->t;
+}
+
+/* h replaces best: nearer, or as near with a lower surface id.  The winner
+ * is then the same whatever order the roots are visited in (a packet of
+ * rays and a single ray walk the BVH differently; so do two BVHs). */
+CSG_FN int csg_hit_wins(csg_hit h, const csg_hit *best)
+{
+    return h.surf != CSG_SURF_NONE &&
+           (h.t < best->t || (h.t == best->t && h.surf < best->surf));
+}
+
+/* Root i's first visible boundary, if it wins against *best. */
 CSG_FN void csg_try_root(csg_view v, csg_i32 i, csg_ray r, real tmin, csg_hit *best)
 {
     CSG_GLOBAL const csg_root *rt = &v.roots[i];
-    if (!csg_box_overlaps(rt, r, tmin, best->t))
+    real tmax = csg_hit_limit(best);
+    if (!csg_box_overlaps(rt, r, tmin, tmax))
         return;
     csg_hit h;
     csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
     if (leaf >= 0 && !(v.prims[leaf].flags & CSG_PF_INVERT)) {
-        h = csg_leaf_first_hit(v.prims, leaf, r, tmin, best->t);
+        h = csg_leaf_first_hit(v.prims, leaf, r, tmin, tmax);
     } else {
         csg_spans spans;
-        csg_root_spans(v, i, r, tmin, best->t, &spans);
+        csg_root_spans(v, i, r, tmin, tmax, &spans);
         h = csg_first_boundary(&spans, tmin);
     }
-    if (h.surf != CSG_SURF_NONE && h.t < best->t)
+    if (csg_hit_wins(h, best))
         *best = h;
 }
 
 /* The nearest visible surface on (tmin, tmax) over every root: first the
- * roots tested one by one, then the BVH, nearer child first.  A root must
- * be strictly nearer than the best so far to win, and the visiting order
- * depends only on the ray, so the answer is the same wherever this runs. */
+ * roots tested one by one, then the BVH, nearer child first.  Ties go to
+ * the lower surface id (csg_hit_wins), so the answer depends neither on
+ * the visiting order nor on where this runs. */
 CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
 {
     csg_hit best;
@@ -603,7 +621,7 @@ CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
     while (top > 0) {
         csg_i32 k = stack[--top];
         CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
-        if (!csg_aabb_overlaps(n->lo, n->hi, r, tmin, best.t))
+        if (!csg_aabb_overlaps(n->lo, n->hi, r, tmin, csg_hit_limit(&best)))
             continue;
         if (n->count > 0) {
             for (csg_i32 i = n->first; i < n->first + n->count; i++)

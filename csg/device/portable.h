@@ -68,6 +68,30 @@ typedef float real;
 #endif
 #endif
 
+/* The next real above t >= 0 (t itself when infinite or NaN): integer
+ * steps on the bits, the same on every side, no libm call. */
+#ifdef __OPENCL_VERSION__
+#ifdef CSG_DOUBLE
+CSG_FN real r_next_up(real t) { return t < (real)INFINITY ? as_double(as_ulong(t) + 1ul) : t; }
+#else
+CSG_FN real r_next_up(real t) { return t < (real)INFINITY ? as_float(as_uint(t) + 1u) : t; }
+#endif
+#else
+CSG_FN real r_next_up(real t)
+{
+#ifdef CSG_DOUBLE
+    union { double r; uint64_t u; } b;
+#else
+    union { float r; uint32_t u; } b;
+#endif
+    if (!(t < CSG_R_INF))
+        return t;
+    b.r = t;
+    b.u++;
+    return b.r;
+}
+#endif
+
 CSG_FN real r_fmin(real a, real b)
 {
     if (a != a)
