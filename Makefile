@@ -59,7 +59,7 @@ TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: all asan deps test demo bench bench-full bench-accuracy golden clean
-all: $(B)/csgtrace $(TEST_BINS)
+all: $(B)/csgtrace $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
 
 # ---- objects ---------------------------------------------------------------
@@ -98,6 +98,11 @@ $(BA)/csgtrace: $(BA)/obj/host/main.o $(LIB_OBJS_ASAN)
 $(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS) -lcmocka
+# A worker that breaks the protocol on purpose (tests/e2e_mpi.sh).
+$(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
+
 $(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN)
 	@mkdir -p $(dir $@)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS) -lcmocka

@@ -9,10 +9,12 @@
  * tile's work.
  *
  * Bounded receive: the size is known from the probe before any byte is
- * taken; a message over the caller's limit is received into the buffer of
- * the limit's size — MPI truncates it, returns MPI_ERR_TRUNCATE (the error
- * handler returns codes) and the message is consumed — so a peer can never
- * make this rank allocate what it claims.
+ * taken, and a message over the caller's limit is not received at all, so
+ * a peer can never make this rank allocate what it claims.  It cannot be
+ * drained either: a truncated receive is no way out (Open MPI 4.1's
+ * shared-memory single copy writes the whole message past the end of the
+ * smaller buffer: seen here, heap corruption), so the caller reports it
+ * and ends the job (link_abort).
  */
 #include "link.h"
 
@@ -90,25 +92,23 @@ link_status link_recv(link_msg *m, int source, size_t limit)
     if (link_wait(source == LINK_ANY_SOURCE ? MPI_ANY_SOURCE : source, &st) != LINK_OK ||
         MPI_Get_count(&st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
         return LINK_ERROR;
-    size_t take = (size_t)count < limit ? (size_t)count : limit;
-    if (!link_reserve(m, take)) {
-        /* A message can only be received whole: nothing else to do. */
-        int rank = -1;
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-        fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %zu-byte message\n", rank,
-                take);
-        link_abort(1);
-    }
-    int rc = MPI_Recv(m->data, (int)take, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
-                      MPI_STATUS_IGNORE);
     m->len = (size_t)count;
     m->source = st.MPI_SOURCE;
     m->tag = st.MPI_TAG;
     if ((size_t)count > limit)
-        return LINK_TOO_BIG;
-    if (rc != MPI_SUCCESS)
+        return LINK_TOO_BIG; /* left where it is: see link.h */
+    if (!link_reserve(m, (size_t)count)) {
+        /* A message can only be received whole: nothing else to do. */
+        int rank = -1;
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+        fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %d-byte message\n", rank,
+                count);
+        link_abort(1);
+    }
+    if (MPI_Recv(m->data, count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE) != MPI_SUCCESS)
         return LINK_ERROR;
-    m->data[take] = '\0';
+    m->data[count] = '\0';
     return LINK_OK;
 }
 

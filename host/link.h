@@ -29,8 +29,10 @@ bool link_start(int *rank, int *size);
 
 typedef enum {
     LINK_OK = 0,
-    LINK_TOO_BIG, /* the message exceeded the limit: received truncated,
-                     its bytes dropped (len holds its real size)         */
+    LINK_TOO_BIG, /* the message exceeds the limit: NOT received (source,
+                     tag and len say what it is); it stays at the head
+                     of the queue, so the job can only end: report it,
+                     then link_abort                                    */
     LINK_ERROR    /* MPI failed                                        */
 } link_status;
 

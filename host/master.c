@@ -64,7 +64,9 @@ static bool master_recv(master_session *m, link_msg *msg, size_t limit, csg_diag
     m->bytes_received += (uint64_t)msg->len;
     if (got == LINK_TOO_BIG) {
         csg_error_plain(d, "worker %d: a %zu-byte message (tag %d), larger than any answer "
-                           "(%zu bytes)", msg->source, msg->len, msg->tag, limit);
+                           "(%zu bytes): the job is ended",
+                        msg->source, msg->len, msg->tag, limit);
+        m->link_broken = true; /* the message cannot be drained */
         return false;
     }
     return true;
@@ -95,10 +97,10 @@ static void master_report_fail(const link_msg *msg, csg_diag *d)
 /* Step 2: one READY or FAIL from every worker. */
 static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 {
-    for (int i = 0; i < m->workers; i++) {
+    for (int i = 0; i < m->workers && !m->link_broken; i++) {
         if (!master_recv(m, msg, sizeof(proto_fail), d)) {
             m->setup_failed = true;
-            continue;
+            break;
         }
         if (msg->tag == PROTO_TAG_READY)
             continue;
@@ -173,8 +175,7 @@ static bool master_deal(master_session *m, master_job *job, char *out, int *hold
     while (outstanding > 0) {
         if (!master_recv(m, &msg, limit, d)) {
             failed = true;
-            if (msg.source < 1 || msg.source > m->workers || holding[msg.source] < 0)
-                break; /* nothing we can drain on: the link is broken */
+            break; /* nothing can be drained past that message */
         }
         int src = msg.source;
         if (src < 1 || src > m->workers || holding[src] < 0) {
@@ -245,6 +246,8 @@ void master_end(master_session *m, int status)
 {
     if (m->workers == 0)
         return;
+    if (m->link_broken) /* its message was reported: no rank can go on */
+        link_abort(status ? status : 1);
     if (!m->shared) {
         master_share_scene(m, status ? status : 1, 0, NULL);
         return;

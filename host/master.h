@@ -27,6 +27,8 @@ typedef struct {
     bool greeted;             /* every worker's handshake was received    */
     bool setup_failed;        /* a worker failed its setup                */
     bool stopped;             /* the workers were told to exit            */
+    bool link_broken;         /* a message could not be received: the job
+                                 can only be aborted (master_end does)    */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
 } master_session;

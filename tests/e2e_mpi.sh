@@ -7,8 +7,9 @@
 #     and larger than the image, K = 1, 2, 3, 5 ranks, sizes that are not
 #     multiples of the tile, both precisions, the TCP transport;
 #   - a scene error under mpirun: exit 2 and one message;
-#   - a worker failure (CSGTRACE_FAIL_WORKER) and an OpenCL failure: exit 1,
-#     one message, no image;
+#   - a worker failure (CSGTRACE_FAIL_WORKER), a worker that breaks the
+#     protocol (tests/rogue_worker.c) and an OpenCL failure: exit 1, one
+#     message, no image;
 #   - the stats JSON holds every field, and its counts add up.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
@@ -234,6 +235,24 @@ CSGTRACE_FAIL_WORKER=1 render fail-h2 2 "$first" "${SZ[@]}" --mode homo --tile 1
 rc=$?
 check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
     test $rc = 1 -a ! -e "$TMP/fail-h2.exr"
+
+# A worker that breaks the protocol (tests/rogue_worker.c, MPMD rank 1):
+# every crafted answer is refused before it is used, with one message, exit
+# 1 and no image; an oversized one is never received (link_recv's limit).
+ROGUE=$ROOT/build/tests/rogue_worker
+for mode in big short index tag; do
+    if [ ! -x "$ROGUE" ]; then
+        bad "rogue worker ($mode): $ROGUE is not built"
+        continue
+    fi
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
+        "$first" "${SZ[@]}" --mode homo -o "$TMP/rogue-$mode.exr" : -np 1 "$ROGUE" "$mode" \
+        >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
+    rc=$?
+    check "rogue worker ($mode): exit 1, one message naming worker 1, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
+        -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$TMP/rogue-$mode.exr"
+done
 
 if [ $have_cl = 1 ]; then
     CSGTRACE_FAIL_WORKER=1 render fail-x3 3 "$first" "${SZ[@]}" --mode hetero --tile 4

@@ -160,9 +160,9 @@ static int worker_serve(worker_state *w)
         link_status got = link_recv(&w->in, LINK_MASTER, limit);
         if (got == LINK_ERROR)
             return 1; /* the master is gone: nothing to answer */
-        if (got == LINK_TOO_BIG) {
+        if (got == LINK_TOO_BIG) { /* it cannot be drained: end the job */
             worker_send_fail(-1, "message from the master larger than any tile");
-            continue;
+            link_abort(1);
         }
         if (w->in.tag == PROTO_TAG_STOP) {
             proto_stop stop = {1, 0}; /* a short STOP still stops, with 1 */

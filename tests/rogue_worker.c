@@ -1,0 +1,69 @@
+/*
+ * rogue_worker.c — a worker that breaks the tile protocol on purpose, to
+ * show the master refuses what it is sent (tests/e2e_mpi.sh).  Launched as
+ * rank 1 beside the real master, MPMD style:
+ *
+ *   mpirun -np 1 build/csgtrace render SCENE -o OUT --mode homo \
+ *        : -np 1 build/tests/rogue_worker MODE
+ *
+ * It takes part in the setup like a worker (setup and blob broadcasts,
+ * READY), then answers its first TILE with:
+ *   big     a RESULT of 64 MiB, far over any answer the master can be sent
+ *   short   a RESULT whose size does not fit the tile
+ *   index   a well-sized RESULT for another tile
+ *   tag     a message with a tag the protocol does not have
+ * then waits for STOP and exits 0.  The master must report one error,
+ * exit 1 and write no image, without taking the bytes it was not owed.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../host/link.h"
+#include "../host/protocol.h"
+
+/* The reply to the tile in `in` that MODE asks for. */
+static void rogue_reply(const char *mode, const link_msg *in)
+{
+    proto_tile t;
+    memcpy(&t, in->data, sizeof t);
+    size_t pixels = (size_t)t.width * (size_t)t.height;
+    size_t good = sizeof(proto_result) + pixels * 3 * sizeof(float);
+    size_t len = strcmp(mode, "big") == 0     ? (size_t)64 << 20
+                 : strcmp(mode, "short") == 0 ? good - 4
+                                              : good;
+    char *msg = calloc(1, len);
+    if (!msg)
+        exit(3);
+    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0};
+    memcpy(msg, &r, sizeof r);
+    link_send(LINK_MASTER, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
+    free(msg);
+}
+
+int main(int argc, char **argv)
+{
+    int rank, size;
+    if (argc != 2 || !link_start(&rank, &size))
+        return 2;
+    proto_setup setup;
+    link_bcast(&setup, sizeof setup);
+    if (setup.status != 0)
+        return 0;
+    void *blob = malloc(setup.blob_size ? setup.blob_size : 1);
+    link_bcast(blob, setup.blob_size);
+    free(blob);
+    proto_ready ready = {0, 0};
+    link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
+    link_msg in = {NULL, 0, 0, 0, 0};
+    for (int answered = 0;;) {
+        if (link_recv(&in, LINK_MASTER, (size_t)1 << 30) != LINK_OK)
+            return 3;
+        if (in.tag == PROTO_TAG_STOP)
+            break;
+        if (in.tag == PROTO_TAG_TILE && !answered++)
+            rogue_reply(argv[1], &in);
+    }
+    link_msg_free(&in);
+    return 0;
+}
