@@ -18,6 +18,7 @@
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
 #include "../workers/engine.h"
+#include "../workers/tile.h"
 
 /* ---- building trees ---------------------------------------------------------- */
 
@@ -103,27 +104,25 @@ static const csg_blob_header *flatten_ok(const engine *e, csg_scene *s, int w, i
     return csg_blob_hdr(b->bytes);
 }
 
+/* The whole image, tile by tile, through tile_run (workers/tile.h). */
 static float *render_all(const engine *e, const void *blob, int w, int h, int tile)
 {
+    tile_runner tr;
+    assert_true(tile_runner_init(&tr, blob, tile));
+    assert_ptr_equal(tr.eng, e);
     float *rgb = calloc((size_t)w * h * 3, sizeof(float));
     float *trgb = calloc((size_t)tile * tile * 3, sizeof(float));
-    void *t = calloc((size_t)tile * tile, 8);
-    uint32_t *surf = calloc((size_t)tile * tile, 4);
-    assert_true(rgb && trgb && t && surf);
-    ray_counts rays = {0};
-    for (int ty = 0; ty < h; ty += tile) {
-        for (int tx = 0; tx < w; tx += tile) {
-            tile_rect r = {tx, ty, tx + tile <= w ? tile : w - tx, ty + tile <= h ? tile : h - ty};
-            engine_render_tile(e, blob, r, t, surf, trgb, &rays);
-            for (int y = 0; y < r.height; y++)
-                memcpy(&rgb[3 * ((size_t)(ty + y) * w + tx)], &trgb[3 * (size_t)y * r.width],
-                       (size_t)r.width * 3 * sizeof(float));
-        }
+    assert_true(rgb && trgb);
+    uint64_t primary = 0;
+    for (int i = 0; i < tile_count(&tr.grid); i++) {
+        tile_result res;
+        tile_run(&tr, i, NULL, trgb, &res);
+        tile_store_rgb(rgb, w, tile_rect_of(&tr.grid, i), trgb);
+        primary += res.rays.primary;
     }
-    assert_int_equal(rays.primary, (uint64_t)w * h);
+    assert_int_equal(primary, (uint64_t)w * h);
     free(trgb);
-    free(t);
-    free(surf);
+    tile_runner_free(&tr);
     return rgb;
 }
 

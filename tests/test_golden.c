@@ -43,7 +43,8 @@ static float *render_scene(const char *path)
     assert_true(rgb && t && surf);
     ray_counts rays = {0};
     tile_rect all = {0, 0, GOLDEN_W, GOLDEN_H};
-    engine_render_tile(&engine_float, b.bytes, all, t, surf, rgb, &rays);
+    engine_float.trace_primary(b.bytes, all, t, surf, &rays);
+    engine_float.shade(b.bytes, all, t, surf, rgb, &rays);
     free(t);
     free(surf);
     csg_blob_free(&b);

@@ -79,7 +79,8 @@ static image render_text(const engine *e, const char *text, int w, int h)
     assert_true(im.rgb && im.surf && t);
     ray_counts rays = {0};
     tile_rect r = {0, 0, w, h};
-    engine_render_tile(e, b.bytes, r, t, im.surf, im.rgb, &rays);
+    e->trace_primary(b.bytes, r, t, im.surf, &rays);
+    e->shade(b.bytes, r, t, im.surf, im.rgb, &rays);
     free(t);
     csg_blob_free(&b);
     csg_scene_free(&s);

@@ -67,9 +67,4 @@ extern const engine engine_double;
 /* The engine whose real_size matches the blob's. */
 const engine *engine_for_blob(const void *blob);
 
-/* Convenience for a whole tile: trace_primary then shade. scratch_t and
- * scratch_surf hold w*h records. */
-void engine_render_tile(const engine *e, const void *blob, tile_rect rect, void *scratch_t,
-                        uint32_t *scratch_surf, float *rgb_out, ray_counts *rays);
-
 #endif
