@@ -575,6 +575,57 @@ static bool is_transform(const parser *p)
            lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX);
 }
 
+/* pigment { }, finish { } or texture { } on o: edits its own texture entry. */
+static bool parse_texture_modifier(parser *p, csg_object *o, int tex_mark)
+{
+    csg_texture *own = own_texture(p, o, tex_mark);
+    if (!own)
+        return false;
+    csg_texture t = *own;
+    bool ok = p->tok.kw == CSG_KW_PIGMENT  ? parse_pigment(p, &t.pigment)
+              : p->tok.kw == CSG_KW_FINISH ? parse_finish(p, &t.finish)
+                                           : parse_texture(p, &t);
+    if (!ok)
+        return false;
+    ((csg_texture *)p->textures.data)[o->texture] = t;
+    return true;
+}
+
+/* interior { } on o: edits its own interior entry. */
+static bool parse_interior_modifier(parser *p, csg_object *o, int int_mark)
+{
+    csg_interior *own = own_interior(p, o, int_mark);
+    if (!own)
+        return false;
+    csg_interior in = *own;
+    if (!parse_interior(p, &in))
+        return false;
+    ((csg_interior *)p->interiors.data)[o->interior] = in;
+    return true;
+}
+
+/* inverse, no_shadow or open on o (the object `name`). */
+static bool parse_flag(parser *p, csg_object *o, const char *name)
+{
+    switch (p->tok.kw) {
+    case CSG_KW_INVERSE:
+        o->inverse = !o->inverse;
+        break;
+    case CSG_KW_NO_SHADOW:
+        o->no_shadow = true;
+        break;
+    default: /* CSG_KW_OPEN */
+        if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
+            csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
+                      name);
+            return false;
+        }
+        o->open = true;
+        break;
+    }
+    return lang_next(p);
+}
+
 /* Modifiers up to and including the closing brace. */
 static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc open, int tex_mark,
                             int int_mark)
@@ -582,62 +633,21 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
     for (;;) {
         if (lang_is_punct(p, '}'))
             return lang_next(p);
-        if (is_transform(p)) {
-            if (!parse_transform(p, &o->xform))
-                return false;
-            continue;
-        }
-        if (p->tok.kind != CSG_TOK_WORD)
+        bool ok;
+        if (is_transform(p))
+            ok = parse_transform(p, &o->xform);
+        else if (lang_is_kw(p, CSG_KW_PIGMENT) || lang_is_kw(p, CSG_KW_FINISH) ||
+                 lang_is_kw(p, CSG_KW_TEXTURE))
+            ok = parse_texture_modifier(p, o, tex_mark);
+        else if (lang_is_kw(p, CSG_KW_INTERIOR))
+            ok = parse_interior_modifier(p, o, int_mark);
+        else if (lang_is_kw(p, CSG_KW_INVERSE) || lang_is_kw(p, CSG_KW_NO_SHADOW) ||
+                 lang_is_kw(p, CSG_KW_OPEN))
+            ok = parse_flag(p, o, name);
+        else
             return lang_expected_close(p, '}', name, open);
-        switch (p->tok.kw) {
-        case CSG_KW_PIGMENT:
-        case CSG_KW_FINISH:
-        case CSG_KW_TEXTURE: {
-            csg_texture *own = own_texture(p, o, tex_mark);
-            if (!own)
-                return false;
-            csg_texture t = *own;
-            bool ok = p->tok.kw == CSG_KW_PIGMENT  ? parse_pigment(p, &t.pigment)
-                      : p->tok.kw == CSG_KW_FINISH ? parse_finish(p, &t.finish)
-                                                   : parse_texture(p, &t);
-            if (!ok)
-                return false;
-            ((csg_texture *)p->textures.data)[o->texture] = t;
-            break;
-        }
-        case CSG_KW_INTERIOR: {
-            csg_interior *own = own_interior(p, o, int_mark);
-            if (!own)
-                return false;
-            csg_interior in = *own;
-            if (!parse_interior(p, &in))
-                return false;
-            ((csg_interior *)p->interiors.data)[o->interior] = in;
-            break;
-        }
-        case CSG_KW_INVERSE:
-            o->inverse = !o->inverse;
-            if (!lang_next(p))
-                return false;
-            break;
-        case CSG_KW_NO_SHADOW:
-            o->no_shadow = true;
-            if (!lang_next(p))
-                return false;
-            break;
-        case CSG_KW_OPEN:
-            if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
-                csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
-                          name);
-                return false;
-            }
-            o->open = true;
-            if (!lang_next(p))
-                return false;
-            break;
-        default:
-            return lang_expected_close(p, '}', name, open);
-        }
+        if (!ok)
+            return false;
     }
 }
 
@@ -845,12 +855,14 @@ static bool parse_global_settings(parser *p)
 
 /* ---- directives ----------------------------------------------------------------- */
 
-/* #declare NAME = ... and #local NAME = ... (one scope: the same). */
-static bool parse_declare(parser *p)
+/* The directive's word in messages: at most 15 characters. */
+#define DIRECTIVE_NAME 16
+
+/* '#declare NAME =' or '#local NAME =': *name is the identifier, directive
+ * the word after '#'; the current token is then the one after '='. */
+static bool parse_declare_head(parser *p, char directive[DIRECTIVE_NAME], csg_token *name)
 {
-    csg_loc at = p->tok.loc;
-    char directive[16];
-    snprintf(directive, sizeof directive, "%.*s", (int)(p->tok.len < 15 ? p->tok.len : 15),
+    snprintf(directive, DIRECTIVE_NAME, "%.*s", (int)(p->tok.len < 15 ? p->tok.len : 15),
              p->tok.text);
     if (!lang_next(p))
         return false;
@@ -859,64 +871,76 @@ static bool parse_declare(parser *p)
         snprintf(what, sizeof what, "an identifier expected after '#%s'", directive);
         return lang_expected(p, what);
     }
-    csg_token name = p->tok;
+    *name = p->tok;
     if (!lang_next(p))
         return false;
     if (!lang_is_punct(p, '=')) {
         char what[80];
         snprintf(what, sizeof what, "'=' expected after '#%s %.*s'", directive,
-                 (int)(name.len > 40 ? 40 : name.len), name.text);
+                 (int)(name->len > 40 ? 40 : name->len), name->text);
         return lang_expected(p, what);
     }
-    if (!lang_next(p))
-        return false;
-    symbol tmp;
-    memset(&tmp, 0, sizeof tmp);
-    bool needs_semicolon = false;
+    return lang_next(p);
+}
+
+/* What a #declare binds, into *def (zeroed); *needs_semicolon for a value
+ * or colour, which a ';' must end. */
+static bool parse_declared(parser *p, symbol *def, bool *needs_semicolon)
+{
     if (is_object_start(p)) {
-        tmp.kind = SYM_OBJECT;
-        if (!parse_object(p, &tmp.object))
-            return false;
-    } else if (lang_is_kw(p, CSG_KW_PIGMENT)) {
-        tmp.kind = SYM_PIGMENT;
-        if (!parse_pigment(p, &tmp.pigment))
-            return false;
-    } else if (lang_is_kw(p, CSG_KW_FINISH)) {
-        tmp.kind = SYM_FINISH;
-        csg_finish_default(&tmp.finish);
-        if (!parse_finish(p, &tmp.finish))
-            return false;
-    } else if (lang_is_kw(p, CSG_KW_TEXTURE)) {
-        tmp.kind = SYM_TEXTURE;
-        if (!parse_texture(p, &tmp.texture))
-            return false;
-    } else if (lang_is_kw(p, CSG_KW_INTERIOR)) {
-        tmp.kind = SYM_INTERIOR;
-        tmp.interior.ior = 1.0;
-        if (!parse_interior(p, &tmp.interior))
-            return false;
-    } else if (lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p)) {
-        tmp.kind = SYM_VALUE;
-        tmp.val.dim = 5;
-        if (!lang_parse_color(p, tmp.val.v))
-            return false;
-        needs_semicolon = true;
-    } else if (lang_is_expr_start(p)) {
-        tmp.kind = SYM_VALUE;
-        if (!lang_parse_expr(p, &tmp.val))
-            return false;
-        needs_semicolon = true;
-    } else {
-        return lang_expected(
-            p, "a value, color, pigment, finish, texture, interior or object expected");
+        def->kind = SYM_OBJECT;
+        return parse_object(p, &def->object);
     }
+    if (lang_is_kw(p, CSG_KW_PIGMENT)) {
+        def->kind = SYM_PIGMENT;
+        return parse_pigment(p, &def->pigment);
+    }
+    if (lang_is_kw(p, CSG_KW_FINISH)) {
+        def->kind = SYM_FINISH;
+        csg_finish_default(&def->finish);
+        return parse_finish(p, &def->finish);
+    }
+    if (lang_is_kw(p, CSG_KW_TEXTURE)) {
+        def->kind = SYM_TEXTURE;
+        return parse_texture(p, &def->texture);
+    }
+    if (lang_is_kw(p, CSG_KW_INTERIOR)) {
+        def->kind = SYM_INTERIOR;
+        def->interior.ior = 1.0;
+        return parse_interior(p, &def->interior);
+    }
+    def->kind = SYM_VALUE;
+    *needs_semicolon = true;
+    if (lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p)) {
+        def->val.dim = 5;
+        return lang_parse_color(p, def->val.v);
+    }
+    if (lang_is_expr_start(p))
+        return lang_parse_expr(p, &def->val);
+    return lang_expected(p,
+                         "a value, color, pigment, finish, texture, interior or object expected");
+}
+
+/* #declare NAME = ... and #local NAME = ... (one scope: the same). */
+static bool parse_declare(parser *p)
+{
+    csg_loc at = p->tok.loc;
+    char directive[DIRECTIVE_NAME];
+    csg_token name = {0};
+    if (!parse_declare_head(p, directive, &name))
+        return false;
+    symbol def;
+    memset(&def, 0, sizeof def);
+    bool needs_semicolon = false;
+    if (!parse_declared(p, &def, &needs_semicolon))
+        return false;
     if (needs_semicolon) {
         if (!lang_expect_semicolon(p, directive, at))
             return false;
     } else if (lang_is_punct(p, ';') && !lang_next(p)) {
         return false;
     }
-    return lang_sym_set(p, name.text, name.len, &tmp);
+    return lang_sym_set(p, name.text, name.len, &def);
 }
 
 static bool parse_version(parser *p)

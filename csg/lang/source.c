@@ -176,6 +176,69 @@ bool lang_parse_main(parser *p, const char *path, const char *text, size_t len)
 
 /* ---- #include ----------------------------------------------------------------- */
 
+/* The path of the included file `name` (a string token): relative to the
+ * including file's directory unless it is absolute; in the arena. */
+static char *include_path(parser *p, const csg_token *name)
+{
+    const char *cur = p->lx.file;
+    const char *slash = strrchr(cur, '/');
+    size_t dirlen = (name->text[0] != '/' && slash) ? (size_t)(slash - cur + 1) : 0;
+    char *path = lang_alloc(p, dirlen + name->len + 1);
+    if (!path)
+        return NULL;
+    memcpy(path, cur, dirlen);
+    memcpy(path + dirlen, name->text, name->len);
+    return path;
+}
+
+/* Whether `path` may be opened by the #include at `at`: not too deep, not
+ * a file being read already; *canon its canonical name. */
+static bool may_include(parser *p, csg_loc at, const char *path, const char **canon)
+{
+    if (p->include_depth >= CSG_PARSE_MAX_INCLUDE) {
+        csg_error(p->d, at, "#include nested deeper than %d files", CSG_PARSE_MAX_INCLUDE);
+        return false;
+    }
+    *canon = canonical(p, path);
+    if (!*canon)
+        return false;
+    for (int i = 0; i <= p->include_depth; i++) {
+        if (strcmp(p->include_stack[i], *canon) == 0) {
+            csg_error(p->d, at, "#include cycle: '%s' is already being read", path);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* The text of the included file, copied into the arena. */
+static char *read_include(parser *p, csg_loc at, const char *path, size_t *len)
+{
+    int err = 0;
+    char *text = lang_read_file(path, len, &err);
+    if (!text) {
+        csg_error(p->d, at, "cannot read include file '%s': %s", path, strerror(err));
+        return NULL;
+    }
+    char *copy = lang_strndup(p, text, *len);
+    free(text);
+    return copy;
+}
+
+/* Reads the statements of the included file, then resumes the including
+ * one after the #include. */
+static bool parse_nested(parser *p, const char *canon, const char *path, const char *text,
+                         size_t len)
+{
+    csg_lexer saved = p->lx;
+    p->include_stack[++p->include_depth] = canon;
+    if (!parse_source(p, path, text, len))
+        return false;
+    p->include_depth--;
+    p->lx = saved;
+    return lang_next(p);
+}
+
 bool lang_parse_include(parser *p)
 {
     csg_loc at = p->tok.loc;
@@ -190,44 +253,11 @@ bool lang_parse_include(parser *p)
         csg_error(p->d, at, "#include: invalid file name");
         return false;
     }
-    /* the path: relative to the including file's directory */
-    const char *cur = p->lx.file;
-    const char *slash = strrchr(cur, '/');
-    size_t dirlen = (name.text[0] != '/' && slash) ? (size_t)(slash - cur + 1) : 0;
-    char *path = lang_alloc(p, dirlen + name.len + 1);
-    if (!path)
+    const char *path = include_path(p, &name);
+    const char *canon;
+    if (!path || !may_include(p, at, path, &canon))
         return false;
-    memcpy(path, cur, dirlen);
-    memcpy(path + dirlen, name.text, name.len);
-    if (p->include_depth >= CSG_PARSE_MAX_INCLUDE) {
-        csg_error(p->d, at, "#include nested deeper than %d files", CSG_PARSE_MAX_INCLUDE);
-        return false;
-    }
-    const char *canon = canonical(p, path);
-    if (!canon)
-        return false;
-    for (int i = 0; i <= p->include_depth; i++) {
-        if (strcmp(p->include_stack[i], canon) == 0) {
-            csg_error(p->d, at, "#include cycle: '%s' is already being read", path);
-            return false;
-        }
-    }
     size_t len = 0;
-    int err = 0;
-    char *text = lang_read_file(path, &len, &err);
-    if (!text) {
-        csg_error(p->d, at, "cannot read include file '%s': %s", path, strerror(err));
-        return false;
-    }
-    char *copy = lang_strndup(p, text, len);
-    free(text);
-    if (!copy)
-        return false;
-    csg_lexer saved = p->lx;
-    p->include_stack[++p->include_depth] = canon;
-    if (!parse_source(p, path, copy, len))
-        return false;
-    p->include_depth--;
-    p->lx = saved;
-    return lang_next(p);
+    const char *text = read_include(p, at, path, &len);
+    return text && parse_nested(p, canon, path, text, len);
 }
