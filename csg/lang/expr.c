@@ -2,21 +2,22 @@
  * expr.c — values and expressions of the scene language: floats, vectors
  * and colours, evaluated as they are read.
  *
- * Algorithm: recursive descent by precedence, one function per level:
- * expr ('+' '-') > term ('*' '/') > unary (any number of signs, taken
- * iteratively) > primary (number, '(' expr ')', vector literal, constant,
- * declared identifier).  Values are computed as they are read: a binary
- * operator combines its operands with POV-Ray's promotion rules (a float
- * stands for a vector of the other's size, the shorter vector is padded
- * with zeros); dividing by zero and results that are not finite are errors
- * at the operator.
+ * Algorithm: precedence climbing as in Lua's subexpr: binary operators by
+ * priority ('+' '-' 1, '*' '/' 2, all left-associative) over unary (any
+ * number of signs, taken iteratively) over primary (number, '(' expr ')',
+ * vector literal, constant, declared identifier).  Values are computed as
+ * they are read: a binary operator combines its operands with POV-Ray's
+ * promotion rules (a float stands for a vector of the other's size, the
+ * shorter vector is padded with zeros); dividing by zero and results that
+ * are not finite are errors at the operator.
  * Colours are values too: `color`, rgb ... and a colour expression give
  * the five components rgbft.
  *
  * Invariants: a value has dim 1 (a float) or 2..5 (a vector) and its
  * components past dim are 0 (colour promotion relies on it).  The recursion
- * goes through '(' and '<' only, and each of them enters one level of
- * p->nesting (lang_enter), which never exceeds CSG_PARSE_MAX_NESTING.
+ * is bounded: parse_binary nests at most once per priority level, and the
+ * only other way down, '(' and '<', enters one level of p->nesting
+ * (lang_enter), which never exceeds CSG_PARSE_MAX_NESTING.
  */
 #include "expr.h"
 
@@ -66,6 +67,24 @@ static value make_vec3(double a, double b, double c)
     return v;
 }
 
+/* An expression that must be a float ("<what>, got a 3-component vector"
+ * otherwise); *at (if not NULL): where it starts. */
+static bool parse_float_expected(parser *p, const char *what, double *out, csg_loc *at)
+{
+    csg_loc start = p->tok.loc;
+    value v;
+    if (!lang_parse_expr(p, &v))
+        return false;
+    if (v.dim != 1) {
+        csg_error(p->d, start, "%s, got %s", what, dim_name(v.dim));
+        return false;
+    }
+    *out = v.v[0];
+    if (at)
+        *at = start;
+    return true;
+}
+
 /* '<' expr ',' expr ... '>' with 2 to 5 float components. */
 static bool parse_vector_literal(parser *p, value *out)
 {
@@ -74,19 +93,15 @@ static bool parse_vector_literal(parser *p, value *out)
         return false;
     out->dim = 0;
     for (;;) {
-        csg_loc at = p->tok.loc;
-        value c;
-        if (!lang_parse_expr(p, &c))
+        csg_loc at;
+        double c;
+        if (!parse_float_expected(p, "a float expected as a vector component", &c, &at))
             return false;
-        if (c.dim != 1) {
-            csg_error(p->d, at, "a float expected as a vector component, got %s", dim_name(c.dim));
-            return false;
-        }
         if (out->dim == 5) {
             csg_error(p->d, at, "a vector has at most 5 components");
             return false;
         }
-        out->v[out->dim++] = c.v[0];
+        out->v[out->dim++] = c;
         if (!lang_is_punct(p, ','))
             break;
         if (!lang_next(p))
@@ -196,15 +211,30 @@ static bool combine(parser *p, value *a, const value *b, char op, csg_loc at)
     return true;
 }
 
-static bool parse_term(parser *p, value *out)
+/* The priority of the current token as a binary operator (higher binds
+ * tighter); 0 when it is none. */
+static int binary_priority(const parser *p)
+{
+    if (p->tok.kind != CSG_TOK_PUNCT)
+        return 0;
+    switch (p->tok.punct) {
+    case '+': case '-': return 1;
+    case '*': case '/': return 2;
+    default: return 0;
+    }
+}
+
+/* unary (op unary)* over the operators of priority > limit, left to right:
+ * the right operand of op takes the operators that bind tighter than op. */
+static bool parse_binary(parser *p, int limit, value *out)
 {
     if (!parse_unary(p, out))
         return false;
-    while (lang_is_punct(p, '*') || lang_is_punct(p, '/')) {
+    for (int prio = binary_priority(p); prio > limit; prio = binary_priority(p)) {
         char op = p->tok.punct;
         csg_loc at = p->tok.loc;
         value rhs;
-        if (!lang_next(p) || !parse_unary(p, &rhs) || !combine(p, out, &rhs, op, at))
+        if (!lang_next(p) || !parse_binary(p, prio, &rhs) || !combine(p, out, &rhs, op, at))
             return false;
     }
     return true;
@@ -212,32 +242,12 @@ static bool parse_term(parser *p, value *out)
 
 bool lang_parse_expr(parser *p, value *out)
 {
-    if (!parse_term(p, out))
-        return false;
-    while (lang_is_punct(p, '+') || lang_is_punct(p, '-')) {
-        char op = p->tok.punct;
-        csg_loc at = p->tok.loc;
-        value rhs;
-        if (!lang_next(p) || !parse_term(p, &rhs) || !combine(p, out, &rhs, op, at))
-            return false;
-    }
-    return true;
+    return parse_binary(p, 0, out);
 }
 
 bool lang_parse_float(parser *p, double *out, csg_loc *at)
 {
-    csg_loc start = p->tok.loc;
-    value v;
-    if (!lang_parse_expr(p, &v))
-        return false;
-    if (v.dim != 1) {
-        csg_error(p->d, start, "a float expected, got %s", dim_name(v.dim));
-        return false;
-    }
-    *out = v.v[0];
-    if (at)
-        *at = start;
-    return true;
+    return parse_float_expected(p, "a float expected", out, at);
 }
 
 /* A 3-vector; a float is promoted to <f, f, f>. */

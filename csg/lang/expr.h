@@ -24,7 +24,7 @@ typedef struct {
 
 /* True when the current token can begin an expression. */
 bool lang_is_expr_start(const parser *p);
-/* expr: term (('+'|'-') term)*, evaluated as it is read. */
+/* An expression of + - * / over signed primaries, evaluated as it is read. */
 bool lang_parse_expr(parser *p, value *out);
 /* An expression that must be a float; *at (if not NULL): where it starts. */
 bool lang_parse_float(parser *p, double *out, csg_loc *at);

@@ -58,13 +58,10 @@ bool lang_expected(parser *p, const char *what)
 /* "'}' expected (to close 'union' at 12:3), got 'sphere'" */
 bool lang_expected_close(parser *p, char closer, const char *opener, csg_loc at)
 {
-    if (is_unsupported(&p->tok))
-        return unsupported(p);
-    char got[64];
-    csg_token_describe(&p->tok, got, sizeof got);
-    csg_error(p->d, p->tok.loc, "'%c' expected (to close '%s' at %d:%d), got %s", closer, opener,
-              at.line, at.col, got);
-    return false;
+    char what[128];
+    snprintf(what, sizeof what, "'%c' expected (to close '%s' at %d:%d)", closer, opener,
+             at.line, at.col);
+    return lang_expected(p, what);
 }
 
 /* Consumes "{" after the keyword `name`. */
@@ -82,13 +79,10 @@ bool lang_expect_open(parser *p, const char *name)
 bool lang_expect_semicolon(parser *p, const char *directive, csg_loc at)
 {
     if (!lang_is_punct(p, ';')) {
-        if (is_unsupported(&p->tok))
-            return unsupported(p);
-        char got[64];
-        csg_token_describe(&p->tok, got, sizeof got);
-        csg_error(p->d, p->tok.loc, "';' expected (to end '#%s' at %d:%d), got %s", directive,
-                  at.line, at.col, got);
-        return false;
+        char what[128];
+        snprintf(what, sizeof what, "';' expected (to end '#%s' at %d:%d)", directive, at.line,
+                 at.col);
+        return lang_expected(p, what);
     }
     return lang_next(p);
 }
