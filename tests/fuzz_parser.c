@@ -3,7 +3,8 @@
  * built by the Makefile, whose tests are tests/test_*.c).  Build and run:
  *
  *   clang -g -O1 -fsanitize=fuzzer,address,undefined -D_GNU_SOURCE \
- *     tests/fuzz_parser.c csg/lang/parser.c csg/lang/lexer.c csg/lang/colors.c csg/scene.c \
+ *     tests/fuzz_parser.c csg/lang/parser.c csg/lang/expr.c csg/lang/symbols.c \
+ *     csg/lang/source.c csg/lang/lexer.c csg/lang/colors.c csg/scene.c \
  *     csg/diag.c csg/camera_setup.c -lm -o build/fuzz_parser
  *   build/fuzz_parser -max_total_time=60 [CORPUS_DIR]
  *

@@ -1,12 +1,9 @@
 /*
  * parser.c — recursive-descent parser of the scene language
- * (scenes/LANGUAGE.md) into the scene tree of scene.h.
- *
- * Algorithm: one token of lookahead (p->tok) over the lexer of the file
- * being read; #include pushes a new lexer (the old one is saved on the C
- * stack) and reads the included file's statements in place.  Expressions
- * are evaluated as they are parsed into a `value` (a float, or a vector of
- * 2..5 components: colours are 5-component vectors rgbft).
+ * (scenes/LANGUAGE.md) into the scene tree of scene.h: the statement and
+ * object grammar, and the entry points of parser.h.  Values and
+ * expressions are read by expr.c, names by symbols.c, files and #include by
+ * source.c (parse_internal.h lists what each provides).
  *
  * Objects: while parsing, an object's xform is its LOCAL transform (relative
  * to the enclosing CSG object); a finished CSG object owns its children.
@@ -20,48 +17,23 @@
  * statement began), and otherwise appends a modified copy (copy-on-write):
  * entries shared by copies of a declared object are never edited.
  *
- * Invariants and limits: p->nesting counts the objects, parentheses and
- * vector literals open around the current token and never exceeds
- * CSG_PARSE_MAX_NESTING; every node records the height of its tree
+ * Invariants and limits: every node records the height of its tree
  * (pnode.height), kept <= CSG_PARSE_MAX_NESTING, so the copy and the final
  * pass recurse at most that deep; p->nodes <= CSG_PARSE_MAX_OBJECTS.  Every
  * allocation that outlives the parse is in the scene's arena; the growable
- * tables are malloc'd and copied into the arena at the end (one cleanup path
- * frees them whatever happens).
+ * tables and the symbol table are malloc'd, the tables copied into the arena
+ * at the end (one cleanup path frees them whatever happens).
  */
 #include "parser.h"
 
-#include <errno.h>
 #include <limits.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../camera_setup.h"
-#include "lexer.h"
-
-/* ---- values and symbols ------------------------------------------------- */
-
-typedef struct {
-    int dim;        /* 1: float; 2..5: vector (colours: 5, rgbft) */
-    double v[5];
-} value;
-
-enum sym_kind { SYM_VALUE, SYM_PIGMENT, SYM_FINISH, SYM_TEXTURE, SYM_INTERIOR, SYM_OBJECT };
-
-typedef struct {
-    const char *name; /* arena copy, len bytes */
-    size_t len;
-    enum sym_kind kind;
-    value val;
-    csg_pigment pigment;
-    csg_finish finish;
-    csg_texture texture;
-    csg_interior interior;
-    csg_object *object; /* a tree that is never in the scene: used by copy */
-} symbol;
+#include "parse_internal.h"
 
 /* A tree node with the height of its subtree (1 for a primitive). */
 typedef struct {
@@ -69,88 +41,25 @@ typedef struct {
     int height;
 } pnode;
 
-/* A growable malloc'd array. */
-typedef struct {
-    void *data;
-    int count, cap;
-} vec;
+/* ---- memory ---------------------------------------------------------------- */
 
-typedef struct {
-    csg_scene *s;
-    csg_diag *d;
-    csg_lexer lx;       /* the file being read                            */
-    csg_token tok;      /* the current token (one of lookahead)           */
-    int nesting;        /* see the invariants above                       */
-    int include_depth;  /* files open around the current one              */
-    const char *include_stack[CSG_PARSE_MAX_INCLUDE + 1]; /* real paths   */
-    symbol **syms;      /* open addressing hash table, sym_cap a power of 2 */
-    size_t sym_cap, sym_count;
-    vec textures;       /* csg_texture                                    */
-    vec interiors;      /* csg_interior                                   */
-    vec lights;         /* csg_light                                      */
-    vec objects;        /* csg_object *: the top-level objects            */
-    vec stack;          /* csg_object *: children of the open CSG objects */
-    long nodes;         /* tree nodes created                             */
-} parser;
-
-/* ---- errors --------------------------------------------------------------- */
-
-static bool oom(parser *p)
+bool lang_oom(parser *p)
 {
     csg_error_plain(p->d, "out of memory");
     return false;
 }
 
-static bool is_unsupported(const csg_token *t)
-{
-    return (t->kind == CSG_TOK_WORD || t->kind == CSG_TOK_DIRECTIVE) && t->kw == CSG_KW_UNSUPPORTED;
-}
-
-static bool unsupported(parser *p)
-{
-    char what[64];
-    csg_token_describe(&p->tok, what, sizeof what);
-    csg_error(p->d, p->tok.loc,
-              "unsupported: %s is not in csgtrace's language (see scenes/LANGUAGE.md)", what);
-    return false;
-}
-
-/* "<what expected ...>, got <token>" — or the unsupported-word message. */
-static bool expected(parser *p, const char *what)
-{
-    if (is_unsupported(&p->tok))
-        return unsupported(p);
-    char got[64];
-    csg_token_describe(&p->tok, got, sizeof got);
-    csg_error(p->d, p->tok.loc, "%s, got %s", what, got);
-    return false;
-}
-
-/* "'}' expected (to close 'union' at 12:3), got 'sphere'" */
-static bool expected_close(parser *p, char closer, const char *opener, csg_loc at)
-{
-    if (is_unsupported(&p->tok))
-        return unsupported(p);
-    char got[64];
-    csg_token_describe(&p->tok, got, sizeof got);
-    csg_error(p->d, p->tok.loc, "'%c' expected (to close '%s' at %d:%d), got %s", closer, opener,
-              at.line, at.col, got);
-    return false;
-}
-
-/* ---- memory ----------------------------------------------------------------- */
-
-static void *palloc(parser *p, size_t size)
+void *lang_alloc(parser *p, size_t size)
 {
     void *m = csg_arena_alloc(p->s->arena, size ? size : 1);
     if (!m)
-        oom(p);
+        lang_oom(p);
     return m;
 }
 
-static char *pstrndup(parser *p, const char *text, size_t len)
+char *lang_strndup(parser *p, const char *text, size_t len)
 {
-    char *c = palloc(p, len + 1);
+    char *c = lang_alloc(p, len + 1);
     if (c)
         memcpy(c, text, len);
     return c;
@@ -160,11 +69,11 @@ static bool vec_push(parser *p, vec *v, size_t elem, const void *item)
 {
     if (v->count == v->cap) {
         if (v->cap > INT_MAX / 4)
-            return oom(p);
+            return lang_oom(p);
         int cap = v->cap ? v->cap * 2 : 16;
         void *data = realloc(v->data, (size_t)cap * elem);
         if (!data)
-            return oom(p);
+            return lang_oom(p);
         v->data = data;
         v->cap = cap;
     }
@@ -176,7 +85,7 @@ static bool vec_push(parser *p, vec *v, size_t elem, const void *item)
 /* Copies the first `count` items of v into the arena. */
 static void *vec_to_arena(parser *p, const vec *v, size_t elem)
 {
-    void *m = palloc(p, (size_t)v->count * elem);
+    void *m = lang_alloc(p, (size_t)v->count * elem);
     if (m && v->count)
         memcpy(m, v->data, (size_t)v->count * elem);
     return m;
@@ -184,489 +93,10 @@ static void *vec_to_arena(parser *p, const vec *v, size_t elem)
 
 /* ---- tokens ------------------------------------------------------------------ */
 
-static bool next(parser *p)
-{
-    return csg_lexer_next(&p->lx, &p->tok, p->d);
-}
-
-static bool is_punct(const parser *p, char c)
-{
-    return p->tok.kind == CSG_TOK_PUNCT && p->tok.punct == c;
-}
-
-static bool is_kw(const parser *p, enum csg_kw kw)
-{
-    return p->tok.kind == CSG_TOK_WORD && p->tok.kw == kw;
-}
-
-static bool is_ident(const parser *p)
-{
-    return p->tok.kind == CSG_TOK_WORD && p->tok.kw == CSG_KW_NONE;
-}
-
 static void skip_comma(parser *p, bool *ok)
 {
-    if (is_punct(p, ','))
-        *ok = next(p);
-}
-
-/* Consumes "{" after the keyword `name`. */
-static bool expect_open(parser *p, const char *name)
-{
-    if (!is_punct(p, '{')) {
-        char what[64];
-        snprintf(what, sizeof what, "'{' expected after '%s'", name);
-        return expected(p, what);
-    }
-    return next(p);
-}
-
-static bool enter(parser *p, csg_loc loc)
-{
-    if (++p->nesting > CSG_PARSE_MAX_NESTING) {
-        csg_error(p->d, loc, "nesting deeper than %d levels", CSG_PARSE_MAX_NESTING);
-        return false;
-    }
-    return true;
-}
-
-static void leave(parser *p)
-{
-    p->nesting--;
-}
-
-/* ---- symbols --------------------------------------------------------------- */
-
-static uint64_t hash_name(const char *s, size_t len)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < len; i++)
-        h = (h ^ (unsigned char)s[i]) * 1099511628211ull;
-    return h;
-}
-
-static symbol **sym_slot(symbol **table, size_t cap, const char *name, size_t len)
-{
-    size_t i = (size_t)hash_name(name, len) & (cap - 1);
-    while (table[i] && !(table[i]->len == len && memcmp(table[i]->name, name, len) == 0))
-        i = (i + 1) & (cap - 1);
-    return &table[i];
-}
-
-static symbol *sym_find(const parser *p, const char *name, size_t len)
-{
-    if (!p->sym_cap)
-        return NULL;
-    return *sym_slot(p->syms, p->sym_cap, name, len);
-}
-
-/* The symbol `name`, created (zeroed, kind SYM_VALUE) when new. */
-static symbol *sym_define(parser *p, const char *name, size_t len)
-{
-    if ((p->sym_count + 1) * 2 > p->sym_cap) {
-        size_t cap = p->sym_cap ? p->sym_cap * 2 : 256;
-        symbol **table = calloc(cap, sizeof *table);
-        if (!table) {
-            oom(p);
-            return NULL;
-        }
-        for (size_t i = 0; i < p->sym_cap; i++)
-            if (p->syms[i])
-                *sym_slot(table, cap, p->syms[i]->name, p->syms[i]->len) = p->syms[i];
-        free(p->syms);
-        p->syms = table;
-        p->sym_cap = cap;
-    }
-    symbol **slot = sym_slot(p->syms, p->sym_cap, name, len);
-    if (!*slot) {
-        symbol *sym = palloc(p, sizeof *sym);
-        char *copy = pstrndup(p, name, len);
-        if (!sym || !copy)
-            return NULL;
-        sym->name = copy;
-        sym->len = len;
-        *slot = sym;
-        p->sym_count++;
-    }
-    return *slot;
-}
-
-static const char *sym_kind_name(const symbol *sym)
-{
-    switch (sym->kind) {
-    case SYM_VALUE:
-        return sym->val.dim == 1 ? "a float" : sym->val.dim == 5 ? "a color" : "a vector";
-    case SYM_PIGMENT: return "a pigment";
-    case SYM_FINISH: return "a finish";
-    case SYM_TEXTURE: return "a texture";
-    case SYM_INTERIOR: return "an interior";
-    case SYM_OBJECT: return "an object";
-    }
-    return "?";
-}
-
-/* The declared symbol named by the current identifier, of kind `want`. */
-static bool lookup(parser *p, enum sym_kind want, const char *want_name, symbol **out)
-{
-    symbol *sym = sym_find(p, p->tok.text, p->tok.len);
-    if (!sym) {
-        csg_error(p->d, p->tok.loc, "undeclared identifier '%.*s'", (int)p->tok.len, p->tok.text);
-        return false;
-    }
-    if (sym->kind != want) {
-        csg_error(p->d, p->tok.loc, "'%.*s' is %s, not %s", (int)p->tok.len, p->tok.text,
-                  sym_kind_name(sym), want_name);
-        return false;
-    }
-    *out = sym;
-    return next(p);
-}
-
-/* The current identifier's symbol when it is declared with kind `kind`. */
-static symbol *peek_sym(const parser *p, enum sym_kind kind)
-{
-    if (!is_ident(p))
-        return NULL;
-    symbol *sym = sym_find(p, p->tok.text, p->tok.len);
-    return sym && sym->kind == kind ? sym : NULL;
-}
-
-/* ---- expressions ------------------------------------------------------------ */
-
-static bool parse_expr(parser *p, value *out);
-
-static const char *dim_name(int dim)
-{
-    static const char *const names[] = {"?", "a float", "a 2-component vector",
-                                        "a 3-component vector", "a 4-component vector",
-                                        "a 5-component vector"};
-    return dim >= 1 && dim <= 5 ? names[dim] : names[0];
-}
-
-static bool is_expr_start(const parser *p)
-{
-    const csg_token *t = &p->tok;
-    if (t->kind == CSG_TOK_NUMBER)
-        return true;
-    if (t->kind == CSG_TOK_PUNCT)
-        return t->punct == '<' || t->punct == '(' || t->punct == '-' || t->punct == '+';
-    if (t->kind != CSG_TOK_WORD)
-        return false;
-    switch (t->kw) {
-    case CSG_KW_NONE: case CSG_KW_PI: case CSG_KW_X: case CSG_KW_Y: case CSG_KW_Z:
-    case CSG_KW_TRUE: case CSG_KW_FALSE:
-        return true;
-    default:
-        return false;
-    }
-}
-
-static value make_float(double f)
-{
-    value v = {1, {f, 0, 0, 0, 0}};
-    return v;
-}
-
-static value make_vec3(double a, double b, double c)
-{
-    value v = {3, {a, b, c, 0, 0}};
-    return v;
-}
-
-/* '<' expr ',' expr ... '>' with 2 to 5 float components. */
-static bool parse_vector_literal(parser *p, value *out)
-{
-    csg_loc open = p->tok.loc;
-    if (!enter(p, open) || !next(p))
-        return false;
-    out->dim = 0;
-    for (;;) {
-        csg_loc at = p->tok.loc;
-        value c;
-        if (!parse_expr(p, &c))
-            return false;
-        if (c.dim != 1) {
-            csg_error(p->d, at, "a float expected as a vector component, got %s", dim_name(c.dim));
-            return false;
-        }
-        if (out->dim == 5) {
-            csg_error(p->d, at, "a vector has at most 5 components");
-            return false;
-        }
-        out->v[out->dim++] = c.v[0];
-        if (!is_punct(p, ','))
-            break;
-        if (!next(p))
-            return false;
-    }
-    if (!is_punct(p, '>'))
-        return expected_close(p, '>', "<", open);
-    if (out->dim < 2) {
-        csg_error(p->d, open, "a vector needs at least 2 components");
-        return false;
-    }
-    for (int i = out->dim; i < 5; i++)
-        out->v[i] = 0;
-    leave(p);
-    return next(p);
-}
-
-static bool parse_primary(parser *p, value *out)
-{
-    const csg_token *t = &p->tok;
-    if (t->kind == CSG_TOK_NUMBER) {
-        *out = make_float(t->number);
-        return next(p);
-    }
-    if (is_punct(p, '(')) {
-        csg_loc open = t->loc;
-        if (!enter(p, open) || !next(p) || !parse_expr(p, out))
-            return false;
-        if (!is_punct(p, ')'))
-            return expected_close(p, ')', "(", open);
-        leave(p);
-        return next(p);
-    }
-    if (is_punct(p, '<'))
-        return parse_vector_literal(p, out);
-    if (t->kind == CSG_TOK_WORD) {
-        switch (t->kw) {
-        case CSG_KW_PI: *out = make_float(M_PI); return next(p);
-        case CSG_KW_TRUE: *out = make_float(1); return next(p);
-        case CSG_KW_FALSE: *out = make_float(0); return next(p);
-        case CSG_KW_X: *out = make_vec3(1, 0, 0); return next(p);
-        case CSG_KW_Y: *out = make_vec3(0, 1, 0); return next(p);
-        case CSG_KW_Z: *out = make_vec3(0, 0, 1); return next(p);
-        case CSG_KW_NONE: {
-            symbol *sym;
-            if (!lookup(p, SYM_VALUE, "a float, vector or color", &sym))
-                return false;
-            *out = sym->val;
-            return true;
-        }
-        default:
-            break;
-        }
-    }
-    return expected(p, "an expression expected");
-}
-
-/* Unary signs (any number, iteratively) then a primary. */
-static bool parse_unary(parser *p, value *out)
-{
-    bool negate = false;
-    while (is_punct(p, '-') || is_punct(p, '+')) {
-        if (p->tok.punct == '-')
-            negate = !negate;
-        if (!next(p))
-            return false;
-    }
-    if (!parse_primary(p, out))
-        return false;
-    if (negate)
-        for (int i = 0; i < out->dim; i++)
-            out->v[i] = -out->v[i];
-    return true;
-}
-
-/* a op b, a float promoted to the other operand's size, the shorter
- * vector padded with zeros (POV-Ray's promotion rules). */
-static bool combine(parser *p, value *a, const value *b, char op, csg_loc at)
-{
-    int dim = a->dim > b->dim ? a->dim : b->dim;
-    double x[5], y[5];
-    for (int i = 0; i < 5; i++) {
-        x[i] = a->dim == 1 ? a->v[0] : (i < a->dim ? a->v[i] : 0);
-        y[i] = b->dim == 1 ? b->v[0] : (i < b->dim ? b->v[i] : 0);
-    }
-    for (int i = 0; i < dim; i++) {
-        switch (op) {
-        case '+': x[i] += y[i]; break;
-        case '-': x[i] -= y[i]; break;
-        case '*': x[i] *= y[i]; break;
-        default:
-            if (y[i] == 0) {
-                csg_error(p->d, at, "division by zero");
-                return false;
-            }
-            x[i] /= y[i];
-            break;
-        }
-        if (!isfinite(x[i])) {
-            csg_error(p->d, at, "arithmetic overflow: the result is not a finite number");
-            return false;
-        }
-    }
-    a->dim = dim;
-    for (int i = 0; i < 5; i++)
-        a->v[i] = i < dim ? x[i] : 0;
-    return true;
-}
-
-static bool parse_term(parser *p, value *out)
-{
-    if (!parse_unary(p, out))
-        return false;
-    while (is_punct(p, '*') || is_punct(p, '/')) {
-        char op = p->tok.punct;
-        csg_loc at = p->tok.loc;
-        value rhs;
-        if (!next(p) || !parse_unary(p, &rhs) || !combine(p, out, &rhs, op, at))
-            return false;
-    }
-    return true;
-}
-
-static bool parse_expr(parser *p, value *out)
-{
-    if (!parse_term(p, out))
-        return false;
-    while (is_punct(p, '+') || is_punct(p, '-')) {
-        char op = p->tok.punct;
-        csg_loc at = p->tok.loc;
-        value rhs;
-        if (!next(p) || !parse_term(p, &rhs) || !combine(p, out, &rhs, op, at))
-            return false;
-    }
-    return true;
-}
-
-static bool parse_float(parser *p, double *out, csg_loc *at)
-{
-    csg_loc start = p->tok.loc;
-    value v;
-    if (!parse_expr(p, &v))
-        return false;
-    if (v.dim != 1) {
-        csg_error(p->d, start, "a float expected, got %s", dim_name(v.dim));
-        return false;
-    }
-    *out = v.v[0];
-    if (at)
-        *at = start;
-    return true;
-}
-
-/* A 3-vector; a float is promoted to <f, f, f>. */
-static bool parse_vector(parser *p, dvec3 *out, csg_loc *at)
-{
-    csg_loc start = p->tok.loc;
-    value v;
-    if (!parse_expr(p, &v))
-        return false;
-    if (v.dim == 1) {
-        v.v[1] = v.v[2] = v.v[0];
-    } else if (v.dim != 3) {
-        csg_error(p->d, start, "a 3-component vector expected, got %s", dim_name(v.dim));
-        return false;
-    }
-    *out = (dvec3){v.v[0], v.v[1], v.v[2]};
-    if (at)
-        *at = start;
-    return true;
-}
-
-/* ---- colours ---------------------------------------------------------------- */
-
-static bool is_color_item(const parser *p)
-{
-    if (p->tok.kind != CSG_TOK_WORD)
-        return false;
-    switch (p->tok.kw) {
-    case CSG_KW_RGB: case CSG_KW_RGBF: case CSG_KW_RGBT: case CSG_KW_RGBFT:
-    case CSG_KW_RED: case CSG_KW_GREEN: case CSG_KW_BLUE: case CSG_KW_FILTER:
-    case CSG_KW_TRANSMIT:
-        return true;
-    default:
-        return false;
-    }
-}
-
-static bool is_color_start(const parser *p)
-{
-    return is_kw(p, CSG_KW_COLOR) || is_color_item(p) || is_expr_start(p);
-}
-
-/* rgb / rgbf / rgbt / rgbft E: a float fills every component it sets. */
-static bool parse_color_vector(parser *p, enum csg_kw kw, double c[5])
-{
-    static const int need[] = {3, 4, 4, 5}; /* rgb rgbf rgbt rgbft */
-    int k = kw == CSG_KW_RGB ? 0 : kw == CSG_KW_RGBF ? 1 : kw == CSG_KW_RGBT ? 2 : 3;
-    char name[8];
-    snprintf(name, sizeof name, "%.*s", (int)p->tok.len, p->tok.text);
-    if (!next(p))
-        return false;
-    csg_loc start = p->tok.loc;
-    value v;
-    if (!parse_expr(p, &v))
-        return false;
-    if (v.dim != 1 && v.dim < need[k]) {
-        csg_error(p->d, start, "'%s' needs a float or a %d-component vector, got %s", name,
-                  need[k], dim_name(v.dim));
-        return false;
-    }
-    double w[5];
-    for (int i = 0; i < need[k]; i++)
-        w[i] = v.dim == 1 ? v.v[0] : v.v[i];
-    c[0] = w[0];
-    c[1] = w[1];
-    c[2] = w[2];
-    if (k == 1)
-        c[3] = w[3];
-    else if (k == 2)
-        c[4] = w[3];
-    else if (k == 3) {
-        c[3] = w[3];
-        c[4] = w[4];
-    }
-    return true;
-}
-
-/* COLOR: ['color'|'colour'] then items; the first item may be an
- * expression (a float sets all five components, as in POV-Ray; a 3-, 4- or
- * 5-vector sets rgb, rgbf or rgbft).  Starts from all zeros. */
-static bool parse_color(parser *p, double c[5])
-{
-    memset(c, 0, 5 * sizeof c[0]);
-    bool keyword = is_kw(p, CSG_KW_COLOR);
-    if (keyword && !next(p))
-        return false;
-    if (is_expr_start(p)) {
-        csg_loc start = p->tok.loc;
-        value v;
-        if (!parse_expr(p, &v))
-            return false;
-        if (v.dim == 2) {
-            csg_error(p->d, start, "a color expected, got %s", dim_name(v.dim));
-            return false;
-        }
-        for (int i = 0; i < 5; i++)
-            c[i] = v.dim == 1 ? v.v[0] : v.v[i];
-    } else if (!is_color_item(p)) {
-        return expected(p, keyword ? "a color expected after 'color'" : "a color expected");
-    }
-    while (is_color_item(p)) {
-        enum csg_kw kw = p->tok.kw;
-        if (kw == CSG_KW_RGB || kw == CSG_KW_RGBF || kw == CSG_KW_RGBT || kw == CSG_KW_RGBFT) {
-            if (!parse_color_vector(p, kw, c))
-                return false;
-            continue;
-        }
-        int i = kw == CSG_KW_RED ? 0 : kw == CSG_KW_GREEN ? 1 : kw == CSG_KW_BLUE ? 2
-              : kw == CSG_KW_FILTER ? 3 : 4;
-        if (!next(p) || !parse_float(p, &c[i], NULL))
-            return false;
-    }
-    return true;
-}
-
-static bool parse_rgb(parser *p, double rgb[3])
-{
-    double c[5];
-    if (!parse_color(p, c))
-        return false;
-    memcpy(rgb, c, 3 * sizeof c[0]);
-    return true;
+    if (lang_is_punct(p, ','))
+        *ok = lang_next(p);
 }
 
 /* ---- pigment, finish, texture, interior ------------------------------------ */
@@ -675,46 +105,46 @@ static bool parse_rgb(parser *p, double rgb[3])
 static bool parse_pigment(parser *p, csg_pigment *pig)
 {
     csg_loc open = p->tok.loc;
-    if (!next(p) || !expect_open(p, "pigment"))
+    if (!lang_next(p) || !lang_expect_open(p, "pigment"))
         return false;
-    symbol *sym = peek_sym(p, SYM_PIGMENT);
+    symbol *sym = lang_peek_sym(p, SYM_PIGMENT);
     if (sym) {
         *pig = sym->pigment;
-        if (!next(p))
+        if (!lang_next(p))
             return false;
     }
-    if (!is_punct(p, '}') && !parse_color(p, pig->rgbft))
+    if (!lang_is_punct(p, '}') && !lang_parse_color(p, pig->rgbft))
         return false;
-    if (!is_punct(p, '}'))
-        return expected_close(p, '}', "pigment", open);
-    return next(p);
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "pigment", open);
+    return lang_next(p);
 }
 
 static bool parse_finish(parser *p, csg_finish *f)
 {
     csg_loc open = p->tok.loc;
-    if (!next(p) || !expect_open(p, "finish"))
+    if (!lang_next(p) || !lang_expect_open(p, "finish"))
         return false;
-    symbol *sym = peek_sym(p, SYM_FINISH);
+    symbol *sym = lang_peek_sym(p, SYM_FINISH);
     if (sym) {
         *f = sym->finish;
-        if (!next(p))
+        if (!lang_next(p))
             return false;
     }
     for (;;) {
-        if (is_punct(p, '}'))
-            return next(p);
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
         if (p->tok.kind != CSG_TOK_WORD)
-            return expected_close(p, '}', "finish", open);
+            return lang_expected_close(p, '}', "finish", open);
         enum csg_kw kw = p->tok.kw;
         double *target = NULL;
         switch (kw) {
         case CSG_KW_AMBIENT:
-            if (!next(p) || !parse_rgb(p, f->ambient))
+            if (!lang_next(p) || !lang_parse_rgb(p, f->ambient))
                 return false;
             continue;
         case CSG_KW_REFLECTION:
-            if (!next(p) || !parse_rgb(p, f->reflection))
+            if (!lang_next(p) || !lang_parse_rgb(p, f->reflection))
                 return false;
             continue;
         case CSG_KW_DIFFUSE: target = &f->diffuse; break;
@@ -723,10 +153,10 @@ static bool parse_finish(parser *p, csg_finish *f)
         case CSG_KW_PHONG: target = &f->phong; break;
         case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
         default:
-            return expected_close(p, '}', "finish", open);
+            return lang_expected_close(p, '}', "finish", open);
         }
         csg_loc at;
-        if (!next(p) || !parse_float(p, target, &at))
+        if (!lang_next(p) || !lang_parse_float(p, target, &at))
             return false;
         if (kw == CSG_KW_ROUGHNESS && !(*target > 0)) {
             csg_error(p->d, at, "roughness must be > 0, got %g", *target);
@@ -744,26 +174,26 @@ static bool parse_finish(parser *p, csg_finish *f)
 static bool parse_texture(parser *p, csg_texture *t)
 {
     csg_loc open = p->tok.loc;
-    if (!next(p) || !expect_open(p, "texture"))
+    if (!lang_next(p) || !lang_expect_open(p, "texture"))
         return false;
     csg_texture_default(t);
-    symbol *sym = peek_sym(p, SYM_TEXTURE);
+    symbol *sym = lang_peek_sym(p, SYM_TEXTURE);
     if (sym) {
         *t = sym->texture;
-        if (!next(p))
+        if (!lang_next(p))
             return false;
     }
     for (;;) {
-        if (is_punct(p, '}'))
-            return next(p);
-        if (is_kw(p, CSG_KW_PIGMENT)) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (lang_is_kw(p, CSG_KW_PIGMENT)) {
             if (!parse_pigment(p, &t->pigment))
                 return false;
-        } else if (is_kw(p, CSG_KW_FINISH)) {
+        } else if (lang_is_kw(p, CSG_KW_FINISH)) {
             if (!parse_finish(p, &t->finish))
                 return false;
         } else {
-            return expected_close(p, '}', "texture", open);
+            return lang_expected_close(p, '}', "texture", open);
         }
     }
 }
@@ -771,21 +201,21 @@ static bool parse_texture(parser *p, csg_texture *t)
 static bool parse_interior(parser *p, csg_interior *in)
 {
     csg_loc open = p->tok.loc;
-    if (!next(p) || !expect_open(p, "interior"))
+    if (!lang_next(p) || !lang_expect_open(p, "interior"))
         return false;
-    symbol *sym = peek_sym(p, SYM_INTERIOR);
+    symbol *sym = lang_peek_sym(p, SYM_INTERIOR);
     if (sym) {
         *in = sym->interior;
-        if (!next(p))
+        if (!lang_next(p))
             return false;
     }
     for (;;) {
-        if (is_punct(p, '}'))
-            return next(p);
-        if (!is_kw(p, CSG_KW_IOR))
-            return expected_close(p, '}', "interior", open);
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (!lang_is_kw(p, CSG_KW_IOR))
+            return lang_expected_close(p, '}', "interior", open);
         csg_loc at;
-        if (!next(p) || !parse_float(p, &in->ior, &at))
+        if (!lang_next(p) || !lang_parse_float(p, &in->ior, &at))
             return false;
         if (!(in->ior > 0)) {
             csg_error(p->d, at, "ior must be > 0, got %g", in->ior);
@@ -823,7 +253,7 @@ static pnode *new_node(parser *p, enum csg_object_kind kind, csg_loc loc)
         csg_error(p->d, loc, "scene too large: more than %ld objects", (long)CSG_PARSE_MAX_OBJECTS);
         return NULL;
     }
-    pnode *n = palloc(p, sizeof *n);
+    pnode *n = lang_alloc(p, sizeof *n);
     if (!n)
         return NULL;
     p->nodes++;
@@ -845,7 +275,7 @@ static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
     n->obj = *src;
     n->height = height_of(src);
     if (src->child_count > 0) {
-        n->obj.children = palloc(p, (size_t)src->child_count * sizeof *n->obj.children);
+        n->obj.children = lang_alloc(p, (size_t)src->child_count * sizeof *n->obj.children);
         if (!n->obj.children)
             return NULL;
         for (int i = 0; i < src->child_count; i++) {
@@ -882,10 +312,10 @@ static bool same_point(dvec3 a, dvec3 b)
 static bool parse_sphere(parser *p, csg_object *o)
 {
     csg_loc at;
-    bool ok = parse_vector(p, &o->a, NULL);
+    bool ok = lang_parse_vector(p, &o->a, NULL);
     if (ok)
         skip_comma(p, &ok);
-    if (!ok || !parse_float(p, &o->r0, &at))
+    if (!ok || !lang_parse_float(p, &o->r0, &at))
         return false;
     if (!(o->r0 > 0)) {
         csg_error(p->d, at, "sphere radius must be > 0, got %g", o->r0);
@@ -896,10 +326,10 @@ static bool parse_sphere(parser *p, csg_object *o)
 
 static bool parse_box(parser *p, csg_object *o)
 {
-    bool ok = parse_vector(p, &o->a, NULL);
+    bool ok = lang_parse_vector(p, &o->a, NULL);
     if (ok)
         skip_comma(p, &ok);
-    if (!ok || !parse_vector(p, &o->b, NULL))
+    if (!ok || !lang_parse_vector(p, &o->b, NULL))
         return false;
     double lo[3] = {o->a.x, o->a.y, o->a.z}, hi[3] = {o->b.x, o->b.y, o->b.z};
     for (int i = 0; i < 3; i++) {
@@ -921,14 +351,14 @@ static bool parse_box(parser *p, csg_object *o)
 static bool parse_cylinder(parser *p, csg_object *o)
 {
     csg_loc at;
-    bool ok = parse_vector(p, &o->a, NULL);
+    bool ok = lang_parse_vector(p, &o->a, NULL);
     if (ok)
         skip_comma(p, &ok);
     if (ok)
-        ok = parse_vector(p, &o->b, NULL);
+        ok = lang_parse_vector(p, &o->b, NULL);
     if (ok)
         skip_comma(p, &ok);
-    if (!ok || !parse_float(p, &o->r0, &at))
+    if (!ok || !lang_parse_float(p, &o->r0, &at))
         return false;
     o->r1 = o->r0;
     if (!(o->r0 > 0)) {
@@ -945,18 +375,18 @@ static bool parse_cylinder(parser *p, csg_object *o)
 static bool parse_cone(parser *p, csg_object *o)
 {
     csg_loc at0, at1;
-    bool ok = parse_vector(p, &o->a, NULL);
+    bool ok = lang_parse_vector(p, &o->a, NULL);
     if (ok)
         skip_comma(p, &ok);
     if (ok)
-        ok = parse_float(p, &o->r0, &at0);
+        ok = lang_parse_float(p, &o->r0, &at0);
     if (ok)
         skip_comma(p, &ok);
     if (ok)
-        ok = parse_vector(p, &o->b, NULL);
+        ok = lang_parse_vector(p, &o->b, NULL);
     if (ok)
         skip_comma(p, &ok);
-    if (!ok || !parse_float(p, &o->r1, &at1))
+    if (!ok || !lang_parse_float(p, &o->r1, &at1))
         return false;
     if (o->r0 < 0 || o->r1 < 0) {
         csg_error(p->d, o->r0 < 0 ? at0 : at1, "cone radius must be >= 0, got %g",
@@ -977,10 +407,10 @@ static bool parse_cone(parser *p, csg_object *o)
 static bool parse_plane(parser *p, csg_object *o)
 {
     csg_loc at;
-    bool ok = parse_vector(p, &o->a, &at);
+    bool ok = lang_parse_vector(p, &o->a, &at);
     if (ok)
         skip_comma(p, &ok);
-    if (!ok || !parse_float(p, &o->r0, NULL))
+    if (!ok || !lang_parse_float(p, &o->r0, NULL))
         return false;
     double len = sqrt(o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z);
     if (!(len > 0) || !isfinite(len)) {
@@ -1004,9 +434,9 @@ static bool parse_children(parser *p, pnode *n, const char *name)
     if (count == 0) {
         char what[64];
         snprintf(what, sizeof what, "an object expected inside '%s'", name);
-        return expected(p, what);
+        return lang_expected(p, what);
     }
-    csg_object **kids = palloc(p, (size_t)count * sizeof *kids);
+    csg_object **kids = lang_alloc(p, (size_t)count * sizeof *kids);
     if (!kids)
         return false;
     memcpy(kids, (csg_object **)p->stack.data + base, (size_t)count * sizeof *kids);
@@ -1032,12 +462,12 @@ static pnode *parse_object_base(parser *p, csg_loc loc)
             return NULL;
         return (pnode *)(void *)inner;
     }
-    if (!is_ident(p)) {
-        expected(p, "an object identifier expected inside 'object'");
+    if (!lang_is_ident(p)) {
+        lang_expected(p, "an object identifier expected inside 'object'");
         return NULL;
     }
     symbol *sym;
-    if (!lookup(p, SYM_OBJECT, "an object", &sym))
+    if (!lang_lookup(p, SYM_OBJECT, "an object", &sym))
         return NULL;
     return copy_tree(p, sym->object, loc);
 }
@@ -1075,32 +505,32 @@ static csg_interior *own_interior(parser *p, csg_object *o, int mark)
  * p' = p M, applied after the transforms before it. */
 static bool parse_matrix(parser *p, csg_xform *x)
 {
-    if (!next(p))
+    if (!lang_next(p))
         return false;
     csg_loc open = p->tok.loc;
-    if (!is_punct(p, '<')) {
+    if (!lang_is_punct(p, '<')) {
         csg_error(p->d, open, "'<' expected after 'matrix'");
         return false;
     }
-    if (!enter(p, open) || !next(p))
+    if (!lang_enter(p, open) || !lang_next(p))
         return false;
     double m[12];
     for (int i = 0; i < 12; i++) {
         csg_loc at;
-        if (!parse_float(p, &m[i], &at))
+        if (!lang_parse_float(p, &m[i], &at))
             return false;
         if (i < 11) {
-            if (!is_punct(p, ',')) {
+            if (!lang_is_punct(p, ',')) {
                 csg_error(p->d, p->tok.loc, "matrix needs 12 numbers separated by ','");
                 return false;
             }
-            if (!next(p))
+            if (!lang_next(p))
                 return false;
         }
     }
-    if (!is_punct(p, '>'))
-        return expected_close(p, '>', "<", open);
-    leave(p);
+    if (!lang_is_punct(p, '>'))
+        return lang_expected_close(p, '>', "<", open);
+    lang_leave(p);
     csg_xform t;
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
@@ -1111,7 +541,7 @@ static bool parse_matrix(parser *p, csg_xform *x)
         return false;
     }
     csg_xform_then(x, &t, x);
-    return next(p);
+    return lang_next(p);
 }
 
 /* Transforms (translate V, rotate V, scale V|F, matrix <...>), shared by
@@ -1123,7 +553,7 @@ static bool parse_transform(parser *p, csg_xform *x)
     dvec3 v;
     if (kw == CSG_KW_MATRIX)
         return parse_matrix(p, x);
-    if (!next(p) || !parse_vector(p, &v, &at))
+    if (!lang_next(p) || !lang_parse_vector(p, &v, &at))
         return false;
     if (kw == CSG_KW_TRANSLATE) {
         csg_xform_translate(x, v);
@@ -1141,8 +571,59 @@ static bool parse_transform(parser *p, csg_xform *x)
 
 static bool is_transform(const parser *p)
 {
-    return is_kw(p, CSG_KW_TRANSLATE) || is_kw(p, CSG_KW_ROTATE) || is_kw(p, CSG_KW_SCALE) ||
-           is_kw(p, CSG_KW_MATRIX);
+    return lang_is_kw(p, CSG_KW_TRANSLATE) || lang_is_kw(p, CSG_KW_ROTATE) ||
+           lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX);
+}
+
+/* pigment { }, finish { } or texture { } on o: edits its own texture entry. */
+static bool parse_texture_modifier(parser *p, csg_object *o, int tex_mark)
+{
+    csg_texture *own = own_texture(p, o, tex_mark);
+    if (!own)
+        return false;
+    csg_texture t = *own;
+    bool ok = p->tok.kw == CSG_KW_PIGMENT  ? parse_pigment(p, &t.pigment)
+              : p->tok.kw == CSG_KW_FINISH ? parse_finish(p, &t.finish)
+                                           : parse_texture(p, &t);
+    if (!ok)
+        return false;
+    ((csg_texture *)p->textures.data)[o->texture] = t;
+    return true;
+}
+
+/* interior { } on o: edits its own interior entry. */
+static bool parse_interior_modifier(parser *p, csg_object *o, int int_mark)
+{
+    csg_interior *own = own_interior(p, o, int_mark);
+    if (!own)
+        return false;
+    csg_interior in = *own;
+    if (!parse_interior(p, &in))
+        return false;
+    ((csg_interior *)p->interiors.data)[o->interior] = in;
+    return true;
+}
+
+/* inverse, no_shadow or open on o (the object `name`). */
+static bool parse_flag(parser *p, csg_object *o, const char *name)
+{
+    switch (p->tok.kw) {
+    case CSG_KW_INVERSE:
+        o->inverse = !o->inverse;
+        break;
+    case CSG_KW_NO_SHADOW:
+        o->no_shadow = true;
+        break;
+    default: /* CSG_KW_OPEN */
+        if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
+            csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
+                      name);
+            return false;
+        }
+        o->open = true;
+        break;
+    }
+    return lang_next(p);
 }
 
 /* Modifiers up to and including the closing brace. */
@@ -1150,64 +631,23 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
                             int int_mark)
 {
     for (;;) {
-        if (is_punct(p, '}'))
-            return next(p);
-        if (is_transform(p)) {
-            if (!parse_transform(p, &o->xform))
-                return false;
-            continue;
-        }
-        if (p->tok.kind != CSG_TOK_WORD)
-            return expected_close(p, '}', name, open);
-        switch (p->tok.kw) {
-        case CSG_KW_PIGMENT:
-        case CSG_KW_FINISH:
-        case CSG_KW_TEXTURE: {
-            csg_texture *own = own_texture(p, o, tex_mark);
-            if (!own)
-                return false;
-            csg_texture t = *own;
-            bool ok = p->tok.kw == CSG_KW_PIGMENT  ? parse_pigment(p, &t.pigment)
-                      : p->tok.kw == CSG_KW_FINISH ? parse_finish(p, &t.finish)
-                                                   : parse_texture(p, &t);
-            if (!ok)
-                return false;
-            ((csg_texture *)p->textures.data)[o->texture] = t;
-            break;
-        }
-        case CSG_KW_INTERIOR: {
-            csg_interior *own = own_interior(p, o, int_mark);
-            if (!own)
-                return false;
-            csg_interior in = *own;
-            if (!parse_interior(p, &in))
-                return false;
-            ((csg_interior *)p->interiors.data)[o->interior] = in;
-            break;
-        }
-        case CSG_KW_INVERSE:
-            o->inverse = !o->inverse;
-            if (!next(p))
-                return false;
-            break;
-        case CSG_KW_NO_SHADOW:
-            o->no_shadow = true;
-            if (!next(p))
-                return false;
-            break;
-        case CSG_KW_OPEN:
-            if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
-                csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
-                          name);
-                return false;
-            }
-            o->open = true;
-            if (!next(p))
-                return false;
-            break;
-        default:
-            return expected_close(p, '}', name, open);
-        }
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        bool ok;
+        if (is_transform(p))
+            ok = parse_transform(p, &o->xform);
+        else if (lang_is_kw(p, CSG_KW_PIGMENT) || lang_is_kw(p, CSG_KW_FINISH) ||
+                 lang_is_kw(p, CSG_KW_TEXTURE))
+            ok = parse_texture_modifier(p, o, tex_mark);
+        else if (lang_is_kw(p, CSG_KW_INTERIOR))
+            ok = parse_interior_modifier(p, o, int_mark);
+        else if (lang_is_kw(p, CSG_KW_INVERSE) || lang_is_kw(p, CSG_KW_NO_SHADOW) ||
+                 lang_is_kw(p, CSG_KW_OPEN))
+            ok = parse_flag(p, o, name);
+        else
+            return lang_expected_close(p, '}', name, open);
+        if (!ok)
+            return false;
     }
 }
 
@@ -1218,7 +658,7 @@ static bool parse_object(parser *p, csg_object **out)
     enum csg_kw kw = p->tok.kw;
     const char *name = object_name(kw);
     int tex_mark = p->textures.count, int_mark = p->interiors.count;
-    if (!enter(p, loc) || !next(p) || !expect_open(p, name))
+    if (!lang_enter(p, loc) || !lang_next(p) || !lang_expect_open(p, name))
         return false;
     pnode *n = NULL;
     bool ok = false;
@@ -1256,7 +696,7 @@ static bool parse_object(parser *p, csg_object **out)
     }
     if (!ok || !parse_modifiers(p, &n->obj, name, loc, tex_mark, int_mark))
         return false;
-    leave(p);
+    lang_leave(p);
     *out = &n->obj;
     return true;
 }
@@ -1269,33 +709,34 @@ static bool parse_camera(parser *p)
     csg_camera_src c;
     csg_camera_default(&c);
     c.loc = open;
-    if (!next(p) || !expect_open(p, "camera"))
+    if (!lang_next(p) || !lang_expect_open(p, "camera"))
         return false;
     for (;;) {
-        if (is_punct(p, '}'))
+        if (lang_is_punct(p, '}'))
             break;
         if (p->tok.kind != CSG_TOK_WORD)
-            return expected_close(p, '}', "camera", open);
+            return lang_expected_close(p, '}', "camera", open);
         enum csg_kw kw = p->tok.kw;
         csg_loc at = p->tok.loc;
         dvec3 v;
         double f;
         switch (kw) {
         case CSG_KW_PERSPECTIVE:
-            if (!next(p))
+            if (!lang_next(p))
                 return false;
             continue;
         case CSG_KW_ANGLE:
-            if (!next(p) || !parse_float(p, &f, NULL) || !csg_camera_angle(&c, f, at, p->d))
+            if (!lang_next(p) || !lang_parse_float(p, &f, NULL) ||
+                !csg_camera_angle(&c, f, at, p->d))
                 return false;
             continue;
         case CSG_KW_LOCATION: case CSG_KW_LOOK_AT: case CSG_KW_DIRECTION:
         case CSG_KW_UP: case CSG_KW_RIGHT: case CSG_KW_SKY:
-            if (!next(p) || !parse_vector(p, &v, NULL))
+            if (!lang_next(p) || !lang_parse_vector(p, &v, NULL))
                 return false;
             break;
         default:
-            return expected_close(p, '}', "camera", open);
+            return lang_expected_close(p, '}', "camera", open);
         }
         switch (kw) {
         case CSG_KW_LOCATION: c.location = v; break;
@@ -1311,7 +752,7 @@ static bool parse_camera(parser *p)
     }
     p->s->camera = c;
     p->s->has_camera = true;
-    return next(p);
+    return lang_next(p);
 }
 
 static bool parse_light(parser *p)
@@ -1321,73 +762,74 @@ static bool parse_light(parser *p)
     l.loc = p->tok.loc;
     csg_xform x;
     csg_xform_identity(&x);
-    bool ok = next(p) && expect_open(p, "light_source") && parse_vector(p, &l.position, NULL);
+    bool ok = lang_next(p) && lang_expect_open(p, "light_source") &&
+              lang_parse_vector(p, &l.position, NULL);
     if (ok)
         skip_comma(p, &ok);
     if (!ok)
         return false;
-    if (!is_color_start(p))
-        return expected(p, "a color expected for the light_source");
-    if (!parse_rgb(p, l.color))
+    if (!lang_is_color_start(p))
+        return lang_expected(p, "a color expected for the light_source");
+    if (!lang_parse_rgb(p, l.color))
         return false;
     for (;;) {
-        if (is_punct(p, '}'))
+        if (lang_is_punct(p, '}'))
             break;
         if (is_transform(p)) {
             if (!parse_transform(p, &x))
                 return false;
-        } else if (is_kw(p, CSG_KW_SHADOWLESS)) {
+        } else if (lang_is_kw(p, CSG_KW_SHADOWLESS)) {
             l.shadowless = true;
-            if (!next(p))
+            if (!lang_next(p))
                 return false;
         } else {
-            return expected_close(p, '}', "light_source", l.loc);
+            return lang_expected_close(p, '}', "light_source", l.loc);
         }
     }
     dvec3 q = l.position;
     l.position = (dvec3){x.m[0][0] * q.x + x.m[0][1] * q.y + x.m[0][2] * q.z + x.m[0][3],
                          x.m[1][0] * q.x + x.m[1][1] * q.y + x.m[1][2] * q.z + x.m[1][3],
                          x.m[2][0] * q.x + x.m[2][1] * q.y + x.m[2][2] * q.z + x.m[2][3]};
-    return vec_push(p, &p->lights, sizeof l, &l) && next(p);
+    return vec_push(p, &p->lights, sizeof l, &l) && lang_next(p);
 }
 
 static bool parse_background(parser *p)
 {
     csg_loc open = p->tok.loc;
-    if (!next(p) || !expect_open(p, "background"))
+    if (!lang_next(p) || !lang_expect_open(p, "background"))
         return false;
-    if (!is_color_start(p))
-        return expected(p, "a color expected inside 'background'");
-    if (!parse_color(p, p->s->background))
+    if (!lang_is_color_start(p))
+        return lang_expected(p, "a color expected inside 'background'");
+    if (!lang_parse_color(p, p->s->background))
         return false;
-    if (!is_punct(p, '}'))
-        return expected_close(p, '}', "background", open);
-    return next(p);
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "background", open);
+    return lang_next(p);
 }
 
 static bool parse_global_settings(parser *p)
 {
     csg_loc open = p->tok.loc;
     csg_globals *g = &p->s->globals;
-    if (!next(p) || !expect_open(p, "global_settings"))
+    if (!lang_next(p) || !lang_expect_open(p, "global_settings"))
         return false;
     for (;;) {
-        if (is_punct(p, '}'))
-            return next(p);
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
         enum csg_kw kw = p->tok.kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE;
         csg_loc at;
         double f;
         switch (kw) {
         case CSG_KW_AMBIENT_LIGHT:
-            if (!next(p) || !parse_rgb(p, g->ambient_light))
+            if (!lang_next(p) || !lang_parse_rgb(p, g->ambient_light))
                 return false;
             continue;
         case CSG_KW_ASSUMED_GAMMA: case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
-            if (!next(p) || !parse_float(p, &f, &at))
+            if (!lang_next(p) || !lang_parse_float(p, &f, &at))
                 return false;
             break;
         default:
-            return expected_close(p, '}', "global_settings", open);
+            return lang_expected_close(p, '}', "global_settings", open);
         }
         if (kw == CSG_KW_ASSUMED_GAMMA) {
             if (!(f > 0)) {
@@ -1411,237 +853,103 @@ static bool parse_global_settings(parser *p)
     }
 }
 
-static bool expect_semicolon(parser *p, const char *directive, csg_loc at)
+/* ---- directives ----------------------------------------------------------------- */
+
+/* The directive's word in messages: at most 15 characters. */
+#define DIRECTIVE_NAME 16
+
+/* '#declare NAME =' or '#local NAME =': *name is the identifier, directive
+ * the word after '#'; the current token is then the one after '='. */
+static bool parse_declare_head(parser *p, char directive[DIRECTIVE_NAME], csg_token *name)
 {
-    if (!is_punct(p, ';')) {
-        if (is_unsupported(&p->tok))
-            return unsupported(p);
-        char got[64];
-        csg_token_describe(&p->tok, got, sizeof got);
-        csg_error(p->d, p->tok.loc, "';' expected (to end '#%s' at %d:%d), got %s", directive,
-                  at.line, at.col, got);
+    snprintf(directive, DIRECTIVE_NAME, "%.*s", (int)(p->tok.len < 15 ? p->tok.len : 15),
+             p->tok.text);
+    if (!lang_next(p))
         return false;
+    if (!lang_is_ident(p)) {
+        char what[64];
+        snprintf(what, sizeof what, "an identifier expected after '#%s'", directive);
+        return lang_expected(p, what);
     }
-    return next(p);
+    *name = p->tok;
+    if (!lang_next(p))
+        return false;
+    if (!lang_is_punct(p, '=')) {
+        char what[80];
+        snprintf(what, sizeof what, "'=' expected after '#%s %.*s'", directive,
+                 (int)(name->len > 40 ? 40 : name->len), name->text);
+        return lang_expected(p, what);
+    }
+    return lang_next(p);
 }
 
+/* What a #declare binds, into *def (zeroed); *needs_semicolon for a value
+ * or colour, which a ';' must end. */
+static bool parse_declared(parser *p, symbol *def, bool *needs_semicolon)
+{
+    if (is_object_start(p)) {
+        def->kind = SYM_OBJECT;
+        return parse_object(p, &def->object);
+    }
+    if (lang_is_kw(p, CSG_KW_PIGMENT)) {
+        def->kind = SYM_PIGMENT;
+        return parse_pigment(p, &def->pigment);
+    }
+    if (lang_is_kw(p, CSG_KW_FINISH)) {
+        def->kind = SYM_FINISH;
+        csg_finish_default(&def->finish);
+        return parse_finish(p, &def->finish);
+    }
+    if (lang_is_kw(p, CSG_KW_TEXTURE)) {
+        def->kind = SYM_TEXTURE;
+        return parse_texture(p, &def->texture);
+    }
+    if (lang_is_kw(p, CSG_KW_INTERIOR)) {
+        def->kind = SYM_INTERIOR;
+        def->interior.ior = 1.0;
+        return parse_interior(p, &def->interior);
+    }
+    def->kind = SYM_VALUE;
+    *needs_semicolon = true;
+    if (lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p)) {
+        def->val.dim = 5;
+        return lang_parse_color(p, def->val.v);
+    }
+    if (lang_is_expr_start(p))
+        return lang_parse_expr(p, &def->val);
+    return lang_expected(p,
+                         "a value, color, pigment, finish, texture, interior or object expected");
+}
+
+/* #declare NAME = ... and #local NAME = ... (one scope: the same). */
 static bool parse_declare(parser *p)
 {
     csg_loc at = p->tok.loc;
-    char directive[16];
-    snprintf(directive, sizeof directive, "%.*s", (int)(p->tok.len < 15 ? p->tok.len : 15),
-             p->tok.text);
-    if (!next(p))
+    char directive[DIRECTIVE_NAME];
+    csg_token name = {0};
+    if (!parse_declare_head(p, directive, &name))
         return false;
-    if (!is_ident(p)) {
-        char what[64];
-        snprintf(what, sizeof what, "an identifier expected after '#%s'", directive);
-        return expected(p, what);
-    }
-    csg_token name = p->tok;
-    if (!next(p))
-        return false;
-    if (!is_punct(p, '=')) {
-        char what[80];
-        snprintf(what, sizeof what, "'=' expected after '#%s %.*s'", directive,
-                 (int)(name.len > 40 ? 40 : name.len), name.text);
-        return expected(p, what);
-    }
-    if (!next(p))
-        return false;
-    symbol tmp;
-    memset(&tmp, 0, sizeof tmp);
+    symbol def;
+    memset(&def, 0, sizeof def);
     bool needs_semicolon = false;
-    if (is_object_start(p)) {
-        tmp.kind = SYM_OBJECT;
-        if (!parse_object(p, &tmp.object))
-            return false;
-    } else if (is_kw(p, CSG_KW_PIGMENT)) {
-        tmp.kind = SYM_PIGMENT;
-        if (!parse_pigment(p, &tmp.pigment))
-            return false;
-    } else if (is_kw(p, CSG_KW_FINISH)) {
-        tmp.kind = SYM_FINISH;
-        csg_finish_default(&tmp.finish);
-        if (!parse_finish(p, &tmp.finish))
-            return false;
-    } else if (is_kw(p, CSG_KW_TEXTURE)) {
-        tmp.kind = SYM_TEXTURE;
-        if (!parse_texture(p, &tmp.texture))
-            return false;
-    } else if (is_kw(p, CSG_KW_INTERIOR)) {
-        tmp.kind = SYM_INTERIOR;
-        tmp.interior.ior = 1.0;
-        if (!parse_interior(p, &tmp.interior))
-            return false;
-    } else if (is_kw(p, CSG_KW_COLOR) || is_color_item(p)) {
-        tmp.kind = SYM_VALUE;
-        tmp.val.dim = 5;
-        if (!parse_color(p, tmp.val.v))
-            return false;
-        needs_semicolon = true;
-    } else if (is_expr_start(p)) {
-        tmp.kind = SYM_VALUE;
-        if (!parse_expr(p, &tmp.val))
-            return false;
-        needs_semicolon = true;
-    } else {
-        return expected(p, "a value, color, pigment, finish, texture, interior or object expected");
-    }
+    if (!parse_declared(p, &def, &needs_semicolon))
+        return false;
     if (needs_semicolon) {
-        if (!expect_semicolon(p, directive, at))
+        if (!lang_expect_semicolon(p, directive, at))
             return false;
-    } else if (is_punct(p, ';') && !next(p)) {
+    } else if (lang_is_punct(p, ';') && !lang_next(p)) {
         return false;
     }
-    symbol *sym = sym_define(p, name.text, name.len);
-    if (!sym)
-        return false;
-    const char *keep = sym->name;
-    size_t keep_len = sym->len;
-    *sym = tmp;
-    sym->name = keep;
-    sym->len = keep_len;
-    return true;
+    return lang_sym_set(p, name.text, name.len, &def);
 }
 
 static bool parse_version(parser *p)
 {
     csg_loc at = p->tok.loc;
     double v;
-    if (!next(p) || !parse_float(p, &v, NULL))
+    if (!lang_next(p) || !lang_parse_float(p, &v, NULL))
         return false;
-    return expect_semicolon(p, "version", at);
-}
-
-static bool declare_builtin_colors(parser *p)
-{
-    for (int i = 0; i < csg_builtin_color_count(); i++) {
-        double c[5];
-        const char *name = csg_builtin_color_at(i, c);
-        symbol *sym = sym_define(p, name, strlen(name));
-        if (!sym)
-            return false;
-        sym->kind = SYM_VALUE;
-        sym->val.dim = 5;
-        memcpy(sym->val.v, c, sizeof c);
-    }
-    return true;
-}
-
-/* Reads a whole file into malloc'd memory. */
-static char *read_file(const char *path, size_t *len, int *err)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        *err = errno;
-        return NULL;
-    }
-    size_t cap = 4096, n = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            char *more = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
-            if (!more) {
-                free(buf);
-                buf = NULL;
-                *err = ENOMEM;
-                break;
-            }
-            buf = more;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) {
-            if (ferror(f)) {
-                *err = errno ? errno : EIO;
-                free(buf);
-                buf = NULL;
-            }
-            break;
-        }
-    }
-    if (!buf && *err == 0)
-        *err = ENOMEM;
-    fclose(f);
-    *len = n;
-    return buf;
-}
-
-/* The canonical name of a file for cycle detection: its real path when it
- * exists, the path itself otherwise (a csg_parse_string name). */
-static const char *canonical(parser *p, const char *path)
-{
-    char *real = realpath(path, NULL);
-    const char *r = pstrndup(p, real ? real : path, strlen(real ? real : path));
-    free(real);
-    return r;
-}
-
-static bool parse_statements(parser *p);
-
-/* Reads `text` as the statements of file `path` (already in the arena). */
-static bool parse_source(parser *p, const char *path, const char *text, size_t len)
-{
-    csg_lexer_init(&p->lx, path, text, len);
-    return next(p) && parse_statements(p);
-}
-
-static bool parse_include(parser *p)
-{
-    csg_loc at = p->tok.loc;
-    if (!next(p))
-        return false;
-    if (p->tok.kind != CSG_TOK_STRING)
-        return expected(p, "a file name in quotes expected after '#include'");
-    csg_token name = p->tok;
-    if (name.len == strlen("colors.inc") && memcmp(name.text, "colors.inc", name.len) == 0)
-        return declare_builtin_colors(p) && next(p);
-    if (memchr(name.text, '\0', name.len) || name.len == 0) {
-        csg_error(p->d, at, "#include: invalid file name");
-        return false;
-    }
-    /* the path: relative to the including file's directory */
-    const char *cur = p->lx.file;
-    const char *slash = strrchr(cur, '/');
-    size_t dirlen = (name.text[0] != '/' && slash) ? (size_t)(slash - cur + 1) : 0;
-    char *path = palloc(p, dirlen + name.len + 1);
-    if (!path)
-        return false;
-    memcpy(path, cur, dirlen);
-    memcpy(path + dirlen, name.text, name.len);
-    if (p->include_depth >= CSG_PARSE_MAX_INCLUDE) {
-        csg_error(p->d, at, "#include nested deeper than %d files", CSG_PARSE_MAX_INCLUDE);
-        return false;
-    }
-    const char *canon = canonical(p, path);
-    if (!canon)
-        return false;
-    for (int i = 0; i <= p->include_depth; i++) {
-        if (strcmp(p->include_stack[i], canon) == 0) {
-            csg_error(p->d, at, "#include cycle: '%s' is already being read", path);
-            return false;
-        }
-    }
-    size_t len = 0;
-    int err = 0;
-    char *text = read_file(path, &len, &err);
-    if (!text) {
-        csg_error(p->d, at, "cannot read include file '%s': %s", path, strerror(err));
-        return false;
-    }
-    char *copy = pstrndup(p, text, len);
-    free(text);
-    if (!copy)
-        return false;
-    csg_lexer saved = p->lx;
-    p->include_stack[++p->include_depth] = canon;
-    if (!parse_source(p, path, copy, len))
-        return false;
-    p->include_depth--;
-    p->lx = saved;
-    return next(p);
+    return lang_expect_semicolon(p, "version", at);
 }
 
 static bool parse_statement(parser *p)
@@ -1652,11 +960,11 @@ static bool parse_statement(parser *p)
         case CSG_KW_LOCAL:
             return parse_declare(p);
         case CSG_KW_INCLUDE:
-            return parse_include(p);
+            return lang_parse_include(p);
         case CSG_KW_VERSION:
             return parse_version(p);
         default:
-            return expected(p, "a statement expected");
+            return lang_expected(p, "a statement expected");
         }
     }
     if (is_object_start(p)) {
@@ -1672,10 +980,10 @@ static bool parse_statement(parser *p)
         default: break;
         }
     }
-    return expected(p, "an object or a statement expected");
+    return lang_expected(p, "an object or a statement expected");
 }
 
-static bool parse_statements(parser *p)
+bool lang_parse_statements(parser *p)
 {
     while (p->tok.kind != CSG_TOK_EOF)
         if (!parse_statement(p))
@@ -1743,22 +1051,19 @@ bool csg_parse_string(const char *name, const char *text, size_t len, csg_scene 
     s->arena = csg_arena_new();
     bool ok = false;
     if (!s->arena) {
-        oom(&p);
+        lang_oom(&p);
         goto fail;
     }
     if (!name)
         name = "<input>";
-    char *path = pstrndup(&p, name, strlen(name));
-    char *copy = pstrndup(&p, text ? text : "", text ? len : 0);
+    char *path = lang_strndup(&p, name, strlen(name));
+    char *copy = lang_strndup(&p, text ? text : "", text ? len : 0);
     if (!path || !copy)
         goto fail;
     s->path = path;
-    p.include_stack[0] = canonical(&p, path);
-    if (!p.include_stack[0])
-        goto fail;
-    ok = parse_source(&p, path, copy, text ? len : 0) && finish_scene(&p);
+    ok = lang_parse_main(&p, path, copy, text ? len : 0) && finish_scene(&p);
 fail:
-    free(p.syms);
+    lang_symbols_free(&p);
     free(p.textures.data);
     free(p.interiors.data);
     free(p.lights.data);
@@ -1777,7 +1082,7 @@ bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
 {
     size_t len = 0;
     int err = 0;
-    char *text = read_file(path, &len, &err);
+    char *text = lang_read_file(path, &len, &err);
     if (!text) {
         csg_scene_init(s);
         csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
