@@ -228,18 +228,24 @@ static bool parse_interior(parser *p, csg_interior *in)
 
 static bool parse_object(parser *p, csg_object **out);
 
+/* The object kind a keyword opens (CSG_OBJECT_KINDS: the keyword of each
+ * kind is CSG_KW_<ID>); -1 for any other word. */
+static int kind_of_keyword(enum csg_kw kw)
+{
+    switch (kw) {
+#define PARSE_KIND_OF(ID, name)                                                                    \
+    case CSG_KW_##ID:                                                                              \
+        return CSG_OBJ_##ID;
+        CSG_OBJECT_KINDS(PARSE_KIND_OF, PARSE_KIND_OF)
+    default:
+        return -1;
+    }
+}
+
 static bool is_object_start(const parser *p)
 {
-    if (p->tok.kind != CSG_TOK_WORD)
-        return false;
-    switch (p->tok.kw) {
-    case CSG_KW_SPHERE: case CSG_KW_BOX: case CSG_KW_CYLINDER: case CSG_KW_CONE:
-    case CSG_KW_PLANE: case CSG_KW_UNION: case CSG_KW_INTERSECTION:
-    case CSG_KW_DIFFERENCE: case CSG_KW_MERGE: case CSG_KW_OBJECT:
-        return true;
-    default:
-        return false;
-    }
+    return p->tok.kind == CSG_TOK_WORD &&
+           (kind_of_keyword(p->tok.kw) >= 0 || p->tok.kw == CSG_KW_OBJECT);
 }
 
 static int height_of(const csg_object *o)
@@ -290,18 +296,8 @@ static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
 
 static const char *object_name(enum csg_kw kw)
 {
-    switch (kw) {
-    case CSG_KW_SPHERE: return "sphere";
-    case CSG_KW_BOX: return "box";
-    case CSG_KW_CYLINDER: return "cylinder";
-    case CSG_KW_CONE: return "cone";
-    case CSG_KW_PLANE: return "plane";
-    case CSG_KW_UNION: return "union";
-    case CSG_KW_INTERSECTION: return "intersection";
-    case CSG_KW_DIFFERENCE: return "difference";
-    case CSG_KW_MERGE: return "merge";
-    default: return "object";
-    }
+    int kind = kind_of_keyword(kw);
+    return kind >= 0 ? csg_object_kind_name(kind) : "object";
 }
 
 static bool same_point(dvec3 a, dvec3 b)
@@ -651,6 +647,23 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
     }
 }
 
+/* What follows the brace of a new object: a shape's parameters (one
+ * parse_<name> a shape kind) or an operator's children. */
+static bool parse_body(parser *p, pnode *n, const char *name)
+{
+    switch (n->obj.kind) {
+#define PARSE_SHAPE(ID, name_)                                                                     \
+    case CSG_OBJ_##ID:                                                                             \
+        return parse_##name_(p, &n->obj);
+#define PARSE_OPERATOR(ID, name_)                                                                  \
+    case CSG_OBJ_##ID:                                                                             \
+        return parse_children(p, n, name);
+        CSG_OBJECT_KINDS(PARSE_SHAPE, PARSE_OPERATOR)
+    default:
+        return false;
+    }
+}
+
 /* Any object statement; the current token is its keyword. */
 static bool parse_object(parser *p, csg_object **out)
 {
@@ -660,40 +673,9 @@ static bool parse_object(parser *p, csg_object **out)
     int tex_mark = p->textures.count, int_mark = p->interiors.count;
     if (!lang_enter(p, loc) || !lang_next(p) || !lang_expect_open(p, name))
         return false;
-    pnode *n = NULL;
-    bool ok = false;
-    switch (kw) {
-    case CSG_KW_SPHERE:
-        ok = (n = new_node(p, CSG_OBJ_SPHERE, loc)) && parse_sphere(p, &n->obj);
-        break;
-    case CSG_KW_BOX:
-        ok = (n = new_node(p, CSG_OBJ_BOX, loc)) && parse_box(p, &n->obj);
-        break;
-    case CSG_KW_CYLINDER:
-        ok = (n = new_node(p, CSG_OBJ_CYLINDER, loc)) && parse_cylinder(p, &n->obj);
-        break;
-    case CSG_KW_CONE:
-        ok = (n = new_node(p, CSG_OBJ_CONE, loc)) && parse_cone(p, &n->obj);
-        break;
-    case CSG_KW_PLANE:
-        ok = (n = new_node(p, CSG_OBJ_PLANE, loc)) && parse_plane(p, &n->obj);
-        break;
-    case CSG_KW_UNION:
-        ok = (n = new_node(p, CSG_OBJ_UNION, loc)) && parse_children(p, n, name);
-        break;
-    case CSG_KW_INTERSECTION:
-        ok = (n = new_node(p, CSG_OBJ_INTERSECTION, loc)) && parse_children(p, n, name);
-        break;
-    case CSG_KW_DIFFERENCE:
-        ok = (n = new_node(p, CSG_OBJ_DIFFERENCE, loc)) && parse_children(p, n, name);
-        break;
-    case CSG_KW_MERGE:
-        ok = (n = new_node(p, CSG_OBJ_MERGE, loc)) && parse_children(p, n, name);
-        break;
-    default:
-        ok = (n = parse_object_base(p, loc)) != NULL;
-        break;
-    }
+    int kind = kind_of_keyword(kw);
+    pnode *n = kind >= 0 ? new_node(p, (enum csg_object_kind)kind, loc) : parse_object_base(p, loc);
+    bool ok = n && (kind < 0 || parse_body(p, n, name));
     if (!ok || !parse_modifiers(p, &n->obj, name, loc, tex_mark, int_mark))
         return false;
     lang_leave(p);

@@ -1,0 +1,185 @@
+/*
+ * test_kinds.c — every kind of the object table (CSG_OBJECT_KINDS, scene.h)
+ * and of the primitive table (CSG_PRIM_KINDS, device/flat.h) is handled by
+ * every stage.  The compiler already refuses a kind whose per-stage
+ * function is missing; this catches what it cannot see:
+ *   - a kind with no name, or two kinds with one name;
+ *   - a keyword the lexer does not know (its table is written by hand);
+ *   - a shape kind that some stage handles wrongly: a sample of each goes
+ *     through parse -> summary -> precision -> flatten (both precisions) ->
+ *     blob validation -> a primary ray -> export -> parse again;
+ *   - an operator kind that does not parse or export.
+ * A kind added to a table without a sample here fails test_samples_cover.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../csg/export_pov.h"
+#include "../csg/flatten.h"
+#include "../csg/lang/parser.h"
+#include "../csg/precision.h"
+#include "../csg/summary.h"
+#include "../workers/engine.h"
+
+/* One statement of each kind, in front of the camera at the origin. */
+static const char *const samples[CSG_OBJ_KIND_COUNT] = {
+    [CSG_OBJ_SPHERE] = "sphere { <0, 0, 5>, 1 }",
+    [CSG_OBJ_BOX] = "box { <-1, -1, 4>, <1, 1, 6> }",
+    [CSG_OBJ_CYLINDER] = "cylinder { <0, -1, 5>, <0, 1, 5>, 1 }",
+    [CSG_OBJ_CONE] = "cone { <0, -1, 5>, 1, <0, 1, 5>, 0.5 }",
+    [CSG_OBJ_PLANE] = "plane { <0, 0, -1>, -5 }",
+    [CSG_OBJ_UNION] = "union { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
+    [CSG_OBJ_INTERSECTION] = "intersection { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
+    [CSG_OBJ_DIFFERENCE] = "difference { box { <-1, -1, 4>, <1, 1, 6> } sphere { <0, 0, 3>, 1 } }",
+    [CSG_OBJ_MERGE] = "merge { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
+};
+
+#define CAMERA "camera { location <0, 0, 0> look_at <0, 0, 1> }\n"
+
+static void test_samples_cover(void **state)
+{
+    (void)state;
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++) {
+        if (!samples[k])
+            fail_msg("no sample for object kind %d (%s)", k, csg_object_kind_name(k));
+        /* the sample is written with the kind's own keyword */
+        size_t n = strlen(csg_object_kind_name(k));
+        assert_memory_equal(samples[k], csg_object_kind_name(k), n);
+    }
+}
+
+static void test_names(void **state)
+{
+    (void)state;
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++) {
+        assert_non_null(csg_object_kind_name(k));
+        for (int j = 0; j < k; j++)
+            assert_string_not_equal(csg_object_kind_name(j), csg_object_kind_name(k));
+    }
+    assert_null(csg_object_kind_name(-1));
+    assert_null(csg_object_kind_name(CSG_OBJ_KIND_COUNT));
+    assert_false(csg_object_is_leaf(-1));
+    assert_false(csg_object_is_leaf(CSG_OBJ_KIND_COUNT));
+}
+
+static void parse_ok(const char *text, csg_scene *s)
+{
+    csg_diag d = {0};
+    csg_scene_init(s);
+    if (!csg_parse_string("kinds.pov", text, strlen(text), s, &d))
+        fail_msg("parse of <%s> failed: %s", text, d.message);
+}
+
+/* The one top-level object of a sample parses to its kind. */
+static void test_parse_each(void **state)
+{
+    (void)state;
+    char text[512];
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++) {
+        snprintf(text, sizeof text, CAMERA "%s\n", samples[k]);
+        csg_scene s;
+        parse_ok(text, &s);
+        assert_int_equal(s.object_count, 1);
+        assert_int_equal(s.objects[0]->kind, k);
+        assert_int_equal(csg_object_is_leaf(k), s.objects[0]->child_count == 0);
+        csg_scene_free(&s);
+    }
+}
+
+/* Flattened in both precisions: a valid blob whose primitives are all of
+ * known kinds, and whose centre ray hits the object. */
+static void flatten_and_hit(const engine *e, const csg_scene *s, int k, unsigned *prim_kinds)
+{
+    csg_flatten_opts o = {3, 3, 1, -1, 1};
+    csg_diag d = {0};
+    csg_blob b;
+    if (!e->flatten(s, &o, &b, &d))
+        fail_msg("%s: flatten (%s) failed: %s", csg_object_kind_name(k), e->name, d.message);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    const csg_blob_header *h = csg_blob_hdr(b.bytes);
+    assert_true(h->prim_count >= 1);
+    const csg_prim *prims = (const csg_prim *)(const void *)((const char *)b.bytes + h->off_prims);
+    for (int i = 0; e->real_size == sizeof(real) && i < h->prim_count; i++)
+        *prim_kinds |= 1u << prims[i].kind; /* (this file's csg_prim is the float one) */
+    char t[9 * 8];
+    uint32_t surf[9];
+    ray_counts rays = {0};
+    tile_rect all = {0, 0, 3, 3};
+    e->trace_primary(b.bytes, all, t, surf, &rays);
+    if (surf[4] == 0)
+        fail_msg("%s (%s): the centre ray misses", csg_object_kind_name(k), e->name);
+    csg_blob_free(&b);
+}
+
+static void test_pipeline_each(void **state)
+{
+    (void)state;
+    char text[512];
+    unsigned prim_kinds = 0;
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++) {
+        snprintf(text, sizeof text, CAMERA "%s\n", samples[k]);
+        csg_scene s;
+        parse_ok(text, &s);
+        FILE *sink = fopen("/dev/null", "w");
+        assert_non_null(sink);
+        csg_print_summary(&s, sink);
+        fclose(sink);
+        char why[256];
+        assert_false(csg_needs_double(&s, 3, 3, why, sizeof why)); /* a unit scene */
+        flatten_and_hit(&engine_float, &s, k, &prim_kinds);
+        flatten_and_hit(&engine_double, &s, k, &prim_kinds);
+        csg_scene_free(&s);
+    }
+    /* the samples reach every primitive kind the tracers know */
+    assert_int_equal(prim_kinds, (1u << CSG_PRIM_KIND_COUNT) - 1);
+}
+
+/* Exported and parsed again: the same kinds, in the same tree shape. */
+static void same_shape(const csg_object *a, const csg_object *b)
+{
+    assert_int_equal(a->kind, b->kind);
+    assert_int_equal(a->child_count, b->child_count);
+    for (int i = 0; i < a->child_count; i++)
+        same_shape(a->children[i], b->children[i]);
+}
+
+static void test_export_each(void **state)
+{
+    (void)state;
+    char text[512];
+    for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++) {
+        snprintf(text, sizeof text, CAMERA "%s\n", samples[k]);
+        csg_scene s, back;
+        parse_ok(text, &s);
+        char *out = NULL;
+        size_t len = 0;
+        FILE *f = open_memstream(&out, &len);
+        assert_non_null(f);
+        csg_diag d = {0};
+        if (!csg_export_pov(&s, f, false, &d))
+            fail_msg("%s: export failed: %s", csg_object_kind_name(k), d.message);
+        fclose(f);
+        parse_ok(out, &back);
+        assert_int_equal(back.object_count, 1);
+        same_shape(s.objects[0], back.objects[0]);
+        free(out);
+        csg_scene_free(&back);
+        csg_scene_free(&s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_samples_cover), cmocka_unit_test(test_names),
+        cmocka_unit_test(test_parse_each),    cmocka_unit_test(test_pipeline_each),
+        cmocka_unit_test(test_export_each),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
