@@ -12,13 +12,13 @@
  *      (master_run_tiles) or, without workers, in this process;
  *   4. the image (img_write_rgb), the stats JSON, one summary line;
  *   5. STOP with the final status to every worker (master_end).
- * Serial mode is step 3 in-process over all tiles (engine_render_tile).
+ * Serial mode is step 3 in-process over all tiles.
  *
- * Invariants: every mode produces the same pixels, because every pixel is
- * computed by the same engine functions from the same record (hetero: the
- * OpenCL record; the others: engine->trace_primary's), and degenerate
- * tiles get exactly what shade gives a missed primary ray, the background
- * converted to float.  Every failure prints one message here (workers never
+ * Invariants: every mode produces the same pixels, because every tile goes
+ * through the one tile_run (workers/tile.h), on a worker or here, from the
+ * same record (hetero: the OpenCL record; the others: the engine's
+ * trace_primary), and degenerate tiles get exactly what shade gives a
+ * missed primary ray (engine->miss_rgb).  Every failure prints one message here (workers never
  * print) and goes through the one cleanup path; no image is written unless
  * every tile succeeded.
  */
