@@ -33,6 +33,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "camera_setup.h"
+
 
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double
@@ -686,7 +688,8 @@ static void store3(real dst[3], dvec3 v)
     dst[2] = (real)v.z;
 }
 
-static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)
+/* The header: counts, and every array placed after it, 64-byte aligned. */
+static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opts *o)
 {
     const csg_scene *s = fb->scene;
     csg_blob_header h;
@@ -719,48 +722,57 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     h.off_camera = place(&off, 1, sizeof(csg_camera));
     h.off_shading = place(&off, 1, sizeof(csg_shading));
     h.total_size = off;
+    return h;
+}
 
-    unsigned char *b = calloc(1, (size_t)off);
-    if (!b)
-        return false;
-    memcpy(b, &h, sizeof h);
-    if (fb->prim_count)
-        memcpy(b + h.off_prims, fb->prims, (size_t)fb->prim_count * sizeof(csg_prim));
-    if (fb->node_count)
-        memcpy(b + h.off_nodes, fb->nodes, (size_t)fb->node_count * sizeof(csg_node));
-    if (fb->root_count)
-        memcpy(b + h.off_roots, fb->roots, (size_t)fb->root_count * sizeof(csg_root));
-    if (fb->bvh_count)
-        memcpy(b + h.off_bvh, fb->bvh, (size_t)fb->bvh_count * sizeof(csg_bvh_node));
-    if (fb->mat_count)
-        memcpy(b + h.off_materials, fb->mats, (size_t)fb->mat_count * sizeof(csg_material));
-    csg_flat_light *lights = (csg_flat_light *)(b + h.off_lights);
+static void copy_array(unsigned char *b, uint64_t off, const void *src, int count, size_t elem)
+{
+    if (count > 0)
+        memcpy(b + off, src, (size_t)count * elem);
+}
+
+/* Lights, shading values and the camera, from the scene into the blob. */
+static void write_scene_values(const csg_scene *s, const csg_flatten_opts *o,
+                               const csg_blob_header *h, unsigned char *b)
+{
+    csg_flat_light *lights = (csg_flat_light *)(b + h->off_lights);
     for (int i = 0; i < s->light_count; i++) {
         store3(lights[i].position, s->lights[i].position);
         for (int c = 0; c < 3; c++)
             lights[i].color[c] = (real)s->lights[i].color[c];
         lights[i].shadowless = s->lights[i].shadowless;
     }
-    csg_shading *sh = (csg_shading *)(b + h.off_shading);
+    csg_shading *sh = (csg_shading *)(b + h->off_shading);
     for (int c = 0; c < 3; c++) {
         sh->background[c] = (real)s->background[c];
         sh->ambient_light[c] = (real)s->globals.ambient_light[c];
     }
     sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
     csg_camera_src cam = s->camera;
-    if (!s->has_camera) {
-        cam.location = (dvec3){0, 0, 0};
-        cam.direction = (dvec3){0, 0, 1};
-        cam.up = (dvec3){0, 1, 0};
-        cam.right = (dvec3){1.33, 0, 0};
-    }
-    csg_camera *c = (csg_camera *)(b + h.off_camera);
+    if (!s->has_camera)
+        csg_camera_default(&cam);
+    csg_camera *c = (csg_camera *)(b + h->off_camera);
     store3(c->location, cam.location);
     store3(c->direction, cam.direction);
     store3(c->right, cam.right);
     store3(c->up, cam.up);
+}
+
+static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)
+{
+    csg_blob_header h = blob_header(fb, o);
+    unsigned char *b = calloc(1, (size_t)h.total_size);
+    if (!b)
+        return false;
+    memcpy(b, &h, sizeof h);
+    copy_array(b, h.off_prims, fb->prims, fb->prim_count, sizeof(csg_prim));
+    copy_array(b, h.off_nodes, fb->nodes, fb->node_count, sizeof(csg_node));
+    copy_array(b, h.off_roots, fb->roots, fb->root_count, sizeof(csg_root));
+    copy_array(b, h.off_bvh, fb->bvh, fb->bvh_count, sizeof(csg_bvh_node));
+    copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
+    write_scene_values(fb->scene, o, &h, b);
     out->bytes = b;
-    out->size = (size_t)off;
+    out->size = (size_t)h.total_size;
     return true;
 }
 
