@@ -35,7 +35,6 @@
 
 #include "camera_setup.h"
 
-
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double
 #else
