@@ -57,9 +57,13 @@ typedef struct {
     csg_bvh_node *bvh;
     int bvh_count, bvh_cap;
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
-    int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
     csg_material *mats;
+    uint64_t *mat_keys;     /* each material's (texture, interior) key   */
     int mat_count, mat_cap, mat_key_cap;
+    int *mat_slots;         /* hash table over mat_keys: material + 1, 0
+                               empty; mat_slot_cap a power of two, at
+                               most half full                            */
+    size_t mat_slot_cap;
     const csg_scene *scene;
     csg_diag *diag;
     bool oom;
@@ -208,17 +212,66 @@ static void cone_frame(dvec3 a, dvec3 b, csg_xform *obj_to_local, double *height
     *height = h;
 }
 
+/* ---- materials: one per (texture, interior) pair in use ------------------------
+ * Interned in a hash table (linear probing): a million objects with their
+ * own pigments flatten in linear time, and the key is 64 bits wide, so no
+ * count of textures or interiors can make two pairs collide. */
+
+static uint64_t material_key(inherited inh)
+{
+    return ((uint64_t)(uint32_t)(inh.texture + 1) << 32) | (uint32_t)(inh.interior + 1);
+}
+
+static size_t material_slot_of(uint64_t key, size_t cap)
+{
+    key ^= key >> 29; /* mix the texture half into the low bits */
+    key *= 0xbf58476d1ce4e5b9u;
+    key ^= key >> 32;
+    return (size_t)key & (cap - 1);
+}
+
+/* The slot holding `key`, or the empty slot where it goes. */
+static size_t material_find(const flat_builder *fb, uint64_t key)
+{
+    size_t i = material_slot_of(key, fb->mat_slot_cap);
+    while (fb->mat_slots[i] && fb->mat_keys[fb->mat_slots[i] - 1] != key)
+        i = (i + 1) & (fb->mat_slot_cap - 1);
+    return i;
+}
+
+/* Room for one more material in the table (kept at most half full). */
+static bool material_reserve(flat_builder *fb)
+{
+    if ((size_t)(fb->mat_count + 1) * 2 <= fb->mat_slot_cap)
+        return true;
+    size_t cap = fb->mat_slot_cap ? fb->mat_slot_cap * 2 : 64;
+    int *old = fb->mat_slots;
+    size_t old_cap = fb->mat_slot_cap;
+    fb->mat_slots = calloc(cap, sizeof *fb->mat_slots);
+    if (!fb->mat_slots) {
+        fb->mat_slots = old;
+        return false;
+    }
+    fb->mat_slot_cap = cap;
+    for (size_t i = 0; i < old_cap; i++)
+        if (old[i])
+            fb->mat_slots[material_find(fb, fb->mat_keys[old[i] - 1])] = old[i];
+    free(old);
+    return true;
+}
+
 static int material_for(flat_builder *fb, inherited inh)
 {
-    int key = (inh.texture + 1) * (fb->scene->interior_count + 1) + inh.interior + 1;
-    for (int i = 0; i < fb->mat_count; i++)
-        if (fb->mat_keys[i] == key)
-            return i;
-    if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
-        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(int))) {
+    uint64_t key = material_key(inh);
+    if (!material_reserve(fb) ||
+        !grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
+        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(uint64_t))) {
         fb->oom = true;
         return 0;
     }
+    size_t slot = material_find(fb, key);
+    if (fb->mat_slots[slot])
+        return fb->mat_slots[slot] - 1;
     csg_texture tex;
     if (inh.texture >= 0)
         tex = fb->scene->textures[inh.texture];
@@ -240,6 +293,7 @@ static int material_for(flat_builder *fb, inherited inh)
     m->phong_size = (real)tex.finish.phong_size;
     m->ior = (real)ior;
     fb->mat_keys[fb->mat_count] = key;
+    fb->mat_slots[slot] = fb->mat_count + 1;
     return fb->mat_count++;
 }
 
@@ -806,6 +860,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.bvh);
     free(fb.mats);
     free(fb.mat_keys);
+    free(fb.mat_slots);
     if (!ok)
         csg_blob_free(out);
     return ok;

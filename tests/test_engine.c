@@ -396,6 +396,49 @@ static void test_sample_pattern(void **state)
     }
 }
 
+/* Materials are interned by (texture, interior) with a 64-bit key: with
+ * 65 536 textures and interiors, the pair (65535, 0) once collided with
+ * (0, none) in a 32-bit key (UBSan: signed overflow) and a green sphere
+ * took the red sphere's material. */
+static void test_material_key_limits(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    enum { TEXTURES = 65536, INTERIORS = 65536 };
+    s.textures = csg_arena_alloc(s.arena, TEXTURES * sizeof *s.textures);
+    s.interiors = csg_arena_alloc(s.arena, INTERIORS * sizeof *s.interiors);
+    assert_true(s.textures && s.interiors);
+    for (int i = 0; i < TEXTURES; i++)
+        csg_texture_default(&s.textures[i]);
+    for (int i = 0; i < INTERIORS; i++)
+        s.interiors[i].ior = 1.0;
+    s.texture_count = TEXTURES;
+    s.interior_count = INTERIORS;
+    s.textures[0].pigment.rgbft[0] = 1;               /* red   */
+    s.textures[TEXTURES - 1].pigment.rgbft[1] = 1;    /* green */
+    csg_object *red = sphere(&s, -1, 0, 0, 0.5), *green = sphere(&s, 1, 0, 0, 0.5);
+    red->texture = 0;
+    green->texture = TEXTURES - 1;
+    green->interior = 0;
+    add_top(&s, red);
+    add_top(&s, green);
+    csg_blob b;
+    const csg_blob_header *h = flatten_ok(&engine_float, &s, 4, 4, &b);
+    const csg_prim *prims = (const csg_prim *)((const char *)b.bytes + h->off_prims);
+    const csg_material *mats = (const csg_material *)((const char *)b.bytes + h->off_materials);
+    assert_int_equal(h->material_count, 2);
+    assert_int_equal(h->prim_count, 2);
+    for (int i = 0; i < 2; i++) {
+        const csg_material *m = &mats[prims[i].material];
+        bool is_green = prims[i].p[0] > 0; /* the sphere at x = 1 */
+        assert_true(m->color[0] == (is_green ? 0.0f : 1.0f));
+        assert_true(m->color[1] == (is_green ? 1.0f : 0.0f));
+    }
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -408,6 +451,7 @@ int main(void)
         cmocka_unit_test(test_blob_validation),
         cmocka_unit_test(test_bvh_matches_linear),
         cmocka_unit_test(test_sample_pattern),
+        cmocka_unit_test(test_material_key_limits),
     };
     return cmocka_run_group_tests_name("engine", tests, NULL, NULL);
 }
