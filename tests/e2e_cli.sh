@@ -33,6 +33,7 @@ sphere { 0, 1 pigment { color rgb <1, 0.5, 0.2> } }
 POV
 printf 'sphere { 0, 1\n  pigment { color rgb 1 }\n  torus { 1, 0.2 }\n}\n' >"$T/bad.pov"
 printf 'sphere { <0,0,0>, -1 }\n' >"$T/negative.pov"
+printf 'sphere { 0, 1\n  scale 1e200 scale 1e200 }\n' >"$T/overflow.pov"
 
 # --- arguments ---
 expect 2 "no command" "$BIN"
@@ -53,6 +54,9 @@ errmsg "^$T/bad.pov:3:3: error: .*torus" "unsupported construct message with lin
 [ ! -e "$T/bad.png" ] && ok "no image after a scene error" || ko "image written after a scene error"
 expect 2 "negative radius" "$BIN" check "$T/negative.pov"
 errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
+# a combined transform beyond double's range is an error, not a vanished object
+expect 2 "overflowing transform" "$BIN" check "$T/overflow.pov"
+errmsg "^$T/overflow.pov:1:1: error: .*overflows" "overflowing transform message"
 
 # --- a failed render never leaves a partial file: existing output untouched ---
 echo "previous" >"$T/keep.png"
