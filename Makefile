@@ -8,6 +8,7 @@
 #   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
 #   make bench-full       the full suite and the accuracy grid (~25 min)
+#   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
 #   make clean
 #
 # The engine sources (flattening, tracing, shading) are compiled twice, once
@@ -58,7 +59,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps test demo bench bench-full bench-accuracy golden clean
+.PHONY: all asan deps test demo bench bench-full bench-accuracy golden fuzz clean
 all: $(B)/csgtrace $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
 
@@ -106,6 +107,44 @@ $(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS)
 $(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN)
 	@mkdir -p $(dir $@)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS) -lcmocka
+
+# ---- the pipeline fuzzer (libFuzzer, clang) ----------------------------------------
+# build/fuzz/fuzz_pipeline: every stage of a render on each input
+# (tests/fuzz_pipeline.c), with ASan + UBSan; the dictionary is the lexer's
+# own keyword table, the seeds are the example scenes.  (Warnings are
+# enforced by the gcc builds; clang's -Wdouble-promotion also flags libm
+# macros, so the fuzz build only reports.)
+F := build/fuzz
+FUZZ_CC ?= clang-15
+FUZZ_SECONDS ?= 60
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) -g -O1 -MMD -MP $(FUZZ_SAN)
+FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
+	workers/engine_common.c workers/tile.c
+FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
+	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)
+
+$(F)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+$(F)/obj/float/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+$(F)/obj/double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DCSG_DOUBLE -c $< -o $@
+$(F)/fuzz_pipeline: $(F)/obj/tests/fuzz_pipeline.o $(FUZZ_OBJS)
+	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ -lm
+$(F)/pov.dict: csg/lang/lexer.c
+	@mkdir -p $(dir $@)
+	sed -n 's/^ *{"\([a-z_0-9]*\)", CSG_KW_.*/"\1"/p' $< >$@
+	printf '"#declare"\n"#include"\n"#version"\n"{"\n"}"\n"<"\n">"\n' >>$@
+
+fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
+	@mkdir -p $(F)/corpus $(F)/seeds
+	cp scenes/*.pov $(F)/seeds/
+	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
+		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
 
 # ---- dependencies --------------------------------------------------------------
 deps:

@@ -1,0 +1,109 @@
+/*
+ * fuzz_pipeline.c — the libFuzzer target of the whole scene pipeline
+ * (`make fuzz`; not part of `make test`, whose quick seeded fuzzer is
+ * tests/test_fuzz_parser.c).  Each input is a scene text, taken through
+ * every stage a render uses, on an 8 x 6 image:
+ *
+ *   parse -> (error: one "file:line:col: error: " message, nothing else)
+ *         -> export -> parse again (an exported scene always reads back)
+ *         -> flatten in float and in double -> blob validation
+ *         -> every tile through tile_run (trace + shade) -> finite pixels
+ *
+ * The trace depth is capped at 3: depth is a knob of the render, not of
+ * the input's validity, and an uncapped mirror-in-glass scene would make
+ * every input slow.  Anything unexpected aborts (libFuzzer reports it with
+ * the input); ASan and UBSan watch the rest.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../csg/export_pov.h"
+#include "../csg/flatten.h"
+#include "../csg/lang/parser.h"
+#include "../workers/tile.h"
+
+enum { FUZZ_W = 8, FUZZ_H = 6, FUZZ_TILE = 4, FUZZ_DEPTH = 3 };
+
+static void fuzz_require(int cond, const char *what)
+{
+    if (!cond) {
+        fprintf(stderr, "fuzz_pipeline: %s\n", what);
+        abort();
+    }
+}
+
+/* A failed parse leaves exactly one message of the contract's form. */
+static void check_error(const csg_diag *d)
+{
+    fuzz_require(d->failed, "a failed parse without a message");
+    fuzz_require(strstr(d->message, ": error: ") != NULL, "a message without ': error: '");
+    fuzz_require(strchr(d->message, '\n') == NULL, "a message of more than one line");
+}
+
+static void render_all(const engine *e, const csg_scene *s)
+{
+    csg_flatten_opts o = {FUZZ_W, FUZZ_H, FUZZ_DEPTH, -1, 1};
+    csg_diag d = {0};
+    csg_blob b;
+    if (!e->flatten(s, &o, &b, &d)) {
+        check_error(&d); /* a scene may be valid syntax and still unflattenable */
+        return;
+    }
+    fuzz_require(csg_blob_valid(b.bytes, b.size), "the flattener wrote an invalid blob");
+    tile_runner tr;
+    fuzz_require(tile_runner_init(&tr, b.bytes, FUZZ_TILE), "out of memory");
+    float rgb[FUZZ_TILE * FUZZ_TILE * 3];
+    for (int i = 0; i < tile_count(&tr.grid); i++) {
+        tile_result res;
+        tile_run(&tr, i, NULL, rgb, &res);
+        tile_rect r = tile_rect_of(&tr.grid, i);
+        for (int k = 0; k < r.width * r.height * 3; k++)
+            fuzz_require(rgb[k] == rgb[k] && rgb[k] - rgb[k] == 0, "a pixel is not finite");
+    }
+    tile_runner_free(&tr);
+    csg_blob_free(&b);
+}
+
+/* The exported scene parses again. */
+static void check_export(const csg_scene *s)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    fuzz_require(f != NULL, "open_memstream");
+    csg_diag d = {0};
+    bool ok = csg_export_pov(s, f, false, &d);
+    fclose(f);
+    if (ok) {
+        csg_scene back;
+        csg_diag d2 = {0};
+        csg_scene_init(&back);
+        if (!csg_parse_string("exported.pov", text, len, &back, &d2)) {
+            fprintf(stderr, "exported scene:\n%s\nerror: %s\n", text, d2.message);
+            fuzz_require(0, "an exported scene does not parse");
+        }
+        csg_scene_free(&back);
+    } else {
+        check_error(&d);
+    }
+    free(text);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    csg_scene s;
+    csg_diag d = {0};
+    csg_scene_init(&s);
+    if (!csg_parse_string("fuzz.pov", (const char *)data, size, &s, &d)) {
+        check_error(&d);
+        csg_scene_free(&s);
+        return 0;
+    }
+    check_export(&s);
+    render_all(&engine_float, &s);
+    render_all(&engine_double, &s);
+    csg_scene_free(&s);
+    return 0;
+}
