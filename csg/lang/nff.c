@@ -213,9 +213,12 @@ static bool nff_count(nff_reader *r, const char *what, long lo, long hi, long *o
 static bool nff_keyword(nff_reader *r, const char *word, const char *after)
 {
     if (!nff_is(r, word)) {
-        char what[80];
-        snprintf(what, sizeof what, "'%s' expected after '%s'", word, after);
-        return nff_expected(r, what);
+        if (nff_at_end(r))
+            csg_error(r->d, r->tok_loc, "'%s' expected after '%s', got end of file", word, after);
+        else
+            csg_error(r->d, r->tok_loc, "'%s' expected after '%s', got '%.*s'", word, after,
+                      (int)(r->tok_len > 40 ? 40 : r->tok_len), r->tok);
+        return false;
     }
     nff_next(r);
     return true;
