@@ -4,9 +4,6 @@
  */
 #include "load.h"
 
-#include <errno.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -26,59 +23,11 @@ bool csg_load_string(const char *name, const char *text, size_t len, csg_scene *
     return csg_parse_string(name, text, len, s, d);
 }
 
-/* The whole file in memory (NUL-terminated); NULL with *err set. */
-static char *load_read(const char *path, size_t *len, int *err)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    size_t cap = 0, n = 0;
-    if (!f) {
-        *err = errno;
-        return NULL;
-    }
-    for (;;) {
-        if (cap - n < 65536) {
-            cap = cap ? 2 * cap : 1 << 20;
-            char *nb = realloc(buf, cap + 1);
-            if (!nb) {
-                *err = ENOMEM;
-                free(buf);
-                fclose(f);
-                return NULL;
-            }
-            buf = nb;
-        }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    *err = ferror(f) ? EIO : 0;
-    fclose(f);
-    if (*err) {
-        free(buf);
-        return NULL;
-    }
-    buf[n] = '\0';
-    *len = n;
-    return buf;
-}
-
 bool csg_load_file(const char *path, csg_scene *s, csg_diag *d)
 {
-    if (!csg_is_nff(path))
-        return csg_parse_file(path, s, d);
-    size_t len = 0;
-    int err = 0;
-    char *text = load_read(path, &len, &err);
-    if (!text) {
-        csg_scene_init(s);
-        csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
-        return false;
-    }
-    bool ok = csg_nff_parse_string(path, text, len, s, d);
-    free(text);
-    return ok;
+    if (csg_is_nff(path))
+        return csg_nff_parse_file(path, s, d);
+    return csg_parse_file(path, s, d);
 }
 
 void csg_image_size(const csg_scene *s, int want_width, int want_height, int *width, int *height)

@@ -25,6 +25,7 @@
 #include "../csg/lang/nff.h"
 #include "../csg/load.h"
 #include "../workers/engine.h"
+#include "fuzz_rng.h"
 
 #define NFF_FUZZ_RUNS 6000
 #define NFF_FUZZ_SEED 0x5eedcafe2024beefull
@@ -195,22 +196,10 @@ static void test_nul_and_extension(void **state)
 
 /* ---- the fuzzer ------------------------------------------------------------- */
 
-static uint64_t rng_next(uint64_t *s)
-{
-    uint64_t x = *s;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    *s = x;
-    return x * 2685821657736338717ull;
-}
-
 static const char *const extra_corpus =
     "b 0 0 0\nv\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 50\nhither 1\nresolution 8 8\n"
     "l 0 0 10\nf 1 0.6 0.2 1 0 100000 0 0\n"
     "p 8\n1 -0.3 0\n1.6 -0.3 0\n1.6 0.3 0\n1 0.3 0\n0.3 1 0\n-0.3 1 0\n-1 0.3 0\n-1 -0.3 0\n";
-
-static size_t rng_below(uint64_t *s, size_t n) { return n ? (size_t)(rng_next(s) % n) : 0; }
 
 #define FUZZ_MAX 8192
 
