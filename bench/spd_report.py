@@ -12,10 +12,12 @@ The report takes the median of the runs of each scene and renderer and
 writes one table: frame times, csgtrace's rays, and the ratios the SPD
 issue asks for (Tachyon / csgtrace homo on Tachyon's view; POV-Ray trace /
 csgtrace trace; hetero / homo), then the sums and the per-pixel cost of
-the tetra series.
+the tetra series, then bench/SPD-notes.md (the reading of the numbers,
+written by hand) when it exists.
 """
 import csv
 import json
+import os
 import re
 import statistics
 import sys
@@ -121,6 +123,10 @@ def report(raw, identical, out_path):
             t = m.get((s, "serial"), {}).get("trace")
             lines.append(f"- {s}: {fmt(None if t is None else t / (512 * 512) * 1e6)}")
     lines += ["", "![contact sheet: csgtrace, Tachyon, POV-Ray per scene](spd/sheet.png)", ""]
+    notes = os.path.join(os.path.dirname(out_path), "SPD-notes.md")
+    if os.path.exists(notes):  # the reading of the numbers, kept by hand
+        with open(notes) as f:
+            lines += ["", f.read()]
     with open(out_path, "w") as f:
         f.write("\n".join(lines))
 
