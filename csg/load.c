@@ -25,9 +25,7 @@ bool csg_load_string(const char *name, const char *text, size_t len, csg_scene *
 
 bool csg_load_file(const char *path, csg_scene *s, csg_diag *d)
 {
-    if (csg_is_nff(path))
-        return csg_nff_parse_file(path, s, d);
-    return csg_parse_file(path, s, d);
+    return csg_parse_file_as(path, s, d, csg_is_nff(path) ? csg_nff_parse_string : csg_parse_string);
 }
 
 void csg_image_size(const csg_scene *s, int want_width, int want_height, int *width, int *height)

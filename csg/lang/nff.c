@@ -37,7 +37,6 @@
 
 #include "../camera_setup.h"
 #include "../polygon.h"
-#include "parse_internal.h"
 
 typedef struct {
     void *data;
@@ -647,20 +646,5 @@ done:
         csg_scene_free(s);
         csg_scene_init(s);
     }
-    return ok;
-}
-
-bool csg_nff_parse_file(const char *path, csg_scene *s, csg_diag *d)
-{
-    size_t len = 0;
-    int err = 0;
-    char *text = lang_read_file(path, &len, &err);
-    if (!text) {
-        csg_scene_init(s);
-        csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
-        return false;
-    }
-    bool ok = csg_nff_parse_string(path, text, len, s, d);
-    free(text);
     return ok;
 }

@@ -17,8 +17,6 @@
 #define CSG_NFF_MAX_ENTITIES (1L << 24)
 #define CSG_NFF_MAX_VERTICES 1000000
 
-/* Reads and parses an NFF file (the same contract). */
-bool csg_nff_parse_file(const char *path, csg_scene *s, csg_diag *d);
 /* Parses NFF text; `name` is used in messages.  On failure returns false,
  * d holds the one-line message "file:line:col: error: ..." and *s is left
  * empty (freed). */

@@ -1159,7 +1159,7 @@ fail:
     return ok;
 }
 
-bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
+bool csg_parse_file_as(const char *path, csg_scene *s, csg_diag *d, csg_text_parser parse)
 {
     size_t len = 0;
     int err = 0;
@@ -1169,7 +1169,12 @@ bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
         csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
         return false;
     }
-    bool ok = csg_parse_string(path, text, len, s, d);
+    bool ok = parse(path, text, len, s, d);
     free(text);
     return ok;
+}
+
+bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
+{
+    return csg_parse_file_as(path, s, d, csg_parse_string);
 }
