@@ -227,6 +227,54 @@ static void export_plane(FILE *out, const csg_object *o)
     export_sphere(out, o); /* normal, distance */
 }
 
+/* Surfaces: vertices (and normals) as POV-Ray writes them. */
+static void put_points(FILE *out, const dvec3 *v, const dvec3 *n, int first, int count)
+{
+    for (int i = first; i < first + count; i++) {
+        if (i > first)
+            fputs(", ", out);
+        put_dvec(out, v[i]);
+        if (n) {
+            fputs(", ", out);
+            put_dvec(out, n[i]);
+        }
+    }
+}
+
+static void export_triangle(FILE *out, const csg_object *o)
+{
+    put_points(out, o->verts, NULL, 0, 3);
+}
+
+static void export_smooth_triangle(FILE *out, const csg_object *o)
+{
+    put_points(out, o->verts, o->normals, 0, 3);
+}
+
+/* POV-Ray's polygon decides inside by crossings, like ours by ear
+ * clipping; it wants the outline closed by the first vertex again. */
+static void export_polygon(FILE *out, const csg_object *o)
+{
+    fprintf(out, "%d, ", o->vert_count + 1);
+    put_points(out, o->verts, NULL, 0, o->vert_count);
+    fputs(", ", out);
+    put_dvec(out, o->verts[0]);
+}
+
+/* A mesh's triangles, one a line; a flat one (zero normals) as triangle. */
+static void export_mesh(FILE *out, const csg_object *o)
+{
+    for (int k = 0; k + 2 < o->vert_count; k += 3) {
+        const dvec3 *n = o->normals ? o->normals + k : NULL;
+        bool smooth = false;
+        for (int i = 0; n && i < 3; i++)
+            smooth = smooth || n[i].x != 0 || n[i].y != 0 || n[i].z != 0;
+        fputs(smooth ? "\n    smooth_triangle { " : "\n    triangle { ", out);
+        put_points(out, o->verts, smooth ? o->normals : NULL, k, 3);
+        fputs(" }", out);
+    }
+}
+
 /* The shape's own parameters, after the opening brace. */
 static void write_shape(FILE *out, const csg_object *o)
 {

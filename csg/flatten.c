@@ -15,10 +15,17 @@
  *     the number of interval lists they need (Ershov number), largest first,
  *     so a program needs as few lists at once as possible; a program that
  *     still needs more than CSG_STACK_MAX is an error.
+ *     Surfaces made of several triangles (polygon, mesh) are a union of
+ *     their pieces: at the top level each piece is a root of its own (the
+ *     BVH then sees every triangle), inside CSG a union in the program.
  *  3. Primitives get canonical parameters: spheres and boxes under a pure
  *     translate + scale keep world-space parameters (exact, no matrix);
  *     everything else stores its world -> local matrix.  Cylinders and
  *     cones live in a frame with their axis on +z from 0 to their height.
+ *     Triangles are stored in world space (vertices and vertex normals
+ *     transformed here, never a matrix); polygons are split into
+ *     triangles (csg/polygon.c: fan when convex, ear clipping otherwise),
+ *     once per polygon (the split of the last polygon is kept).
  *  4. Every root gets a world bounding box, padded outwards so rounding to
  *     `real` never clips a silhouette.
  *  5. Unbounded roots (planes, complements) go first and are tested one by
@@ -34,6 +41,7 @@
 #include <string.h>
 
 #include "camera_setup.h"
+#include "polygon.h"
 
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double
@@ -67,6 +75,9 @@ typedef struct {
     const csg_scene *scene;
     csg_diag *diag;
     bool oom;
+    const csg_object *split_of; /* the polygon whose split is in split[]  */
+    int *split;                 /* its triangles, 3 vertex indices each    */
+    int split_count, split_cap;
 } flat_builder;
 
 typedef struct {
@@ -158,6 +169,8 @@ static void box_store(dbox b, real lo[3], real hi[3])
 }
 
 /* ---- primitives --------------------------------------------------------------- */
+
+static void store3(real dst[3], dvec3 v);
 
 static bool is_translate_scale(const csg_xform *x, bool uniform)
 {
@@ -319,8 +332,9 @@ static bool degenerate(flat_builder *fb, const csg_object *o)
 }
 
 static bool flatten_sphere(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                           csg_prim *p, dbox *box)
+                           int piece, csg_prim *p, dbox *box)
 {
+    (void)piece;
     double r = o->r0;
     if (!(r > 0))
         return degenerate(fb, o);
@@ -346,8 +360,9 @@ static bool flatten_sphere(flat_builder *fb, const csg_object *o, const csg_xfor
 }
 
 static bool flatten_box(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                        csg_prim *p, dbox *box)
+                        int piece, csg_prim *p, dbox *box)
 {
+    (void)piece;
     (void)fb;
     double lo[3] = {fmin(o->a.x, o->b.x), fmin(o->a.y, o->b.y), fmin(o->a.z, o->b.z)};
     double hi[3] = {fmax(o->a.x, o->b.x), fmax(o->a.y, o->b.y), fmax(o->a.z, o->b.z)};
@@ -389,20 +404,23 @@ static bool flatten_axial(flat_builder *fb, const csg_object *o, double r1,
 }
 
 static bool flatten_cylinder(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                             csg_prim *p, dbox *box)
+                             int piece, csg_prim *p, dbox *box)
 {
+    (void)piece;
     return flatten_axial(fb, o, o->r0, world_to_obj, p, box);
 }
 
 static bool flatten_cone(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                         csg_prim *p, dbox *box)
+                         int piece, csg_prim *p, dbox *box)
 {
+    (void)piece;
     return flatten_axial(fb, o, o->r1, world_to_obj, p, box);
 }
 
 static bool flatten_plane(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                          csg_prim *p, dbox *box)
+                          int piece, csg_prim *p, dbox *box)
 {
+    (void)piece;
     double n = sqrt(o->a.x * o->a.x + o->a.y * o->a.y + o->a.z * o->a.z);
     if (!(n > 0))
         return degenerate(fb, o);
@@ -420,14 +438,126 @@ static bool flatten_plane(flat_builder *fb, const csg_object *o, const csg_xform
     return true;
 }
 
-/* The shape's primitive, through the function of its kind. */
+/* ---- surfaces: triangles in world space ------------------------------------ */
+
+static dvec3 xf_normal(const csg_xform *world_to_obj, dvec3 n)
+{
+    const double(*m)[4] = world_to_obj->m; /* the inverse transpose */
+    dvec3 w = {m[0][0] * n.x + m[1][0] * n.y + m[2][0] * n.z,
+               m[0][1] * n.x + m[1][1] * n.y + m[2][1] * n.z,
+               m[0][2] * n.x + m[1][2] * n.y + m[2][2] * n.z};
+    double l = sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    return l > 0 ? (dvec3){w.x / l, w.y / l, w.z / l} : w;
+}
+
+/* The triangle v[a], v[b], v[c] of o, with the normals n[a], n[b], n[c]
+ * when n is given and they are not all zero (a smooth triangle). */
+static bool triangle_prim(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          const dvec3 *v, const dvec3 *n, const int idx[3], csg_prim *p,
+                          dbox *box)
+{
+    dvec3 w[3];
+    for (int k = 0; k < 3; k++)
+        w[k] = xf_point(&o->xform, v[idx[k]]);
+    dvec3 e1 = {w[1].x - w[0].x, w[1].y - w[0].y, w[1].z - w[0].z};
+    dvec3 e2 = {w[2].x - w[0].x, w[2].y - w[0].y, w[2].z - w[0].z};
+    dvec3 ng = {e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+    if (!(ng.x * ng.x + ng.y * ng.y + ng.z * ng.z > 0) && o->kind != CSG_OBJ_POLYGON)
+        return degenerate(fb, o);
+    bool smooth = false;
+    for (int k = 0; n && k < 3; k++)
+        smooth = smooth || n[idx[k]].x != 0 || n[idx[k]].y != 0 || n[idx[k]].z != 0;
+    p->kind = smooth ? CSG_PRIM_SMOOTH_TRIANGLE : CSG_PRIM_TRIANGLE;
+    for (int i = 0; i < 3; i++) {
+        box->lo[i] = INFINITY;
+        box->hi[i] = -INFINITY;
+    }
+    for (int k = 0; k < 3; k++) {
+        store3(p->p + 3 * k, w[k]);
+        if (smooth)
+            store3(p->p + 9 + 3 * k, xf_normal(world_to_obj, n[idx[k]]));
+        double c[3] = {w[k].x, w[k].y, w[k].z};
+        for (int i = 0; i < 3; i++) {
+            box->lo[i] = fmin(box->lo[i], c[i]);
+            box->hi[i] = fmax(box->hi[i], c[i]);
+        }
+    }
+    if (o->one_sided)
+        p->flags |= CSG_PF_ONE_SIDED;
+    return true;
+}
+
+static bool flatten_triangle(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                             int piece, csg_prim *p, dbox *box)
+{
+    static const int idx[3] = {0, 1, 2};
+    (void)piece;
+    return triangle_prim(fb, o, world_to_obj, o->verts, NULL, idx, p, box);
+}
+
+static bool flatten_smooth_triangle(flat_builder *fb, const csg_object *o,
+                                    const csg_xform *world_to_obj, int piece, csg_prim *p,
+                                    dbox *box)
+{
+    static const int idx[3] = {0, 1, 2};
+    (void)piece;
+    return triangle_prim(fb, o, world_to_obj, o->verts, o->normals, idx, p, box);
+}
+
+/* The split of polygon o into split[] (kept for its next piece). */
+static bool split_polygon(flat_builder *fb, const csg_object *o)
+{
+    if (fb->split_of == o)
+        return true;
+    fb->split_of = NULL;
+    if (!grow((void **)&fb->split, &fb->split_cap, 3 * o->vert_count, sizeof(int))) {
+        fb->oom = true;
+        return false;
+    }
+    fb->split_count = csg_polygon_triangulate(o->verts, o->vert_count, fb->split);
+    if (fb->split_count <= 0) {
+        csg_error(fb->diag, o->loc, "degenerate polygon: its vertices enclose no area");
+        return false;
+    }
+    fb->split_of = o;
+    return true;
+}
+
+static bool flatten_polygon(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                            int piece, csg_prim *p, dbox *box)
+{
+    if (!split_polygon(fb, o))
+        return false;
+    return triangle_prim(fb, o, world_to_obj, o->verts, NULL, fb->split + 3 * piece, p, box);
+}
+
+static bool flatten_mesh(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                         int piece, csg_prim *p, dbox *box)
+{
+    int idx[3] = {3 * piece, 3 * piece + 1, 3 * piece + 2};
+    return triangle_prim(fb, o, world_to_obj, o->verts, o->normals, idx, p, box);
+}
+
+/* The primitives shape o becomes: several for a polygon (its triangles)
+ * or a mesh, else 1; 0 with the error when it cannot be split. */
+static int shape_pieces(flat_builder *fb, const csg_object *o)
+{
+    if (o->kind == CSG_OBJ_MESH)
+        return o->vert_count / 3;
+    if (o->kind == CSG_OBJ_POLYGON)
+        return split_polygon(fb, o) ? fb->split_count : 0;
+    return 1;
+}
+
+/* The shape's primitive (piece `piece` of it), through the function of
+ * its kind. */
 static bool flatten_shape(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
-                          csg_prim *p, dbox *box)
+                          int piece, csg_prim *p, dbox *box)
 {
     switch (o->kind) {
 #define FLATTEN_SHAPE(ID, name)                                                                    \
     case CSG_OBJ_##ID:                                                                             \
-        return flatten_##name(fb, o, world_to_obj, p, box);
+        return flatten_##name(fb, o, world_to_obj, piece, p, box);
         CSG_OBJECT_KINDS(FLATTEN_SHAPE, CSG_KIND_NONE)
     default:
         csg_error(fb->diag, o->loc, "internal error: %s is not a shape",
@@ -438,8 +568,8 @@ static bool flatten_shape(flat_builder *fb, const csg_object *o, const csg_xform
 
 /* Appends the primitive of leaf `o`; returns its index (-1 on failure)
  * and its world bounding box (before complement). */
-static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool invert, int root,
-                    dbox *box)
+static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited inh, bool invert,
+                    int root, dbox *box)
 {
     if (fb->prim_count >= CSG_MAX_PRIMS) {
         csg_error(fb->diag, o->loc, "too many primitives (limit %d)", CSG_MAX_PRIMS);
@@ -454,7 +584,7 @@ static int add_prim(flat_builder *fb, const csg_object *o, inherited inh, bool i
     csg_xform world_to_obj;
     csg_xform_identity(&world_to_obj); /* defined even when not invertible */
     bool invertible = csg_xform_invert(&o->xform, &world_to_obj);
-    if (!flatten_shape(fb, o, &world_to_obj, p, box))
+    if (!flatten_shape(fb, o, &world_to_obj, piece, p, box))
         return -1;
     if (!xform_finite(&o->xform)) {
         csg_error(fb->diag, o->loc,
@@ -489,11 +619,17 @@ static inherited inherit(inherited inh, const csg_object *o)
     return inh;
 }
 
+/* A shape that may become several primitives (a union of them). */
+static bool is_multi_piece(const csg_object *o)
+{
+    return (o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3;
+}
+
 /* Interval lists the subtree needs at once (its Ershov number). */
 static int lists_needed(const csg_object *o)
 {
     if (is_leaf(o) || o->child_count == 0)
-        return 1;
+        return is_multi_piece(o) ? 2 : 1;
     int best = 0, second = 0;
     for (int i = 0; i < o->child_count; i++) {
         int n = lists_needed(o->children[i]);
@@ -520,6 +656,26 @@ static bool emit(flat_builder *fb, int op, int prim)
     return true;
 }
 
+/* A shape's RPN: its primitive, or the union of its pieces (each one
+ * complemented and intersected when `neg`, by De Morgan). */
+static bool emit_leaf(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box)
+{
+    int pieces = shape_pieces(fb, o);
+    if (pieces <= 0)
+        return false;
+    for (int k = 0; k < pieces; k++) {
+        dbox pb;
+        int prim = add_prim(fb, o, k, inh, neg, root, &pb);
+        if (prim < 0 || !emit(fb, CSG_OP_PRIM, prim))
+            return false;
+        *box = k == 0 ? pb : neg ? box_intersect(*box, pb) : box_union(*box, pb);
+        if (k > 0 && !emit(fb, neg ? CSG_OP_INTERSECT : CSG_OP_UNION, -1))
+            return false;
+    }
+    return true;
+}
+
 /* Emits the RPN of `o` (complemented when `neg`); returns false on error
  * and sets *box to the subtree's world bounding box. */
 static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
@@ -527,10 +683,8 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
 {
     inh = inherit(inh, o);
     neg = neg != o->inverse;
-    if (is_leaf(o)) {
-        int prim = add_prim(fb, o, inh, neg, root, box);
-        return prim >= 0 && emit(fb, CSG_OP_PRIM, prim);
-    }
+    if (is_leaf(o))
+        return emit_leaf(fb, o, inh, neg, root, box);
     if (o->child_count == 0) {
         csg_error(fb->diag, o->loc, "a CSG object needs at least one operand");
         return false;
@@ -614,8 +768,40 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     return true;
 }
 
+/* A top-level polygon or mesh: one root a piece, like a union's children. */
+static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
+{
+    int pieces = shape_pieces(fb, o);
+    if (pieces <= 0)
+        return false;
+    inh = inherit(inh, o);
+    for (int k = 0; k < pieces; k++) {
+        if (!grow((void **)&fb->roots, &fb->root_cap, fb->root_count + 1, sizeof(csg_root)) ||
+            !grow((void **)&fb->root_boxes, &fb->root_box_cap, fb->root_count + 1,
+                  sizeof(dbox))) {
+            fb->oom = true;
+            return false;
+        }
+        int root = fb->root_count, first = fb->node_count;
+        dbox box;
+        int prim = add_prim(fb, o, k, inh, false, root, &box);
+        if (prim < 0 || !emit(fb, CSG_OP_PRIM, prim))
+            return false;
+        csg_root *r = &fb->roots[fb->root_count++];
+        memset(r, 0, sizeof *r);
+        r->first_node = first;
+        r->node_count = 1;
+        r->stack_depth = 1;
+        box_store(box, r->lo, r->hi);
+        fb->root_boxes[root] = box;
+    }
+    return true;
+}
+
 static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
 {
+    if (is_multi_piece(o) && !o->inverse)
+        return add_pieces(fb, o, inh);
     if (o->kind == CSG_OBJ_UNION && !o->inverse) {
         inh = inherit(inh, o);
         for (int i = 0; i < o->child_count; i++)
@@ -824,6 +1010,7 @@ static void write_scene_values(const csg_scene *s, const csg_flatten_opts *o,
     store3(c->direction, cam.direction);
     store3(c->right, cam.right);
     store3(c->up, cam.up);
+    c->hither = (real)s->hither;
 }
 
 static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)
@@ -876,6 +1063,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.mats);
     free(fb.mat_keys);
     free(fb.mat_slots);
+    free(fb.split);
     if (!ok)
         csg_blob_free(out);
     return ok;

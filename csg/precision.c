@@ -14,7 +14,8 @@
  * For every primitive (leaves of every CSG tree, subtracted ones too):
  *   - its world bounding sphere (centre c, radius R), its smallest feature
  *     size F (sphere radius, shortest box edge, min(cone radius, height),
- *     scaled by the transform's smallest column norm); planes have no F;
+ *     shortest edge of a triangle, polygon or mesh, scaled by the
+ *     transform's smallest column norm); planes have no F;
  *   - its distance D from the camera: to the surface for a sphere or a
  *     plane, else to the bounding sphere (from inside: to the nearest
  *     face of the local box, times the smallest scale), a lower bound;
@@ -132,6 +133,28 @@ static prec_extent feature_plane(const csg_object *o)
     prec_extent x = {false, {0, 0, 0}, {0, 0, 0}, HUGE_VAL};
     return x;
 }
+
+/* Triangles, polygons, meshes: the box of the vertices; the feature is
+ * the shortest edge (of every triangle of a mesh, of the outline of a
+ * polygon). */
+static prec_extent feature_points(const csg_object *o, bool triangles)
+{
+    prec_extent x = {true, {HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL},
+                     HUGE_VAL};
+    for (int i = 0; i < o->vert_count; i++) {
+        dvec3 v = o->verts[i];
+        x.lo = (dvec3){fmin(x.lo.x, v.x), fmin(x.lo.y, v.y), fmin(x.lo.z, v.z)};
+        x.hi = (dvec3){fmax(x.hi.x, v.x), fmax(x.hi.y, v.y), fmax(x.hi.z, v.z)};
+        int next = triangles ? (i % 3 == 2 ? i - 2 : i + 1) : (i + 1) % o->vert_count;
+        x.feature = fmin(x.feature, len3(sub3(o->verts[next], v)));
+    }
+    return x;
+}
+
+static prec_extent feature_triangle(const csg_object *o) { return feature_points(o, true); }
+static prec_extent feature_smooth_triangle(const csg_object *o) { return feature_points(o, true); }
+static prec_extent feature_polygon(const csg_object *o) { return feature_points(o, false); }
+static prec_extent feature_mesh(const csg_object *o) { return feature_points(o, true); }
 
 /* A plane: its point nearest the local origin, the camera's distance. */
 static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, double *mag,

@@ -44,6 +44,10 @@ typedef struct {
     LEAF(CYLINDER, cylinder)                \
     LEAF(CONE, cone)                        \
     LEAF(PLANE, plane)                      \
+    LEAF(TRIANGLE, triangle)                \
+    LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
+    LEAF(POLYGON, polygon)                  \
+    LEAF(MESH, mesh)                        \
     CSG(UNION, union)                       \
     CSG(INTERSECTION, intersection)         \
     CSG(DIFFERENCE, difference) /* first child minus every other child */ \
@@ -97,6 +101,17 @@ struct csg_object {
      *   plane:    normal a, distance r0                                  */
     dvec3 a, b;
     double r0, r1;
+    /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]
+     *   polygon:  verts[0 .. vert_count)  (planar, simple, maybe concave)
+     *   mesh:     triangle k is verts[3k .. 3k+2], vert_count = 3 * count;
+     *             normals NULL, or 3 a triangle (all zero: a flat one)
+     * Triangles, polygons and meshes are surfaces, not solids (flat.h says
+     * what CSG makes of them); a mesh or polygon may become several
+     * primitives.                                                       */
+    dvec3 *verts;
+    dvec3 *normals;
+    int vert_count;
+    bool one_sided;       /* surfaces: the back is invisible to looking rays */
     bool open;            /* cylinder / cone: no caps                        */
     bool inverse;         /* `inverse`: the complement of the solid          */
     bool no_shadow;
@@ -135,6 +150,9 @@ typedef struct csg_arena csg_arena;
 typedef struct {
     csg_camera_src camera;
     bool has_camera;
+    int width, height;      /* the image size the scene asks for; 0: none */
+    double hither;          /* primary rays start this far along the view
+                               direction (a near plane); 0: none          */
     double background[5];   /* rgbft; black when not given            */
     csg_globals globals;
     csg_light *lights;

@@ -149,8 +149,8 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     memset(a, 0, sizeof *a);
     a->req.mode = MODE_SERIAL;
     a->req.precision = PREC_FLOAT;
-    a->req.width = 320;
-    a->req.height = 240;
+    a->req.width = 0; /* not given: the scene's size, else 320 x 240 (csg/load.h) */
+    a->req.height = 0;
     a->req.tile = RENDER_DEFAULT_TILE;
     a->req.spp = 1;
     a->req.progress = PROGRESS_TTY;

@@ -9,7 +9,7 @@
 #include "../csg/export_pov.h"
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
-#include "../csg/lang/parser.h"
+#include "../csg/load.h"
 #include "../csg/precision.h"
 #include "../csg/summary.h"
 #include "cli.h"
@@ -30,9 +30,11 @@ static int run_check(const cli_args *a)
 {
     csg_diag d = {0};
     csg_scene s;
-    if (!csg_parse_file(a->req.scene_path, &s, &d))
+    int width, height;
+    if (!csg_load_file(a->req.scene_path, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
-    csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1, 1};
+    csg_image_size(&s, a->req.width, a->req.height, &width, &height);
+    csg_flatten_opts fo = {width, height, 0, -1, 1};
     csg_blob blob;
     if (!csg_flatten_double(&s, &fo, &blob, &d)) {
         csg_scene_free(&s);
@@ -40,8 +42,8 @@ static int run_check(const cli_args *a)
     }
     csg_print_summary(&s, stdout);
     char why[256];
-    csg_needs_double(&s, a->req.width, a->req.height, why, sizeof why);
-    printf("--precision auto at %dx%d: %s\n", a->req.width, a->req.height, why);
+    csg_needs_double(&s, width, height, why, sizeof why);
+    printf("--precision auto at %dx%d: %s\n", width, height, why);
     const csg_blob_header *h = csg_blob_hdr(blob.bytes);
     printf("flat scene: %d primitives in %d roots, %d CSG nodes, %d materials; "
            "deepest program needs %d interval lists (limit %d)\n",
@@ -58,7 +60,7 @@ static int run_export(const cli_args *a)
 {
     csg_diag d = {0};
     csg_scene s;
-    if (!csg_parse_file(a->req.scene_path, &s, &d))
+    if (!csg_load_file(a->req.scene_path, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     int status = EXIT_OK;
     FILE *out = fopen(a->out_path, "w");

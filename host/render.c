@@ -29,7 +29,7 @@
 #include <string.h>
 
 #include "../csg/flatten.h"
-#include "../csg/lang/parser.h"
+#include "../csg/load.h"
 #include "../csg/precision.h"
 #include "../workers/tile.h"
 #include "../workers/worker.h"
@@ -73,7 +73,7 @@ static const engine *render_engine(const render_request *req, const csg_scene *s
                                    render_stats *st)
 {
     if (req->precision == PREC_AUTO) {
-        bool need = csg_needs_double(s, req->width, req->height, st->precision_why,
+        bool need = csg_needs_double(s, st->width, st->height, st->precision_why,
                                      sizeof st->precision_why);
         return need ? &engine_double : &engine_float;
     }
@@ -83,12 +83,18 @@ static const engine *render_engine(const render_request *req, const csg_scene *s
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
 static int render_load(const render_request *req, csg_blob *blob, render_stats *st, csg_diag *d)
 {
-    csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold, req->spp };
+    csg_flatten_opts o = { 0, 0, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
     csg_scene_init(&s);
-    if (!csg_parse_file(req->scene_path, &s, d) ||
-        !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
+    bool ok = csg_load_file(req->scene_path, &s, d);
+    if (ok) { /* the size asked for, else the scene's (NFF's resolution) */
+        csg_image_size(&s, req->width, req->height, &st->width, &st->height);
+        st->pixels = (uint64_t)st->width * (uint64_t)st->height;
+        o.width = st->width;
+        o.height = st->height;
+    }
+    if (!ok || !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
         if (!d->failed)
             csg_error_plain(d, "%s: cannot load the scene", req->scene_path);
         status = EXIT_BAD_INPUT;

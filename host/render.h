@@ -25,7 +25,7 @@ typedef struct {
     const char *cl_device;    /* NULL: $CSGTRACE_CL_DEVICE or first  */
     enum render_mode mode;
     enum render_precision precision;
-    int width, height;        /* default 320 x 240                   */
+    int width, height;        /* 0: the scene's (NFF), else 320 x 240 */
     int tile;                 /* <= 0: RENDER_DEFAULT_TILE           */
     int spp;                  /* primary samples a pixel, default 1  */
     int depth;                /* <= 0: the scene's max_trace_level   */

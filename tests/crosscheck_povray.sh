@@ -16,9 +16,10 @@
 # Both renderers sample pixel (x, y) at the pixel centre,
 # x0 = (x + 0.5)/W - 0.5, y0 = 0.5 - (y + 0.5)/H (checked against POV-Ray).
 # The image is 160 pixels wide; its height follows the "Framed for WxH" line
-# of the scene's header comment (4:3 when there is none).
+# of the scene's header comment (4:3 when there is none), or for an NFF
+# scene (.nff: exported as POV-Ray SDL first, step 1) its `resolution`.
 #
-# Usage: tests/crosscheck_povray.sh [--keep DIR] [SCENE.pov ...]
+# Usage: tests/crosscheck_povray.sh [--keep DIR] [SCENE.pov|SCENE.nff ...]
 # Environment: CSGTRACE (build/csgtrace), POVRAY (povray), WIDTH (160),
 #   MIN_AGREEMENT (99.5), PRECISION (float|double, default: csgtrace's).
 # Exit status: 0 every scene passed, 1 some failed, 77 POV-Ray or oiiotool
@@ -68,7 +69,11 @@ fi
 # The height for WIDTH from the scene's "Framed for WxH" comment (4:3 default).
 scene_height() {
     local fw fh
-    read -r fw fh < <(sed -n 's/.*[Ff]ramed for \([0-9][0-9]*\)x\([0-9][0-9]*\).*/\1 \2/p' "$1" | head -n 1)
+    if [ "${1##*.}" = nff ]; then
+        read -r fw fh < <(sed -n 's/^resolution  *\([0-9][0-9]*\)  *\([0-9][0-9]*\).*/\1 \2/p' "$1" | head -n 1)
+    else
+        read -r fw fh < <(sed -n 's/.*[Ff]ramed for \([0-9][0-9]*\)x\([0-9][0-9]*\).*/\1 \2/p' "$1" | head -n 1)
+    fi
     if [ -z "${fw:-}" ] || [ -z "${fh:-}" ] || [ "$fw" -eq 0 ]; then
         fw=4; fh=3
     fi
@@ -90,7 +95,8 @@ show_log() {
 passed=0
 failed=0
 for scene in "${scenes[@]}"; do
-    name=$(basename "$scene" .pov)
+    name=$(basename "$scene")
+    name=${name%.*}
     dir=$work/$name
     mkdir -p "$dir"
     height=$(scene_height "$scene")

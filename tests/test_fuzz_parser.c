@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "../csg/lang/parser.h"
+#include "fuzz_rng.h"
 
 #define FUZZ_RUNS 20000
 #define FUZZ_SEED 0x5eed2024cafef00dull
@@ -67,20 +68,6 @@ static const char *const corpus[] = {
 
 #define CORPUS_SIZE ((int)(sizeof corpus / sizeof corpus[0]))
 
-static uint64_t rng_next(uint64_t *s)
-{
-    uint64_t x = *s;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    *s = x;
-    return x * 2685821657736338717ull;
-}
-
-static size_t rng_below(uint64_t *s, size_t n)
-{
-    return n ? (size_t)(rng_next(s) % n) : 0;
-}
 
 typedef struct {
     char *data;

@@ -67,31 +67,39 @@ static shade_ctx ctx_of(const void *blob)
 
 /* ---- shadows ------------------------------------------------------------------ */
 
+/* Multiplies *pass by what surface s at ts lets through on the way to the
+ * light `dist` away; false once nothing passes. */
+static bool surface_transmittance(const shade_ctx *c, csg_u32 s, real ts, real dist, vec3 *pass)
+{
+    if (s == CSG_SURF_NONE || !(ts > R(0.0)) || !(ts < dist))
+        return true;
+    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(s)];
+    if (prim->flags & CSG_PF_NO_SHADOW)
+        return true;
+    const csg_material *m = &c->mats[prim->material];
+    if (m->filter <= R(0.0) && m->transmit <= R(0.0))
+        return false;
+    vec3 pig = v3_load(m->color);
+    *pass = v3_mul(*pass, v3_add(v3_scale(pig, m->filter), v3(m->transmit, m->transmit, m->transmit)));
+    return true;
+}
+
 /* Multiplies *pass by what root i lets through between the shading point
- * and the light; false once nothing passes. */
+ * and the light: every interval end and every surface event (the hidden
+ * back of a one-sided surface too); false once nothing passes. */
 static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real dist, vec3 *pass)
 {
     csg_spans spans;
     if (!csg_box_overlaps(&c->view.roots[i], r, R(0.0), dist))
         return true;
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
-    for (csg_i32 k = 0; k < spans.n; k++) {
-        csg_u32 ends[2] = {spans.s0[k], spans.s1[k]};
-        real ts[2] = {spans.t0[k], spans.t1[k]};
-        for (int e = 0; e < 2; e++) {
-            if (ends[e] == CSG_SURF_NONE || !(ts[e] > R(0.0)) || !(ts[e] < dist))
-                continue;
-            const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(ends[e])];
-            if (prim->flags & CSG_PF_NO_SHADOW)
-                continue;
-            const csg_material *m = &c->mats[prim->material];
-            if (m->filter <= R(0.0) && m->transmit <= R(0.0))
-                return false;
-            vec3 pig = v3_load(m->color);
-            *pass = v3_mul(*pass, v3_add(v3_scale(pig, m->filter),
-                                         v3(m->transmit, m->transmit, m->transmit)));
-        }
-    }
+    for (csg_i32 k = 0; k < spans.n; k++)
+        if (!surface_transmittance(c, spans.s0[k], spans.t0[k], dist, pass) ||
+            !surface_transmittance(c, spans.s1[k], spans.t1[k], dist, pass))
+            return false;
+    for (csg_i32 k = 0; k < spans.ne; k++)
+        if (!surface_transmittance(c, spans.se[k], spans.te[k], dist, pass))
+            return false;
     return true;
 }
 
@@ -151,8 +159,15 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     const csg_material *m = &c->mats[prim->material];
     vec3 p = v3_add(r.o, v3_scale(r.d, h.t));
     vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
-    int entering = v3_dot(n, r.d) < R(0.0);
+    /* the side of the geometry decides (a smooth triangle's shading
+     * normal may lean past the ray at a silhouette); the shading normal
+     * is turned to that side */
+    vec3 ng = csg_surface_geometric_normal(c->view.prims, h.surf, p, n);
+    int entering = v3_dot(ng, r.d) < R(0.0);
     vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
+    vec3 ngf = entering ? ng : v3_neg(ng);
+    if (v3_dot(nf, ngf) < R(0.0))
+        nf = ngf;
     vec3 pig = v3_load(m->color);
     real opacity = r_fmax(R(0.0), R(1.0) - m->filter - m->transmit);
 
@@ -160,7 +175,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
     const csg_root *root = &c->view.roots[prim->root];
     real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
-    vec3 above = offset_point(p, nf, mag);
+    vec3 above = offset_point(p, ngf, mag);
     vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
         const csg_flat_light *lt = &c->lights[i];
@@ -210,7 +225,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             if (tw >= c->bailout) {
                 csg_ray t;
                 t.d = v3_normalize(v3_add(v3_scale(r.d, eta), v3_scale(nf, eta * cosi - r_sqrt(k))));
-                t.o = offset_point(p, v3_neg(nf), mag);
+                t.o = offset_point(p, v3_neg(ngf), mag);
                 rays->refracted++;
                 color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, rays)));
             }

@@ -6,7 +6,8 @@
  * y0 = 0.5 - (y + 0.5) / H (pixel centres, y down the image), the ray leaves
  * `location` along normalize(direction + x0 * right + y0 * up).  The
  * camera vectors already hold POV-Ray's look_at / angle / sky handling,
- * done once on the host in double (csg/camera_setup.c).
+ * done once on the host in double (csg/camera_setup.c).  A camera with a
+ * near plane (hither > 0) starts each ray on that plane instead.
  */
 #ifndef CSG_CAMERA_H
 #define CSG_CAMERA_H
@@ -67,6 +68,10 @@ CSG_FN csg_ray csg_camera_ray(CSG_GLOBAL const csg_camera *cam, csg_i32 width, c
     csg_ray r;
     r.o = v3_load(cam->location);
     r.d = v3_normalize(d);
+    if (cam->hither > R(0.0)) {
+        vec3 view = v3_load(cam->direction);
+        r.o = v3_madd(r.o, r.d, cam->hither * v3_length(view) / v3_dot(r.d, view));
+    }
     return r;
 }
 

@@ -32,6 +32,14 @@
  *   cone    local frame: axis +z from z=0 to z=p[2]; p[0] radius at z=0,
  *           p[1] radius at z=p[2]; a cylinder is a cone with p[0] == p[1]
  *   plane   p[0..2] unit normal, p[3] distance: inside is dot(n, x) < d
+ *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
+ *                    world space (never CSG_PF_XFORM); its front is the
+ *                    side (v1 - v0) x (v2 - v0) points to
+ *   smooth_triangle  the same, and p[9..11], p[12..14], p[15..17] the
+ *                    vertex normals n0, n1, n2, interpolated at the hit
+ * p[] is a payload of CSG_PRIM_REALS reals; a kind under a transform
+ * (CSG_PF_XFORM) keeps its world -> local matrix in the last 12, named
+ * inv[] (so such a kind has p[0..7] for itself).
  *
  * The one assumption every stage shares lives in csg_<name>_span: a
  * primitive is a convex solid, so the line of a ray meets it in AT MOST
@@ -43,22 +51,38 @@
  *     pieces joined by union in the flattener, so each leaf still gives
  *     one interval;
  *   - not a solid (a triangle, a polygon, an open mesh: surfaces with no
- *     inside): it has no interval at all.  It may stand only where an
- *     inside is not needed — a root of its own or a union — and must
- *     report its hit as a zero-length event the lists carry through (not
- *     as an interval, which csg_spans_push drops when t0 == t1); inside
- *     intersection or difference its meaning follows POV-Ray's (a surface
- *     has no inside), and the flattener must state and test it. */
-#define CSG_PRIM_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
+ *     inside): it has no interval at all.  Those are CSG_SURFACE_KINDS:
+ *     their csg_<name>_span reports a crossing of the surface as t0 == t1
+ *     (s0 == s1 its side), which the interval lists carry as a zero-length
+ *     EVENT beside their intervals (intersect.h), never as an interval.
+ *     CSG follows POV-Ray's meaning, a surface having no inside: its
+ *     solid set is empty (the complement: the whole line), and an event
+ *     survives a union where it is not strictly inside the other operand
+ *     (like merge: the renderer evaluates nested unions as solids) and an
+ *     intersection where it is inside the other operand's closed set.  So
+ *     intersection { triangle sphere } is the part of the triangle inside
+ *     the sphere, difference { triangle sphere } the part outside, and
+ *     difference { sphere triangle } the whole sphere (tests/test_csg.c). */
+#define CSG_SOLID_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
+#define CSG_SURFACE_KINDS(X) X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle)
+#define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
 
 #define CSG_PRIM_ENUM(ID, name) CSG_PRIM_##ID,
 enum csg_prim_kind { CSG_PRIM_KINDS(CSG_PRIM_ENUM) CSG_PRIM_KIND_COUNT };
+
+/* Surface kinds come after every solid kind. */
+#define CSG_PRIM_COUNT_ONE(ID, name) +1
+#define CSG_PRIM_FIRST_SURFACE (0 CSG_SOLID_KINDS(CSG_PRIM_COUNT_ONE))
+#define CSG_PRIM_IS_SURFACE(kind) ((kind) >= CSG_PRIM_FIRST_SURFACE)
 
 enum csg_prim_flags {
     CSG_PF_XFORM = 1,     /* inv[] maps world to local coordinates           */
     CSG_PF_OPEN = 2,      /* cone/cylinder without caps: caps are invisible  */
     CSG_PF_INVERT = 4,    /* the leaf is complemented (inverse, difference)  */
-    CSG_PF_NO_SHADOW = 8  /* casts no shadow                                 */
+    CSG_PF_NO_SHADOW = 8, /* casts no shadow                                 */
+    CSG_PF_ONE_SIDED = 16 /* surface kinds: the back is invisible to the rays
+                             that look (primary, reflected, refracted); it
+                             still casts shadows (CSG_SURF_HIDDEN)          */
 };
 
 /* Surface sub-indices, per kind. */
@@ -68,16 +92,27 @@ enum csg_surface {
     CSG_SURF_CONE_SIDE = 0,
     CSG_SURF_CONE_BASE = 1, /* the z = 0 cap                                 */
     CSG_SURF_CONE_TOP = 2,  /* the z = h cap                                 */
-    CSG_SURF_PLANE = 0
+    CSG_SURF_PLANE = 0,
+    CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
+    CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
+    CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that
+                               no looking ray sees (a one-sided back)        */
 };
+
+#define CSG_PRIM_REALS 20 /* the payload of a primitive */
 
 typedef struct {
     csg_i32 kind;     /* enum csg_prim_kind                               */
     csg_i32 flags;    /* enum csg_prim_flags                              */
     csg_i32 material; /* index into the material table (host side only)   */
     csg_i32 root;     /* the root (top-level object) this primitive is in */
-    real p[8];        /* shape parameters, see enum csg_prim_kind         */
-    real inv[12];     /* world -> local, row-major 3x4: l = M[:, 0:3] w + M[:, 3] */
+    union {           /* the payload, read per kind (CSG_PRIM_KINDS above) */
+        real p[CSG_PRIM_REALS];
+        struct {
+            real p_own[8]; /* p[0..7]: a transformed kind's own parameters */
+            real inv[12];  /* world -> local, row-major 3x4: l = M[:, 0:3] w + M[:, 3] */
+        };
+    };
 } csg_prim;
 
 enum csg_op { CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2 };
@@ -117,6 +152,8 @@ typedef struct {
     real direction[3];
     real right[3];
     real up[3];
+    real hither;  /* > 0: rays start on the near plane this far along the
+                     view direction (NFF's hither); 0: at location        */
 } csg_camera;
 
 /* The scene-wide shading values (global_settings, background): C workers
@@ -164,6 +201,7 @@ typedef struct {
 
 /* Limits of the CSG evaluator; the flattener rejects scenes beyond them. */
 #define CSG_MAX_SPANS 16 /* intervals in one list along one ray   */
+#define CSG_MAX_EVENTS 8 /* surface crossings in one list         */
 #define CSG_STACK_MAX 8  /* interval lists alive at once          */
 
 /* ---- the blob ----------------------------------------------------------------
@@ -222,6 +260,6 @@ typedef struct {
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
         F(csg_bvh_node, hi)                                                                \
     S(csg_camera) F(csg_camera, location) F(csg_camera, direction)                         \
-        F(csg_camera, right) F(csg_camera, up)
+        F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither)
 
 #endif

@@ -22,6 +22,26 @@
  * intervals and records in `limit` where knowledge ends; hits beyond the
  * limit are not reported (the flattener warns when a scene can reach it).
  *
+ * Surfaces (flat.h: CSG_SURFACE_KINDS, triangles) have no interval: a
+ * crossing is a zero-length EVENT, kept in each list beside its intervals
+ * (te/se, sorted, at most CSG_MAX_EVENTS).  A union keeps an operand's
+ * event unless it lies strictly inside the other operand's intervals; an
+ * intersection keeps it when it lies inside the other's closed intervals;
+ * a complement keeps events as they are (flat.h states the meaning).  The
+ * first boundary is then the nearer of the first visible interval end and
+ * the first visible event (CSG_SURF_HIDDEN events block light only).
+ *
+ * Triangles: the watertight test of Woop, Benthin and Wald (JCGT 2(1),
+ * 2013): vertices relative to the ray origin are sheared so the ray runs
+ * along +z, and the three 2D edge functions decide the hit.  The edge
+ * function of an edge depends only on its two vertices and the ray, and
+ * the same vertices have the same bits in every triangle that shares
+ * them, so a ray through a shared edge sees its two sides with opposite
+ * signs of exactly one value: it meets one triangle or both, never
+ * neither.  Boundary values (0) count as inside.  The paper's double
+ * precision fallback for edge functions that round to 0 is left out: it
+ * resolves which triangle an exact edge hit belongs to, not cracks.
+ *
  * Nothing here recurses or uses function pointers (OpenCL forbids both).
  */
 #ifndef CSG_INTERSECT_H
@@ -37,11 +57,14 @@ typedef struct {
 
 typedef struct {
     csg_i32 n;                  /* intervals in use                      */
+    csg_i32 ne;                 /* surface events in use                 */
     real limit;                 /* nothing is known at or beyond this t  */
     real t0[CSG_MAX_SPANS];     /* entry parameter                       */
     real t1[CSG_MAX_SPANS];     /* exit parameter                        */
     csg_u32 s0[CSG_MAX_SPANS];  /* surface at entry (CSG_SURF_NONE: none) */
     csg_u32 s1[CSG_MAX_SPANS];  /* surface at exit                       */
+    real te[CSG_MAX_EVENTS];    /* surface crossings (zero-length), sorted */
+    csg_u32 se[CSG_MAX_EVENTS]; /* their surfaces (never CSG_SURF_NONE)  */
 } csg_spans;
 
 /* Pointers to the arrays of a flat scene, in either address space.  The
@@ -302,6 +325,59 @@ CSG_FN int csg_plane_span(CSG_GLOBAL const real *p, csg_ray r,
     return 1;
 }
 
+/* A triangle (flat.h) crossed by the ray line: t0 == t1 = the crossing,
+ * s0 == s1 = the side met (CSG_SURF_TRI_FRONT or _BACK).  Watertight
+ * (Woop, Benthin and Wald; see the top of this file). */
+CSG_FN int csg_triangle_span(CSG_GLOBAL const real *p, csg_ray r,
+                             real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    real d[3], a[3], b[3], c[3];
+    d[0] = r.d.x; d[1] = r.d.y; d[2] = r.d.z;
+    a[0] = p[0] - r.o.x; a[1] = p[1] - r.o.y; a[2] = p[2] - r.o.z;
+    b[0] = p[3] - r.o.x; b[1] = p[4] - r.o.y; b[2] = p[5] - r.o.z;
+    c[0] = p[6] - r.o.x; c[1] = p[7] - r.o.y; c[2] = p[8] - r.o.z;
+    /* kz: the dominant axis of d; kx, ky keep the winding (swap if d < 0) */
+    int kz = r_fabs(d[0]) > r_fabs(d[1]) ? (r_fabs(d[0]) > r_fabs(d[2]) ? 0 : 2)
+                                         : (r_fabs(d[1]) > r_fabs(d[2]) ? 1 : 2);
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (d[kz] < R(0.0)) {
+        int k = kx;
+        kx = ky;
+        ky = k;
+    }
+    if (d[kz] == R(0.0))
+        return 0;
+    real sx = d[kx] / d[kz], sy = d[ky] / d[kz], sz = R(1.0) / d[kz];
+    real ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
+    real bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
+    real cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+    real u = cx * by - cy * bx;
+    real v = ax * cy - ay * cx;
+    real w = bx * ay - by * ax;
+    if ((u < R(0.0) || v < R(0.0) || w < R(0.0)) && (u > R(0.0) || v > R(0.0) || w > R(0.0)))
+        return 0;
+    real det = u + v + w;
+    if (det == R(0.0))
+        return 0;
+    real tt = u * (sz * a[kz]) + v * (sz * b[kz]) + w * (sz * c[kz]);
+    real t = tt / det;
+    if (!(t == t))
+        return 0;
+    *t0 = t;
+    *t1 = t;
+    /* det > 0: the ray meets the side (v1 - v0) x (v2 - v0) points to */
+    *s0 = det > R(0.0) ? CSG_SURF_TRI_FRONT : CSG_SURF_TRI_BACK;
+    *s1 = *s0;
+    return 1;
+}
+
+CSG_FN int csg_smooth_triangle_span(CSG_GLOBAL const real *p, csg_ray r,
+                                    real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
+{
+    return csg_triangle_span(p, r, t0, t1, s0, s1);
+}
+
 /* The interval of any primitive, dispatched by kind (flat.h's table); an
  * unknown kind has none (the blob validator lets none through). */
 CSG_FN int csg_prim_span(CSG_GLOBAL const csg_prim *p, csg_ray world,
@@ -324,7 +400,70 @@ CSG_FN int csg_prim_span(CSG_GLOBAL const csg_prim *p, csg_ray world,
 CSG_FN void csg_spans_clear(csg_spans *l, real limit)
 {
     l->n = 0;
+    l->ne = 0;
     l->limit = limit;
+}
+
+/* Nothing is known from t on: the limit moves in to t, intervals are cut
+ * there and later events dropped (a list that is full). */
+CSG_FN void csg_spans_truncate(csg_spans *l, real t)
+{
+    if (!(t < l->limit))
+        return;
+    l->limit = t;
+    while (l->n > 0 && !(l->t0[l->n - 1] < t))
+        l->n--;
+    if (l->n > 0 && l->t1[l->n - 1] > t) {
+        l->t1[l->n - 1] = t;
+        l->s1[l->n - 1] = CSG_SURF_NONE;
+    }
+    while (l->ne > 0 && !(l->te[l->ne - 1] < t))
+        l->ne--;
+}
+
+/* Append the event (t, s), t at or after the last one; beyond the limit
+ * it is dropped, and a full list moves the limit in to t. */
+CSG_FN void csg_events_push(csg_spans *l, real t, csg_u32 s)
+{
+    if (t > l->limit)
+        return;
+    if (l->ne == CSG_MAX_EVENTS) {
+        csg_spans_truncate(l, t);
+        return;
+    }
+    l->te[l->ne] = t;
+    l->se[l->ne] = s;
+    l->ne++;
+}
+
+/* Is t strictly inside (open) or inside (closed) one of l's intervals? */
+CSG_FN int csg_spans_contain(const csg_spans *l, real t, int closed)
+{
+    for (csg_i32 k = 0; k < l->n; k++) {
+        if (closed ? (l->t0[k] <= t && t <= l->t1[k]) : (l->t0[k] < t && t < l->t1[k]))
+            return 1;
+    }
+    return 0;
+}
+
+/* The events of a and b into out, in order: for a union (inside == 0) those
+ * not strictly inside the other operand, for an intersection (inside == 1)
+ * those inside its closed intervals. */
+CSG_FN void csg_events_combine(const csg_spans *a, const csg_spans *b, int inside, csg_spans *out)
+{
+    csg_i32 i = 0, j = 0;
+    while (i < a->ne || j < b->ne) {
+        int take_a = j >= b->ne || (i < a->ne && a->te[i] <= b->te[j]);
+        real t = take_a ? a->te[i] : b->te[j];
+        csg_u32 s = take_a ? a->se[i] : b->se[j];
+        int in = csg_spans_contain(take_a ? b : a, t, inside);
+        if (take_a)
+            i++;
+        else
+            j++;
+        if (in == inside)
+            csg_events_push(out, t, s);
+    }
 }
 
 /* Append [t0, t1] (already sorted after the last one); empty intervals are
@@ -361,7 +500,29 @@ CSG_FN csg_u32 csg_surf_of(csg_i32 prim, csg_i32 sub, csg_u32 flip, csg_i32 flag
         return CSG_SURF_NONE;
     if ((flags & CSG_PF_OPEN) && sub != CSG_SURF_CONE_SIDE)
         return CSG_SURF_NONE;
+    if ((flags & CSG_PF_ONE_SIDED) && sub == CSG_SURF_TRI_BACK)
+        sub = CSG_SURF_HIDDEN;
     return CSG_SURF_PACK(prim, sub, flip);
+}
+
+/* Can a ray that looks see surface s?  (Shadow rays see hidden ones.) */
+CSG_FN int csg_surf_visible(csg_u32 s)
+{
+    return s != CSG_SURF_NONE && CSG_SURF_SUB(s) != CSG_SURF_HIDDEN;
+}
+
+/* A surface primitive's list on [tmin, tmax]: its crossing as an event
+ * when strictly after tmin, and the whole range when complemented. */
+CSG_FN void csg_surface_leaf_spans(CSG_GLOBAL const csg_prim *p, csg_i32 i, csg_ray r,
+                                   real tmin, real tmax, csg_spans *out)
+{
+    real t0, t1;
+    csg_i32 s0, s1;
+    int hit = csg_prim_span(p, r, &t0, &t1, &s0, &s1);
+    if (p->flags & CSG_PF_INVERT)
+        csg_spans_push(out, tmin, CSG_SURF_NONE, tmax, CSG_SURF_NONE);
+    if (hit && t0 > tmin && t0 <= tmax)
+        csg_events_push(out, t0, csg_surf_of(i, s0, 0u, p->flags));
 }
 
 /* The interval list of one primitive on [tmin, tmax]. */
@@ -372,6 +533,10 @@ CSG_FN void csg_leaf_spans(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray 
     real t0, t1;
     csg_i32 s0, s1;
     csg_spans_clear(out, tmax);
+    if (CSG_PRIM_IS_SURFACE(p->kind)) {
+        csg_surface_leaf_spans(p, i, r, tmin, tmax, out);
+        return;
+    }
     int hit = csg_prim_span(p, r, &t0, &t1, &s0, &s1);
     if (!(p->flags & CSG_PF_INVERT)) {
         if (!hit)
@@ -406,6 +571,8 @@ CSG_FN void csg_spans_union(const csg_spans *a, const csg_spans *b, csg_spans *o
             j++;
         }
     }
+    if (a->ne > 0 || b->ne > 0)
+        csg_events_combine(a, b, 0, out);
 }
 
 /* out = a ∩ b (out may not alias a or b). */
@@ -432,6 +599,8 @@ CSG_FN void csg_spans_intersect(const csg_spans *a, const csg_spans *b, csg_span
         else
             j++;
     }
+    if (a->ne > 0 || b->ne > 0)
+        csg_events_combine(a, b, 1, out);
 }
 
 CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
@@ -443,6 +612,11 @@ CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
         dst->t1[k] = src->t1[k];
         dst->s0[k] = src->s0[k];
         dst->s1[k] = src->s1[k];
+    }
+    dst->ne = src->ne;
+    for (csg_i32 k = 0; k < src->ne; k++) {
+        dst->te[k] = src->te[k];
+        dst->se[k] = src->se[k];
     }
 }
 
@@ -512,7 +686,8 @@ CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real 
         csg_spans_clear(out, tmax);
 }
 
-/* The first visible boundary strictly after tmin. */
+/* The first visible boundary strictly after tmin: an interval's end or
+ * an event, the nearer (as near: the lower surface id). */
 CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
 {
     csg_hit h;
@@ -522,13 +697,23 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
         if (l->s0[k] != CSG_SURF_NONE && l->t0[k] > tmin) {
             h.t = l->t0[k];
             h.surf = l->s0[k];
-            return h;
+            break;
         }
         if (l->s1[k] != CSG_SURF_NONE && l->t1[k] > tmin) {
             h.t = l->t1[k];
             h.surf = l->s1[k];
-            return h;
+            break;
         }
+    }
+    for (csg_i32 k = 0; k < l->ne; k++) {
+        if (!csg_surf_visible(l->se[k]) || !(l->te[k] > tmin))
+            continue;
+        if (l->te[k] < h.t || (l->te[k] == h.t && l->se[k] < h.surf) ||
+            h.surf == CSG_SURF_NONE) {
+            h.t = l->te[k];
+            h.surf = l->se[k];
+        }
+        break;
     }
     return h;
 }
@@ -547,6 +732,14 @@ CSG_FN csg_hit csg_leaf_first_hit(CSG_GLOBAL const csg_prim *prims, csg_i32 i, c
     csg_i32 s0, s1;
     if (!csg_prim_span(p, r, &t0, &t1, &s0, &s1))
         return h;
+    if (CSG_PRIM_IS_SURFACE(p->kind)) { /* an event, as csg_surface_leaf_spans */
+        csg_u32 e = csg_surf_of(i, s0, 0u, p->flags);
+        if (t0 > tmin && t0 <= tmax && csg_surf_visible(e)) {
+            h.t = t0;
+            h.surf = e;
+        }
+        return h;
+    }
     csg_u32 e0 = t0 < tmin ? CSG_SURF_NONE : csg_surf_of(i, s0, 0u, p->flags);
     csg_u32 e1 = csg_surf_of(i, s1, 0u, p->flags);
     real start = r_fmax(t0, tmin), end = t1;
@@ -683,6 +876,35 @@ CSG_FN vec3 csg_plane_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     return v3_load(p);
 }
 
+/* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */
+CSG_FN vec3 csg_triangle_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    (void)lp;
+    vec3 v0 = v3_load(p);
+    return v3_cross(v3_sub(v3_load(p + 3), v0), v3_sub(v3_load(p + 6), v0));
+}
+
+/* The vertex normals interpolated at the barycentric coordinates of lp
+ * (the triangle's normal where they cancel). */
+CSG_FN vec3 csg_smooth_triangle_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    vec3 v0 = v3_load(p);
+    vec3 e1 = v3_sub(v3_load(p + 3), v0), e2 = v3_sub(v3_load(p + 6), v0);
+    vec3 ng = v3_cross(e1, e2);
+    real nn = v3_dot(ng, ng);
+    if (!(nn > R(0.0)))
+        return ng;
+    vec3 q = v3_sub(lp, v0);
+    real b1 = v3_dot(v3_cross(q, e2), ng) / nn;
+    real b2 = v3_dot(v3_cross(e1, q), ng) / nn;
+    real b0 = R(1.0) - b1 - b2;
+    vec3 n = v3_add(v3_add(v3_scale(v3_load(p + 9), b0), v3_scale(v3_load(p + 12), b1)),
+                    v3_scale(v3_load(p + 15), b2));
+    (void)sub;
+    return v3_dot(n, n) > R(0.0) ? n : ng;
+}
+
 CSG_FN vec3 csg_local_normal(CSG_GLOBAL const csg_prim *p, csg_i32 sub, vec3 lp)
 {
     switch (p->kind) {
@@ -706,6 +928,19 @@ CSG_FN vec3 csg_surface_normal(CSG_GLOBAL const csg_prim *prims, csg_u32 s, vec3
         n = csg_xform_normal(p->inv, n);
     n = v3_normalize(n);
     return CSG_SURF_FLIP(s) ? v3_neg(n) : n;
+}
+
+/* The unit normal of the geometry itself, given n = csg_surface_normal:
+ * n, except on a smooth triangle, whose flat normal decides which side a
+ * ray is on. */
+CSG_FN vec3 csg_surface_geometric_normal(CSG_GLOBAL const csg_prim *prims, csg_u32 s, vec3 wp,
+                                         vec3 n)
+{
+    CSG_GLOBAL const csg_prim *p = &prims[CSG_SURF_PRIM(s)];
+    if (p->kind != CSG_PRIM_SMOOTH_TRIANGLE)
+        return n;
+    vec3 g = v3_normalize(csg_triangle_normal(p->p, CSG_SURF_SUB(s), wp));
+    return CSG_SURF_FLIP(s) ? v3_neg(g) : g;
 }
 
 #endif

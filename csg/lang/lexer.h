@@ -29,6 +29,7 @@ enum csg_kw {
     CSG_KW_UNSUPPORTED, /* a POV-Ray word csgtrace does not implement     */
     /* objects */
     CSG_KW_SPHERE, CSG_KW_BOX, CSG_KW_CYLINDER, CSG_KW_CONE, CSG_KW_PLANE,
+    CSG_KW_TRIANGLE, CSG_KW_SMOOTH_TRIANGLE, CSG_KW_POLYGON, CSG_KW_MESH,
     CSG_KW_UNION, CSG_KW_INTERSECTION, CSG_KW_DIFFERENCE, CSG_KW_MERGE,
     CSG_KW_OBJECT,
     /* statements */

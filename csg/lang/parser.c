@@ -417,6 +417,105 @@ static bool parse_plane(parser *p, csg_object *o)
     return true;
 }
 
+/* ---- surfaces: triangle, smooth_triangle, polygon, mesh ---------------------- */
+
+/* n vectors separated by optional commas into out[0..n); `normals`: every
+ * odd one is a normal (smooth_triangle), stored in nout. */
+static bool parse_points(parser *p, dvec3 *out, dvec3 *nout, int n)
+{
+    bool ok = true;
+    for (int i = 0; ok && i < n; i++) {
+        if (i > 0)
+            skip_comma(p, &ok);
+        if (ok)
+            ok = lang_parse_vector(p, &out[i], NULL);
+        if (ok && nout) {
+            skip_comma(p, &ok);
+            ok = ok && lang_parse_vector(p, &nout[i], NULL);
+        }
+    }
+    return ok;
+}
+
+static bool parse_triangle(parser *p, csg_object *o)
+{
+    o->verts = lang_alloc(p, 3 * sizeof *o->verts);
+    o->vert_count = 3;
+    return o->verts && parse_points(p, o->verts, NULL, 3);
+}
+
+static bool parse_smooth_triangle(parser *p, csg_object *o)
+{
+    o->verts = lang_alloc(p, 3 * sizeof *o->verts);
+    o->normals = lang_alloc(p, 3 * sizeof *o->normals);
+    o->vert_count = 3;
+    return o->verts && o->normals && parse_points(p, o->verts, o->normals, 3);
+}
+
+/* polygon { N, V1, ..., VN }: one outline (a closing copy of the first
+ * vertex at the end is dropped, as POV-Ray closes it anyway). */
+static bool parse_polygon(parser *p, csg_object *o)
+{
+    csg_loc at;
+    double n;
+    bool ok = lang_parse_float(p, &n, &at);
+    if (ok)
+        skip_comma(p, &ok);
+    if (!ok)
+        return false;
+    if (!(n >= 3 && n <= 1000000 && n == floor(n))) {
+        csg_error(p->d, at, "polygon needs a whole number of vertices from 3 to 1000000, got %g", n);
+        return false;
+    }
+    o->vert_count = (int)n;
+    o->verts = lang_alloc(p, (size_t)o->vert_count * sizeof *o->verts);
+    if (!o->verts || !parse_points(p, o->verts, NULL, o->vert_count))
+        return false;
+    for (int i = 1; i + 1 < o->vert_count; i++) {
+        if (same_point(o->verts[i], o->verts[0])) {
+            csg_error(p->d, o->loc, "polygon with several outlines (vertex %d closes the first): "
+                      "unsupported", i + 1);
+            return false;
+        }
+    }
+    if (o->vert_count > 3 && same_point(o->verts[o->vert_count - 1], o->verts[0]))
+        o->vert_count--;
+    return true;
+}
+
+/* mesh { (triangle { A, B, C } | smooth_triangle { A, NA, B, NB, C, NC })+ ... } */
+static bool parse_mesh(parser *p, csg_object *o)
+{
+    vec verts = {0}, normals = {0};
+    bool ok = true, smooth = false;
+    while (ok && (lang_is_kw(p, CSG_KW_TRIANGLE) || lang_is_kw(p, CSG_KW_SMOOTH_TRIANGLE))) {
+        bool is_smooth = lang_is_kw(p, CSG_KW_SMOOTH_TRIANGLE);
+        const char *name = is_smooth ? "smooth_triangle" : "triangle";
+        csg_loc open = p->tok.loc;
+        dvec3 v[3], nv[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+        ok = lang_next(p) && lang_expect_open(p, name) &&
+             parse_points(p, v, is_smooth ? nv : NULL, 3);
+        if (ok && !lang_is_punct(p, '}'))
+            ok = lang_expected_close(p, '}', name, open);
+        ok = ok && lang_next(p);
+        smooth = smooth || is_smooth;
+        for (int k = 0; ok && k < 3; k++)
+            ok = vec_push(p, &verts, sizeof v[k], &v[k]) &&
+                 vec_push(p, &normals, sizeof nv[k], &nv[k]);
+    }
+    if (ok && verts.count == 0)
+        ok = lang_expected(p, "a triangle or smooth_triangle expected inside 'mesh'");
+    if (ok) {
+        o->vert_count = verts.count;
+        o->verts = vec_to_arena(p, &verts, sizeof(dvec3));
+        o->normals = smooth ? vec_to_arena(p, &normals, sizeof(dvec3)) : NULL;
+        ok = o->verts && (!smooth || o->normals);
+    }
+    free(verts.data);
+    free(normals.data);
+    return ok;
+}
+
 /* The children of a CSG object, up to the first token that is not an object. */
 static bool parse_children(parser *p, pnode *n, const char *name)
 {
@@ -1060,7 +1159,7 @@ fail:
     return ok;
 }
 
-bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
+bool csg_parse_file_as(const char *path, csg_scene *s, csg_diag *d, csg_text_parser parse)
 {
     size_t len = 0;
     int err = 0;
@@ -1070,7 +1169,12 @@ bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
         csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
         return false;
     }
-    bool ok = csg_parse_string(path, text, len, s, d);
+    bool ok = parse(path, text, len, s, d);
     free(text);
     return ok;
+}
+
+bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
+{
+    return csg_parse_file_as(path, s, d, csg_parse_string);
 }

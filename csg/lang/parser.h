@@ -34,6 +34,12 @@
 /* Parses a scene file. On failure returns false, d holds the one-line message
    "file:line:col: error: ..." and *s is left empty (freed). */
 bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d);
+/* A reader of scene text (csg_parse_string, csg_nff_parse_string). */
+typedef bool (*csg_text_parser)(const char *name, const char *text, size_t len, csg_scene *s,
+                                csg_diag *d);
+/* Reads the file `path` and parses it with `parse` (csg_parse_file is
+   csg_parse_file_as(path, s, d, csg_parse_string)); the same contract. */
+bool csg_parse_file_as(const char *path, csg_scene *s, csg_diag *d, csg_text_parser parse);
 /* Same from memory (tests, fuzzing); `name` is used in messages and #include
    paths are resolved relative to the directory of `name`. */
 bool csg_parse_string(const char *name, const char *text, size_t len, csg_scene *s, csg_diag *d);
