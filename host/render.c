@@ -437,7 +437,6 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     if (hetero && !render_open_cl(req, rs, d))
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
-    snprintf(st->device, sizeof st->device, "%s", rs->tm.device_name);
     rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
     rs->workers = calloc((size_t)st->worker_count, sizeof *rs->workers);
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);
@@ -487,6 +486,7 @@ static int render_image(const render_request *req, master_session *ms, render_st
     if (rs->pass) {
         bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
         rs->pass = NULL;
+        snprintf(st->device, sizeof st->device, "%s", rs->tm.device_name);
         if (!whole && status == EXIT_OK) {
             if (!d->failed)
                 csg_error_plain(d, "the OpenCL primary pass failed");
