@@ -543,6 +543,9 @@ def cmd_report(args):
     if s_sched:
         write_csv(os.path.join(res, "schedule_summary.csv"), list(s_sched[0].keys()), s_sched)
     fill["schedule_table"] = schedule_rows(s_sched) if s_sched else "(not run)"
+    fill["schedule_size"] = (f"{s_sched[0]['width']}x{s_sched[0]['height']}, "
+                             f"{s_sched[0]['count']} spheres, occupancy {s_sched[0]['occ_target']} %"
+                             if s_sched else "(not run)")
     fill["schedule_run"] = run_info_line(sched_rows)
     fill["checks"] = checks_line([objects, sizes, tiles, sched_rows] +
                                  [load(n) for n in ("big_objects", "big_size", "occ_sweep")])
