@@ -102,22 +102,18 @@ static void stats_workers(FILE *f, const render_stats *s)
     fputs(s->worker_count ? "\n  ]\n" : "]\n", f);
 }
 
-/* The phases (they add up to wall_s) and the figures derived from them. */
+/* The phases (they add up to wall_s) and the figures derived from them,
+ * in the order they are printed. */
+#define STATS_TIMES(X)                                                                  \
+    X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
+    X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
+    X(estimate_spearman)
+
 static void stats_phases(FILE *f, const render_stats *s)
 {
-    stats_field(f, "wall_s", s->wall_s);
-    stats_field(f, "setup_s", s->setup_s);
-    stats_field(f, "cl_setup_s", s->cl_setup_s);
-    stats_field(f, "compile_s", s->compile_s);
-    stats_field(f, "primary_s", s->primary_s);
-    stats_field(f, "pipelined_s", s->pipelined_s);
-    stats_field(f, "secondary_s", s->secondary_s);
-    stats_field(f, "write_s", s->write_s);
-    stats_field(f, "pass_s", s->pass_s);
-    stats_field(f, "tile_phase_s", s->tile_phase_s);
-    stats_field(f, "tail_s", s->tail_s);
-    stats_field(f, "busy_fraction", s->busy_fraction);
-    stats_field(f, "estimate_spearman", s->estimate_spearman);
+#define STATS_TIME_FIELD(name) stats_field(f, #name, s->name);
+    STATS_TIMES(STATS_TIME_FIELD)
+#undef STATS_TIME_FIELD
 }
 
 void stats_print_json(FILE *f, const render_stats *s)

@@ -38,6 +38,16 @@ static tile_rect rect_of(int i)
     return r;
 }
 
+/* A scheduler given tiles 0 .. tiles-1 (rect_of) and closed. */
+static void filled(sched *s, enum sched_policy p, int workers, int tiles,
+                   sched_estimate_fn estimate, void *arg)
+{
+    assert_true(sched_init(s, p, workers, 2, tiles, estimate, arg));
+    for (int i = 0; i < tiles; i++)
+        assert_true(sched_add(s, i, rect_of(i)));
+    sched_close(s);
+}
+
 /* Hands out everything for worker w, in order, into out; the count. */
 static int drain(sched *s, int w, int *out, int cap)
 {
@@ -76,10 +86,7 @@ static void test_cost_order(void **state)
     double cost[5] = { 1, 5, 3, 5, 2 };
     sched s;
     int got[8];
-    assert_true(sched_init(&s, SCHED_COST, 2, 2, 5, table_estimate, cost));
-    for (int i = 0; i < 5; i++)
-        assert_true(sched_add(&s, i, rect_of(i)));
-    sched_close(&s);
+    filled(&s, SCHED_COST, 2, 5, table_estimate, cost);
     assert_int_equal(drain(&s, 0, got, 8), 5);
     int want[5] = { 1, 3, 2, 4, 0 }; /* 5, 5 (lower tile first), 3, 2, 1 */
     for (int i = 0; i < 5; i++)
@@ -94,10 +101,7 @@ static void test_cost_without_estimates(void **state)
     (void)state;
     sched s;
     int got[4];
-    assert_true(sched_init(&s, SCHED_COST, 1, 1, 3, NULL, NULL));
-    for (int i = 0; i < 3; i++)
-        assert_true(sched_add(&s, i, rect_of(i)));
-    sched_close(&s);
+    filled(&s, SCHED_COST, 1, 3, NULL, NULL);
     assert_int_equal(drain(&s, 0, got, 4), 3);
     for (int i = 0; i < 3; i++)
         assert_int_equal(s.items[got[i]].tile, i);
@@ -109,10 +113,7 @@ static void test_static_assignment(void **state)
     (void)state;
     sched s;
     int got[8];
-    assert_true(sched_init(&s, SCHED_STATIC, 3, 2, 7, NULL, NULL));
-    for (int i = 0; i < 7; i++)
-        assert_true(sched_add(&s, i, rect_of(i)));
-    sched_close(&s);
+    filled(&s, SCHED_STATIC, 3, 7, NULL, NULL);
     assert_int_equal(drain(&s, 1, got, 8), 2); /* tiles 1 and 4, nothing else */
     assert_int_equal(s.items[got[0]].tile, 1);
     assert_int_equal(s.items[got[1]].tile, 4);
