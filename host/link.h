@@ -106,6 +106,13 @@ typedef struct {
 
 #define LINK_NAP_MAX_NS 200000L /* a worker with nothing queued, at most */
 
+/* Asks the OS to run this process soon after each wake-up rather than
+ * letting a busy process finish its time slice first: on Linux >= 6.12
+ * (EEVDF) a short custom slice (sched_setattr), so a nap's end or a wake-up
+ * preempts a worker at once; elsewhere it does nothing.  For the master,
+ * whose every delay is a worker's wait once the ranks outnumber the cores. */
+void link_respond_quickly(void);
+
 bool link_idle_init(link_idle *w, long nap_max_ns, int spin_steps);
 void link_idle_free(link_idle *w);
 void link_idle_step(link_idle *w);
