@@ -477,12 +477,14 @@ static int render_image(const render_request *req, master_session *ms, render_st
         return status;
     job.progress = &bar;
     progress_begin(&bar, st->tiles_total, (int)req->progress);
+    double cpu0 = stats_thread_cpu();
     if (ms->workers > 0 && req->mode != MODE_SERIAL)
         status = master_run_tiles(ms, &job, d) ? EXIT_OK : EXIT_FAILURE_RUN;
     else
         status = render_local_tiles(&job, d);
     progress_end(&bar);
     mk->tiles_end = stats_clock();
+    st->master_cpu_s = stats_thread_cpu() - cpu0;
     if (rs->pass) {
         bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
         rs->pass = NULL;

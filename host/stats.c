@@ -29,6 +29,13 @@ double stats_clock(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+double stats_thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 double stats_phase_sum(const render_stats *s)
 {
     return s->setup_s + s->cl_setup_s + s->compile_s + s->primary_s + s->pipelined_s +
@@ -107,7 +114,7 @@ static void stats_workers(FILE *f, const render_stats *s)
 #define STATS_TIMES(X)                                                                  \
     X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
     X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
-    X(estimate_spearman)
+    X(estimate_spearman) X(master_cpu_s)
 
 static void stats_phases(FILE *f, const render_stats *s)
 {

@@ -38,6 +38,10 @@
  *   estimate_spearman  Spearman's rank correlation of the items'
  *                 estimated costs with the workers' seconds on them
  *                 (hetero; null without estimates or with < 3 items)
+ *   master_cpu_s  CPU seconds of the master's own thread during the tile
+ *                 phase (its event loop: polls, naps, packing, storing;
+ *                 OpenCL's threads not included): what it takes from the
+ *                 workers when the ranks outnumber the cores
  *   slices        OpenCL slices of the pass (0 without one)
  *
  *   tiles_total   tiles of the image
@@ -104,6 +108,7 @@ typedef struct render_stats {
     double cl_setup_s, pipelined_s;               /* phases (above)     */
     double pass_s, tile_phase_s, tail_s;          /* derived            */
     double busy_fraction, estimate_spearman;
+    double master_cpu_s;                          /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     uint64_t pixels, pixels_hit;
     ray_counts rays;
@@ -117,6 +122,8 @@ double stats_occupancy(const render_stats *s);
 
 /* Monotonic seconds, for every timing of a render. */
 double stats_clock(void);
+/* CPU seconds of the calling thread. */
+double stats_thread_cpu(void);
 
 /* The sum of the phases, which equals wall_s (the header). */
 double stats_phase_sum(const render_stats *s);
