@@ -5,9 +5,9 @@
 #                 exact `sudo apt-get install ...` line (non-root)
 #   make test     deps + build + every test (also under ASan + UBSan)
 #   make demo     deps + build + render the showcase in both modes, compare
-#   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
+#   make bench    deps + build + the quick benchmark suite (bench/, ~5 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
-#   make bench-full       the full suite and the accuracy grid (~25 min)
+#   make bench-full       the full suite and the accuracy grid (~45 min)
 #   make clean
 #
 # The engine sources (flattening, tracing, shading) are compiled twice, once
