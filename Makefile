@@ -5,9 +5,9 @@
 #                 exact `sudo apt-get install ...` line (non-root)
 #   make test     deps + build + every test (also under ASan + UBSan)
 #   make demo     deps + build + render the showcase in both modes, compare
-#   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
+#   make bench    deps + build + the quick benchmark suite (bench/, ~5 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
-#   make bench-full       the full suite and the accuracy grid (~25 min)
+#   make bench-full       the full suite and the accuracy grid (~45 min)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
 #   make clean
 #
@@ -41,7 +41,7 @@ LDLIBS = $(OIIO_LIBS) -lOpenCL -lstdc++ -lm
 SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
 # Sources: every .c of these folders; the engine ones get two objects each.
-ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/engine.c
+ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/engine.c workers/cost.c
 ALL_C := $(wildcard csg/*.c csg/lang/*.c host/*.c workers/*.c scenes/*.c)
 PLAIN_SRCS := $(filter-out $(ENGINE_SRCS) host/main.c,$(ALL_C))
 CXX_SRCS := $(wildcard host/*.cpp)

@@ -6,9 +6,10 @@ Subcommands (bench/run.sh and bench/vs_povray.sh call them):
   append CSV STATS.json [key=value ...]
       One row per run: the given metadata, then every field of the stats JSON
       flattened (rays.primary -> rays_primary, workers[0].busy_s ->
-      workers_0_busy_s), then time_s = wall_s - compile_s, the compared figure
-      (the kernel build is reported apart, never inside it).  A new column
-      rewrites the file with the union of the headers.
+      workers_0_busy_s), then time_s = wall_s - compile_s - cl_setup_s, the
+      compared figure (the kernel build and the OpenCL set-up are reported
+      apart, never inside it).  A new column rewrites the file with the union
+      of the headers.
   append-kv CSV key=value ...
       The same without a JSON file (POV-Ray runs).
   copy SRC DST EXPERIMENT "COUNTS" "OCCS"
@@ -36,7 +37,12 @@ import statistics
 import sys
 
 # A configuration: what must match between the homo and hetero runs compared.
-CONFIG_KEYS = ("count", "occ_target", "seed", "width", "height", "tile", "ranks")
+CONFIG_KEYS = ("count", "occ_target", "seed", "width", "height", "tile", "ranks", "sched_arg")
+# A round: the homo and the hetero render compared with each other.
+ROUND_KEYS = ("job", "repeat")
+# The phases of a render (they add up to wall_s, host/stats.h).
+PHASES = ("setup_s", "cl_setup_s", "compile_s", "primary_s", "pipelined_s", "secondary_s",
+          "write_s")
 
 PAPER = {
     "objects": "grew from 10% to 23% with 10 -> 50 objects (Figure 1)",
@@ -116,7 +122,8 @@ def cmd_append(args):
     flat = {}
     flatten("", stats, flat)
     row.update(flat)
-    row["time_s"] = "%.6f" % (float(flat["wall_s"]) - float(flat.get("compile_s") or 0))
+    row["time_s"] = "%.6f" % (float(flat["wall_s"]) - float(flat.get("compile_s") or 0) -
+                               float(flat.get("cl_setup_s") or 0))
     append_row(path, row)
 
 
@@ -173,16 +180,72 @@ def median_of(rows, key):
 
 
 def derive(r):
-    """other_s: the part of wall_s no phase names (in hetero mode mostly the
-    OpenCL platform, context and buffer set-up around the kernel build)."""
-    parts = [num(r, k, 0.0) for k in ("setup_s", "compile_s", "primary_s", "secondary_s",
-                                      "write_s")]
-    r["other_s"] = num(r, "wall_s") - sum(parts)
+    """phase_gap_s: wall_s less the sum of the phases (0 to rounding since the
+    phases are consecutive; a check); other_s: the same, kept for old CSVs
+    without cl_setup_s / pipelined_s, where it was the OpenCL set-up."""
+    gap = num(r, "wall_s") - sum(num(r, k, 0.0) for k in PHASES)
+    r["phase_gap_s"] = gap
+    r["other_s"] = gap + num(r, "cl_setup_s", 0.0)
+    r["hetero_tile_s"] = num(r, "pipelined_s", 0.0) + num(r, "secondary_s", 0.0)
     return r
 
 
+def quantile(vals, q):
+    """Linear interpolation between order statistics (numpy's default)."""
+    vals = sorted(v for v in vals if v == v)
+    if not vals:
+        return float("nan")
+    pos = q * (len(vals) - 1)
+    lo = int(pos)
+    hi = min(lo + 1, len(vals) - 1)
+    return vals[lo] + (vals[hi] - vals[lo]) * (pos - lo)
+
+
+def advantage(h, g):
+    return 100.0 * (h - g) / h if h == h and g == g and h > 0 else float("nan")
+
+
+def rounds_of(by_mode):
+    """[(job, homo row, hetero row)] for every round with both renders."""
+    keyed = {}
+    for mode in ("homo", "hetero"):
+        for r in by_mode.get(mode, []):
+            key = tuple(r.get(k, "") for k in ROUND_KEYS)
+            if "" not in key:
+                keyed.setdefault(key, {})[mode] = r
+    return [(k[0], v["homo"], v["hetero"]) for k, v in sorted(keyed.items())
+            if len(v) == 2]
+
+
+def paired(s, by_mode):
+    """The per-round advantages: median, min .. max, the quartiles, and the
+    range of the per-job medians (what one job alone could have said)."""
+    rounds = rounds_of(by_mode)
+    adv = [advantage(num(h, "time_s"), num(g, "time_s")) for _, h, g in rounds]
+    jobs = {}
+    for (job, _, _), a in zip(rounds, adv):
+        jobs.setdefault(job, []).append(a)
+    job_medians = [statistics.median(v) for v in jobs.values()]
+    s["rounds"] = len(adv)
+    s["jobs"] = len(jobs)
+    s["adv_paired_pct"] = statistics.median(adv) if adv else float("nan")
+    s["adv_lo_pct"] = min(adv) if adv else float("nan")
+    s["adv_hi_pct"] = max(adv) if adv else float("nan")
+    s["adv_q1_pct"], s["adv_q3_pct"] = quantile(adv, 0.25), quantile(adv, 0.75)
+    s["adv_job_lo_pct"] = min(job_medians) if job_medians else float("nan")
+    s["adv_job_hi_pct"] = max(job_medians) if job_medians else float("nan")
+    # Slower beyond the spread: hetero lost every round.
+    s["hetero_slower"] = bool(adv) and max(adv) < 0
+
+
+MEDIAN_KEYS = ("time_s", "primary_s", "secondary_s", "compile_s", "cl_setup_s", "other_s",
+               "write_s", "setup_s", "pipelined_s", "pass_s", "tile_phase_s", "hetero_tile_s",
+               "tail_s", "busy_fraction", "estimate_spearman", "phase_gap_s", "tiles_sent",
+               "tiles_total", "items_sent", "bytes_sent", "bytes_received", "rays_total")
+
+
 def summarize(rows):
-    """One dict per configuration: medians per mode and the advantage."""
+    """One dict per configuration: medians per mode and the advantages."""
     groups = {}
     for r in map(derive, rows):
         groups.setdefault(config_of(r), {}).setdefault(r.get("mode", ""), []).append(r)
@@ -194,19 +257,20 @@ def summarize(rows):
         for mode in ("homo", "hetero"):
             rs = by_mode.get(mode, [])
             s[f"{mode}_n"] = len(rs)
-            for key in ("time_s", "primary_s", "secondary_s", "compile_s", "other_s",
-                        "write_s", "setup_s", "tiles_sent",
-                        "tiles_total", "bytes_sent", "bytes_received", "rays_total"):
+            s[f"{mode}_schedule"] = rs[0].get("schedule", "") if rs else ""
+            for key in MEDIAN_KEYS:
                 s[f"{mode}_{key}"] = median_of(rs, key)
-            if rs:
-                spread = [num(r, "time_s") for r in rs]
-                s[f"{mode}_min_s"], s[f"{mode}_max_s"] = min(spread), max(spread)
-        h, g = s.get("homo_time_s", float("nan")), s.get("hetero_time_s", float("nan"))
-        s["advantage_pct"] = 100.0 * (h - g) / h if h == h and g == g and h > 0 else float("nan")
-        # The same from the fastest repeat of each mode: on a shared machine
+            spread = [num(r, "time_s") for r in rs]
+            s[f"{mode}_min_s"] = min(spread) if rs else float("nan")
+            s[f"{mode}_max_s"] = max(spread) if rs else float("nan")
+            s[f"{mode}_iqr_s"] = quantile(spread, 0.75) - quantile(spread, 0.25)
+        s["advantage_pct"] = advantage(s["homo_time_s"], s["hetero_time_s"])
+        # The same from the fastest run of each mode: on a shared machine
         # the minimum is the least disturbed figure, a cross-check.
-        h, g = s.get("homo_min_s", float("nan")), s.get("hetero_min_s", float("nan"))
-        s["advantage_min_pct"] = 100.0 * (h - g) / h if h == h and g == g and h > 0 else float("nan")
+        s["advantage_min_pct"] = advantage(s["homo_min_s"], s["hetero_min_s"])
+        paired(s, by_mode)
+        # The figure the tables and plots use: paired when there are rounds.
+        s["adv_pct"] = s["adv_paired_pct"] if s["rounds"] else s["advantage_pct"]
         out.append(s)
     return out
 
@@ -229,7 +293,7 @@ def fmt(v, spec=".1f"):
     return str(v)
 
 
-def group_mean(summary, by, field="advantage_pct"):
+def group_mean(summary, by, field="adv_pct"):
     """{value of `by`: mean of field over the configurations with it}."""
     acc = {}
     for s in summary:
@@ -252,6 +316,14 @@ def md_table(header, rows):
     return "\n".join(lines)
 
 
+def spread_cell(s):
+    """"median [lo .. hi]" of the paired advantages, or the medians' one."""
+    if not s.get("rounds"):
+        return fmt(s["advantage_pct"])
+    mark = " (slower in every round)" if s["hetero_slower"] else ""
+    return f"{fmt(s['adv_paired_pct'])} [{fmt(s['adv_lo_pct'])} .. {fmt(s['adv_hi_pct'])}]{mark}"
+
+
 def phase_rows(summary, label_keys):
     """Markdown rows: medians of both modes' phases per configuration."""
     rows = []
@@ -260,41 +332,81 @@ def phase_rows(summary, label_keys):
         rows.append([*(str(s[k]) for k in label_keys),
                      fmt(100 * s["occupancy"]),
                      fmt(s["homo_time_s"], ".3f"), fmt(s["hetero_time_s"], ".3f"),
-                     fmt(s["hetero_primary_s"], ".3f"),
-                     fmt(s["hetero_other_s"], ".3f"),
+                     spread_cell(s),
+                     f"{fmt(s['adv_job_lo_pct'])} .. {fmt(s['adv_job_hi_pct'])}",
+                     fmt(s["hetero_primary_s"], ".3f"), fmt(s["hetero_pipelined_s"], ".3f"),
+                     fmt(s["hetero_pass_s"], ".3f"),
                      fmt(s["homo_secondary_s"], ".3f"), fmt(s["hetero_secondary_s"], ".3f"),
+                     f"{fmt(100 * s['homo_busy_fraction'], '.0f')}/"
+                     f"{fmt(100 * s['hetero_busy_fraction'], '.0f')}",
+                     fmt(1000 * s["hetero_tail_s"], ".1f"),
+                     fmt(s["hetero_estimate_spearman"], ".2f"),
                      f"{fmt(skipped, '.0f')}/{fmt(s['hetero_tiles_total'], '.0f')}",
-                     fmt(s["hetero_bytes_sent"] / 1e6, ".2f"),
-                     fmt(s["hetero_compile_s"], ".3f"),
-                     fmt(s["advantage_pct"]), fmt(s["advantage_min_pct"])])
+                     fmt(s["hetero_bytes_sent"] / 1e6, ".2f")])
     return rows
 
 
-PHASE_HEADER = ["occ. %", "homo s", "hetero s", "SIMD primary s", "hetero other s",
-                "homo sec. s", "hetero sec. s", "tiles skipped", "hetero MB sent",
-                "compile s (excl.)", "adv. %", "adv. % (fastest)"]
+PHASE_HEADER = ["occ. %", "homo s", "hetero s", "adv. % median [min .. max]",
+                "per-job medians", "SIMD alone s", "pipelined s", "SIMD pass s",
+                "homo tiles s", "hetero tiles after s", "busy % homo/hetero",
+                "hetero tail ms", "rho", "tiles skipped", "hetero MB sent"]
 
 
 def decompose(summary, by):
-    """[(value, [homo s, saved %, primary %, other %, skipped %, adv %])]: per
-    configuration, saved = homo sec. - hetero sec. (the primary rays and the
-    empty tiles the workers no longer trace, net of the hit records they now
-    receive), primary = the SIMD pass, other = its set-up; all in % of the homo
-    time, then averaged over the configurations with that value of `by`."""
+    """[(value, [homo s, saved %, SIMD alone %, hidden %, skipped %, adv %])]:
+    per configuration, all in % of the homo time: saved = homo tile phase -
+    hetero tile phase (pipelined + after: the primary rays and the empty tiles
+    the workers no longer trace, net of the records they now receive and of
+    the cores the overlapped pass takes from them); SIMD alone = the pass
+    before any tile went out (nothing hides it); hidden = the share of the
+    pass that ran under the tile phase; then averaged over the configurations
+    with that value of `by`.  adv ~ saved - SIMD alone."""
     acc = {}
     for s in summary:
         h = s["homo_time_s"]
         if not h == h or h <= 0:
             continue
+        pass_s = s["hetero_pass_s"]
         acc.setdefault(s[by], []).append([
             h,
-            100 * (s["homo_secondary_s"] - s["hetero_secondary_s"]) / h,
+            100 * (s["homo_secondary_s"] - s["hetero_hetero_tile_s"]) / h,
             100 * s["hetero_primary_s"] / h,
-            100 * s["hetero_other_s"] / h,
+            100 * (1 - s["hetero_primary_s"] / pass_s) if pass_s and pass_s == pass_s else float("nan"),
             100 * (s["hetero_tiles_total"] - s["hetero_tiles_sent"]) / s["hetero_tiles_total"],
-            s["advantage_pct"]])
+            s["adv_pct"]])
     return [(k, [mean(col) for col in zip(*v)])
             for k, v in sorted(acc.items(), key=lambda kv: key_num(kv[0]))]
+
+
+def schedule_rows(summary):
+    """One row per --schedule and mode: time, advantage, busy, tail, rho."""
+    rows = []
+    for s in sorted(summary, key=lambda s: s["sched_arg"]):
+        for mode in ("homo", "hetero"):
+            rows.append([s["sched_arg"], mode, s[f"{mode}_schedule"],
+                         fmt(s[f"{mode}_time_s"], ".3f"),
+                         f"{fmt(s[f'{mode}_min_s'], '.3f')} .. {fmt(s[f'{mode}_max_s'], '.3f')}",
+                         fmt(100 * s[f"{mode}_busy_fraction"], ".1f"),
+                         fmt(1000 * s[f"{mode}_tail_s"], ".2f"),
+                         fmt(s[f"{mode}_estimate_spearman"], ".2f"),
+                         fmt(s[f"{mode}_items_sent"], ".0f"),
+                         spread_cell(s) if mode == "hetero" else ""])
+    return md_table(["--schedule", "mode", "ran", "median s", "min .. max s", "busy %",
+                     "tail ms", "rho", "items", "adv. % [min .. max]"], rows)
+
+
+def checks_line(rows_by_exp):
+    """How well the phases add up, how often hetero lost every round."""
+    gaps, slower, configs = [], 0, 0
+    for rows in rows_by_exp:
+        gaps += [abs(derive(dict(r))["phase_gap_s"]) for r in rows if r.get("wall_s")]
+        for s in summarize(rows):
+            configs += 1
+            slower += bool(s["hetero_slower"])
+    worst = max(gaps) if gaps else float("nan")
+    return (f"largest |wall_s - sum of the phases| over {len(gaps)} renders: "
+            f"{fmt(1000 * worst, '.4f')} ms; configurations where hetero was slower in every "
+            f"round: {slower} of {configs}")
 
 
 def run_info_line(rows):
@@ -325,7 +437,7 @@ def cmd_report(args):
     for c in counts:
         row = [c]
         for o in occs:
-            row.append(mean([s["advantage_pct"] for s in s_obj
+            row.append(mean([s["adv_pct"] for s in s_obj
                              if s["count"] == c and s["occ_target"] == o]))
         table.append(row)
     write_dat(os.path.join(res, "objects.dat"), ["count"] + [f"occ{o}" for o in occs], table)
@@ -375,10 +487,12 @@ def cmd_report(args):
                                   ("size", s_size, "width", " px")):
         a, b, k0, k1 = ends(group_mean(summ, by))
         am, bm, _, _ = ends(group_mean(summ, by, "advantage_min_pct"))
+        width = mean([x["adv_hi_pct"] - x["adv_lo_pct"] for x in summ])
         head.append([label, PAPER[label], f"{a}% -> {b}% with {k0}{unit} -> {k1}{unit}",
-                     f"{am}% -> {bm}%"])
-    fill["headline"] = md_table(["experiment", "paper (1990s)", "ours (medians of R)",
-                                 "ours (fastest of R)"], head)
+                     f"{am}% -> {bm}%", fmt(width)])
+    fill["headline"] = md_table(["experiment", "paper (1990s)", "ours (median of the rounds)",
+                                 "ours (fastest of each mode)",
+                                 "spread of the rounds (points, mean max - min)"], head)
 
     # Why ours differ: the advantage split into what the worker phase saves and
     # what the SIMD pass costs, as % of the homo time (means over configurations).
@@ -388,8 +502,8 @@ def cmd_report(args):
         for k, g in decompose(summ, by):
             why.append([label, str(k), fmt(g[0], ".3f")] + [fmt(v) for v in g[1:]])
     fill["why_table"] = md_table(
-        ["sweep", "value", "homo s", "worker phase saved %", "SIMD primary %",
-         "hetero other %", "tiles skipped %", "adv. %"], why)
+        ["sweep", "value", "homo s", "tile phase saved %", "SIMD alone %",
+         "pass hidden %", "tiles skipped %", "adv. %"], why)
 
     # Beyond the paper: one table and .dat per sweep.
     for name, by, label in (("big_objects", "count", "objects"),
@@ -423,6 +537,19 @@ def cmd_report(args):
     fill["tile_run"] = run_info_line(tiles)
     fill["tile_phases"] = md_table(["tile"] + PHASE_HEADER, phase_rows(s_tile, ["tile"]))
 
+    # Schedulers (--schedule), both modes.
+    sched_rows = load("schedule")
+    s_sched = summarize(sched_rows)
+    if s_sched:
+        write_csv(os.path.join(res, "schedule_summary.csv"), list(s_sched[0].keys()), s_sched)
+    fill["schedule_table"] = schedule_rows(s_sched) if s_sched else "(not run)"
+    fill["schedule_size"] = (f"{s_sched[0]['width']}x{s_sched[0]['height']}, "
+                             f"{s_sched[0]['count']} spheres, occupancy {s_sched[0]['occ_target']} %"
+                             if s_sched else "(not run)")
+    fill["schedule_run"] = run_info_line(sched_rows)
+    fill["checks"] = checks_line([objects, sizes, tiles, sched_rows] +
+                                 [load(n) for n in ("big_objects", "big_size", "occ_sweep")])
+
     # POV-Ray comparison (bench/vs_povray.sh).
     pov = load("vs_povray")
     fill["povray_run"] = run_info_line(pov)
@@ -434,7 +561,8 @@ def cmd_report(args):
         f"suite `{info.get('suite', '?')}`, started {info.get('start', '?')}, "
         f"took {fmt(float(info.get('elapsed_s', 'nan')), '.0f')} s, commit `{info.get('commit', '?')}`, "
         f"CPU {info.get('cpu', '?')} ({info.get('cores', '?')} cores), {info.get('ranks', '?')} ranks, "
-        f"{info.get('repeats', '?')} repeats per mode, load average at start "
+        f"{info.get('jobs', '?')} jobs x {info.get('repeats', '?')} rounds per configuration, "
+        f"load average at start "
         f"{info.get('load_start', '?')}, at end {info.get('load_end', '?')}")
 
     text = read_text(template_path)

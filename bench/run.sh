@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # bench/run.sh — the benchmark suite: the paper's three experiments and beyond.
 #
-#   bench/run.sh --quick          what `make bench` runs (about 3 minutes on 2 cores)
-#   bench/run.sh --full           `make bench-full` (about 17 minutes on 2 cores)
+#   bench/run.sh --quick          what `make bench` runs (about 5 minutes on 2 cores)
+#   bench/run.sh --full           `make bench-full` (about 40 minutes on 2 cores, estimated)
 #   bench/run.sh --quick --only objects,size     run some experiments, keep the other CSVs
 #   bench/run.sh --report         rebuild summaries, plots and RESULTS.md from the CSVs
 #
@@ -13,34 +13,54 @@
 #   big_size     up to 768 (quick) / 1536 (full) pixels square
 #   occ_sweep    occupancy 5..95 %
 #   tile         tile size 8..128, both modes: the best tile per mode
+#   schedule     --schedule raster / cost / static / tail, both modes: busy
+#                fraction, tail, how well the estimate ranks the tiles
 #   povray       bench/vs_povray.sh: time and image agreement against POV-Ray 3.7
 #
 # Method: scenes come from `csgtrace gen spheres` (cached in build/bench/scenes);
 # one warm-up render per mode fills the PoCL kernel cache (POCL_CACHE_DIR) before
-# any timing.  Each configuration is ONE `csgtrace compare` job: homo then
-# hetero on the same ranks, a warm-up render per mode, then R timed renders
-# per mode; the OpenCL context and program are set up in the warm-up and kept,
-# so the timed hetero renders include neither the kernel build nor the OpenCL
-# set-up, and no figure includes process start.  compare also checks the two
-# images are identical.  The compared figure is time_s = wall_s - compile_s
-# (compile_s is 0 in compare's timed runs) from the per-run stats compare
-# writes; the advantage (homo - hetero)/homo comes from the medians
-# (bench/collect.py).
+# any timing.  Each configuration is JOBS separate `csgtrace compare` jobs (MPI
+# jobs: a fresh start, placement and memory each time); within a job, a warm-up
+# render per mode, then REPEATS rounds of one homo and one hetero render,
+# interleaved, so a disturbance of the shared machine falls on both modes.  The
+# OpenCL context and program are set up in the warm-up and kept, so the timed
+# hetero renders include neither the kernel build nor the OpenCL set-up, and no
+# figure includes process start.  compare also checks the two images are
+# identical.  The compared figure is time_s = wall_s - compile_s - cl_setup_s
+# (both 0 in compare's timed runs) from the per-run stats compare writes.  The
+# advantage (homo - hetero)/homo is taken per round (a homo and a hetero render
+# of the same job, next to each other), and bench/collect.py reports its median
+# over the JOBS x REPEATS rounds with the spread (min .. max, and the range of
+# the per-job medians: what a single job could have shown).
 #
-# Environment: RANKS (3: 1 master + 2 workers), REPEATS (5),
-# CSGTRACE (build/csgtrace), BENCH_OUT (bench/results, bench/results-full for
-# --full), BENCH_WORK (build/bench, build/bench-full for --full).
+# Environment: RANKS (3: 1 master + 2 workers), JOBS (3), REPEATS (quick 2,
+# full 3), CSGTRACE (build/csgtrace), BENCH_OUT (bench/results,
+# bench/results-full for --full), BENCH_WORK (build/bench, build/bench-full for
+# --full).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SUITE=quick
 ONLY=""
 REPORT_ONLY=0
+EXPERIMENTS=(objects size big_objects big_size occ_sweep tile schedule povray)
+# --only LIST: comma-separated names of EXPERIMENTS, nothing else (the list is
+# data: it is checked here and never pasted into code).
+check_only() {
+    local name
+    [[ "$1" =~ ^[a-z_]+(,[a-z_]+)*$ ]] || { echo "bench/run.sh: --only expects names like objects,size" >&2; exit 2; }
+    IFS=, read -r -a names <<<"$1"
+    for name in "${names[@]}"; do
+        [[ " ${EXPERIMENTS[*]} " == *" $name "* ]] ||
+            { echo "bench/run.sh: --only: unknown experiment '$name' (known: ${EXPERIMENTS[*]})" >&2; exit 2; }
+    done
+}
 while [ $# -gt 0 ]; do
     case "$1" in
     --quick) SUITE=quick ;;
     --full) SUITE=full ;;
-    --only) ONLY=${2:?--only needs a list}; shift ;;
+    --only) [ $# -ge 2 ] || { echo "bench/run.sh: --only needs a list" >&2; exit 2; }
+            ONLY=$2; check_only "$ONLY"; shift ;;
     --report) REPORT_ONLY=1 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) echo "bench/run.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
@@ -50,6 +70,7 @@ done
 
 BIN=${CSGTRACE:-$ROOT/build/csgtrace}
 RANKS=${RANKS:-3}
+JOBS=${JOBS:-3}
 # The full suite keeps its own results (and scene cache) beside the quick one's.
 SUFFIX=""
 [ "$SUITE" = full ] && SUFFIX=-full
@@ -62,17 +83,20 @@ MPIRUN=(mpirun -np "$RANKS" --oversubscribe --bind-to none)
 
 # ---- the two suites ---------------------------------------------------------------
 if [ "$SUITE" = quick ]; then
-    REPEATS=${REPEATS:-5}
+    REPEATS=${REPEATS:-2}
     SEEDS=(1)
     GEN_SIZE=192              # occupancy fitted at 192 (4x cheaper); measured again at render size
-    SIZE_COUNTS=(10 50); SIZE_OCCS=(20 80); SIZES=(192 256 320)
-    BIG_COUNTS=(30 100 300); BIG_COUNTS_SIZE=192
+    COUNTS=(10 30 50); OCCS=(20 50 80)
+    SIZE_COUNTS=(30); SIZE_OCCS=(50); SIZES=(192 256 320)
+    BIG_COUNTS=(100 300); BIG_COUNTS_SIZE=192
     BIG_SIZES=(512 768)
-    SWEEP_OCCS=(5 35 65 95); SWEEP_SIZE=256
-    TILES=(8 16 32 64 128); TILE_SIZE=192
+    SWEEP_OCCS=(5 95); SWEEP_SIZE=256     # the paper's range (20-80) is in objects
+    TILES=(8 16 64); TILE_SIZE=384        # tile 32: the runs of objects (30, 50)
+    SCHED_SIZE=384
     POV_COUNTS=(30); POV_SIZE=384
 else
-    REPEATS=${REPEATS:-5}
+    REPEATS=${REPEATS:-3}
+    COUNTS=(10 20 30 40 50); OCCS=(20 50 80)
     SEEDS=(1 2 3)
     GEN_SIZE=384
     SIZE_COUNTS=(10 20 30 40 50); SIZE_OCCS=(20 50 80); SIZES=(192 256 320)
@@ -80,9 +104,11 @@ else
     BIG_SIZES=(384 512 768 1024 1536)
     SWEEP_OCCS=(5 15 25 35 45 55 65 75 85 95); SWEEP_SIZE=384
     TILES=(8 16 32 64 128); TILE_SIZE=384
+    SCHED_SIZE=768
     POV_COUNTS=(10 30 50); POV_SIZE=384
 fi
-COUNTS=(10 20 30 40 50); OCCS=(20 50 80); PAPER_SIZE=384
+PAPER_SIZE=384
+SCHEDULES=(raster cost static tail); SCHED_COUNT=30; SCHED_OCC=50
 BIG_OCC=50; BIG_SIZE_COUNT=30; SWEEP_COUNT=30; TILE_COUNT=30; TILE_OCC=50; DEFAULT_TILE=32
 
 die() { echo "bench/run.sh: $*" >&2; exit 1; }
@@ -102,7 +128,7 @@ scene() {
     local f="$WORK/scenes/spheres-n$n-o$occ-s$seed-g$GEN_SIZE.pov"
     if [ ! -s "$f" ]; then
         mkdir -p "$WORK/scenes"
-        "$BIN" gen spheres --count "$n" --occupancy "$(awk "BEGIN{print $occ/100}")" \
+        "$BIN" gen spheres --count "$n" --occupancy "$(awk -v o="$occ" 'BEGIN{print o/100}')" \
             --seed "$seed" --width "$GEN_SIZE" --height "$GEN_SIZE" -o "$f.tmp.pov" \
             >"$f.gen.txt" || die "gen failed for $f"
         mv "$f.tmp.pov" "$f"
@@ -125,13 +151,16 @@ render() {
         || { cat "$WORK/log.txt" >&2; die "render failed: ${cmd[*]}"; }
 }
 
-# compare_runs SCENE SIZE TILE: one `csgtrace compare` job, its runs split into
-# $WORK/run-MODE-R.json (one stats object each, as `render --stats` writes).
+# compare_runs SCENE SIZE TILE SCHED: one `csgtrace compare` job (SCHED "default":
+# each mode's own scheduler), its runs split into $WORK/run-MODE-R.json (one
+# stats object each, as `render --stats` writes).
 compare_runs() {
-    local sc=$1 size=$2 tile=$3 json="$WORK/compare.json"
+    local sc=$1 size=$2 tile=$3 sched=$4 json="$WORK/compare.json"
+    local extra=()
+    [ "$sched" = default ] || extra=(--schedule "$sched")
     rm -f "$json" "$WORK"/run-*.json
     "${MPIRUN[@]}" "$BIN" compare "$sc" --width "$size" --height "$size" --tile "$tile" \
-        --repeat "$REPEATS" --stats "$json" >"$WORK/log.txt" 2>&1 \
+        --repeat "$REPEATS" "${extra[@]}" --stats "$json" >"$WORK/log.txt" 2>&1 \
         || { cat "$WORK/log.txt" >&2; die "compare failed on $sc at ${size}x${size}, tile $tile"; }
     python3 - "$json" "$WORK" <<'PY'
 import json, sys
@@ -143,24 +172,28 @@ for mode in ("homo", "hetero"):
 PY
 }
 
-# config EXP COUNT OCC SEED SIZE TILE: one compare job, R runs per mode, one CSV row each.
+# config EXP COUNT OCC SEED SIZE TILE [SCHED]: JOBS compare jobs of REPEATS
+# rounds each, one CSV row per render.
 config() {
-    local exp=$1 n=$2 occ=$3 seed=$4 size=$5 tile=$6
+    local exp=$1 n=$2 occ=$3 seed=$4 size=$5 tile=$6 sched=${7:-default}
     local sc; sc=$(scene "$n" "$occ" "$seed")
     local gocc; gocc=$(gen_occ "$sc")
-    local r mode json
-    compare_runs "$sc" "$size" "$tile"
-    for r in $(seq 1 "$REPEATS"); do
-        for mode in homo hetero; do
-            json="$WORK/run-$mode-$r.json"
-            $COLLECT append "$OUT/$exp.csv" "$json" experiment="$exp" suite="$SUITE" \
-                commit="$COMMIT" date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" cpu="$CPU" cores="$CORES" \
-                count="$n" occ_target="$occ" occ_gen="$gocc" gen_size="$GEN_SIZE" seed="$seed" \
-                repeat="$r" loadavg="$(loadavg)" scene="$(basename "$sc")"
+    local j r mode json
+    for j in $(seq 1 "$JOBS"); do
+        compare_runs "$sc" "$size" "$tile" "$sched"
+        for r in $(seq 1 "$REPEATS"); do
+            for mode in homo hetero; do
+                json="$WORK/run-$mode-$r.json"
+                $COLLECT append "$OUT/$exp.csv" "$json" experiment="$exp" suite="$SUITE" \
+                    commit="$COMMIT" date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" cpu="$CPU" \
+                    cores="$CORES" count="$n" occ_target="$occ" occ_gen="$gocc" \
+                    gen_size="$GEN_SIZE" seed="$seed" sched_arg="$sched" job="$j" repeat="$r" \
+                    loadavg="$(loadavg)" scene="$(basename "$sc")"
+            done
         done
     done
-    printf '  %-12s n=%-5s occ=%-3s seed=%s %sx%s tile=%-4s done (%ds)\n' \
-        "$exp" "$n" "$occ" "$seed" "$size" "$size" "$tile" "$SECONDS"
+    printf '  %-12s n=%-5s occ=%-3s seed=%s %sx%s tile=%-4s %-8s done (%ds)\n' \
+        "$exp" "$n" "$occ" "$seed" "$size" "$size" "$tile" "$sched" "$SECONDS"
 }
 
 # fresh EXP: start the experiment's CSV afresh.
@@ -193,7 +226,7 @@ if [ "$REPORT_ONLY" = 1 ]; then report; exit 0; fi
 SECONDS=0
 LOAD_START=$(loadavg)
 START=$(date -u +%Y-%m-%dT%H:%M:%SZ)
-echo "bench: $SUITE suite, $RANKS ranks, $REPEATS repeats per mode, commit $COMMIT, $CPU"
+echo "bench: $SUITE suite, $RANKS ranks, $JOBS jobs x $REPEATS rounds per configuration, commit $COMMIT, $CPU"
 
 # Scenes first (not timed; generation is the slow part for big counts).
 echo "== scenes (cached in $WORK/scenes)"
@@ -248,6 +281,17 @@ fi
 if want tile; then
     fresh tile
     for tile in "${TILES[@]}"; do config tile "$TILE_COUNT" "$TILE_OCC" 1 "$TILE_SIZE" "$tile"; done
+    if [[ " ${TILES[*]} " != *" $DEFAULT_TILE "* ]]; then # the default tile: objects' runs
+        [ -f "$OUT/objects.csv" ] || die "tile needs objects.csv (run objects first)"
+        $COLLECT copy "$OUT/objects.csv" "$OUT/tile.csv" tile "$TILE_COUNT" "$TILE_OCC"
+    fi
+fi
+
+if want schedule; then
+    fresh schedule
+    for sched in "${SCHEDULES[@]}"; do
+        config schedule "$SCHED_COUNT" "$SCHED_OCC" 1 "$SCHED_SIZE" "$DEFAULT_TILE" "$sched"
+    done
 fi
 
 if want povray; then
@@ -259,12 +303,17 @@ if want povray; then
         "$ROOT/bench/vs_povray.sh" "${POV_SCENES[@]}"
 fi
 
-python3 - "$OUT/run_info.json" <<EOF
+# Values go to Python as arguments (data), never into its source.
+python3 - "$OUT/run_info.json" "$SUITE" "$START" "$SECONDS" "$COMMIT" "$CPU" "$CORES" "$RANKS" \
+    "$JOBS" "$REPEATS" "$ONLY" "$LOAD_START" "$(loadavg)" <<'PY'
 import json, sys
-json.dump({"suite": "$SUITE", "start": "$START", "elapsed_s": $SECONDS, "commit": "$COMMIT",
-           "cpu": "$CPU", "cores": $CORES, "ranks": $RANKS, "repeats": $REPEATS,
-           "only": "$ONLY", "load_start": "$LOAD_START", "load_end": "$(loadavg)"},
-          open(sys.argv[1], "w"), indent=1)
-EOF
+keys = ("suite", "start", "elapsed_s", "commit", "cpu", "cores", "ranks", "jobs", "repeats",
+        "only", "load_start", "load_end")
+info = dict(zip(keys, sys.argv[2:]))
+for k in ("elapsed_s", "cores", "ranks", "jobs", "repeats"):
+    info[k] = int(info[k])
+with open(sys.argv[1], "w") as f:
+    json.dump(info, f, indent=1)
+PY
 report
 echo "bench: done in ${SECONDS}s; CSV and PNG in $OUT"

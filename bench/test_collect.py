@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """test_collect.py — unit tests of bench/collect.py (stdlib unittest):
-flattening, the CSV union header, the medians and the advantage, idiff parsing,
-and the report on a tiny synthetic data set.  Run: python3 bench/test_collect.py
+flattening, the CSV union header, the medians and the advantage, the paired
+advantage of interleaved rounds with its spread, idiff parsing, the report on
+a tiny synthetic data set, and bench/run.sh refusing an --only list that is
+not plain experiment names (it used to reach Python source).
+Run: python3 bench/test_collect.py
 """
 import csv
 import io
 import json
 import os
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -81,6 +85,61 @@ class CollectTest(unittest.TestCase):
         _, rows = collect.read_csv(os.path.join(self.d, "e.csv"))
         adv = {s["count"]: s["advantage_pct"] for s in collect.summarize(rows)}
         self.assertEqual(adv, {"10": 50.0, "20": -100.0})
+
+    def test_time_excludes_opencl_setup(self):
+        st = stats("hetero", 3.0, compile_s=1.0)
+        st["cl_setup_s"] = 0.5
+        self.append("e.csv", st, count=10)
+        _, rows = collect.read_csv(os.path.join(self.d, "e.csv"))
+        self.assertAlmostEqual(float(rows[0]["time_s"]), 1.5)
+
+    def test_paired_rounds(self):
+        # Two jobs of two rounds; job 2 round 1 disturbed (homo slow).
+        times = {(1, 1): (1.0, 0.9), (1, 2): (1.0, 1.1), (2, 1): (2.0, 0.9), (2, 2): (1.0, 0.8)}
+        for (job, rep), (h, g) in times.items():
+            for mode, t in (("homo", h), ("hetero", g)):
+                self.append("e.csv", stats(mode, t), count=10, occ_target=50, seed=1,
+                            job=job, repeat=rep)
+        _, rows = collect.read_csv(os.path.join(self.d, "e.csv"))
+        (s,) = collect.summarize(rows)
+        self.assertEqual(s["rounds"], 4)
+        self.assertEqual(s["jobs"], 2)
+        # rounds: +10, -10, +55, +20 -> median 15, spread -10 .. 55
+        self.assertAlmostEqual(s["adv_paired_pct"], 15.0)
+        self.assertAlmostEqual(s["adv_lo_pct"], -10.0)
+        self.assertAlmostEqual(s["adv_hi_pct"], 55.0)
+        self.assertAlmostEqual(s["adv_job_lo_pct"], 0.0)   # job 1: median of +10, -10
+        self.assertAlmostEqual(s["adv_job_hi_pct"], 37.5)  # job 2: median of +55, +20
+        self.assertFalse(s["hetero_slower"])
+        self.assertAlmostEqual(s["adv_pct"], 15.0)
+
+    def test_slower_in_every_round(self):
+        for rep in (1, 2, 3):
+            self.append("e.csv", stats("homo", 1.0), count=10, job=1, repeat=rep)
+            self.append("e.csv", stats("hetero", 1.2 + rep / 100), count=10, job=1, repeat=rep)
+        _, rows = collect.read_csv(os.path.join(self.d, "e.csv"))
+        (s,) = collect.summarize(rows)
+        self.assertTrue(s["hetero_slower"])
+        self.assertIn("slower in every round", collect.spread_cell(s))
+
+    def test_schedules_kept_apart(self):
+        for sched, g in (("raster", 0.5), ("tail", 2.0)):
+            self.append("e.csv", stats("homo", 1.0), count=10, sched_arg=sched)
+            self.append("e.csv", stats("hetero", g), count=10, sched_arg=sched)
+        _, rows = collect.read_csv(os.path.join(self.d, "e.csv"))
+        adv = {s["sched_arg"]: s["advantage_pct"] for s in collect.summarize(rows)}
+        self.assertEqual(adv, {"raster": 50.0, "tail": -100.0})
+
+    def test_run_sh_refuses_code_in_only(self):
+        run = os.path.join(os.path.dirname(os.path.abspath(__file__)), "run.sh")
+        marker = os.path.join(self.d, "pwned")
+        for only in (f"objects\"); open('{marker}', 'w'); (\"",
+                     f"objects,$(touch {marker})", "objects,nosuch", ""):
+            p = subprocess.run(["bash", run, "--report", "--only", only],
+                               capture_output=True, text=True,
+                               env=dict(os.environ, BENCH_OUT=self.d, BENCH_WORK=self.d))
+            self.assertEqual(p.returncode, 2, (only, p.stderr))
+            self.assertFalse(os.path.exists(marker))
 
     def test_idiff_parse(self):
         path = os.path.join(self.d, "idiff.txt")

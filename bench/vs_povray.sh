@@ -62,7 +62,7 @@ for sc in "$@"; do
     [ -s "$sc" ] || die "no scene $sc"
     name=$(basename "$sc" .pov)
     count=$(param count "$sc"); occ=$(param occupancy "$sc")
-    occ=${occ:+$(awk "BEGIN{print $occ*100}")}
+    occ=${occ:+$(awk -v o="$occ" 'BEGIN{print o*100}')}
     common=(cpu="$CPU" cores="$(nproc)" commit="$COMMIT" suite="$SUITE" scene="$name" count="$count"
             occ_target="$occ" width="$SIZE" height="$SIZE" ranks="$RANKS")
     pov_png="$WORK/$name-povray.png"
@@ -81,7 +81,7 @@ for sc in "$@"; do
         bound=$(pov_seconds "Bounding Time" "$WORK/pov.log")
         trace=$(pov_seconds "Trace Time" "$WORK/pov.log")
         [ -n "$trace" ] || die "no Trace Time in POV-Ray's statistics ($WORK/pov.log)"
-        total=$(awk "BEGIN{printf \"%.6f\", ${parse:-0} + ${bound:-0} + $trace}")
+        total=$(awk -v p="${parse:-0}" -v b="${bound:-0}" -v t="$trace" 'BEGIN{printf "%.6f", p + b + t}')
         $COLLECT append-kv "$CSV" "${common[@]}" renderer=povray repeat="$r" \
             date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" time_s="$total" ext_s="$ext" \
             pov_parse_s="$parse" pov_bounding_s="$bound" pov_trace_s="$trace"

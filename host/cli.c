@@ -6,6 +6,7 @@
 #include "cli.h"
 
 #include "../csg/flatten.h"
+#include "schedule.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -18,6 +19,7 @@ void cli_usage(FILE *out)
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto]\n"
+          "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE\n"
@@ -67,8 +69,12 @@ static bool parse_choice(const char *opt, const char *s, const char *const *name
             return true;
         }
     }
-    csg_error_plain(d, "%s expects one of %s%s%s%s%s, got '%s'", opt, names[0], n > 1 ? ", " : "",
-                    n > 1 ? names[1] : "", n > 2 ? ", " : "", n > 2 ? names[2] : "", s ? s : "");
+    char list[256] = "";
+    for (int i = 0; i < n; i++) {
+        size_t used = strlen(list);
+        snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", names[i]);
+    }
+    csg_error_plain(d, "%s expects one of %s, got '%s'", opt, list, s ? s : "");
     return false;
 }
 
@@ -84,6 +90,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
 {
     static const char *const modes[] = {"serial", "homo", "hetero"};
     static const char *const precisions[] = {"float", "double", "auto"};
+    static const char *const schedules[] = {"raster", "cost", "static", "tail"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -109,6 +116,12 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         r->stats_path = val;
         return true;
     }
+    if (strcmp(opt, "--tile-log") == 0) {
+        r->tile_log_path = val;
+        return true;
+    }
+    if (strcmp(opt, "--schedule") == 0)
+        return parse_choice(opt, val, schedules, SCHED_POLICIES, &r->schedule, d);
     if (strcmp(opt, "--cl-device") == 0) {
         r->cl_device = val;
         return true;
@@ -155,6 +168,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.spp = 1;
     a->req.progress = PROGRESS_TTY;
     a->req.threshold = -1;
+    a->req.schedule = -1; /* the mode's own */
     a->repeat = 3;
     if (argc < 2) {
         csg_error_plain(d, "no command given (see csgtrace --help)");

@@ -1,15 +1,19 @@
 /*
  * compare.c — the homogeneous versus heterogeneous comparison.
  *
- * Within one MPI job: per mode (homo, then hetero) one warm-up render and
- * R timed renders of the same scene; the OpenCL program is built once, in
+ * Within one MPI job: one warm-up render per mode, then R rounds of one
+ * homo and one hetero render, interleaved (homo, hetero, homo, hetero
+ * ...), so a disturbance of the shared machine hits both modes alike
+ * rather than all the runs of one.  The OpenCL program is built once, in
  * the warm-up, and kept (render_request.cl_keep), so no timed hetero run
- * pays for compilation.  Every rank runs this same loop: on the workers
- * each render_run is one round of the worker protocol, so the sequence
- * stays in step with the master's.  The master then checks that the last
- * homo and hetero images are equal bit for bit, prints one table (medians
- * with min-max), and the advantage (homo - hetero) / homo of the median
- * wall times.
+ * pays for compilation or OpenCL set-up.  Every rank runs this same loop:
+ * on the workers each render_run is one round of the worker protocol, so
+ * the sequence stays in step with the master's.  The master then checks
+ * that the last homo and hetero images are equal bit for bit and prints
+ * one table (medians with min-max of every phase), the advantage
+ * (homo - hetero) / homo of the median wall times, and the paired
+ * advantage: the median (min-max) over the rounds of each round's own
+ * (homo - hetero) / homo, the figure to trust when the machine is shared.
  */
 #include "compare.h"
 
@@ -43,15 +47,21 @@ typedef struct {
     double median, min, max;
 } spread;
 
+/* Median, min and max of n values (sorted in place). */
+static spread spread_sorted(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof v[0], cmp_double);
+    spread s = {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v[0], v[n - 1]};
+    return s;
+}
+
 /* Median, min and max of one field over the runs of a mode. */
 static spread spread_of(const render_stats *runs, int n, size_t offset)
 {
     double v[n];
     for (int i = 0; i < n; i++)
         memcpy(&v[i], (const char *)&runs[i] + offset, sizeof v[i]);
-    qsort(v, (size_t)n, sizeof v[0], cmp_double);
-    spread s = {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v[0], v[n - 1]};
-    return s;
+    return spread_sorted(v, n);
 }
 
 static void free_results(compare_results *r)
@@ -62,7 +72,27 @@ static void free_results(compare_results *r)
     }
 }
 
-/* The renders; on failure the status of the failed render. */
+/* One render of mode m into r (round i: 0 is the warm-up, not kept). */
+static int compare_render_one(const cli_args *a, compare_results *r, ocl_ctx **cl, int m, int i)
+{
+    render_request req = a->req;
+    render_stats st;
+    req.mode = compare_modes[m];
+    req.out_path = NULL;
+    req.stats_path = NULL;
+    req.tile_log_path = NULL;
+    req.progress = PROGRESS_OFF;
+    req.cl_keep = cl;
+    req.stats_out = &st;
+    req.image_out = i == r->repeat ? &r->image[m] : NULL;
+    int status = render_run(&req);
+    if (status == EXIT_OK && i > 0)
+        r->runs[m][i - 1] = st;
+    return status;
+}
+
+/* The renders, the modes interleaved round by round; on failure the
+ * status of the failed render. */
 static int compare_render_all(const cli_args *a, compare_results *r, ocl_ctx **cl)
 {
     for (int m = 0; m < COMPARE_MODES; m++) {
@@ -71,50 +101,68 @@ static int compare_render_all(const cli_args *a, compare_results *r, ocl_ctx **c
             fprintf(stderr, "csgtrace: error: out of memory\n");
             return EXIT_FAILURE_RUN;
         }
-        for (int i = 0; i <= r->repeat; i++) { /* i == 0: the warm-up */
-            render_request req = a->req;
-            render_stats st;
-            req.mode = compare_modes[m];
-            req.out_path = NULL;
-            req.stats_path = NULL;
-            req.progress = PROGRESS_OFF;
-            req.cl_keep = cl;
-            req.stats_out = &st;
-            req.image_out = i == r->repeat ? &r->image[m] : NULL;
-            int status = render_run(&req);
+    }
+    for (int i = 0; i <= r->repeat; i++) /* i == 0: the warm-ups */
+        for (int m = 0; m < COMPARE_MODES; m++) {
+            int status = compare_render_one(a, r, cl, m, i);
             if (status != EXIT_OK)
                 return status;
-            if (i > 0)
-                r->runs[m][i - 1] = st;
         }
-    }
     return EXIT_OK;
 }
 
-static void print_row_times(const char *label, const compare_results *r, size_t offset)
+/* The advantage of every round, (homo - hetero) / homo in %, into adv. */
+static spread paired_advantage(const compare_results *r, double *adv)
+{
+    for (int i = 0; i < r->repeat; i++) {
+        double h = r->runs[0][i].wall_s, x = r->runs[1][i].wall_s;
+        adv[i] = h > 0 ? 100.0 * (h - x) / h : 0.0;
+    }
+    double sorted[r->repeat];
+    memcpy(sorted, adv, sizeof sorted);
+    return spread_sorted(sorted, r->repeat);
+}
+
+/* One row: the median (min-max) of a field per mode; unit "s" or "%"
+ * (the field is a fraction, printed in %). */
+static void print_row(const char *label, const compare_results *r, size_t offset,
+                      const char *unit)
 {
     printf("%-22s", label);
     for (int m = 0; m < COMPARE_MODES; m++) {
         spread s = spread_of(r->runs[m], r->repeat, offset);
+        double k = unit[0] == '%' ? 100.0 : 1.0;
         char cell[64];
-        snprintf(cell, sizeof cell, "%.4f s (%.4f-%.4f)", s.median, s.min, s.max);
+        snprintf(cell, sizeof cell, "%.4f %s (%.4f-%.4f)", k * s.median, unit, k * s.min,
+                 k * s.max);
         printf("  %-30s", cell);
     }
     printf("\n");
 }
 
+static void print_row_times(const char *label, const compare_results *r, size_t offset)
+{
+    print_row(label, r, offset, "s");
+}
+
 static void print_table(const cli_args *a, const compare_results *r, bool identical,
-                        double advantage)
+                        double advantage, spread paired)
 {
     const render_stats *h = &r->runs[0][0], *x = &r->runs[1][0];
-    printf("csgtrace compare %s: %dx%d, tile %d, %d rank%s, %s, %d timed runs per mode after a "
-           "warm-up\n",
+    printf("csgtrace compare %s: %dx%d, tile %d, %d rank%s, %s, %d timed rounds (homo, hetero) "
+           "after a warm-up\n",
            a->req.scene_path, h->width, h->height, h->tile, h->ranks, h->ranks == 1 ? "" : "s",
            h->precision, r->repeat);
     printf("%-22s  %-30s  %-30s\n", "", "homo", "hetero");
     print_row_times("wall (median, min-max)", r, offsetof(render_stats, wall_s));
-    print_row_times("primary phase", r, offsetof(render_stats, primary_s));
-    print_row_times("tile phase", r, offsetof(render_stats, secondary_s));
+    print_row_times("setup phase", r, offsetof(render_stats, setup_s));
+    print_row_times("primary phase (alone)", r, offsetof(render_stats, primary_s));
+    print_row_times("pipelined phase", r, offsetof(render_stats, pipelined_s));
+    print_row_times("tile phase (after)", r, offsetof(render_stats, secondary_s));
+    print_row_times("write phase", r, offsetof(render_stats, write_s));
+    print_row_times("OpenCL pass", r, offsetof(render_stats, pass_s));
+    print_row_times("tail", r, offsetof(render_stats, tail_s));
+    print_row("workers busy", r, offsetof(render_stats, busy_fraction), "%");
     printf("%-22s  %-30s  %-30s\n", "OpenCL device", "-", x->device[0] ? x->device : "-");
     char a_cell[64], b_cell[64];
     snprintf(a_cell, sizeof a_cell, "%d / %d", h->tiles_sent, h->tiles_degenerate);
@@ -130,11 +178,15 @@ static void print_table(const cli_args *a, const compare_results *r, bool identi
     printf("%-22s  %.1f%% of pixels hit\n", "occupancy",
            h->pixels ? 100.0 * (double)h->pixels_hit / (double)h->pixels : 0.0);
     printf("%-22s  %s\n", "images", identical ? "identical, bit for bit" : "DIFFERENT");
+    printf("schedules: homo %s, hetero %s; hetero estimate vs seconds (Spearman): %.3f\n",
+           h->schedule, x->schedule, x->estimate_spearman);
     printf("advantage (homo - hetero) / homo: %.1f%%\n", advantage);
+    printf("advantage paired by round: %.1f%% (%.1f .. %.1f)\n", paired.median, paired.min,
+           paired.max);
 }
 
 static bool write_json(const char *path, const cli_args *a, const compare_results *r,
-                       bool identical, double advantage)
+                       bool identical, double advantage, const double *paired)
 {
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
@@ -146,6 +198,10 @@ static bool write_json(const char *path, const cli_args *a, const compare_result
         fprintf(f, (*c == '"' || *c == '\\') ? "\\%c" : "%c", *c);
     fprintf(f, "\",\n\"repeat\": %d,\n\"identical\": %s,\n\"advantage_pct\": %.6f,\n", r->repeat,
             identical ? "true" : "false", advantage);
+    fprintf(f, "\"interleaved\": true,\n\"advantage_paired_pct\": [");
+    for (int i = 0; i < r->repeat; i++)
+        fprintf(f, "%s%.6f", i ? ", " : "", paired[i]);
+    fprintf(f, "],\n");
     const char *names[COMPARE_MODES] = {"homo", "hetero"};
     for (int m = 0; m < COMPARE_MODES; m++) {
         fprintf(f, "\"%s\": [\n", names[m]);
@@ -205,10 +261,12 @@ int compare_run(const cli_args *a)
     double homo = spread_of(r.runs[0], r.repeat, offsetof(render_stats, wall_s)).median;
     double hetero = spread_of(r.runs[1], r.repeat, offsetof(render_stats, wall_s)).median;
     double advantage = homo > 0 ? 100.0 * (homo - hetero) / homo : 0.0;
-    print_table(a, &r, identical, advantage);
+    double paired[r.repeat];
+    spread pair = paired_advantage(&r, paired);
+    print_table(a, &r, identical, advantage, pair);
     if (a->out_path && !write_images(a->out_path, &r, h->width, h->height))
         status = EXIT_FAILURE_RUN;
-    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage)) {
+    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage, paired)) {
         fprintf(stderr, "csgtrace: error: %s: %s\n", a->req.stats_path, strerror(errno));
         status = EXIT_FAILURE_RUN;
     }

@@ -3,9 +3,12 @@
  * the one module that talks to MPI (only link.c includes mpi.h).
  *
  * Everything the tile protocol (protocol.h) needs and nothing more: start
- * MPI when launched by mpirun, send one message, wait for and receive one
- * message of a bounded size, broadcast the scene in chunks.  Without mpirun
- * none of it is ever called and MPI is never initialised.
+ * MPI when launched by mpirun, send one message (blocking, or in the
+ * background: link_isend), wait for or poll for one message of a bounded
+ * size, broadcast the scene in chunks, and the idle wait of an event loop
+ * (link_idle: poll, then nap, woken early by link_wake from any thread).
+ * Without mpirun no MPI call is ever made and MPI is never initialised
+ * (link_idle alone touches no MPI).
  *
  * Errors return: MPI's error handler is set to return codes, so a call
  * that fails reports LINK_ERROR to its caller instead of killing the job.
@@ -13,6 +16,7 @@
 #ifndef HOST_LINK_H
 #define HOST_LINK_H
 
+#include <semaphore.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -33,7 +37,8 @@ typedef enum {
                      tag and len say what it is); it stays at the head
                      of the queue, so the job can only end: report it,
                      then link_abort                                    */
-    LINK_ERROR    /* MPI failed                                        */
+    LINK_ERROR,   /* MPI failed                                        */
+    LINK_NONE     /* link_try_recv: no message is waiting              */
 } link_status;
 
 /* A received message; data is malloc'd and grows to the limit asked for,
@@ -52,10 +57,67 @@ typedef struct {
  * naps with a short back-off, rather than spinning in MPI: the ranks may
  * outnumber the cores, and the OpenCL pass needs them. */
 link_status link_recv(link_msg *m, int source, size_t limit);
+/* The same without waiting: LINK_NONE when no message from `source` is
+ * there now. */
+link_status link_try_recv(link_msg *m, int source, size_t limit);
 void link_msg_free(link_msg *m);
 
 /* One message of `len` bytes to `dest`. */
 link_status link_send(int dest, int tag, const void *data, size_t len);
+
+/* A send in the background (MPI_Isend): the sender goes on at once, even
+ * when the message is too large to be buffered and the receiver is busy.
+ * Its bytes must stay untouched until the request is done. */
+typedef struct {
+    union {
+        void *p;
+        long long i;
+        unsigned char bytes[16];
+    } impl;      /* the MPI_Request (link.c checks it fits)            */
+    bool active; /* started and not yet known to be done               */
+} link_req;
+
+link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req);
+/* True once the send is done (or none was active); LINK_ERROR aside, a
+ * done request is inactive again. */
+bool link_req_done(link_req *req);
+/* Waits (poll, then nap) until the send is done. */
+link_status link_req_wait(link_req *req);
+/* Gives up on a send the receiver may never take (a worker written off
+ * after breaking the protocol): MPI keeps the request; the caller must
+ * neither reuse nor free its bytes. */
+void link_req_abandon(link_req *req);
+
+/* The idle wait of an event loop: the caller polls for work and, when
+ * there was none, calls link_idle_step, which spins a little, then naps,
+ * each nap twice the last up to nap_max_ns.  link_wake (from any thread:
+ * it is a sem_post) ends the current nap at once and makes the next step
+ * return without napping, so a producer that is not a message (an OpenCL
+ * slice completing) is never kept waiting by a nap.  After useful work the
+ * caller calls link_idle_reset, which restarts the spins. */
+typedef struct {
+    sem_t wake;        /* posted by link_wake                            */
+    long nap_ns;       /* the next nap                                   */
+    long nap_max_ns;   /* the longest nap; the caller may change it      */
+    int spins;         /* steps left before the first nap                */
+    int spin_steps;    /* the spins after a reset                        */
+    bool ready;        /* wake was initialised                           */
+} link_idle;
+
+#define LINK_NAP_MAX_NS 200000L /* a worker with nothing queued, at most */
+
+/* Asks the OS to run this process soon after each wake-up rather than
+ * letting a busy process finish its time slice first: on Linux >= 6.12
+ * (EEVDF) a short custom slice (sched_setattr), so a nap's end or a wake-up
+ * preempts a worker at once; elsewhere it does nothing.  For the master,
+ * whose every delay is a worker's wait once the ranks outnumber the cores. */
+void link_respond_quickly(void);
+
+bool link_idle_init(link_idle *w, long nap_max_ns, int spin_steps);
+void link_idle_free(link_idle *w);
+void link_idle_step(link_idle *w);
+void link_idle_reset(link_idle *w);
+void link_wake(link_idle *w);
 
 /* MPI_Bcast of `size` bytes from the master, in chunks (no int overflow,
  * and a rank short of memory can still take part: data NULL receives into

@@ -1,11 +1,13 @@
 /*
  * master.h — rank 0's side of the tile protocol (protocol.h): the scene
- * broadcast, self-scheduled tiles, the final STOP (through link.h).
+ * broadcast, the work items of the scheduler (schedule.h) kept
+ * PROTO_IN_FLIGHT deep at every worker while the OpenCL pass still
+ * produces them, the final STOP (through link.h).
  *
  * Use (render.c):
  *   master_begin(&m, ranks);                 ranks 1: every call below is a
  *   master_share_scene(&m, status, ...);     no-op, MPI is never touched
- *   master_run_tiles(&m, &job, &d);          handshake + tiles + drain
+ *   master_run_tiles(&m, &job, &d);          handshake + items + drain
  *   master_end(&m, status);                  STOP(status) to every worker
  * master_end must be called on every path once master_begin was: it is
  * what lets the workers exit (with the master's status).
@@ -18,7 +20,9 @@
 
 #include "../csg/flatten.h"
 #include "../workers/tile.h"
+#include "link.h"
 #include "progress.h"
+#include "schedule.h"
 #include "stats.h"
 
 typedef struct {
@@ -34,34 +38,52 @@ typedef struct {
 } master_session;
 
 /* One tile phase: what to do and where the results go. */
-typedef struct {
+typedef struct master_job {
     const void *blob;         /* flattened scene (already validated)      */
     tile_grid grid;           /* the image's tiles                        */
     const void *t;            /* hetero: whole-image records (the blob's  */
     const uint32_t *surf;     /*   real, uint32); t NULL: homo            */
-    const int *todo;          /* tile indices, sent in this order         */
-    int todo_count;
+    sched *sched;             /* the work items, in the order to send     */
+    /* While sched is not closed: makes the newly ready tiles known to it
+     * (sched_add / sched_skip, sched_close after the last); with `wait`,
+     * blocks until at least one more is known.  Returns how many became
+     * known, or -1 with d filled (the OpenCL pass failed). */
+    int (*feed)(struct master_job *job, bool wait, csg_diag *d);
+    void *feed_arg;
+    link_idle *idle;          /* the master's idle wait (the feed's
+                                 producer wakes it); NULL: its own        */
     float *image;             /* width * height * 3: results stored here  */
     progress_bar *progress;   /* stepped once a tile                      */
     /* Results, added to: */
     stats_worker *workers;    /* [r - 1] is rank r (master_run_tiles)     */
     uint64_t pixels_hit;
     ray_counts rays;
+    double busy_s;            /* seconds of every item, all workers       */
+    int items_done;
+    double t_first;           /* stats_clock(): first item out (0: none)  */
+    double t_last;            /* the last result in                       */
 } master_job;
 
 void master_begin(master_session *m, int ranks);
 
+/* The idle wait master_run_tiles wants (its nap bounds), for a caller that
+ * lends it one (master_job.idle) to wake from another thread. */
+bool master_idle_init(link_idle *idle);
+
 /* Broadcasts the status, then (status 0) the blob. */
 void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob);
 
-/* Handshake, then every tile of job->todo through the workers; false with
- * d filled (one message) when a worker failed: no more tiles are sent, the
+/* Handshake, then every item of job->sched through the workers, feeding
+ * the scheduler as the tiles become ready; false with d filled (one
+ * message) when a worker or the feed failed: no more items are sent, the
  * outstanding ones are drained. */
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 
-/* Adds one tile's result to the job and to the stats of the rank that
- * computed it (a worker, or the master's local path). */
-void master_job_count(master_job *job, stats_worker *w, const tile_result *res);
+/* Item `item` came back from rank `rank` (0: the master's local path)
+ * with `res`, at stats_clock() `now`: added to the item, the job, the
+ * stats of the rank that computed it (w) and the progress bar. */
+void master_job_count(master_job *job, stats_worker *w, int rank, int item,
+                      const tile_result *res, double now);
 
 /* STOP(status) to every worker (broadcasting the status first if the scene
  * was never shared, receiving the handshake if it was not yet). */

@@ -13,16 +13,25 @@
  * only the first build of a given source + options is slow; compile_s
  * reports the build either way, apart from primary_s.
  *
- * ocl_primary_pass uploads the whole flat blob as one read-only buffer (the
- * kernels rebuild __global pointers from the array offsets), then walks the
- * image in slices of rows sized to the device (max allocation, a share of
- * the global memory, and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number
- * of tile rows whenever one tile row fits; otherwise it is a run of pixel
+ * The pass (ocl_pass_begin) uploads the whole flat blob as one read-only
+ * buffer (the kernels rebuild __global pointers from the array offsets),
+ * then walks the image in slices of rows: as many as the caller asks for
+ * (a few tile rows when the master pipelines, host/render.c) and at most
+ * what the device allows (max allocation, a share of the global memory,
+ * and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number of
+ * tile rows whenever one tile row fits; otherwise it is a run of pixel
  * rows inside a tile row.  Per slice: csg_primary (a work-item a pixel),
- * csg_tile_hits (a work-item a tile touched by the slice), then the records
- * are read straight into the caller's arrays at the slice's first row, and
- * the per-slice tile counts are added to tile_hits.  The counts are integer
- * sums, so the result does not depend on the slicing.
+ * csg_tile_hits (a work-item a tile touched by the slice), then
+ * non-blocking reads of the records straight into the caller's arrays at
+ * the slice's first row and of the slice's tile counts into a host array
+ * of its own.  Every slice is enqueued at once on the in-order queue and
+ * flushed, so the device works through them while the caller's thread is
+ * free (the master serves its workers); the last read of a slice carries
+ * an event, and an event callback tells the caller (notify) when it
+ * completes.  ocl_pass_rows then checks the events in order on the
+ * caller's thread and adds each completed slice's tile counts to
+ * tile_hits.  The counts are integer sums, so the result does not depend
+ * on the slicing.  ocl_primary_pass is the same pass, waited for whole.
  *
  * Invariants.  Every OpenCL call is checked and a failure is reported with
  * the call and the error's name (ocl_error_name); every object is released
@@ -33,6 +42,7 @@
 
 #include <CL/cl.h>
 #include <ctype.h>
+#include <stdatomic.h>
 #include <errno.h>
 #include <limits.h>
 #include <stdio.h>
@@ -528,9 +538,10 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
     return true;
 }
 
-/* Rows of one slice: as many as the device and the options allow, a whole
- * number of tile rows when at least one fits, and at least one row. */
-static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
+/* Rows of one slice: as many as the device, the options and `want` (> 0)
+ * allow, a whole number of tile rows when at least one fits, and at least
+ * one row. */
+static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, int want)
 {
     uint64_t w = (uint64_t)h->width * (uint64_t)h->spp, rs = h->real_size; /* records a row */
     uint64_t row_bytes = w * (rs + 4);
@@ -542,6 +553,8 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
     uint64_t cap = c->max_slice_bytes ? (uint64_t)c->max_slice_bytes : OCL_DEFAULT_SLICE_BYTES;
     if (cap / row_bytes < rows)
         rows = cap / row_bytes;
+    if (want > 0 && (uint64_t)want < rows)
+        rows = (uint64_t)want;
     if (rows >= (uint64_t)tile)
         rows -= rows % (uint64_t)tile;
     if (rows < 1)
@@ -553,7 +566,6 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
 
 typedef struct {
     cl_mem blob, t, surf, hits;
-    uint32_t *host_hits;
 } ocl_pass_buffers;
 
 static void ocl_release_buffers(ocl_pass_buffers *b)
@@ -566,7 +578,6 @@ static void ocl_release_buffers(ocl_pass_buffers *b)
         clReleaseMemObject(b->surf);
     if (b->hits)
         clReleaseMemObject(b->hits);
-    free(b->host_hits);
 }
 
 static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void *host,
@@ -581,11 +592,12 @@ static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void 
     return false;
 }
 
-/* One slice: rows y0 .. y0 + rows - 1, records into the caller's arrays,
- * tile counts added to tile_hits. */
+/* One slice: rows y0 .. y0 + rows - 1 enqueued, records read into the
+ * caller's arrays, its tile counts into hits_out; *done: the event of its
+ * last read. */
 static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
                           ocl_pass_buffers *b, void *t_out, uint32_t *surf_out,
-                          uint32_t *tile_hits, csg_diag *d)
+                          uint32_t *hits_out, cl_event *done, csg_diag *d)
 {
     cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
     cl_int tiles_x = (h->width + tile - 1) / tile;
@@ -629,64 +641,194 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueReadBuffer(surf)", err);
     size_t nt = (size_t)tiles_x * (size_t)tile_rows;
-    err = clEnqueueReadBuffer(c->queue, b->hits, CL_TRUE, 0, nt * sizeof(uint32_t), b->host_hits,
-                              0, NULL, NULL);
+    err = clEnqueueReadBuffer(c->queue, b->hits, CL_FALSE, 0, nt * sizeof(uint32_t), hits_out,
+                              0, NULL, done);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueReadBuffer(tile hits)", err);
-    err = clFinish(c->queue);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clFinish", err);
-    uint32_t *dst = tile_hits + (size_t)ty0 * (size_t)tiles_x;
-    for (size_t i = 0; i < nt; i++)
-        dst[i] += b->host_hits[i];
     return true;
+}
+
+/* ---- the pass, in the background ------------------------------------------------ */
+
+struct ocl_pass {
+    ocl_ctx *c;
+    const csg_blob_header *h;
+    int tile, rows, slices;   /* rows a slice (the last may be shorter)   */
+    int enqueued, done;       /* slices enqueued; complete and counted    */
+    size_t tiles_x, stride;   /* counts a slice may hold                  */
+    ocl_pass_buffers b;
+    uint32_t *host_hits;      /* slice k's counts at k * stride           */
+    uint32_t *tile_hits;      /* the caller's                             */
+    cl_event *events;         /* the last read of each slice              */
+    void (*notify)(void *);
+    void *notify_arg;
+    atomic_int callbacks;     /* registered and not yet run               */
+    double t0, t_end;         /* begin; the last slice seen complete      */
+};
+
+static void CL_CALLBACK ocl_slice_done(cl_event e, cl_int status, void *arg)
+{
+    (void)e;
+    (void)status;
+    ocl_pass *p = arg;
+    if (p->notify)
+        p->notify(p->notify_arg);
+    atomic_fetch_sub(&p->callbacks, 1);
+}
+
+/* The buffers, the per-slice arrays and the slicing of a new pass. */
+static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
+{
+    ocl_ctx *c = p->c;
+    const csg_blob_header *h = p->h;
+    int tile = p->tile;
+    p->tiles_x = (size_t)((h->width + tile - 1) / tile);
+    size_t tiles_y = (size_t)((h->height + tile - 1) / tile);
+    p->rows = ocl_slice_rows(c, h, tile, want);
+    p->slices = (h->height + p->rows - 1) / p->rows;
+    size_t tile_rows = (size_t)(p->rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
+    if (tile_rows > tiles_y)
+        tile_rows = tiles_y;
+    p->stride = p->tiles_x * tile_rows;
+    size_t npix = (size_t)h->width * (size_t)h->spp * (size_t)p->rows; /* records a slice */
+    p->host_hits = malloc((size_t)p->slices * p->stride * sizeof(uint32_t));
+    p->events = calloc((size_t)p->slices, sizeof *p->events);
+    if (!p->host_hits || !p->events) {
+        csg_error_plain(d, "out of memory");
+        return false;
+    }
+    return ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
+                             (void *)blob, &p->b.blob, "scene", d) &&
+           ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * h->real_size, NULL, &p->b.t, "t", d) &&
+           ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &p->b.surf,
+                             "surf", d) &&
+           ocl_create_buffer(c, CL_MEM_WRITE_ONLY, p->stride * sizeof(uint32_t), NULL, &p->b.hits,
+                             "tile hits", d);
+}
+
+/* Every slice on the queue, each with its completion callback; flushed. */
+static bool ocl_pass_enqueue(ocl_pass *p, void *t_out, uint32_t *surf_out, csg_diag *d)
+{
+    for (int k = 0; k < p->slices; k++) {
+        int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
+        if (!ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, t_out, surf_out,
+                           p->host_hits + (size_t)k * p->stride, &p->events[k], d))
+            return false;
+        p->enqueued++;
+        atomic_fetch_add(&p->callbacks, 1);
+        cl_int err = clSetEventCallback(p->events[k], CL_COMPLETE, ocl_slice_done, p);
+        if (err != CL_SUCCESS) {
+            atomic_fetch_sub(&p->callbacks, 1);
+            return ocl_fail(d, "clSetEventCallback", err);
+        }
+    }
+    cl_int err = clFlush(p->c->queue);
+    return err == CL_SUCCESS || ocl_fail(d, "clFlush", err);
+}
+
+bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void *t_out,
+                    uint32_t *surf_out, uint32_t *tile_hits, void (*notify)(void *),
+                    void *notify_arg, ocl_pass **out, csg_diag *d)
+{
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    *out = NULL;
+    if (!ocl_check_blob(c, h, tile, d))
+        return false;
+    ocl_pass *p = calloc(1, sizeof *p);
+    if (!p) {
+        csg_error_plain(d, "out of memory");
+        return false;
+    }
+    p->c = c;
+    p->h = h;
+    p->tile = tile;
+    p->tile_hits = tile_hits;
+    p->notify = notify;
+    p->notify_arg = notify_arg;
+    atomic_init(&p->callbacks, 0);
+    p->t0 = ocl_now();
+    bool ok = ocl_pass_alloc(p, blob, slice_rows, d);
+    if (ok) {
+        memset(tile_hits, 0, p->tiles_x * (size_t)((h->height + tile - 1) / tile) *
+                                 sizeof(uint32_t));
+        ok = ocl_pass_enqueue(p, t_out, surf_out, d);
+    }
+    *out = p; /* even on failure: ocl_pass_end waits for what was enqueued */
+    return ok;
+}
+
+/* Slice k is complete: its tile counts into the caller's. */
+static void ocl_pass_count(ocl_pass *p, int k)
+{
+    int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
+    int ty0 = y0 / p->tile, tile_rows = (y0 + n - 1) / p->tile - ty0 + 1;
+    uint32_t *dst = p->tile_hits + (size_t)ty0 * p->tiles_x;
+    const uint32_t *src = p->host_hits + (size_t)k * p->stride;
+    for (size_t i = 0; i < p->tiles_x * (size_t)tile_rows; i++)
+        dst[i] += src[i];
+}
+
+int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d)
+{
+    while (p->done < p->enqueued) {
+        cl_event e = p->events[p->done];
+        cl_int status = CL_QUEUED, err = CL_SUCCESS;
+        if (wait)
+            err = clWaitForEvents(1, &e);
+        if (err == CL_SUCCESS || err == CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+            err = clGetEventInfo(e, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status,
+                                 NULL);
+        if (err != CL_SUCCESS || status < 0) {
+            ocl_fail(d, err != CL_SUCCESS ? "clGetEventInfo(CL_EVENT_COMMAND_EXECUTION_STATUS)"
+                                          : "a slice of the primary pass",
+                     err != CL_SUCCESS ? err : status);
+            return -1;
+        }
+        if (status != CL_COMPLETE)
+            break;
+        ocl_pass_count(p, p->done++);
+        p->t_end = ocl_now();
+        wait = false; /* one more slice was waited for */
+    }
+    int rows = p->done * p->rows;
+    return rows < p->h->height ? rows : p->h->height;
+}
+
+bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
+{
+    if (!p)
+        return false;
+    bool ok = p->done == p->slices;
+    cl_int err = clFinish(p->c->queue); /* no read may still target the caller's arrays */
+    if (err != CL_SUCCESS && ok)
+        ok = ocl_fail(d, "clFinish", err);
+    while (atomic_load(&p->callbacks) > 0) { /* none may run on a freed pass */
+        struct timespec ts = {0, 20000};
+        nanosleep(&ts, NULL);
+    }
+    if (timing) {
+        timing->slices = p->slices;
+        timing->primary_s = (p->t_end > 0 ? p->t_end : ocl_now()) - p->t0;
+        ocl_device_name(p->c->device, timing->device_name, sizeof timing->device_name);
+    }
+    for (int k = 0; k < p->enqueued; k++)
+        clReleaseEvent(p->events[k]);
+    ocl_release_buffers(&p->b);
+    free(p->host_hits);
+    free(p->events);
+    free(p);
+    return ok;
 }
 
 bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint32_t *surf_out,
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d)
 {
-    const csg_blob_header *h = csg_blob_hdr(blob);
-    ocl_pass_buffers b = {0};
-    if (!ocl_check_blob(c, h, tile, d))
-        return false;
-    double t0 = ocl_now();
-    size_t tiles_x = (size_t)((h->width + tile - 1) / tile);
-    size_t tiles_y = (size_t)((h->height + tile - 1) / tile);
-    memset(tile_hits, 0, tiles_x * tiles_y * sizeof(uint32_t));
-    int rows = ocl_slice_rows(c, h, tile);
-    size_t tile_rows = (size_t)(rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
-    if (tile_rows > tiles_y)
-        tile_rows = tiles_y;
-    size_t npix = (size_t)h->width * (size_t)h->spp * (size_t)rows; /* records a slice */
-    b.host_hits = malloc(tiles_x * tile_rows * sizeof(uint32_t));
-    if (!b.host_hits) {
-        csg_error_plain(d, "out of memory");
-        goto fail;
-    }
-    if (!ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
-                           (void *)blob, &b.blob, "scene", d) ||
-        !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * h->real_size, NULL, &b.t, "t", d) ||
-        !ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &b.surf, "surf",
-                           d) ||
-        !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, tiles_x * tile_rows * sizeof(uint32_t), NULL,
-                           &b.hits, "tile hits", d))
-        goto fail;
-    int slices = 0;
-    for (int y0 = 0; y0 < h->height; y0 += rows) {
-        int n = h->height - y0 < rows ? h->height - y0 : rows;
-        if (!ocl_run_slice(c, h, tile, y0, n, &b, t_out, surf_out, tile_hits, d))
-            goto fail;
-        slices++;
-    }
-    timing->slices = slices;
-    timing->primary_s = ocl_now() - t0;
-    ocl_device_name(c->device, timing->device_name, sizeof timing->device_name);
-    ocl_release_buffers(&b);
-    return true;
-fail:
-    clFinish(c->queue); /* no read may still target the caller's arrays */
-    ocl_release_buffers(&b);
-    return false;
+    ocl_pass *p;
+    bool ok = ocl_pass_begin(c, blob, tile, 0, t_out, surf_out, tile_hits, NULL, NULL, &p, d);
+    int height = csg_blob_hdr(blob)->height, rows = 0;
+    while (ok && rows < height)
+        ok = (rows = ocl_pass_rows(p, true, d)) >= 0;
+    return ocl_pass_end(p, timing, d) && ok;
 }
 
 /* ---- opening and closing ---------------------------------------------------------- */
@@ -713,6 +855,7 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
 
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d)
 {
+    double t_open = ocl_now();
     *out = NULL;
     ocl_ctx *c = calloc(1, sizeof *c);
     if (!c) {
@@ -748,6 +891,7 @@ bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_dia
     if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
         goto fail;
     timing->compile_s = ocl_now() - t0;
+    timing->setup_s = ocl_now() - t_open - timing->compile_s;
     *out = c;
     return true;
 fail:

@@ -25,10 +25,13 @@ typedef struct {
 } ocl_options;
 
 typedef struct {
+    double setup_s;      /* ocl_open apart from compile_s: platform and
+                            device choice, context, queue                */
     double compile_s;    /* program build (or PoCL cache load) and one
                             warm-up launch (PoCL's per-work-group-size
                             compile), so primary_s holds no compilation */
-    double primary_s;    /* upload + kernels + download                   */
+    double primary_s;    /* the pass: buffers, upload, kernels, download
+                            (begin .. the last slice seen complete)      */
     int slices;          /* passes the image needed                       */
     char device_name[256];
 } ocl_timing;
@@ -41,9 +44,29 @@ bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_dia
  * width and height).  t_out: real[w*h] (the blob's precision), surf_out:
  * uint32[w*h], row-major; tile_hits: uint32[tiles_x * tiles_y], the number
  * of pixels of each tile (row-major over tiles of `tile` x `tile`) whose
- * primary ray hit something. */
+ * primary ray hit something.  Returns when the pass is over. */
 bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uint32_t *surf_out,
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d);
+
+/* The same pass in the background, for a caller with other work (the
+ * master serving its workers): ocl_pass_begin enqueues every slice of
+ * `slice_rows` rows (0: as many as the device allows; the device may
+ * allow fewer) and returns at once; notify(notify_arg), if given, is
+ * called from an OpenCL thread whenever a slice completes (keep it short
+ * and thread-safe: a wake-up).  ocl_pass_rows says how many rows from the
+ * top have final records and final tile counts (slices complete in
+ * order); with `wait` it first blocks until one more slice completes;
+ * -1 with d filled when the pass failed.  ocl_pass_end waits for what was
+ * enqueued, fills timing (primary_s, slices, device_name) and frees the
+ * pass; it must be called once ocl_pass_begin set *out (even when it
+ * failed) and before the output arrays are freed; it returns whether
+ * every slice completed. */
+typedef struct ocl_pass ocl_pass;
+bool ocl_pass_begin(ocl_ctx *ctx, const void *blob, int tile, int slice_rows, void *t_out,
+                    uint32_t *surf_out, uint32_t *tile_hits, void (*notify)(void *),
+                    void *notify_arg, ocl_pass **out, csg_diag *d);
+int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d);
+bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d);
 
 void ocl_close(ocl_ctx *ctx);
 

@@ -20,17 +20,26 @@
  *    and allocates its tile buffers (workers/tile.h: tile_runner).
  * 2. Handshake: every worker sends the master exactly one message,
  *      PROTO_TAG_READY (proto_ready)  or  PROTO_TAG_FAIL (proto_fail).
- * 3. Tiles (self-scheduling: one tile to each worker, then the next tile to
- *    whoever answers, then drain):
- *      master -> worker  PROTO_TAG_TILE    proto_tile
- *                          [PROTO_WORK_SHADE: the tile's packed hit
+ * 3. Work (demand-driven: each worker is kept PROTO_IN_FLIGHT work items
+ *    ahead, so it never waits on the master between two; the master's
+ *    scheduler, host/schedule.h, decides which item goes next):
+ *      master -> worker  PROTO_TAG_TILE    proto_tile: a rectangle inside
+ *                                          tile `index` (the whole tile,
+ *                                          or a piece of it)
+ *                          [PROTO_WORK_SHADE: the rectangle's packed hit
  *                           records, workers/tile.h (tile_pack_records)]
  *      worker -> master  PROTO_TAG_RESULT  proto_result + rgb[3 n] float,
- *                                          n = the tile's pixels
+ *                                          n = the rectangle's pixels
  *                   or   PROTO_TAG_FAIL    proto_fail
- *    Every TILE gets exactly one answer; a worker holds at most one tile.
+ *    Every TILE gets exactly one answer, in the order the TILEs were sent
+ *    (a worker answers first in, first out), so an answer belongs to the
+ *    oldest item the worker holds; a worker holds at most PROTO_IN_FLIGHT.
+ *    Large messages go in the background on both sides (link_isend): the
+ *    master never waits on a busy worker, a worker never on the master.
+ *    A worker whose answer breaks the protocol (wrong size, tile or tag)
+ *    is written off: the master expects nothing more from it.
  * 4. End: master -> every worker PROTO_TAG_STOP (proto_stop), sent only when
- *    that worker holds no tile (results drained).  The worker exits with
+ *    no live worker holds an item (results drained).  The worker exits with
  *    proto_stop.status, so every rank ends with the master's status.
  *
  * Tiles are numbered as in workers/tile.h (tile_rect_of).  Headers hold
@@ -71,15 +80,18 @@ typedef struct {
     int32_t pad;
 } proto_ready;
 
+/* Work items a worker holds at most: the one it computes and the next. */
+#define PROTO_IN_FLIGHT 2
+
 typedef struct {
     int32_t index;          /* tile number, row-major                  */
     int32_t work;           /* enum proto_work                         */
-    int32_t x, y;           /* top-left pixel                          */
-    int32_t width, height;  /* pixels of this tile                     */
+    int32_t x, y;           /* top-left pixel of the rectangle         */
+    int32_t width, height;  /* its pixels: inside tile `index`         */
 } proto_tile;
 
 typedef struct {
-    int32_t index;          /* the tile answered                       */
+    int32_t index;          /* the tile of the rectangle answered      */
     uint32_t hits;          /* primary samples that hit                */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     double busy_s;          /* seconds the worker spent on the tile    */

@@ -5,25 +5,40 @@
  * Steps, on the process that owns the image (rank 0, or the only one):
  *   1. parse the scene and flatten it in the requested precision; share the
  *      status and the blob with the workers (master.c);
- *   2. hetero: the OpenCL primary pass over the whole image (ocl.h), giving
- *      a hit record per pixel and a hit count per tile; tiles without hits
- *      are filled here with the background and never sent;
- *   3. the tile phase: every other tile, row-major, through the workers
- *      (master_run_tiles) or, without workers, in this process;
- *   4. the image (img_write_rgb), the stats JSON, one summary line;
+ *   2. hetero: open OpenCL (or reuse the caller's context) and start the
+ *      primary pass in the background, in slices of a few tile rows
+ *      (RENDER_SLICE_MIN_RECORDS), giving a hit record per pixel and a hit
+ *      count per tile;
+ *   3. the tile phase, through the workers (master_run_tiles) or, without
+ *      workers, in this process: the scheduler (schedule.h) is fed the
+ *      tiles of every completed slice as the pass goes on (render_feed):
+ *      tiles without hits are filled here with the background and never
+ *      sent, the others are queued with their estimated cost
+ *      (estimate.h); homo and serial queue every tile at once;
+ *   4. the image (img_write_rgb), the stats JSON, the tile log, one
+ *      summary line;
  *   5. STOP with the final status to every worker (master_end).
  * Serial mode is step 3 in-process over all tiles.
  *
- * Invariants: every mode produces the same pixels, because every tile goes
- * through the one tile_run (workers/tile.h), on a worker or here, from the
- * same record (hetero: the OpenCL record; the others: the engine's
+ * Timing: marks on one clock (render_marks) cut the render into
+ * consecutive phases, so the phases of the stats add up to wall_s
+ * exactly (stats.h): setup | OpenCL set-up + compile | the pass alone |
+ * pass and tiles at once (pipelined) | tiles alone | write.
+ *
+ * Invariants: every mode produces the same pixels, because every item goes
+ * through the one tile_run_rect (workers/tile.h), on a worker or here, from
+ * the same record (hetero: the OpenCL record; the others: the engine's
  * trace_primary), and degenerate tiles get exactly what shade gives a
- * missed primary ray (engine->miss_rgb).  Every failure prints one message here (workers never
- * print) and goes through the one cleanup path; no image is written unless
- * every tile succeeded.
+ * missed primary ray (engine->miss_rgb).  A tile reaches the scheduler
+ * only once the slices over all its rows are complete.  The pass is ended
+ * (ocl_pass_end) before its arrays or the wake-up it calls are freed.
+ * Every failure prints one message here (workers never print) and goes
+ * through the one cleanup path; no image is written unless every tile
+ * succeeded.
  */
 #include "render.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,12 +48,19 @@
 #include "../csg/precision.h"
 #include "../workers/tile.h"
 #include "../workers/worker.h"
+#include "estimate.h"
 #include "image.h"
 #include "link.h"
 #include "master.h"
 #include "ocl.h"
 #include "progress.h"
+#include "protocol.h"
+#include "schedule.h"
 #include "stats.h"
+
+/* Records a slice of the pipelined pass holds at least: one tile row, or
+ * more when a tile row is smaller (each slice costs two launches). */
+#define RENDER_SLICE_MIN_RECORDS 2048
 
 /* Everything one render owns; freed in render_free. */
 typedef struct {
@@ -47,24 +69,59 @@ typedef struct {
     void *t;               /* hetero: the OpenCL records                */
     uint32_t *surf;
     uint32_t *tile_hits;   /* hetero: hits per tile                      */
-    int *todo;             /* tiles of the tile phase                    */
     stats_worker *workers; /* one per worker (or one for this process)  */
+    sched sched;           /* the work items                             */
+    estimator est;         /* hetero: the items' estimated costs         */
+    ocl_ctx *ctx;          /* hetero: OpenCL, owned unless req->cl_keep  */
+    bool own_ctx;
+    ocl_pass *pass;        /* hetero: the pass, until ended              */
+    ocl_timing tm;
+    link_idle idle;        /* the master's wait; the pass wakes it       */
+    bool idle_ready;
+    int tile_rows_known;   /* tile rows handed to the scheduler          */
+    float bg[3];           /* what a degenerate tile is filled with      */
+    double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
 } render_state;
+
+/* The marks that cut a render into its phases (stats.h). */
+typedef struct {
+    double start;     /* render_job began                                */
+    double loaded;    /* scene parsed, flattened, shared                 */
+    double cl_ready;  /* OpenCL opened (hetero), else = loaded           */
+    double tiles_end; /* the last result in (or the tile phase gave up)  */
+    double written;   /* the image written                               */
+} render_marks;
 
 static void render_free(render_state *rs)
 {
+    if (rs->pass) { /* before its arrays and its wake-up go */
+        csg_diag ignored = {{0}, 0};
+        ocl_pass_end(rs->pass, NULL, &ignored);
+    }
+    if (rs->own_ctx)
+        ocl_close(rs->ctx);
+    if (rs->idle_ready)
+        link_idle_free(&rs->idle);
     csg_blob_free(&rs->blob);
     free(rs->image);
     free(rs->t);
     free(rs->surf);
     free(rs->tile_hits);
-    free(rs->todo);
     free(rs->workers);
+    sched_free(&rs->sched);
+    estimator_free(&rs->est);
 }
 
 static const char *render_mode_name(enum render_mode m)
 {
     return m == MODE_SERIAL ? "serial" : m == MODE_HOMO ? "homo" : "hetero";
+}
+
+static enum sched_policy render_policy(const render_request *req)
+{
+    if (req->schedule >= 0 && req->schedule < SCHED_POLICIES)
+        return (enum sched_policy)req->schedule;
+    return req->mode == MODE_HETERO ? SCHED_COST : SCHED_RASTER;
 }
 
 /* The engine of the request's precision; auto decides from the scene
@@ -108,35 +165,58 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
     return status;
 }
 
-/* Step 2 (hetero): records, tile hits and the OpenCL timings. */
-static int render_primary(const render_request *req, render_state *rs, int tiles,
-                          render_stats *st, csg_diag *d)
+/* ---- step 2: the OpenCL pass, in the background --------------------------- */
+
+/* The caller's context, or a new one (kept for the caller when it asks). */
+static bool render_open_cl(const render_request *req, render_state *rs, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
-    size_t n = (size_t)h->width * (size_t)h->height * (size_t)h->spp; /* records */
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
     ocl_options opt = { device, h->real_size == 8, 0 };
-    ocl_timing tm;
-    ocl_ctx *ctx = req->cl_keep ? *req->cl_keep : NULL;
-    memset(&tm, 0, sizeof tm);
-    rs->t = malloc(n * h->real_size);
+    rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
+    if (!rs->ctx && !ocl_open(&opt, &rs->ctx, &rs->tm, d))
+        return false;
+    if (req->cl_keep)
+        *req->cl_keep = rs->ctx; /* the caller closes it */
+    else
+        rs->own_ctx = true;
+    return true;
+}
+
+static void render_wake(void *idle)
+{
+    link_wake(idle);
+}
+
+static double render_estimate(void *est, tile_rect r)
+{
+    return estimate_rect(est, r);
+}
+
+/* Slice rows of the pipelined pass: whole tile rows, enough records. */
+static int render_slice_rows(const tile_grid *g)
+{
+    size_t row = (size_t)g->width * (size_t)g->spp * (size_t)g->tile; /* records a tile row */
+    size_t tile_rows = (RENDER_SLICE_MIN_RECORDS + row - 1) / row;
+    size_t rows = tile_rows * (size_t)g->tile;
+    return rows < (size_t)g->height ? (int)rows : g->height;
+}
+
+/* The record arrays, the estimator and the pass started; 0 or 1. */
+static int render_start_pass(render_state *rs, const tile_grid *g, bool wake, csg_diag *d)
+{
+    size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp; /* records */
+    rs->t = malloc(n * g->real_size);
     rs->surf = malloc(n * sizeof *rs->surf);
-    rs->tile_hits = calloc((size_t)tiles, sizeof *rs->tile_hits);
-    if (!rs->t || !rs->surf || !rs->tile_hits) {
+    rs->tile_hits = calloc((size_t)tile_count(g), sizeof *rs->tile_hits);
+    if (!rs->t || !rs->surf || !rs->tile_hits ||
+        !estimator_init(&rs->est, rs->blob.bytes, g, rs->surf)) {
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
-    bool ok = (ctx || ocl_open(&opt, &ctx, &tm, d)) &&
-              ocl_primary_pass(ctx, rs->blob.bytes, st->tile, rs->t, rs->surf, rs->tile_hits,
-                               &tm, d);
-    if (req->cl_keep)
-        *req->cl_keep = ctx; /* the caller closes it */
-    else if (ctx)
-        ocl_close(ctx);
-    st->compile_s = tm.compile_s;
-    st->primary_s = tm.primary_s;
-    snprintf(st->device, sizeof st->device, "%s", tm.device_name);
-    if (!ok) {
+    rs->pass_start = stats_clock();
+    if (!ocl_pass_begin(rs->ctx, rs->blob.bytes, g->tile, render_slice_rows(g), rs->t, rs->surf,
+                        rs->tile_hits, wake ? render_wake : NULL, &rs->idle, &rs->pass, d)) {
         if (!d->failed)
             csg_error_plain(d, "the OpenCL primary pass failed");
         return EXIT_FAILURE_RUN;
@@ -144,38 +224,55 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
     return EXIT_OK;
 }
 
-/* The tiles of the tile phase into rs->todo; hetero: the others filled with
- * the background (what shade gives a missed primary ray). */
-static void render_plan(render_state *rs, render_stats *st, master_job *job)
+/* ---- step 3: feeding the scheduler -------------------------------------------- */
+
+/* Tile `i`: queued, or (no hit) filled with the background and logged. */
+static bool render_offer_tile(render_state *rs, master_job *job, int i)
 {
-    int tiles = tile_count(&job->grid);
-    float bg[3];
-    engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, bg);
-    int count = 0;
-    for (int i = 0; i < tiles; i++) {
-        if (!rs->tile_hits || rs->tile_hits[i] > 0) {
-            rs->todo[count++] = i;
-            continue;
-        }
-        tile_rect r = tile_rect_of(&job->grid, i);
+    tile_rect r = tile_rect_of(&job->grid, i);
+    if (rs->tile_hits && rs->tile_hits[i] == 0) {
         for (int y = r.y; y < r.y + r.height; y++)
             for (int x = r.x; x < r.x + r.width; x++)
-                memcpy(rs->image + ((size_t)y * (size_t)st->width + (size_t)x) * 3, bg,
-                       sizeof bg);
+                memcpy(rs->image + ((size_t)y * (size_t)job->grid.width + (size_t)x) * 3,
+                       rs->bg, sizeof rs->bg);
+        if (job->progress)
+            progress_step(job->progress);
+        return sched_skip(&rs->sched, i, r);
     }
-    st->tiles_sent = count;
-    st->tiles_degenerate = tiles - count;
-    job->todo = rs->todo;
-    job->todo_count = count;
-    if (rs->tile_hits) { /* the device traced every primary ray */
-        for (int i = 0; i < tiles; i++)
-            job->pixels_hit += rs->tile_hits[i];
-        job->rays.primary = st->pixels * (uint64_t)job->grid.spp;
-    }
+    return sched_add(&rs->sched, i, r);
 }
 
-/* Step 3 without workers: every tile of the job in this process, through
- * the very tile_run a worker calls. */
+/* master_job.feed: the tile rows whose slices are complete go to the
+ * scheduler; homo and serial (no pass) give every tile at once. */
+static int render_feed(master_job *job, bool wait, csg_diag *d)
+{
+    render_state *rs = job->feed_arg;
+    const tile_grid *g = &job->grid;
+    int columns = tile_columns(g), tile_rows = tile_count(g) / columns;
+    int rows = rs->pass ? ocl_pass_rows(rs->pass, wait, d) : g->height;
+    if (rows < 0)
+        return -1;
+    int known = 0;
+    for (; rs->tile_rows_known < tile_rows; rs->tile_rows_known++) {
+        int ty = rs->tile_rows_known, bottom = (ty + 1) * g->tile;
+        if ((bottom < g->height ? bottom : g->height) > rows)
+            break;
+        for (int i = ty * columns; i < (ty + 1) * columns; i++, known++) {
+            if (!render_offer_tile(rs, job, i)) {
+                csg_error_plain(d, "out of memory for the work items");
+                return -1;
+            }
+        }
+    }
+    if (rs->tile_rows_known == tile_rows && !rs->sched.closed) {
+        sched_close(&rs->sched);
+        rs->pass_end = stats_clock();
+    }
+    return known;
+}
+
+/* Step 3 without workers: every item in this process, through the very
+ * tile_run_rect a worker calls, as the pass makes tiles ready. */
 static int render_local_tiles(master_job *job, csg_diag *d)
 {
     tile_runner tr;
@@ -188,16 +285,27 @@ static int render_local_tiles(master_job *job, csg_diag *d)
         goto fail;
     }
     job->workers[0].rank = 0;
-    for (int k = 0; k < job->todo_count; k++) {
-        tile_rect r = tile_rect_of(&job->grid, job->todo[k]);
+    for (;;) {
+        if (!job->sched->closed && job->feed(job, false, d) < 0)
+            goto fail;
+        double now = stats_clock();
+        int item = sched_next(job->sched, 0, now);
+        if (item < 0) {
+            if (job->sched->closed) /* finished (one worker gets every item) */
+                break;
+            if (job->feed(job, true, d) < 0) /* the next slice */
+                goto fail;
+            continue;
+        }
+        if (job->t_first == 0)
+            job->t_first = now;
+        tile_rect r = job->sched->items[item].rect;
         tile_result res;
         if (job->t)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);
-        tile_run(&tr, job->todo[k], records, rgb, &res);
+        tile_run_rect(&tr, r, records, rgb, &res);
         tile_store_rgb(job->image, job->grid.width, r, rgb);
-        master_job_count(job, &job->workers[0], &res);
-        if (job->progress)
-            progress_step(job->progress);
+        master_job_count(job, &job->workers[0], 0, item, &res, stats_clock());
     }
     status = EXIT_OK;
 fail:
@@ -228,6 +336,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
 {
     memset(st, 0, sizeof *st);
     st->mode = render_mode_name(req->mode);
+    st->schedule = sched_policy_name(render_policy(req));
     st->precision = req->precision == PREC_DOUBLE ? "double" : "float";
     st->width = req->width;
     st->height = req->height;
@@ -235,57 +344,173 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
     st->ranks = ranks;
     st->spp = req->spp > 0 ? req->spp : 1;
     st->pixels = (uint64_t)req->width * (uint64_t)req->height;
+    st->estimate_spearman = (double)NAN;
+}
+
+/* ---- the figures of the tile phase ---------------------------------------------- */
+
+/* The last result in minus the first worker idle for good. */
+static double render_tail(const sched *s, int workers, double t_first, double t_last)
+{
+    double *last = calloc((size_t)workers + 1, sizeof *last);
+    double first_idle = t_last;
+    if (workers < 2 || t_first == 0 || !last) {
+        free(last);
+        return 0.0;
+    }
+    for (int i = 0; i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (it->worker >= 1 && it->worker <= workers && it->done_s > last[it->worker])
+            last[it->worker] = it->done_s;
+    }
+    for (int r = 1; r <= workers; r++) {
+        double idle = last[r] > 0 ? last[r] : t_first;
+        if (idle < first_idle)
+            first_idle = idle;
+    }
+    free(last);
+    return t_last - first_idle;
+}
+
+/* Spearman's rho of the sent items' estimates and seconds. */
+static double render_spearman(const sched *s)
+{
+    double *x = malloc((size_t)s->count * sizeof *x), *y = malloc((size_t)s->count * sizeof *y);
+    int n = 0;
+    for (int i = 0; x && y && i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (!it->skipped && !it->split && it->order >= 0 && it->estimate >= 0) {
+            x[n] = it->estimate;
+            y[n++] = it->busy_s;
+        }
+    }
+    double rho = x && y ? estimate_spearman(x, y, n) : (double)NAN;
+    free(x);
+    free(y);
+    return rho;
+}
+
+static int render_skipped(const sched *s)
+{
+    int n = 0;
+    for (int i = 0; i < s->count; i++)
+        n += s->items[i].skipped;
+    return n;
+}
+
+/* The phases (consecutive marks, stats.h) and the tile-phase figures. */
+static void render_account(const render_state *rs, const master_job *job,
+                           const render_marks *mk, render_stats *st)
+{
+    bool pass = rs->pass_start > 0;
+    double pass_end = pass && rs->pass_end > 0 ? rs->pass_end : mk->tiles_end;
+    double first = job->t_first > 0 ? job->t_first : mk->tiles_end;
+    double t3 = pass ? (first < pass_end ? first : pass_end) : mk->cl_ready;
+    double t4 = pass ? pass_end : mk->cl_ready;
+    st->setup_s = mk->loaded - mk->start;
+    st->compile_s = rs->tm.compile_s;
+    st->cl_setup_s = mk->cl_ready - mk->loaded - st->compile_s;
+    st->primary_s = t3 - mk->cl_ready;
+    st->pipelined_s = t4 - t3;
+    st->secondary_s = mk->tiles_end - t4;
+    st->write_s = mk->written - mk->tiles_end;
+    st->wall_s = mk->written - mk->start;
+    st->pass_s = pass ? pass_end - rs->pass_start : 0.0;
+    st->slices = rs->tm.slices;
+    st->tile_phase_s = job->t_first > 0 ? job->t_last - job->t_first : 0.0;
+    double span = st->tile_phase_s * (double)st->worker_count;
+    st->busy_fraction = span > 0 ? job->busy_s / span : 0.0;
+    st->tail_s = render_tail(&rs->sched, st->worker_count > 1 ? st->worker_count : 0,
+                             job->t_first, job->t_last);
+    st->estimate_spearman = render_spearman(&rs->sched);
+    st->tiles_sent = rs->sched.added;
+    st->tiles_degenerate = render_skipped(&rs->sched);
+    st->items_sent = rs->sched.dispatched;
+}
+
+/* ---- steps 2 and 3 ------------------------------------------------------------------ */
+
+/* Everything the tile phase needs, the pass started; 0 or the failure. */
+static int render_prepare(const render_request *req, master_session *ms, render_state *rs,
+                          render_stats *st, render_marks *mk, master_job *job, csg_diag *d)
+{
+    tile_grid grid = tile_grid_of(rs->blob.bytes, st->tile);
+    bool use_workers = ms->workers > 0 && req->mode != MODE_SERIAL;
+    bool hetero = req->mode == MODE_HETERO;
+    st->tiles_total = tile_count(&grid);
+    st->worker_count = use_workers ? ms->workers : 1;
+    st->in_flight = use_workers ? PROTO_IN_FLIGHT : 1;
+    if (hetero && !render_open_cl(req, rs, d))
+        return EXIT_FAILURE_RUN;
+    mk->cl_ready = stats_clock();
+    rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
+    rs->workers = calloc((size_t)st->worker_count, sizeof *rs->workers);
+    rs->idle_ready = use_workers && master_idle_init(&rs->idle);
+    if (!rs->image || !rs->workers || (use_workers && !rs->idle_ready) ||
+        !sched_init(&rs->sched, render_policy(req), st->worker_count, st->in_flight,
+                    st->tiles_total, hetero ? render_estimate : NULL, &rs->est)) {
+        csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
+        return EXIT_FAILURE_RUN;
+    }
+    engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, rs->bg);
+    job->blob = rs->blob.bytes;
+    job->grid = grid;
+    job->sched = &rs->sched;
+    job->feed = render_feed;
+    job->feed_arg = rs;
+    job->idle = rs->idle_ready ? &rs->idle : NULL;
+    job->image = rs->image;
+    job->workers = rs->workers;
+    if (hetero) {
+        int status = render_start_pass(rs, &grid, use_workers, d);
+        job->t = rs->t;
+        job->surf = rs->surf;
+        return status;
+    }
+    return render_feed(job, false, d) < 0 ? EXIT_FAILURE_RUN : EXIT_OK; /* every tile */
 }
 
 /* Steps 2 to 4, once the scene is shared; 0 or the failure status. */
 static int render_image(const render_request *req, master_session *ms, render_state *rs,
-                        render_stats *st, csg_diag *d)
+                        render_stats *st, render_marks *mk, csg_diag *d)
 {
-    tile_grid grid = tile_grid_of(rs->blob.bytes, st->tile);
-    int tiles = tile_count(&grid);
-    bool use_workers = ms->workers > 0 && req->mode != MODE_SERIAL;
-    int status;
     progress_bar bar;
     master_job job;
     memset(&job, 0, sizeof job);
-    st->tiles_total = tiles;
-    st->worker_count = use_workers ? ms->workers : 1;
-    rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
-    rs->todo = malloc((size_t)tiles * sizeof *rs->todo);
-    rs->workers = calloc((size_t)st->worker_count, sizeof *rs->workers);
-    if (!rs->image || !rs->todo || !rs->workers) {
-        csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
-        return EXIT_FAILURE_RUN;
-    }
-    if (req->mode == MODE_HETERO && (status = render_primary(req, rs, tiles, st, d)) != EXIT_OK)
+    mk->cl_ready = mk->loaded;
+    int status = render_prepare(req, ms, rs, st, mk, &job, d);
+    if (status != EXIT_OK)
         return status;
-
-    job.blob = rs->blob.bytes;
-    job.grid = grid;
-    job.t = rs->t;
-    job.surf = rs->surf;
-    job.image = rs->image;
     job.progress = &bar;
-    job.workers = rs->workers;
-    render_plan(rs, st, &job);
-
-    double t0 = stats_clock();
-    progress_begin(&bar, job.todo_count, (int)req->progress);
-    if (use_workers)
+    progress_begin(&bar, st->tiles_total, (int)req->progress);
+    double cpu0 = stats_thread_cpu();
+    if (ms->workers > 0 && req->mode != MODE_SERIAL)
         status = master_run_tiles(ms, &job, d) ? EXIT_OK : EXIT_FAILURE_RUN;
     else
         status = render_local_tiles(&job, d);
     progress_end(&bar);
-    st->secondary_s = stats_clock() - t0;
+    mk->tiles_end = stats_clock();
+    st->master_cpu_s = stats_thread_cpu() - cpu0;
+    if (rs->pass) {
+        bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
+        rs->pass = NULL;
+        snprintf(st->device, sizeof st->device, "%s", rs->tm.device_name);
+        if (!whole && status == EXIT_OK) {
+            if (!d->failed)
+                csg_error_plain(d, "the OpenCL primary pass failed");
+            status = EXIT_FAILURE_RUN;
+        }
+        for (int i = 0; i < st->tiles_total; i++) /* the device traced every primary ray */
+            job.pixels_hit += rs->tile_hits[i];
+        job.rays.primary = st->pixels * (uint64_t)job.grid.spp;
+    }
     st->pixels_hit = job.pixels_hit;
     st->rays = job.rays;
     st->workers = rs->workers;
-    if (status != EXIT_OK)
-        return status;
-
-    t0 = stats_clock();
-    status = render_write(req, rs, st, d);
-    st->write_s = stats_clock() - t0;
+    if (status == EXIT_OK)
+        status = render_write(req, rs, st, d);
+    mk->written = stats_clock();
+    render_account(rs, &job, mk, st);
     return status;
 }
 
@@ -296,10 +521,25 @@ static void render_report(const csg_diag *d)
     fflush(stderr);
 }
 
+/* The stats JSON and the tile log, asked for; 0 or 1 with d filled. */
+static int render_outputs(const render_request *req, const render_state *rs,
+                          const render_stats *st, double t0, csg_diag *d)
+{
+    char err[1024];
+    if ((req->stats_path && !stats_write_json(req->stats_path, st, err, sizeof err)) ||
+        (req->tile_log_path &&
+         !stats_write_tile_log(req->tile_log_path, &rs->sched, t0, err, sizeof err))) {
+        snprintf(d->message, sizeof d->message, "%s", err);
+        d->failed = 1;
+        return EXIT_FAILURE_RUN;
+    }
+    return EXIT_OK;
+}
+
 /* The whole render on the process that owns the image. */
 static int render_job(const render_request *req, int ranks)
 {
-    double t0 = stats_clock();
+    render_marks mk = {stats_clock(), 0, 0, 0, 0};
     render_state rs;
     render_stats st;
     master_session ms;
@@ -314,22 +554,15 @@ static int render_job(const render_request *req, int ranks)
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
     master_share_scene(&ms, status, st.tile, &rs.blob);
-    st.setup_s = stats_clock() - t0;
+    mk.loaded = stats_clock();
     st.blob_bytes = rs.blob.size;
     if (status == EXIT_OK)
-        status = render_image(req, &ms, &rs, &st, &d);
-    st.wall_s = stats_clock() - t0;
+        status = render_image(req, &ms, &rs, &st, &mk, &d);
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
 
-    if (status == EXIT_OK && req->stats_path) {
-        char err[1024];
-        if (!stats_write_json(req->stats_path, &st, err, sizeof err)) {
-            snprintf(d.message, sizeof d.message, "%s", err);
-            d.failed = 1;
-            status = EXIT_FAILURE_RUN;
-        }
-    }
+    if (status == EXIT_OK)
+        status = render_outputs(req, &rs, &st, mk.start, &d);
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

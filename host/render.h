@@ -22,6 +22,7 @@ typedef struct {
     const char *scene_path;
     const char *out_path;     /* NULL: render, write nothing (compare) */
     const char *stats_path;   /* NULL: no JSON                       */
+    const char *tile_log_path; /* NULL: no tile log (--tile-log)     */
     const char *cl_device;    /* NULL: $CSGTRACE_CL_DEVICE or first  */
     enum render_mode mode;
     enum render_precision precision;
@@ -31,6 +32,9 @@ typedef struct {
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     enum progress_mode progress; /* the bar on stderr                */
+    int schedule;             /* enum sched_policy (host/schedule.h);
+                                 < 0: the mode's default (hetero: cost,
+                                 else raster)                          */
     /* For callers that run several renders in one job (compare); NULL in
      * a plain render.  Used on the master only. */
     struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and

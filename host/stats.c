@@ -1,11 +1,11 @@
 /*
  * stats.c — the statistics of a render as one JSON object (see stats.h for
- * the fields) and as one summary line.
+ * the fields), the tile log (JSON lines) and one summary line.
  *
  * The writer is a plain fprintf sequence: numbers with %.9g (a non-finite
- * double, which JSON cannot hold, becomes null), strings escaped.  The file
- * is written under a mkstemp name in the destination's folder, flushed and
- * renamed over `path`, so a reader never sees half a file.
+ * double, which JSON cannot hold, becomes null), strings escaped.  Each
+ * file is written under a mkstemp name in the destination's folder,
+ * flushed and renamed over `path`, so a reader never sees half a file.
  */
 #include "stats.h"
 
@@ -27,6 +27,19 @@ double stats_clock(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+double stats_thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+double stats_phase_sum(const render_stats *s)
+{
+    return s->setup_s + s->cl_setup_s + s->compile_s + s->primary_s + s->pipelined_s +
+           s->secondary_s + s->write_s;
 }
 
 void stats_add_rays(ray_counts *a, const ray_counts *b)
@@ -82,15 +95,32 @@ static void stats_workers(FILE *f, const render_stats *s)
     fputs("  \"workers\": [", f);
     for (int i = 0; i < s->worker_count; i++) {
         const stats_worker *w = &s->workers[i];
-        fprintf(f, "%s\n    {\"rank\": %d, \"tiles\": %llu, \"hits\": %llu, \"busy_s\": ",
+        fprintf(f, "%s\n    {\"rank\": %d, \"tiles\": %llu, \"items\": %llu, \"hits\": %llu, "
+                   "\"busy_s\": ",
                 i ? "," : "", w->rank, (unsigned long long)w->tiles,
-                (unsigned long long)w->hits);
+                (unsigned long long)w->items, (unsigned long long)w->hits);
         stats_number(f, w->busy_s);
+        fputs(", \"busy_fraction\": ", f);
+        stats_number(f, s->tile_phase_s > 0 ? w->busy_s / s->tile_phase_s : 0.0);
         fputs(", \"rays\": ", f);
         stats_rays(f, &w->rays);
         fputc('}', f);
     }
     fputs(s->worker_count ? "\n  ]\n" : "]\n", f);
+}
+
+/* The phases (they add up to wall_s) and the figures derived from them,
+ * in the order they are printed. */
+#define STATS_TIMES(X)                                                                  \
+    X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
+    X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
+    X(estimate_spearman) X(master_cpu_s)
+
+static void stats_phases(FILE *f, const render_stats *s)
+{
+#define STATS_TIME_FIELD(name) stats_field(f, #name, s->name);
+    STATS_TIMES(STATS_TIME_FIELD)
+#undef STATS_TIME_FIELD
 }
 
 void stats_print_json(FILE *f, const render_stats *s)
@@ -105,17 +135,15 @@ void stats_print_json(FILE *f, const render_stats *s)
     }
     fputs(",\n  \"device\": ", f);
     stats_string(f, s->device);
+    fputs(",\n  \"schedule\": ", f);
+    stats_string(f, s->schedule);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
-               "  \"spp\": %d,\n",
-            s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1);
-    stats_field(f, "wall_s", s->wall_s);
-    stats_field(f, "setup_s", s->setup_s);
-    stats_field(f, "compile_s", s->compile_s);
-    stats_field(f, "primary_s", s->primary_s);
-    stats_field(f, "secondary_s", s->secondary_s);
-    stats_field(f, "write_s", s->write_s);
-    fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n",
-            s->tiles_total, s->tiles_sent, s->tiles_degenerate);
+               "  \"spp\": %d,\n  \"in_flight\": %d,\n",
+            s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1, s->in_flight);
+    stats_phases(f, s);
+    fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
+               "  \"items_sent\": %d,\n  \"slices\": %d,\n",
+            s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n",
             (unsigned long long)s->pixels, (unsigned long long)s->pixels_hit);
     stats_field(f, "occupancy", stats_occupancy(s));
@@ -128,7 +156,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     fputs("}\n", f);
 }
 
-bool stats_write_json(const char *path, const render_stats *s, char *err, size_t err_size)
+/* print(f, arg) into `path`, through a temporary file renamed when
+ * complete; false with a message in err. */
+static bool stats_write_atomic(const char *path, void (*print)(FILE *, const void *),
+                               const void *arg, char *err, size_t err_size)
 {
     size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
     char *tmp = malloc(n);
@@ -146,7 +177,7 @@ bool stats_write_json(const char *path, const render_stats *s, char *err, size_t
     if (!f)
         goto fail;
     fd = -1; /* owned by f now */
-    stats_print_json(f, s);
+    print(f, arg);
     if (fflush(f) != 0 || ferror(f))
         goto fail;
     if (fclose(f) != 0) {
@@ -168,6 +199,69 @@ fail:
     unlink(tmp); /* harmless when mkstemp failed: no such file */
     free(tmp);
     return false;
+}
+
+static void stats_print_json_any(FILE *f, const void *s)
+{
+    stats_print_json(f, s);
+}
+
+bool stats_write_json(const char *path, const render_stats *s, char *err, size_t err_size)
+{
+    return stats_write_atomic(path, stats_print_json_any, s, err, err_size);
+}
+
+/* ---- the tile log ------------------------------------------------------------ */
+
+typedef struct {
+    const sched *s;
+    double t0;
+} stats_log;
+
+/* `"key": v, ` with v relative to t0, or null. */
+static void stats_log_time(FILE *f, const char *key, bool known, double v)
+{
+    fprintf(f, "\"%s\": ", key);
+    if (known)
+        stats_number(f, v);
+    else
+        fputs("null", f);
+    fputs(", ", f);
+}
+
+static void stats_log_item(FILE *f, const sched_item *it, double t0)
+{
+    fprintf(f, "{\"tile\": %d, \"piece\": %d, \"x\": %d, \"y\": %d, \"width\": %d, "
+               "\"height\": %d, \"skipped\": %s, ",
+            it->tile, it->piece, it->rect.x, it->rect.y, it->rect.width, it->rect.height,
+            it->skipped ? "true" : "false");
+    stats_log_time(f, "estimate", it->estimate >= 0, it->estimate);
+    fprintf(f, "\"hits\": %u, \"worker\": %d, ", (unsigned)it->hits,
+            it->skipped ? 0 : it->worker);
+    if (it->skipped)
+        fputs("\"order\": null, ", f);
+    else
+        fprintf(f, "\"order\": %d, ", it->order);
+    stats_log_time(f, "sent_s", !it->skipped, it->sent_s - t0);
+    stats_log_time(f, "done_s", !it->skipped, it->done_s - t0);
+    fputs("\"seconds\": ", f);
+    stats_number(f, it->busy_s);
+    fputs("}\n", f);
+}
+
+static void stats_print_log(FILE *f, const void *arg)
+{
+    const stats_log *log = arg;
+    for (int i = 0; i < log->s->count; i++)
+        if (!log->s->items[i].split)
+            stats_log_item(f, &log->s->items[i], log->t0);
+}
+
+bool stats_write_tile_log(const char *path, const sched *s, double t0, char *err,
+                          size_t err_size)
+{
+    stats_log log = {s, t0};
+    return stats_write_atomic(path, stats_print_log, &log, err, err_size);
 }
 
 void stats_print_summary(FILE *f, const render_stats *s)

@@ -4,20 +4,53 @@
  *
  * JSON fields (one object):
  *   mode, precision, device    strings ("" device: no OpenCL pass)
+ *   schedule      the scheduler (--schedule: raster, cost, static, tail)
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
+ *   in_flight     work items a worker holds at once (protocol.h)
+ *
+ *   Phases: consecutive intervals of one clock, so that
+ *     wall_s = setup_s + cl_setup_s + compile_s + primary_s + pipelined_s
+ *              + secondary_s + write_s
+ *   (to rounding; stats_phase_sum).  Overlap is a phase of its own:
  *   wall_s        the whole render: parse .. image written
  *   setup_s       parse + flatten + broadcast of the scene
- *   compile_s     OpenCL program build (hetero; 0 otherwise)
- *   primary_s     the separate primary pass (hetero: OpenCL upload +
- *                 kernels + download; 0 in serial/homo, where primary rays
- *                 are traced inside the tile phase)
- *   secondary_s   the tile phase: first tile out .. last result in
+ *   cl_setup_s    OpenCL platform and device choice, context, queue
+ *                 (hetero, when the render opens OpenCL; 0 otherwise)
+ *   compile_s     OpenCL program build or cache load + warm-up launch
+ *                 (same condition)
+ *   primary_s     the OpenCL pass alone: from its start until the first
+ *                 work item goes out (or the pass ends, if sooner): the
+ *                 workers wait (hetero; 0 in serial/homo, where primary
+ *                 rays are traced inside the tile phase)
+ *   pipelined_s   the pass and the tile phase at once: first item out ..
+ *                 the last slice complete (hetero; 0 otherwise)
+ *   secondary_s   the tile phase after the pass: the end of the pass (or
+ *                 of the set-up) .. the last result in
  *   write_s       image file writing
+ *   Derived (not phases):
+ *   pass_s        the OpenCL pass: its start .. its last slice complete
+ *   tile_phase_s  first item out .. last result in (pipelined_s +
+ *                 secondary_s, less any wait before the first item)
+ *   tail_s        the last result in - the first worker going idle for
+ *                 good (its last result in; a worker that got nothing:
+ *                 the first item out); 0 with one worker
+ *   busy_fraction sum of the workers' busy_s / (workers x tile_phase_s)
+ *   estimate_spearman  Spearman's rank correlation of the items'
+ *                 estimated costs with the workers' seconds on them
+ *                 (hetero; null without estimates or with < 3 items)
+ *   master_cpu_s  CPU seconds of the master's own thread during the tile
+ *                 phase (its event loop: polls, naps, packing, storing;
+ *                 OpenCL's threads not included): what it takes from the
+ *                 workers when the ranks outnumber the cores
+ *   slices        OpenCL slices of the pass (0 without one)
+ *
  *   tiles_total   tiles of the image
  *   tiles_degenerate  tiles no primary ray hit (hetero: filled with the
  *                 background by the master, never sent; 0 otherwise)
  *   tiles_sent    tiles_total - tiles_degenerate: the tiles of the tile
  *                 phase (sent to workers, or done in-process without any)
+ *   items_sent    work items sent: tiles_sent, plus 3 for each tile the
+ *                 tail scheduler split into quarters
  *   spp           primary samples a pixel
  *   pixels, pixels_hit, occupancy (pixels_hit / (pixels * spp)):
  *                 pixels_hit counts the primary samples that hit (the
@@ -27,8 +60,22 @@
  *                 counted once per worker + the tile messages)
  *   bytes_received bytes the master received from workers
  *   blob_bytes    size of the flattened scene
- *   workers       [{rank, tiles, busy_s, hits, rays{...}}] one per rank
- *                 that rendered tiles (rank 0 alone without workers)
+ *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
+ *                 rays{...}}] one per rank that rendered tiles (rank 0
+ *                 alone without workers); tiles: tiles it completed (a
+ *                 split tile counts for the rank that returned its last
+ *                 piece), items: work items it computed, busy_fraction:
+ *                 busy_s / tile_phase_s
+ *
+ * The tile log (--tile-log FILE, stats_write_tile_log): JSON lines, one
+ * object a work item plus one a degenerate tile, in item order:
+ *   {"tile", "piece" (0 whole, 1-4 a quarter), "x", "y", "width",
+ *    "height", "skipped" (degenerate), "estimate" (ray casts, null if
+ *    unknown), "hits", "worker" (rank; 0 the master), "order" (dispatch
+ *    order, null if skipped), "sent_s", "done_s" (seconds since the render
+ *    began, null if skipped), "seconds" (the worker's time on it)}
+ * The pieces of a tile partition it; every tile appears once whole or as
+ * its pieces.
  */
 #ifndef HOST_STATS_H
 #define HOST_STATS_H
@@ -39,6 +86,7 @@
 #include <stdio.h>
 
 #include "../workers/engine.h"
+#include "schedule.h"
 
 typedef struct {
     int rank;
@@ -46,16 +94,22 @@ typedef struct {
     uint64_t hits;   /* pixels of its tiles whose primary ray hit */
     ray_counts rays;
     double busy_s;   /* time spent rendering its tiles             */
+    uint64_t items;  /* work items it computed (pieces included)  */
 } stats_worker;
 
 typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
     const char *precision;  /* "float", "double" (what ran)          */
+    const char *schedule;   /* sched_policy_name                      */
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
-    int width, height, tile, ranks, spp;
+    int width, height, tile, ranks, spp, in_flight;
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;
-    int tiles_total, tiles_sent, tiles_degenerate;
+    double cl_setup_s, pipelined_s;               /* phases (above)     */
+    double pass_s, tile_phase_s, tail_s;          /* derived            */
+    double busy_fraction, estimate_spearman;
+    double master_cpu_s;                          /* (below)            */
+    int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;
@@ -68,6 +122,11 @@ double stats_occupancy(const render_stats *s);
 
 /* Monotonic seconds, for every timing of a render. */
 double stats_clock(void);
+/* CPU seconds of the calling thread. */
+double stats_thread_cpu(void);
+
+/* The sum of the phases, which equals wall_s (the header). */
+double stats_phase_sum(const render_stats *s);
 
 /* Adds b to a. */
 void stats_add_rays(ray_counts *a, const ray_counts *b);
@@ -78,6 +137,11 @@ void stats_print_json(FILE *f, const render_stats *s);
 /* Writes the JSON to `path` through a temporary file in the same folder
  * renamed when complete; false with a message in err otherwise. */
 bool stats_write_json(const char *path, const render_stats *s, char *err, size_t err_size);
+
+/* The tile log of the items of `s` (JSON lines, the header), times
+ * relative to t0, written like the JSON; false with a message in err. */
+bool stats_write_tile_log(const char *path, const sched *s, double t0, char *err,
+                          size_t err_size);
 
 /* One short line for people: mode, size, ranks, wall time, tiles. */
 void stats_print_summary(FILE *f, const render_stats *s);

@@ -10,7 +10,12 @@
 #   - a worker failure (CSGTRACE_FAIL_WORKER), a worker that breaks the
 #     protocol (tests/rogue_worker.c) and an OpenCL failure: exit 1, one
 #     message, no image;
-#   - the stats JSON holds every field, and its counts add up.
+#   - the stats JSON holds every field, and its counts add up; the phases
+#     add up to wall_s within a millisecond;
+#   - every --schedule (raster, cost, static, tail), homo and hetero, on
+#     1 to 5 ranks: the same image as serial, and a tile log that covers
+#     every tile exactly once (whole or as pieces), agrees with the stats
+#     and with the schedule (static: the k-th tile on worker k mod W).
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
@@ -192,6 +197,55 @@ for w in ws:
 assert sum(w["tiles"] for w in ws) == s["tiles_sent"]
 if ranks > 1:
     assert s["bytes_sent"] > 0
+phases = ["setup_s", "cl_setup_s", "compile_s", "primary_s", "pipelined_s", "secondary_s",
+          "write_s"]
+assert abs(sum(s[k] for k in phases) - s["wall_s"]) < 1e-3, [s[k] for k in phases]
+assert all(s[k] >= -1e-9 for k in phases), [s[k] for k in phases]
+assert 0.0 <= s["busy_fraction"] <= 1.0 + 1e-6 and s["tail_s"] >= 0
+EOF
+}
+
+# check_tile_log LOG STATS SCHEDULE: the log covers every tile once (whole
+# or as pieces that partition it), agrees with the stats and the schedule.
+check_tile_log() {
+    python3 - "$@" <<'EOF'
+import json, sys
+log, stats, schedule = sys.argv[1], sys.argv[2], sys.argv[3]
+s = json.load(open(stats))
+items = [json.loads(line) for line in open(log)]
+W, H, T = s["width"], s["height"], s["tile"]
+cols = (W + T - 1) // T
+assert s["schedule"] == schedule, s["schedule"]
+area, skipped, sent = {}, 0, []
+for it in items:
+    t = it["tile"]
+    tx, ty = t % cols * T, t // cols * T
+    tw, th = min(T, W - tx), min(T, H - ty)
+    assert tx <= it["x"] and ty <= it["y"], it
+    assert it["x"] + it["width"] <= tx + tw and it["y"] + it["height"] <= ty + th, it
+    area[t] = area.get(t, 0) + it["width"] * it["height"]
+    if it["skipped"]:
+        skipped += 1
+        assert it["order"] is None and it["piece"] == 0
+    else:
+        sent.append(it)
+        assert it["seconds"] >= 0 and it["done_s"] >= it["sent_s"] >= 0, it
+        assert (it["estimate"] is not None) == (s["mode"] == "hetero"), it
+        workers = range(1, s["ranks"]) if s["ranks"] > 1 else [0]
+        assert it["worker"] in workers, it
+for t in range(s["tiles_total"]):
+    tx, ty = t % cols * T, t // cols * T
+    assert area.get(t) == min(T, W - tx) * min(T, H - ty), (t, area.get(t))
+assert skipped == s["tiles_degenerate"], (skipped, s["tiles_degenerate"])
+assert len(sent) == s["items_sent"] and sorted(i["order"] for i in sent) == list(range(len(sent)))
+assert sum(i["hits"] for i in items) == s["pixels_hit"] or s["mode"] == "hetero"
+if schedule == "static" and s["ranks"] > 2:
+    whole = sorted(sent, key=lambda i: i["tile"])
+    assert all(i["worker"] == k % (s["ranks"] - 1) + 1 for k, i in enumerate(whole)), "static"
+if schedule == "tail" and s["tiles_sent"] > 2 * 2 * max(s["ranks"] - 1, 1):
+    assert any(i["piece"] > 0 for i in sent), "tail: no piece"
+elif schedule != "tail":
+    assert all(i["piece"] == 0 for i in sent), "pieces outside tail"
 EOF
 }
 if render st-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/st-h3.json" &&
@@ -215,6 +269,32 @@ if [ $have_cl = 1 ]; then
     fi
 fi
 check "one summary line on stdout" test "$(wc -l <"$TMP/st-h3.out")" = 1
+
+# ---- schedules: every one, both modes, 1 to 5 ranks ---------------------------------
+modes=(homo)
+[ $have_cl = 1 ] && modes+=(hetero)
+for sched in raster cost static tail; do
+    for mode in "${modes[@]}"; do
+        bad_ranks=""
+        for np in 1 2 3 4 5; do
+            name=sch-$sched-$mode-$np
+            if ! render "$name" "$np" "$first" "${SZ[@]}" --mode "$mode" --tile 8 \
+                --schedule "$sched" --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
+                bad_ranks="$bad_ranks $np(exit:$(grep -m1 ': error: ' "$TMP/$name.err"))"
+            elif ! same "$R" "$name"; then
+                bad_ranks="$bad_ranks $np(pixels)"
+            elif ! check_stats "$TMP/$name.json" "$mode" "$np" 2>"$TMP/$name.py" ||
+                ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
+                bad_ranks="$bad_ranks $np($(tail -1 "$TMP/$name.py"))"
+            fi
+        done
+        if [ -z "$bad_ranks" ]; then
+            ok "--schedule $sched, $mode, K=1..5: == serial, tile log and stats consistent"
+        else
+            bad "--schedule $sched, $mode: K=$bad_ranks"
+        fi
+    done
+done
 
 # ---- failures ------------------------------------------------------------------
 printf 'sphere { <0, 0, 0>, 1 \n  pigment { color rgb <1, 0, 0> }\n  @@@ }\n' >"$TMP/bad.pov"

@@ -2,7 +2,9 @@
  * test_stats.c — the stats JSON writer (host/stats.c): the output parses as
  * JSON (a small strict recursive-descent parser below), holds every field
  * benchmarks read with the values given, escapes strings, turns non-finite
- * numbers into null, and the file is written whole (temporary + rename).
+ * numbers into null, and the file is written whole (temporary + rename);
+ * the phases add up to wall_s (stats_phase_sum) and the tile log is one
+ * valid JSON object a line, one line an item.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -204,12 +206,25 @@ static int setup(void **state)
     s->height = 48;
     s->tile = 16;
     s->ranks = 3;
+    s->schedule = "cost";
+    s->in_flight = 2;
     s->wall_s = 1.5;
     s->setup_s = 0.01;
+    s->cl_setup_s = 0.0625;
     s->compile_s = 0.25;
     s->primary_s = 0.125;
+    s->pipelined_s = 0.0;
     s->secondary_s = 1.0;
     s->write_s = 0.05;
+    s->wall_s = s->setup_s + s->cl_setup_s + s->compile_s + s->primary_s + s->pipelined_s +
+                s->secondary_s + s->write_s;
+    s->pass_s = 0.125;
+    s->tile_phase_s = 1.0;
+    s->tail_s = 0.03125;
+    s->busy_fraction = 0.625;
+    s->estimate_spearman = 0.875;
+    s->slices = 3;
+    s->items_sent = 10;
     s->tiles_total = 12;
     s->tiles_sent = 7;
     s->tiles_degenerate = 5;
@@ -219,8 +234,8 @@ static int setup(void **state)
     s->bytes_sent = 123456;
     s->bytes_received = 654321;
     s->blob_bytes = 4096;
-    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1 }, 0.5 };
-    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2 }, 0.75 };
+    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1 }, 0.5, 6 };
+    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2 }, 0.75, 4 };
     s->worker_count = 2;
     s->workers = fx->w;
     *state = fx;
@@ -264,7 +279,7 @@ static void test_values(void **state)
     assert_string_equal(mode, "hetero");
     assert_true(js_num(fx->json, "width") == 64.0);
     assert_true(js_num(fx->json, "ranks") == 3.0);
-    assert_true(js_num(fx->json, "wall_s") == 1.5);
+    assert_true(js_num(fx->json, "wall_s") == fx->s.wall_s);
     assert_true(js_num(fx->json, "compile_s") == 0.25);
     assert_true(js_num(fx->json, "tiles_sent") == 7.0);
     assert_true(js_num(fx->json, "tiles_degenerate") == 5.0);
@@ -274,6 +289,77 @@ static void test_values(void **state)
     assert_true(js_num(rays, "primary") == 3072.0);
     assert_true(js_num(rays, "refracted") == 3.0);
     assert_true(js_num(rays, "total") == 3072.0 + 500 + 40 + 3);
+    assert_true(js_num(fx->json, "tail_s") == 0.03125);
+    assert_true(js_num(fx->json, "busy_fraction") == 0.625);
+    assert_true(js_num(fx->json, "estimate_spearman") == 0.875);
+    assert_true(js_num(fx->json, "items_sent") == 10.0);
+    char policy[32];
+    assert_non_null(js_string(js_member(fx->json, "schedule"), policy, sizeof policy));
+    assert_string_equal(policy, "cost");
+}
+
+/* Every phase is printed, and the printed phases add up to wall_s. */
+static void test_phases_add_up(void **state)
+{
+    fixture *fx = *state;
+    const char *phases[] = { "setup_s", "cl_setup_s", "compile_s", "primary_s", "pipelined_s",
+                             "secondary_s", "write_s" };
+    fx->s.pipelined_s = 0.5; /* an overlap, accounted once */
+    fx->s.secondary_s = 0.5;
+    fx->json = print_json(&fx->s);
+    double sum = 0;
+    for (size_t i = 0; i < sizeof phases / sizeof *phases; i++)
+        sum += js_num(fx->json, phases[i]);
+    assert_true(fabs(sum - js_num(fx->json, "wall_s")) < 1e-9);
+    assert_true(fabs(stats_phase_sum(&fx->s) - fx->s.wall_s) < 1e-12);
+    const char *derived[] = { "pass_s", "tile_phase_s", "tail_s", "busy_fraction",
+                              "estimate_spearman", "slices", "in_flight", "master_cpu_s" };
+    for (size_t i = 0; i < sizeof derived / sizeof *derived; i++)
+        if (!js_member(fx->json, derived[i]))
+            fail_msg("missing field %s", derived[i]);
+}
+
+/* The tile log: one valid object a line, skipped tiles with null times. */
+static void test_tile_log(void **state)
+{
+    (void)state;
+    sched s;
+    tile_rect a = { 0, 0, 16, 16 }, b = { 16, 0, 16, 16 };
+    assert_true(sched_init(&s, SCHED_RASTER, 2, 2, 2, NULL, NULL));
+    assert_true(sched_skip(&s, 0, a));
+    assert_true(sched_add(&s, 1, b));
+    sched_close(&s);
+    int item = sched_next(&s, 0, 10.5);
+    assert_int_equal(item, 1);
+    s.items[item].worker = 2;
+    s.items[item].done_s = 10.75;
+    s.items[item].busy_s = 0.125;
+    char dir[] = "/tmp/test_stats.XXXXXX", path[256], err[256] = "", line[1024];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/log.jsonl", dir);
+    assert_true(stats_write_tile_log(path, &s, 10.0, err, sizeof err));
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int lines = 0;
+    while (fgets(line, sizeof line, f)) {
+        assert_true(js_valid(line));
+        if (lines == 0) {
+            assert_int_equal(strncmp(js_member(line, "skipped"), "true", 4), 0);
+            assert_int_equal(strncmp(js_member(line, "sent_s"), "null", 4), 0);
+        } else {
+            assert_true(js_num(line, "tile") == 1.0 && js_num(line, "x") == 16.0);
+            assert_true(js_num(line, "worker") == 2.0 && js_num(line, "order") == 0.0);
+            assert_true(js_num(line, "sent_s") == 0.5 && js_num(line, "done_s") == 0.75);
+            assert_true(js_num(line, "seconds") == 0.125);
+            assert_int_equal(strncmp(js_member(line, "estimate"), "null", 4), 0);
+        }
+        lines++;
+    }
+    fclose(f);
+    assert_int_equal(lines, 2);
+    unlink(path);
+    rmdir(dir);
+    sched_free(&s);
 }
 
 static void test_workers(void **state)
@@ -288,6 +374,8 @@ static void test_workers(void **state)
     assert_true(js_num(w1, "rank") == 2.0);
     assert_true(js_num(w1, "tiles") == 3.0);
     assert_true(js_num(w1, "busy_s") == 0.75);
+    assert_true(js_num(w1, "items") == 4.0);
+    assert_true(js_num(w1, "busy_fraction") == 0.75); /* busy_s / tile_phase_s */
     assert_true(js_num(js_member(w1, "rays"), "shadow") == 200.0);
 }
 
@@ -381,6 +469,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_parses_with_every_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_values, setup, teardown),
         cmocka_unit_test_setup_teardown(test_workers, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_phases_add_up, setup, teardown),
+        cmocka_unit_test(test_tile_log),
         cmocka_unit_test_setup_teardown(test_no_workers, setup, teardown),
         cmocka_unit_test_setup_teardown(test_escaping_and_non_finite, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_file, setup, teardown),

@@ -59,7 +59,13 @@ typedef struct {
     /* The pixel shade gives when no primary sample hit (the background):
      * what the hetero master fills degenerate tiles with. */
     void (*miss_rgb)(const void *blob, float rgb[3]);
+    /* For the cost estimate of a tile (host/estimate.h): the ENGINE_CLASS_*
+     * bits of every primitive's material into class_out[prim_count]; returns
+     * the number of lights that cast shadows (a shadow ray each a hit). */
+    int (*surface_classes)(const void *blob, uint8_t *class_out);
 } engine;
+
+enum { ENGINE_CLASS_REFLECTIVE = 1, ENGINE_CLASS_TRANSPARENT = 2 };
 
 extern const engine engine_float;
 extern const engine engine_double;

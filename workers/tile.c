@@ -6,7 +6,9 @@
  * runner's scratch records (engine->trace_primary); hetero hands in the
  * records of the OpenCL pass.  Either way the pixels then come from
  * engine->shade over those records, and the hit count from the records'
- * surface ids, so a pixel depends on nothing but its record.
+ * surface ids, so a pixel depends on nothing but its record — which is
+ * why a tile may be split into pieces (tile_run_rect over any rectangle
+ * inside it) without changing a bit of the image.
  */
 #include "tile.h"
 
@@ -42,6 +44,15 @@ tile_rect tile_rect_of(const tile_grid *g, int index)
     if (r.y + r.height > g->height)
         r.height = g->height - r.y;
     return r;
+}
+
+bool tile_rect_in_tile(const tile_grid *g, int index, tile_rect r)
+{
+    if (index < 0 || index >= tile_count(g))
+        return false;
+    tile_rect t = tile_rect_of(g, index);
+    return r.width > 0 && r.height > 0 && r.x >= t.x && r.y >= t.y &&
+           r.width <= t.x + t.width - r.x && r.height <= t.y + t.height - r.y;
 }
 
 size_t tile_records_bytes(const tile_grid *g, size_t pixels)
@@ -96,8 +107,13 @@ static double tile_clock(void)
 
 void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res)
 {
+    tile_run_rect(tr, tile_rect_of(&tr->grid, index), records, rgb, res);
+}
+
+void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
+                   tile_result *res)
+{
     double t0 = tile_clock();
-    tile_rect r = tile_rect_of(&tr->grid, index);
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
     size_t t_bytes = n * tr->grid.real_size;
     memset(res, 0, sizeof *res);

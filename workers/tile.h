@@ -5,7 +5,10 @@
  * the same pixels by construction, not by two copies kept in step.
  *
  * Tiles are tile x tile pixels (the last column and row smaller), numbered
- * row-major over the grid of tiles: index = ty * columns + tx.
+ * row-major over the grid of tiles: index = ty * columns + tx.  A work
+ * item is a rectangle within one tile: the whole tile, or a piece of it
+ * (the tail scheduler splits the last tiles, host/schedule.h); a pixel
+ * depends only on its own record, so any split gives the same pixels.
  *
  * Hit records of a tile (hetero: from the OpenCL pass) are packed tile-wise:
  * t[n] of the blob's real then surf[n] of uint32, n = pixels * spp,
@@ -35,6 +38,9 @@ int tile_columns(const tile_grid *g);
 int tile_count(const tile_grid *g);
 /* The pixels of tile `index` (0 <= index < tile_count). */
 tile_rect tile_rect_of(const tile_grid *g, int index);
+/* True when r is a non-empty rectangle inside tile `index` of g (index in
+ * range): what a worker checks before it touches a byte of a tile message. */
+bool tile_rect_in_tile(const tile_grid *g, int index, tile_rect r);
 /* Bytes of the packed hit records of a tile of `pixels` pixels. */
 size_t tile_records_bytes(const tile_grid *g, size_t pixels);
 
@@ -65,9 +71,13 @@ typedef struct {
     double busy_s;   /* seconds tile_run took                            */
 } tile_result;
 
-/* The RGB of tile `index` (3 floats a pixel, rect width wide, linear)
- * into rgb: shaded from its packed hit records `records` (hetero), or,
- * when records is NULL, tracing its primary rays first (homo, serial). */
+/* The RGB of rectangle r (inside one tile: tile_rect_in_tile; 3 floats a
+ * pixel, r.width wide, linear) into rgb: shaded from its packed hit records
+ * `records` (hetero), or, when records is NULL, tracing its primary rays
+ * first (homo, serial). */
+void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
+                   tile_result *res);
+/* tile_run_rect over the whole of tile `index`. */
 void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res);
 
 #endif

@@ -3,15 +3,24 @@
  *
  * Algorithm: take part in the setup broadcast; validate the blob and set
  * up a tile runner for it (workers/tile.h); send READY (or FAIL with the
- * reason); then answer every TILE with one RESULT (tile_run over the tile)
- * or one FAIL, until STOP, whose status is returned.
+ * reason); then answer every TILE with one RESULT (tile_run_rect over its
+ * rectangle) or one FAIL, first in first out, until STOP, whose status is
+ * returned.
+ *
+ * Two items in flight (protocol.h): the master sends the next TILE while
+ * this one is computed.  Before each item the worker takes every message
+ * already waiting (without waiting: a large TILE is delivered only once it
+ * is taken), so the next item is here when this one ends; it waits (poll,
+ * then nap) only with nothing queued.  A RESULT goes in the background
+ * (link_isend) from one of PROTO_IN_FLIGHT buffers, so the worker starts
+ * the next item at once; a buffer is reused only once its send is done.
  *
  * Invariants: the worker never prints (the master reports once) and never
  * exits on its own after the setup: even when it failed it keeps answering
  * until STOP, so that the master can drain and nobody blocks.  No message
  * larger than the largest TILE is ever taken (link_recv's limit), and a
  * tile message is checked against the tile it claims before any byte of
- * it is used.
+ * it is used.  Every send is done before the worker returns.
  */
 #include "worker.h"
 
@@ -25,6 +34,9 @@
 #include "../host/protocol.h"
 #include "tile.h"
 
+/* Messages taken and not yet answered: the items in flight and a STOP. */
+#define WORKER_QUEUE (PROTO_IN_FLIGHT + 1)
+
 typedef struct {
     int fail_rank;        /* CSGTRACE_FAIL_WORKER, 0 when unset      */
     int rank;
@@ -33,9 +45,12 @@ typedef struct {
     void *blob;
     size_t blob_size;
     tile_runner runner;   /* set up once the blob is valid            */
-    link_msg in;          /* the last message from the master         */
+    link_msg queue[WORKER_QUEUE]; /* messages from the master, in order */
+    int head, queued;     /* the oldest, and how many                 */
     size_t in_limit;      /* the largest message it may send us       */
-    char *out;            /* proto_result + the largest tile's rgb    */
+    char *out[PROTO_IN_FLIGHT];     /* proto_result + the largest rgb  */
+    link_req out_req[PROTO_IN_FLIGHT]; /* their sends                 */
+    int out_next;         /* the buffer of the next RESULT            */
 } worker_state;
 
 static void worker_set_failure(worker_state *w, const char *fmt, ...)
@@ -77,8 +92,11 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     const tile_grid *g = &w->runner.grid;
     w->in_limit = proto_worker_limit(g);
-    w->out = malloc(sizeof(proto_result) + g->pixels_max * 3 * sizeof(float));
-    if (!ok || !w->out)
+    for (int i = 0; i < PROTO_IN_FLIGHT; i++) {
+        w->out[i] = malloc(sizeof(proto_result) + g->pixels_max * 3 * sizeof(float));
+        ok = ok && w->out[i];
+    }
+    if (!ok)
         worker_set_failure(w, "out of memory for tiles of %zu pixels", g->pixels_max);
 }
 
@@ -91,87 +109,120 @@ static void worker_send_fail(int index, const char *text)
     link_send(LINK_MASTER, PROTO_TAG_FAIL, &f, sizeof f);
 }
 
-/* The tile of the message in w->in (header h), its pixels into w->out;
- * the reason when the message does not describe a tile of the image. */
-static const char *worker_do_tile(worker_state *w, const proto_tile *h)
+/* The rectangle of message `in` (header h), its pixels into `out`; the
+ * reason when the message does not describe a rectangle of one tile. */
+static const char *worker_do_tile(worker_state *w, const link_msg *in, const proto_tile *h,
+                                  char *out)
 {
     const tile_grid *g = &w->runner.grid;
-    if (h->index < 0 || h->index >= tile_count(g))
-        return "tile outside the image";
-    tile_rect r = tile_rect_of(g, h->index);
-    if (r.x != h->x || r.y != h->y || r.width != h->width || r.height != h->height)
+    tile_rect r = {h->x, h->y, h->width, h->height};
+    if (!tile_rect_in_tile(g, h->index, r))
         return "tile outside the image";
     size_t records = tile_records_bytes(g, (size_t)r.width * (size_t)r.height);
     const void *payload = NULL; /* hetero: the records follow the header (8-byte aligned) */
-    if (h->work == PROTO_WORK_SHADE && w->in.len == sizeof *h + records)
-        payload = w->in.data + sizeof *h;
-    else if (h->work != PROTO_WORK_RENDER || w->in.len != sizeof *h)
+    if (h->work == PROTO_WORK_SHADE && in->len == sizeof *h + records)
+        payload = in->data + sizeof *h;
+    else if (h->work != PROTO_WORK_RENDER || in->len != sizeof *h)
         return "malformed tile message";
     tile_result res;
-    tile_run(&w->runner, h->index, payload, (float *)(void *)(w->out + sizeof(proto_result)), &res);
-    proto_result out = {h->index,          res.hits,           res.rays.primary,
-                        res.rays.shadow,   res.rays.reflected, res.rays.refracted,
-                        res.busy_s};
-    memcpy(w->out, &out, sizeof out);
+    tile_run_rect(&w->runner, r, payload, (float *)(void *)(out + sizeof(proto_result)), &res);
+    proto_result head = {h->index,          res.hits,           res.rays.primary,
+                         res.rays.shadow,   res.rays.reflected, res.rays.refracted,
+                         res.busy_s};
+    memcpy(out, &head, sizeof head);
     return NULL;
 }
 
-static void worker_answer_tile(worker_state *w)
+static void worker_answer_tile(worker_state *w, const link_msg *in)
 {
     proto_tile h;
     if (w->failure[0]) {
         worker_send_fail(-1, w->failure);
         return;
     }
-    if (w->in.len < sizeof h) {
+    if (in->len < sizeof h) {
         worker_send_fail(-1, "truncated tile message");
         return;
     }
-    memcpy(&h, w->in.data, sizeof h);
+    memcpy(&h, in->data, sizeof h);
     if (w->tiles_done == 0 && w->fail_rank == w->rank) {
         worker_send_fail(h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
         w->tiles_done++;
         return;
     }
-    const char *why = worker_do_tile(w, &h);
+    int slot = w->out_next;
+    link_req_wait(&w->out_req[slot]); /* its last RESULT is delivered */
+    const char *why = worker_do_tile(w, in, &h, w->out[slot]);
     if (why) {
         worker_send_fail(h.index, why);
         return;
     }
     size_t n = (size_t)h.width * (size_t)h.height;
-    link_send(LINK_MASTER, PROTO_TAG_RESULT, w->out, sizeof(proto_result) + n * 3 * sizeof(float));
+    link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot],
+               sizeof(proto_result) + n * 3 * sizeof(float), &w->out_req[slot]);
+    w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
     w->tiles_done++;
+}
+
+/* Every RESULT sent is delivered. */
+static void worker_flush(worker_state *w)
+{
+    for (int i = 0; i < PROTO_IN_FLIGHT; i++)
+        link_req_wait(&w->out_req[i]);
 }
 
 static void worker_free(worker_state *w)
 {
     free(w->blob);
     tile_runner_free(&w->runner);
-    link_msg_free(&w->in);
-    free(w->out);
+    for (int i = 0; i < WORKER_QUEUE; i++)
+        link_msg_free(&w->queue[i]);
+    for (int i = 0; i < PROTO_IN_FLIGHT; i++)
+        if (!w->out_req[i].active) /* (a send MPI still holds: left to it) */
+            free(w->out[i]);
+}
+
+/* One message from the master onto the queue: waiting for it when the
+ * queue is empty, else only if it is already there (LINK_NONE). */
+static link_status worker_take(worker_state *w)
+{
+    /* Before the setup succeeded, only a STOP or a header is of use. */
+    size_t limit = w->in_limit > sizeof(proto_tile) ? w->in_limit : sizeof(proto_tile);
+    link_msg *m = &w->queue[(w->head + w->queued) % WORKER_QUEUE];
+    link_status got = w->queued == 0 ? link_recv(m, LINK_MASTER, limit)
+                                     : link_try_recv(m, LINK_MASTER, limit);
+    if (got == LINK_TOO_BIG) { /* it cannot be drained: end the job */
+        worker_send_fail(-1, "message from the master larger than any tile");
+        link_abort(1);
+    }
+    if (got == LINK_OK)
+        w->queued++;
+    return got;
 }
 
 /* Answers the master until STOP; its status. */
 static int worker_serve(worker_state *w)
 {
     for (;;) {
-        /* Before the setup succeeded, only a STOP or a header is of use. */
-        size_t limit = w->in_limit > sizeof(proto_tile) ? w->in_limit : sizeof(proto_tile);
-        link_status got = link_recv(&w->in, LINK_MASTER, limit);
-        if (got == LINK_ERROR)
-            return 1; /* the master is gone: nothing to answer */
-        if (got == LINK_TOO_BIG) { /* it cannot be drained: end the job */
-            worker_send_fail(-1, "message from the master larger than any tile");
-            link_abort(1);
+        while (w->queued < WORKER_QUEUE) { /* what is waiting, without waiting */
+            link_status got = worker_take(w);
+            if (got == LINK_ERROR)
+                return 1; /* the master is gone: nothing to answer */
+            if (got == LINK_NONE)
+                break;
         }
-        if (w->in.tag == PROTO_TAG_STOP) {
+        const link_msg *m = &w->queue[w->head];
+        w->head = (w->head + 1) % WORKER_QUEUE;
+        w->queued--;
+        if (m->tag == PROTO_TAG_STOP) {
             proto_stop stop = {1, 0}; /* a short STOP still stops, with 1 */
-            if (w->in.len >= sizeof stop)
-                memcpy(&stop, w->in.data, sizeof stop);
+            if (m->len >= sizeof stop)
+                memcpy(&stop, m->data, sizeof stop);
+            worker_flush(w);
             return stop.status;
         }
-        if (w->in.tag == PROTO_TAG_TILE)
-            worker_answer_tile(w);
+        if (m->tag == PROTO_TAG_TILE)
+            worker_answer_tile(w, m);
         else
             worker_send_fail(-1, w->failure[0] ? w->failure : "unexpected message");
     }

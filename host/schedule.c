@@ -1,0 +1,268 @@
+/*
+ * schedule.c — the work-item schedulers of schedule.h.
+ *
+ * Ready tiles wait in one structure per policy: a FIFO (raster), a binary
+ * max-heap on (estimate, then the lower tile number) (cost, tail), or one
+ * FIFO per worker threaded through next_of (static).  The tail policy
+ * splits at sched_next time: it pops a whole tile, appends its quarters to
+ * `items` (each with its own estimate) and serves them from `front` before
+ * anything else.
+ *
+ * Invariants: a whole tile is in at most one ready structure, and only
+ * once; every item handed out gets order = dispatched++; tile_left[t]
+ * counts the items of tile t not yet done (1, or 4 once split into
+ * quarters, less the one already sent), so sched_done can say when a tile
+ * is complete.  Out of memory while splitting, the tile is sent whole.
+ */
+#include "schedule.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const sched_names[SCHED_POLICIES] = {"raster", "cost", "static", "tail"};
+
+const char *sched_policy_name(enum sched_policy p)
+{
+    return p >= 0 && p < SCHED_POLICIES ? sched_names[p] : "?";
+}
+
+bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int tiles,
+                sched_estimate_fn estimate, void *estimate_arg)
+{
+    memset(s, 0, sizeof *s);
+    s->policy = p;
+    s->workers = workers > 0 ? workers : 1;
+    s->in_flight = in_flight > 0 ? in_flight : 1;
+    s->estimate = estimate;
+    s->estimate_arg = estimate_arg;
+    s->tiles = tiles;
+    size_t n = (size_t)(tiles > 0 ? tiles : 1), w = (size_t)s->workers;
+    s->cap = tiles > 0 ? tiles : 1;
+    s->items = malloc((size_t)s->cap * sizeof *s->items);
+    s->fifo = malloc(n * sizeof *s->fifo);
+    s->heap = malloc(n * sizeof *s->heap);
+    s->next_of = malloc(n * sizeof *s->next_of);
+    s->tile_left = calloc(n, sizeof *s->tile_left);
+    s->first = malloc(w * sizeof *s->first);
+    s->last = malloc(w * sizeof *s->last);
+    if (!s->items || !s->fifo || !s->heap || !s->next_of || !s->tile_left || !s->first ||
+        !s->last)
+        return false;
+    for (size_t i = 0; i < w; i++)
+        s->first[i] = s->last[i] = -1;
+    return true;
+}
+
+void sched_free(sched *s)
+{
+    free(s->items);
+    free(s->fifo);
+    free(s->heap);
+    free(s->next_of);
+    free(s->tile_left);
+    free(s->first);
+    free(s->last);
+    memset(s, 0, sizeof *s);
+}
+
+/* ---- items ----------------------------------------------------------------- */
+
+/* A new item for rectangle r of tile `tile`; -1 when out of memory. */
+static int sched_new_item(sched *s, int tile, tile_rect r, int piece, bool skipped)
+{
+    if (s->count == s->cap) {
+        int cap = s->cap * 2;
+        sched_item *grown = realloc(s->items, (size_t)cap * sizeof *grown);
+        if (!grown)
+            return -1;
+        s->items = grown;
+        s->cap = cap;
+    }
+    sched_item *it = &s->items[s->count];
+    memset(it, 0, sizeof *it);
+    it->rect = r;
+    it->tile = tile;
+    it->piece = piece;
+    it->skipped = skipped;
+    it->estimate = s->estimate && !skipped ? s->estimate(s->estimate_arg, r) : -1.0;
+    it->order = -1;
+    it->worker = -1;
+    return s->count++;
+}
+
+/* ---- the cost heap ----------------------------------------------------------- */
+
+static bool sched_before(const sched *s, int a, int b)
+{
+    const sched_item *x = &s->items[a], *y = &s->items[b];
+    return x->estimate != y->estimate ? x->estimate > y->estimate : x->tile < y->tile;
+}
+
+static void sched_swap(int *v, int i, int j)
+{
+    int t = v[i];
+    v[i] = v[j];
+    v[j] = t;
+}
+
+static void sched_heap_push(sched *s, int item)
+{
+    int i = s->heap_n++;
+    s->heap[i] = item;
+    while (i > 0 && sched_before(s, s->heap[i], s->heap[(i - 1) / 2])) {
+        sched_swap(s->heap, i, (i - 1) / 2);
+        i = (i - 1) / 2;
+    }
+}
+
+static int sched_heap_pop(sched *s)
+{
+    int top = s->heap[0];
+    s->heap[0] = s->heap[--s->heap_n];
+    for (int i = 0;;) {
+        int l = 2 * i + 1, r = l + 1, best = i;
+        if (l < s->heap_n && sched_before(s, s->heap[l], s->heap[best]))
+            best = l;
+        if (r < s->heap_n && sched_before(s, s->heap[r], s->heap[best]))
+            best = r;
+        if (best == i)
+            break;
+        sched_swap(s->heap, i, best);
+        i = best;
+    }
+    return top;
+}
+
+/* ---- adding ------------------------------------------------------------------- */
+
+static bool sched_by_cost(const sched *s)
+{
+    return (s->policy == SCHED_COST || s->policy == SCHED_TAIL) && s->estimate;
+}
+
+bool sched_add(sched *s, int tile, tile_rect r)
+{
+    int item = sched_new_item(s, tile, r, 0, false);
+    if (item < 0)
+        return false;
+    s->tile_left[tile] = 1;
+    if (s->policy == SCHED_STATIC) {
+        int w = s->added % s->workers;
+        s->next_of[item] = -1;
+        if (s->last[w] >= 0)
+            s->next_of[s->last[w]] = item;
+        else
+            s->first[w] = item;
+        s->last[w] = item;
+    } else if (sched_by_cost(s)) {
+        sched_heap_push(s, item);
+    } else {
+        s->fifo[s->fifo_n++] = item;
+    }
+    s->added++;
+    return true;
+}
+
+bool sched_skip(sched *s, int tile, tile_rect r)
+{
+    return sched_new_item(s, tile, r, 0, true) >= 0;
+}
+
+void sched_close(sched *s)
+{
+    s->closed = true;
+}
+
+/* ---- handing out ----------------------------------------------------------------- */
+
+/* Whole tiles ready and not yet sent (static: every worker's). */
+static int sched_waiting(const sched *s)
+{
+    if (s->policy == SCHED_STATIC)
+        return s->added - s->dispatched;
+    return s->heap_n + (s->fifo_n - s->fifo_head);
+}
+
+/* Splits whole tile `item` into its quarters, queued in `front`; false
+ * (the tile goes whole) when it cannot be split or memory runs out. */
+static bool sched_split(sched *s, int item)
+{
+    tile_rect r = s->items[item].rect;
+    int tile = s->items[item].tile;
+    int w0 = (r.width + 1) / 2, h0 = (r.height + 1) / 2;
+    tile_rect q[4] = {{r.x, r.y, w0, h0},
+                      {r.x + w0, r.y, r.width - w0, h0},
+                      {r.x, r.y + h0, w0, r.height - h0},
+                      {r.x + w0, r.y + h0, r.width - w0, r.height - h0}};
+    int n = 0, made[4];
+    if (r.width * r.height < 2)
+        return false;
+    if (s->count + 4 > s->cap) { /* grow once, before any piece exists */
+        int cap = s->cap * 2 > s->count + 4 ? s->cap * 2 : s->count + 4;
+        sched_item *grown = realloc(s->items, (size_t)cap * sizeof *grown);
+        if (!grown)
+            return false;
+        s->items = grown;
+        s->cap = cap;
+    }
+    for (int k = 0; k < 4; k++)
+        if (q[k].width > 0 && q[k].height > 0)
+            made[n++] = sched_new_item(s, tile, q[k], k + 1, false);
+    s->items[item].split = true;
+    s->tile_left[tile] = n;
+    s->front_head = 0;
+    s->front_n = n;
+    memcpy(s->front, made, (size_t)n * sizeof *made);
+    return true;
+}
+
+/* The next whole tile in policy order for worker w, or -1. */
+static int sched_pop(sched *s, int w)
+{
+    if (s->policy == SCHED_STATIC) {
+        int item = s->first[w];
+        if (item >= 0) {
+            s->first[w] = s->next_of[item];
+            if (s->first[w] < 0)
+                s->last[w] = -1;
+        }
+        return item;
+    }
+    if (s->heap_n > 0)
+        return sched_heap_pop(s);
+    return s->fifo_head < s->fifo_n ? s->fifo[s->fifo_head++] : -1;
+}
+
+static bool sched_in_tail(const sched *s)
+{
+    return s->policy == SCHED_TAIL && s->closed &&
+           sched_waiting(s) <= SCHED_TAIL_TILES_PER_SLOT * s->workers * s->in_flight;
+}
+
+int sched_next(sched *s, int w, double now)
+{
+    int item = -1;
+    if (s->front_head < s->front_n) {
+        item = s->front[s->front_head++];
+    } else {
+        bool tail = sched_in_tail(s);
+        item = sched_pop(s, w < 0 || w >= s->workers ? 0 : w);
+        if (item >= 0 && tail && sched_split(s, item))
+            item = s->front[s->front_head++];
+    }
+    if (item < 0)
+        return -1;
+    s->items[item].order = s->dispatched++;
+    s->items[item].sent_s = now;
+    return item;
+}
+
+bool sched_finished(const sched *s)
+{
+    return s->closed && s->front_head >= s->front_n && sched_waiting(s) == 0;
+}
+
+bool sched_done(sched *s, int item)
+{
+    return --s->tile_left[s->items[item].tile] == 0;
+}

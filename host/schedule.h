@@ -1,0 +1,99 @@
+/*
+ * schedule.h — which work item goes to which worker next (--schedule).
+ *
+ * Tiles become ready as the OpenCL pass finishes the slices over them
+ * (hetero; homo and serial: all at once) and are handed to the scheduler
+ * with sched_add; degenerate ones with sched_skip (kept for the tile log,
+ * never sent).  Whenever a worker has room for another item the master
+ * asks sched_next for one.  Policies:
+ *   raster  first ready, first sent (row-major): the paper's
+ *           self-scheduling, homo's default;
+ *   cost    the largest estimate among the ready tiles first (longest
+ *           processing time first, which shortens the tail): hetero's
+ *           default; without estimates (homo) it is raster;
+ *   static  the k-th tile added goes to worker k mod W, whoever is idle:
+ *           the interleaved static assignment, for contrast;
+ *   tail    cost (or raster) order, but once every tile is known and at
+ *           most SCHED_TAIL_TILES_PER_SLOT x (workers x in-flight) whole
+ *           tiles are left, each tile sent is split into its four
+ *           quarters, so the last workers finish within a quarter tile of
+ *           each other (VM_pRAY's small work items, at the end only).
+ *
+ * Every item records where it went and what it cost (the tile log,
+ * host/stats.h).  Items are referred to by their index in `items`, which
+ * only grows (pieces are appended), so an index stays valid.
+ */
+#ifndef HOST_SCHEDULE_H
+#define HOST_SCHEDULE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../workers/tile.h"
+
+enum sched_policy { SCHED_RASTER, SCHED_COST, SCHED_STATIC, SCHED_TAIL, SCHED_POLICIES };
+
+#define SCHED_TAIL_TILES_PER_SLOT 2
+
+typedef struct {
+    tile_rect rect;
+    int tile;          /* the tile the rectangle lies in                 */
+    int piece;         /* 0: the whole tile; 1 .. 4: a quarter of it     */
+    bool skipped;      /* degenerate: filled by the master, never sent   */
+    bool split;        /* replaced by its pieces (tail): never sent      */
+    double estimate;   /* estimated ray casts; < 0: unknown (homo)       */
+    int order;         /* dispatch order from 0; -1: not sent            */
+    int worker;        /* the rank that computed it (0: the master)      */
+    double sent_s;     /* stats_clock() when it was sent / started       */
+    double done_s;     /* when its result was in                         */
+    double busy_s;     /* the worker's seconds on it                     */
+    uint32_t hits;     /* primary samples that hit                       */
+} sched_item;
+
+/* The estimated cost of a rectangle whose records are final. */
+typedef double (*sched_estimate_fn)(void *arg, tile_rect r);
+
+typedef struct {
+    enum sched_policy policy;
+    int workers, in_flight;
+    sched_estimate_fn estimate; /* NULL: no estimates                    */
+    void *estimate_arg;
+    sched_item *items;
+    int count, cap;
+    int tiles;          /* tiles of the image                            */
+    int *fifo;          /* raster order: ready tiles, fifo_head .. fifo_n */
+    int fifo_head, fifo_n;
+    int *heap;          /* cost order: a max-heap of ready tiles          */
+    int heap_n;
+    int *next_of;       /* static: the next item of the same worker      */
+    int *first, *last;  /* static: each worker's queue (-1: empty)        */
+    int added;          /* tiles added (not skipped), for static         */
+    int front[4];       /* tail: the pieces of the tile being split       */
+    int front_head, front_n;
+    int *tile_left;     /* items of each tile not yet done                */
+    int dispatched;     /* items handed out                               */
+    bool closed;        /* every tile was added or skipped                */
+} sched;
+
+const char *sched_policy_name(enum sched_policy p);
+
+/* False when out of memory. */
+bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int tiles,
+                sched_estimate_fn estimate, void *estimate_arg);
+void sched_free(sched *s);
+
+/* Tile `tile` (rectangle r) is ready to be sent / is degenerate. */
+bool sched_add(sched *s, int tile, tile_rect r);
+bool sched_skip(sched *s, int tile, tile_rect r);
+/* No more tiles will come. */
+void sched_close(sched *s);
+
+/* The next item for worker `w` (0 .. workers - 1), marked sent (order and
+ * sent_s = now), or -1 when none is ready for it now. */
+int sched_next(sched *s, int w, double now);
+/* Closed and every item handed out. */
+bool sched_finished(const sched *s);
+/* Item `item` is done; true when that completes its tile. */
+bool sched_done(sched *s, int item);
+
+#endif
