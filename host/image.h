@@ -1,6 +1,10 @@
 /*
- * image.h — image files through OpenImageIO (host/image.cpp, the one C++
- * file: an extern "C" shim that turns every exception into a status).
+ * image.h — image files through OpenImageIO.  The functions live in the
+ * module csgtrace-image.so (host/image_oiio.cpp, the one C++ file, which
+ * turns every exception into a status), loaded by the first call
+ * (host/image_loader.c): a process that never touches an image never loads
+ * OpenImageIO.  When the module cannot be loaded every call returns false
+ * with one message naming the file and the reason.
  */
 #ifndef HOST_IMAGE_H
 #define HOST_IMAGE_H
