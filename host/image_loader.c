@@ -119,6 +119,11 @@ static const img_module *module_or_error(const char *subject, char *err, size_t 
     return loader.mod;
 }
 
+bool img_load(char *err, size_t err_size)
+{
+    return module_or_error(NULL, err, err_size) != NULL;
+}
+
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                    size_t err_size)
 {

@@ -317,6 +317,10 @@ static void render_report(const csg_diag *d)
 /* The whole render on the process that owns the image. */
 static int render_job(const render_request *req, int ranks)
 {
+    /* The image module before the clock: loading it is no render time, and
+     * a missing one stops the job before any work. */
+    char img_err[512];
+    bool img_ready = !req->out_path || img_load(img_err, sizeof img_err);
     double t0 = stats_clock();
     render_state rs;
     render_stats st;
@@ -328,6 +332,10 @@ static int render_job(const render_request *req, int ranks)
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &st, &d);
+    if (status == EXIT_OK && !img_ready) {
+        csg_error_plain(&d, "%s: %s", req->out_path, img_err);
+        status = EXIT_FAILURE_RUN;
+    }
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
