@@ -70,6 +70,15 @@ for ext in png exr tif ppm; do
     fi
 done
 
+# --- PNG compression ($CSGTRACE_PNG_LEVEL): other bytes, the same pixels ---
+for level in 0 9; do
+    expect 0 "render .png at CSGTRACE_PNG_LEVEL=$level" env CSGTRACE_PNG_LEVEL=$level \
+        "$BIN" render "$T/good.pov" -o "$T/level$level.png" --width 32 --height 24
+    same "$T/img.png" "$T/level$level.png" && ok "the same pixels at level $level" ||
+        ko "CSGTRACE_PNG_LEVEL=$level changed the pixels"
+done
+rm -f "$T"/level*.png
+
 # --- the image module: only a process that reads or writes an image loads
 #     OpenImageIO (build/csgtrace-image.so); without it, one message, exit 1 ---
 if ldd "$BIN" | grep -q OpenImageIO; then ko "the program links OpenImageIO"; else
