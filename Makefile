@@ -14,6 +14,11 @@
 # The engine sources (flattening, tracing, shading) are compiled twice, once
 # per precision (real = float, real = double with -DCSG_DOUBLE), into one
 # program: --precision picks the table at run time (workers/engine.h).
+#
+# OpenImageIO is not linked into any program: host/image_oiio.cpp is built
+# alone as the module build/csgtrace-image.so, which host/image_loader.c loads on
+# the first image call (host/image_module.h).  A process that never reads or
+# writes an image (check, every MPI worker) never maps it.
 
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
@@ -35,8 +40,12 @@ OIIO_LIBS = $(shell pkg-config --libs OpenImageIO 2>/dev/null || echo -lOpenImag
 
 OPT ?= -O2
 CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
-CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP $(OIIO_CFLAGS)
-LDLIBS = $(OIIO_LIBS) -lOpenCL -lstdc++ -lm
+CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
+	$(OIIO_CFLAGS)
+LDLIBS = -lOpenCL -lm
+# The image module: everything it needs resolved at link time (-z defs).
+MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
+MODULE := csgtrace-image.so
 
 SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
@@ -44,11 +53,11 @@ SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recove
 ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/engine.c workers/cost.c
 ALL_C := $(wildcard csg/*.c csg/lang/*.c host/*.c workers/*.c scenes/*.c)
 PLAIN_SRCS := $(filter-out $(ENGINE_SRCS) host/main.c,$(ALL_C))
-CXX_SRCS := $(wildcard host/*.cpp)
+MODULE_SRCS := host/image_oiio.cpp
 TEST_SRCS := $(wildcard tests/test_*.c)
 
 # $(call objs,BUILDDIR)
-objs = $(PLAIN_SRCS:%.c=$(1)/obj/%.o) $(CXX_SRCS:%.cpp=$(1)/obj/%.o) \
+objs = $(PLAIN_SRCS:%.c=$(1)/obj/%.o) \
 	$(ENGINE_SRCS:%.c=$(1)/obj/float/%.o) $(ENGINE_SRCS:%.c=$(1)/obj/double/%.o)
 
 B := build
@@ -60,8 +69,13 @@ TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: all asan deps test demo bench bench-full bench-accuracy golden fuzz clean
-all: $(B)/csgtrace $(TEST_BINS) $(B)/tests/rogue_worker
-asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
+all: $(B)/csgtrace $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
+asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
+
+# The loader's last resort: the module of its own build folder (the test
+# programs live one folder below it).
+$(B)/obj/host/image_loader.o: DEFS += -DCSG_IMAGE_MODULE_BUILT='"$(ROOT)/$(B)/$(MODULE)"'
+$(BA)/obj/host/image_loader.o: DEFS += -DCSG_IMAGE_MODULE_BUILT='"$(ROOT)/$(BA)/$(MODULE)"'
 
 # ---- objects ---------------------------------------------------------------
 $(B)/obj/%.o: %.c
@@ -91,22 +105,29 @@ $(BA)/obj/%.o: %.cpp
 	$(CXX) $(CXXFLAGS_COMMON) -O1 $(SAN) -c $< -o $@
 
 # ---- programs ----------------------------------------------------------------
-$(B)/csgtrace: $(B)/obj/host/main.o $(LIB_OBJS)
+# Every program needs its build's module at run time (order-only: a new
+# module does not relink the programs).
+$(B)/csgtrace: $(B)/obj/host/main.o $(LIB_OBJS) | $(B)/$(MODULE)
 	$(CC) $^ -o $@ $(LDLIBS)
-$(BA)/csgtrace: $(BA)/obj/host/main.o $(LIB_OBJS_ASAN)
+$(BA)/csgtrace: $(BA)/obj/host/main.o $(LIB_OBJS_ASAN) | $(BA)/$(MODULE)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS)
 
-$(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS)
+$(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS) -lcmocka
 # A worker that breaks the protocol on purpose (tests/e2e_mpi.sh).
-$(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS)
+$(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
 
-$(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN)
+$(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN) | $(BA)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS) -lcmocka
+
+$(B)/$(MODULE): $(MODULE_SRCS:%.cpp=$(B)/obj/%.o)
+	$(CXX) $(MODULE_LDFLAGS) $^ -o $@ $(OIIO_LIBS)
+$(BA)/$(MODULE): $(MODULE_SRCS:%.cpp=$(BA)/obj/%.o)
+	$(CXX) $(SAN) $(MODULE_LDFLAGS) $^ -o $@ $(OIIO_LIBS)
 
 # ---- the pipeline fuzzer (libFuzzer, clang) ----------------------------------------
 # build/fuzz/fuzz_pipeline: every stage of a render on each input

@@ -1,6 +1,10 @@
 /*
- * image.h — image files through OpenImageIO (host/image.cpp, the one C++
- * file: an extern "C" shim that turns every exception into a status).
+ * image.h — image files through OpenImageIO.  The functions live in the
+ * module csgtrace-image.so (host/image_oiio.cpp, the one C++ file, which
+ * turns every exception into a status), loaded by the first call
+ * (host/image_loader.c): a process that never touches an image never loads
+ * OpenImageIO.  When the module cannot be loaded every call returns false
+ * with one message naming the file and the reason.
  */
 #ifndef HOST_IMAGE_H
 #define HOST_IMAGE_H
@@ -11,6 +15,12 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Loads the image module now instead of at the first image call: a
+ * process that will write an image calls it before its timed work (the load
+ * maps OpenImageIO's ~270 libraries, ~0.2 s) and learns at once when the
+ * module is missing.  false with the reason in err. */
+bool img_load(char *err, size_t err_size);
 
 /* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
  * by the extension.  8-bit and 16-bit formats get the values clamped to

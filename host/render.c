@@ -539,6 +539,10 @@ static int render_outputs(const render_request *req, const render_state *rs,
 /* The whole render on the process that owns the image. */
 static int render_job(const render_request *req, int ranks)
 {
+    /* The image module before the clock: loading it is no render time, and
+     * a missing one stops the job before any work. */
+    char img_err[512];
+    bool img_ready = !req->out_path || img_load(img_err, sizeof img_err);
     render_marks mk = {stats_clock(), 0, 0, 0, 0};
     render_state rs;
     render_stats st;
@@ -550,6 +554,10 @@ static int render_job(const render_request *req, int ranks)
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &st, &d);
+    if (status == EXIT_OK && !img_ready) {
+        csg_error_plain(&d, "%s: %s", req->out_path, img_err);
+        status = EXIT_FAILURE_RUN;
+    }
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);

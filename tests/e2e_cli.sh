@@ -74,6 +74,37 @@ for ext in png exr tif ppm; do
     fi
 done
 
+# --- PNG compression ($CSGTRACE_PNG_LEVEL): other bytes, the same pixels ---
+for level in 0 9; do
+    expect 0 "render .png at CSGTRACE_PNG_LEVEL=$level" env CSGTRACE_PNG_LEVEL=$level \
+        "$BIN" render "$T/good.pov" -o "$T/level$level.png" --width 32 --height 24
+    same "$T/img.png" "$T/level$level.png" && ok "the same pixels at level $level" ||
+        ko "CSGTRACE_PNG_LEVEL=$level changed the pixels"
+done
+rm -f "$T"/level*.png
+
+# --- the image module: only a process that reads or writes an image loads
+#     OpenImageIO (build/csgtrace-image.so); without it, one message, exit 1 ---
+if ldd "$BIN" | grep -q OpenImageIO; then ko "the program links OpenImageIO"; else
+    ok "the program does not link OpenImageIO"
+fi
+NOMOD=$T/none/csgtrace-image.so
+expect 0 "check needs no image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" "$BIN" check "$T/good.pov"
+expect 1 "render without the image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" \
+    "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
+errmsg "^csgtrace: error: .*image module.*none/csgtrace-image.so" "missing module message names it"
+expect 1 "render with a broken image module" env CSGTRACE_IMAGE_MODULE="$T/good.pov" \
+    "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
+errmsg "^csgtrace: error: .*image module.*good.pov" "broken module message names it"
+[ ! -e "$T/nomod.png" ] && ok "no image without a module" || ko "image written without a module"
+mkdir -p "$T/moved"
+cp "$BIN" "$(dirname "$BIN")/csgtrace-image.so" "$T/moved/"
+LD_DEBUG=files "$T/moved/csgtrace" render "$T/good.pov" -o "$T/moved.png" --width 8 --height 6 \
+    >/dev/null 2>"$T/err"
+grep -q "file=$T/moved/csgtrace-image.so " "$T/err" && ok "a moved program loads the module beside it" ||
+    ko "a moved program did not load $T/moved/csgtrace-image.so"
+rm -rf "$T/moved" "$T/moved.png"
+
 # --- check and export ---
 expect 0 "check" "$BIN" check "$T/good.pov"
 grep -qi "sphere" "$T/out" && ok "check summary lists the sphere" || ko "check summary: $(head -c 300 "$T/out")"

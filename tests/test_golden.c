@@ -7,6 +7,8 @@
  * (look at them before committing them).
  */
 #include <dirent.h>
+#include <math.h>
+#include <stdint.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -110,10 +112,64 @@ static void test_compare_detects_differences(void **state)
     assert_false(r.same_size);
 }
 
+/* The 8-bit encoding, read back: each byte is the sRGB curve of the value,
+ * times 255, rounded half away from zero and clamped — over a sweep of
+ * every 1/65536 of [0, 1], values past both ends, NaN, and pseudo-random
+ * values, at widths that put them in every position of a row. */
+static float srgb(float v)
+{
+    if (!(v > 0.0f))
+        return 0.0f;
+    if (v >= 1.0f)
+        return 1.0f;
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+}
+
+static void test_display_encoding(void **state)
+{
+    (void)state;
+    enum { N = 65536 + 4096 };
+    float *in = malloc(N * sizeof(float));
+    assert_non_null(in);
+    uint32_t x = 12345;
+    for (int i = 0; i < N; i++) {
+        x = x * 1664525u + 1013904223u;
+        in[i] = i <= 65536 ? (float)i / 65536.0f : -0.5f + 2.0f * (float)(x >> 8) / 16777216.0f;
+    }
+    in[N - 1] = NAN;
+    int widths[] = {1, 7, 333};
+    for (int k = 0; k < 3; k++) {
+        int w = widths[k], h = (N + 3 * w - 1) / (3 * w);
+        float *rgb = calloc((size_t)w * h * 3, sizeof(float));
+        assert_non_null(rgb);
+        memcpy(rgb, in, N * sizeof(float));
+        char path[4096], err[512];
+        snprintf(path, sizeof path, "%s/build/test-out/encoding_%d.png", CSG_SOURCE_DIR, w);
+        if (!img_write_rgb(path, rgb, w, h, err, sizeof err))
+            fail_msg("%s", err);
+        float *back;
+        int bw, bh;
+        if (!img_read_rgb(path, &back, &bw, &bh, err, sizeof err))
+            fail_msg("%s", err);
+        assert_true(bw == w && bh == h);
+        for (int i = 0; i < N; i++) {
+            float e = srgb(rgb[i]) * 255.0f;
+            int want = e >= 255.0f ? 255 : (int)roundf(e);
+            if ((int)roundf(back[i] * 255.0f) != want)
+                fail_msg("width %d: value %a (#%d) gave %g, want %d", w, (double)rgb[i], i,
+                         (double)(back[i] * 255.0f), want);
+        }
+        free(back);
+        free(rgb);
+    }
+    free(in);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_detects_differences),
+        cmocka_unit_test(test_display_encoding),
         cmocka_unit_test(test_golden_images),
     };
     return cmocka_run_group_tests_name("golden", tests, NULL, NULL);

@@ -1,0 +1,44 @@
+/*
+ * image_module.h — the boundary between the image API every program links
+ * (host/image_loader.c, C) and its implementation over OpenImageIO
+ * (host/image_oiio.cpp, C++), built as the module csgtrace-image.so and
+ * loaded with dlopen by the first image call.  Only the process that reads
+ * or writes an image pays for OpenImageIO (~270 shared libraries).
+ *
+ * The module exports one symbol, IMG_MODULE_ENTRY, a function returning
+ * its table; the loader checks `abi` and `size` before using any entry.
+ * Change IMG_MODULE_ABI whenever an entry's meaning or signature changes.
+ */
+#ifndef HOST_IMAGE_MODULE_H
+#define HOST_IMAGE_MODULE_H
+
+#include "image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define IMG_MODULE_ABI 1
+#define IMG_MODULE_ENTRY "csgimg_module"     /* the one exported symbol */
+#define IMG_MODULE_FILE "csgtrace-image.so"  /* looked for beside the program */
+#define IMG_MODULE_ENV "CSGTRACE_IMAGE_MODULE" /* a path that overrides the search */
+
+/* The entries have the signatures and contracts of host/image.h. */
+typedef struct {
+    int abi;     /* IMG_MODULE_ABI of the module's build */
+    size_t size; /* sizeof(img_module) of the module's build */
+    bool (*write_rgb)(const char *path, const float *rgb, int width, int height, char *err,
+                      size_t err_size);
+    bool (*read_rgb)(const char *path, float **rgb, int *width, int *height, char *err,
+                     size_t err_size);
+    bool (*compare_files)(const char *a, const char *b, double threshold, img_compare_result *r,
+                          char *err, size_t err_size);
+} img_module;
+
+typedef const img_module *(*img_module_entry_fn)(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

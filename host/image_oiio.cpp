@@ -1,0 +1,308 @@
+/*
+ * image_oiio.cpp — the one C++ file: the image API (image.h) over
+ * OpenImageIO, built alone as the module csgtrace-image.so, which
+ * host/image_loader.c loads on the first image call (image_module.h).  Its one
+ * exported symbol is csgimg_module(); the rest is hidden.  Every exception
+ * is caught here and turned into a false return with a message, so the C
+ * side never sees C++.
+ *
+ * Writing goes to a temporary file beside the target (same extension, so
+ * OpenImageIO picks the same format) and is renamed over the target only
+ * once the file is complete.
+ */
+#include "image_module.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+#include <OpenImageIO/parallel.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+using namespace OIIO;
+
+namespace {
+
+void set_error(char *err, size_t size, const std::string &msg)
+{
+    if (err && size)
+        std::snprintf(err, size, "%s", msg.c_str());
+}
+
+std::string extension_of(const std::string &path)
+{
+    size_t slash = path.find_last_of('/');
+    size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+        return "";
+    std::string ext = path.substr(dot + 1);
+    for (char &c : ext)
+        c = (char)std::tolower((unsigned char)c);
+    return ext;
+}
+
+bool is_float_format(const std::string &ext)
+{
+    return ext == "exr" || ext == "hdr" || ext == "pfm";
+}
+
+/* The display encoding of 8-bit files: the sRGB transfer curve, which is
+ * what POV-Ray 3.7 writes to PNG with assumed_gamma 1 and its default file
+ * gamma (measured: all 256 levels agree). */
+float encode_display(float v)
+{
+    if (!(v > 0.0f))
+        return 0.0f;
+    if (v >= 1.0f)
+        return 1.0f;
+    if (v <= 0.0031308f)
+        return 12.92f * v;
+    return 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+std::string temp_name_for(const std::string &path)
+{
+    size_t slash = path.find_last_of('/');
+    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    std::string ext = extension_of(path);
+    return dir + "." + base + ".tmp" + std::to_string((long)getpid()) + (ext.empty() ? "" : "." + ext);
+}
+
+/* The one encoded value whose byte OpenImageIO's float to uint8 conversion
+ * does not settle by itself: x*255 is 0.49999997, the float just below 0.5;
+ * its SIMD lanes round that to 0, its scalar tail computes
+ * (int)(x*255 + 0.5f) = 1 (the sum rounds up to 1.0), and which lanes a
+ * value meets depends on the row width and on how OpenImageIO splits the
+ * work.  For every other value the two agree: x*255 + 0.5f is exact, or
+ * rounds without reaching the next integer. */
+constexpr float ambiguous_encoded = 0x1.0101p-9f;
+
+/* The pixels write_image gets, in the file's encoding. */
+struct pixel_source {
+    TypeDesc type;
+    const void *data;
+};
+
+/* The bytes of an 8-bit file: encode_display, then OpenImageIO's
+ * conversion of each row, the rows spread over its thread pool — a quarter
+ * of the memory of the float copy write_image used to get, and no
+ * conversion left for it to do.  false when some pixel encodes to
+ * ambiguous_encoded: then only write_image's own conversion of the encoded
+ * floats gives the bytes it always wrote. */
+bool display_bytes(const float *rgb, int width, int height, std::vector<unsigned char> &bytes)
+{
+    size_t row = (size_t)width * 3;
+    bytes.resize(row * (size_t)height);
+    std::atomic<bool> settled{true};
+    parallel_for_range(int64_t(0), int64_t(height), [&](int64_t y0, int64_t y1) {
+        std::vector<float> encoded(row);
+        for (int64_t y = y0; y < y1; y++) {
+            const float *src = rgb + row * (size_t)y;
+            for (size_t i = 0; i < row; i++)
+                encoded[i] = encode_display(src[i]);
+            if (std::find(encoded.begin(), encoded.end(), ambiguous_encoded) != encoded.end())
+                settled = false;
+            convert_pixel_values(TypeDesc::FLOAT, encoded.data(), TypeDesc::UINT8,
+                                 bytes.data() + row * (size_t)y, (int)row);
+        }
+    });
+    return settled;
+}
+
+/* What write_image gets for a file of this extension: linear floats as
+ * they are; for 8-bit formats the display bytes, or (rarely, see
+ * ambiguous_encoded) the encoded floats.  `keep` owns what it points to. */
+pixel_source file_pixels(const std::string &ext, const float *rgb, int width, int height,
+                         std::vector<unsigned char> &keep_bytes, std::vector<float> &keep_floats)
+{
+    if (is_float_format(ext))
+        return {TypeDesc::FLOAT, rgb};
+    if (display_bytes(rgb, width, height, keep_bytes))
+        return {TypeDesc::UINT8, keep_bytes.data()};
+    std::vector<unsigned char>().swap(keep_bytes);
+    keep_floats.resize((size_t)width * (size_t)height * 3);
+    parallel_for_range(int64_t(0), int64_t(keep_floats.size()), [&](int64_t i0, int64_t i1) {
+        for (int64_t i = i0; i < i1; i++)
+            keep_floats[i] = encode_display(rgb[i]);
+    });
+    return {TypeDesc::FLOAT, keep_floats.data()};
+}
+
+/* PNG: the Up filter on every row, then zlib's run-length strategy.  On
+ * 8192x8192 renders that took a quarter of the time of OpenImageIO's
+ * default (zlib level 6, each row's filter chosen among the five) for files
+ * 6 to 25 % larger (README, "Very large images").  $CSGTRACE_PNG_LEVEL=N
+ * (0 to 9) asks for OpenImageIO's default at zlib level N instead: 6 gives
+ * the files csgtrace wrote before, 9 the smallest. */
+void set_png_options(ImageSpec &spec)
+{
+    const char *env = std::getenv("CSGTRACE_PNG_LEVEL");
+    if (env && env[0] >= '0' && env[0] <= '9' && env[1] == '\0') {
+        spec.attribute("png:compressionLevel", env[0] - '0');
+        return;
+    }
+    if (env && env[0])
+        std::fprintf(stderr, "csgtrace: warning: CSGTRACE_PNG_LEVEL=%s is not 0 to 9; ignored\n", env);
+    spec.attribute("png:filter", 32); /* PNG_FILTER_UP */
+    spec.attribute("compression", "rle");
+}
+
+bool write_rgb(const char *path_c, const float *rgb, int width, int height, char *err, size_t esz)
+{
+    std::string path(path_c);
+    std::string ext = extension_of(path);
+    std::string tmp = temp_name_for(path);
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        set_error(err, esz, path + ": cannot write this image format ('" + ext + "'): " + OIIO::geterror());
+        return false;
+    }
+    ImageSpec spec(width, height, 3, is_float_format(ext) ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    if (ext == "png")
+        set_png_options(spec);
+    std::vector<unsigned char> bytes;
+    std::vector<float> floats;
+    pixel_source px = file_pixels(ext, rgb, width, height, bytes, floats);
+    if (!out->open(tmp, spec)) {
+        set_error(err, esz, path + ": " + out->geterror());
+        std::remove(tmp.c_str());
+        return false;
+    }
+    bool ok = out->write_image(px.type, px.data);
+    std::string werr = ok ? "" : out->geterror();
+    ok = out->close() && ok;
+    if (!ok) {
+        set_error(err, esz, path + ": " + (werr.empty() ? out->geterror() : werr));
+        std::remove(tmp.c_str());
+        return false;
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        set_error(err, esz, path + ": cannot rename the finished image: " + std::strerror(errno));
+        std::remove(tmp.c_str());
+        return false;
+    }
+    return true;
+}
+
+struct free_deleter {
+    void operator()(float *p) const { std::free(p); }
+};
+
+bool read_rgb(const char *path, float **rgb, int *width, int *height, char *err, size_t esz)
+{
+    ImageBuf buf(path);
+    if (!buf.read(0, 0, true, TypeDesc::FLOAT)) {
+        set_error(err, esz, std::string(path) + ": " + buf.geterror());
+        return false;
+    }
+    const ImageSpec &spec = buf.spec();
+    size_t pixels = (size_t)spec.width * (size_t)spec.height;
+    std::unique_ptr<float[], free_deleter> data((float *)std::malloc(pixels * 3 * sizeof(float)));
+    if (!data) {
+        set_error(err, esz, std::string(path) + ": out of memory");
+        return false;
+    }
+    ROI roi = buf.roi();
+    roi.chbegin = 0;
+    roi.chend = 3;
+    if (spec.nchannels < 3) {
+        /* grey: replicate */
+        std::vector<float> grey(pixels * spec.nchannels);
+        buf.get_pixels(buf.roi(), TypeDesc::FLOAT, grey.data());
+        for (size_t i = 0; i < pixels; i++)
+            data[3 * i] = data[3 * i + 1] = data[3 * i + 2] = grey[i * spec.nchannels];
+    } else if (!buf.get_pixels(roi, TypeDesc::FLOAT, data.get())) {
+        set_error(err, esz, std::string(path) + ": " + buf.geterror());
+        return false;
+    }
+    *rgb = data.release();
+    *width = spec.width;
+    *height = spec.height;
+    return true;
+}
+
+bool compare_files(const char *a, const char *b, double threshold, img_compare_result *r,
+                   char *err, size_t esz)
+{
+    ImageBuf A(a), B(b);
+    if (!A.read(0, 0, true, TypeDesc::FLOAT) || !B.read(0, 0, true, TypeDesc::FLOAT)) {
+        set_error(err, esz, std::string("cannot read: ") + A.geterror() + B.geterror());
+        return false;
+    }
+    /* ImageBufAlgo::compare does not flag a size mismatch: check it. */
+    r->same_size = A.spec().width == B.spec().width && A.spec().height == B.spec().height &&
+                   A.spec().nchannels == B.spec().nchannels;
+    if (!r->same_size) {
+        r->rmse = r->max_error = INFINITY;
+        r->psnr = 0;
+        r->pixels_over = (long)A.spec().width * A.spec().height;
+        return true;
+    }
+    auto cr = ImageBufAlgo::compare(A, B, (float)threshold, (float)threshold);
+    r->rmse = cr.rms_error;
+    r->psnr = cr.PSNR;
+    r->max_error = cr.maxerror;
+    r->pixels_over = (long)cr.nfail;
+    return true;
+}
+
+/* body() with every exception turned into false and "SUBJECT: what" in err
+ * (formatted without allocating, so the handlers themselves cannot throw). */
+template <class F> bool guarded(const char *subject, const char *doing, char *err, size_t esz, F body)
+{
+    const char *sep = subject ? ": " : "";
+    subject = subject ? subject : "";
+    try {
+        return body();
+    } catch (const std::exception &e) {
+        if (err && esz)
+            std::snprintf(err, esz, "%s%s%s", subject, sep, e.what());
+    } catch (...) {
+        if (err && esz)
+            std::snprintf(err, esz, "%s%sunknown error %s", subject, sep, doing);
+    }
+    return false;
+}
+
+bool module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                      size_t esz)
+{
+    return guarded(path, "writing the image", err, esz,
+                   [&] { return write_rgb(path, rgb, width, height, err, esz); });
+}
+
+bool module_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
+                     size_t esz)
+{
+    *rgb = nullptr;
+    return guarded(path, "reading the image", err, esz,
+                   [&] { return read_rgb(path, rgb, width, height, err, esz); });
+}
+
+bool module_compare_files(const char *a, const char *b, double threshold, img_compare_result *r,
+                          char *err, size_t esz)
+{
+    return guarded(nullptr, "comparing images", err, esz,
+                   [&] { return compare_files(a, b, threshold, r, err, esz); });
+}
+
+const img_module module_table = {IMG_MODULE_ABI, sizeof(img_module), module_write_rgb,
+                                 module_read_rgb, module_compare_files};
+
+} // namespace
+
+extern "C" __attribute__((visibility("default"))) const img_module *csgimg_module(void)
+{
+    return &module_table;
+}
