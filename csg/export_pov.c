@@ -101,7 +101,9 @@ static void write_camera(const exporter *e)
     else
         csg_camera_default(&cam);
     FILE *out = e->out;
-    fputs("camera {\n    perspective\n    location ", out);
+    fputs(cam.projection == CSG_PROJ_ORTHOGRAPHIC ? "camera {\n    orthographic\n    location "
+                                                  : "camera {\n    perspective\n    location ",
+          out);
     put_dvec(out, cam.location);
     fputs("\n    direction ", out);
     put_dvec(out, cam.direction);
@@ -137,22 +139,70 @@ static void write_background_and_lights(const exporter *e)
 
 /* ---- objects ------------------------------------------------------------------- */
 
+static void write_matrix(FILE *out, const csg_xform *x, int depth);
+
+/* A colour: rgb (flat: no filter or transmit) or rgbft. */
+static void put_color(const exporter *e, const double *rgbft)
+{
+    fputs(e->flat ? "color rgb " : "color rgbft ", e->out);
+    put_vec(e->out, rgbft, e->flat ? 3 : 5);
+}
+
+/* pigment { ... }: a plain colour, or the pattern with its colour map,
+ * wave and complete pattern -> world matrix (written after the object's
+ * own matrix, so POV-Ray applies it alone). */
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+{
+    FILE *out = e->out;
+    fputs("pigment { ", out);
+    if (pig->pattern == CSG_PATTERN_PLAIN) {
+        put_color(e, pig->rgbft);
+        fputs(" }", out);
+        return;
+    }
+    if (pig->pattern == CSG_PATTERN_CHECKER) {
+        fputs("checker ", out);
+        put_color(e, pig->map[0].rgbft);
+        fputs(", ", out);
+        put_color(e, pig->map[1].rgbft);
+    } else {
+        fputs("gradient ", out);
+        put_dvec(out, pig->gradient);
+        fputs(" color_map {", out);
+        for (int i = 0; i < pig->map_count; i++) {
+            fputs(" [", out);
+            put_num(out, pig->map[i].value);
+            fputc(' ', out);
+            put_color(e, pig->map[i].rgbft);
+            fputc(']', out);
+        }
+        fputs(" }", out);
+    }
+    fputs(" frequency ", out);
+    put_num(out, pig->frequency);
+    fputs(" phase ", out);
+    put_num(out, pig->phase);
+    fputc('\n', out);
+    write_matrix(out, &pig->xform, depth + 1);
+    indent(out, depth);
+    fputs("}", out);
+}
+
 static void write_texture(const exporter *e, const csg_texture *t, int depth)
 {
     FILE *out = e->out;
     indent(out, depth);
     if (e->flat) {
-        fputs("texture { pigment { color rgb ", out);
-        put_vec(out, t->pigment.rgbft, 3);
-        fputs(" } finish { ambient 1 diffuse 0 } }\n", out);
+        fputs("texture { ", out);
+        write_pigment(e, &t->pigment, depth + 1);
+        fputs(" finish { ambient 1 diffuse 0 } }\n", out);
         return;
     }
     const csg_finish *f = &t->finish;
     fputs("texture {\n", out);
     indent(out, depth + 1);
-    fputs("pigment { color rgbft ", out);
-    put_vec(out, t->pigment.rgbft, 5);
-    fputs(" }\n", out);
+    write_pigment(e, &t->pigment, depth + 1);
+    fputs("\n", out);
     indent(out, depth + 1);
     fputs("finish { ambient rgb ", out);
     put_vec(out, f->ambient, 3);

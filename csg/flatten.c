@@ -60,6 +60,8 @@ typedef struct {
     int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
     csg_material *mats;
     int mat_count, mat_cap, mat_key_cap;
+    csg_map_color *maps;    /* the colour maps of patterned materials   */
+    int map_count, map_cap;
     const csg_scene *scene;
     csg_diag *diag;
     bool oom;
@@ -208,6 +210,48 @@ static void cone_frame(dvec3 a, dvec3 b, csg_xform *obj_to_local, double *height
     *height = h;
 }
 
+static void store3(real dst[3], dvec3 v)
+{
+    dst[0] = (real)v.x;
+    dst[1] = (real)v.y;
+    dst[2] = (real)v.z;
+}
+
+/* A patterned pigment: its kind, world -> pattern matrix, wave and colour
+ * map (appended to fb->maps); a plain one: nothing (pattern 0). */
+static bool material_pattern(flat_builder *fb, const csg_pigment *pig, csg_material *m)
+{
+    m->pattern = pig->pattern == CSG_PATTERN_CHECKER    ? CSG_MAT_CHECKER
+                 : pig->pattern == CSG_PATTERN_GRADIENT ? CSG_MAT_GRADIENT
+                                                        : CSG_MAT_PLAIN;
+    m->map_first = m->map_count = m->pad = 0;
+    if (m->pattern == CSG_MAT_PLAIN)
+        return true;
+    csg_xform inv;
+    if (!csg_xform_invert(&pig->xform, &inv))
+        csg_xform_identity(&inv); /* the parser refuses singular transforms */
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            m->to_pattern[4 * i + j] = (real)inv.m[i][j];
+    store3(m->gradient, pig->gradient);
+    m->frequency = (real)pig->frequency;
+    m->phase = (real)pig->phase;
+    if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
+              sizeof(csg_map_color))) {
+        fb->oom = true;
+        return false;
+    }
+    m->map_first = fb->map_count;
+    m->map_count = pig->map_count;
+    for (int i = 0; i < pig->map_count; i++) {
+        csg_map_color *c = &fb->maps[fb->map_count++];
+        c->value = (real)pig->map[i].value;
+        for (int k = 0; k < 5; k++)
+            c->rgbft[k] = (real)pig->map[i].rgbft[k];
+    }
+    return true;
+}
+
 static int material_for(flat_builder *fb, inherited inh)
 {
     int key = (inh.texture + 1) * (fb->scene->interior_count + 1) + inh.interior + 1;
@@ -239,6 +283,8 @@ static int material_for(flat_builder *fb, inherited inh)
     m->phong = (real)tex.finish.phong;
     m->phong_size = (real)tex.finish.phong_size;
     m->ior = (real)ior;
+    if (!material_pattern(fb, &tex.pigment, m))
+        return 0;
     fb->mat_keys[fb->mat_count] = key;
     return fb->mat_count++;
 }
@@ -680,12 +726,6 @@ static uint64_t place(uint64_t *off, int count, size_t elem)
     return at;
 }
 
-static void store3(real dst[3], dvec3 v)
-{
-    dst[0] = (real)v.x;
-    dst[1] = (real)v.y;
-    dst[2] = (real)v.z;
-}
 
 /* The header: counts, and every array placed after it, 64-byte aligned. */
 static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opts *o)
@@ -708,6 +748,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.bvh_count = fb->bvh_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
+    h.map_count = fb->map_count;
     for (int i = 0; i < fb->root_count; i++)
         if (fb->roots[i].stack_depth > h.max_stack)
             h.max_stack = fb->roots[i].stack_depth;
@@ -720,6 +761,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.off_lights = place(&off, s->light_count, sizeof(csg_flat_light));
     h.off_camera = place(&off, 1, sizeof(csg_camera));
     h.off_shading = place(&off, 1, sizeof(csg_shading));
+    h.off_maps = place(&off, fb->map_count, sizeof(csg_map_color));
     h.total_size = off;
     return h;
 }
@@ -751,6 +793,8 @@ static void write_scene_values(const csg_scene *s, const csg_flatten_opts *o,
     if (!s->has_camera)
         csg_camera_default(&cam);
     csg_camera *c = (csg_camera *)(b + h->off_camera);
+    c->projection = cam.projection == CSG_PROJ_ORTHOGRAPHIC ? CSG_CAMERA_ORTHOGRAPHIC
+                                                             : CSG_CAMERA_PERSPECTIVE;
     store3(c->location, cam.location);
     store3(c->direction, cam.direction);
     store3(c->right, cam.right);
@@ -769,6 +813,7 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     copy_array(b, h.off_roots, fb->roots, fb->root_count, sizeof(csg_root));
     copy_array(b, h.off_bvh, fb->bvh, fb->bvh_count, sizeof(csg_bvh_node));
     copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
+    copy_array(b, h.off_maps, fb->maps, fb->map_count, sizeof(csg_map_color));
     write_scene_values(fb->scene, o, &h, b);
     out->bytes = b;
     out->size = (size_t)h.total_size;
@@ -806,6 +851,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.bvh);
     free(fb.mats);
     free(fb.mat_keys);
+    free(fb.maps);
     if (!ok)
         csg_blob_free(out);
     return ok;

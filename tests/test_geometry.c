@@ -922,6 +922,8 @@ static void test_surface_pack(void **state)
 static csg_camera camera(void)
 {
     csg_camera c;
+    c.projection = CSG_CAMERA_PERSPECTIVE;
+    c.pad = 0;
     real loc[3] = {1, 2, 3}, dir[3] = {0, 0, 1}, right[3] = {R(1.33), 0, 0}, up[3] = {0, 1, 0};
     for (int i = 0; i < 3; i++) {
         c.location[i] = loc[i];

@@ -31,6 +31,7 @@
 #include "../csg/device/camera.h"
 #include "engine.h"
 #include "offset.h"
+#include "pigment.h"
 
 #ifdef CSG_DOUBLE
 #define ENGINE_SYM(name) name##_double
@@ -42,6 +43,7 @@ typedef struct {
     const csg_blob_header *hdr;
     csg_view view;
     const csg_material *mats;
+    const csg_map_color *maps; /* the colour maps of patterned pigments */
     const csg_flat_light *lights;
     const csg_camera *cam;
     vec3 ambient_light;
@@ -56,6 +58,7 @@ static shade_ctx ctx_of(const void *blob)
     c.hdr = blob;
     c.view = csg_blob_view(b);
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
+    c.maps = (const csg_map_color *)(b + c.hdr->off_maps);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
     c.cam = csg_blob_camera(b);
     const csg_shading *sh = (const csg_shading *)(b + c.hdr->off_shading);
@@ -85,11 +88,12 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real di
             if (prim->flags & CSG_PF_NO_SHADOW)
                 continue;
             const csg_material *m = &c->mats[prim->material];
-            if (m->filter <= R(0.0) && m->transmit <= R(0.0))
+            pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, ends[e],
+                                          v3_add(r.o, v3_scale(r.d, ts[e])));
+            if (pc.filter <= R(0.0) && pc.transmit <= R(0.0))
                 return false;
-            vec3 pig = v3_load(m->color);
-            *pass = v3_mul(*pass, v3_add(v3_scale(pig, m->filter),
-                                         v3(m->transmit, m->transmit, m->transmit)));
+            *pass = v3_mul(*pass, v3_add(v3_scale(pc.color, pc.filter),
+                                         v3(pc.transmit, pc.transmit, pc.transmit)));
         }
     }
     return true;
@@ -153,8 +157,9 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
     int entering = v3_dot(n, r.d) < R(0.0);
     vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
-    vec3 pig = v3_load(m->color);
-    real opacity = r_fmax(R(0.0), R(1.0) - m->filter - m->transmit);
+    pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, h.surf, p);
+    vec3 pig = pc.color;
+    real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
@@ -198,7 +203,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
         return color;
 
     vec3 refl_w = v3_load(m->reflection);
-    vec3 trans_w = v3_add(v3_scale(pig, m->filter), v3(m->transmit, m->transmit, m->transmit));
+    vec3 trans_w = v3_add(v3_scale(pig, pc.filter), v3(pc.transmit, pc.transmit, pc.transmit));
     if (max3(trans_w) > R(0.0)) {
         real eta = entering ? R(1.0) / m->ior : m->ior;
         real cosi = -v3_dot(r.d, nf);

@@ -523,14 +523,18 @@ static bool parse_color_vector(parser *p, enum csg_kw kw, double c[5])
 
 /* COLOR: ['color'|'colour'] then items; the first item may be an
  * expression (a float sets all five components, as in POV-Ray; a 3-, 4- or
- * 5-vector sets rgb, rgbf or rgbft).  Starts from all zeros. */
+ * 5-vector sets rgb, rgbf or rgbft), and rgb, rgbf, rgbt, rgbft are items
+ * only in the first place (so `checker rgb 1 rgb 0` is two colours, as in
+ * POV-Ray); red, green, blue, filter, transmit may follow anything.
+ * Starts from all zeros. */
 bool lang_parse_color(parser *p, double c[5])
 {
     memset(c, 0, 5 * sizeof c[0]);
     bool keyword = lang_is_kw(p, CSG_KW_COLOR);
     if (keyword && !lang_next(p))
         return false;
-    if (lang_is_expr_start(p)) {
+    bool started = lang_is_expr_start(p);
+    if (started) {
         csg_loc start = lang_tok(p)->loc;
         value v;
         if (!lang_parse_full_expr(p, &v))
@@ -544,9 +548,11 @@ bool lang_parse_color(parser *p, double c[5])
     } else if (!lang_is_color_item(p)) {
         return lang_expected(p, keyword ? "a color expected after 'color'" : "a color expected");
     }
-    while (lang_is_color_item(p)) {
+    for (bool first = !started; lang_is_color_item(p); first = false) {
         enum csg_kw kw = p->tok.kw;
         if (kw == CSG_KW_RGB || kw == CSG_KW_RGBF || kw == CSG_KW_RGBT || kw == CSG_KW_RGBFT) {
+            if (!first) /* POV-Ray: only as the first item (checker rgb 1 rgb 0) */
+                break;
             if (!parse_color_vector(p, kw, c))
                 return false;
             continue;
