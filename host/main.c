@@ -30,7 +30,7 @@ static int run_check(const cli_args *a)
 {
     csg_diag d = {0};
     csg_scene s;
-    if (!csg_parse_file(a->req.scene_path, &s, &d))
+    if (!csg_parse_file_opts(a->req.scene_path, &a->parse, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     csg_flatten_opts fo = {a->req.width, a->req.height, 0, -1, 1};
     csg_blob blob;
@@ -58,7 +58,7 @@ static int run_export(const cli_args *a)
 {
     csg_diag d = {0};
     csg_scene s;
-    if (!csg_parse_file(a->req.scene_path, &s, &d))
+    if (!csg_parse_file_opts(a->req.scene_path, &a->parse, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     int status = EXIT_OK;
     FILE *out = fopen(a->out_path, "w");

@@ -86,8 +86,15 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
     csg_flatten_opts o = { req->width, req->height, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
+    csg_parse_options po;
+    if (req->parse)
+        po = *req->parse;
+    else
+        csg_parse_options_default(&po);
+    po.image_width = req->width;
+    po.image_height = req->height;
     csg_scene_init(&s);
-    if (!csg_parse_file(req->scene_path, &s, d) ||
+    if (!csg_parse_file_opts(req->scene_path, &po, &s, d) ||
         !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
         if (!d->failed)
             csg_error_plain(d, "%s: cannot load the scene", req->scene_path);

@@ -7,6 +7,8 @@
 
 #include <stdbool.h>
 
+#include "../csg/lang/parser.h"
+
 struct ocl_ctx;
 struct render_stats;
 
@@ -31,6 +33,9 @@ typedef struct {
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     enum progress_mode progress; /* the bar on stderr                */
+    const csg_parse_options *parse; /* clock, library folders, messages;
+                                       NULL: the defaults (image_width and
+                                       image_height are always the render's) */
     /* For callers that run several renders in one job (compare); NULL in
      * a plain render.  Used on the master only. */
     struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and

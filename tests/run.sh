@@ -106,6 +106,8 @@ if [ "$what" = all ]; then
     done
     # geometry agreement with POV-Ray 3.7 on every example scene
     run_script tests/crosscheck_povray.sh
+    # the camera statement in every order of its modifiers, read by POV-Ray
+    run_script tests/crosscheck_camera.sh
     # the benchmark bookkeeping (medians, advantage, CSV columns)
     run_unittest bench/test_collect.py
 fi

@@ -211,8 +211,10 @@ bool lang_names(parser *p, enum sym_kind kind)
     if (!sym)
         return false;
     const datum *d = &sym->d;
-    return d->kind == kind || d->kind == SYM_UNSUPPORTED ||
-           (d->kind == SYM_ARRAY && (d->u.array->type == kind || d->u.array->type == SYM_UNSUPPORTED));
+    if (d->kind == SYM_ARRAY) /* an element: the array's kind and a subscript */
+        return (d->u.array->type == kind || d->u.array->type == SYM_UNSUPPORTED) &&
+               lang_raw_peek_punct(p, '[');
+    return d->kind == kind || d->kind == SYM_UNSUPPORTED;
 }
 
 /* ---- arrays ------------------------------------------------------------------------- */
@@ -410,6 +412,8 @@ bool lang_parse_rvalue(parser *p, datum *out, bool *needs_semicolon)
         case CSG_KW_PIGMENT: case CSG_KW_FINISH: case CSG_KW_TEXTURE: case CSG_KW_INTERIOR:
         case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY:
             return parse_block_rvalue(p, out);
+        case CSG_KW_LIGHT_SOURCE:
+            return lang_unsupported(p, "a declared 'light_source'", t->loc);
         default:
             break;
         }
@@ -459,14 +463,23 @@ static bool continues_rvalue(const csg_token *t)
             t->kw == CSG_KW_RGBFT || t->kw == CSG_KW_UNSUPPORTED);
 }
 
+/* Whether t may follow a block { } that ends a value: another layer of
+ * a texture, or the ';'. */
+static bool continues_block(const csg_token *t)
+{
+    return (t->kind == CSG_TOK_WORD && t->kw == CSG_KW_TEXTURE) ||
+           (t->kind == CSG_TOK_PUNCT && t->punct == ';');
+}
+
 /* Skips the text of a value by its shape, raw tokens of the current frame:
  * operands, groups ( ) [ ] { } balanced, operators between them; it ends at
- * a ';' (consumed), a directive, a closing bracket it did not open, or a
- * token that cannot go on after an operand (not consumed). */
+ * a ';' (consumed), a directive, a closing bracket it did not open, a token
+ * that cannot go on after an operand, or anything but another texture
+ * after a { } block (not consumed). */
 static bool skip_rvalue(parser *p)
 {
     int depth = 0;
-    bool after_operand = false;
+    bool after_operand = false, after_block = false;
     for (;;) {
         frame *f = lang_frame(p);
         csg_lexer before = f->lx;
@@ -475,17 +488,21 @@ static bool skip_rvalue(parser *p)
             return false;
         bool open = t.kind == CSG_TOK_PUNCT && (t.punct == '(' || t.punct == '[' || t.punct == '{');
         bool close = t.kind == CSG_TOK_PUNCT && (t.punct == ')' || t.punct == ']' || t.punct == '}');
-        if (t.kind == CSG_TOK_EOF || (depth == 0 && (t.kind == CSG_TOK_DIRECTIVE || close ||
-                                                       (after_operand && !open &&
-                                                        !continues_rvalue(&t) && t.punct != ';')))) {
+        bool stop = depth == 0 && (t.kind == CSG_TOK_DIRECTIVE || close ||
+                                   (after_block && !continues_block(&t)) ||
+                                   (after_operand && !open && !continues_rvalue(&t) &&
+                                    t.punct != ';'));
+        if (t.kind == CSG_TOK_EOF || stop) {
             lang_frame(p)->lx = before;
             return true;
         }
         if (depth == 0 && t.kind == CSG_TOK_PUNCT && t.punct == ';')
             return true;
         depth += open - close;
-        if (depth == 0)
+        if (depth == 0) {
+            after_block = close && t.punct == '}';
             after_operand = close || !(t.kind == CSG_TOK_PUNCT && continues_rvalue(&t));
+        }
     }
 }
 

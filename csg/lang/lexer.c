@@ -29,7 +29,7 @@ typedef struct {
     enum csg_kw kw;
 } kw_entry;
 
-/* POV-Ray 3.7's reserved words (476; those that are only directives are
+/* POV-Ray 3.7's reserved words (477; those that are only directives are
  * in directive_table), sorted by byte order (LC_ALL=C sort):
  * binary search below. */
 static const kw_entry kw_table[] = {
@@ -136,6 +136,7 @@ static const kw_entry kw_table[] = {
     {"cylindrical", CSG_KW_UNSUPPORTED},
     {"datetime", CSG_KW_UNSUPPORTED},
     {"defined", CSG_KW_DEFINED},
+    {"default", CSG_KW_DEFAULT}, /* POV-Ray takes `default { }` without '#' */
     {"degrees", CSG_KW_DEGREES},
     {"density", CSG_KW_UNSUPPORTED},
     {"density_file", CSG_KW_UNSUPPORTED},
@@ -737,10 +738,47 @@ static bool lex_punct(csg_lexer *lx, csg_token *t, int c)
     return true;
 }
 
+/* '#' then its word: a directive.  A '#' followed (after blanks and
+ * comments) by anything but a word is ignored, as POV-Ray does; by nothing
+ * at all, an error.  *stray: it was ignored, read on. */
+static bool lex_directive(csg_lexer *lx, csg_token *t, csg_diag *d, bool *stray)
+{
+    bump(lx);
+    if (!skip_space(lx, d))
+        return false;
+    const char *w = lx->src + lx->pos;
+    while (is_word(peek(lx, 0)))
+        bump(lx);
+    size_t wlen = (size_t)(lx->src + lx->pos - w);
+    if (wlen == 0 && peek(lx, 0) < 0) {
+        csg_error(d, t->loc, "a directive name expected after '#'");
+        return false;
+    }
+    *stray = wlen == 0;
+    t->kind = CSG_TOK_DIRECTIVE;
+    t->text = w;
+    t->len = wlen;
+    t->kw = csg_keyword(w, wlen, true);
+    return true;
+}
+
 bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
 {
     if (!skip_space(lx, d))
         return false;
+    while (peek(lx, 0) == '#') {
+        csg_token dir;
+        bool stray;
+        memset(&dir, 0, sizeof dir);
+        dir.loc = here(lx);
+        dir.pos = lx->pos;
+        if (!lex_directive(lx, &dir, d, &stray))
+            return false;
+        if (!stray) {
+            *t = dir;
+            return true;
+        }
+    }
     memset(t, 0, sizeof *t);
     t->loc = here(lx);
     t->pos = lx->pos;
@@ -760,24 +798,6 @@ bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
         t->kind = CSG_TOK_WORD;
         t->len = (size_t)(lx->src + lx->pos - t->text);
         t->kw = csg_keyword(t->text, t->len, false);
-        return true;
-    }
-    if (c == '#') {
-        bump(lx);
-        while (peek(lx, 0) == ' ' || peek(lx, 0) == '\t')
-            bump(lx);
-        const char *w = lx->src + lx->pos;
-        while (is_word(peek(lx, 0)))
-            bump(lx);
-        size_t wlen = (size_t)(lx->src + lx->pos - w);
-        if (wlen == 0) {
-            csg_error(d, t->loc, "a directive name expected after '#'");
-            return false;
-        }
-        t->kind = CSG_TOK_DIRECTIVE;
-        t->text = w;
-        t->len = wlen;
-        t->kw = csg_keyword(w, wlen, true);
         return true;
     }
     if (c != '\0' && strchr("{}<>()[],;+-*/=!&|?:.", c))

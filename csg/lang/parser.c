@@ -311,6 +311,8 @@ static bool parse_children(parser *p, pnode *n, const char *name)
         if (!lang_parse_object(p, &child) || !lang_vec_push(p, &p->stack, sizeof child, &child))
             return false;
     }
+    if (lang_is_kw(p, CSG_KW_LIGHT_SOURCE))
+        return lang_unsupported(p, "a 'light_source' inside an object", p->tok.loc);
     int count = p->stack.count - base;
     if (count == 0) {
         char what[64];
@@ -595,6 +597,8 @@ static bool parse_camera_item(parser *p, csg_camera_src *c, csg_camera_mods *m, 
 
 static bool is_camera_item(parser *p)
 {
+    if (lang_is_kw(p, CSG_KW_CYLINDER)) /* POV-Ray's cylindrical cameras */
+        return lang_unsupported(p, "the 'cylinder' camera", p->tok.loc);
     switch (lang_tok(p)->kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE) {
     case CSG_KW_PERSPECTIVE: case CSG_KW_ORTHOGRAPHIC: case CSG_KW_ANGLE: case CSG_KW_LOCATION:
     case CSG_KW_LOOK_AT: case CSG_KW_DIRECTION: case CSG_KW_UP: case CSG_KW_RIGHT: case CSG_KW_SKY:
@@ -771,6 +775,7 @@ static bool parse_statement(parser *p)
         return parse_top_object(p);
     if (p->tok.kind == CSG_TOK_WORD) {
         switch (p->tok.kw) {
+        case CSG_KW_DEFAULT: return lang_next(p) && lang_default(p, p->tok.loc); /* no '#' */
         case CSG_KW_CAMERA: return parse_camera_statement(p);
         case CSG_KW_LIGHT_SOURCE: return parse_light(p);
         case CSG_KW_BACKGROUND: return parse_background(p);

@@ -208,6 +208,8 @@ static bool parse_checker(parser *p, csg_pigment *pig)
     csg_map_entry e[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
     if (!lang_next(p))
         return false;
+    if (lang_is_kw(p, CSG_KW_PIGMENT))
+        return lang_unsupported(p, "'checker' of pigments", p->tok.loc);
     for (int i = 0; i < 2 && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
         if (!lang_parse_color(p, e[i].rgbft) || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
@@ -404,6 +406,8 @@ bool lang_parse_texture(parser *p, csg_texture *t)
             ok = lang_parse_finish(p, &t->finish);
         else if (lang_is_transform(p))
             ok = transform_pigment(p, &t->pigment);
+        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT))
+            return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
         else
             return lang_expected_close(p, '}', "texture", open);
         if (!ok)
