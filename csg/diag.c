@@ -27,6 +27,17 @@ static void diag_short_name(const char *name, char *out, size_t room)
     snprintf(out, room, "%.*s...%s", (int)head, name, name + len - tail);
 }
 
+/* Appends text to d->message at *n, cut at the buffer's end. */
+static void diag_append(csg_diag *d, size_t *n, const char *text)
+{
+    size_t len = strlen(text), room = sizeof d->message - 1 - *n;
+    if (len > room)
+        len = room;
+    memcpy(d->message + *n, text, len);
+    *n += len;
+    d->message[*n] = '\0';
+}
+
 static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, const char *fmt,
                          va_list ap)
 {
@@ -34,17 +45,19 @@ static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, cons
         return; /* the first error is the one the user needs */
     char reason[CSG_DIAG_MAX];
     vsnprintf(reason, sizeof reason, fmt, ap);
+    size_t n = 0;
+    d->message[0] = '\0';
     if (!loc) {
-        snprintf(d->message, sizeof d->message, "csgtrace: error: %s", reason);
+        diag_append(d, &n, "csgtrace: error: ");
     } else {
-        char numbers[48];
-        int n = snprintf(numbers, sizeof numbers, ":%d:%d: error: ", loc->line, loc->col);
-        size_t fixed = strlen(reason) + (size_t)(n > 0 ? n : 0);
-        size_t room = fixed + 16 < sizeof d->message ? sizeof d->message - fixed : 16;
-        char name[CSG_DIAG_MAX];
-        diag_short_name(file, name, room);
-        snprintf(d->message, sizeof d->message, "%s%s%s", name, numbers, reason);
+        char numbers[48], name[CSG_DIAG_MAX];
+        snprintf(numbers, sizeof numbers, ":%d:%d: error: ", loc->line, loc->col);
+        size_t fixed = strlen(reason) + strlen(numbers);
+        diag_short_name(file, name, fixed + 16 < sizeof d->message ? sizeof d->message - fixed : 16);
+        diag_append(d, &n, name);
+        diag_append(d, &n, numbers);
     }
+    diag_append(d, &n, reason);
     d->failed = 1;
 }
 

@@ -262,7 +262,10 @@ static bool parse_initializer(parser *p, lang_array *a, int dim, long base)
             datum d;
             bool semi;
             csg_loc at = lang_tok(p)->loc;
-            ok = lang_parse_rvalue(p, &d, &semi) && array_set(p, a, base + i, &d, at);
+            ok = lang_parse_rvalue(p, &d, &semi);
+            if (!ok)
+                lang_datum_free(&d); /* what it made before it failed */
+            ok = ok && array_set(p, a, base + i, &d, at);
         }
         if (!ok || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
