@@ -1,6 +1,6 @@
 // lattice.pov — a CSG lattice written with the language's loops and
 // macros: #macro with parameters and #local, #for and #while, #if and
-// #switch, arrays, seed/rand, strings, image_width/image_height, and the
+// #switch, arrays, seed/rand, strings and #error, image_width/image_height, and the
 // checker and gradient pigments.
 //
 // Framed for 640x480 (4:3; right x*image_width/image_height).
@@ -93,7 +93,9 @@ global_settings { assumed_gamma 1.0 }
 #end
 
 #declare Name = concat("lattice ", str(N, 0, 0), "x", str(N, 0, 0), "x", str(N, 0, 0));
-#debug concat(Name, "\n")
+#if (Name != "lattice 4x4x4") // a string check; #debug Name would print it
+    #error concat("unexpected ", Name)
+#end
 
 camera {
     location <7.5, 5.5, -7.5>
