@@ -114,6 +114,29 @@ static void write_camera(const exporter *e)
     fputs("\n}\n\n", out);
 }
 
+static void write_matrix(FILE *out, const csg_xform *x, int depth);
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth);
+
+/* sky_sphere { pigment {}... emission rgb <> matrix <the sky's> } */
+static void write_sky(const exporter *e)
+{
+    const csg_sky *sky = &e->s->sky;
+    FILE *out = e->out;
+    if (sky->count == 0)
+        return;
+    fputs("sky_sphere {\n", out);
+    for (int i = 0; i < sky->count; i++) {
+        indent(out, 1);
+        write_pigment(e, &sky->pigments[i], 1);
+        fputc('\n', out);
+    }
+    fputs("    emission rgb ", out);
+    put_vec(out, sky->emission, 3);
+    fputc('\n', out);
+    write_matrix(out, &sky->xform, 1);
+    fputs("}\n\n", out);
+}
+
 static void write_background_and_lights(const exporter *e)
 {
     FILE *out = e->out;
@@ -125,6 +148,7 @@ static void write_background_and_lights(const exporter *e)
         put_vec(out, e->s->background, 5);
     }
     fputs(" }\n\n", out);
+    write_sky(e);
     for (int i = 0; i < e->s->light_count; i++) {
         const csg_light *l = &e->s->lights[i];
         fputs("light_source { ", out);
@@ -138,8 +162,6 @@ static void write_background_and_lights(const exporter *e)
 }
 
 /* ---- objects ------------------------------------------------------------------- */
-
-static void write_matrix(FILE *out, const csg_xform *x, int depth);
 
 /* A colour: rgb (flat: no filter or transmit) or rgbft. */
 static void put_color(const exporter *e, const double *rgbft)
@@ -372,7 +394,12 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
     exporter e = {s, out, flat, d};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
-    fputs("#version 3.7;\n\n", out);
+    /* the scene's version where it changes what the export means (the
+     * sky's mix before 3.7), never below 3.5 (the camera's fixed order) */
+    double v = s->version < 3.5 ? 3.5 : s->version > 3.7 ? 3.7 : s->version;
+    fputs("#version ", out);
+    put_num(out, v);
+    fputs(";\n\n", out);
     write_globals(&e);
     write_camera(&e);
     write_background_and_lights(&e);

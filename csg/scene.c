@@ -193,6 +193,7 @@ void csg_scene_init(csg_scene *s)
 {
     memset(s, 0, sizeof *s);
     csg_globals_default(&s->globals);
+    s->version = 3.7;
     s->background[0] = s->background[1] = s->background[2] = 0.0;
 }
 

@@ -162,12 +162,30 @@ typedef struct {
     double ambient_light[3]; /* 1                                     */
 } csg_globals;
 
+/* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the
+ * pigments evaluated at its direction (layered: the first written is the
+ * top layer). */
+#define CSG_SKY_MAX 8 /* pigments of a sky_sphere */
+typedef struct {
+    int count;                        /* 0: no sky sphere                  */
+    csg_pigment pigments[CSG_SKY_MAX]; /* pattern space -> direction space:
+                                         the sky's transforms included      */
+    double emission[3];               /* 1 by default                      */
+    csg_xform xform;                  /* the sky's transforms: the pigments
+                                         are evaluated at the direction seen
+                                         through its inverse, as POV-Ray    */
+} csg_sky;
+
 typedef struct csg_arena csg_arena;
 
 typedef struct {
     csg_camera_src camera;
     bool has_camera;
     double background[5];   /* rgbft; black when not given            */
+    csg_sky sky;            /* sky_sphere (count 0: none)             */
+    double version;         /* #version at the end (3.7 unless set):
+                               POV-Ray's sky before 3.7 mixes the
+                               background in another way              */
     csg_globals globals;
     csg_light *lights;
     int light_count;

@@ -145,16 +145,19 @@ static int render_primary(const render_request *req, render_state *rs, int tiles
     return EXIT_OK;
 }
 
-/* The tiles of the tile phase into rs->todo; hetero: the others filled with
+/* The tiles of the tile phase into rs->todo; hetero: the others (none
+ * with a sky_sphere) filled with
  * the background (what shade gives a missed primary ray). */
 static void render_plan(render_state *rs, render_stats *st, master_job *job)
 {
     int tiles = tile_count(&job->grid);
     float bg[3];
     engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, bg);
+    /* a sky_sphere: what a missed ray sees depends on its direction */
+    bool sky = csg_blob_hdr(rs->blob.bytes)->sky_count > 0;
     int count = 0;
     for (int i = 0; i < tiles; i++) {
-        if (!rs->tile_hits || rs->tile_hits[i] > 0) {
+        if (!rs->tile_hits || rs->tile_hits[i] > 0 || sky) {
             rs->todo[count++] = i;
             continue;
         }

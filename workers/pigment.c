@@ -11,8 +11,11 @@
  *   2. world -> pattern space by the material's matrix (the inverse of the
  *      pigment's transforms and those of its object after it);
  *   3. the pattern's value: checker, the parity of floor(x + 1e-10) +
- *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1); gradient, dot(q, g),
- *      taken modulo 1 above 1;
+ *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), where the bias also
+ *      covers the rounding of the point (the caller's bound, through the
+ *      matrix): POV-Ray finds the points on a boundary in double and puts
+ *      them in the upper cell, and so do we for a point whose rounding
+ *      could have crossed it; gradient, dot(q, g), taken modulo 1 above 1;
  *   4. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
  *      constant) unless the frequency is 0 (a checker's), then wrapped
  *      into [0, 1) when negative (ramp_wave);
@@ -84,10 +87,9 @@ static void onto_surface(const csg_prim *prims, csg_u32 surf, double w[3])
             w[i] -= f * g[i] / gg;
 }
 
-static double checker(const double q[3])
+static double checker(const double q[3], double bias)
 {
-    double sum = floor(q[0] + PATTERN_EPSILON) + floor(q[1] + PATTERN_EPSILON) +
-                 floor(q[2] + PATTERN_EPSILON);
+    double sum = floor(q[0] + bias) + floor(q[1] + bias) + floor(q[2] + bias);
     return fmod(sum, 2.0) != 0.0 ? 1.0 : 0.0;
 }
 
@@ -135,8 +137,19 @@ static pigment_color map_color(const csg_map_color *e, int n, double v)
     return pc;
 }
 
+/* The largest row sum of |M| (3x3 part): how much M can grow an error. */
+static double matrix_norm(const real *m)
+{
+    double best = 0;
+    for (int i = 0; i < 3; i++) {
+        double row = fabs((double)m[4 * i]) + fabs((double)m[4 * i + 1]) + fabs((double)m[4 * i + 2]);
+        best = row > best ? row : best;
+    }
+    return best;
+}
+
 pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
-                         const csg_prim *prims, csg_u32 surf, vec3 p)
+                         const csg_prim *prims, csg_u32 surf, vec3 p, real err)
 {
     pigment_color pc;
     if (m->pattern == CSG_MAT_PLAIN) {
@@ -146,10 +159,12 @@ pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
         return pc;
     }
     double w[3] = {(double)p.x, (double)p.y, (double)p.z}, q[3];
-    onto_surface(prims, surf, w);
+    if (prims && surf != CSG_SURF_NONE)
+        onto_surface(prims, surf, w);
     for (int i = 0; i < 3; i++)
         q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
                (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
-    double v = m->pattern == CSG_MAT_CHECKER ? checker(q) : gradient(m, q);
+    double bias = PATTERN_EPSILON + (double)err * matrix_norm(m->to_pattern);
+    double v = m->pattern == CSG_MAT_CHECKER ? checker(q, bias) : gradient(m, q);
     return map_color(maps + m->map_first, m->map_count, wave(m, v));
 }

@@ -23,9 +23,12 @@ typedef struct {
 } pigment_color;
 
 /* The pigment of material m at world point p on surface `surf` (a packed
- * surface id of prims): the plain colour, or the pattern through the
- * colour map (maps: the blob's colour map entries). */
+ * surface id of prims; prims NULL or surf CSG_SURF_NONE: a point on no
+ * surface, a sky direction): the plain colour, or the pattern through the
+ * colour map (maps: the blob's colour map entries).  err bounds the
+ * rounding of p (0 for an exact point): a checker boundary within it counts
+ * as crossed, as POV-Ray's exact point on the boundary does. */
 pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
-                         const csg_prim *prims, csg_u32 surf, vec3 p);
+                         const csg_prim *prims, csg_u32 surf, vec3 p, real err);
 
 #endif

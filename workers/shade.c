@@ -15,7 +15,9 @@
  * (shadow rays: each filtering/transmitting surface multiplies by
  * filter * pigment + transmit, an opaque one blocks), and a secondary ray
  * is traced only while the trace level is below max_depth and its weight
- * in the pixel is at least adc_bailout.  Total internal reflection sends
+ * in the pixel is at least adc_bailout.  A ray that leaves the scene sees
+ * the background, or the sky_sphere's pigments at its direction.  Patterned
+ * pigments are evaluated at the hit point (pigment.c).  Total internal reflection sends
  * the transmitted weight along the reflected direction.
  *
  * Secondary rays start at the hit point moved off the surface by a few
@@ -49,6 +51,9 @@ typedef struct {
     vec3 ambient_light;
     vec3 background;
     real bailout;
+    const csg_material *sky; /* the sky_sphere's pigments (sky_count)   */
+    csg_i32 sky_count, sky_v37;
+    vec3 sky_emission;
 } shade_ctx;
 
 static shade_ctx ctx_of(const void *blob)
@@ -65,6 +70,10 @@ static shade_ctx ctx_of(const void *blob)
     c.ambient_light = v3_load(sh->ambient_light);
     c.background = v3_load(sh->background);
     c.bailout = sh->adc_bailout;
+    c.sky = c.mats + sh->sky_first;
+    c.sky_count = c.hdr->sky_count;
+    c.sky_v37 = sh->sky_v37;
+    c.sky_emission = v3_load(sh->sky_emission);
     return c;
 }
 
@@ -88,8 +97,9 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real di
             if (prim->flags & CSG_PF_NO_SHADOW)
                 continue;
             const csg_material *m = &c->mats[prim->material];
+            real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts[e]);
             pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, ends[e],
-                                          v3_add(r.o, v3_scale(r.d, ts[e])));
+                                          v3_add(r.o, v3_scale(r.d, ts[e])), err);
             if (pc.filter <= R(0.0) && pc.transmit <= R(0.0))
                 return false;
             *pass = v3_mul(*pass, v3_add(v3_scale(pc.color, pc.filter),
@@ -133,6 +143,39 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
     return pass;
 }
 
+/* ---- the sky ---------------------------------------------------------------------- */
+
+/* What a ray along unit direction d that leaves the scene sees: the
+ * background, or POV-Ray's sky_sphere over it (its layers from the last
+ * written, mixed by their filter and transmit as POV-Ray 3.7 does, or as
+ * POV-Ray did before 3.7 for older scenes: trace.cpp, ComputeSky). */
+static vec3 sky_color(const shade_ctx *c, vec3 d)
+{
+    if (c->sky_count == 0)
+        return c->background;
+    vec3 col = v3(R(0.0), R(0.0), R(0.0)), fil = v3(R(1.0), R(1.0), R(1.0));
+    real fil_f = R(1.0), fil_t = R(1.0), trans = R(1.0);
+    for (csg_i32 i = c->sky_count - 1; i >= 0; i--) {
+        pigment_color pc = PIGMENT_AT(&c->sky[i], c->maps, NULL, CSG_SURF_NONE, d, R(0.0));
+        real opacity = R(1.0) - pc.filter - pc.transmit;
+        if (c->sky_v37) {
+            col = v3_add(col, v3_mul(v3_scale(pc.color, opacity), v3_mul(fil, c->sky_emission)));
+            fil = v3_mul(fil, v3_add(v3_scale(pc.color, pc.filter),
+                                     v3(pc.transmit, pc.transmit, pc.transmit)));
+        } else {
+            col = v3_add(col, v3_scale(pc.color, trans * opacity));
+            fil = v3_mul(fil, pc.color);
+            fil_f *= pc.filter;
+            fil_t *= pc.transmit;
+            trans = r_fabs(fil_f) + r_fabs(fil_t);
+        }
+    }
+    if (c->sky_v37)
+        return v3_add(col, v3_mul(c->background, fil));
+    vec3 through = v3_add(v3_scale(fil, fil_f), v3(fil_t, fil_t, fil_t));
+    return v3_add(v3_mul(col, c->sky_emission), v3_mul(c->background, through));
+}
+
 /* ---- Whitted ------------------------------------------------------------------- */
 
 static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
@@ -157,14 +200,15 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
     int entering = v3_dot(n, r.d) < R(0.0);
     vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
-    pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, h.surf, p);
+    const csg_root *root = &c->view.roots[prim->root];
+    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
+    pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, h.surf, p,
+                                  OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * mag);
     vec3 pig = pc.color;
     real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
-    const csg_root *root = &c->view.roots[prim->root];
-    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
     vec3 above = offset_point(p, nf, mag);
     vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
@@ -236,7 +280,7 @@ static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray
 {
     csg_hit h = csg_trace_nearest(c->view, r, R(0.0), CSG_R_INF);
     if (h.surf == CSG_SURF_NONE)
-        return c->background;
+        return sky_color(c, r.d);
     return shade_hit(c, r, h, level, weight, rays);
 }
 
@@ -293,11 +337,11 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
+                csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                           rect.y + y, spp, s);
                 if (surf[k] == CSG_SURF_NONE) {
-                    one = c.background;
+                    one = sky_color(&c, r.d);
                 } else {
-                    csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
-                                               rect.y + y, spp, s);
                     csg_hit h;
                     h.t = t[k];
                     h.surf = surf[k];
@@ -308,8 +352,9 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             }
             /* A pixel no sample hit is exactly the background, as the
              * master fills the degenerate tiles of the hetero mode (an
-             * average of spp equal values need not round back to it). */
-            if (hits == 0)
+             * average of spp equal values need not round back to it);
+             * with a sky_sphere no tile is degenerate (render.c). */
+            if (hits == 0 && c.sky_count == 0)
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);

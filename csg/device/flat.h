@@ -126,12 +126,18 @@ typedef struct {
     real up[3];
 } csg_camera;
 
-/* The scene-wide shading values (global_settings, background): C workers
- * only, like the materials and the lights. */
+/* The scene-wide shading values (global_settings, background, the
+ * sky_sphere): C workers only, like the materials and the lights. */
 typedef struct {
-    real background[3];    /* what a ray that hits nothing sees        */
+    csg_i32 sky_first;     /* the sky_sphere's pigments: materials
+                              sky_first .. + header.sky_count            */
+    csg_i32 sky_v37;       /* POV-Ray 3.7's mix of sky and background (1),
+                              or the one before 3.7 (0)                  */
+    real background[3];    /* what a ray that hits nothing sees (with the
+                              sky: behind it)                            */
     real ambient_light[3];
     real adc_bailout;      /* rays weighing less are not traced        */
+    real sky_emission[3];
 } csg_shading;
 
 /* A material's pigment pattern (csg_material.pattern), POV-Ray 3.7's:
@@ -222,7 +228,9 @@ typedef struct {
     csg_i32 material_count, light_count;
     csg_i32 max_stack;     /* deepest root program, <= CSG_STACK_MAX      */
     csg_i32 map_count;     /* colour map entries (workers)               */
-    csg_i32 pad;
+    csg_i32 sky_count;     /* sky_sphere pigments: a ray that misses sees
+                              a colour of its direction, so no tile is
+                              degenerate                                 */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
     csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
@@ -243,7 +251,7 @@ typedef struct {
         F(csg_blob_header, bvh_count) F(csg_blob_header, linear_roots)                     \
         F(csg_blob_header, material_count) F(csg_blob_header, light_count)                 \
         F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
-        F(csg_blob_header, pad) F(csg_blob_header, off_prims)                              \
+        F(csg_blob_header, sky_count) F(csg_blob_header, off_prims)                        \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \

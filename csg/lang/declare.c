@@ -396,6 +396,12 @@ static bool parse_block_rvalue(parser *p, datum *out)
         out->kind = SYM_CAMERA;
         csg_camera_default(&out->u.camera);
         return lang_parse_camera(p, &out->u.camera);
+    case CSG_KW_SKY_SPHERE: {
+        csg_sky *sky = lang_alloc(p, sizeof *sky);
+        out->kind = SYM_SKY;
+        out->u.sky = sky;
+        return sky && lang_parse_sky_sphere(p, sky);
+    }
     default: /* CSG_KW_ARRAY */
         return parse_array(p, out);
     }
@@ -413,7 +419,7 @@ bool lang_parse_rvalue(parser *p, datum *out, bool *needs_semicolon)
     if (t->kind == CSG_TOK_WORD) {
         switch (t->kw) {
         case CSG_KW_PIGMENT: case CSG_KW_FINISH: case CSG_KW_TEXTURE: case CSG_KW_INTERIOR:
-        case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY:
+        case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY: case CSG_KW_SKY_SPHERE:
             return parse_block_rvalue(p, out);
         case CSG_KW_LIGHT_SOURCE:
             return lang_unsupported(p, "a declared 'light_source'", t->loc);

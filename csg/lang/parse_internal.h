@@ -62,6 +62,7 @@ enum sym_kind {
     SYM_OBJECT,
     SYM_COLOR_MAP,
     SYM_CAMERA,
+    SYM_SKY,
     SYM_ARRAY,
     SYM_MACRO,
     SYM_UNSUPPORTED /* a declaration that used an unsupported construct */
@@ -90,6 +91,7 @@ typedef struct {
         csg_object *object;        /* a tree never in the scene: copied at use */
         lang_color_map cmap;
         csg_camera_src camera;
+        const csg_sky *sky;        /* arena                                  */
         lang_array *array;         /* malloc'd, owned                        */
         const lang_macro *macro;   /* arena                                  */
         const lang_unusable *why; /* arena                                */
@@ -368,6 +370,8 @@ bool lang_parse_finish(parser *p, csg_finish *f);
 bool lang_parse_texture(parser *p, csg_texture *t);
 bool lang_parse_interior(parser *p, csg_interior *in);
 bool lang_parse_color_map(parser *p, lang_color_map *out);
+/* sky_sphere { [SKY_ID] pigment {}... emission COLOR TRANSFORMS }. */
+bool lang_parse_sky_sphere(parser *p, csg_sky *sky);
 /* Transforms (translate V, rotate V, scale V|F, matrix <...>): true when the
  * current token is one; lang_parse_transform composes it after *x. */
 bool lang_is_transform(parser *p);

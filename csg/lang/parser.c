@@ -779,6 +779,7 @@ static bool parse_statement(parser *p)
         case CSG_KW_CAMERA: return parse_camera_statement(p);
         case CSG_KW_LIGHT_SOURCE: return parse_light(p);
         case CSG_KW_BACKGROUND: return parse_background(p);
+        case CSG_KW_SKY_SPHERE: return lang_parse_sky_sphere(p, &p->s->sky);
         case CSG_KW_GLOBAL_SETTINGS: return parse_global_settings(p);
         default: break;
         }
@@ -820,6 +821,7 @@ static bool finish_scene(parser *p)
                     top[j]->interior = top[i]->interior;
         }
     }
+    s->version = p->version;
     s->objects = vec_to_arena(p, &p->objects, sizeof(csg_object *));
     s->textures = vec_to_arena(p, &p->textures, sizeof(csg_texture));
     s->interiors = vec_to_arena(p, &p->interiors, sizeof(csg_interior));

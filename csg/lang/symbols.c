@@ -199,6 +199,7 @@ const char *lang_kind_name(const datum *d)
     case SYM_OBJECT: return "an object";
     case SYM_COLOR_MAP: return "a color_map";
     case SYM_CAMERA: return "a camera";
+    case SYM_SKY: return "a sky_sphere";
     case SYM_ARRAY: return "an array";
     case SYM_MACRO: return "a macro";
     case SYM_UNSUPPORTED: return "an unsupported declaration";

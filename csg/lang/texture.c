@@ -307,6 +307,51 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig)
     return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, open);
 }
 
+/* ---- sky_sphere ------------------------------------------------------------------- */
+
+bool lang_parse_sky_sphere(parser *p, csg_sky *sky)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "sky_sphere"))
+        return false;
+    memset(sky, 0, sizeof *sky);
+    sky->emission[0] = sky->emission[1] = sky->emission[2] = 1;
+    csg_xform_identity(&sky->xform);
+    if (lang_names(p, SYM_SKY)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_SKY, "a sky_sphere", &d))
+            return false;
+        *sky = *d->u.sky;
+    }
+    for (;;) {
+        bool ok;
+        csg_loc at = lang_tok(p)->loc;
+        if (lang_is_punct(p, '}'))
+            break;
+        if (lang_is_kw(p, CSG_KW_PIGMENT)) {
+            if (sky->count == CSG_SKY_MAX) {
+                csg_error(p->d, at, "a sky_sphere has at most %d pigments", CSG_SKY_MAX);
+                return false;
+            }
+            csg_pigment_default(&sky->pigments[sky->count]); /* POV-Ray: a new pigment */
+            ok = lang_parse_pigment(p, &sky->pigments[sky->count++]);
+        } else if (lang_is_kw(p, CSG_KW_EMISSION)) {
+            ok = lang_next(p) && lang_parse_rgb(p, sky->emission);
+        } else if (lang_is_transform(p)) {
+            ok = lang_parse_transform(p, &sky->xform);
+        } else {
+            return lang_expected_close(p, '}', "sky_sphere", open);
+        }
+        if (!ok)
+            return false;
+    }
+    if (sky->count == 0) {
+        csg_error(p->d, open, "a sky_sphere needs a pigment");
+        return false;
+    }
+    return lang_next(p);
+}
+
 /* ---- finish, texture, interior ---------------------------------------------------- */
 
 bool lang_parse_finish(parser *p, csg_finish *f)
@@ -342,6 +387,8 @@ bool lang_parse_finish(parser *p, csg_finish *f)
                 return false;
             continue;
         }
+        case CSG_KW_EMISSION:
+            return lang_unsupported(p, "'emission'", p->tok.loc);
         case CSG_KW_DIFFUSE: target = &f->diffuse; break;
         case CSG_KW_SPECULAR: target = &f->specular; break;
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
