@@ -50,7 +50,8 @@ MODULE := csgtrace-image.so
 SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
 # Sources: every .c of these folders; the engine ones get two objects each.
-ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/engine.c workers/cost.c
+ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/pigment.c workers/engine.c \
+	workers/cost.c
 ALL_C := $(wildcard csg/*.c csg/lang/*.c host/*.c workers/*.c scenes/*.c)
 PLAIN_SRCS := $(filter-out $(ENGINE_SRCS) host/main.c,$(ALL_C))
 MODULE_SRCS := host/image_oiio.cpp

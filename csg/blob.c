@@ -9,8 +9,8 @@
  * A blob that arrives over MPI is checked here before a worker reads a
  * single array through it, and the OpenCL host checks the blob it uploads
  * the same way: magic, precision, counts, every array inside the bytes and
- * 64-byte aligned, every primitive kind known, every index in range and
- * every root program well formed.
+ * 64-byte aligned, every primitive kind known, every index in range (a
+ * material's colour map included) and every root program well formed.
  */
 #include "flatten.h"
 
@@ -43,6 +43,20 @@ static bool prims_valid(const csg_blob_header *h, const csg_prim *prims)
             prims[i].material >= h->material_count || prims[i].root < 0 ||
             prims[i].root >= h->root_count)
             return false;
+    return true;
+}
+
+/* A patterned material's colour map lies inside the maps array. */
+static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
+{
+    for (int32_t i = 0; i < h->material_count; i++) {
+        const csg_material *m = &mats[i];
+        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_GRADIENT)
+            return false;
+        if (m->pattern != CSG_MAT_PLAIN &&
+            (m->map_count < 1 || m->map_first < 0 || m->map_first > h->map_count - m->map_count))
+            return false;
+    }
     return true;
 }
 
@@ -101,9 +115,15 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_camera, 1, sizeof(csg_camera), blob_size) ||
         !array_fits(h->off_materials, h->material_count, sizeof(csg_material), blob_size) ||
         !array_fits(h->off_lights, h->light_count, sizeof(csg_flat_light), blob_size) ||
-        !array_fits(h->off_shading, 1, sizeof(csg_shading), blob_size))
+        !array_fits(h->off_shading, 1, sizeof(csg_shading), blob_size) ||
+        !array_fits(h->off_maps, h->map_count, sizeof(csg_map_color), blob_size))
+        return false;
+    const csg_shading *sh = blob_at(bytes, h->off_shading);
+    if (h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
+                                                   sh->sky_first > h->material_count - h->sky_count)))
         return false;
     return prims_valid(h, blob_at(bytes, h->off_prims)) &&
+           materials_valid(h, blob_at(bytes, h->off_materials)) &&
            roots_valid(h, blob_at(bytes, h->off_roots), blob_at(bytes, h->off_nodes)) &&
            bvh_valid(h, blob_at(bytes, h->off_bvh));
 }

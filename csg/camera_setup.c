@@ -1,10 +1,13 @@
 /*
- * camera_setup.c — POV-Ray's perspective camera semantics, in double.
+ * camera_setup.c — POV-Ray 3.7's camera semantics, in double (the order
+ * of the items: camera_setup.h).
  *
  * look_at keeps |direction|, |right| and |up| and rebuilds the frame:
  * direction along target - location, right = sky x direction, up =
  * direction x right (left-handed, as in POV-Ray).  A `right` given with the
  * other handedness (e.g. right -x for a right-handed scene) keeps it.
+ * csgtrace is stricter than POV-Ray in one place: a sky parallel to the
+ * view is an error (POV-Ray warns and keeps the right vector given).
  */
 #include "camera_setup.h"
 
@@ -27,6 +30,14 @@ void csg_camera_default(csg_camera_src *c)
     c->up = d3(0, 1, 0);
     c->right = d3(1.33, 0, 0);
     c->sky = d3(0, 1, 0);
+    c->look_at = d3(0, 0, 1);
+    c->projection = CSG_PROJ_PERSPECTIVE;
+}
+
+void csg_camera_mods_init(csg_camera_mods *m)
+{
+    *m = (csg_camera_mods){0};
+    csg_xform_identity(&m->xform);
 }
 
 bool csg_camera_look_at(csg_camera_src *c, dvec3 target, csg_loc loc, csg_diag *d)
@@ -54,6 +65,7 @@ bool csg_camera_look_at(csg_camera_src *c, dvec3 target, csg_loc loc, csg_diag *
     c->direction = d3_scale(dir, dir_len);
     c->right = d3_scale(right, handedness < 0 ? -right_len : right_len);
     c->up = d3_scale(up, up_len);
+    c->look_at = target;
     return true;
 }
 
@@ -70,5 +82,45 @@ bool csg_camera_angle(csg_camera_src *c, double degrees, csg_loc loc, csg_diag *
         return false;
     }
     c->direction = d3_scale(c->direction, want / dir_len);
+    return true;
+}
+
+void csg_camera_orthographic_size(csg_camera_src *c)
+{
+    double k1 = d3_len(d3_sub(c->look_at, c->location)), k2 = d3_len(c->direction);
+    if (k1 > 1e-10 && k2 > 1e-10) { /* POV-Ray's EPSILON */
+        c->right = d3_scale(c->right, k1 / k2);
+        c->up = d3_scale(c->up, k1 / k2);
+    }
+}
+
+static dvec3 d3_linear(const csg_xform *x, dvec3 v)
+{
+    return d3(x->m[0][0] * v.x + x->m[0][1] * v.y + x->m[0][2] * v.z,
+              x->m[1][0] * v.x + x->m[1][1] * v.y + x->m[1][2] * v.z,
+              x->m[2][0] * v.x + x->m[2][1] * v.y + x->m[2][2] * v.z);
+}
+
+void csg_camera_transform(csg_camera_src *c, const csg_xform *x)
+{
+    dvec3 l = d3_linear(x, c->location);
+    c->location = d3(l.x + x->m[0][3], l.y + x->m[1][3], l.z + x->m[2][3]);
+    c->direction = d3_linear(x, c->direction);
+    c->up = d3_linear(x, c->up);
+    c->right = d3_linear(x, c->right);
+}
+
+bool csg_camera_apply(csg_camera_src *c, const csg_camera_mods *m, csg_diag *d)
+{
+    bool ortho = c->projection == CSG_PROJ_ORTHOGRAPHIC;
+    if (m->has_angle && !(ortho && m->angle == 0) &&
+        !csg_camera_angle(c, m->angle, m->angle_loc, d))
+        return false;
+    if (m->has_look_at && !csg_camera_look_at(c, m->look_at, m->look_at_loc, d))
+        return false;
+    if (ortho && ((!m->has_up && !m->has_right) || m->has_angle))
+        csg_camera_orthographic_size(c);
+    if (m->has_xform)
+        csg_camera_transform(c, &m->xform);
     return true;
 }

@@ -1,30 +1,71 @@
 /*
  * diag.c — formatting of the one-line error messages (see diag.h).
+ *
+ * The reason is formatted first, on its own; the prefix "file:line:col:
+ * error: " then takes the room left.  A file name too long for that room
+ * keeps its head and its tail around "...", so neither the position nor
+ * the reason is ever cut (a reason longer than the whole buffer, which no
+ * stage writes, is the only thing that can be).
  */
 #include "diag.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
-static void diag_vformat(csg_diag *d, const char *prefix, const char *fmt, va_list ap)
+/* The file name in at most `room` bytes (NUL included): its head and tail
+ * around "..." when it is longer. */
+static void diag_short_name(const char *name, char *out, size_t room)
+{
+    size_t len = strlen(name);
+    if (len < room) {
+        memcpy(out, name, len + 1);
+        return;
+    }
+    size_t keep = room > 8 ? room - 4 : 1; /* "..." and the NUL */
+    size_t head = keep / 4, tail = keep - head;
+    snprintf(out, room, "%.*s...%s", (int)head, name, name + len - tail);
+}
+
+/* Appends text to d->message at *n, cut at the buffer's end. */
+static void diag_append(csg_diag *d, size_t *n, const char *text)
+{
+    size_t len = strlen(text), room = sizeof d->message - 1 - *n;
+    if (len > room)
+        len = room;
+    memcpy(d->message + *n, text, len);
+    *n += len;
+    d->message[*n] = '\0';
+}
+
+static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, const char *fmt,
+                         va_list ap)
 {
     if (d->failed)
         return; /* the first error is the one the user needs */
-    int n = snprintf(d->message, sizeof d->message, "%s", prefix);
-    if (n < 0 || (size_t)n >= sizeof d->message)
-        n = 0;
-    vsnprintf(d->message + n, sizeof d->message - (size_t)n, fmt, ap);
+    char reason[CSG_DIAG_MAX];
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    size_t n = 0;
+    d->message[0] = '\0';
+    if (!loc) {
+        diag_append(d, &n, "csgtrace: error: ");
+    } else {
+        char numbers[48], name[CSG_DIAG_MAX];
+        snprintf(numbers, sizeof numbers, ":%d:%d: error: ", loc->line, loc->col);
+        size_t fixed = strlen(reason) + strlen(numbers);
+        diag_short_name(file, name, fixed + 16 < sizeof d->message ? sizeof d->message - fixed : 16);
+        diag_append(d, &n, name);
+        diag_append(d, &n, numbers);
+    }
+    diag_append(d, &n, reason);
     d->failed = 1;
 }
 
 void csg_error(csg_diag *d, csg_loc loc, const char *fmt, ...)
 {
-    char prefix[512];
-    snprintf(prefix, sizeof prefix, "%s:%d:%d: error: ", loc.file ? loc.file : "<input>",
-             loc.line, loc.col);
     va_list ap;
     va_start(ap, fmt);
-    diag_vformat(d, prefix, fmt, ap);
+    diag_vformat(d, loc.file ? loc.file : "<input>", &loc, fmt, ap);
     va_end(ap);
 }
 
@@ -32,6 +73,6 @@ void csg_error_plain(csg_diag *d, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    diag_vformat(d, "csgtrace: error: ", fmt, ap);
+    diag_vformat(d, NULL, NULL, fmt, ap);
     va_end(ap);
 }

@@ -13,8 +13,13 @@ typedef struct {
     int col;          /* 1-based, in bytes */
 } csg_loc;
 
+/* The room for one message: a file name of PATH_MAX bytes and a reason of
+ * as much again fit whole; a longer file name is shortened in its middle
+ * so the reason always survives (csg_error). */
+#define CSG_DIAG_MAX 8192
+
 typedef struct {
-    char message[1024]; /* the whole line, without a trailing newline */
+    char message[CSG_DIAG_MAX]; /* the whole line, without a trailing newline */
     int failed;
 } csg_diag;
 

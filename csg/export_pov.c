@@ -101,7 +101,9 @@ static void write_camera(const exporter *e)
     else
         csg_camera_default(&cam);
     FILE *out = e->out;
-    fputs("camera {\n    perspective\n    location ", out);
+    fputs(cam.projection == CSG_PROJ_ORTHOGRAPHIC ? "camera {\n    orthographic\n    location "
+                                                  : "camera {\n    perspective\n    location ",
+          out);
     put_dvec(out, cam.location);
     fputs("\n    direction ", out);
     put_dvec(out, cam.direction);
@@ -110,6 +112,29 @@ static void write_camera(const exporter *e)
     fputs("\n    up ", out);
     put_dvec(out, cam.up);
     fputs("\n}\n\n", out);
+}
+
+static void write_matrix(FILE *out, const csg_xform *x, int depth);
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth);
+
+/* sky_sphere { pigment {}... emission rgb <> matrix <the sky's> } */
+static void write_sky(const exporter *e)
+{
+    const csg_sky *sky = &e->s->sky;
+    FILE *out = e->out;
+    if (sky->count == 0)
+        return;
+    fputs("sky_sphere {\n", out);
+    for (int i = 0; i < sky->count; i++) {
+        indent(out, 1);
+        write_pigment(e, &sky->pigments[i], 1);
+        fputc('\n', out);
+    }
+    fputs("    emission rgb ", out);
+    put_vec(out, sky->emission, 3);
+    fputc('\n', out);
+    write_matrix(out, &sky->xform, 1);
+    fputs("}\n\n", out);
 }
 
 static void write_background_and_lights(const exporter *e)
@@ -123,6 +148,7 @@ static void write_background_and_lights(const exporter *e)
         put_vec(out, e->s->background, 5);
     }
     fputs(" }\n\n", out);
+    write_sky(e);
     for (int i = 0; i < e->s->light_count; i++) {
         const csg_light *l = &e->s->lights[i];
         fputs("light_source { ", out);
@@ -137,22 +163,68 @@ static void write_background_and_lights(const exporter *e)
 
 /* ---- objects ------------------------------------------------------------------- */
 
+/* A colour: rgb (flat: no filter or transmit) or rgbft. */
+static void put_color(const exporter *e, const double *rgbft)
+{
+    fputs(e->flat ? "color rgb " : "color rgbft ", e->out);
+    put_vec(e->out, rgbft, e->flat ? 3 : 5);
+}
+
+/* pigment { ... }: a plain colour, or the pattern with its colour map,
+ * wave and complete pattern -> world matrix (written after the object's
+ * own matrix, so POV-Ray applies it alone). */
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+{
+    FILE *out = e->out;
+    fputs("pigment { ", out);
+    if (pig->pattern == CSG_PATTERN_PLAIN) {
+        put_color(e, pig->rgbft);
+        fputs(" }", out);
+        return;
+    }
+    if (pig->pattern == CSG_PATTERN_CHECKER) {
+        fputs("checker ", out);
+        put_color(e, pig->map[0].rgbft);
+        fputs(", ", out);
+        put_color(e, pig->map[1].rgbft);
+    } else {
+        fputs("gradient ", out);
+        put_dvec(out, pig->gradient);
+        fputs(" color_map {", out);
+        for (int i = 0; i < pig->map_count; i++) {
+            fputs(" [", out);
+            put_num(out, pig->map[i].value);
+            fputc(' ', out);
+            put_color(e, pig->map[i].rgbft);
+            fputc(']', out);
+        }
+        fputs(" }", out);
+    }
+    fputs(" frequency ", out);
+    put_num(out, pig->frequency);
+    fputs(" phase ", out);
+    put_num(out, pig->phase);
+    fputc('\n', out);
+    write_matrix(out, &pig->xform, depth + 1);
+    indent(out, depth);
+    fputs("}", out);
+}
+
 static void write_texture(const exporter *e, const csg_texture *t, int depth)
 {
     FILE *out = e->out;
     indent(out, depth);
     if (e->flat) {
-        fputs("texture { pigment { color rgb ", out);
-        put_vec(out, t->pigment.rgbft, 3);
-        fputs(" } finish { ambient 1 diffuse 0 } }\n", out);
+        fputs("texture { ", out);
+        write_pigment(e, &t->pigment, depth + 1);
+        fputs(" finish { ambient 1 diffuse 0 } }\n", out);
         return;
     }
     const csg_finish *f = &t->finish;
     fputs("texture {\n", out);
     indent(out, depth + 1);
-    fputs("pigment { color rgbft ", out);
-    put_vec(out, t->pigment.rgbft, 5);
-    fputs(" }\n", out);
+    write_pigment(e, &t->pigment, depth + 1);
+    fputs("\n", out);
     indent(out, depth + 1);
     fputs("finish { ambient rgb ", out);
     put_vec(out, f->ambient, 3);
@@ -370,7 +442,12 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
     exporter e = {s, out, flat, d};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
-    fputs("#version 3.7;\n\n", out);
+    /* the scene's version where it changes what the export means (the
+     * sky's mix before 3.7), never below 3.5 (the camera's fixed order) */
+    double v = s->version < 3.5 ? 3.5 : s->version > 3.7 ? 3.7 : s->version;
+    fputs("#version ", out);
+    put_num(out, v);
+    fputs(";\n\n", out);
     write_globals(&e);
     write_camera(&e);
     write_background_and_lights(&e);

@@ -72,6 +72,9 @@ typedef struct {
                                empty; mat_slot_cap a power of two, at
                                most half full                            */
     size_t mat_slot_cap;
+    csg_map_color *maps;    /* the colour maps of patterned materials   */
+    int map_count, map_cap;
+    int sky_first;          /* the sky_sphere's pigments: materials from here */
     const csg_scene *scene;
     csg_diag *diag;
     bool oom;
@@ -282,6 +285,77 @@ static bool material_reserve(flat_builder *fb)
     return true;
 }
 
+static void store3(real dst[3], dvec3 v)
+{
+    dst[0] = (real)v.x;
+    dst[1] = (real)v.y;
+    dst[2] = (real)v.z;
+}
+
+/* A patterned pigment: its kind, world -> pattern matrix (pig's own
+ * transform, then `then` when not NULL), wave and colour map (appended to
+ * fb->maps); a plain one: its colour (pattern 0). */
+static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg_xform *then,
+                             csg_material *m)
+{
+    for (int i = 0; i < 3; i++)
+        m->color[i] = (real)pig->rgbft[i];
+    m->filter = (real)pig->rgbft[3];
+    m->transmit = (real)pig->rgbft[4];
+    m->pattern = pig->pattern == CSG_PATTERN_CHECKER    ? CSG_MAT_CHECKER
+                 : pig->pattern == CSG_PATTERN_GRADIENT ? CSG_MAT_GRADIENT
+                                                        : CSG_MAT_PLAIN;
+    m->map_first = m->map_count = m->pad = 0;
+    if (m->pattern == CSG_MAT_PLAIN)
+        return true;
+    csg_xform inv, full = pig->xform;
+    if (then)
+        csg_xform_then(&full, then, &full);
+    if (!csg_xform_invert(&full, &inv))
+        csg_xform_identity(&inv); /* the parser refuses singular transforms */
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            m->to_pattern[4 * i + j] = (real)inv.m[i][j];
+    store3(m->gradient, pig->gradient);
+    m->frequency = (real)pig->frequency;
+    m->phase = (real)pig->phase;
+    if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
+              sizeof(csg_map_color))) {
+        fb->oom = true;
+        return false;
+    }
+    m->map_first = fb->map_count;
+    m->map_count = pig->map_count;
+    for (int i = 0; i < pig->map_count; i++) {
+        csg_map_color *c = &fb->maps[fb->map_count++];
+        c->value = (real)pig->map[i].value;
+        for (int k = 0; k < 5; k++)
+            c->rgbft[k] = (real)pig->map[i].rgbft[k];
+    }
+    return true;
+}
+
+/* The sky_sphere's pigments, as materials after the objects' (only their
+ * pigment fields count), each through the sky's transform. */
+static void add_sky(flat_builder *fb)
+{
+    const csg_sky *sky = &fb->scene->sky;
+    fb->sky_first = fb->mat_count;
+    if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + sky->count, sizeof(csg_material)) ||
+        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + sky->count,
+              sizeof(uint64_t))) {
+        fb->oom = true;
+        return;
+    }
+    for (int i = 0; i < sky->count; i++) {
+        csg_material *m = &fb->mats[fb->mat_count];
+        memset(m, 0, sizeof *m);
+        if (!material_pattern(fb, &sky->pigments[i], &sky->xform, m))
+            return;
+        fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's (not in the hash) */
+    }
+}
+
 static int material_for(flat_builder *fb, inherited inh)
 {
     uint64_t key = material_key(inh);
@@ -302,18 +376,17 @@ static int material_for(flat_builder *fb, inherited inh)
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
     for (int i = 0; i < 3; i++) {
-        m->color[i] = (real)tex.pigment.rgbft[i];
         m->ambient[i] = (real)tex.finish.ambient[i];
         m->reflection[i] = (real)tex.finish.reflection[i];
     }
-    m->filter = (real)tex.pigment.rgbft[3];
-    m->transmit = (real)tex.pigment.rgbft[4];
     m->diffuse = (real)tex.finish.diffuse;
     m->specular = (real)tex.finish.specular;
     m->roughness = (real)tex.finish.roughness;
     m->phong = (real)tex.finish.phong;
     m->phong_size = (real)tex.finish.phong_size;
     m->ior = (real)ior;
+    if (!material_pattern(fb, &tex.pigment, NULL, m))
+        return 0;
     fb->mat_keys[fb->mat_count] = key;
     fb->mat_slots[slot] = fb->mat_count + 1;
     return fb->mat_count++;
@@ -935,12 +1008,6 @@ static uint64_t place(uint64_t *off, int count, size_t elem)
     return at;
 }
 
-static void store3(real dst[3], dvec3 v)
-{
-    dst[0] = (real)v.x;
-    dst[1] = (real)v.y;
-    dst[2] = (real)v.z;
-}
 
 /* The header: counts, and every array placed after it, 64-byte aligned. */
 static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opts *o)
@@ -963,6 +1030,8 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.bvh_count = fb->bvh_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
+    h.map_count = fb->map_count;
+    h.sky_count = s->sky.count;
     for (int i = 0; i < fb->root_count; i++)
         if (fb->roots[i].stack_depth > h.max_stack)
             h.max_stack = fb->roots[i].stack_depth;
@@ -975,6 +1044,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.off_lights = place(&off, s->light_count, sizeof(csg_flat_light));
     h.off_camera = place(&off, 1, sizeof(csg_camera));
     h.off_shading = place(&off, 1, sizeof(csg_shading));
+    h.off_maps = place(&off, fb->map_count, sizeof(csg_map_color));
     h.total_size = off;
     return h;
 }
@@ -986,9 +1056,10 @@ static void copy_array(unsigned char *b, uint64_t off, const void *src, int coun
 }
 
 /* Lights, shading values and the camera, from the scene into the blob. */
-static void write_scene_values(const csg_scene *s, const csg_flatten_opts *o,
+static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o,
                                const csg_blob_header *h, unsigned char *b)
 {
+    const csg_scene *s = fb->scene;
     csg_flat_light *lights = (csg_flat_light *)(b + h->off_lights);
     for (int i = 0; i < s->light_count; i++) {
         store3(lights[i].position, s->lights[i].position);
@@ -1002,10 +1073,15 @@ static void write_scene_values(const csg_scene *s, const csg_flatten_opts *o,
         sh->ambient_light[c] = (real)s->globals.ambient_light[c];
     }
     sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
+    sh->sky_first = fb->sky_first;
+    sh->sky_v37 = s->version >= 3.7 - 1e-9;
+    store3(sh->sky_emission, (dvec3){s->sky.emission[0], s->sky.emission[1], s->sky.emission[2]});
     csg_camera_src cam = s->camera;
     if (!s->has_camera)
         csg_camera_default(&cam);
     csg_camera *c = (csg_camera *)(b + h->off_camera);
+    c->projection = cam.projection == CSG_PROJ_ORTHOGRAPHIC ? CSG_CAMERA_ORTHOGRAPHIC
+                                                             : CSG_CAMERA_PERSPECTIVE;
     store3(c->location, cam.location);
     store3(c->direction, cam.direction);
     store3(c->right, cam.right);
@@ -1025,7 +1101,8 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     copy_array(b, h.off_roots, fb->roots, fb->root_count, sizeof(csg_root));
     copy_array(b, h.off_bvh, fb->bvh, fb->bvh_count, sizeof(csg_bvh_node));
     copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
-    write_scene_values(fb->scene, o, &h, b);
+    copy_array(b, h.off_maps, fb->maps, fb->map_count, sizeof(csg_map_color));
+    write_scene_values(fb, o, &h, b);
     out->bytes = b;
     out->size = (size_t)h.total_size;
     return true;
@@ -1047,6 +1124,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     inherited none = {-1, -1, false};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none);
+    if (ok && !fb.oom)
+        add_sky(&fb);
     if (ok && !fb.oom && !build_bvh(&fb))
         fb.oom = true;
     if (ok && !fb.oom && !write_blob(&fb, o, out))
@@ -1064,6 +1143,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.mat_keys);
     free(fb.mat_slots);
     free(fb.split);
+    free(fb.maps);
     if (!ok)
         csg_blob_free(out);
     return ok;

@@ -16,16 +16,28 @@ bool csg_is_nff(const char *name)
     return n >= 4 && strcasecmp(name + n - 4, ".nff") == 0;
 }
 
-bool csg_load_string(const char *name, const char *text, size_t len, csg_scene *s, csg_diag *d)
+/* NFF has no directives, includes or clock: the options do not apply. */
+static bool nff_text(const char *name, const char *text, size_t len, const csg_parse_options *o,
+                     csg_scene *s, csg_diag *d)
 {
-    if (csg_is_nff(name))
-        return csg_nff_parse_string(name, text, len, s, d);
-    return csg_parse_string(name, text, len, s, d);
+    (void)o;
+    return csg_nff_parse_string(name, text, len, s, d);
 }
 
-bool csg_load_file(const char *path, csg_scene *s, csg_diag *d)
+static csg_text_parser parser_for(const char *name)
 {
-    return csg_parse_file_as(path, s, d, csg_is_nff(path) ? csg_nff_parse_string : csg_parse_string);
+    return csg_is_nff(name) ? nff_text : csg_parse_string_opts;
+}
+
+bool csg_load_string(const char *name, const char *text, size_t len, const csg_parse_options *o,
+                     csg_scene *s, csg_diag *d)
+{
+    return parser_for(name)(name, text, len, o, s, d);
+}
+
+bool csg_load_file(const char *path, const csg_parse_options *o, csg_scene *s, csg_diag *d)
+{
+    return csg_parse_file_as(path, o, s, d, parser_for(path));
 }
 
 void csg_image_size(const csg_scene *s, int want_width, int want_height, int *width, int *height)

@@ -18,9 +18,17 @@ void csg_finish_default(csg_finish *f)
     f->phong_size = 40;
 }
 
+void csg_pigment_default(csg_pigment *p)
+{
+    memset(p, 0, sizeof *p); /* POV-Ray's default pigment is black */
+    p->frequency = 1.0;
+    csg_xform_identity(&p->xform);
+}
+
 void csg_texture_default(csg_texture *t)
 {
-    memset(t, 0, sizeof *t); /* POV-Ray's default pigment is black */
+    memset(t, 0, sizeof *t);
+    csg_pigment_default(&t->pigment);
     csg_finish_default(&t->finish);
 }
 
@@ -185,6 +193,7 @@ void csg_scene_init(csg_scene *s)
 {
     memset(s, 0, sizeof *s);
     csg_globals_default(&s->globals);
+    s->version = 3.7;
     s->background[0] = s->background[1] = s->background[2] = 0.0;
 }
 

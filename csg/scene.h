@@ -64,9 +64,36 @@ const char *csg_object_kind_name(int kind);
 /* A shape (true) or an operator (false); false out of range. */
 bool csg_object_is_leaf(int kind);
 
-/* POV-Ray's pigment, reduced to one colour: red, green, blue, filter, transmit. */
+/* Pigment patterns (POV-Ray 3.7's semantics, evaluated by the C workers:
+ * workers/pigment.c): the pattern gives a value at a point of pattern
+ * space, the colour map turns it into a colour. */
+enum csg_pattern {
+    CSG_PATTERN_PLAIN,    /* one colour: rgbft                                 */
+    CSG_PATTERN_CHECKER,  /* 0 or 1 by the parity of floor(x)+floor(y)+floor(z) */
+    CSG_PATTERN_GRADIENT  /* dot(point, gradient), wrapped into [0, 1)          */
+};
+
+/* One entry of a colour map: from `value` on, the colour rgbft (POV-Ray
+ * interpolates linearly between consecutive entries). */
 typedef struct {
+    double value;
     double rgbft[5];
+} csg_map_entry;
+
+#define CSG_MAP_MAX 256 /* entries of a colour map (POV-Ray's limit)     */
+
+/* POV-Ray's pigment: red, green, blue, filter, transmit, or a pattern
+ * with its colour map. */
+typedef struct {
+    double rgbft[5];          /* the colour of a plain pigment              */
+    int pattern;              /* enum csg_pattern                           */
+    dvec3 gradient;           /* gradient: its unit vector                  */
+    double frequency, phase;  /* POV-Ray's wave: value * frequency + phase  */
+    csg_xform xform;          /* pattern space -> world (the pigment's own
+                                 transforms, then those of the object after
+                                 the pigment was given)                     */
+    int map_count;            /* entries of map (checker: 2)                */
+    const csg_map_entry *map; /* the scene's arena; shared, never written   */
 } csg_pigment;
 
 /* POV-Ray 3.7 finish; the defaults are POV-Ray's (csg_finish_default). */
@@ -122,12 +149,17 @@ struct csg_object {
     int child_count;
 };
 
+enum csg_projection { CSG_PROJ_PERSPECTIVE, CSG_PROJ_ORTHOGRAPHIC };
+
 typedef struct {
+    int projection;       /* enum csg_projection                               */
     dvec3 location;       /* camera vectors after POV-Ray's rules (camera_setup.c) */
     dvec3 direction;
     dvec3 right;
     dvec3 up;
     dvec3 sky;
+    dvec3 look_at;        /* the last look_at (POV-Ray's default <0, 0, 1>):
+                             orthographic sizes its view from it            */
     csg_loc loc;
 } csg_camera_src;
 
@@ -145,6 +177,20 @@ typedef struct {
     double ambient_light[3]; /* 1                                     */
 } csg_globals;
 
+/* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the
+ * pigments evaluated at its direction (layered: the first written is the
+ * top layer). */
+#define CSG_SKY_MAX 8 /* pigments of a sky_sphere */
+typedef struct {
+    int count;                        /* 0: no sky sphere                  */
+    csg_pigment pigments[CSG_SKY_MAX]; /* pattern space -> direction space:
+                                         the sky's transforms included      */
+    double emission[3];               /* 1 by default                      */
+    csg_xform xform;                  /* the sky's transforms: the pigments
+                                         are evaluated at the direction seen
+                                         through its inverse, as POV-Ray    */
+} csg_sky;
+
 typedef struct csg_arena csg_arena;
 
 typedef struct {
@@ -154,6 +200,10 @@ typedef struct {
     double hither;          /* primary rays start this far along the view
                                direction (a near plane); 0: none          */
     double background[5];   /* rgbft; black when not given            */
+    csg_sky sky;            /* sky_sphere (count 0: none)             */
+    double version;         /* #version at the end (3.7 unless set):
+                               POV-Ray's sky before 3.7 mixes the
+                               background in another way              */
     csg_globals globals;
     csg_light *lights;
     int light_count;
@@ -167,6 +217,7 @@ typedef struct {
     csg_arena *arena;       /* owns everything above                   */
 } csg_scene;
 
+void csg_pigment_default(csg_pigment *p); /* plain black, identity transform */
 void csg_finish_default(csg_finish *f);
 void csg_texture_default(csg_texture *t);
 void csg_globals_default(csg_globals *g);

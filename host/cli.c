@@ -21,14 +21,17 @@ void cli_usage(FILE *out)
           "                   [--precision float|double|auto]\n"
           "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
+          "                   [--clock F] [--library-path DIR]...\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
-          "  csgtrace check   SCENE\n"
+          "  csgtrace check   SCENE [--width W] [--height H] [--clock F] [--library-path DIR]...\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
           "                   [--materials opaque,reflective,transparent] -o scene.pov\n"
-          "  csgtrace export  SCENE -o OUT.pov [--flat]\n"
+          "  csgtrace export  SCENE -o OUT.pov [--flat] [same scene options as check]\n"
           "  csgtrace help | --help | --version\n"
           "Run the parallel modes under mpirun: mpirun -np K build/csgtrace render ...\n"
-          "Image format follows OUT's extension (png, exr, tif, ppm, ...).\n",
+          "Image format follows OUT's extension (png, exr, tif, ppm, ...).\n"
+          "#include looks in the including file's folder, the scene's, each --library-path\n"
+          "DIR, $CSGTRACE_LIBRARY_PATH (':'-separated) and POV-Ray's include folder.\n",
           out);
 }
 
@@ -126,6 +129,16 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         r->cl_device = val;
         return true;
     }
+    if (strcmp(opt, "--library-path") == 0) {
+        if (a->parse.library_path_count == CLI_MAX_LIBRARY) {
+            csg_error_plain(d, "at most %d --library-path options", CLI_MAX_LIBRARY);
+            return false;
+        }
+        a->library[a->parse.library_path_count++] = val;
+        return true;
+    }
+    if (strcmp(opt, "--clock") == 0)
+        return parse_real(opt, val, -1e30, 1e30, &a->parse.clock, d);
     if (strcmp(opt, "--width") == 0)
         return parse_int(opt, val, 1, 65536, &r->width, d);
     if (strcmp(opt, "--height") == 0)
@@ -170,6 +183,10 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.threshold = -1;
     a->req.schedule = -1; /* the mode's own */
     a->repeat = 3;
+    csg_parse_options_default(&a->parse);
+    a->parse.library_paths = a->library;
+    a->parse.messages = stderr; /* #debug and #warning */
+    a->req.parse = &a->parse;
     if (argc < 2) {
         csg_error_plain(d, "no command given (see csgtrace --help)");
         return false;
@@ -208,5 +225,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     }
     if (a->command == CMD_RENDER)
         a->req.out_path = a->out_path;
+    a->parse.image_width = a->req.width;
+    a->parse.image_height = a->req.height;
     return true;
 }

@@ -11,6 +11,8 @@
 #include "../csg/diag.h"
 #include "render.h"
 
+#define CLI_MAX_LIBRARY 64 /* --library-path options */
+
 enum cli_command { CMD_RENDER, CMD_COMPARE, CMD_CHECK, CMD_EXPORT, CMD_GEN, CMD_HELP, CMD_VERSION };
 
 typedef struct {
@@ -19,6 +21,8 @@ typedef struct {
     bool flat;            /* export --flat                                    */
     const char *out_path; /* export -o, compare -o PREFIX                     */
     int repeat;           /* compare --repeat                                 */
+    csg_parse_options parse; /* --clock, --library-path (req.parse points here) */
+    const char *library[CLI_MAX_LIBRARY]; /* --library-path DIR, in order     */
 } cli_args;
 
 /* Fills *a from argv; false with d filled (a usage error) otherwise. */

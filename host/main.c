@@ -31,7 +31,7 @@ static int run_check(const cli_args *a)
     csg_diag d = {0};
     csg_scene s;
     int width, height;
-    if (!csg_load_file(a->req.scene_path, &s, &d))
+    if (!csg_load_file(a->req.scene_path, &a->parse, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     csg_image_size(&s, a->req.width, a->req.height, &width, &height);
     csg_flatten_opts fo = {width, height, 0, -1, 1};
@@ -60,7 +60,7 @@ static int run_export(const cli_args *a)
 {
     csg_diag d = {0};
     csg_scene s;
-    if (!csg_load_file(a->req.scene_path, &s, &d))
+    if (!csg_load_file(a->req.scene_path, &a->parse, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     int status = EXIT_OK;
     FILE *out = fopen(a->out_path, "w");

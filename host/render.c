@@ -143,8 +143,16 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
     csg_flatten_opts o = { 0, 0, req->depth, req->threshold, req->spp };
     csg_scene s;
     int status = 0;
+    csg_parse_options po;
+    if (req->parse)
+        po = *req->parse;
+    else
+        csg_parse_options_default(&po);
+    /* What the scene sees; a POV-Ray scene has no size of its own */
+    po.image_width = req->width > 0 ? req->width : CSG_DEFAULT_WIDTH;
+    po.image_height = req->height > 0 ? req->height : CSG_DEFAULT_HEIGHT;
     csg_scene_init(&s);
-    bool ok = csg_load_file(req->scene_path, &s, d);
+    bool ok = csg_load_file(req->scene_path, &po, &s, d);
     if (ok) { /* the size asked for, else the scene's (NFF's resolution) */
         csg_image_size(&s, req->width, req->height, &st->width, &st->height);
         st->pixels = (uint64_t)st->width * (uint64_t)st->height;
@@ -226,11 +234,13 @@ static int render_start_pass(render_state *rs, const tile_grid *g, bool wake, cs
 
 /* ---- step 3: feeding the scheduler -------------------------------------------- */
 
-/* Tile `i`: queued, or (no hit) filled with the background and logged. */
+/* Tile `i`: queued, or (no hit, and no sky_sphere: what a missed ray sees
+ * would depend on its direction) filled with the background and logged. */
 static bool render_offer_tile(render_state *rs, master_job *job, int i)
 {
     tile_rect r = tile_rect_of(&job->grid, i);
-    if (rs->tile_hits && rs->tile_hits[i] == 0) {
+    bool sky = csg_blob_hdr(rs->blob.bytes)->sky_count > 0;
+    if (rs->tile_hits && rs->tile_hits[i] == 0 && !sky) {
         for (int y = r.y; y < r.y + r.height; y++)
             for (int x = r.x; x < r.x + r.width; x++)
                 memcpy(rs->image + ((size_t)y * (size_t)job->grid.width + (size_t)x) * 3,

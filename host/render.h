@@ -7,6 +7,8 @@
 
 #include <stdbool.h>
 
+#include "../csg/lang/parser.h"
+
 struct ocl_ctx;
 struct render_stats;
 
@@ -35,6 +37,9 @@ typedef struct {
     int schedule;             /* enum sched_policy (host/schedule.h);
                                  < 0: the mode's default (hetero: cost,
                                  else raster)                          */
+    const csg_parse_options *parse; /* clock, library folders, messages;
+                                       NULL: the defaults (image_width and
+                                       image_height are always the render's) */
     /* For callers that run several renders in one job (compare); NULL in
      * a plain render.  Used on the master only. */
     struct ocl_ctx **cl_keep; /* hetero: reuse *cl_keep, or open it and

@@ -128,7 +128,7 @@ static char *scene_text(const gen_options *o, const gen_sphere *s, double scale,
 static bool measure(const gen_options *o, const char *text, size_t len, double *occ, csg_diag *d)
 {
     csg_scene s;
-    if (!csg_load_string("<generated>", text, len, &s, d))
+    if (!csg_load_string("<generated>", text, len, NULL, &s, d))
         return false;
     csg_flatten_opts fo = {o->width, o->height, 1, -1, 1};
     csg_blob blob;

@@ -93,10 +93,16 @@ static void check_export(const csg_scene *s)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
+    /* the built-in colors.inc only, and a token budget so that loops that
+     * never end stop fast */
+    csg_parse_options o;
+    csg_parse_options_default(&o);
+    o.no_default_library = true;
+    o.max_tokens = 20000;
     csg_scene s;
     csg_diag d = {0};
     csg_scene_init(&s);
-    if (!csg_parse_string("fuzz.pov", (const char *)data, size, &s, &d)) {
+    if (!csg_parse_string_opts("fuzz.pov", (const char *)data, size, &o, &s, &d)) {
         check_error(&d);
         csg_scene_free(&s);
         return 0;

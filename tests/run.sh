@@ -108,6 +108,8 @@ if [ "$what" = all ]; then
     run_script tests/crosscheck_povray.sh
     # the NFF reader's scenes through `export` (99 %: the issue's bar)
     MIN_AGREEMENT=99 run_script tests/crosscheck_povray.sh tests/nff/*.nff
+    # the camera statement in every order of its modifiers, read by POV-Ray
+    run_script tests/crosscheck_camera.sh
     # the benchmark bookkeeping (medians, advantage, CSV columns)
     run_unittest bench/test_collect.py
 fi

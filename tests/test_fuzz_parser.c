@@ -4,8 +4,11 @@
  * From a corpus of valid scenes, FUZZ_RUNS inputs are derived with a fixed
  * seed (xorshift64*): byte flips, byte insertions of interesting characters,
  * token-sized deletions and duplications, splices of two corpus entries,
- * truncations, and deep nesting (braces, parentheses, comments).  Every input
- * goes through csg_parse_string; the call must either succeed (and then the
+ * truncations, and deep nesting (braces, parentheses, comments); the corpus
+ * and the inserted words cover the directives (#if, #while, #for, #switch,
+ * #macro and calls, arrays, strings), patterns and the camera.  Every input
+ * goes through csg_parse_string_opts (the built-in colors.inc, a token
+ * budget of 20000 so runaway loops end fast); the call must either succeed (and then the
  * tree is walked, so ASan sees every node) or fail with a message of the
  * form `^.+:[0-9]+:[0-9]+: error: `.  Under ASan + UBSan (make test) any
  * memory error aborts the run.  Same seed, same inputs: a failure replays.
@@ -64,6 +67,32 @@ static const char *const corpus[] = {
     "#declare C = union { object { B } object { B translate z } };\n"
     "object { C pigment { Blue } }\n"
     "difference { object { C } cylinder { -5*y, 5*y, 0.3 } }\n",
+
+    "#declare I = 0;\n"
+    "#while (I < 4)\n  #if (mod(I, 2) = 0) sphere { <I, 0, 0>, 0.4 } #else box { I, I + 0.5 } #end\n"
+    "  #declare I = I + 1;\n#end\n"
+    "#for (J, 0, 3, 1.5) cone { 0, 1, y * (J + 1), 0 } #end\n"
+    "#switch (I) #case (4) sphere { 0, 2 } #break #range (0, 3) sphere { 0, 3 } #else plane { y, 0 } #end\n",
+
+    "#macro Ball(P, R) sphere { P, R pigment { checker rgb 1 rgb 0 scale R } } #end\n"
+    "#macro Twice(V) (V * 2) #end\n"
+    "#macro Row(N) #local K = 0; union { #while (K < N) Ball(<K, 0, 0>, Twice(0.2)) "
+    "#local K = K + 1; #end } #end\n"
+    "object { Row(3) rotate 30 * y }\n"
+    "#ifdef (Ball) #undef Ball #end\n"
+    "#declare S = concat(\"a\", str(1.5, 0, 2), chr(66));\n"
+    "#if (strlen(S) > 2 & S != \"x\") sphere { 0, strlen(S) } #end\n",
+
+    "#declare A = array[3] { 1, 2, 3 };\n"
+    "#declare M = array[2][2] { { x, y }, { z, <1, 1, 1> } };\n"
+    "#declare R = seed(7);\n"
+    "#for (I, 0, 2) sphere { M[mod(I, 2)][1] * A[I], rand(R) + 0.1 } #end\n"
+    "#declare P = pigment { gradient y color_map { [0 rgb x] [0.5 rgb y] [1 rgb z] } frequency 2 }\n"
+    "box { -1, 1 pigment { P translate y } rotate <10, 20, 30> }\n"
+    "camera { orthographic location <0, 2, -5> look_at 0 right x * image_width / image_height angle 30 }\n"
+    "#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+    "#default { finish { ambient 0.2 } }\n"
+    "sphere { 0, (1 < 2 ? 1 : 2) + vlength(vcross(x, y)) }\n",
 };
 
 #define CORPUS_SIZE ((int)(sizeof corpus / sizeof corpus[0]))
@@ -110,7 +139,13 @@ static void mutate_once(buffer *b, uint64_t *rng)
         "union { ", "}", "sphere { 0, 1 }", "object { A }", "pigment { ", "<", ">", "(", ")",
         "#declare A = ", "#include \"colors.inc\"", "1e308", "/0", "-", "torus", "/*", "*/",
         "\"", "scale 0", "cone { 0, 0, y, 0 }", "box { 0, 0 }", "#include \"nowhere.inc\"",
-        "rgbft", "color", "1e-400", "#local", "object", "difference {", "inverse", ","};
+        "rgbft", "color", "1e-400", "#local", "object", "difference {", "inverse", ",",
+        "#if (", "#else", "#elseif (0)", "#end", "#while (1)", "#while (I < 3)", "#for (I, 0, 9)",
+        "#switch (1)", "#case (1)", "#range (0, 2)", "#break", "#macro M(A) ", "M(", "Row(", "Ball(0,",
+        "#declare A = array[", "[", "]", "[1]", "#undef ", "#ifdef (", "#include concat(", "#error \"e\"",
+        "concat(", "str(", "?", ":", "&", "|", "!", "!=", "<=", ".x", "checker", "gradient x",
+        "color_map { [0 rgb 1] }", "seed(", "rand(R)", "#default {", "#declare T = texture { normal {",
+        "orthographic", "clock", "image_width", "\xef\xbb\xbf"};
     size_t at = rng_below(rng, b->len + 1);
     switch (rng_below(rng, 8)) {
     case 0: /* flip a byte */
@@ -215,6 +250,13 @@ static void test_fuzz(void **state)
     buffer b = {malloc(MAX_INPUT + 1), 0};
     assert_non_null(b.data);
     long accepted = 0, rejected = 0;
+    /* the built-in colors.inc, and a small token budget: a mutated loop
+     * that never ends is stopped quickly by it (the limit's own test is in
+     * test_language) */
+    csg_parse_options opts;
+    csg_parse_options_default(&opts);
+    opts.no_default_library = true;
+    opts.max_tokens = 20000;
     for (int run = 0; run < FUZZ_RUNS; run++) {
         const char *seed = corpus[rng_below(&rng, CORPUS_SIZE)];
         b.len = strlen(seed);
@@ -225,7 +267,7 @@ static void test_fuzz(void **state)
         csg_scene s;
         csg_diag d;
         memset(&d, 0, sizeof d);
-        if (csg_parse_string("fuzz.pov", b.data, b.len, &s, &d)) {
+        if (csg_parse_string_opts("fuzz.pov", b.data, b.len, &opts, &s, &d)) {
             accepted++;
             for (int i = 0; i < s.object_count; i++)
                 walk(s.objects[i], &s);

@@ -921,7 +921,8 @@ static void test_surface_pack(void **state)
 
 static csg_camera camera(void)
 {
-    csg_camera c = {0}; /* hither and every later field: none */
+    csg_camera c = {0}; /* no hither; every field set */
+    c.projection = CSG_CAMERA_PERSPECTIVE;
     real loc[3] = {1, 2, 3}, dir[3] = {0, 0, 1}, right[3] = {R(1.33), 0, 0}, up[3] = {0, 1, 0};
     for (int i = 0; i < 3; i++) {
         c.location[i] = loc[i];

@@ -48,7 +48,7 @@ static const char *const scene_text =
 static void parse_ok(const char *text, csg_scene *s)
 {
     csg_diag d = {0};
-    if (!csg_load_string("t.nff", text, strlen(text), s, &d))
+    if (!csg_load_string("t.nff", text, strlen(text), NULL, s, &d))
         fail_msg("parse failed: %s", d.message);
 }
 
@@ -175,7 +175,7 @@ static void test_errors(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         csg_scene s;
         csg_diag d = {0};
-        assert_false(csg_load_string("t.nff", cases[i][0], strlen(cases[i][0]), &s, &d));
+        assert_false(csg_load_string("t.nff", cases[i][0], strlen(cases[i][0]), NULL, &s, &d));
         if (strncmp(d.message, cases[i][1], strlen(cases[i][1])) != 0)
             fail_msg("case %zu: got <%s>, want <%s...>", i, d.message, cases[i][1]);
         assert_null(strchr(d.message, '\n'));
@@ -188,7 +188,7 @@ static void test_nul_and_extension(void **state)
     static const char text[] = "b 0 0 0\ns 0\0 0 0 1";
     csg_scene s;
     csg_diag d = {0};
-    assert_false(csg_load_string("t.nff", text, sizeof text - 1, &s, &d));
+    assert_false(csg_load_string("t.nff", text, sizeof text - 1, NULL, &s, &d));
     assert_string_equal(d.message, "t.nff:2:4: error: a NUL byte: not an NFF text file");
     assert_true(csg_is_nff("a/B.NFF") && csg_is_nff("x.nff") && !csg_is_nff("x.pov") &&
                 !csg_is_nff("nff") && !csg_is_nff(NULL));
@@ -269,7 +269,7 @@ static void test_fuzz(void **state)
             mutate(buf, &len, &rng);
         csg_scene s;
         csg_diag d = {0};
-        if (csg_load_string("fuzz.nff", buf, len, &s, &d)) {
+        if (csg_load_string("fuzz.nff", buf, len, NULL, &s, &d)) {
             parsed++;
             csg_flatten_opts o = {4, 4, 0, -1, 1};
             csg_blob b;

@@ -33,7 +33,7 @@ static csg_blob load(const char *name, const char *text)
 {
     csg_scene s;
     csg_diag d = {0};
-    if (!csg_load_string(name, text, strlen(text), &s, &d))
+    if (!csg_load_string(name, text, strlen(text), NULL, &s, &d))
         fail_msg("parse: %s", d.message);
     csg_flatten_opts o = {4, 4, 0, -1, 1};
     csg_blob b;

@@ -15,7 +15,9 @@
  * (shadow rays: each filtering/transmitting surface multiplies by
  * filter * pigment + transmit, an opaque one blocks), and a secondary ray
  * is traced only while the trace level is below max_depth and its weight
- * in the pixel is at least adc_bailout.  Total internal reflection sends
+ * in the pixel is at least adc_bailout.  A ray that leaves the scene sees
+ * the background, or the sky_sphere's pigments at its direction.  Patterned
+ * pigments are evaluated at the hit point (pigment.c).  Total internal reflection sends
  * the transmitted weight along the reflected direction.
  *
  * Secondary rays start at the hit point moved off the surface by a few
@@ -31,6 +33,7 @@
 #include "../csg/device/camera.h"
 #include "engine.h"
 #include "offset.h"
+#include "pigment.h"
 
 #ifdef CSG_DOUBLE
 #define ENGINE_SYM(name) name##_double
@@ -42,11 +45,15 @@ typedef struct {
     const csg_blob_header *hdr;
     csg_view view;
     const csg_material *mats;
+    const csg_map_color *maps; /* the colour maps of patterned pigments */
     const csg_flat_light *lights;
     const csg_camera *cam;
     vec3 ambient_light;
     vec3 background;
     real bailout;
+    const csg_material *sky; /* the sky_sphere's pigments (sky_count)   */
+    csg_i32 sky_count, sky_v37;
+    vec3 sky_emission;
 } shade_ctx;
 
 static shade_ctx ctx_of(const void *blob)
@@ -56,20 +63,27 @@ static shade_ctx ctx_of(const void *blob)
     c.hdr = blob;
     c.view = csg_blob_view(b);
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
+    c.maps = (const csg_map_color *)(b + c.hdr->off_maps);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
     c.cam = csg_blob_camera(b);
     const csg_shading *sh = (const csg_shading *)(b + c.hdr->off_shading);
     c.ambient_light = v3_load(sh->ambient_light);
     c.background = v3_load(sh->background);
     c.bailout = sh->adc_bailout;
+    c.sky = c.mats + sh->sky_first;
+    c.sky_count = c.hdr->sky_count;
+    c.sky_v37 = sh->sky_v37;
+    c.sky_emission = v3_load(sh->sky_emission);
     return c;
 }
 
 /* ---- shadows ------------------------------------------------------------------ */
 
-/* Multiplies *pass by what surface s at ts lets through on the way to the
- * light `dist` away; false once nothing passes. */
-static bool surface_transmittance(const shade_ctx *c, csg_u32 s, real ts, real dist, vec3 *pass)
+/* Multiplies *pass by what surface s, met at ts along r, lets through on
+ * the way to the light `dist` away (its pigment there); false once nothing
+ * passes. */
+static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real ts, real dist,
+                                  vec3 *pass)
 {
     if (s == CSG_SURF_NONE || !(ts > R(0.0)) || !(ts < dist))
         return true;
@@ -77,10 +91,13 @@ static bool surface_transmittance(const shade_ctx *c, csg_u32 s, real ts, real d
     if (prim->flags & CSG_PF_NO_SHADOW)
         return true;
     const csg_material *m = &c->mats[prim->material];
-    if (m->filter <= R(0.0) && m->transmit <= R(0.0))
+    real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts);
+    pigment_color pc =
+        PIGMENT_AT(m, c->maps, c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)), err);
+    if (pc.filter <= R(0.0) && pc.transmit <= R(0.0))
         return false;
-    vec3 pig = v3_load(m->color);
-    *pass = v3_mul(*pass, v3_add(v3_scale(pig, m->filter), v3(m->transmit, m->transmit, m->transmit)));
+    *pass = v3_mul(*pass, v3_add(v3_scale(pc.color, pc.filter),
+                                 v3(pc.transmit, pc.transmit, pc.transmit)));
     return true;
 }
 
@@ -94,11 +111,11 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real di
         return true;
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
     for (csg_i32 k = 0; k < spans.n; k++)
-        if (!surface_transmittance(c, spans.s0[k], spans.t0[k], dist, pass) ||
-            !surface_transmittance(c, spans.s1[k], spans.t1[k], dist, pass))
+        if (!surface_transmittance(c, r, spans.s0[k], spans.t0[k], dist, pass) ||
+            !surface_transmittance(c, r, spans.s1[k], spans.t1[k], dist, pass))
             return false;
     for (csg_i32 k = 0; k < spans.ne; k++)
-        if (!surface_transmittance(c, spans.se[k], spans.te[k], dist, pass))
+        if (!surface_transmittance(c, r, spans.se[k], spans.te[k], dist, pass))
             return false;
     return true;
 }
@@ -137,6 +154,39 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
     return pass;
 }
 
+/* ---- the sky ---------------------------------------------------------------------- */
+
+/* What a ray along unit direction d that leaves the scene sees: the
+ * background, or POV-Ray's sky_sphere over it (its layers from the last
+ * written, mixed by their filter and transmit as POV-Ray 3.7 does, or as
+ * POV-Ray did before 3.7 for older scenes: trace.cpp, ComputeSky). */
+static vec3 sky_color(const shade_ctx *c, vec3 d)
+{
+    if (c->sky_count == 0)
+        return c->background;
+    vec3 col = v3(R(0.0), R(0.0), R(0.0)), fil = v3(R(1.0), R(1.0), R(1.0));
+    real fil_f = R(1.0), fil_t = R(1.0), trans = R(1.0);
+    for (csg_i32 i = c->sky_count - 1; i >= 0; i--) {
+        pigment_color pc = PIGMENT_AT(&c->sky[i], c->maps, NULL, CSG_SURF_NONE, d, R(0.0));
+        real opacity = R(1.0) - pc.filter - pc.transmit;
+        if (c->sky_v37) {
+            col = v3_add(col, v3_mul(v3_scale(pc.color, opacity), v3_mul(fil, c->sky_emission)));
+            fil = v3_mul(fil, v3_add(v3_scale(pc.color, pc.filter),
+                                     v3(pc.transmit, pc.transmit, pc.transmit)));
+        } else {
+            col = v3_add(col, v3_scale(pc.color, trans * opacity));
+            fil = v3_mul(fil, pc.color);
+            fil_f *= pc.filter;
+            fil_t *= pc.transmit;
+            trans = r_fabs(fil_f) + r_fabs(fil_t);
+        }
+    }
+    if (c->sky_v37)
+        return v3_add(col, v3_mul(c->background, fil));
+    vec3 through = v3_add(v3_scale(fil, fil_f), v3(fil_t, fil_t, fil_t));
+    return v3_add(v3_mul(col, c->sky_emission), v3_mul(c->background, through));
+}
+
 /* ---- Whitted ------------------------------------------------------------------- */
 
 static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
@@ -168,13 +218,15 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     vec3 ngf = entering ? ng : v3_neg(ng);
     if (v3_dot(nf, ngf) < R(0.0))
         nf = ngf;
-    vec3 pig = v3_load(m->color);
-    real opacity = r_fmax(R(0.0), R(1.0) - m->filter - m->transmit);
+    const csg_root *root = &c->view.roots[prim->root];
+    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
+    pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, h.surf, p,
+                                  OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * mag);
+    vec3 pig = pc.color;
+    real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
-    const csg_root *root = &c->view.roots[prim->root];
-    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
     vec3 above = offset_point(p, ngf, mag);
     vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
@@ -213,7 +265,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
         return color;
 
     vec3 refl_w = v3_load(m->reflection);
-    vec3 trans_w = v3_add(v3_scale(pig, m->filter), v3(m->transmit, m->transmit, m->transmit));
+    vec3 trans_w = v3_add(v3_scale(pig, pc.filter), v3(pc.transmit, pc.transmit, pc.transmit));
     if (max3(trans_w) > R(0.0)) {
         real eta = entering ? R(1.0) / m->ior : m->ior;
         real cosi = -v3_dot(r.d, nf);
@@ -246,7 +298,7 @@ static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray
 {
     csg_hit h = csg_trace_nearest(c->view, r, R(0.0), CSG_R_INF);
     if (h.surf == CSG_SURF_NONE)
-        return c->background;
+        return sky_color(c, r.d);
     return shade_hit(c, r, h, level, weight, rays);
 }
 
@@ -303,11 +355,11 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
+                csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                           rect.y + y, spp, s);
                 if (surf[k] == CSG_SURF_NONE) {
-                    one = c.background;
+                    one = sky_color(&c, r.d);
                 } else {
-                    csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
-                                               rect.y + y, spp, s);
                     csg_hit h;
                     h.t = t[k];
                     h.surf = surf[k];
@@ -318,8 +370,9 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             }
             /* A pixel no sample hit is exactly the background, as the
              * master fills the degenerate tiles of the hetero mode (an
-             * average of spp equal values need not round back to it). */
-            if (hits == 0)
+             * average of spp equal values need not round back to it);
+             * with a sky_sphere no tile is degenerate (render.c). */
+            if (hits == 0 && c.sky_count == 0)
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);

@@ -4,7 +4,9 @@
  *
  * POV-Ray's perspective camera: with x0 = (x + 0.5) / W - 0.5 and
  * y0 = 0.5 - (y + 0.5) / H (pixel centres, y down the image), the ray leaves
- * `location` along normalize(direction + x0 * right + y0 * up).  The
+ * `location` along normalize(direction + x0 * right + y0 * up); the
+ * orthographic camera's ray leaves location + x0 * right + y0 * up along
+ * normalize(direction).  The
  * camera vectors already hold POV-Ray's look_at / angle / sky handling,
  * done once on the host in double (csg/camera_setup.c).  A camera with a
  * near plane (hither > 0) starts each ray on that plane instead.
@@ -62,11 +64,14 @@ CSG_FN csg_ray csg_camera_ray(CSG_GLOBAL const csg_camera *cam, csg_i32 width, c
 {
     real x0 = ((real)px + ox) / (real)width - R(0.5);
     real y0 = R(0.5) - ((real)py + oy) / (real)height;
+    vec3 rx = v3_scale(v3_load(cam->right), x0), uy = v3_scale(v3_load(cam->up), y0);
     vec3 d = v3_load(cam->direction);
-    d = v3_add(d, v3_scale(v3_load(cam->right), x0));
-    d = v3_add(d, v3_scale(v3_load(cam->up), y0));
     csg_ray r;
     r.o = v3_load(cam->location);
+    if (cam->projection == CSG_CAMERA_ORTHOGRAPHIC)
+        r.o = v3_add(v3_add(r.o, rx), uy);
+    else
+        d = v3_add(v3_add(d, rx), uy);
     r.d = v3_normalize(d);
     if (cam->hither > R(0.0)) {
         vec3 view = v3_load(cam->direction);

@@ -144,10 +144,17 @@ typedef struct {
 
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
 
+/* The camera's projection (csg_camera.projection). */
+enum csg_camera_projection { CSG_CAMERA_PERSPECTIVE = 0, CSG_CAMERA_ORTHOGRAPHIC = 1 };
+
 /* The camera after POV-Ray's camera statement was applied (see
  * csg/camera_setup.c): the primary ray of pixel (x, y) of a W x H image is
- * direction + x0 * right + y0 * up, normalised, from location. */
+ * direction + x0 * right + y0 * up, normalised, from location
+ * (perspective), or direction, normalised, from location + x0 * right +
+ * y0 * up (orthographic); camera.h. */
 typedef struct {
+    csg_i32 projection; /* enum csg_camera_projection                   */
+    csg_i32 pad;
     real location[3];
     real direction[3];
     real right[3];
@@ -156,17 +163,42 @@ typedef struct {
                      view direction (NFF's hither); 0: at location        */
 } csg_camera;
 
-/* The scene-wide shading values (global_settings, background): C workers
- * only, like the materials and the lights. */
+/* The scene-wide shading values (global_settings, background, the
+ * sky_sphere): C workers only, like the materials and the lights. */
 typedef struct {
-    real background[3];    /* what a ray that hits nothing sees        */
+    csg_i32 sky_first;     /* the sky_sphere's pigments: materials
+                              sky_first .. + header.sky_count            */
+    csg_i32 sky_v37;       /* POV-Ray 3.7's mix of sky and background (1),
+                              or the one before 3.7 (0)                  */
+    real background[3];    /* what a ray that hits nothing sees (with the
+                              sky: behind it)                            */
     real ambient_light[3];
     real adc_bailout;      /* rays weighing less are not traced        */
+    real sky_emission[3];
 } csg_shading;
+
+/* A material's pigment pattern (csg_material.pattern), POV-Ray 3.7's:
+ * workers/pigment.c evaluates it at a hit point. */
+enum csg_material_pattern {
+    CSG_MAT_PLAIN = 0,    /* color, filter, transmit                          */
+    CSG_MAT_CHECKER = 1,  /* the colour map's entry 0 or 1 by the parity of
+                             floor(x) + floor(y) + floor(z)                     */
+    CSG_MAT_GRADIENT = 2  /* dot(point, gradient) through the colour map       */
+};
+
+/* One entry of a colour map (the blob's maps array). */
+typedef struct {
+    real value;
+    real rgbft[5];
+} csg_map_color;
 
 /* Shading data, used by the C workers only (the kernel never reads it). */
 typedef struct {
-    real color[3];      /* pigment rgb                                  */
+    csg_i32 pattern;    /* enum csg_material_pattern                    */
+    csg_i32 map_first;  /* its colour map: maps[map_first .. + map_count) */
+    csg_i32 map_count;
+    csg_i32 pad;
+    real color[3];      /* pigment rgb (CSG_MAT_PLAIN)                  */
     real filter;        /* pigment filter: light through, tinted         */
     real transmit;      /* pigment transmit: light through, untinted     */
     real ambient[3];
@@ -177,6 +209,11 @@ typedef struct {
     real phong_size;
     real reflection[3];
     real ior;           /* interior: index of refraction                 */
+    real gradient[3];   /* CSG_MAT_GRADIENT: unit vector                 */
+    real frequency;     /* POV-Ray's wave: value * frequency + phase     */
+    real phase;
+    real to_pattern[12]; /* world -> pattern space, row-major 3x4 like
+                            csg_prim.inv                                  */
 } csg_material;
 
 typedef struct {
@@ -228,8 +265,12 @@ typedef struct {
                               one by one; the rest hang in the BVH        */
     csg_i32 material_count, light_count;
     csg_i32 max_stack;     /* deepest root program, <= CSG_STACK_MAX      */
+    csg_i32 map_count;     /* colour map entries (workers)               */
+    csg_i32 sky_count;     /* sky_sphere pigments: a ray that misses sees
+                              a colour of its direction, so no tile is
+                              degenerate                                 */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
-    csg_u64 off_materials, off_lights, off_shading;              /* workers */
+    csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
 } csg_blob_header;
 
@@ -247,11 +288,13 @@ typedef struct {
         F(csg_blob_header, node_count) F(csg_blob_header, root_count)                      \
         F(csg_blob_header, bvh_count) F(csg_blob_header, linear_roots)                     \
         F(csg_blob_header, material_count) F(csg_blob_header, light_count)                 \
-        F(csg_blob_header, max_stack) F(csg_blob_header, off_prims)                        \
+        F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
+        F(csg_blob_header, sky_count) F(csg_blob_header, off_prims)                        \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \
-        F(csg_blob_header, off_shading) F(csg_blob_header, total_size)                     \
+        F(csg_blob_header, off_shading) F(csg_blob_header, off_maps)                       \
+        F(csg_blob_header, total_size)                                                     \
     S(csg_prim) F(csg_prim, kind) F(csg_prim, flags) F(csg_prim, material)                 \
         F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
@@ -259,7 +302,7 @@ typedef struct {
         F(csg_root, stack_depth) F(csg_root, pad) F(csg_root, lo) F(csg_root, hi)          \
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
         F(csg_bvh_node, hi)                                                                \
-    S(csg_camera) F(csg_camera, location) F(csg_camera, direction)                         \
-        F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither)
+    S(csg_camera) F(csg_camera, projection) F(csg_camera, pad) F(csg_camera, location)     \
+        F(csg_camera, direction) F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither)
 
 #endif

@@ -5,7 +5,11 @@
  * comments are skipped first: `//` to the end of the line and slash-star ... star-slash
  * block comments, which nest as in POV-Ray (a depth counter, no recursion).
  * Words are looked up by binary search in a table sorted by byte order
- * (kw_table; test_parser checks a sample of it).  A number is scanned to
+ * (kw_table; test_parser checks a sample of it): every reserved word of
+ * POV-Ray 3.7 is there, so a word csgtrace does not implement is named as
+ * unsupported rather than taken for an identifier.  Operators are one
+ * character, or two for <= >= != (csg_token.punct).  A UTF-8 byte-order
+ * mark before the first character is skipped.  A number is scanned to
  * its extent by the grammar digits [. digits] [e [+-] digits] (or . digits
  * ...), then converted with strtod on a bounded copy, so strtod's own
  * extensions (hex, inf, nan) can never be reached.
@@ -25,205 +29,346 @@ typedef struct {
     enum csg_kw kw;
 } kw_entry;
 
-/* Sorted by byte order (LC_ALL=C sort): binary search below. */
+/* POV-Ray 3.7's reserved words (477; those that are only directives are
+ * in directive_table), sorted by byte order (LC_ALL=C sort):
+ * binary search below. */
 static const kw_entry kw_table[] = {
-    {"abs", CSG_KW_UNSUPPORTED},
+    {"aa_level", CSG_KW_UNSUPPORTED},
+    {"aa_threshold", CSG_KW_UNSUPPORTED},
+    {"abs", CSG_KW_ABS},
     {"absorption", CSG_KW_UNSUPPORTED},
     {"accuracy", CSG_KW_UNSUPPORTED},
-    {"acos", CSG_KW_UNSUPPORTED},
+    {"acos", CSG_KW_ACOS},
+    {"acosh", CSG_KW_ACOSH},
     {"adaptive", CSG_KW_UNSUPPORTED},
     {"adc_bailout", CSG_KW_ADC_BAILOUT},
     {"agate", CSG_KW_UNSUPPORTED},
+    {"agate_turb", CSG_KW_UNSUPPORTED},
     {"albedo", CSG_KW_UNSUPPORTED},
+    {"all", CSG_KW_UNSUPPORTED},
     {"all_intersections", CSG_KW_UNSUPPORTED},
+    {"alpha", CSG_KW_UNSUPPORTED},
+    {"altitude", CSG_KW_UNSUPPORTED},
+    {"always_sample", CSG_KW_UNSUPPORTED},
     {"ambient", CSG_KW_AMBIENT},
     {"ambient_light", CSG_KW_AMBIENT_LIGHT},
     {"angle", CSG_KW_ANGLE},
+    {"anisotropy", CSG_KW_UNSUPPORTED},
+    {"aoi", CSG_KW_UNSUPPORTED},
     {"aperture", CSG_KW_UNSUPPORTED},
+    {"append", CSG_KW_UNSUPPORTED},
+    {"arc_angle", CSG_KW_UNSUPPORTED},
     {"area_illumination", CSG_KW_UNSUPPORTED},
     {"area_light", CSG_KW_UNSUPPORTED},
-    {"asin", CSG_KW_UNSUPPORTED},
+    {"array", CSG_KW_ARRAY},
+    {"asc", CSG_KW_ASC},
+    {"ascii", CSG_KW_UNSUPPORTED},
+    {"asin", CSG_KW_ASIN},
+    {"asinh", CSG_KW_ASINH},
     {"assumed_gamma", CSG_KW_ASSUMED_GAMMA},
-    {"atan", CSG_KW_UNSUPPORTED},
-    {"atan2", CSG_KW_UNSUPPORTED},
+    {"atan", CSG_KW_ATAN},
+    {"atan2", CSG_KW_ATAN2},
+    {"atanh", CSG_KW_ATANH},
+    {"autostop", CSG_KW_UNSUPPORTED},
     {"average", CSG_KW_UNSUPPORTED},
     {"b_spline", CSG_KW_UNSUPPORTED},
     {"background", CSG_KW_BACKGROUND},
     {"bezier_spline", CSG_KW_UNSUPPORTED},
     {"bicubic_patch", CSG_KW_UNSUPPORTED},
+    {"bitwise_and", CSG_KW_BITWISE_AND},
+    {"bitwise_or", CSG_KW_BITWISE_OR},
+    {"bitwise_xor", CSG_KW_BITWISE_XOR},
+    {"black_hole", CSG_KW_UNSUPPORTED},
     {"blob", CSG_KW_UNSUPPORTED},
     {"blue", CSG_KW_BLUE},
     {"blur_samples", CSG_KW_UNSUPPORTED},
+    {"bmp", CSG_KW_UNSUPPORTED},
+    {"bokeh", CSG_KW_UNSUPPORTED},
     {"bounded_by", CSG_KW_UNSUPPORTED},
     {"box", CSG_KW_BOX},
+    {"boxed", CSG_KW_UNSUPPORTED},
     {"bozo", CSG_KW_UNSUPPORTED},
     {"brick", CSG_KW_UNSUPPORTED},
+    {"brick_size", CSG_KW_UNSUPPORTED},
+    {"brightness", CSG_KW_UNSUPPORTED},
     {"brilliance", CSG_KW_UNSUPPORTED},
     {"bump_map", CSG_KW_UNSUPPORTED},
+    {"bump_size", CSG_KW_UNSUPPORTED},
     {"bumps", CSG_KW_UNSUPPORTED},
     {"camera", CSG_KW_CAMERA},
     {"caustics", CSG_KW_UNSUPPORTED},
-    {"ceil", CSG_KW_UNSUPPORTED},
+    {"ceil", CSG_KW_CEIL},
+    {"cells", CSG_KW_UNSUPPORTED},
     {"charset", CSG_KW_UNSUPPORTED},
-    {"checker", CSG_KW_UNSUPPORTED},
-    {"chr", CSG_KW_UNSUPPORTED},
+    {"checker", CSG_KW_CHECKER},
+    {"chr", CSG_KW_CHR},
     {"circular", CSG_KW_UNSUPPORTED},
     {"clipped_by", CSG_KW_UNSUPPORTED},
-    {"clock", CSG_KW_UNSUPPORTED},
+    {"clock", CSG_KW_CLOCK},
+    {"clock_on", CSG_KW_UNSUPPORTED},
+    {"collect", CSG_KW_UNSUPPORTED},
     {"color", CSG_KW_COLOR},
-    {"color_map", CSG_KW_UNSUPPORTED},
+    {"color_map", CSG_KW_COLOR_MAP},
     {"colour", CSG_KW_COLOR},
-    {"colour_map", CSG_KW_UNSUPPORTED},
-    {"concat", CSG_KW_UNSUPPORTED},
+    {"colour_map", CSG_KW_COLOR_MAP},
+    {"component", CSG_KW_UNSUPPORTED},
+    {"composite", CSG_KW_UNSUPPORTED},
+    {"concat", CSG_KW_CONCAT},
     {"cone", CSG_KW_CONE},
+    {"confidence", CSG_KW_UNSUPPORTED},
+    {"conic_sweep", CSG_KW_UNSUPPORTED},
     {"conserve_energy", CSG_KW_UNSUPPORTED},
     {"contained_by", CSG_KW_UNSUPPORTED},
-    {"cos", CSG_KW_UNSUPPORTED},
-    {"cosh", CSG_KW_UNSUPPORTED},
+    {"control0", CSG_KW_UNSUPPORTED},
+    {"control1", CSG_KW_UNSUPPORTED},
+    {"coords", CSG_KW_UNSUPPORTED},
+    {"cos", CSG_KW_COS},
+    {"cosh", CSG_KW_COSH},
+    {"count", CSG_KW_UNSUPPORTED},
     {"crackle", CSG_KW_UNSUPPORTED},
     {"crand", CSG_KW_UNSUPPORTED},
+    {"cube", CSG_KW_UNSUPPORTED},
     {"cubic", CSG_KW_UNSUPPORTED},
     {"cubic_spline", CSG_KW_UNSUPPORTED},
+    {"cubic_wave", CSG_KW_UNSUPPORTED},
+    {"cutaway_textures", CSG_KW_UNSUPPORTED},
     {"cylinder", CSG_KW_CYLINDER},
     {"cylindrical", CSG_KW_UNSUPPORTED},
-    {"degrees", CSG_KW_UNSUPPORTED},
+    {"datetime", CSG_KW_UNSUPPORTED},
+    {"defined", CSG_KW_DEFINED},
+    {"default", CSG_KW_DEFAULT}, /* POV-Ray takes `default { }` without '#' */
+    {"degrees", CSG_KW_DEGREES},
     {"density", CSG_KW_UNSUPPORTED},
+    {"density_file", CSG_KW_UNSUPPORTED},
     {"density_map", CSG_KW_UNSUPPORTED},
     {"dents", CSG_KW_UNSUPPORTED},
+    {"deprecated", CSG_KW_UNSUPPORTED},
+    {"df3", CSG_KW_UNSUPPORTED},
     {"difference", CSG_KW_DIFFERENCE},
     {"diffuse", CSG_KW_DIFFUSE},
+    {"dimension_size", CSG_KW_DIMENSION_SIZE},
+    {"dimensions", CSG_KW_DIMENSIONS},
     {"direction", CSG_KW_DIRECTION},
     {"disc", CSG_KW_UNSUPPORTED},
     {"dispersion", CSG_KW_UNSUPPORTED},
-    {"div", CSG_KW_UNSUPPORTED},
+    {"dispersion_samples", CSG_KW_UNSUPPORTED},
+    {"dist_exp", CSG_KW_UNSUPPORTED},
+    {"distance", CSG_KW_UNSUPPORTED},
+    {"distance_maximum", CSG_KW_UNSUPPORTED},
+    {"div", CSG_KW_DIV},
     {"double_illuminate", CSG_KW_UNSUPPORTED},
-    {"emission", CSG_KW_UNSUPPORTED},
+    {"dtag", CSG_KW_UNSUPPORTED},
+    {"eccentricity", CSG_KW_UNSUPPORTED},
+    {"emission", CSG_KW_EMISSION},
+    {"error_bound", CSG_KW_UNSUPPORTED},
     {"evaluate", CSG_KW_UNSUPPORTED},
-    {"exp", CSG_KW_UNSUPPORTED},
+    {"exp", CSG_KW_EXP},
+    {"expand_thresholds", CSG_KW_UNSUPPORTED},
+    {"exponent", CSG_KW_UNSUPPORTED},
+    {"exr", CSG_KW_UNSUPPORTED},
+    {"exterior", CSG_KW_UNSUPPORTED},
+    {"extinction", CSG_KW_UNSUPPORTED},
+    {"face_indices", CSG_KW_UNSUPPORTED},
+    {"facets", CSG_KW_UNSUPPORTED},
     {"fade_color", CSG_KW_UNSUPPORTED},
+    {"fade_colour", CSG_KW_UNSUPPORTED},
     {"fade_distance", CSG_KW_UNSUPPORTED},
     {"fade_power", CSG_KW_UNSUPPORTED},
     {"falloff", CSG_KW_UNSUPPORTED},
+    {"falloff_angle", CSG_KW_UNSUPPORTED},
     {"false", CSG_KW_FALSE},
     {"file_exists", CSG_KW_UNSUPPORTED},
     {"filter", CSG_KW_FILTER},
-    {"final_frame", CSG_KW_UNSUPPORTED},
     {"finish", CSG_KW_FINISH},
     {"fisheye", CSG_KW_UNSUPPORTED},
-    {"floor", CSG_KW_UNSUPPORTED},
+    {"flatness", CSG_KW_UNSUPPORTED},
+    {"flip", CSG_KW_UNSUPPORTED},
+    {"floor", CSG_KW_FLOOR},
     {"focal_point", CSG_KW_UNSUPPORTED},
     {"fog", CSG_KW_UNSUPPORTED},
-    {"frame_number", CSG_KW_UNSUPPORTED},
-    {"frequency", CSG_KW_UNSUPPORTED},
+    {"fog_alt", CSG_KW_UNSUPPORTED},
+    {"fog_offset", CSG_KW_UNSUPPORTED},
+    {"fog_type", CSG_KW_UNSUPPORTED},
+    {"form", CSG_KW_UNSUPPORTED},
+    {"frequency", CSG_KW_FREQUENCY},
     {"fresnel", CSG_KW_UNSUPPORTED},
     {"function", CSG_KW_UNSUPPORTED},
     {"gamma", CSG_KW_UNSUPPORTED},
+    {"gather", CSG_KW_UNSUPPORTED},
+    {"gif", CSG_KW_UNSUPPORTED},
+    {"global", CSG_KW_UNSUPPORTED},
+    {"global_lights", CSG_KW_UNSUPPORTED},
     {"global_settings", CSG_KW_GLOBAL_SETTINGS},
-    {"gradient", CSG_KW_UNSUPPORTED},
+    {"gradient", CSG_KW_GRADIENT},
     {"granite", CSG_KW_UNSUPPORTED},
+    {"gray", CSG_KW_GRAY},
+    {"gray_threshold", CSG_KW_UNSUPPORTED},
     {"green", CSG_KW_GREEN},
+    {"hdr", CSG_KW_UNSUPPORTED},
     {"height_field", CSG_KW_UNSUPPORTED},
     {"hexagon", CSG_KW_UNSUPPORTED},
-    {"hollow", CSG_KW_UNSUPPORTED},
+    {"hf_gray_16", CSG_KW_UNSUPPORTED},
+    {"hierarchy", CSG_KW_UNSUPPORTED},
+    {"hollow", CSG_KW_HOLLOW},
     {"hypercomplex", CSG_KW_UNSUPPORTED},
-    {"image_height", CSG_KW_UNSUPPORTED},
+    {"iff", CSG_KW_UNSUPPORTED},
     {"image_map", CSG_KW_UNSUPPORTED},
-    {"image_width", CSG_KW_UNSUPPORTED},
-    {"initial_frame", CSG_KW_UNSUPPORTED},
-    {"int", CSG_KW_UNSUPPORTED},
+    {"image_pattern", CSG_KW_UNSUPPORTED},
+    {"importance", CSG_KW_UNSUPPORTED},
+    {"inside", CSG_KW_UNSUPPORTED},
+    {"inside_vector", CSG_KW_UNSUPPORTED},
+    {"int", CSG_KW_INT},
     {"interior", CSG_KW_INTERIOR},
+    {"interior_texture", CSG_KW_UNSUPPORTED},
     {"internal", CSG_KW_UNSUPPORTED},
     {"interpolate", CSG_KW_UNSUPPORTED},
     {"intersection", CSG_KW_INTERSECTION},
+    {"intervals", CSG_KW_UNSUPPORTED},
     {"inverse", CSG_KW_INVERSE},
     {"ior", CSG_KW_IOR},
     {"irid", CSG_KW_UNSUPPORTED},
+    {"irid_wavelength", CSG_KW_UNSUPPORTED},
     {"isosurface", CSG_KW_UNSUPPORTED},
     {"jitter", CSG_KW_UNSUPPORTED},
+    {"jpeg", CSG_KW_UNSUPPORTED},
+    {"julia", CSG_KW_UNSUPPORTED},
     {"julia_fractal", CSG_KW_UNSUPPORTED},
     {"lambda", CSG_KW_UNSUPPORTED},
     {"lathe", CSG_KW_UNSUPPORTED},
-    {"lemon", CSG_KW_UNSUPPORTED},
     {"leopard", CSG_KW_UNSUPPORTED},
     {"light_group", CSG_KW_UNSUPPORTED},
     {"light_source", CSG_KW_LIGHT_SOURCE},
     {"linear_spline", CSG_KW_UNSUPPORTED},
-    {"ln", CSG_KW_UNSUPPORTED},
+    {"linear_sweep", CSG_KW_UNSUPPORTED},
+    {"ln", CSG_KW_LN},
+    {"load_file", CSG_KW_UNSUPPORTED},
     {"location", CSG_KW_LOCATION},
-    {"log", CSG_KW_UNSUPPORTED},
+    {"log", CSG_KW_LOG},
     {"look_at", CSG_KW_LOOK_AT},
     {"looks_like", CSG_KW_UNSUPPORTED},
+    {"low_error_factor", CSG_KW_UNSUPPORTED},
+    {"magnet", CSG_KW_UNSUPPORTED},
+    {"major_radius", CSG_KW_UNSUPPORTED},
+    {"mandel", CSG_KW_UNSUPPORTED},
+    {"map_type", CSG_KW_UNSUPPORTED},
     {"marble", CSG_KW_UNSUPPORTED},
     {"material", CSG_KW_UNSUPPORTED},
     {"material_map", CSG_KW_UNSUPPORTED},
     {"matrix", CSG_KW_MATRIX},
-    {"max", CSG_KW_UNSUPPORTED},
+    {"max", CSG_KW_MAX},
+    {"max_extent", CSG_KW_UNSUPPORTED},
     {"max_gradient", CSG_KW_UNSUPPORTED},
+    {"max_intersections", CSG_KW_UNSUPPORTED},
+    {"max_iteration", CSG_KW_UNSUPPORTED},
+    {"max_sample", CSG_KW_UNSUPPORTED},
+    {"max_trace", CSG_KW_UNSUPPORTED},
     {"max_trace_level", CSG_KW_MAX_TRACE_LEVEL},
+    {"maximum_reuse", CSG_KW_UNSUPPORTED},
     {"media", CSG_KW_UNSUPPORTED},
     {"media_attenuation", CSG_KW_UNSUPPORTED},
     {"media_interaction", CSG_KW_UNSUPPORTED},
     {"merge", CSG_KW_MERGE},
     {"mesh", CSG_KW_MESH},
     {"mesh2", CSG_KW_UNSUPPORTED},
+    {"mesh_camera", CSG_KW_UNSUPPORTED},
     {"metallic", CSG_KW_UNSUPPORTED},
-    {"min", CSG_KW_UNSUPPORTED},
+    {"method", CSG_KW_UNSUPPORTED},
+    {"metric", CSG_KW_UNSUPPORTED},
+    {"min", CSG_KW_MIN},
+    {"min_extent", CSG_KW_UNSUPPORTED},
+    {"minimum_reuse", CSG_KW_UNSUPPORTED},
     {"mm_per_unit", CSG_KW_UNSUPPORTED},
-    {"mod", CSG_KW_UNSUPPORTED},
+    {"mod", CSG_KW_MOD},
     {"mortar", CSG_KW_UNSUPPORTED},
     {"natural_spline", CSG_KW_UNSUPPORTED},
+    {"nearest_count", CSG_KW_UNSUPPORTED},
     {"no", CSG_KW_FALSE},
+    {"no_bump_scale", CSG_KW_UNSUPPORTED},
     {"no_image", CSG_KW_UNSUPPORTED},
     {"no_radiosity", CSG_KW_UNSUPPORTED},
     {"no_reflection", CSG_KW_UNSUPPORTED},
     {"no_shadow", CSG_KW_NO_SHADOW},
     {"noise_generator", CSG_KW_UNSUPPORTED},
     {"normal", CSG_KW_UNSUPPORTED},
+    {"normal_indices", CSG_KW_UNSUPPORTED},
     {"normal_map", CSG_KW_UNSUPPORTED},
+    {"normal_vectors", CSG_KW_UNSUPPORTED},
+    {"now", CSG_KW_UNSUPPORTED},
+    {"number_of_sides", CSG_KW_UNSUPPORTED},
+    {"number_of_tiles", CSG_KW_UNSUPPORTED},
+    {"number_of_waves", CSG_KW_UNSUPPORTED},
     {"object", CSG_KW_OBJECT},
     {"octaves", CSG_KW_UNSUPPORTED},
     {"off", CSG_KW_FALSE},
+    {"offset", CSG_KW_UNSUPPORTED},
     {"omega", CSG_KW_UNSUPPORTED},
     {"omnimax", CSG_KW_UNSUPPORTED},
     {"on", CSG_KW_TRUE},
+    {"once", CSG_KW_UNSUPPORTED},
     {"onion", CSG_KW_UNSUPPORTED},
     {"open", CSG_KW_OPEN},
     {"orient", CSG_KW_UNSUPPORTED},
-    {"orthographic", CSG_KW_UNSUPPORTED},
+    {"orientation", CSG_KW_UNSUPPORTED},
+    {"orthographic", CSG_KW_ORTHOGRAPHIC},
     {"ovus", CSG_KW_UNSUPPORTED},
     {"panoramic", CSG_KW_UNSUPPORTED},
     {"parallel", CSG_KW_UNSUPPORTED},
     {"parametric", CSG_KW_UNSUPPORTED},
+    {"pass_through", CSG_KW_UNSUPPORTED},
     {"pattern", CSG_KW_UNSUPPORTED},
+    {"pavement", CSG_KW_UNSUPPORTED},
     {"perspective", CSG_KW_PERSPECTIVE},
-    {"phase", CSG_KW_UNSUPPORTED},
+    {"pgm", CSG_KW_UNSUPPORTED},
+    {"phase", CSG_KW_PHASE},
     {"phong", CSG_KW_PHONG},
     {"phong_size", CSG_KW_PHONG_SIZE},
     {"photons", CSG_KW_UNSUPPORTED},
     {"pi", CSG_KW_PI},
     {"pigment", CSG_KW_PIGMENT},
     {"pigment_map", CSG_KW_UNSUPPORTED},
+    {"pigment_pattern", CSG_KW_UNSUPPORTED},
+    {"planar", CSG_KW_UNSUPPORTED},
     {"plane", CSG_KW_PLANE},
+    {"png", CSG_KW_UNSUPPORTED},
     {"point_at", CSG_KW_UNSUPPORTED},
     {"poly", CSG_KW_UNSUPPORTED},
+    {"poly_wave", CSG_KW_UNSUPPORTED},
     {"polygon", CSG_KW_POLYGON},
-    {"pow", CSG_KW_UNSUPPORTED},
+    {"polynomial", CSG_KW_UNSUPPORTED},
+    {"pot", CSG_KW_UNSUPPORTED},
+    {"pow", CSG_KW_POW},
+    {"ppm", CSG_KW_UNSUPPORTED},
+    {"precision", CSG_KW_UNSUPPORTED},
     {"precompute", CSG_KW_UNSUPPORTED},
+    {"premultiplied", CSG_KW_UNSUPPORTED},
+    {"pretrace_end", CSG_KW_UNSUPPORTED},
+    {"pretrace_start", CSG_KW_UNSUPPORTED},
     {"prism", CSG_KW_UNSUPPORTED},
+    {"prod", CSG_KW_UNSUPPORTED},
     {"projected_through", CSG_KW_UNSUPPORTED},
+    {"pwr", CSG_KW_UNSUPPORTED},
     {"quadratic_spline", CSG_KW_UNSUPPORTED},
     {"quadric", CSG_KW_UNSUPPORTED},
     {"quartic", CSG_KW_UNSUPPORTED},
     {"quaternion", CSG_KW_UNSUPPORTED},
-    {"radians", CSG_KW_UNSUPPORTED},
+    {"quick_color", CSG_KW_UNSUPPORTED},
+    {"quick_colour", CSG_KW_UNSUPPORTED},
+    {"quilted", CSG_KW_UNSUPPORTED},
+    {"radial", CSG_KW_UNSUPPORTED},
+    {"radians", CSG_KW_RADIANS},
     {"radiosity", CSG_KW_UNSUPPORTED},
     {"radius", CSG_KW_UNSUPPORTED},
     {"rainbow", CSG_KW_UNSUPPORTED},
-    {"ramp_wave", CSG_KW_UNSUPPORTED},
-    {"rand", CSG_KW_UNSUPPORTED},
+    {"ramp_wave", CSG_KW_RAMP_WAVE},
+    {"rand", CSG_KW_RAND},
     {"ratio", CSG_KW_UNSUPPORTED},
+    {"reciprocal", CSG_KW_UNSUPPORTED},
+    {"recursion_limit", CSG_KW_UNSUPPORTED},
     {"red", CSG_KW_RED},
     {"reflection", CSG_KW_REFLECTION},
+    {"reflection_exponent", CSG_KW_UNSUPPORTED},
+    {"refraction", CSG_KW_UNSUPPORTED},
+    {"repeat", CSG_KW_UNSUPPORTED},
     {"rgb", CSG_KW_RGB},
     {"rgbf", CSG_KW_RGBF},
     {"rgbft", CSG_KW_RGBFT},
@@ -232,104 +377,169 @@ static const kw_entry kw_table[] = {
     {"ripples", CSG_KW_UNSUPPORTED},
     {"rotate", CSG_KW_ROTATE},
     {"roughness", CSG_KW_ROUGHNESS},
+    {"samples", CSG_KW_UNSUPPORTED},
+    {"save_file", CSG_KW_UNSUPPORTED},
+    {"sblue", CSG_KW_UNSUPPORTED},
     {"scale", CSG_KW_SCALE},
     {"scallop_wave", CSG_KW_UNSUPPORTED},
     {"scattering", CSG_KW_UNSUPPORTED},
-    {"seed", CSG_KW_UNSUPPORTED},
-    {"select", CSG_KW_UNSUPPORTED},
+    {"seed", CSG_KW_SEED},
+    {"select", CSG_KW_SELECT},
+    {"sgreen", CSG_KW_UNSUPPORTED},
     {"shadowless", CSG_KW_SHADOWLESS},
-    {"sin", CSG_KW_UNSUPPORTED},
+    {"sin", CSG_KW_SIN},
     {"sine_wave", CSG_KW_UNSUPPORTED},
-    {"sinh", CSG_KW_UNSUPPORTED},
+    {"sinh", CSG_KW_SINH},
+    {"sint16be", CSG_KW_UNSUPPORTED},
+    {"sint16le", CSG_KW_UNSUPPORTED},
+    {"sint32be", CSG_KW_UNSUPPORTED},
+    {"sint32le", CSG_KW_UNSUPPORTED},
+    {"sint8", CSG_KW_UNSUPPORTED},
+    {"size", CSG_KW_UNSUPPORTED},
     {"sky", CSG_KW_SKY},
-    {"sky_sphere", CSG_KW_UNSUPPORTED},
+    {"sky_sphere", CSG_KW_SKY_SPHERE},
+    {"slice", CSG_KW_UNSUPPORTED},
+    {"slope", CSG_KW_UNSUPPORTED},
     {"slope_map", CSG_KW_UNSUPPORTED},
+    {"smooth", CSG_KW_UNSUPPORTED},
     {"smooth_triangle", CSG_KW_SMOOTH_TRIANGLE},
+    {"solid", CSG_KW_UNSUPPORTED},
     {"sor", CSG_KW_UNSUPPORTED},
+    {"spacing", CSG_KW_UNSUPPORTED},
     {"specular", CSG_KW_SPECULAR},
     {"sphere", CSG_KW_SPHERE},
     {"sphere_sweep", CSG_KW_UNSUPPORTED},
     {"spherical", CSG_KW_UNSUPPORTED},
+    {"spiral1", CSG_KW_UNSUPPORTED},
+    {"spiral2", CSG_KW_UNSUPPORTED},
     {"spline", CSG_KW_UNSUPPORTED},
+    {"split_union", CSG_KW_UNSUPPORTED},
     {"spotlight", CSG_KW_UNSUPPORTED},
     {"spotted", CSG_KW_UNSUPPORTED},
-    {"sqrt", CSG_KW_UNSUPPORTED},
+    {"sqr", CSG_KW_SQR},
+    {"sqrt", CSG_KW_SQRT},
+    {"square", CSG_KW_UNSUPPORTED},
+    {"sred", CSG_KW_UNSUPPORTED},
     {"srgb", CSG_KW_UNSUPPORTED},
     {"srgbf", CSG_KW_UNSUPPORTED},
     {"srgbft", CSG_KW_UNSUPPORTED},
     {"srgbt", CSG_KW_UNSUPPORTED},
-    {"stochastic_seed", CSG_KW_UNSUPPORTED},
-    {"str", CSG_KW_UNSUPPORTED},
-    {"strlen", CSG_KW_UNSUPPORTED},
+    {"steps", CSG_KW_UNSUPPORTED},
+    {"str", CSG_KW_STR},
+    {"strcmp", CSG_KW_STRCMP},
+    {"strength", CSG_KW_UNSUPPORTED},
+    {"strlen", CSG_KW_STRLEN},
+    {"strlwr", CSG_KW_STRLWR},
+    {"strupr", CSG_KW_STRUPR},
     {"sturm", CSG_KW_UNSUPPORTED},
-    {"substr", CSG_KW_UNSUPPORTED},
+    {"substr", CSG_KW_SUBSTR},
     {"subsurface", CSG_KW_UNSUPPORTED},
+    {"sum", CSG_KW_UNSUPPORTED},
     {"superellipsoid", CSG_KW_UNSUPPORTED},
-    {"tan", CSG_KW_UNSUPPORTED},
-    {"tanh", CSG_KW_UNSUPPORTED},
+    {"sys", CSG_KW_UNSUPPORTED},
+    {"t", CSG_KW_T},
+    {"tan", CSG_KW_TAN},
+    {"tanh", CSG_KW_TANH},
+    {"target", CSG_KW_UNSUPPORTED},
     {"text", CSG_KW_UNSUPPORTED},
     {"texture", CSG_KW_TEXTURE},
+    {"texture_list", CSG_KW_UNSUPPORTED},
     {"texture_map", CSG_KW_UNSUPPORTED},
+    {"tga", CSG_KW_UNSUPPORTED},
+    {"thickness", CSG_KW_UNSUPPORTED},
     {"threshold", CSG_KW_UNSUPPORTED},
+    {"tiff", CSG_KW_UNSUPPORTED},
     {"tightness", CSG_KW_UNSUPPORTED},
+    {"tile2", CSG_KW_UNSUPPORTED},
+    {"tiles", CSG_KW_UNSUPPORTED},
+    {"tiling", CSG_KW_UNSUPPORTED},
+    {"tolerance", CSG_KW_UNSUPPORTED},
+    {"toroidal", CSG_KW_UNSUPPORTED},
     {"torus", CSG_KW_UNSUPPORTED},
+    {"trace", CSG_KW_UNSUPPORTED},
     {"transform", CSG_KW_UNSUPPORTED},
     {"translate", CSG_KW_TRANSLATE},
+    {"translucency", CSG_KW_UNSUPPORTED},
     {"transmit", CSG_KW_TRANSMIT},
     {"triangle", CSG_KW_TRIANGLE},
     {"triangle_wave", CSG_KW_UNSUPPORTED},
+    {"triangular", CSG_KW_UNSUPPORTED},
     {"true", CSG_KW_TRUE},
     {"ttf", CSG_KW_UNSUPPORTED},
+    {"turb_depth", CSG_KW_UNSUPPORTED},
     {"turbulence", CSG_KW_UNSUPPORTED},
+    {"type", CSG_KW_UNSUPPORTED},
+    {"u", CSG_KW_U},
+    {"u_steps", CSG_KW_UNSUPPORTED},
+    {"uint16be", CSG_KW_UNSUPPORTED},
+    {"uint16le", CSG_KW_UNSUPPORTED},
+    {"uint8", CSG_KW_UNSUPPORTED},
     {"ultra_wide_angle", CSG_KW_UNSUPPORTED},
     {"union", CSG_KW_UNION},
     {"up", CSG_KW_UP},
+    {"use_alpha", CSG_KW_UNSUPPORTED},
+    {"use_color", CSG_KW_UNSUPPORTED},
+    {"use_colour", CSG_KW_UNSUPPORTED},
+    {"use_index", CSG_KW_UNSUPPORTED},
+    {"utf8", CSG_KW_UNSUPPORTED},
+    {"uv_indices", CSG_KW_UNSUPPORTED},
     {"uv_mapping", CSG_KW_UNSUPPORTED},
-    {"vaxis_rotate", CSG_KW_UNSUPPORTED},
-    {"vcross", CSG_KW_UNSUPPORTED},
-    {"vdot", CSG_KW_UNSUPPORTED},
-    {"version", CSG_KW_UNSUPPORTED},
-    {"vlength", CSG_KW_UNSUPPORTED},
-    {"vnormalize", CSG_KW_UNSUPPORTED},
-    {"vrotate", CSG_KW_UNSUPPORTED},
+    {"uv_vectors", CSG_KW_UNSUPPORTED},
+    {"v", CSG_KW_V},
+    {"v_steps", CSG_KW_UNSUPPORTED},
+    {"val", CSG_KW_VAL},
+    {"variance", CSG_KW_UNSUPPORTED},
+    {"vaxis_rotate", CSG_KW_VAXIS_ROTATE},
+    {"vcross", CSG_KW_VCROSS},
+    {"vdot", CSG_KW_VDOT},
+    {"version", CSG_KW_VERSION},
+    {"vertex_vectors", CSG_KW_UNSUPPORTED},
+    {"vlength", CSG_KW_VLENGTH},
+    {"vnormalize", CSG_KW_VNORMALIZE},
+    {"vrotate", CSG_KW_VROTATE},
+    {"vstr", CSG_KW_VSTR},
+    {"vturbulence", CSG_KW_UNSUPPORTED},
     {"warp", CSG_KW_UNSUPPORTED},
+    {"water_level", CSG_KW_UNSUPPORTED},
     {"waves", CSG_KW_UNSUPPORTED},
+    {"width", CSG_KW_UNSUPPORTED},
     {"wood", CSG_KW_UNSUPPORTED},
     {"wrinkles", CSG_KW_UNSUPPORTED},
     {"x", CSG_KW_X},
+    {"xyz", CSG_KW_UNSUPPORTED},
     {"y", CSG_KW_Y},
     {"yes", CSG_KW_TRUE},
     {"z", CSG_KW_Z},
 };
 
 static const kw_entry directive_table[] = {
-    {"break", CSG_KW_UNSUPPORTED},
-    {"case", CSG_KW_UNSUPPORTED},
-    {"debug", CSG_KW_UNSUPPORTED},
+    {"break", CSG_KW_BREAK},
+    {"case", CSG_KW_CASE},
+    {"debug", CSG_KW_DEBUG},
     {"declare", CSG_KW_DECLARE},
-    {"default", CSG_KW_UNSUPPORTED},
-    {"else", CSG_KW_UNSUPPORTED},
-    {"elseif", CSG_KW_UNSUPPORTED},
-    {"end", CSG_KW_UNSUPPORTED},
-    {"error", CSG_KW_UNSUPPORTED},
+    {"default", CSG_KW_DEFAULT},
+    {"else", CSG_KW_ELSE},
+    {"elseif", CSG_KW_ELSEIF},
+    {"end", CSG_KW_END},
+    {"error", CSG_KW_ERROR},
     {"fclose", CSG_KW_UNSUPPORTED},
     {"fopen", CSG_KW_UNSUPPORTED},
-    {"for", CSG_KW_UNSUPPORTED},
-    {"if", CSG_KW_UNSUPPORTED},
-    {"ifdef", CSG_KW_UNSUPPORTED},
-    {"ifndef", CSG_KW_UNSUPPORTED},
+    {"for", CSG_KW_FOR},
+    {"if", CSG_KW_IF},
+    {"ifdef", CSG_KW_IFDEF},
+    {"ifndef", CSG_KW_IFNDEF},
     {"include", CSG_KW_INCLUDE},
     {"local", CSG_KW_LOCAL},
-    {"macro", CSG_KW_UNSUPPORTED},
-    {"range", CSG_KW_UNSUPPORTED},
+    {"macro", CSG_KW_MACRO},
+    {"range", CSG_KW_RANGE},
     {"read", CSG_KW_UNSUPPORTED},
     {"render", CSG_KW_UNSUPPORTED},
     {"statistics", CSG_KW_UNSUPPORTED},
-    {"switch", CSG_KW_UNSUPPORTED},
-    {"undef", CSG_KW_UNSUPPORTED},
+    {"switch", CSG_KW_SWITCH},
+    {"undef", CSG_KW_UNDEF},
     {"version", CSG_KW_VERSION},
-    {"warning", CSG_KW_UNSUPPORTED},
-    {"while", CSG_KW_UNSUPPORTED},
+    {"warning", CSG_KW_WARNING},
+    {"while", CSG_KW_WHILE},
     {"write", CSG_KW_UNSUPPORTED},
 };
 
@@ -376,6 +586,8 @@ void csg_lexer_init(csg_lexer *lx, const char *file, const char *src, size_t len
     lx->pos = 0;
     lx->line = 1;
     lx->col = 1;
+    if (len >= 3 && memcmp(src, "\xef\xbb\xbf", 3) == 0)
+        lx->pos = 3; /* a UTF-8 byte-order mark: not a character of the scene */
 }
 
 static int peek(const csg_lexer *lx, size_t ahead)
@@ -511,12 +723,65 @@ static bool lex_string(csg_lexer *lx, csg_token *t, csg_diag *d)
     return true;
 }
 
+/* An operator: one character, or <= >= != as one token. */
+static bool lex_punct(csg_lexer *lx, csg_token *t, int c)
+{
+    bump(lx);
+    t->kind = CSG_TOK_PUNCT;
+    t->punct = c;
+    t->len = 1;
+    if (peek(lx, 0) == '=' && (c == '<' || c == '>' || c == '!')) {
+        bump(lx);
+        t->punct = c == '<' ? CSG_P_LE : c == '>' ? CSG_P_GE : CSG_P_NE;
+        t->len = 2;
+    }
+    return true;
+}
+
+/* '#' then its word: a directive.  A '#' followed (after blanks and
+ * comments) by anything but a word is ignored, as POV-Ray does; by nothing
+ * at all, an error.  *stray: it was ignored, read on. */
+static bool lex_directive(csg_lexer *lx, csg_token *t, csg_diag *d, bool *stray)
+{
+    bump(lx);
+    if (!skip_space(lx, d))
+        return false;
+    const char *w = lx->src + lx->pos;
+    while (is_word(peek(lx, 0)))
+        bump(lx);
+    size_t wlen = (size_t)(lx->src + lx->pos - w);
+    if (wlen == 0 && peek(lx, 0) < 0) {
+        csg_error(d, t->loc, "a directive name expected after '#'");
+        return false;
+    }
+    *stray = wlen == 0;
+    t->kind = CSG_TOK_DIRECTIVE;
+    t->text = w;
+    t->len = wlen;
+    t->kw = csg_keyword(w, wlen, true);
+    return true;
+}
+
 bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
 {
     if (!skip_space(lx, d))
         return false;
+    while (peek(lx, 0) == '#') {
+        csg_token dir;
+        bool stray;
+        memset(&dir, 0, sizeof dir);
+        dir.loc = here(lx);
+        dir.pos = lx->pos;
+        if (!lex_directive(lx, &dir, d, &stray))
+            return false;
+        if (!stray) {
+            *t = dir;
+            return true;
+        }
+    }
     memset(t, 0, sizeof *t);
     t->loc = here(lx);
+    t->pos = lx->pos;
     t->text = lx->src + lx->pos;
     int c = peek(lx, 0);
     if (c < 0) {
@@ -535,31 +800,8 @@ bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
         t->kw = csg_keyword(t->text, t->len, false);
         return true;
     }
-    if (c == '#') {
-        bump(lx);
-        while (peek(lx, 0) == ' ' || peek(lx, 0) == '\t')
-            bump(lx);
-        const char *w = lx->src + lx->pos;
-        while (is_word(peek(lx, 0)))
-            bump(lx);
-        size_t wlen = (size_t)(lx->src + lx->pos - w);
-        if (wlen == 0) {
-            csg_error(d, t->loc, "a directive name expected after '#'");
-            return false;
-        }
-        t->kind = CSG_TOK_DIRECTIVE;
-        t->text = w;
-        t->len = wlen;
-        t->kw = csg_keyword(w, wlen, true);
-        return true;
-    }
-    if (strchr("{}<>(),;+-*/=", c) && c != '\0') {
-        bump(lx);
-        t->kind = CSG_TOK_PUNCT;
-        t->punct = (char)c;
-        t->len = 1;
-        return true;
-    }
+    if (c != '\0' && strchr("{}<>()[],;+-*/=!&|?:.", c))
+        return lex_punct(lx, t, c);
     if (c >= 0x21 && c < 0x7f)
         csg_error(d, t->loc, "unexpected character '%c'", c);
     else
@@ -574,6 +816,9 @@ void csg_token_describe(const csg_token *t, char *buf, size_t size)
     switch (t->kind) {
     case CSG_TOK_EOF:
         snprintf(buf, size, "end of file");
+        break;
+    case CSG_TOK_ERROR:
+        snprintf(buf, size, "an error");
         break;
     case CSG_TOK_STRING:
         snprintf(buf, size, "'\"%.*s%s\"'", n, t->text, dots);

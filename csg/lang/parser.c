@@ -1,9 +1,11 @@
 /*
  * parser.c — recursive-descent parser of the scene language
  * (scenes/LANGUAGE.md) into the scene tree of scene.h: the statement and
- * object grammar, and the entry points of parser.h.  Values and
- * expressions are read by expr.c, names by symbols.c, files and #include by
- * source.c (parse_internal.h lists what each provides).
+ * object grammar, the camera, and the entry points of parser.h.  Tokens
+ * come from source.c, which runs the directives (directives.c,
+ * declare.c) wherever they appear; values and expressions are read by
+ * expr.c, textures by texture.c (parse_internal.h lists what each
+ * provides).
  *
  * Objects: while parsing, an object's xform is its LOCAL transform (relative
  * to the enclosing CSG object); a finished CSG object owns its children.
@@ -14,8 +16,18 @@
  * Textures and interiors live in growable tables (scene->textures ...).  A
  * modifier edits the object's own entry when the entry was created while
  * parsing this very object statement (index >= the table size when the
- * statement began), and otherwise appends a modified copy (copy-on-write):
- * entries shared by copies of a declared object are never edited.
+ * statement began) and belongs to that object alone, and otherwise appends
+ * a modified copy (copy-on-write): entries shared by copies of a declared
+ * object are never edited.  A transform of an object also moves the
+ * patterned pigments given so far to it and to its children (POV-Ray
+ * transforms an object's textures with it): each gets a transformed copy of
+ * its entry.  A top-level object with no texture gets the default texture
+ * (#default) in force when its statement ends, as in POV-Ray.
+ *
+ * The camera: POV-Ray 3.5+ applies look_at, angle, the orthographic sizing
+ * and the transforms in a fixed order at the end of the statement
+ * (camera_setup.h); a scene with #version below 3.5 gets the old
+ * item-by-item behaviour.
  *
  * Invariants and limits: every node records the height of its tree
  * (pnode.height), kept <= CSG_PARSE_MAX_NESTING, so the copy and the final
@@ -65,7 +77,7 @@ char *lang_strndup(parser *p, const char *text, size_t len)
     return c;
 }
 
-static bool vec_push(parser *p, vec *v, size_t elem, const void *item)
+bool lang_vec_push(parser *p, vec *v, size_t elem, const void *item)
 {
     if (v->count == v->cap) {
         if (v->cap > INT_MAX / 4)
@@ -99,134 +111,7 @@ static void skip_comma(parser *p, bool *ok)
         *ok = lang_next(p);
 }
 
-/* ---- pigment, finish, texture, interior ------------------------------------ */
-
-/* pigment { [PIGMENT_ID] [COLOR] }, editing *pig. */
-static bool parse_pigment(parser *p, csg_pigment *pig)
-{
-    csg_loc open = p->tok.loc;
-    if (!lang_next(p) || !lang_expect_open(p, "pigment"))
-        return false;
-    symbol *sym = lang_peek_sym(p, SYM_PIGMENT);
-    if (sym) {
-        *pig = sym->pigment;
-        if (!lang_next(p))
-            return false;
-    }
-    if (!lang_is_punct(p, '}') && !lang_parse_color(p, pig->rgbft))
-        return false;
-    if (!lang_is_punct(p, '}'))
-        return lang_expected_close(p, '}', "pigment", open);
-    return lang_next(p);
-}
-
-static bool parse_finish(parser *p, csg_finish *f)
-{
-    csg_loc open = p->tok.loc;
-    if (!lang_next(p) || !lang_expect_open(p, "finish"))
-        return false;
-    symbol *sym = lang_peek_sym(p, SYM_FINISH);
-    if (sym) {
-        *f = sym->finish;
-        if (!lang_next(p))
-            return false;
-    }
-    for (;;) {
-        if (lang_is_punct(p, '}'))
-            return lang_next(p);
-        if (p->tok.kind != CSG_TOK_WORD)
-            return lang_expected_close(p, '}', "finish", open);
-        enum csg_kw kw = p->tok.kw;
-        double *target = NULL;
-        switch (kw) {
-        case CSG_KW_AMBIENT:
-            if (!lang_next(p) || !lang_parse_rgb(p, f->ambient))
-                return false;
-            continue;
-        case CSG_KW_REFLECTION:
-            if (!lang_next(p) || !lang_parse_rgb(p, f->reflection))
-                return false;
-            continue;
-        case CSG_KW_DIFFUSE: target = &f->diffuse; break;
-        case CSG_KW_SPECULAR: target = &f->specular; break;
-        case CSG_KW_ROUGHNESS: target = &f->roughness; break;
-        case CSG_KW_PHONG: target = &f->phong; break;
-        case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
-        default:
-            return lang_expected_close(p, '}', "finish", open);
-        }
-        csg_loc at;
-        if (!lang_next(p) || !lang_parse_float(p, target, &at))
-            return false;
-        if (kw == CSG_KW_ROUGHNESS && !(*target > 0)) {
-            csg_error(p->d, at, "roughness must be > 0, got %g", *target);
-            return false;
-        }
-        if (kw == CSG_KW_PHONG_SIZE && *target < 0) {
-            csg_error(p->d, at, "phong_size must be >= 0, got %g", *target);
-            return false;
-        }
-    }
-}
-
-/* texture { [TEXTURE_ID] (pigment {..} | finish {..})* }; starts from
- * POV-Ray's default texture and replaces *t. */
-static bool parse_texture(parser *p, csg_texture *t)
-{
-    csg_loc open = p->tok.loc;
-    if (!lang_next(p) || !lang_expect_open(p, "texture"))
-        return false;
-    csg_texture_default(t);
-    symbol *sym = lang_peek_sym(p, SYM_TEXTURE);
-    if (sym) {
-        *t = sym->texture;
-        if (!lang_next(p))
-            return false;
-    }
-    for (;;) {
-        if (lang_is_punct(p, '}'))
-            return lang_next(p);
-        if (lang_is_kw(p, CSG_KW_PIGMENT)) {
-            if (!parse_pigment(p, &t->pigment))
-                return false;
-        } else if (lang_is_kw(p, CSG_KW_FINISH)) {
-            if (!parse_finish(p, &t->finish))
-                return false;
-        } else {
-            return lang_expected_close(p, '}', "texture", open);
-        }
-    }
-}
-
-static bool parse_interior(parser *p, csg_interior *in)
-{
-    csg_loc open = p->tok.loc;
-    if (!lang_next(p) || !lang_expect_open(p, "interior"))
-        return false;
-    symbol *sym = lang_peek_sym(p, SYM_INTERIOR);
-    if (sym) {
-        *in = sym->interior;
-        if (!lang_next(p))
-            return false;
-    }
-    for (;;) {
-        if (lang_is_punct(p, '}'))
-            return lang_next(p);
-        if (!lang_is_kw(p, CSG_KW_IOR))
-            return lang_expected_close(p, '}', "interior", open);
-        csg_loc at;
-        if (!lang_next(p) || !lang_parse_float(p, &in->ior, &at))
-            return false;
-        if (!(in->ior > 0)) {
-            csg_error(p->d, at, "ior must be > 0, got %g", in->ior);
-            return false;
-        }
-    }
-}
-
 /* ---- objects ---------------------------------------------------------------- */
-
-static bool parse_object(parser *p, csg_object **out);
 
 /* The object kind a keyword opens (CSG_OBJECT_KINDS: the keyword of each
  * kind is CSG_KW_<ID>); -1 for any other word. */
@@ -242,10 +127,10 @@ static int kind_of_keyword(enum csg_kw kw)
     }
 }
 
-static bool is_object_start(const parser *p)
+bool lang_is_object_start(parser *p)
 {
-    return p->tok.kind == CSG_TOK_WORD &&
-           (kind_of_keyword(p->tok.kw) >= 0 || p->tok.kw == CSG_KW_OBJECT);
+    const csg_token *t = lang_tok(p);
+    return t->kind == CSG_TOK_WORD && (kind_of_keyword(t->kw) >= 0 || t->kw == CSG_KW_OBJECT);
 }
 
 static int height_of(const csg_object *o)
@@ -500,8 +385,8 @@ static bool parse_mesh(parser *p, csg_object *o)
         ok = ok && lang_next(p);
         smooth = smooth || is_smooth;
         for (int k = 0; ok && k < 3; k++)
-            ok = vec_push(p, &verts, sizeof v[k], &v[k]) &&
-                 vec_push(p, &normals, sizeof nv[k], &nv[k]);
+            ok = lang_vec_push(p, &verts, sizeof v[k], &v[k]) &&
+                 lang_vec_push(p, &normals, sizeof nv[k], &nv[k]);
     }
     if (ok && verts.count == 0)
         ok = lang_expected(p, "a triangle or smooth_triangle expected inside 'mesh'");
@@ -520,11 +405,13 @@ static bool parse_mesh(parser *p, csg_object *o)
 static bool parse_children(parser *p, pnode *n, const char *name)
 {
     int base = p->stack.count;
-    while (is_object_start(p)) {
+    while (lang_is_object_start(p)) {
         csg_object *child;
-        if (!parse_object(p, &child) || !vec_push(p, &p->stack, sizeof child, &child))
+        if (!lang_parse_object(p, &child) || !lang_vec_push(p, &p->stack, sizeof child, &child))
             return false;
     }
+    if (lang_is_kw(p, CSG_KW_LIGHT_SOURCE))
+        return lang_unsupported(p, "a 'light_source' inside an object", p->tok.loc);
     int count = p->stack.count - base;
     if (count == 0) {
         char what[64];
@@ -551,9 +438,9 @@ static bool parse_children(parser *p, pnode *n, const char *name)
 /* object { OBJECT_ID | OBJECT  ... }: the base object, a fresh copy. */
 static pnode *parse_object_base(parser *p, csg_loc loc)
 {
-    if (is_object_start(p)) {
+    if (lang_is_object_start(p)) {
         csg_object *inner;
-        if (!parse_object(p, &inner))
+        if (!lang_parse_object(p, &inner))
             return NULL;
         return (pnode *)(void *)inner;
     }
@@ -561,22 +448,19 @@ static pnode *parse_object_base(parser *p, csg_loc loc)
         lang_expected(p, "an object identifier expected inside 'object'");
         return NULL;
     }
-    symbol *sym;
-    if (!lang_lookup(p, SYM_OBJECT, "an object", &sym))
+    const datum *d;
+    if (!lang_lookup(p, SYM_OBJECT, "an object", &d))
         return NULL;
-    return copy_tree(p, sym->object, loc);
+    return copy_tree(p, d->u.object, loc);
 }
 
 /* The object's own texture entry (copy-on-write, see the top comment). */
 static csg_texture *own_texture(parser *p, csg_object *o, int mark)
 {
     if (o->texture < mark) {
-        csg_texture t;
-        if (o->texture >= 0)
-            t = ((csg_texture *)p->textures.data)[o->texture];
-        else
-            csg_texture_default(&t);
-        if (!vec_push(p, &p->textures, sizeof t, &t))
+        csg_texture t = o->texture >= 0 ? ((csg_texture *)p->textures.data)[o->texture]
+                                        : p->default_texture;
+        if (!lang_vec_push(p, &p->textures, sizeof t, &t))
             return NULL;
         o->texture = p->textures.count - 1;
     }
@@ -589,85 +473,11 @@ static csg_interior *own_interior(parser *p, csg_object *o, int mark)
         csg_interior in = {1.0};
         if (o->interior >= 0)
             in = ((csg_interior *)p->interiors.data)[o->interior];
-        if (!vec_push(p, &p->interiors, sizeof in, &in))
+        if (!lang_vec_push(p, &p->interiors, sizeof in, &in))
             return NULL;
         o->interior = p->interiors.count - 1;
     }
     return (csg_interior *)p->interiors.data + o->interior;
-}
-
-/* matrix <m00, m01, m02, m10, ..., m32>: POV-Ray's row-vector form,
- * p' = p M, applied after the transforms before it. */
-static bool parse_matrix(parser *p, csg_xform *x)
-{
-    if (!lang_next(p))
-        return false;
-    csg_loc open = p->tok.loc;
-    if (!lang_is_punct(p, '<')) {
-        csg_error(p->d, open, "'<' expected after 'matrix'");
-        return false;
-    }
-    if (!lang_enter(p, open) || !lang_next(p))
-        return false;
-    double m[12];
-    for (int i = 0; i < 12; i++) {
-        csg_loc at;
-        if (!lang_parse_float(p, &m[i], &at))
-            return false;
-        if (i < 11) {
-            if (!lang_is_punct(p, ',')) {
-                csg_error(p->d, p->tok.loc, "matrix needs 12 numbers separated by ','");
-                return false;
-            }
-            if (!lang_next(p))
-                return false;
-        }
-    }
-    if (!lang_is_punct(p, '>'))
-        return lang_expected_close(p, '>', "<", open);
-    lang_leave(p);
-    csg_xform t;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 4; j++)
-            t.m[i][j] = m[3 * j + i]; /* column j of ours is row j of POV-Ray's */
-    csg_xform inv;
-    if (!csg_xform_invert(&t, &inv)) {
-        csg_error(p->d, open, "matrix is singular");
-        return false;
-    }
-    csg_xform_then(x, &t, x);
-    return lang_next(p);
-}
-
-/* Transforms (translate V, rotate V, scale V|F, matrix <...>), shared by
- * objects and lights. */
-static bool parse_transform(parser *p, csg_xform *x)
-{
-    enum csg_kw kw = p->tok.kw;
-    csg_loc at;
-    dvec3 v;
-    if (kw == CSG_KW_MATRIX)
-        return parse_matrix(p, x);
-    if (!lang_next(p) || !lang_parse_vector(p, &v, &at))
-        return false;
-    if (kw == CSG_KW_TRANSLATE) {
-        csg_xform_translate(x, v);
-    } else if (kw == CSG_KW_ROTATE) {
-        csg_xform_rotate(x, v);
-    } else {
-        if (v.x == 0 || v.y == 0 || v.z == 0) {
-            csg_error(p->d, at, "scale by zero");
-            return false;
-        }
-        csg_xform_scale(x, v);
-    }
-    return true;
-}
-
-static bool is_transform(const parser *p)
-{
-    return lang_is_kw(p, CSG_KW_TRANSLATE) || lang_is_kw(p, CSG_KW_ROTATE) ||
-           lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX);
 }
 
 /* pigment { }, finish { } or texture { } on o: edits its own texture entry. */
@@ -677,9 +487,10 @@ static bool parse_texture_modifier(parser *p, csg_object *o, int tex_mark)
     if (!own)
         return false;
     csg_texture t = *own;
-    bool ok = p->tok.kw == CSG_KW_PIGMENT  ? parse_pigment(p, &t.pigment)
-              : p->tok.kw == CSG_KW_FINISH ? parse_finish(p, &t.finish)
-                                           : parse_texture(p, &t);
+    enum csg_kw kw = lang_tok(p)->kw;
+    bool ok = kw == CSG_KW_PIGMENT  ? lang_parse_pigment(p, &t.pigment)
+              : kw == CSG_KW_FINISH ? lang_parse_finish(p, &t.finish)
+                                    : lang_parse_texture(p, &t);
     if (!ok)
         return false;
     ((csg_texture *)p->textures.data)[o->texture] = t;
@@ -693,22 +504,60 @@ static bool parse_interior_modifier(parser *p, csg_object *o, int int_mark)
     if (!own)
         return false;
     csg_interior in = *own;
-    if (!parse_interior(p, &in))
+    if (!lang_parse_interior(p, &in))
         return false;
     ((csg_interior *)p->interiors.data)[o->interior] = in;
     return true;
 }
 
-/* inverse, no_shadow or open on o (the object `name`). */
+/* The patterned pigments of o's tree move with the transform x: every
+ * node with one gets a transformed copy of its entry (they may be shared
+ * with a declared object or its other copies). */
+static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
+{
+    if (o->texture >= 0) {
+        const csg_texture *t = (csg_texture *)p->textures.data + o->texture;
+        if (t->pigment.pattern != CSG_PATTERN_PLAIN) {
+            csg_texture moved = *t;
+            lang_pigment_transform(&moved.pigment, x);
+            if (!lang_vec_push(p, &p->textures, sizeof moved, &moved))
+                return false;
+            o->texture = p->textures.count - 1;
+        }
+    }
+    for (int i = 0; i < o->child_count; i++)
+        if (!transform_textures(p, o->children[i], x))
+            return false;
+    return true;
+}
+
+/* A transform modifier on o: its local transform, and its textures. */
+static bool parse_object_transform(parser *p, csg_object *o)
+{
+    csg_xform x;
+    csg_xform_identity(&x);
+    if (!lang_parse_transform(p, &x))
+        return false;
+    csg_xform_then(&o->xform, &x, &o->xform);
+    return transform_textures(p, o, &x);
+}
+
+/* inverse, no_shadow, open or hollow [BOOL] on o (the object `name`). */
 static bool parse_flag(parser *p, csg_object *o, const char *name)
 {
-    switch (p->tok.kw) {
+    switch (lang_tok(p)->kw) {
     case CSG_KW_INVERSE:
         o->inverse = !o->inverse;
         break;
     case CSG_KW_NO_SHADOW:
         o->no_shadow = true;
         break;
+    case CSG_KW_HOLLOW: { /* only media care: accepted and ignored */
+        double f;
+        if (!lang_next(p))
+            return false;
+        return !lang_is_expr_start(p) || lang_parse_float(p, &f, NULL);
+    }
     default: /* CSG_KW_OPEN */
         if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
             csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
@@ -721,6 +570,12 @@ static bool parse_flag(parser *p, csg_object *o, const char *name)
     return lang_next(p);
 }
 
+static bool is_flag(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_INVERSE) || lang_is_kw(p, CSG_KW_NO_SHADOW) ||
+           lang_is_kw(p, CSG_KW_OPEN) || lang_is_kw(p, CSG_KW_HOLLOW);
+}
+
 /* Modifiers up to and including the closing brace. */
 static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc open, int tex_mark,
                             int int_mark)
@@ -729,15 +584,14 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
         if (lang_is_punct(p, '}'))
             return lang_next(p);
         bool ok;
-        if (is_transform(p))
-            ok = parse_transform(p, &o->xform);
+        if (lang_is_transform(p))
+            ok = parse_object_transform(p, o);
         else if (lang_is_kw(p, CSG_KW_PIGMENT) || lang_is_kw(p, CSG_KW_FINISH) ||
                  lang_is_kw(p, CSG_KW_TEXTURE))
             ok = parse_texture_modifier(p, o, tex_mark);
         else if (lang_is_kw(p, CSG_KW_INTERIOR))
             ok = parse_interior_modifier(p, o, int_mark);
-        else if (lang_is_kw(p, CSG_KW_INVERSE) || lang_is_kw(p, CSG_KW_NO_SHADOW) ||
-                 lang_is_kw(p, CSG_KW_OPEN))
+        else if (is_flag(p))
             ok = parse_flag(p, o, name);
         else
             return lang_expected_close(p, '}', name, open);
@@ -764,10 +618,11 @@ static bool parse_body(parser *p, pnode *n, const char *name)
 }
 
 /* Any object statement; the current token is its keyword. */
-static bool parse_object(parser *p, csg_object **out)
+bool lang_parse_object(parser *p, csg_object **out)
 {
-    csg_loc loc = p->tok.loc;
-    enum csg_kw kw = p->tok.kw;
+    const csg_token *t = lang_tok(p);
+    csg_loc loc = t->loc;
+    enum csg_kw kw = t->kw;
     const char *name = object_name(kw);
     int tex_mark = p->textures.count, int_mark = p->interiors.count;
     if (!lang_enter(p, loc) || !lang_next(p) || !lang_expect_open(p, name))
@@ -782,65 +637,121 @@ static bool parse_object(parser *p, csg_object **out)
     return true;
 }
 
-/* ---- statements ---------------------------------------------------------------- */
+/* ---- the camera ------------------------------------------------------------------ */
 
-static bool parse_camera(parser *p)
+/* One camera item; *m collects what POV-Ray 3.5+ applies at the end, or
+ * (old: #version < 3.5) everything is applied at once. */
+static bool parse_camera_item(parser *p, csg_camera_src *c, csg_camera_mods *m, bool old)
 {
-    csg_loc open = p->tok.loc;
-    csg_camera_src c;
-    csg_camera_default(&c);
-    c.loc = open;
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at = p->tok.loc;
+    dvec3 v;
+    if (kw == CSG_KW_PERSPECTIVE || kw == CSG_KW_ORTHOGRAPHIC) {
+        c->projection = kw == CSG_KW_PERSPECTIVE ? CSG_PROJ_PERSPECTIVE : CSG_PROJ_ORTHOGRAPHIC;
+        if (old && kw == CSG_KW_ORTHOGRAPHIC)
+            csg_camera_orthographic_size(c);
+        return lang_next(p);
+    }
+    if (kw == CSG_KW_ANGLE) { /* orthographic: the angle may be left out */
+        double f = 0;
+        if (!lang_next(p))
+            return false;
+        bool bare = c->projection == CSG_PROJ_ORTHOGRAPHIC && !lang_is_expr_start(p);
+        if (!bare && !lang_parse_float(p, &f, NULL))
+            return false;
+        m->has_angle = true;
+        m->angle = f;
+        m->angle_loc = at;
+        return !old || c->projection != CSG_PROJ_PERSPECTIVE || csg_camera_angle(c, f, at, p->d);
+    }
+    if (lang_is_transform(p)) {
+        csg_xform x;
+        csg_xform_identity(&x);
+        if (!lang_parse_transform(p, &x))
+            return false;
+        if (old)
+            csg_camera_transform(c, &x);
+        csg_xform_then(&m->xform, &x, &m->xform);
+        m->has_xform = !old;
+        return true;
+    }
+    if (!lang_next(p) || !lang_parse_vector(p, &v, NULL))
+        return false;
+    switch (kw) {
+    case CSG_KW_LOCATION: c->location = v; break;
+    case CSG_KW_DIRECTION: c->direction = v; break;
+    case CSG_KW_UP: c->up = v; m->has_up = true; break;
+    case CSG_KW_RIGHT: c->right = v; m->has_right = true; break;
+    case CSG_KW_SKY: c->sky = v; break;
+    default: /* CSG_KW_LOOK_AT */
+        if (old)
+            return csg_camera_look_at(c, v, at, p->d);
+        m->has_look_at = true;
+        m->look_at = v;
+        m->look_at_loc = at;
+        break;
+    }
+    return true;
+}
+
+static bool is_camera_item(parser *p)
+{
+    if (lang_is_kw(p, CSG_KW_CYLINDER)) /* POV-Ray's cylindrical cameras */
+        return lang_unsupported(p, "the 'cylinder' camera", p->tok.loc);
+    switch (lang_tok(p)->kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE) {
+    case CSG_KW_PERSPECTIVE: case CSG_KW_ORTHOGRAPHIC: case CSG_KW_ANGLE: case CSG_KW_LOCATION:
+    case CSG_KW_LOOK_AT: case CSG_KW_DIRECTION: case CSG_KW_UP: case CSG_KW_RIGHT: case CSG_KW_SKY:
+        return true;
+    default:
+        return lang_is_transform(p);
+    }
+}
+
+/* camera { [CAMERA_ID] ITEMS }: a camera identifier takes transforms only
+ * (POV-Ray 3.5+). */
+bool lang_parse_camera(parser *p, csg_camera_src *c)
+{
+    csg_loc open = lang_tok(p)->loc;
+    bool old = p->version < 3.5, from_id = false;
+    csg_camera_mods m;
+    csg_camera_mods_init(&m);
     if (!lang_next(p) || !lang_expect_open(p, "camera"))
         return false;
-    for (;;) {
-        if (lang_is_punct(p, '}'))
-            break;
-        if (p->tok.kind != CSG_TOK_WORD)
-            return lang_expected_close(p, '}', "camera", open);
-        enum csg_kw kw = p->tok.kw;
-        csg_loc at = p->tok.loc;
-        dvec3 v;
-        double f;
-        switch (kw) {
-        case CSG_KW_PERSPECTIVE:
-            if (!lang_next(p))
-                return false;
-            continue;
-        case CSG_KW_ANGLE:
-            if (!lang_next(p) || !lang_parse_float(p, &f, NULL) ||
-                !csg_camera_angle(&c, f, at, p->d))
-                return false;
-            continue;
-        case CSG_KW_LOCATION: case CSG_KW_LOOK_AT: case CSG_KW_DIRECTION:
-        case CSG_KW_UP: case CSG_KW_RIGHT: case CSG_KW_SKY:
-            if (!lang_next(p) || !lang_parse_vector(p, &v, NULL))
-                return false;
-            break;
-        default:
-            return lang_expected_close(p, '}', "camera", open);
-        }
-        switch (kw) {
-        case CSG_KW_LOCATION: c.location = v; break;
-        case CSG_KW_DIRECTION: c.direction = v; break;
-        case CSG_KW_UP: c.up = v; break;
-        case CSG_KW_RIGHT: c.right = v; break;
-        case CSG_KW_SKY: c.sky = v; break;
-        default:
-            if (!csg_camera_look_at(&c, v, at, p->d))
-                return false;
-            break;
-        }
+    if (lang_names(p, SYM_CAMERA)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_CAMERA, "a camera", &d))
+            return false;
+        *c = d->u.camera;
+        from_id = !old;
     }
+    c->loc = open;
+    while (!lang_is_punct(p, '}')) {
+        if (!is_camera_item(p) || (from_id && !lang_is_transform(p)))
+            return lang_expected_close(p, '}', "camera", open);
+        if (!parse_camera_item(p, c, &m, old))
+            return false;
+    }
+    return (old || csg_camera_apply(c, &m, p->d)) && lang_next(p);
+}
+
+/* ---- statements ---------------------------------------------------------------- */
+
+static bool parse_camera_statement(parser *p)
+{
+    csg_camera_src c;
+    csg_camera_default(&c);
+    if (!lang_parse_camera(p, &c))
+        return false;
     p->s->camera = c;
     p->s->has_camera = true;
-    return lang_next(p);
+    return true;
 }
 
 static bool parse_light(parser *p)
 {
     csg_light l;
     memset(&l, 0, sizeof l);
-    l.loc = p->tok.loc;
+    l.loc = lang_tok(p)->loc;
     csg_xform x;
     csg_xform_identity(&x);
     bool ok = lang_next(p) && lang_expect_open(p, "light_source") &&
@@ -856,8 +767,8 @@ static bool parse_light(parser *p)
     for (;;) {
         if (lang_is_punct(p, '}'))
             break;
-        if (is_transform(p)) {
-            if (!parse_transform(p, &x))
+        if (lang_is_transform(p)) {
+            if (!lang_parse_transform(p, &x))
                 return false;
         } else if (lang_is_kw(p, CSG_KW_SHADOWLESS)) {
             l.shadowless = true;
@@ -871,12 +782,11 @@ static bool parse_light(parser *p)
     l.position = (dvec3){x.m[0][0] * q.x + x.m[0][1] * q.y + x.m[0][2] * q.z + x.m[0][3],
                          x.m[1][0] * q.x + x.m[1][1] * q.y + x.m[1][2] * q.z + x.m[1][3],
                          x.m[2][0] * q.x + x.m[2][1] * q.y + x.m[2][2] * q.z + x.m[2][3]};
-    return vec_push(p, &p->lights, sizeof l, &l) && lang_next(p);
+    return lang_vec_push(p, &p->lights, sizeof l, &l) && lang_next(p);
 }
-
 static bool parse_background(parser *p)
 {
-    csg_loc open = p->tok.loc;
+    csg_loc open = lang_tok(p)->loc;
     if (!lang_next(p) || !lang_expect_open(p, "background"))
         return false;
     if (!lang_is_color_start(p))
@@ -890,14 +800,14 @@ static bool parse_background(parser *p)
 
 static bool parse_global_settings(parser *p)
 {
-    csg_loc open = p->tok.loc;
+    csg_loc open = lang_tok(p)->loc;
     csg_globals *g = &p->s->globals;
     if (!lang_next(p) || !lang_expect_open(p, "global_settings"))
         return false;
     for (;;) {
         if (lang_is_punct(p, '}'))
             return lang_next(p);
-        enum csg_kw kw = p->tok.kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE;
+        enum csg_kw kw = lang_tok(p)->kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE;
         csg_loc at;
         double f;
         switch (kw) {
@@ -934,129 +844,41 @@ static bool parse_global_settings(parser *p)
     }
 }
 
-/* ---- directives ----------------------------------------------------------------- */
-
-/* The directive's word in messages: at most 15 characters. */
-#define DIRECTIVE_NAME 16
-
-/* '#declare NAME =' or '#local NAME =': *name is the identifier, directive
- * the word after '#'; the current token is then the one after '='. */
-static bool parse_declare_head(parser *p, char directive[DIRECTIVE_NAME], csg_token *name)
+/* The default texture in force now, as an entry of the table (one entry
+ * for each #default state). */
+static int default_texture_entry(parser *p)
 {
-    snprintf(directive, DIRECTIVE_NAME, "%.*s", (int)(p->tok.len < 15 ? p->tok.len : 15),
-             p->tok.text);
-    if (!lang_next(p))
-        return false;
-    if (!lang_is_ident(p)) {
-        char what[64];
-        snprintf(what, sizeof what, "an identifier expected after '#%s'", directive);
-        return lang_expected(p, what);
-    }
-    *name = p->tok;
-    if (!lang_next(p))
-        return false;
-    if (!lang_is_punct(p, '=')) {
-        char what[80];
-        snprintf(what, sizeof what, "'=' expected after '#%s %.*s'", directive,
-                 (int)(name->len > 40 ? 40 : name->len), name->text);
-        return lang_expected(p, what);
-    }
-    return lang_next(p);
+    const csg_texture *t = p->textures.data;
+    if (p->default_entry >= 0 &&
+        memcmp(&t[p->default_entry], &p->default_texture, sizeof p->default_texture) == 0)
+        return p->default_entry;
+    if (!lang_vec_push(p, &p->textures, sizeof p->default_texture, &p->default_texture))
+        return -1;
+    return p->default_entry = p->textures.count - 1;
 }
 
-/* What a #declare binds, into *def (zeroed); *needs_semicolon for a value
- * or colour, which a ';' must end. */
-static bool parse_declared(parser *p, symbol *def, bool *needs_semicolon)
+/* A top-level object: it gets the default texture now when it has none. */
+static bool parse_top_object(parser *p)
 {
-    if (is_object_start(p)) {
-        def->kind = SYM_OBJECT;
-        return parse_object(p, &def->object);
-    }
-    if (lang_is_kw(p, CSG_KW_PIGMENT)) {
-        def->kind = SYM_PIGMENT;
-        return parse_pigment(p, &def->pigment);
-    }
-    if (lang_is_kw(p, CSG_KW_FINISH)) {
-        def->kind = SYM_FINISH;
-        csg_finish_default(&def->finish);
-        return parse_finish(p, &def->finish);
-    }
-    if (lang_is_kw(p, CSG_KW_TEXTURE)) {
-        def->kind = SYM_TEXTURE;
-        return parse_texture(p, &def->texture);
-    }
-    if (lang_is_kw(p, CSG_KW_INTERIOR)) {
-        def->kind = SYM_INTERIOR;
-        def->interior.ior = 1.0;
-        return parse_interior(p, &def->interior);
-    }
-    def->kind = SYM_VALUE;
-    *needs_semicolon = true;
-    if (lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p)) {
-        def->val.dim = 5;
-        return lang_parse_color(p, def->val.v);
-    }
-    if (lang_is_expr_start(p))
-        return lang_parse_expr(p, &def->val);
-    return lang_expected(p,
-                         "a value, color, pigment, finish, texture, interior or object expected");
-}
-
-/* #declare NAME = ... and #local NAME = ... (one scope: the same). */
-static bool parse_declare(parser *p)
-{
-    csg_loc at = p->tok.loc;
-    char directive[DIRECTIVE_NAME];
-    csg_token name = {0};
-    if (!parse_declare_head(p, directive, &name))
+    csg_object *o;
+    if (!lang_parse_object(p, &o))
         return false;
-    symbol def;
-    memset(&def, 0, sizeof def);
-    bool needs_semicolon = false;
-    if (!parse_declared(p, &def, &needs_semicolon))
+    if (o->texture < 0 && (o->texture = default_texture_entry(p)) < 0)
         return false;
-    if (needs_semicolon) {
-        if (!lang_expect_semicolon(p, directive, at))
-            return false;
-    } else if (lang_is_punct(p, ';') && !lang_next(p)) {
-        return false;
-    }
-    return lang_sym_set(p, name.text, name.len, &def);
-}
-
-static bool parse_version(parser *p)
-{
-    csg_loc at = p->tok.loc;
-    double v;
-    if (!lang_next(p) || !lang_parse_float(p, &v, NULL))
-        return false;
-    return lang_expect_semicolon(p, "version", at);
+    return lang_vec_push(p, &p->objects, sizeof o, &o);
 }
 
 static bool parse_statement(parser *p)
 {
-    if (p->tok.kind == CSG_TOK_DIRECTIVE) {
-        switch (p->tok.kw) {
-        case CSG_KW_DECLARE:
-        case CSG_KW_LOCAL:
-            return parse_declare(p);
-        case CSG_KW_INCLUDE:
-            return lang_parse_include(p);
-        case CSG_KW_VERSION:
-            return parse_version(p);
-        default:
-            return lang_expected(p, "a statement expected");
-        }
-    }
-    if (is_object_start(p)) {
-        csg_object *o;
-        return parse_object(p, &o) && vec_push(p, &p->objects, sizeof o, &o);
-    }
+    if (lang_is_object_start(p))
+        return parse_top_object(p);
     if (p->tok.kind == CSG_TOK_WORD) {
         switch (p->tok.kw) {
-        case CSG_KW_CAMERA: return parse_camera(p);
+        case CSG_KW_DEFAULT: return lang_next(p) && lang_default(p, p->tok.loc); /* no '#' */
+        case CSG_KW_CAMERA: return parse_camera_statement(p);
         case CSG_KW_LIGHT_SOURCE: return parse_light(p);
         case CSG_KW_BACKGROUND: return parse_background(p);
+        case CSG_KW_SKY_SPHERE: return lang_parse_sky_sphere(p, &p->s->sky);
         case CSG_KW_GLOBAL_SETTINGS: return parse_global_settings(p);
         default: break;
         }
@@ -1066,10 +888,10 @@ static bool parse_statement(parser *p)
 
 bool lang_parse_statements(parser *p)
 {
-    while (p->tok.kind != CSG_TOK_EOF)
+    while (lang_tok(p)->kind != CSG_TOK_EOF)
         if (!parse_statement(p))
             return false;
-    return true;
+    return !p->d->failed;
 }
 
 /* ---- the end of the parse ------------------------------------------------------ */
@@ -1088,19 +910,9 @@ static bool finish_scene(parser *p)
     csg_object **top = p->objects.data;
     for (int i = 0; i < p->objects.count; i++) {
         compose_world(top[i], NULL);
-        if (top[i]->texture < 0) {
-            csg_texture t;
-            csg_texture_default(&t);
-            if (!vec_push(p, &p->textures, sizeof t, &t))
-                return false;
-            top[i]->texture = p->textures.count - 1;
-            for (int j = i + 1; j < p->objects.count; j++)
-                if (top[j]->texture < 0)
-                    top[j]->texture = top[i]->texture;
-        }
         if (top[i]->interior < 0) {
             csg_interior in = {1.0};
-            if (!vec_push(p, &p->interiors, sizeof in, &in))
+            if (!lang_vec_push(p, &p->interiors, sizeof in, &in))
                 return false;
             top[i]->interior = p->interiors.count - 1;
             for (int j = i + 1; j < p->objects.count; j++)
@@ -1108,6 +920,7 @@ static bool finish_scene(parser *p)
                     top[j]->interior = top[i]->interior;
         }
     }
+    s->version = p->version;
     s->objects = vec_to_arena(p, &p->objects, sizeof(csg_object *));
     s->textures = vec_to_arena(p, &p->textures, sizeof(csg_texture));
     s->interiors = vec_to_arena(p, &p->interiors, sizeof(csg_interior));
@@ -1121,60 +934,172 @@ static bool finish_scene(parser *p)
     return true;
 }
 
-bool csg_parse_string(const char *name, const char *text, size_t len, csg_scene *s, csg_diag *d)
+/* ---- the failed parse's message ------------------------------------------------- */
+
+/* An error inside a file that is not a scene file never shows its text:
+ * the reason becomes a generic one, the position stays. */
+static void hide_content(parser *p)
 {
-    parser p;
-    memset(&p, 0, sizeof p);
-    p.s = s;
-    p.d = d;
+    const frame *fr = p->frames.data;
+    for (int i = p->frames.count - 1; i >= 1; i--) {
+        const char *file = fr[i].lx.file;
+        size_t n = strlen(file);
+        if (fr[i].kind != FRAME_FILE || !fr[i].hidden || strncmp(p->d->message, file, n) != 0 ||
+            p->d->message[n] != ':')
+            continue;
+        char *reason = strstr(p->d->message + n, ": error: ");
+        if (reason)
+            snprintf(reason, sizeof p->d->message - (size_t)(reason - p->d->message),
+                     ": error: '%s' is not a scene file (it has no .pov, .inc, .mcr or .map "
+                     "name): its content is not shown", file);
+        return;
+    }
+}
+
+/* The message of a failed parse: hidden content, then the chain of macro
+ * calls and includes that led to the error. */
+static void finish_message(parser *p)
+{
+    if (!p->d->failed) {
+        csg_error_plain(p->d, "internal error: the parse failed without a message");
+        return;
+    }
+    if (p->frames.count <= 1 || strncmp(p->d->message, "csgtrace: ", 10) == 0)
+        return;
+    hide_content(p);
+    char chain[2048];
+    lang_frame_chain(p, chain, sizeof chain);
+    size_t n = strlen(p->d->message);
+    snprintf(p->d->message + n, sizeof p->d->message - n, "%s", chain);
+}
+
+/* ---- entry points ------------------------------------------------------------------ */
+
+void csg_parse_options_default(csg_parse_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->image_width = 320;
+    o->image_height = 240;
+}
+
+static void parser_free(parser *p)
+{
+    lang_symbols_free(p);
+    lang_rand_free(p);
+    free(p->frames.data);
+    free(p->conds.data);
+    free(p->textures.data);
+    free(p->interiors.data);
+    free(p->lights.data);
+    free(p->objects.data);
+    free(p->stack.data);
+}
+
+static bool parser_init(parser *p, const csg_parse_options *o, csg_scene *s, csg_diag *d)
+{
+    memset(p, 0, sizeof *p);
+    p->s = s;
+    p->d = d;
+    if (o)
+        p->opt = *o;
+    else
+        csg_parse_options_default(&p->opt);
+    if (p->opt.image_width <= 0 || p->opt.image_height <= 0) {
+        p->opt.image_width = 320;
+        p->opt.image_height = 240;
+    }
+    if (p->opt.max_tokens <= 0)
+        p->opt.max_tokens = CSG_PARSE_MAX_TOKENS;
+    p->version = 3.7;
+    p->default_entry = -1;
+    csg_texture_default(&p->default_texture);
     csg_scene_init(s);
     csg_camera_default(&s->camera);
     s->arena = csg_arena_new();
-    bool ok = false;
-    if (!s->arena) {
-        lang_oom(&p);
-        goto fail;
-    }
+    if (!s->arena)
+        return lang_oom(p);
+    return lang_scope_push(p) && lang_declare_predefined(p);
+}
+
+bool csg_parse_string_opts(const char *name, const char *text, size_t len,
+                           const csg_parse_options *o, csg_scene *s, csg_diag *d)
+{
+    parser p;
+    bool ok = parser_init(&p, o, s, d);
     if (!name)
         name = "<input>";
-    char *path = lang_strndup(&p, name, strlen(name));
-    char *copy = lang_strndup(&p, text ? text : "", text ? len : 0);
-    if (!path || !copy)
-        goto fail;
-    s->path = path;
-    ok = lang_parse_main(&p, path, copy, text ? len : 0) && finish_scene(&p);
-fail:
-    lang_symbols_free(&p);
-    free(p.textures.data);
-    free(p.interiors.data);
-    free(p.lights.data);
-    free(p.objects.data);
-    free(p.stack.data);
+    char *path = ok ? lang_strndup(&p, name, strlen(name)) : NULL;
+    char *copy = path ? lang_strndup(&p, text ? text : "", text ? len : 0) : NULL;
+    if (copy) {
+        s->path = path;
+        ok = lang_parse_main(&p, path, copy, text ? len : 0) && finish_scene(&p);
+    } else {
+        ok = false;
+    }
+    if (!ok)
+        finish_message(&p);
+    parser_free(&p);
     if (!ok) {
-        if (!d->failed)
-            csg_error_plain(d, "internal error: the parse failed without a message");
         csg_scene_free(s);
         csg_scene_init(s);
     }
     return ok;
 }
 
-bool csg_parse_file_as(const char *path, csg_scene *s, csg_diag *d, csg_text_parser parse)
+bool csg_parse_string(const char *name, const char *text, size_t len, csg_scene *s, csg_diag *d)
+{
+    return csg_parse_string_opts(name, text, len, NULL, s, d);
+}
+
+bool csg_parse_file_as(const char *path, const csg_parse_options *o, csg_scene *s, csg_diag *d,
+                       csg_text_parser parse)
 {
     size_t len = 0;
-    int err = 0;
-    char *text = lang_read_file(path, &len, &err);
+    char why[256];
+    char *text = lang_read_file(path, &len, why, sizeof why);
     if (!text) {
         csg_scene_init(s);
-        csg_error_plain(d, "cannot read scene '%s': %s", path, strerror(err));
+        csg_error_plain(d, "cannot read scene '%s': %s", path, why);
         return false;
     }
-    bool ok = parse(path, text, len, s, d);
+    bool ok = parse(path, text, len, o, s, d);
     free(text);
     return ok;
 }
 
+bool csg_parse_file_opts(const char *path, const csg_parse_options *o, csg_scene *s,
+                         csg_diag *d)
+{
+    return csg_parse_file_as(path, o, s, d, csg_parse_string_opts);
+}
+
 bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
 {
-    return csg_parse_file_as(path, s, d, csg_parse_string);
+    return csg_parse_file_opts(path, NULL, s, d);
+}
+
+/* $CSGTRACE_LIBRARY_PATH's folders, then POV-Ray's include folder. */
+const char *csg_default_library(int i)
+{
+    static const char *const povray[] = {"/usr/share/povray-3.7/include",
+                                         "/usr/local/share/povray-3.7/include"};
+    static char env[4096];
+    static const char *dirs[64];
+    static int count = -1;
+    if (count < 0) { /* once: the environment does not change under a parse */
+        count = 0;
+        const char *e = getenv("CSGTRACE_LIBRARY_PATH");
+        snprintf(env, sizeof env, "%s", e ? e : "");
+        for (char *s = env, *tok; count < 60 && (tok = strsep(&s, ":")) != NULL;)
+            if (*tok)
+                dirs[count++] = tok;
+        for (size_t k = 0; k < sizeof povray / sizeof povray[0]; k++) {
+            FILE *f = fopen(povray[k], "r");
+            if (f) {
+                fclose(f);
+                dirs[count++] = povray[k];
+            }
+        }
+    }
+    return i >= 0 && i < count ? dirs[i] : NULL;
 }

@@ -11,19 +11,23 @@
  *     enclosing object that has one); a top-level object always has >= 0;
  *   - box corners are ordered (a = min, b = max); a plane's normal is a unit
  *     vector (POV-Ray normalises it and keeps the distance as written);
- *   - the camera is the last camera statement (has_camera false: none).
+ *   - the camera is the last camera statement (has_camera false: none);
+ *   - a patterned pigment's xform is its complete pattern -> world
+ *     transform.
  */
 #ifndef CSG_PARSER_H
 #define CSG_PARSER_H
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "../diag.h"
 #include "../scene.h"
 
-/* Braces, objects, parentheses and vectors nested inside each other, and
- * the depth of the resulting CSG tree (through declared objects too). */
+/* Braces, objects, parentheses, vectors and directives nested inside each
+ * other, and the depth of the resulting CSG tree (through declared objects
+ * too). */
 #define CSG_PARSE_MAX_NESTING 128
 /* #include files open inside each other. */
 #define CSG_PARSE_MAX_INCLUDE 32
@@ -31,17 +35,57 @@
  * included: bounds the memory a small file can ask for. */
 #define CSG_PARSE_MAX_OBJECTS (1L << 22)
 
+/* Macro calls open inside each other (POV-Ray allows about 100). */
+#define CSG_PARSE_MAX_MACRO_DEPTH 100
+/* Directive blocks (#if, #while, #for, #switch) open inside each other. */
+#define CSG_PARSE_MAX_CONDS 256
+/* Tokens read in one parse, the ones skipped and re-read by loops and
+ * macro calls included: bounds the time a loop that never ends can take. */
+#define CSG_PARSE_MAX_TOKENS 100000000L
+/* Bytes of a scene or include file (only regular files are read). */
+#define CSG_PARSE_MAX_FILE (64L << 20)
+/* Elements of one array, and bytes of one string. */
+#define CSG_PARSE_MAX_ARRAY (1L << 22)
+#define CSG_PARSE_MAX_STRING (1L << 20)
+
+/* What the scene can see of the render, and where #include looks. */
+typedef struct {
+    int image_width, image_height; /* image_width, image_height; <= 0: 320 x 240 */
+    double clock;                  /* clock (--clock); 0 by default             */
+    const char *const *library_paths; /* folders searched by #include after the
+                                         including file's and the scene's       */
+    int library_path_count;
+    bool no_default_library;       /* do not add $CSGTRACE_LIBRARY_PATH (':'-
+                                      separated) and POV-Ray's include folder  */
+    long max_tokens;               /* <= 0: CSG_PARSE_MAX_TOKENS               */
+    FILE *messages;                /* #debug and #warning text; NULL: dropped  */
+} csg_parse_options;
+
+/* The defaults: 320 x 240, clock 0, the default library, no messages. */
+void csg_parse_options_default(csg_parse_options *o);
+/* The default library folders, in search order ($CSGTRACE_LIBRARY_PATH's,
+ * then POV-Ray's include folder when it exists): the i-th, NULL past the
+ * end. */
+const char *csg_default_library(int i);
+
 /* Parses a scene file. On failure returns false, d holds the one-line message
-   "file:line:col: error: ..." and *s is left empty (freed). */
+   "file:line:col: error: ..." and *s is left empty (freed).  o NULL: the
+   defaults. */
+bool csg_parse_file_opts(const char *path, const csg_parse_options *o, csg_scene *s,
+                         csg_diag *d);
 bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d);
-/* A reader of scene text (csg_parse_string, csg_nff_parse_string). */
-typedef bool (*csg_text_parser)(const char *name, const char *text, size_t len, csg_scene *s,
-                                csg_diag *d);
-/* Reads the file `path` and parses it with `parse` (csg_parse_file is
-   csg_parse_file_as(path, s, d, csg_parse_string)); the same contract. */
-bool csg_parse_file_as(const char *path, csg_scene *s, csg_diag *d, csg_text_parser parse);
+/* A reader of scene text (csg_parse_string_opts; NFF's through csg/load.c). */
+typedef bool (*csg_text_parser)(const char *name, const char *text, size_t len,
+                                const csg_parse_options *o, csg_scene *s, csg_diag *d);
+/* Reads the file `path` (a regular file of at most CSG_PARSE_MAX_FILE bytes)
+   and parses it with `parse` (csg_parse_file_opts is
+   csg_parse_file_as(path, o, s, d, csg_parse_string_opts)); the same contract. */
+bool csg_parse_file_as(const char *path, const csg_parse_options *o, csg_scene *s, csg_diag *d,
+                       csg_text_parser parse);
 /* Same from memory (tests, fuzzing); `name` is used in messages and #include
    paths are resolved relative to the directory of `name`. */
+bool csg_parse_string_opts(const char *name, const char *text, size_t len,
+                           const csg_parse_options *o, csg_scene *s, csg_diag *d);
 bool csg_parse_string(const char *name, const char *text, size_t len, csg_scene *s, csg_diag *d);
 
 /* The built-in colors.inc (colors.c): the number of colours, and the name

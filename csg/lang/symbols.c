@@ -1,19 +1,28 @@
 /*
  * symbols.c — the symbol table of the scene language: the names that
- * #declare (and #local: csgtrace has one global scope) bind to a value,
- * pigment, finish, texture, interior or object.
+ * #declare, #local, #macro, #for and macro parameters bind, in nested
+ * scopes, as POV-Ray 3.7 does.
  *
- * Algorithm: open addressing with linear probing on a 64-bit FNV-1a hash
- * of the name; the table of pointers is malloc'd (256 slots to start) and
- * doubled before it would become more than half full.  Symbols and their
- * names live in the scene's arena.  Declaring a name again replaces the
- * symbol's contents in place, whatever the old and new kinds.
+ * Scopes: scope 0 is the global one; every #include file and every macro
+ * call opens one (closed at its end).  #declare binds in the innermost
+ * scope that already binds the name, else in the global scope; #local (and
+ * a parameter, a #for variable) binds in the innermost scope, hiding any
+ * outer binding until that scope closes.  Lookups find the innermost
+ * binding.
  *
- * Invariants: sym_cap is 0 or a power of two with 2 * sym_count <= sym_cap,
- * so every probe ends at an empty slot; a symbol, once created, stays at the
- * same address until the parse ends.
+ * Algorithm: an open-addressing hash (linear probing, 64-bit FNV-1a) of
+ * every name ever bound; each slot keeps the innermost binding, and each
+ * symbol the binding it hides (`shadowed`), so a lookup is one probe and
+ * closing a scope restores the hidden bindings.  The table is doubled
+ * before it is half full; names are never removed (a name whose bindings
+ * are all gone keeps an empty slot).  Symbols are malloc'd and freed with
+ * their scope; what they hold is freed with them (lang_datum_free).
  *
- * Messages on a lookup, Lua-style, at the identifier:
+ * Invariants: name_cap is 0 or a power of two with 2 * name_used <=
+ * name_cap; along a name's chain (top, shadowed, ...) the scopes strictly
+ * decrease; scopes.data[k] lists the symbols of scope k, newest first.
+ *
+ * Messages on a lookup, Lua-style, at the identifier (declare.c):
  *   undeclared identifier 'R'
  *   'R' is a float, not a pigment
  */
@@ -31,127 +40,212 @@ static uint64_t hash_name(const char *s, size_t len)
     return h;
 }
 
-static symbol **sym_slot(symbol **table, size_t cap, const char *name, size_t len)
+static struct lang_name *name_slot(struct lang_name *table, size_t cap, const char *name,
+                                   size_t len)
 {
     size_t i = (size_t)hash_name(name, len) & (cap - 1);
-    while (table[i] && !(table[i]->len == len && memcmp(table[i]->name, name, len) == 0))
+    while (table[i].name && !(table[i].len == len && memcmp(table[i].name, name, len) == 0))
         i = (i + 1) & (cap - 1);
     return &table[i];
 }
 
-static symbol *sym_find(const parser *p, const char *name, size_t len)
+static struct lang_name *name_find(parser *p, const char *name, size_t len)
 {
-    if (!p->sym_cap)
+    if (!p->name_cap)
         return NULL;
-    return *sym_slot(p->syms, p->sym_cap, name, len);
+    struct lang_name *n = name_slot(p->names, p->name_cap, name, len);
+    return n->name ? n : NULL;
 }
 
-/* The symbol `name`, created (zeroed, kind SYM_VALUE) when new. */
-static symbol *sym_define(parser *p, const char *name, size_t len)
+static bool names_grow(parser *p)
 {
-    if ((p->sym_count + 1) * 2 > p->sym_cap) {
-        size_t cap = p->sym_cap ? p->sym_cap * 2 : 256;
-        symbol **table = calloc(cap, sizeof *table);
-        if (!table) {
-            lang_oom(p);
-            return NULL;
-        }
-        for (size_t i = 0; i < p->sym_cap; i++)
-            if (p->syms[i])
-                *sym_slot(table, cap, p->syms[i]->name, p->syms[i]->len) = p->syms[i];
-        free(p->syms);
-        p->syms = table;
-        p->sym_cap = cap;
-    }
-    symbol **slot = sym_slot(p->syms, p->sym_cap, name, len);
-    if (!*slot) {
-        symbol *sym = lang_alloc(p, sizeof *sym);
-        char *copy = lang_strndup(p, name, len);
-        if (!sym || !copy)
-            return NULL;
-        sym->name = copy;
-        sym->len = len;
-        *slot = sym;
-        p->sym_count++;
-    }
-    return *slot;
-}
-
-/* Declares `name` as *def: a new symbol, or an old one of any kind
- * replaced in place (its arena copy of the name is kept). */
-bool lang_sym_set(parser *p, const char *name, size_t len, const symbol *def)
-{
-    symbol *sym = sym_define(p, name, len);
-    if (!sym)
-        return false;
-    const char *keep = sym->name;
-    size_t keep_len = sym->len;
-    *sym = *def;
-    sym->name = keep;
-    sym->len = keep_len;
+    size_t cap = p->name_cap ? p->name_cap * 2 : 256;
+    struct lang_name *table = calloc(cap, sizeof *table);
+    if (!table)
+        return lang_oom(p);
+    for (size_t i = 0; i < p->name_cap; i++)
+        if (p->names[i].name)
+            *name_slot(table, cap, p->names[i].name, p->names[i].len) = p->names[i];
+    free(p->names);
+    p->names = table;
+    p->name_cap = cap;
     return true;
 }
 
-static const char *sym_kind_name(const symbol *sym)
+/* The slot of `name`, created when new. */
+static struct lang_name *name_get(parser *p, const char *name, size_t len)
 {
-    switch (sym->kind) {
+    struct lang_name *n = name_find(p, name, len);
+    if (n)
+        return n;
+    if ((p->name_used + 1) * 2 > p->name_cap && !names_grow(p))
+        return NULL;
+    n = name_slot(p->names, p->name_cap, name, len);
+    n->name = malloc(len + 1);
+    if (!n->name) {
+        lang_oom(p);
+        return NULL;
+    }
+    memcpy(n->name, name, len);
+    n->name[len] = '\0';
+    n->len = len;
+    n->top = NULL;
+    p->name_used++;
+    return n;
+}
+
+symbol *lang_sym_find(parser *p, const char *name, size_t len)
+{
+    struct lang_name *n = name_find(p, name, len);
+    return n ? n->top : NULL;
+}
+
+/* A new binding of n in `scope`, hiding n's current one (which is in an
+ * outer scope, or none when scope is the global one). */
+static symbol *bind(parser *p, struct lang_name *n, int scope, csg_loc at)
+{
+    symbol *sym = calloc(1, sizeof *sym);
+    if (!sym) {
+        lang_oom(p);
+        return NULL;
+    }
+    sym->name = n->name;
+    sym->len = n->len;
+    sym->d.kind = SYM_VALUE;
+    sym->d.u.val.dim = 1;
+    sym->scope = scope;
+    sym->declared_at = at;
+    symbol **head = (symbol **)p->scopes.data + scope;
+    sym->shadowed = n->top; /* NULL for a new global: see lang_sym_declare */
+    n->top = sym;
+    sym->next_in_scope = *head;
+    *head = sym;
+    return sym;
+}
+
+symbol *lang_sym_declare(parser *p, const char *name, size_t len, csg_loc at)
+{
+    struct lang_name *n = name_get(p, name, len);
+    if (!n)
+        return NULL;
+    return n->top ? n->top : bind(p, n, 0, at);
+}
+
+symbol *lang_sym_local(parser *p, const char *name, size_t len, csg_loc at)
+{
+    struct lang_name *n = name_get(p, name, len);
+    if (!n)
+        return NULL;
+    int scope = p->scopes.count - 1;
+    return n->top && n->top->scope == scope ? n->top : bind(p, n, scope, at);
+}
+
+static void sym_free(symbol *sym)
+{
+    lang_datum_free(&sym->d);
+    free(sym);
+}
+
+bool lang_sym_undef(parser *p, const char *name, size_t len)
+{
+    struct lang_name *n = name_find(p, name, len);
+    if (!n || !n->top)
+        return false;
+    symbol *sym = n->top;
+    symbol **link = (symbol **)p->scopes.data + sym->scope;
+    while (*link != sym)
+        link = &(*link)->next_in_scope;
+    *link = sym->next_in_scope;
+    n->top = sym->shadowed;
+    sym_free(sym);
+    return true;
+}
+
+bool lang_scope_push(parser *p)
+{
+    symbol *none = NULL;
+    return lang_vec_push(p, &p->scopes, sizeof none, &none);
+}
+
+void lang_scope_pop(parser *p)
+{
+    symbol *sym = ((symbol **)p->scopes.data)[p->scopes.count - 1];
+    while (sym) {
+        symbol *next = sym->next_in_scope;
+        struct lang_name *n = name_find(p, sym->name, sym->len);
+        n->top = sym->shadowed;
+        sym_free(sym);
+        sym = next;
+    }
+    p->scopes.count--;
+}
+
+void lang_sym_assign(symbol *sym, datum *d)
+{
+    lang_datum_free(&sym->d);
+    sym->d = *d;
+}
+
+const char *lang_kind_name(const datum *d)
+{
+    switch (d->kind) {
     case SYM_VALUE:
-        return sym->val.dim == 1 ? "a float" : sym->val.dim == 5 ? "a color" : "a vector";
+        return d->u.val.dim == 1 ? "a float" : d->u.val.dim == 5 ? "a color" : "a vector";
+    case SYM_STRING: return "a string";
     case SYM_PIGMENT: return "a pigment";
     case SYM_FINISH: return "a finish";
     case SYM_TEXTURE: return "a texture";
     case SYM_INTERIOR: return "an interior";
     case SYM_OBJECT: return "an object";
+    case SYM_COLOR_MAP: return "a color_map";
+    case SYM_CAMERA: return "a camera";
+    case SYM_SKY: return "a sky_sphere";
+    case SYM_ARRAY: return "an array";
+    case SYM_MACRO: return "a macro";
+    case SYM_UNSUPPORTED: return "an unsupported declaration";
     }
     return "?";
 }
 
-/* The declared symbol named by the current identifier, of kind `want`:
- * "undeclared identifier 'R'" or "'R' is a float, not a pigment". */
-bool lang_lookup(parser *p, enum sym_kind want, const char *want_name, symbol **out)
+static bool declare_value(parser *p, const char *name, const value *v)
 {
-    symbol *sym = sym_find(p, p->tok.text, p->tok.len);
-    if (!sym) {
-        csg_error(p->d, p->tok.loc, "undeclared identifier '%.*s'", (int)p->tok.len, p->tok.text);
+    symbol *sym = lang_sym_declare(p, name, strlen(name), (csg_loc){"<built-in>", 0, 0});
+    if (!sym)
         return false;
-    }
-    if (sym->kind != want) {
-        csg_error(p->d, p->tok.loc, "'%.*s' is %s, not %s", (int)p->tok.len, p->tok.text,
-                  sym_kind_name(sym), want_name);
-        return false;
-    }
-    *out = sym;
-    return lang_next(p);
+    datum d;
+    memset(&d, 0, sizeof d);
+    d.kind = SYM_VALUE;
+    d.u.val = *v;
+    lang_sym_assign(sym, &d);
+    return true;
 }
 
-/* The current identifier's symbol when it is declared with kind `kind`. */
-symbol *lang_peek_sym(const parser *p, enum sym_kind kind)
-{
-    if (!lang_is_ident(p))
-        return NULL;
-    symbol *sym = sym_find(p, p->tok.text, p->tok.len);
-    return sym && sym->kind == kind ? sym : NULL;
-}
-
-/* #include "colors.inc": every built-in colour (colors.c), a 5-vector. */
+/* #include "colors.inc" found nowhere: every built-in colour (colors.c). */
 bool lang_declare_builtin_colors(parser *p)
 {
     for (int i = 0; i < csg_builtin_color_count(); i++) {
-        double c[5];
-        const char *name = csg_builtin_color_at(i, c);
-        symbol *sym = sym_define(p, name, strlen(name));
-        if (!sym)
+        value v = {5, {0}};
+        const char *name = csg_builtin_color_at(i, v.v);
+        if (!declare_value(p, name, &v))
             return false;
-        sym->kind = SYM_VALUE;
-        sym->val.dim = 5;
-        memcpy(sym->val.v, c, sizeof c);
     }
     return true;
 }
 
+bool lang_declare_predefined(parser *p)
+{
+    value w = {1, {p->opt.image_width}}, h = {1, {p->opt.image_height}};
+    return declare_value(p, "image_width", &w) && declare_value(p, "image_height", &h);
+}
+
 void lang_symbols_free(parser *p)
 {
-    free(p->syms);
-    p->syms = NULL;
-    p->sym_cap = p->sym_count = 0;
+    while (p->scopes.count > 0)
+        lang_scope_pop(p);
+    for (size_t i = 0; i < p->name_cap; i++)
+        free(p->names[i].name);
+    free(p->names);
+    free(p->scopes.data);
+    p->names = NULL;
+    p->name_cap = p->name_used = 0;
 }

@@ -1,0 +1,489 @@
+/*
+ * texture.c — pigments (plain colours, checker and gradient with their
+ * colour maps), colour maps, finishes, textures, interiors, and the
+ * transforms that objects, lights, cameras and pigments share.
+ *
+ *   pigment { [PIGMENT_ID] [checker [COLOR [,] [COLOR]] | gradient VECTOR | COLOR]
+ *             { color_map { ... } | frequency F | phase F | ramp_wave | TRANSFORM } }
+ *   color_map { COLOR_MAP_ID | [F COLOR] ... | [F, F COLOR COLOR] ... }
+ *   texture { [TEXTURE_ID] [PIGMENT_ID] [FINISH_ID] { pigment {} | finish {} | TRANSFORM } }
+ *
+ * POV-Ray 3.7's semantics: a pigment starts from its identifier or from
+ * the current one; checker keeps the colours given (blue and green by
+ * default) as a two-entry map; gradient normalises its vector and starts
+ * with the black-to-white map; a colour map keeps its entries in order,
+ * merging an entry equal to the one before.  The transforms of a pigment
+ * (and of a texture, and of the objects it is given to afterwards,
+ * parser.c) compose into its xform, pattern space -> world.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "parse_internal.h"
+
+/* ---- transforms ------------------------------------------------------------ */
+
+bool lang_is_transform(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_TRANSLATE) || lang_is_kw(p, CSG_KW_ROTATE) ||
+           lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX);
+}
+
+/* matrix <m00, m01, m02, m10, ..., m32>: POV-Ray's row-vector form,
+ * p' = p M, applied after the transforms before it. */
+static bool parse_matrix(parser *p, csg_xform *x)
+{
+    if (!lang_next(p))
+        return false;
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_is_punct(p, '<')) {
+        csg_error(p->d, open, "'<' expected after 'matrix'");
+        return false;
+    }
+    if (!lang_enter(p, open) || !lang_next(p))
+        return false;
+    double m[12];
+    for (int i = 0; i < 12; i++) {
+        csg_loc at;
+        if (!lang_parse_float(p, &m[i], &at))
+            return false;
+        if (i < 11) {
+            if (!lang_is_punct(p, ',')) {
+                csg_error(p->d, lang_tok(p)->loc, "matrix needs 12 numbers separated by ','");
+                return false;
+            }
+            if (!lang_next(p))
+                return false;
+        }
+    }
+    if (!lang_is_punct(p, '>'))
+        return lang_expected_close(p, '>', "<", open);
+    lang_leave(p);
+    csg_xform t;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            t.m[i][j] = m[3 * j + i]; /* column j of ours is row j of POV-Ray's */
+    csg_xform inv;
+    if (!csg_xform_invert(&t, &inv)) {
+        csg_error(p->d, open, "matrix is singular");
+        return false;
+    }
+    csg_xform_then(x, &t, x);
+    return lang_next(p);
+}
+
+bool lang_parse_transform(parser *p, csg_xform *x)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at;
+    dvec3 v;
+    if (kw == CSG_KW_MATRIX)
+        return parse_matrix(p, x);
+    if (!lang_next(p) || !lang_parse_vector(p, &v, &at))
+        return false;
+    if (kw == CSG_KW_TRANSLATE) {
+        csg_xform_translate(x, v);
+    } else if (kw == CSG_KW_ROTATE) {
+        csg_xform_rotate(x, v);
+    } else {
+        if (v.x == 0 || v.y == 0 || v.z == 0) {
+            csg_error(p->d, at, "scale by zero");
+            return false;
+        }
+        csg_xform_scale(x, v);
+    }
+    return true;
+}
+
+void lang_pigment_transform(csg_pigment *pig, const csg_xform *x)
+{
+    csg_xform_then(&pig->xform, x, &pig->xform);
+}
+
+/* A transform of the current token applied to a pigment. */
+static bool transform_pigment(parser *p, csg_pigment *pig)
+{
+    csg_xform x;
+    csg_xform_identity(&x);
+    if (!lang_parse_transform(p, &x))
+        return false;
+    lang_pigment_transform(pig, &x);
+    return true;
+}
+
+/* ---- colour maps ---------------------------------------------------------------- */
+
+/* Appends an entry, merging it with an equal last one (POV-Ray). */
+static bool map_add(parser *p, csg_map_entry *e, int *n, const csg_map_entry *add, csg_loc at)
+{
+    if (*n > 0 && memcmp(&e[*n - 1], add, sizeof *add) == 0)
+        return true;
+    if (*n == CSG_MAP_MAX) {
+        csg_error(p->d, at, "a color_map has at most %d entries", CSG_MAP_MAX);
+        return false;
+    }
+    e[(*n)++] = *add;
+    return true;
+}
+
+/* [F COLOR] or [F, F COLOR COLOR] (the old two-colour form). */
+static bool parse_map_entry(parser *p, csg_map_entry *e, int *n)
+{
+    csg_loc open = lang_tok(p)->loc;
+    csg_map_entry a, b;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    if (!lang_enter(p, open) || !lang_next(p) || !lang_parse_float(p, &a.value, NULL))
+        return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    bool two = false;
+    if (!lang_is_kw(p, CSG_KW_COLOR) && !lang_is_color_item(p) && lang_is_expr_start(p)) {
+        value v; /* a float: the old form; a colour expression: the colour */
+        if (!lang_parse_full_expr(p, &v))
+            return false;
+        if (v.dim == 1) {
+            two = true;
+            b.value = v.v[0];
+            if (!lang_parse_color(p, a.rgbft) || !lang_parse_color(p, b.rgbft))
+                return false;
+        } else if (v.dim == 5) {
+            memcpy(a.rgbft, v.v, sizeof a.rgbft);
+        } else {
+            csg_error(p->d, open, "a color expected in the color_map entry, got %s",
+                      lang_dim_name(v.dim));
+            return false;
+        }
+    } else if (!lang_parse_color(p, a.rgbft)) {
+        return false;
+    }
+    if (!lang_is_punct(p, ']'))
+        return lang_expected_close(p, ']', "[", open);
+    lang_leave(p);
+    return map_add(p, e, n, &a, open) && (!two || map_add(p, e, n, &b, open)) && lang_next(p);
+}
+
+static bool save_map(parser *p, const csg_map_entry *e, int n, lang_color_map *out)
+{
+    csg_map_entry *copy = lang_alloc(p, (size_t)n * sizeof *copy);
+    if (!copy)
+        return false;
+    memcpy(copy, e, (size_t)n * sizeof *copy);
+    out->count = n;
+    out->entries = copy;
+    return true;
+}
+
+bool lang_parse_color_map(parser *p, lang_color_map *out)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "color_map"))
+        return false;
+    if (lang_names(p, SYM_COLOR_MAP)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_COLOR_MAP, "a color_map", &d))
+            return false;
+        *out = d->u.cmap;
+    } else {
+        csg_map_entry e[CSG_MAP_MAX];
+        int n = 0;
+        while (lang_is_punct(p, '['))
+            if (!parse_map_entry(p, e, &n))
+                return false;
+        if (n == 0)
+            return lang_expected(p, "'[' expected (a color_map entry)");
+        if (!save_map(p, e, n, out))
+            return false;
+    }
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "color_map", open);
+    return lang_next(p);
+}
+
+/* ---- pigments --------------------------------------------------------------------- */
+
+/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green. */
+static bool parse_checker(parser *p, csg_pigment *pig)
+{
+    csg_map_entry e[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
+    if (!lang_next(p))
+        return false;
+    if (lang_is_kw(p, CSG_KW_PIGMENT))
+        return lang_unsupported(p, "'checker' of pigments", p->tok.loc);
+    for (int i = 0; i < 2 && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
+        if (!lang_parse_color(p, e[i].rgbft) || (lang_is_punct(p, ',') && !lang_next(p)))
+            return false;
+    lang_color_map m;
+    if (!save_map(p, e, 2, &m))
+        return false;
+    pig->pattern = CSG_PATTERN_CHECKER;
+    pig->frequency = 0; /* POV-Ray: the checker's value is not waved */
+    pig->map_count = 2;
+    pig->map = m.entries;
+    return true;
+}
+
+/* gradient VECTOR: the unit vector, the black-to-white map. */
+static bool parse_gradient(parser *p, csg_pigment *pig)
+{
+    static const csg_map_entry gray[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+    csg_loc at;
+    dvec3 g;
+    if (!lang_next(p) || !lang_parse_vector(p, &g, &at))
+        return false;
+    double len = sqrt(g.x * g.x + g.y * g.y + g.z * g.z);
+    if (!(len > 0) || !isfinite(len)) {
+        csg_error(p->d, at, "gradient needs a non-zero vector");
+        return false;
+    }
+    pig->pattern = CSG_PATTERN_GRADIENT;
+    pig->gradient = (dvec3){g.x / len, g.y / len, g.z / len};
+    pig->map_count = 2;
+    pig->map = gray;
+    return true;
+}
+
+/* What comes first: a pattern or a colour (or neither). */
+static bool parse_pattern(parser *p, csg_pigment *pig)
+{
+    if (lang_is_kw(p, CSG_KW_CHECKER))
+        return parse_checker(p, pig);
+    if (lang_is_kw(p, CSG_KW_GRADIENT))
+        return parse_gradient(p, pig);
+    if (lang_is_punct(p, '}') || !lang_is_color_start(p))
+        return true;
+    double c[5];
+    if (!lang_parse_color(p, c))
+        return false;
+    csg_pigment_default(pig); /* a plain colour: nothing of a pattern is left */
+    memcpy(pig->rgbft, c, sizeof c);
+    return true;
+}
+
+/* The modifiers after the pattern, up to the closing brace. */
+static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
+{
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        bool ok;
+        csg_loc at = lang_tok(p)->loc;
+        if (lang_is_transform(p)) {
+            ok = transform_pigment(p, pig);
+        } else if (lang_is_kw(p, CSG_KW_COLOR_MAP)) {
+            lang_color_map m;
+            if (pig->pattern != CSG_PATTERN_GRADIENT) {
+                csg_error(p->d, at, "a color_map needs a pattern that takes one (gradient)");
+                return false;
+            }
+            ok = lang_parse_color_map(p, &m);
+            pig->map_count = m.count;
+            pig->map = m.entries;
+        } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
+            double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
+            ok = lang_next(p) && lang_parse_float(p, f, NULL);
+        } else if (lang_is_kw(p, CSG_KW_RAMP_WAVE)) {
+            ok = lang_next(p);
+        } else {
+            return lang_expected_close(p, '}', "pigment", open);
+        }
+        if (!ok)
+            return false;
+    }
+}
+
+/* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
+bool lang_parse_pigment(parser *p, csg_pigment *pig)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "pigment"))
+        return false;
+    if (lang_names(p, SYM_PIGMENT)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_PIGMENT, "a pigment", &d))
+            return false;
+        *pig = d->u.pigment;
+    }
+    return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, open);
+}
+
+/* ---- sky_sphere ------------------------------------------------------------------- */
+
+bool lang_parse_sky_sphere(parser *p, csg_sky *sky)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "sky_sphere"))
+        return false;
+    memset(sky, 0, sizeof *sky);
+    sky->emission[0] = sky->emission[1] = sky->emission[2] = 1;
+    csg_xform_identity(&sky->xform);
+    if (lang_names(p, SYM_SKY)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_SKY, "a sky_sphere", &d))
+            return false;
+        *sky = *d->u.sky;
+    }
+    for (;;) {
+        bool ok;
+        csg_loc at = lang_tok(p)->loc;
+        if (lang_is_punct(p, '}'))
+            break;
+        if (lang_is_kw(p, CSG_KW_PIGMENT)) {
+            if (sky->count == CSG_SKY_MAX) {
+                csg_error(p->d, at, "a sky_sphere has at most %d pigments", CSG_SKY_MAX);
+                return false;
+            }
+            csg_pigment_default(&sky->pigments[sky->count]); /* POV-Ray: a new pigment */
+            ok = lang_parse_pigment(p, &sky->pigments[sky->count++]);
+        } else if (lang_is_kw(p, CSG_KW_EMISSION)) {
+            ok = lang_next(p) && lang_parse_rgb(p, sky->emission);
+        } else if (lang_is_transform(p)) {
+            ok = lang_parse_transform(p, &sky->xform);
+        } else {
+            return lang_expected_close(p, '}', "sky_sphere", open);
+        }
+        if (!ok)
+            return false;
+    }
+    if (sky->count == 0) {
+        csg_error(p->d, open, "a sky_sphere needs a pigment");
+        return false;
+    }
+    return lang_next(p);
+}
+
+/* ---- finish, texture, interior ---------------------------------------------------- */
+
+bool lang_parse_finish(parser *p, csg_finish *f)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "finish"))
+        return false;
+    if (lang_names(p, SYM_FINISH)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_FINISH, "a finish", &d))
+            return false;
+        *f = d->u.finish;
+    }
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (lang_tok(p)->kind != CSG_TOK_WORD)
+            return lang_expected_close(p, '}', "finish", open);
+        enum csg_kw kw = p->tok.kw;
+        double *target = NULL;
+        switch (kw) {
+        case CSG_KW_AMBIENT:
+            if (!lang_next(p) || !lang_parse_rgb(p, f->ambient))
+                return false;
+            continue;
+        case CSG_KW_REFLECTION: {
+            csg_loc at = p->tok.loc;
+            if (!lang_next(p))
+                return false;
+            if (lang_is_punct(p, '{')) /* POV-Ray 3.5's block, fresnel and all */
+                return lang_unsupported(p, "'reflection { }'", at);
+            if (!lang_parse_rgb(p, f->reflection))
+                return false;
+            continue;
+        }
+        case CSG_KW_EMISSION:
+            return lang_unsupported(p, "'emission'", p->tok.loc);
+        case CSG_KW_DIFFUSE: target = &f->diffuse; break;
+        case CSG_KW_SPECULAR: target = &f->specular; break;
+        case CSG_KW_ROUGHNESS: target = &f->roughness; break;
+        case CSG_KW_PHONG: target = &f->phong; break;
+        case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
+        default:
+            return lang_expected_close(p, '}', "finish", open);
+        }
+        csg_loc at;
+        if (!lang_next(p) || !lang_parse_float(p, target, &at))
+            return false;
+        if (kw == CSG_KW_ROUGHNESS && !(*target > 0)) {
+            csg_error(p->d, at, "roughness must be > 0, got %g", *target);
+            return false;
+        }
+        if (kw == CSG_KW_PHONG_SIZE && *target < 0) {
+            csg_error(p->d, at, "phong_size must be >= 0, got %g", *target);
+            return false;
+        }
+    }
+}
+
+/* [TEXTURE_ID] then, as POV-Ray allows, [PIGMENT_ID] [FINISH_ID]. */
+static bool parse_texture_ids(parser *p, csg_texture *t)
+{
+    const datum *d;
+    if (lang_names(p, SYM_TEXTURE)) {
+        if (!lang_lookup(p, SYM_TEXTURE, "a texture", &d))
+            return false;
+        *t = d->u.texture;
+    }
+    if (lang_names(p, SYM_PIGMENT)) {
+        if (!lang_lookup(p, SYM_PIGMENT, "a pigment", &d))
+            return false;
+        t->pigment = d->u.pigment;
+    }
+    if (lang_names(p, SYM_FINISH)) {
+        if (!lang_lookup(p, SYM_FINISH, "a finish", &d))
+            return false;
+        t->finish = d->u.finish;
+    }
+    return true;
+}
+
+/* texture { [TEXTURE_ID] (pigment {..} | finish {..} | TRANSFORM)* }; starts
+ * from the default texture (#default) and replaces *t. */
+bool lang_parse_texture(parser *p, csg_texture *t)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "texture"))
+        return false;
+    *t = p->default_texture;
+    if (!parse_texture_ids(p, t))
+        return false;
+    for (;;) {
+        bool ok;
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (lang_is_kw(p, CSG_KW_PIGMENT))
+            ok = lang_parse_pigment(p, &t->pigment);
+        else if (lang_is_kw(p, CSG_KW_FINISH))
+            ok = lang_parse_finish(p, &t->finish);
+        else if (lang_is_transform(p))
+            ok = transform_pigment(p, &t->pigment);
+        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT))
+            return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
+        else
+            return lang_expected_close(p, '}', "texture", open);
+        if (!ok)
+            return false;
+    }
+}
+
+bool lang_parse_interior(parser *p, csg_interior *in)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "interior"))
+        return false;
+    if (lang_names(p, SYM_INTERIOR)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_INTERIOR, "an interior", &d))
+            return false;
+        *in = d->u.interior;
+    }
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (!lang_is_kw(p, CSG_KW_IOR))
+            return lang_expected_close(p, '}', "interior", open);
+        csg_loc at;
+        if (!lang_next(p) || !lang_parse_float(p, &in->ior, &at))
+            return false;
+        if (!(in->ior > 0)) {
+            csg_error(p->d, at, "ior must be > 0, got %g", in->ior);
+            return false;
+        }
+    }
+}

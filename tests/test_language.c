@@ -1,0 +1,550 @@
+/*
+ * test_language.c — the scene language beyond single statements: the
+ * directives run at the token level (#if ... #end, #while, #for, #switch,
+ * #macro, #local scopes, #undef, #default), arrays, strings, the built-in
+ * functions (POV-Ray's numbers, seed/rand's exact sequence), image_width,
+ * image_height and clock, the camera's fixed order, patterns, declarations
+ * that use unsupported constructs, the limits, and the front end's
+ * reliability (byte-order mark, long messages, what #include reads, the
+ * macro/include chain in messages, content of non-scene files never shown).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../csg/lang/parser.h"
+
+/* ---- helpers ------------------------------------------------------------- */
+
+static csg_parse_options quiet(void)
+{
+    csg_parse_options o;
+    csg_parse_options_default(&o);
+    o.no_default_library = true; /* colors.inc: the built-in one */
+    return o;
+}
+
+static void parse_ok_opts(const char *text, const csg_parse_options *o, csg_scene *s)
+{
+    csg_diag d;
+    memset(&d, 0, sizeof d);
+    if (!csg_parse_string_opts("t.pov", text, strlen(text), o, s, &d))
+        fail_msg("unexpected parse error: %s\n--- input:\n%s", d.message, text);
+}
+
+static void parse_ok(const char *text, csg_scene *s)
+{
+    csg_parse_options o = quiet();
+    parse_ok_opts(text, &o, s);
+}
+
+/* The message of a failing parse (static buffer). */
+static const char *parse_fail_opts(const char *text, const csg_parse_options *o)
+{
+    static csg_diag d;
+    csg_scene s;
+    memset(&d, 0, sizeof d);
+    if (csg_parse_string_opts("t.pov", text, strlen(text), o, &s, &d)) {
+        csg_scene_free(&s);
+        fail_msg("parse succeeded, expected a failure:\n%s", text);
+    }
+    assert_null(s.arena);
+    return d.message;
+}
+
+static void parse_err(const char *text, const char *message)
+{
+    csg_parse_options o = quiet();
+    assert_string_equal(parse_fail_opts(text, &o), message);
+}
+
+#define EPS 1e-12
+static void assert_near(double a, double b)
+{
+    if (!(fabs(a - b) <= EPS * (1 + fabs(b))))
+        fail_msg("%.17g != %.17g", a, b);
+}
+
+/* The radii of the scene's top-level objects, in order. */
+static void assert_radii(const char *text, const double *want, int n)
+{
+    csg_scene s;
+    parse_ok(text, &s);
+    if (s.object_count != n)
+        fail_msg("%d objects, expected %d:\n%s", s.object_count, n, text);
+    for (int i = 0; i < n; i++)
+        assert_near(s.objects[i]->r0, want[i]);
+    csg_scene_free(&s);
+}
+
+/* ---- conditionals -------------------------------------------------------------- */
+
+static void test_conditionals(void **state)
+{
+    (void)state;
+    static const double a[] = {1, 3, 5, 6, 8, 9};
+    assert_radii("#declare A = 2;\n"
+                 "#if (A = 2) sphere { 0, 1 } #else sphere { 0, 2 } #end\n"
+                 "#if (A > 5) sphere { 0, 2 } #elseif (A < 1) sphere { 0, 4 } #elseif (A) sphere { 0, 3 }"
+                 " #else sphere { 0, 4 } #end\n"
+                 "#ifdef (A) sphere { 0, 5 } #end #ifndef (B) sphere { 0, 6 } #end\n"
+                 "#ifdef (B) #if (1) sphere { 0, 7 } #end #else sphere { 0, 8 } #end\n"
+                 "sphere { 0, #if (A = 2) 9 #else 10 #end }\n", a, 6);
+    /* directives anywhere tokens may be: inside blocks and expressions */
+    csg_scene s;
+    parse_ok("union { #declare R = 0.5; sphere { 0, R } #if (1) sphere { x, R * 2 } #end\n"
+             "  #local T = 3; translate T * y }\n", &s);
+    assert_int_equal(s.objects[0]->child_count, 2);
+    assert_near(s.objects[0]->children[1]->r0, 1);
+    assert_near(s.objects[0]->xform.m[1][3], 3);
+    csg_scene_free(&s);
+}
+
+/* ---- loops and switch ------------------------------------------------------------ */
+
+static void test_loops(void **state)
+{
+    (void)state;
+    static const double a[] = {1, 2, 3, 10, 8, 6, 0.5, 1};
+    assert_radii("#declare I = 1; #while (I <= 3) sphere { 0, I } #declare I = I + 1; #end\n"
+                 "#for (J, 10, 5, -2) sphere { 0, J } #end\n"
+                 "#for (K, 0.5, 1, 0.5) sphere { 0, K } #end\n"
+                 "#for (K, 1, 0) sphere { 0, 99 } #end\n", a, 8);
+    static const double b[] = {1, 2, 4, 5};
+    assert_radii("#declare I = 0;\n"
+                 "#while (1) #declare I = I + 1; #if (I = 3) #break #end sphere { 0, I } #end\n"
+                 "#for (K, 4, 100) #if (K > 5) #break #end sphere { 0, K } #end\n", b, 4);
+    /* #switch: the first match, falling through to #break; #range; #else */
+    static const double c[] = {2, 3, 7, 9};
+    assert_radii("#switch (2)\n"
+                 "  #case (1) sphere { 0, 1 } #break\n"
+                 "  #case (2) sphere { 0, 2 }\n"
+                 "  #case (3) sphere { 0, 3 } #break\n"
+                 "  #else sphere { 0, 4 }\n"
+                 "#end\n"
+                 "#switch (5.5) #range (1, 5) sphere { 0, 6 } #break #range (5, 6) sphere { 0, 7 } #end\n"
+                 "#switch (100) #case (1) sphere { 0, 8 } #else sphere { 0, 9 } #end\n", c, 4);
+}
+
+/* ---- macros and scopes ----------------------------------------------------------------- */
+
+static void test_macros(void **state)
+{
+    (void)state;
+    static const double a[] = {120, 2, 3, 0.25, 7, 1};
+    assert_radii("#macro Fact(N) #if (N <= 1) 1 #else N * Fact(N - 1) #end #end\n"
+                 "sphere { 0, Fact(5) }\n"
+                 "#macro Ball(P, R) sphere { P, R } #end\n"
+                 "Ball(x, 2)\n"
+                 "#declare G = 1;\n"
+                 "#macro SetG(V) #declare G = V; #local L = 99; #end\n"
+                 "SetG(3) sphere { 0, G }\n"
+                 "#ifdef (L) sphere { 0, 100 } #end\n"
+                 "#macro Half(V) (V / 2) #end\n"
+                 "sphere { 0, Half(Half(1)) }\n"
+                 "#declare X = 5;\n"
+                 "#macro Shadow(X) #local X = X + 2; X #end\n"
+                 "sphere { 0, Shadow(X) }\n"
+                 "#macro Early() 1 #break 2 #end\n"
+                 "sphere { 0, Early() }\n", a, 6);
+    /* a macro's #local does not outlive the call; parameters neither */
+    parse_err("#macro M(P) #local Q = 1; #end M(2)\nsphere { 0, Q }",
+              "t.pov:2:13: error: undeclared identifier 'Q'");
+    parse_err("#macro M(A, B) A #end\nsphere { 0, M(1) }",
+              "t.pov:2:16: error: macro 'M' expects 2 arguments, got 1");
+}
+
+/* ---- arrays ------------------------------------------------------------------------------ */
+
+static void test_arrays(void **state)
+{
+    (void)state;
+    static const double a[] = {2, 4, 6, 3, 2, 3, 1};
+    assert_radii("#declare A = array[3] {2, 4, 6};\n"
+                 "#for (I, 0, 2) sphere { 0, A[I] } #end\n"
+                 "#declare M = array[2][3] { {1, 2, 3}, {4, 5, 6} };\n"
+                 "sphere { 0, M[0][2] }\n"
+                 "sphere { 0, dimensions(M) } sphere { 0, dimension_size(M, 2) }\n"
+                 "#declare O = array[2];\n"
+                 "#declare O[1] = sphere { 0, 1 }\n"
+                 "#ifdef (O[0]) sphere { 0, 9 } #end\n"
+                 "object { O[1] }\n", a, 7);
+    parse_err("#declare A = array[2];\nsphere { 0, A[1] }",
+              "t.pov:2:13: error: element of array 'A' used before it is set");
+    parse_err("#declare A = array[2] {1, 2};\nsphere { 0, A[2] }",
+              "t.pov:2:13: error: subscript 2 of 'A' out of range (0 to 1)");
+    parse_err("#declare A = array[2] {1};",
+              "t.pov:1:25: error: array initialiser: 2 elements expected, got 1");
+    parse_err("#declare A = array[2] {1, sphere { 0, 1 }};",
+              "t.pov:1:27: error: an array holds one kind of element: this one is an object, the "
+              "array's are not");
+}
+
+/* ---- strings -------------------------------------------------------------------------------- */
+
+static void test_strings(void **state)
+{
+    (void)state;
+    static const double a[] = {7, 1, 3, 65, 1, 1e-9, 2.5};
+    assert_radii("#declare S = concat(\"ab\", str(3.14159, 0, 2), chr(65));\n" /* ab3.14A */
+                 "sphere { 0, strlen(S) }\n"
+                 "sphere { 0, (S = \"ab3.14A\") }\n"
+                 "sphere { 0, strlen(substr(S, 2, 3)) }\n"
+                 "sphere { 0, asc(strupr(\"a\")) }\n"
+                 "sphere { 0, (strcmp(\"a\", \"b\") < 0) }\n"
+                 "sphere { 0, (\"x\" != \"x\") + 1e-9 }\n"
+                 "sphere { 0, val(\"2.5\") }\n", a, 7);
+    /* #include of a computed name */
+    char dir[] = "/tmp/csg_lang_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char path[256], text[512];
+    snprintf(path, sizeof path, "%s/part2.inc", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("sphere { 0, 42 }\n", f);
+    fclose(f);
+    snprintf(text, sizeof text, "#declare N = 2;\n#include concat(\"%s/part\", str(N, 0, 0), \".inc\")\n",
+             dir);
+    csg_scene s;
+    parse_ok(text, &s);
+    assert_near(s.objects[0]->r0, 42);
+    csg_scene_free(&s);
+    unlink(path);
+    rmdir(dir);
+}
+
+/* ---- functions -------------------------------------------------------------------------------- */
+
+static double value_of(const char *expr)
+{
+    char text[512];
+    snprintf(text, sizeof text, "#declare V = %s;\nsphere { 0, 1 + 0 * V translate V * x }", expr);
+    csg_scene s;
+    parse_ok(text, &s);
+    double v = s.objects[0]->xform.m[0][3];
+    csg_scene_free(&s);
+    return v;
+}
+
+static void test_functions(void **state)
+{
+    (void)state;
+    assert_near(value_of("atan2(1, 2)"), atan2(1, 2));
+    assert_near(value_of("mod(-7, 3)"), -1);
+    assert_near(value_of("div(-7, 2)"), -3);
+    assert_near(value_of("int(-2.5)"), -2);
+    assert_near(value_of("floor(-2.5) + ceil(2.1)"), 0);
+    assert_near(value_of("pow(2, 10) + sqrt(16) + abs(-1)"), 1029);
+    assert_near(value_of("min(3, 1, 2) + max(3, 1, 2)"), 4);
+    assert_near(value_of("select(-1, 1, 2, 3) + select(0, 1, 2, 3) * 10 + select(1, 1, 2) * 100"), 221);
+    assert_near(value_of("degrees(pi) + radians(180)"), 180 + M_PI);
+    assert_near(value_of("vlength(<3, 4, 0>) + vdot(x, <2, 3, 4>)"), 7);
+    assert_near(value_of("vcross(x, y).z + vnormalize(<0, 0, 9>).z"), 2);
+    assert_near(value_of("vrotate(x, <0, 0, 90>).y"), 1);
+    assert_near(value_of("vaxis_rotate(x, z, 90).y"), 1);
+    assert_near(value_of("exp(1) + log(100) + ln(1)"), exp(1) + 2);
+    assert_near(value_of("(1 < 2) + (2 <= 2) + (3 = 3) + (3 != 3) + !0 + (1 & 0) + (0 | 1)"), 5);
+    assert_near(value_of("(1 ? 2 : 3) + (0 ? 4 : 5)"), 7);
+    assert_near(value_of("<1, 2, 3>.y + <4, 5, 6>.blue + <1, 2, 3, 4, 5>.transmit"), 13);
+    assert_near(value_of("bitwise_and(6, 3) + bitwise_or(4, 1) + bitwise_xor(5, 1)"), 11);
+    /* seed and rand: POV-Ray 3.7's numbers (its #debug output) */
+    assert_true(fabs(value_of("rand(seed(42))") - 0.723583) < 5e-7);
+    csg_scene s;
+    parse_ok("#declare R = seed(42); #declare A = rand(R); #declare B = rand(R);\n"
+             "#declare S = seed(-7); #declare C = rand(S);\n"
+             "sphere { <A, B, C>, 1 }", &s);
+    assert_true(fabs(s.objects[0]->a.x - 0.723583) < 5e-7);
+    assert_true(fabs(s.objects[0]->a.y - 0.329979) < 5e-7);
+    assert_true(fabs(s.objects[0]->a.z - 0.046072868) < 5e-10);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, sqrt(-1) }", "t.pov:1:13: error: 'sqrt' is not defined for -1");
+    parse_err("sphere { 0, rand(3) }",
+              "t.pov:1:13: error: rand: 3 is not a random stream made by seed()");
+}
+
+/* ---- what the scene sees of the render ----------------------------------------------------- */
+
+static void test_image_and_clock(void **state)
+{
+    (void)state;
+    csg_parse_options o = quiet();
+    o.image_width = 640;
+    o.image_height = 480;
+    o.clock = 0.25;
+    csg_scene s;
+    parse_ok_opts("camera { right x * image_width / image_height }\n"
+                  "sphere { 0, clock * 4 }\n", &o, &s);
+    assert_near(s.camera.right.x, 640.0 / 480.0);
+    assert_near(s.objects[0]->r0, 1);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, image_width / image_height * 3 + clock }", &s); /* 320x240, 0 */
+    assert_near(s.objects[0]->r0, 4);
+    csg_scene_free(&s);
+}
+
+/* ---- #default, #undef, #version, #debug, #error -------------------------------------------- */
+
+static void test_default_and_messages(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("sphere { 0, 1 }\n"
+             "#default { finish { ambient 0.3 } pigment { rgb x } }\n"
+             "sphere { 0, 1 }\n"
+             "#declare F = finish { diffuse 0.2 }\n"
+             "sphere { 0, 1 finish { F } }\n"
+             "default { finish { ambient 0.5 } }\n"
+             "sphere { 0, 1 texture { pigment { rgb y } } }\n", &s);
+    assert_near(s.textures[s.objects[0]->texture].finish.ambient[0], 0.1);
+    assert_near(s.textures[s.objects[1]->texture].finish.ambient[0], 0.3);
+    assert_near(s.textures[s.objects[1]->texture].pigment.rgbft[0], 1);
+    assert_near(s.textures[s.objects[2]->texture].finish.ambient[0], 0.3); /* from #default */
+    assert_near(s.textures[s.objects[2]->texture].finish.diffuse, 0.2);
+    assert_near(s.textures[s.objects[3]->texture].finish.ambient[0], 0.5);
+    assert_near(s.textures[s.objects[3]->texture].pigment.rgbft[1], 1);
+    csg_scene_free(&s);
+    parse_err("#declare A = 1;\n#undef A\nsphere { 0, A }",
+              "t.pov:3:13: error: undeclared identifier 'A'");
+    parse_err("#declare N = 3;\n  #error concat(\"stop at \", str(N, 0, 0))",
+              "t.pov:2:3: error: #error: stop at 3");
+    /* #debug writes to the messages stream */
+    char *buf = NULL;
+    size_t size = 0;
+    csg_parse_options o = quiet();
+    o.messages = open_memstream(&buf, &size);
+    assert_non_null(o.messages);
+    parse_ok_opts("#debug concat(\"a\", \"b\\n\") #warning \"w\"\nsphere { 0, 1 }", &o, &s);
+    fclose(o.messages);
+    assert_string_equal(buf, "ab\nt.pov:1:27: warning: w\n");
+    free(buf);
+    csg_scene_free(&s);
+}
+
+/* ---- the camera: POV-Ray's fixed order --------------------------------------------------------- */
+
+static void test_camera_order(void **state)
+{
+    (void)state;
+    csg_scene a, b, c;
+    /* since 3.5 the order does not matter: right after look_at is applied before it */
+    parse_ok("camera { location <3, 4, -7> look_at 0 right x * 4 / 3 up y angle 55 }", &a);
+    parse_ok("camera { angle 55 up y right x * 4 / 3 look_at 0 location <3, 4, -7> }", &b);
+    for (int i = 0; i < 3; i++) {
+        double *pa = &a.camera.right.x, *pb = &b.camera.right.x;
+        double *da = &a.camera.direction.x, *db = &b.camera.direction.x;
+        assert_near(pa[i], pb[i]);
+        assert_near(da[i], db[i]);
+    }
+    assert_true(fabs(a.camera.right.z) > 0.1); /* turned by look_at */
+    /* #version 3.1: item by item, as POV-Ray did then */
+    parse_ok("#version 3.1;\ncamera { location <3, 4, -7> look_at 0 right x * 4 / 3 }", &c);
+    assert_near(c.camera.right.x, 4.0 / 3.0);
+    assert_near(c.camera.right.z, 0);
+    csg_scene_free(&a);
+    csg_scene_free(&b);
+    csg_scene_free(&c);
+    /* orthographic: right and up sized by |look_at - location| / |direction| */
+    parse_ok("camera { orthographic location <0, 0, -10> look_at 0 }", &a);
+    assert_int_equal(a.camera.projection, CSG_PROJ_ORTHOGRAPHIC);
+    assert_near(a.camera.right.x, 13.3);
+    assert_near(a.camera.up.y, 10);
+    csg_scene_free(&a);
+    parse_ok("camera { orthographic up 4 * y right 4 * x location <0, 0, -10> look_at 0 }", &a);
+    assert_near(a.camera.right.x, 4);
+    csg_scene_free(&a);
+}
+
+/* ---- patterns ----------------------------------------------------------------------------------- */
+
+static void test_patterns(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare CM = color_map { [0 rgb 1] [0.5 rgb x] [0.5 rgb x] [1 rgb 0] }\n"
+             "sphere { 0, 1 pigment { checker rgb 1 rgb 0 } }\n"
+             "sphere { 0, 1 pigment { checker } }\n"
+             "sphere { 0, 1 pigment { gradient 2 * y color_map { CM } frequency 2 phase 0.1 } }\n"
+             "sphere { 0, 1 pigment { gradient x scale 2 } translate z }\n"
+             "sphere { 0, 1 translate z pigment { gradient x } }\n"
+             "#declare P = pigment { checker rgb 1 rgb 0 }\n"
+             "union { sphere { 0, 1 pigment { P } } scale 3 }\n", &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_CHECKER);
+    assert_int_equal(p->map_count, 2);
+    assert_near(p->map[0].rgbft[0], 1);
+    assert_near(p->map[1].rgbft[0], 0);
+    p = &s.textures[s.objects[1]->texture].pigment; /* POV-Ray's blue and green */
+    assert_near(p->map[0].rgbft[2], 1);
+    assert_near(p->map[1].rgbft[1], 1);
+    p = &s.textures[s.objects[2]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_GRADIENT);
+    assert_near(p->gradient.y, 1); /* normalised */
+    assert_int_equal(p->map_count, 3); /* the repeated entry merged */
+    assert_near(p->frequency, 2);
+    assert_near(p->phase, 0.1);
+    /* the object's transforms after the pigment move it; those before do not */
+    p = &s.textures[s.objects[3]->texture].pigment;
+    assert_near(p->xform.m[0][0], 2);
+    assert_near(p->xform.m[2][3], 1);
+    p = &s.textures[s.objects[4]->texture].pigment;
+    assert_near(p->xform.m[2][3], 0);
+    /* a CSG child's pigment moves with its parent */
+    const csg_object *child = s.objects[5]->children[0];
+    assert_near(s.textures[child->texture].pigment.xform.m[1][1], 3);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { checker color_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: a color_map needs a pattern that takes one (gradient)");
+}
+
+/* ---- declarations that use unsupported constructs ----------------------------------------------- */
+
+static void test_unusable_declarations(void **state)
+{
+    (void)state;
+    csg_scene s;
+    /* declared and never used: no error */
+    parse_ok("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+             "#declare U = texture { T finish { phong 1 } }\n"
+             "#declare F = function(x) { x * 2 }\n"
+             "#declare N = 5;\n"
+             "sphere { 0, N }\n", &s);
+    assert_near(s.objects[0]->r0, 5);
+    csg_scene_free(&s);
+    parse_err("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+              "#declare U = texture { T finish { phong 1 } }\n"
+              "sphere { 0, 1 texture { U } }",
+              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'normal' "
+              "(t.pov:1:42), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
+}
+
+/* ---- limits -------------------------------------------------------------------------------------- */
+
+static void test_limits(void **state)
+{
+    (void)state;
+    parse_err("#macro F(N) F(N + 1) #end\nF(0)",
+              "t.pov:1:13: error: macro calls nested deeper than 100 (a recursion that never ends?) "
+              "(in macro 'F' called at t.pov:1:13 (99 times), in macro 'F' called at t.pov:2:1)");
+    csg_parse_options o = quiet();
+    o.max_tokens = 10000;
+    const char *m = parse_fail_opts("#while (1) #end", &o);
+    assert_non_null(strstr(m, "more than 10000 tokens read: a loop that never ends?"));
+    /* a macro that calls itself twice: bounded by the token budget */
+    m = parse_fail_opts("#macro T(N) #if (N < 60) T(N + 1) T(N + 1) #end #end\nT(0)", &o);
+    if (!strstr(m, "tokens read"))
+        fail_msg("%s", m);
+    char *deep = malloc(300 * 8 + 64);
+    assert_non_null(deep);
+    deep[0] = '\0';
+    for (int i = 0; i < 300; i++)
+        strcat(deep, "#if (1) ");
+    m = parse_fail_opts(deep, &o);
+    assert_non_null(strstr(m, "more than 256 '#if', '#while', '#for' or '#switch' open at once"));
+    free(deep);
+    parse_err("#if (1) sphere { 0, 1 }",
+              "t.pov:1:24: error: '#end' expected (to close '#if' at 1:1), got end of file");
+    parse_err("#end", "t.pov:1:1: error: '#end' without a matching '#if', '#while', '#for', "
+                      "'#switch' or '#macro'");
+    parse_err("#else", "t.pov:1:1: error: '#else' without a matching '#if'");
+    parse_err("#break", "t.pov:1:1: error: '#break' outside a loop, a '#switch' or a macro");
+    parse_err("#foo", "t.pov:1:1: error: unknown directive '#foo'");
+    parse_err("#switch (1) sphere { 0, 1 }",
+              "t.pov:1:13: error: '#case' or '#range' expected after '#switch'");
+}
+
+/* ---- the front end's reliability --------------------------------------------------------------- */
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static void test_reliability(void **state)
+{
+    (void)state;
+    csg_scene s;
+    /* a UTF-8 byte-order mark is not a character of the scene */
+    parse_ok("\xef\xbb\xbfsphere { 0, 1 }", &s);
+    csg_scene_free(&s);
+    parse_err("\xef\xbb\xbf  $", "t.pov:1:3: error: unexpected character '$'");
+    /* a long file name does not cut the reason */
+    char name[3000];
+    memset(name, 'a', sizeof name - 5);
+    memcpy(name + sizeof name - 5, ".pov", 5);
+    csg_diag d;
+    memset(&d, 0, sizeof d);
+    assert_false(csg_parse_string(name, "sphere { 0, -1 }", 16, &s, &d));
+    assert_non_null(strstr(d.message, ":1:13: error: sphere radius must be > 0, got -1"));
+    assert_int_equal(strncmp(d.message, name, 100), 0);
+
+    char dir[] = "/tmp/csg_rel_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char fifo[128], text[512], inc[128], want[1024];
+    /* #include reads regular files only: a FIFO, a device, a folder refused */
+    snprintf(fifo, sizeof fifo, "%s/pipe.inc", dir);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    snprintf(text, sizeof text, "#include \"%s\"", fifo);
+    snprintf(want, sizeof want,
+             "t.pov:1:1: error: cannot read include file '%s': not a regular file (a FIFO)", fifo);
+    parse_err(text, want);
+    parse_err("#include \"/dev/zero\"", "t.pov:1:1: error: cannot read include file '/dev/zero': "
+                                        "not a regular file (a character device)");
+    snprintf(text, sizeof text, "#include \"%s\"", dir);
+    snprintf(want, sizeof want,
+             "t.pov:1:1: error: cannot read include file '%s': not a regular file (a directory)", dir);
+    parse_err(text, want);
+    /* a file that is not a scene file: its content is never shown */
+    snprintf(inc, sizeof inc, "%s/secret.txt", dir);
+    write_text(inc, "root:x:0:0:secret\n");
+    snprintf(text, sizeof text, "#include \"%s\"", inc);
+    snprintf(want, sizeof want,
+             "%s:1:1: error: '%s' is not a scene file (it has no .pov, .inc, .mcr or .map name): "
+             "its content is not shown (in '%s' included at t.pov:1:1)", inc, inc, inc);
+    parse_err(text, want);
+    /* an error inside a macro of an include: the place and the chain */
+    snprintf(inc, sizeof inc, "%s/lib.inc", dir);
+    write_text(inc, "#macro Ball(R)\n  sphere { 0, R }\n#end\n");
+    snprintf(text, sizeof text, "#include \"%s\"\nBall(1)\nBall(-2)", inc);
+    snprintf(want, sizeof want,
+             "%s:2:15: error: sphere radius must be > 0, got -2 (in macro 'Ball' called at t.pov:3:1)",
+             inc);
+    parse_err(text, want);
+    unlink(inc);
+    snprintf(inc, sizeof inc, "%s/secret.txt", dir);
+    unlink(inc);
+    unlink(fifo);
+    rmdir(dir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_conditionals),
+        cmocka_unit_test(test_loops),
+        cmocka_unit_test(test_macros),
+        cmocka_unit_test(test_arrays),
+        cmocka_unit_test(test_strings),
+        cmocka_unit_test(test_functions),
+        cmocka_unit_test(test_image_and_clock),
+        cmocka_unit_test(test_default_and_messages),
+        cmocka_unit_test(test_camera_order),
+        cmocka_unit_test(test_patterns),
+        cmocka_unit_test(test_unusable_declarations),
+        cmocka_unit_test(test_limits),
+        cmocka_unit_test(test_reliability),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

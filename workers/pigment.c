@@ -1,0 +1,170 @@
+/*
+ * pigment.c — POV-Ray 3.7's pigment patterns at a hit point (see
+ * pigment.h), in double whatever the build's `real`.
+ *
+ * Algorithm, as POV-Ray's Compute_Pigment and Evaluate_TPat do it:
+ *   1. the hit point is put exactly on its surface when that surface is
+ *      flat (a plane, a box face, a cone cap): moved along the face's
+ *      normal by its signed distance, so a pattern boundary lying on the
+ *      face (a checker on plane { y, 0 }) is not crossed by the rounding
+ *      of the point (POV-Ray's own 1e-10 bias does the rest);
+ *   2. world -> pattern space by the material's matrix (the inverse of the
+ *      pigment's transforms and those of its object after it);
+ *   3. the pattern's value: checker, the parity of floor(x + 1e-10) +
+ *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), where the bias also
+ *      covers the rounding of the point (the caller's bound, through the
+ *      matrix): POV-Ray finds the points on a boundary in double and puts
+ *      them in the upper cell, and so do we for a point whose rounding
+ *      could have crossed it; gradient, dot(q, g), taken modulo 1 above 1;
+ *   4. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
+ *      constant) unless the frequency is 0 (a checker's), then wrapped
+ *      into [0, 1) when negative (ramp_wave);
+ *   5. the colour map: the first entry whose value is >= the value, and
+ *      linear interpolation from the entry before it (at or past the last
+ *      entry: the last colour).
+ */
+#include "pigment.h"
+
+#include <math.h>
+#include <stdbool.h>
+
+#define PATTERN_EPSILON 1e-10 /* POV-Ray's EPSILON */
+
+static double dot3d(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The plane of a flat sub-surface, in local coordinates: n . l = dist;
+ * false for a curved one. */
+static bool face_plane(const csg_prim *pr, int sub, double n[3], double *dist)
+{
+    n[0] = n[1] = n[2] = 0;
+    switch (pr->kind) {
+    case CSG_PRIM_PLANE:
+        for (int i = 0; i < 3; i++)
+            n[i] = (double)pr->p[i];
+        *dist = (double)pr->p[3];
+        return true;
+    case CSG_PRIM_BOX:
+        n[sub >> 1] = 1;
+        *dist = (double)pr->p[(sub & 1) ? 3 + (sub >> 1) : sub >> 1];
+        return true;
+    case CSG_PRIM_CONE:
+        if (sub == CSG_SURF_CONE_SIDE)
+            return false;
+        n[2] = 1;
+        *dist = sub == CSG_SURF_CONE_TOP ? (double)pr->p[2] : 0.0;
+        return true;
+    default:
+        return false;
+    }
+}
+
+/* Step 1: w moved onto its flat face, if it has one. */
+static void onto_surface(const csg_prim *prims, csg_u32 surf, double w[3])
+{
+    const csg_prim *pr = &prims[CSG_SURF_PRIM(surf)];
+    double n[3], dist, f, g[3];
+    if (!face_plane(pr, CSG_SURF_SUB(surf), n, &dist))
+        return;
+    if (pr->flags & CSG_PF_XFORM) { /* f(w) = n . (M w + t) - dist, grad M^T n */
+        double l[3];
+        for (int i = 0; i < 3; i++)
+            l[i] = (double)pr->inv[4 * i] * w[0] + (double)pr->inv[4 * i + 1] * w[1] +
+                   (double)pr->inv[4 * i + 2] * w[2] + (double)pr->inv[4 * i + 3];
+        f = dot3d(n, l) - dist;
+        for (int j = 0; j < 3; j++)
+            g[j] = n[0] * (double)pr->inv[j] + n[1] * (double)pr->inv[4 + j] +
+                   n[2] * (double)pr->inv[8 + j];
+    } else {
+        f = dot3d(n, w) - dist;
+        g[0] = n[0], g[1] = n[1], g[2] = n[2];
+    }
+    double gg = dot3d(g, g);
+    if (gg > 0)
+        for (int i = 0; i < 3; i++)
+            w[i] -= f * g[i] / gg;
+}
+
+static double checker(const double q[3], double bias)
+{
+    double sum = floor(q[0] + bias) + floor(q[1] + bias) + floor(q[2] + bias);
+    return fmod(sum, 2.0) != 0.0 ? 1.0 : 0.0;
+}
+
+static double gradient(const csg_material *m, const double q[3])
+{
+    double g[3] = {(double)m->gradient[0], (double)m->gradient[1], (double)m->gradient[2]};
+    double r = dot3d(q, g);
+    return r > 1.0 ? fmod(r, 1.0) : r;
+}
+
+/* Step 4 (ramp_wave). */
+static double wave(const csg_material *m, double v)
+{
+    if ((double)m->frequency != 0.0)
+        v = fmod(v * (double)m->frequency + (double)m->phase, 1.00001);
+    if (v < 0.0)
+        v -= floor(v);
+    return v;
+}
+
+/* Step 5. */
+static pigment_color map_color(const csg_map_color *e, int n, double v)
+{
+    int cur = 0, prev = 0;
+    if (v >= (double)e[n - 1].value) {
+        cur = prev = n - 1;
+    } else {
+        while (v > (double)e[cur].value)
+            prev = cur++;
+        if (v == (double)e[cur].value)
+            prev = cur;
+    }
+    double c[5];
+    for (int k = 0; k < 5; k++)
+        c[k] = (double)e[cur].rgbft[k];
+    if (prev != cur) {
+        double f = (v - (double)e[prev].value) / ((double)e[cur].value - (double)e[prev].value);
+        for (int k = 0; k < 5; k++)
+            c[k] = (double)e[prev].rgbft[k] + f * (c[k] - (double)e[prev].rgbft[k]);
+    }
+    pigment_color pc;
+    pc.color = v3((real)c[0], (real)c[1], (real)c[2]);
+    pc.filter = (real)c[3];
+    pc.transmit = (real)c[4];
+    return pc;
+}
+
+/* The largest row sum of |M| (3x3 part): how much M can grow an error. */
+static double matrix_norm(const real *m)
+{
+    double best = 0;
+    for (int i = 0; i < 3; i++) {
+        double row = fabs((double)m[4 * i]) + fabs((double)m[4 * i + 1]) + fabs((double)m[4 * i + 2]);
+        best = row > best ? row : best;
+    }
+    return best;
+}
+
+pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
+                         const csg_prim *prims, csg_u32 surf, vec3 p, real err)
+{
+    pigment_color pc;
+    if (m->pattern == CSG_MAT_PLAIN) {
+        pc.color = v3_load(m->color);
+        pc.filter = m->filter;
+        pc.transmit = m->transmit;
+        return pc;
+    }
+    double w[3] = {(double)p.x, (double)p.y, (double)p.z}, q[3];
+    if (prims && surf != CSG_SURF_NONE)
+        onto_surface(prims, surf, w);
+    for (int i = 0; i < 3; i++)
+        q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
+               (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
+    double bias = PATTERN_EPSILON + (double)err * matrix_norm(m->to_pattern);
+    double v = m->pattern == CSG_MAT_CHECKER ? checker(q, bias) : gradient(m, q);
+    return map_color(maps + m->map_first, m->map_count, wave(m, v));
+}
