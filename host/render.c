@@ -52,6 +52,7 @@
 #include "image.h"
 #include "link.h"
 #include "master.h"
+#include "memory.h"
 #include "ocl.h"
 #include "progress.h"
 #include "protocol.h"
@@ -546,6 +547,31 @@ static int render_outputs(const render_request *req, const render_state *rs,
     return EXIT_OK;
 }
 
+/* Refuses, with the figures, a render whose peak memory this process
+ * cannot have (before any of it is allocated). */
+static int render_memory_check(const render_request *req, const csg_blob *blob,
+                               const render_stats *st, csg_diag *d)
+{
+    uint64_t avail;
+    render_memory need = render_memory_need(st->pixels, st->spp,
+                                            csg_blob_hdr(blob->bytes)->real_size,
+                                            req->mode == MODE_HETERO, req->out_path);
+    if (!memory_available(&avail) || need.total <= avail)
+        return EXIT_OK;
+    char total[32], image[32], records[32], left[32], why[96] = "";
+    if (need.records)
+        snprintf(why, sizeof why, ", the hit records on both sides of the OpenCL pass %s",
+                 memory_format(need.records + need.device, records, sizeof records));
+    csg_error_plain(d,
+                    "a %dx%d render in %s mode needs about %s of memory (the image and "
+                    "its encoding %s%s); this process may allocate %s",
+                    st->width, st->height, render_mode_name(req->mode),
+                    memory_format(need.total, total, sizeof total),
+                    memory_format(need.image + need.writer, image, sizeof image), why,
+                    memory_format(avail, left, sizeof left));
+    return EXIT_FAILURE_RUN;
+}
+
 /* The whole render on the process that owns the image. */
 static int render_job(const render_request *req, int ranks)
 {
@@ -564,6 +590,8 @@ static int render_job(const render_request *req, int ranks)
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &st, &d);
+    if (status == EXIT_OK)
+        status = render_memory_check(req, &rs.blob, &st, &d);
     if (status == EXIT_OK && !img_ready) {
         csg_error_plain(&d, "%s: %s", req->out_path, img_err);
         status = EXIT_FAILURE_RUN;

@@ -58,6 +58,17 @@ errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
 expect 2 "overflowing transform" "$BIN" check "$T/overflow.pov"
 errmsg "^$T/overflow.pov:1:1: error: .*overflows" "overflowing transform message"
 
+# a render that cannot fit says so before allocating anything (here under a
+# 1 GiB address-space limit: 12000x12000 needs 2 GiB), and writes nothing
+expect 1 "render beyond the memory it may allocate" \
+    bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
+    --width 12000 --height 12000 --mode serial
+errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 2.01 GiB of memory .*may allocate" \
+    "memory estimate message"
+if [ -e "$T/huge.png" ] || ls "$T"/.huge* >/dev/null 2>&1; then ko "memory refusal wrote a file"; else
+    ok "memory refusal wrote no file"
+fi
+
 # --- a failed render never leaves a partial file: existing output untouched ---
 echo "previous" >"$T/keep.png"
 expect 2 "scene error keeps an existing output" "$BIN" render "$T/bad.pov" -o "$T/keep.png"
