@@ -119,7 +119,7 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_maps, h->map_count, sizeof(csg_map_color), blob_size))
         return false;
     const csg_shading *sh = blob_at(bytes, h->off_shading);
-    if (h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
+    if (sh->max_rays < 1 || h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
                                                    sh->sky_first > h->material_count - h->sky_count)))
         return false;
     return prims_valid(h, blob_at(bytes, h->off_prims)) &&

@@ -1075,6 +1075,9 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
     sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
     sh->sky_first = fb->sky_first;
     sh->sky_v37 = s->version >= 3.7 - 1e-9;
+    long spp = o->spp > 0 ? o->spp : 1;
+    sh->max_rays = o->max_rays > 0 ? o->max_rays
+                                   : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */
     store3(sh->sky_emission, (dvec3){s->sky.emission[0], s->sky.emission[1], s->sky.emission[2]});
     csg_camera_src cam = s->camera;
     if (!s->has_camera)

@@ -27,7 +27,17 @@ typedef struct {
     int max_depth;      /* <= 0: global_settings max_trace_level       */
     double bailout;     /* < 0: global_settings adc_bailout            */
     int spp;            /* samples a pixel; <= 0: 1                   */
+    int max_rays;       /* reflected and refracted rays a pixel may
+                           trace; <= 0: CSG_RAYS_PER_SAMPLE * spp      */
 } csg_flatten_opts;
+
+/* The default ray budget of a pixel, per sample: a whole tree of depth 12
+ * (two rays a hit), far beyond what adc_bailout leaves of any usual scene,
+ * yet a bound on the scenes that would double their rays at every level
+ * for ever (a mirror around a glass ball at max_trace_level 256). */
+#define CSG_RAYS_PER_SAMPLE 4096
+/* The largest --max-rays-per-pixel. */
+#define CSG_MAX_RAYS_PER_PIXEL (1 << 30)
 
 /* One per precision; false (with d filled) when the scene cannot be
  * flattened: degenerate shapes, a CSG program deeper than CSG_STACK_MAX,

@@ -18,7 +18,7 @@ void cli_usage(FILE *out)
     fputs("usage:\n"
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
-          "                   [--precision float|double|auto]\n"
+          "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
           "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
           "                   [--clock F] [--library-path DIR]...\n"
@@ -147,6 +147,8 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         return parse_int(opt, val, 1, 65536, &r->tile, d);
     if (strcmp(opt, "--spp") == 0)
         return parse_int(opt, val, 1, CSG_MAX_SPP, &r->spp, d);
+    if (strcmp(opt, "--max-rays-per-pixel") == 0)
+        return parse_int(opt, val, 1, CSG_MAX_RAYS_PER_PIXEL, &r->max_rays, d);
     if (strcmp(opt, "--depth") == 0)
         return parse_int(opt, val, 1, 256, &r->depth, d);
     if (strcmp(opt, "--repeat") == 0)

@@ -34,7 +34,7 @@ static int run_check(const cli_args *a)
     if (!csg_load_file(a->req.scene_path, &a->parse, &s, &d))
         return fail(&d, EXIT_BAD_INPUT);
     csg_image_size(&s, a->req.width, a->req.height, &width, &height);
-    csg_flatten_opts fo = {width, height, 0, -1, 1};
+    csg_flatten_opts fo = {width, height, 0, -1, 1, 0};
     csg_blob blob;
     if (!csg_flatten_double(&s, &fo, &blob, &d)) {
         csg_scene_free(&s);

@@ -275,7 +275,8 @@ static bool master_take_result(master_job *job, const link_msg *msg, int item, c
     /* msg->data is malloc'd and sizeof h a multiple of 8: floats aligned */
     tile_store_rgb(job->image, job->grid.width, r,
                    (const float *)(const void *)(msg->data + sizeof h));
-    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted}, h.busy_s};
+    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
+                       h.busy_s};
     master_job_count(job, &job->workers[msg->source - 1], msg->source, item, &res, stats_clock());
     return true;
 }

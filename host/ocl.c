@@ -840,7 +840,7 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
 {
     csg_scene empty;
     csg_blob blob = {NULL, 0};
-    csg_flatten_opts o = {1, 1, 1, -1, 1};
+    csg_flatten_opts o = {1, 1, 1, -1, 1, 0};
     csg_scene_init(&empty);
     bool ok = c->use_double ? csg_flatten_double(&empty, &o, &blob, d)
                             : csg_flatten_float(&empty, &o, &blob, d);

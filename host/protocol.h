@@ -94,6 +94,7 @@ typedef struct {
     int32_t index;          /* the tile of the rectangle answered      */
     uint32_t hits;          /* primary samples that hit                */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
+    uint64_t over_budget;   /* pixels that met their ray budget        */
     double busy_s;          /* seconds the worker spent on the tile    */
 } proto_result;
 

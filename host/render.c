@@ -141,7 +141,7 @@ static const engine *render_engine(const render_request *req, const csg_scene *s
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
 static int render_load(const render_request *req, csg_blob *blob, render_stats *st, csg_diag *d)
 {
-    csg_flatten_opts o = { 0, 0, req->depth, req->threshold, req->spp };
+    csg_flatten_opts o = {0, 0, req->depth, req->threshold, req->spp, req->max_rays};
     csg_scene s;
     int status = 0;
     csg_parse_options po;
@@ -354,6 +354,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
     st->tile = req->tile > 0 ? req->tile : RENDER_DEFAULT_TILE;
     st->ranks = ranks;
     st->spp = req->spp > 0 ? req->spp : 1;
+    st->max_rays = req->max_rays > 0 ? req->max_rays : st->spp * CSG_RAYS_PER_SAMPLE;
     st->pixels = (uint64_t)req->width * (uint64_t)req->height;
     st->estimate_spearman = (double)NAN;
 }
@@ -547,6 +548,18 @@ static int render_outputs(const render_request *req, const render_state *rs,
     return EXIT_OK;
 }
 
+/* One line when pixels met their ray budget: the image is not what an
+ * unbounded trace would give there. */
+static void render_warn_budget(const render_stats *st)
+{
+    if (st->rays.over_budget == 0)
+        return;
+    fprintf(stderr,
+            "csgtrace: warning: %llu pixels met their ray budget (%d reflected and refracted "
+            "rays a pixel); their deepest rays were not traced (--max-rays-per-pixel)\n",
+            (unsigned long long)st->rays.over_budget, st->max_rays);
+}
+
 /* Refuses, with the figures, a render whose peak memory this process
  * cannot have (before any of it is allocated). */
 static int render_memory_check(const render_request *req, const csg_blob *blob,
@@ -619,8 +632,10 @@ static int render_job(const render_request *req, int ranks)
             *req->image_out = rs.image;
             rs.image = NULL;
         }
-        if (!req->stats_out)
+        if (!req->stats_out) {
+            render_warn_budget(&st);
             stats_print_summary(stdout, &st);
+        }
         fflush(stdout);
     } else if (!reported) {
         render_report(&d);

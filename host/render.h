@@ -31,6 +31,9 @@ typedef struct {
     int width, height;        /* 0: the scene's (NFF), else 320 x 240 */
     int tile;                 /* <= 0: RENDER_DEFAULT_TILE           */
     int spp;                  /* primary samples a pixel, default 1  */
+    int max_rays;             /* reflected and refracted rays a pixel
+                                 may trace; <= 0: CSG_RAYS_PER_SAMPLE
+                                 a sample                              */
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     enum progress_mode progress; /* the bar on stderr                */

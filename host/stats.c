@@ -48,6 +48,7 @@ void stats_add_rays(ray_counts *a, const ray_counts *b)
     a->shadow += b->shadow;
     a->reflected += b->reflected;
     a->refracted += b->refracted;
+    a->over_budget += b->over_budget;
 }
 
 static void stats_string(FILE *f, const char *s)
@@ -144,8 +145,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
-    fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n",
-            (unsigned long long)s->pixels, (unsigned long long)s->pixels_hit);
+    fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n  \"max_rays_per_pixel\": %d,\n"
+               "  \"pixels_over_budget\": %llu,\n",
+            (unsigned long long)s->pixels, (unsigned long long)s->pixels_hit, s->max_rays,
+            (unsigned long long)s->rays.over_budget);
     stats_field(f, "occupancy", stats_occupancy(s));
     fputs("  \"rays\": ", f);
     stats_rays(f, &s->rays);

@@ -55,6 +55,10 @@
  *   pixels, pixels_hit, occupancy (pixels_hit / (pixels * spp)):
  *                 pixels_hit counts the primary samples that hit (the
  *                 pixels, when spp = 1)
+ *   max_rays_per_pixel  the reflected and refracted rays a pixel may
+ *                 trace (--max-rays-per-pixel; default 4096 a sample)
+ *   pixels_over_budget  pixels that met it: their deepest reflections
+ *                 and refractions were not traced (0 in any usual scene)
  *   rays          {primary, shadow, reflected, refracted, total}
  *   bytes_sent    bytes the master sent to workers (the scene broadcast
  *                 counted once per worker + the tile messages)
@@ -104,6 +108,7 @@ typedef struct render_stats {
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
     int width, height, tile, ranks, spp, in_flight;
+    int max_rays;           /* the ray budget of a pixel             */
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;
     double cl_setup_s, pipelined_s;               /* phases (above)     */
     double pass_s, tile_phase_s, tail_s;          /* derived            */

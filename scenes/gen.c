@@ -130,7 +130,7 @@ static bool measure(const gen_options *o, const char *text, size_t len, double *
     csg_scene s;
     if (!csg_load_string("<generated>", text, len, NULL, &s, d))
         return false;
-    csg_flatten_opts fo = {o->width, o->height, 1, -1, 1};
+    csg_flatten_opts fo = {o->width, o->height, 1, -1, 1, 0};
     csg_blob blob;
     bool ok = csg_flatten_float(&s, &fo, &blob, d);
     csg_scene_free(&s);

@@ -43,6 +43,7 @@ expect 2 "bad --width" "$BIN" render "$T/good.pov" -o "$T/x.png" --width 0
 errmsg '^csgtrace: error: --width expects' "bad --width message"
 expect 2 "bad --mode" "$BIN" render "$T/good.pov" -o "$T/x.png" --mode fast
 expect 2 "bad --precision" "$BIN" render "$T/good.pov" -o "$T/x.png" --precision half
+expect 2 "bad --max-rays-per-pixel" "$BIN" render "$T/good.pov" -o "$T/x.png" --max-rays-per-pixel 0
 expect 2 "unknown option" "$BIN" render "$T/good.pov" -o "$T/x.png" --frobnicate
 expect 0 "--help" "$BIN" --help
 

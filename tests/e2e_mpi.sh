@@ -346,5 +346,45 @@ if [ $have_cl = 1 ]; then
         test $rc = 1 -a "$(error_lines clbad-x3)" = 1 -a ! -e "$TMP/clbad-x3.exr"
 fi
 
+# A scene whose ray tree doubles at every level (a mirror-glass shell around
+# a glass ball, max_trace_level 256, adc_bailout 0) ends: the ray budget
+# stops each pixel's tree at the same ray in every mode; the stats count the
+# pixels that met it and one warning line says so.
+cat >"$TMP/runaway.pov" <<'POV'
+global_settings { max_trace_level 256 adc_bailout 0 }
+camera { location <0, 0, -5> look_at 0 }
+light_source { <3, 4, -6> color rgb 1 }
+sphere { 0, 2 hollow pigment { rgbf <1, 1, 1, 0.9> } finish { reflection 0.9 } interior { ior 1.5 } }
+sphere { 0, 1 pigment { rgbf <1, 1, 1, 0.9> } finish { reflection 0.5 } interior { ior 1.3 } }
+POV
+budget_ok() { # budget_ok NAME BUDGET: a warning line, and the stats' count
+    [ "$(grep -c 'met their ray budget' "$TMP/$1.err")" = 1 ] &&
+        python3 - "$TMP/$1.json" "$2" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+r = j["rays"]
+px = j["pixels_over_budget"]
+budget = int(sys.argv[2])
+# each pixel traces at most its budget of reflected and refracted rays
+sys.exit(0 if j["max_rays_per_pixel"] == budget and 0 < px <= j["pixels"]
+         and r["reflected"] + r["refracted"] <= j["pixels"] * budget else 1)
+PY
+}
+timeout 60 "$BIN" render "$TMP/runaway.pov" --width 16 --height 12 --mode serial \
+    --stats "$TMP/runaway-s.json" -o "$TMP/runaway-s.exr" >/dev/null 2>"$TMP/runaway-s.err"
+check "runaway ray tree: serial ends with the default budget, counted and said once" \
+    budget_ok runaway-s 4096
+render runaway-b 0 "$TMP/runaway.pov" --width 16 --height 12 --mode serial --max-rays-per-pixel 64 \
+    --stats "$TMP/runaway-b.json"
+check "runaway ray tree: --max-rays-per-pixel 64 counted" budget_ok runaway-b 64
+for np in 3; do
+    render_same "runaway ray tree, budget 64: homo K=$np == serial" runaway-b runaway-h$np $np \
+        "$TMP/runaway.pov" --width 16 --height 12 --mode homo --max-rays-per-pixel 64
+    if [ $have_cl = 1 ]; then
+        render_same "runaway ray tree, budget 64: hetero K=$np == serial" runaway-b runaway-x$np $np \
+            "$TMP/runaway.pov" --width 16 --height 12 --mode hetero --max-rays-per-pixel 64
+    fi
+done
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -44,7 +44,7 @@ static void check_error(const csg_diag *d)
 
 static void render_all(const engine *e, const csg_scene *s)
 {
-    csg_flatten_opts o = {FUZZ_W, FUZZ_H, FUZZ_DEPTH, -1, 1};
+    csg_flatten_opts o = {FUZZ_W, FUZZ_H, FUZZ_DEPTH, -1, 1, 0};
     csg_diag d = {0};
     csg_blob b;
     if (!e->flatten(s, &o, &b, &d)) {

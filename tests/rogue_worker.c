@@ -35,7 +35,7 @@ static void rogue_reply(const char *mode, const link_msg *in)
     char *msg = calloc(1, len);
     if (!msg)
         exit(3);
-    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0};
+    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0, 0};
     memcpy(msg, &r, sizeof r);
     link_send(LINK_MASTER, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
     free(msg);

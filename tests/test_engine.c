@@ -95,7 +95,7 @@ static void scene_new(csg_scene *s)
 
 static const csg_blob_header *flatten_ok(const engine *e, csg_scene *s, int w, int h, csg_blob *b)
 {
-    csg_flatten_opts o = {w, h, 0, -1, 1};
+    csg_flatten_opts o = {w, h, 0, -1, 1, 0};
     csg_diag d = {0};
     bool ok = e->flatten(s, &o, b, &d);
     if (!ok)
@@ -276,7 +276,7 @@ static void test_flatten_stack_limit(void **state)
     csg_object *deep = balanced(&s, CSG_STACK_MAX);
     deep->loc = (csg_loc){"deep.pov", 7, 3};
     add_top(&s, deep);
-    csg_flatten_opts o = {2, 2, 0, -1, 1};
+    csg_flatten_opts o = {2, 2, 0, -1, 1, 0};
     csg_diag d = {0};
     assert_false(csg_flatten_float(&s, &o, &b, &d));
     assert_non_null(strstr(d.message, "deep.pov:7:3: error: CSG tree too complex"));
@@ -293,7 +293,7 @@ static void test_flatten_degenerate(void **state)
     o->xform.m[1][1] = 0; /* scale y by 0: singular */
     add_top(&s, o);
     csg_blob b;
-    csg_flatten_opts opts = {2, 2, 0, -1, 1};
+    csg_flatten_opts opts = {2, 2, 0, -1, 1, 0};
     csg_diag d = {0};
     assert_false(csg_flatten_double(&s, &opts, &b, &d));
     assert_non_null(strstr(d.message, "hand.pov:1:1: error: "));

@@ -33,7 +33,7 @@ static float *render_scene(const char *path)
     csg_diag d = {0};
     if (!csg_parse_file(path, &s, &d))
         fail_msg("%s", d.message);
-    csg_flatten_opts o = {GOLDEN_W, GOLDEN_H, 0, -1, 1};
+    csg_flatten_opts o = {GOLDEN_W, GOLDEN_H, 0, -1, 1, 0};
     csg_blob b;
     if (!engine_float.flatten(&s, &o, &b, &d))
         fail_msg("%s", d.message);

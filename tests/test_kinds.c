@@ -104,7 +104,7 @@ static void test_parse_each(void **state)
  * known kinds, and whose centre ray hits the object. */
 static void flatten_and_hit(const engine *e, const csg_scene *s, int k, unsigned *prim_kinds)
 {
-    csg_flatten_opts o = {3, 3, 1, -1, 1};
+    csg_flatten_opts o = {3, 3, 1, -1, 1, 0};
     csg_diag d = {0};
     csg_blob b;
     if (!e->flatten(s, &o, &b, &d))

@@ -130,7 +130,7 @@ static void test_flatten(void **state)
     (void)state;
     csg_scene s;
     parse_ok(scene_text, &s);
-    csg_flatten_opts o = {8, 8, 0, -1, 1};
+    csg_flatten_opts o = {8, 8, 0, -1, 1, 0};
     const engine *e[2] = {&engine_float, &engine_double};
     for (int k = 0; k < 2; k++) {
         csg_blob b;
@@ -271,7 +271,7 @@ static void test_fuzz(void **state)
         csg_diag d = {0};
         if (csg_load_string("fuzz.nff", buf, len, NULL, &s, &d)) {
             parsed++;
-            csg_flatten_opts o = {4, 4, 0, -1, 1};
+            csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
             csg_blob b;
             csg_diag fd = {0};
             if (engine_float.flatten(&s, &o, &b, &fd))

@@ -44,7 +44,7 @@ static int group_setup(void **state)
     fixture *fx = calloc(1, sizeof *fx);
     csg_scene s;
     csg_diag d = {{0}, 0};
-    csg_flatten_opts o = {W, H, 5, -1, 1};
+    csg_flatten_opts o = {W, H, 5, -1, 1, 0};
     ocl_options opt = {NULL, 0, 0};
     ocl_timing tm;
     memset(&tm, 0, sizeof tm);

@@ -208,7 +208,7 @@ static void test_estimate_ranks_materials(void **state)
     csg_scene sc;
     csg_diag d = { { 0 }, 0 };
     csg_blob blob;
-    csg_flatten_opts o = { 8, 2, 5, -1, 1 };
+    csg_flatten_opts o = { 8, 2, 5, -1, 1, 0};
     assert_true(csg_parse_string("est.pov", sdl, strlen(sdl), &sc, &d));
     assert_true(engine_float.flatten(&sc, &o, &blob, &d));
     const csg_blob_header *h = csg_blob_hdr(blob.bytes);

@@ -69,7 +69,7 @@ static image render_text(const engine *e, const char *text, int w, int h)
 {
     csg_scene s;
     parse_ok(text, &s);
-    csg_flatten_opts o = {w, h, 0, -1, 1};
+    csg_flatten_opts o = {w, h, 0, -1, 1, 0};
     csg_diag d = {0};
     csg_blob b;
     if (!e->flatten(&s, &o, &b, &d))

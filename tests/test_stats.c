@@ -230,12 +230,13 @@ static int setup(void **state)
     s->tiles_degenerate = 5;
     s->pixels = 3072;
     s->pixels_hit = 768;
-    s->rays = (ray_counts){ 3072, 500, 40, 3 };
+    s->max_rays = 4096;
+    s->rays = (ray_counts){ 3072, 500, 40, 3, 2 };
     s->bytes_sent = 123456;
     s->bytes_received = 654321;
     s->blob_bytes = 4096;
-    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1 }, 0.5, 6 };
-    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2 }, 0.75, 4 };
+    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1, 0 }, 0.5, 6 };
+    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2, 2 }, 0.75, 4 };
     s->worker_count = 2;
     s->workers = fx->w;
     *state = fx;
@@ -289,6 +290,8 @@ static void test_values(void **state)
     assert_true(js_num(rays, "primary") == 3072.0);
     assert_true(js_num(rays, "refracted") == 3.0);
     assert_true(js_num(rays, "total") == 3072.0 + 500 + 40 + 3);
+    assert_true(js_num(fx->json, "max_rays_per_pixel") == 4096.0);
+    assert_true(js_num(fx->json, "pixels_over_budget") == 2.0);
     assert_true(js_num(fx->json, "tail_s") == 0.03125);
     assert_true(js_num(fx->json, "busy_fraction") == 0.625);
     assert_true(js_num(fx->json, "estimate_spearman") == 0.875);

@@ -35,7 +35,7 @@ static csg_blob load(const char *name, const char *text)
     csg_diag d = {0};
     if (!csg_load_string(name, text, strlen(text), NULL, &s, &d))
         fail_msg("parse: %s", d.message);
-    csg_flatten_opts o = {4, 4, 0, -1, 1};
+    csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
     csg_blob b;
     if (!eng()->flatten(&s, &o, &b, &d))
         fail_msg("flatten: %s", d.message);

@@ -43,6 +43,7 @@ typedef struct {
 
 typedef struct {
     uint64_t primary, shadow, reflected, refracted;
+    uint64_t over_budget; /* pixels that met their ray budget (shade.c) */
 } ray_counts;
 
 typedef struct {

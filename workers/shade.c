@@ -54,7 +54,27 @@ typedef struct {
     const csg_material *sky; /* the sky_sphere's pigments (sky_count)   */
     csg_i32 sky_count, sky_v37;
     vec3 sky_emission;
+    csg_i32 max_rays;        /* reflected and refracted rays a pixel may trace */
 } shade_ctx;
+
+/* The rays of one pixel: the tile's counts, and what is left of the
+ * pixel's budget (a ray it cannot pay for is not traced: the order of the
+ * ray tree is fixed, so every mode drops the same rays). */
+typedef struct {
+    ray_counts *rays;
+    csg_i32 left;
+    bool refused; /* a ray was not traced for want of budget */
+} ray_tally;
+
+static bool ray_spend(ray_tally *t)
+{
+    if (t->left <= 0) {
+        t->refused = true;
+        return false;
+    }
+    t->left--;
+    return true;
+}
 
 static shade_ctx ctx_of(const void *blob)
 {
@@ -74,6 +94,7 @@ static shade_ctx ctx_of(const void *blob)
     c.sky_count = c.hdr->sky_count;
     c.sky_v37 = sh->sky_v37;
     c.sky_emission = v3_load(sh->sky_emission);
+    c.max_rays = sh->max_rays;
     return c;
 }
 
@@ -200,10 +221,10 @@ static real power(real base, real e)
 #endif
 }
 
-static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_counts *rays);
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
 
 static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
-                      ray_counts *rays)
+                      ray_tally *tally)
 {
     const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
     const csg_material *m = &c->mats[prim->material];
@@ -241,7 +262,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             continue;
         vec3 light = v3_load(lt->color);
         if (!lt->shadowless) {
-            rays->shadow++;
+            tally->rays->shadow++;
             light = v3_mul(light, light_transmittance(c, above, l, dist));
             if (max3(light) <= R(0.0))
                 continue;
@@ -274,32 +295,32 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             refl_w = v3_add(refl_w, trans_w); /* total internal reflection */
         } else {
             real tw = weight * max3(trans_w);
-            if (tw >= c->bailout) {
+            if (tw >= c->bailout && ray_spend(tally)) {
                 csg_ray t;
                 t.d = v3_normalize(v3_add(v3_scale(r.d, eta), v3_scale(nf, eta * cosi - r_sqrt(k))));
                 t.o = offset_point(p, v3_neg(ngf), mag);
-                rays->refracted++;
-                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, rays)));
+                tally->rays->refracted++;
+                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, tally)));
             }
         }
     }
     real rw = weight * max3(refl_w);
-    if (max3(refl_w) > R(0.0) && rw >= c->bailout) {
+    if (max3(refl_w) > R(0.0) && rw >= c->bailout && ray_spend(tally)) {
         csg_ray s;
         s.o = above;
         s.d = v3_normalize(refl_dir);
-        rays->reflected++;
-        color = v3_add(color, v3_mul(refl_w, trace_ray(c, s, level + 1, rw, rays)));
+        tally->rays->reflected++;
+        color = v3_add(color, v3_mul(refl_w, trace_ray(c, s, level + 1, rw, tally)));
     }
     return color;
 }
 
-static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_counts *rays)
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally)
 {
     csg_hit h = csg_trace_nearest(c->view, r, R(0.0), CSG_R_INF);
     if (h.surf == CSG_SURF_NONE)
         return sky_color(c, r.d);
-    return shade_hit(c, r, h, level, weight, rays);
+    return shade_hit(c, r, h, level, weight, tally);
 }
 
 /* ---- the engine entry points ----------------------------------------------------- */
@@ -352,6 +373,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
+            ray_tally tally = {rays, c.max_rays, false};
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
@@ -363,7 +385,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                     csg_hit h;
                     h.t = t[k];
                     h.surf = surf[k];
-                    one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, rays);
+                    one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, &tally);
                     hits++;
                 }
                 col = spp == 1 ? one : v3_add(col, one);
@@ -377,6 +399,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);
             store_rgb(rgb_out + 3 * i, col);
+            rays->over_budget += tally.refused;
         }
     }
 }

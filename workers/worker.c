@@ -128,7 +128,7 @@ static const char *worker_do_tile(worker_state *w, const link_msg *in, const pro
     tile_run_rect(&w->runner, r, payload, (float *)(void *)(out + sizeof(proto_result)), &res);
     proto_result head = {h->index,          res.hits,           res.rays.primary,
                          res.rays.shadow,   res.rays.reflected, res.rays.refracted,
-                         res.busy_s};
+                         res.rays.over_budget, res.busy_s};
     memcpy(out, &head, sizeof head);
     return NULL;
 }

@@ -170,6 +170,9 @@ typedef struct {
                               sky_first .. + header.sky_count            */
     csg_i32 sky_v37;       /* POV-Ray 3.7's mix of sky and background (1),
                               or the one before 3.7 (0)                  */
+    csg_i32 max_rays;      /* reflected and refracted rays a pixel may
+                              trace (>= 1); the rest are not traced      */
+    csg_i32 pad;
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];
