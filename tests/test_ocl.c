@@ -754,6 +754,7 @@ static void *make_blob(const sc_scene *s, size_t *size)
     char *b = calloc(1, (size_t)h.total_size);
     assert_non_null(b);
     memcpy(b, &h, sizeof h);
+    ((csg_shading *)(void *)(b + h.off_shading))->max_rays = 1; /* primary rays only */
     csg_prim *prims = (csg_prim *)(b + h.off_prims);
     for (int i = 0; i < s->np; i++) {
         prims[i].kind = s->prims[i].kind;
