@@ -97,12 +97,17 @@ typedef struct {
 } csg_root;
 
 /* A bounding volume hierarchy over the bounded roots (unbounded ones, such
- * as planes, are tested one by one before it).  Node 0 is the root of the
- * tree; an interior node's first child is the next node and its second
- * child is node `first`; a leaf holds roots first .. first + count - 1. */
+ * as planes, are tested one by one before it), built by binned SAH
+ * (csg/flatten.c).  Nodes come in pairs of siblings, stored side by side
+ * so that a walk tests both boxes at once (64 bytes in float: one cache
+ * line): nodes 0 and 1 are the top pair (the whole tree's own box is never
+ * needed), and an interior node's children are nodes first and first + 1,
+ * both after it.  A leaf holds roots first .. first + count - 1; count 0
+ * is the empty leaf that completes the top pair when the whole tree is one
+ * leaf (its box is empty: lo = +inf, hi = -inf, which no ray meets). */
 typedef struct {
-    csg_i32 first; /* leaf: first root; interior: index of the second child  */
-    csg_i32 count; /* leaf: number of roots (> 0); interior: -1 - split axis */
+    csg_i32 first; /* leaf: first root; interior: index of the first child   */
+    csg_i32 count; /* leaf: number of roots (>= 0); interior: -1 - split axis */
     real lo[3];
     real hi[3];
 } csg_bvh_node;
