@@ -21,7 +21,11 @@
  *     cones live in a frame with their axis on +z from 0 to their height.
  *  4. Every root gets a world bounding box, padded outwards so rounding to
  *     `real` never clips a silhouette.
- *  5. Unbounded roots (planes, complements) go first and are tested one by
+ *  5. Every root records what a shadow ray may skip in it (flat.h,
+ *     csg_root_flags): all of it (every primitive no_shadow), or all but
+ *     the first visible boundary (every primitive casts shadows and is
+ *     opaque).
+ *  6. Unbounded roots (planes, complements) go first and are tested one by
  *     one; the bounded ones are reordered into the leaves of a BVH built by
  *     binned SAH, siblings side by side (see bvh_build below; the depth
  *     stays below CSG_BVH_STACK whatever the scene).
@@ -514,6 +518,20 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
     return ok;
 }
 
+/* csg_root_flags of the root whose primitives are first_prim .. the last. */
+static int root_shadow_flags(const flat_builder *fb, int first_prim)
+{
+    bool none = true, opaque = true;
+    for (int i = first_prim; i < fb->prim_count; i++) {
+        const csg_prim *p = &fb->prims[i];
+        const csg_material *m = &fb->mats[p->material];
+        bool casts = !(p->flags & CSG_PF_NO_SHADOW);
+        none = none && !casts;
+        opaque = opaque && casts && m->filter <= 0 && m->transmit <= 0;
+    }
+    return (none ? CSG_ROOT_NO_SHADOW : 0) | (opaque ? CSG_ROOT_OPAQUE : 0);
+}
+
 static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
 {
     int depth = lists_needed(o);
@@ -530,7 +548,7 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
         return false;
     }
     int root = fb->root_count;
-    int first = fb->node_count;
+    int first = fb->node_count, first_prim = fb->prim_count;
     dbox box;
     if (!emit_tree(fb, o, inh, false, root, &box))
         return false;
@@ -539,6 +557,7 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     r->first_node = first;
     r->node_count = fb->node_count - first;
     r->stack_depth = depth;
+    r->flags = root_shadow_flags(fb, first_prim);
     box_store(box, r->lo, r->hi);
     fb->root_boxes[root] = box;
     return true;

@@ -492,6 +492,79 @@ static void test_bvh_sah_random(void **state)
     }
 }
 
+/* ---- shadow rays ---------------------------------------------------------------- */
+
+/* csg_root.flags of root i in a blob of either precision (this file's
+ * csg_root is the float one: 4 integers, then 6 reals). */
+static csg_i32 *root_flags(char *bytes, const csg_blob_header *h, int i)
+{
+    size_t stride = 4 * sizeof(csg_i32) + 6 * (size_t)h->real_size;
+    return (csg_i32 *)(void *)(bytes + h->off_roots + (size_t)i * stride) + 3;
+}
+
+/* The shadow shortcuts change no pixel: a scene of opaque CSG, a
+ * transparent sphere and a no_shadow one renders exactly the same with the
+ * root flags as with every flag cleared (the full interval list on every
+ * root), in both precisions; and the flags say what the roots are. */
+static void test_shadow_flags(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    int red = add_texture(&s, 1, 0.2, 0.2);
+    int glass = add_texture(&s, 0.6, 0.9, 0.7);
+    int cloud = add_texture(&s, 0.9, 0.9, 0.9);
+    s.textures[glass].pigment.rgbft[3] = 0.7;  /* filter */
+    s.textures[cloud].pigment.rgbft[4] = 0.25; /* transmit */
+    csg_object *cut = csg(&s, CSG_OBJ_DIFFERENCE, 2, sphere(&s, 0, 0, 1, 1.2),
+                          sphere(&s, -0.6, 0.6, 0.2, 0.8));
+    cut->texture = red;
+    add_top(&s, cut);
+    csg_object *ball = sphere(&s, 1.2, 1.1, -0.4, 0.5);
+    add_top(&s, ball);
+    csg_object *lens = sphere(&s, -1.4, 1.0, -0.5, 0.6);
+    lens->texture = glass;
+    add_top(&s, lens);
+    csg_object *puff = csg(&s, CSG_OBJ_INTERSECTION, 2, sphere(&s, 1.5, -1, 0, 0.8),
+                           sphere(&s, 1.9, -1, 0, 0.8));
+    puff->texture = cloud;
+    add_top(&s, puff);
+    csg_object *ghost = sphere(&s, -1.5, -1.2, -0.8, 0.5);
+    ghost->no_shadow = true;
+    add_top(&s, ghost);
+    csg_object *floor = obj_new(&s, CSG_OBJ_PLANE);
+    floor->a = (dvec3){0, 1, 0};
+    floor->r0 = -1.6;
+    add_top(&s, floor);
+    csg_light lights[2] = {{{3, 6, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}},
+                           {{-4, 2, -3}, {0.5, 0.4, 0.3}, false, {"hand.pov", 1, 1}}};
+    s.lights = lights;
+    s.light_count = 2;
+    const engine *engines[2] = {&engine_float, &engine_double};
+    for (int e = 0; e < 2; e++) {
+        csg_blob b;
+        const csg_blob_header *h = flatten_ok(engines[e], &s, 48, 36, &b);
+        char *bytes = b.bytes;
+        int opaque = 0, none = 0;
+        for (int i = 0; i < h->root_count; i++) {
+            opaque += (*root_flags(bytes, h, i) & CSG_ROOT_OPAQUE) != 0;
+            none += (*root_flags(bytes, h, i) & CSG_ROOT_NO_SHADOW) != 0;
+        }
+        assert_int_equal(opaque, 3); /* the cut sphere, the ball, the floor */
+        assert_int_equal(none, 1);   /* the ghost */
+        float *with = render_all(engines[e], bytes, 48, 36, 16);
+        for (int i = 0; i < h->root_count; i++)
+            *root_flags(bytes, h, i) = 0;
+        float *without = render_all(engines[e], bytes, 48, 36, 16);
+        assert_memory_equal(with, without, 48 * 36 * 3 * sizeof(float));
+        free(with);
+        free(without);
+        csg_blob_free(&b);
+    }
+    s.lights = NULL;
+    csg_scene_free(&s);
+}
+
 /* The sample pattern: spp = k*k is the grid of cell centres; any other
  * spp puts exactly one sample in every row and every column of the
  * spp x spp grid (stratified both ways); spp = 1 is the pixel centre. */
@@ -531,6 +604,7 @@ int main(void)
         cmocka_unit_test(test_blob_validation),
         cmocka_unit_test(test_bvh_matches_linear),
         cmocka_unit_test(test_bvh_sah_random),
+        cmocka_unit_test(test_shadow_flags),
         cmocka_unit_test(test_sample_pattern),
     };
     return cmocka_run_group_tests_name("engine", tests, NULL, NULL);

@@ -75,8 +75,14 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
 {
     const csg_root *rt = &c->view.roots[i];
     real t_enter;
+    if (rt->flags & CSG_ROOT_NO_SHADOW)
+        return true;
     if (test_box && !csg_box_hit(rt->lo, rt->hi, br, R(0.0), dist, &t_enter))
         return true;
+    if (rt->flags & CSG_ROOT_OPAQUE) { /* any visible boundary blocks: the first will do */
+        csg_hit h = csg_root_first_hit(c->view, i, r, R(0.0), dist);
+        return !(h.surf != CSG_SURF_NONE && h.t < dist);
+    }
     csg_spans spans;
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
     for (csg_i32 k = 0; k < spans.n; k++) {
@@ -102,7 +108,7 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
 /* What fraction of the light passes from p (already offset) to the light
  * `dist` away along unit direction l: every root the segment may cross,
  * the unbounded ones and then those the BVH leads to, in the walk's
- * order (fixed for a given ray). */
+ * order (fixed for a given ray); it stops at the first opaque blocker. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
 {
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));

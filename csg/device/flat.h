@@ -87,11 +87,21 @@ typedef struct {
     csg_i32 prim; /* primitive index, for CSG_OP_PRIM; else -1   */
 } csg_node;
 
+/* What shadow rays may skip in a root (csg_root.flags): a root whose
+ * primitives are all no_shadow casts no shadow; one whose primitives all
+ * cast shadows and are all opaque (no filter, no transmit) blocks the
+ * light at its first visible boundary, so a shadow ray needs only that
+ * (any-hit), not the whole interval list. */
+enum csg_root_flags {
+    CSG_ROOT_NO_SHADOW = 1,
+    CSG_ROOT_OPAQUE = 2
+};
+
 typedef struct {
     csg_i32 first_node; /* its program: nodes[first_node .. +node_count) */
     csg_i32 node_count;
     csg_i32 stack_depth; /* span lists its program needs at once       */
-    csg_i32 pad;
+    csg_i32 flags;       /* enum csg_root_flags                          */
     real lo[3];          /* world bounding box; +-inf when unbounded      */
     real hi[3];
 } csg_root;
@@ -223,7 +233,7 @@ typedef struct {
         F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
     S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \
-        F(csg_root, stack_depth) F(csg_root, pad) F(csg_root, lo) F(csg_root, hi)          \
+        F(csg_root, stack_depth) F(csg_root, flags) F(csg_root, lo) F(csg_root, hi)        \
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
         F(csg_bvh_node, hi)                                                                \
     S(csg_camera) F(csg_camera, location) F(csg_camera, direction)                         \
