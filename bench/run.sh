@@ -13,7 +13,7 @@
 #   big_size     up to 768 (quick) / 1536 (full) pixels square
 #   occ_sweep    occupancy 5..95 %
 #   tile         tile size 8..128, both modes: the best tile per mode
-#   povray       bench/vs_povray.sh: time and image agreement against POV-Ray 3.7
+#   povray       bench/vs_povray.sh: one core, trace to trace, against POV-Ray 3.7 +WT1
 #
 # Method: scenes come from `csgtrace gen spheres` (cached in build/bench/scenes);
 # one warm-up render per mode fills the PoCL kernel cache (POCL_CACHE_DIR) before
