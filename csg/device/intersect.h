@@ -512,17 +512,23 @@ CSG_FN csg_box_ray csg_box_ray_of(csg_ray r)
 }
 
 /* Does the ray meet the box lo..hi on [tmin, tmax]?  *t_enter gets where
- * it enters (at least tmin) when it does. */
+ * it enters (at least tmin) when it does.  Written out per axis, the
+ * planes picked by pointer (no branch on the signs). */
 CSG_FN int csg_box_hit(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
                        const csg_box_ray *b, real tmin, real tmax, real *t_enter)
 {
-    real lo = tmin, hi = tmax;
-    for (int a = 0; a < 3; a++) {
-        real tn = ((b->neg[a] ? hi_b[a] : lo_b[a]) - b->o[a]) * b->inv_near[a];
-        real tf = ((b->neg[a] ? lo_b[a] : hi_b[a]) - b->o[a]) * b->inv_far[a];
-        lo = tn > lo ? tn : lo; /* false for a NaN: the bound stays */
-        hi = tf < hi ? tf : hi;
-    }
+    CSG_GLOBAL const real *nx = b->neg[0] ? hi_b : lo_b, *fx = b->neg[0] ? lo_b : hi_b;
+    CSG_GLOBAL const real *ny = b->neg[1] ? hi_b : lo_b, *fy = b->neg[1] ? lo_b : hi_b;
+    CSG_GLOBAL const real *nz = b->neg[2] ? hi_b : lo_b, *fz = b->neg[2] ? lo_b : hi_b;
+    real tnx = (nx[0] - b->o[0]) * b->inv_near[0], tfx = (fx[0] - b->o[0]) * b->inv_far[0];
+    real tny = (ny[1] - b->o[1]) * b->inv_near[1], tfy = (fy[1] - b->o[1]) * b->inv_far[1];
+    real tnz = (nz[2] - b->o[2]) * b->inv_near[2], tfz = (fz[2] - b->o[2]) * b->inv_far[2];
+    /* a > b ? a : b is false for a NaN: the bound stays */
+    real lo = tnx > tmin ? tnx : tmin, hi = tfx < tmax ? tfx : tmax;
+    lo = tny > lo ? tny : lo;
+    hi = tfy < hi ? tfy : hi;
+    lo = tnz > lo ? tnz : lo;
+    hi = tfz < hi ? tfz : hi;
     *t_enter = lo;
     return lo <= hi;
 }
