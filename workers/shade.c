@@ -136,8 +136,27 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
 
 static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
 
+/* base^e for a highlight: base in (0, 1].  A whole exponent up to 4096
+ * (phong_size, 1 / roughness: usually whole) by squaring, a few roundings
+ * instead of a libm call; once the running power drops below 2^-64 the
+ * rest can only make it smaller and it is taken as 0 (no denormal
+ * arithmetic; the highlight is then below 2^-64 of the light). */
 static real power(real base, real e)
 {
+    if (e >= R(0.0) && e <= R(4096.0) && e == (real)(int)e) {
+        int n = (int)e;
+        real result = R(1.0), x = base;
+        for (;;) {
+            if (n & 1)
+                result *= x;
+            n >>= 1;
+            if (n == 0)
+                return result;
+            if (x < R(5.421010862427522e-20)) /* 2^-64 */
+                return R(0.0);
+            x *= x;
+        }
+    }
 #ifdef CSG_DOUBLE
     return pow(base, e);
 #else
