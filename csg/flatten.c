@@ -61,6 +61,8 @@ typedef struct {
     int bvh_count, bvh_cap;
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
     int *mat_keys;          /* texture * (interiors + 1) + interior + 1 */
+    int *mat_slots;         /* hash of mat_keys: material + 1, 0 = free    */
+    int mat_slot_count;     /* a power of two, > 2 * mat_count            */
     csg_material *mats;
     int mat_count, mat_cap, mat_key_cap;
     const csg_scene *scene;
@@ -211,14 +213,44 @@ static void cone_frame(dvec3 a, dvec3 b, csg_xform *obj_to_local, double *height
     *height = h;
 }
 
+/* The slot of `key` in the material hash (linear probing): the one that
+ * holds it, else the free one where it belongs. */
+static int material_slot(const flat_builder *fb, int key)
+{
+    unsigned mask = (unsigned)fb->mat_slot_count - 1u;
+    unsigned h = ((unsigned)key * 2654435761u) & mask;
+    while (fb->mat_slots[h] && fb->mat_keys[fb->mat_slots[h] - 1] != key)
+        h = (h + 1u) & mask;
+    return (int)h;
+}
+
+/* Makes room for one more material in the hash (a scene of N spheres of
+ * their own colours has N materials: a linear search made flattening it
+ * quadratic). */
+static bool material_hash_grow(flat_builder *fb)
+{
+    if (2 * (fb->mat_count + 1) < fb->mat_slot_count)
+        return true;
+    int n = fb->mat_slot_count ? 2 * fb->mat_slot_count : 64;
+    int *slots = calloc((size_t)n, sizeof *slots);
+    if (!slots)
+        return false;
+    free(fb->mat_slots);
+    fb->mat_slots = slots;
+    fb->mat_slot_count = n;
+    for (int i = 0; i < fb->mat_count; i++)
+        fb->mat_slots[material_slot(fb, fb->mat_keys[i])] = i + 1;
+    return true;
+}
+
 static int material_for(flat_builder *fb, inherited inh)
 {
     int key = (inh.texture + 1) * (fb->scene->interior_count + 1) + inh.interior + 1;
-    for (int i = 0; i < fb->mat_count; i++)
-        if (fb->mat_keys[i] == key)
-            return i;
+    if (fb->mat_slot_count && fb->mat_slots[material_slot(fb, key)])
+        return fb->mat_slots[material_slot(fb, key)] - 1;
     if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
-        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(int))) {
+        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(int)) ||
+        !material_hash_grow(fb)) {
         fb->oom = true;
         return 0;
     }
@@ -243,6 +275,7 @@ static int material_for(flat_builder *fb, inherited inh)
     m->phong_size = (real)tex.finish.phong_size;
     m->ior = (real)ior;
     fb->mat_keys[fb->mat_count] = key;
+    fb->mat_slots[material_slot(fb, key)] = fb->mat_count + 1;
     return fb->mat_count++;
 }
 
@@ -958,6 +991,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.bvh);
     free(fb.mats);
     free(fb.mat_keys);
+    free(fb.mat_slots);
     if (!ok)
         csg_blob_free(out);
     return ok;
