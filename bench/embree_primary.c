@@ -26,22 +26,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "timing.h"
 #include "../csg/device/camera.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static int bad(const char *what)
 {
@@ -142,12 +129,12 @@ int main(int argc, char **argv)
         }
     }
     fclose(f);
-    double t0 = now_s();
+    double t0 = bench_now_s();
     rtcCommitGeometry(g);
     rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
     rtcCommitScene(scene);
-    double build_s = now_s() - t0;
+    double build_s = bench_now_s() - t0;
     if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) {
         fprintf(stderr, "embree_primary: the scene build failed\n");
         return 1;
@@ -157,17 +144,15 @@ int main(int argc, char **argv)
         return 1;
     long hits = trace_image(scene, &cam, w, h); /* warm-up */
     for (int r = 0; r < repeat; r++) {
-        t0 = now_s();
+        t0 = bench_now_s();
         long again = trace_image(scene, &cam, w, h);
-        times[r] = now_s() - t0;
+        times[r] = bench_now_s() - t0;
         if (again != hits) {
             fprintf(stderr, "embree_primary: the passes disagree\n");
             return 1;
         }
     }
-    qsort(times, (size_t)repeat, sizeof *times, cmp_double);
-    double median = repeat % 2 ? times[repeat / 2]
-                               : 0.5 * (times[repeat / 2 - 1] + times[repeat / 2]);
+    double median = bench_median(times, repeat);
     double rays = (double)w * (double)h;
     printf("{\"spheres\": %d, \"rays\": %.0f, \"hits\": %ld, \"repeat\": %d, \"build_s\": %.6f, "
            "\"best_s\": %.6f, \"median_s\": %.6f, \"max_s\": %.6f, \"mrays_per_s\": %.4f}\n",

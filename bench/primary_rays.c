@@ -26,26 +26,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "../csg/device/flat.h"
 #include "../csg/lang/parser.h"
 #include "../workers/engine.h"
+#include "timing.h"
 
 #define TILE 32
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static bool parse_int(const char *s, int lo, int hi, int *out)
 {
@@ -173,18 +160,16 @@ int main(int argc, char **argv)
     ray_counts rays = {0, 0, 0, 0};
     uint64_t hits = trace_image(e, blob.bytes, width, height, t, surf, &rays); /* warm-up */
     for (int r = 0; r < repeat; r++) {
-        double t0 = now_s();
+        double t0 = bench_now_s();
         uint64_t again = trace_image(e, blob.bytes, width, height, t, surf, &rays);
-        times[r] = now_s() - t0;
+        times[r] = bench_now_s() - t0;
         if (again != hits) {
             fprintf(stderr, "primary_rays: the passes disagree (%llu vs %llu hits)\n",
                     (unsigned long long)again, (unsigned long long)hits);
             return 1;
         }
     }
-    qsort(times, (size_t)repeat, sizeof *times, cmp_double);
-    double median = repeat % 2 ? times[repeat / 2]
-                               : 0.5 * (times[repeat / 2 - 1] + times[repeat / 2]);
+    double median = bench_median(times, repeat);
     uint64_t pixels = (uint64_t)width * (uint64_t)height;
     const csg_blob_header *h = csg_blob_hdr(blob.bytes);
     printf("{\"width\": %d, \"height\": %d, \"roots\": %d, \"bvh_nodes\": %d, \"rays\": %llu, "

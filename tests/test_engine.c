@@ -127,6 +127,15 @@ static float *render_all(const engine *e, const void *blob, int w, int h, int ti
     return rgb;
 }
 
+/* Renders the blob in tiles of `tile` and asserts the very pixels of ref. */
+static void assert_renders(const engine *e, const void *blob, int w, int h, int tile,
+                           const float *ref)
+{
+    float *img = render_all(e, blob, w, h, tile);
+    assert_memory_equal(ref, img, (size_t)w * h * 3 * sizeof(float));
+    free(img);
+}
+
 /* ---- tests --------------------------------------------------------------------- */
 
 static void test_background_only(void **state)
@@ -195,11 +204,8 @@ static void test_tiling_invariance(void **state)
         flatten_ok(engines[k], &s, 37, 23, &b);
         float *ref = render_all(engines[k], b.bytes, 37, 23, 64);
         int tiles[] = {1, 5, 16};
-        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++) {
-            float *img = render_all(engines[k], b.bytes, 37, 23, tiles[i]);
-            assert_memory_equal(ref, img, 37 * 23 * 3 * sizeof(float));
-            free(img);
-        }
+        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++)
+            assert_renders(engines[k], b.bytes, 37, 23, tiles[i], ref);
         free(ref);
         csg_blob_free(&b);
     }
@@ -555,10 +561,8 @@ static void test_shadow_flags(void **state)
         float *with = render_all(engines[e], bytes, 48, 36, 16);
         for (int i = 0; i < h->root_count; i++)
             *root_flags(bytes, h, i) = 0;
-        float *without = render_all(engines[e], bytes, 48, 36, 16);
-        assert_memory_equal(with, without, 48 * 36 * 3 * sizeof(float));
+        assert_renders(engines[e], bytes, 48, 36, 16, with);
         free(with);
-        free(without);
         csg_blob_free(&b);
     }
     s.lights = NULL;
