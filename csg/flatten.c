@@ -774,7 +774,7 @@ static bool bvh_build(flat_builder *fb, int k, bvh_item *items, int n, int depth
     for (int i = 0; i < n; i++)
         box = box_union(box, fb->root_boxes[items[i].root]);
     csg_bvh_node node;
-    box_store(box, node.lo, node.hi);
+    box_store(box, node.box, node.box + 3);
     int left, axis;
     if (!bvh_split(fb, items, n, depth, &box, tmp, &left, &axis)) {
         node.first = *placed;
@@ -810,8 +810,8 @@ static bool bvh_build_top(flat_builder *fb, bvh_item *items, int n, bvh_item *tm
     if (bvh_split(fb, items, n, 0, &box, tmp, &left, &axis))
         return bvh_build(fb, 0, items, left, 1, tmp, order, placed) &&
                bvh_build(fb, 1, items + left, n - left, 1, tmp, order, placed);
-    csg_bvh_node empty = {*placed + n, 0, {CSG_R_INF, CSG_R_INF, CSG_R_INF},
-                          {-CSG_R_INF, -CSG_R_INF, -CSG_R_INF}};
+    csg_bvh_node empty = {*placed + n, 0,
+                          {CSG_R_INF, CSG_R_INF, CSG_R_INF, -CSG_R_INF, -CSG_R_INF, -CSG_R_INF}};
     fb->bvh[1] = empty;
     return bvh_build(fb, 0, items, n, 1, tmp, order, placed);
 }

@@ -396,8 +396,8 @@ static void bvh_check(const csg_bvh_node *bvh, const csg_root *roots, int k, int
         for (int i = n->first; i < n->first + n->count; i++)
             seen[i]++;
         if (n->count == 1) {
-            assert_memory_equal(n->lo, roots[n->first].lo, sizeof n->lo);
-            assert_memory_equal(n->hi, roots[n->first].hi, sizeof n->hi);
+            assert_memory_equal(n->box, roots[n->first].lo, sizeof roots->lo);
+            assert_memory_equal(n->box + 3, roots[n->first].hi, sizeof roots->hi);
         }
         return;
     }

@@ -114,12 +114,14 @@ typedef struct {
  * needed), and an interior node's children are nodes first and first + 1,
  * both after it.  A leaf holds roots first .. first + count - 1; count 0
  * is the empty leaf that completes the top pair when the whole tree is one
- * leaf (its box is empty: lo = +inf, hi = -inf, which no ray meets). */
+ * leaf (its box is empty: lo = +inf, hi = -inf, which no ray meets).
+ * In float a node is 32 bytes, a pair one 64-byte cache line. */
 typedef struct {
     csg_i32 first; /* leaf: first root; interior: index of the first child   */
     csg_i32 count; /* leaf: number of roots (>= 0); interior: -1 - split axis */
-    real lo[3];
-    real hi[3];
+    real box[6];   /* lo x, y, z, then hi x, y, z: one array, so that a walk
+                      picks each axis' near and far plane by index
+                      (csg_box_ray.near_i, far_i in intersect.h)           */
 } csg_bvh_node;
 
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
@@ -234,8 +236,7 @@ typedef struct {
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
     S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \
         F(csg_root, stack_depth) F(csg_root, flags) F(csg_root, lo) F(csg_root, hi)        \
-    S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
-        F(csg_bvh_node, hi)                                                                \
+    S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, box)     \
     S(csg_camera) F(csg_camera, location) F(csg_camera, direction)                         \
         F(csg_camera, right) F(csg_camera, up)
 

@@ -486,10 +486,12 @@ CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
 
 /* A ray prepared once for every box test along it. */
 typedef struct {
-    real o[3];        /* origin                                     */
-    real inv_near[3]; /* 1 / d, its magnitude rounded down: near planes */
-    real inv_far[3];  /* 1 / d, its magnitude rounded up: far planes    */
-    csg_i32 neg[3];   /* 1 where 1 / d < 0 (d < 0 or d == -0)           */
+    real o[3];         /* origin                                        */
+    real inv_near[3];  /* 1 / d, its magnitude rounded down: near planes */
+    real inv_far[3];   /* 1 / d, its magnitude rounded up: far planes    */
+    csg_i32 neg[3];    /* 1 where 1 / d < 0 (d < 0 or d == -0)           */
+    csg_i32 near_i[3]; /* the near plane of each axis in a BVH node's box[6] */
+    csg_i32 far_i[3];  /* and its far plane                              */
 } csg_box_ray;
 
 CSG_FN csg_box_ray csg_box_ray_of(csg_ray r)
@@ -507,22 +509,21 @@ CSG_FN csg_box_ray csg_box_ray_of(csg_ray r)
         b.inv_near[a] = inv * CSG_INV_NEAR_SCALE;
         b.inv_far[a] = inv * CSG_INV_FAR_SCALE;
         b.neg[a] = inv < R(0.0) ? 1 : 0;
+        b.near_i[a] = a + 3 * b.neg[a];
+        b.far_i[a] = a + 3 - 3 * b.neg[a];
     }
     return b;
 }
 
-/* Does the ray meet the box lo..hi on [tmin, tmax]?  *t_enter gets where
- * it enters (at least tmin) when it does.  Written out per axis, the
- * planes picked by pointer (no branch on the signs). */
-CSG_FN int csg_box_hit(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
-                       const csg_box_ray *b, real tmin, real tmax, real *t_enter)
+/* The slab test on the planes already picked: n* the near and f* the far
+ * plane of each axis.  *t_enter gets where the ray enters (at least
+ * tmin) when it meets the box on [tmin, tmax]. */
+CSG_FN int csg_slabs_hit(real nx, real fx, real ny, real fy, real nz, real fz,
+                         const csg_box_ray *b, real tmin, real tmax, real *t_enter)
 {
-    CSG_GLOBAL const real *nx = b->neg[0] ? hi_b : lo_b, *fx = b->neg[0] ? lo_b : hi_b;
-    CSG_GLOBAL const real *ny = b->neg[1] ? hi_b : lo_b, *fy = b->neg[1] ? lo_b : hi_b;
-    CSG_GLOBAL const real *nz = b->neg[2] ? hi_b : lo_b, *fz = b->neg[2] ? lo_b : hi_b;
-    real tnx = (nx[0] - b->o[0]) * b->inv_near[0], tfx = (fx[0] - b->o[0]) * b->inv_far[0];
-    real tny = (ny[1] - b->o[1]) * b->inv_near[1], tfy = (fy[1] - b->o[1]) * b->inv_far[1];
-    real tnz = (nz[2] - b->o[2]) * b->inv_near[2], tfz = (fz[2] - b->o[2]) * b->inv_far[2];
+    real tnx = (nx - b->o[0]) * b->inv_near[0], tfx = (fx - b->o[0]) * b->inv_far[0];
+    real tny = (ny - b->o[1]) * b->inv_near[1], tfy = (fy - b->o[1]) * b->inv_far[1];
+    real tnz = (nz - b->o[2]) * b->inv_near[2], tfz = (fz - b->o[2]) * b->inv_far[2];
     /* a > b ? a : b is false for a NaN: the bound stays */
     real lo = tnx > tmin ? tnx : tmin, hi = tfx < tmax ? tfx : tmax;
     lo = tny > lo ? tny : lo;
@@ -531,6 +532,27 @@ CSG_FN int csg_box_hit(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
     hi = tfz < hi ? tfz : hi;
     *t_enter = lo;
     return lo <= hi;
+}
+
+/* Does the ray meet the box lo..hi on [tmin, tmax]?  The planes picked by
+ * pointer, no branch on the signs. */
+CSG_FN int csg_box_hit(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
+                       const csg_box_ray *b, real tmin, real tmax, real *t_enter)
+{
+    CSG_GLOBAL const real *nx = b->neg[0] ? hi_b : lo_b, *fx = b->neg[0] ? lo_b : hi_b;
+    CSG_GLOBAL const real *ny = b->neg[1] ? hi_b : lo_b, *fy = b->neg[1] ? lo_b : hi_b;
+    CSG_GLOBAL const real *nz = b->neg[2] ? hi_b : lo_b, *fz = b->neg[2] ? lo_b : hi_b;
+    return csg_slabs_hit(nx[0], fx[0], ny[1], fy[1], nz[2], fz[2], b, tmin, tmax, t_enter);
+}
+
+/* The same for a BVH node, its planes picked by index (the walk's
+ * commonest test: no select at all). */
+CSG_FN int csg_node_hit(CSG_GLOBAL const csg_bvh_node *n, const csg_box_ray *b, real tmin,
+                        real tmax, real *t_enter)
+{
+    CSG_GLOBAL const real *x = n->box;
+    return csg_slabs_hit(x[b->near_i[0]], x[b->far_i[0]], x[b->near_i[1]], x[b->far_i[1]],
+                         x[b->near_i[2]], x[b->far_i[2]], b, tmin, tmax, t_enter);
 }
 
 /* The same test for one ray, when no csg_box_ray is at hand. */
@@ -711,8 +733,8 @@ CSG_FN csg_i32 csg_bvh_open_pair(CSG_GLOBAL const csg_bvh_node *bvh, csg_i32 c,
                                  const csg_box_ray *br, real tmin, real tmax, csg_bvh_walk *w)
 {
     real ta, tb;
-    int ha = csg_box_hit(bvh[c].lo, bvh[c].hi, br, tmin, tmax, &ta);
-    int hb = csg_box_hit(bvh[c + 1].lo, bvh[c + 1].hi, br, tmin, tmax, &tb);
+    int ha = csg_node_hit(&bvh[c], br, tmin, tmax, &ta);
+    int hb = csg_node_hit(&bvh[c + 1], br, tmin, tmax, &tb);
     if (ha && hb) {
         if (w->top == CSG_BVH_STACK) /* the flattener prevents this */
             return -1;
