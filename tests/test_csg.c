@@ -833,11 +833,22 @@ static void test_box_overlaps(void **state)
 /* The reciprocal slab test at the IEEE edges: directions with +0 and -0
  * components, origins exactly on a slab's plane (0 * inf = NaN), infinite
  * and flat boxes, a denormal direction component. */
+/* csg_box_hit on lo..hi, checked against csg_node_hit on the same box as
+ * a BVH node (planes by index instead of by pointer): the same answer and
+ * the same entry, bit for bit. */
 static int box_hits(const real lo[3], const real hi[3], real ox, real oy, real oz, real dx, real dy,
                     real dz, real tmin, real tmax, real *t_enter)
 {
     csg_box_ray b = csg_box_ray_of(ray(ox, oy, oz, dx, dy, dz));
-    return csg_box_hit(lo, hi, &b, tmin, tmax, t_enter);
+    csg_bvh_node n;
+    real t_node;
+    memcpy(n.box, lo, 3 * sizeof *lo);
+    memcpy(n.box + 3, hi, 3 * sizeof *hi);
+    int hit = csg_box_hit(lo, hi, &b, tmin, tmax, t_enter);
+    assert_int_equal(csg_node_hit(&n, &b, tmin, tmax, &t_node), hit);
+    if (hit)
+        assert_memory_equal(&t_node, t_enter, sizeof t_node);
+    return hit;
 }
 
 static void test_box_ray_edges(void **state)
