@@ -125,7 +125,13 @@ def run_line(rows):
     if not rows:
         return ""
     r = rows[0]
-    return f"commit {r.get('commit', '?')}, {r.get('cpu', '?')}"
+    line = f"commit {r.get('commit', '?')}, {r.get('cpu', '?')}"
+    loads = [num(x, "load") for x in rows]
+    loads = [v for v in loads if v == v]
+    if loads:  # the machine is shared: how busy it was during the runs
+        line += (f"; 1-minute load average during the runs {statistics.median(loads):.2f} "
+                 f"({min(loads):.2f}–{max(loads):.2f}) on {r.get('cores', '?')} cores")
+    return line
 
 
 def main(argv):

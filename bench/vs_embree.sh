@@ -36,6 +36,8 @@ WORK=${BENCH_WORK:-$ROOT/build/bench}/embree
 COLLECT=(python3 "$ROOT/bench/collect.py")
 CSV="$OUT/vs_embree.csv"
 
+# The 1-minute load average: this machine is shared, and the tables say how busy it was.
+loadavg() { cut -d' ' -f1 /proc/loadavg; }
 die() { echo "bench/vs_embree.sh: $*" >&2; exit 1; }
 for b in "$BIN" "$PRIMARY" "$EMBREE"; do
     [ -x "$b" ] || die "$b not found: run 'make bench-speed' (it installs libembree-dev)"
@@ -72,7 +74,7 @@ for n in $COUNTS; do
     "$PRIMARY" "$sc" --width "$SIZE" --height "$SIZE" --repeat 1 --export-spheres "$spheres" \
         >"$WORK/csg.json" || die "primary_rays failed on $sc"
     echo "== vs_embree $n spheres at ${SIZE}x$SIZE, $ROUNDS rounds of $PASSES passes"
-    common=(cpu="$CPU" commit="$COMMIT" embree_version="$EMBREE_VERSION" count="$n"
+    common=(cpu="$CPU" cores="$(nproc)" commit="$COMMIT" embree_version="$EMBREE_VERSION" count="$n"
             width="$SIZE" height="$SIZE")
     for r in $(seq 1 "$ROUNDS"); do
         order="csgtrace embree"
@@ -87,7 +89,7 @@ for n in $COUNTS; do
                     || die "embree_primary failed on $spheres"
                 mapfile -t kv < <(json_kv "$WORK/embree.json")
             fi
-            "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer="$prog" round="$r" "${kv[@]}"
+            "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer="$prog" round="$r" load="$(loadavg)" "${kv[@]}"
         done
         a=$(json_get "$WORK/csg.json" hits) b=$(json_get "$WORK/embree.json" hits)
         python3 -c 'import sys; a, b, n = map(int, sys.argv[1:]); sys.exit(abs(a - b) * 10000 > n)' \

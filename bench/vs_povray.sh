@@ -41,6 +41,8 @@ WORK=${BENCH_WORK:-$ROOT/build/bench}/povray
 COLLECT=(python3 "$ROOT/bench/collect.py")
 CSV="$OUT/vs_povray.csv"
 
+# The 1-minute load average: this machine is shared, and the tables say how busy it was.
+loadavg() { cut -d' ' -f1 /proc/loadavg; }
 die() { echo "bench/vs_povray.sh: $*" >&2; exit 1; }
 command -v povray >/dev/null || die "povray not found (Debian package povray: make deps)"
 [ -x "$BIN" ] || die "$BIN not found: run 'make build/csgtrace' first"
@@ -99,7 +101,7 @@ rm -f "$CSV"
 for size in $SIZES; do
     for i in "${!SCENES[@]}"; do
         sc=${SCENES[$i]} name=${NAMES[$i]}
-        common=(cpu="$CPU" commit="$COMMIT" suite="$SUITE" povray_version="$POV_VERSION"
+        common=(cpu="$CPU" cores="$(nproc)" commit="$COMMIT" suite="$SUITE" povray_version="$POV_VERSION"
                 scene="$name" count="${COUNTS[$i]}" occ_target="${OCCS[$i]}" width="$size"
                 height="$size")
         echo "== vs_povray $name at ${size}x$size, $ROUNDS rounds"
@@ -116,7 +118,7 @@ for size in $SIZES; do
                     shadow=$(pov_count "Shadow Ray Tests" "$WORK/pov.log")
                     [ -n "$trace" ] && [ -n "$rays" ] && [ -n "$shadow" ] \
                         || die "POV-Ray's statistics lack a time or a ray count ($WORK/pov.log)"
-                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=povray round="$r" \
+                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=povray round="$r" load="$(loadavg)" \
                         trace_s="$trace" rays="$((rays + shadow))" rays_shadow="$shadow"
                 else
                     csgtrace_run "$sc" "$size" "$WORK/csg.png" "$WORK/stats.json" "$WORK/csg.log"
@@ -126,7 +128,7 @@ for size in $SIZES; do
                     shadow=$(number "$(stat_field "$WORK/stats.json" rays.shadow)")
                     [ -n "$p" ] && [ -n "$s" ] && [ -n "$rays" ] && [ -n "$shadow" ] \
                         || die "csgtrace's stats lack a time or a ray count ($WORK/stats.json)"
-                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=csgtrace round="$r" \
+                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=csgtrace round="$r" load="$(loadavg)" \
                         trace_s="$(python3 -c 'import sys; print(float(sys.argv[1]) + float(sys.argv[2]))' "$p" "$s")" \
                         rays="$rays" rays_shadow="$shadow"
                 fi
