@@ -6,6 +6,8 @@
 #   make test     deps + build + every test (also under ASan + UBSan)
 #   make demo     deps + build + render the showcase in both modes, compare
 #   make bench    deps + build + the quick benchmark suite (bench/, ~5 min)
+#   make bench-speed      one core against POV-Ray 3.7 (trace to trace) and
+#                 Embree (primary rays): bench/vs_povray.sh, bench/vs_embree.sh
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
@@ -24,6 +26,8 @@ DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
 	libopenimageio-dev openimageio-tools povray povray-includes \
 	libcmocka-dev gnuplot-nox python3
+# Only for the benchmarks' reference programs (bench/embree_primary.c).
+BENCH_DEB_PACKAGES := libembree-dev
 
 CC := mpicc
 CXX := g++
@@ -69,7 +73,8 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps test demo bench bench-full bench-accuracy golden fuzz clean
+.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed golden fuzz \
+	clean
 all: $(B)/csgtrace $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
 
@@ -168,7 +173,19 @@ fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
 		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
 
+# Benchmark helpers (never part of csgtrace): the primary-pass timing
+# harness over the engine, and the Embree reference it is compared with.
+$(B)/bench/primary_rays: $(B)/obj/bench/primary_rays.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
+$(B)/bench/embree_primary: bench/embree_primary.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) $(OPT) $< -o $@ -lembree3 -lm
+
 # ---- dependencies --------------------------------------------------------------
+deps-bench:
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(BENCH_DEB_PACKAGES)"
+
 deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
@@ -194,6 +211,14 @@ demo: deps
 bench: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --quick
+
+# One core, trace to trace, against POV-Ray 3.7 (+WT1) on the six paper
+# scenes, and primary rays against Embree (bench/SPEED.md).
+bench-speed: deps deps-bench
+	$(MAKE) $(B)/csgtrace $(B)/bench/primary_rays $(B)/bench/embree_primary
+	bench/vs_povray.sh
+	bench/vs_embree.sh
+	python3 bench/speed_report.py bench/results -o bench/SPEED.md
 
 bench-full: deps
 	$(MAKE) $(B)/csgtrace

@@ -575,24 +575,10 @@ def cmd_report(args):
 
 
 def povray_table(rows):
-    groups = {}
-    for r in rows:
-        groups.setdefault((r.get("count", ""), r.get("occ_target", ""), r.get("width", "")),
-                          {}).setdefault(r.get("renderer", ""), []).append(r)
-    out = []
-    for (c, o, w), by in sorted(groups.items(), key=lambda kv: tuple(map(key_num, kv[0]))):
-        pov = median_of(by.get("povray", []), "time_s")
-        line = [c, o, f"{w}x{w}", fmt(pov, ".3f")]
-        for ren in ("homo", "serial"):
-            rs = by.get(ren, [])
-            t = median_of(rs, "time_s")
-            line += [fmt(t, ".3f"), fmt(t / pov if pov == pov and pov > 0 else float("nan"), ".2f"),
-                     fmt(median_of(rs, "mean_err"), ".2e"), fmt(median_of(rs, "psnr"), ".1f"),
-                     fmt(median_of(rs, "px_over_pct"), ".2f")]
-        out.append(line)
-    return md_table(["objects", "occ. %", "size", "POV-Ray s",
-                     "homo s", "homo/POV", "mean err", "PSNR dB", "% px > 0.05",
-                     "serial s", "serial/POV", "mean err", "PSNR dB", "% px > 0.05"], out)
+    """The trace-to-trace table of bench/vs_povray.sh (bench/speed_report.py)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import speed_report
+    return speed_report.povray_section(rows)
 
 
 def main(argv):

@@ -15,7 +15,7 @@
 #   tile         tile size 8..128, both modes: the best tile per mode
 #   schedule     --schedule raster / cost / static / tail, both modes: busy
 #                fraction, tail, how well the estimate ranks the tiles
-#   povray       bench/vs_povray.sh: time and image agreement against POV-Ray 3.7
+#   povray       bench/vs_povray.sh: one core, trace to trace, against POV-Ray 3.7 +WT1
 #
 # Method: scenes come from `csgtrace gen spheres` (cached in build/bench/scenes);
 # one warm-up render per mode fills the PoCL kernel cache (POCL_CACHE_DIR) before

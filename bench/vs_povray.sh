@@ -1,105 +1,140 @@
 #!/usr/bin/env bash
-# bench/vs_povray.sh — csgtrace against POV-Ray 3.7 on the same scenes.
+# bench/vs_povray.sh — csgtrace against POV-Ray 3.7, one core, trace to trace.
 #
-#   bench/vs_povray.sh [SCENE.pov ...]     (default: one generated scene, 30 spheres, 50 %)
+#   bench/vs_povray.sh [SCENE.pov ...]
 #
-# Each scene is rendered R times (REPEATS, default 3) by
-#   povray +W$SIZE +H$SIZE -D -A +WT2          (2 threads, no anti-aliasing, default
-#                                                File_Gamma; the trace depth is the scene's
-#                                                own `max_trace_level 5`: POV-Ray 3.7 has no
-#                                                command-line switch for it)
-#   csgtrace render --mode homo under mpirun -np $RANKS (1 master + 2 workers)
-#   csgtrace render --mode serial (one process)
-# at the same size and depth.  Times: POV-Ray's own parse + bounding + trace
-# time (from its statistics on stderr: it has no machine-readable output) and
-# csgtrace's time_s = wall_s - compile_s from --stats JSON; the process wall
-# times (start-up included) are recorded too, as ext_s.  Image agreement: idiff
-# of each csgtrace image against the POV-Ray image (mean error, PSNR, % of
-# pixels over 0.05).  Rows go to $BENCH_OUT/vs_povray.csv (started afresh);
-# bench/run.sh --report puts the table (medians, time ratio csgtrace/POV-Ray)
-# into RESULTS.md.
+# Scenes: the arguments, else the paper's six random-sphere scenes
+# (`csgtrace gen spheres --count N --occupancy F --seed 1`, N = 10 and 50,
+# F = 0.2, 0.5, 0.8, framed at 384 x 384), each rendered at every size of
+# SIZES (default "384 1536", square) with the scene's own max_trace_level 5.
+# For every scene and size, ROUNDS (default 7) interleaved rounds; a round
+# runs both programs once, POV-Ray first in odd rounds and csgtrace first in
+# even ones (no program always gets the warmer cache), after one untimed
+# run of each:
+#   povray +W +H -D -A +WT1 +FN     one render thread, no anti-aliasing;
+#       time: its own "Trace Time" (statistics on stderr: it has no
+#       machine-readable output); rays: "Rays" (primary, reflected,
+#       refracted, transmitted) + "Shadow Ray Tests";
+#   csgtrace render --mode serial --stats   one process, one core;
+#       time: primary_s + secondary_s (the tile phase: tracing and shading;
+#       parsing, flattening with the BVH build, and writing the image are
+#       outside, as POV-Ray's parse, bounding and output are outside its
+#       trace time); rays: rays.total of the stats.
+# Every number read from another program's output is checked against a
+# strict pattern before it is used, and is only ever handed on as data
+# (key=value arguments of collect.py): nothing from a scene file, a file
+# name or an output is ever evaluated as code.
+#
+# Rows (one a run) go to $BENCH_OUT/vs_povray.csv (started afresh), then
+# bench/speed_report.py prints the medians, spreads and ratios, computed
+# within this run (the speed-up of a round is POV-Ray's time over
+# csgtrace's in that same round).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${CSGTRACE:-$ROOT/build/csgtrace}
-RANKS=${RANKS:-3}
-REPEATS=${REPEATS:-3}
-SIZE=${SIZE:-384}
+ROUNDS=${ROUNDS:-${REPEATS:-7}}
+SIZES=${SIZES:-${SIZE:-384 1536}}
 SUITE=${SUITE:-standalone}
 OUT=${BENCH_OUT:-$ROOT/bench/results}
 WORK=${BENCH_WORK:-$ROOT/build/bench}/povray
-COLLECT="python3 $ROOT/bench/collect.py"
-export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+COLLECT=(python3 "$ROOT/bench/collect.py")
 CSV="$OUT/vs_povray.csv"
 
+# The 1-minute load average: this machine is shared, and the tables say how busy it was.
+loadavg() { cut -d' ' -f1 /proc/loadavg; }
 die() { echo "bench/vs_povray.sh: $*" >&2; exit 1; }
-command -v povray >/dev/null || die "povray not found (Debian package povray)"
-command -v idiff >/dev/null || die "idiff not found (Debian package openimageio-tools)"
+command -v povray >/dev/null || die "povray not found (Debian package povray: make deps)"
 [ -x "$BIN" ] || die "$BIN not found: run 'make build/csgtrace' first"
+[[ "$ROUNDS" =~ ^[1-9][0-9]{0,2}$ ]] || die "ROUNDS must be a number from 1 to 999"
+for s in $SIZES; do [[ "$s" =~ ^[1-9][0-9]{0,4}$ ]] || die "SIZES must hold pixel counts"; done
 mkdir -p "$OUT" "$WORK"
 
+# A number as POV-Ray or the stats print it, or the empty string.
+number() { [[ "$1" =~ ^[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?$ ]] && printf '%s' "$1"; }
+# The "(S seconds)" figure of POV-Ray's statistics line $1 (e.g. "Trace Time").
+pov_seconds() { number "$(sed -n "s/^ *$1: .*(\([0-9.]*\) seconds).*/\1/p" "$2" | head -1)"; }
+# The first count after "$1:" on a statistics line (e.g. "Rays", "Shadow Ray Tests").
+pov_count() { number "$(sed -n "s/^$1: *\([0-9]*\).*/\1/p" "$2" | head -1)"; }
+# A field of csgtrace's stats JSON, by path (argv, not code).
+stat_field() {
+    python3 - "$1" "$2" <<'EOF'
+import json, sys
+v = json.load(open(sys.argv[1]))
+for k in sys.argv[2].split("."):
+    v = v[k]
+print(v)
+EOF
+}
+
+declare -a SCENES=() NAMES=() COUNTS=() OCCS=()
 if [ $# -eq 0 ]; then
-    def="$WORK/spheres-n30-o50-s1.pov"
-    [ -s "$def" ] || "$BIN" gen spheres --count 30 --occupancy 0.5 --seed 1 \
-        --width "$SIZE" --height "$SIZE" -o "$def" >/dev/null
-    set -- "$def"
+    for n in 10 50; do
+        for occ in 0.2 0.5 0.8; do
+            sc="$WORK/spheres-n$n-o$occ-s1.pov"
+            [ -s "$sc" ] || "$BIN" gen spheres --count "$n" --occupancy "$occ" --seed 1 \
+                --width 384 --height 384 -o "$sc" >/dev/null || die "gen failed"
+            SCENES+=("$sc"); NAMES+=("spheres-n$n-o$occ"); COUNTS+=("$n"); OCCS+=("$occ")
+        done
+    done
+else
+    for sc in "$@"; do
+        [ -s "$sc" ] || die "no scene $sc"
+        SCENES+=("$sc"); NAMES+=("$(basename "$sc" .pov)"); COUNTS+=(""); OCCS+=("")
+    done
 fi
 
 COMMIT=$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)
 CPU=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1 | tr -s ' ,' ' ')
-now() { date +%s.%N; }
-since() { awk -v a="$1" -v b="$(now)" 'BEGIN{printf "%.6f", b - a}'; }
+POV_VERSION=$(povray --version 2>&1 | sed -n 's/^POV-Ray \([0-9.]*\).*/\1/p' | head -1)
 
-# The "(S seconds)" figure of one of POV-Ray's statistics lines, e.g. "Trace Time".
-pov_seconds() { sed -n "s/.*$1:.*(\([0-9.]*\) seconds).*/\1/p" "$2" | head -1; }
-
-# Scene parameters from gen's header comment (empty for other scenes).
-param() { sed -n "1s/.*--$1 \([^ ]*\).*/\1/p" "$2"; }
+povray_run() { # scene size png log
+    povray +I"$1" +O"$3" +W"$2" +H"$2" -D -A +WT1 +FN >"$4" 2>&1 \
+        || { cat "$4" >&2; die "povray failed on $1"; }
+}
+csgtrace_run() { # scene size png json log
+    "$BIN" render "$1" -o "$3" --mode serial --width "$2" --height "$2" --stats "$4" >"$5" 2>&1 \
+        || { cat "$5" >&2; die "csgtrace failed on $1"; }
+}
 
 rm -f "$CSV"
-for sc in "$@"; do
-    [ -s "$sc" ] || die "no scene $sc"
-    name=$(basename "$sc" .pov)
-    count=$(param count "$sc"); occ=$(param occupancy "$sc")
-    occ=${occ:+$(awk -v o="$occ" 'BEGIN{print o*100}')}
-    common=(cpu="$CPU" cores="$(nproc)" commit="$COMMIT" suite="$SUITE" scene="$name" count="$count"
-            occ_target="$occ" width="$SIZE" height="$SIZE" ranks="$RANKS")
-    pov_png="$WORK/$name-povray.png"
-    echo "== vs_povray $name at ${SIZE}x$SIZE"
-    # Warm-up of both programs (file cache, PoCL cache): not recorded.
-    povray +I"$sc" +O"$pov_png" +W"$SIZE" +H"$SIZE" -D -A +WT2 +FN >"$WORK/pov.log" 2>&1 \
-        || { cat "$WORK/pov.log" >&2; die "povray failed on $sc"; }
-    "$BIN" render "$sc" -o "$WORK/$name-serial.png" --mode serial --width "$SIZE" \
-        --height "$SIZE" >/dev/null 2>&1 || die "csgtrace serial failed on $sc"
-    for r in $(seq 1 "$REPEATS"); do
-        t0=$(now)
-        povray +I"$sc" +O"$pov_png" +W"$SIZE" +H"$SIZE" -D -A +WT2 +FN >"$WORK/pov.log" 2>&1 \
-            || { cat "$WORK/pov.log" >&2; die "povray failed on $sc"; }
-        ext=$(since "$t0")
-        parse=$(pov_seconds "Parse Time" "$WORK/pov.log")
-        bound=$(pov_seconds "Bounding Time" "$WORK/pov.log")
-        trace=$(pov_seconds "Trace Time" "$WORK/pov.log")
-        [ -n "$trace" ] || die "no Trace Time in POV-Ray's statistics ($WORK/pov.log)"
-        total=$(awk -v p="${parse:-0}" -v b="${bound:-0}" -v t="$trace" 'BEGIN{printf "%.6f", p + b + t}')
-        $COLLECT append-kv "$CSV" "${common[@]}" renderer=povray repeat="$r" \
-            date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" time_s="$total" ext_s="$ext" \
-            pov_parse_s="$parse" pov_bounding_s="$bound" pov_trace_s="$trace"
-        for mode in homo serial; do
-            img="$WORK/$name-$mode.png"
-            json="$WORK/stats.json"
-            cmd=("$BIN" render "$sc" -o "$img" --mode "$mode" --width "$SIZE" --height "$SIZE"
-                 --stats "$json")
-            [ "$mode" = serial ] || cmd=(mpirun -np "$RANKS" --oversubscribe --bind-to none "${cmd[@]}")
-            t0=$(now)
-            "${cmd[@]}" >"$WORK/log.txt" 2>&1 || { cat "$WORK/log.txt" >&2; die "failed: ${cmd[*]}"; }
-            ext=$(since "$t0")
-            idiff -fail 0.05 -warn 0.05 "$pov_png" "$img" >"$WORK/idiff.txt" 2>&1 || true
-            # shellcheck disable=SC2046  # key=value words
-            $COLLECT append "$CSV" "$json" "${common[@]}" renderer="$mode" repeat="$r" \
-                date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" ext_s="$ext" \
-                $($COLLECT idiff "$WORK/idiff.txt")
+for size in $SIZES; do
+    for i in "${!SCENES[@]}"; do
+        sc=${SCENES[$i]} name=${NAMES[$i]}
+        common=(cpu="$CPU" cores="$(nproc)" commit="$COMMIT" suite="$SUITE" povray_version="$POV_VERSION"
+                scene="$name" count="${COUNTS[$i]}" occ_target="${OCCS[$i]}" width="$size"
+                height="$size")
+        echo "== vs_povray $name at ${size}x$size, $ROUNDS rounds"
+        povray_run "$sc" "$size" "$WORK/pov.png" "$WORK/pov.log"          # warm-up
+        csgtrace_run "$sc" "$size" "$WORK/csg.png" "$WORK/stats.json" "$WORK/csg.log"
+        for r in $(seq 1 "$ROUNDS"); do
+            order="povray csgtrace"
+            [ $((r % 2)) -eq 0 ] && order="csgtrace povray"
+            for prog in $order; do
+                if [ "$prog" = povray ]; then
+                    povray_run "$sc" "$size" "$WORK/pov.png" "$WORK/pov.log"
+                    trace=$(pov_seconds "Trace Time" "$WORK/pov.log")
+                    rays=$(pov_count "Rays" "$WORK/pov.log")
+                    shadow=$(pov_count "Shadow Ray Tests" "$WORK/pov.log")
+                    [ -n "$trace" ] && [ -n "$rays" ] && [ -n "$shadow" ] \
+                        || die "POV-Ray's statistics lack a time or a ray count ($WORK/pov.log)"
+                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=povray round="$r" load="$(loadavg)" \
+                        trace_s="$trace" rays="$((rays + shadow))" rays_shadow="$shadow"
+                else
+                    csgtrace_run "$sc" "$size" "$WORK/csg.png" "$WORK/stats.json" "$WORK/csg.log"
+                    p=$(number "$(stat_field "$WORK/stats.json" primary_s)")
+                    s=$(number "$(stat_field "$WORK/stats.json" secondary_s)")
+                    rays=$(number "$(stat_field "$WORK/stats.json" rays.total)")
+                    shadow=$(number "$(stat_field "$WORK/stats.json" rays.shadow)")
+                    [ -n "$p" ] && [ -n "$s" ] && [ -n "$rays" ] && [ -n "$shadow" ] \
+                        || die "csgtrace's stats lack a time or a ray count ($WORK/stats.json)"
+                    "${COLLECT[@]}" append-kv "$CSV" "${common[@]}" renderer=csgtrace round="$r" load="$(loadavg)" \
+                        trace_s="$(python3 -c 'import sys; print(float(sys.argv[1]) + float(sys.argv[2]))' "$p" "$s")" \
+                        rays="$rays" rays_shadow="$shadow"
+                fi
+            done
         done
     done
 done
 echo "  vs_povray: $CSV"
+python3 "$ROOT/bench/speed_report.py" "$OUT" --povray

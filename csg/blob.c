@@ -82,19 +82,21 @@ static bool roots_valid(const csg_blob_header *h, const csg_root *roots, const c
     return true;
 }
 
-/* Leaves hold bounded roots only; children come after their parent, so
- * the tree has no cycle and a walk ends. */
+/* Leaves hold bounded roots only; the top pair exists, and children come
+ * in pairs after their parent, so the tree has no cycle and a walk ends. */
 static bool bvh_valid(const csg_blob_header *h, const csg_bvh_node *bvh)
 {
     if (h->linear_roots < 0 || h->linear_roots > h->root_count || h->bvh_count < 0)
         return false;
     if (h->bvh_count == 0)
         return h->linear_roots == h->root_count;
+    if (h->bvh_count < 2)
+        return false;
     for (int32_t k = 0; k < h->bvh_count; k++) {
-        if (bvh[k].count > 0) {
+        if (bvh[k].count >= 0) {
             if (bvh[k].first < h->linear_roots || bvh[k].first > h->root_count - bvh[k].count)
                 return false;
-        } else if (bvh[k].count < -3 || bvh[k].first <= k + 1 || bvh[k].first >= h->bvh_count) {
+        } else if (bvh[k].count < -3 || bvh[k].first <= k || bvh[k].first >= h->bvh_count - 1) {
             return false;
         }
     }

@@ -28,10 +28,15 @@
  *     once per polygon (the split of the last polygon is kept).
  *  4. Every root gets a world bounding box, padded outwards so rounding to
  *     `real` never clips a silhouette.
- *  5. Unbounded roots (planes, complements) go first and are tested one by
+ *  5. Every root records what a shadow ray may skip in it (flat.h,
+ *     csg_root_flags): all of it (every primitive no_shadow), or all but
+ *     the first visible boundary (every primitive casts shadows and is
+ *     opaque).
+ *  6. Unbounded roots (planes, complements) go first and are tested one by
  *     one; the bounded ones are reordered into the leaves of a BVH built by
- *     median splits on the box centres along the widest axis (depth about
- *     log2 of the root count, far below CSG_BVH_STACK).
+ *     binned SAH, siblings side by side (see bvh_build below; the depth
+ *     stays below CSG_BVH_STACK whatever the scene); the nodes and the
+ *     primitives are then laid out in the roots' new order.
  */
 #include "flatten.h"
 
@@ -811,6 +816,37 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
     return ok;
 }
 
+/* No point of the material lets light through: neither its pigment nor,
+ * when patterned, any colour of its map. */
+static bool material_opaque(const flat_builder *fb, const csg_material *m)
+{
+    if (m->pattern == CSG_MAT_PLAIN)
+        return m->filter <= 0 && m->transmit <= 0;
+    for (int k = 0; k < m->map_count; k++) {
+        const csg_map_color *c = &fb->maps[m->map_first + k];
+        if (c->rgbft[3] > 0 || c->rgbft[4] > 0)
+            return false;
+    }
+    return true;
+}
+
+/* csg_root_flags of the root whose primitives are first_prim .. the last.
+ * A one-sided surface is never opaque here: its hidden back still stops
+ * light (a surface event, root_transmittance), which the first visible hit
+ * does not see. */
+static int root_shadow_flags(const flat_builder *fb, int first_prim)
+{
+    bool none = true, opaque = true;
+    for (int i = first_prim; i < fb->prim_count; i++) {
+        const csg_prim *p = &fb->prims[i];
+        bool casts = !(p->flags & CSG_PF_NO_SHADOW);
+        none = none && !casts;
+        opaque = opaque && casts && !(p->flags & CSG_PF_ONE_SIDED) &&
+                 material_opaque(fb, &fb->mats[p->material]);
+    }
+    return (none ? CSG_ROOT_NO_SHADOW : 0) | (opaque ? CSG_ROOT_OPAQUE : 0);
+}
+
 static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
 {
     int depth = lists_needed(o);
@@ -827,7 +863,7 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
         return false;
     }
     int root = fb->root_count;
-    int first = fb->node_count;
+    int first = fb->node_count, first_prim = fb->prim_count;
     dbox box;
     if (!emit_tree(fb, o, inh, false, root, &box))
         return false;
@@ -836,6 +872,7 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     r->first_node = first;
     r->node_count = fb->node_count - first;
     r->stack_depth = depth;
+    r->flags = root_shadow_flags(fb, first_prim);
     box_store(box, r->lo, r->hi);
     fb->root_boxes[root] = box;
     return true;
@@ -895,8 +932,26 @@ static bool box_bounded(const dbox *b)
     return true;
 }
 
+/* Binned SAH (Wald, "On fast Construction of SAH-based Bounding Volume
+ * Hierarchies", 2007): at each node the box centres are binned along each
+ * axis and the split between two bins that minimises
+ *   BVH_TRAVERSAL_COST + (area(L) * n(L) + area(R) * n(R)) / area(node)
+ * (one root test costs 1) is taken, unless a leaf, costing n, is no
+ * dearer and n <= BVH_MAX_LEAF.  Centres that all coincide on every axis
+ * cannot be binned: such a set is halved in index order.  Below depth
+ * BVH_MEDIAN_DEPTH every split halves the set (median of the centres
+ * along the widest axis), so the depth stays below
+ * BVH_MEDIAN_DEPTH + log2(CSG_MAX_PRIMS) + 1 < CSG_BVH_STACK whatever the
+ * scene.  Everything is computed in double in a fixed order with total
+ * orders for ties: the same scene gives the same tree on every run. */
+#define BVH_BINS 32
+#define BVH_MAX_LEAF 4
+#define BVH_TRAVERSAL_COST 1.0
+#define BVH_MEDIAN_DEPTH 32
+
 typedef struct {
-    double key; /* box centre along the split axis */
+    double c[3]; /* box centre */
+    double key;  /* the centre along the axis being sorted on */
     int root;
 } bvh_item;
 
@@ -908,57 +963,212 @@ static int bvh_item_cmp(const void *a, const void *b)
     return x->root - y->root; /* a total order: the tree is the same everywhere */
 }
 
-/* Builds the subtree over items[0..n) into fb->bvh; `order` receives the
- * roots in leaf order.  Returns the node index, -1 when out of memory. */
-static int bvh_build(flat_builder *fb, bvh_item *items, int n, int *order, int *placed)
+static double box_half_area(const dbox *b)
 {
-    if (!grow((void **)&fb->bvh, &fb->bvh_cap, fb->bvh_count + 1, sizeof(csg_bvh_node)))
-        return -1;
-    int k = fb->bvh_count++;
-    dbox box = fb->root_boxes[items[0].root];
-    dbox centres = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-    for (int i = 0; i < n; i++) {
-        const dbox *b = &fb->root_boxes[items[i].root];
-        box = box_union(box, *b);
-        for (int a = 0; a < 3; a++) {
-            double c = 0.5 * (b->lo[a] + b->hi[a]);
-            centres.lo[a] = fmin(centres.lo[a], c);
-            centres.hi[a] = fmax(centres.hi[a], c);
+    double d[3];
+    for (int a = 0; a < 3; a++)
+        d[a] = b->hi[a] - b->lo[a];
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+static dbox box_empty(void)
+{
+    dbox b;
+    for (int i = 0; i < 3; i++) {
+        b.lo[i] = INFINITY;
+        b.hi[i] = -INFINITY;
+    }
+    return b;
+}
+
+static int bvh_bin(const bvh_item *it, int axis, double lo, double scale)
+{
+    int b = (int)((it->c[axis] - lo) * scale);
+    return b < 0 ? 0 : (b >= BVH_BINS ? BVH_BINS - 1 : b);
+}
+
+/* The SAH split of items[0..n): axis and first bin of the right part;
+ * false when no binned split is cheaper than a leaf of them (or possible). */
+static bool bvh_sah(const flat_builder *fb, const bvh_item *items, int n, const dbox *box,
+                    const dbox *centres, int *axis_out, int *bin_out)
+{
+    double best = n <= BVH_MAX_LEAF ? (double)n : HUGE_VAL;
+    double area = box_half_area(box);
+    bool found = false;
+    for (int a = 0; a < 3; a++) {
+        double extent = centres->hi[a] - centres->lo[a];
+        if (!(extent > 0))
+            continue;
+        double scale = BVH_BINS / extent;
+        int count[BVH_BINS] = {0};
+        dbox bounds[BVH_BINS];
+        for (int b = 0; b < BVH_BINS; b++)
+            bounds[b] = box_empty();
+        for (int i = 0; i < n; i++) {
+            int b = bvh_bin(&items[i], a, centres->lo[a], scale);
+            count[b]++;
+            bounds[b] = box_union(bounds[b], fb->root_boxes[items[i].root]);
+        }
+        /* right-to-left sweep: the cost of the right part of each split */
+        double right_cost[BVH_BINS];
+        dbox acc = box_empty();
+        int acc_n = 0;
+        for (int b = BVH_BINS - 1; b > 0; b--) {
+            acc = box_union(acc, bounds[b]);
+            acc_n += count[b];
+            right_cost[b] = acc_n ? box_half_area(&acc) * acc_n : 0;
+        }
+        acc = box_empty();
+        acc_n = 0;
+        for (int b = 1; b < BVH_BINS; b++) {
+            acc = box_union(acc, bounds[b - 1]);
+            acc_n += count[b - 1];
+            if (acc_n == 0 || acc_n == n)
+                continue;
+            double cost = BVH_TRAVERSAL_COST + (box_half_area(&acc) * acc_n + right_cost[b]) / area;
+            if (cost < best) {
+                best = cost;
+                *axis_out = a;
+                *bin_out = b;
+                found = true;
+            }
         }
     }
+    return found;
+}
+
+/* Splits items[0..n) in two parts, items[0..*left) and the rest, and says
+ * on which axis; false when they make a leaf. */
+static bool bvh_split(const flat_builder *fb, bvh_item *items, int n, int depth, const dbox *box,
+                      bvh_item *tmp, int *left, int *axis)
+{
+    if (n <= 1)
+        return false;
+    dbox centres = box_empty();
+    for (int i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) {
+            centres.lo[a] = fmin(centres.lo[a], items[i].c[a]);
+            centres.hi[a] = fmax(centres.hi[a], items[i].c[a]);
+        }
+    int bin = 0;
+    if (depth < BVH_MEDIAN_DEPTH && bvh_sah(fb, items, n, box, &centres, axis, &bin)) {
+        /* a stable partition by bin */
+        double scale = BVH_BINS / (centres.hi[*axis] - centres.lo[*axis]);
+        int l = 0, r = 0;
+        for (int i = 0; i < n; i++) {
+            if (bvh_bin(&items[i], *axis, centres.lo[*axis], scale) < bin)
+                items[l++] = items[i];
+            else
+                tmp[r++] = items[i];
+        }
+        memcpy(items + l, tmp, (size_t)r * sizeof *items);
+        *left = l;
+        return true;
+    }
+    if (n <= BVH_MAX_LEAF && depth < BVH_MEDIAN_DEPTH)
+        return false;
+    /* halve along the widest spread of centres (in index order if none) */
+    *axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (centres.hi[a] - centres.lo[a] > centres.hi[*axis] - centres.lo[*axis])
+            *axis = a;
+    for (int i = 0; i < n; i++)
+        items[i].key = items[i].c[*axis];
+    qsort(items, (size_t)n, sizeof *items, bvh_item_cmp);
+    *left = n / 2;
+    return true;
+}
+
+/* Fills node k with the subtree over items[0..n); `order` receives the
+ * roots in leaf order.  False when out of memory. */
+static bool bvh_build(flat_builder *fb, int k, bvh_item *items, int n, int depth, bvh_item *tmp,
+                      int *order, int *placed)
+{
+    dbox box = box_empty();
+    for (int i = 0; i < n; i++)
+        box = box_union(box, fb->root_boxes[items[i].root]);
     csg_bvh_node node;
-    box_store(box, node.lo, node.hi);
-    if (n <= 2) {
+    box_store(box, node.box, node.box + 3);
+    int left, axis;
+    if (!bvh_split(fb, items, n, depth, &box, tmp, &left, &axis)) {
         node.first = *placed;
         node.count = n;
         for (int i = 0; i < n; i++)
             order[(*placed)++] = items[i].root;
         fb->bvh[k] = node;
-        return k;
+        return true;
     }
-    int axis = 0;
-    for (int a = 1; a < 3; a++)
-        if (centres.hi[a] - centres.lo[a] > centres.hi[axis] - centres.lo[axis])
-            axis = a;
-    for (int i = 0; i < n; i++) {
-        const dbox *b = &fb->root_boxes[items[i].root];
-        items[i].key = 0.5 * (b->lo[axis] + b->hi[axis]);
-    }
-    qsort(items, (size_t)n, sizeof *items, bvh_item_cmp);
-    int half = n / 2;
-    if (bvh_build(fb, items, half, order, placed) < 0)
-        return -1;
-    int second = bvh_build(fb, items + half, n - half, order, placed);
-    if (second < 0)
-        return -1;
-    node.first = second;
+    int c = fb->bvh_count;
+    if (!grow((void **)&fb->bvh, &fb->bvh_cap, c + 2, sizeof(csg_bvh_node)))
+        return false;
+    fb->bvh_count += 2;
+    node.first = c;
     node.count = -1 - axis;
     fb->bvh[k] = node;
-    return k;
+    return bvh_build(fb, c, items, left, depth + 1, tmp, order, placed) &&
+           bvh_build(fb, c + 1, items + left, n - left, depth + 1, tmp, order, placed);
+}
+
+/* The top pair, nodes 0 and 1: the two halves of the first split, or one
+ * leaf of everything and the empty leaf. */
+static bool bvh_build_top(flat_builder *fb, bvh_item *items, int n, bvh_item *tmp, int *order,
+                          int *placed)
+{
+    if (!grow((void **)&fb->bvh, &fb->bvh_cap, 2, sizeof(csg_bvh_node)))
+        return false;
+    fb->bvh_count = 2;
+    dbox box = box_empty();
+    for (int i = 0; i < n; i++)
+        box = box_union(box, fb->root_boxes[items[i].root]);
+    int left, axis;
+    if (bvh_split(fb, items, n, 0, &box, tmp, &left, &axis))
+        return bvh_build(fb, 0, items, left, 1, tmp, order, placed) &&
+               bvh_build(fb, 1, items + left, n - left, 1, tmp, order, placed);
+    csg_bvh_node empty = {*placed + n, 0,
+                          {CSG_R_INF, CSG_R_INF, CSG_R_INF, -CSG_R_INF, -CSG_R_INF, -CSG_R_INF}};
+    fb->bvh[1] = empty;
+    return bvh_build(fb, 0, items, n, 1, tmp, order, placed);
+}
+
+/* Copies the root programs and their primitives in the roots' order, so
+ * that the roots of a BVH leaf, their nodes and their primitives lie side
+ * by side in memory (a walk through a big scene touches them in that
+ * order: +4 % primary rays at 10^5 spheres).  A root's own primitives keep
+ * their order, that of its program; each primitive is the leaf of exactly
+ * one node. */
+static bool lay_out_programs(flat_builder *fb)
+{
+    csg_node *nodes = malloc((size_t)fb->node_count * sizeof *nodes);
+    csg_prim *prims = malloc((size_t)fb->prim_count * sizeof *prims);
+    if ((fb->node_count && !nodes) || (fb->prim_count && !prims)) {
+        free(nodes);
+        free(prims);
+        return false;
+    }
+    int nn = 0, np = 0;
+    for (int r = 0; r < fb->root_count; r++) {
+        csg_root *rt = &fb->roots[r];
+        int first = nn;
+        for (int k = 0; k < rt->node_count; k++) {
+            csg_node node = fb->nodes[rt->first_node + k];
+            if (node.op == CSG_OP_PRIM) {
+                prims[np] = fb->prims[node.prim];
+                node.prim = np++;
+            }
+            nodes[nn++] = node;
+        }
+        rt->first_node = first;
+    }
+    memcpy(fb->nodes, nodes, (size_t)nn * sizeof *nodes);
+    memcpy(fb->prims, prims, (size_t)np * sizeof *prims);
+    free(nodes);
+    free(prims);
+    return true;
 }
 
 /* Reorders the roots: unbounded ones first (source order), then the
- * bounded ones in the BVH's leaf order; primitives follow their roots. */
+ * bounded ones in the BVH's leaf order; nodes and primitives follow their
+ * roots (lay_out_programs). */
 static bool build_bvh(flat_builder *fb)
 {
     int n = fb->root_count;
@@ -967,18 +1177,25 @@ static bool build_bvh(flat_builder *fb)
     int *order = malloc((size_t)n * sizeof *order);
     int *new_index = malloc((size_t)n * sizeof *new_index);
     bvh_item *items = malloc((size_t)n * sizeof *items);
+    bvh_item *tmp = malloc((size_t)n * sizeof *tmp);
     csg_root *roots = malloc((size_t)n * sizeof *roots);
-    bool ok = order && new_index && items && roots;
+    bool ok = order && new_index && items && tmp && roots;
     int placed = 0, bounded = 0;
     for (int i = 0; ok && i < n; i++) {
-        if (box_bounded(&fb->root_boxes[i]))
-            items[bounded++] = (bvh_item){0, i};
-        else
+        const dbox *b = &fb->root_boxes[i];
+        if (box_bounded(b)) {
+            bvh_item *it = &items[bounded++];
+            for (int a = 0; a < 3; a++)
+                it->c[a] = 0.5 * (b->lo[a] + b->hi[a]);
+            it->key = 0;
+            it->root = i;
+        } else {
             order[placed++] = i;
+        }
     }
     fb->linear_roots = placed;
     if (ok && bounded > 0)
-        ok = bvh_build(fb, items, bounded, order, &placed) >= 0;
+        ok = bvh_build_top(fb, items, bounded, tmp, order, &placed);
     if (ok) {
         for (int i = 0; i < n; i++) {
             roots[i] = fb->roots[order[i]];
@@ -987,10 +1204,12 @@ static bool build_bvh(flat_builder *fb)
         memcpy(fb->roots, roots, (size_t)n * sizeof *roots);
         for (int i = 0; i < fb->prim_count; i++)
             fb->prims[i].root = new_index[fb->prims[i].root];
+        ok = lay_out_programs(fb);
     }
     free(order);
     free(new_index);
     free(items);
+    free(tmp);
     free(roots);
     return ok;
 }

@@ -830,6 +830,140 @@ static void test_box_overlaps(void **state)
     NEAR(h.t, 5, 0);
 }
 
+/* The reciprocal slab test at the IEEE edges: directions with +0 and -0
+ * components, origins exactly on a slab's plane (0 * inf = NaN), infinite
+ * and flat boxes, a denormal direction component. */
+/* csg_box_hit on lo..hi, checked against csg_node_hit on the same box as
+ * a BVH node (planes by index instead of by pointer): the same answer and
+ * the same entry, bit for bit. */
+static int box_hits(const real lo[3], const real hi[3], real ox, real oy, real oz, real dx, real dy,
+                    real dz, real tmin, real tmax, real *t_enter)
+{
+    csg_box_ray b = csg_box_ray_of(ray(ox, oy, oz, dx, dy, dz));
+    csg_bvh_node n;
+    real t_node;
+    memcpy(n.box, lo, 3 * sizeof *lo);
+    memcpy(n.box + 3, hi, 3 * sizeof *hi);
+    int hit = csg_box_hit(lo, hi, &b, tmin, tmax, t_enter);
+    assert_int_equal(csg_node_hit(&n, &b, tmin, tmax, &t_node), hit);
+    if (hit)
+        assert_memory_equal(&t_node, t_enter, sizeof t_node);
+    return hit;
+}
+
+static void test_box_ray_edges(void **state)
+{
+    (void)state;
+    const real inf = CSG_R_INF, z = R(0.0);
+    const real lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    real t;
+    csg_box_ray b = csg_box_ray_of(ray(0, 0, 0, -z, z, R(-1.0)));
+    assert_int_equal(b.neg[0], 1); /* -0 counts as negative */
+    assert_int_equal(b.neg[1], 0);
+    assert_int_equal(b.neg[2], 1);
+    for (int sgn = 0; sgn < 2; sgn++) {
+        real d0 = sgn ? -z : z; /* +0, then -0 */
+        /* origin on the lo and on the hi plane of x, moving along z: the
+         * line lies in the closed slab, so the box is met */
+        assert_true(box_hits(lo, hi, 0, R(0.5), -1, d0, 0, 1, 0, inf, &t));
+        assert_true(t <= 1 && t > R(0.99));
+        assert_true(box_hits(lo, hi, 1, R(0.5), -1, d0, 0, 1, 0, inf, &t));
+        assert_true(box_hits(lo, hi, 1, 1, -1, d0, d0, 1, 0, inf, &t)); /* on an edge */
+        assert_true(box_hits(lo, hi, 0, 0, 2, d0, d0, -1, 0, inf, &t));
+        /* just outside the slab: missed */
+        assert_false(box_hits(lo, hi, R(-0.001), R(0.5), -1, d0, 0, 1, 0, inf, &t));
+        assert_false(box_hits(lo, hi, R(1.001), R(0.5), -1, d0, 0, 1, 0, inf, &t));
+        /* inside: entered at tmin */
+        assert_true(box_hits(lo, hi, R(0.5), R(0.5), R(0.5), d0, d0, 1, R(0.25), inf, &t));
+        assert_true(t == R(0.25));
+        /* a flat box (lo == hi on x) with the origin in its plane */
+        const real flo[3] = {R(0.5), 0, 0}, fhi[3] = {R(0.5), 1, 1};
+        assert_true(box_hits(flo, fhi, R(0.5), R(0.5), -1, d0, 0, 1, 0, inf, &t));
+        assert_false(box_hits(flo, fhi, R(0.75), R(0.5), -1, d0, 0, 1, 0, inf, &t));
+    }
+    /* infinite bounds with a zero component and the origin anywhere */
+    const real ilo[3] = {-inf, -inf, 0}, ihi[3] = {inf, 0, 1};
+    assert_true(box_hits(ilo, ihi, R(1e30), -5, -1, 0, 0, 1, 0, inf, &t));
+    assert_true(box_hits(ilo, ihi, 0, 0, -1, -z, -z, 1, 0, inf, &t)); /* on y's plane */
+    assert_false(box_hits(ilo, ihi, 0, R(0.5), -1, 0, 0, 1, 0, inf, &t));
+    /* a component so small that its reciprocal overflows (a float
+     * denormal) acts like a zero one */
+    real tiny = R(1e-40);
+    assert_true(box_hits(lo, hi, R(0.5), R(0.5), -1, tiny, 0, 1, 0, inf, &t));
+    assert_true(box_hits(lo, hi, R(0.5), R(0.5), -1, -tiny, 0, 1, 0, inf, &t));
+    /* the range: tmax before the entry, tmin after the exit */
+    assert_false(box_hits(lo, hi, -1, R(0.5), R(0.5), 1, 0, 0, 0, R(0.999), &t));
+    assert_true(box_hits(lo, hi, -1, R(0.5), R(0.5), 1, 0, 0, 0, 1, &t));
+    assert_true(box_hits(lo, hi, -1, R(0.5), R(0.5), 1, 0, 0, 2, 3, &t));
+    assert_false(box_hits(lo, hi, -1, R(0.5), R(0.5), 1, 0, 0, R(2.001), 3, &t));
+}
+
+/* The reciprocal slab test never rejects a ray that meets the box: random
+ * boxes and rays, many with zero components and origins on a plane,
+ * against the textbook division test evaluated in long double (exact
+ * enough to decide every case these inputs produce). */
+static uint32_t lcg(uint32_t *seed)
+{
+    *seed = *seed * 1664525u + 1013904223u;
+    return *seed >> 8;
+}
+
+static real pick(uint32_t *seed, real scale)
+{
+    return (real)((double)lcg(seed) / 16777216.0 * 2.0 * (double)scale - (double)scale);
+}
+
+static int box_reference(const real lo[3], const real hi[3], const real o[3], const real d[3],
+                         real tmin, real tmax, long double *enter)
+{
+    long double a = tmin, b = tmax;
+    for (int k = 0; k < 3; k++) {
+        if (d[k] == 0) {
+            if (o[k] < lo[k] || o[k] > hi[k])
+                return 0;
+            continue;
+        }
+        long double ta = ((long double)lo[k] - o[k]) / d[k];
+        long double tb = ((long double)hi[k] - o[k]) / d[k];
+        a = fmaxl(a, fminl(ta, tb));
+        b = fminl(b, fmaxl(ta, tb));
+    }
+    *enter = a;
+    return a <= b;
+}
+
+static void test_box_ray_conservative(void **state)
+{
+    (void)state;
+    uint32_t seed = 777u;
+    int met = 0;
+    for (int k = 0; k < 200000; k++) {
+        real lo[3], hi[3], o[3], d[3];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = pick(&seed, 4);
+            hi[a] = lo[a] + (lcg(&seed) % 16 == 0 ? 0 : pick(&seed, R(1.5)) + R(1.5));
+        }
+        for (int a = 0; a < 3; a++) {
+            uint32_t u = lcg(&seed);
+            o[a] = u % 8 == 0 ? lo[a] : (u % 8 == 1 ? hi[a] : pick(&seed, 8)); /* on a plane */
+            u = lcg(&seed);
+            real aim = lo[a] + (hi[a] - lo[a]) * (pick(&seed, R(0.6)) + R(0.5)); /* near the box */
+            d[a] = u % 6 == 0 ? ((u & 64) ? -R(0.0) : R(0.0)) : aim - o[a];
+        }
+        real tmax = (k & 1) ? CSG_R_INF : pick(&seed, 3) + R(3.0);
+        long double want_t;
+        real got_t;
+        int want = box_reference(lo, hi, o, d, 0, tmax, &want_t);
+        int got = box_hits(lo, hi, o[0], o[1], o[2], d[0], d[1], d[2], 0, tmax, &got_t);
+        if (want) {
+            assert_true(got);
+            assert_true((long double)got_t <= want_t);
+            met++;
+        }
+    }
+    assert_true(met > 40000);
+}
+
 /* The single-primitive fast path of csg_try_root gives exactly what the
  * interval list gives (csg_leaf_spans + csg_first_boundary): every kind,
  * open caps, rays from inside and outside, on the surface, tangent, and
@@ -895,6 +1029,8 @@ int main(void)
         cmocka_unit_test(test_span_algebra),
         cmocka_unit_test(test_spans_push),
         cmocka_unit_test(test_box_overlaps),
+        cmocka_unit_test(test_box_ray_edges),
+        cmocka_unit_test(test_box_ray_conservative),
         cmocka_unit_test(test_leaf_fast_path),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -126,6 +126,15 @@ static float *render_all(const engine *e, const void *blob, int w, int h, int ti
     return rgb;
 }
 
+/* Renders the blob in tiles of `tile` and asserts the very pixels of ref. */
+static void assert_renders(const engine *e, const void *blob, int w, int h, int tile,
+                           const float *ref)
+{
+    float *img = render_all(e, blob, w, h, tile);
+    assert_memory_equal(ref, img, (size_t)w * h * 3 * sizeof(float));
+    free(img);
+}
+
 /* ---- tests --------------------------------------------------------------------- */
 
 static void test_background_only(void **state)
@@ -194,11 +203,8 @@ static void test_tiling_invariance(void **state)
         flatten_ok(engines[k], &s, 37, 23, &b);
         float *ref = render_all(engines[k], b.bytes, 37, 23, 64);
         int tiles[] = {1, 5, 16};
-        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++) {
-            float *img = render_all(engines[k], b.bytes, 37, 23, tiles[i]);
-            assert_memory_equal(ref, img, 37 * 23 * 3 * sizeof(float));
-            free(img);
-        }
+        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++)
+            assert_renders(engines[k], b.bytes, 37, 23, tiles[i], ref);
         free(ref);
         csg_blob_free(&b);
     }
@@ -369,6 +375,199 @@ static void test_bvh_matches_linear(void **state)
     csg_scene_free(&s);
 }
 
+/* ---- the SAH BVH ------------------------------------------------------------ */
+
+static double unit_rand(uint64_t *seed)
+{
+    *seed = *seed * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*seed >> 11) * 0x1.0p-53;
+}
+
+/* Walks the tree from the top pair: children after their parent, each
+ * bounded root in exactly one leaf, a leaf of one root with exactly that
+ * root's box (the walk skips testing it again), no deeper than the walk's
+ * stack. */
+static void bvh_check(const csg_bvh_node *bvh, const csg_root *roots, int k, int depth, int *seen)
+{
+    const csg_bvh_node *n = &bvh[k];
+    assert_true(depth < CSG_BVH_STACK);
+    if (n->count >= 0) {
+        for (int i = n->first; i < n->first + n->count; i++)
+            seen[i]++;
+        if (n->count == 1) {
+            assert_memory_equal(n->box, roots[n->first].lo, sizeof roots->lo);
+            assert_memory_equal(n->box + 3, roots[n->first].hi, sizeof roots->hi);
+        }
+        return;
+    }
+    assert_true(n->first > k);
+    bvh_check(bvh, roots, n->first, depth + 1, seen);
+    bvh_check(bvh, roots, n->first + 1, depth + 1, seen);
+}
+
+/* Random scenes of 1 to 2000 roots, in five layouts (uniform, all at one
+ * point, sizes spread over six decades, a line of touching spheres,
+ * spheres at scales halving forty times over), with
+ * CSG roots and a plane: the tree is well formed and shallow, and the
+ * BVH finds exactly the hit a loop over every root finds, for camera rays
+ * and for rays from random points in random (sometimes axis-aligned)
+ * directions, bit for bit. */
+static void test_bvh_sah_random(void **state)
+{
+    (void)state;
+    const int sizes[] = {1, 2, 3, 5, 17, 100, 2000};
+    uint64_t seed = 99;
+    for (int layout = 0; layout < 5; layout++) {
+        for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+            int n = sizes[si];
+            csg_scene s;
+            scene_new(&s);
+            for (int i = 0; i < n; i++) {
+                double v[4];
+                for (int k = 0; k < 4; k++)
+                    v[k] = unit_rand(&seed);
+                double x = 8 * v[0] - 4, y = 6 * v[1] - 3, z = 6 * v[2], r = 0.05 + 0.4 * v[3];
+                if (layout == 1) { /* every centre the same: no binned split exists */
+                    x = 0.5;
+                    y = -0.25;
+                    z = 1;
+                } else if (layout == 2) { /* sizes over six decades */
+                    r = pow(10, -6 * v[3]) * 2;
+                } else if (layout == 3) { /* a line of touching spheres */
+                    x = -4 + 8.0 * i / n;
+                    y = 0;
+                    z = 2;
+                    r = 4.0 / n;
+                } else if (layout == 4) { /* nested scales: SAH peels one at a time */
+                    x = 4 * pow(0.5, i % 40);
+                    y = x / 2;
+                    r = x / 8;
+                }
+                csg_object *o = sphere(&s, x, y, z, r);
+                if (i % 7 == 3) /* a CSG root now and then */
+                    o = csg(&s, CSG_OBJ_DIFFERENCE, 2, o, sphere(&s, x + r / 2, y, z - r / 2, r / 2));
+                add_top(&s, o);
+            }
+            csg_object *floor = obj_new(&s, CSG_OBJ_PLANE);
+            floor->a = (dvec3){0, 1, 0};
+            floor->r0 = -3.2;
+            add_top(&s, floor);
+            csg_blob b;
+            const csg_blob_header *h = flatten_ok(&engine_float, &s, 40, 30, &b);
+            const char *bytes = b.bytes;
+            csg_view bvh = {(const csg_prim *)(bytes + h->off_prims),
+                            (const csg_node *)(bytes + h->off_nodes),
+                            (const csg_root *)(bytes + h->off_roots),
+                            (const csg_bvh_node *)(bytes + h->off_bvh), h->linear_roots,
+                            h->bvh_count};
+            assert_int_equal(h->linear_roots, 1);
+            assert_true(h->bvh_count >= 2 && h->bvh_count % 2 == 0);
+            int *seen = calloc((size_t)h->root_count, sizeof *seen);
+            assert_non_null(seen);
+            bvh_check(bvh.bvh, bvh.roots, 0, 1, seen);
+            bvh_check(bvh.bvh, bvh.roots, 1, 1, seen);
+            for (int i = 0; i < h->root_count; i++)
+                assert_int_equal(seen[i], i < h->linear_roots ? 0 : 1);
+            free(seen);
+            csg_view linear = bvh;
+            linear.root_count = h->root_count;
+            linear.bvh_count = 0;
+            const csg_camera *cam = (const csg_camera *)(bytes + h->off_camera);
+            for (int k = 0; k < 40 * 30 + 600; k++) {
+                csg_ray r;
+                if (k < 40 * 30) {
+                    r = csg_primary_ray(cam, 40, 30, k % 40, k / 40);
+                } else {
+                    double v[6];
+                    for (int j = 0; j < 6; j++)
+                        v[j] = unit_rand(&seed);
+                    r.o = v3((real)(8 * v[0] - 4), (real)(6 * v[1] - 3), (real)(6 * v[2]));
+                    r.d = v3_normalize(v3((real)(v[3] - 0.5), (real)(v[4] - 0.5), (real)(v[5] - 0.5)));
+                    if (k % 5 == 0)
+                        r.d = v3(R(0.0), (k & 8) ? R(1.0) : -R(1.0), -R(0.0));
+                }
+                csg_hit a = csg_trace_nearest(bvh, r, 0.0f, CSG_R_INF);
+                csg_hit c = csg_trace_nearest(linear, r, 0.0f, CSG_R_INF);
+                assert_int_equal(a.surf, c.surf);
+                assert_memory_equal(&a.t, &c.t, sizeof a.t);
+            }
+            csg_blob_free(&b);
+            csg_scene_free(&s);
+        }
+    }
+}
+
+/* ---- shadow rays ---------------------------------------------------------------- */
+
+/* csg_root.flags of root i in a blob of either precision (this file's
+ * csg_root is the float one: 4 integers, then 6 reals). */
+static csg_i32 *root_flags(char *bytes, const csg_blob_header *h, int i)
+{
+    size_t stride = 4 * sizeof(csg_i32) + 6 * (size_t)h->real_size;
+    return (csg_i32 *)(void *)(bytes + h->off_roots + (size_t)i * stride) + 3;
+}
+
+/* The shadow shortcuts change no pixel: a scene of opaque CSG, a
+ * transparent sphere and a no_shadow one renders exactly the same with the
+ * root flags as with every flag cleared (the full interval list on every
+ * root), in both precisions; and the flags say what the roots are. */
+static void test_shadow_flags(void **state)
+{
+    (void)state;
+    csg_scene s;
+    scene_new(&s);
+    int red = add_texture(&s, 1, 0.2, 0.2);
+    int glass = add_texture(&s, 0.6, 0.9, 0.7);
+    int cloud = add_texture(&s, 0.9, 0.9, 0.9);
+    s.textures[glass].pigment.rgbft[3] = 0.7;  /* filter */
+    s.textures[cloud].pigment.rgbft[4] = 0.25; /* transmit */
+    csg_object *cut = csg(&s, CSG_OBJ_DIFFERENCE, 2, sphere(&s, 0, 0, 1, 1.2),
+                          sphere(&s, -0.6, 0.6, 0.2, 0.8));
+    cut->texture = red;
+    add_top(&s, cut);
+    csg_object *ball = sphere(&s, 1.2, 1.1, -0.4, 0.5);
+    add_top(&s, ball);
+    csg_object *lens = sphere(&s, -1.4, 1.0, -0.5, 0.6);
+    lens->texture = glass;
+    add_top(&s, lens);
+    csg_object *puff = csg(&s, CSG_OBJ_INTERSECTION, 2, sphere(&s, 1.5, -1, 0, 0.8),
+                           sphere(&s, 1.9, -1, 0, 0.8));
+    puff->texture = cloud;
+    add_top(&s, puff);
+    csg_object *ghost = sphere(&s, -1.5, -1.2, -0.8, 0.5);
+    ghost->no_shadow = true;
+    add_top(&s, ghost);
+    csg_object *floor = obj_new(&s, CSG_OBJ_PLANE);
+    floor->a = (dvec3){0, 1, 0};
+    floor->r0 = -1.6;
+    add_top(&s, floor);
+    csg_light lights[2] = {{{3, 6, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}},
+                           {{-4, 2, -3}, {0.5, 0.4, 0.3}, false, {"hand.pov", 1, 1}}};
+    s.lights = lights;
+    s.light_count = 2;
+    const engine *engines[2] = {&engine_float, &engine_double};
+    for (int e = 0; e < 2; e++) {
+        csg_blob b;
+        const csg_blob_header *h = flatten_ok(engines[e], &s, 48, 36, &b);
+        char *bytes = b.bytes;
+        int opaque = 0, none = 0;
+        for (int i = 0; i < h->root_count; i++) {
+            opaque += (*root_flags(bytes, h, i) & CSG_ROOT_OPAQUE) != 0;
+            none += (*root_flags(bytes, h, i) & CSG_ROOT_NO_SHADOW) != 0;
+        }
+        assert_int_equal(opaque, 3); /* the cut sphere, the ball, the floor */
+        assert_int_equal(none, 1);   /* the ghost */
+        float *with = render_all(engines[e], bytes, 48, 36, 16);
+        for (int i = 0; i < h->root_count; i++)
+            *root_flags(bytes, h, i) = 0;
+        assert_renders(engines[e], bytes, 48, 36, 16, with);
+        free(with);
+        csg_blob_free(&b);
+    }
+    s.lights = NULL;
+    csg_scene_free(&s);
+}
+
 /* The sample pattern: spp = k*k is the grid of cell centres; any other
  * spp puts exactly one sample in every row and every column of the
  * spp x spp grid (stratified both ways); spp = 1 is the pixel centre. */
@@ -450,6 +649,8 @@ int main(void)
         cmocka_unit_test(test_flatten_degenerate),
         cmocka_unit_test(test_blob_validation),
         cmocka_unit_test(test_bvh_matches_linear),
+        cmocka_unit_test(test_bvh_sah_random),
+        cmocka_unit_test(test_shadow_flags),
         cmocka_unit_test(test_sample_pattern),
         cmocka_unit_test(test_material_key_limits),
     };

@@ -781,7 +781,7 @@ static void *make_blob(const sc_scene *s, size_t *size)
         roots[i].first_node = s->roots[i].first;
         roots[i].node_count = s->roots[i].count;
         roots[i].stack_depth = s->roots[i].depth;
-        roots[i].pad = 0;
+        roots[i].flags = 0;
         for (int a = 0; a < 3; a++) {
             roots[i].lo[a] = (real)s->roots[i].lo[a];
             roots[i].hi[a] = (real)s->roots[i].hi[a];

@@ -124,12 +124,23 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
 
 /* Multiplies *pass by what root i lets through between the shading point
  * and the light: every interval end and every surface event (the hidden
- * back of a one-sided surface too); false once nothing passes. */
-static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real dist, vec3 *pass)
+ * back of a one-sided surface too); false once nothing passes.  Its box is
+ * tested first when test_box (a BVH leaf of one root has just tested the
+ * same box). */
+static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const csg_box_ray *br,
+                               int test_box, real dist, vec3 *pass)
 {
-    csg_spans spans;
-    if (!csg_box_overlaps(&c->view.roots[i], r, R(0.0), dist))
+    const csg_root *rt = &c->view.roots[i];
+    real t_enter;
+    if (rt->flags & CSG_ROOT_NO_SHADOW)
         return true;
+    if (test_box && !csg_box_hit(rt->lo, rt->hi, br, R(0.0), dist, &t_enter))
+        return true;
+    if (rt->flags & CSG_ROOT_OPAQUE) { /* any visible boundary blocks: the first will do */
+        csg_hit h = csg_root_first_hit(c->view, i, r, R(0.0), dist);
+        return !(h.surf != CSG_SURF_NONE && h.t < dist);
+    }
+    csg_spans spans;
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
     for (csg_i32 k = 0; k < spans.n; k++)
         if (!surface_transmittance(c, r, spans.s0[k], spans.t0[k], dist, pass) ||
@@ -143,7 +154,8 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, real di
 
 /* What fraction of the light passes from p (already offset) to the light
  * `dist` away along unit direction l: every root the segment may cross,
- * the unbounded ones and then those the BVH leads to, in a fixed order. */
+ * the unbounded ones and then those the BVH leads to, in the walk's
+ * order (fixed for a given ray); it stops at the first opaque blocker. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
 {
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
@@ -151,26 +163,18 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
     csg_ray r;
     r.o = p;
     r.d = l;
+    csg_box_ray br = csg_box_ray_of(r);
     for (csg_i32 i = 0; i < c->view.root_count; i++)
-        if (!root_transmittance(c, i, r, dist, &pass))
+        if (!root_transmittance(c, i, r, &br, 1, dist, &pass))
             return none;
-    csg_i32 stack[CSG_BVH_STACK];
-    csg_i32 top = 0;
-    if (c->view.bvh_count > 0)
-        stack[top++] = 0;
-    while (top > 0) {
-        csg_i32 k = stack[--top];
+    csg_bvh_walk w;
+    csg_bvh_walk_start(&w, c->view);
+    csg_i32 k;
+    while ((k = csg_bvh_next_leaf(c->view.bvh, &br, R(0.0), dist, &w)) >= 0) {
         const csg_bvh_node *n = &c->view.bvh[k];
-        if (!csg_aabb_overlaps(n->lo, n->hi, r, R(0.0), dist))
-            continue;
-        if (n->count > 0) {
-            for (csg_i32 i = n->first; i < n->first + n->count; i++)
-                if (!root_transmittance(c, i, r, dist, &pass))
-                    return none;
-        } else if (top + 2 <= CSG_BVH_STACK) {
-            stack[top++] = n->first;
-            stack[top++] = k + 1;
-        }
+        for (csg_i32 i = n->first; i < n->first + n->count; i++)
+            if (!root_transmittance(c, i, r, &br, n->count > 1, dist, &pass))
+                return none;
     }
     return pass;
 }
@@ -212,8 +216,27 @@ static vec3 sky_color(const shade_ctx *c, vec3 d)
 
 static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
 
+/* base^e for a highlight: base in (0, 1].  A whole exponent up to 4096
+ * (phong_size, 1 / roughness: usually whole) by squaring, a few roundings
+ * instead of a libm call; once the running power drops below 2^-64 the
+ * rest can only make it smaller and it is taken as 0 (no denormal
+ * arithmetic; the highlight is then below 2^-64 of the light). */
 static real power(real base, real e)
 {
+    if (e >= R(0.0) && e <= R(4096.0) && e == (real)(int)e) {
+        int n = (int)e;
+        real result = R(1.0), x = base;
+        for (;;) {
+            if (n & 1)
+                result *= x;
+            n >>= 1;
+            if (n == 0)
+                return result;
+            if (x < R(5.421010862427522e-20)) /* 2^-64 */
+                return R(0.0);
+            x *= x;
+        }
+    }
 #ifdef CSG_DOUBLE
     return pow(base, e);
 #else

@@ -122,24 +122,41 @@ typedef struct {
     csg_i32 prim; /* primitive index, for CSG_OP_PRIM; else -1   */
 } csg_node;
 
+/* What shadow rays may skip in a root (csg_root.flags): a root whose
+ * primitives are all no_shadow casts no shadow; one whose primitives all
+ * cast shadows and are all opaque (no filter, no transmit) blocks the
+ * light at its first visible boundary, so a shadow ray needs only that
+ * (any-hit), not the whole interval list. */
+enum csg_root_flags {
+    CSG_ROOT_NO_SHADOW = 1,
+    CSG_ROOT_OPAQUE = 2
+};
+
 typedef struct {
     csg_i32 first_node; /* its program: nodes[first_node .. +node_count) */
     csg_i32 node_count;
     csg_i32 stack_depth; /* span lists its program needs at once       */
-    csg_i32 pad;
+    csg_i32 flags;       /* enum csg_root_flags                          */
     real lo[3];          /* world bounding box; +-inf when unbounded      */
     real hi[3];
 } csg_root;
 
 /* A bounding volume hierarchy over the bounded roots (unbounded ones, such
- * as planes, are tested one by one before it).  Node 0 is the root of the
- * tree; an interior node's first child is the next node and its second
- * child is node `first`; a leaf holds roots first .. first + count - 1. */
+ * as planes, are tested one by one before it), built by binned SAH
+ * (csg/flatten.c).  Nodes come in pairs of siblings, stored side by side
+ * so that a walk tests both boxes at once (64 bytes in float: one cache
+ * line): nodes 0 and 1 are the top pair (the whole tree's own box is never
+ * needed), and an interior node's children are nodes first and first + 1,
+ * both after it.  A leaf holds roots first .. first + count - 1; count 0
+ * is the empty leaf that completes the top pair when the whole tree is one
+ * leaf (its box is empty: lo = +inf, hi = -inf, which no ray meets).
+ * In float a node is 32 bytes, a pair one 64-byte cache line. */
 typedef struct {
-    csg_i32 first; /* leaf: first root; interior: index of the second child  */
-    csg_i32 count; /* leaf: number of roots (> 0); interior: -1 - split axis */
-    real lo[3];
-    real hi[3];
+    csg_i32 first; /* leaf: first root; interior: index of the first child   */
+    csg_i32 count; /* leaf: number of roots (>= 0); interior: -1 - split axis */
+    real box[6];   /* lo x, y, z, then hi x, y, z: one array, so that a walk
+                      picks each axis' near and far plane by index
+                      (csg_box_ray.near_i, far_i in intersect.h)           */
 } csg_bvh_node;
 
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
@@ -302,9 +319,8 @@ typedef struct {
         F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
     S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \
-        F(csg_root, stack_depth) F(csg_root, pad) F(csg_root, lo) F(csg_root, hi)          \
-    S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, lo)      \
-        F(csg_bvh_node, hi)                                                                \
+        F(csg_root, stack_depth) F(csg_root, flags) F(csg_root, lo) F(csg_root, hi)        \
+    S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, box)     \
     S(csg_camera) F(csg_camera, projection) F(csg_camera, pad) F(csg_camera, location)     \
         F(csg_camera, direction) F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither)
 

@@ -620,35 +620,130 @@ CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
     }
 }
 
-/* ---- a root ---------------------------------------------------------------- */
+/* ---- boxes ----------------------------------------------------------------------
+ * Root and BVH boxes are conservative culls: a box test may pass a ray
+ * that misses the solid, never the reverse.  Every box is padded outwards
+ * by the flattener (csg/flatten.c, box_store), and the test below is
+ * written so that its own rounding and the IEEE special cases only ever
+ * widen the range it accepts.
+ *
+ * The slab test divides by the direction once per ray, not six times per
+ * box (Williams et al., "An Efficient and Robust Ray-Box Intersection
+ * Algorithm", JGT 2005; Ize, "Robust BVH Ray Traversal", JCGT 2013):
+ *   - inv = 1 / d; with d == +0 or -0 it is +inf or -inf, and `neg` is
+ *     taken from inv's sign, so -0 counts as negative;
+ *   - the near plane of each axis is lo (hi when neg), the far plane hi
+ *     (lo when neg), so t_near <= t_far without a min/max per axis;
+ *   - t = (plane - o) * inv rounds four times (the difference, the
+ *     reciprocal, its scaling, the product), a relative error below 4
+ *     units of roundoff; the reciprocals are scaled by 1 -/+ 2^-21 in
+ *     float (2^-50 in double), 8 units, so that the near t only moves
+ *     towards 0 and the far t away from it (rounding never changes the
+ *     sign of a difference or a product);
+ *   - d == 0 with the origin strictly inside the slab gives -inf / +inf,
+ *     strictly outside gives +inf / +inf or -inf / -inf (the ray misses
+ *     the slab, the test fails unless every other bound is infinite too,
+ *     which only makes it conservative); the origin exactly on the
+ *     slab's plane gives 0 * inf = NaN, and the comparisons below are
+ *     written so that a NaN never replaces a bound: the slab then
+ *     constrains nothing, which is right (the line lies in the closed
+ *     slab);
+ *   - infinite box bounds (unbounded roots) give +-inf, never NaN, for a
+ *     finite origin. */
+#ifdef CSG_DOUBLE
+#define CSG_INV_NEAR_SCALE (R(1.0) - R(8.8817841970012523e-16)) /* 1 - 2^-50 */
+#define CSG_INV_FAR_SCALE (R(1.0) + R(8.8817841970012523e-16))
+#else
+#define CSG_INV_NEAR_SCALE (R(1.0) - R(4.76837158203125e-07)) /* 1 - 2^-21 */
+#define CSG_INV_FAR_SCALE (R(1.0) + R(4.76837158203125e-07))
+#endif
 
-/* Does the ray meet the box lo..hi on [tmin, tmax]?  Unbounded boxes hold
- * infinities; fmin/fmax drop the NaN of 0 * inf so those always pass. */
+/* A ray prepared once for every box test along it. */
+typedef struct {
+    real o[3];         /* origin                                        */
+    real inv_near[3];  /* 1 / d, its magnitude rounded down: near planes */
+    real inv_far[3];   /* 1 / d, its magnitude rounded up: far planes    */
+    csg_i32 neg[3];    /* 1 where 1 / d < 0 (d < 0 or d == -0)           */
+    csg_i32 near_i[3]; /* the near plane of each axis in a BVH node's box[6] */
+    csg_i32 far_i[3];  /* and its far plane                              */
+} csg_box_ray;
+
+CSG_FN csg_box_ray csg_box_ray_of(csg_ray r)
+{
+    csg_box_ray b;
+    real d[3];
+    b.o[0] = r.o.x;
+    b.o[1] = r.o.y;
+    b.o[2] = r.o.z;
+    d[0] = r.d.x;
+    d[1] = r.d.y;
+    d[2] = r.d.z;
+    for (int a = 0; a < 3; a++) {
+        real inv = R(1.0) / d[a];
+        b.inv_near[a] = inv * CSG_INV_NEAR_SCALE;
+        b.inv_far[a] = inv * CSG_INV_FAR_SCALE;
+        b.neg[a] = inv < R(0.0) ? 1 : 0;
+        b.near_i[a] = a + 3 * b.neg[a];
+        b.far_i[a] = a + 3 - 3 * b.neg[a];
+    }
+    return b;
+}
+
+/* The slab test on the planes already picked: n* the near and f* the far
+ * plane of each axis.  *t_enter gets where the ray enters (at least
+ * tmin) when it meets the box on [tmin, tmax]. */
+CSG_FN int csg_slabs_hit(real nx, real fx, real ny, real fy, real nz, real fz,
+                         const csg_box_ray *b, real tmin, real tmax, real *t_enter)
+{
+    real tnx = (nx - b->o[0]) * b->inv_near[0], tfx = (fx - b->o[0]) * b->inv_far[0];
+    real tny = (ny - b->o[1]) * b->inv_near[1], tfy = (fy - b->o[1]) * b->inv_far[1];
+    real tnz = (nz - b->o[2]) * b->inv_near[2], tfz = (fz - b->o[2]) * b->inv_far[2];
+    /* a > b ? a : b is false for a NaN: the bound stays */
+    real lo = tnx > tmin ? tnx : tmin, hi = tfx < tmax ? tfx : tmax;
+    lo = tny > lo ? tny : lo;
+    hi = tfy < hi ? tfy : hi;
+    lo = tnz > lo ? tnz : lo;
+    hi = tfz < hi ? tfz : hi;
+    *t_enter = lo;
+    return lo <= hi;
+}
+
+/* Does the ray meet the box lo..hi on [tmin, tmax]?  The planes picked by
+ * pointer, no branch on the signs. */
+CSG_FN int csg_box_hit(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
+                       const csg_box_ray *b, real tmin, real tmax, real *t_enter)
+{
+    CSG_GLOBAL const real *nx = b->neg[0] ? hi_b : lo_b, *fx = b->neg[0] ? lo_b : hi_b;
+    CSG_GLOBAL const real *ny = b->neg[1] ? hi_b : lo_b, *fy = b->neg[1] ? lo_b : hi_b;
+    CSG_GLOBAL const real *nz = b->neg[2] ? hi_b : lo_b, *fz = b->neg[2] ? lo_b : hi_b;
+    return csg_slabs_hit(nx[0], fx[0], ny[1], fy[1], nz[2], fz[2], b, tmin, tmax, t_enter);
+}
+
+/* The same for a BVH node, its planes picked by index (the walk's
+ * commonest test: no select at all). */
+CSG_FN int csg_node_hit(CSG_GLOBAL const csg_bvh_node *n, const csg_box_ray *b, real tmin,
+                        real tmax, real *t_enter)
+{
+    CSG_GLOBAL const real *x = n->box;
+    return csg_slabs_hit(x[b->near_i[0]], x[b->far_i[0]], x[b->near_i[1]], x[b->far_i[1]],
+                         x[b->near_i[2]], x[b->far_i[2]], b, tmin, tmax, t_enter);
+}
+
+/* The same test for one ray, when no csg_box_ray is at hand. */
 CSG_FN int csg_aabb_overlaps(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b, csg_ray r,
                              real tmin, real tmax)
 {
-    real lo = tmin, hi = tmax;
-    real o[3], d[3];
-    o[0] = r.o.x; o[1] = r.o.y; o[2] = r.o.z;
-    d[0] = r.d.x; d[1] = r.d.y; d[2] = r.d.z;
-    for (int a = 0; a < 3; a++) {
-        if (d[a] == R(0.0)) {
-            if (o[a] < lo_b[a] || o[a] > hi_b[a])
-                return 0;
-            continue;
-        }
-        real ta = (lo_b[a] - o[a]) / d[a];
-        real tb = (hi_b[a] - o[a]) / d[a];
-        lo = r_fmax(lo, r_fmin(ta, tb));
-        hi = r_fmin(hi, r_fmax(ta, tb));
-    }
-    return lo <= hi;
+    csg_box_ray b = csg_box_ray_of(r);
+    real t;
+    return csg_box_hit(lo_b, hi_b, &b, tmin, tmax, &t);
 }
 
 CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmin, real tmax)
 {
     return csg_aabb_overlaps(root->lo, root->hi, r, tmin, tmax);
 }
+
+/* ---- a root ---------------------------------------------------------------- */
 
 /* The interval list of a whole root on [tmin, tmax], through its program. */
 CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real tmax,
@@ -776,63 +871,115 @@ CSG_FN int csg_hit_wins(csg_hit h, const csg_hit *best)
            (h.t < best->t || (h.t == best->t && h.surf < best->surf));
 }
 
-/* Root i's first visible boundary, if it wins against *best. */
-CSG_FN void csg_try_root(csg_view v, csg_i32 i, csg_ray r, real tmin, csg_hit *best)
+/* Root i's first visible boundary on (tmin, tmax): the single-primitive
+ * fast path or the root's interval list. */
+CSG_FN csg_hit csg_root_first_hit(csg_view v, csg_i32 i, csg_ray r, real tmin, real tmax)
+{
+    CSG_GLOBAL const csg_root *rt = &v.roots[i];
+    csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
+    if (leaf >= 0 && !(v.prims[leaf].flags & CSG_PF_INVERT))
+        return csg_leaf_first_hit(v.prims, leaf, r, tmin, tmax);
+    csg_spans spans;
+    csg_root_spans(v, i, r, tmin, tmax, &spans);
+    return csg_first_boundary(&spans, tmin);
+}
+
+/* Root i's first visible boundary, if it wins against *best; its box is
+ * tested first when test_box (a BVH leaf of one root has just tested the
+ * very same box). */
+CSG_FN void csg_try_root(csg_view v, csg_i32 i, csg_ray r, const csg_box_ray *br, int test_box,
+                         real tmin, csg_hit *best)
 {
     CSG_GLOBAL const csg_root *rt = &v.roots[i];
     real tmax = csg_hit_limit(best);
-    if (!csg_box_overlaps(rt, r, tmin, tmax))
+    real t_enter;
+    if (test_box && !csg_box_hit(rt->lo, rt->hi, br, tmin, tmax, &t_enter))
         return;
-    csg_hit h;
-    csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
-    if (leaf >= 0 && !(v.prims[leaf].flags & CSG_PF_INVERT)) {
-        h = csg_leaf_first_hit(v.prims, leaf, r, tmin, tmax);
-    } else {
-        csg_spans spans;
-        csg_root_spans(v, i, r, tmin, tmax, &spans);
-        h = csg_first_boundary(&spans, tmin);
-    }
+    csg_hit h = csg_root_first_hit(v, i, r, tmin, tmax);
     if (csg_hit_wins(h, best))
         *best = h;
 }
 
+/* ---- the BVH walk ----------------------------------------------------------------
+ * The two children of a node are tested together (they are adjacent in
+ * the array, flat.h), the nearer one entered at once and the other pushed
+ * with its entry t; a popped node whose entry lies beyond tmax (which
+ * only shrinks during a walk) is dropped, exactly what testing its box
+ * again would do.  The stack holds at most one node a level, and the
+ * flattener keeps the depth below CSG_BVH_STACK. */
+typedef struct {
+    csg_i32 pair; /* the pair to open next, -1: pop instead */
+    csg_i32 top;
+    csg_i32 node[CSG_BVH_STACK];
+    real t[CSG_BVH_STACK];
+} csg_bvh_walk;
+
+CSG_FN void csg_bvh_walk_start(csg_bvh_walk *w, csg_view v)
+{
+    w->pair = v.bvh_count > 0 ? 0 : -1; /* nodes 0 and 1: the top pair */
+    w->top = 0;
+}
+
+/* Tests the pair (c, c + 1) on [tmin, tmax]; returns the node to enter
+ * next (-1: neither) and pushes the farther one when both are met. */
+CSG_FN csg_i32 csg_bvh_open_pair(CSG_GLOBAL const csg_bvh_node *bvh, csg_i32 c,
+                                 const csg_box_ray *br, real tmin, real tmax, csg_bvh_walk *w)
+{
+    real ta, tb;
+    int ha = csg_node_hit(&bvh[c], br, tmin, tmax, &ta);
+    int hb = csg_node_hit(&bvh[c + 1], br, tmin, tmax, &tb);
+    if (ha && hb) {
+        if (w->top == CSG_BVH_STACK) /* the flattener prevents this */
+            return -1;
+        int b_first = tb < ta;
+        w->node[w->top] = b_first ? c : c + 1;
+        w->t[w->top] = b_first ? ta : tb;
+        w->top++;
+        return b_first ? c + 1 : c;
+    }
+    return ha ? c : (hb ? c + 1 : -1);
+}
+
+/* The next leaf whose box the ray meets on [tmin, tmax], nearest first as
+ * far as the boxes tell; -1 when the walk is over. */
+CSG_FN csg_i32 csg_bvh_next_leaf(CSG_GLOBAL const csg_bvh_node *bvh, const csg_box_ray *br,
+                                 real tmin, real tmax, csg_bvh_walk *w)
+{
+    for (;;) {
+        csg_i32 k = w->pair >= 0 ? csg_bvh_open_pair(bvh, w->pair, br, tmin, tmax, w) : -1;
+        w->pair = -1;
+        while (k < 0 && w->top > 0) {
+            w->top--;
+            if (w->t[w->top] <= tmax)
+                k = w->node[w->top];
+        }
+        if (k < 0)
+            return -1;
+        if (bvh[k].count >= 0)
+            return k;
+        w->pair = bvh[k].first;
+    }
+}
+
 /* The nearest visible surface on (tmin, tmax) over every root: first the
- * roots tested one by one, then the BVH, nearer child first.  Ties go to
- * the lower surface id (csg_hit_wins), so the answer depends neither on
- * the visiting order nor on where this runs. */
+ * roots tested one by one, then the BVH's leaves, nearer first.  Ties go
+ * to the lower surface id (csg_hit_wins), so the answer depends neither
+ * on the visiting order nor on where this runs. */
 CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
 {
     csg_hit best;
     best.t = tmax;
     best.surf = CSG_SURF_NONE;
+    csg_box_ray br = csg_box_ray_of(r);
     for (csg_i32 i = 0; i < v.root_count; i++)
-        csg_try_root(v, i, r, tmin, &best);
-    csg_i32 stack[CSG_BVH_STACK];
-    csg_i32 top = 0;
-    if (v.bvh_count > 0)
-        stack[top++] = 0;
-    while (top > 0) {
-        csg_i32 k = stack[--top];
+        csg_try_root(v, i, r, &br, 1, tmin, &best);
+    csg_bvh_walk w;
+    csg_bvh_walk_start(&w, v);
+    csg_i32 k;
+    while ((k = csg_bvh_next_leaf(v.bvh, &br, tmin, csg_hit_limit(&best), &w)) >= 0) {
         CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
-        if (!csg_aabb_overlaps(n->lo, n->hi, r, tmin, csg_hit_limit(&best)))
-            continue;
-        if (n->count > 0) {
-            for (csg_i32 i = n->first; i < n->first + n->count; i++)
-                csg_try_root(v, i, r, tmin, &best);
-            continue;
-        }
-        if (top + 2 > CSG_BVH_STACK) /* the flattener prevents this */
-            break;
-        csg_i32 axis = -1 - n->count;
-        real dir = axis == 0 ? r.d.x : (axis == 1 ? r.d.y : r.d.z);
-        /* push the far child first so the near one is visited first */
-        if (dir < R(0.0)) {
-            stack[top++] = k + 1;
-            stack[top++] = n->first;
-        } else {
-            stack[top++] = n->first;
-            stack[top++] = k + 1;
-        }
+        for (csg_i32 i = n->first; i < n->first + n->count; i++)
+            csg_try_root(v, i, r, &br, n->count > 1, tmin, &best);
     }
     if (best.surf == CSG_SURF_NONE)
         best.t = CSG_R_INF;
