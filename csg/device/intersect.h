@@ -30,10 +30,9 @@
 #include "flat.h"
 #include "vec.h"
 
-typedef struct {
-    vec3 o; /* origin    */
-    vec3 d; /* direction (unit length for camera and secondary rays) */
-} csg_ray;
+/* csg_ray, csg_hit, the transforms, the primitive tests and the
+ * single-primitive hit: the one-ray compilation of intersect_lanes.h. */
+#include "intersect_lanes.h"
 
 typedef struct {
     csg_i32 n;                  /* intervals in use                      */
@@ -70,26 +69,7 @@ CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
     return v;
 }
 
-typedef struct {
-    real t;      /* ray parameter of the hit                  */
-    csg_u32 surf; /* packed surface id, CSG_SURF_NONE: no hit */
-} csg_hit;
-
-/* ---- affine transforms ------------------------------------------------ */
-
-CSG_FN vec3 csg_xform_point(CSG_GLOBAL const real *m, vec3 p)
-{
-    return v3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
-              m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
-              m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
-}
-
-CSG_FN vec3 csg_xform_vector(CSG_GLOBAL const real *m, vec3 v)
-{
-    return v3(m[0] * v.x + m[1] * v.y + m[2] * v.z,
-              m[4] * v.x + m[5] * v.y + m[6] * v.z,
-              m[8] * v.x + m[9] * v.y + m[10] * v.z);
-}
+/* ---- affine transforms: points and vectors in intersect_lanes.h ------ */
 
 /* Normals transform with the transpose of the world->local matrix. */
 CSG_FN vec3 csg_xform_normal(CSG_GLOBAL const real *m, vec3 n)
@@ -97,226 +77,6 @@ CSG_FN vec3 csg_xform_normal(CSG_GLOBAL const real *m, vec3 n)
     return v3(m[0] * n.x + m[4] * n.y + m[8] * n.z,
               m[1] * n.x + m[5] * n.y + m[9] * n.z,
               m[2] * n.x + m[6] * n.y + m[10] * n.z);
-}
-
-CSG_FN csg_ray csg_ray_to_local(CSG_GLOBAL const csg_prim *p, csg_ray r)
-{
-    if (p->flags & CSG_PF_XFORM) {
-        csg_ray l;
-        l.o = csg_xform_point(p->inv, r.o);
-        l.d = csg_xform_vector(p->inv, r.d);
-        return l;
-    }
-    return r;
-}
-
-/* ---- one primitive: the interval of the whole ray line ------------------
- * Each returns 1 and sets [*t0, *t1] with the sub-surfaces of both ends
- * when the line meets the solid; ends may be -inf / +inf (sub = -1 there). */
-
-/* Ray/sphere after Haines et al., "Precision Improvements for Ray/Sphere
- * Intersection" (Ray Tracing Gems, ch. 7): the discriminant comes from the
- * distance of the centre to the line, and the far root from c / q, so
- * neither cancels catastrophically for small spheres far away. */
-CSG_FN int csg_sphere_span(CSG_GLOBAL const real *p, csg_ray r,
-                           real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    vec3 f = v3_sub(r.o, v3_load(p));
-    real radius = p[3];
-    real a = v3_dot(r.d, r.d);
-    real b = v3_dot(f, r.d);
-    if (!(a > R(0.0)))
-        return 0;
-    vec3 l = v3_sub(f, v3_scale(r.d, b / a));
-    real h = radius * radius - v3_dot(l, l);
-    if (h < R(0.0))
-        return 0;
-    real root = r_sqrt(a * h);
-    real q = b >= R(0.0) ? -(b + root) : -(b - root);
-    real c = v3_dot(f, f) - radius * radius;
-    real ta = q / a;
-    real tb = q != R(0.0) ? c / q : ta;
-    *t0 = r_fmin(ta, tb);
-    *t1 = r_fmax(ta, tb);
-    *s0 = CSG_SURF_SPHERE;
-    *s1 = CSG_SURF_SPHERE;
-    return 1;
-}
-
-/* Narrow [*lo, *hi] by the slab lo_b <= o + t d <= hi_b of one axis. */
-CSG_FN int csg_slab(real o, real d, real lo_b, real hi_b, csg_i32 axis,
-                    real *lo, real *hi, csg_i32 *s_lo, csg_i32 *s_hi)
-{
-    if (d == R(0.0))
-        return o >= lo_b && o <= hi_b;
-    real ta = (lo_b - o) / d;
-    real tb = (hi_b - o) / d;
-    csg_i32 fa = 2 * axis, fb = 2 * axis + 1;
-    if (ta > tb) {
-        real tt = ta;
-        ta = tb;
-        tb = tt;
-        fa = 2 * axis + 1;
-        fb = 2 * axis;
-    }
-    if (ta > *lo) {
-        *lo = ta;
-        *s_lo = fa;
-    }
-    if (tb < *hi) {
-        *hi = tb;
-        *s_hi = fb;
-    }
-    return *lo <= *hi;
-}
-
-CSG_FN int csg_box_span(CSG_GLOBAL const real *p, csg_ray r,
-                        real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    *t0 = -CSG_R_INF;
-    *t1 = CSG_R_INF;
-    *s0 = -1;
-    *s1 = -1;
-    return csg_slab(r.o.x, r.d.x, p[0], p[3], 0, t0, t1, s0, s1) &&
-           csg_slab(r.o.y, r.d.y, p[1], p[4], 1, t0, t1, s0, s1) &&
-           csg_slab(r.o.z, r.d.z, p[2], p[5], 2, t0, t1, s0, s1) &&
-           *t0 < *t1;
-}
-
-/* Truncated cone (or cylinder) along local z in [0, h], radius
- * r(z) = r0 + k z.  The solid is the slab 0 <= z <= h intersected with
- * x^2 + y^2 <= r(z)^2, which inside the slab is the one nappe we want.
- * The quadratic's set on the line is one interval (A > 0), the line minus
- * one interval (A < 0) or a half-line (A == 0); clipped by the slab the
- * result is a single interval because the frustum is convex. */
-CSG_FN int csg_cone_span(CSG_GLOBAL const real *p, csg_ray r,
-                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    real r0 = p[0], h = p[2];
-    real k = (p[1] - p[0]) / h;
-    real lo = -CSG_R_INF, hi = CSG_R_INF;
-    csg_i32 slo = -1, shi = -1;
-    if (r.d.z == R(0.0)) {
-        if (!(r.o.z >= R(0.0) && r.o.z <= h))
-            return 0;
-    } else {
-        real ta = (R(0.0) - r.o.z) / r.d.z;
-        real tb = (h - r.o.z) / r.d.z;
-        lo = r_fmin(ta, tb);
-        hi = r_fmax(ta, tb);
-        slo = ta < tb ? CSG_SURF_CONE_BASE : CSG_SURF_CONE_TOP;
-        shi = ta < tb ? CSG_SURF_CONE_TOP : CSG_SURF_CONE_BASE;
-    }
-    /* Solve in u = t - tc from o = o + tc d, the closest approach to the
-     * axis kept within the slab's range: there the terms have the size of
-     * the solid, so b*b - a*c does not cancel catastrophically as it does
-     * from a far origin (as for the sphere above). */
-    real dxy = r.d.x * r.d.x + r.d.y * r.d.y;
-    real tc = dxy > R(0.0) ? -(r.o.x * r.d.x + r.o.y * r.d.y) / dxy : R(0.0);
-    tc = r_fmin(r_fmax(tc, lo), hi);
-    vec3 o = v3_madd(r.o, r.d, tc);
-    real rz = r0 + k * o.z; /* radius at that height */
-    real a = dxy - k * k * r.d.z * r.d.z;
-    real b = o.x * r.d.x + o.y * r.d.y - k * rz * r.d.z;
-    real c = o.x * o.x + o.y * o.y - rz * rz;
-    /* inside the quadratic: a t^2 + 2 b t + c <= 0 */
-    real qa = -CSG_R_INF, qb = CSG_R_INF; /* the part meeting the slab */
-    csg_i32 sa = -1, sb = -1;
-    if (a == R(0.0)) {
-        if (b == R(0.0)) {
-            if (c > R(0.0))
-                return 0;
-        } else if (b > R(0.0)) {
-            qb = tc + -c / (R(2.0) * b);
-            sb = CSG_SURF_CONE_SIDE;
-        } else {
-            qa = tc + -c / (R(2.0) * b);
-            sa = CSG_SURF_CONE_SIDE;
-        }
-    } else {
-        real disc = b * b - a * c;
-        if (disc < R(0.0)) {
-            if (a > R(0.0))
-                return 0;
-            /* a < 0 and no root: the whole line is inside */
-        } else {
-            real root = r_sqrt(disc);
-            real q = b >= R(0.0) ? -(b + root) : -(b - root);
-            real ra = q / a;
-            real rb = q != R(0.0) ? c / q : ra;
-            real u0 = tc + r_fmin(ra, rb), u1 = tc + r_fmax(ra, rb);
-            if (a > R(0.0)) {
-                qa = u0;
-                qb = u1;
-                sa = CSG_SURF_CONE_SIDE;
-                sb = CSG_SURF_CONE_SIDE;
-            } else {
-                /* (-inf, u0] or [u1, inf): keep the piece inside the slab */
-                real len0 = r_fmin(u0, hi) - lo;
-                real len1 = hi - r_fmax(u1, lo);
-                if (len0 >= len1) {
-                    qb = u0;
-                    sb = CSG_SURF_CONE_SIDE;
-                } else {
-                    qa = u1;
-                    sa = CSG_SURF_CONE_SIDE;
-                }
-            }
-        }
-    }
-    if (qa > lo) {
-        lo = qa;
-        slo = sa;
-    }
-    if (qb < hi) {
-        hi = qb;
-        shi = sb;
-    }
-    *t0 = lo;
-    *t1 = hi;
-    *s0 = slo;
-    *s1 = shi;
-    return lo < hi;
-}
-
-CSG_FN int csg_plane_span(CSG_GLOBAL const real *p, csg_ray r,
-                          real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    vec3 n = v3_load(p);
-    real dn = v3_dot(n, r.d);
-    real side = p[3] - v3_dot(n, r.o); /* > 0: origin inside */
-    *t0 = -CSG_R_INF;
-    *t1 = CSG_R_INF;
-    *s0 = -1;
-    *s1 = -1;
-    if (dn == R(0.0))
-        return side > R(0.0);
-    real t = side / dn;
-    if (dn > R(0.0)) {
-        *t1 = t;
-        *s1 = CSG_SURF_PLANE;
-    } else {
-        *t0 = t;
-        *s0 = CSG_SURF_PLANE;
-    }
-    return 1;
-}
-
-/* The interval of any primitive, dispatched by kind (flat.h's table); an
- * unknown kind has none (the blob validator lets none through). */
-CSG_FN int csg_prim_span(CSG_GLOBAL const csg_prim *p, csg_ray world,
-                         real *t0, real *t1, csg_i32 *s0, csg_i32 *s1)
-{
-    csg_ray r = csg_ray_to_local(p, world);
-    switch (p->kind) {
-#define CSG_SPAN_CASE(ID, name)                                                                    \
-    case CSG_PRIM_##ID:                                                                            \
-        return csg_##name##_span(p->p, r, t0, t1, s0, s1);
-        CSG_PRIM_KINDS(CSG_SPAN_CASE)
-#undef CSG_SPAN_CASE
-    default:
-        return 0;
-    }
 }
 
 /* ---- interval lists ------------------------------------------------------ */
@@ -353,15 +113,6 @@ CSG_FN void csg_spans_push(csg_spans *l, real t0, csg_u32 s0, real t1, csg_u32 s
     l->s0[l->n] = s0;
     l->s1[l->n] = s1;
     l->n++;
-}
-
-CSG_FN csg_u32 csg_surf_of(csg_i32 prim, csg_i32 sub, csg_u32 flip, csg_i32 flags)
-{
-    if (sub < 0)
-        return CSG_SURF_NONE;
-    if ((flags & CSG_PF_OPEN) && sub != CSG_SURF_CONE_SIDE)
-        return CSG_SURF_NONE;
-    return CSG_SURF_PACK(prim, sub, flip);
 }
 
 /* The interval list of one primitive on [tmin, tmax]. */
@@ -531,56 +282,6 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
         }
     }
     return h;
-}
-
-/* The first visible boundary of one uncomplemented primitive on
- * (tmin, tmax): exactly csg_first_boundary(csg_leaf_spans(...)), without
- * building the list (most roots are a single primitive). */
-CSG_FN csg_hit csg_leaf_first_hit(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray r,
-                                  real tmin, real tmax)
-{
-    CSG_GLOBAL const csg_prim *p = &prims[i];
-    csg_hit h;
-    h.t = CSG_R_INF;
-    h.surf = CSG_SURF_NONE;
-    real t0, t1;
-    csg_i32 s0, s1;
-    if (!csg_prim_span(p, r, &t0, &t1, &s0, &s1))
-        return h;
-    csg_u32 e0 = t0 < tmin ? CSG_SURF_NONE : csg_surf_of(i, s0, 0u, p->flags);
-    csg_u32 e1 = csg_surf_of(i, s1, 0u, p->flags);
-    real start = r_fmax(t0, tmin), end = t1;
-    if (end > tmax) { /* clipped by the list's limit, as csg_spans_push does */
-        end = tmax;
-        e1 = CSG_SURF_NONE;
-    }
-    if (!(start < end))
-        return h;
-    if (e0 != CSG_SURF_NONE && start > tmin) {
-        h.t = start;
-        h.surf = e0;
-    } else if (e1 != CSG_SURF_NONE && end > tmin) {
-        h.t = end;
-        h.surf = e1;
-    }
-    return h;
-}
-
-/* How far a root is worth evaluating against the best hit so far: up to
- * and including best->t once there is a hit, so that a surface exactly as
- * near is seen and the tie broken (csg_hit_wins). */
-CSG_FN real csg_hit_limit(const csg_hit *best)
-{
-    return best->surf != CSG_SURF_NONE ? r_next_up(best->t) : best->t;
-}
-
-/* h replaces best: nearer, or as near with a lower surface id.  The winner
- * is then the same whatever order the roots are visited in (a packet of
- * rays and a single ray walk the BVH differently; so do two BVHs). */
-CSG_FN int csg_hit_wins(csg_hit h, const csg_hit *best)
-{
-    return h.surf != CSG_SURF_NONE &&
-           (h.t < best->t || (h.t == best->t && h.surf < best->surf));
 }
 
 /* Root i's first visible boundary, if it wins against *best. */
