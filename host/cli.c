@@ -18,7 +18,8 @@ void cli_usage(FILE *out)
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto]\n"
-          "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
+          "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
+          "                   [--progress|--no-progress]\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
@@ -84,6 +85,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
 {
     static const char *const modes[] = {"serial", "homo", "hetero"};
     static const char *const precisions[] = {"float", "double", "auto"};
+    static const char *const kernels[] = {"auto", "scalar", "packet"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -111,6 +113,18 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     }
     if (strcmp(opt, "--cl-device") == 0) {
         r->cl_device = val;
+        return true;
+    }
+    if (strcmp(opt, "--cl-kernel") == 0) {
+        /* The OpenCL kernel variant reaches ocl_open (host/ocl.c) as
+         * $CSGTRACE_CL_KERNEL, which the option overrides: only this
+         * process (the master: rank 0 runs the OpenCL pass) reads it. */
+        if (!parse_choice(opt, val, kernels, 3, &choice, d))
+            return false;
+        if (setenv("CSGTRACE_CL_KERNEL", val, 1) != 0) {
+            csg_error_plain(d, "--cl-kernel: cannot set CSGTRACE_CL_KERNEL");
+            return false;
+        }
         return true;
     }
     if (strcmp(opt, "--width") == 0)

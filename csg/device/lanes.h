@@ -37,13 +37,13 @@
  * uintv have the width of real, so a comparison of realv is an intv) and
  * the conversions CSG_PK_TO_REAL (intv -> realv), CSG_PK_AS_UINT /
  * CSG_PK_AS_REAL (bit casts realv <-> the unsigned integer of its width)
- * and CSG_PK_I_AS_U (intv -> uintv, bits kept). */
+ * CSG_PK_I_AS_U (intv -> uintv, bits kept) and CSG_PK_ANY (any lane set). */
 #define L_REAL realv
 #define L_INT intv
 #define L_UINT uintv
 #define L_FN(name) name##_pk
 #define L_SEL(c, t, f) select((f), (t), (c))
-#define L_ANY(m) any(m)
+#define L_ANY(m) CSG_PK_ANY(m)
 #define L_SQRT(x) sqrt(x)
 #define L_TO_REAL(i) CSG_PK_TO_REAL(i)
 #define L_TO_UINT(i) CSG_PK_I_AS_U(i)
