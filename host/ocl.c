@@ -82,6 +82,11 @@ struct ocl_ctx {
     cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
     cl_uint compute_units;  /* CL_DEVICE_MAX_COMPUTE_UNITS           */
+    /* The record buffers of a slice, kept from pass to pass (grown when a
+     * pass needs more): fresh buffers cost a page fault a page at the
+     * kernel's first write, a third of a pass of a simple scene. */
+    cl_mem t_buf, surf_buf;
+    size_t t_cap, surf_cap;
     size_t max_slice_bytes; /* 0: no limit beyond the device's       */
 };
 
@@ -631,7 +636,7 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile)
 }
 
 typedef struct {
-    cl_mem blob, t, surf, hits;
+    cl_mem blob, t, surf, hits; /* t, surf: the context's (not released) */
     uint32_t *host_hits;
 } ocl_pass_buffers;
 
@@ -639,10 +644,6 @@ static void ocl_release_buffers(ocl_pass_buffers *b)
 {
     if (b->blob)
         clReleaseMemObject(b->blob);
-    if (b->t)
-        clReleaseMemObject(b->t);
-    if (b->surf)
-        clReleaseMemObject(b->surf);
     if (b->hits)
         clReleaseMemObject(b->hits);
     free(b->host_hits);
@@ -658,6 +659,23 @@ static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void 
     csg_error_plain(d, "OpenCL: clCreateBuffer(%s, %zu bytes) failed: %s (%d)", what, size,
                     ocl_error_name(err), (int)err);
     return false;
+}
+
+/* *buf holds at least `size` bytes: the one it has if big enough, else a
+ * new one. */
+static bool ocl_reserve_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, cl_mem *buf,
+                               size_t *cap, const char *what, csg_diag *d)
+{
+    if (*buf && *cap >= size)
+        return true;
+    if (*buf)
+        clReleaseMemObject(*buf);
+    *buf = NULL;
+    *cap = 0;
+    if (!ocl_create_buffer(c, flags, size, NULL, buf, what, d))
+        return false;
+    *cap = size;
+    return true;
 }
 
 /* One slice: rows y0 .. y0 + rows - 1, records into the caller's arrays,
@@ -750,12 +768,15 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
     }
     if (!ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
                            (void *)blob, &b.blob, "scene", d) ||
-        !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * h->real_size, NULL, &b.t, "t", d) ||
-        !ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &b.surf, "surf",
-                           d) ||
+        !ocl_reserve_buffer(c, CL_MEM_READ_WRITE, npix * h->real_size, &c->t_buf, &c->t_cap,
+                            "t", d) ||
+        !ocl_reserve_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), &c->surf_buf,
+                            &c->surf_cap, "surf", d) ||
         !ocl_create_buffer(c, CL_MEM_WRITE_ONLY, tiles_x * tile_rows * sizeof(uint32_t), NULL,
                            &b.hits, "tile hits", d))
         goto fail;
+    b.t = c->t_buf;
+    b.surf = c->surf_buf;
     int slices = 0;
     for (int y0 = 0; y0 < h->height; y0 += rows) {
         int n = h->height - y0 < rows ? h->height - y0 : rows;
@@ -860,6 +881,10 @@ void ocl_close(ocl_ctx *c)
         clReleaseKernel(c->k_tiles);
     if (c->k_layout)
         clReleaseKernel(c->k_layout);
+    if (c->t_buf)
+        clReleaseMemObject(c->t_buf);
+    if (c->surf_buf)
+        clReleaseMemObject(c->surf_buf);
     if (c->program)
         clReleaseProgram(c->program);
     if (c->queue)

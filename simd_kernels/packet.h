@@ -33,9 +33,12 @@
  * reciprocal direction computed once per packet, scaled so the range it
  * accepts only widens, after Ize, "Robust BVH Ray Traversal", JCGT 2013):
  * what it rejects the exact test rejects too, for the node and for every
- * root box inside it.  The exact test (pk_aabb_overlaps, csg_aabb_overlaps
- * lane by lane) then runs only where it can change a record: for the
- * lanes whose hit on a root would win.
+ * root box inside it.  The exact answer matters only for the lanes whose
+ * hit on a root would win: the same products with the roles of the two
+ * reciprocals swapped say where the exact test certainly accepts
+ * (pk_box_inside), and the exact test itself (pk_aabb_overlaps,
+ * csg_aabb_overlaps lane by lane, six divisions) runs only for the rest,
+ * rays that graze the root's box.
  */
 #ifndef CSG_PACKET_H
 #define CSG_PACKET_H
@@ -80,6 +83,19 @@ typedef CSG_PK_U lane_uint;
 #else
 #define CSG_PK_ANY(m) any(m)
 #endif
+
+/* Every lane of mask m set. */
+#if defined(__has_builtin) && __has_builtin(__builtin_reduce_and)
+#define CSG_PK_ALL(m) (__builtin_reduce_and(m) != 0)
+#else
+#define CSG_PK_ALL(m) all(m)
+#endif
+
+/* A row of a packet (CSG_PACKET_COLS lanes) from or to memory; surface
+ * ids narrowed to the records' uint. */
+#define CSG_PK_ROW_LOAD(p) CSG_CAT(vload, CSG_PACKET_COLS)(0, p)
+#define CSG_PK_ROW_STORE(v, p) CSG_CAT(vstore, CSG_PACKET_COLS)(v, 0, p)
+#define CSG_PK_ROW_UINT(v) CSG_CAT(convert_uint, CSG_PACKET_COLS)(v)
 
 /* The walk is one function once inlined (its vectors stay in registers);
  * the one-ray fallback is kept out of it. */
@@ -143,7 +159,7 @@ CSG_PK_FN void pk_packet_init(pk_packet *pk, csg_ray_pk r, intv live)
  * than csg_aabb_overlaps accepts (tmin >= 0).  A NaN (0 * inf: the origin
  * on a plane of a slab the ray runs along) never replaces a bound. */
 CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
-                        const pk_packet *pk, realv tmax)
+                           const pk_packet *pk, realv tmax)
 {
     realv l = (realv)(pk->tmin), h = tmax;
     for (int a = 0; a < 3; a++) {
@@ -157,10 +173,31 @@ CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
     return l <= h;
 }
 
+/* The lanes csg_aabb_overlaps certainly accepts (tmin >= 0): the culling
+ * test with the reciprocals' roles swapped, so the near t only grows and
+ * the far t only shrinks, strictly inside, no NaN.  A lane it leaves out
+ * may still be accepted: pk_aabb_overlaps decides those. */
+CSG_PK_FN intv pk_box_inside(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
+                             const pk_packet *pk, realv tmax)
+{
+    realv l = (realv)(pk->tmin), h = tmax;
+    intv ok = (intv)(-1);
+    for (int a = 0; a < 3; a++) {
+        realv near = select((realv)(lo[a]), (realv)(hi[a]), pk->neg[a]);
+        realv far = select((realv)(hi[a]), (realv)(lo[a]), pk->neg[a]);
+        realv tn = (near - pk->o[a]) * pk->inv_far[a];
+        realv tf = (far - pk->o[a]) * pk->inv_near[a];
+        ok = ok & (tn == tn) & (tf == tf);
+        l = select(l, tn, tn > l);
+        h = select(h, tf, tf < h);
+    }
+    return ok & (l < h);
+}
+
 /* csg_aabb_overlaps (intersect.h) lane by lane, the same operations: keep
  * the two in step. */
 CSG_PK_FN intv pk_aabb_overlaps(CSG_GLOBAL const real *lo_b, CSG_GLOBAL const real *hi_b,
-                             const pk_packet *pk, realv tmax)
+                                const pk_packet *pk, realv tmax)
 {
     realv lo = (realv)(pk->tmin), hi = tmax;
     intv ok = (intv)(-1);
@@ -231,7 +268,9 @@ CSG_PK_FN void pk_try_root(csg_view v, csg_i32 i, const pk_packet *pk, intv m,
     intv win = m & csg_hit_wins_pk(h, best);
     if (!CSG_PK_ANY(win))
         return;
-    win = win & pk_aabb_overlaps(rt->lo, rt->hi, pk, limit);
+    intv sure = pk_box_inside(rt->lo, rt->hi, pk, limit);
+    if (CSG_PK_ANY(win & !sure))
+        win = win & (sure | pk_aabb_overlaps(rt->lo, rt->hi, pk, limit));
     best->t = select(best->t, h.t, win);
     best->surf = select(best->surf, h.surf, win);
 }
@@ -241,8 +280,8 @@ CSG_PK_FN void pk_try_root(csg_view v, csg_i32 i, const pk_packet *pk, intv m,
 CSG_PK_FN int pk_bvh_is_leaf(CSG_GLOBAL const csg_bvh_node *n) { return n->count > 0; }
 
 /* The children of interior node k, the one to visit first in *first. */
-CSG_PK_FN void pk_bvh_children(CSG_GLOBAL const csg_bvh_node *n, csg_i32 k, const pk_packet *pk,
-                            csg_i32 *first, csg_i32 *second)
+CSG_PK_FN void pk_bvh_children(CSG_GLOBAL const csg_bvh_node *n, csg_i32 k,
+                               const pk_packet *pk, csg_i32 *first, csg_i32 *second)
 {
     int back = pk->back[-1 - n->count]; /* count = -1 - split axis */
     *first = back ? n->first : k + 1;

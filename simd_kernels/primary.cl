@@ -95,6 +95,15 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     lane_int in[CSG_PACKET];
     CSG_PK_STORE(hit.t, t);
     CSG_PK_STORE(hit.surf, surf);
+    if (CSG_PK_ALL(live)) { /* a whole packet: a row of records at a time */
+        for (int k = 0; k < CSG_PACKET_ROWS; k++) {
+            size_t i = (size_t)(r0 + k) * (size_t)cols + (size_t)c0;
+            CSG_PK_ROW_STORE(CSG_PK_ROW_LOAD(t + k * CSG_PACKET_COLS), t_out + i);
+            CSG_PK_ROW_STORE(CSG_PK_ROW_UINT(CSG_PK_ROW_LOAD(surf + k * CSG_PACKET_COLS)),
+                             surf_out + i);
+        }
+        return;
+    }
     CSG_PK_STORE(live, in);
     for (int k = 0; k < CSG_PACKET; k++) {
         if (!in[k])
