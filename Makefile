@@ -7,6 +7,8 @@
 #   make demo     deps + build + render the showcase in both modes, compare
 #   make bench    deps + build + the quick benchmark suite (bench/, ~3 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
+#   make bench-primary    the primary pass's throughput: both OpenCL kernel
+#                 variants against the C worker (bench/primary_pass.sh)
 #   make bench-full       the full suite and the accuracy grid (~25 min)
 #   make clean
 #
@@ -58,7 +60,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps test demo bench bench-full bench-accuracy golden clean
+.PHONY: all asan deps test demo bench bench-full bench-accuracy bench-primary golden clean
 all: $(B)/csgtrace $(TEST_BINS)
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
 
@@ -102,6 +104,12 @@ $(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN)
 	@mkdir -p $(dir $@)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS) -lcmocka
 
+# Benchmark helpers (never part of csgtrace): the primary pass's throughput,
+# OpenCL variants against the C worker (bench/primary_pass.sh).
+$(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
+
 # ---- dependencies --------------------------------------------------------------
 deps:
 	@missing=""; for p in $(DEB_PACKAGES); do \
@@ -133,6 +141,12 @@ bench-full: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --full
 	bench/accuracy.sh
+
+# The primary pass in Mrays/s per core: packet and scalar kernels against the
+# C worker's primary rays, N = 10 .. 10^4 spheres (bench/results/primary_pass).
+bench-primary: deps
+	$(MAKE) $(B)/csgtrace $(B)/bench/primary_pass
+	bench/primary_pass.sh
 
 # Speed versus accuracy (issue 6): every knob against a reference render.
 bench-accuracy: deps
