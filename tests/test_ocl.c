@@ -767,23 +767,35 @@ static void test_bad_device(void **state)
 }
 
 /* $CSGTRACE_CL_DEVICE is the selector when the options give none. */
+/* ocl_open_kernel(kernel) with the environment variable `var` set to
+ * `value` (unset when NULL) for the call only; the context is closed. */
+static bool open_with_env(const char *var, const char *value, enum ocl_kernel kernel,
+                          ocl_timing *timing, csg_diag *d)
+{
+    const char *old = getenv(var);
+    char *saved = old ? strdup(old) : NULL;
+    if (value)
+        setenv(var, value, 1);
+    else
+        unsetenv(var);
+    ocl_options opt = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open_kernel(&opt, kernel, &ctx, timing, d);
+    if (saved)
+        setenv(var, saved, 1);
+    else
+        unsetenv(var);
+    free(saved);
+    ocl_close(ctx);
+    return ok;
+}
+
 static void test_env_device(void **state)
 {
     (void)state;
-    const char *old = getenv("CSGTRACE_CL_DEVICE");
-    char *saved = old ? strdup(old) : NULL;
-    setenv("CSGTRACE_CL_DEVICE", "bogus-env-device", 1);
-    ocl_options opt = {0};
     ocl_timing timing = {0};
     csg_diag d = {0};
-    ocl_ctx *ctx = NULL;
-    bool ok = ocl_open(&opt, &ctx, &timing, &d);
-    if (saved)
-        setenv("CSGTRACE_CL_DEVICE", saved, 1);
-    else
-        unsetenv("CSGTRACE_CL_DEVICE");
-    free(saved);
-    ocl_close(ctx);
+    bool ok = open_with_env("CSGTRACE_CL_DEVICE", "bogus-env-device", OCL_KERNEL_AUTO, &timing, &d);
     assert_false(ok);
     assert_non_null(strstr(d.message, "bogus-env-device"));
 }
@@ -818,24 +830,15 @@ static void test_kernel_choice(void **state)
     assert_true(ocl_kernel_parse("packet", &k) && k == OCL_KERNEL_PACKET);
     assert_false(ocl_kernel_parse("vector", &k));
     assert_false(ocl_kernel_parse(NULL, &k));
-    const char *old = getenv("CSGTRACE_CL_KERNEL");
-    char *saved = old ? strdup(old) : NULL;
     static const struct {
         const char *env;
         const char *kernel; /* prefix of timing.kernel, NULL: refused */
     } cases[] = {{NULL, "packet"}, {"scalar", "scalar"}, {"packet", "packet"},
                  {"auto", "packet"}, {"wide", NULL}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        if (cases[i].env)
-            setenv("CSGTRACE_CL_KERNEL", cases[i].env, 1);
-        else
-            unsetenv("CSGTRACE_CL_KERNEL");
-        ocl_options opt = {0};
         ocl_timing timing = {0};
         csg_diag d = {0};
-        ocl_ctx *ctx = NULL;
-        bool ok = ocl_open(&opt, &ctx, &timing, &d);
-        ocl_close(ctx);
+        bool ok = open_with_env("CSGTRACE_CL_KERNEL", cases[i].env, OCL_KERNEL_AUTO, &timing, &d);
         if (cases[i].kernel) {
             if (!ok)
                 fail_msg("ocl_open with CSGTRACE_CL_KERNEL=%s: %s", cases[i].env, d.message);
@@ -847,18 +850,9 @@ static void test_kernel_choice(void **state)
         }
     }
     /* an explicit choice wins over the environment */
-    setenv("CSGTRACE_CL_KERNEL", "packet", 1);
-    ocl_options opt = {0};
     ocl_timing timing = {0};
     csg_diag d = {0};
-    ocl_ctx *ctx = NULL;
-    bool ok = ocl_open_kernel(&opt, OCL_KERNEL_SCALAR, &ctx, &timing, &d);
-    ocl_close(ctx);
-    if (saved)
-        setenv("CSGTRACE_CL_KERNEL", saved, 1);
-    else
-        unsetenv("CSGTRACE_CL_KERNEL");
-    free(saved);
+    bool ok = open_with_env("CSGTRACE_CL_KERNEL", "packet", OCL_KERNEL_SCALAR, &timing, &d);
     assert_true(ok);
     assert_string_equal(timing.kernel, "scalar");
     /* PoCL's CPU device: 16 floats a packet with AVX-512, 8 with AVX2 */
