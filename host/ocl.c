@@ -401,9 +401,10 @@ bool ocl_kernel_parse(const char *name, enum ocl_kernel *out)
 
 /* AUTO becomes $CSGTRACE_CL_KERNEL when set, else packet on a CPU device
  * (PoCL turns OpenCL vectors into SIMD code, not a one-ray walk), scalar
- * on any other.  A packet is the device's preferred vector width of
- * `real` (rounded down to 2, 4, 8 or 16; at least 4), a block of 4 records
- * by W / 4 rows (2 by W / 2 for W < 8). */
+ * on any other.  A packet is $CSGTRACE_CL_PACKET rays when set (2, 4, 8 or
+ * 16: tests, or a device whose preferred width misleads), else the
+ * device's preferred vector width of `real` (rounded down to 4, 8 or 16;
+ * at least 4), a block of 4 records by W / 4 rows (2 by W / 2 for W < 8). */
 static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
 {
     const char *env = getenv("CSGTRACE_CL_KERNEL");
@@ -430,6 +431,15 @@ static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
     c->packet = 4;
     while (c->packet < 16 && (cl_uint)c->packet * 2 <= width)
         c->packet *= 2;
+    const char *forced = getenv("CSGTRACE_CL_PACKET");
+    if (forced && *forced) {
+        if (strcmp(forced, "2") && strcmp(forced, "4") && strcmp(forced, "8") &&
+            strcmp(forced, "16")) {
+            csg_error_plain(d, "CSGTRACE_CL_PACKET must be 2, 4, 8 or 16, not \"%s\"", forced);
+            return false;
+        }
+        c->packet = atoi(forced);
+    }
     c->packet_cols = c->packet >= 8 ? 4 : 2;
     return true;
 }

@@ -338,6 +338,42 @@ static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene 
     return hits;
 }
 
+/* Sets the environment variable `var` to `value` (unsets it for NULL);
+ * returns its previous value for env_restore (malloc'd, NULL if unset). */
+static char *env_set(const char *var, const char *value)
+{
+    const char *old = getenv(var);
+    char *saved = old ? strdup(old) : NULL;
+    if (value)
+        setenv(var, value, 1);
+    else
+        unsetenv(var);
+    return saved;
+}
+
+static void env_restore(const char *var, char *saved)
+{
+    if (saved)
+        setenv(var, saved, 1);
+    else
+        unsetenv(var);
+    free(saved);
+}
+
+/* ocl_open_kernel(kernel) with the environment variable `var` set to
+ * `value` (unset when NULL) for the call only; the context is closed. */
+static bool open_with_env(const char *var, const char *value, enum ocl_kernel kernel,
+                          ocl_timing *timing, csg_diag *d)
+{
+    char *saved = env_set(var, value);
+    ocl_options opt = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open_kernel(&opt, kernel, &ctx, timing, d);
+    env_restore(var, saved);
+    ocl_close(ctx);
+    return ok;
+}
+
 /* Both precisions, three image sizes; the scene must hit somewhere (and
  * miss somewhere, unless it encloses the camera) at 100 x 37, else the
  * comparison would prove little. */
@@ -650,6 +686,39 @@ static void test_random_flattened(void **state)
     assert_true(with_bvh > 0);
 }
 
+/* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
+ * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
+ * pixel, an image that cuts packets and slices of a few rows. */
+static void test_packet_widths(void **state)
+{
+    (void)state;
+    static const char *const widths[] = {"2", "4", "8", "16"};
+    csg_blob blob = random_blob(7, 40, 37, 21, 3);
+    for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+        char *saved = env_set("CSGTRACE_CL_PACKET", widths[w]);
+        ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
+                           .max_slice_bytes = 37 * 3 * 12 * 5};
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        ocl_ctx *ctx = NULL;
+        bool ok = ocl_open_kernel(&opt, OCL_KERNEL_PACKET, &ctx, &timing, &d);
+        env_restore("CSGTRACE_CL_PACKET", saved);
+        if (!ok)
+            fail_msg("ocl_open (packet %s): %s", widths[w], d.message);
+        char want[16];
+        snprintf(want, sizeof want, "packet %s ", widths[w]);
+        assert_memory_equal(timing.kernel, want, strlen(want));
+        check_blob(ctx, &prec, blob.bytes, 6);
+        ocl_close(ctx);
+    }
+    csg_blob_free(&blob);
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    bool ok = open_with_env("CSGTRACE_CL_PACKET", "3", OCL_KERNEL_PACKET, &timing, &d);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "CSGTRACE_CL_PACKET"));
+}
+
 /* The same with slices of a few rows (cutting packets and tiles). */
 static void test_random_forced_slices(void **state)
 {
@@ -767,29 +836,6 @@ static void test_bad_device(void **state)
 }
 
 /* $CSGTRACE_CL_DEVICE is the selector when the options give none. */
-/* ocl_open_kernel(kernel) with the environment variable `var` set to
- * `value` (unset when NULL) for the call only; the context is closed. */
-static bool open_with_env(const char *var, const char *value, enum ocl_kernel kernel,
-                          ocl_timing *timing, csg_diag *d)
-{
-    const char *old = getenv(var);
-    char *saved = old ? strdup(old) : NULL;
-    if (value)
-        setenv(var, value, 1);
-    else
-        unsetenv(var);
-    ocl_options opt = {0};
-    ocl_ctx *ctx = NULL;
-    bool ok = ocl_open_kernel(&opt, kernel, &ctx, timing, d);
-    if (saved)
-        setenv(var, saved, 1);
-    else
-        unsetenv(var);
-    free(saved);
-    ocl_close(ctx);
-    return ok;
-}
-
 static void test_env_device(void **state)
 {
     (void)state;
@@ -984,6 +1030,7 @@ int main(void)
         cmocka_unit_test(test_random_spheres),
         cmocka_unit_test(test_random_flattened),
         cmocka_unit_test(test_random_forced_slices),
+        cmocka_unit_test(test_packet_widths),
         cmocka_unit_test(test_tile_sizes),
         cmocka_unit_test(test_forced_slices),
         cmocka_unit_test(test_empty_scene),
