@@ -96,14 +96,17 @@ typedef CSG_PK_U lane_uint;
 /* Any lane of mask m (-1 / 0 lanes) set.  OpenCL's any() tests the sign
  * bits, which PoCL's LLVM lowers to a chain of extracts; a reduction of
  * a comparison to "not 0" becomes one kortest. */
-#if defined(__has_builtin) && __has_builtin(__builtin_reduce_or)
+#ifndef __has_builtin
+#define __has_builtin(x) 0 /* not clang: OpenCL's any() and all() */
+#endif
+#if __has_builtin(__builtin_reduce_or)
 #define CSG_PK_ANY(m) (__builtin_reduce_or(m) != 0)
 #else
 #define CSG_PK_ANY(m) any(m)
 #endif
 
 /* Every lane of mask m set. */
-#if defined(__has_builtin) && __has_builtin(__builtin_reduce_and)
+#if __has_builtin(__builtin_reduce_and)
 #define CSG_PK_ALL(m) (__builtin_reduce_and(m) != 0)
 #else
 #define CSG_PK_ALL(m) all(m)
