@@ -50,6 +50,7 @@ WORK=$ROOT/build/bench/primary
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 [ -x "$BIN" ] && [ -x "$HARNESS" ] || { echo "build first: make build/csgtrace build/bench/primary_pass" >&2; exit 1; }
 mkdir -p "$WORK" "$OUT"
+LOAD_START=$(cut -d' ' -f1-3 /proc/loadavg)
 
 for n in $COUNTS; do
     scene=$WORK/spheres_${n}_occ${OCC}_seed${SEED}.pov
@@ -61,14 +62,18 @@ for n in $COUNTS; do
     "$HARNESS" "$scene" --width "$SIZE" --height "$SIZE" --repeat "$REPEAT" >"$OUT/N$n.json"
 done
 
-python3 - "$OUT" "$OCC" $COUNTS <<'EOF' | tee "$OUT/summary.md"
+LOAD_END=$(cut -d' ' -f1-3 /proc/loadavg)
+python3 - "$OUT" "$OCC" "$(nproc)" "$LOAD_START" "$LOAD_END" $COUNTS <<'EOF' | tee "$OUT/summary.md"
 import json, sys, os
-out, occ, counts = sys.argv[1], sys.argv[2], sys.argv[3:]
+out, occ, cpus, load0, load1, counts = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6:]
 rows = [json.load(open(os.path.join(out, "N%s.json" % n))) for n in counts]
 j0 = rows[0]
 print("Primary pass, %d x %d, %s, random spheres (gen spheres --occupancy %s), %d interleaved "
       "rounds;" % (j0["width"], j0["height"], j0["precision"], occ, j0["repeat"]))
-print("device: %s; packet kernel: %s.\n" % (j0["device"], j0["variants"]["packet"]["kernel"]))
+print("device: %s; packet kernel: %s." % (j0["device"], j0["variants"]["packet"]["kernel"]))
+print("Machine: %s CPUs, load average (1, 5, 15 min) %s at the start, %s at the end: wall-clock"
+      % (cpus, load0, load1))
+print("figures shrink with other work on the machine, CPU-time figures much less.\n")
 print("Mrays/s per core, wall clock: median (min-max over the rounds)\n")
 print("| N | C worker (1 core) | scalar kernel | packet kernel | packet / C | packet / scalar |")
 print("| ---: | ---: | ---: | ---: | ---: | ---: |")
