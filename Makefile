@@ -9,6 +9,8 @@
 #   make bench-speed      one core against POV-Ray 3.7 (trace to trace) and
 #                 Embree (primary rays): bench/vs_povray.sh, bench/vs_embree.sh
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
+#   make bench-primary    the primary pass's throughput: both OpenCL kernel
+#                 variants against the C worker (bench/primary_pass.sh)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
 #   make clean
@@ -73,7 +75,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
-.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed golden fuzz \
+.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
 	clean
 all: $(B)/csgtrace $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
@@ -178,6 +180,9 @@ fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 $(B)/bench/primary_rays: $(B)/obj/bench/primary_rays.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
+$(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
 $(B)/bench/embree_primary: bench/embree_primary.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(OPT) $< -o $@ -lembree3 -lm
@@ -224,6 +229,12 @@ bench-full: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --full
 	bench/accuracy.sh
+
+# The primary pass in Mrays/s per core: packet and scalar kernels against the
+# C worker's primary rays, N = 10 .. 10^4 spheres (bench/results/primary_pass).
+bench-primary: deps
+	$(MAKE) $(B)/csgtrace $(B)/bench/primary_pass
+	bench/primary_pass.sh
 
 # Speed versus accuracy (issue 6): every knob against a reference render.
 bench-accuracy: deps

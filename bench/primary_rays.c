@@ -138,7 +138,7 @@ int main(int argc, char **argv)
     csg_blob blob = {NULL, 0};
     memset(&d, 0, sizeof d);
     csg_scene_init(&s);
-    csg_flatten_opts o = {width, height, 0, -1, 1};
+    csg_flatten_opts o = {width, height, 0, -1, 1, 0};
     bool ok = csg_parse_file(scene, &s, &d) && e->flatten(&s, &o, &blob, &d);
     csg_scene_free(&s);
     if (!ok) {

@@ -20,8 +20,8 @@ void cli_usage(FILE *out)
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
           "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
-          "                   [--stats FILE.json] [--cl-device SEL] [--progress|--no-progress]\n"
-          "                   [--clock F] [--library-path DIR]...\n"
+          "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
+          "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE [--width W] [--height H] [--clock F] [--library-path DIR]...\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
@@ -94,6 +94,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     static const char *const modes[] = {"serial", "homo", "hetero"};
     static const char *const precisions[] = {"float", "double", "auto"};
     static const char *const schedules[] = {"raster", "cost", "static", "tail"};
+    static const char *const kernels[] = {"auto", "scalar", "packet"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -139,6 +140,8 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     }
     if (strcmp(opt, "--clock") == 0)
         return parse_real(opt, val, -1e30, 1e30, &a->parse.clock, d);
+    if (strcmp(opt, "--cl-kernel") == 0) /* enum ocl_kernel's order */
+        return parse_choice(opt, val, kernels, 3, &r->cl_kernel, d);
     if (strcmp(opt, "--width") == 0)
         return parse_int(opt, val, 1, 65536, &r->width, d);
     if (strcmp(opt, "--height") == 0)

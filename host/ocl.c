@@ -8,9 +8,16 @@
  * (<source> is $CSGTRACE_SOURCE_DIR, else the repository root the Makefile
  * baked in as CSG_SOURCE_DIR) and builds it with absolute -I paths to csg/
  * and simd_kernels/, correctly rounded divide/sqrt and, for the double build,
- * -DCSG_DOUBLE.  Nothing that relaxes math is ever passed.  PoCL keeps the
+ * -DCSG_DOUBLE.  The kernel variant (ocl_pick_kernel) is a -D too: the packet
+ * kernel (-DCSG_PACKET=W -DCSG_PACKET_COLS=C, W the device's preferred
+ * vector width of `real`) on CPU devices, the one-ray kernel elsewhere,
+ * unless the caller or $CSGTRACE_CL_KERNEL says otherwise; both are the
+ * same kernel name with the same arguments, only the grid differs (a
+ * work-item a record, or a work-item a packet of C x W/C records).
+ * Nothing that relaxes math is ever passed.  PoCL keeps the
  * compiled program in its cache (POCL_CACHE_DIR, default ~/.cache/pocl), so
- * only the first build of a given source + options is slow; compile_s
+ * only the first build of a given source + options (so of each variant) is
+ * slow; compile_s
  * reports the build either way, apart from primary_s.
  *
  * The pass (ocl_pass_begin) uploads the whole flat blob as one read-only
@@ -20,7 +27,8 @@
  * what the device allows (max allocation, a share of the global memory,
  * and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number of
  * tile rows whenever one tile row fits; otherwise it is a run of pixel
- * rows inside a tile row.  Per slice: csg_primary (a work-item a pixel),
+ * rows inside a tile row.  Per slice: csg_primary (a work-item a record, or a
+ * packet of records),
  * csg_tile_hits (a work-item a tile touched by the slice), then
  * non-blocking reads of the records straight into the caller's arrays at
  * the slice's first row and of the slice's tile counts into a host array
@@ -75,10 +83,18 @@ struct ocl_ctx {
     cl_kernel k_tiles;      /* csg_tile_hits: a count a tile        */
     cl_kernel k_layout;     /* csg_layout: the layout probe         */
     size_t group_primary;   /* work-group width (dim 0) of csg_primary   */
+    enum ocl_kernel kernel; /* SCALAR or PACKET: the variant built       */
+    int packet, packet_cols; /* PACKET: rays a work-item, and the
+                                packet's width in records (the rest are
+                                rows): the grid of csg_primary          */
     size_t group_tiles;     /* and of csg_tile_hits                      */
     int use_double;         /* the program was built with CSG_DOUBLE */
     cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
+    cl_uint compute_units;  /* CL_DEVICE_MAX_COMPUTE_UNITS           */
+    /* The record buffers of a slice, kept from pass to pass (grown when a
+     * pass needs more): fresh buffers cost a page fault a page at the
+     * kernel's first write, a third of a pass of a simple scene. */
     size_t max_slice_bytes; /* 0: no limit beyond the device's       */
 };
 
@@ -347,6 +363,10 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
                           &c->global_mem, NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_GLOBAL_MEM_SIZE)", err);
+    err = clGetDeviceInfo(c->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof c->compute_units,
+                          &c->compute_units, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_MAX_COMPUTE_UNITS)", err);
     cl_device_fp_config fp = 0;
     err = clGetDeviceInfo(c->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
     if (err != CL_SUCCESS)
@@ -372,6 +392,74 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
         }
     }
     return true;
+}
+
+/* ---- kernel variant ----------------------------------------------------------- */
+
+bool ocl_kernel_parse(const char *name, enum ocl_kernel *out)
+{
+    static const char *const names[] = {"auto", "scalar", "packet"};
+    for (int i = 0; i < 3; i++)
+        if (name && strcmp(name, names[i]) == 0) {
+            *out = (enum ocl_kernel)i;
+            return true;
+        }
+    return false;
+}
+
+/* AUTO becomes $CSGTRACE_CL_KERNEL when set, else packet on a CPU device
+ * (PoCL turns OpenCL vectors into SIMD code, not a one-ray walk), scalar
+ * on any other.  A packet is $CSGTRACE_CL_PACKET rays when set (2, 4, 8 or
+ * 16: tests, or a device whose preferred width misleads), else the
+ * device's preferred vector width of `real` (rounded down to 4, 8 or 16;
+ * at least 4), a block of 4 records by W / 4 rows (2 by W / 2 for W < 8). */
+static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
+{
+    const char *env = getenv("CSGTRACE_CL_KERNEL");
+    if (want == OCL_KERNEL_AUTO && env && *env && !ocl_kernel_parse(env, &want)) {
+        csg_error_plain(d, "CSGTRACE_CL_KERNEL must be auto, scalar or packet, not \"%s\"", env);
+        return false;
+    }
+    if (want == OCL_KERNEL_AUTO) {
+        cl_device_type type = 0;
+        cl_int err = clGetDeviceInfo(c->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+        if (err != CL_SUCCESS)
+            return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_TYPE)", err);
+        want = (type & CL_DEVICE_TYPE_CPU) ? OCL_KERNEL_PACKET : OCL_KERNEL_SCALAR;
+    }
+    c->kernel = want;
+    if (want != OCL_KERNEL_PACKET)
+        return true;
+    cl_uint width = 0;
+    cl_device_info what = c->use_double ? CL_DEVICE_PREFERRED_VECTOR_WIDTH_DOUBLE
+                                        : CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT;
+    cl_int err = clGetDeviceInfo(c->device, what, sizeof width, &width, NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_PREFERRED_VECTOR_WIDTH)", err);
+    c->packet = 4;
+    while (c->packet < 16 && (cl_uint)c->packet * 2 <= width)
+        c->packet *= 2;
+    const char *forced = getenv("CSGTRACE_CL_PACKET");
+    if (forced && *forced) {
+        if (strcmp(forced, "2") && strcmp(forced, "4") && strcmp(forced, "8") &&
+            strcmp(forced, "16")) {
+            csg_error_plain(d, "CSGTRACE_CL_PACKET must be 2, 4, 8 or 16, not \"%s\"", forced);
+            return false;
+        }
+        c->packet = atoi(forced);
+    }
+    c->packet_cols = c->packet >= 8 ? 4 : 2;
+    return true;
+}
+
+/* "scalar" or "packet 16 (4x4)". */
+static void ocl_kernel_name(const ocl_ctx *c, char *buf, size_t size)
+{
+    if (c->kernel == OCL_KERNEL_PACKET)
+        snprintf(buf, size, "packet %d (%dx%d)", c->packet, c->packet_cols,
+                 c->packet / c->packet_cols);
+    else
+        snprintf(buf, size, "scalar");
 }
 
 /* ---- program ------------------------------------------------------------------ */
@@ -459,13 +547,17 @@ static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
 
 static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
 {
-    char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 200];
+    char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 264];
     if (!ocl_source_dir(dir, sizeof dir, d))
         return false;
     snprintf(path, sizeof path, "%s/simd_kernels/primary.cl", dir);
+    char variant[64] = "";
+    if (c->kernel == OCL_KERNEL_PACKET)
+        snprintf(variant, sizeof variant, " -DCSG_PACKET=%d -DCSG_PACKET_COLS=%d", c->packet,
+                 c->packet_cols);
     snprintf(options, sizeof options,
-             "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s",
-             dir, dir, c->use_double ? " -DCSG_DOUBLE" : "");
+             "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s%s",
+             dir, dir, c->use_double ? " -DCSG_DOUBLE" : "", variant);
     char *src = ocl_read_file(path, d);
     if (!src)
         return false;
@@ -570,14 +662,10 @@ typedef struct {
 
 static void ocl_release_buffers(ocl_pass_buffers *b)
 {
-    if (b->blob)
-        clReleaseMemObject(b->blob);
-    if (b->t)
-        clReleaseMemObject(b->t);
-    if (b->surf)
-        clReleaseMemObject(b->surf);
-    if (b->hits)
-        clReleaseMemObject(b->hits);
+    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (*all[i])
+            clReleaseMemObject(*all[i]);
 }
 
 static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void *host,
@@ -618,7 +706,13 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     if (!ok)
         return false;
     size_t gp = c->group_primary, gt = c->group_tiles;
-    size_t pix[2] = {((size_t)record_width + gp - 1) / gp * gp, (size_t)rows};
+    size_t items_x = (size_t)record_width, items_y = (size_t)rows; /* a work-item a record */
+    if (c->kernel == OCL_KERNEL_PACKET) { /* a work-item a packet */
+        size_t pc = (size_t)c->packet_cols, pr = (size_t)(c->packet / c->packet_cols);
+        items_x = (items_x + pc - 1) / pc;
+        items_y = (items_y + pr - 1) / pr;
+    }
+    size_t pix[2] = {(items_x + gp - 1) / gp * gp, items_y};
     size_t pix_group[2] = {gp, 1};
     size_t tiles[2] = {((size_t)tiles_x + gt - 1) / gt * gt, (size_t)tile_rows};
     size_t tiles_group[2] = {gt, 1};
@@ -809,6 +903,8 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
     if (timing) {
         timing->slices = p->slices;
         timing->primary_s = (p->t_end > 0 ? p->t_end : ocl_now()) - p->t0;
+        timing->compute_units = (int)p->c->compute_units;
+        ocl_kernel_name(p->c, timing->kernel, sizeof timing->kernel);
         ocl_device_name(p->c->device, timing->device_name, sizeof timing->device_name);
     }
     for (int k = 0; k < p->enqueued; k++)
@@ -855,6 +951,12 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
 
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d)
 {
+    return ocl_open_kernel(opt, OCL_KERNEL_AUTO, out, timing, d);
+}
+
+bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
+                     ocl_timing *timing, csg_diag *d)
+{
     double t_open = ocl_now();
     *out = NULL;
     ocl_ctx *c = calloc(1, sizeof *c);
@@ -874,8 +976,10 @@ bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_dia
     char name[256];
     ocl_device_name(c->device, name, sizeof name);
     snprintf(timing->device_name, sizeof timing->device_name, "%s", name);
-    if (!ocl_check_device(c, name, d))
+    if (!ocl_check_device(c, name, d) || !ocl_pick_kernel(c, kernel, d))
         goto fail;
+    timing->compute_units = (int)c->compute_units;
+    ocl_kernel_name(c, timing->kernel, sizeof timing->kernel);
     cl_int err;
     c->context = clCreateContext(NULL, 1, &c->device, NULL, NULL, &err);
     if (err != CL_SUCCESS) {

@@ -24,6 +24,16 @@ typedef struct {
                                small slices with tiny values             */
 } ocl_options;
 
+/* The primary kernel's variant (simd_kernels/primary.cl): one ray a
+ * work-item (GPUs), or a packet of rays in OpenCL vectors a work-item
+ * (CPUs: simd_kernels/packet.h).  Both give the same records. */
+enum ocl_kernel {
+    OCL_KERNEL_AUTO,   /* $CSGTRACE_CL_KERNEL (auto, scalar, packet) if set,
+                          else packet on a CPU device, scalar otherwise */
+    OCL_KERNEL_SCALAR,
+    OCL_KERNEL_PACKET
+};
+
 typedef struct {
     double setup_s;      /* ocl_open apart from compile_s: platform and
                             device choice, context, queue                */
@@ -33,12 +43,21 @@ typedef struct {
     double primary_s;    /* the pass: buffers, upload, kernels, download
                             (begin .. the last slice seen complete)      */
     int slices;          /* passes the image needed                       */
+    int compute_units;   /* CL_DEVICE_MAX_COMPUTE_UNITS (cores of a CPU)   */
+    char kernel[32];     /* the variant built: "scalar", "packet 16 (4x4)" */
     char device_name[256];
 } ocl_timing;
 
-/* Picks the device, builds the program; false with d filled on failure
- * (the build log goes to stderr). */
+/* Picks the device, builds the program with the kernel variant `kernel`;
+ * false with d filled on failure (the build log goes to stderr). */
+bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
+                     ocl_timing *timing, csg_diag *d);
+
+/* ocl_open_kernel with OCL_KERNEL_AUTO. */
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d);
+
+/* "auto", "scalar", "packet" -> *out; false for anything else. */
+bool ocl_kernel_parse(const char *name, enum ocl_kernel *out);
 
 /* Traces the primary rays of the whole image of `blob` (its header holds
  * width and height).  t_out: real[w*h] (the blob's precision), surf_out:

@@ -183,7 +183,7 @@ static bool render_open_cl(const render_request *req, render_state *rs, csg_diag
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
     ocl_options opt = { device, h->real_size == 8, 0 };
     rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
-    if (!rs->ctx && !ocl_open(&opt, &rs->ctx, &rs->tm, d))
+    if (!rs->ctx && !ocl_open_kernel(&opt, (enum ocl_kernel)req->cl_kernel, &rs->ctx, &rs->tm, d))
         return false;
     if (req->cl_keep)
         *req->cl_keep = rs->ctx; /* the caller closes it */

@@ -1,14 +1,20 @@
 /*
- * primary.cl — the data-parallel phase of the heterogeneous mode: one
- * work-item per pixel traces the primary ray with the very functions the C
- * workers use (csg/device/camera.h, csg/device/intersect.h), then one
- * work-item per tile counts the pixels whose ray hit something.
+ * primary.cl — the data-parallel phase of the heterogeneous mode: every
+ * primary ray (a record: a sample of a pixel) traced with the very
+ * functions the C workers use (csg/device/camera.h, csg/device/intersect.h),
+ * then one work-item per tile counts the records whose ray hit something.
+ * csg_primary comes in two variants, chosen at build time:
+ *   - one ray a work-item (GPUs): csg_trace_nearest itself;
+ *   - with -DCSG_PACKET=W, a packet of W rays a work-item in OpenCL
+ *     vectors (CPUs, where PoCL turns them into SIMD code): the packet
+ *     compilation of the same shared code (simd_kernels/packet.h).
  *
  * Built by host/ocl.c with -I <source>/csg/device -I <source>/simd_kernels
  * -cl-fp32-correctly-rounded-divide-sqrt (and -DCSG_DOUBLE for the double
  * build); portable.h turns FP_CONTRACT off.  Nothing here does arithmetic
  * on `real` of its own: every bit of a record comes from the shared code,
- * which is why the records equal the C records bit for bit.
+ * which is why the records equal the C records bit for bit, in both
+ * variants.
  *
  * The scene arrives as the flat blob (csg/device/flat.h) in one buffer;
  * the kernels find its arrays and the image size through the blob's header
@@ -27,6 +33,8 @@
  */
 #include "camera.h"
 
+#ifndef CSG_PACKET
+/* One work-item a record (a sample of a pixel): the variant for GPUs. */
 __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global real *t_out,
                           __global uint *surf_out)
 {
@@ -44,6 +52,69 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     t_out[i] = hit.t;
     surf_out[i] = hit.surf;
 }
+#else
+#include "packet.h"
+
+/* One work-item a packet of CSG_PACKET records, CSG_PACKET_COLS of a row
+ * by CSG_PACKET_ROWS rows (packet.h): the variant for CPUs.  Lanes beyond
+ * the image trace a finite ray off the image and write nothing. */
+__kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global real *t_out,
+                          __global uint *surf_out)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp, cols = width * spp;
+    int c0 = (int)get_global_id(0) * CSG_PACKET_COLS;
+    int r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
+    if (c0 >= cols || r0 >= rows) /* the grid is padded to whole work-groups */
+        return;
+    intv lane = CSG_PK_LOAD(csg_pk_lane_ids);
+    intv dc = lane % CSG_PACKET_COLS;
+    intv col = c0 + dc, row = r0 + lane / CSG_PACKET_COLS;
+    intv live = (col < cols) & (row < rows);
+    /* pixel x = col / spp and sample s = col % spp, without a division per
+     * lane: from the first column's, carrying at most COLS - 1 times */
+    intv x = col, s = (intv)(0);
+    if (spp > 1) {
+        x = (intv)(c0 / spp);
+        s = c0 % spp + dc;
+        for (int k = 1; k < CSG_PACKET_COLS; k++) {
+            intv wrap = s >= spp;
+            s = select(s, s - spp, wrap);
+            x = select(x, x + 1, wrap);
+        }
+    }
+    realv ox, oy;
+    csg_sample_offset_pk(spp, s, &ox, &oy);
+    pk_packet pk;
+    pk_packet_init(&pk, csg_camera_ray_pk(csg_blob_camera(blob), width, h->height, x, y0 + row,
+                                          ox, oy), live);
+    csg_hit_pk hit = pk_trace_nearest(csg_blob_view(blob), &pk);
+
+    real t[CSG_PACKET];
+    lane_uint surf[CSG_PACKET];
+    lane_int in[CSG_PACKET];
+    CSG_PK_STORE(hit.t, t);
+    CSG_PK_STORE(hit.surf, surf);
+    if (CSG_PK_ALL(live)) { /* a whole packet: a row of records at a time */
+        for (int k = 0; k < CSG_PACKET_ROWS; k++) {
+            size_t i = (size_t)(r0 + k) * (size_t)cols + (size_t)c0;
+            CSG_PK_ROW_STORE(CSG_PK_ROW_LOAD(t + k * CSG_PACKET_COLS), t_out + i);
+            CSG_PK_ROW_STORE(CSG_PK_ROW_UINT(CSG_PK_ROW_LOAD(surf + k * CSG_PACKET_COLS)),
+                             surf_out + i);
+        }
+        return;
+    }
+    CSG_PK_STORE(live, in);
+    for (int k = 0; k < CSG_PACKET; k++) {
+        if (!in[k])
+            continue;
+        size_t i = (size_t)(r0 + k / CSG_PACKET_COLS) * (size_t)cols +
+                   (size_t)(c0 + k % CSG_PACKET_COLS);
+        t_out[i] = t[k];
+        surf_out[i] = (uint)surf[k];
+    }
+}
+#endif
 
 /* hits[k * tiles_x + tx]: samples with surf != 0 in tile (tx, y0 / tile + k),
  * restricted to the slice's rows y0 .. y0 + rows - 1; a row holds

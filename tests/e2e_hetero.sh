@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # e2e_hetero.sh — the heterogeneous mode and the comparison, end to end:
-# hetero == homo == serial bit for bit on generated random scenes, the
+# hetero == homo == serial bit for bit on generated random scenes (hetero
+# with both OpenCL kernel variants, --cl-kernel scalar and packet), the
 # degenerate-tile bookkeeping at its extremes (no object: every tile
 # skipped; a screen-filling object: none), a 1x1 image, `compare` (table,
 # identical images, JSON), and the generator's occupancy target on a sample
@@ -32,9 +33,11 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
     fi
     render s_$3 0 serial "$scene" --width 96 --height 72 --tile 16
     render h_$3 3 homo "$scene" --width 96 --height 72 --tile 16
-    render x_$3 3 hetero "$scene" --width 96 --height 72 --tile 16
-    if same "$T/s_$3.exr" "$T/h_$3.exr" && same "$T/s_$3.exr" "$T/x_$3.exr"; then
-        ok "random scene ($1 spheres, occupancy $2): hetero == homo == serial"
+    render x_$3 3 hetero "$scene" --width 96 --height 72 --tile 16 --cl-kernel packet
+    render xs_$3 3 hetero "$scene" --width 96 --height 72 --tile 16 --cl-kernel scalar
+    if same "$T/s_$3.exr" "$T/h_$3.exr" && same "$T/s_$3.exr" "$T/x_$3.exr" &&
+        same "$T/s_$3.exr" "$T/xs_$3.exr"; then
+        ok "random scene ($1 spheres, occupancy $2): hetero (packet and scalar kernels) == homo == serial"
     else
         ko "random scene ($1 spheres, occupancy $2): images differ"
     fi
@@ -46,12 +49,13 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
 done
 
 # --- supersampling: every sample traced by the OpenCL pass, same pixels ---
-for spp in 4 8; do
+for spp in 4 8 3; do
     render ss$spp 0 serial "$T/gen_1.pov" --width 96 --height 72 --spp $spp
     render xs$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16
-    if same "$T/ss$spp.exr" "$T/xs$spp.exr" &&
+    render xss$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16 --cl-kernel scalar
+    if same "$T/ss$spp.exr" "$T/xs$spp.exr" && same "$T/ss$spp.exr" "$T/xss$spp.exr" &&
         json "$T/xs$spp.json" "j['spp'] == $spp and j['rays']['primary'] == 96 * 72 * $spp and j['tiles_degenerate'] > 0"; then
-        ok "--spp $spp: hetero == serial, $spp primary rays a pixel, degenerate tiles still skipped"
+        ok "--spp $spp: hetero (both kernels) == serial, $spp primary rays a pixel, degenerate tiles still skipped"
     else
         ko "--spp $spp: hetero differs from serial or wrong counts"
     fi
@@ -70,8 +74,24 @@ fi
 
 # --- double precision hetero on a random scene ---
 render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
-render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double
-same "$T/sd.exr" "$T/xd.exr" && ok "double: hetero == serial" || ko "double: hetero differs from serial"
+render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl-kernel packet
+render xds 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl-kernel scalar
+same "$T/sd.exr" "$T/xd.exr" && same "$T/sd.exr" "$T/xds.exr" && ok "double: hetero (both kernels) == serial" || ko "double: hetero differs from serial"
+
+# --- the kernel variant from the environment; a bad one refused ---
+CSGTRACE_CL_KERNEL=scalar "${MPIRUN[@]}" -np 3 "$BIN" render scenes/csg_ops.pov -o "$T/env.exr" \
+    --mode hetero --width 64 --height 48 >/dev/null 2>&1
+render envs 0 serial scenes/csg_ops.pov --width 64 --height 48
+same "$T/env.exr" "$T/envs.exr" && ok "\$CSGTRACE_CL_KERNEL=scalar: hetero == serial" || ko "\$CSGTRACE_CL_KERNEL=scalar: hetero differs"
+if CSGTRACE_CL_KERNEL=wide "$BIN" render scenes/showcase.pov -o "$T/bad.exr" --mode hetero \
+    --width 8 --height 8 >/dev/null 2>"$T/bad.err"; then
+    ko "a bad \$CSGTRACE_CL_KERNEL was accepted"
+else
+    grep -q "CSGTRACE_CL_KERNEL" "$T/bad.err" && ok "a bad \$CSGTRACE_CL_KERNEL is refused with a message" ||
+        ko "bad CSGTRACE_CL_KERNEL: $(head -c 300 "$T/bad.err")"
+fi
+"$BIN" render scenes/showcase.pov -o "$T/badk.exr" --cl-kernel wide >/dev/null 2>"$T/badk.err"
+[ $? -eq 2 ] && grep -q "cl-kernel" "$T/badk.err" && ok "--cl-kernel wide: a usage error (exit 2)" || ko "--cl-kernel wide: $(head -c 300 "$T/badk.err")"
 
 # --- --precision auto: float for an ordinary scene, double far from the origin,
 #     the same choice in every mode ---

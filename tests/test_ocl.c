@@ -1,16 +1,20 @@
 /*
  * test_ocl.c — the OpenCL primary pass (host/ocl.c, simd_kernels/primary.cl)
- * gives exactly the C records: for every pixel, t has the same bits and
- * surf the same id as csg_primary_ray + csg_trace_nearest run in C, in the
- * same precision; the tile counts equal a C count; slicing changes nothing.
+ * gives exactly the C records, in both kernel variants (one ray a
+ * work-item, and a packet of rays in OpenCL vectors a work-item): for every
+ * record, t has the same bits and surf the same id as csg_sample_ray +
+ * csg_trace_nearest run in C, in the same precision; the tile counts equal
+ * a C count; slicing changes nothing.
  *
  * Scenes are built by hand in a precision-neutral description (sc_scene,
  * doubles), then packed into a flat blob (csg/flatten.h layout) in this
  * file's precision: it is compiled as is (float) and, through
- * tests/test_ocl_double.c, with -DCSG_DOUBLE.
+ * tests/test_ocl_double.c, with -DCSG_DOUBLE.  Hand-built blobs have no
+ * BVH; random scenes written as POV-Ray text go through the parser and the
+ * flattener (a BVH, transforms, CSG, ties, several samples a pixel).
  *
- * One OpenCL context is opened in the group setup and shared by every test
- * (a PoCL build takes seconds when its cache is cold).
+ * One OpenCL context per variant is opened in the group setup and shared
+ * by every test (a PoCL build takes seconds when its cache is cold).
  */
 
 #include <math.h>
@@ -27,6 +31,7 @@
 
 #include "../csg/device/camera.h"
 #include "../csg/flatten.h"
+#include "../csg/lang/parser.h"
 #include "../host/ocl.h"
 
 /* ---- precision-neutral scene description ----------------------------------- */
@@ -240,8 +245,12 @@ static const precision_ops prec = {make_blob, reference, 4, "float"};
 
 /* ---- the comparison ----------------------------------------------------------------- */
 
+/* The kernel variants every comparison runs. */
+#define VARIANTS 2
+static const enum ocl_kernel variant_kernel[VARIANTS] = {OCL_KERNEL_SCALAR, OCL_KERNEL_PACKET};
+
 typedef struct {
-    ocl_ctx *ctx; /* built for this file's precision */
+    ocl_ctx *ctx[VARIANTS]; /* built for this file's precision, per variant */
 } fixture;
 
 static double real_at(const void *t, size_t i, size_t rs)
@@ -256,33 +265,35 @@ static double real_at(const void *t, size_t i, size_t rs)
     return x;
 }
 
-static void c_tile_hits(const uint32_t *surf, int w, int h, int tile, uint32_t *hits)
+/* Tile counts of records (spp a pixel, side by side). */
+static void c_tile_hits(const uint32_t *surf, int w, int h, int spp, int tile, uint32_t *hits)
 {
     int tx = (w + tile - 1) / tile, ty = (h + tile - 1) / tile;
     memset(hits, 0, (size_t)tx * (size_t)ty * sizeof *hits);
     for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++)
-            if (surf[(size_t)y * (size_t)w + (size_t)x] != CSG_SURF_NONE)
-                hits[(y / tile) * tx + x / tile]++;
+        for (int x = 0; x < w * spp; x++)
+            if (surf[(size_t)y * (size_t)w * (size_t)spp + (size_t)x] != CSG_SURF_NONE)
+                hits[(y / tile) * tx + x / spp / tile]++;
 }
 
-/* Runs the pass on ctx and compares with C: records bit for bit, tile
- * counts for `tile`.  Returns the number of pixels that hit. */
-static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene *s, int tile)
+/* Runs the pass on ctx over a blob and compares with C: records bit for
+ * bit, tile counts for `tile`.  Returns the number of records that hit. */
+static size_t check_blob(ocl_ctx *ctx, const precision_ops *ops, const void *blob, int tile)
 {
-    size_t size = 0, n = (size_t)s->width * (size_t)s->height, rs = ops->real_size;
-    void *blob = ops->make_blob(s, &size);
+    const csg_blob_header *bh = blob;
+    int width = bh->width, height = bh->height, spp = bh->spp;
+    size_t n = (size_t)width * (size_t)height * (size_t)spp, rs = ops->real_size;
     void *t_ref = malloc(n * rs), *t_cl = malloc(n * rs);
     uint32_t *s_ref = malloc(n * 4), *s_cl = malloc(n * 4);
-    int tx = (s->width + tile - 1) / tile, ty = (s->height + tile - 1) / tile;
+    int tx = (width + tile - 1) / tile, ty = (height + tile - 1) / tile;
     uint32_t *h_ref = malloc((size_t)tx * (size_t)ty * 4), *h_cl = malloc((size_t)tx * (size_t)ty * 4);
-    assert_true(blob && t_ref && t_cl && s_ref && s_cl && h_ref && h_cl);
+    assert_true(t_ref && t_cl && s_ref && s_cl && h_ref && h_cl);
     memset(t_cl, 0xA5, n * rs);
     memset(s_cl, 0xA5, n * 4);
     memset(h_cl, 0xA5, (size_t)tx * (size_t)ty * 4);
 
     ops->reference(blob, t_ref, s_ref);
-    c_tile_hits(s_ref, s->width, s->height, tile, h_ref);
+    c_tile_hits(s_ref, width, height, spp, tile, h_ref);
     ocl_timing timing = {0};
     csg_diag d = {0};
     if (!ocl_primary_pass(ctx, blob, tile, t_cl, s_cl, h_cl, &timing, &d))
@@ -294,17 +305,17 @@ static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene 
         if (memcmp((char *)t_ref + i * rs, (char *)t_cl + i * rs, rs) == 0 && s_ref[i] == s_cl[i])
             continue;
         if (bad++ < 5)
-            print_error("%s %dx%d pixel (%zu, %zu): C t=%.17g surf=%u, OpenCL t=%.17g surf=%u\n",
-                        ops->name, s->width, s->height, i % (size_t)s->width,
-                        i / (size_t)s->width, real_at(t_ref, i, rs), (unsigned)s_ref[i],
-                        real_at(t_cl, i, rs), (unsigned)s_cl[i]);
+            print_error("%s %dx%d spp %d record (%zu, %zu): C t=%.17g surf=%u, OpenCL t=%.17g "
+                        "surf=%u\n",
+                        ops->name, width, height, spp, i % ((size_t)width * (size_t)spp),
+                        i / ((size_t)width * (size_t)spp), real_at(t_ref, i, rs),
+                        (unsigned)s_ref[i], real_at(t_cl, i, rs), (unsigned)s_cl[i]);
     }
     size_t bad_tiles = 0;
     for (size_t i = 0; i < (size_t)tx * (size_t)ty; i++)
         if (h_ref[i] != h_cl[i] && bad_tiles++ < 5)
             print_error("%s tile %zu (size %d): C %u hits, OpenCL %u\n", ops->name, i, tile,
                         (unsigned)h_ref[i], (unsigned)h_cl[i]);
-    free(blob);
     free(t_ref);
     free(t_cl);
     free(s_ref);
@@ -316,6 +327,53 @@ static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene 
     return hits;
 }
 
+/* check_blob on the hand-built scene s. */
+static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene *s, int tile)
+{
+    size_t size = 0;
+    void *blob = ops->make_blob(s, &size);
+    assert_non_null(blob);
+    size_t hits = check_blob(ctx, ops, blob, tile);
+    free(blob);
+    return hits;
+}
+
+/* Sets the environment variable `var` to `value` (unsets it for NULL);
+ * returns its previous value for env_restore (malloc'd, NULL if unset). */
+static char *env_set(const char *var, const char *value)
+{
+    const char *old = getenv(var);
+    char *saved = old ? strdup(old) : NULL;
+    if (value)
+        setenv(var, value, 1);
+    else
+        unsetenv(var);
+    return saved;
+}
+
+static void env_restore(const char *var, char *saved)
+{
+    if (saved)
+        setenv(var, saved, 1);
+    else
+        unsetenv(var);
+    free(saved);
+}
+
+/* ocl_open_kernel(kernel) with the environment variable `var` set to
+ * `value` (unset when NULL) for the call only; the context is closed. */
+static bool open_with_env(const char *var, const char *value, enum ocl_kernel kernel,
+                          ocl_timing *timing, csg_diag *d)
+{
+    char *saved = env_set(var, value);
+    ocl_options opt = {0};
+    ocl_ctx *ctx = NULL;
+    bool ok = ocl_open_kernel(&opt, kernel, &ctx, timing, d);
+    env_restore(var, saved);
+    ocl_close(ctx);
+    return ok;
+}
+
 /* Both precisions, three image sizes; the scene must hit somewhere (and
  * miss somewhere, unless it encloses the camera) at 100 x 37, else the
  * comparison would prove little. */
@@ -323,10 +381,11 @@ static void check_scene_all(void **state, void (*build)(sc_scene *s), bool enclo
 {
     fixture *fx = *state;
     static const int sizes[3][2] = {{1, 1}, {33, 17}, {100, 37}};
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 3; k++)
+        for (int v = 0; v < VARIANTS; v++) {
             sc_scene *s = sc_new(sizes[k][0], sizes[k][1]);
             build(s);
-            size_t hits = check_pass(fx->ctx, &prec, s, 8);
+            size_t hits = check_pass(fx->ctx[v], &prec, s, 8);
             if (k == 2) {
                 assert_true(hits > 0);
                 assert_true(encloses || hits < (size_t)s->width * (size_t)s->height);
@@ -469,6 +528,125 @@ static void build_random(sc_scene *s)
 
 static void build_empty(sc_scene *s) { (void)s; }
 
+/* ---- random scenes through the parser and the flattener ---------------------------- */
+
+/* Appends printf-style text to a growing buffer. */
+typedef struct {
+    char *text;
+    size_t len, cap;
+} sdl_buf;
+
+static void sdl(sdl_buf *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    assert_true(n >= 0);
+    if (b->len + (size_t)n + 1 > b->cap) {
+        b->cap = (b->len + (size_t)n + 1) * 2;
+        b->text = realloc(b->text, b->cap);
+        assert_non_null(b->text);
+    }
+    va_start(ap, fmt);
+    vsnprintf(b->text + b->len, b->cap - b->len, fmt, ap);
+    va_end(ap);
+    b->len += (size_t)n;
+}
+
+static double rnd(uint64_t *st, double lo, double hi) { return lo + (hi - lo) * lcg(st); }
+
+/* One random primitive, as POV-Ray SDL, around (cx, cy, cz). */
+static void sdl_prim(sdl_buf *b, uint64_t *st, double cx, double cy, double cz, double size)
+{
+    double r = size * rnd(st, 0.3, 1.0);
+    switch ((int)(lcg(st) * 4)) {
+    case 0:
+        sdl(b, "sphere { <%.6f, %.6f, %.6f>, %.6f }\n", cx, cy, cz, r);
+        break;
+    case 1:
+        sdl(b, "box { <%.6f, %.6f, %.6f>, <%.6f, %.6f, %.6f> rotate <%.1f, %.1f, %.1f> "
+               "translate <%.6f, %.6f, %.6f> }\n",
+            -r, -r * rnd(st, 0.3, 1), -r, r * rnd(st, 0.3, 1), r, r, rnd(st, 0, 90),
+            rnd(st, 0, 90), rnd(st, 0, 90), cx, cy, cz);
+        break;
+    case 2:
+        sdl(b, "cone { <%.6f, %.6f, %.6f>, %.6f, <%.6f, %.6f, %.6f>, %.6f%s }\n", cx, cy - r, cz,
+            r * rnd(st, 0.2, 0.8), cx + rnd(st, -r, r), cy + r, cz, r * rnd(st, 0, 0.5),
+            lcg(st) < 0.3 ? " open" : "");
+        break;
+    default:
+        sdl(b, "cylinder { <%.6f, %.6f, %.6f>, <%.6f, %.6f, %.6f>, %.6f scale <1, %.3f, 1> }\n",
+            cx - r, cy, cz, cx + r, cy + rnd(st, -r, r), cz + rnd(st, -r, r), r * 0.4,
+            rnd(st, 0.5, 1.5));
+        break;
+    }
+}
+
+/* A random scene: primitives, CSG objects (union, intersection,
+ * difference, inverse), planes, duplicated objects (coincident surfaces:
+ * ties the nearest-hit rule must break the same way), transforms. */
+static char *random_sdl(uint64_t seed, int objects)
+{
+    uint64_t st = seed * 7919 + 17;
+    sdl_buf b = {NULL, 0, 0};
+    sdl(&b, "camera { location <%.3f, 1.5, -9> look_at <0, 0, 0> }\n", rnd(&st, -1, 1));
+    sdl(&b, "light_source { <5, 10, -5> color rgb 1 }\n");
+    if (lcg(&st) < 0.6)
+        sdl(&b, "plane { <%.3f, 1, %.3f>, -2.5 }\n", rnd(&st, -0.3, 0.3), rnd(&st, -0.3, 0.3));
+    for (int i = 0; i < objects; i++) {
+        double cx = rnd(&st, -4, 4), cy = rnd(&st, -2, 2), cz = rnd(&st, -1, 6);
+        double size = rnd(&st, 0.2, 0.9);
+        size_t mark = b.len;
+        double kind = lcg(&st);
+        if (kind < 0.6) {
+            sdl_prim(&b, &st, cx, cy, cz, size);
+        } else {
+            static const char *const ops[] = {"union", "intersection", "difference", "merge"};
+            sdl(&b, "%s {\n", ops[(int)(lcg(&st) * 4)]);
+            int n = 2 + (int)(lcg(&st) * 2);
+            for (int k = 0; k < n; k++)
+                sdl_prim(&b, &st, cx + rnd(&st, -0.4, 0.4), cy + rnd(&st, -0.4, 0.4),
+                         cz + rnd(&st, -0.4, 0.4), size);
+            sdl(&b, "%s rotate <0, %.1f, 0> }\n", lcg(&st) < 0.1 ? "inverse" : "",
+                rnd(&st, 0, 180));
+        }
+        if (lcg(&st) < 0.1) { /* the same object again */
+            size_t len = b.len - mark;
+            char *copy = malloc(len + 1);
+            assert_non_null(copy);
+            memcpy(copy, b.text + mark, len);
+            copy[len] = '\0';
+            sdl(&b, "%s", copy);
+            free(copy);
+        }
+    }
+    return b.text;
+}
+
+/* The blob of a random scene in this file's precision. */
+static csg_blob random_blob(uint64_t seed, int objects, int width, int height, int spp)
+{
+    char *text = random_sdl(seed, objects);
+    csg_scene sc;
+    csg_diag d = {0};
+    csg_blob blob = {NULL, 0};
+    csg_scene_init(&sc);
+    csg_flatten_opts o = {width, height, 0, -1, spp, 0};
+#ifdef CSG_DOUBLE
+    bool ok = csg_parse_string("random.pov", text, strlen(text), &sc, &d) &&
+              csg_flatten_double(&sc, &o, &blob, &d);
+#else
+    bool ok = csg_parse_string("random.pov", text, strlen(text), &sc, &d) &&
+              csg_flatten_float(&sc, &o, &blob, &d);
+#endif
+    csg_scene_free(&sc);
+    if (!ok)
+        fail_msg("random scene %llu: %s\n%s", (unsigned long long)seed, d.message, text);
+    free(text);
+    return blob;
+}
+
 /* ---- tests -------------------------------------------------------------------------- */
 
 static void test_spheres(void **state) { check_scene_all(state, build_spheres, true); }
@@ -482,14 +660,93 @@ static void test_spheres_outside(void **state)
 }
 static void test_random_spheres(void **state) { check_scene_all(state, build_random, false); }
 
+/* Random scenes through the flattener (a BVH over the bounded roots, CSG,
+ * transforms, planes, ties), one and several samples a pixel, image sizes
+ * that cut packets: both variants give the C records. */
+static void test_random_flattened(void **state)
+{
+    fixture *fx = *state;
+    static const struct {
+        int objects, width, height, spp;
+    } cases[] = {{12, 61, 37, 1}, {40, 64, 48, 1}, {120, 53, 29, 1},
+                 {25, 31, 19, 3}, {25, 26, 17, 4}, {60, 40, 30, 2}};
+    int with_bvh = 0;
+    for (uint64_t seed = 1; seed <= 4; seed++)
+        for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+            csg_blob blob = random_blob(seed * 31 + c, cases[c].objects, cases[c].width,
+                                        cases[c].height, cases[c].spp);
+            with_bvh += csg_blob_hdr(blob.bytes)->bvh_count > 1;
+            size_t total = (size_t)cases[c].width * (size_t)cases[c].height * (size_t)cases[c].spp;
+            for (int v = 0; v < VARIANTS; v++) {
+                size_t hits = check_blob(fx->ctx[v], &prec, blob.bytes, 8);
+                assert_true(hits > 0 && hits < total);
+            }
+            csg_blob_free(&blob);
+        }
+    assert_true(with_bvh > 0);
+}
+
+/* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
+ * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
+ * pixel, an image that cuts packets and slices of a few rows. */
+static void test_packet_widths(void **state)
+{
+    (void)state;
+    static const char *const widths[] = {"2", "4", "8", "16"};
+    csg_blob blob = random_blob(7, 40, 37, 21, 3);
+    for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+        char *saved = env_set("CSGTRACE_CL_PACKET", widths[w]);
+        ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
+                           .max_slice_bytes = 37 * 3 * 12 * 5};
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        ocl_ctx *ctx = NULL;
+        bool ok = ocl_open_kernel(&opt, OCL_KERNEL_PACKET, &ctx, &timing, &d);
+        env_restore("CSGTRACE_CL_PACKET", saved);
+        if (!ok)
+            fail_msg("ocl_open (packet %s): %s", widths[w], d.message);
+        char want[16];
+        snprintf(want, sizeof want, "packet %s ", widths[w]);
+        assert_memory_equal(timing.kernel, want, strlen(want));
+        check_blob(ctx, &prec, blob.bytes, 6);
+        ocl_close(ctx);
+    }
+    csg_blob_free(&blob);
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    bool ok = open_with_env("CSGTRACE_CL_PACKET", "3", OCL_KERNEL_PACKET, &timing, &d);
+    assert_false(ok);
+    assert_non_null(strstr(d.message, "CSGTRACE_CL_PACKET"));
+}
+
+/* The same with slices of a few rows (cutting packets and tiles). */
+static void test_random_forced_slices(void **state)
+{
+    (void)state;
+    csg_blob blob = random_blob(99, 50, 45, 23, 2);
+    for (int v = 0; v < VARIANTS; v++) {
+        ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
+                           .max_slice_bytes = 45 * 2 * 12 * 3};
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        ocl_ctx *ctx = NULL;
+        if (!ocl_open_kernel(&opt, variant_kernel[v], &ctx, &timing, &d))
+            fail_msg("ocl_open: %s", d.message);
+        check_blob(ctx, &prec, blob.bytes, 5);
+        ocl_close(ctx);
+    }
+    csg_blob_free(&blob);
+}
+
 static void test_tile_sizes(void **state)
 {
     fixture *fx = *state;
     static const int tiles[] = {1, 7, 32, 101, 1000};
-    for (size_t k = 0; k < sizeof tiles / sizeof tiles[0]; k++) {
+    for (size_t k = 0; k < sizeof tiles / sizeof tiles[0]; k++)
+        for (int v = 0; v < VARIANTS; v++) {
             sc_scene *s = sc_new(100, 37);
             build_spheres_outside(s);
-            check_pass(fx->ctx, &prec, s, tiles[k]);
+            check_pass(fx->ctx[v], &prec, s, tiles[k]);
             free(s);
         }
 }
@@ -500,13 +757,14 @@ static void test_forced_slices(void **state)
 {
     (void)state;
     static const size_t limits[] = {1, 100 * 12 * 3, 100 * 12 * 8};
-    for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++) {
+    for (size_t k = 0; k < sizeof limits / sizeof limits[0]; k++)
+        for (int v = 0; v < VARIANTS; v++) {
             ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
                                .max_slice_bytes = limits[k]};
             ocl_timing timing = {0};
             csg_diag d = {0};
             ocl_ctx *ctx = NULL;
-            if (!ocl_open(&opt, &ctx, &timing, &d))
+            if (!ocl_open_kernel(&opt, variant_kernel[v], &ctx, &timing, &d))
                 fail_msg("ocl_open: %s", d.message);
             sc_scene *s = sc_new(100, 37);
             build_random(s);
@@ -532,7 +790,7 @@ static void test_forced_slices(void **state)
 static void test_empty_scene(void **state)
 {
     fixture *fx = *state;
-    {
+    for (int v = 0; v < VARIANTS; v++) {
         const precision_ops *ops = &prec;
         sc_scene *s = sc_new(33, 17);
         build_empty(s);
@@ -545,7 +803,7 @@ static void test_empty_scene(void **state)
         memset(hits, 0xFF, sizeof hits);
         ocl_timing timing = {0};
         csg_diag d = {0};
-        if (!ocl_primary_pass(fx->ctx, blob, 7, t, surf, hits, &timing, &d))
+        if (!ocl_primary_pass(fx->ctx[v], blob, 7, t, surf, hits, &timing, &d))
             fail_msg("ocl_primary_pass: %s", d.message);
         for (size_t i = 0; i < n; i++) {
             assert_int_equal(surf[i], CSG_SURF_NONE);
@@ -581,20 +839,9 @@ static void test_bad_device(void **state)
 static void test_env_device(void **state)
 {
     (void)state;
-    const char *old = getenv("CSGTRACE_CL_DEVICE");
-    char *saved = old ? strdup(old) : NULL;
-    setenv("CSGTRACE_CL_DEVICE", "bogus-env-device", 1);
-    ocl_options opt = {0};
     ocl_timing timing = {0};
     csg_diag d = {0};
-    ocl_ctx *ctx = NULL;
-    bool ok = ocl_open(&opt, &ctx, &timing, &d);
-    if (saved)
-        setenv("CSGTRACE_CL_DEVICE", saved, 1);
-    else
-        unsetenv("CSGTRACE_CL_DEVICE");
-    free(saved);
-    ocl_close(ctx);
+    bool ok = open_with_env("CSGTRACE_CL_DEVICE", "bogus-env-device", OCL_KERNEL_AUTO, &timing, &d);
     assert_false(ok);
     assert_non_null(strstr(d.message, "bogus-env-device"));
 }
@@ -618,6 +865,46 @@ static void test_device_selectors(void **state)
     ocl_close(ctx);
 }
 
+/* The variant: explicit, from $CSGTRACE_CL_KERNEL, by device type (PoCL's
+ * is a CPU: packet); a bad value is refused with a message naming it. */
+static void test_kernel_choice(void **state)
+{
+    (void)state;
+    enum ocl_kernel k;
+    assert_true(ocl_kernel_parse("auto", &k) && k == OCL_KERNEL_AUTO);
+    assert_true(ocl_kernel_parse("scalar", &k) && k == OCL_KERNEL_SCALAR);
+    assert_true(ocl_kernel_parse("packet", &k) && k == OCL_KERNEL_PACKET);
+    assert_false(ocl_kernel_parse("vector", &k));
+    assert_false(ocl_kernel_parse(NULL, &k));
+    static const struct {
+        const char *env;
+        const char *kernel; /* prefix of timing.kernel, NULL: refused */
+    } cases[] = {{NULL, "packet"}, {"scalar", "scalar"}, {"packet", "packet"},
+                 {"auto", "packet"}, {"wide", NULL}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        bool ok = open_with_env("CSGTRACE_CL_KERNEL", cases[i].env, OCL_KERNEL_AUTO, &timing, &d);
+        if (cases[i].kernel) {
+            if (!ok)
+                fail_msg("ocl_open with CSGTRACE_CL_KERNEL=%s: %s", cases[i].env, d.message);
+            assert_memory_equal(timing.kernel, cases[i].kernel, strlen(cases[i].kernel));
+        } else {
+            assert_false(ok);
+            assert_non_null(strstr(d.message, "CSGTRACE_CL_KERNEL"));
+            assert_non_null(strstr(d.message, cases[i].env));
+        }
+    }
+    /* an explicit choice wins over the environment */
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    bool ok = open_with_env("CSGTRACE_CL_KERNEL", "packet", OCL_KERNEL_SCALAR, &timing, &d);
+    assert_true(ok);
+    assert_string_equal(timing.kernel, "scalar");
+    /* PoCL's CPU device: 16 floats a packet with AVX-512, 8 with AVX2 */
+    assert_true(timing.compute_units >= 1);
+}
+
 /* A blob in the other precision, or a bad one, is refused with a message. */
 static void test_bad_blob(void **state)
 {
@@ -632,12 +919,12 @@ static void test_bad_blob(void **state)
     csg_diag d = {0};
     csg_blob_header *h = blob;
     h->real_size = prec.real_size == 8 ? 4 : 8; /* claims the other precision */
-    assert_false(ocl_primary_pass(fx->ctx, blob, 4, t, surf, hits, &timing, &d));
+    assert_false(ocl_primary_pass(fx->ctx[0], blob, 4, t, surf, hits, &timing, &d));
     assert_non_null(strstr(d.message, prec.real_size == 8 ? "in float" : "in double"));
     h->real_size = (uint32_t)prec.real_size;
     h->off_camera = h->total_size;
     d.failed = 0;
-    assert_false(ocl_primary_pass(fx->ctx, blob, 4, t, surf, hits, &timing, &d));
+    assert_false(ocl_primary_pass(fx->ctx[0], blob, 4, t, surf, hits, &timing, &d));
     assert_true(d.failed);
     free(blob);
     free(s);
@@ -697,23 +984,28 @@ static int group_setup(void **state)
     if (!fx)
         return -1;
     ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8, .max_slice_bytes = 0};
-    ocl_timing timing = {0};
-    csg_diag d = {0};
-    if (!ocl_open(&opt, &fx->ctx, &timing, &d)) {
-        fprintf(stderr, "ocl_open(%s): %s\n", prec.name, d.message);
-        free(fx);
-        return -1;
-    }
-    fprintf(stderr, "# %s program on \"%s\": built in %.3f s\n", prec.name, timing.device_name,
-            timing.compile_s);
     *state = fx;
+    for (int v = 0; v < VARIANTS; v++) {
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        if (!ocl_open_kernel(&opt, variant_kernel[v], &fx->ctx[v], &timing, &d)) {
+            fprintf(stderr, "ocl_open(%s): %s\n", prec.name, d.message);
+            while (v-- > 0)
+                ocl_close(fx->ctx[v]);
+            free(fx);
+            return -1;
+        }
+        fprintf(stderr, "# %s program, %s kernel, on \"%s\": built in %.3f s\n", prec.name,
+                timing.kernel, timing.device_name, timing.compile_s);
+    }
     return 0;
 }
 
 static int group_teardown(void **state)
 {
     fixture *fx = *state;
-    ocl_close(fx->ctx);
+    for (int v = 0; v < VARIANTS; v++)
+        ocl_close(fx->ctx[v]);
     free(fx);
     return 0;
 }
@@ -727,6 +1019,7 @@ int main(void)
         cmocka_unit_test(test_env_device),
         cmocka_unit_test(test_device_selectors),
         cmocka_unit_test(test_build_failure),
+        cmocka_unit_test(test_kernel_choice),
 #endif
         cmocka_unit_test(test_spheres),
         cmocka_unit_test(test_spheres_outside),
@@ -735,6 +1028,9 @@ int main(void)
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),
+        cmocka_unit_test(test_random_flattened),
+        cmocka_unit_test(test_random_forced_slices),
+        cmocka_unit_test(test_packet_widths),
         cmocka_unit_test(test_tile_sizes),
         cmocka_unit_test(test_forced_slices),
         cmocka_unit_test(test_empty_scene),
@@ -806,11 +1102,12 @@ static void reference(const void *blob, void *t_out, uint32_t *surf)
     const csg_camera *cam = csg_blob_camera(blob);
     real *t = t_out;
     for (int y = 0; y < h->height; y++)
-        for (int x = 0; x < h->width; x++) {
-            csg_ray r = csg_primary_ray(cam, h->width, h->height, x, y);
-            csg_hit hit = csg_trace_nearest(v, r, R(0.0), CSG_R_INF);
-            size_t i = (size_t)y * (size_t)h->width + (size_t)x;
-            t[i] = hit.t;
-            surf[i] = hit.surf;
-        }
+        for (int x = 0; x < h->width; x++)
+            for (int s = 0; s < h->spp; s++) {
+                csg_ray r = csg_sample_ray(cam, h->width, h->height, x, y, h->spp, s);
+                csg_hit hit = csg_trace_nearest(v, r, R(0.0), CSG_R_INF);
+                size_t i = ((size_t)y * (size_t)h->width + (size_t)x) * (size_t)h->spp + (size_t)s;
+                t[i] = hit.t;
+                surf[i] = hit.surf;
+            }
 }

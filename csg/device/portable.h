@@ -13,11 +13,8 @@
  * Literals go through R(): R(0.5) is 0.5f in the float build and 0.5 in
  * the double build, so no expression silently promotes to double.
  *
- * r_fmin / r_fmax are written out here rather than mapped to fmin/fmax:
- * with IEEE semantics kept (no -ffast-math) C compilers call libm for
- * those, which cost 15% of a render.  They return the other argument when
- * one is a NaN, like fmin/fmax; between +0 and -0 they return the first.
- * Both sides compile this same code, so they agree bit for bit.
+ * r_fmin / r_fmax live with the vectors (vec_lanes.h), written once for
+ * one ray and for a packet (lanes.h).
  */
 #ifndef CSG_PORTABLE_H
 #define CSG_PORTABLE_H
@@ -91,19 +88,5 @@ CSG_FN real r_next_up(real t)
     return b.r;
 }
 #endif
-
-CSG_FN real r_fmin(real a, real b)
-{
-    if (a != a)
-        return b;
-    return b < a ? b : a;
-}
-
-CSG_FN real r_fmax(real a, real b)
-{
-    if (a != a)
-        return b;
-    return b > a ? b : a;
-}
 
 #endif
