@@ -80,7 +80,7 @@ static void trace_c(const engine *e, const void *blob, void *t, uint32_t *surf, 
 {
     const csg_blob_header *h = csg_blob_hdr(blob);
     size_t rs = e->real_size, spp = (size_t)h->spp, row = (size_t)h->width * spp;
-    ray_counts rays = {0, 0, 0, 0};
+    ray_counts rays = {0};
     for (int y = 0; y < h->height; y += TILE) {
         for (int x = 0; x < h->width; x += TILE) {
             tile_rect r = {x, y, x + TILE <= h->width ? TILE : h->width - x,

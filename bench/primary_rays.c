@@ -157,7 +157,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "primary_rays: out of memory\n");
         return 1;
     }
-    ray_counts rays = {0, 0, 0, 0};
+    ray_counts rays = {0};
     uint64_t hits = trace_image(e, blob.bytes, width, height, t, surf, &rays); /* warm-up */
     for (int r = 0; r < repeat; r++) {
         double t0 = bench_now_s();
