@@ -12,6 +12,7 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 void cli_usage(FILE *out)
 {
@@ -175,6 +176,41 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     return false;
 }
 
+/* Do two paths name the same file?  By device and inode when both exist,
+ * else by the resolved folder and the last component. */
+static bool same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ra[PATH_MAX], rb[PATH_MAX];
+    const char *ba = strrchr(a, '/'), *bb = strrchr(b, '/');
+    char da[PATH_MAX], db[PATH_MAX];
+    snprintf(da, sizeof da, "%.*s", ba ? (int)(ba - a) : 1, ba ? a : ".");
+    snprintf(db, sizeof db, "%.*s", bb ? (int)(bb - b) : 1, bb ? b : ".");
+    if (!realpath(da[0] ? da : "/", ra) || !realpath(db[0] ? db : "/", rb))
+        return false;
+    return strcmp(ra, rb) == 0 && strcmp(ba ? ba + 1 : a, bb ? bb + 1 : b) == 0;
+}
+
+/* No output may overwrite the scene or another output: a mistyped -o or
+ * --stats would silently replace it. */
+static bool outputs_distinct(const cli_args *a, csg_diag *d)
+{
+    const char *names[] = {"the scene", "the output (-o)", "the stats (--stats)",
+                           "the tile log (--tile-log)"};
+    const char *paths[] = {a->req.scene_path, a->out_path, a->req.stats_path,
+                           a->req.tile_log_path};
+    for (int i = 1; i < 4; i++)
+        for (int j = 0; j < i; j++)
+            if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
+                csg_error_plain(d, "%s and %s are the same file ('%s'): refusing to overwrite it",
+                                names[i], names[j], paths[i]);
+                return false;
+            }
+    return true;
+}
+
 bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
 {
     memset(a, 0, sizeof *a);
@@ -230,6 +266,8 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     }
     if (a->command == CMD_RENDER)
         a->req.out_path = a->out_path;
+    if (!outputs_distinct(a, d))
+        return false;
     a->parse.image_width = a->req.width;
     a->parse.image_height = a->req.height;
     return true;

@@ -17,6 +17,8 @@
  */
 #include "compare.h"
 
+#include "file_atomic.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -185,14 +187,22 @@ static void print_table(const cli_args *a, const compare_results *r, bool identi
            paired.max);
 }
 
-static bool write_json(const char *path, const cli_args *a, const compare_results *r,
-                       bool identical, double advantage, const double *paired)
+typedef struct {
+    const cli_args *a;
+    const compare_results *r;
+    bool identical;
+    double advantage;
+    const double *paired;
+} compare_json;
+
+static void print_json(FILE *f, const void *arg)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return false;
+    const compare_json *j = arg;
+    const cli_args *a = j->a;
+    const compare_results *r = j->r;
+    bool identical = j->identical;
+    double advantage = j->advantage;
+    const double *paired = j->paired;
     fprintf(f, "{\n\"command\": \"compare\",\n\"scene\": \"");
     for (const char *c = a->req.scene_path; *c; c++)
         fprintf(f, (*c == '"' || *c == '\\') ? "\\%c" : "%c", *c);
@@ -213,13 +223,17 @@ static bool write_json(const char *path, const cli_args *a, const compare_result
         fprintf(f, "]%s\n", m + 1 < COMPARE_MODES ? "," : "");
     }
     fprintf(f, "}\n");
-    bool ok = !ferror(f);
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        return false;
-    }
-    return true;
+}
+
+static bool write_json(const char *path, const cli_args *a, const compare_results *r,
+                       bool identical, double advantage, const double *paired)
+{
+    compare_json j = {a, r, identical, advantage, paired};
+    char err[1024];
+    if (file_write_atomic(path, print_json, &j, err, sizeof err))
+        return true;
+    fprintf(stderr, "%s\n", err);
+    return false;
 }
 
 /* PREFIX-homo.png and PREFIX-hetero.png. */
@@ -266,10 +280,8 @@ int compare_run(const cli_args *a)
     print_table(a, &r, identical, advantage, pair);
     if (a->out_path && !write_images(a->out_path, &r, h->width, h->height))
         status = EXIT_FAILURE_RUN;
-    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage, paired)) {
-        fprintf(stderr, "csgtrace: error: %s: %s\n", a->req.stats_path, strerror(errno));
-        status = EXIT_FAILURE_RUN;
-    }
+    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage, paired))
+        status = EXIT_FAILURE_RUN; /* write_json said why */
     if (!identical) {
         fprintf(stderr, "csgtrace: error: the homo and hetero images differ: this is a bug\n");
         status = EXIT_FAILURE_RUN;

@@ -70,13 +70,28 @@ float encode_display(float v)
     return 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-std::string temp_name_for(const std::string &path)
+/* A new, empty file beside `path` for the image to be written into, then
+ * renamed over it: DIR/.BASE.XXXXXX.EXT with six random characters,
+ * created with O_CREAT | O_EXCL (mkstemps), so no name can be guessed and
+ * planted in advance, and no link already there is ever followed; the
+ * extension stays last, as OpenImageIO picks the format by it.  false with
+ * errno set when it cannot be created. */
+bool create_temp_for(const std::string &path, std::string &tmp)
 {
     size_t slash = path.find_last_of('/');
     std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
     std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
     std::string ext = extension_of(path);
-    return dir + "." + base + ".tmp" + std::to_string((long)getpid()) + (ext.empty() ? "" : "." + ext);
+    std::string suffix = ext.empty() ? "" : "." + ext;
+    std::vector<char> name(dir.size() + base.size() + suffix.size() + 16);
+    std::snprintf(name.data(), name.size(), "%s.%s.XXXXXX%s", dir.c_str(), base.c_str(),
+                  suffix.c_str());
+    int fd = mkstemps(name.data(), (int)suffix.size());
+    if (fd < 0)
+        return false;
+    close(fd);
+    tmp = name.data();
+    return true;
 }
 
 /* The one encoded value whose byte OpenImageIO's float to uint8 conversion
@@ -162,7 +177,7 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
 {
     std::string path(path_c);
     std::string ext = extension_of(path);
-    std::string tmp = temp_name_for(path);
+    std::string tmp;
     auto out = ImageOutput::create(path);
     if (!out) {
         set_error(err, esz, path + ": cannot write this image format ('" + ext + "'): " + OIIO::geterror());
@@ -174,6 +189,11 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
     std::vector<unsigned char> bytes;
     std::vector<float> floats;
     pixel_source px = file_pixels(ext, rgb, width, height, bytes, floats);
+    if (!create_temp_for(path, tmp)) {
+        set_error(err, esz, path + ": cannot create a temporary file beside it: " +
+                                std::strerror(errno));
+        return false;
+    }
     if (!out->open(tmp, spec)) {
         set_error(err, esz, path + ": " + out->geterror());
         std::remove(tmp.c_str());

@@ -42,6 +42,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../csg/flatten.h"
 #include "../csg/load.h"
@@ -620,8 +621,11 @@ static int render_job(const render_request *req, int ranks)
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
 
-    if (status == EXIT_OK)
+    if (status == EXIT_OK) {
         status = render_outputs(req, &rs, &st, mk.start, &d);
+        if (status != EXIT_OK && req->out_path) /* a failed render leaves no image */
+            unlink(req->out_path);
+    }
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

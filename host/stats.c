@@ -9,6 +9,8 @@
  */
 #include "stats.h"
 
+#include "file_atomic.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -159,51 +161,6 @@ void stats_print_json(FILE *f, const render_stats *s)
     fputs("}\n", f);
 }
 
-/* print(f, arg) into `path`, through a temporary file renamed when
- * complete; false with a message in err. */
-static bool stats_write_atomic(const char *path, void (*print)(FILE *, const void *),
-                               const void *arg, char *err, size_t err_size)
-{
-    size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
-    char *tmp = malloc(n);
-    FILE *f = NULL;
-    int fd = -1;
-    if (!tmp) {
-        snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
-        return false;
-    }
-    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
-    fd = mkstemp(tmp);
-    if (fd < 0)
-        goto fail;
-    f = fdopen(fd, "w");
-    if (!f)
-        goto fail;
-    fd = -1; /* owned by f now */
-    print(f, arg);
-    if (fflush(f) != 0 || ferror(f))
-        goto fail;
-    if (fclose(f) != 0) {
-        f = NULL;
-        goto fail;
-    }
-    f = NULL;
-    if (rename(tmp, path) != 0)
-        goto fail;
-    free(tmp);
-    return true;
-
-fail:
-    snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
-    if (f)
-        fclose(f);
-    if (fd >= 0)
-        close(fd);
-    unlink(tmp); /* harmless when mkstemp failed: no such file */
-    free(tmp);
-    return false;
-}
-
 static void stats_print_json_any(FILE *f, const void *s)
 {
     stats_print_json(f, s);
@@ -211,7 +168,7 @@ static void stats_print_json_any(FILE *f, const void *s)
 
 bool stats_write_json(const char *path, const render_stats *s, char *err, size_t err_size)
 {
-    return stats_write_atomic(path, stats_print_json_any, s, err, err_size);
+    return file_write_atomic(path, stats_print_json_any, s, err, err_size);
 }
 
 /* ---- the tile log ------------------------------------------------------------ */
@@ -264,7 +221,7 @@ bool stats_write_tile_log(const char *path, const sched *s, double t0, char *err
                           size_t err_size)
 {
     stats_log log = {s, t0};
-    return stats_write_atomic(path, stats_print_log, &log, err, err_size);
+    return file_write_atomic(path, stats_print_log, &log, err, err_size);
 }
 
 void stats_print_summary(FILE *f, const render_stats *s)

@@ -24,6 +24,7 @@
 
 #include "../csg/flatten.h"
 #include "../csg/load.h"
+#include "../host/file_atomic.h"
 #include "../workers/engine.h"
 
 #define GEN_CAMERA_Z (-10.0)
@@ -159,22 +160,25 @@ static bool measure(const gen_options *o, const char *text, size_t len, double *
     return true;
 }
 
+typedef struct {
+    const char *text;
+    size_t len;
+} gen_text;
+
+static void print_text(FILE *f, const void *arg)
+{
+    const gen_text *t = arg;
+    fwrite(t->text, 1, t->len, f);
+}
+
 static bool write_file(const char *path, const char *text, size_t len, csg_diag *d)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    if (!f || fwrite(text, 1, len, f) != len || fclose(f) != 0) {
-        csg_error_plain(d, "%s: %s", path, strerror(errno));
-        remove(tmp);
-        return false;
-    }
-    if (rename(tmp, path) != 0) {
-        csg_error_plain(d, "%s: %s", path, strerror(errno));
-        remove(tmp);
-        return false;
-    }
-    return true;
+    gen_text t = {text, len};
+    char err[1024];
+    if (file_write_atomic(path, print_text, &t, err, sizeof err))
+        return true;
+    csg_error_plain(d, "%s", err + strlen("csgtrace: error: "));
+    return false;
 }
 
 /* Measures the scene at `scale`; keeps the text of the best so far. */

@@ -59,6 +59,68 @@ errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
 expect 2 "overflowing transform" "$BIN" check "$T/overflow.pov"
 errmsg "^$T/overflow.pov:1:1: error: .*overflows" "overflowing transform message"
 
+# Temporary files cannot be planted: links at the names a render, gen or
+# --stats once used (beside the output, the process id in the name) are
+# never followed, and the victim they point to keeps its content.
+P=$(mktemp -d "${TMPDIR:-/tmp}/csgtrace-plant.XXXXXX")
+mkdir -p "$P/plant"
+printf 'precious\n' >"$P/victim"
+pid_next=$(sh -c 'echo $$')
+for p in $(seq "$pid_next" $((pid_next + 300))); do
+    ln -sf "$P/victim" "$P/plant/.out.png.tmp$p.png"
+    ln -sf "$P/victim" "$P/plant/out.png.tmp$p"
+    ln -sf "$P/victim" "$P/plant/gen.pov.tmp$p"
+done
+"$BIN" render "$T/good.pov" -o "$P/plant/out.png" --width 16 --height 12 --mode serial \
+    --stats "$P/plant/out.json" >/dev/null 2>&1
+"$BIN" gen spheres --count 3 --occupancy 0.3 --seed 1 --width 32 --height 32 \
+    -o "$P/plant/gen.pov" >/dev/null 2>&1
+if [ "$(cat "$P/victim")" = precious ] && [ -s "$P/plant/out.png" ] && [ ! -L "$P/plant/out.png" ] &&
+    [ -s "$P/plant/out.json" ] && [ -s "$P/plant/gen.pov" ] && [ ! -L "$P/plant/gen.pov" ]; then
+    ok "planted links at the old temporary names: not followed, outputs written"
+else
+    ko "planted links: the victim holds '$(head -c 40 "$P/victim")'"
+fi
+if ls -a "$P/plant" | grep -Eq '\.[A-Za-z0-9]{6}(\.png)?$|tmp\.[A-Za-z0-9]{6}$'; then
+    ko "a temporary file was left behind: $(ls -a "$P/plant" | grep -E '[A-Za-z0-9]{6}' | head -3)"
+else
+    ok "no temporary file left behind"
+fi
+rm -rf "$P"
+
+# a colour of 1e38 under a bright light, in double: the EXR holds finite
+# values (saturated at float's largest), never an infinity
+cat >"$T/huge_colour.pov" <<'POV'
+camera { location <0, 0, -4> look_at 0 }
+light_source { <1, 1, -3> color rgb 100 }
+sphere { 0, 1 pigment { color rgb 1e38 } }
+POV
+"$BIN" render "$T/huge_colour.pov" -o "$T/huge_colour.exr" --precision double --width 8 \
+    --height 8 >/dev/null 2>&1
+if oiiotool --stats "$T/huge_colour.exr" 2>/dev/null | grep -q 'InfCount: 0 0 0' &&
+    oiiotool --stats "$T/huge_colour.exr" 2>/dev/null | grep -q 'NanCount: 0 0 0'; then
+    ok "a colour of 1e38 in double: no Inf or NaN pixel"
+else
+    ko "a colour of 1e38 in double: $(oiiotool --stats "$T/huge_colour.exr" 2>&1 | grep -i 'count' | head -2)"
+fi
+rm -f "$T/huge_colour.exr"
+
+# no output may overwrite the scene or another output
+cp "$T/good.pov" "$T/self.pov"
+expect 2 "-o naming the scene" "$BIN" render "$T/self.pov" -o "$T/self.pov" --width 8 --height 6
+errmsg "^csgtrace: error: the output \(-o\) and the scene are the same file" "-o naming the scene: message"
+expect 2 "--stats naming the image" "$BIN" render "$T/self.pov" -o "$T/same.png" --stats "$T/./same.png"
+expect 2 "--stats naming the scene (another path)" "$BIN" render "$T/self.pov" -o "$T/o.png" \
+    --stats "$T/../$(basename "$T")/self.pov"
+cmp -s "$T/good.pov" "$T/self.pov" && [ ! -e "$T/same.png" ] && [ ! -e "$T/o.png" ] &&
+    ok "refused outputs: the scene unchanged, nothing written" || ko "a refused output wrote something"
+rm -f "$T/self.pov"
+
+# a stats file that cannot be written fails the render, and leaves no image
+expect 1 "unwritable --stats" "$BIN" render "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 \
+    --stats "$T/no-such-folder/s.json"
+[ ! -e "$T/nostats.png" ] && ok "unwritable --stats: no image left" || ko "unwritable --stats left the image"
+
 # a render that cannot fit says so before allocating anything (here under a
 # 1 GiB address-space limit: 12000x12000 needs 2 GiB), and writes nothing
 expect 1 "render beyond the memory it may allocate" \

@@ -27,6 +27,7 @@
  * ray that found the point carried (workers/offset.h), so no fixed epsilon
  * is needed at any scale.
  */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -371,7 +372,19 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
 
 /* A colour that reaches a pixel is finite: a NaN or infinity produced by a
  * degenerate configuration becomes black rather than poisoning the image. */
-static float finite_or_zero(real v) { return isfinite(v) ? (float)v : 0.0f; }
+/* A pixel value as the image stores it: NaN and infinities 0, and a
+ * double beyond float's range saturated at FLT_MAX (a colour of 1e38 under
+ * a bright light must not become an infinite pixel). */
+static float finite_or_zero(real v)
+{
+    if (!isfinite(v))
+        return 0.0f;
+    if (v > (real)FLT_MAX)
+        return FLT_MAX;
+    if (v < (real)-FLT_MAX)
+        return -FLT_MAX;
+    return (float)v;
+}
 
 static void store_rgb(float *out, vec3 col)
 {

@@ -1,0 +1,55 @@
+/*
+ * file_atomic.c — a whole file written through a temporary one beside it
+ * (file_atomic.h).
+ */
+#include "file_atomic.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* print(f, arg) into `path`, through a temporary file renamed when
+ * complete; false with a message in err. */
+bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
+                               const void *arg, char *err, size_t err_size)
+{
+    size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
+    char *tmp = malloc(n);
+    FILE *f = NULL;
+    int fd = -1;
+    if (!tmp) {
+        snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
+        return false;
+    }
+    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
+    fd = mkstemp(tmp);
+    if (fd < 0)
+        goto fail;
+    f = fdopen(fd, "w");
+    if (!f)
+        goto fail;
+    fd = -1; /* owned by f now */
+    print(f, arg);
+    if (fflush(f) != 0 || ferror(f))
+        goto fail;
+    if (fclose(f) != 0) {
+        f = NULL;
+        goto fail;
+    }
+    f = NULL;
+    if (rename(tmp, path) != 0)
+        goto fail;
+    free(tmp);
+    return true;
+
+fail:
+    snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+    if (f)
+        fclose(f);
+    if (fd >= 0)
+        close(fd);
+    unlink(tmp); /* harmless when mkstemp failed: no such file */
+    free(tmp);
+    return false;
+}

@@ -1,0 +1,22 @@
+/*
+ * file_atomic.h — a whole file written through a temporary file beside it,
+ * renamed over the target once complete: a reader never sees half a file,
+ * and a failure leaves the target as it was.  The temporary file is created
+ * with mkstemp (O_CREAT | O_EXCL, six random characters: PATH.tmp.XXXXXX),
+ * so no name can be guessed and planted in advance, and no link already at
+ * a name is ever followed.  Used for every text output (stats, tile logs,
+ * compare's JSON, gen's scenes); images go the same way in the image module
+ * (host/image_oiio.cpp).
+ */
+#ifndef HOST_FILE_ATOMIC_H
+#define HOST_FILE_ATOMIC_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+/* print(f, arg) into `path`; false with "csgtrace: error: ..." in err. */
+bool file_write_atomic(const char *path, void (*print)(FILE *, const void *), const void *arg,
+                       char *err, size_t err_size);
+
+#endif
