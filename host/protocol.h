@@ -50,8 +50,11 @@
 #ifndef HOST_PROTOCOL_H
 #define HOST_PROTOCOL_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "../workers/tile.h"
 
@@ -122,6 +125,22 @@ static inline size_t proto_master_limit(size_t pixels_max)
 {
     size_t result = sizeof(proto_result) + pixels_max * 3 * sizeof(float);
     return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
+}
+
+/* Test only (tests/e2e_survive.sh), to kill a rank mid-render the way a
+ * crash or the OOM killer would: with CSGTRACE_TEST_KILL_RANK set to a
+ * rank (0: the master) or to "workers" (every worker), and
+ * CSGTRACE_TEST_KILL_AFTER to K (default 2), that rank SIGKILLs itself
+ * once it has `done` == K items (a worker: items answered; the master:
+ * results received).  Unset (always, outside the tests): nothing. */
+static inline void proto_test_kill(int rank, int done)
+{
+    const char *who = getenv("CSGTRACE_TEST_KILL_RANK");
+    if (!who || (strcmp(who, "workers") == 0 ? rank == 0 : atoi(who) != rank || !*who))
+        return;
+    const char *after = getenv("CSGTRACE_TEST_KILL_AFTER");
+    if (done == (after ? atoi(after) : 2))
+        raise(SIGKILL);
 }
 
 #endif
