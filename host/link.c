@@ -97,6 +97,12 @@ typedef struct {
     uint64_t token;
 } link_watch_addr;
 
+/* What a worker sends first on its watchdog connection. */
+typedef struct {
+    uint64_t token;    /* link_watch_addr.token: the job's, not a stranger's */
+    int32_t rank, pad;
+} link_watch_hello;
+
 /* The one liveness state of this process (MPI's own state is per process
  * too): rank 0 holds a socket per worker, a worker its socket to rank 0. */
 static struct {
@@ -129,10 +135,7 @@ static int link_listen(link_watch_addr *a)
 /* One connection: its token and rank, checked; false to close it. */
 static bool link_greet_watch(int c, uint64_t token)
 {
-    struct {
-        uint64_t token;
-        int32_t rank, pad;
-    } hello;
+    link_watch_hello hello;
     struct pollfd p = {c, POLLIN, 0};
     if (poll(&p, 1, 1000) != 1 || recv(c, &hello, sizeof hello, MSG_WAITALL) != sizeof hello)
         return false;
@@ -277,10 +280,7 @@ static void link_watch_connect(const link_watch_addr *a)
 {
     struct addrinfo hints = {.ai_family = AF_INET, .ai_socktype = SOCK_STREAM}, *ai = NULL;
     char port[16];
-    struct {
-        uint64_t token;
-        int32_t rank, pad;
-    } hello = {a->token, link_w.rank, 0};
+    link_watch_hello hello = {a->token, link_w.rank, 0};
     snprintf(port, sizeof port, "%d", (int)a->port);
     int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0 || getaddrinfo(a->host, port, &hints, &ai) != 0 ||

@@ -59,6 +59,10 @@
 #include "link.h"
 #include "protocol.h"
 
+#define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
+#define MASTER_NAP_MIN_NS 2000L
+#define MASTER_SPINS 50
+
 void master_begin(master_session *m, int ranks)
 {
     memset(m, 0, sizeof *m);
@@ -185,7 +189,7 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 {
     bool *greeted = calloc((size_t)m->workers + 1, sizeof *greeted);
     link_idle idle;
-    link_idle_init(&idle, LINK_NAP_MAX_NS, 50);
+    link_idle_init(&idle, LINK_NAP_MAX_NS, MASTER_SPINS);
     for (int left = m->workers; greeted && left > 0 && !m->link_broken;) {
         link_status got = link_try_recv(msg, LINK_ANY_SOURCE, sizeof(proto_fail));
         if (got == LINK_NONE) {
@@ -216,9 +220,6 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 
 /* ---- the workers' items ------------------------------------------------ */
 
-#define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
-#define MASTER_NAP_MIN_NS 2000L
-#define MASTER_SPINS 50
 /* A worker holding its oldest item longer than this is taken for hung:
  * MASTER_HANG_MEANS x the mean item time, at least MASTER_HANG_MIN_S
  * (generous: a live worker written off costs its items twice and the
@@ -557,7 +558,6 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         master_idle_init(&own);
     for (int r = 1; r <= m->workers; r++)
         job->workers[r - 1].rank = r;
-
     if (!L.w) {
         csg_error_plain(d, "master: out of memory");
     } else {

@@ -55,6 +55,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../workers/tile.h"
 
@@ -132,15 +133,20 @@ static inline size_t proto_master_limit(size_t pixels_max)
  * rank (0: the master) or to "workers" (every worker), and
  * CSGTRACE_TEST_KILL_AFTER to K (default 2), that rank SIGKILLs itself
  * once it has `done` == K items (a worker: items answered; the master:
- * results received).  Unset (always, outside the tests): nothing. */
+ * results received); with CSGTRACE_TEST_HANG set too, it hangs instead
+ * (this thread waits for ever).  Unset (always, outside the tests):
+ * nothing. */
 static inline void proto_test_kill(int rank, int done)
 {
     const char *who = getenv("CSGTRACE_TEST_KILL_RANK");
     if (!who || (strcmp(who, "workers") == 0 ? rank == 0 : atoi(who) != rank || !*who))
         return;
     const char *after = getenv("CSGTRACE_TEST_KILL_AFTER");
-    if (done == (after ? atoi(after) : 2))
-        raise(SIGKILL);
+    if (done != (after ? atoi(after) : 2))
+        return;
+    while (getenv("CSGTRACE_TEST_HANG"))
+        pause();
+    raise(SIGKILL);
 }
 
 #endif

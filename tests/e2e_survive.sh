@@ -6,6 +6,8 @@
 #     items_reassigned >= 1, one line on stderr naming the worker;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
+#   - a worker that hangs (alive, silent): written off after its time
+#     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
 #   - the master SIGKILLed: the workers exit by themselves, mpirun exits
 #     non-zero, no image;
 #   - a failed render (bad scene) under --enable-recovery: mpirun exits
@@ -13,7 +15,9 @@
 # and after every run: no process of the run left, no shared-memory
 # segment or session folder left (Open MPI's go to a private folder).
 # The kills come from the test hook CSGTRACE_TEST_KILL_RANK /
-# CSGTRACE_TEST_KILL_AFTER (host/protocol.h: proto_test_kill).
+# CSGTRACE_TEST_KILL_AFTER (host/protocol.h: proto_test_kill).  A worker
+# dies on its second item: the master gives every worker two at once, so
+# even a worker starved of CPU on a loaded machine reaches it.
 # REPEAT=N runs every case N times (default 1).
 # Usage: tests/e2e_survive.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
@@ -97,7 +101,7 @@ for mode in "${modes[@]}"; do
         fails=""
         for i in $(seq "$REPEAT"); do
             name=kill-$mode-$np-$i
-            CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=3 run "$name" "$np" --mode "$mode"
+            CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 run "$name" "$np" --mode "$mode"
             why=$(survived "$name" 1)
             [ -n "$why" ] && fails="$fails [$i: $why]"
         done
@@ -108,7 +112,7 @@ for mode in "${modes[@]}"; do
     fails=""
     for i in $(seq "$REPEAT"); do
         name=all-$mode-$i
-        CSGTRACE_TEST_KILL_RANK=workers CSGTRACE_TEST_KILL_AFTER=2 run "$name" "$np" --mode "$mode"
+        CSGTRACE_TEST_KILL_RANK=workers CSGTRACE_TEST_KILL_AFTER=1 run "$name" "$np" --mode "$mode"
         why=$(survived "$name" $((np - 1)))
         if [ -z "$why" ] && ! grep -q 'every worker was lost' "$T/$name.err"; then
             why="no line saying the master finishes alone"
@@ -117,6 +121,20 @@ for mode in "${modes[@]}"; do
     done
     case_check "every worker SIGKILLed ($mode, $np ranks): the master finishes, exit 0, serial image" "$fails"
 done
+
+# A hung worker (it waits for ever on its second item, its process alive):
+# written off after the backstop (max(10 x the mean item, 10 s)).
+fails=""
+for i in $(seq "${HANG_REPEAT:-1}"); do
+    name=hang-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 CSGTRACE_TEST_HANG=1 run "$name" 3 --mode homo
+    why=$(survived "$name" 1)
+    if [ -z "$why" ] && ! grep -q 'worker 2 lost (no answer for' "$T/$name.err"; then
+        why="not lost for its silence: $(grep -v PMIX "$T/$name.err" | head -1)"
+    fi
+    [ -n "$why" ] && fails="$fails [$i: $why]"
+done
+REPEAT=${HANG_REPEAT:-1} case_check "a hung worker (homo, 3 ranks): written off after its time limit, exit 0, serial image" "$fails"
 
 fails=""
 for i in $(seq "$REPEAT"); do
