@@ -132,8 +132,8 @@ static inline size_t proto_master_limit(size_t pixels_max)
  * crash or the OOM killer would: with CSGTRACE_TEST_KILL_RANK set to a
  * rank (0: the master) or to "workers" (every worker), and
  * CSGTRACE_TEST_KILL_AFTER to K (default 2), that rank SIGKILLs itself
- * once it has `done` == K items (a worker: items answered; the master:
- * results received); with CSGTRACE_TEST_HANG set too, it hangs instead
+ * once it has `done` == K items (a worker: items answered, -1: before
+ * its handshake; the master: results received); with CSGTRACE_TEST_HANG set too, it hangs instead
  * (this thread waits for ever).  Unset (always, outside the tests):
  * nothing. */
 static inline void proto_test_kill(int rank, int done)

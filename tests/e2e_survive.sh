@@ -6,6 +6,7 @@
 #     items_reassigned >= 1, one line on stderr naming the worker;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
+#   - a worker dead before its handshake; a worker killed over TCP;
 #   - a worker that hangs (alive, silent): written off after its time
 #     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
 #   - the master SIGKILLed: the workers exit by themselves, mpirun exits
@@ -62,16 +63,17 @@ run() {
     rc=$?
 }
 
-# survived NAME LOST: exit 0, the serial image, LOST workers lost, one
-# line per lost worker, nothing left behind; else why not.
+# survived NAME LOST [MIN]: exit 0, the serial image, LOST workers lost
+# and at least MIN items reassigned (default 1), one line per lost worker,
+# nothing left behind; else why not.
 survived() {
-    local name=$1 lost=$2 left
+    local name=$1 lost=$2 min=${3:-1} left
     left=$(leftovers "$name")
     if [ "$rc" != 0 ]; then
         echo "exit $rc: $(grep -v PMIX "$T/$name.err" | head -2)"
     elif ! same "$T/ref.exr" "$T/$name.exr"; then
         echo "pixels differ from serial"
-    elif ! json "$T/$name.json" "j['workers_lost'] == $lost and j['items_reassigned'] >= 1"; then
+    elif ! json "$T/$name.json" "j['workers_lost'] == $lost and j['items_reassigned'] >= $min"; then
         echo "stats: $(grep -E 'workers_lost|items_reassigned' "$T/$name.json" | tr -d '\n ')"
     elif [ "$(grep -c ' lost (' "$T/$name.err")" != "$lost" ]; then
         echo "stderr: $(grep -c ' lost (' "$T/$name.err") lines of a lost worker"
@@ -121,6 +123,22 @@ for mode in "${modes[@]}"; do
     done
     case_check "every worker SIGKILLed ($mode, $np ranks): the master finishes, exit 0, serial image" "$fails"
 done
+
+# Other moments and transports: a worker dead before its handshake; a
+# worker killed over TCP (no shared memory).
+fails=""
+for i in $(seq "$REPEAT"); do
+    name=early-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=-1 run "$name" 4 --mode homo
+    why=$(survived "$name" 1 0)
+    [ -n "$why" ] && fails="$fails [$i: $why]"
+    name=tcp-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 OMPI_MCA_btl=tcp,self \
+        run "$name" 3 --mode homo
+    why=$(survived "$name" 1)
+    [ -n "$why" ] && fails="$fails [$i tcp: $why]"
+done
+case_check "worker 2 dead before its handshake (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
 
 # A hung worker (it waits for ever on its second item, its process alive):
 # written off after the backstop (max(10 x the mean item, 10 s)).

@@ -254,6 +254,7 @@ int worker_run(int rank)
         worker_send_fail(-1, w.failure);
     } else {
         proto_ready ready = {0, 0};
+        proto_test_kill(rank, -1); /* (a test: dead before its handshake) */
         link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
     }
     int status = worker_serve(&w);
