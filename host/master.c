@@ -299,7 +299,8 @@ static bool master_room(master_loop *L, int r, int depth)
     master_worker *w = &L->w[r];
     if (w->dead || w->n >= depth)
         return false;
-    if (link_req_wait(&w->req[(w->head + w->n) % PROTO_IN_FLIGHT]) == LINK_LOST) {
+    link_req *q = &w->req[(w->head + w->n) % PROTO_IN_FLIGHT];
+    if (q->active && link_req_wait(q) == LINK_LOST) {
         master_lose(L, r, "its process is gone");
         return false;
     }
@@ -467,7 +468,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         L->failed = true;
         master_write_off(L, src);
     }
-    proto_test_kill(0, L->job->items_done);
+    proto_test_kill(0, "item", L->job->items_done);
 }
 
 /* Every message waiting, taken and answered; true when there was one. */

@@ -130,19 +130,23 @@ static inline size_t proto_master_limit(size_t pixels_max)
 
 /* Test only (tests/e2e_survive.sh), to kill a rank mid-render the way a
  * crash or the OOM killer would: with CSGTRACE_TEST_KILL_RANK set to a
- * rank (0: the master) or to "workers" (every worker), and
- * CSGTRACE_TEST_KILL_AFTER to K (default 2), that rank SIGKILLs itself
- * once it has `done` == K items (a worker: items answered, -1: before
- * its handshake; the master: results received); with CSGTRACE_TEST_HANG set too, it hangs instead
- * (this thread waits for ever).  Unset (always, outside the tests):
- * nothing. */
-static inline void proto_test_kill(int rank, int done)
+ * rank (0: the master) or to "workers" (every worker), that rank SIGKILLs
+ * itself at `moment` once it has `done` == CSGTRACE_TEST_KILL_AFTER
+ * (default 2) items: moment "item" (the default of CSGTRACE_TEST_KILL_AT):
+ * a worker about to compute an item, after `done` answered; the master
+ * after `done` results received; "send": a worker that has just begun
+ * sending its answer to item `done` (counted from 0); "ready": a worker
+ * before its handshake (done 0).  With CSGTRACE_TEST_HANG set too, it
+ * hangs instead (this thread waits for ever).  Unset (always, outside the
+ * tests): nothing. */
+static inline void proto_test_kill(int rank, const char *moment, int done)
 {
     const char *who = getenv("CSGTRACE_TEST_KILL_RANK");
     if (!who || (strcmp(who, "workers") == 0 ? rank == 0 : atoi(who) != rank || !*who))
         return;
+    const char *at = getenv("CSGTRACE_TEST_KILL_AT");
     const char *after = getenv("CSGTRACE_TEST_KILL_AFTER");
-    if (done != (after ? atoi(after) : 2))
+    if (strcmp(at ? at : "item", moment) != 0 || done != (after ? atoi(after) : 2))
         return;
     while (getenv("CSGTRACE_TEST_HANG"))
         pause();

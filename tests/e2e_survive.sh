@@ -6,7 +6,8 @@
 #     items_reassigned >= 1, one line on stderr naming the worker;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
-#   - a worker dead before its handshake; a worker killed over TCP;
+#   - a worker dead before its handshake; a worker killed over TCP; one
+#     killed while its large result is on the way (TCP, shared memory);
 #   - a worker that hangs (alive, silent): written off after its time
 #     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
 #   - the master SIGKILLed: the workers exit by themselves, mpirun exits
@@ -28,7 +29,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
 export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
 mkdir -p "$T/shm" "$T/sess" "$POCL_CACHE_DIR"
-unset CSGTRACE_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER
+unset CSGTRACE_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER CSGTRACE_TEST_KILL_AT \
+    CSGTRACE_TEST_HANG
 MPIRUN=(timeout -s KILL 120 mpirun --enable-recovery --bind-to none --oversubscribe)
 SCENE=scenes/csg_ops.pov
 SZ=(--width 96 --height 64 --tile 8)
@@ -71,7 +73,7 @@ survived() {
     left=$(leftovers "$name")
     if [ "$rc" != 0 ]; then
         echo "exit $rc: $(grep -v PMIX "$T/$name.err" | head -2)"
-    elif ! same "$T/ref.exr" "$T/$name.exr"; then
+    elif ! same "$T/${REF:-ref}.exr" "$T/$name.exr"; then
         echo "pixels differ from serial"
     elif ! json "$T/$name.json" "j['workers_lost'] == $lost and j['items_reassigned'] >= $min"; then
         echo "stats: $(grep -E 'workers_lost|items_reassigned' "$T/$name.json" | tr -d '\n ')"
@@ -129,7 +131,7 @@ done
 fails=""
 for i in $(seq "$REPEAT"); do
     name=early-$i
-    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=-1 run "$name" 4 --mode homo
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=ready CSGTRACE_TEST_KILL_AFTER=0 run "$name" 4 --mode homo
     why=$(survived "$name" 1 0)
     [ -n "$why" ] && fails="$fails [$i: $why]"
     name=tcp-$i
@@ -139,6 +141,26 @@ for i in $(seq "$REPEAT"); do
     [ -n "$why" ] && fails="$fails [$i tcp: $why]"
 done
 case_check "worker 2 dead before its handshake (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
+
+# Killed while its result (110 KB: 96 x 96 pixels, over every eager
+# limit) is on its way, over TCP and over shared memory.
+SZ=(--width 192 --height 192 --tile 96)
+if "$BIN" render "$SCENE" "${SZ[@]}" --mode serial -o "$T/big.exr" >/dev/null 2>&1; then
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        for btl in tcp vader; do
+            name=send-$btl-$i
+            CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=send CSGTRACE_TEST_KILL_AFTER=0 \
+                OMPI_MCA_btl=$btl,self run "$name" 3 --mode homo
+            why=$(REF=big survived "$name" 1)
+            [ -n "$why" ] && fails="$fails [$i $btl: $why]"
+        done
+    done
+    case_check "worker 2 killed while sending a 110 KB result (homo, 3 ranks, TCP and shared memory): exit 0, serial image" "$fails"
+else
+    ko "serial render at 192x192"
+fi
+SZ=(--width 96 --height 64 --tile 8)
 
 # A hung worker (it waits for ever on its second item, its process alive):
 # written off after the backstop (max(10 x the mean item, 10 s)).

@@ -149,7 +149,7 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         return;
     }
     memcpy(&h, in->data, sizeof h);
-    proto_test_kill(w->rank, w->tiles_done);
+    proto_test_kill(w->rank, "item", w->tiles_done);
     if (w->tiles_done == 0 && w->fail_rank == w->rank) {
         worker_send_fail(h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
         w->tiles_done++;
@@ -165,6 +165,7 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
     size_t n = (size_t)h.width * (size_t)h.height;
     link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot],
                sizeof(proto_result) + n * 3 * sizeof(float), &w->out_req[slot]);
+    proto_test_kill(w->rank, "send", w->tiles_done);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
     w->tiles_done++;
 }
@@ -254,7 +255,7 @@ int worker_run(int rank)
         worker_send_fail(-1, w.failure);
     } else {
         proto_ready ready = {0, 0};
-        proto_test_kill(rank, -1); /* (a test: dead before its handshake) */
+        proto_test_kill(rank, "ready", 0);
         link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
     }
     int status = worker_serve(&w);
