@@ -37,9 +37,12 @@
  *    Large messages go in the background on both sides (link_isend): the
  *    master never waits on a busy worker, a worker never on the master.
  *    A worker whose answer breaks the protocol (wrong size, tile or tag)
- *    is written off: the master expects nothing more from it.
- * 4. End: master -> every worker PROTO_TAG_STOP (proto_stop), sent only when
- *    no live worker holds an item (results drained).  The worker exits with
+ *    is written off: the master expects nothing more from it.  A worker
+ *    whose process dies (or that hangs) is lost: written off too, its
+ *    items sent again to the others, whatever it sent before dying
+ *    dropped (host/master.c; liveness: host/link.h).
+ * 4. End: master -> every worker not lost PROTO_TAG_STOP (proto_stop), sent
+ *    only when no live worker holds an item (results drained).  The worker exits with
  *    proto_stop.status, so every rank ends with the master's status.
  *
  * Tiles are numbered as in workers/tile.h (tile_rect_of).  Headers hold
