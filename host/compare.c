@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "image.h"
+#include "link.h"
 #include "ocl.h"
 #include "render.h"
 #include "stats.h"
@@ -287,5 +288,6 @@ int compare_run(const cli_args *a)
         status = EXIT_FAILURE_RUN;
     }
     free_results(&r);
+    link_exit_status(status); /* (made mpirun's under --enable-recovery) */
     return status;
 }

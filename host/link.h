@@ -12,6 +12,12 @@
  *
  * Errors return: MPI's error handler is set to return codes, so a call
  * that fails reports LINK_ERROR to its caller instead of killing the job.
+ *
+ * Liveness: launched with `mpirun --enable-recovery`, the job outlives a
+ * worker that dies; the master learns it from link_peer_lost (a watchdog
+ * socket per worker, link.c), and no wait of this module outlives the peer
+ * it waits on (LINK_LOST).  A worker exits by itself as soon as the master
+ * is gone.
  */
 #ifndef HOST_LINK_H
 #define HOST_LINK_H
@@ -38,7 +44,9 @@ typedef enum {
                      of the queue, so the job can only end: report it,
                      then link_abort                                    */
     LINK_ERROR,   /* MPI failed                                        */
-    LINK_NONE     /* link_try_recv: no message is waiting              */
+    LINK_NONE,    /* link_try_recv: no message is waiting              */
+    LINK_LOST     /* the peer died before the message was through (its
+                     bytes, and the buffer they went to, are MPI's now) */
 } link_status;
 
 /* A received message; data is malloc'd and grows to the limit asked for,
@@ -75,13 +83,15 @@ typedef struct {
         unsigned char bytes[16];
     } impl;      /* the MPI_Request (link.c checks it fits)            */
     bool active; /* started and not yet known to be done               */
+    int peer;    /* the receiver                                       */
 } link_req;
 
 link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req);
 /* True once the send is done (or none was active); LINK_ERROR aside, a
  * done request is inactive again. */
 bool link_req_done(link_req *req);
-/* Waits (poll, then nap) until the send is done. */
+/* Waits (poll, then nap) until the send is done; LINK_LOST (the request
+ * abandoned) when the receiver is lost first (link_peer_lost). */
 link_status link_req_wait(link_req *req);
 /* Gives up on a send the receiver may never take (a worker written off
  * after breaking the protocol): MPI keeps the request; the caller must
@@ -123,6 +133,28 @@ void link_wake(link_idle *w);
  * and a rank short of memory can still take part: data NULL receives into
  * a sink). */
 link_status link_bcast(void *data, size_t size);
+
+/* ---- liveness ---------------------------------------------------------------- */
+
+/* Master: true once rank r's process is gone (its watchdog socket closed,
+ * however it died; a worker that never connected one is never "lost"
+ * here).  Stays true. */
+bool link_peer_lost(int rank);
+/* Master: stops watching rank r and closes its socket, so that worker,
+ * if it is still alive (hung), exits at once. */
+void link_forget(int rank);
+/* Worker: STOP(status) came (status >= 0): from now on the master's exit
+ * is expected, and this process is given a few seconds to end by itself
+ * before it exits with `status`; -1: a new render, the master's exit is
+ * again fatal. */
+void link_ending(int status);
+/* Master: the job's status.  A non-zero one is made mpirun's too at exit
+ * (under --enable-recovery mpirun would report 0: link_fail_job). */
+void link_exit_status(int status);
+/* Under mpirun --enable-recovery: SIGTERM to the parent mpirun, so that it
+ * ends the job and exits 1 (it reports 0 otherwise, whatever the ranks
+ * return).  Does nothing otherwise. */
+void link_fail_job(void);
 
 /* Ends every rank of the job with `code` (a rank that cannot go on). */
 void link_abort(int code);

@@ -20,6 +20,17 @@
  * pending sends are left to MPI.  Nothing is ever aborted for bad input:
  * the only abort (code 1) is a message too large to take (link.c).
  *
+ * A dead worker does not end the render: a worker whose process is gone
+ * (link_peer_lost: its watchdog socket closed; or its message cut off:
+ * LINK_LOST), or that holds its oldest item longer than
+ * max(MASTER_HANG_MEANS x the mean item time, MASTER_HANG_MIN_S) (hung:
+ * its socket is closed, which makes it exit), is lost: written off like
+ * a protocol breaker, but its items go back to the scheduler
+ * (sched_requeue) and out to the others, and whatever it still sends is
+ * dropped.  Lost workers are looked for in every turn that found nothing
+ * to do.  When none is left, master_run_tiles returns with the scheduler
+ * unfinished and the caller renders the rest in-process.
+ *
  * The nap cap follows the work: a quarter of the mean item time so far
  * (MASTER_NAP_*), so a result that lands during a nap waits less than a
  * quarter of what the worker's second item gives it; the master checks
@@ -40,6 +51,7 @@
  */
 #include "master.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,10 +59,46 @@
 #include "link.h"
 #include "protocol.h"
 
+#define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
+#define MASTER_NAP_MIN_NS 2000L
+#define MASTER_SPINS 50
+
 void master_begin(master_session *m, int ranks)
 {
     memset(m, 0, sizeof *m);
     m->workers = ranks > 1 ? ranks - 1 : 0;
+    m->lost = m->workers > 0 ? calloc((size_t)m->workers + 1, sizeof *m->lost) : NULL;
+}
+
+/* Rank r is lost (it died or hung): one line on stderr, once. */
+static void master_mark_lost(master_session *m, int r, int items, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+static void master_mark_lost(master_session *m, int r, int items, const char *fmt, ...)
+{
+    char why[160];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    link_forget(r);
+    if (m->lost)
+        m->lost[r] = true;
+    m->workers_lost++;
+    fprintf(stderr, "csgtrace: worker %d lost (%s): %d item%s handed to the others\n", r, why,
+            items, items == 1 ? "" : "s");
+    fflush(stderr);
+}
+
+static bool master_is_lost(const master_session *m, int r)
+{
+    return m->lost && r >= 1 && r <= m->workers && m->lost[r];
+}
+
+/* Rank r's process is gone (never true without the lost table). */
+static bool master_peer_gone(const master_session *m, int r)
+{
+    return m->lost && !m->lost[r] && link_peer_lost(r);
 }
 
 void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob)
@@ -87,19 +135,6 @@ static void master_recv_failed(master_session *m, const link_msg *msg, link_stat
     m->link_broken = true; /* the message cannot be drained */
 }
 
-/* The next message from any worker, at most `limit` bytes; false with d
- * filled when it was larger or the link failed. */
-static bool master_recv(master_session *m, link_msg *msg, size_t limit, csg_diag *d)
-{
-    link_status got = link_recv(msg, LINK_ANY_SOURCE, limit);
-    if (got != LINK_OK) {
-        master_recv_failed(m, msg, got, limit, d);
-        return false;
-    }
-    m->bytes_received += (uint64_t)msg->len;
-    return true;
-}
-
 /* The text of a FAIL message, NUL-terminated whatever was sent. */
 static void master_fail_text(const link_msg *msg, int *tile, char *text, size_t size)
 {
@@ -122,31 +157,76 @@ static void master_report_fail(const link_msg *msg, csg_diag *d)
         csg_error_plain(d, "worker %d failed: %s", msg->source, text);
 }
 
-/* Step 2: one READY or FAIL from every worker. */
+/* The workers that died before their handshake; how many. */
+static int master_greeters_lost(master_session *m, const bool *greeted)
+{
+    int n = 0;
+    for (int r = 1; r <= m->workers; r++) {
+        if (!greeted[r] && master_peer_gone(m, r)) {
+            master_mark_lost(m, r, 0, "its process is gone");
+            n++;
+        }
+    }
+    return n;
+}
+
+/* A handshake message taken: READY, or the setup failed. */
+static void master_greeting(master_session *m, const link_msg *msg, csg_diag *d)
+{
+    m->bytes_received += (uint64_t)msg->len;
+    if (msg->tag == PROTO_TAG_READY)
+        return;
+    m->setup_failed = true;
+    if (msg->tag == PROTO_TAG_FAIL)
+        master_report_fail(msg, d);
+    else
+        csg_error_plain(d, "worker %d: unexpected message (tag %d) at start-up", msg->source,
+                        msg->tag);
+}
+
+/* Step 2: one READY or FAIL from every worker that is not lost. */
 static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 {
-    for (int i = 0; i < m->workers && !m->link_broken; i++) {
-        if (!master_recv(m, msg, sizeof(proto_fail), d)) {
+    bool *greeted = calloc((size_t)m->workers + 1, sizeof *greeted);
+    link_idle idle;
+    link_idle_init(&idle, LINK_NAP_MAX_NS, MASTER_SPINS);
+    for (int left = m->workers; greeted && left > 0 && !m->link_broken;) {
+        link_status got = link_try_recv(msg, LINK_ANY_SOURCE, sizeof(proto_fail));
+        if (got == LINK_NONE) {
+            left -= master_greeters_lost(m, greeted);
+            link_idle_step(&idle);
+        } else if (got == LINK_LOST || master_is_lost(m, msg->source)) {
+            if (!master_is_lost(m, msg->source)) { /* (a lost one's last words: dropped) */
+                left -= !greeted[msg->source];
+                master_mark_lost(m, msg->source, 0, "its process is gone");
+            }
+        } else if (got != LINK_OK) {
+            master_recv_failed(m, msg, got, sizeof(proto_fail), d);
             m->setup_failed = true;
             break;
+        } else {
+            greeted[msg->source] = true;
+            left--;
+            master_greeting(m, msg, d);
         }
-        if (msg->tag == PROTO_TAG_READY)
-            continue;
-        m->setup_failed = true;
-        if (msg->tag == PROTO_TAG_FAIL)
-            master_report_fail(msg, d);
-        else
-            csg_error_plain(d, "worker %d: unexpected message (tag %d) at start-up", msg->source,
-                            msg->tag);
     }
+    if (!greeted)
+        csg_error_plain(d, "master: out of memory");
+    m->setup_failed |= !greeted;
+    link_idle_free(&idle);
+    free(greeted);
     m->greeted = true;
 }
 
 /* ---- the workers' items ------------------------------------------------ */
 
-#define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
-#define MASTER_NAP_MIN_NS 2000L
-#define MASTER_SPINS 50
+/* A worker holding its oldest item longer than this is taken for hung:
+ * MASTER_HANG_MEANS x the mean item time, at least MASTER_HANG_MIN_S
+ * (generous: a live worker written off costs its items twice and the
+ * worker itself; on a loaded machine, or with the costliest tiles first,
+ * a live one can take seconds). */
+#define MASTER_HANG_MEANS 10.0
+#define MASTER_HANG_MIN_S 10.0
 
 typedef struct {
     int item[PROTO_IN_FLIGHT];     /* held items, ring from head          */
@@ -154,6 +234,7 @@ typedef struct {
     char *buf[PROTO_IN_FLIGHT];    /* the TILE of ring position k          */
     link_req req[PROTO_IN_FLIGHT]; /* and its send                        */
     bool dead;                     /* written off: nothing more expected   */
+    double since;                  /* stats_clock(): the oldest item began  */
 } master_worker;
 
 typedef struct {
@@ -165,6 +246,9 @@ typedef struct {
     bool failed;             /* no more items go out; draining             */
     bool broken;             /* nothing can be received any more           */
 } master_loop;
+
+static void master_lose(master_loop *L, int r, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 bool master_idle_init(link_idle *idle)
 {
@@ -178,7 +262,6 @@ static bool master_send_item(master_loop *L, int r, int item, csg_diag *d)
     const master_job *job = L->job;
     const tile_grid *g = &job->grid;
     int pos = (w->head + w->n) % PROTO_IN_FLIGHT;
-    link_req_wait(&w->req[pos]); /* its last TILE was answered: done */
     if (!w->buf[pos] && !(w->buf[pos] = malloc(L->buf_size))) {
         csg_error_plain(d, "master: out of memory");
         return false;
@@ -193,14 +276,34 @@ static bool master_send_item(master_loop *L, int r, int item, csg_diag *d)
         tile_pack_records(g, job->t, job->surf, rect, w->buf[pos] + sizeof h);
         len += tile_records_bytes(g, (size_t)rect.width * (size_t)rect.height);
     }
+    w->item[pos] = item; /* held from now on: a lost worker hands it back */
+    if (w->n++ == 0)
+        w->since = stats_clock();
+    L->outstanding++;
     if (link_isend(r, PROTO_TAG_TILE, w->buf[pos], len, &w->req[pos]) != LINK_OK) {
+        if (master_peer_gone(L->m, r)) {
+            master_lose(L, r, "its process is gone");
+            return true;
+        }
         csg_error_plain(d, "master: sending a tile to worker %d failed", r);
         return false;
     }
     L->m->bytes_sent += len;
-    w->item[pos] = item;
-    w->n++;
-    L->outstanding++;
+    return true;
+}
+
+/* Room at rank r for one more item: its next send buffer free (its last
+ * TILE was answered, so the send is done, unless the worker died). */
+static bool master_room(master_loop *L, int r, int depth)
+{
+    master_worker *w = &L->w[r];
+    if (w->dead || w->n >= depth)
+        return false;
+    link_req *q = &w->req[(w->head + w->n) % PROTO_IN_FLIGHT];
+    if (q->active && link_req_wait(q) == LINK_LOST) {
+        master_lose(L, r, "its process is gone");
+        return false;
+    }
     return true;
 }
 
@@ -211,7 +314,7 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
     bool sent = false;
     for (int depth = 1; depth <= PROTO_IN_FLIGHT && !L->failed; depth++) {
         for (int r = 1; r <= L->m->workers && !L->failed; r++) {
-            if (L->w[r].dead || L->w[r].n >= depth)
+            if (!master_room(L, r, depth))
                 continue;
             double now = stats_clock();
             int item = sched_next(L->job->sched, r - 1, now);
@@ -235,6 +338,53 @@ static void master_write_off(master_loop *L, int r)
     L->w[r].dead = true;
 }
 
+/* Rank r is lost: written off, its items back to the scheduler (oldest
+ * first), its static share to the others. */
+static void master_lose(master_loop *L, int r, const char *fmt, ...)
+{
+    master_worker *w = &L->w[r];
+    char why[128];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    master_mark_lost(L->m, r, w->n, "%s", why);
+    for (int k = 0; k < w->n && !L->failed; k++)
+        if (!sched_requeue(L->job->sched, w->item[(w->head + k) % PROTO_IN_FLIGHT]))
+            L->failed = true; /* (out of memory: the render cannot end well) */
+    sched_release(L->job->sched, r - 1);
+    master_write_off(L, r);
+}
+
+/* The oldest item's time limit, 0 before any item came back. */
+static double master_hang_limit(const master_job *job)
+{
+    if (job->items_done == 0)
+        return 0.0;
+    double mean = job->busy_s / job->items_done;
+    return mean * MASTER_HANG_MEANS > MASTER_HANG_MIN_S ? mean * MASTER_HANG_MEANS
+                                                         : MASTER_HANG_MIN_S;
+}
+
+/* Every live worker that died or hung, lost; how many live ones are left. */
+static int master_check_workers(master_loop *L)
+{
+    double now = stats_clock(), limit = master_hang_limit(L->job);
+    int live = 0;
+    for (int r = 1; r <= L->m->workers; r++) {
+        master_worker *w = &L->w[r];
+        if (w->dead)
+            continue;
+        if (master_peer_gone(L->m, r))
+            master_lose(L, r, "its process is gone");
+        else if (limit > 0 && w->n > 0 && now - w->since > limit)
+            master_lose(L, r, "no answer for %.1f s", now - w->since);
+        else
+            live++;
+    }
+    return live;
+}
+
 /* The sends of every worker done (or, for one written off or a broken
  * link, left to MPI with their buffers), the buffers freed. */
 static void master_close_sends(master_loop *L)
@@ -246,8 +396,8 @@ static void master_close_sends(master_loop *L)
                 link_req_abandon(q); /* its buffer stays MPI's */
                 continue;
             }
-            link_req_wait(q);
-            free(L->w[r].buf[k]);
+            if (link_req_wait(q) == LINK_OK) /* (LINK_LOST: MPI's too) */
+                free(L->w[r].buf[k]);
         }
     }
 }
@@ -285,6 +435,8 @@ static bool master_take_result(master_job *job, const link_msg *msg, int item, c
 static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
 {
     int src = msg->source;
+    if (master_is_lost(L->m, src))
+        return; /* sent before it died: its items went to the others */
     if (src < 1 || src > L->m->workers || L->w[src].dead || L->w[src].n == 0) {
         if (!L->failed)
             csg_error_plain(d, "unexpected message (tag %d) from rank %d", msg->tag, src);
@@ -297,6 +449,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     int item = w->item[w->head];
     w->head = (w->head + 1) % PROTO_IN_FLIGHT;
     w->n--;
+    w->since = stats_clock(); /* the next item's turn */
     L->outstanding--;
     csg_diag ignored = {{0}, 0};
     csg_diag *report = L->failed ? &ignored : d; /* the first failure is the one reported */
@@ -316,6 +469,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         L->failed = true;
         master_write_off(L, src);
     }
+    proto_test_kill(0, "item", L->job->items_done);
 }
 
 /* Every message waiting, taken and answered; true when there was one. */
@@ -327,6 +481,11 @@ static bool master_receive(master_loop *L, link_msg *msg, size_t limit, csg_diag
         if (got == LINK_NONE)
             break;
         any = true;
+        if (got == LINK_LOST) { /* it died in the middle of a message */
+            if (!master_is_lost(L->m, msg->source))
+                master_lose(L, msg->source, "its process is gone");
+            continue;
+        }
         if (got != LINK_OK) {
             csg_diag ignored = {{0}, 0};
             master_recv_failed(L->m, msg, got, limit, L->failed ? &ignored : d);
@@ -381,6 +540,8 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
             link_idle_reset(idle);
             continue;
         }
+        if (master_check_workers(L) == 0)
+            break; /* every worker lost: the caller does the rest */
         idle->nap_max_ns = master_nap_cap(L->job);
         link_idle_step(idle);
     }
@@ -407,6 +568,8 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
             master_greet(m, &msg, d);
             link_msg_free(&msg);
         }
+        for (int r = 1; r <= m->workers; r++)
+            L.w[r].dead = master_is_lost(m, r); /* (lost before the handshake) */
         ok = !m->setup_failed && master_deal(&L, idle, d);
         master_close_sends(&L);
     }
@@ -441,10 +604,23 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     }
 }
 
-void master_end(master_session *m, int status)
+/* STOP(status) to rank r, unless it is lost first. */
+static void master_stop(master_session *m, int r, int status)
 {
-    if (m->workers == 0)
-        return;
+    proto_stop *stop = malloc(sizeof *stop); /* (a send to a dead rank keeps it) */
+    link_req req;
+    if (!stop)
+        return; /* (the worker exits when this process does) */
+    stop->status = status;
+    stop->pad = 0;
+    if (link_isend(r, PROTO_TAG_STOP, stop, sizeof *stop, &req) != LINK_OK ||
+        link_req_wait(&req) == LINK_OK)
+        free(stop);
+    m->bytes_sent += sizeof *stop;
+}
+
+static void master_stop_all(master_session *m, int status)
+{
     if (m->link_broken) /* its message was reported: no rank can go on */
         link_abort(status ? status : 1);
     if (!m->shared) {
@@ -458,10 +634,17 @@ void master_end(master_session *m, int status)
         link_msg_free(&msg);
     }
     if (!m->stopped) {
-        proto_stop stop = {status, 0};
         for (int r = 1; r <= m->workers; r++)
-            link_send(r, PROTO_TAG_STOP, &stop, sizeof stop);
-        m->bytes_sent += (uint64_t)m->workers * sizeof stop;
+            if (!master_is_lost(m, r))
+                master_stop(m, r, status);
         m->stopped = true;
     }
+}
+
+void master_end(master_session *m, int status)
+{
+    if (m->workers > 0)
+        master_stop_all(m, status);
+    free(m->lost);
+    m->lost = NULL;
 }

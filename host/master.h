@@ -33,6 +33,9 @@ typedef struct {
     bool stopped;             /* the workers were told to exit            */
     bool link_broken;         /* a message could not be received: the job
                                  can only be aborted (master_end does)    */
+    bool *lost;               /* [r]: rank r's process is gone (NULL:
+                                 out of memory, nobody is ever lost)      */
+    int workers_lost;         /* how many                                 */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
 } master_session;
@@ -76,7 +79,10 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
 /* Handshake, then every item of job->sched through the workers, feeding
  * the scheduler as the tiles become ready; false with d filled (one
  * message) when a worker or the feed failed: no more items are sent, the
- * outstanding ones are drained. */
+ * outstanding ones are drained.  A worker that dies (or holds an item for
+ * far longer than items take: MASTER_HANG_*) is lost: one line on stderr,
+ * its items go to the others.  True with sched not finished: every worker
+ * was lost (the caller does the rest itself). */
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 
 /* Item `item` came back from rank `rank` (0: the master's local path)
@@ -85,8 +91,9 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 void master_job_count(master_job *job, stats_worker *w, int rank, int item,
                       const tile_result *res, double now);
 
-/* STOP(status) to every worker (broadcasting the status first if the scene
- * was never shared, receiving the handshake if it was not yet). */
+/* STOP(status) to every worker not lost (broadcasting the status first if
+ * the scene was never shared, receiving the handshake if it was not yet);
+ * frees the session. */
 void master_end(master_session *m, int status);
 
 #endif

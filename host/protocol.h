@@ -37,9 +37,12 @@
  *    Large messages go in the background on both sides (link_isend): the
  *    master never waits on a busy worker, a worker never on the master.
  *    A worker whose answer breaks the protocol (wrong size, tile or tag)
- *    is written off: the master expects nothing more from it.
- * 4. End: master -> every worker PROTO_TAG_STOP (proto_stop), sent only when
- *    no live worker holds an item (results drained).  The worker exits with
+ *    is written off: the master expects nothing more from it.  A worker
+ *    whose process dies (or that hangs) is lost: written off too, its
+ *    items sent again to the others, whatever it sent before dying
+ *    dropped (host/master.c; liveness: host/link.h).
+ * 4. End: master -> every worker not lost PROTO_TAG_STOP (proto_stop), sent
+ *    only when no live worker holds an item (results drained).  The worker exits with
  *    proto_stop.status, so every rank ends with the master's status.
  *
  * Tiles are numbered as in workers/tile.h (tile_rect_of).  Headers hold
@@ -50,8 +53,12 @@
 #ifndef HOST_PROTOCOL_H
 #define HOST_PROTOCOL_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "../workers/tile.h"
 
@@ -123,6 +130,31 @@ static inline size_t proto_master_limit(size_t pixels_max)
 {
     size_t result = sizeof(proto_result) + pixels_max * 3 * sizeof(float);
     return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
+}
+
+/* Test only (tests/e2e_survive.sh), to kill a rank mid-render the way a
+ * crash or the OOM killer would: with CSGTRACE_TEST_KILL_RANK set to a
+ * rank (0: the master) or to "workers" (every worker), that rank SIGKILLs
+ * itself at `moment` once it has `done` == CSGTRACE_TEST_KILL_AFTER
+ * (default 2) items: moment "item" (the default of CSGTRACE_TEST_KILL_AT):
+ * a worker about to compute an item, after `done` answered; the master
+ * after `done` results received; "send": a worker that has just begun
+ * sending its answer to item `done` (counted from 0); "ready": a worker
+ * before its handshake (done 0).  With CSGTRACE_TEST_HANG set too, it
+ * hangs instead (this thread waits for ever).  Unset (always, outside the
+ * tests): nothing. */
+static inline void proto_test_kill(int rank, const char *moment, int done)
+{
+    const char *who = getenv("CSGTRACE_TEST_KILL_RANK");
+    if (!who || (strcmp(who, "workers") == 0 ? rank == 0 : atoi(who) != rank || !*who))
+        return;
+    const char *at = getenv("CSGTRACE_TEST_KILL_AT");
+    const char *after = getenv("CSGTRACE_TEST_KILL_AFTER");
+    if (strcmp(at ? at : "item", moment) != 0 || done != (after ? atoi(after) : 2))
+        return;
+    while (getenv("CSGTRACE_TEST_HANG"))
+        pause();
+    raise(SIGKILL);
 }
 
 #endif

@@ -284,8 +284,9 @@ static int render_feed(master_job *job, bool wait, csg_diag *d)
 }
 
 /* Step 3 without workers: every item in this process, through the very
- * tile_run_rect a worker calls, as the pass makes tiles ready. */
-static int render_local_tiles(master_job *job, csg_diag *d)
+ * tile_run_rect a worker calls, as the pass makes tiles ready (or the
+ * items left when every worker was lost); counted in `self`. */
+static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
 {
     tile_runner tr;
     bool ready = tile_runner_init(&tr, job->blob, job->grid.tile);
@@ -296,7 +297,7 @@ static int render_local_tiles(master_job *job, csg_diag *d)
         csg_error_plain(d, "out of memory for tiles of %zu pixels", job->grid.pixels_max);
         goto fail;
     }
-    job->workers[0].rank = 0;
+    self->rank = 0;
     for (;;) {
         if (!job->sched->closed && job->feed(job, false, d) < 0)
             goto fail;
@@ -317,7 +318,7 @@ static int render_local_tiles(master_job *job, csg_diag *d)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);
         tile_run_rect(&tr, r, records, rgb, &res);
         tile_store_rgb(job->image, job->grid.width, r, rgb);
-        master_job_count(job, &job->workers[0], 0, item, &res, stats_clock());
+        master_job_count(job, self, 0, item, &res, stats_clock());
     }
     status = EXIT_OK;
 fail:
@@ -439,6 +440,7 @@ static void render_account(const render_state *rs, const master_job *job,
     st->tiles_sent = rs->sched.added;
     st->tiles_degenerate = render_skipped(&rs->sched);
     st->items_sent = rs->sched.dispatched;
+    st->items_reassigned = rs->sched.requeued;
 }
 
 /* ---- steps 2 and 3 ------------------------------------------------------------------ */
@@ -457,7 +459,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
     rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
-    rs->workers = calloc((size_t)st->worker_count, sizeof *rs->workers);
+    rs->workers = calloc((size_t)st->worker_count + 1, sizeof *rs->workers); /* (+ the
+                                                   master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);
     if (!rs->image || !rs->workers || (use_workers && !rs->idle_ready) ||
         !sched_init(&rs->sched, render_policy(req), st->worker_count, st->in_flight,
@@ -483,6 +486,19 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     return render_feed(job, false, d) < 0 ? EXIT_FAILURE_RUN : EXIT_OK; /* every tile */
 }
 
+/* Step 3 through the workers; when every worker was lost, the rest here
+ * (the master's share then shows as rank 0 in the stats). */
+static int render_by_workers(master_session *ms, master_job *job, render_stats *st,
+                             csg_diag *d)
+{
+    if (!master_run_tiles(ms, job, d))
+        return EXIT_FAILURE_RUN;
+    if (sched_finished(job->sched) && job->sched->closed)
+        return EXIT_OK;
+    fprintf(stderr, "csgtrace: every worker was lost: the master renders the rest itself\n");
+    return render_local_tiles(job, &job->workers[st->worker_count++], d);
+}
+
 /* Steps 2 to 4, once the scene is shared; 0 or the failure status. */
 static int render_image(const render_request *req, master_session *ms, render_state *rs,
                         render_stats *st, render_marks *mk, csg_diag *d)
@@ -498,9 +514,9 @@ static int render_image(const render_request *req, master_session *ms, render_st
     progress_begin(&bar, st->tiles_total, (int)req->progress);
     double cpu0 = stats_thread_cpu();
     if (ms->workers > 0 && req->mode != MODE_SERIAL)
-        status = master_run_tiles(ms, &job, d) ? EXIT_OK : EXIT_FAILURE_RUN;
+        status = render_by_workers(ms, &job, st, d);
     else
-        status = render_local_tiles(&job, d);
+        status = render_local_tiles(&job, &rs->workers[0], d);
     progress_end(&bar);
     mk->tiles_end = stats_clock();
     st->master_cpu_s = stats_thread_cpu() - cpu0;
@@ -620,6 +636,7 @@ static int render_job(const render_request *req, int ranks)
         status = render_image(req, &ms, &rs, &st, &mk, &d);
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
+    st.workers_lost = ms.workers_lost;
 
     if (status == EXIT_OK) {
         status = render_outputs(req, &rs, &st, mk.start, &d);
@@ -658,7 +675,9 @@ int render_run(const render_request *req)
     }
     if (rank != 0)
         return worker_run(rank);
-    return render_job(req, size);
+    int status = render_job(req, size);
+    link_exit_status(status); /* (made mpirun's under --enable-recovery) */
+    return status;
 }
 
 int render_rank(void)

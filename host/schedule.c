@@ -13,6 +13,9 @@
  * counts the items of tile t not yet done (1, or 4 once split into
  * quarters, less the one already sent), so sched_done can say when a tile
  * is complete.  Out of memory while splitting, the tile is sent whole.
+ * Requeued items (a lost worker's) wait in `again`, first out first; the
+ * static queue of a lost worker is served to any worker whose own is
+ * empty.
  */
 #include "schedule.h"
 
@@ -45,8 +48,9 @@ bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int t
     s->tile_left = calloc(n, sizeof *s->tile_left);
     s->first = malloc(w * sizeof *s->first);
     s->last = malloc(w * sizeof *s->last);
+    s->released = calloc(w, sizeof *s->released);
     if (!s->items || !s->fifo || !s->heap || !s->next_of || !s->tile_left || !s->first ||
-        !s->last)
+        !s->last || !s->released)
         return false;
     for (size_t i = 0; i < w; i++)
         s->first[i] = s->last[i] = -1;
@@ -62,6 +66,8 @@ void sched_free(sched *s)
     free(s->tile_left);
     free(s->first);
     free(s->last);
+    free(s->again);
+    free(s->released);
     memset(s, 0, sizeof *s);
 }
 
@@ -178,9 +184,10 @@ void sched_close(sched *s)
 /* Whole tiles ready and not yet sent (static: every worker's). */
 static int sched_waiting(const sched *s)
 {
+    int again = s->again_n - s->again_head;
     if (s->policy == SCHED_STATIC)
-        return s->added - s->dispatched;
-    return s->heap_n + (s->fifo_n - s->fifo_head);
+        return again + s->added - s->popped;
+    return again + s->heap_n + (s->fifo_n - s->fifo_head);
 }
 
 /* Splits whole tile `item` into its quarters, queued in `front`; false
@@ -216,18 +223,34 @@ static bool sched_split(sched *s, int item)
     return true;
 }
 
+/* Static: the head of worker w's queue, or -1. */
+static int sched_pop_static(sched *s, int w)
+{
+    int item = s->first[w];
+    if (item >= 0) {
+        s->first[w] = s->next_of[item];
+        if (s->first[w] < 0)
+            s->last[w] = -1;
+        s->popped++;
+    }
+    return item;
+}
+
+/* Static: worker w's queue, then a lost worker's. */
+static int sched_pop_static_any(sched *s, int w)
+{
+    int item = sched_pop_static(s, w);
+    for (int v = 0; item < 0 && v < s->workers; v++)
+        if (s->released[v])
+            item = sched_pop_static(s, v);
+    return item;
+}
+
 /* The next whole tile in policy order for worker w, or -1. */
 static int sched_pop(sched *s, int w)
 {
-    if (s->policy == SCHED_STATIC) {
-        int item = s->first[w];
-        if (item >= 0) {
-            s->first[w] = s->next_of[item];
-            if (s->first[w] < 0)
-                s->last[w] = -1;
-        }
-        return item;
-    }
+    if (s->policy == SCHED_STATIC)
+        return sched_pop_static_any(s, w);
     if (s->heap_n > 0)
         return sched_heap_pop(s);
     return s->fifo_head < s->fifo_n ? s->fifo[s->fifo_head++] : -1;
@@ -242,7 +265,9 @@ static bool sched_in_tail(const sched *s)
 int sched_next(sched *s, int w, double now)
 {
     int item = -1;
-    if (s->front_head < s->front_n) {
+    if (s->again_head < s->again_n) {
+        item = s->again[s->again_head++];
+    } else if (s->front_head < s->front_n) {
         item = s->front[s->front_head++];
     } else {
         bool tail = sched_in_tail(s);
@@ -255,6 +280,28 @@ int sched_next(sched *s, int w, double now)
     s->items[item].order = s->dispatched++;
     s->items[item].sent_s = now;
     return item;
+}
+
+bool sched_requeue(sched *s, int item)
+{
+    if (s->again_n == s->again_cap) {
+        int cap = s->again_cap ? s->again_cap * 2 : 8;
+        int *grown = realloc(s->again, (size_t)cap * sizeof *grown);
+        if (!grown)
+            return false;
+        s->again = grown;
+        s->again_cap = cap;
+    }
+    s->again[s->again_n++] = item;
+    s->items[item].worker = -1;
+    s->requeued++;
+    return true;
+}
+
+void sched_release(sched *s, int w)
+{
+    if (w >= 0 && w < s->workers)
+        s->released[w] = true;
 }
 
 bool sched_finished(const sched *s)

@@ -19,6 +19,10 @@
  *           quarters, so the last workers finish within a quarter tile of
  *           each other (VM_pRAY's small work items, at the end only).
  *
+ * A worker that is lost (its process died) hands its items back
+ * (sched_requeue): they go out again before anything else, to whoever
+ * asks; sched_release gives a lost worker's static share to the others.
+ *
  * Every item records where it went and what it cost (the tile log,
  * host/stats.h).  Items are referred to by their index in `items`, which
  * only grows (pieces are appended), so an index stays valid.
@@ -71,7 +75,12 @@ typedef struct {
     int front[4];       /* tail: the pieces of the tile being split       */
     int front_head, front_n;
     int *tile_left;     /* items of each tile not yet done                */
-    int dispatched;     /* items handed out                               */
+    int dispatched;     /* items handed out (a requeued one twice)       */
+    int *again;         /* requeued items, again_head .. again_n          */
+    int again_head, again_n, again_cap;
+    int requeued;       /* items handed back by lost workers             */
+    int popped;         /* static: whole tiles taken from the queues     */
+    bool *released;     /* static: [w] lost, its queue open to all       */
     bool closed;        /* every tile was added or skipped                */
 } sched;
 
@@ -91,6 +100,12 @@ void sched_close(sched *s);
 /* The next item for worker `w` (0 .. workers - 1), marked sent (order and
  * sent_s = now), or -1 when none is ready for it now. */
 int sched_next(sched *s, int w, double now);
+/* Item `item`, handed out to a worker that was lost, is to go out again;
+ * false when out of memory. */
+bool sched_requeue(sched *s, int item);
+/* Worker w (0 .. workers - 1) is lost: static gives its queue (and the
+ * tiles added for it later) to whoever asks. */
+void sched_release(sched *s, int w);
 /* Closed and every item handed out. */
 bool sched_finished(const sched *s);
 /* Item `item` is done; true when that completes its tile. */

@@ -50,7 +50,12 @@
  *   tiles_sent    tiles_total - tiles_degenerate: the tiles of the tile
  *                 phase (sent to workers, or done in-process without any)
  *   items_sent    work items sent: tiles_sent, plus 3 for each tile the
- *                 tail scheduler split into quarters
+ *                 tail scheduler split into quarters, plus items_reassigned
+ *   workers_lost  workers lost during the render (their process died, or
+ *                 they hung: host/master.c); the render went on without
+ *                 them
+ *   items_reassigned  items a lost worker held, sent again to others (or
+ *                 done by the master once every worker was lost)
  *   spp           primary samples a pixel
  *   pixels, pixels_hit, occupancy (pixels_hit / (pixels * spp)):
  *                 pixels_hit counts the primary samples that hit (the
@@ -66,7 +71,8 @@
  *   blob_bytes    size of the flattened scene
  *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
  *                 rays{...}}] one per rank that rendered tiles (rank 0
- *                 alone without workers); tiles: tiles it completed (a
+ *                 alone without workers; rank 0 last when every worker
+ *                 was lost and the master finished the render); tiles: tiles it completed (a
  *                 split tile counts for the rank that returned its last
  *                 piece), items: work items it computed, busy_fraction:
  *                 busy_s / tile_phase_s
@@ -115,6 +121,7 @@ typedef struct render_stats {
     double busy_fraction, estimate_spearman;
     double master_cpu_s;                          /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
+    int workers_lost, items_reassigned; /* a dead worker's items go on  */
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;

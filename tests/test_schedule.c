@@ -7,6 +7,9 @@
  *   - tail splits the last tiles into quarters that partition each tile
  *     exactly, and tells when a tile's last piece is done;
  *   - nothing is handed out twice, everything once, before `finished`;
+ *   - a lost worker's items (sched_requeue) go out again before anything
+ *     else, and `finished` waits for them; a lost worker's static share
+ *     (sched_release) goes to the others, also tiles added later;
  *   - the estimate ranks a mirror sphere over a matte one over the
  *     background, from a real flattened scene and hand-made records;
  *   - Spearman: +1, -1, ties, and NaN where it is undefined.
@@ -121,6 +124,48 @@ static void test_static_assignment(void **state)
     assert_int_equal(drain(&s, 0, got, 8), 3); /* 0, 3, 6 */
     assert_int_equal(s.items[got[2]].tile, 6);
     assert_int_equal(drain(&s, 2, got, 8), 2);
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+}
+
+/* A lost worker's items go out again, first, to whoever asks. */
+static void test_requeue(void **state)
+{
+    (void)state;
+    sched s;
+    int got[8] = {0};
+    filled(&s, SCHED_RASTER, 2, 4, NULL, NULL);
+    assert_int_equal(drain(&s, 0, got, 2), 2); /* tiles 0, 1 to the worker lost */
+    assert_true(sched_requeue(&s, got[1]));
+    assert_true(sched_requeue(&s, got[0]));
+    assert_int_equal(drain(&s, 1, got, 8), 4);
+    int want[4] = {1, 0, 2, 3};
+    for (int i = 0; i < 4; i++)
+        assert_int_equal(s.items[got[i]].tile, want[i]);
+    assert_true(sched_finished(&s));
+    assert_int_equal(s.requeued, 2);
+    assert_int_equal(s.dispatched, 6);
+    sched_free(&s);
+}
+
+/* Static: a lost worker's queue, and tiles added for it later, go to the
+ * others once their own queue is empty. */
+static void test_static_release(void **state)
+{
+    (void)state;
+    sched s;
+    int got[8];
+    assert_true(sched_init(&s, SCHED_STATIC, 2, 2, 6, NULL, NULL));
+    for (int i = 0; i < 4; i++)
+        assert_true(sched_add(&s, i, rect_of(i)));
+    sched_release(&s, 1);
+    assert_int_equal(drain(&s, 0, got, 8), 4); /* 0, 2, then 1, 3 */
+    assert_int_equal(s.items[got[2]].tile, 1);
+    assert_true(sched_add(&s, 4, rect_of(4)));
+    assert_true(sched_add(&s, 5, rect_of(5)));
+    sched_close(&s);
+    assert_false(sched_finished(&s));
+    assert_int_equal(drain(&s, 0, got, 8), 2);
     assert_true(sched_finished(&s));
     sched_free(&s);
 }
@@ -242,6 +287,8 @@ int main(void)
         cmocka_unit_test(test_cost_order),
         cmocka_unit_test(test_cost_without_estimates),
         cmocka_unit_test(test_static_assignment),
+        cmocka_unit_test(test_requeue),
+        cmocka_unit_test(test_static_release),
         cmocka_unit_test(test_tail_split),
         cmocka_unit_test(test_tail_one_pixel),
         cmocka_unit_test(test_spearman),

@@ -15,7 +15,11 @@
  * (link_isend) from one of PROTO_IN_FLIGHT buffers, so the worker starts
  * the next item at once; a buffer is reused only once its send is done.
  *
- * Invariants: the worker never prints (the master reports once) and never
+ * The master's death ends the worker at once (link.h: its watchdog), so
+ * no worker outlives it.
+ *
+ * Invariants: the worker never prints (the master reports once; the one
+ * exception is the line of a worker whose master died) and never
  * exits on its own after the setup: even when it failed it keeps answering
  * until STOP, so that the master can drain and nobody blocks.  No message
  * larger than the largest TILE is ever taken (link_recv's limit), and a
@@ -145,6 +149,7 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         return;
     }
     memcpy(&h, in->data, sizeof h);
+    proto_test_kill(w->rank, "item", w->tiles_done);
     if (w->tiles_done == 0 && w->fail_rank == w->rank) {
         worker_send_fail(h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
         w->tiles_done++;
@@ -160,6 +165,7 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
     size_t n = (size_t)h.width * (size_t)h.height;
     link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot],
                sizeof(proto_result) + n * 3 * sizeof(float), &w->out_req[slot]);
+    proto_test_kill(w->rank, "send", w->tiles_done);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
     w->tiles_done++;
 }
@@ -218,6 +224,7 @@ static int worker_serve(worker_state *w)
             proto_stop stop = {1, 0}; /* a short STOP still stops, with 1 */
             if (m->len >= sizeof stop)
                 memcpy(&stop, m->data, sizeof stop);
+            link_ending(stop.status); /* the master may exit from now on */
             worker_flush(w);
             return stop.status;
         }
@@ -235,6 +242,7 @@ int worker_run(int rank)
     w.rank = rank;
     const char *hook = getenv("CSGTRACE_FAIL_WORKER");
     w.fail_rank = hook ? atoi(hook) : 0;
+    link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;
     if (link_bcast(&setup, sizeof setup) != LINK_OK)
@@ -247,6 +255,7 @@ int worker_run(int rank)
         worker_send_fail(-1, w.failure);
     } else {
         proto_ready ready = {0, 0};
+        proto_test_kill(rank, "ready", 0);
         link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
     }
     int status = worker_serve(&w);

@@ -1,0 +1,214 @@
+#!/usr/bin/env bash
+# e2e_survive.sh — a dead rank under `mpirun --enable-recovery`
+# (host/link.c: the watchdog sockets; host/master.c: lost workers):
+#   - a worker SIGKILLed mid-render (homo and hetero, 3 and 4 ranks): exit
+#     0, the serial image bit for bit, stats workers_lost = 1 and
+#     items_reassigned >= 1, one line on stderr naming the worker;
+#   - every worker SIGKILLed: the master renders the rest itself, exit 0,
+#     the same image, workers_lost = ranks - 1;
+#   - a worker dead before its handshake; a worker killed over TCP; one
+#     killed while its large result is on the way (TCP, shared memory);
+#   - a worker that hangs (alive, silent): written off after its time
+#     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
+#   - the master SIGKILLed: the workers exit by themselves, mpirun exits
+#     non-zero, no image;
+#   - a failed render (bad scene) under --enable-recovery: mpirun exits
+#     non-zero (it would report 0: the master makes it fail);
+# and after every run: no process of the run left, no shared-memory
+# segment or session folder left (Open MPI's go to a private folder).
+# The kills come from the test hook CSGTRACE_TEST_KILL_RANK /
+# CSGTRACE_TEST_KILL_AFTER (host/protocol.h: proto_test_kill).  A worker
+# dies on its second item: the master gives every worker two at once, so
+# even a worker starved of CPU on a loaded machine reaches it.
+# REPEAT=N runs every case N times (default 1).
+# Usage: tests/e2e_survive.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
+export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
+mkdir -p "$T/shm" "$T/sess" "$POCL_CACHE_DIR"
+unset CSGTRACE_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER CSGTRACE_TEST_KILL_AT \
+    CSGTRACE_TEST_HANG
+MPIRUN=(timeout -s KILL 120 mpirun --enable-recovery --bind-to none --oversubscribe)
+SCENE=scenes/csg_ops.pov
+SZ=(--width 96 --height 64 --tile 8)
+REPEAT=${REPEAT:-1}
+
+if [ ! -x "$BIN" ]; then
+    ko "$BIN is not built"
+    e2e_finish
+    exit 1
+fi
+
+# leftovers NAME: processes of run NAME, and Open MPI's files, still there
+# (a process may take a moment to be reaped: up to 10 s).
+leftovers() {
+    local i
+    for i in $(seq 50); do
+        pgrep -f "$T/$1\." >/dev/null || break
+        sleep 0.2
+    done
+    pgrep -f "$T/$1\." >/dev/null && echo "processes"
+    [ -z "$(ls -A "$T/shm")" ] || echo "shm: $(ls "$T/shm" | head -3)"
+    [ -z "$(find "$T/sess" -mindepth 1 -maxdepth 2)" ] || echo "session folders"
+}
+
+# run NAME NP ARGS...: mpirun with recovery; rc in $rc, stderr in NAME.err.
+run() {
+    local name=$1 np=$2
+    shift 2
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} "${MPIRUN[@]}" -np "$np" "$BIN" render \
+        "$SCENE" "${SZ[@]}" -o "$T/$name.exr" --stats "$T/$name.json" "$@" \
+        >"$T/$name.out" 2>"$T/$name.err"
+    rc=$?
+}
+
+# survived NAME LOST [MIN]: exit 0, the serial image, LOST workers lost
+# and at least MIN items reassigned (default 1), one line per lost worker,
+# nothing left behind; else why not.
+survived() {
+    local name=$1 lost=$2 min=${3:-1} left
+    left=$(leftovers "$name")
+    if [ "$rc" != 0 ]; then
+        echo "exit $rc: $(grep -v PMIX "$T/$name.err" | head -2)"
+    elif ! same "$T/${REF:-ref}.exr" "$T/$name.exr"; then
+        echo "pixels differ from serial"
+    elif ! json "$T/$name.json" "j['workers_lost'] == $lost and j['items_reassigned'] >= $min"; then
+        echo "stats: $(grep -E 'workers_lost|items_reassigned' "$T/$name.json" | tr -d '\n ')"
+    elif [ "$(grep -c ' lost (' "$T/$name.err")" != "$lost" ]; then
+        echo "stderr: $(grep -c ' lost (' "$T/$name.err") lines of a lost worker"
+    elif [ -n "$left" ]; then
+        echo "left behind: $left"
+    fi
+}
+
+# case_check DESCRIPTION FAILURES: one line for the N repetitions.
+case_check() {
+    if [ -z "$2" ]; then ok "$1 ($REPEAT/$REPEAT)"; else ko "$1:$2"; fi
+}
+
+if ! "$BIN" render "$SCENE" "${SZ[@]}" --mode serial -o "$T/ref.exr" >/dev/null 2>&1; then
+    ko "serial reference render"
+    e2e_finish
+    exit 1
+fi
+
+modes=(homo)
+if ! command -v clinfo >/dev/null 2>&1 || [ "$(clinfo -l 2>/dev/null | grep -c Platform)" != 0 ]; then
+    modes+=(hetero)
+fi
+
+for mode in "${modes[@]}"; do
+    for np in 3 4; do
+        fails=""
+        for i in $(seq "$REPEAT"); do
+            name=kill-$mode-$np-$i
+            CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 run "$name" "$np" --mode "$mode"
+            why=$(survived "$name" 1)
+            [ -n "$why" ] && fails="$fails [$i: $why]"
+        done
+        case_check "worker 2 SIGKILLed mid-render ($mode, $np ranks): exit 0, serial image, workers_lost 1, nothing left" "$fails"
+    done
+    np=3
+    [ "$mode" = hetero ] && np=4
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        name=all-$mode-$i
+        CSGTRACE_TEST_KILL_RANK=workers CSGTRACE_TEST_KILL_AFTER=1 run "$name" "$np" --mode "$mode"
+        why=$(survived "$name" $((np - 1)))
+        if [ -z "$why" ] && ! grep -q 'every worker was lost' "$T/$name.err"; then
+            why="no line saying the master finishes alone"
+        fi
+        [ -n "$why" ] && fails="$fails [$i: $why]"
+    done
+    case_check "every worker SIGKILLed ($mode, $np ranks): the master finishes, exit 0, serial image" "$fails"
+done
+
+# Other moments and transports: a worker dead before its handshake; a
+# worker killed over TCP (no shared memory).
+fails=""
+for i in $(seq "$REPEAT"); do
+    name=early-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=ready CSGTRACE_TEST_KILL_AFTER=0 run "$name" 4 --mode homo
+    why=$(survived "$name" 1 0)
+    [ -n "$why" ] && fails="$fails [$i: $why]"
+    name=tcp-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 OMPI_MCA_btl=tcp,self \
+        run "$name" 3 --mode homo
+    why=$(survived "$name" 1)
+    [ -n "$why" ] && fails="$fails [$i tcp: $why]"
+done
+case_check "worker 2 dead before its handshake (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
+
+# Killed while its result (110 KB: 96 x 96 pixels, over every eager
+# limit) is on its way, over TCP and over shared memory.
+SZ=(--width 192 --height 192 --tile 96)
+if "$BIN" render "$SCENE" "${SZ[@]}" --mode serial -o "$T/big.exr" >/dev/null 2>&1; then
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        for btl in tcp vader; do
+            name=send-$btl-$i
+            CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=send CSGTRACE_TEST_KILL_AFTER=0 \
+                OMPI_MCA_btl=$btl,self run "$name" 3 --mode homo
+            why=$(REF=big survived "$name" 1)
+            [ -n "$why" ] && fails="$fails [$i $btl: $why]"
+        done
+    done
+    case_check "worker 2 killed while sending a 110 KB result (homo, 3 ranks, TCP and shared memory): exit 0, serial image" "$fails"
+else
+    ko "serial render at 192x192"
+fi
+SZ=(--width 96 --height 64 --tile 8)
+
+# A hung worker (it waits for ever on its second item, its process alive):
+# written off after the backstop (max(10 x the mean item, 10 s)).
+fails=""
+for i in $(seq "${HANG_REPEAT:-1}"); do
+    name=hang-$i
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 CSGTRACE_TEST_HANG=1 run "$name" 3 --mode homo
+    why=$(survived "$name" 1)
+    if [ -z "$why" ] && ! grep -q 'worker 2 lost (no answer for' "$T/$name.err"; then
+        why="not lost for its silence: $(grep -v PMIX "$T/$name.err" | head -1)"
+    fi
+    [ -n "$why" ] && fails="$fails [$i: $why]"
+done
+REPEAT=${HANG_REPEAT:-1} case_check "a hung worker (homo, 3 ranks): written off after its time limit, exit 0, serial image" "$fails"
+
+fails=""
+for i in $(seq "$REPEAT"); do
+    name=master-$i
+    CSGTRACE_TEST_KILL_RANK=0 CSGTRACE_TEST_KILL_AFTER=3 run "$name" 4 --mode homo
+    left=$(leftovers "$name")
+    if [ "$rc" = 0 ] || [ "$rc" = 137 ]; then
+        fails="$fails [$i: mpirun exit $rc]"
+    elif [ -e "$T/$name.exr" ]; then
+        fails="$fails [$i: an image was written]"
+    elif ! grep -q 'the master is gone' "$T/$name.err"; then
+        fails="$fails [$i: no worker said the master is gone]"
+    elif [ -n "$left" ]; then
+        fails="$fails [$i: left behind: $left]"
+    fi
+done
+case_check "the master SIGKILLed (homo, 4 ranks): the workers exit, mpirun fails, nothing left" "$fails"
+
+printf 'sphere { <0, 0, 0>, 1 @@@ }\n' >"$T/bad.pov"
+ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} "${MPIRUN[@]}" -np 3 "$BIN" render "$T/bad.pov" \
+    --mode homo -o "$T/bad.exr" >"$T/bad.out" 2>"$T/bad.err"
+rc=$?
+if [ "$rc" != 0 ] && [ "$rc" != 137 ] && [ "$(grep -c ': error: ' "$T/bad.err")" = 1 ]; then
+    ok "a bad scene under --enable-recovery: mpirun exits non-zero ($rc), one message"
+else
+    ko "a bad scene under --enable-recovery: mpirun exit $rc, $(grep -c ': error: ' "$T/bad.err") messages"
+fi
+
+run plain-3 3 --mode homo
+if [ "$rc" = 0 ] && same "$T/ref.exr" "$T/plain-3.exr" &&
+    json "$T/plain-3.json" "j['workers_lost'] == 0 and j['items_reassigned'] == 0"; then
+    ok "no rank dies under --enable-recovery: exit 0, serial image, workers_lost 0"
+else
+    ko "no rank dies under --enable-recovery: exit $rc"
+fi
+
+e2e_finish
