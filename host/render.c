@@ -58,6 +58,7 @@
 #include "progress.h"
 #include "protocol.h"
 #include "schedule.h"
+#include "signals.h"
 #include "stats.h"
 
 /* Records a slice of the pipelined pass holds at least: one tile row, or
@@ -335,6 +336,7 @@ static int render_write(const render_request *req, const render_state *rs,
     char err[512] = "";
     if (!req->out_path)
         return EXIT_OK;
+    signals_hold(); /* until the stats are written too (render_job) */
     if (img_write_rgb(req->out_path, rs->image, st->width, st->height, err, sizeof err))
         return EXIT_OK;
     if (strstr(err, "error:"))
@@ -609,6 +611,7 @@ static int render_job(const render_request *req, int ranks)
      * a missing one stops the job before any work. */
     char img_err[512];
     bool img_ready = !req->out_path || img_load(img_err, sizeof img_err);
+    signals_install();
     render_marks mk = {stats_clock(), 0, 0, 0, 0};
     render_state rs;
     render_stats st;
@@ -639,10 +642,13 @@ static int render_job(const render_request *req, int ranks)
     st.workers_lost = ms.workers_lost;
 
     if (status == EXIT_OK) {
+        signals_hold();
         status = render_outputs(req, &rs, &st, mk.start, &d);
         if (status != EXIT_OK && req->out_path) /* a failed render leaves no image */
             unlink(req->out_path);
     }
+    const char *written[] = {req->out_path, req->stats_path, req->tile_log_path};
+    signals_release(written, status == EXIT_OK ? 3 : 0);
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

@@ -1,0 +1,24 @@
+/*
+ * signals.h — SIGINT and SIGTERM during a render: the process that owns
+ * the image stops at once with one line and exit 130 or 143, except while
+ * it writes a file (the image, the stats, the tile log), which it finishes
+ * (and removes again when the render stops there) so that no half-written
+ * or temporary file is ever left behind.  Under mpirun the signal reaches
+ * every rank (mpirun forwards SIGTERM); the workers end by it.
+ */
+#ifndef HOST_SIGNALS_H
+#define HOST_SIGNALS_H
+
+#include <stdbool.h>
+
+/* Installs the handlers (once per process). */
+void signals_install(void);
+
+/* A file write begins / ends: a signal in between waits for its end. */
+void signals_hold(void);
+/* Ends the hold; a signal that came meanwhile stops the process now, after
+ * removing the files of `written` (n paths, NULL entries skipped: the
+ * outputs just completed). */
+void signals_release(const char *const *written, int n);
+
+#endif

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# e2e_signals.sh — SIGINT and SIGTERM during a render (host/signals.c):
+#   - serial: exit 130 (SIGINT) or 143 (SIGTERM), one line on stderr
+#     saying so, no file in the output's folder (image, stats, temporary);
+#   - under mpirun (3 ranks): SIGTERM and SIGINT to mpirun (which forwards
+#     SIGTERM to every rank): mpirun exits non-zero, the master's one line,
+#     no rank left running, no file written.
+# The renders are long (a few seconds at least); the signal comes about a
+# second after the start, while the tiles are traced.
+# Usage: tests/e2e_signals.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
+mkdir -p "$T/shm" "$T/sess"
+"$BIN" gen spheres --count 300 --occupancy 0.6 --seed 2 --width 64 --height 64 \
+    -o "$T/slow.pov" >/dev/null || ko "gen"
+LONG=(--width 3000 --height 3000)
+
+# nothing_written DIR: DIR holds only the captured stdout and stderr
+nothing_written() { [ -z "$(ls -A "$1" | grep -v -e '^out$' -e '^err$')" ]; }
+
+# stopped NAME EXPECTED_STATUS SIGNAL_WORD
+stopped() {
+    local d=$T/$1 rc=$2 want=$3 word=$4
+    if [ "$rc" = "$want" ] && [ "$(wc -l <"$d/err")" = 1 ] &&
+        grep -q "csgtrace: .*($word): the render stopped" "$d/err" && nothing_written "$d"; then
+        ok "$1: exit $rc, one line, nothing written"
+    else
+        ko "$1: exit $rc (wanted $want), stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
+    fi
+}
+
+for sig in INT TERM; do
+    want=$([ $sig = INT ] && echo 130 || echo 143)
+    d=$T/serial-$sig
+    mkdir -p "$d"
+    "$BIN" render "$T/slow.pov" "${LONG[@]}" --mode serial -o "$d/o.png" --stats "$d/o.json" \
+        >"$d/out" 2>"$d/err" &
+    pid=$!
+    sleep 1
+    kill -$sig $pid
+    wait $pid
+    stopped serial-$sig $? $want SIG$sig
+done
+
+for sig in TERM INT; do
+    d=$T/mpi-$sig
+    mkdir -p "$d"
+    timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 3 "$BIN" render "$T/slow.pov" \
+        "${LONG[@]}" --mode homo -o "$d/o.png" --stats "$d/o.json" >"$d/out" 2>"$d/err" &
+    pid=$!
+    sleep 2
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    sleep 1
+    left=$(pgrep -f "render $T/slow.pov" | wc -l)
+    if [ "$rc" != 0 ] && [ "$left" = 0 ] && grep -q 'the render stopped' "$d/err" &&
+        nothing_written "$d"; then
+        ok "mpirun SIG$sig: exit $rc, no rank left, the master's line, nothing written"
+    else
+        ko "mpirun SIG$sig: exit $rc, $left ranks left, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
+    fi
+done
+
+e2e_finish
