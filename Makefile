@@ -8,6 +8,9 @@
 #   make bench    deps + build + the quick benchmark suite (bench/, ~5 min)
 #   make bench-accuracy   the speed-versus-accuracy grid (bench/ACCURACY.md)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
+#   make sim      build/sim/csgsim: the same master and worker built with
+#                 SimGrid's SMPI, tiles replaced by measured costs (bench/sim/)
+#   make bench-scale  the simulated 16..1024-worker grid (bench/SCALE.md)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
 #   make clean
 #
@@ -59,6 +62,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
+.PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps test demo bench bench-full bench-accuracy golden fuzz clean
 all: $(B)/csgtrace $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(TEST_BINS_ASAN)
@@ -145,6 +149,39 @@ fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 	cp scenes/*.pov $(F)/seeds/
 	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
 		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
+
+# ---- the simulated build (SimGrid SMPI) -----------------------------------------
+# The project's own master, scheduler, link and worker compiled with smpicc;
+# what differs: tile_run_rect (workers/tile_sim.c, -DCSG_SIM), the driver
+# (host/sim/main.c) and the link-time stubs (host/sim/stubs.c).  Not part of
+# `make test`'s build: SimGrid is only needed here (make deps-sim).
+S := build/sim
+SIM_CC := smpicc
+SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/ocl.c \
+	$(ENGINE_SRCS),$(ALL_C)) host/sim/main.c host/sim/stubs.c
+SIM_OBJS := $(SIM_SRCS:%.c=$(S)/obj/%.o) $(ENGINE_SRCS:%.c=$(S)/obj/float/%.o) \
+	$(ENGINE_SRCS:%.c=$(S)/obj/double/%.o)
+
+$(S)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+$(S)/obj/float/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+$(S)/obj/double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM -DCSG_DOUBLE $(OPT) -c $< -o $@
+$(S)/csgsim: $(SIM_OBJS)
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit -lm
+
+deps-sim:
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"
+
+sim: deps-sim
+	$(MAKE) $(S)/csgsim
+
+bench-scale: sim $(B)/csgtrace
+	bench/scale.sh
 
 # ---- dependencies --------------------------------------------------------------
 deps:

@@ -49,7 +49,7 @@ bool link_launched_by_mpirun(void)
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
 }
 
-static void link_finalize_at_exit(void)
+void link_finish(void)
 {
     int finalized = 0;
     MPI_Finalized(&finalized);
@@ -64,7 +64,7 @@ bool link_start(int *rank, int *size)
     if (!initialized) {
         if (MPI_Init(NULL, NULL) != MPI_SUCCESS)
             return false;
-        atexit(link_finalize_at_exit);
+        atexit(link_finish);
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     }
     return MPI_Comm_rank(MPI_COMM_WORLD, rank) == MPI_SUCCESS &&

@@ -124,6 +124,10 @@ void link_wake(link_idle *w);
  * a sink). */
 link_status link_bcast(void *data, size_t size);
 
+/* MPI_Finalize now, if it has not run (else it runs at exit): for a
+ * launcher that does not run atexit handlers per rank (SMPI, make sim). */
+void link_finish(void);
+
 /* Ends every rank of the job with `code` (a rank that cannot go on). */
 void link_abort(int code);
 
