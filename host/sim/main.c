@@ -16,6 +16,8 @@
  * proportion to the time elapsed), tiles without hits are skipped, the
  * others queued with the map's estimate.  Homo: every tile at once.
  *
+ * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically).
+ *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
  *          --schedule raster|cost|static|tail --stats FILE.json
  * writes makespan_s (scene broadcast to the last STOP), serial_s (every
@@ -224,6 +226,16 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
     return ok;
 }
 
+/* $CSGSIM_PASS_SCALE: a factor on the recorded pass (bench/simulate.sh
+ * --pass-scale), 1 when unset or not a positive number. */
+static double sim_pass_scale(void)
+{
+    const char *text = getenv("CSGSIM_PASS_SCALE");
+    char *end;
+    double f = text ? strtod(text, &end) : 1;
+    return text && end != text && !*end && f > 0 ? f : 1;
+}
+
 int main(int argc, char **argv)
 {
     int rank = 0, ranks = 1;
@@ -253,7 +265,7 @@ int main(int argc, char **argv)
     run.hetero = a.hetero;
     run.width = a.width;
     run.height = a.height;
-    run.pass_s = a.hetero ? run.costs->pass_s * (double)a.width * a.height /
+    run.pass_s = a.hetero ? sim_pass_scale() * run.costs->pass_s * (double)a.width * a.height /
                                 ((double)run.costs->width * run.costs->height)
                           : 0;
     ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1, &res);
