@@ -49,7 +49,7 @@ WORKERS=(16 64 256 1024) TILES=(128 64 32)
 for s in raster static tail; do point 4096 256 ib homo $s 64 1; done
 for s in raster cost static tail; do point 4096 256 ib hetero $s 64 0.01; done
 # the measured pass (PoCL, 2 CPU cores) against a 100x faster device
-for w in 64 256; do point 4096 "$w" ib hetero cost 64 1; done
+point 4096 64 ib hetero cost 64 1
 # sizes at 64 workers
 for n in 384 1536; do for m in homo hetero; do
     point "$n" 64 ib "$m" "$([ $m = homo ] && echo raster || echo cost)" 16 0.01; done; done

@@ -21,7 +21,7 @@ for mode in homo hetero; do for w in 1 2 3; do for _ in $(seq "$REPEATS"); do
         --height 384 --tile 16 --schedule $sched --stats "$WORK/real.json" \
         --tile-log "$WORK/real.log" >/dev/null 2>&1
     mkdir -p "$WORK/maps"
-    python3 "$ROOT/bench/sim/costmap.py" "$WORK/real.log" "$WORK/real.json" "$WORK/maps/$key-$mode.costs"
+    python3 "$ROOT/bench/sim/costmap.py" "$WORK/maps/$key-$mode.costs" "$WORK/real.json" "$WORK/real.log"
     SIM_MAPS=$WORK/maps "$ROOT/bench/simulate.sh" "$SCENE" --workers $w --mode $mode \
         --schedule $sched --tile 16 --network ib --size 384x384 --stats "$WORK/sim.json" >/dev/null
     python3 - "$WORK/real.json" "$WORK/sim.json" "$w" "$mode" <<'PY'
