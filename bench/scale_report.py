@@ -40,8 +40,40 @@ def fmt(x, spec=".3f"):
     return "n/a" if x is None else format(x, spec)
 
 
+def best_tiles(data):
+    lines = ["## Best tile size (4096x4096; tiles 32, 64, 128 simulated)", "",
+             "| workers | " + " | ".join(f"{n} {m}" for n in NETS for m in ("homo", "hetero")) + " |",
+             "| --- |" + " --- |" * 4]
+    for w in WORKERS:
+        cells = []
+        for n in NETS:
+            for m in ("homo", "hetero"):
+                b = best(data, n, m, w)
+                cells.append(f"{b['tile']} ({100 * b['efficiency']:.0f} %)" if b else "n/a")
+        lines.append(f"| {w} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def schedulers(data):
+    """The four schedulers at 256 workers (4096, ib, tile 64); tail = makespan
+    beyond perfect balance, makespan - serial_s / workers."""
+    lines = ["## Schedulers at 256 workers (4096x4096, InfiniBand, tile 64)", "",
+             "| mode | schedule | pass x | makespan [s] | tail beyond balance [s] | efficiency |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    seen = set()
+    for r in data:
+        key = (r["mode"], r["schedule"], r["pass_scale"])
+        if (r["size"] == 4096 and r["workers"] == 256 and r["network"] == "ib" and r["tile"] == 64
+                and key not in seen):
+            seen.add(key)
+            tail = r["makespan_s"] - r["serial_s"] / r["workers"]
+            lines.append(f"| {r['mode']} | {r['schedule']} | {r['pass_scale']:g} | "
+                         f"{r['makespan_s']:.4f} | {tail:.4f} | {100 * r['efficiency']:.1f} % |")
+    return lines
+
+
 def tables(data):
-    lines = ["## Efficiency at 4096x4096, the best tile of each point", "",
+    lines = best_tiles(data) + [""] + schedulers(data) + [""] + ["## Efficiency at 4096x4096, the best tile of each point", "",
              "| network | mode | workers | best tile | makespan [s] | efficiency | master busy |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
     for net in NETS:
