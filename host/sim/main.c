@@ -216,6 +216,9 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done};
         link_idle_free(&idle);
         sched_free(&run->s);
+    } else { /* out of memory before the start: the workers still need a STOP */
+        master_begin(&m, ranks);
+        master_end(&m, 1);
     }
     if (d.failed)
         fprintf(stderr, "%s\n", d.message);
