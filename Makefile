@@ -12,6 +12,9 @@
 #   make bench-primary    the primary pass's throughput: both OpenCL kernel
 #                 variants against the C worker (bench/primary_pass.sh)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
+#   make sim      build/sim/csgsim: the same master and worker built with
+#                 SimGrid's SMPI, tiles replaced by measured costs (bench/sim/)
+#   make bench-scale  the simulated 16..1024-worker grid (bench/SCALE.md)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
 #   make clean
 #
@@ -75,6 +78,7 @@ LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
+.PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
 	clean
 all: $(B)/csgtrace $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
@@ -186,6 +190,39 @@ $(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODU
 $(B)/bench/embree_primary: bench/embree_primary.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(OPT) $< -o $@ -lembree3 -lm
+
+# ---- the simulated build (SimGrid SMPI) -----------------------------------------
+# The project's own master, scheduler, link and worker compiled with smpicc;
+# what differs: tile_run_rect (workers/tile_sim.c, -DCSG_SIM), the driver
+# (host/sim/main.c) and the link-time stubs (host/sim/stubs.c).  Not part of
+# `make test`'s build: SimGrid is only needed here (make deps-sim).
+S := build/sim
+SIM_CC := smpicc
+SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/ocl.c \
+	$(ENGINE_SRCS),$(ALL_C)) host/sim/main.c host/sim/stubs.c
+SIM_OBJS := $(SIM_SRCS:%.c=$(S)/obj/%.o) $(ENGINE_SRCS:%.c=$(S)/obj/float/%.o) \
+	$(ENGINE_SRCS:%.c=$(S)/obj/double/%.o)
+
+$(S)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+$(S)/obj/float/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+$(S)/obj/double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM -DCSG_DOUBLE $(OPT) -c $< -o $@
+$(S)/csgsim: $(SIM_OBJS)
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit -lm
+
+deps-sim:
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"
+
+sim: deps-sim
+	$(MAKE) $(S)/csgsim
+
+bench-scale: sim $(B)/csgtrace
+	bench/scale.sh
 
 # ---- dependencies --------------------------------------------------------------
 deps-bench:

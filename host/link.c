@@ -298,6 +298,14 @@ static void link_watch_connect(const link_watch_addr *a)
         pthread_detach(th);
 }
 
+#ifdef CSG_SIM
+/* The simulated ranks (make sim: SMPI) are threads of one process: there
+ * is no process to watch, and no watchdog socket. */
+#define LINK_WATCHDOG 0
+#else
+#define LINK_WATCHDOG 1
+#endif
+
 /* Every rank, once after MPI_Init: the watchdog sockets set up. */
 static void link_watch_start(void)
 {
@@ -308,7 +316,7 @@ static void link_watch_start(void)
         link_w.fd = malloc((size_t)link_w.size * sizeof *link_w.fd);
         for (int r = 0; link_w.fd && r < link_w.size; r++)
             link_w.fd[r] = -1;
-        if (link_w.fd && link_w.size > 1)
+        if (link_w.fd && link_w.size > 1 && LINK_WATCHDOG)
             lfd = link_listen(&a);
     }
     if (MPI_Bcast(&a, sizeof a, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS || a.port == 0)
@@ -359,7 +367,9 @@ void link_exit_status(int status)
         link_w.status = link_w.status ? link_w.status : status;
 }
 
-static void link_finalize_at_exit(void)
+/* MPI_Finalize once (at exit, or sooner: link_finish), after telling every
+ * watched worker goodbye; a failed job fails mpirun too (link_fail_job). */
+void link_finish(void)
 {
     int finalized = 0;
     atomic_store(&link_w.ending, -1); /* the master's EOF is expected now */
@@ -381,7 +391,7 @@ bool link_start(int *rank, int *size)
         setenv("OMPI_MCA_async_mpi_finalize", "1", 0); /* (the header) */
         if (MPI_Init(NULL, NULL) != MPI_SUCCESS)
             return false;
-        atexit(link_finalize_at_exit);
+        atexit(link_finish);
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
         if (MPI_Comm_rank(MPI_COMM_WORLD, &link_w.rank) != MPI_SUCCESS ||
             MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS)

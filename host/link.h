@@ -155,6 +155,9 @@ void link_exit_status(int status);
  * ends the job and exits 1 (it reports 0 otherwise, whatever the ranks
  * return).  Does nothing otherwise. */
 void link_fail_job(void);
+/* MPI_Finalize now, if it has not run (else it runs at exit): for a
+ * launcher that does not run atexit handlers per rank (SMPI, make sim). */
+void link_finish(void);
 
 /* Ends every rank of the job with `code` (a rank that cannot go on). */
 void link_abort(int code);

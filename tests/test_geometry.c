@@ -930,6 +930,7 @@ static csg_camera camera(void)
         c.right[i] = right[i];
         c.up[i] = up[i];
     }
+    c.hither = 0; /* rays start at location (was left unset: ASan runs read garbage) */
     return c;
 }
 

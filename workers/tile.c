@@ -110,6 +110,7 @@ void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_
     tile_run_rect(tr, tile_rect_of(&tr->grid, index), records, rgb, res);
 }
 
+#ifndef CSG_SIM /* the simulated build's is in tile_sim.c */
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
@@ -128,3 +129,4 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
         res->hits += surf[i] != CSG_SURF_NONE;
     res->busy_s = tile_clock() - t0;
 }
+#endif

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""costmap.py OUT STATS_JSON TILE_LOG [STATS_JSON TILE_LOG ...] — tile logs
+of real renders of one configuration, reduced to the cost map the simulated
+build reads (workers/tile_sim.h).
+
+Several renders: each cell gets its smallest seconds and the pass its
+smallest duration.  On a shared machine a tile's seconds include any time
+the worker was preempted (a few ms, against a mean of 0.2 ms: seen here),
+and one such outlier, scaled up to a 4096x4096 tile, becomes the tail of
+every simulation; the minimum of a few renders drops it.
+
+The log must come from a render with whole tiles only (any schedule but
+tail): every tile is one cell, its seconds / hits / estimate the cell's.
+Skipped tiles (hetero, no hit) are cells of zero.  pass_s is the stats'
+pass_s in hetero (the OpenCL pass, pipelined) and 0 in homo.
+"""
+import json
+import sys
+
+
+def load(log_path, stats_path):
+    stats = json.load(open(stats_path))
+    cells = {}
+    for line in open(log_path):
+        it = json.loads(line)
+        if it["piece"] != 0:
+            sys.exit("costmap.py: a split tile in the log (record without --schedule tail)")
+        cells[it["tile"]] = it
+    return stats, cells
+
+
+def reduce(pairs):
+    """Per cell (seconds, hits, estimate) and pass_s: the minimum over renders."""
+    cells, pass_s, first = None, None, None
+    for stats_path, log_path in pairs:
+        stats, items = load(log_path, stats_path)
+        key = (stats["width"], stats["height"], stats["tile"], stats["mode"])
+        if first and key != first:
+            sys.exit("costmap.py: the renders differ in size, tile or mode")
+        first = key
+        count = ((key[0] + key[2] - 1) // key[2]) * ((key[1] + key[2] - 1) // key[2])
+        if sorted(items) != list(range(count)):
+            sys.exit("costmap.py: a log does not cover every tile once")
+        got = [(0.0 if it["skipped"] else float(it["seconds"]), int(it["hits"]),
+                float(it["estimate"] or 0.0)) for it in (items[i] for i in range(count))]
+        cells = got if cells is None else [(min(a[0], b[0]), a[1], a[2]) for a, b in zip(cells, got)]
+        p = float(stats.get("pass_s") or 0) if key[3] == "hetero" else 0.0
+        pass_s = p if pass_s is None else min(pass_s, p)
+    return first, cells, pass_s
+
+
+def main():
+    if len(sys.argv) < 4 or len(sys.argv) % 2:
+        sys.exit(__doc__)
+    pairs = list(zip(sys.argv[2::2], sys.argv[3::2]))
+    (width, height, tile, _), cells, pass_s = reduce(pairs)
+    with open(sys.argv[1], "w") as out:
+        out.write(f"csgsim-costs 1 {width} {height} {tile} {pass_s:.9g}\n")
+        for sec, hits, est in cells:
+            out.write(f"{sec:.9g} {hits} {est:.9g}\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# bench/simulate.sh — one point of the simulated cluster (make sim; bench/SCALE.md).
+#
+#   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
+#       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F] --stats F.json
+#
+# 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
+#    scene's sha256): three real renders at 384x384, tile 8, raster, 1 master
+#    + 1 worker (mpirun -np 2), their tile logs reduced by bench/sim/costmap.py
+#    (each cell's minimum: preemption on a shared machine only adds).
+#    Other sizes scale this map (workers/tile_sim.h): a pixel of a 4096x4096
+#    image costs what the recorded pixel under it cost, the pass scales with
+#    the pixel count.  Not a real 4096x4096 render: an estimate from 384x384.
+# 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks.
+# 3. F.json: the driver's object plus network and pass_scale.
+# --pass-scale F (default 1) multiplies the measured OpenCL pass (hetero):
+# 1 is PoCL on this machine's 2 CPU cores; 0.01 stands for a device 100
+# times faster (a GPU-class accelerator): a hypothesis, labelled as such.
+# Arguments are checked against fixed patterns and passed as separate words;
+# nothing from them is ever evaluated.
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+CSGTRACE=${CSGTRACE:-$ROOT/build/csgtrace}
+CSGSIM=${CSGSIM:-$ROOT/build/sim/csgsim}
+MAPS=${SIM_MAPS:-$ROOT/build/sim/maps}
+REC_SIZE=384 REC_TILE=8
+
+die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1
+[ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
+SCENE=$1; shift
+while [ $# -gt 0 ]; do
+    [ $# -ge 2 ] || die "$1 needs a value"
+    case "$1" in
+    --workers) WORKERS=$2 ;;
+    --mode) MODE=$2 ;;
+    --schedule) SCHEDULE=$2 ;;
+    --tile) TILE=$2 ;;
+    --network) NETWORK=$2 ;;
+    --size) SIZE=$2 ;;
+    --stats) STATS=$2 ;;
+    --pass-scale) PASS_SCALE=$2 ;;
+    *) die "unknown option '$1'" ;;
+    esac
+    shift 2
+done
+[ -f "$SCENE" ] || die "no scene file '$SCENE'"
+[[ "$WORKERS" =~ ^[1-9][0-9]{0,3}$ ]] && [ "$WORKERS" -le 1024 ] || die "--workers: 1..1024"
+[[ "$MODE" =~ ^(homo|hetero)$ ]] || die "--mode: homo or hetero"
+[ -n "$SCHEDULE" ] || { [ "$MODE" = hetero ] && SCHEDULE=cost || SCHEDULE=raster; }
+[[ "$SCHEDULE" =~ ^(raster|cost|static|tail)$ ]] || die "--schedule: raster, cost, static or tail"
+[[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
+[[ "$NETWORK" =~ ^(gige|ib)$ ]] || die "--network: gige or ib"
+[[ "$SIZE" =~ ^([1-9][0-9]{0,4})x([1-9][0-9]{0,4})$ ]] || die "--size: WxH"
+WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
+[[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
+[ -n "$STATS" ] || die "--stats FILE.json is required"
+[ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
+
+# 1. the cost map (recorded once per scene and mode)
+key=$(sha256sum "$SCENE" | cut -c1-16)
+map=$MAPS/$key-$MODE.costs
+if [ ! -f "$map" ]; then
+    [ -x "$CSGTRACE" ] || die "$CSGTRACE missing: make"
+    mkdir -p "$MAPS"
+    rec=$(mktemp -d)
+    trap 'rm -rf "$rec"' EXIT
+    pairs=()
+    for k in 1 2 3; do # three renders: each cell's minimum (costmap.py)
+        OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np 2 \
+            "$CSGTRACE" render "$SCENE" -o "$rec/img.png" --mode "$MODE" --width $REC_SIZE \
+            --height $REC_SIZE --tile $REC_TILE --schedule raster --stats "$rec/$k.json" \
+            --tile-log "$rec/$k.log" >&2
+        pairs+=("$rec/$k.json" "$rec/$k.log")
+    done
+    python3 "$ROOT/bench/sim/costmap.py" "$rec/map" "${pairs[@]}"
+    mv "$rec/map" "$map"
+fi
+
+# 2. the simulation
+work=$(mktemp -d)
+trap 'rm -rf "$work" ${rec:+"$rec"}' EXIT
+seq 0 "$WORKERS" | sed 's/^/node-/' >"$work/hosts"
+# Per-message costs: a poll (MPI_Iprobe, MPI_Test) 0.1 us; sending or
+# receiving a message takes its rank 5 us + 0.2 ns a byte; messages up to
+# 64 KiB are eager (Open MPI's TCP eager limit): they travel before the
+# receive is posted (bench/SCALE.md).
+# GigE keeps SMPI's default latency/bandwidth factors (fitted to MPI over
+# TCP on Ethernet); InfiniBand gets none (RDMA).
+opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:1e-7
+      --cfg=smpi/os:0:5e-6:2e-10 --cfg=smpi/or:0:5e-6:2e-10 --cfg=smpi/host-speed:1Gf
+      --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536
+      --log=root.thres:error)
+[ "$NETWORK" = ib ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
+CSGSIM_COSTS=$map CSGSIM_PASS_SCALE=$PASS_SCALE smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
+    -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" --stats "$work/out.json" \
+    >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
+python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["network"] = sys.argv[2]
+d["pass_scale"] = float(sys.argv[4])
+with open(sys.argv[3], "w") as f:
+    json.dump(d, f)
+    f.write("\n")
+PY

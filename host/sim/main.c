@@ -1,0 +1,283 @@
+/*
+ * main.c — the driver of the simulated build (make sim; bench/simulate.sh).
+ *
+ * Built with smpicc and run by smpirun on a platform file: rank 0 runs the
+ * project's own master (host/master.c, scheduler host/schedule.c, link
+ * host/link.c), ranks 1.. the project's own worker loop (workers/worker.c);
+ * only tile_run_rect differs (workers/tile_sim.c: the measured seconds of
+ * the rectangle, from the cost map in $CSGSIM_COSTS, executed on the
+ * simulated host).  The scene is loaded and flattened for real, so the
+ * broadcast carries the real blob; hetero tiles carry their hit records
+ * (zeros of the real size), results the real pixels' bytes.
+ *
+ * Hetero: the OpenCL pass is a duration (the map's pass_s scaled by the
+ * pixel count), done by a device beside the master: the feed releases the
+ * tile rows a pipelined pass would have finished by now (rows in
+ * proportion to the time elapsed), tiles without hits are skipped, the
+ * others queued with the map's estimate.  Homo: every tile at once.
+ *
+ * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically).
+ *
+ *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
+ *          --schedule raster|cost|static|tail --stats FILE.json
+ * writes makespan_s (scene broadcast to the last STOP), serial_s (every
+ * item's seconds, plus the pass in hetero), efficiency and master_busy
+ * (1 - the simulated seconds the master napped / makespan).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../../csg/load.h"
+#include "../../workers/tile_sim.h"
+#include "../../workers/worker.h"
+#include "../link.h"
+#include "../master.h"
+#include "../protocol.h"
+#include "stubs.h"
+
+typedef struct {
+    const char *scene, *stats, *mode_name;
+    bool hetero;
+    int width, height, tile, policy;
+} sim_args;
+
+typedef struct {
+    const sim_costs *costs;
+    sched s;
+    double pass_s, pass_t0;  /* the pass: its duration, its start       */
+    int tile_rows_known;
+    double serial_s;         /* the items' seconds, the pass included   */
+    bool hetero;
+    int width, height;
+} sim_run;
+
+static bool sim_int(const char *text, int lo, int hi, int *out)
+{
+    char *end;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end || v < lo || v > hi)
+        return false;
+    *out = (int)v;
+    return true;
+}
+
+static bool sim_policy(const char *text, int *out)
+{
+    for (int p = 0; p < SCHED_POLICIES; p++)
+        if (strcmp(text, sched_policy_name((enum sched_policy)p)) == 0) {
+            *out = p;
+            return true;
+        }
+    return false;
+}
+
+static bool sim_option(sim_args *a, const char *key, const char *v)
+{
+    if (strcmp(key, "--mode") == 0) {
+        a->hetero = strcmp(v, "hetero") == 0;
+        a->mode_name = a->hetero ? "hetero" : "homo";
+        return a->hetero || strcmp(v, "homo") == 0;
+    }
+    if (strcmp(key, "--width") == 0)
+        return sim_int(v, 1, 16384, &a->width);
+    if (strcmp(key, "--height") == 0)
+        return sim_int(v, 1, 16384, &a->height);
+    if (strcmp(key, "--tile") == 0)
+        return sim_int(v, 1, 4096, &a->tile);
+    if (strcmp(key, "--schedule") == 0)
+        return sim_policy(v, &a->policy);
+    if (strcmp(key, "--stats") == 0) {
+        a->stats = v;
+        return true;
+    }
+    return false;
+}
+
+static bool sim_parse(int argc, char **argv, sim_args *a)
+{
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1};
+    for (int i = 1; i < argc; i++) {
+        if (argv[i][0] != '-' && !a->scene)
+            a->scene = argv[i];
+        else if (i + 1 >= argc || !sim_option(a, argv[i], argv[i + 1]))
+            return false;
+        else
+            i++;
+    }
+    if (a->policy < 0)
+        a->policy = a->hetero ? SCHED_COST : SCHED_RASTER;
+    return a->scene && a->stats;
+}
+
+static bool sim_load(const sim_args *a, csg_blob *blob)
+{
+    csg_scene s;
+    csg_diag d = {{0}, 0};
+    csg_flatten_opts o = {a->width, a->height, 0, -1, 1};
+    csg_scene_init(&s);
+    bool ok = csg_load_file(a->scene, &s, &d) && engine_float.flatten(&s, &o, blob, &d) &&
+              csg_blob_valid(blob->bytes, blob->size);
+    if (!ok)
+        fprintf(stderr, "%s\n", d.failed ? d.message : "csgsim: cannot load the scene");
+    csg_scene_free(&s);
+    return ok;
+}
+
+static sim_cost sim_rect_cost(const sim_run *run, tile_rect r)
+{
+    return sim_costs_rect(run->costs, run->width, run->height, r);
+}
+
+static double sim_estimate(void *arg, tile_rect r)
+{
+    return sim_rect_cost(arg, r).estimate;
+}
+
+/* master_job.feed: the tile rows the pass has finished by now. */
+static int sim_feed(master_job *job, bool wait, csg_diag *d)
+{
+    (void)wait;
+    sim_run *run = job->feed_arg;
+    const tile_grid *g = &job->grid;
+    int columns = tile_columns(g), tile_rows = tile_count(g) / columns, known = 0;
+    double done = run->pass_s > 0 ? (stats_clock() - run->pass_t0) / run->pass_s : 1;
+    double rows = done >= 1 ? g->height : done * g->height;
+    for (; run->tile_rows_known < tile_rows; run->tile_rows_known++) {
+        int ty = run->tile_rows_known, bottom = (ty + 1) * g->tile;
+        if ((bottom < g->height ? bottom : g->height) > rows)
+            break;
+        for (int i = ty * columns; i < (ty + 1) * columns; i++, known++) {
+            tile_rect r = tile_rect_of(g, i);
+            sim_cost c = sim_rect_cost(run, r);
+            bool skip = run->hetero && c.hits < 0.5;
+            run->serial_s += skip ? 0 : c.seconds;
+            if (!(skip ? sched_skip(&run->s, i, r) : sched_add(&run->s, i, r))) {
+                csg_error_plain(d, "csgsim: out of memory for the work items");
+                return -1;
+            }
+        }
+    }
+    if (run->tile_rows_known == tile_rows && !run->s.closed)
+        sched_close(&run->s);
+    return known;
+}
+
+typedef struct {
+    double makespan_s, napped_s;
+    int items;
+} sim_result;
+
+static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
+{
+    FILE *f = fopen(a->stats, "w");
+    if (!f)
+        return false;
+    double serial = run->serial_s + run->pass_s;
+    fprintf(f, "{\"workers\": %d, \"mode\": \"%s\", \"schedule\": \"%s\", \"tile\": %d, "
+               "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
+               "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
+               "\"master_busy\": %.6f}\n",
+            workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
+            a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
+            serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s);
+    return fclose(f) == 0;
+}
+
+/* The master's whole job: broadcast, tiles, STOP; false on a failure. */
+static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, int ranks,
+                       sim_result *out)
+{
+    master_session m;
+    master_job job;
+    link_idle idle;
+    csg_diag d = {{0}, 0};
+    memset(&job, 0, sizeof job);
+    job.grid = tile_grid_of(blob->bytes, a->tile);
+    size_t n = (size_t)a->width * (size_t)a->height;
+    job.image = calloc(n * 3, sizeof *job.image);
+    job.workers = calloc((size_t)ranks, sizeof *job.workers);
+    void *t = run->hetero ? calloc(n, job.grid.real_size) : NULL;
+    uint32_t *surf = run->hetero ? calloc(n, sizeof *surf) : NULL;
+    bool ok = job.image && job.workers && (!run->hetero || (t && surf)) && master_idle_init(&idle) &&
+              sched_init(&run->s, (enum sched_policy)a->policy, ranks - 1, PROTO_IN_FLIGHT,
+                         tile_count(&job.grid), run->hetero ? sim_estimate : NULL, run);
+    if (ok) {
+        job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
+                           .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
+                           .image = job.image, .workers = job.workers};
+        sim_watch_naps(&idle.wake);
+        double t0 = stats_clock();
+        master_begin(&m, ranks);
+        master_share_scene(&m, 0, a->tile, blob);
+        run->pass_t0 = stats_clock();
+        ok = master_run_tiles(&m, &job, &d);
+        master_end(&m, ok ? 0 : 1);
+        *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done};
+        link_idle_free(&idle);
+        sched_free(&run->s);
+    } else { /* out of memory before the start: the workers still need a STOP */
+        master_begin(&m, ranks);
+        master_end(&m, 1);
+    }
+    if (d.failed)
+        fprintf(stderr, "%s\n", d.message);
+    free(job.image);
+    free(job.workers);
+    free(t);
+    free(surf);
+    return ok;
+}
+
+/* $CSGSIM_PASS_SCALE: a factor on the recorded pass (bench/simulate.sh
+ * --pass-scale), 1 when unset or not a positive number. */
+static double sim_pass_scale(void)
+{
+    const char *text = getenv("CSGSIM_PASS_SCALE");
+    char *end;
+    double f = text ? strtod(text, &end) : 1;
+    return text && end != text && !*end && f > 0 ? f : 1;
+}
+
+int main(int argc, char **argv)
+{
+    int rank = 0, ranks = 1;
+    if (!link_start(&rank, &ranks))
+        return 1;
+    if (rank != 0) {
+        int status = worker_run(rank);
+        link_finish();
+        return status;
+    }
+    sim_args a;
+    csg_blob blob = {NULL, 0};
+    sim_run run;
+    sim_result res;
+    memset(&run, 0, sizeof run);
+    run.costs = sim_costs_shared();
+    if (!sim_parse(argc, argv, &a) || ranks < 2 || !run.costs) {
+        fprintf(stderr, "usage: smpirun -np K csgsim SCENE --mode homo|hetero --width W "
+                        "--height H --tile T --schedule S --stats FILE (CSGSIM_COSTS=map)\n");
+        master_session m;
+        master_begin(&m, ranks);
+        master_end(&m, 2);
+        link_finish();
+        return 2;
+    }
+    bool ok = sim_load(&a, &blob);
+    run.hetero = a.hetero;
+    run.width = a.width;
+    run.height = a.height;
+    run.pass_s = a.hetero ? sim_pass_scale() * run.costs->pass_s * (double)a.width * a.height /
+                                ((double)run.costs->width * run.costs->height)
+                          : 0;
+    ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1, &res);
+    if (!blob.bytes) {
+        master_session m;
+        master_begin(&m, ranks);
+        master_end(&m, 2);
+    }
+    csg_blob_free(&blob);
+    link_finish();
+    return ok ? 0 : 1;
+}
