@@ -114,9 +114,9 @@ static bool sim_load(const sim_args *a, csg_blob *blob)
 {
     csg_scene s;
     csg_diag d = {{0}, 0};
-    csg_flatten_opts o = {a->width, a->height, 0, -1, 1};
+    csg_flatten_opts o = {a->width, a->height, 0, -1, 1, 0};
     csg_scene_init(&s);
-    bool ok = csg_load_file(a->scene, &s, &d) && engine_float.flatten(&s, &o, blob, &d) &&
+    bool ok = csg_load_file(a->scene, NULL, &s, &d) && engine_float.flatten(&s, &o, blob, &d) &&
               csg_blob_valid(blob->bytes, blob->size);
     if (!ok)
         fprintf(stderr, "%s\n", d.failed ? d.message : "csgsim: cannot load the scene");
