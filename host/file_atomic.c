@@ -7,7 +7,18 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+/* What fopen would give a new file: 0666 less the umask (mkstemp's 0600
+ * would hide a render from the other users of a shared folder).  The
+ * umask is read by setting it and setting it back at once. */
+static mode_t file_default_mode(void)
+{
+    mode_t mask = umask(077);
+    umask(mask);
+    return 0666 & ~mask;
+}
 
 /* print(f, arg) into `path`, through a temporary file renamed when
  * complete; false with a message in err. */
@@ -24,7 +35,7 @@ bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
     }
     snprintf(tmp, n, "%s.tmp.XXXXXX", path);
     fd = mkstemp(tmp);
-    if (fd < 0)
+    if (fd < 0 || fchmod(fd, file_default_mode()) != 0)
         goto fail;
     f = fdopen(fd, "w");
     if (!f)

@@ -26,6 +26,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vector>
 
@@ -89,6 +90,15 @@ bool create_temp_for(const std::string &path, std::string &tmp)
     int fd = mkstemps(name.data(), (int)suffix.size());
     if (fd < 0)
         return false;
+    mode_t mask = umask(077); /* the mode fopen would give: 0666 less the umask */
+    umask(mask);
+    if (fchmod(fd, 0666 & ~mask) != 0) {
+        int e = errno;
+        close(fd);
+        unlink(name.data());
+        errno = e;
+        return false;
+    }
     close(fd);
     tmp = name.data();
     return true;

@@ -81,6 +81,13 @@ if [ "$(cat "$P/victim")" = precious ] && [ -s "$P/plant/out.png" ] && [ ! -L "$
 else
     ko "planted links: the victim holds '$(head -c 40 "$P/victim")'"
 fi
+want_mode=$(printf '%o' $((0666 & ~0$(umask))))
+modes="$(stat -c %a "$P/plant/out.png" "$P/plant/out.json" "$P/plant/gen.pov" 2>/dev/null | sort -u)"
+if [ "$modes" = "$want_mode" ]; then
+    ok "image, stats and scene have fopen's mode under this umask ($want_mode)"
+else
+    ko "output modes '$modes', wanted $want_mode (umask $(umask))"
+fi
 if ls -a "$P/plant" | grep -Eq '\.[A-Za-z0-9]{6}(\.png)?$|tmp\.[A-Za-z0-9]{6}$'; then
     ko "a temporary file was left behind: $(ls -a "$P/plant" | grep -E '[A-Za-z0-9]{6}' | head -3)"
 else
