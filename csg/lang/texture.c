@@ -387,9 +387,17 @@ bool lang_parse_finish(parser *p, csg_finish *f)
                 return false;
             continue;
         }
+        case CSG_KW_METALLIC: /* the amount is optional: 1 */
+            if (!lang_next(p))
+                return false;
+            f->metallic = 1;
+            if (lang_is_expr_start(p) && !lang_parse_float(p, &f->metallic, NULL))
+                return false;
+            continue;
         case CSG_KW_EMISSION:
             return lang_unsupported(p, "'emission'", p->tok.loc);
         case CSG_KW_DIFFUSE: target = &f->diffuse; break;
+        case CSG_KW_BRILLIANCE: target = &f->brilliance; break;
         case CSG_KW_SPECULAR: target = &f->specular; break;
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
         case CSG_KW_PHONG: target = &f->phong; break;
