@@ -382,6 +382,12 @@ static void test_camera_order(void **state)
     parse_ok("camera { orthographic up 4 * y right 4 * x location <0, 0, -10> look_at 0 }", &a);
     assert_near(a.camera.right.x, 4);
     csg_scene_free(&a);
+    /* looking down the sky: POV-Ray keeps the right vector, up = direction x right */
+    parse_ok("camera { location 6 * y look_at 0 }", &a);
+    assert_near(a.camera.right.x, 1.33);
+    assert_near(a.camera.direction.y, -1);
+    assert_near(a.camera.up.z, 1);
+    csg_scene_free(&a);
 }
 
 /* ---- patterns ----------------------------------------------------------------------------------- */

@@ -553,6 +553,8 @@ static void test_errors(void **state)
          "t.pov:1:35: error: phong_size must be >= 0, got -1"},
         {"sphere { 0, 1 bounded_by { box { -1, 1 } 2 } }",
          "t.pov:1:42: error: '}' expected (to close 'bounded_by' at 1:15), got '2'"},
+        {"camera { right y location 6 * y look_at 0 }",
+         "t.pov:1:33: error: camera sky and right are both parallel to the view direction"},
         {"sphere { 0, 1 bounded_by box { -1, 1 } }",
          "t.pov:1:26: error: '{' expected after 'bounded_by', got 'box'"},
         {"sphere { 0, 1 finish { metallic 0.5 irid { 0.3 } } }",
