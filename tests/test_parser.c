@@ -330,7 +330,7 @@ static void test_textures(void **state)
              "sphere { 0, 1 pigment { rgb 1 } finish { ambient 0.2 diffuse 0.7 brilliance 3 specular 0.5\n"
              "  roughness 0.01 reflection 0.25 metallic } }\n"
              "sphere { 0, 1 texture { T } pigment { rgbf <1, 0, 0, 0.5> } }\n"
-             "sphere { 0, 1 finish { F ambient rgb <0.1, 0.2, 0.3> reflection <0.1, 0.2, 0.3> } }\n"
+             "sphere { 0, 1 finish { F ambient rgb <0.1, 0.2, 0.3> reflection { <0.1, 0.2, 0.3> } } }\n"
              "sphere { 0, 1 interior { I } interior { ior 2 } }\n"
              "sphere { 0, 1 pigment { rgb x } texture { pigment { P } } }\n", &s);
     csg_object **o = s.objects;
@@ -555,6 +555,10 @@ static void test_errors(void **state)
          "t.pov:1:42: error: '}' expected (to close 'bounded_by' at 1:15), got '2'"},
         {"camera { right y location 6 * y look_at 0 }",
          "t.pov:1:33: error: camera sky and right are both parallel to the view direction"},
+        {"sphere { 0, 1 finish { reflection { 0.1, 0.5 } } }",
+         "t.pov:1:24: error: unsupported: 'reflection { }' beyond one colour is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 finish { reflection { 0.1 fresnel } } }",
+         "t.pov:1:24: error: unsupported: 'reflection { }' beyond one colour is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, 1 bounded_by box { -1, 1 } }",
          "t.pov:1:26: error: '{' expected after 'bounded_by', got 'box'"},
         {"sphere { 0, 1 finish { metallic 0.5 irid { 0.3 } } }",
