@@ -6,8 +6,9 @@
  * direction along target - location, right = sky x direction, up =
  * direction x right (left-handed, as in POV-Ray).  A `right` given with the
  * other handedness (e.g. right -x for a right-handed scene) keeps it.
- * csgtrace is stricter than POV-Ray in one place: a sky parallel to the
- * view is an error (POV-Ray warns and keeps the right vector given).
+ * A sky parallel to the view (sky x direction below POV-Ray's EPSILON,
+ * 1e-10, in every component) keeps the right vector's direction, as
+ * POV-Ray does; only a right vector parallel to the view too is an error.
  */
 #include "camera_setup.h"
 
@@ -54,14 +55,16 @@ bool csg_camera_look_at(csg_camera_src *c, dvec3 target, csg_loc loc, csg_diag *
     }
     dvec3 dir = d3_scale(view, 1.0 / view_len);
     dvec3 right = d3_cross(c->sky, dir);
-    double rlen = d3_len(right);
-    if (!(rlen > 1e-12 * d3_len(c->sky))) {
-        csg_error(d, loc, "camera sky is parallel to the view direction");
+    if (fabs(right.x) < 1e-10 && fabs(right.y) < 1e-10 && fabs(right.z) < 1e-10)
+        right = c->right;
+    right = d3_scale(right, 1.0 / d3_len(right));
+    dvec3 up = d3_cross(dir, right);
+    double ulen = d3_len(up);
+    if (!(ulen > 1e-12)) {
+        csg_error(d, loc, "camera sky and right are both parallel to the view direction");
         return false;
     }
-    right = d3_scale(right, 1.0 / rlen);
-    dvec3 up = d3_cross(dir, right);
-    up = d3_scale(up, 1.0 / d3_len(up));
+    up = d3_scale(up, 1.0 / ulen);
     c->direction = d3_scale(dir, dir_len);
     c->right = d3_scale(right, handedness < 0 ? -right_len : right_len);
     c->up = d3_scale(up, up_len);

@@ -230,6 +230,8 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
     put_vec(out, f->ambient, 3);
     fputs(" diffuse ", out);
     put_num(out, f->diffuse);
+    fputs(" brilliance ", out);
+    put_num(out, f->brilliance);
     fputs(" specular ", out);
     put_num(out, f->specular);
     fputs(" roughness ", out);
@@ -238,6 +240,8 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
     put_num(out, f->phong);
     fputs(" phong_size ", out);
     put_num(out, f->phong_size);
+    fputs(" metallic ", out);
+    put_num(out, f->metallic);
     fputs(" reflection rgb ", out);
     put_vec(out, f->reflection, 3);
     fputs(" }\n", out);

@@ -385,10 +385,12 @@ static int material_for(flat_builder *fb, inherited inh)
         m->reflection[i] = (real)tex.finish.reflection[i];
     }
     m->diffuse = (real)tex.finish.diffuse;
+    m->brilliance = (real)tex.finish.brilliance;
     m->specular = (real)tex.finish.specular;
     m->roughness = (real)tex.finish.roughness;
     m->phong = (real)tex.finish.phong;
     m->phong_size = (real)tex.finish.phong_size;
+    m->metallic = (real)tex.finish.metallic;
     m->ior = (real)ior;
     if (!material_pattern(fb, &tex.pigment, NULL, m))
         return 0;

@@ -14,6 +14,7 @@ void csg_finish_default(csg_finish *f)
     memset(f, 0, sizeof *f);
     f->ambient[0] = f->ambient[1] = f->ambient[2] = 0.1;
     f->diffuse = 0.6;
+    f->brilliance = 1;
     f->roughness = 0.05;
     f->phong_size = 40;
 }

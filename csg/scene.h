@@ -100,10 +100,12 @@ typedef struct {
 typedef struct {
     double ambient[3];    /* 0.1                                     */
     double diffuse;       /* 0.6                                     */
+    double brilliance;    /* 1: diffuse * cos^brilliance             */
     double specular;      /* 0 (Blinn highlight)                     */
     double roughness;     /* 0.05                                    */
     double phong;         /* 0                                       */
     double phong_size;    /* 40                                      */
+    double metallic;      /* 0: highlights tinted by the pigment     */
     double reflection[3]; /* 0                                       */
 } csg_finish;
 

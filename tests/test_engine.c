@@ -159,31 +159,67 @@ static void test_background_only(void **state)
     }
 }
 
-/* Ambient-only red sphere, light behind the camera: the centre pixel is
- * ambient * pigment + diffuse * cos * pigment with cos = 1 exactly. */
-static void test_lit_sphere_centre(void **state)
+/* A red unit sphere at the origin with finish *f (NULL: the default), one
+ * white light at `light`, 9x9 pixels in double: the centre pixel (the
+ * sphere's nearest point, normal -z) into c, the corner into corner. */
+static void red_sphere_pixels(const csg_finish *f, dvec3 light_at, float c[3], float corner[3])
 {
-    (void)state;
     csg_scene s;
     scene_new(&s);
     csg_object *o = sphere(&s, 0, 0, 0, 1);
     o->texture = add_texture(&s, 1, 0, 0);
+    if (f)
+        s.textures[o->texture].finish = *f;
     add_top(&s, o);
-    csg_light light = {{0, 0, -100}, {1, 1, 1}, false, {"hand.pov", 1, 1}};
+    csg_light light = {light_at, {1, 1, 1}, false, {"hand.pov", 1, 1}};
     s.lights = &light;
     s.light_count = 1;
     csg_blob b;
     flatten_ok(&engine_double, &s, 9, 9, &b);
     float *rgb = render_all(&engine_double, b.bytes, 9, 9, 32);
-    float *c = &rgb[3 * (4 * 9 + 4)];
-    assert_true(fabs((double)c[0] - 0.7) < 1e-4);
-    assert_true(c[1] == 0.0f);
-    /* a corner misses: background */
-    assert_true(rgb[0] == 0.25f);
+    memcpy(c, &rgb[3 * (4 * 9 + 4)], 3 * sizeof(float));
+    memcpy(corner, rgb, 3 * sizeof(float));
     free(rgb);
     csg_blob_free(&b);
     s.lights = NULL;
     csg_scene_free(&s);
+}
+
+/* Ambient-only red sphere, light behind the camera: the centre pixel is
+ * ambient * pigment + diffuse * cos * pigment with cos = 1 exactly. */
+static void test_lit_sphere_centre(void **state)
+{
+    (void)state;
+    float c[3], corner[3];
+    red_sphere_pixels(NULL, (dvec3){0, 0, -100}, c, corner);
+    assert_true(fabs((double)c[0] - 0.7) < 1e-4);
+    assert_true(c[1] == 0.0f);
+    /* a corner misses: background */
+    assert_true(corner[0] == 0.25f);
+}
+
+/* brilliance raises the diffuse cosine to its power; metallic tints the
+ * highlight by the pigment, fully where the surface faces the light
+ * (POV-Ray's Fresnel curve is 0 there). */
+static void test_brilliance_metallic(void **state)
+{
+    (void)state;
+    csg_finish f;
+    csg_finish_default(&f);
+    f.brilliance = 2;
+    float c[3], corner[3];
+    /* the light 60 degrees off the normal: cos^2 = 0.25 */
+    red_sphere_pixels(&f, (dvec3){1000 * sin(M_PI / 3), 0, -1 - 1000 * cos(M_PI / 3)}, c, corner);
+    assert_true(fabs((double)c[0] - (0.1 + 0.6 * 0.25)) < 1e-4);
+    csg_finish_default(&f);
+    f.phong = 0.5;
+    f.phong_size = 1;
+    red_sphere_pixels(&f, (dvec3){0, 0, -100}, c, corner);
+    assert_true(fabs((double)c[1] - 0.5) < 1e-4); /* a white highlight */
+    f.metallic = 1;
+    red_sphere_pixels(&f, (dvec3){0, 0, -100}, c, corner);
+    assert_true(fabs((double)c[0] - 1.2) < 1e-4);  /* a red one */
+    assert_true(fabs((double)c[1]) < 1e-6);
 }
 
 /* The same pixels whatever the tile size, in both precisions. */
@@ -643,6 +679,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_background_only),
         cmocka_unit_test(test_lit_sphere_centre),
+        cmocka_unit_test(test_brilliance_metallic),
         cmocka_unit_test(test_tiling_invariance),
         cmocka_unit_test(test_flatten_programs),
         cmocka_unit_test(test_flatten_stack_limit),

@@ -193,8 +193,8 @@ static void test_textures_resolved(void **state)
     const char *red = strstr(sph, "pigment { color rgbft <1, 0, 0, 0, 0> }");
     assert_non_null(red);
     assert_true(red < cone);
-    assert_contains(t, "finish { ambient rgb <0.1, 0.1, 0.1> diffuse 0.6 specular 0 "
-                       "roughness 0.05 phong 0.5 phong_size 40 reflection rgb <0, 0, 0> }");
+    assert_contains(t, "finish { ambient rgb <0.1, 0.1, 0.1> diffuse 0.6 brilliance 1 specular 0 "
+                       "roughness 0.05 phong 0.5 phong_size 40 metallic 0 reflection rgb <0, 0, 0> }");
     const char *green = strstr(cone, "pigment { color rgbft <0, 1, 0, 0.25, 0> }");
     assert_non_null(green);
     assert_true(green < pl);

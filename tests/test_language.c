@@ -290,6 +290,26 @@ static void test_image_and_clock(void **state)
     parse_ok("sphere { 0, image_width / image_height * 3 + clock }", &s); /* 320x240, 0 */
     assert_near(s.objects[0]->r0, 4);
     csg_scene_free(&s);
+    /* one frame: clock_on and frame_number are 0 */
+    parse_ok("#if (clock_on | frame_number != 0) sphere { 0, 2 } #else sphere { 0, 3 } #end", &s);
+    assert_near(s.objects[0]->r0, 3);
+    csg_scene_free(&s);
+}
+
+/* bounded_by: parsed (its objects, nested CSG too) and dropped */
+static void test_bounded_by(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare B = box { -2, 2 }\n"
+             "sphere { 0, 1 bounded_by { object { B } } translate x }\n"
+             "union { sphere { 0, 1 } sphere { x, 1 }\n"
+             "  bounded_by { intersection { box { -3, 3 } sphere { 0, 4 } } } }\n", &s);
+    assert_int_equal(s.object_count, 2);
+    assert_int_equal(s.objects[0]->kind, CSG_OBJ_SPHERE);
+    assert_near(s.objects[0]->xform.m[0][3], 1);
+    assert_int_equal(s.objects[1]->child_count, 2);
+    csg_scene_free(&s);
 }
 
 /* ---- #default, #undef, #version, #debug, #error -------------------------------------------- */
@@ -361,6 +381,12 @@ static void test_camera_order(void **state)
     csg_scene_free(&a);
     parse_ok("camera { orthographic up 4 * y right 4 * x location <0, 0, -10> look_at 0 }", &a);
     assert_near(a.camera.right.x, 4);
+    csg_scene_free(&a);
+    /* looking down the sky: POV-Ray keeps the right vector, up = direction x right */
+    parse_ok("camera { location 6 * y look_at 0 }", &a);
+    assert_near(a.camera.right.x, 1.33);
+    assert_near(a.camera.direction.y, -1);
+    assert_near(a.camera.up.z, 1);
     csg_scene_free(&a);
 }
 
@@ -539,6 +565,7 @@ int main(void)
         cmocka_unit_test(test_strings),
         cmocka_unit_test(test_functions),
         cmocka_unit_test(test_image_and_clock),
+        cmocka_unit_test(test_bounded_by),
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),

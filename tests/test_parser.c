@@ -323,14 +323,14 @@ static void test_textures(void **state)
 {
     (void)state;
     csg_scene s;
-    parse_ok("#declare F = finish { phong 0.9 phong_size 60 }\n"
+    parse_ok("#declare F = finish { phong 0.9 phong_size 60 metallic 0.5 }\n"
              "#declare P = pigment { rgb <0, 1, 0> }\n"
              "#declare T = texture { pigment { P } finish { F specular 0.3 } }\n"
              "#declare I = interior { ior 1.33 }\n"
-             "sphere { 0, 1 pigment { rgb 1 } finish { ambient 0.2 diffuse 0.7 specular 0.5\n"
-             "  roughness 0.01 reflection 0.25 } }\n"
+             "sphere { 0, 1 pigment { rgb 1 } finish { ambient 0.2 diffuse 0.7 brilliance 3 specular 0.5\n"
+             "  roughness 0.01 reflection 0.25 metallic } }\n"
              "sphere { 0, 1 texture { T } pigment { rgbf <1, 0, 0, 0.5> } }\n"
-             "sphere { 0, 1 finish { F ambient rgb <0.1, 0.2, 0.3> reflection <0.1, 0.2, 0.3> } }\n"
+             "sphere { 0, 1 finish { F ambient rgb <0.1, 0.2, 0.3> reflection { <0.1, 0.2, 0.3> } } }\n"
              "sphere { 0, 1 interior { I } interior { ior 2 } }\n"
              "sphere { 0, 1 pigment { rgb x } texture { pigment { P } } }\n", &s);
     csg_object **o = s.objects;
@@ -338,6 +338,8 @@ static void test_textures(void **state)
     assert_near(t->pigment.rgbft[1], 1);
     assert_near(t->finish.ambient[2], 0.2);
     assert_near(t->finish.diffuse, 0.7);
+    assert_near(t->finish.brilliance, 3);
+    assert_near(t->finish.metallic, 1);
     assert_near(t->finish.specular, 0.5);
     assert_near(t->finish.roughness, 0.01);
     assert_near(t->finish.reflection[0], 0.25);
@@ -346,6 +348,7 @@ static void test_textures(void **state)
     assert_near(t->pigment.rgbft[3], 0.5);
     assert_near(t->finish.phong, 0.9);
     assert_near(t->finish.phong_size, 60);
+    assert_near(t->finish.metallic, 0.5);
     assert_near(t->finish.specular, 0.3);
     t = tex_of(&s, o[2]);
     assert_near(t->finish.phong, 0.9);
@@ -548,8 +551,18 @@ static void test_errors(void **state)
          "t.pov:1:34: error: roughness must be > 0, got 0"},
         {"sphere { 0, 1 finish { phong_size -1 } }",
          "t.pov:1:35: error: phong_size must be >= 0, got -1"},
-        {"sphere { 0, 1 finish { brilliance 2 } }",
-         "t.pov:1:24: error: unsupported: 'brilliance' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 bounded_by { box { -1, 1 } 2 } }",
+         "t.pov:1:42: error: '}' expected (to close 'bounded_by' at 1:15), got '2'"},
+        {"camera { right y location 6 * y look_at 0 }",
+         "t.pov:1:33: error: camera sky and right are both parallel to the view direction"},
+        {"sphere { 0, 1 finish { reflection { 0.1, 0.5 } } }",
+         "t.pov:1:24: error: unsupported: 'reflection { }' beyond one colour is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 finish { reflection { 0.1 fresnel } } }",
+         "t.pov:1:24: error: unsupported: 'reflection { }' beyond one colour is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 bounded_by box { -1, 1 } }",
+         "t.pov:1:26: error: '{' expected after 'bounded_by', got 'box'"},
+        {"sphere { 0, 1 finish { metallic 0.5 irid { 0.3 } } }",
+         "t.pov:1:37: error: unsupported: 'irid' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, 1 finish { phong 1 ; } }",
          "t.pov:1:32: error: '}' expected (to close 'finish' at 1:15), got ';'"},
         {"sphere { 0, 1 interior { ior 0 } }", "t.pov:1:30: error: ior must be > 0, got 0"},

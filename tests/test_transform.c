@@ -388,10 +388,17 @@ static void test_camera_look_at_errors(void **state)
     }
     assert_non_null(strstr(d.message, "look_at"));
     assert_null(strchr(d.message, '\n'));
-    /* the sky along the view direction has no right vector */
+    /* the sky along the view direction keeps the right vector (POV-Ray) */
     memset(&d, 0, sizeof d);
     csg_camera_default(&c);
     c.location = d3(0, 5, 0);
+    assert_true(csg_camera_look_at(&c, d3(0, 0, 0), here(3, 9), &d));
+    assert_false(d.failed);
+    assert_true(c.right.x == 1.33 && c.up.z == 1 && c.direction.y == -1);
+    /* ... unless it is along the view too: no frame */
+    csg_camera_default(&c);
+    c.location = d3(0, 5, 0);
+    c.right = d3(0, 2, 0);
     assert_false(csg_camera_look_at(&c, d3(0, 0, 0), here(3, 9), &d));
     assert_true(d.failed);
     assert_int_equal(strncmp(d.message, "scene.pov:3:9: error: ", 22), 0);

@@ -245,6 +245,25 @@ static real power(real base, real e)
 #endif
 }
 
+/* The colour of a highlight: the light's, or with `metallic` tinted by the
+ * pigment by POV-Ray's empirical Fresnel curve of the angle to the light
+ * (full tint facing it, none at grazing). */
+static vec3 highlight_color(const csg_material *m, vec3 pig, real cosl, vec3 light)
+{
+    if (!(m->metallic > R(0.0)))
+        return light;
+#ifdef CSG_DOUBLE
+    real x = acos(r_fmin(cosl, R(1.0))) / (R(0.5) * R(M_PI));
+#else
+    real x = acosf(r_fmin(cosl, R(1.0))) / (R(0.5) * R(M_PI));
+#endif
+    real f = R(0.014567225) / ((x - R(1.12)) * (x - R(1.12))) - R(0.011612903);
+    real k = m->metallic * (R(1.0) - r_fmin(R(1.0), r_fmax(R(0.0), f)));
+    vec3 tint = v3(R(1.0) + k * (pig.x - R(1.0)), R(1.0) + k * (pig.y - R(1.0)),
+                   R(1.0) + k * (pig.z - R(1.0)));
+    return v3_mul(light, tint);
+}
+
 static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
 
 static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
@@ -291,18 +310,20 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             if (max3(light) <= R(0.0))
                 continue;
         }
-        surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * cosl));
+        real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
+        surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
+        vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(refl_dir, l);
             if (cr > R(0.0))
-                highlight = v3_add(highlight, v3_scale(light, m->phong * power(cr, m->phong_size)));
+                highlight = v3_add(highlight, v3_scale(hl, m->phong * power(cr, m->phong_size)));
         }
         if (m->specular > R(0.0) && m->roughness > R(0.0)) {
             vec3 half = v3_normalize(v3_sub(l, r.d));
             real ch = v3_dot(nf, half);
             if (ch > R(0.0))
                 highlight = v3_add(highlight,
-                                   v3_scale(light, m->specular * power(ch, R(1.0) / m->roughness)));
+                                   v3_scale(hl, m->specular * power(ch, R(1.0) / m->roughness)));
         }
     }
     vec3 color = v3_add(v3_scale(surface, opacity), highlight);

@@ -223,10 +223,12 @@ typedef struct {
     real transmit;      /* pigment transmit: light through, untinted     */
     real ambient[3];
     real diffuse;
+    real brilliance;    /* diffuse * cos^brilliance (POV-Ray's)          */
     real specular;      /* Blinn highlight strength                      */
     real roughness;     /* Blinn exponent is 1 / roughness               */
     real phong;
     real phong_size;
+    real metallic;      /* highlights tinted by the pigment (POV-Ray's)  */
     real reflection[3];
     real ior;           /* interior: index of refraction                 */
     real gradient[3];   /* CSG_MAT_GRADIENT: unit vector                 */

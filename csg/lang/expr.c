@@ -85,7 +85,8 @@ bool lang_is_expr_start(parser *p)
     switch (t->kw) {
     case CSG_KW_NONE: case CSG_KW_PI: case CSG_KW_X: case CSG_KW_Y: case CSG_KW_Z:
     case CSG_KW_T: case CSG_KW_U: case CSG_KW_V: case CSG_KW_TRUE: case CSG_KW_FALSE:
-    case CSG_KW_CLOCK: case CSG_KW_VERSION:
+    case CSG_KW_CLOCK: case CSG_KW_CLOCK_ON: case CSG_KW_FRAME_NUMBER:
+    case CSG_KW_VERSION:
         return true;
     default:
         return lang_is_builtin(t->kw);
@@ -147,7 +148,8 @@ static bool parse_vector_literal(parser *p, value *out)
     return lang_next(p);
 }
 
-/* The constants: pi, true/yes/on, false/no/off, x y z t u v, clock, version. */
+/* The constants: pi, true/yes/on, false/no/off, x y z t u v, clock,
+ * clock_on, frame_number, version. */
 static bool parse_constant(parser *p, enum csg_kw kw, value *out)
 {
     static const double unit[][5] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 0, 1}, {1, 0}, {0, 1}};
@@ -158,6 +160,9 @@ static bool parse_constant(parser *p, enum csg_kw kw, value *out)
     case CSG_KW_TRUE: out->v[0] = 1; break;
     case CSG_KW_FALSE: out->v[0] = 0; break;
     case CSG_KW_CLOCK: out->v[0] = p->opt.clock; break;
+    case CSG_KW_CLOCK_ON: case CSG_KW_FRAME_NUMBER: /* one frame, never an animation */
+        out->v[0] = 0;
+        break;
     case CSG_KW_VERSION: out->v[0] = p->version; break;
     default: {
         int k = kw == CSG_KW_X ? 0 : kw == CSG_KW_Y ? 1 : kw == CSG_KW_Z ? 2
@@ -192,7 +197,7 @@ static bool parse_primary(parser *p, value *out)
         switch (t->kw) {
         case CSG_KW_PI: case CSG_KW_TRUE: case CSG_KW_FALSE: case CSG_KW_X: case CSG_KW_Y:
         case CSG_KW_Z: case CSG_KW_T: case CSG_KW_U: case CSG_KW_V: case CSG_KW_CLOCK:
-        case CSG_KW_VERSION:
+        case CSG_KW_CLOCK_ON: case CSG_KW_FRAME_NUMBER: case CSG_KW_VERSION:
             return parse_constant(p, t->kw, out);
         case CSG_KW_NONE: {
             const datum *d;

@@ -576,6 +576,23 @@ static bool is_flag(parser *p)
            lang_is_kw(p, CSG_KW_OPEN) || lang_is_kw(p, CSG_KW_HOLLOW);
 }
 
+/* bounded_by { OBJECT... }: POV-Ray's manual bound, a speed hint whose
+ * objects must enclose the object; parsed and dropped. */
+static bool parse_bounded_by(parser *p)
+{
+    csg_loc at = p->tok.loc;
+    if (!lang_next(p) || !lang_expect_open(p, "bounded_by"))
+        return false;
+    while (lang_is_object_start(p)) {
+        csg_object *bound;
+        if (!lang_parse_object(p, &bound))
+            return false;
+    }
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "bounded_by", at);
+    return lang_next(p);
+}
+
 /* Modifiers up to and including the closing brace. */
 static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc open, int tex_mark,
                             int int_mark)
@@ -593,6 +610,8 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
             ok = parse_interior_modifier(p, o, int_mark);
         else if (is_flag(p))
             ok = parse_flag(p, o, name);
+        else if (lang_is_kw(p, CSG_KW_BOUNDED_BY))
+            ok = parse_bounded_by(p);
         else
             return lang_expected_close(p, '}', name, open);
         if (!ok)

@@ -354,6 +354,23 @@ bool lang_parse_sky_sphere(parser *p, csg_sky *sky)
 
 /* ---- finish, texture, interior ---------------------------------------------------- */
 
+/* reflection COLOR, or POV-Ray 3.5's block with one colour only,
+ * `reflection { COLOR }` (the same); a second colour (variable
+ * reflection), fresnel, falloff, exponent and metallic are unsupported. */
+static bool parse_reflection(parser *p, csg_finish *f)
+{
+    csg_loc at = p->tok.loc;
+    if (!lang_next(p))
+        return false;
+    if (!lang_is_punct(p, '{'))
+        return lang_parse_rgb(p, f->reflection);
+    if (!lang_next(p) || !lang_parse_rgb(p, f->reflection))
+        return false;
+    if (!lang_is_punct(p, '}'))
+        return lang_unsupported(p, "'reflection { }' beyond one colour", at);
+    return lang_next(p);
+}
+
 bool lang_parse_finish(parser *p, csg_finish *f)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -377,19 +394,21 @@ bool lang_parse_finish(parser *p, csg_finish *f)
             if (!lang_next(p) || !lang_parse_rgb(p, f->ambient))
                 return false;
             continue;
-        case CSG_KW_REFLECTION: {
-            csg_loc at = p->tok.loc;
-            if (!lang_next(p))
-                return false;
-            if (lang_is_punct(p, '{')) /* POV-Ray 3.5's block, fresnel and all */
-                return lang_unsupported(p, "'reflection { }'", at);
-            if (!lang_parse_rgb(p, f->reflection))
+        case CSG_KW_REFLECTION:
+            if (!parse_reflection(p, f))
                 return false;
             continue;
-        }
+        case CSG_KW_METALLIC: /* the amount is optional: 1 */
+            if (!lang_next(p))
+                return false;
+            f->metallic = 1;
+            if (lang_is_expr_start(p) && !lang_parse_float(p, &f->metallic, NULL))
+                return false;
+            continue;
         case CSG_KW_EMISSION:
             return lang_unsupported(p, "'emission'", p->tok.loc);
         case CSG_KW_DIFFUSE: target = &f->diffuse; break;
+        case CSG_KW_BRILLIANCE: target = &f->brilliance; break;
         case CSG_KW_SPECULAR: target = &f->specular; break;
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
         case CSG_KW_PHONG: target = &f->phong; break;
