@@ -62,17 +62,6 @@ typedef struct {
     bool identical;    /* every pass equalled the C records     */
 } variant;
 
-static bool parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi)
-        return false;
-    *out = (int)v;
-    return true;
-}
-
 /* The C worker's records of the whole image, tile by tile (as a worker
  * traces them: engine->trace_primary writes a tile's records packed). */
 static void trace_c(const engine *e, const void *blob, void *t, uint32_t *surf, void *tile_t,
@@ -153,25 +142,16 @@ static int usage(void)
 int main(int argc, char **argv)
 {
     const char *scene = NULL, *list = "c,scalar,packet";
-    int width = 1024, height = 1024, spp = 1, repeat = 5;
-    bool dbl = false;
+    bench_options args = {1024, 1024, 5, false};
+    int spp = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
-        if (!strcmp(a, "--width") && has_value && parse_int(argv[i + 1], 1, 1 << 15, &width)) {
-            i++;
-        } else if (!strcmp(a, "--height") && has_value &&
-                   parse_int(argv[i + 1], 1, 1 << 15, &height)) {
-            i++;
+        if (bench_common_option(argc, argv, &i, &args)) {
+            continue;
         } else if (!strcmp(a, "--spp") && has_value &&
-                   parse_int(argv[i + 1], 1, CSG_MAX_SPP, &spp)) {
+                   bench_parse_int(argv[i + 1], 1, CSG_MAX_SPP, &spp)) {
             i++;
-        } else if (!strcmp(a, "--repeat") && has_value &&
-                   parse_int(argv[i + 1], 1, 1000, &repeat)) {
-            i++;
-        } else if (!strcmp(a, "--precision") && has_value &&
-                   (!strcmp(argv[i + 1], "float") || !strcmp(argv[i + 1], "double"))) {
-            dbl = !strcmp(argv[++i], "double");
         } else if (!strcmp(a, "--variants") && has_value) {
             list = argv[++i];
         } else if (a[0] != '-' && !scene) {
@@ -180,6 +160,8 @@ int main(int argc, char **argv)
             return usage();
         }
     }
+    int width = args.width, height = args.height, repeat = args.repeat;
+    bool dbl = args.dbl;
     if (!scene)
         return usage();
 

@@ -34,17 +34,6 @@
 
 #define TILE 32
 
-static bool parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi)
-        return false;
-    *out = (int)v;
-    return true;
-}
-
 /* One pass over the image; returns the number of records that hit. */
 static uint64_t trace_image(const engine *e, const void *blob, int w, int h, void *t,
                             uint32_t *surf, ray_counts *rays)
@@ -102,22 +91,12 @@ static bool export_spheres(const void *blob, const char *path)
 int main(int argc, char **argv)
 {
     const char *scene = NULL, *export_path = NULL;
-    int width = 384, height = 384, repeat = 5;
-    bool dbl = false;
+    bench_options args = {384, 384, 5, false};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         bool has_value = i + 1 < argc;
-        if (!strcmp(a, "--width") && has_value && parse_int(argv[i + 1], 1, 1 << 15, &width)) {
-            i++;
-        } else if (!strcmp(a, "--height") && has_value &&
-                   parse_int(argv[i + 1], 1, 1 << 15, &height)) {
-            i++;
-        } else if (!strcmp(a, "--repeat") && has_value &&
-                   parse_int(argv[i + 1], 1, 1000, &repeat)) {
-            i++;
-        } else if (!strcmp(a, "--precision") && has_value &&
-                   (!strcmp(argv[i + 1], "float") || !strcmp(argv[i + 1], "double"))) {
-            dbl = !strcmp(argv[++i], "double");
+        if (bench_common_option(argc, argv, &i, &args)) {
+            continue;
         } else if (!strcmp(a, "--export-spheres") && has_value) {
             export_path = argv[++i];
         } else if (a[0] != '-' && !scene) {
@@ -128,6 +107,8 @@ int main(int argc, char **argv)
             return 2;
         }
     }
+    int width = args.width, height = args.height, repeat = args.repeat;
+    bool dbl = args.dbl;
     if (!scene) {
         fprintf(stderr, "primary_rays: no scene given\n");
         return 2;
