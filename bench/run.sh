@@ -211,7 +211,7 @@ report() {
     for gp in "$ROOT"/bench/plot_*.gp; do
         name=$(basename "$gp" .gp); name=${name#plot_}
         [ "$name" != common ] || continue
-        if [ "$(wc -l <"$OUT/$name.dat" 2>/dev/null || echo 0)" -lt 2 ]; then
+        if [ ! -f "$OUT/$name.dat" ] || [ "$(wc -l <"$OUT/$name.dat")" -lt 2 ]; then
             rm -f "$OUT/$name.png"; continue
         fi
         (cd "$OUT" && gnuplot -e "term='$term'; bench='$ROOT/bench'" "$gp") || echo "bench/run.sh: $gp failed" >&2
