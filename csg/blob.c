@@ -18,8 +18,10 @@
 
 #ifdef CSG_DOUBLE
 #define BLOB_VALID csg_blob_valid_double
+#define BLOB_SCAN csg_blob_scan_features_double
 #else
 #define BLOB_VALID csg_blob_valid_float
+#define BLOB_SCAN csg_blob_scan_features_float
 #endif
 
 bool BLOB_VALID(const void *bytes, size_t blob_size);
@@ -103,6 +105,73 @@ static bool bvh_valid(const csg_blob_header *h, const csg_bvh_node *bvh)
     return true;
 }
 
+/* ---- the feature set (flat.h, enum csg_feature) ---------------------------- */
+
+/* Lets light through: its pigment or any colour of its map. */
+static bool material_transparent(const csg_material *m, const csg_map_color *maps)
+{
+    if (m->pattern == CSG_MAT_PLAIN)
+        return m->filter > 0 || m->transmit > 0;
+    for (int32_t k = 0; k < m->map_count; k++)
+        if (maps[m->map_first + k].rgbft[3] > 0 || maps[m->map_first + k].rgbft[4] > 0)
+            return true;
+    return false;
+}
+
+/* The material bits of the materials primitives use (a sky pigment is a
+ * material too, but no surface shows it). */
+static uint32_t material_features(const csg_blob_header *h, const csg_prim *prims,
+                                  const csg_material *mats, const csg_map_color *maps)
+{
+    uint32_t f = 0;
+    for (int32_t i = 0; i < h->prim_count; i++) {
+        const csg_material *m = &mats[prims[i].material];
+        if (m->reflection[0] > 0 || m->reflection[1] > 0 || m->reflection[2] > 0)
+            f |= CSG_FEAT_REFLECT;
+        if (material_transparent(m, maps))
+            f |= CSG_FEAT_TRANSPARENT;
+    }
+    return f;
+}
+
+/* The kinds and features of a blob whose arrays are in range (called on
+ * the flattener's output and after the validator's other checks). */
+void BLOB_SCAN(const void *bytes, uint32_t *kinds, uint32_t *features)
+{
+    const csg_blob_header *h = bytes;
+    const csg_prim *prims = blob_at(bytes, h->off_prims);
+    const csg_root *roots = blob_at(bytes, h->off_roots);
+    const csg_node *nodes = blob_at(bytes, h->off_nodes);
+    const csg_flat_light *lights = blob_at(bytes, h->off_lights);
+    uint32_t k = 0, f = 0;
+    for (int32_t i = 0; i < h->prim_count; i++) {
+        k |= 1u << prims[i].kind;
+        f |= (prims[i].flags & CSG_PF_XFORM) ? CSG_FEAT_XFORM : 0u;
+        f |= (prims[i].flags & CSG_PF_NO_SHADOW) ? CSG_FEAT_NO_SHADOW : 0u;
+    }
+    for (int32_t r = 0; r < h->root_count; r++) {
+        const csg_node *n = &nodes[roots[r].first_node];
+        if (roots[r].node_count > 1 || (prims[n->prim].flags & CSG_PF_INVERT))
+            f |= CSG_FEAT_CSG;
+    }
+    for (int32_t i = 0; i < h->light_count; i++)
+        f |= lights[i].shadowless ? CSG_FEAT_SHADOWLESS : 0u;
+    f |= material_features(h, prims, blob_at(bytes, h->off_materials),
+                           blob_at(bytes, h->off_maps));
+    *kinds = k;
+    *features = f;
+}
+
+/* The header's feature set is the one its arrays have: code specialised
+ * on it may rely on it. */
+static bool features_valid(const void *bytes)
+{
+    const csg_blob_header *h = bytes;
+    uint32_t kinds, features;
+    BLOB_SCAN(bytes, &kinds, &features);
+    return h->kinds == kinds && h->features == features;
+}
+
 bool BLOB_VALID(const void *bytes, size_t blob_size)
 {
     const csg_blob_header *h = bytes;
@@ -127,7 +196,7 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
     return prims_valid(h, blob_at(bytes, h->off_prims)) &&
            materials_valid(h, blob_at(bytes, h->off_materials)) &&
            roots_valid(h, blob_at(bytes, h->off_roots), blob_at(bytes, h->off_nodes)) &&
-           bvh_valid(h, blob_at(bytes, h->off_bvh));
+           bvh_valid(h, blob_at(bytes, h->off_bvh)) && features_valid(bytes);
 }
 
 #ifndef CSG_DOUBLE

@@ -50,8 +50,10 @@
 
 #ifdef CSG_DOUBLE
 #define FLATTEN_FN csg_flatten_double
+#define FLATTEN_SCAN csg_blob_scan_features_double
 #else
 #define FLATTEN_FN csg_flatten_float
+#define FLATTEN_SCAN csg_blob_scan_features_float
 #endif
 
 typedef struct {
@@ -1327,6 +1329,8 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
     copy_array(b, h.off_maps, fb->maps, fb->map_count, sizeof(csg_map_color));
     write_scene_values(fb, o, &h, b);
+    csg_blob_header *hb = (csg_blob_header *)b;
+    FLATTEN_SCAN(b, &hb->kinds, &hb->features);
     out->bytes = b;
     out->size = (size_t)h.total_size;
     return true;

@@ -50,6 +50,12 @@ bool csg_flatten_double(const csg_scene *s, const csg_flatten_opts *o, csg_blob 
 bool csg_blob_valid(const void *bytes, size_t blob_size);
 void csg_blob_free(csg_blob *b);
 
+/* The primitive kinds (bit 1 << kind) and enum csg_feature bits a blob's
+ * arrays use, per precision: the flattener stores them in the header and
+ * the validator checks the header against them (features.h reads them). */
+void csg_blob_scan_features_float(const void *bytes, uint32_t *kinds, uint32_t *features);
+void csg_blob_scan_features_double(const void *bytes, uint32_t *kinds, uint32_t *features);
+
 static inline const csg_blob_header *csg_blob_hdr(const void *bytes)
 {
     return (const csg_blob_header *)bytes;

@@ -9,6 +9,7 @@
 #include "../csg/export_pov.h"
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
+#include "../csg/features.h"
 #include "../csg/load.h"
 #include "../csg/precision.h"
 #include "../csg/summary.h"
@@ -49,6 +50,9 @@ static int run_check(const cli_args *a)
            "deepest program needs %d interval lists (limit %d)\n",
            h->prim_count, h->root_count, h->node_count, h->material_count, h->max_stack,
            CSG_STACK_MAX);
+    char spec[256];
+    csg_features_describe(csg_blob_features(blob.bytes), spec, sizeof spec);
+    printf("specialised: %s\n", spec);
     csg_blob_free(&blob);
     csg_scene_free(&s);
     return EXIT_OK;

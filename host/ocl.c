@@ -89,6 +89,8 @@ struct ocl_ctx {
                                 rows): the grid of csg_primary          */
     size_t group_tiles;     /* and of csg_tile_hits                      */
     int use_double;         /* the program was built with CSG_DOUBLE */
+    csg_features features;  /* what the program handles (spec.h): the
+                               scene's geometry bits, or everything     */
     cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
     cl_uint compute_units;  /* CL_DEVICE_MAX_COMPUTE_UNITS           */
@@ -545,19 +547,38 @@ static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
     return err;
 }
 
+static void ocl_release_program(ocl_ctx *c)
+{
+    cl_kernel *ks[] = {&c->k_primary, &c->k_tiles, &c->k_layout};
+    for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++) {
+        if (*ks[i])
+            clReleaseKernel(*ks[i]);
+        *ks[i] = NULL;
+    }
+    if (c->program)
+        clReleaseProgram(c->program);
+    c->program = NULL;
+}
+
+/* Builds the program for c->features (the -D options of spec.h; none
+ * for the general program). */
 static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
 {
-    char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 264];
+    char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 520];
     if (!ocl_source_dir(dir, sizeof dir, d))
         return false;
     snprintf(path, sizeof path, "%s/simd_kernels/primary.cl", dir);
-    char variant[64] = "";
+    char variant[64] = "", spec[256];
     if (c->kernel == OCL_KERNEL_PACKET)
         snprintf(variant, sizeof variant, " -DCSG_PACKET=%d -DCSG_PACKET_COLS=%d", c->packet,
                  c->packet_cols);
+    if (!csg_features_cl_options(c->features, spec, sizeof spec)) {
+        csg_error_plain(d, "OpenCL: the feature options do not fit");
+        return false;
+    }
     snprintf(options, sizeof options,
-             "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s%s",
-             dir, dir, c->use_double ? " -DCSG_DOUBLE" : "", variant);
+             "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s%s%s",
+             dir, dir, c->use_double ? " -DCSG_DOUBLE" : "", variant, spec);
     char *src = ocl_read_file(path, d);
     if (!src)
         return false;
@@ -828,6 +849,11 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     *out = NULL;
     if (!ocl_check_blob(c, h, tile, d))
         return false;
+    if (!csg_features_cover(c->features, csg_features_geometry(csg_blob_features(blob)))) {
+        csg_error_plain(d, "OpenCL: the program was specialised for other primitive kinds or "
+                           "CSG features than the scene's (ocl_specialise first)");
+        return false;
+    }
     ocl_pass *p = calloc(1, sizeof *p);
     if (!p) {
         csg_error_plain(d, "out of memory");
@@ -949,6 +975,27 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
     return ok;
 }
 
+csg_features ocl_features(const ocl_ctx *c)
+{
+    return c->features;
+}
+
+bool ocl_specialise(ocl_ctx *c, csg_features need, ocl_timing *timing, csg_diag *d)
+{
+    if (csg_features_cover(c->features, csg_features_geometry(need)))
+        return true;
+    double t0 = ocl_now();
+    char name[256];
+    ocl_device_name(c->device, name, sizeof name);
+    ocl_release_program(c);
+    c->features = csg_features_geometry(need);
+    if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
+        return false;
+    if (timing)
+        timing->compile_s += ocl_now() - t0;
+    return true;
+}
+
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d)
 {
     return ocl_open_kernel(opt, OCL_KERNEL_AUTO, out, timing, d);
@@ -966,6 +1013,8 @@ bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **o
     }
     c->use_double = opt->use_double;
     c->max_slice_bytes = opt->max_slice_bytes;
+    c->features = opt->features ? csg_features_geometry(*opt->features)
+                                : csg_features_geometry(csg_features_all());
     const char *sel = opt->device;
     if (!sel || !*sel)
         sel = getenv("CSGTRACE_CL_DEVICE");
@@ -1007,14 +1056,7 @@ void ocl_close(ocl_ctx *c)
 {
     if (!c)
         return;
-    if (c->k_primary)
-        clReleaseKernel(c->k_primary);
-    if (c->k_tiles)
-        clReleaseKernel(c->k_tiles);
-    if (c->k_layout)
-        clReleaseKernel(c->k_layout);
-    if (c->program)
-        clReleaseProgram(c->program);
+    ocl_release_program(c);
     if (c->queue)
         clReleaseCommandQueue(c->queue);
     if (c->context)

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "../csg/diag.h"
+#include "../csg/features.h"
 
 typedef struct ocl_ctx ocl_ctx; /* struct ocl_ctx is named in render.h */
 
@@ -22,6 +23,9 @@ typedef struct {
     size_t max_slice_bytes; /* device bytes of one slice's records; 0: fit
                                the device, at most 256 MiB; tests force
                                small slices with tiny values             */
+    const csg_features *features; /* build the program for these only
+                               (csg_blob_features of the scene to come);
+                               NULL: the general program, any scene      */
 } ocl_options;
 
 /* The primary kernel's variant (simd_kernels/primary.cl): one ray a
@@ -52,6 +56,16 @@ typedef struct {
  * false with d filled on failure (the build log goes to stderr). */
 bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
                      ocl_timing *timing, csg_diag *d);
+
+/* Makes the context's program able to run scenes that use `need`: kept
+ * when it already covers them (csg_features_cover), else rebuilt for
+ * exactly `need` (the time added to timing->compile_s).  A pass refuses
+ * a blob its program does not cover. */
+bool ocl_specialise(ocl_ctx *ctx, csg_features need, ocl_timing *timing, csg_diag *d);
+
+/* The feature set the context's program was built for (everything for
+ * the general program). */
+csg_features ocl_features(const ocl_ctx *ctx);
 
 /* ocl_open_kernel with OCL_KERNEL_AUTO. */
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d);

@@ -178,14 +178,36 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
 
 /* ---- step 2: the OpenCL pass, in the background --------------------------- */
 
-/* The caller's context, or a new one (kept for the caller when it asks). */
+/* The feature set to build the program for: the scene's (the loaded
+ * blob's), or every feature when $CSGTRACE_CL_SPECIALISE is 0 (the
+ * general program: benchmarks, and the tests that compare the two). */
+static bool render_cl_features(const void *blob, csg_features *out, csg_diag *d)
+{
+    const char *env = getenv("CSGTRACE_CL_SPECIALISE");
+    if (env && *env && strcmp(env, "0") != 0 && strcmp(env, "1") != 0) {
+        csg_error_plain(d, "CSGTRACE_CL_SPECIALISE must be 0 or 1, not \"%s\"", env);
+        return false;
+    }
+    *out = env && strcmp(env, "0") == 0 ? csg_features_all() : csg_blob_features(blob);
+    return true;
+}
+
+/* The caller's context, or a new one (kept for the caller when it asks);
+ * its program is specialised on the scene, which is loaded by now (a kept
+ * context is rebuilt only when its program lacks some of the scene's
+ * features). */
 static bool render_open_cl(const render_request *req, render_state *rs, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
     const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
-    ocl_options opt = { device, h->real_size == 8, 0 };
+    csg_features features;
+    if (!render_cl_features(rs->blob.bytes, &features, d))
+        return false;
+    ocl_options opt = {device, h->real_size == 8, 0, &features};
     rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
     if (!rs->ctx && !ocl_open_kernel(&opt, (enum ocl_kernel)req->cl_kernel, &rs->ctx, &rs->tm, d))
+        return false;
+    if (req->cl_keep && !ocl_specialise(rs->ctx, features, &rs->tm, d))
         return false;
     if (req->cl_keep)
         *req->cl_keep = rs->ctx; /* the caller closes it */

@@ -240,8 +240,9 @@ CSG_PK_FN void pk_try_root(csg_view v, csg_i32 i, const pk_packet *pk, intv m,
     m = m & pk_box_cull(rt->lo, rt->hi, pk, limit);
     if (!CSG_PK_ANY(m))
         return;
-    csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
-    if (leaf < 0 || (v.prims[leaf].flags & CSG_PF_INVERT)) {
+    csg_i32 leaf = v.nodes[rt->first_node].prim;
+    /* without CSG (spec.h) every root is one uncomplemented primitive */
+    if (CSG_USE_CSG && (rt->node_count != 1 || (v.prims[leaf].flags & CSG_PF_INVERT))) {
         *best = pk_try_root_lanes(v, i, pk->ray, pk->tmin, m, *best);
         return;
     }

@@ -67,6 +67,10 @@
 #define CSG_SURFACE_KINDS(X) X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
 
+/* What this compilation handles of the table and of the CSG machinery
+ * (all of it unless an OpenCL program is specialised on a scene). */
+#include "spec.h"
+
 #define CSG_PRIM_ENUM(ID, name) CSG_PRIM_##ID,
 enum csg_prim_kind { CSG_PRIM_KINDS(CSG_PRIM_ENUM) CSG_PRIM_KIND_COUNT };
 
@@ -74,6 +78,9 @@ enum csg_prim_kind { CSG_PRIM_KINDS(CSG_PRIM_ENUM) CSG_PRIM_KIND_COUNT };
 #define CSG_PRIM_COUNT_ONE(ID, name) +1
 #define CSG_PRIM_FIRST_SURFACE (0 CSG_SOLID_KINDS(CSG_PRIM_COUNT_ONE))
 #define CSG_PRIM_IS_SURFACE(kind) ((kind) >= CSG_PRIM_FIRST_SURFACE)
+/* Some surface kind is compiled in (spec.h). */
+#define CSG_PRIM_USE_OR(ID, name) || CSG_USES_KIND(ID)
+#define CSG_USE_SURFACES (0 CSG_SURFACE_KINDS(CSG_PRIM_USE_OR))
 
 enum csg_prim_flags {
     CSG_PF_XFORM = 1,     /* inv[] maps world to local coordinates           */
@@ -271,7 +278,25 @@ typedef struct {
  * and the kernel and the workers find their arrays through the header
  * (csg_blob_view in intersect.h).  Integers only, so OpenCL C reads it as
  * it is, whatever the precision. */
-#define CSG_BLOB_MAGIC 0x43534732u /* "CSG2" */
+#define CSG_BLOB_MAGIC 0x43534733u /* "CSG3" */
+
+/* What a scene uses beyond its primitive kinds (csg_blob_header.features;
+ * the kinds are csg_blob_header.kinds, bit 1 << kind).  The flattener
+ * records them and the blob validator recomputes them from the arrays and
+ * rejects a header that disagrees, so code specialised on a feature set
+ * (the OpenCL program: host/ocl.c, features.h) never meets a scene
+ * outside it.  A set bit says "some of the scene uses it". */
+enum csg_feature {
+    CSG_FEAT_CSG = 1,         /* a root needs interval lists: a program of
+                                 several nodes, or a complemented leaf     */
+    CSG_FEAT_XFORM = 2,       /* a primitive has a transform (CSG_PF_XFORM) */
+    CSG_FEAT_REFLECT = 4,     /* a material reflects                       */
+    CSG_FEAT_TRANSPARENT = 8, /* a material lets light through (filter or
+                                 transmit, in its pigment or colour map)   */
+    CSG_FEAT_NO_SHADOW = 16,  /* a primitive casts no shadow               */
+    CSG_FEAT_SHADOWLESS = 32, /* a light is shadowless                     */
+    CSG_FEAT_ALL = 63
+};
 #define CSG_MAX_SPP 1024           /* samples a pixel, at most */
 
 typedef struct {
@@ -291,6 +316,8 @@ typedef struct {
     csg_i32 sky_count;     /* sky_sphere pigments: a ray that misses sees
                               a colour of its direction, so no tile is
                               degenerate                                 */
+    csg_u32 kinds;         /* the primitive kinds present: bit 1 << kind */
+    csg_u32 features;      /* enum csg_feature: what else the scene uses */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
     csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
@@ -311,7 +338,8 @@ typedef struct {
         F(csg_blob_header, bvh_count) F(csg_blob_header, linear_roots)                     \
         F(csg_blob_header, material_count) F(csg_blob_header, light_count)                 \
         F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
-        F(csg_blob_header, sky_count) F(csg_blob_header, off_prims)                        \
+        F(csg_blob_header, sky_count) F(csg_blob_header, kinds)                            \
+        F(csg_blob_header, features) F(csg_blob_header, off_prims)                         \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \

@@ -223,7 +223,7 @@ CSG_FN void csg_leaf_spans(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray 
     real t0, t1;
     csg_i32 s0, s1;
     csg_spans_clear(out, tmax);
-    if (CSG_PRIM_IS_SURFACE(p->kind)) {
+    if (CSG_USE_SURFACES && CSG_PRIM_IS_SURFACE(p->kind)) {
         csg_surface_leaf_spans(p, i, r, tmin, tmax, out);
         return;
     }
@@ -508,6 +508,8 @@ CSG_FN csg_hit csg_first_boundary(const csg_spans *l, real tmin)
 CSG_FN csg_hit csg_root_first_hit(csg_view v, csg_i32 i, csg_ray r, real tmin, real tmax)
 {
     CSG_GLOBAL const csg_root *rt = &v.roots[i];
+    if (!CSG_USE_CSG) /* every root is one uncomplemented primitive (spec.h) */
+        return csg_leaf_first_hit(v.prims, v.nodes[rt->first_node].prim, r, tmin, tmax);
     csg_i32 leaf = rt->node_count == 1 ? v.nodes[rt->first_node].prim : -1;
     if (leaf >= 0 && !(v.prims[leaf].flags & CSG_PF_INVERT))
         return csg_leaf_first_hit(v.prims, leaf, r, tmin, tmax);

@@ -41,7 +41,7 @@ CSG_FN L_VEC3 L_FN(csg_xform_vector)(CSG_GLOBAL const real *m, L_VEC3 v)
 
 CSG_FN L_RAY L_FN(csg_ray_to_local)(CSG_GLOBAL const csg_prim *p, L_RAY r)
 {
-    if (p->flags & CSG_PF_XFORM) {
+    if (CSG_USE_XFORM && (p->flags & CSG_PF_XFORM)) {
         L_RAY l;
         l.o = L_FN(csg_xform_point)(p->inv, r.o);
         l.d = L_FN(csg_xform_vector)(p->inv, r.d);
@@ -281,7 +281,9 @@ CSG_FN L_INT L_FN(csg_smooth_triangle_span)(CSG_GLOBAL const real *p, L_RAY r, L
 }
 
 /* The interval of any primitive, dispatched by kind (flat.h's table); an
- * unknown kind has none (the blob validator lets none through). */
+ * unknown kind has none (the blob validator lets none through), nor has a
+ * kind this compilation leaves out (spec.h: the OpenCL host never gives
+ * it a scene that has one). */
 CSG_FN L_INT L_FN(csg_prim_span)(CSG_GLOBAL const csg_prim *p, L_RAY world, L_REAL *t0,
                                  L_REAL *t1, L_INT *s0, L_INT *s1)
 {
@@ -289,12 +291,15 @@ CSG_FN L_INT L_FN(csg_prim_span)(CSG_GLOBAL const csg_prim *p, L_RAY world, L_RE
     switch (p->kind) {
 #define CSG_SPAN_CASE(ID, name)                                                                    \
     case CSG_PRIM_##ID:                                                                            \
-        return L_FN(csg_##name##_span)(p->p, r, t0, t1, s0, s1);
+        if (CSG_USES_KIND(ID))                                                                     \
+            return L_FN(csg_##name##_span)(p->p, r, t0, t1, s0, s1);                               \
+        break;
         CSG_PRIM_KINDS(CSG_SPAN_CASE)
 #undef CSG_SPAN_CASE
     default:
-        return L_IS(0);
+        break;
     }
+    return L_IS(0);
 }
 
 /* ---- the hit of one primitive -------------------------------------------- */
@@ -335,7 +340,8 @@ CSG_FN L_HIT L_FN(csg_leaf_first_hit)(CSG_GLOBAL const csg_prim *prims, csg_i32 
     L_INT ok = L_FN(csg_prim_span)(p, r, &t0, &t1, &s0, &s1);
     if (!L_ANY(ok))
         return h;
-    if (CSG_PRIM_IS_SURFACE(p->kind)) { /* an event, as csg_surface_leaf_spans */
+    if (CSG_USE_SURFACES && CSG_PRIM_IS_SURFACE(p->kind)) { /* an event, as
+                                                                csg_surface_leaf_spans */
         L_UINT e = L_FN(csg_surf_of)(i, s0, 0u, p->flags);
         L_INT at = ok & (t0 > tmin) & (t0 <= tmax) & L_FN(csg_surf_visible)(e);
         h.t = L_SEL(at, t0, h.t);
