@@ -8,6 +8,12 @@
  *                            [--repeat R] [--precision float|double]
  *                            [--variants c,scalar,packet]
  *
+ * A kernel variant may carry a suffix: packet+spec is the program built
+ * for the scene's feature set (csg/features.h, what `csgtrace render`
+ * builds), packet+kinds, +csg, +xform specialised on that part of it
+ * alone (the gain of each specialisation); the plain name is the general
+ * program.
+ *
  * Parses and flattens the scene as `csgtrace render` does, opens one
  * OpenCL context per kernel variant (ocl_open_kernel; the build and
  * PoCL's first launch stay in compile_s, outside every timing), runs every
@@ -25,7 +31,9 @@
  * Prints one JSON object on stdout:
  *   {"scene", "width", "height", "spp", "precision", "rays", "hits",
  *    "roots", "bvh_nodes", "repeat", "device",
- *    "variants": {NAME: {"cores", "median_s", "min_s", "max_s",
+ *    "variants": {NAME: {"rounds_s", "cpu_rounds_s" (each round's time, in
+ *                        round order: for paired ratios), "cores", "median_s",
+ *                        "min_s", "max_s",
  *                        "mrays_per_s", "mrays_per_core", "cpu_median_s",
  *                        "cpu_min_s", "cpu_max_s", "mrays_per_cpu_s",
  *                        "compile_s", "kernel", "identical"}}}
@@ -43,16 +51,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../csg/features.h"
 #include "../csg/lang/parser.h"
 #include "../host/ocl.h"
 #include "../workers/engine.h"
 #include "timing.h"
 
 #define TILE 32
-#define MAX_VARIANTS 3
+#define MAX_VARIANTS 12
+#define VARIANT_NAME 32
 
 typedef struct {
-    const char *name;  /* "c", "scalar", "packet"            */
+    char name[VARIANT_NAME]; /* "c", "scalar", "packet+spec", ...  */
     ocl_ctx *ctx;      /* NULL for c                           */
     ocl_timing open;   /* compile_s, device, kernel, cores     */
     double *times;     /* repeat entries: wall seconds          */
@@ -117,16 +127,28 @@ static bool run_once(variant *v, const engine *e, const void *blob, void *tile_t
     return ok;
 }
 
+/* "name": [x, ...] of n values, in round order. */
+static void print_rounds(const char *name, const double *x, int n)
+{
+    printf("\"%s\": [", name);
+    for (int i = 0; i < n; i++)
+        printf("%s%.6f", i ? ", " : "", x[i]);
+    printf("], ");
+}
+
 static void print_variant(const variant *v, int repeat, uint64_t rays, bool last)
 {
+    printf("    \"%s\": {", v->name);
+    print_rounds("rounds_s", v->times, repeat); /* before the medians sort them */
+    print_rounds("cpu_rounds_s", v->cpu, repeat);
     double median = bench_median(v->times, repeat);
     double cpu = bench_median(v->cpu, repeat);
     int cores = v->ctx ? v->open.compute_units : 1;
-    printf("    \"%s\": {\"cores\": %d, \"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, "
+    printf("\"cores\": %d, \"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, "
            "\"mrays_per_s\": %.4f, \"mrays_per_core\": %.4f, \"cpu_median_s\": %.6f, "
            "\"cpu_min_s\": %.6f, \"cpu_max_s\": %.6f, \"mrays_per_cpu_s\": %.4f, "
            "\"compile_s\": %.3f, \"kernel\": \"%s\", \"identical\": %s}%s\n",
-           v->name, cores, median, v->times[0], v->times[repeat - 1], (double)rays / median / 1e6,
+           cores, median, v->times[0], v->times[repeat - 1], (double)rays / median / 1e6,
            (double)rays / median / 1e6 / cores, cpu, v->cpu[0], v->cpu[repeat - 1],
            (double)rays / cpu / 1e6, v->open.compile_s, v->ctx ? v->open.kernel : "c",
            v->identical ? "true" : "false", last ? "" : ",");
@@ -135,8 +157,58 @@ static void print_variant(const variant *v, int repeat, uint64_t rays, bool last
 static int usage(void)
 {
     fprintf(stderr, "usage: primary_pass SCENE.pov [--width W] [--height H] [--spp N] "
-                    "[--repeat R] [--precision float|double] [--variants c,scalar,packet]\n");
+                    "[--repeat R] [--precision float|double] [--variants c,scalar,packet]\n"
+                    "  a kernel variant may end in +spec (the program specialised on the "
+                    "scene), +kinds, +csg or +xform (on that part of it only)\n");
     return 2;
+}
+
+/* The feature set of a kernel variant "KERNEL[+PART]" for a scene that
+ * uses `scene`: everything (the general program), or the scene's set in
+ * the part named (spec: all of it; kinds: its primitive kinds; csg: no
+ * interval lists when it has none; xform: no transforms when it has
+ * none).  False for an unknown part. */
+static bool variant_features(const char *part, csg_features scene, csg_features *out)
+{
+    csg_features f = csg_features_all();
+    if (!part || !strcmp(part, "spec"))
+        f = part ? scene : f;
+    else if (!strcmp(part, "kinds"))
+        f.kinds = scene.kinds;
+    else if (!strcmp(part, "csg"))
+        f.uses = (f.uses & ~(uint32_t)CSG_FEAT_CSG) | (scene.uses & CSG_FEAT_CSG);
+    else if (!strcmp(part, "xform"))
+        f.uses = (f.uses & ~(uint32_t)CSG_FEAT_XFORM) | (scene.uses & CSG_FEAT_XFORM);
+    else
+        return false;
+    *out = f;
+    return true;
+}
+
+/* Opens the OpenCL context of variant "scalar[+PART]" or "packet[+PART]";
+ * 2 for a name it does not know, 1 when OpenCL fails. */
+static int variant_open(variant *v, bool dbl, csg_features scene)
+{
+    char kname[VARIANT_NAME];
+    memcpy(kname, v->name, sizeof kname); /* NUL-terminated: memset, < VARIANT_NAME */
+    char *plus = strchr(kname, '+');
+    if (plus)
+        *plus++ = '\0';
+    enum ocl_kernel kernel;
+    csg_features f;
+    if (!ocl_kernel_parse(kname, &kernel) || kernel == OCL_KERNEL_AUTO ||
+        !variant_features(plus, scene, &f)) {
+        fprintf(stderr, "primary_pass: unknown variant '%s'\n", v->name);
+        return 2;
+    }
+    ocl_options opt = {NULL, dbl, 0, &f};
+    csg_diag d;
+    memset(&d, 0, sizeof d);
+    if (!ocl_open_kernel(&opt, kernel, &v->ctx, &v->open, &d)) {
+        fprintf(stderr, "primary_pass: %s: %s\n", v->name, d.message);
+        return 1;
+    }
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -182,18 +254,18 @@ int main(int argc, char **argv)
     uint64_t rays = (uint64_t)width * (uint64_t)height * (uint64_t)spp;
     size_t rs = e->real_size;
 
-    /* The variants: c first (the reference), then the OpenCL ones. */
+    /* The variants in the order given: c first (the reference), then the
+     * OpenCL ones. */
     variant vs[MAX_VARIANTS];
     int nv = 0;
     memset(vs, 0, sizeof vs);
-    static const char *const known[MAX_VARIANTS] = {"c", "scalar", "packet"};
-    for (int k = 0; k < MAX_VARIANTS; k++) {
-        const char *p = strstr(list, known[k]);
-        size_t len = strlen(known[k]);
-        if (!p || (p != list && p[-1] != ',') || (p[len] != '\0' && p[len] != ','))
-            continue;
+    for (const char *p = list; *p; p += *p == ',') {
+        size_t len = strcspn(p, ",");
+        if (nv == MAX_VARIANTS || len == 0 || len >= VARIANT_NAME)
+            return usage();
         variant *v = &vs[nv++];
-        v->name = known[k];
+        memcpy(v->name, p, len);
+        p += len;
         v->identical = true;
         v->times = malloc((size_t)repeat * sizeof *v->times);
         v->cpu = malloc((size_t)repeat * sizeof *v->cpu);
@@ -203,14 +275,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "primary_pass: out of memory\n");
             return 1;
         }
-        if (k == 0)
+        if (strcmp(v->name, "c") == 0)
             continue;
-        ocl_options opt = {NULL, dbl, 0};
-        enum ocl_kernel kernel = k == 1 ? OCL_KERNEL_SCALAR : OCL_KERNEL_PACKET;
-        if (!ocl_open_kernel(&opt, kernel, &v->ctx, &v->open, &d)) {
-            fprintf(stderr, "primary_pass: %s: %s\n", v->name, d.message);
-            return 1;
-        }
+        int failed = variant_open(v, dbl, csg_blob_features(blob.bytes));
+        if (failed)
+            return failed;
     }
     if (nv == 0 || strcmp(vs[0].name, "c") != 0) {
         fprintf(stderr, "primary_pass: --variants must include c (the reference)\n");

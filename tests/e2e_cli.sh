@@ -189,6 +189,21 @@ rm -rf "$T/moved" "$T/moved.png"
 # --- check and export ---
 expect 0 "check" "$BIN" check "$T/good.pov"
 grep -qi "sphere" "$T/out" && ok "check summary lists the sphere" || ko "check summary: $(head -c 300 "$T/out")"
+grep -qx "specialised: sphere; no csg; no transforms; opaque; no reflection" "$T/out" &&
+    ok "check: the specialised line of a lone opaque sphere" ||
+    ko "check specialised line: $(grep specialised "$T/out")"
+cat >"$T/rich.pov" <<'POV'
+camera { location <0, 0, -4> look_at 0 }
+light_source { <2, 4, -3> color rgb 1 shadowless }
+difference { box { -1, 1 } sphere { 0, 1.2 } rotate y * 30
+  pigment { color rgbf <1, 1, 1, 0.5> } finish { reflection 0.3 } }
+cylinder { <0, -1, 0>, <0, 1, 0>, 0.2 no_shadow pigment { color rgb 1 } }
+triangle { <0, 0, 0>, <1, 0, 0>, <0, 1, 0> pigment { color rgb 1 } }
+POV
+expect 0 "check (CSG, transforms, glass, mirror, triangle)" "$BIN" check "$T/rich.pov"
+grep -qx "specialised: sphere box cone triangle; csg; transforms; transparent; reflective; no_shadow objects; shadowless lights" "$T/out" &&
+    ok "check: the specialised line names every feature" ||
+    ko "check specialised line: $(grep specialised "$T/out")"
 expect 0 "export" "$BIN" export "$T/good.pov" -o "$T/exported.pov"
 expect 0 "exported scene parses again" "$BIN" check "$T/exported.pov"
 

@@ -5,7 +5,8 @@
 # degenerate-tile bookkeeping at its extremes (no object: every tile
 # skipped; a screen-filling object: none), a 1x1 image, `compare` (table,
 # identical images, JSON), and the generator's occupancy target on a sample
-# of the benchmark grid.
+# of the benchmark grid; the program specialised on each example scene
+# against the general one.
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
@@ -47,6 +48,23 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
         ko "random scene $3: tile bookkeeping"
     fi
 done
+
+# --- the program specialised on each example scene's features (the default)
+# gives the general program's image (CSGTRACE_CL_SPECIALISE=0) and serial's ---
+for scene in scenes/*.pov; do
+    b=$(basename "$scene" .pov)
+    render sp_s_$b 0 serial "$scene" --width 64 --height 48 --tile 16
+    render sp_x_$b 0 hetero "$scene" --width 64 --height 48 --tile 16
+    CSGTRACE_CL_SPECIALISE=0 render sp_g_$b 0 hetero "$scene" --width 64 --height 48 --tile 16
+    if same "$T/sp_s_$b.exr" "$T/sp_x_$b.exr" && same "$T/sp_s_$b.exr" "$T/sp_g_$b.exr"; then
+        ok "$b ($("$BIN" check "$scene" | sed -n 's/^specialised: //p')): specialised hetero == general hetero == serial"
+    else
+        ko "$b: the specialised program's image differs: $(head -c 300 "$T/sp_x_$b.err")"
+    fi
+done
+CSGTRACE_CL_SPECIALISE=2 render sp_bad 0 hetero "$T/gen_1.pov" --width 8 --height 8
+grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/sp_bad.err" &&
+    ok "a bad CSGTRACE_CL_SPECIALISE is refused" || ko "CSGTRACE_CL_SPECIALISE=2: $(head -c 300 "$T/sp_bad.err")"
 
 # --- supersampling: every sample traced by the OpenCL pass, same pixels ---
 for spp in 4 8 3; do

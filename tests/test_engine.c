@@ -357,6 +357,16 @@ static void test_blob_validation(void **state)
     h->prim_count = 1 << 30;
     assert_false(csg_blob_valid(b.bytes, b.size));
     h->prim_count = 1;
+    /* the feature set: code specialised on it relies on it (spec.h) */
+    assert_int_equal(h->kinds, 1u << CSG_PRIM_SPHERE);
+    assert_int_equal(h->features & (CSG_FEAT_CSG | CSG_FEAT_XFORM), 0);
+    h->kinds = 1u << CSG_PRIM_BOX; /* a header that lies about its kinds */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    h->kinds = 1u << CSG_PRIM_SPHERE;
+    h->features ^= CSG_FEAT_CSG; /* ... or its features */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    h->features ^= CSG_FEAT_CSG;
+    assert_true(csg_blob_valid(b.bytes, b.size));
     h->magic = 0;
     assert_false(csg_blob_valid(b.bytes, b.size));
     csg_blob_free(&b);

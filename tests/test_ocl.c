@@ -647,6 +647,122 @@ static csg_blob random_blob(uint64_t seed, int objects, int width, int height, i
     return blob;
 }
 
+/* The blob of the scene file `path` (relative to the source tree), or of
+ * the scene text `text` when given. */
+static csg_blob file_blob(const char *path, const char *text, int width, int height)
+{
+    char full[4096];
+    snprintf(full, sizeof full, "%s/%s", CSG_SOURCE_DIR, path);
+    csg_scene sc;
+    csg_diag d = {0};
+    csg_blob blob = {NULL, 0};
+    csg_scene_init(&sc);
+    csg_flatten_opts o = {width, height, 0, -1, 1, 0};
+    bool ok = text ? csg_parse_string(path, text, strlen(text), &sc, &d)
+                   : csg_parse_file(full, &sc, &d);
+#ifdef CSG_DOUBLE
+    ok = ok && csg_flatten_double(&sc, &o, &blob, &d);
+#else
+    ok = ok && csg_flatten_float(&sc, &o, &blob, &d);
+#endif
+    csg_scene_free(&sc);
+    if (!ok)
+        fail_msg("%s: %s", full, d.message);
+    return blob;
+}
+
+/* Both variants of the program specialised on the blob's feature set
+ * (csg/device/spec.h) give the C records, as the general program does. */
+static void check_specialised(void **state, const void *blob, const char *what)
+{
+    fixture *fx = *state;
+    csg_features f = csg_blob_features(blob);
+    ocl_options opt = {NULL, prec.real_size == 8, 0, &f};
+    for (int v = 0; v < VARIANTS; v++) {
+        ocl_ctx *ctx = NULL;
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        if (!ocl_open_kernel(&opt, variant_kernel[v], &ctx, &timing, &d))
+            fail_msg("%s: the specialised program: %s", what, d.message);
+        csg_features built = ocl_features(ctx), geometry = csg_features_geometry(f);
+        assert_int_equal(built.kinds, geometry.kinds);
+        assert_int_equal(built.uses, geometry.uses);
+        check_blob(ctx, &prec, blob, 8);
+        check_blob(fx->ctx[v], &prec, blob, 8);
+        ocl_close(ctx);
+    }
+}
+
+/* Scenes of every kind: the example scenes (CSG, transforms, each solid
+ * kind, a sphere-and-plane scene without either), triangles and a mesh,
+ * and hand-built scenes of one kind each. */
+static void test_specialised(void **state)
+{
+    static const char *const files[] = {"scenes/spheres_grid.pov", "scenes/primitives.pov",
+                                        "scenes/csg_ops.pov", "scenes/glass.pov"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        csg_blob blob = file_blob(files[i], NULL, 40, 30);
+        check_specialised(state, blob.bytes, files[i]);
+        csg_blob_free(&blob);
+    }
+    static const char mesh[] =
+        "camera { location <0.3, 0.4, -3> look_at <0.3, 0.3, 0> }\n"
+        "mesh { triangle { <-1, -1, 0>, <1, -1, 0>, <0, 1, 0.5> }\n"
+        "  smooth_triangle { <1, -1, 0>, <0, 0, -1>, <1.5, 1, 0>, <0, 0.3, -1>,\n"
+        "                    <0, 1, 0.5>, <0.2, 0, -1> } }\n";
+    csg_blob tris = file_blob("mesh.pov", mesh, 40, 30);
+    assert_int_equal(csg_blob_features(tris.bytes).kinds,
+                     (1u << CSG_PRIM_TRIANGLE) | (1u << CSG_PRIM_SMOOTH_TRIANGLE));
+    check_specialised(state, tris.bytes, "a mesh");
+    csg_blob_free(&tris);
+    void (*builds[])(sc_scene *) = {build_boxes, build_cones, build_planes};
+    for (size_t i = 0; i < sizeof builds / sizeof builds[0]; i++) {
+        sc_scene *s = sc_new(40, 30);
+        builds[i](s);
+        size_t size;
+        void *blob = prec.make_blob(s, &size);
+        check_specialised(state, blob, "a hand-built scene");
+        free(blob);
+        free(s);
+    }
+}
+
+/* A program specialised on spheres refuses a scene with a box, with a
+ * message; ocl_specialise rebuilds it for the box, and it then gives the
+ * C records; a scene it covers needs no rebuild. */
+static void test_specialised_refuses(void **state)
+{
+    (void)state;
+    sc_scene *spheres = sc_new(16, 12), *boxes = sc_new(16, 12);
+    build_spheres(spheres);
+    build_boxes(boxes);
+    size_t size;
+    void *bs = prec.make_blob(spheres, &size), *bb = prec.make_blob(boxes, &size);
+    csg_features f = csg_blob_features(bs);
+    ocl_options opt = {NULL, prec.real_size == 8, 0, &f};
+    ocl_ctx *ctx = NULL;
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    if (!ocl_open_kernel(&opt, OCL_KERNEL_PACKET, &ctx, &timing, &d))
+        fail_msg("ocl_open: %s", d.message);
+    double t[16 * 12];
+    uint32_t surf[16 * 12], hits[4];
+    assert_false(ocl_primary_pass(ctx, bb, 8, t, surf, hits, &timing, &d));
+    assert_non_null(strstr(d.message, "specialised"));
+    csg_diag d2 = {0};
+    timing.compile_s = 0;
+    assert_true(ocl_specialise(ctx, csg_blob_features(bb), &timing, &d2));
+    assert_true(timing.compile_s > 0);
+    check_blob(ctx, &prec, bb, 8);
+    csg_features built = ocl_features(ctx);
+    assert_true(csg_features_cover(built, csg_features_geometry(csg_blob_features(bb))));
+    ocl_close(ctx);
+    free(bs);
+    free(bb);
+    free(spheres);
+    free(boxes);
+}
+
 /* ---- tests -------------------------------------------------------------------------- */
 
 static void test_spheres(void **state) { check_scene_all(state, build_spheres, true); }
@@ -1029,6 +1145,8 @@ int main(void)
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),
         cmocka_unit_test(test_random_flattened),
+        cmocka_unit_test(test_specialised),
+        cmocka_unit_test(test_specialised_refuses),
         cmocka_unit_test(test_random_forced_slices),
         cmocka_unit_test(test_packet_widths),
         cmocka_unit_test(test_tile_sizes),
@@ -1090,6 +1208,12 @@ static void *make_blob(const sc_scene *s, size_t *size)
         cam->right[k] = (real)s->cam[6 + k];
         cam->up[k] = (real)s->cam[9 + k];
     }
+    csg_blob_header *hb = (csg_blob_header *)(void *)b;
+#ifdef CSG_DOUBLE
+    csg_blob_scan_features_double(b, &hb->kinds, &hb->features);
+#else
+    csg_blob_scan_features_float(b, &hb->kinds, &hb->features);
+#endif
     *size = (size_t)h.total_size;
     return b;
 }

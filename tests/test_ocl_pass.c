@@ -45,7 +45,7 @@ static int group_setup(void **state)
     csg_scene s;
     csg_diag d = {{0}, 0};
     csg_flatten_opts o = {W, H, 5, -1, 1, 0};
-    ocl_options opt = {NULL, 0, 0};
+    ocl_options opt = {NULL, 0, 0, NULL};
     ocl_timing tm;
     memset(&tm, 0, sizeof tm);
     if (!fx || !csg_parse_string("pass.pov", scene_sdl, strlen(scene_sdl), &s, &d) ||
