@@ -11,8 +11,8 @@
  * A kernel variant may carry a suffix: packet+spec is the program built
  * for the scene's feature set (csg/features.h, what `csgtrace render`
  * builds), packet+kinds, +csg, +xform specialised on that part of it
- * alone (the gain of each specialisation); the plain name is the general
- * program.
+ * alone (the gain of each specialisation), or on several (packet+kinds+csg);
+ * the plain name is the general program.
  *
  * Parses and flattens the scene as `csgtrace render` does, opens one
  * OpenCL context per kernel variant (ocl_open_kernel; the build and
@@ -58,7 +58,7 @@
 #include "timing.h"
 
 #define TILE 32
-#define MAX_VARIANTS 12
+#define MAX_VARIANTS 16
 #define VARIANT_NAME 32
 
 typedef struct {
@@ -163,24 +163,31 @@ static int usage(void)
     return 2;
 }
 
-/* The feature set of a kernel variant "KERNEL[+PART]" for a scene that
- * uses `scene`: everything (the general program), or the scene's set in
- * the part named (spec: all of it; kinds: its primitive kinds; csg: no
- * interval lists when it has none; xform: no transforms when it has
- * none).  False for an unknown part. */
-static bool variant_features(const char *part, csg_features scene, csg_features *out)
+/* The feature set of a kernel variant "KERNEL[+PART...]" for a scene
+ * that uses `scene`: everything (the general program) with the scene's
+ * own set in each part named (spec: all of it; kinds: its primitive
+ * kinds; csg: no interval lists when it has none; xform: no transforms
+ * when it has none).  `parts` is what follows the first '+' ("kinds+csg"),
+ * NULL for none.  False for an unknown part. */
+static bool variant_features(const char *parts, csg_features scene, csg_features *out)
 {
     csg_features f = csg_features_all();
-    if (!part || !strcmp(part, "spec"))
-        f = part ? scene : f;
-    else if (!strcmp(part, "kinds"))
-        f.kinds = scene.kinds;
-    else if (!strcmp(part, "csg"))
-        f.uses = (f.uses & ~(uint32_t)CSG_FEAT_CSG) | (scene.uses & CSG_FEAT_CSG);
-    else if (!strcmp(part, "xform"))
-        f.uses = (f.uses & ~(uint32_t)CSG_FEAT_XFORM) | (scene.uses & CSG_FEAT_XFORM);
-    else
-        return false;
+    while (parts && *parts) {
+        size_t len = strcspn(parts, "+");
+        uint32_t bit = 0;
+        if (len == 4 && !strncmp(parts, "spec", len))
+            f = scene;
+        else if (len == 5 && !strncmp(parts, "kinds", len))
+            f.kinds = scene.kinds;
+        else if (len == 3 && !strncmp(parts, "csg", len))
+            bit = CSG_FEAT_CSG;
+        else if (len == 5 && !strncmp(parts, "xform", len))
+            bit = CSG_FEAT_XFORM;
+        else
+            return false;
+        f.uses = (f.uses & ~bit) | (scene.uses & bit);
+        parts += len + (parts[len] == '+');
+    }
     *out = f;
     return true;
 }

@@ -3,9 +3,11 @@
 # feature set gains (csg/features.h, csg/device/spec.h): the primary pass of
 # the general program against programs built for the scene's primitive
 # kinds only (+kinds), without interval lists (+csg), without transforms
-# (+xform), and for all of it (+spec, what `csgtrace render` builds).
+# (+xform), for several (+kinds+csg), and for all of it (+spec: kinds, CSG
+# and transforms).
 #
 #   bench/spec_pass.sh [--size 1024] [--repeat 7] [--kernels "packet scalar"]
+#                      [--parts "kinds csg xform kinds+csg spec"]
 #                      [--out bench/results/spec_pass] SCENE...
 #
 # SCENE is a .pov file, or spheres:N for `csgtrace gen spheres --count N
@@ -29,6 +31,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SIZE=1024
 REPEAT=7
 KERNELS="packet scalar"
+PARTS="kinds csg xform kinds+csg spec"
 OUT=$ROOT/bench/results/spec_pass
 SCENES=()
 while [ $# -gt 0 ]; do
@@ -36,6 +39,7 @@ while [ $# -gt 0 ]; do
     --size) SIZE=${2:?}; shift ;;
     --repeat) REPEAT=${2:?}; shift ;;
     --kernels) KERNELS=${2:?}; shift ;;
+    --parts) PARTS=${2:?}; shift ;;
     --out) OUT=${2:?}; shift ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     -*) echo "bench/spec_pass.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
@@ -57,7 +61,8 @@ LOAD_START=$(cut -d' ' -f1-3 /proc/loadavg)
 
 VARIANTS=c
 for k in $KERNELS; do
-    VARIANTS="$VARIANTS,$k,$k+kinds,$k+csg,$k+xform,$k+spec"
+    VARIANTS="$VARIANTS,$k"
+    for p in $PARTS; do VARIANTS="$VARIANTS,$k+$p"; done
 done
 NAMES=()
 for s in "${SCENES[@]}"; do
