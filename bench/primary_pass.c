@@ -10,8 +10,8 @@
  *
  * A kernel variant may carry a suffix: packet+spec is the program built
  * for the scene's feature set (csg/features.h, what `csgtrace render`
- * builds), packet+kinds, +csg, +xform specialised on that part of it
- * alone (the gain of each specialisation), or on several (packet+kinds+csg);
+ * builds), packet+kinds, +csg specialised on that part of it alone (the
+ * gain of each specialisation), or on several (packet+kinds+csg);
  * the plain name is the general program.
  *
  * Parses and flattens the scene as `csgtrace render` does, opens one
@@ -159,15 +159,14 @@ static int usage(void)
     fprintf(stderr, "usage: primary_pass SCENE.pov [--width W] [--height H] [--spp N] "
                     "[--repeat R] [--precision float|double] [--variants c,scalar,packet]\n"
                     "  a kernel variant may end in +spec (the program specialised on the "
-                    "scene), +kinds, +csg or +xform (on that part of it only)\n");
+                    "scene), +kinds or +csg (on that part of it only)\n");
     return 2;
 }
 
 /* The feature set of a kernel variant "KERNEL[+PART...]" for a scene
  * that uses `scene`: everything (the general program) with the scene's
  * own set in each part named (spec: all of it; kinds: its primitive
- * kinds; csg: no interval lists when it has none; xform: no transforms
- * when it has none).  `parts` is what follows the first '+' ("kinds+csg"),
+ * kinds; csg: no interval lists when it has none).  `parts` is what follows the first '+' ("kinds+csg"),
  * NULL for none.  False for an unknown part. */
 static bool variant_features(const char *parts, csg_features scene, csg_features *out)
 {
@@ -181,8 +180,6 @@ static bool variant_features(const char *parts, csg_features scene, csg_features
             f.kinds = scene.kinds;
         else if (len == 3 && !strncmp(parts, "csg", len))
             bit = CSG_FEAT_CSG;
-        else if (len == 5 && !strncmp(parts, "xform", len))
-            bit = CSG_FEAT_XFORM;
         else
             return false;
         f.uses = (f.uses & ~bit) | (scene.uses & bit);

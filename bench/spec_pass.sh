@@ -2,12 +2,11 @@
 # bench/spec_pass.sh — what specialising the OpenCL program on a scene's
 # feature set gains (csg/features.h, csg/device/spec.h): the primary pass of
 # the general program against programs built for the scene's primitive
-# kinds only (+kinds), without interval lists (+csg), without transforms
-# (+xform), for several (+kinds+csg), and for all of it (+spec: kinds, CSG
-# and transforms).
+# kinds only (+kinds), without interval lists (+csg), and for both (+spec,
+# what `csgtrace render` builds; the same program as +kinds+csg).
 #
 #   bench/spec_pass.sh [--size 1024] [--repeat 7] [--kernels "packet scalar"]
-#                      [--parts "kinds csg xform kinds+csg spec"]
+#                      [--parts "kinds csg spec"]
 #                      [--out bench/results/spec_pass] SCENE...
 #
 # SCENE is a .pov file, or spheres:N for `csgtrace gen spheres --count N
@@ -31,7 +30,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SIZE=1024
 REPEAT=7
 KERNELS="packet scalar"
-PARTS="kinds csg xform kinds+csg spec"
+PARTS="kinds csg spec"
 OUT=$ROOT/bench/results/spec_pass
 SCENES=()
 while [ $# -gt 0 ]; do

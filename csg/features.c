@@ -19,7 +19,7 @@ static const char *const feat_kind_macros[CSG_PRIM_KIND_COUNT] = {
     CSG_PRIM_KINDS(FEAT_KIND_MACRO)};
 
 #define FEAT_ALL_KINDS ((1u << CSG_PRIM_KIND_COUNT) - 1u)
-#define FEAT_GEOMETRY ((uint32_t)(CSG_FEAT_CSG | CSG_FEAT_XFORM))
+#define FEAT_SPECIALISED ((uint32_t)CSG_FEAT_CSG)
 
 csg_features csg_features_all(void)
 {
@@ -39,9 +39,9 @@ bool csg_features_cover(csg_features have, csg_features need)
     return (need.kinds & ~have.kinds) == 0 && (need.uses & ~have.uses) == 0;
 }
 
-csg_features csg_features_geometry(csg_features f)
+csg_features csg_features_specialised(csg_features f)
 {
-    csg_features g = {f.kinds & FEAT_ALL_KINDS, f.uses & FEAT_GEOMETRY};
+    csg_features g = {f.kinds & FEAT_ALL_KINDS, f.uses & FEAT_SPECIALISED};
     return g;
 }
 
@@ -61,8 +61,8 @@ bool csg_features_cl_options(csg_features f, char *buf, size_t size)
     bool ok = size > 0;
     if (ok)
         buf[0] = '\0';
-    f = csg_features_geometry(f);
-    if ((f.kinds & FEAT_ALL_KINDS) == FEAT_ALL_KINDS && f.uses == FEAT_GEOMETRY)
+    f = csg_features_specialised(f);
+    if ((f.kinds & FEAT_ALL_KINDS) == FEAT_ALL_KINDS && f.uses == FEAT_SPECIALISED)
         return ok; /* the general program */
     ok = ok && feat_append(buf, size, &at, " -DCSG_SPECIALISED");
     for (int k = 0; k < CSG_PRIM_KIND_COUNT; k++)
@@ -72,8 +72,6 @@ bool csg_features_cl_options(csg_features f, char *buf, size_t size)
         }
     if (!(f.uses & CSG_FEAT_CSG))
         ok = ok && feat_append(buf, size, &at, " -DCSG_NO_CSG");
-    if (!(f.uses & CSG_FEAT_XFORM))
-        ok = ok && feat_append(buf, size, &at, " -DCSG_NO_TRANSFORM");
     return ok;
 }
 
@@ -93,7 +91,8 @@ bool csg_features_describe(csg_features f, char *buf, size_t size)
         ok = ok && feat_append(buf, size, &at, "no primitives");
     ok = ok && feat_append(buf, size, &at, f.uses & CSG_FEAT_CSG ? "; csg" : "; no csg");
     ok = ok && feat_append(buf, size, &at,
-                           f.uses & CSG_FEAT_XFORM ? "; transforms" : "; no transforms");
+                           f.uses & CSG_FEAT_XFORM ? " (the scene also: transforms"
+                                                   : " (the scene also: no transforms");
     ok = ok && feat_append(buf, size, &at,
                            f.uses & CSG_FEAT_TRANSPARENT ? "; transparent" : "; opaque");
     ok = ok && feat_append(buf, size, &at,
@@ -102,5 +101,5 @@ bool csg_features_describe(csg_features f, char *buf, size_t size)
         ok = ok && feat_append(buf, size, &at, "; no_shadow objects");
     if (f.uses & CSG_FEAT_SHADOWLESS)
         ok = ok && feat_append(buf, size, &at, "; shadowless lights");
-    return ok;
+    return ok && feat_append(buf, size, &at, ")");
 }

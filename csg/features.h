@@ -28,20 +28,22 @@ csg_features csg_blob_features(const void *blob);
 /* Code built for `have` can run a scene that uses `need`. */
 bool csg_features_cover(csg_features have, csg_features need);
 
-/* The set code is specialised on for a scene that uses f: f's kinds and
- * its CSG and transform bits (the ones the OpenCL program removes code
- * for); the material bits are kept apart (they only describe the scene). */
-csg_features csg_features_geometry(csg_features f);
+/* The part of f code is specialised on: its kinds and its CSG bit (what
+ * the OpenCL program leaves out when unused: csg/device/spec.h).  The
+ * other bits only describe the scene: specialising on transforms was
+ * measured and did not pay (bench/SPEED.md). */
+csg_features csg_features_specialised(csg_features f);
 
-/* The OpenCL build options of the program specialised on f (geometry
- * bits only), e.g. " -DCSG_SPECIALISED -DCSG_HAS_SPHERE -DCSG_NO_CSG
- * -DCSG_NO_TRANSFORM"; "" for the general program (f covers everything).
- * False when buf is too small. */
+/* The OpenCL build options of the program specialised on f (its
+ * specialised part only), e.g. " -DCSG_SPECIALISED -DCSG_HAS_SPHERE
+ * -DCSG_NO_CSG"; "" for the general program (every kind, CSG).  False
+ * when buf is too small. */
 bool csg_features_cl_options(csg_features f, char *buf, size_t size);
 
-/* One line without the newline, e.g. "sphere box; no csg; no transforms;
- * opaque; no reflection" (check's "specialised:" line).  False when buf
- * is too small. */
+/* One line without the newline: what is specialised, then the scene's
+ * other features, e.g. "sphere box; no csg (the scene also: no
+ * transforms; opaque; no reflection)" (check's "specialised:" line).
+ * False when buf is too small. */
 bool csg_features_describe(csg_features f, char *buf, size_t size);
 
 #endif

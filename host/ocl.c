@@ -90,7 +90,7 @@ struct ocl_ctx {
     size_t group_tiles;     /* and of csg_tile_hits                      */
     int use_double;         /* the program was built with CSG_DOUBLE */
     csg_features features;  /* what the program handles (spec.h): the
-                               scene's geometry bits, or everything     */
+                               scene's kinds and CSG bit, or all       */
     cl_ulong max_alloc;     /* CL_DEVICE_MAX_MEM_ALLOC_SIZE          */
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
     cl_uint compute_units;  /* CL_DEVICE_MAX_COMPUTE_UNITS           */
@@ -849,7 +849,7 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     *out = NULL;
     if (!ocl_check_blob(c, h, tile, d))
         return false;
-    if (!csg_features_cover(c->features, csg_features_geometry(csg_blob_features(blob)))) {
+    if (!csg_features_cover(c->features, csg_features_specialised(csg_blob_features(blob)))) {
         csg_error_plain(d, "OpenCL: the program was specialised for other primitive kinds or "
                            "CSG features than the scene's (ocl_specialise first)");
         return false;
@@ -982,13 +982,13 @@ csg_features ocl_features(const ocl_ctx *c)
 
 bool ocl_specialise(ocl_ctx *c, csg_features need, ocl_timing *timing, csg_diag *d)
 {
-    if (csg_features_cover(c->features, csg_features_geometry(need)))
+    if (csg_features_cover(c->features, csg_features_specialised(need)))
         return true;
     double t0 = ocl_now();
     char name[256];
     ocl_device_name(c->device, name, sizeof name);
     ocl_release_program(c);
-    c->features = csg_features_geometry(need);
+    c->features = csg_features_specialised(need);
     if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
         return false;
     if (timing)
@@ -1013,8 +1013,8 @@ bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **o
     }
     c->use_double = opt->use_double;
     c->max_slice_bytes = opt->max_slice_bytes;
-    c->features = opt->features ? csg_features_geometry(*opt->features)
-                                : csg_features_geometry(csg_features_all());
+    c->features = opt->features ? csg_features_specialised(*opt->features)
+                                : csg_features_specialised(csg_features_all());
     const char *sel = opt->device;
     if (!sel || !*sel)
         sel = getenv("CSGTRACE_CL_DEVICE");

@@ -684,9 +684,9 @@ static void check_specialised(void **state, const void *blob, const char *what)
         csg_diag d = {0};
         if (!ocl_open_kernel(&opt, variant_kernel[v], &ctx, &timing, &d))
             fail_msg("%s: the specialised program: %s", what, d.message);
-        csg_features built = ocl_features(ctx), geometry = csg_features_geometry(f);
-        assert_int_equal(built.kinds, geometry.kinds);
-        assert_int_equal(built.uses, geometry.uses);
+        csg_features built = ocl_features(ctx), spec = csg_features_specialised(f);
+        assert_int_equal(built.kinds, spec.kinds);
+        assert_int_equal(built.uses, spec.uses);
         check_blob(ctx, &prec, blob, 8);
         check_blob(fx->ctx[v], &prec, blob, 8);
         ocl_close(ctx);
@@ -755,7 +755,7 @@ static void test_specialised_refuses(void **state)
     assert_true(timing.compile_s > 0);
     check_blob(ctx, &prec, bb, 8);
     csg_features built = ocl_features(ctx);
-    assert_true(csg_features_cover(built, csg_features_geometry(csg_blob_features(bb))));
+    assert_true(csg_features_cover(built, csg_features_specialised(csg_blob_features(bb))));
     ocl_close(ctx);
     free(bs);
     free(bb);

@@ -41,7 +41,7 @@ CSG_FN L_VEC3 L_FN(csg_xform_vector)(CSG_GLOBAL const real *m, L_VEC3 v)
 
 CSG_FN L_RAY L_FN(csg_ray_to_local)(CSG_GLOBAL const csg_prim *p, L_RAY r)
 {
-    if (CSG_USE_XFORM && (p->flags & CSG_PF_XFORM)) {
+    if (p->flags & CSG_PF_XFORM) {
         L_RAY l;
         l.o = L_FN(csg_xform_point)(p->inv, r.o);
         l.d = L_FN(csg_xform_vector)(p->inv, r.d);

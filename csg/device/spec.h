@@ -9,13 +9,17 @@
  *   -DCSG_SPECIALISED      the kinds are listed: only the kinds with
  *   -DCSG_HAS_<KIND>       (SPHERE, BOX, ... as in CSG_PRIM_KINDS) are;
  *   -DCSG_NO_CSG           every root is one uncomplemented primitive:
- *                          no interval list is ever built;
- *   -DCSG_NO_TRANSFORM     no primitive has a transform (CSG_PF_XFORM).
+ *                          no interval list is ever built.
  * Each becomes a 0/1 constant below, tested in plain `if`s, so the
  * compiler drops the dead code and the live code is the general code
  * unchanged: a specialised program gives the general one's bits.  The
  * blob validator makes sure a blob's header tells its feature set truly;
  * the OpenCL host refuses a blob outside its program's set (ocl.c).
+ *
+ * Only what pays is specialised (bench/spec_pass.sh, bench/SPEED.md): the
+ * kinds and CSG.  Leaving the transform code out of a scene without
+ * transforms was measured too (0.97-1.03x) and dropped: it would only
+ * double the programs to build.
  */
 #ifndef CSG_SPEC_H
 #define CSG_SPEC_H
@@ -69,13 +73,6 @@
 #define CSG_USE_CSG 0
 #else
 #define CSG_USE_CSG 1
-#endif
-
-/* Primitives may carry a world -> local transform. */
-#ifdef CSG_NO_TRANSFORM
-#define CSG_USE_XFORM 0
-#else
-#define CSG_USE_XFORM 1
 #endif
 
 #endif
