@@ -75,21 +75,40 @@ bool csg_features_cl_options(csg_features f, char *buf, size_t size)
     return ok;
 }
 
-bool csg_features_describe(csg_features f, char *buf, size_t size)
+/* The specialised part of f ("sphere box; csg"), appended at *at. */
+static bool feat_append_program(csg_features f, char *buf, size_t size, size_t *at)
 {
-    size_t at = 0;
-    bool ok = size > 0, any = false;
-    if (ok)
-        buf[0] = '\0';
+    bool ok = true, any = false;
     for (int k = 0; k < CSG_PRIM_KIND_COUNT; k++)
         if (f.kinds & (1u << k)) {
-            ok = ok && feat_append(buf, size, &at, any ? " " : "") &&
-                 feat_append(buf, size, &at, feat_kind_names[k]);
+            ok = ok && feat_append(buf, size, at, any ? " " : "") &&
+                 feat_append(buf, size, at, feat_kind_names[k]);
             any = true;
         }
     if (!any)
-        ok = ok && feat_append(buf, size, &at, "no primitives");
-    ok = ok && feat_append(buf, size, &at, f.uses & CSG_FEAT_CSG ? "; csg" : "; no csg");
+        ok = ok && feat_append(buf, size, at, "no primitives");
+    return ok && feat_append(buf, size, at, f.uses & CSG_FEAT_CSG ? "; csg" : "; no csg");
+}
+
+bool csg_features_program_name(csg_features f, char *buf, size_t size)
+{
+    size_t at = 0;
+    if (size == 0)
+        return false;
+    buf[0] = '\0';
+    f = csg_features_specialised(f);
+    if (f.kinds == FEAT_ALL_KINDS && f.uses == FEAT_SPECIALISED)
+        return feat_append(buf, size, &at, "general");
+    return feat_append_program(f, buf, size, &at);
+}
+
+bool csg_features_describe(csg_features f, char *buf, size_t size)
+{
+    size_t at = 0;
+    bool ok = size > 0;
+    if (ok)
+        buf[0] = '\0';
+    ok = ok && feat_append_program(f, buf, size, &at);
     ok = ok && feat_append(buf, size, &at,
                            f.uses & CSG_FEAT_XFORM ? " (the scene also: transforms"
                                                    : " (the scene also: no transforms");

@@ -40,6 +40,11 @@ csg_features csg_features_specialised(csg_features f);
  * when buf is too small. */
 bool csg_features_cl_options(csg_features f, char *buf, size_t size);
 
+/* What a program built for f handles, e.g. "sphere plane; no csg", or
+ * "general" (every kind and CSG: the program without -D options).  False
+ * when buf is too small. */
+bool csg_features_program_name(csg_features f, char *buf, size_t size);
+
 /* One line without the newline: what is specialised, then the scene's
  * other features, e.g. "sphere box; no csg (the scene also: no
  * transforms; opaque; no reflection)" (check's "specialised:" line).

@@ -548,6 +548,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
         bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
         rs->pass = NULL;
         snprintf(st->device, sizeof st->device, "%s", rs->tm.device_name);
+        csg_features_program_name(ocl_features(rs->ctx), st->cl_program,
+                                  sizeof st->cl_program);
         if (!whole && status == EXIT_OK) {
             if (!d->failed)
                 csg_error_plain(d, "the OpenCL primary pass failed");

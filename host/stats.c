@@ -138,6 +138,8 @@ void stats_print_json(FILE *f, const render_stats *s)
     }
     fputs(",\n  \"device\": ", f);
     stats_string(f, s->device);
+    fputs(",\n  \"cl_program\": ", f);
+    stats_string(f, s->cl_program);
     fputs(",\n  \"schedule\": ", f);
     stats_string(f, s->schedule);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"

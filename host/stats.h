@@ -4,6 +4,9 @@
  *
  * JSON fields (one object):
  *   mode, precision, device    strings ("" device: no OpenCL pass)
+ *   cl_program    what the OpenCL program was built for: "general", or
+ *                 the scene's kinds and CSG ("sphere plane; no csg":
+ *                 csg/features.h); "" without an OpenCL pass
  *   schedule      the scheduler (--schedule: raster, cost, static, tail)
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
@@ -113,6 +116,7 @@ typedef struct render_stats {
     const char *schedule;   /* sched_policy_name                      */
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
+    char cl_program[128];   /* csg_features_program_name, "" if none */
     int width, height, tile, ranks, spp, in_flight;
     int max_rays;           /* the ray budget of a pixel             */
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;

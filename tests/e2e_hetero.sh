@@ -62,6 +62,13 @@ for scene in scenes/*.pov; do
         ko "$b: the specialised program's image differs: $(head -c 300 "$T/sp_x_$b.err")"
     fi
 done
+if json "$T/sp_x_spheres_grid.json" "j['cl_program'] == 'sphere plane; no csg'" &&
+    json "$T/sp_g_spheres_grid.json" "j['cl_program'] == 'general'" &&
+    json "$T/sp_s_spheres_grid.json" "j['cl_program'] == ''"; then
+    ok "the stats name the program: specialised, general, none (serial)"
+else
+    ko "cl_program in the stats: $(grep cl_program "$T"/sp_*_spheres_grid.json)"
+fi
 CSGTRACE_CL_SPECIALISE=2 render sp_bad 0 hetero "$T/gen_1.pov" --width 8 --height 8
 grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/sp_bad.err" &&
     ok "a bad CSGTRACE_CL_SPECIALISE is refused" || ko "CSGTRACE_CL_SPECIALISE=2: $(head -c 300 "$T/sp_bad.err")"
