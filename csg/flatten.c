@@ -380,6 +380,7 @@ static int material_for(flat_builder *fb, inherited inh)
         csg_texture_default(&tex);
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
+    memset(m, 0, sizeof *m); /* (the blob is hashed: no stray byte in it) */
     for (int i = 0; i < 3; i++) {
         m->ambient[i] = (real)tex.finish.ambient[i];
         m->reflection[i] = (real)tex.finish.reflection[i];

@@ -306,6 +306,33 @@ static void link_watch_connect(const link_watch_addr *a)
 #define LINK_WATCHDOG 1
 #endif
 
+/* Rank 0 watches its parent, mpirun (or the local daemon): when it dies
+ * (kill -9 of mpirun), nothing else tells this process, which would go on
+ * rendering, unseen, for as long as the render lasts.  It is sent SIGTERM
+ * instead: the render stops as if the user had stopped it (host/signals.h:
+ * the journal kept, one line), and the workers follow it (their
+ * watchdogs).  A poll, not PR_SET_PDEATHSIG: that fires when the parent's
+ * forking *thread* ends, which need not be the parent's end. */
+#define LINK_PARENT_POLL_NS 250000000L
+
+static void *link_parent_watch(void *arg)
+{
+    pid_t parent = (pid_t)(intptr_t)arg;
+    struct timespec nap = {0, LINK_PARENT_POLL_NS};
+    while (getppid() == parent)
+        nanosleep(&nap, NULL);
+    kill(getpid(), SIGTERM);
+    return NULL;
+}
+
+static void link_parent_watch_start(void)
+{
+    pthread_t th;
+    if (LINK_WATCHDOG &&
+        pthread_create(&th, NULL, link_parent_watch, (void *)(intptr_t)getppid()) == 0)
+        pthread_detach(th);
+}
+
 /* Every rank, once after MPI_Init: the watchdog sockets set up. */
 static void link_watch_start(void)
 {
@@ -397,6 +424,8 @@ bool link_start(int *rank, int *size)
             MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS)
             return false;
         link_watch_start();
+        if (link_w.rank == 0)
+            link_parent_watch_start();
     }
     *rank = link_w.rank;
     *size = link_w.size;

@@ -123,10 +123,36 @@ cmp -s "$T/good.pov" "$T/self.pov" && [ ! -e "$T/same.png" ] && [ ! -e "$T/o.png
     ok "refused outputs: the scene unchanged, nothing written" || ko "a refused output wrote something"
 rm -f "$T/self.pov"
 
+# no output may overwrite a file the scene includes (found while parsing)
+printf '#include "part.inc"\n' >"$T/inc.pov"
+cat "$T/good.pov" >"$T/part.inc"
+expect 2 "-o naming an include" "$BIN" render "$T/inc.pov" -o "$T/part.inc" --width 8 --height 6
+errmsg "^csgtrace: error: the output \(-o\) is '.*part.inc', a file the scene includes" \
+    "-o naming an include: the message"
+expect 2 "--stats naming an include (another path)" "$BIN" render "$T/inc.pov" -o "$T/inc.png" \
+    --width 8 --height 6 --stats "$T/../$(basename "$T")/part.inc"
+expect 2 "--tile-log naming an include" "$BIN" render "$T/inc.pov" -o "$T/inc.png" \
+    --width 8 --height 6 --tile-log "$T/part.inc"
+cmp -s "$T/good.pov" "$T/part.inc" && [ ! -e "$T/inc.png" ] &&
+    ok "outputs naming an include: it is unchanged, nothing written" ||
+    ko "an output naming an include wrote something"
+rm -f "$T/inc.pov" "$T/part.inc"
+
 # a stats file that cannot be written fails the render, and leaves no image
 expect 1 "unwritable --stats" "$BIN" render "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 \
     --stats "$T/no-such-folder/s.json"
 [ ! -e "$T/nostats.png" ] && ok "unwritable --stats: no image left" || ko "unwritable --stats left the image"
+# ... but the finished tiles are kept, and the line says so: --resume with
+# a stats path that works writes both without rendering a tile again
+grep -q "finished tiles are kept in $T/nostats.png.journal" "$T/err" &&
+    ok "unwritable --stats: the journal kept, and named" || ko "unwritable --stats: no journal named"
+expect 0 "unwritable --stats, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
+    --width 8 --height 6 --stats "$T/resumed.json" --resume
+json "$T/resumed.json" "j['tiles_resumed'] == j['tiles_total'] and j['tiles_rendered'] == 0" &&
+    [ -f "$T/nostats.png" ] && [ ! -e "$T/nostats.png.journal" ] &&
+    ok "--resume after the stats failed: every tile resumed, image written, journal gone" ||
+    ko "--resume after the stats failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
+rm -f "$T/nostats.png" "$T/resumed.json"
 
 # a render that cannot fit says so before allocating anything (here under a
 # 1 GiB address-space limit: 12000x12000 needs 2 GiB), and writes nothing
