@@ -6,7 +6,9 @@
 #     items_reassigned >= 1, one line on stderr naming the worker;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
-#   - a worker dead before its handshake; a worker killed over TCP; one
+#   - a worker dead before its handshake; one dead during the scene
+#     broadcast (the master sends the scene to each worker itself under
+#     --enable-recovery: link_bcast); a worker killed over TCP; one
 #     killed while its large result is on the way (TCP, shared memory);
 #   - a worker that hangs (alive, silent): written off after its time
 #     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
@@ -134,13 +136,18 @@ for i in $(seq "$REPEAT"); do
     CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=ready CSGTRACE_TEST_KILL_AFTER=0 run "$name" 4 --mode homo
     why=$(survived "$name" 1 0)
     [ -n "$why" ] && fails="$fails [$i: $why]"
+    name=scene-$i # (between the setup and the scene: the master is sending it)
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=scene CSGTRACE_TEST_KILL_AFTER=0 \
+        run "$name" 4 --mode homo
+    why=$(survived "$name" 1 0)
+    [ -n "$why" ] && fails="$fails [$i scene: $why]"
     name=tcp-$i
     CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 OMPI_MCA_btl=tcp,self \
         run "$name" 3 --mode homo
     why=$(survived "$name" 1)
     [ -n "$why" ] && fails="$fails [$i tcp: $why]"
 done
-case_check "worker 2 dead before its handshake (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
+case_check "worker 2 dead before its handshake, and during the scene broadcast (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
 
 # Killed while its result (110 KB: 96 x 96 pixels, over every eager
 # limit) is on its way, over TCP and over shared memory.

@@ -249,6 +249,7 @@ int worker_run(int rank)
         return 1;
     if (setup.status != 0)
         return setup.status; /* the master reported why */
+    proto_test_kill(rank, "scene", 0);
     worker_receive_blob(&w, (size_t)setup.blob_size);
     worker_prepare(&w, &setup);
     if (w.failure[0]) {
