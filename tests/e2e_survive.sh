@@ -14,6 +14,8 @@
 #     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
 #   - the master SIGKILLed: the workers exit by themselves, mpirun exits
 #     non-zero, no image;
+#   - compare (several renders in one job): a worker dead in the first
+#     render, the others complete without it;
 #   - a failed render (bad scene) under --enable-recovery: mpirun exits
 #     non-zero (it would report 0: the master makes it fail);
 # and after every run: no process of the run left, no shared-memory
@@ -208,6 +210,20 @@ if [ "$rc" != 0 ] && [ "$rc" != 137 ] && [ "$(grep -c ': error: ' "$T/bad.err")"
     ok "a bad scene under --enable-recovery: mpirun exits non-zero ($rc), one message"
 else
     ko "a bad scene under --enable-recovery: mpirun exit $rc, $(grep -c ': error: ' "$T/bad.err") messages"
+fi
+
+# compare: several renders in one job (homo and hetero, interleaved);
+# worker 2 dies in the first: the later ones go on without it
+ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=2 \
+    "${MPIRUN[@]}" -np 4 "$BIN" compare "$SCENE" "${SZ[@]}" --repeat 1 \
+    >"$T/compare.out" 2>"$T/compare.err"
+rc=$?
+left=$(leftovers compare)
+if [ "$rc" = 0 ] && grep -q "identical, bit for bit" "$T/compare.out" &&
+    grep -q "worker 2 lost" "$T/compare.err" && [ -z "$left" ]; then
+    ok "compare, worker 2 SIGKILLed in its first render (4 ranks): every render completes, identical images"
+else
+    ko "compare with a dead worker: exit $rc, left: $left, stderr: $(grep -v PMIX "$T/compare.err" | head -c 300)"
 fi
 
 run plain-3 3 --mode homo
