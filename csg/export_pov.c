@@ -170,9 +170,79 @@ static void put_color(const exporter *e, const double *rgbft)
     put_vec(e->out, rgbft, e->flat ? 3 : 5);
 }
 
+/* The colour map entries. */
+static void write_map(const exporter *e, const csg_pigment *pig)
+{
+    fputs(" color_map {", e->out);
+    for (int i = 0; i < pig->map_count; i++) {
+        fputs(" [", e->out);
+        put_num(e->out, pig->map[i].value);
+        fputc(' ', e->out);
+        put_color(e, pig->map[i].rgbft);
+        fputc(']', e->out);
+    }
+    fputs(" }", e->out);
+}
+
+/* The pattern keyword (spotted is written as bozo with its map). */
+static void write_pattern_kind(const exporter *e, const csg_pigment *pig)
+{
+    static const char *const names[] = {
+        [CSG_PATTERN_BOZO] = "bozo",     [CSG_PATTERN_WOOD] = "wood",
+        [CSG_PATTERN_MARBLE] = "marble", [CSG_PATTERN_GRANITE] = "granite",
+        [CSG_PATTERN_AGATE] = "agate"};
+    if (pig->pattern == CSG_PATTERN_CHECKER) {
+        fputs("checker ", e->out);
+        put_color(e, pig->map[0].rgbft);
+        fputs(", ", e->out);
+        put_color(e, pig->map[1].rgbft);
+        return;
+    }
+    if (pig->pattern == CSG_PATTERN_GRADIENT) {
+        fputs("gradient ", e->out);
+        put_dvec(e->out, pig->gradient);
+    } else {
+        fputs(names[pig->pattern], e->out);
+    }
+    write_map(e, pig);
+}
+
+/* The noise settings, all explicit (the generator resolved: the scene's
+ * #version or global_settings would not travel with the pigment), and
+ * the wave unless it is the pattern's default ramp. */
+static void write_noise(const exporter *e, const csg_pigment *pig)
+{
+    static const char *const waves[] = {"ramp_wave", "triangle_wave", "sine_wave",
+                                        "scallop_wave", "cubic_wave", "poly_wave"};
+    FILE *out = e->out;
+    if (pig->turb.on) {
+        fputs(" turbulence ", out);
+        put_dvec(out, pig->turb.amount);
+        fprintf(out, " octaves %d omega ", pig->turb.octaves);
+        put_num(out, pig->turb.omega);
+        fputs(" lambda ", out);
+        put_num(out, pig->turb.lambda);
+    }
+    if (pig->pattern == CSG_PATTERN_AGATE) {
+        fputs(" agate_turb ", out);
+        put_num(out, pig->agate_turb);
+    }
+    if (pig->turb.on || pig->pattern >= CSG_PATTERN_BOZO)
+        fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
+    bool triangle_default = pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE;
+    if (pig->wave != CSG_WAVE_RAMP || triangle_default)
+        fprintf(out, " %s", waves[pig->wave]);
+    if (pig->wave == CSG_WAVE_POLY) {
+        fputc(' ', out);
+        put_num(out, pig->exponent);
+    }
+}
+
 /* pigment { ... }: a plain colour, or the pattern with its colour map,
- * wave and complete pattern -> world matrix (written after the object's
- * own matrix, so POV-Ray applies it alone). */
+ * noise settings, wave and complete pattern -> world matrix (written
+ * after the object's own matrix, so POV-Ray applies it alone; POV-Ray
+ * applies a pattern's transforms before its turbulence whatever their
+ * order, as csgtrace does). */
 static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
 {
     FILE *out = e->out;
@@ -182,24 +252,8 @@ static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
         fputs(" }", out);
         return;
     }
-    if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker ", out);
-        put_color(e, pig->map[0].rgbft);
-        fputs(", ", out);
-        put_color(e, pig->map[1].rgbft);
-    } else {
-        fputs("gradient ", out);
-        put_dvec(out, pig->gradient);
-        fputs(" color_map {", out);
-        for (int i = 0; i < pig->map_count; i++) {
-            fputs(" [", out);
-            put_num(out, pig->map[i].value);
-            fputc(' ', out);
-            put_color(e, pig->map[i].rgbft);
-            fputc(']', out);
-        }
-        fputs(" }", out);
-    }
+    write_pattern_kind(e, pig);
+    write_noise(e, pig);
     fputs(" frequency ", out);
     put_num(out, pig->frequency);
     fputs(" phase ", out);

@@ -307,12 +307,24 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         m->color[i] = (real)pig->rgbft[i];
     m->filter = (real)pig->rgbft[3];
     m->transmit = (real)pig->rgbft[4];
-    m->pattern = pig->pattern == CSG_PATTERN_CHECKER    ? CSG_MAT_CHECKER
-                 : pig->pattern == CSG_PATTERN_GRADIENT ? CSG_MAT_GRADIENT
-                                                        : CSG_MAT_PLAIN;
+    static const csg_i32 kinds[] = {
+        [CSG_PATTERN_PLAIN] = CSG_MAT_PLAIN,     [CSG_PATTERN_CHECKER] = CSG_MAT_CHECKER,
+        [CSG_PATTERN_GRADIENT] = CSG_MAT_GRADIENT, [CSG_PATTERN_BOZO] = CSG_MAT_BOZO,
+        [CSG_PATTERN_WOOD] = CSG_MAT_WOOD,       [CSG_PATTERN_MARBLE] = CSG_MAT_MARBLE,
+        [CSG_PATTERN_GRANITE] = CSG_MAT_GRANITE, [CSG_PATTERN_AGATE] = CSG_MAT_AGATE};
+    m->pattern = kinds[pig->pattern];
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_MAT_PLAIN)
         return true;
+    m->wave = pig->wave;
+    m->exponent = (real)pig->exponent;
+    m->noise_gen = csg_noise_of(fb->scene, pig);
+    m->turb_on = pig->turb.on;
+    m->octaves = pig->turb.octaves;
+    store3(m->turbulence, pig->turb.amount);
+    m->omega = (real)pig->turb.omega;
+    m->lambda = (real)pig->turb.lambda;
+    m->agate_turb = (real)pig->agate_turb;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);
@@ -380,6 +392,7 @@ static int material_for(flat_builder *fb, inherited inh)
         csg_texture_default(&tex);
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
+    memset(m, 0, sizeof *m); /* a plain pigment leaves the pattern fields 0 */
     for (int i = 0; i < 3; i++) {
         m->ambient[i] = (real)tex.finish.ambient[i];
         m->reflection[i] = (real)tex.finish.reflection[i];

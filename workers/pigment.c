@@ -10,20 +10,31 @@
  *      of the point (POV-Ray's own 1e-10 bias does the rest);
  *   2. world -> pattern space by the material's matrix (the inverse of the
  *      pigment's transforms and those of its object after it);
- *   3. the pattern's value: checker, the parity of floor(x + 1e-10) +
+ *   3. classic turbulence (POV-Ray's Warp_EPoint): for every pattern but
+ *      wood and marble, which use it themselves, the point moves by the
+ *      vector turbulence (noise.c) times the amount;
+ *   4. the pattern's value: checker, the parity of floor(x + 1e-10) +
  *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), where the bias also
  *      covers the rounding of the point (the caller's bound, through the
  *      matrix): POV-Ray finds the points on a boundary in double and puts
  *      them in the upper cell, and so do we for a point whose rounding
  *      could have crossed it; gradient, dot(q, g), taken modulo 1 above 1;
- *   4. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
+ *      bozo (and spotted), POV-Ray's noise; granite, six octaves of
+ *      |1 - 2 noise| (at most 0.5 each) at 4q; marble, x + turbulence;
+ *      wood, the distance from the z axis of (x, y) moved by cycloids of
+ *      the vector turbulence; agate, a cycloid of its turbulence and z,
+ *      to the power 0.77 (pattern.cpp);
+ *   5. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
  *      constant) unless the frequency is 0 (a checker's), then wrapped
- *      into [0, 1) when negative (ramp_wave);
- *   5. the colour map: the first entry whose value is >= the value, and
+ *      into [0, 1) when negative, then shaped (ramp, triangle, sine,
+ *      scallop, cubic, poly: Evaluate_TPat);
+ *   6. the colour map: the first entry whose value is >= the value, and
  *      linear interpolation from the entry before it (at or past the last
  *      entry: the last colour).
  */
 #include "pigment.h"
+
+#include "noise.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -100,17 +111,106 @@ static double gradient(const csg_material *m, const double q[3])
     return r > 1.0 ? fmod(r, 1.0) : r;
 }
 
-/* Step 4 (ramp_wave). */
+static noise_turb turb_of(const csg_material *m)
+{
+    noise_turb t = {m->octaves, (double)m->omega, (double)m->lambda};
+    return t;
+}
+
+/* Step 3. */
+static void turbulence_warp(const csg_material *m, double q[3])
+{
+    noise_turb t = turb_of(m);
+    double d[3];
+    noise_vector_turbulence(q, &t, d);
+    for (int i = 0; i < 3; i++)
+        q[i] += d[i] * (double)m->turbulence[i];
+}
+
+static double granite(const double q[3], int gen)
+{
+    double sum = 0.0, freq = 1.0;
+    double p4[3] = {q[0] * 4.0, q[1] * 4.0, q[2] * 4.0};
+    for (int i = 0; i < 6; freq *= 2.0, i++) {
+        double p[3] = {p4[0] * freq, p4[1] * freq, p4[2] * freq}, t;
+        if (gen == 1) {
+            t = fabs(0.5 - noise_value(p, gen));
+        } else {
+            t = fabs(1.0 - 2.0 * noise_value(p, gen));
+            t = t > 0.5 ? 0.5 : t;
+        }
+        sum += t / freq;
+    }
+    return sum;
+}
+
+static double marble(const csg_material *m, const double q[3])
+{
+    double turb = 0.0;
+    if (m->turb_on) {
+        noise_turb t = turb_of(m);
+        turb = (double)m->turbulence[0] * noise_turbulence(q, &t, m->noise_gen);
+    }
+    return q[0] + turb;
+}
+
+static double wood(const csg_material *m, const double q[3])
+{
+    double x = 0.0, y = 0.0;
+    if (m->turb_on) {
+        noise_turb t = turb_of(m);
+        double d[3];
+        noise_vector_turbulence(q, &t, d);
+        x = noise_cycloidal((q[0] + d[0]) * (double)m->turbulence[0]);
+        y = noise_cycloidal((q[1] + d[1]) * (double)m->turbulence[1]);
+    }
+    x += q[0];
+    y += q[1];
+    return sqrt(x * x + y * y + 0.0 * 0.0);
+}
+
+static double agate(const csg_material *m, const double q[3])
+{
+    noise_turb t = turb_of(m);
+    double turb = (double)m->agate_turb * noise_turbulence(q, &t, m->noise_gen);
+    double v = 0.5 * (noise_cycloidal(1.3 * turb + 1.1 * q[2]) + 1.0);
+    if (v < 0.0)
+        return 0.0;
+    return pow(v < 1.0 ? v : 1.0, 0.77);
+}
+
+/* Step 4. */
+static double pattern_value(const csg_material *m, const double q[3], double bias)
+{
+    switch (m->pattern) {
+    case CSG_MAT_CHECKER: return checker(q, bias);
+    case CSG_MAT_GRADIENT: return gradient(m, q);
+    case CSG_MAT_BOZO: return noise_value(q, m->noise_gen);
+    case CSG_MAT_GRANITE: return granite(q, m->noise_gen);
+    case CSG_MAT_MARBLE: return marble(m, q);
+    case CSG_MAT_WOOD: return wood(m, q);
+    default: return agate(m, q);
+    }
+}
+
+/* Step 5 (the wave types of csg/scene.h's enum csg_wave). */
 static double wave(const csg_material *m, double v)
 {
     if ((double)m->frequency != 0.0)
         v = fmod(v * (double)m->frequency + (double)m->phase, 1.00001);
     if (v < 0.0)
         v -= floor(v);
-    return v;
+    switch (m->wave) {
+    case 1: return noise_triangle(v);
+    case 2: return (1.0 + noise_cycloidal(v)) * 0.5;
+    case 3: return fabs(noise_cycloidal(v * 0.5));
+    case 4: return v * v * (-2.0 * v + 3.0);
+    case 5: return pow(v, (double)m->exponent);
+    default: return v;
+    }
 }
 
-/* Step 5. */
+/* Step 6. */
 static pigment_color map_color(const csg_map_color *e, int n, double v)
 {
     int cur = 0, prev = 0;
@@ -164,7 +264,8 @@ pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
     for (int i = 0; i < 3; i++)
         q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
                (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
+    if (m->turb_on && m->pattern != CSG_MAT_WOOD && m->pattern != CSG_MAT_MARBLE)
+        turbulence_warp(m, q);
     double bias = PATTERN_EPSILON + (double)err * matrix_norm(m->to_pattern);
-    double v = m->pattern == CSG_MAT_CHECKER ? checker(q, bias) : gradient(m, q);
-    return map_color(maps + m->map_first, m->map_count, wave(m, v));
+    return map_color(maps + m->map_first, m->map_count, wave(m, pattern_value(m, q, bias)));
 }

@@ -203,7 +203,12 @@ enum csg_material_pattern {
     CSG_MAT_PLAIN = 0,    /* color, filter, transmit                          */
     CSG_MAT_CHECKER = 1,  /* the colour map's entry 0 or 1 by the parity of
                              floor(x) + floor(y) + floor(z)                     */
-    CSG_MAT_GRADIENT = 2  /* dot(point, gradient) through the colour map       */
+    CSG_MAT_GRADIENT = 2, /* dot(point, gradient) through the colour map       */
+    CSG_MAT_BOZO = 3,     /* POV-Ray's solid noise (bozo, spotted)             */
+    CSG_MAT_WOOD = 4,     /* distance from the z axis (+ cycloidal turbulence) */
+    CSG_MAT_MARBLE = 5,   /* x + turbulence                                    */
+    CSG_MAT_GRANITE = 6,  /* six octaves of |noise|                            */
+    CSG_MAT_AGATE = 7     /* a cycloid of turbulence and z                     */
 };
 
 /* One entry of a colour map (the blob's maps array). */
@@ -236,6 +241,14 @@ typedef struct {
     real phase;
     real to_pattern[12]; /* world -> pattern space, row-major 3x4 like
                             csg_prim.inv                                  */
+    csg_i32 wave;       /* enum csg_wave (csg/scene.h): ramp, triangle ... */
+    csg_i32 noise_gen;  /* POV-Ray's noise generator: 1, 2 or 3         */
+    csg_i32 turb_on;    /* classic turbulence given (1) or not (0)       */
+    csg_i32 octaves;    /* turbulence: 1 to 10                           */
+    real turbulence[3]; /* its amount along x, y, z                      */
+    real omega, lambda; /* each octave's weight and frequency factors    */
+    real agate_turb;    /* agate: its turbulence's weight                */
+    real exponent;      /* poly_wave                                     */
 } csg_material;
 
 typedef struct {

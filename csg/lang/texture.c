@@ -243,6 +243,49 @@ static bool parse_gradient(parser *p, csg_pigment *pig)
     return true;
 }
 
+/* POV-Ray's default colour maps of the noise patterns (pigment.cpp);
+ * spotted and granite take the black-to-white one. */
+static const csg_map_entry gray_map[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+static const csg_map_entry bozo_map[6] = {
+    {0.4, {1, 1, 1, 0, 0}}, {0.4, {0, 1, 0, 0, 0}}, {0.6, {0, 1, 0, 0, 0}},
+    {0.6, {0, 0, 1, 0, 0}}, {0.8, {0, 0, 1, 0, 0}}, {0.8, {1, 0, 0, 0, 0}}};
+static const csg_map_entry wood_map[2] = {{0.6, {0.666, 0.312, 0.2, 0, 0}},
+                                          {0.6, {0.4, 0.1333, 0.066, 0, 0}}};
+static const csg_map_entry marble_map[3] = {
+    {0.0, {0.9, 0.8, 0.8, 0, 0}}, {0.9, {0.9, 0.08, 0.08, 0, 0}}, {0.9, {0, 0, 0, 0, 0}}};
+static const csg_map_entry agate_map[6] = {
+    {0.0, {1, 1, 1, 0, 0}},      {0.5, {0.95, 0.75, 0.5, 0, 0}}, {0.5, {0.9, 0.7, 0.5, 0, 0}},
+    {0.6, {0.9, 0.7, 0.4, 0, 0}}, {0.6, {1, 0.7, 0.4, 0, 0}},    {1.0, {0.6, 0.3, 0, 0, 0}}};
+
+/* A noise pattern keyword: its kind, POV-Ray's default map and wave
+ * (wood and marble: triangle), and agate's turbulence (always on). */
+static bool parse_noise_pattern(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    switch (kw) {
+    case CSG_KW_BOZO: pig->pattern = CSG_PATTERN_BOZO; pig->map = bozo_map; pig->map_count = 6; break;
+    case CSG_KW_SPOTTED: pig->pattern = CSG_PATTERN_BOZO; pig->map = gray_map; pig->map_count = 2; break;
+    case CSG_KW_GRANITE: pig->pattern = CSG_PATTERN_GRANITE; pig->map = gray_map; pig->map_count = 2; break;
+    case CSG_KW_WOOD: pig->pattern = CSG_PATTERN_WOOD; pig->map = wood_map; pig->map_count = 2; break;
+    case CSG_KW_MARBLE: pig->pattern = CSG_PATTERN_MARBLE; pig->map = marble_map; pig->map_count = 3; break;
+    default: pig->pattern = CSG_PATTERN_AGATE; pig->map = agate_map; pig->map_count = 6; break;
+    }
+    if (kw == CSG_KW_WOOD || kw == CSG_KW_MARBLE)
+        pig->wave = CSG_WAVE_TRIANGLE;
+    if (kw == CSG_KW_AGATE) {
+        pig->turb.on = true;
+        pig->agate_turb = 1.0;
+    }
+    return lang_next(p);
+}
+
+static bool is_noise_pattern(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_BOZO) || lang_is_kw(p, CSG_KW_SPOTTED) ||
+           lang_is_kw(p, CSG_KW_GRANITE) || lang_is_kw(p, CSG_KW_WOOD) ||
+           lang_is_kw(p, CSG_KW_MARBLE) || lang_is_kw(p, CSG_KW_AGATE);
+}
+
 /* What comes first: a pattern or a colour (or neither). */
 static bool parse_pattern(parser *p, csg_pigment *pig)
 {
@@ -250,6 +293,8 @@ static bool parse_pattern(parser *p, csg_pigment *pig)
         return parse_checker(p, pig);
     if (lang_is_kw(p, CSG_KW_GRADIENT))
         return parse_gradient(p, pig);
+    if (is_noise_pattern(p))
+        return parse_noise_pattern(p, pig);
     if (lang_is_punct(p, '}') || !lang_is_color_start(p))
         return true;
     double c[5];
@@ -258,6 +303,83 @@ static bool parse_pattern(parser *p, csg_pigment *pig)
     csg_pigment_default(pig); /* a plain colour: nothing of a pattern is left */
     memcpy(pig->rgbft, c, sizeof c);
     return true;
+}
+
+/* The wave keywords: POV-Ray's shape of the value (poly_wave's exponent
+ * is optional: it keeps the one before, 1 at first). */
+static bool parse_wave(parser *p, csg_pigment *pig)
+{
+    static const struct { enum csg_kw kw; int wave; } waves[] = {
+        {CSG_KW_RAMP_WAVE, CSG_WAVE_RAMP},       {CSG_KW_TRIANGLE_WAVE, CSG_WAVE_TRIANGLE},
+        {CSG_KW_SINE_WAVE, CSG_WAVE_SINE},       {CSG_KW_SCALLOP_WAVE, CSG_WAVE_SCALLOP},
+        {CSG_KW_CUBIC_WAVE, CSG_WAVE_CUBIC},     {CSG_KW_POLY_WAVE, CSG_WAVE_POLY}};
+    for (size_t i = 0; i < sizeof waves / sizeof waves[0]; i++)
+        if (lang_is_kw(p, waves[i].kw))
+            pig->wave = waves[i].wave;
+    if (!lang_next(p))
+        return false;
+    if (pig->wave == CSG_WAVE_POLY && lang_is_expr_start(p))
+        return lang_parse_float(p, &pig->exponent, NULL);
+    return true;
+}
+
+static bool is_wave(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_RAMP_WAVE) || lang_is_kw(p, CSG_KW_TRIANGLE_WAVE) ||
+           lang_is_kw(p, CSG_KW_SINE_WAVE) || lang_is_kw(p, CSG_KW_SCALLOP_WAVE) ||
+           lang_is_kw(p, CSG_KW_CUBIC_WAVE) || lang_is_kw(p, CSG_KW_POLY_WAVE);
+}
+
+/* turbulence VECTOR, octaves N, omega F, lambda F, agate_turb F,
+ * noise_generator N: POV-Ray's classic turbulence and noise settings.
+ * POV-Ray clamps octaves into 1..10 silently; a value outside is refused
+ * here instead (it is a scene error, not a setting). */
+static bool parse_noise_modifier(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at;
+    double f;
+    if (!lang_next(p))
+        return false;
+    if (kw == CSG_KW_TURBULENCE) {
+        pig->turb.on = true;
+        return lang_parse_vector(p, &pig->turb.amount, &at);
+    }
+    if (!lang_parse_float(p, &f, &at))
+        return false;
+    switch (kw) {
+    case CSG_KW_OCTAVES:
+        if (!(f >= 1 && f < 11)) {
+            csg_error(p->d, at, "octaves must be from 1 to 10, got %g", f);
+            return false;
+        }
+        pig->turb.on = true;
+        pig->turb.octaves = (int)f; /* POV-Ray truncates */
+        return true;
+    case CSG_KW_OMEGA: pig->turb.on = true; pig->turb.omega = f; return true;
+    case CSG_KW_LAMBDA: pig->turb.on = true; pig->turb.lambda = f; return true;
+    case CSG_KW_AGATE_TURB:
+        if (pig->pattern != CSG_PATTERN_AGATE) {
+            csg_error(p->d, at, "agate_turb needs the agate pattern");
+            return false;
+        }
+        pig->agate_turb = f;
+        return true;
+    default: /* noise_generator */
+        if (!(f == 0 || f == 1 || f == 2 || f == 3)) {
+            csg_error(p->d, at, "noise_generator must be 0, 1, 2 or 3, got %g", f);
+            return false;
+        }
+        pig->noise_generator = (int)f;
+        return true;
+    }
+}
+
+static bool is_noise_modifier(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_TURBULENCE) || lang_is_kw(p, CSG_KW_OCTAVES) ||
+           lang_is_kw(p, CSG_KW_OMEGA) || lang_is_kw(p, CSG_KW_LAMBDA) ||
+           lang_is_kw(p, CSG_KW_AGATE_TURB) || lang_is_kw(p, CSG_KW_NOISE_GENERATOR);
 }
 
 /* The modifiers after the pattern, up to the closing brace. */
@@ -272,8 +394,9 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
             ok = transform_pigment(p, pig);
         } else if (lang_is_kw(p, CSG_KW_COLOR_MAP)) {
             lang_color_map m;
-            if (pig->pattern != CSG_PATTERN_GRADIENT) {
-                csg_error(p->d, at, "a color_map needs a pattern that takes one (gradient)");
+            if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+                csg_error(p->d, at, "a color_map needs a pattern that takes one "
+                                    "(gradient, bozo, spotted, wood, marble, granite, agate)");
                 return false;
             }
             ok = lang_parse_color_map(p, &m);
@@ -282,8 +405,10 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
         } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
             double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
             ok = lang_next(p) && lang_parse_float(p, f, NULL);
-        } else if (lang_is_kw(p, CSG_KW_RAMP_WAVE)) {
-            ok = lang_next(p);
+        } else if (is_wave(p)) {
+            ok = parse_wave(p, pig);
+        } else if (is_noise_modifier(p)) {
+            ok = parse_noise_modifier(p, pig);
         } else {
             return lang_expected_close(p, '}', "pigment", open);
         }
@@ -472,7 +597,8 @@ bool lang_parse_texture(parser *p, csg_texture *t)
             ok = lang_parse_finish(p, &t->finish);
         else if (lang_is_transform(p))
             ok = transform_pigment(p, &t->pigment);
-        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT))
+        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT) ||
+                 is_noise_pattern(p))
             return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
         else
             return lang_expected_close(p, '}', "texture", open);

