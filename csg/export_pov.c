@@ -170,6 +170,8 @@ static void put_color(const exporter *e, const double *rgbft)
     put_vec(e->out, rgbft, e->flat ? 3 : 5);
 }
 
+static void write_pigment_map(const exporter *e, const csg_pigment *pig, int depth);
+
 /* The colour map entries. */
 static void write_map(const exporter *e, const csg_pigment *pig)
 {
@@ -184,13 +186,16 @@ static void write_map(const exporter *e, const csg_pigment *pig)
     fputs(" }", e->out);
 }
 
-/* The pattern keyword (spotted is written as bozo with its map). */
-static void write_pattern_kind(const exporter *e, const csg_pigment *pig)
+/* The pattern keyword (spotted and bumps are written as bozo with their map). */
+static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int depth)
 {
     static const char *const names[] = {
         [CSG_PATTERN_BOZO] = "bozo",     [CSG_PATTERN_WOOD] = "wood",
         [CSG_PATTERN_MARBLE] = "marble", [CSG_PATTERN_GRANITE] = "granite",
-        [CSG_PATTERN_AGATE] = "agate"};
+        [CSG_PATTERN_AGATE] = "agate",   [CSG_PATTERN_WRINKLES] = "wrinkles",
+        [CSG_PATTERN_RADIAL] = "radial", [CSG_PATTERN_ONION] = "onion",
+        [CSG_PATTERN_LEOPARD] = "leopard", [CSG_PATTERN_PLANAR] = "planar",
+        [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical"};
     if (pig->pattern == CSG_PATTERN_CHECKER) {
         fputs("checker ", e->out);
         put_color(e, pig->map[0].rgbft);
@@ -204,7 +209,17 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig)
     } else {
         fputs(names[pig->pattern], e->out);
     }
-    write_map(e, pig);
+    if (pig->pmap_count > 0)
+        write_pigment_map(e, pig, depth);
+    else
+        write_map(e, pig);
+}
+
+static bool pig_uses_noise(const csg_pigment *pig)
+{
+    return pig->pattern == CSG_PATTERN_BOZO || pig->pattern == CSG_PATTERN_WOOD ||
+           pig->pattern == CSG_PATTERN_MARBLE || pig->pattern == CSG_PATTERN_GRANITE ||
+           pig->pattern == CSG_PATTERN_AGATE || pig->pattern == CSG_PATTERN_WRINKLES;
 }
 
 /* The noise settings, all explicit (the generator resolved: the scene's
@@ -227,7 +242,7 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
         fputs(" agate_turb ", out);
         put_num(out, pig->agate_turb);
     }
-    if (pig->turb.on || pig->pattern >= CSG_PATTERN_BOZO)
+    if (pig->turb.on || pig_uses_noise(pig))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
     bool triangle_default = pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE;
     if (pig->wave != CSG_WAVE_RAMP || triangle_default)
@@ -238,21 +253,15 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
     }
 }
 
-/* pigment { ... }: a plain colour, or the pattern with its colour map,
- * noise settings, wave and complete pattern -> world matrix (written
- * after the object's own matrix, so POV-Ray applies it alone; POV-Ray
- * applies a pattern's transforms before its turbulence whatever their
- * order, as csgtrace does). */
-static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+/* The body of a pigment (what its braces hold), at `depth`. */
+static void write_pigment_body(const exporter *e, const csg_pigment *pig, int depth)
 {
     FILE *out = e->out;
-    fputs("pigment { ", out);
     if (pig->pattern == CSG_PATTERN_PLAIN) {
         put_color(e, pig->rgbft);
-        fputs(" }", out);
         return;
     }
-    write_pattern_kind(e, pig);
+    write_pattern_kind(e, pig, depth);
     write_noise(e, pig);
     fputs(" frequency ", out);
     put_num(out, pig->frequency);
@@ -261,7 +270,35 @@ static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
     fputc('\n', out);
     write_matrix(out, &pig->xform, depth + 1);
     indent(out, depth);
-    fputs("}", out);
+}
+
+/* pigment_map { [F BODY] ... }: each entry's body with its own matrix
+ * (relative to the pattern holding the map, as POV-Ray reads it). */
+static void write_pigment_map(const exporter *e, const csg_pigment *pig, int depth)
+{
+    fputs(" pigment_map {\n", e->out);
+    for (int i = 0; i < pig->pmap_count; i++) {
+        indent(e->out, depth + 1);
+        fputc('[', e->out);
+        put_num(e->out, pig->pmap[i].value);
+        fputc(' ', e->out);
+        write_pigment_body(e, &pig->pmap[i].pigment, depth + 1);
+        fputs("]\n", e->out);
+    }
+    indent(e->out, depth);
+    fputs("}", e->out);
+}
+
+/* pigment { ... }: a plain colour, or the pattern with its colour map,
+ * noise settings, wave and complete pattern -> world matrix (written
+ * after the object's own matrix, so POV-Ray applies it alone; POV-Ray
+ * applies a pattern's transforms before its turbulence whatever their
+ * order, as csgtrace does). */
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+{
+    fputs("pigment { ", e->out);
+    write_pigment_body(e, pig, depth);
+    fputs(pig->pattern == CSG_PATTERN_PLAIN ? " }" : "}", e->out);
 }
 
 static void write_texture(const exporter *e, const csg_texture *t, int depth)

@@ -58,6 +58,14 @@ typedef struct {
     double lo[3], hi[3];
 } dbox;
 
+/* A material whose pigment map's entries wait for their materials. */
+typedef struct {
+    int parent;                        /* the material holding the map   */
+    const csg_pigment_entry *entries;  /* its entries (the scene's arena:
+                                          the pigment may be a copy)     */
+    int count;
+} pending_map;
+
 /* Growable arrays of the output, and what the walk inherits. */
 typedef struct {
     csg_prim *prims;
@@ -79,6 +87,9 @@ typedef struct {
     size_t mat_slot_cap;
     csg_map_color *maps;    /* the colour maps of patterned materials   */
     int map_count, map_cap;
+    pending_map *pending;   /* pigment maps whose entries' materials are
+                               still to be added (add_pigment_maps)      */
+    int pending_count, pending_cap;
     int sky_first;          /* the sky_sphere's pigments: materials from here */
     const csg_scene *scene;
     csg_diag *diag;
@@ -297,6 +308,8 @@ static void store3(real dst[3], dvec3 v)
     dst[2] = (real)v.z;
 }
 
+static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m);
+
 /* A patterned pigment: its kind, world -> pattern matrix (pig's own
  * transform, then `then` when not NULL), wave and colour map (appended to
  * fb->maps); a plain one: its colour (pattern 0). */
@@ -311,7 +324,11 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         [CSG_PATTERN_PLAIN] = CSG_MAT_PLAIN,     [CSG_PATTERN_CHECKER] = CSG_MAT_CHECKER,
         [CSG_PATTERN_GRADIENT] = CSG_MAT_GRADIENT, [CSG_PATTERN_BOZO] = CSG_MAT_BOZO,
         [CSG_PATTERN_WOOD] = CSG_MAT_WOOD,       [CSG_PATTERN_MARBLE] = CSG_MAT_MARBLE,
-        [CSG_PATTERN_GRANITE] = CSG_MAT_GRANITE, [CSG_PATTERN_AGATE] = CSG_MAT_AGATE};
+        [CSG_PATTERN_GRANITE] = CSG_MAT_GRANITE, [CSG_PATTERN_AGATE] = CSG_MAT_AGATE,
+        [CSG_PATTERN_WRINKLES] = CSG_MAT_WRINKLES, [CSG_PATTERN_RADIAL] = CSG_MAT_RADIAL,
+        [CSG_PATTERN_ONION] = CSG_MAT_ONION,     [CSG_PATTERN_LEOPARD] = CSG_MAT_LEOPARD,
+        [CSG_PATTERN_PLANAR] = CSG_MAT_PLANAR,   [CSG_PATTERN_BOXED] = CSG_MAT_BOXED,
+        [CSG_PATTERN_CYLINDRICAL] = CSG_MAT_CYLINDRICAL};
     m->pattern = kinds[pig->pattern];
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_MAT_PLAIN)
@@ -336,6 +353,8 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     store3(m->gradient, pig->gradient);
     m->frequency = (real)pig->frequency;
     m->phase = (real)pig->phase;
+    if (pig->pmap_count > 0)
+        return pigment_map_values(fb, pig, m);
     if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
               sizeof(csg_map_color))) {
         fb->oom = true;
@@ -350,6 +369,75 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
             c->rgbft[k] = (real)pig->map[i].rgbft[k];
     }
     return true;
+}
+
+/* Some point of the pigment lets light through (filter or transmit). */
+static bool pigment_clear(const csg_pigment *pig)
+{
+    if (pig->pattern == CSG_PATTERN_PLAIN)
+        return pig->rgbft[3] > 0 || pig->rgbft[4] > 0;
+    if (pig->pmap_count > 0) {
+        for (int i = 0; i < pig->pmap_count; i++)
+            if (pigment_clear(&pig->pmap[i].pigment))
+                return true;
+        return false;
+    }
+    for (int i = 0; i < pig->map_count; i++)
+        if (pig->map[i].rgbft[3] > 0 || pig->map[i].rgbft[4] > 0)
+            return true;
+    return false;
+}
+
+/* A pigment map: its values in fb->maps, each with filter 1 when its
+ * pigment lets light through somewhere (what material_opaque reads), and
+ * its entries' materials queued for add_pigment_maps. */
+static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m)
+{
+    if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->pmap_count,
+              sizeof(csg_map_color)) ||
+        !grow((void **)&fb->pending, &fb->pending_cap, fb->pending_count + 1,
+              sizeof(pending_map))) {
+        fb->oom = true;
+        return false;
+    }
+    m->map_first = fb->map_count;
+    m->map_count = pig->pmap_count;
+    for (int i = 0; i < pig->pmap_count; i++) {
+        csg_map_color *c = &fb->maps[fb->map_count++];
+        memset(c, 0, sizeof *c);
+        c->value = (real)pig->pmap[i].value;
+        c->rgbft[3] = pigment_clear(&pig->pmap[i].pigment) ? R(1.0) : R(0.0);
+    }
+    pending_map *pm = &fb->pending[fb->pending_count++];
+    pm->parent = (int)(m - fb->mats);
+    pm->entries = pig->pmap;
+    pm->count = pig->pmap_count;
+    return true;
+}
+
+/* The materials of the pigment maps' entries, after every other one (so
+ * an entry's material comes after its map's: blob.c checks it), each
+ * pattern relative to the point of the pattern holding the map.  Entries
+ * with maps of their own queue more as they go. */
+static void add_pigment_maps(flat_builder *fb)
+{
+    for (int i = 0; i < fb->pending_count && !fb->oom; i++) {
+        pending_map pm = fb->pending[i];
+        int n = pm.count;
+        if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + n, sizeof(csg_material)) ||
+            !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + n, sizeof(uint64_t))) {
+            fb->oom = true;
+            return;
+        }
+        fb->mats[pm.parent].sub_first = fb->mat_count;
+        for (int k = 0; k < n; k++) {
+            csg_material *m = &fb->mats[fb->mat_count];
+            memset(m, 0, sizeof *m);
+            if (!material_pattern(fb, &pm.entries[k].pigment, NULL, m))
+                return;
+            fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's */
+        }
+    }
 }
 
 /* The sky_sphere's pigments, as materials after the objects' (only their
@@ -1363,6 +1451,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         ok = add_top(&fb, s->objects[i], none);
     if (ok && !fb.oom)
         add_sky(&fb);
+    if (ok && !fb.oom)
+        add_pigment_maps(&fb);
     if (ok && !fb.oom && !build_bvh(&fb))
         fb.oom = true;
     if (ok && !fb.oom && !write_blob(&fb, o, out))
@@ -1381,6 +1471,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.mat_slots);
     free(fb.split);
     free(fb.maps);
+    free(fb.pending);
     if (!ok)
         csg_blob_free(out);
     return ok;

@@ -71,11 +71,18 @@ enum csg_pattern {
     CSG_PATTERN_PLAIN,    /* one colour: rgbft                                 */
     CSG_PATTERN_CHECKER,  /* 0 or 1 by the parity of floor(x)+floor(y)+floor(z) */
     CSG_PATTERN_GRADIENT, /* dot(point, gradient), wrapped into [0, 1)          */
-    CSG_PATTERN_BOZO,     /* POV-Ray's solid noise (also `spotted`)            */
+    CSG_PATTERN_BOZO,     /* POV-Ray's solid noise (also spotted and bumps)    */
     CSG_PATTERN_WOOD,     /* distance from the z axis, turbulence by cycloids  */
     CSG_PATTERN_MARBLE,   /* x plus turbulence                                 */
     CSG_PATTERN_GRANITE,  /* six octaves of |noise|                            */
-    CSG_PATTERN_AGATE     /* a cycloid of turbulence and z                     */
+    CSG_PATTERN_AGATE,    /* a cycloid of turbulence and z                     */
+    CSG_PATTERN_WRINKLES, /* ten octaves of noise, halved                      */
+    CSG_PATTERN_RADIAL,   /* the angle about the y axis, in turns from -z      */
+    CSG_PATTERN_ONION,    /* the distance from the origin, modulo 1            */
+    CSG_PATTERN_LEOPARD,  /* ((sin x + sin y + sin z) / 3)^2                   */
+    CSG_PATTERN_PLANAR,   /* 1 - |y| (0 beyond 1)                              */
+    CSG_PATTERN_BOXED,    /* 1 - the largest |coordinate| (0 beyond 1)         */
+    CSG_PATTERN_CYLINDRICAL /* 1 - the distance from the y axis (0 beyond 1)   */
 };
 
 /* POV-Ray's wave types: how a pattern's value (after frequency and phase)
@@ -110,8 +117,10 @@ typedef struct {
 
 #define CSG_MAP_MAX 256 /* entries of a colour map (POV-Ray's limit)     */
 
+typedef struct csg_pigment_entry csg_pigment_entry;
+
 /* POV-Ray's pigment: red, green, blue, filter, transmit, or a pattern
- * with its colour map. */
+ * with its colour map or its pigment map. */
 typedef struct {
     double rgbft[5];          /* the colour of a plain pigment              */
     int pattern;              /* enum csg_pattern                           */
@@ -127,7 +136,18 @@ typedef struct {
                                  the pigment was given)                     */
     int map_count;            /* entries of map (checker: 2)                */
     const csg_map_entry *map; /* the scene's arena; shared, never written   */
+    int pmap_count;           /* > 0: a pigment_map of so many entries, in
+                                 place of the colour map                    */
+    const csg_pigment_entry *pmap; /* the scene's arena, like map           */
 } csg_pigment;
+
+/* One entry of a pigment map: from `value` on, the pigment (evaluated at
+ * the point of the pattern that holds the map: its transforms and
+ * turbulence apply first, POV-Ray's Compute_Pigment). */
+struct csg_pigment_entry {
+    double value;
+    csg_pigment pigment;
+};
 
 /* POV-Ray 3.7 finish; the defaults are POV-Ray's (csg_finish_default). */
 typedef struct {

@@ -430,7 +430,7 @@ static void test_patterns(void **state)
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 pigment { checker color_map { [0 rgb 1] } } }",
               "t.pov:1:33: error: a color_map needs a pattern that takes one "
-              "(gradient, bozo, spotted, wood, marble, granite, agate)");
+              "(any but checker)");
 }
 
 /* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
@@ -493,6 +493,23 @@ static void test_noise_patterns(void **state)
               "t.pov:1:38: error: octaves must be from 1 to 10, got 11");
     parse_err("sphere { 0, 1 pigment { bozo agate_turb 0.5 } }",
               "t.pov:1:41: error: agate_turb needs the agate pattern");
+    parse_ok("#declare P = pigment { bozo scale 2 }\n"
+             "sphere { 0, 1 pigment { gradient y pigment_map { [0 P] [0.5, rgb x] [1 wood "
+             "pigment_map { [0 rgb 1] [1 P rotate y] }] } } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pmap_count, 3);
+    assert_int_equal(p->pmap[0].pigment.pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pmap[0].pigment.xform.m[0][0], 2);
+    assert_int_equal(p->pmap[1].pigment.pattern, CSG_PATTERN_PLAIN);
+    assert_near(p->pmap[1].value, 0.5);
+    assert_int_equal(p->pmap[2].pigment.pmap_count, 2); /* nested */
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",
+              "t.pov:1:44: error: '[' expected (a pigment_map entry), got '}'");
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { [0 rgb 1 } } }",
+              "t.pov:1:53: error: ']' expected (to close '[' at 1:44), got '}'");
     parse_err("sphere { 0, 1 pigment { marble turbulence } }",
               "t.pov:1:43: error: an expression expected, got '}'");
 }

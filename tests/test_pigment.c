@@ -78,14 +78,39 @@ static const struct {
      {0.529413759708, 0.429327726364, 0.584755599499, 0.727337479591, 0.186869129539}},
     {"granite turbulence 0.3 lambda 3 omega 0.4 octaves 2 scale <1, 2, 3>",
      {0.525456905365, 0.701827287674, 0.223300337791, 0.256050586700, 0.349002689123}},
+    {"wrinkles",
+     {0.574601292610, 0.867985963821, 0.729482054710, 0.692114233971, 0.514997661114}},
+    {"wrinkles noise_generator 1 scale 0.4",
+     {0.660387158394, 0.254616647959, 0.432014137506, 0.705557465553, 0.292912900448}},
+    {"bumps turbulence 0.2",
+     {0.536546945572, 0.724716365337, 0.753551900387, 0.535814523697, 0.574906051159}},
+    {"radial frequency 3 rotate <10, 20, 30>",
+     {0.387449413538, 0.898581564426, 0.665404319763, 0.055432729423, 0.057007413357}},
+    {"onion scale 2.5",
+     {0.118570514023, 0.441873908043, 0.995631754398, 0.342344850302, 0.590282261372}},
+    {"leopard scale 0.3",
+     {0.040565200150, 0.457914501429, 0.030641678721, 0.607854485512, 0.019780918956}},
+    {"planar scale 8",
+     {0.787500023842, 0.993749976158, 0.000000000000, 0.975000023842, 0.000000000000}},
+    {"boxed scale 20",
+     {0.889999985695, 0.605000019073, 0.375000000000, 0.964999973774, 0.000000000000}},
+    {"cylindrical scale 10 turbulence 0.5",
+     {0.488026827574, 0.309821695089, 0.000000000000, 0.362002491951, 0.000000000000}},
+    {"gradient x pigment_map { [0 bozo color_map { [0 rgb 0] [1 rgb 1] }] [1 wood "
+     "turbulence 0.1 scale 0.5 color_map { [0 rgb 0] [1 rgb 1] }] } turbulence 0.3 "
+     "scale 7",
+     {0.737125933170, 0.667318940163, 0.792326629162, 0.247402906418, 0.380331963301}},
+    {"marble pigment_map { [0.2 rgb 0.1] [0.5 granite pigment_map { [0 rgb 0] [1 "
+     "agate color_map { [0 rgb 0] [1 rgb 1] }] }] [0.9 rgb 0.9] } scale 3",
+     {0.100000001490, 0.090116113424, 0.114621192217, 0.289032906294, 0.824699282646}},
 };
 
 /* The flat scene of a plane with pigment `pig` (double precision). */
 static csg_blob load_pigment(const char *pig)
 {
-    char text[512];
-    snprintf(text, sizeof text,
-             "#version 3.7;\nplane { y, 0 pigment { %s color_map { [0 rgb 0] [1 rgb 1] } } }\n", pig);
+    char text[1024];
+    const char *map = strstr(pig, "pigment_map") ? "" : " color_map { [0 rgb 0] [1 rgb 1] }";
+    snprintf(text, sizeof text, "#version 3.7;\nplane { y, 0 pigment { %s%s } }\n", pig, map);
     csg_scene s;
     csg_diag d = {0};
     if (!csg_load_string("pigment.pov", text, strlen(text), NULL, &s, &d))
@@ -106,7 +131,7 @@ static double value_at(const csg_blob *b, const double p[3])
     csg_view v = csg_blob_view(bytes);
     const csg_material *mats = (const csg_material *)(bytes + h->off_materials);
     const csg_map_color *maps = (const csg_map_color *)(bytes + h->off_maps);
-    pigment_color c = pigment_at_double(&mats[v.prims[0].material], maps, NULL, CSG_SURF_NONE,
+    pigment_color c = pigment_at_double(mats, &mats[v.prims[0].material], maps, NULL, CSG_SURF_NONE,
                                         v3(p[0], p[1], p[2]), 0.0);
     return c.color.x;
 }

@@ -179,6 +179,66 @@ static double agate(const csg_material *m, const double q[3])
     return pow(v < 1.0 ? v : 1.0, 0.77);
 }
 
+/* POV-Ray's wrinkles: nine more octaves of noise after the first, each
+ * (for generators 2 and 3) stretched to 2 n - 0.5 and clamped. */
+static double wrinkles(const double q[3], int gen)
+{
+    double lambda = 2.0, omega = 0.5, value;
+    if (gen > 1) {
+        double n = noise_value(q, gen) * 2.0 - 0.5;
+        value = n < 0.0 ? 0.0 : n > 1.0 ? 1.0 : n;
+    } else {
+        value = noise_value(q, gen);
+    }
+    for (int i = 1; i < 10; i++) {
+        double p[3] = {q[0] * lambda, q[1] * lambda, q[2] * lambda};
+        if (gen > 1) {
+            double n = noise_value(p, gen) * 2.0 - 0.5;
+            value += omega * (n < 0.0 ? 0.0 : n > 1.0 ? 1.0 : n);
+        } else {
+            value += omega * noise_value(p, gen);
+        }
+        lambda *= 2.0;
+        omega *= 0.5;
+    }
+    return value / 2.0;
+}
+
+/* POV-Ray's CLIP_DENSITY: 1 - r within [0, 1], 1 below, 0 above. */
+static double clip_density(double r)
+{
+    return r < 0.0 ? 1.0 : r > 1.0 ? 0.0 : 1.0 - r;
+}
+
+static double radial(const double q[3])
+{
+    if (fabs(q[0]) < 0.001 && fabs(q[2]) < 0.001)
+        return 0.25;
+    return 0.25 + (atan2(q[0], q[2]) + M_PI) / (2.0 * M_PI);
+}
+
+static double leopard(const double q[3])
+{
+    double v = (sin(q[0]) + sin(q[1]) + sin(q[2])) / 3.0;
+    return v * v;
+}
+
+/* The simple geometric patterns. */
+static double shape_value(const csg_material *m, const double q[3])
+{
+    switch (m->pattern) {
+    case CSG_MAT_RADIAL: return radial(q);
+    case CSG_MAT_ONION: return fmod(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]), 1.0);
+    case CSG_MAT_LEOPARD: return leopard(q);
+    case CSG_MAT_PLANAR: return clip_density(fabs(q[1]));
+    case CSG_MAT_BOXED: {
+        double a = fabs(q[0]), b = fabs(q[1]), c = fabs(q[2]);
+        return clip_density(a > (b > c ? b : c) ? a : (b > c ? b : c));
+    }
+    default: return clip_density(sqrt(q[0] * q[0] + q[2] * q[2])); /* cylindrical */
+    }
+}
+
 /* Step 4. */
 static double pattern_value(const csg_material *m, const double q[3], double bias)
 {
@@ -189,7 +249,9 @@ static double pattern_value(const csg_material *m, const double q[3], double bia
     case CSG_MAT_GRANITE: return granite(q, m->noise_gen);
     case CSG_MAT_MARBLE: return marble(m, q);
     case CSG_MAT_WOOD: return wood(m, q);
-    default: return agate(m, q);
+    case CSG_MAT_AGATE: return agate(m, q);
+    case CSG_MAT_WRINKLES: return wrinkles(q, m->noise_gen);
+    default: return shape_value(m, q);
     }
 }
 
@@ -210,31 +272,61 @@ static double wave(const csg_material *m, double v)
     }
 }
 
-/* Step 6. */
-static pigment_color map_color(const csg_map_color *e, int n, double v)
+/* Step 6, POV-Ray's Search_Blend_Map: the entries *prev and *cur around
+ * v, and the fraction of the way from prev to cur (0 when they are one). */
+static double map_search(const csg_map_color *e, int n, double v, int *prev, int *cur)
 {
-    int cur = 0, prev = 0;
+    *cur = *prev = 0;
     if (v >= (double)e[n - 1].value) {
-        cur = prev = n - 1;
+        *cur = *prev = n - 1;
     } else {
-        while (v > (double)e[cur].value)
-            prev = cur++;
-        if (v == (double)e[cur].value)
-            prev = cur;
+        while (v > (double)e[*cur].value)
+            *prev = (*cur)++;
+        if (v == (double)e[*cur].value)
+            *prev = *cur;
     }
-    double c[5];
-    for (int k = 0; k < 5; k++)
-        c[k] = (double)e[cur].rgbft[k];
-    if (prev != cur) {
-        double f = (v - (double)e[prev].value) / ((double)e[cur].value - (double)e[prev].value);
-        for (int k = 0; k < 5; k++)
-            c[k] = (double)e[prev].rgbft[k] + f * (c[k] - (double)e[prev].rgbft[k]);
-    }
+    if (*prev == *cur)
+        return 0.0;
+    return (v - (double)e[*prev].value) / ((double)e[*cur].value - (double)e[*prev].value);
+}
+
+/* a + f (b - a), component by component (POV-Ray's blend of two entries). */
+static void blend(double *a, const double *b, double f, int n)
+{
+    for (int k = 0; k < n; k++)
+        a[k] = a[k] + f * (b[k] - a[k]);
+}
+
+static pigment_color color_of(const double c[5])
+{
     pigment_color pc;
     pc.color = v3((real)c[0], (real)c[1], (real)c[2]);
     pc.filter = (real)c[3];
     pc.transmit = (real)c[4];
     return pc;
+}
+
+static void load_color(pigment_color pc, double c[5])
+{
+    c[0] = (double)pc.color.x, c[1] = (double)pc.color.y, c[2] = (double)pc.color.z;
+    c[3] = (double)pc.filter, c[4] = (double)pc.transmit;
+}
+
+/* Step 6 with a colour map. */
+static pigment_color map_color(const csg_map_color *e, int n, double v)
+{
+    int cur, prev;
+    double f = map_search(e, n, v, &prev, &cur), c[5], next[5];
+    for (int k = 0; k < 5; k++) {
+        c[k] = (double)e[prev].rgbft[k];
+        next[k] = (double)e[cur].rgbft[k];
+    }
+    if (prev != cur)
+        blend(c, next, f, 5);
+    else
+        for (int k = 0; k < 5; k++)
+            c[k] = next[k];
+    return color_of(c);
 }
 
 /* The largest row sum of |M| (3x3 part): how much M can grow an error. */
@@ -248,24 +340,59 @@ static double matrix_norm(const real *m)
     return best;
 }
 
-pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
-                         const csg_prim *prims, csg_u32 surf, vec3 p, real err)
+#define PIGMENT_MAX_DEPTH 64 /* nested pigment maps followed (the parser's
+                                nesting limit keeps real scenes far below) */
+
+static pigment_color evaluate(const csg_material *mats, const csg_material *m,
+                              const csg_map_color *maps, const double w[3], double err, int depth);
+
+/* Step 6 with a pigment map: the entries' pigments at the pattern's
+ * point q (POV-Ray's Compute_Pigment hands them the warped point). */
+static pigment_color pigment_map_color(const csg_material *mats, const csg_material *m,
+                                       const csg_map_color *maps, const double q[3], double err,
+                                       double v, int depth)
 {
-    pigment_color pc;
+    int cur, prev;
+    double f = map_search(maps + m->map_first, m->map_count, v, &prev, &cur), c[5], next[5];
+    load_color(evaluate(mats, &mats[m->sub_first + cur], maps, q, err, depth + 1), next);
+    if (prev == cur)
+        return color_of(next);
+    load_color(evaluate(mats, &mats[m->sub_first + prev], maps, q, err, depth + 1), c);
+    blend(c, next, f, 5);
+    return color_of(c);
+}
+
+/* Steps 2 to 6 at the point w (world space, or the space of the pattern
+ * whose pigment map holds m), err its rounding bound. */
+static pigment_color evaluate(const csg_material *mats, const csg_material *m,
+                              const csg_map_color *maps, const double w[3], double err, int depth)
+{
     if (m->pattern == CSG_MAT_PLAIN) {
+        pigment_color pc;
         pc.color = v3_load(m->color);
         pc.filter = m->filter;
         pc.transmit = m->transmit;
         return pc;
     }
-    double w[3] = {(double)p.x, (double)p.y, (double)p.z}, q[3];
-    if (prims && surf != CSG_SURF_NONE)
-        onto_surface(prims, surf, w);
+    double q[3];
     for (int i = 0; i < 3; i++)
         q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
                (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
     if (m->turb_on && m->pattern != CSG_MAT_WOOD && m->pattern != CSG_MAT_MARBLE)
         turbulence_warp(m, q);
-    double bias = PATTERN_EPSILON + (double)err * matrix_norm(m->to_pattern);
-    return map_color(maps + m->map_first, m->map_count, wave(m, pattern_value(m, q, bias)));
+    double q_err = err * matrix_norm(m->to_pattern);
+    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + q_err));
+    if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
+        return pigment_map_color(mats, m, maps, q, q_err, v, depth);
+    return map_color(maps + m->map_first, m->map_count, v);
+}
+
+pigment_color PIGMENT_AT(const csg_material *mats, const csg_material *m,
+                         const csg_map_color *maps, const csg_prim *prims, csg_u32 surf, vec3 p,
+                         real err)
+{
+    double w[3] = {(double)p.x, (double)p.y, (double)p.z};
+    if (m->pattern != CSG_MAT_PLAIN && prims && surf != CSG_SURF_NONE)
+        onto_surface(prims, surf, w);
+    return evaluate(mats, m, maps, w, (double)err, 0);
 }

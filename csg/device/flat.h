@@ -208,7 +208,14 @@ enum csg_material_pattern {
     CSG_MAT_WOOD = 4,     /* distance from the z axis (+ cycloidal turbulence) */
     CSG_MAT_MARBLE = 5,   /* x + turbulence                                    */
     CSG_MAT_GRANITE = 6,  /* six octaves of |noise|                            */
-    CSG_MAT_AGATE = 7     /* a cycloid of turbulence and z                     */
+    CSG_MAT_AGATE = 7,    /* a cycloid of turbulence and z                     */
+    CSG_MAT_WRINKLES = 8, /* the rest: csg/scene.h's enum csg_pattern           */
+    CSG_MAT_RADIAL = 9,
+    CSG_MAT_ONION = 10,
+    CSG_MAT_LEOPARD = 11,
+    CSG_MAT_PLANAR = 12,
+    CSG_MAT_BOXED = 13,
+    CSG_MAT_CYLINDRICAL = 14
 };
 
 /* One entry of a colour map (the blob's maps array). */
@@ -249,6 +256,11 @@ typedef struct {
     real omega, lambda; /* each octave's weight and frequency factors    */
     real agate_turb;    /* agate: its turbulence's weight                */
     real exponent;      /* poly_wave                                     */
+    csg_i32 sub_first;  /* > 0: a pigment map: its entries' pigments are
+                           materials sub_first .. + map_count (after this
+                           one), the maps entries hold their values; 0: a
+                           colour map                                    */
+    csg_i32 pad2;
 } csg_material;
 
 typedef struct {

@@ -17,6 +17,7 @@
  * parser.c) compose into its xform, pattern space -> world.
  */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "parse_internal.h"
@@ -253,37 +254,65 @@ static const csg_map_entry wood_map[2] = {{0.6, {0.666, 0.312, 0.2, 0, 0}},
                                           {0.6, {0.4, 0.1333, 0.066, 0, 0}}};
 static const csg_map_entry marble_map[3] = {
     {0.0, {0.9, 0.8, 0.8, 0, 0}}, {0.9, {0.9, 0.08, 0.08, 0, 0}}, {0.9, {0, 0, 0, 0, 0}}};
+static const csg_map_entry radial_map[4] = {
+    {0.0, {0, 1, 1, 0, 0}}, {0.333, {1, 1, 0, 0, 0}}, {0.666, {1, 0, 1, 0, 0}}, {1.0, {0, 1, 1, 0, 0}}};
 static const csg_map_entry agate_map[6] = {
     {0.0, {1, 1, 1, 0, 0}},      {0.5, {0.95, 0.75, 0.5, 0, 0}}, {0.5, {0.9, 0.7, 0.5, 0, 0}},
     {0.6, {0.9, 0.7, 0.4, 0, 0}}, {0.6, {1, 0.7, 0.4, 0, 0}},    {1.0, {0.6, 0.3, 0, 0, 0}}};
 
-/* A noise pattern keyword: its kind, POV-Ray's default map and wave
- * (wood and marble: triangle), and agate's turbulence (always on). */
-static bool parse_noise_pattern(parser *p, csg_pigment *pig)
+/* The pattern keywords of parse_noise_pattern: kind and default map. */
+static const struct {
+    enum csg_kw kw;
+    int pattern;
+    const csg_map_entry *map;
+    int map_count;
+} noise_patterns[] = {
+    {CSG_KW_BOZO, CSG_PATTERN_BOZO, bozo_map, 6},
+    {CSG_KW_SPOTTED, CSG_PATTERN_BOZO, gray_map, 2},
+    {CSG_KW_BUMPS, CSG_PATTERN_BOZO, gray_map, 2},
+    {CSG_KW_GRANITE, CSG_PATTERN_GRANITE, gray_map, 2},
+    {CSG_KW_WOOD, CSG_PATTERN_WOOD, wood_map, 2},
+    {CSG_KW_MARBLE, CSG_PATTERN_MARBLE, marble_map, 3},
+    {CSG_KW_AGATE, CSG_PATTERN_AGATE, agate_map, 6},
+    {CSG_KW_WRINKLES, CSG_PATTERN_WRINKLES, gray_map, 2},
+    {CSG_KW_RADIAL, CSG_PATTERN_RADIAL, radial_map, 4},
+    {CSG_KW_ONION, CSG_PATTERN_ONION, gray_map, 2},
+    {CSG_KW_LEOPARD, CSG_PATTERN_LEOPARD, gray_map, 2},
+    {CSG_KW_PLANAR, CSG_PATTERN_PLANAR, gray_map, 2},
+    {CSG_KW_BOXED, CSG_PATTERN_BOXED, gray_map, 2},
+    {CSG_KW_CYLINDRICAL, CSG_PATTERN_CYLINDRICAL, gray_map, 2},
+};
+
+/* The index in noise_patterns of the current keyword, or -1. */
+static int noise_pattern_index(parser *p)
 {
-    enum csg_kw kw = lang_tok(p)->kw;
-    switch (kw) {
-    case CSG_KW_BOZO: pig->pattern = CSG_PATTERN_BOZO; pig->map = bozo_map; pig->map_count = 6; break;
-    case CSG_KW_SPOTTED: pig->pattern = CSG_PATTERN_BOZO; pig->map = gray_map; pig->map_count = 2; break;
-    case CSG_KW_GRANITE: pig->pattern = CSG_PATTERN_GRANITE; pig->map = gray_map; pig->map_count = 2; break;
-    case CSG_KW_WOOD: pig->pattern = CSG_PATTERN_WOOD; pig->map = wood_map; pig->map_count = 2; break;
-    case CSG_KW_MARBLE: pig->pattern = CSG_PATTERN_MARBLE; pig->map = marble_map; pig->map_count = 3; break;
-    default: pig->pattern = CSG_PATTERN_AGATE; pig->map = agate_map; pig->map_count = 6; break;
-    }
-    if (kw == CSG_KW_WOOD || kw == CSG_KW_MARBLE)
-        pig->wave = CSG_WAVE_TRIANGLE;
-    if (kw == CSG_KW_AGATE) {
-        pig->turb.on = true;
-        pig->agate_turb = 1.0;
-    }
-    return lang_next(p);
+    for (int i = 0; i < (int)(sizeof noise_patterns / sizeof noise_patterns[0]); i++)
+        if (lang_is_kw(p, noise_patterns[i].kw))
+            return i;
+    return -1;
 }
 
 static bool is_noise_pattern(parser *p)
 {
-    return lang_is_kw(p, CSG_KW_BOZO) || lang_is_kw(p, CSG_KW_SPOTTED) ||
-           lang_is_kw(p, CSG_KW_GRANITE) || lang_is_kw(p, CSG_KW_WOOD) ||
-           lang_is_kw(p, CSG_KW_MARBLE) || lang_is_kw(p, CSG_KW_AGATE);
+    return noise_pattern_index(p) >= 0;
+}
+
+/* A pattern keyword other than checker and gradient: its kind, POV-Ray's
+ * default map and wave (wood and marble: triangle), and agate's
+ * turbulence (always on). */
+static bool parse_noise_pattern(parser *p, csg_pigment *pig)
+{
+    int i = noise_pattern_index(p);
+    pig->pattern = noise_patterns[i].pattern;
+    pig->map = noise_patterns[i].map;
+    pig->map_count = noise_patterns[i].map_count;
+    if (pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE)
+        pig->wave = CSG_WAVE_TRIANGLE;
+    if (pig->pattern == CSG_PATTERN_AGATE) {
+        pig->turb.on = true;
+        pig->agate_turb = 1.0;
+    }
+    return lang_next(p);
 }
 
 /* What comes first: a pattern or a colour (or neither). */
@@ -382,11 +411,14 @@ static bool is_noise_modifier(parser *p)
            lang_is_kw(p, CSG_KW_AGATE_TURB) || lang_is_kw(p, CSG_KW_NOISE_GENERATOR);
 }
 
-/* The modifiers after the pattern, up to the closing brace. */
-static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
+static bool parse_pigment_map(parser *p, csg_pigment *pig);
+
+/* The modifiers after the pattern, up to `closer` ('}' of a pigment, ']'
+ * of a pigment map's entry), which is consumed. */
+static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg_loc open)
 {
     for (;;) {
-        if (lang_is_punct(p, '}'))
+        if (lang_is_punct(p, closer))
             return lang_next(p);
         bool ok;
         csg_loc at = lang_tok(p)->loc;
@@ -396,12 +428,15 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
             lang_color_map m;
             if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
                 csg_error(p->d, at, "a color_map needs a pattern that takes one "
-                                    "(gradient, bozo, spotted, wood, marble, granite, agate)");
+                                    "(any but checker)");
                 return false;
             }
             ok = lang_parse_color_map(p, &m);
             pig->map_count = m.count;
             pig->map = m.entries;
+            pig->pmap_count = 0; /* POV-Ray: the last map given counts */
+        } else if (lang_is_kw(p, CSG_KW_PIGMENT_MAP)) {
+            ok = parse_pigment_map(p, pig);
         } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
             double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
             ok = lang_next(p) && lang_parse_float(p, f, NULL);
@@ -410,11 +445,82 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
         } else if (is_noise_modifier(p)) {
             ok = parse_noise_modifier(p, pig);
         } else {
-            return lang_expected_close(p, '}', "pigment", open);
+            return lang_expected_close(p, closer, closer == '}' ? "pigment" : "[", open);
         }
         if (!ok)
             return false;
     }
+}
+
+/* [F [,] PIGMENT_BODY]: the body starts from the default pigment, as in
+ * POV-Ray (#default), and ends at ']'. */
+static bool parse_pigment_entry(parser *p, csg_pigment_entry *e)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_parse_float(p, &e->value, NULL))
+        return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    e->pigment = p->default_texture.pigment;
+    if (lang_names(p, SYM_PIGMENT)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_PIGMENT, "a pigment", &d))
+            return false;
+        e->pigment = d->u.pigment;
+    }
+    return parse_pattern(p, &e->pigment) && parse_pigment_modifiers(p, &e->pigment, ']', open);
+}
+
+/* The entries of a pigment map up to its '}' into *out (malloc'd, *n of
+ * them); false on an error (*out still to be freed). */
+static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n)
+{
+    int cap = 0;
+    while (lang_is_punct(p, '[')) {
+        if (*n == CSG_MAP_MAX) {
+            csg_error(p->d, lang_tok(p)->loc, "a pigment_map has at most %d entries", CSG_MAP_MAX);
+            return false;
+        }
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 8;
+            csg_pigment_entry *grown = realloc(*out, (size_t)cap * sizeof *grown);
+            if (!grown)
+                return lang_oom(p);
+            *out = grown;
+        }
+        if (!parse_pigment_entry(p, &(*out)[(*n)++]))
+            return false;
+    }
+    return *n > 0 || lang_expected(p, "'[' expected (a pigment_map entry)");
+}
+
+/* pigment_map { [F PIGMENT_BODY] ... }: the map's entries are pigments. */
+static bool parse_pigment_map(parser *p, csg_pigment *pig)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+        csg_error(p->d, open, "a pigment_map needs a pattern that takes one "
+                              "(any but checker)");
+        return false;
+    }
+    if (!lang_enter(p, open) || !lang_next(p) || !lang_expect_open(p, "pigment_map"))
+        return false;
+    csg_pigment_entry *e = NULL, *copy = NULL;
+    int n = 0;
+    bool ok = parse_pigment_entries(p, &e, &n);
+    if (ok && !lang_is_punct(p, '}'))
+        ok = lang_expected_close(p, '}', "pigment_map", open);
+    if (ok && (copy = lang_alloc(p, (size_t)n * sizeof *copy)) == NULL)
+        ok = false;
+    if (ok) {
+        memcpy(copy, e, (size_t)n * sizeof *copy);
+        pig->pmap = copy;
+        pig->pmap_count = n;
+        lang_leave(p);
+        ok = lang_next(p);
+    }
+    free(e);
+    return ok;
 }
 
 /* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
@@ -429,7 +535,7 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig)
             return false;
         *pig = d->u.pigment;
     }
-    return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, open);
+    return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, '}', open);
 }
 
 /* ---- sky_sphere ------------------------------------------------------------------- */
