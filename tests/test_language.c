@@ -504,6 +504,12 @@ static void test_noise_patterns(void **state)
     assert_near(p->pmap[1].value, 0.5);
     assert_int_equal(p->pmap[2].pigment.pmap_count, 2); /* nested */
     csg_scene_free(&s);
+    /* a 2-vector where a vector is expected: POV-Ray's z = 0 */
+    parse_ok("sphere { 0, 1 pigment { bozo translate <1, 2> } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_near(p->xform.m[1][3], 2);
+    assert_near(p->xform.m[2][3], 0);
+    csg_scene_free(&s);
     parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
               "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",
