@@ -196,6 +196,14 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
         [CSG_PATTERN_RADIAL] = "radial", [CSG_PATTERN_ONION] = "onion",
         [CSG_PATTERN_LEOPARD] = "leopard", [CSG_PATTERN_PLANAR] = "planar",
         [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical"};
+    if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
+        fputs("checker", e->out);
+        for (int i = 0; i < pig->pmap_count; i++) {
+            fputc(' ', e->out);
+            write_pigment(e, &pig->pmap[i].pigment, depth + 1);
+        }
+        return;
+    }
     if (pig->pattern == CSG_PATTERN_CHECKER) {
         fputs("checker ", e->out);
         put_color(e, pig->map[0].rgbft);

@@ -203,14 +203,36 @@ bool lang_parse_color_map(parser *p, lang_color_map *out)
 
 /* ---- pigments --------------------------------------------------------------------- */
 
-/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green. */
+/* checker pigment {..} [,] [pigment {..}]: a pigment map of two entries,
+ * 0 and 1, the one not given the default pigment (POV-Ray's
+ * Parse_Blend_List). */
+static bool parse_checker_pigments(parser *p, csg_pigment *pig)
+{
+    csg_pigment_entry *e = lang_alloc(p, 2 * sizeof *e);
+    if (!e)
+        return false;
+    for (int i = 0; i < 2; i++) {
+        e[i].value = i;
+        e[i].pigment = p->default_texture.pigment;
+    }
+    for (int i = 0; i < 2 && lang_is_kw(p, CSG_KW_PIGMENT); i++)
+        if (!lang_parse_pigment(p, &e[i].pigment) || (lang_is_punct(p, ',') && !lang_next(p)))
+            return false;
+    pig->pmap = e;
+    pig->pmap_count = 2;
+    return true;
+}
+
+/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green;
+ * or checker of two pigments. */
 static bool parse_checker(parser *p, csg_pigment *pig)
 {
     csg_map_entry e[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
     if (!lang_next(p))
         return false;
-    if (lang_is_kw(p, CSG_KW_PIGMENT))
-        return lang_unsupported(p, "'checker' of pigments", p->tok.loc);
+    pig->pmap_count = 0;
+    if (lang_is_kw(p, CSG_KW_PIGMENT) && !parse_checker_pigments(p, pig))
+        return false;
     for (int i = 0; i < 2 && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
         if (!lang_parse_color(p, e[i].rgbft) || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
@@ -444,6 +466,9 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             ok = parse_wave(p, pig);
         } else if (is_noise_modifier(p)) {
             ok = parse_noise_modifier(p, pig);
+        } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
+            double ignored[5]; /* POV-Ray uses it only below quality 6 (+Q5) */
+            ok = lang_next(p) && lang_parse_color(p, ignored);
         } else {
             return lang_expected_close(p, closer, closer == '}' ? "pigment" : "[", open);
         }
