@@ -62,7 +62,7 @@ static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
                                  m->sub_first > h->material_count - m->map_count)))
             return false;
         if (m->pattern != CSG_MAT_PLAIN && /* pigment.c's tables and switches */
-            (m->wave < 0 || m->wave > 5 || m->noise_gen < 1 || m->noise_gen > 3 ||
+            (m->wave < CSG_MAT_WAVE_RAMP || m->wave > CSG_MAT_WAVE_POLY || m->noise_gen < 1 || m->noise_gen > 3 ||
              ((m->turb_on || m->pattern == CSG_MAT_AGATE) && (m->octaves < 1 || m->octaves > 10))))
             return false;
     }

@@ -333,6 +333,7 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_MAT_PLAIN)
         return true;
+    _Static_assert((int)CSG_WAVE_POLY == (int)CSG_MAT_WAVE_POLY, "the two wave enums agree");
     m->wave = pig->wave;
     m->exponent = (real)pig->exponent;
     m->noise_gen = csg_noise_of(fb->scene, pig);

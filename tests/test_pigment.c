@@ -9,8 +9,8 @@
  * point), to 12 decimals; POV-Ray keeps colours in single precision, so a
  * value agrees within 1e-6.  The scenes go through the parser and the
  * flattener, so the keywords, defaults and transforms are covered too.
- * Plus the wave shapes and the noise's range, and the bad input of every
- * new keyword (an error at its place).
+ * Plus the noise's own properties (range, continuity, one octave of
+ * turbulence); the keywords' errors are in test_language.c.
  */
 #define CSG_DOUBLE 1
 #include <setjmp.h>
@@ -151,10 +151,47 @@ static void test_against_povray(void **state)
     }
 }
 
+/* The noise itself: in [0, 1] for every generator, continuous across
+ * lattice planes on both sides of 0 (POV-Ray's range fix), and one
+ * octave of turbulence is the noise (stretched for generators 2 and 3). */
+static void test_noise_properties(void **state)
+{
+    (void)state;
+    uint32_t r = 12345;
+    for (int gen = 1; gen <= 3; gen++) {
+        for (int i = 0; i < 2000; i++) {
+            double p[3];
+            for (int k = 0; k < 3; k++) {
+                r = r * 1103515245u + 12345u;
+                p[k] = ((double)(r >> 8) / (double)(1u << 24) - 0.5) * 100.0;
+            }
+            double v = noise_value(p, gen);
+            if (!(v >= 0.0 && v <= 1.0))
+                fail_msg("generator %d at <%g, %g, %g>: %g", gen, p[0], p[1], p[2], v);
+            noise_turb one = {1, 0.5, 2.0};
+            double t = noise_turbulence(p, &one, gen), n = gen > 1 ? 2.0 * v - 0.5 : v;
+            n = n < 0.0 ? 0.0 : n > 1.0 ? 1.0 : n;
+            if (t != n)
+                fail_msg("generator %d: one octave %g, noise %g", gen, t, n);
+        }
+        static const double planes[] = {-7.0, -1.0, 0.0, 1.0, 3.0};
+        for (size_t i = 0; i < sizeof planes / sizeof planes[0]; i++) {
+            double a[3] = {planes[i] - 1e-9, 0.3, 0.6}, b[3] = {planes[i] + 1e-9, 0.3, 0.6};
+            if (fabs(noise_value(a, gen) - noise_value(b, gen)) > 1e-6)
+                fail_msg("generator %d jumps at x = %g", gen, planes[i]);
+        }
+    }
+    assert_true(noise_triangle(0.25) == 0.5 && noise_triangle(0.75) == 0.5);
+    assert_true(noise_triangle(-0.25) == 0.5);
+    assert_true(fabs(noise_cycloidal(0.25) - 1.0) < 1e-12);
+    assert_true(fabs(noise_cycloidal(-0.25) + 1.0) < 1e-12);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_against_povray),
+        cmocka_unit_test(test_noise_properties),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

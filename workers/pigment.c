@@ -28,7 +28,9 @@
  *      constant) unless the frequency is 0 (a checker's), then wrapped
  *      into [0, 1) when negative, then shaped (ramp, triangle, sine,
  *      scallop, cubic, poly: Evaluate_TPat);
- *   6. the colour map: the first entry whose value is >= the value, and
+ *   6. the colour map (or the pigment map, whose entries are materials
+ *      evaluated from step 2 on at q, POV-Ray's Compute_Pigment): the
+ *      first entry whose value is >= the value, and
  *      linear interpolation from the entry before it (at or past the last
  *      entry: the last colour).
  */
@@ -255,7 +257,7 @@ static double pattern_value(const csg_material *m, const double q[3], double bia
     }
 }
 
-/* Step 5 (the wave types of csg/scene.h's enum csg_wave). */
+/* Step 5. */
 static double wave(const csg_material *m, double v)
 {
     if ((double)m->frequency != 0.0)
@@ -263,11 +265,11 @@ static double wave(const csg_material *m, double v)
     if (v < 0.0)
         v -= floor(v);
     switch (m->wave) {
-    case 1: return noise_triangle(v);
-    case 2: return (1.0 + noise_cycloidal(v)) * 0.5;
-    case 3: return fabs(noise_cycloidal(v * 0.5));
-    case 4: return v * v * (-2.0 * v + 3.0);
-    case 5: return pow(v, (double)m->exponent);
+    case CSG_MAT_WAVE_TRIANGLE: return noise_triangle(v);
+    case CSG_MAT_WAVE_SINE: return (1.0 + noise_cycloidal(v)) * 0.5;
+    case CSG_MAT_WAVE_SCALLOP: return fabs(noise_cycloidal(v * 0.5));
+    case CSG_MAT_WAVE_CUBIC: return v * v * (-2.0 * v + 3.0);
+    case CSG_MAT_WAVE_POLY: return pow(v, (double)m->exponent);
     default: return v;
     }
 }

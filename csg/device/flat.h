@@ -218,6 +218,17 @@ enum csg_material_pattern {
     CSG_MAT_CYLINDRICAL = 14
 };
 
+/* A material's wave (csg_material.wave): POV-Ray's shape of a pattern's
+ * value, numbered as csg/scene.h's enum csg_wave. */
+enum csg_material_wave {
+    CSG_MAT_WAVE_RAMP = 0,
+    CSG_MAT_WAVE_TRIANGLE = 1,
+    CSG_MAT_WAVE_SINE = 2,
+    CSG_MAT_WAVE_SCALLOP = 3,
+    CSG_MAT_WAVE_CUBIC = 4,
+    CSG_MAT_WAVE_POLY = 5
+};
+
 /* One entry of a colour map (the blob's maps array). */
 typedef struct {
     real value;
@@ -248,7 +259,7 @@ typedef struct {
     real phase;
     real to_pattern[12]; /* world -> pattern space, row-major 3x4 like
                             csg_prim.inv                                  */
-    csg_i32 wave;       /* enum csg_wave (csg/scene.h): ramp, triangle ... */
+    csg_i32 wave;       /* enum csg_material_wave                        */
     csg_i32 noise_gen;  /* POV-Ray's noise generator: 1, 2 or 3         */
     csg_i32 turb_on;    /* classic turbulence given (1) or not (0)       */
     csg_i32 octaves;    /* turbulence: 1 to 10                           */

@@ -1,18 +1,30 @@
 /*
- * texture.c — pigments (plain colours, checker and gradient with their
- * colour maps), colour maps, finishes, textures, interiors, and the
- * transforms that objects, lights, cameras and pigments share.
+ * texture.c — pigments (plain colours, checker, gradient, the noise
+ * patterns and the simple shapes, with their colour or pigment maps,
+ * waves and turbulence), colour maps, finishes, textures, interiors, and
+ * the transforms that objects, lights, cameras and pigments share.
  *
- *   pigment { [PIGMENT_ID] [checker [COLOR [,] [COLOR]] | gradient VECTOR | COLOR]
- *             { color_map { ... } | frequency F | phase F | ramp_wave | TRANSFORM } }
+ *   pigment { [PIGMENT_ID] [PATTERN | COLOR] { MODIFIER } }
+ *     PATTERN  checker [COLOR [,] [COLOR]] | checker pigment {} [,] [pigment {}]
+ *              | gradient VECTOR | bozo | spotted | bumps | wood | marble | granite
+ *              | agate | wrinkles | radial | onion | leopard | planar | boxed | cylindrical
+ *     MODIFIER color_map { ... } | pigment_map { [F PIGMENT_BODY] ... } | frequency F
+ *              | phase F | ramp_wave | triangle_wave | sine_wave | scallop_wave
+ *              | cubic_wave | poly_wave [F] | turbulence VECTOR | octaves N | omega F
+ *              | lambda F | agate_turb F | noise_generator N | quick_color COLOR
+ *              | TRANSFORM
  *   color_map { COLOR_MAP_ID | [F COLOR] ... | [F, F COLOR COLOR] ... }
  *   texture { [TEXTURE_ID] [PIGMENT_ID] [FINISH_ID] { pigment {} | finish {} | TRANSFORM } }
  *
  * POV-Ray 3.7's semantics: a pigment starts from its identifier or from
  * the current one; checker keeps the colours given (blue and green by
  * default) as a two-entry map; gradient normalises its vector and starts
- * with the black-to-white map; a colour map keeps its entries in order,
- * merging an entry equal to the one before.  The transforms of a pigment
+ * with the black-to-white map; the other patterns start with POV-Ray's
+ * default map of each (pigment.cpp) and wood and marble with the triangle
+ * wave; a colour map keeps its entries in order, merging an entry equal
+ * to the one before; a pigment map's entries are pigment bodies, each
+ * starting from the default pigment.  Turbulence settings switch the
+ * classic turbulence on (agate always has it).  The transforms of a pigment
  * (and of a texture, and of the objects it is given to afterwards,
  * parser.c) compose into its xform, pattern space -> world.
  */
