@@ -53,7 +53,7 @@ static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
 {
     for (int32_t i = 0; i < h->material_count; i++) {
         const csg_material *m = &mats[i];
-        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_CYLINDRICAL)
+        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_CRACKLE)
             return false;
         if (m->pattern != CSG_MAT_PLAIN &&
             (m->map_count < 1 || m->map_first < 0 || m->map_first > h->map_count - m->map_count))

@@ -195,7 +195,8 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
         [CSG_PATTERN_AGATE] = "agate",   [CSG_PATTERN_WRINKLES] = "wrinkles",
         [CSG_PATTERN_RADIAL] = "radial", [CSG_PATTERN_ONION] = "onion",
         [CSG_PATTERN_LEOPARD] = "leopard", [CSG_PATTERN_PLANAR] = "planar",
-        [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical"};
+        [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical",
+        [CSG_PATTERN_CRACKLE] = "crackle"};
     if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
         fputs("checker", e->out);
         for (int i = 0; i < pig->pmap_count; i++) {
@@ -227,7 +228,8 @@ static bool pig_uses_noise(const csg_pigment *pig)
 {
     return pig->pattern == CSG_PATTERN_BOZO || pig->pattern == CSG_PATTERN_WOOD ||
            pig->pattern == CSG_PATTERN_MARBLE || pig->pattern == CSG_PATTERN_GRANITE ||
-           pig->pattern == CSG_PATTERN_AGATE || pig->pattern == CSG_PATTERN_WRINKLES;
+           pig->pattern == CSG_PATTERN_AGATE || pig->pattern == CSG_PATTERN_WRINKLES ||
+           pig->pattern == CSG_PATTERN_CRACKLE;
 }
 
 /* The noise settings, all explicit (the generator resolved: the scene's
@@ -249,6 +251,16 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
     if (pig->pattern == CSG_PATTERN_AGATE) {
         fputs(" agate_turb ", out);
         put_num(out, pig->agate_turb);
+    }
+    if (pig->pattern == CSG_PATTERN_CRACKLE) {
+        fputs(" form ", out);
+        put_dvec(out, pig->crackle.form);
+        fputs(" metric ", out);
+        put_num(out, pig->crackle.metric);
+        fputs(" offset ", out);
+        put_num(out, pig->crackle.offset);
+        if (pig->crackle.solid)
+            fputs(" solid", out);
     }
     if (pig->turb.on || pig_uses_noise(pig))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));

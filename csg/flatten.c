@@ -328,7 +328,7 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         [CSG_PATTERN_WRINKLES] = CSG_MAT_WRINKLES, [CSG_PATTERN_RADIAL] = CSG_MAT_RADIAL,
         [CSG_PATTERN_ONION] = CSG_MAT_ONION,     [CSG_PATTERN_LEOPARD] = CSG_MAT_LEOPARD,
         [CSG_PATTERN_PLANAR] = CSG_MAT_PLANAR,   [CSG_PATTERN_BOXED] = CSG_MAT_BOXED,
-        [CSG_PATTERN_CYLINDRICAL] = CSG_MAT_CYLINDRICAL};
+        [CSG_PATTERN_CYLINDRICAL] = CSG_MAT_CYLINDRICAL, [CSG_PATTERN_CRACKLE] = CSG_MAT_CRACKLE};
     m->pattern = kinds[pig->pattern];
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_MAT_PLAIN)
@@ -343,6 +343,10 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->omega = (real)pig->turb.omega;
     m->lambda = (real)pig->turb.lambda;
     m->agate_turb = (real)pig->agate_turb;
+    store3(m->crackle_form, pig->crackle.form);
+    m->crackle_metric = (real)pig->crackle.metric;
+    m->crackle_offset = (real)pig->crackle.offset;
+    m->crackle_solid = pig->crackle.solid;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);

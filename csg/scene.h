@@ -82,8 +82,18 @@ enum csg_pattern {
     CSG_PATTERN_LEOPARD,  /* ((sin x + sin y + sin z) / 3)^2                   */
     CSG_PATTERN_PLANAR,   /* 1 - |y| (0 beyond 1)                              */
     CSG_PATTERN_BOXED,    /* 1 - the largest |coordinate| (0 beyond 1)         */
-    CSG_PATTERN_CYLINDRICAL /* 1 - the distance from the y axis (0 beyond 1)   */
+    CSG_PATTERN_CYLINDRICAL, /* 1 - the distance from the y axis (0 beyond 1)  */
+    CSG_PATTERN_CRACKLE   /* Worley's cells: distances to the random points     */
 };
+
+/* crackle's settings (POV-Ray's defaults: form <-1, 1, 0>, metric 2,
+ * offset 0, not solid). */
+typedef struct {
+    dvec3 form;      /* weights of the distances to the 3 nearest points */
+    double metric;   /* the distance's exponent                          */
+    double offset;   /* added to every distance                          */
+    bool solid;      /* each cell one noise value instead                */
+} csg_crackle;
 
 /* POV-Ray's wave types: how a pattern's value (after frequency and phase)
  * is shaped before the colour map. */
@@ -131,6 +141,7 @@ typedef struct {
     int noise_generator;      /* 1, 2 or 3; 0: the scene's (csg_noise_of)   */
     csg_turb turb;
     double agate_turb;        /* agate: the weight of its turbulence (1)    */
+    csg_crackle crackle;
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */

@@ -168,3 +168,33 @@ global_settings { assumed_gamma 1 }
 #debug concat("V ", str(F27(12.5, -8.25, 0.6).red, 0, 12), "\n")
 #debug concat("V ", str(F27(-0.7, -0.2, -0.45).red, 0, 12), "\n")
 #debug concat("V ", str(F27(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F28 = function { pigment { crackle color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F28(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F28(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F28(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F28(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F28(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F29 = function { pigment { crackle solid color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F29(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F29(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F29(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F29(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F29(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F30 = function { pigment { crackle metric 1 form <0.5, 0.3, 0.1> offset 0.2 color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F30(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F30(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F30(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F30(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F30(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F31 = function { pigment { crackle metric 3 form <-0.5, 1, 0.2> scale 0.4 turbulence 0.3 color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F31(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F31(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F31(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F31(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F31(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F32 = function { pigment { crackle solid noise_generator 1 scale 0.3 offset 0.5 color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F32(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F32(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F32(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F32(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F32(100.3, 20.1, -55.7).red, 0, 12), "\n")

@@ -510,6 +510,24 @@ static void test_noise_patterns(void **state)
     assert_near(p->xform.m[1][3], 2);
     assert_near(p->xform.m[2][3], 0);
     csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 pigment { crackle } }\n"
+             "sphere { 0, 1 pigment { crackle solid metric <1, 5, 5> form x offset 0.5 } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_CRACKLE);
+    assert_near(p->crackle.form.x, -1); /* POV-Ray's defaults */
+    assert_near(p->crackle.form.y, 1);
+    assert_near(p->crackle.metric, 2);
+    assert_false(p->crackle.solid);
+    p = &s.textures[s.objects[1]->texture].pigment;
+    assert_true(p->crackle.solid);
+    assert_near(p->crackle.metric, 1); /* a vector's x */
+    assert_near(p->crackle.form.y, 0);
+    assert_near(p->crackle.offset, 0.5);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo solid } }",
+              "t.pov:1:30: error: 'solid' needs the crackle pattern");
+    parse_err("sphere { 0, 1 pigment { crackle metric 0 } }",
+              "t.pov:1:40: error: metric must be > 0, got 0");
     parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
               "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",

@@ -17,6 +17,11 @@
  * is the hash.  The order of every sum and product is POV-Ray's: the
  * patterns built on it are compared with POV-Ray's renders pixel by pixel.
  *
+ * Crackle's random points (IntPickInCube): the cube's corner hashed
+ * three times (Hash3d) indexes POV-Ray's PatternRands, the first values of
+ * Boost's mt19937 (default seed 5489) through uniform_real [0, 1), that is
+ * each 32-bit output / 2^32.
+ *
  * The tables are constant data computed on first use (a few thousand
  * steps of that generator); the workers are single-threaded processes, so
  * the one static below is written once and only read after.
@@ -33,6 +38,7 @@
 #define SOLID_ENTRIES 2048             /* POV-Ray's NoiseEntries */
 #define SOLID_ROLLOVER 10000000.023157213
 #define TWO_PI 6.283185307179586476925286766560
+#define PATTERN_RANDS (HASH_SIZE + 2)  /* the PatternRands crackle reads */
 
 /* POV-Ray's RTable: the even entries; each odd one is half the entry
  * before it (Initialize_Noise). */
@@ -78,6 +84,7 @@ typedef struct {
     double rtable[2 * 267];
     int perm[2 * (SOLID_ENTRIES + 1)];         /* generator 3 */
     double grad[2 * (SOLID_ENTRIES + 1)][3];
+    double rands[PATTERN_RANDS];               /* crackle */
 } noise_tables;
 
 static noise_tables tables;
@@ -142,11 +149,38 @@ static void init_solid(noise_tables *t)
     }
 }
 
+/* The first PATTERN_RANDS outputs of the Mersenne Twister MT19937 (seed
+ * 5489, the reference generator), each divided by 2^32. */
+static void init_rands(noise_tables *t)
+{
+    uint32_t mt[624];
+    mt[0] = 5489u;
+    for (int i = 1; i < 624; i++)
+        mt[i] = 1812433253u * (mt[i - 1] ^ (mt[i - 1] >> 30)) + (uint32_t)i;
+    int next = 624;
+    for (int n = 0; n < PATTERN_RANDS; n++) {
+        if (next == 624) { /* the twist */
+            for (int i = 0; i < 624; i++) {
+                uint32_t y = (mt[i] & 0x80000000u) | (mt[(i + 1) % 624] & 0x7fffffffu);
+                mt[i] = mt[(i + 397) % 624] ^ (y >> 1) ^ ((y & 1u) ? 0x9908b0dfu : 0u);
+            }
+            next = 0;
+        }
+        uint32_t y = mt[next++];
+        y ^= y >> 11;
+        y ^= (y << 7) & 0x9d2c5680u;
+        y ^= (y << 15) & 0xefc60000u;
+        y ^= y >> 18;
+        t->rands[n] = (double)y / 4294967296.0;
+    }
+}
+
 static const noise_tables *get_tables(void)
 {
     if (!tables_ready) {
         init_hash(&tables);
         init_solid(&tables);
+        init_rands(&tables);
         tables_ready = true;
     }
     return &tables;
@@ -313,6 +347,16 @@ void noise_vector_turbulence(const double p[3], const noise_turb *t, double out[
             o *= t->omega;
         }
     }
+}
+
+void noise_cube_point(int cx, int cy, int cz, double out[3])
+{
+    const noise_tables *tb = get_tables();
+    unsigned a = (unsigned)cx & 0xFFFu, b = (unsigned)cy & 0xFFFu, c = (unsigned)cz & 0xFFFu;
+    unsigned seed = tb->hash[tb->hash[tb->hash[a] ^ b] ^ c];
+    out[0] = cx + tb->rands[seed];
+    out[1] = cy + tb->rands[seed + 1];
+    out[2] = cz + tb->rands[seed + 2];
 }
 
 /* The fraction goes through * 50000 / 50000 as in POV-Ray (it rounds). */

@@ -26,6 +26,10 @@ double noise_turbulence(const double p[3], const noise_turb *t, int gen);
 /* POV-Ray's DTurbulence: octaves of noise_vector summed. */
 void noise_vector_turbulence(const double p[3], const noise_turb *t, double out[3]);
 
+/* POV-Ray's IntPickInCube: the random point of the unit cube at integer
+ * corner (cx, cy, cz) that crackle measures distances to. */
+void noise_cube_point(int cx, int cy, int cz, double out[3]);
+
 /* POV-Ray's cycloidal: sin(2 pi v) through the fraction of v. */
 double noise_cycloidal(double v);
 

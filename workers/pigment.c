@@ -23,7 +23,8 @@
  *      |1 - 2 noise| (at most 0.5 each) at 4q; marble, x + turbulence;
  *      wood, the distance from the z axis of (x, y) moved by cycloids of
  *      the vector turbulence; agate, a cycloid of its turbulence and z,
- *      to the power 0.77 (pattern.cpp);
+ *      to the power 0.77; crackle, the three nearest cube points weighted
+ *      by its form; the simple shapes (pattern.cpp);
  *   5. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
  *      constant) unless the frequency is 0 (a checker's), then wrapped
  *      into [0, 1) when negative, then shaped (ramp, triangle, sine,
@@ -40,6 +41,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 
 #define PATTERN_EPSILON 1e-10 /* POV-Ray's EPSILON */
 
@@ -241,6 +243,91 @@ static double shape_value(const csg_material *m, const double q[3])
     }
 }
 
+/* POV-Ray's crackle distance of d (a point minus q) by the metric. */
+static double crackle_distance(const double d[3], double metric)
+{
+    if (metric == 2.0)
+        return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (metric == 1.0)
+        return fabs(d[0]) + fabs(d[1]) + fabs(d[2]);
+    return pow(fabs(d[0]), metric) + pow(fabs(d[1]), metric) + pow(fabs(d[2]), metric);
+}
+
+/* The 81 cubes around a point's cube that can hold its nearest random
+ * points: offsets -2..2 with at most one of them +-2 (POV-Ray's order). */
+static int crackle_cubes(int cubes[81][3])
+{
+    int n = 0;
+    for (int x = -2; x <= 2; x++)
+        for (int y = -2; y <= 2; y++)
+            for (int z = -2; z <= 2; z++)
+                if ((abs(x) == 2) + (abs(y) == 2) + (abs(z) == 2) <= 1) {
+                    cubes[n][0] = x, cubes[n][1] = y, cubes[n][2] = z;
+                    n++;
+                }
+    return n;
+}
+
+/* The three smallest of the distances s[0..n), in POV-Ray's order of
+ * comparisons (which settles ties), into s[0..2]; the index of the
+ * smallest. */
+static int crackle_nearest(double *s, int n)
+{
+    int best = 0;
+    double t;
+    if (s[1] < s[0])
+        t = s[0], s[0] = s[1], s[1] = t, best = 1;
+    if (s[2] < s[0])
+        t = s[0], s[0] = s[2], s[2] = t, best = 2;
+    if (s[2] < s[1])
+        t = s[1], s[1] = s[2], s[2] = t;
+    for (int i = 3; i < n; i++) {
+        if (s[i] < s[0]) {
+            s[2] = s[1], s[1] = s[0], s[0] = s[i], best = i;
+        } else if (s[i] < s[1]) {
+            s[2] = s[1], s[1] = s[i];
+        } else if (s[i] < s[2]) {
+            s[2] = s[i];
+        }
+    }
+    return best;
+}
+
+/* POV-Ray's crackle_pattern: the three smallest distances to the random
+ * points of the cubes around q, plus the offset, weighted by the form
+ * (back from the metric); or, solid, the noise at the nearest point.
+ * Clamped to [0, 1]. */
+static double crackle(const csg_material *m, const double q[3])
+{
+    int cubes[81][3], n = crackle_cubes(cubes);
+    int fx = (int)floor(q[0] - PATTERN_EPSILON), fy = (int)floor(q[1] - PATTERN_EPSILON);
+    int fz = (int)floor(q[2] - PATTERN_EPSILON);
+    double metric = (double)m->crackle_metric, s[81], pts[81][3];
+    for (int i = 0; i < n; i++) {
+        noise_cube_point(fx + cubes[i][0], fy + cubes[i][1], fz + cubes[i][2], pts[i]);
+        double d[3] = {pts[i][0] - q[0], pts[i][1] - q[1], pts[i][2] - q[2]};
+        s[i] = crackle_distance(d, metric);
+    }
+    int best = crackle_nearest(s, n);
+    double offset = (double)m->crackle_offset, v;
+    if (offset != 0.0) {
+        double add = metric == 2.0 ? offset * offset : metric == 1.0 ? offset : pow(offset, metric);
+        for (int i = 0; i < 3; i++)
+            s[i] += add;
+    }
+    const real *f = m->crackle_form;
+    if (m->crackle_solid)
+        v = noise_value(pts[best], m->noise_gen);
+    else if (metric == 2.0)
+        v = (double)f[0] * sqrt(s[0]) + (double)f[1] * sqrt(s[1]) + (double)f[2] * sqrt(s[2]);
+    else if (metric == 1.0)
+        v = (double)f[0] * s[0] + (double)f[1] * s[1] + (double)f[2] * s[2];
+    else
+        v = (double)f[0] * pow(s[0], 1.0 / metric) + (double)f[1] * pow(s[1], 1.0 / metric) +
+            (double)f[2] * pow(s[2], 1.0 / metric);
+    return v < 1.0 ? (v > 0.0 ? v : 0.0) : 1.0;
+}
+
 /* Step 4. */
 static double pattern_value(const csg_material *m, const double q[3], double bias)
 {
@@ -253,6 +340,7 @@ static double pattern_value(const csg_material *m, const double q[3], double bia
     case CSG_MAT_WOOD: return wood(m, q);
     case CSG_MAT_AGATE: return agate(m, q);
     case CSG_MAT_WRINKLES: return wrinkles(q, m->noise_gen);
+    case CSG_MAT_CRACKLE: return crackle(m, q);
     default: return shape_value(m, q);
     }
 }

@@ -215,7 +215,8 @@ enum csg_material_pattern {
     CSG_MAT_LEOPARD = 11,
     CSG_MAT_PLANAR = 12,
     CSG_MAT_BOXED = 13,
-    CSG_MAT_CYLINDRICAL = 14
+    CSG_MAT_CYLINDRICAL = 14,
+    CSG_MAT_CRACKLE = 15
 };
 
 /* A material's wave (csg_material.wave): POV-Ray's shape of a pattern's
@@ -267,11 +268,13 @@ typedef struct {
     real omega, lambda; /* each octave's weight and frequency factors    */
     real agate_turb;    /* agate: its turbulence's weight                */
     real exponent;      /* poly_wave                                     */
+    real crackle_form[3]; /* crackle: its form, metric and offset, and     */
+    real crackle_metric, crackle_offset;
+    csg_i32 crackle_solid; /* solid (1) or not (0)                          */
     csg_i32 sub_first;  /* > 0: a pigment map: its entries' pigments are
                            materials sub_first .. + map_count (after this
                            one), the maps entries hold their values; 0: a
                            colour map                                    */
-    csg_i32 pad2;
 } csg_material;
 
 typedef struct {

@@ -8,10 +8,12 @@
  *     PATTERN  checker [COLOR [,] [COLOR]] | checker pigment {} [,] [pigment {}]
  *              | gradient VECTOR | bozo | spotted | bumps | wood | marble | granite
  *              | agate | wrinkles | radial | onion | leopard | planar | boxed | cylindrical
+ *              | crackle
  *     MODIFIER color_map { ... } | pigment_map { [F PIGMENT_BODY] ... } | frequency F
  *              | phase F | ramp_wave | triangle_wave | sine_wave | scallop_wave
  *              | cubic_wave | poly_wave [F] | turbulence VECTOR | octaves N | omega F
- *              | lambda F | agate_turb F | noise_generator N | quick_color COLOR
+ *              | lambda F | agate_turb F | noise_generator N | form VECTOR | metric F
+ *              | offset F | solid | quick_color COLOR
  *              | TRANSFORM
  *   color_map { COLOR_MAP_ID | [F COLOR] ... | [F, F COLOR COLOR] ... }
  *   texture { [TEXTURE_ID] [PIGMENT_ID] [FINISH_ID] { pigment {} | finish {} | TRANSFORM } }
@@ -315,6 +317,7 @@ static const struct {
     {CSG_KW_PLANAR, CSG_PATTERN_PLANAR, gray_map, 2},
     {CSG_KW_BOXED, CSG_PATTERN_BOXED, gray_map, 2},
     {CSG_KW_CYLINDRICAL, CSG_PATTERN_CYLINDRICAL, gray_map, 2},
+    {CSG_KW_CRACKLE, CSG_PATTERN_CRACKLE, gray_map, 2},
 };
 
 /* The index in noise_patterns of the current keyword, or -1. */
@@ -345,6 +348,12 @@ static bool parse_noise_pattern(parser *p, csg_pigment *pig)
     if (pig->pattern == CSG_PATTERN_AGATE) {
         pig->turb.on = true;
         pig->agate_turb = 1.0;
+    }
+    if (pig->pattern == CSG_PATTERN_CRACKLE) {
+        pig->crackle.form = (dvec3){-1, 1, 0};
+        pig->crackle.metric = 2;
+        pig->crackle.offset = 0;
+        pig->crackle.solid = false;
     }
     return lang_next(p);
 }
@@ -438,6 +447,42 @@ static bool parse_noise_modifier(parser *p, csg_pigment *pig)
     }
 }
 
+/* crackle's modifiers: form VECTOR, metric F (a vector's x, as POV-Ray
+ * reads it), offset F, solid. */
+static bool parse_crackle_modifier(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at = lang_tok(p)->loc;
+    if (pig->pattern != CSG_PATTERN_CRACKLE) {
+        csg_error(p->d, at, "'%.*s' needs the crackle pattern", (int)lang_tok(p)->len,
+                  lang_tok(p)->text);
+        return false;
+    }
+    if (!lang_next(p))
+        return false;
+    dvec3 v;
+    switch (kw) {
+    case CSG_KW_SOLID: pig->crackle.solid = true; return true;
+    case CSG_KW_FORM: return lang_parse_vector(p, &pig->crackle.form, NULL);
+    case CSG_KW_OFFSET: return lang_parse_float(p, &pig->crackle.offset, NULL);
+    default: /* metric */
+        if (!lang_parse_vector(p, &v, &at))
+            return false;
+        if (!(v.x > 0)) {
+            csg_error(p->d, at, "metric must be > 0, got %g", v.x);
+            return false;
+        }
+        pig->crackle.metric = v.x;
+        return true;
+    }
+}
+
+static bool is_crackle_modifier(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_FORM) || lang_is_kw(p, CSG_KW_METRIC) ||
+           lang_is_kw(p, CSG_KW_OFFSET) || lang_is_kw(p, CSG_KW_SOLID);
+}
+
 static bool is_noise_modifier(parser *p)
 {
     return lang_is_kw(p, CSG_KW_TURBULENCE) || lang_is_kw(p, CSG_KW_OCTAVES) ||
@@ -478,6 +523,8 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             ok = parse_wave(p, pig);
         } else if (is_noise_modifier(p)) {
             ok = parse_noise_modifier(p, pig);
+        } else if (is_crackle_modifier(p)) {
+            ok = parse_crackle_modifier(p, pig);
         } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
             double ignored[5]; /* POV-Ray uses it only below quality 6 (+Q5) */
             ok = lang_next(p) && lang_parse_color(p, ignored);
