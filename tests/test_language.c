@@ -476,6 +476,10 @@ static void test_noise_patterns(void **state)
     assert_near(p->turb.amount.y, 2);
     assert_int_equal(p->wave, CSG_WAVE_SINE);
     csg_scene_free(&s);
+    parse_ok("#declare P = pigment { bozo noise_generator 1 }\n"
+             "sphere { 0, 1 pigment { P noise_generator 2 } }\n", &s);
+    assert_int_equal(csg_noise_of(&s, &s.textures[s.objects[0]->texture].pigment), 3);
+    csg_scene_free(&s);
     parse_ok("#version 3.1;\nsphere { 0, 1 pigment { bozo } }\n", &s);
     assert_int_equal(csg_noise_of(&s, &s.textures[s.objects[0]->texture].pigment), 1);
     csg_scene_free(&s);

@@ -442,7 +442,8 @@ static bool parse_noise_modifier(parser *p, csg_pigment *pig)
             csg_error(p->d, at, "noise_generator must be 0, 1, 2 or 3, got %g", f);
             return false;
         }
-        pig->noise_generator = (int)f;
+        pig->noise_generator |= (int)f; /* POV-Ray ORs it into the pattern's flags:
+                                           1 then 2 gives 3 */
         return true;
     }
 }
