@@ -1,6 +1,6 @@
 // patterns.pov — POV-Ray 3.7's noise patterns: wood, marble, granite,
-// agate, bozo and wrinkles, turbulence, the wave types and a pigment map
-// (nested), on a floor and five balls.  Every value is POV-Ray's own
+// agate, bozo, wrinkles and crackle, turbulence, the wave types and a
+// pigment map (nested), on a floor, four balls and a box.  Every value is POV-Ray's own
 // (workers/noise.c, tests/test_pigment.c).
 //
 // Framed for 640x480 (4:3; default right 1.33).
@@ -53,7 +53,9 @@ box {
         gradient y frequency 2
         pigment_map {
             [0.3 wrinkles scale 0.2 color_map { [0 rgb <0.2, 0.5, 0.2>] [1 rgb <0.8, 1, 0.6>] }]
-            [0.7 checker pigment { rgb <0.9, 0.2, 0.1> } pigment { spotted scale 0.1 } scale 0.25]
+            [0.7 checker pigment { rgb <0.9, 0.2, 0.1> }
+                 pigment { crackle solid scale 0.15 color_map { [0 rgb <0.2, 0.2, 0.6>] [1 rgb 1] } }
+                 scale 0.25]
         }
         turbulence 0.1
     }
