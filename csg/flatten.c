@@ -58,6 +58,8 @@ typedef struct {
     double lo[3], hi[3];
 } dbox;
 
+#define CSG_MAX_MAP_PIGMENTS (1 << 20) /* materials of pigment map entries */
+
 /* A material whose pigment map's entries wait for their materials. */
 typedef struct {
     int parent;                        /* the material holding the map   */
@@ -376,14 +378,22 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     return true;
 }
 
-/* Some point of the pigment lets light through (filter or transmit). */
-static bool pigment_clear(const csg_pigment *pig)
+/* Pigments a pigment_clear call may visit: a map of maps declared from
+ * the same identifiers grows exponentially; past this it answers "clear",
+ * which is only slower (a shadow ray then looks at the surface). */
+#define CLEAR_VISIT_BUDGET 4096
+
+/* Some point of the pigment lets light through (filter or transmit), or
+ * the budget *left ran out. */
+static bool pigment_clear(const csg_pigment *pig, int *left)
 {
+    if (--*left < 0)
+        return true;
     if (pig->pattern == CSG_PATTERN_PLAIN)
         return pig->rgbft[3] > 0 || pig->rgbft[4] > 0;
     if (pig->pmap_count > 0) {
         for (int i = 0; i < pig->pmap_count; i++)
-            if (pigment_clear(&pig->pmap[i].pigment))
+            if (pigment_clear(&pig->pmap[i].pigment, left))
                 return true;
         return false;
     }
@@ -411,7 +421,8 @@ static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_mat
         csg_map_color *c = &fb->maps[fb->map_count++];
         memset(c, 0, sizeof *c);
         c->value = (real)pig->pmap[i].value;
-        c->rgbft[3] = pigment_clear(&pig->pmap[i].pigment) ? R(1.0) : R(0.0);
+        int left = CLEAR_VISIT_BUDGET;
+        c->rgbft[3] = pigment_clear(&pig->pmap[i].pigment, &left) ? R(1.0) : R(0.0);
     }
     pending_map *pm = &fb->pending[fb->pending_count++];
     pm->parent = (int)(m - fb->mats);
@@ -423,26 +434,35 @@ static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_mat
 /* The materials of the pigment maps' entries, after every other one (so
  * an entry's material comes after its map's: blob.c checks it), each
  * pattern relative to the point of the pattern holding the map.  Entries
- * with maps of their own queue more as they go. */
-static void add_pigment_maps(flat_builder *fb)
+ * with maps of their own queue more as they go; maps of maps declared
+ * from the same pigments multiply, so their materials are limited.
+ * False (d filled) past the limit. */
+static bool add_pigment_maps(flat_builder *fb)
 {
+    int added = 0;
     for (int i = 0; i < fb->pending_count && !fb->oom; i++) {
         pending_map pm = fb->pending[i];
         int n = pm.count;
+        if ((added += n) > CSG_MAX_MAP_PIGMENTS) {
+            csg_error_plain(fb->diag, "pigment maps hold more than %d pigments in all",
+                            CSG_MAX_MAP_PIGMENTS);
+            return false;
+        }
         if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + n, sizeof(csg_material)) ||
             !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + n, sizeof(uint64_t))) {
             fb->oom = true;
-            return;
+            return true; /* reported as out of memory */
         }
         fb->mats[pm.parent].sub_first = fb->mat_count;
         for (int k = 0; k < n; k++) {
             csg_material *m = &fb->mats[fb->mat_count];
             memset(m, 0, sizeof *m);
             if (!material_pattern(fb, &pm.entries[k].pigment, NULL, m))
-                return;
+                return true; /* out of memory: fb->oom, reported so */
             fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's */
         }
     }
+    return true;
 }
 
 /* The sky_sphere's pigments, as materials after the objects' (only their
@@ -1457,7 +1477,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     if (ok && !fb.oom)
         add_sky(&fb);
     if (ok && !fb.oom)
-        add_pigment_maps(&fb);
+        ok = add_pigment_maps(&fb);
     if (ok && !fb.oom && !build_bvh(&fb))
         fb.oom = true;
     if (ok && !fb.oom && !write_blob(&fb, o, out))

@@ -197,11 +197,46 @@ static void test_noise_properties(void **state)
     assert_true(fabs(noise_cycloidal(-0.25) + 1.0) < 1e-12);
 }
 
+/* Maps of maps declared from the same pigment double at every level: the
+ * flattener stops at its limit with a message instead of exhausting
+ * memory; below it, the scene flattens. */
+static void test_pigment_map_limit(void **state)
+{
+    (void)state;
+    const char *fmt = "#declare P = pigment { bozo }\n"
+                      "#declare I = 0;\n"
+                      "#while (I < %d)\n"
+                      "  #declare P = pigment { bozo pigment_map { [0 P] [1 P] } }\n"
+                      "  #declare I = I + 1;\n"
+                      "#end\n"
+                      "sphere { 0, 1 pigment { P } }\n";
+    for (int levels = 8; levels <= 21; levels += 13) {
+        char text[512];
+        snprintf(text, sizeof text, fmt, levels);
+        csg_scene s;
+        csg_diag d = {0};
+        if (!csg_load_string("maps.pov", text, strlen(text), NULL, &s, &d))
+            fail_msg("parse: %s", d.message);
+        csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
+        csg_blob b;
+        bool ok = engine_double.flatten(&s, &o, &b, &d);
+        csg_scene_free(&s);
+        if (levels == 8) {
+            assert_true(ok); /* 510 pigments */
+            free(b.bytes);
+        } else {
+            assert_false(ok); /* 2^22 - 2 */
+            assert_non_null(strstr(d.message, "pigment maps hold more than"));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_against_povray),
         cmocka_unit_test(test_noise_properties),
+        cmocka_unit_test(test_pigment_map_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
