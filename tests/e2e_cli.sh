@@ -34,6 +34,8 @@ POV
 printf 'sphere { 0, 1\n  pigment { color rgb 1 }\n  torus { 1, 0.2 }\n}\n' >"$T/bad.pov"
 printf 'sphere { <0,0,0>, -1 }\n' >"$T/negative.pov"
 printf 'sphere { 0, 1\n  scale 1e200 scale 1e200 }\n' >"$T/overflow.pov"
+printf 'sphere { 0, 1\n  pigment { bozo noise_generator 4 } }\n' >"$T/noisegen.pov"
+printf 'sphere { 0, 1\n  pigment { wood turbulence 0.1 octaves -1 } }\n' >"$T/octaves.pov"
 
 # --- arguments ---
 expect 2 "no command" "$BIN"
@@ -58,6 +60,12 @@ errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
 # a combined transform beyond double's range is an error, not a vanished object
 expect 2 "overflowing transform" "$BIN" check "$T/overflow.pov"
 errmsg "^$T/overflow.pov:1:1: error: .*overflows" "overflowing transform message"
+expect 2 "unknown noise_generator" "$BIN" render "$T/noisegen.pov" -o "$T/noise.png"
+errmsg "^$T/noisegen.pov:2:34: error: noise_generator must be 0, 1, 2 or 3, got 4" \
+    "unknown noise_generator message with line:col"
+[ ! -e "$T/noise.png" ] && ok "no image after a noise_generator error" || ko "image written"
+expect 2 "negative octaves" "$BIN" check "$T/octaves.pov"
+errmsg "^$T/octaves.pov:2:41: error: octaves must be from 1 to 10, got -1" "negative octaves message"
 
 # Temporary files cannot be planted: links at the names a render, gen or
 # --stats once used (beside the output, the process id in the name) are
