@@ -153,7 +153,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
-	workers/engine_common.c workers/tile.c
+	workers/engine_common.c workers/tile.c workers/noise.c
 FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)
 

@@ -48,15 +48,24 @@ static bool prims_valid(const csg_blob_header *h, const csg_prim *prims)
     return true;
 }
 
-/* A patterned material's colour map lies inside the maps array. */
+/* A patterned material's colour map lies inside the maps array, its
+ * pigment map's materials inside the materials after it, its wave, noise
+ * generator and octaves within their ranges. */
 static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
 {
     for (int32_t i = 0; i < h->material_count; i++) {
         const csg_material *m = &mats[i];
-        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_GRADIENT)
+        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_CRACKLE)
             return false;
         if (m->pattern != CSG_MAT_PLAIN &&
             (m->map_count < 1 || m->map_first < 0 || m->map_first > h->map_count - m->map_count))
+            return false;
+        if (m->sub_first < 0 || (m->sub_first > 0 && (m->sub_first <= i || /* acyclic */
+                                 m->sub_first > h->material_count - m->map_count)))
+            return false;
+        if (m->pattern != CSG_MAT_PLAIN && /* pigment.c's tables and switches */
+            (m->wave < CSG_MAT_WAVE_RAMP || m->wave > CSG_MAT_WAVE_POLY || m->noise_gen < 1 || m->noise_gen > 3 ||
+             ((m->turb_on || m->pattern == CSG_MAT_AGATE) && (m->octaves < 1 || m->octaves > 10))))
             return false;
     }
     return true;

@@ -170,36 +170,119 @@ static void put_color(const exporter *e, const double *rgbft)
     put_vec(e->out, rgbft, e->flat ? 3 : 5);
 }
 
-/* pigment { ... }: a plain colour, or the pattern with its colour map,
- * wave and complete pattern -> world matrix (written after the object's
- * own matrix, so POV-Ray applies it alone). */
-static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+static void write_pigment_map(const exporter *e, const csg_pigment *pig, int depth);
+
+/* The colour map entries. */
+static void write_map(const exporter *e, const csg_pigment *pig)
 {
-    FILE *out = e->out;
-    fputs("pigment { ", out);
-    if (pig->pattern == CSG_PATTERN_PLAIN) {
-        put_color(e, pig->rgbft);
-        fputs(" }", out);
+    fputs(" color_map {", e->out);
+    for (int i = 0; i < pig->map_count; i++) {
+        fputs(" [", e->out);
+        put_num(e->out, pig->map[i].value);
+        fputc(' ', e->out);
+        put_color(e, pig->map[i].rgbft);
+        fputc(']', e->out);
+    }
+    fputs(" }", e->out);
+}
+
+/* The pattern keyword (spotted and bumps are written as bozo with their map). */
+static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int depth)
+{
+    static const char *const names[] = {
+        [CSG_PATTERN_BOZO] = "bozo",     [CSG_PATTERN_WOOD] = "wood",
+        [CSG_PATTERN_MARBLE] = "marble", [CSG_PATTERN_GRANITE] = "granite",
+        [CSG_PATTERN_AGATE] = "agate",   [CSG_PATTERN_WRINKLES] = "wrinkles",
+        [CSG_PATTERN_RADIAL] = "radial", [CSG_PATTERN_ONION] = "onion",
+        [CSG_PATTERN_LEOPARD] = "leopard", [CSG_PATTERN_PLANAR] = "planar",
+        [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical",
+        [CSG_PATTERN_CRACKLE] = "crackle"};
+    if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
+        fputs("checker", e->out);
+        for (int i = 0; i < pig->pmap_count; i++) {
+            fputc(' ', e->out);
+            write_pigment(e, &pig->pmap[i].pigment, depth + 1);
+        }
         return;
     }
     if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker ", out);
+        fputs("checker ", e->out);
         put_color(e, pig->map[0].rgbft);
-        fputs(", ", out);
+        fputs(", ", e->out);
         put_color(e, pig->map[1].rgbft);
-    } else {
-        fputs("gradient ", out);
-        put_dvec(out, pig->gradient);
-        fputs(" color_map {", out);
-        for (int i = 0; i < pig->map_count; i++) {
-            fputs(" [", out);
-            put_num(out, pig->map[i].value);
-            fputc(' ', out);
-            put_color(e, pig->map[i].rgbft);
-            fputc(']', out);
-        }
-        fputs(" }", out);
+        return;
     }
+    if (pig->pattern == CSG_PATTERN_GRADIENT) {
+        fputs("gradient ", e->out);
+        put_dvec(e->out, pig->gradient);
+    } else {
+        fputs(names[pig->pattern], e->out);
+    }
+    if (pig->pmap_count > 0)
+        write_pigment_map(e, pig, depth);
+    else
+        write_map(e, pig);
+}
+
+static bool pig_uses_noise(const csg_pigment *pig)
+{
+    return pig->pattern == CSG_PATTERN_BOZO || pig->pattern == CSG_PATTERN_WOOD ||
+           pig->pattern == CSG_PATTERN_MARBLE || pig->pattern == CSG_PATTERN_GRANITE ||
+           pig->pattern == CSG_PATTERN_AGATE || pig->pattern == CSG_PATTERN_WRINKLES ||
+           pig->pattern == CSG_PATTERN_CRACKLE;
+}
+
+/* The noise settings, all explicit (the generator resolved: the scene's
+ * #version or global_settings would not travel with the pigment), and
+ * the wave unless it is the pattern's default ramp. */
+static void write_noise(const exporter *e, const csg_pigment *pig)
+{
+    static const char *const waves[] = {"ramp_wave", "triangle_wave", "sine_wave",
+                                        "scallop_wave", "cubic_wave", "poly_wave"};
+    FILE *out = e->out;
+    if (pig->turb.on) {
+        fputs(" turbulence ", out);
+        put_dvec(out, pig->turb.amount);
+        fprintf(out, " octaves %d omega ", pig->turb.octaves);
+        put_num(out, pig->turb.omega);
+        fputs(" lambda ", out);
+        put_num(out, pig->turb.lambda);
+    }
+    if (pig->pattern == CSG_PATTERN_AGATE) {
+        fputs(" agate_turb ", out);
+        put_num(out, pig->agate_turb);
+    }
+    if (pig->pattern == CSG_PATTERN_CRACKLE) {
+        fputs(" form ", out);
+        put_dvec(out, pig->crackle.form);
+        fputs(" metric ", out);
+        put_num(out, pig->crackle.metric);
+        fputs(" offset ", out);
+        put_num(out, pig->crackle.offset);
+        if (pig->crackle.solid)
+            fputs(" solid", out);
+    }
+    if (pig->turb.on || pig_uses_noise(pig))
+        fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
+    bool triangle_default = pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE;
+    if (pig->wave != CSG_WAVE_RAMP || triangle_default)
+        fprintf(out, " %s", waves[pig->wave]);
+    if (pig->wave == CSG_WAVE_POLY) {
+        fputc(' ', out);
+        put_num(out, pig->exponent);
+    }
+}
+
+/* The body of a pigment (what its braces hold), at `depth`. */
+static void write_pigment_body(const exporter *e, const csg_pigment *pig, int depth)
+{
+    FILE *out = e->out;
+    if (pig->pattern == CSG_PATTERN_PLAIN) {
+        put_color(e, pig->rgbft);
+        return;
+    }
+    write_pattern_kind(e, pig, depth);
+    write_noise(e, pig);
     fputs(" frequency ", out);
     put_num(out, pig->frequency);
     fputs(" phase ", out);
@@ -207,7 +290,35 @@ static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
     fputc('\n', out);
     write_matrix(out, &pig->xform, depth + 1);
     indent(out, depth);
-    fputs("}", out);
+}
+
+/* pigment_map { [F BODY] ... }: each entry's body with its own matrix
+ * (relative to the pattern holding the map, as POV-Ray reads it). */
+static void write_pigment_map(const exporter *e, const csg_pigment *pig, int depth)
+{
+    fputs(" pigment_map {\n", e->out);
+    for (int i = 0; i < pig->pmap_count; i++) {
+        indent(e->out, depth + 1);
+        fputc('[', e->out);
+        put_num(e->out, pig->pmap[i].value);
+        fputc(' ', e->out);
+        write_pigment_body(e, &pig->pmap[i].pigment, depth + 1);
+        fputs("]\n", e->out);
+    }
+    indent(e->out, depth);
+    fputs("}", e->out);
+}
+
+/* pigment { ... }: a plain colour, or the pattern with its colour map,
+ * noise settings, wave and complete pattern -> world matrix (written
+ * after the object's own matrix, so POV-Ray applies it alone; POV-Ray
+ * applies a pattern's transforms before its turbulence whatever their
+ * order, as csgtrace does). */
+static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
+{
+    fputs("pigment { ", e->out);
+    write_pigment_body(e, pig, depth);
+    fputs(pig->pattern == CSG_PATTERN_PLAIN ? " }" : "}", e->out);
 }
 
 static void write_texture(const exporter *e, const csg_texture *t, int depth)

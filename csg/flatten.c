@@ -60,6 +60,16 @@ typedef struct {
     double lo[3], hi[3];
 } dbox;
 
+#define CSG_MAX_MAP_PIGMENTS (1 << 20) /* materials of pigment map entries */
+
+/* A material whose pigment map's entries wait for their materials. */
+typedef struct {
+    int parent;                        /* the material holding the map   */
+    const csg_pigment_entry *entries;  /* its entries (the scene's arena:
+                                          the pigment may be a copy)     */
+    int count;
+} pending_map;
+
 /* Growable arrays of the output, and what the walk inherits. */
 typedef struct {
     csg_prim *prims;
@@ -81,6 +91,9 @@ typedef struct {
     size_t mat_slot_cap;
     csg_map_color *maps;    /* the colour maps of patterned materials   */
     int map_count, map_cap;
+    pending_map *pending;   /* pigment maps whose entries' materials are
+                               still to be added (add_pigment_maps)      */
+    int pending_count, pending_cap;
     int sky_first;          /* the sky_sphere's pigments: materials from here */
     const csg_scene *scene;
     csg_diag *diag;
@@ -299,6 +312,8 @@ static void store3(real dst[3], dvec3 v)
     dst[2] = (real)v.z;
 }
 
+static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m);
+
 /* A patterned pigment: its kind, world -> pattern matrix (pig's own
  * transform, then `then` when not NULL), wave and colour map (appended to
  * fb->maps); a plain one: its colour (pattern 0). */
@@ -309,12 +324,33 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         m->color[i] = (real)pig->rgbft[i];
     m->filter = (real)pig->rgbft[3];
     m->transmit = (real)pig->rgbft[4];
-    m->pattern = pig->pattern == CSG_PATTERN_CHECKER    ? CSG_MAT_CHECKER
-                 : pig->pattern == CSG_PATTERN_GRADIENT ? CSG_MAT_GRADIENT
-                                                        : CSG_MAT_PLAIN;
+    static const csg_i32 kinds[] = {
+        [CSG_PATTERN_PLAIN] = CSG_MAT_PLAIN,     [CSG_PATTERN_CHECKER] = CSG_MAT_CHECKER,
+        [CSG_PATTERN_GRADIENT] = CSG_MAT_GRADIENT, [CSG_PATTERN_BOZO] = CSG_MAT_BOZO,
+        [CSG_PATTERN_WOOD] = CSG_MAT_WOOD,       [CSG_PATTERN_MARBLE] = CSG_MAT_MARBLE,
+        [CSG_PATTERN_GRANITE] = CSG_MAT_GRANITE, [CSG_PATTERN_AGATE] = CSG_MAT_AGATE,
+        [CSG_PATTERN_WRINKLES] = CSG_MAT_WRINKLES, [CSG_PATTERN_RADIAL] = CSG_MAT_RADIAL,
+        [CSG_PATTERN_ONION] = CSG_MAT_ONION,     [CSG_PATTERN_LEOPARD] = CSG_MAT_LEOPARD,
+        [CSG_PATTERN_PLANAR] = CSG_MAT_PLANAR,   [CSG_PATTERN_BOXED] = CSG_MAT_BOXED,
+        [CSG_PATTERN_CYLINDRICAL] = CSG_MAT_CYLINDRICAL, [CSG_PATTERN_CRACKLE] = CSG_MAT_CRACKLE};
+    m->pattern = kinds[pig->pattern];
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_MAT_PLAIN)
         return true;
+    _Static_assert((int)CSG_WAVE_POLY == (int)CSG_MAT_WAVE_POLY, "the two wave enums agree");
+    m->wave = pig->wave;
+    m->exponent = (real)pig->exponent;
+    m->noise_gen = csg_noise_of(fb->scene, pig);
+    m->turb_on = pig->turb.on;
+    m->octaves = pig->turb.octaves;
+    store3(m->turbulence, pig->turb.amount);
+    m->omega = (real)pig->turb.omega;
+    m->lambda = (real)pig->turb.lambda;
+    m->agate_turb = (real)pig->agate_turb;
+    store3(m->crackle_form, pig->crackle.form);
+    m->crackle_metric = (real)pig->crackle.metric;
+    m->crackle_offset = (real)pig->crackle.offset;
+    m->crackle_solid = pig->crackle.solid;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);
@@ -326,6 +362,8 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     store3(m->gradient, pig->gradient);
     m->frequency = (real)pig->frequency;
     m->phase = (real)pig->phase;
+    if (pig->pmap_count > 0)
+        return pigment_map_values(fb, pig, m);
     if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
               sizeof(csg_map_color))) {
         fb->oom = true;
@@ -338,6 +376,93 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         c->value = (real)pig->map[i].value;
         for (int k = 0; k < 5; k++)
             c->rgbft[k] = (real)pig->map[i].rgbft[k];
+    }
+    return true;
+}
+
+/* Pigments a pigment_clear call may visit: a map of maps declared from
+ * the same identifiers grows exponentially; past this it answers "clear",
+ * which is only slower (a shadow ray then looks at the surface). */
+#define CLEAR_VISIT_BUDGET 4096
+
+/* Some point of the pigment lets light through (filter or transmit), or
+ * the budget *left ran out. */
+static bool pigment_clear(const csg_pigment *pig, int *left)
+{
+    if (--*left < 0)
+        return true;
+    if (pig->pattern == CSG_PATTERN_PLAIN)
+        return pig->rgbft[3] > 0 || pig->rgbft[4] > 0;
+    if (pig->pmap_count > 0) {
+        for (int i = 0; i < pig->pmap_count; i++)
+            if (pigment_clear(&pig->pmap[i].pigment, left))
+                return true;
+        return false;
+    }
+    for (int i = 0; i < pig->map_count; i++)
+        if (pig->map[i].rgbft[3] > 0 || pig->map[i].rgbft[4] > 0)
+            return true;
+    return false;
+}
+
+/* A pigment map: its values in fb->maps, each with filter 1 when its
+ * pigment lets light through somewhere (what material_opaque reads), and
+ * its entries' materials queued for add_pigment_maps. */
+static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m)
+{
+    if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->pmap_count,
+              sizeof(csg_map_color)) ||
+        !grow((void **)&fb->pending, &fb->pending_cap, fb->pending_count + 1,
+              sizeof(pending_map))) {
+        fb->oom = true;
+        return false;
+    }
+    m->map_first = fb->map_count;
+    m->map_count = pig->pmap_count;
+    for (int i = 0; i < pig->pmap_count; i++) {
+        csg_map_color *c = &fb->maps[fb->map_count++];
+        memset(c, 0, sizeof *c);
+        c->value = (real)pig->pmap[i].value;
+        int left = CLEAR_VISIT_BUDGET;
+        c->rgbft[3] = pigment_clear(&pig->pmap[i].pigment, &left) ? R(1.0) : R(0.0);
+    }
+    pending_map *pm = &fb->pending[fb->pending_count++];
+    pm->parent = (int)(m - fb->mats);
+    pm->entries = pig->pmap;
+    pm->count = pig->pmap_count;
+    return true;
+}
+
+/* The materials of the pigment maps' entries, after every other one (so
+ * an entry's material comes after its map's: blob.c checks it), each
+ * pattern relative to the point of the pattern holding the map.  Entries
+ * with maps of their own queue more as they go; maps of maps declared
+ * from the same pigments multiply, so their materials are limited.
+ * False (d filled) past the limit. */
+static bool add_pigment_maps(flat_builder *fb)
+{
+    int added = 0;
+    for (int i = 0; i < fb->pending_count && !fb->oom; i++) {
+        pending_map pm = fb->pending[i];
+        int n = pm.count;
+        if ((added += n) > CSG_MAX_MAP_PIGMENTS) {
+            csg_error_plain(fb->diag, "pigment maps hold more than %d pigments in all",
+                            CSG_MAX_MAP_PIGMENTS);
+            return false;
+        }
+        if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + n, sizeof(csg_material)) ||
+            !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + n, sizeof(uint64_t))) {
+            fb->oom = true;
+            return true; /* reported as out of memory */
+        }
+        fb->mats[pm.parent].sub_first = fb->mat_count;
+        for (int k = 0; k < n; k++) {
+            csg_material *m = &fb->mats[fb->mat_count];
+            memset(m, 0, sizeof *m);
+            if (!material_pattern(fb, &pm.entries[k].pigment, NULL, m))
+                return true; /* out of memory: fb->oom, reported so */
+            fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's */
+        }
     }
     return true;
 }
@@ -382,6 +507,8 @@ static int material_for(flat_builder *fb, inherited inh)
         csg_texture_default(&tex);
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
+    memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
+                                byte: the blob is hashed (host/journal.c) */
     for (int i = 0; i < 3; i++) {
         m->ambient[i] = (real)tex.finish.ambient[i];
         m->reflection[i] = (real)tex.finish.reflection[i];
@@ -1354,6 +1481,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         ok = add_top(&fb, s->objects[i], none);
     if (ok && !fb.oom)
         add_sky(&fb);
+    if (ok && !fb.oom)
+        ok = add_pigment_maps(&fb);
     if (ok && !fb.oom && !build_bvh(&fb))
         fb.oom = true;
     if (ok && !fb.oom && !write_blob(&fb, o, out))
@@ -1372,6 +1501,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.mat_slots);
     free(fb.split);
     free(fb.maps);
+    free(fb.pending);
     if (!ok)
         csg_blob_free(out);
     return ok;

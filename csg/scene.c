@@ -23,7 +23,21 @@ void csg_pigment_default(csg_pigment *p)
 {
     memset(p, 0, sizeof *p); /* POV-Ray's default pigment is black */
     p->frequency = 1.0;
+    p->exponent = 1.0;
+    p->turb.octaves = 6; /* POV-Ray's classic turbulence defaults */
+    p->turb.omega = 0.5;
+    p->turb.lambda = 2.0;
+    p->agate_turb = 1.0;
     csg_xform_identity(&p->xform);
+}
+
+int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
+{
+    if (pig->noise_generator)
+        return pig->noise_generator;
+    if (s->globals.noise_generator)
+        return s->globals.noise_generator;
+    return s->version < 3.5 ? 1 : 2;
 }
 
 void csg_texture_default(csg_texture *t)
@@ -39,6 +53,7 @@ void csg_globals_default(csg_globals *g)
     g->max_trace_level = 5;
     g->adc_bailout = 1.0 / 255.0;
     g->ambient_light[0] = g->ambient_light[1] = g->ambient_light[2] = 1.0;
+    g->noise_generator = 0;
 }
 
 void csg_xform_identity(csg_xform *x)

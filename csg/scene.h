@@ -70,8 +70,53 @@ bool csg_object_is_leaf(int kind);
 enum csg_pattern {
     CSG_PATTERN_PLAIN,    /* one colour: rgbft                                 */
     CSG_PATTERN_CHECKER,  /* 0 or 1 by the parity of floor(x)+floor(y)+floor(z) */
-    CSG_PATTERN_GRADIENT  /* dot(point, gradient), wrapped into [0, 1)          */
+    CSG_PATTERN_GRADIENT, /* dot(point, gradient), wrapped into [0, 1)          */
+    CSG_PATTERN_BOZO,     /* POV-Ray's solid noise (also spotted and bumps)    */
+    CSG_PATTERN_WOOD,     /* distance from the z axis, turbulence by cycloids  */
+    CSG_PATTERN_MARBLE,   /* x plus turbulence                                 */
+    CSG_PATTERN_GRANITE,  /* six octaves of |noise|                            */
+    CSG_PATTERN_AGATE,    /* a cycloid of turbulence and z                     */
+    CSG_PATTERN_WRINKLES, /* ten octaves of noise, halved                      */
+    CSG_PATTERN_RADIAL,   /* the angle about the y axis, in turns from -z      */
+    CSG_PATTERN_ONION,    /* the distance from the origin, modulo 1            */
+    CSG_PATTERN_LEOPARD,  /* ((sin x + sin y + sin z) / 3)^2                   */
+    CSG_PATTERN_PLANAR,   /* 1 - |y| (0 beyond 1)                              */
+    CSG_PATTERN_BOXED,    /* 1 - the largest |coordinate| (0 beyond 1)         */
+    CSG_PATTERN_CYLINDRICAL, /* 1 - the distance from the y axis (0 beyond 1)  */
+    CSG_PATTERN_CRACKLE   /* Worley's cells: distances to the random points     */
 };
+
+/* crackle's settings (POV-Ray's defaults: form <-1, 1, 0>, metric 2,
+ * offset 0, not solid). */
+typedef struct {
+    dvec3 form;      /* weights of the distances to the 3 nearest points */
+    double metric;   /* the distance's exponent                          */
+    double offset;   /* added to every distance                          */
+    bool solid;      /* each cell one noise value instead                */
+} csg_crackle;
+
+/* POV-Ray's wave types: how a pattern's value (after frequency and phase)
+ * is shaped before the colour map. */
+enum csg_wave {
+    CSG_WAVE_RAMP,     /* the value                                    */
+    CSG_WAVE_TRIANGLE, /* up and back down (wood's and marble's)       */
+    CSG_WAVE_SINE,     /* (1 + sin) / 2 of the cycle                   */
+    CSG_WAVE_SCALLOP,  /* |sin| of half the cycle                      */
+    CSG_WAVE_CUBIC,    /* 3v^2 - 2v^3                                  */
+    CSG_WAVE_POLY      /* v^exponent                                   */
+};
+
+/* POV-Ray's classic turbulence of a pattern (turbulence, octaves, omega,
+ * lambda): fractal noise that displaces the point (bozo, spotted, granite,
+ * agate, checker, gradient) or that the pattern uses itself (wood,
+ * marble, agate). */
+typedef struct {
+    bool on;         /* given (agate always has it)                 */
+    dvec3 amount;    /* turbulence: 0 by default                    */
+    int octaves;     /* 6 (1 to 10)                                 */
+    double omega;    /* 0.5: each octave's weight, times the last   */
+    double lambda;   /* 2: each octave's frequency, times the last  */
+} csg_turb;
 
 /* One entry of a colour map: from `value` on, the colour rgbft (POV-Ray
  * interpolates linearly between consecutive entries). */
@@ -82,19 +127,38 @@ typedef struct {
 
 #define CSG_MAP_MAX 256 /* entries of a colour map (POV-Ray's limit)     */
 
+typedef struct csg_pigment_entry csg_pigment_entry;
+
 /* POV-Ray's pigment: red, green, blue, filter, transmit, or a pattern
- * with its colour map. */
+ * with its colour map or its pigment map. */
 typedef struct {
     double rgbft[5];          /* the colour of a plain pigment              */
     int pattern;              /* enum csg_pattern                           */
     dvec3 gradient;           /* gradient: its unit vector                  */
     double frequency, phase;  /* POV-Ray's wave: value * frequency + phase  */
+    int wave;                 /* enum csg_wave; exponent: poly_wave's       */
+    double exponent;
+    int noise_generator;      /* 1, 2 or 3; 0: the scene's (csg_noise_of)   */
+    csg_turb turb;
+    double agate_turb;        /* agate: the weight of its turbulence (1)    */
+    csg_crackle crackle;
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */
     int map_count;            /* entries of map (checker: 2)                */
     const csg_map_entry *map; /* the scene's arena; shared, never written   */
+    int pmap_count;           /* > 0: a pigment_map of so many entries, in
+                                 place of the colour map                    */
+    const csg_pigment_entry *pmap; /* the scene's arena, like map           */
 } csg_pigment;
+
+/* One entry of a pigment map: from `value` on, the pigment (evaluated at
+ * the point of the pattern that holds the map: its transforms and
+ * turbulence apply first, POV-Ray's Compute_Pigment). */
+struct csg_pigment_entry {
+    double value;
+    csg_pigment pigment;
+};
 
 /* POV-Ray 3.7 finish; the defaults are POV-Ray's (csg_finish_default). */
 typedef struct {
@@ -177,6 +241,7 @@ typedef struct {
     int max_trace_level;    /* 5                                      */
     double adc_bailout;     /* 1/255                                  */
     double ambient_light[3]; /* 1                                     */
+    int noise_generator;    /* 0 when not given: 2 (1 before #version 3.5) */
 } csg_globals;
 
 /* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the
@@ -220,6 +285,10 @@ typedef struct {
 } csg_scene;
 
 void csg_pigment_default(csg_pigment *p); /* plain black, identity transform */
+/* The noise generator pigment `pig` of scene `s` uses: its own, or the
+ * scene's global_settings one, or POV-Ray's default for the scene's
+ * #version (1 before 3.5, then 2). */
+int csg_noise_of(const csg_scene *s, const csg_pigment *pig);
 void csg_finish_default(csg_finish *f);
 void csg_texture_default(csg_texture *t);
 void csg_globals_default(csg_globals *g);

@@ -14,6 +14,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "file_atomic.h"
+#include "journal.h"
+
 void cli_usage(FILE *out)
 {
     fputs("usage:\n"
@@ -23,6 +26,7 @@ void cli_usage(FILE *out)
           "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
           "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
+          "                   [--resume]  (go on from OUT.journal, an interrupted render's)\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
           "  csgtrace check   SCENE [--width W] [--height H] [--clock F] [--library-path DIR]...\n"
           "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
@@ -102,6 +106,10 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         a->flat = true;
         return true;
     }
+    if (strcmp(opt, "--resume") == 0) {
+        r->resume = true;
+        return true;
+    }
     if (strcmp(opt, "--progress") == 0 || strcmp(opt, "--no-progress") == 0) {
         r->progress = opt[2] == 'p' ? PROGRESS_ON : PROGRESS_OFF;
         return true;
@@ -176,34 +184,21 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     return false;
 }
 
-/* Do two paths name the same file?  By device and inode when both exist,
- * else by the resolved folder and the last component. */
-static bool same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
-        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-    char ra[PATH_MAX], rb[PATH_MAX];
-    const char *ba = strrchr(a, '/'), *bb = strrchr(b, '/');
-    char da[PATH_MAX], db[PATH_MAX];
-    snprintf(da, sizeof da, "%.*s", ba ? (int)(ba - a) : 1, ba ? a : ".");
-    snprintf(db, sizeof db, "%.*s", bb ? (int)(bb - b) : 1, bb ? b : ".");
-    if (!realpath(da[0] ? da : "/", ra) || !realpath(db[0] ? db : "/", rb))
-        return false;
-    return strcmp(ra, rb) == 0 && strcmp(ba ? ba + 1 : a, bb ? bb + 1 : b) == 0;
-}
-
 /* No output may overwrite the scene or another output: a mistyped -o or
  * --stats would silently replace it. */
 static bool outputs_distinct(const cli_args *a, csg_diag *d)
 {
     const char *names[] = {"the scene", "the output (-o)", "the stats (--stats)",
-                           "the tile log (--tile-log)"};
+                           "the tile log (--tile-log)", "the output's journal"};
+    char journal_name[PATH_MAX + sizeof JOURNAL_SUFFIX];
+    bool renders = a->command == CMD_RENDER && a->out_path;
+    if (renders)
+        snprintf(journal_name, sizeof journal_name, "%s%s", a->out_path, JOURNAL_SUFFIX);
     const char *paths[] = {a->req.scene_path, a->out_path, a->req.stats_path,
-                           a->req.tile_log_path};
-    for (int i = 1; i < 4; i++)
+                           a->req.tile_log_path, renders ? journal_name : NULL};
+    for (int i = 1; i < 5; i++)
         for (int j = 0; j < i; j++)
-            if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
+            if (paths[i] && paths[j] && file_same(paths[i], paths[j])) {
                 csg_error_plain(d, "%s and %s are the same file ('%s'): refusing to overwrite it",
                                 names[i], names[j], paths[i]);
                 return false;
@@ -266,6 +261,10 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     }
     if (a->command == CMD_RENDER)
         a->req.out_path = a->out_path;
+    else if (a->req.resume) {
+        csg_error_plain(d, "--resume goes with render (it continues the render to -o OUT)");
+        return false;
+    }
     if (!outputs_distinct(a, d))
         return false;
     a->parse.image_width = a->req.width;

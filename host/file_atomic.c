@@ -5,15 +5,15 @@
 #include "file_atomic.h"
 
 #include <errno.h>
+#include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* What fopen would give a new file: 0666 less the umask (mkstemp's 0600
- * would hide a render from the other users of a shared folder).  The
- * umask is read by setting it and setting it back at once. */
-static mode_t file_default_mode(void)
+/* The umask is read by setting it and setting it back at once. */
+mode_t file_default_mode(void)
 {
     mode_t mask = umask(077);
     umask(mask);
@@ -63,4 +63,19 @@ fail:
     unlink(tmp); /* harmless when mkstemp failed: no such file */
     free(tmp);
     return false;
+}
+
+bool file_same(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ra[PATH_MAX], rb[PATH_MAX];
+    const char *ba = strrchr(a, '/'), *bb = strrchr(b, '/');
+    char da[PATH_MAX], db[PATH_MAX];
+    snprintf(da, sizeof da, "%.*s", ba ? (int)(ba - a) : 1, ba ? a : ".");
+    snprintf(db, sizeof db, "%.*s", bb ? (int)(bb - b) : 1, bb ? b : ".");
+    if (!realpath(da[0] ? da : "/", ra) || !realpath(db[0] ? db : "/", rb))
+        return false;
+    return strcmp(ra, rb) == 0 && strcmp(ba ? ba + 1 : a, bb ? bb + 1 : b) == 0;
 }

@@ -14,9 +14,19 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <sys/types.h>
 
 /* print(f, arg) into `path`; false with "csgtrace: error: ..." in err. */
 bool file_write_atomic(const char *path, void (*print)(FILE *, const void *), const void *arg,
                        char *err, size_t err_size);
+
+/* What fopen would give a new file: 0666 less the umask (mkstemp's 0600
+ * would hide a render from the other users of a shared folder). */
+mode_t file_default_mode(void);
+
+/* Do two paths name the same file?  By device and inode when both exist,
+ * else by the resolved folder and the last component (an output not yet
+ * written). */
+bool file_same(const char *a, const char *b);
 
 #endif

@@ -32,6 +32,10 @@ bool img_load(char *err, size_t err_size);
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                    size_t err_size);
 
+/* Has OpenImageIO a writer for the format of `path` (its extension)?  A
+ * render asks before it starts, not after its last tile.  false with the
+ * message img_write_rgb would give. */
+bool img_can_write(const char *path, char *err, size_t err_size);
 /* Reads any image OpenImageIO knows as float RGB (malloc'd, 3 a pixel). */
 bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
                   size_t err_size);

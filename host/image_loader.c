@@ -131,6 +131,12 @@ bool img_write_rgb(const char *path, const float *rgb, int width, int height, ch
     return m && m->write_rgb(path, rgb, width, height, err, err_size);
 }
 
+bool img_can_write(const char *path, char *err, size_t err_size)
+{
+    const img_module *m = module_or_error(path, err, err_size);
+    return m && m->can_write(path, err, err_size);
+}
+
 bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
                   size_t err_size)
 {

@@ -18,7 +18,7 @@
 extern "C" {
 #endif
 
-#define IMG_MODULE_ABI 1
+#define IMG_MODULE_ABI 2
 #define IMG_MODULE_ENTRY "csgimg_module"     /* the one exported symbol */
 #define IMG_MODULE_FILE "csgtrace-image.so"  /* looked for beside the program */
 #define IMG_MODULE_ENV "CSGTRACE_IMAGE_MODULE" /* a path that overrides the search */
@@ -33,6 +33,7 @@ typedef struct {
                      size_t err_size);
     bool (*compare_files)(const char *a, const char *b, double threshold, img_compare_result *r,
                           char *err, size_t err_size);
+    bool (*can_write)(const char *path, char *err, size_t err_size);
 } img_module;
 
 typedef const img_module *(*img_module_entry_fn)(void);

@@ -183,16 +183,25 @@ void set_png_options(ImageSpec &spec)
     spec.attribute("compression", "rle");
 }
 
+/* An ImageOutput for path's format, or null with the message in err. */
+std::unique_ptr<ImageOutput> output_for(const std::string &path, char *err, size_t esz)
+{
+    auto out = ImageOutput::create(path);
+    if (!out)
+        set_error(err, esz,
+                  path + ": cannot write this image format ('" + extension_of(path) +
+                      "'): " + OIIO::geterror());
+    return out;
+}
+
 bool write_rgb(const char *path_c, const float *rgb, int width, int height, char *err, size_t esz)
 {
     std::string path(path_c);
     std::string ext = extension_of(path);
     std::string tmp;
-    auto out = ImageOutput::create(path);
-    if (!out) {
-        set_error(err, esz, path + ": cannot write this image format ('" + ext + "'): " + OIIO::geterror());
+    auto out = output_for(path, err, esz);
+    if (!out)
         return false;
-    }
     ImageSpec spec(width, height, 3, is_float_format(ext) ? TypeDesc::FLOAT : TypeDesc::UINT8);
     if (ext == "png")
         set_png_options(spec);
@@ -327,8 +336,15 @@ bool module_compare_files(const char *a, const char *b, double threshold, img_co
                    [&] { return compare_files(a, b, threshold, r, err, esz); });
 }
 
-const img_module module_table = {IMG_MODULE_ABI, sizeof(img_module), module_write_rgb,
-                                 module_read_rgb, module_compare_files};
+bool module_can_write(const char *path, char *err, size_t esz)
+{
+    return guarded(path, "choosing the image format", err, esz,
+                   [&] { return output_for(path, err, esz) != nullptr; });
+}
+
+const img_module module_table = {IMG_MODULE_ABI,        sizeof(img_module), module_write_rgb,
+                                 module_read_rgb,       module_compare_files,
+                                 module_can_write};
 
 } // namespace
 

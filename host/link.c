@@ -108,11 +108,14 @@ typedef struct {
 static struct {
     int rank, size;
     int *fd;              /* rank 0: [r] rank r's socket, -1: none/lost */
+    bool *gone;           /* rank 0: [r] rank r was lost or written off
+                             (link_peer_lost stays true for it)          */
+    bool watched;         /* every rank: the watchdogs are up            */
     int master_fd;        /* a worker: its socket to rank 0             */
     atomic_int ending;    /* a worker: STOP came (its status + 1), or the
                              process exits (-1)                          */
     int status;           /* rank 0: the job's status (link_exit_status) */
-} link_w = {0, 1, NULL, -1, 0, 0};
+} link_w = {0, 1, NULL, NULL, false, -1, 0, 0};
 
 static int link_listen(link_watch_addr *a)
 {
@@ -306,6 +309,33 @@ static void link_watch_connect(const link_watch_addr *a)
 #define LINK_WATCHDOG 1
 #endif
 
+/* Rank 0 watches its parent, mpirun (or the local daemon): when it dies
+ * (kill -9 of mpirun), nothing else tells this process, which would go on
+ * rendering, unseen, for as long as the render lasts.  It is sent SIGTERM
+ * instead: the render stops as if the user had stopped it (host/signals.h:
+ * the journal kept, one line), and the workers follow it (their
+ * watchdogs).  A poll, not PR_SET_PDEATHSIG: that fires when the parent's
+ * forking *thread* ends, which need not be the parent's end. */
+#define LINK_PARENT_POLL_NS 250000000L
+
+static void *link_parent_watch(void *arg)
+{
+    pid_t parent = (pid_t)(intptr_t)arg;
+    struct timespec nap = {0, LINK_PARENT_POLL_NS};
+    while (getppid() == parent)
+        nanosleep(&nap, NULL);
+    kill(getpid(), SIGTERM);
+    return NULL;
+}
+
+static void link_parent_watch_start(void)
+{
+    pthread_t th;
+    if (LINK_WATCHDOG &&
+        pthread_create(&th, NULL, link_parent_watch, (void *)(intptr_t)getppid()) == 0)
+        pthread_detach(th);
+}
+
 /* Every rank, once after MPI_Init: the watchdog sockets set up. */
 static void link_watch_start(void)
 {
@@ -314,6 +344,11 @@ static void link_watch_start(void)
     memset(&a, 0, sizeof a);
     if (link_w.rank == 0) {
         link_w.fd = malloc((size_t)link_w.size * sizeof *link_w.fd);
+        link_w.gone = calloc((size_t)link_w.size, sizeof *link_w.gone);
+        if (!link_w.gone) {
+            free(link_w.fd);
+            link_w.fd = NULL;
+        }
         for (int r = 0; link_w.fd && r < link_w.size; r++)
             link_w.fd[r] = -1;
         if (link_w.fd && link_w.size > 1 && LINK_WATCHDOG)
@@ -321,6 +356,7 @@ static void link_watch_start(void)
     }
     if (MPI_Bcast(&a, sizeof a, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS || a.port == 0)
         return;
+    link_w.watched = true;
     if (link_w.rank != 0)
         link_watch_connect(&a);
     else
@@ -331,7 +367,11 @@ static void link_watch_start(void)
 
 bool link_peer_lost(int rank)
 {
-    if (!link_w.fd || rank < 1 || rank >= link_w.size || link_w.fd[rank] < 0)
+    if (!link_w.fd || rank < 1 || rank >= link_w.size)
+        return false;
+    if (link_w.gone[rank])
+        return true;
+    if (link_w.fd[rank] < 0)
         return false;
     struct pollfd p = {link_w.fd[rank], POLLIN, 0};
     char c;
@@ -354,6 +394,7 @@ void link_forget(int rank)
     link_bye(rank, LINK_BYE_QUIET);
     close(link_w.fd[rank]); /* the worker's watchdog sees EOF and exits */
     link_w.fd[rank] = -1;
+    link_w.gone[rank] = true;
 }
 
 void link_ending(int status)
@@ -397,6 +438,8 @@ bool link_start(int *rank, int *size)
             MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS)
             return false;
         link_watch_start();
+        if (link_w.rank == 0)
+            link_parent_watch_start();
     }
     *rank = link_w.rank;
     *size = link_w.size;
@@ -681,8 +724,67 @@ void link_req_abandon(link_req *req)
     req->active = false;
 }
 
+/* Under --enable-recovery a worker may die at any time, also while the
+ * scene is broadcast, and MPI_Bcast would then wait for ever (on the
+ * master, or on the ranks below the dead one in the tree).  There the
+ * master sends every chunk to each worker itself, with background sends
+ * it gives up on when the worker is lost (link_req_wait), and the workers
+ * receive them as plain messages: W copies through the master's link
+ * instead of a tree's log2(W) rounds, the price of surviving. */
+#define LINK_TAG_BCAST 32000 /* (above protocol.h's tags) */
+
+static bool link_bcast_direct(void)
+{
+    const char *rec = getenv("OMPI_MCA_orte_enable_recovery");
+    return link_w.watched && rec && strcmp(rec, "1") == 0;
+}
+
+static link_status link_bcast_send(const void *data, size_t size)
+{
+    link_req *req = calloc((size_t)link_w.size, sizeof *req);
+    if (!req)
+        return LINK_ERROR;
+    link_status status = LINK_OK;
+    for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
+        size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
+        for (int r = 1; r < link_w.size; r++)
+            if (!link_peer_lost(r) &&
+                link_isend(r, LINK_TAG_BCAST, (const char *)data + off, n, &req[r]) != LINK_OK)
+                status = LINK_ERROR;
+        for (int r = 1; r < link_w.size; r++)
+            if (req[r].active)
+                link_req_wait(&req[r]); /* (LINK_LOST: that worker is skipped from now) */
+        if (size == 0)
+            break;
+    }
+    free(req);
+    return status;
+}
+
+static link_status link_bcast_receive(void *data, size_t size)
+{
+    link_msg msg = {0};
+    link_status status = LINK_OK;
+    for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
+        size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
+        link_status got = link_recv(&msg, LINK_MASTER, LINK_BCAST_CHUNK);
+        if (got != LINK_OK || msg.tag != LINK_TAG_BCAST || msg.len != n) {
+            status = got == LINK_OK ? LINK_ERROR : got;
+            break;
+        }
+        if (data)
+            memcpy((char *)data + off, msg.data, n);
+        if (size == 0)
+            break;
+    }
+    link_msg_free(&msg);
+    return status;
+}
+
 link_status link_bcast(void *data, size_t size)
 {
+    if (link_bcast_direct())
+        return link_w.rank == 0 ? link_bcast_send(data, size) : link_bcast_receive(data, size);
     char sink[LINK_BCAST_CHUNK]; /* where a rank without memory receives */
     link_status status = LINK_OK;
     for (size_t off = 0; off < size; off += LINK_BCAST_CHUNK) {

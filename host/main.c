@@ -17,8 +17,7 @@
 #include "compare.h"
 #include "../scenes/gen.h"
 #include "render.h"
-
-#define CSGTRACE_VERSION "0.1"
+#include "version.h"
 
 static int fail(const csg_diag *d, int status)
 {

@@ -56,6 +56,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "journal.h"
 #include "link.h"
 #include "protocol.h"
 
@@ -597,7 +598,9 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     job->t_last = now;
     if (!job->t) /* (hetero counts them from the OpenCL tile hits) */
         job->pixels_hit += res->hits;
+    journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */
+        journal_tile_done(job->journal, it->tile, job->image);
         w->tiles++;
         if (job->progress)
             progress_step(job->progress);

@@ -57,6 +57,7 @@ typedef struct master_job {
                                  producer wakes it); NULL: its own        */
     float *image;             /* width * height * 3: results stored here  */
     progress_bar *progress;   /* stepped once a tile                      */
+    struct journal *journal;  /* each finished tile appended (NULL: none) */
     /* Results, added to: */
     stats_worker *workers;    /* [r - 1] is rank r (master_run_tiles)     */
     uint64_t pixels_hit;

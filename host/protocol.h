@@ -140,7 +140,8 @@ static inline size_t proto_master_limit(size_t pixels_max)
  * a worker about to compute an item, after `done` answered; the master
  * after `done` results received; "send": a worker that has just begun
  * sending its answer to item `done` (counted from 0); "ready": a worker
- * before its handshake (done 0).  With CSGTRACE_TEST_HANG set too, it
+ * before its handshake (done 0); "scene": a worker between the setup and
+ * the scene of the broadcast (done 0).  With CSGTRACE_TEST_HANG set too, it
  * hangs instead (this thread waits for ever).  Unset (always, outside the
  * tests): nothing. */
 static inline void proto_test_kill(int rank, const char *moment, int done)

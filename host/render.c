@@ -38,6 +38,7 @@
  */
 #include "render.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,7 +51,9 @@
 #include "../workers/tile.h"
 #include "../workers/worker.h"
 #include "estimate.h"
+#include "file_atomic.h"
 #include "image.h"
+#include "journal.h"
 #include "link.h"
 #include "master.h"
 #include "memory.h"
@@ -79,6 +82,8 @@ typedef struct {
     bool own_ctx;
     ocl_pass *pass;        /* hetero: the pass, until ended              */
     ocl_timing tm;
+    journal *journal;      /* the finished tiles, for --resume (NULL:
+                              no output file)                           */
     link_idle idle;        /* the master's wait; the pass wakes it       */
     bool idle_ready;
     int tile_rows_known;   /* tile rows handed to the scheduler          */
@@ -140,6 +145,30 @@ static const engine *render_engine(const render_request *req, const csg_scene *s
     return req->precision == PREC_DOUBLE ? &engine_double : &engine_float;
 }
 
+/* What the includes of the scene are checked against: no output may
+ * overwrite one (the scene itself is checked by the command line). */
+typedef struct {
+    const render_request *req;
+    csg_diag clash; /* the first output that names an include */
+} render_includes;
+
+static void render_check_include(void *arg, const char *path)
+{
+    render_includes *ri = arg;
+    const render_request *req = ri->req;
+    const char *names[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
+                           "the output's journal"};
+    char journal_name[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
+    if (req->out_path)
+        snprintf(journal_name, sizeof journal_name, "%s%s", req->out_path, JOURNAL_SUFFIX);
+    const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
+                           req->out_path ? journal_name : NULL};
+    for (int i = 0; i < 4 && !ri->clash.failed; i++)
+        if (paths[i] && file_same(paths[i], path))
+            csg_error_plain(&ri->clash, "%s is '%s', a file the scene includes: refusing to "
+                            "overwrite it", names[i], path);
+}
+
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
 static int render_load(const render_request *req, csg_blob *blob, render_stats *st, csg_diag *d)
 {
@@ -151,11 +180,19 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
         po = *req->parse;
     else
         csg_parse_options_default(&po);
+    render_includes ri = {req, {{0}, 0}};
+    po.on_include = render_check_include;
+    po.on_include_arg = &ri;
     /* What the scene sees; a POV-Ray scene has no size of its own */
     po.image_width = req->width > 0 ? req->width : CSG_DEFAULT_WIDTH;
     po.image_height = req->height > 0 ? req->height : CSG_DEFAULT_HEIGHT;
     csg_scene_init(&s);
     bool ok = csg_load_file(req->scene_path, &po, &s, d);
+    if (ok && ri.clash.failed) {
+        *d = ri.clash;
+        csg_scene_free(&s);
+        return EXIT_BAD_INPUT;
+    }
     if (ok) { /* the size asked for, else the scene's (NFF's resolution) */
         csg_image_size(&s, req->width, req->height, &st->width, &st->height);
         st->pixels = (uint64_t)st->width * (uint64_t)st->height;
@@ -259,12 +296,19 @@ static int render_start_pass(render_state *rs, const tile_grid *g, bool wake, cs
 
 /* ---- step 3: feeding the scheduler -------------------------------------------- */
 
-/* Tile `i`: queued, or (no hit, and no sky_sphere: what a missed ray sees
- * would depend on its direction) filled with the background and logged. */
+/* Tile `i`: queued; or taken from the journal (--resume: its pixels are
+ * in the image already); or (no hit, and no sky_sphere: what a missed ray
+ * sees would depend on its direction) filled with the background and
+ * logged. */
 static bool render_offer_tile(render_state *rs, master_job *job, int i)
 {
     tile_rect r = tile_rect_of(&job->grid, i);
     bool sky = csg_blob_hdr(rs->blob.bytes)->sky_count > 0;
+    if (journal_resumed(rs->journal, i)) {
+        if (!job->t)
+            job->pixels_hit += journal_resumed_hits(rs->journal, i);
+        return sched_resume(&rs->sched, i, r);
+    }
     if (rs->tile_hits && rs->tile_hits[i] == 0 && !sky) {
         for (int y = r.y; y < r.y + r.height; y++)
             for (int x = r.x; x < r.x + r.width; x++)
@@ -428,11 +472,12 @@ static double render_spearman(const sched *s)
     return rho;
 }
 
+/* Degenerate tiles (skipped, not resumed). */
 static int render_skipped(const sched *s)
 {
     int n = 0;
     for (int i = 0; i < s->count; i++)
-        n += s->items[i].skipped;
+        n += s->items[i].skipped && !s->items[i].resumed;
     return n;
 }
 
@@ -462,6 +507,7 @@ static void render_account(const render_state *rs, const master_job *job,
                              job->t_first, job->t_last);
     st->estimate_spearman = render_spearman(&rs->sched);
     st->tiles_sent = rs->sched.added;
+    st->tiles_resumed = journal_tiles_resumed(rs->journal);
     st->tiles_degenerate = render_skipped(&rs->sched);
     st->items_sent = rs->sched.dispatched;
     st->items_reassigned = rs->sched.requeued;
@@ -493,6 +539,13 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         return EXIT_FAILURE_RUN;
     }
     engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, rs->bg);
+    if (req->out_path) {
+        int status = journal_open(req->out_path, rs->blob.bytes, &grid, req->resume, rs->image,
+                                  &rs->journal, d);
+        if (status != EXIT_OK)
+            return status;
+    }
+    job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;
     job->sched = &rs->sched;
@@ -535,7 +588,9 @@ static int render_image(const render_request *req, master_session *ms, render_st
     if (status != EXIT_OK)
         return status;
     job.progress = &bar;
-    progress_begin(&bar, st->tiles_total, (int)req->progress);
+    /* (the bar counts the tiles of this run: not those resumed) */
+    progress_begin(&bar, st->tiles_total - journal_tiles_resumed(rs->journal),
+                   (int)req->progress);
     double cpu0 = stats_thread_cpu();
     if (ms->workers > 0 && req->mode != MODE_SERIAL)
         status = render_by_workers(ms, &job, st, d);
@@ -634,7 +689,8 @@ static int render_job(const render_request *req, int ranks)
     /* The image module before the clock: loading it is no render time, and
      * a missing one stops the job before any work. */
     char img_err[512];
-    bool img_ready = !req->out_path || img_load(img_err, sizeof img_err);
+    bool img_ready = !req->out_path || (img_load(img_err, sizeof img_err) &&
+                                        img_can_write(req->out_path, img_err, sizeof img_err));
     signals_install();
     render_marks mk = {stats_clock(), 0, 0, 0, 0};
     render_state rs;
@@ -650,7 +706,8 @@ static int render_job(const render_request *req, int ranks)
     if (status == EXIT_OK)
         status = render_memory_check(req, &rs.blob, &st, &d);
     if (status == EXIT_OK && !img_ready) {
-        csg_error_plain(&d, "%s: %s", req->out_path, img_err);
+        bool named = strncmp(img_err, req->out_path, strlen(req->out_path)) == 0;
+        csg_error_plain(&d, named ? "%s%s" : "%s: %s", named ? "" : req->out_path, img_err);
         status = EXIT_FAILURE_RUN;
     }
     bool reported = status != EXIT_OK;
@@ -673,6 +730,8 @@ static int render_job(const render_request *req, int ranks)
     }
     const char *written[] = {req->out_path, req->stats_path, req->tile_log_path};
     signals_release(written, status == EXIT_OK ? 3 : 0);
+    journal_close(rs.journal, status == EXIT_OK); /* (kept, unless finished) */
+    rs.journal = NULL;
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

@@ -37,6 +37,8 @@ typedef struct {
     int depth;                /* <= 0: the scene's max_trace_level   */
     double threshold;         /* < 0: the scene's adc_bailout        */
     enum progress_mode progress; /* the bar on stderr                */
+    bool resume;              /* go on from out_path's journal (host/
+                                 journal.h); else a new one replaces it */
     int cl_kernel;            /* enum ocl_kernel (host/ocl.h): 0 auto,
                                  1 scalar, 2 packet                    */
     int schedule;             /* enum sched_policy (host/schedule.h);

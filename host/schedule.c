@@ -174,6 +174,14 @@ bool sched_skip(sched *s, int tile, tile_rect r)
     return sched_new_item(s, tile, r, 0, true) >= 0;
 }
 
+bool sched_resume(sched *s, int tile, tile_rect r)
+{
+    int item = sched_new_item(s, tile, r, 0, true);
+    if (item >= 0)
+        s->items[item].resumed = true;
+    return item >= 0;
+}
+
 void sched_close(sched *s)
 {
     s->closed = true;

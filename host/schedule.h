@@ -45,6 +45,8 @@ typedef struct {
     int piece;         /* 0: the whole tile; 1 .. 4: a quarter of it     */
     bool skipped;      /* degenerate: filled by the master, never sent   */
     bool split;        /* replaced by its pieces (tail): never sent      */
+    bool resumed;      /* skipped: its pixels came from the journal of an
+                          earlier run (--resume), not from the background */
     double estimate;   /* estimated ray casts; < 0: unknown (homo)       */
     int order;         /* dispatch order from 0; -1: not sent            */
     int worker;        /* the rank that computed it (0: the master)      */
@@ -94,6 +96,8 @@ void sched_free(sched *s);
 /* Tile `tile` (rectangle r) is ready to be sent / is degenerate. */
 bool sched_add(sched *s, int tile, tile_rect r);
 bool sched_skip(sched *s, int tile, tile_rect r);
+/* Tile `tile` was finished by an earlier run (--resume): skipped too. */
+bool sched_resume(sched *s, int tile, tile_rect r);
 /* No more tiles will come. */
 void sched_close(sched *s);
 

@@ -10,19 +10,54 @@
 
 #include <signal.h>
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <string.h>
 #include <unistd.h>
 
 static atomic_int holding; /* a file write is under way            */
 static atomic_int pending; /* the signal that came during it, or 0 */
+static atomic_int journal_tiles;  /* tiles in the journal              */
+static atomic_int journal_ready;  /* journal_path is complete         */
+static char journal_path[4096];   /* the journal (set before the tile
+                                     phase, cleared after it)           */
+
+/* write(2) of a string; the result is of no use in a handler. */
+static void say(const char *s)
+{
+    ssize_t w = write(STDERR_FILENO, s, strlen(s));
+    (void)w;
+}
+
+/* n in decimal (async-signal-safe). */
+static void say_count(int n)
+{
+    char digits[16];
+    int i = (int)sizeof digits - 1;
+    digits[i] = '\0';
+    do {
+        digits[--i] = (char)('0' + n % 10);
+        n /= 10;
+    } while (n > 0 && i > 0);
+    say(digits + i);
+}
 
 static void say_and_exit(int sig)
 {
-    const char *line = sig == SIGINT
-                           ? "csgtrace: interrupted (SIGINT): the render stopped, no file written\n"
-                           : "csgtrace: terminated (SIGTERM): the render stopped, no file written\n";
-    ssize_t w = write(STDERR_FILENO, line, strlen(line));
-    (void)w;
+    int tiles = atomic_load(&journal_tiles);
+    bool journal = atomic_load(&journal_ready);
+    say(sig == SIGINT ? "csgtrace: interrupted (SIGINT): the render stopped, "
+                      : "csgtrace: terminated (SIGTERM): the render stopped, ");
+    if (journal && tiles > 0) {
+        say("no image written; ");
+        say_count(tiles);
+        say(" finished tiles are kept in ");
+        say(journal_path);
+        say(": the same command with --resume goes on from them\n");
+    } else {
+        if (journal)
+            unlink(journal_path); /* (nothing in it yet) */
+        say("no file written\n");
+    }
     _exit(128 + sig);
 }
 
@@ -60,4 +95,19 @@ void signals_release(const char *const *written, int n)
         if (written[i])
             unlink(written[i]);
     say_and_exit(sig);
+}
+
+void signals_journal(const char *path, int tiles)
+{
+    atomic_store(&journal_ready, 0); /* (the handler never sees half a name) */
+    atomic_store(&journal_tiles, tiles);
+    if (path && strlen(path) < sizeof journal_path) {
+        memcpy(journal_path, path, strlen(path) + 1);
+        atomic_store(&journal_ready, 1);
+    }
+}
+
+void signals_journal_tiles(int tiles)
+{
+    atomic_store(&journal_tiles, tiles);
 }

@@ -21,4 +21,10 @@ void signals_hold(void);
  * outputs just completed). */
 void signals_release(const char *const *written, int n);
 
+/* The journal of the render (host/journal.h), holding `tiles` finished
+ * tiles; a signal's line then says how to resume (or, when it holds none,
+ * removes it).  NULL: no journal. */
+void signals_journal(const char *path, int tiles);
+void signals_journal_tiles(int tiles);
+
 #endif

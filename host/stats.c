@@ -149,6 +149,8 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
+    fprintf(f, "  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n", s->tiles_resumed,
+            s->tiles_sent);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,
             s->items_reassigned);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n  \"max_rays_per_pixel\": %d,\n"
@@ -196,9 +198,9 @@ static void stats_log_time(FILE *f, const char *key, bool known, double v)
 static void stats_log_item(FILE *f, const sched_item *it, double t0)
 {
     fprintf(f, "{\"tile\": %d, \"piece\": %d, \"x\": %d, \"y\": %d, \"width\": %d, "
-               "\"height\": %d, \"skipped\": %s, ",
+               "\"height\": %d, \"skipped\": %s, \"resumed\": %s, ",
             it->tile, it->piece, it->rect.x, it->rect.y, it->rect.width, it->rect.height,
-            it->skipped ? "true" : "false");
+            it->skipped ? "true" : "false", it->resumed ? "true" : "false");
     stats_log_time(f, "estimate", it->estimate >= 0, it->estimate);
     fprintf(f, "\"hits\": %u, \"worker\": %d, ", (unsigned)it->hits,
             it->skipped ? 0 : it->worker);

@@ -50,8 +50,12 @@
  *   tiles_total   tiles of the image
  *   tiles_degenerate  tiles no primary ray hit (hetero: filled with the
  *                 background by the master, never sent; 0 otherwise)
- *   tiles_sent    tiles_total - tiles_degenerate: the tiles of the tile
- *                 phase (sent to workers, or done in-process without any)
+ *   tiles_resumed tiles taken from the journal of an interrupted run
+ *                 (--resume, host/journal.h): never rendered again
+ *   tiles_rendered = tiles_sent (the name --resume users look for)
+ *   tiles_sent    tiles_total - tiles_degenerate - tiles_resumed: the
+ *                 tiles of the tile phase (sent to workers, or done
+ *                 in-process without any)
  *   items_sent    work items sent: tiles_sent, plus 3 for each tile the
  *                 tail scheduler split into quarters, plus items_reassigned
  *   workers_lost  workers lost during the render (their process died, or
@@ -125,6 +129,7 @@ typedef struct render_stats {
     double busy_fraction, estimate_spearman;
     double master_cpu_s;                          /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
+    int tiles_resumed;        /* taken from the journal (--resume)        */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */
     uint64_t pixels, pixels_hit;
     ray_counts rays;

@@ -34,6 +34,8 @@ POV
 printf 'sphere { 0, 1\n  pigment { color rgb 1 }\n  torus { 1, 0.2 }\n}\n' >"$T/bad.pov"
 printf 'sphere { <0,0,0>, -1 }\n' >"$T/negative.pov"
 printf 'sphere { 0, 1\n  scale 1e200 scale 1e200 }\n' >"$T/overflow.pov"
+printf 'sphere { 0, 1\n  pigment { bozo noise_generator 4 } }\n' >"$T/noisegen.pov"
+printf 'sphere { 0, 1\n  pigment { wood turbulence 0.1 octaves -1 } }\n' >"$T/octaves.pov"
 
 # --- arguments ---
 expect 2 "no command" "$BIN"
@@ -58,6 +60,12 @@ errmsg "^$T/negative.pov:1:[0-9]+: error: " "negative radius message"
 # a combined transform beyond double's range is an error, not a vanished object
 expect 2 "overflowing transform" "$BIN" check "$T/overflow.pov"
 errmsg "^$T/overflow.pov:1:1: error: .*overflows" "overflowing transform message"
+expect 2 "unknown noise_generator" "$BIN" render "$T/noisegen.pov" -o "$T/noise.png"
+errmsg "^$T/noisegen.pov:2:34: error: noise_generator must be 0, 1, 2 or 3, got 4" \
+    "unknown noise_generator message with line:col"
+[ ! -e "$T/noise.png" ] && ok "no image after a noise_generator error" || ko "image written"
+expect 2 "negative octaves" "$BIN" check "$T/octaves.pov"
+errmsg "^$T/octaves.pov:2:41: error: octaves must be from 1 to 10, got -1" "negative octaves message"
 
 # Temporary files cannot be planted: links at the names a render, gen or
 # --stats once used (beside the output, the process id in the name) are
@@ -123,10 +131,36 @@ cmp -s "$T/good.pov" "$T/self.pov" && [ ! -e "$T/same.png" ] && [ ! -e "$T/o.png
     ok "refused outputs: the scene unchanged, nothing written" || ko "a refused output wrote something"
 rm -f "$T/self.pov"
 
+# no output may overwrite a file the scene includes (found while parsing)
+printf '#include "part.inc"\n' >"$T/inc.pov"
+cat "$T/good.pov" >"$T/part.inc"
+expect 2 "-o naming an include" "$BIN" render "$T/inc.pov" -o "$T/part.inc" --width 8 --height 6
+errmsg "^csgtrace: error: the output \(-o\) is '.*part.inc', a file the scene includes" \
+    "-o naming an include: the message"
+expect 2 "--stats naming an include (another path)" "$BIN" render "$T/inc.pov" -o "$T/inc.png" \
+    --width 8 --height 6 --stats "$T/../$(basename "$T")/part.inc"
+expect 2 "--tile-log naming an include" "$BIN" render "$T/inc.pov" -o "$T/inc.png" \
+    --width 8 --height 6 --tile-log "$T/part.inc"
+cmp -s "$T/good.pov" "$T/part.inc" && [ ! -e "$T/inc.png" ] &&
+    ok "outputs naming an include: it is unchanged, nothing written" ||
+    ko "an output naming an include wrote something"
+rm -f "$T/inc.pov" "$T/part.inc"
+
 # a stats file that cannot be written fails the render, and leaves no image
 expect 1 "unwritable --stats" "$BIN" render "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 \
     --stats "$T/no-such-folder/s.json"
 [ ! -e "$T/nostats.png" ] && ok "unwritable --stats: no image left" || ko "unwritable --stats left the image"
+# ... but the finished tiles are kept, and the line says so: --resume with
+# a stats path that works writes both without rendering a tile again
+grep -q "finished tiles are kept in $T/nostats.png.journal" "$T/err" &&
+    ok "unwritable --stats: the journal kept, and named" || ko "unwritable --stats: no journal named"
+expect 0 "unwritable --stats, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
+    --width 8 --height 6 --stats "$T/resumed.json" --resume
+json "$T/resumed.json" "j['tiles_resumed'] == j['tiles_total'] and j['tiles_rendered'] == 0" &&
+    [ -f "$T/nostats.png" ] && [ ! -e "$T/nostats.png.journal" ] &&
+    ok "--resume after the stats failed: every tile resumed, image written, journal gone" ||
+    ko "--resume after the stats failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
+rm -f "$T/nostats.png" "$T/resumed.json"
 
 # a render that cannot fit says so before allocating anything (here under a
 # 1 GiB address-space limit: 12000x12000 needs 2 GiB), and writes nothing

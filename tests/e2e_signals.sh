@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # e2e_signals.sh — SIGINT and SIGTERM during a render (host/signals.c):
 #   - serial: exit 130 (SIGINT) or 143 (SIGTERM), one line on stderr
-#     saying so, no file in the output's folder (image, stats, temporary);
+#     saying so, no file in the output's folder (image, stats, temporary)
+#     but the journal of the finished tiles (host/journal.h), which the
+#     line then names with the way to resume (tests/e2e_resume.sh resumes);
 #   - under mpirun (3 ranks): SIGTERM and SIGINT to mpirun (which forwards
 #     SIGTERM to every rank): mpirun exits non-zero, no rank left running,
-#     no file written (the master's line is printed, but mpirun may end
+#     no file written but the journal (the master's line is printed, but mpirun may end
 #     before it forwards it: counted, not required).
 # The renders are long (a few seconds at least); the signal comes about a
 # second after the start (serial), or once the progress bar shows that the
@@ -20,15 +22,19 @@ mkdir -p "$T/shm" "$T/sess"
     -o "$T/slow.pov" >/dev/null || ko "gen"
 LONG=(--width 3000 --height 3000)
 
-# nothing_written DIR: DIR holds only the captured stdout and stderr
-nothing_written() { [ -z "$(ls -A "$1" | grep -v -e '^out$' -e '^err$')" ]; }
+# nothing_written DIR: DIR holds only the captured stdout and stderr, and
+# the journal (o.png.journal) if any tile was finished
+nothing_written() { [ -z "$(ls -A "$1" | grep -v -e '^out$' -e '^err$' -e '^o\.png\.journal$')" ]; }
+# journal_named DIR: no journal, or the line names it and --resume
+journal_named() { [ ! -e "$1/o.png.journal" ] || grep -q "o.png.journal: the same command with --resume" "$1/err"; }
 
 # stopped NAME EXPECTED_STATUS SIGNAL_WORD
 stopped() {
     local d=$T/$1 rc=$2 want=$3 word=$4
     if [ "$rc" = "$want" ] && [ "$(wc -l <"$d/err")" = 1 ] &&
-        grep -q "csgtrace: .*($word): the render stopped" "$d/err" && nothing_written "$d"; then
-        ok "$1: exit $rc, one line, nothing written"
+        grep -q "csgtrace: .*($word): the render stopped" "$d/err" && nothing_written "$d" &&
+        journal_named "$d"; then
+        ok "$1: exit $rc, one line, nothing written but the journal it names"
     else
         ko "$1: exit $rc (wanted $want), stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
     fi
@@ -65,7 +71,7 @@ for sig in TERM INT; do
     # mpirun, ending at once, may drop: reported, not required
     said=$(grep -c 'the render stopped' "$d/err")
     if [ "$rc" != 0 ] && [ "$left" = 0 ] && nothing_written "$d"; then
-        ok "mpirun SIG$sig: exit $rc, no rank left, nothing written (the master's line shown: $said)"
+        ok "mpirun SIG$sig: exit $rc, no rank left, nothing written but the journal (the master's line shown: $said)"
     else
         ko "mpirun SIG$sig: exit $rc, $left ranks left, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
     fi

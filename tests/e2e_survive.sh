@@ -6,12 +6,16 @@
 #     items_reassigned >= 1, one line on stderr naming the worker;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
-#   - a worker dead before its handshake; a worker killed over TCP; one
+#   - a worker dead before its handshake; one dead during the scene
+#     broadcast (the master sends the scene to each worker itself under
+#     --enable-recovery: link_bcast); a worker killed over TCP; one
 #     killed while its large result is on the way (TCP, shared memory);
 #   - a worker that hangs (alive, silent): written off after its time
 #     limit (HANG_REPEAT=N: N times; each takes over 10 s), same checks;
 #   - the master SIGKILLed: the workers exit by themselves, mpirun exits
 #     non-zero, no image;
+#   - compare (several renders in one job): a worker dead in the first
+#     render, the others complete without it;
 #   - a failed render (bad scene) under --enable-recovery: mpirun exits
 #     non-zero (it would report 0: the master makes it fail);
 # and after every run: no process of the run left, no shared-memory
@@ -134,13 +138,18 @@ for i in $(seq "$REPEAT"); do
     CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=ready CSGTRACE_TEST_KILL_AFTER=0 run "$name" 4 --mode homo
     why=$(survived "$name" 1 0)
     [ -n "$why" ] && fails="$fails [$i: $why]"
+    name=scene-$i # (between the setup and the scene: the master is sending it)
+    CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=scene CSGTRACE_TEST_KILL_AFTER=0 \
+        run "$name" 4 --mode homo
+    why=$(survived "$name" 1 0)
+    [ -n "$why" ] && fails="$fails [$i scene: $why]"
     name=tcp-$i
     CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 OMPI_MCA_btl=tcp,self \
         run "$name" 3 --mode homo
     why=$(survived "$name" 1)
     [ -n "$why" ] && fails="$fails [$i tcp: $why]"
 done
-case_check "worker 2 dead before its handshake (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
+case_check "worker 2 dead before its handshake, and during the scene broadcast (homo, 4 ranks), and killed over TCP (homo, 3 ranks): exit 0, serial image, nothing left" "$fails"
 
 # Killed while its result (110 KB: 96 x 96 pixels, over every eager
 # limit) is on its way, over TCP and over shared memory.
@@ -201,6 +210,20 @@ if [ "$rc" != 0 ] && [ "$rc" != 137 ] && [ "$(grep -c ': error: ' "$T/bad.err")"
     ok "a bad scene under --enable-recovery: mpirun exits non-zero ($rc), one message"
 else
     ko "a bad scene under --enable-recovery: mpirun exit $rc, $(grep -c ': error: ' "$T/bad.err") messages"
+fi
+
+# compare: several renders in one job (homo and hetero, interleaved);
+# worker 2 dies in the first: the later ones go on without it
+ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=2 \
+    "${MPIRUN[@]}" -np 4 "$BIN" compare "$SCENE" "${SZ[@]}" --repeat 1 \
+    >"$T/compare.out" 2>"$T/compare.err"
+rc=$?
+left=$(leftovers compare)
+if [ "$rc" = 0 ] && grep -q "identical, bit for bit" "$T/compare.out" &&
+    grep -q "worker 2 lost" "$T/compare.err" && [ -z "$left" ]; then
+    ok "compare, worker 2 SIGKILLed in its first render (4 ranks): every render completes, identical images"
+else
+    ko "compare with a dead worker: exit $rc, left: $left, stderr: $(grep -v PMIX "$T/compare.err" | head -c 300)"
 fi
 
 run plain-3 3 --mode homo

@@ -93,6 +93,16 @@ static const char *const corpus[] = {
     "#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
     "#default { finish { ambient 0.2 } }\n"
     "sphere { 0, (1 < 2 ? 1 : 2) + vlength(vcross(x, y)) }\n",
+
+    "global_settings { noise_generator 1 }\n"
+    "#declare W = pigment { wood turbulence <0.1, 0.2, 0> octaves 3 omega 0.6 lambda 2.5 }\n"
+    "plane { y, 0 pigment { W scale 0.3 rotate 90 * x } }\n"
+    "sphere { 0, 1 pigment { marble turbulence 1 sine_wave noise_generator 3 } }\n"
+    "box { -1, 1 pigment { gradient y pigment_map { [0 granite] [0.5 agate agate_turb 0.4]\n"
+    "  [1 checker pigment { bozo } pigment { spotted poly_wave 2 }] } } }\n"
+    "sphere { 2 * x, 1 pigment { wrinkles scallop_wave frequency 2 phase 0.3 } }\n"
+    "sphere { -2 * x, 1 pigment { radial cubic_wave quick_color rgb 1 } }\n"
+    "sphere { 3 * y, 1 pigment { onion triangle_wave color_map { [0 rgb 1] [1 rgb 0] } } }\n",
 };
 
 #define CORPUS_SIZE ((int)(sizeof corpus / sizeof corpus[0]))

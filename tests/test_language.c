@@ -429,7 +429,117 @@ static void test_patterns(void **state)
     assert_near(s.textures[child->texture].pigment.xform.m[1][1], 3);
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 pigment { checker color_map { [0 rgb 1] } } }",
-              "t.pov:1:33: error: a color_map needs a pattern that takes one (gradient)");
+              "t.pov:1:33: error: a color_map needs a pattern that takes one "
+              "(any but checker)");
+}
+
+/* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
+ * modifiers, the noise generator of the pigment, of global_settings and
+ * of #version, and the errors of each keyword at its place. */
+static void test_noise_patterns(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("sphere { 0, 1 pigment { wood } }\n"
+             "sphere { 0, 1 pigment { marble turbulence 0.5 octaves 3 omega 0.6 lambda 2.5 } }\n"
+             "sphere { 0, 1 pigment { agate agate_turb 0.3 noise_generator 3 } }\n"
+             "sphere { 0, 1 pigment { spotted poly_wave 3 } }\n"
+             "sphere { 0, 1 pigment { bozo turbulence <1, 2, 3> sine_wave } }\n", &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_WOOD);
+    assert_int_equal(p->wave, CSG_WAVE_TRIANGLE); /* POV-Ray's default for wood */
+    assert_false(p->turb.on);
+    assert_int_equal(p->map_count, 2);
+    assert_near(p->map[0].value, 0.6);
+    assert_int_equal(csg_noise_of(&s, p), 2); /* #version 3.7 */
+    p = &s.textures[s.objects[1]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_MARBLE);
+    assert_true(p->turb.on);
+    assert_near(p->turb.amount.x, 0.5);
+    assert_near(p->turb.amount.z, 0.5); /* a float is a vector */
+    assert_int_equal(p->turb.octaves, 3);
+    assert_near(p->turb.omega, 0.6);
+    assert_near(p->turb.lambda, 2.5);
+    p = &s.textures[s.objects[2]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_AGATE);
+    assert_true(p->turb.on); /* agate always has its turbulence */
+    assert_int_equal(p->turb.octaves, 6);
+    assert_near(p->agate_turb, 0.3);
+    assert_int_equal(csg_noise_of(&s, p), 3);
+    p = &s.textures[s.objects[3]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_BOZO);
+    assert_near(p->map[1].rgbft[0], 1); /* spotted: the black-to-white map */
+    assert_int_equal(p->wave, CSG_WAVE_POLY);
+    assert_near(p->exponent, 3);
+    p = &s.textures[s.objects[4]->texture].pigment;
+    assert_int_equal(p->map_count, 6); /* bozo's own map */
+    assert_near(p->turb.amount.y, 2);
+    assert_int_equal(p->wave, CSG_WAVE_SINE);
+    csg_scene_free(&s);
+    parse_ok("#declare P = pigment { bozo noise_generator 1 }\n"
+             "sphere { 0, 1 pigment { P noise_generator 2 } }\n", &s);
+    assert_int_equal(csg_noise_of(&s, &s.textures[s.objects[0]->texture].pigment), 3);
+    csg_scene_free(&s);
+    parse_ok("#version 3.1;\nsphere { 0, 1 pigment { bozo } }\n", &s);
+    assert_int_equal(csg_noise_of(&s, &s.textures[s.objects[0]->texture].pigment), 1);
+    csg_scene_free(&s);
+    parse_ok("#version 3.1;\nglobal_settings { noise_generator 3 }\n"
+             "sphere { 0, 1 pigment { granite } }\n", &s);
+    assert_int_equal(csg_noise_of(&s, &s.textures[s.objects[0]->texture].pigment), 3);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo noise_generator 4 } }",
+              "t.pov:1:46: error: noise_generator must be 0, 1, 2 or 3, got 4");
+    parse_err("global_settings { noise_generator 0 }",
+              "t.pov:1:35: error: noise_generator must be 1, 2 or 3, got 0");
+    parse_err("sphere { 0, 1 pigment { wood turbulence 0.2 octaves -2 } }",
+              "t.pov:1:53: error: octaves must be from 1 to 10, got -2");
+    parse_err("sphere { 0, 1 pigment { wood octaves 11 } }",
+              "t.pov:1:38: error: octaves must be from 1 to 10, got 11");
+    parse_err("sphere { 0, 1 pigment { bozo agate_turb 0.5 } }",
+              "t.pov:1:41: error: agate_turb needs the agate pattern");
+    parse_ok("#declare P = pigment { bozo scale 2 }\n"
+             "sphere { 0, 1 pigment { gradient y pigment_map { [0 P] [0.5, rgb x] [1 wood "
+             "pigment_map { [0 rgb 1] [1 P rotate y] }] } } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pmap_count, 3);
+    assert_int_equal(p->pmap[0].pigment.pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pmap[0].pigment.xform.m[0][0], 2);
+    assert_int_equal(p->pmap[1].pigment.pattern, CSG_PATTERN_PLAIN);
+    assert_near(p->pmap[1].value, 0.5);
+    assert_int_equal(p->pmap[2].pigment.pmap_count, 2); /* nested */
+    csg_scene_free(&s);
+    /* a 2-vector where a vector is expected: POV-Ray's z = 0 */
+    parse_ok("sphere { 0, 1 pigment { bozo translate <1, 2> } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_near(p->xform.m[1][3], 2);
+    assert_near(p->xform.m[2][3], 0);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 pigment { crackle } }\n"
+             "sphere { 0, 1 pigment { crackle solid metric <1, 5, 5> form x offset 0.5 } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_CRACKLE);
+    assert_near(p->crackle.form.x, -1); /* POV-Ray's defaults */
+    assert_near(p->crackle.form.y, 1);
+    assert_near(p->crackle.metric, 2);
+    assert_false(p->crackle.solid);
+    p = &s.textures[s.objects[1]->texture].pigment;
+    assert_true(p->crackle.solid);
+    assert_near(p->crackle.metric, 1); /* a vector's x */
+    assert_near(p->crackle.form.y, 0);
+    assert_near(p->crackle.offset, 0.5);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo solid } }",
+              "t.pov:1:30: error: 'solid' needs the crackle pattern");
+    parse_err("sphere { 0, 1 pigment { crackle metric 0 } }",
+              "t.pov:1:40: error: metric must be > 0, got 0");
+    parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",
+              "t.pov:1:44: error: '[' expected (a pigment_map entry), got '}'");
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { [0 rgb 1 } } }",
+              "t.pov:1:53: error: ']' expected (to close '[' at 1:44), got '}'");
+    parse_err("sphere { 0, 1 pigment { marble turbulence } }",
+              "t.pov:1:43: error: an expression expected, got '}'");
 }
 
 /* ---- declarations that use unsupported constructs ----------------------------------------------- */
@@ -569,6 +679,7 @@ int main(void)
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),
+        cmocka_unit_test(test_noise_patterns),
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_reliability),

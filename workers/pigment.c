@@ -10,23 +10,38 @@
  *      of the point (POV-Ray's own 1e-10 bias does the rest);
  *   2. world -> pattern space by the material's matrix (the inverse of the
  *      pigment's transforms and those of its object after it);
- *   3. the pattern's value: checker, the parity of floor(x + 1e-10) +
+ *   3. classic turbulence (POV-Ray's Warp_EPoint): for every pattern but
+ *      wood and marble, which use it themselves, the point moves by the
+ *      vector turbulence (noise.c) times the amount;
+ *   4. the pattern's value: checker, the parity of floor(x + 1e-10) +
  *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), where the bias also
  *      covers the rounding of the point (the caller's bound, through the
  *      matrix): POV-Ray finds the points on a boundary in double and puts
  *      them in the upper cell, and so do we for a point whose rounding
  *      could have crossed it; gradient, dot(q, g), taken modulo 1 above 1;
- *   4. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
+ *      bozo (and spotted), POV-Ray's noise; granite, six octaves of
+ *      |1 - 2 noise| (at most 0.5 each) at 4q; marble, x + turbulence;
+ *      wood, the distance from the z axis of (x, y) moved by cycloids of
+ *      the vector turbulence; agate, a cycloid of its turbulence and z,
+ *      to the power 0.77; crackle, the three nearest cube points weighted
+ *      by its form; the simple shapes (pattern.cpp);
+ *   5. the wave: value * frequency + phase modulo 1.00001 (POV-Ray's
  *      constant) unless the frequency is 0 (a checker's), then wrapped
- *      into [0, 1) when negative (ramp_wave);
- *   5. the colour map: the first entry whose value is >= the value, and
+ *      into [0, 1) when negative, then shaped (ramp, triangle, sine,
+ *      scallop, cubic, poly: Evaluate_TPat);
+ *   6. the colour map (or the pigment map, whose entries are materials
+ *      evaluated from step 2 on at q, POV-Ray's Compute_Pigment): the
+ *      first entry whose value is >= the value, and
  *      linear interpolation from the entry before it (at or past the last
  *      entry: the last colour).
  */
 #include "pigment.h"
 
+#include "noise.h"
+
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 
 #define PATTERN_EPSILON 1e-10 /* POV-Ray's EPSILON */
 
@@ -100,41 +115,308 @@ static double gradient(const csg_material *m, const double q[3])
     return r > 1.0 ? fmod(r, 1.0) : r;
 }
 
-/* Step 4 (ramp_wave). */
+static noise_turb turb_of(const csg_material *m)
+{
+    noise_turb t = {m->octaves, (double)m->omega, (double)m->lambda};
+    return t;
+}
+
+/* Step 3. */
+static void turbulence_warp(const csg_material *m, double q[3])
+{
+    noise_turb t = turb_of(m);
+    double d[3];
+    noise_vector_turbulence(q, &t, d);
+    for (int i = 0; i < 3; i++)
+        q[i] += d[i] * (double)m->turbulence[i];
+}
+
+static double granite(const double q[3], int gen)
+{
+    double sum = 0.0, freq = 1.0;
+    double p4[3] = {q[0] * 4.0, q[1] * 4.0, q[2] * 4.0};
+    for (int i = 0; i < 6; freq *= 2.0, i++) {
+        double p[3] = {p4[0] * freq, p4[1] * freq, p4[2] * freq}, t;
+        if (gen == 1) {
+            t = fabs(0.5 - noise_value(p, gen));
+        } else {
+            t = fabs(1.0 - 2.0 * noise_value(p, gen));
+            t = t > 0.5 ? 0.5 : t;
+        }
+        sum += t / freq;
+    }
+    return sum;
+}
+
+static double marble(const csg_material *m, const double q[3])
+{
+    double turb = 0.0;
+    if (m->turb_on) {
+        noise_turb t = turb_of(m);
+        turb = (double)m->turbulence[0] * noise_turbulence(q, &t, m->noise_gen);
+    }
+    return q[0] + turb;
+}
+
+static double wood(const csg_material *m, const double q[3])
+{
+    double x = 0.0, y = 0.0;
+    if (m->turb_on) {
+        noise_turb t = turb_of(m);
+        double d[3];
+        noise_vector_turbulence(q, &t, d);
+        x = noise_cycloidal((q[0] + d[0]) * (double)m->turbulence[0]);
+        y = noise_cycloidal((q[1] + d[1]) * (double)m->turbulence[1]);
+    }
+    x += q[0];
+    y += q[1];
+    return sqrt(x * x + y * y + 0.0 * 0.0);
+}
+
+static double agate(const csg_material *m, const double q[3])
+{
+    noise_turb t = turb_of(m);
+    double turb = (double)m->agate_turb * noise_turbulence(q, &t, m->noise_gen);
+    double v = 0.5 * (noise_cycloidal(1.3 * turb + 1.1 * q[2]) + 1.0);
+    if (v < 0.0)
+        return 0.0;
+    return pow(v < 1.0 ? v : 1.0, 0.77);
+}
+
+/* POV-Ray's wrinkles: nine more octaves of noise after the first, each
+ * (for generators 2 and 3) stretched to 2 n - 0.5 and clamped. */
+static double wrinkles(const double q[3], int gen)
+{
+    double lambda = 2.0, omega = 0.5, value;
+    if (gen > 1) {
+        double n = noise_value(q, gen) * 2.0 - 0.5;
+        value = n < 0.0 ? 0.0 : n > 1.0 ? 1.0 : n;
+    } else {
+        value = noise_value(q, gen);
+    }
+    for (int i = 1; i < 10; i++) {
+        double p[3] = {q[0] * lambda, q[1] * lambda, q[2] * lambda};
+        if (gen > 1) {
+            double n = noise_value(p, gen) * 2.0 - 0.5;
+            value += omega * (n < 0.0 ? 0.0 : n > 1.0 ? 1.0 : n);
+        } else {
+            value += omega * noise_value(p, gen);
+        }
+        lambda *= 2.0;
+        omega *= 0.5;
+    }
+    return value / 2.0;
+}
+
+/* POV-Ray's CLIP_DENSITY: 1 - r within [0, 1], 1 below, 0 above. */
+static double clip_density(double r)
+{
+    return r < 0.0 ? 1.0 : r > 1.0 ? 0.0 : 1.0 - r;
+}
+
+static double radial(const double q[3])
+{
+    if (fabs(q[0]) < 0.001 && fabs(q[2]) < 0.001)
+        return 0.25;
+    return 0.25 + (atan2(q[0], q[2]) + M_PI) / (2.0 * M_PI);
+}
+
+static double leopard(const double q[3])
+{
+    double v = (sin(q[0]) + sin(q[1]) + sin(q[2])) / 3.0;
+    return v * v;
+}
+
+/* The simple geometric patterns. */
+static double shape_value(const csg_material *m, const double q[3])
+{
+    switch (m->pattern) {
+    case CSG_MAT_RADIAL: return radial(q);
+    case CSG_MAT_ONION: return fmod(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]), 1.0);
+    case CSG_MAT_LEOPARD: return leopard(q);
+    case CSG_MAT_PLANAR: return clip_density(fabs(q[1]));
+    case CSG_MAT_BOXED: {
+        double a = fabs(q[0]), b = fabs(q[1]), c = fabs(q[2]);
+        return clip_density(a > (b > c ? b : c) ? a : (b > c ? b : c));
+    }
+    default: return clip_density(sqrt(q[0] * q[0] + q[2] * q[2])); /* cylindrical */
+    }
+}
+
+/* POV-Ray's crackle distance of d (a point minus q) by the metric. */
+static double crackle_distance(const double d[3], double metric)
+{
+    if (metric == 2.0)
+        return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (metric == 1.0)
+        return fabs(d[0]) + fabs(d[1]) + fabs(d[2]);
+    return pow(fabs(d[0]), metric) + pow(fabs(d[1]), metric) + pow(fabs(d[2]), metric);
+}
+
+/* The 81 cubes around a point's cube that can hold its nearest random
+ * points: offsets -2..2 with at most one of them +-2 (POV-Ray's order). */
+static int crackle_cubes(int cubes[81][3])
+{
+    int n = 0;
+    for (int x = -2; x <= 2; x++)
+        for (int y = -2; y <= 2; y++)
+            for (int z = -2; z <= 2; z++)
+                if ((abs(x) == 2) + (abs(y) == 2) + (abs(z) == 2) <= 1) {
+                    cubes[n][0] = x, cubes[n][1] = y, cubes[n][2] = z;
+                    n++;
+                }
+    return n;
+}
+
+/* The three smallest of the distances s[0..n), in POV-Ray's order of
+ * comparisons (which settles ties), into s[0..2]; the index of the
+ * smallest. */
+static int crackle_nearest(double *s, int n)
+{
+    int best = 0;
+    double t;
+    if (s[1] < s[0])
+        t = s[0], s[0] = s[1], s[1] = t, best = 1;
+    if (s[2] < s[0])
+        t = s[0], s[0] = s[2], s[2] = t, best = 2;
+    if (s[2] < s[1])
+        t = s[1], s[1] = s[2], s[2] = t;
+    for (int i = 3; i < n; i++) {
+        if (s[i] < s[0]) {
+            s[2] = s[1], s[1] = s[0], s[0] = s[i], best = i;
+        } else if (s[i] < s[1]) {
+            s[2] = s[1], s[1] = s[i];
+        } else if (s[i] < s[2]) {
+            s[2] = s[i];
+        }
+    }
+    return best;
+}
+
+/* POV-Ray's crackle_pattern: the three smallest distances to the random
+ * points of the cubes around q, plus the offset, weighted by the form
+ * (back from the metric); or, solid, the noise at the nearest point.
+ * Clamped to [0, 1]. */
+static double crackle(const csg_material *m, const double q[3])
+{
+    int cubes[81][3], n = crackle_cubes(cubes);
+    int fx = (int)floor(q[0] - PATTERN_EPSILON), fy = (int)floor(q[1] - PATTERN_EPSILON);
+    int fz = (int)floor(q[2] - PATTERN_EPSILON);
+    double metric = (double)m->crackle_metric, s[81], pts[81][3];
+    for (int i = 0; i < n; i++) {
+        noise_cube_point(fx + cubes[i][0], fy + cubes[i][1], fz + cubes[i][2], pts[i]);
+        double d[3] = {pts[i][0] - q[0], pts[i][1] - q[1], pts[i][2] - q[2]};
+        s[i] = crackle_distance(d, metric);
+    }
+    int best = crackle_nearest(s, n);
+    double offset = (double)m->crackle_offset, v;
+    if (offset != 0.0) {
+        double add = metric == 2.0 ? offset * offset : metric == 1.0 ? offset : pow(offset, metric);
+        for (int i = 0; i < 3; i++)
+            s[i] += add;
+    }
+    const real *f = m->crackle_form;
+    if (m->crackle_solid)
+        v = noise_value(pts[best], m->noise_gen);
+    else if (metric == 2.0)
+        v = (double)f[0] * sqrt(s[0]) + (double)f[1] * sqrt(s[1]) + (double)f[2] * sqrt(s[2]);
+    else if (metric == 1.0)
+        v = (double)f[0] * s[0] + (double)f[1] * s[1] + (double)f[2] * s[2];
+    else
+        v = (double)f[0] * pow(s[0], 1.0 / metric) + (double)f[1] * pow(s[1], 1.0 / metric) +
+            (double)f[2] * pow(s[2], 1.0 / metric);
+    return v < 1.0 ? (v > 0.0 ? v : 0.0) : 1.0;
+}
+
+/* Step 4. */
+static double pattern_value(const csg_material *m, const double q[3], double bias)
+{
+    switch (m->pattern) {
+    case CSG_MAT_CHECKER: return checker(q, bias);
+    case CSG_MAT_GRADIENT: return gradient(m, q);
+    case CSG_MAT_BOZO: return noise_value(q, m->noise_gen);
+    case CSG_MAT_GRANITE: return granite(q, m->noise_gen);
+    case CSG_MAT_MARBLE: return marble(m, q);
+    case CSG_MAT_WOOD: return wood(m, q);
+    case CSG_MAT_AGATE: return agate(m, q);
+    case CSG_MAT_WRINKLES: return wrinkles(q, m->noise_gen);
+    case CSG_MAT_CRACKLE: return crackle(m, q);
+    default: return shape_value(m, q);
+    }
+}
+
+/* Step 5. */
 static double wave(const csg_material *m, double v)
 {
     if ((double)m->frequency != 0.0)
         v = fmod(v * (double)m->frequency + (double)m->phase, 1.00001);
     if (v < 0.0)
         v -= floor(v);
-    return v;
+    switch (m->wave) {
+    case CSG_MAT_WAVE_TRIANGLE: return noise_triangle(v);
+    case CSG_MAT_WAVE_SINE: return (1.0 + noise_cycloidal(v)) * 0.5;
+    case CSG_MAT_WAVE_SCALLOP: return fabs(noise_cycloidal(v * 0.5));
+    case CSG_MAT_WAVE_CUBIC: return v * v * (-2.0 * v + 3.0);
+    case CSG_MAT_WAVE_POLY: return pow(v, (double)m->exponent);
+    default: return v;
+    }
 }
 
-/* Step 5. */
-static pigment_color map_color(const csg_map_color *e, int n, double v)
+/* Step 6, POV-Ray's Search_Blend_Map: the entries *prev and *cur around
+ * v, and the fraction of the way from prev to cur (0 when they are one). */
+static double map_search(const csg_map_color *e, int n, double v, int *prev, int *cur)
 {
-    int cur = 0, prev = 0;
+    *cur = *prev = 0;
     if (v >= (double)e[n - 1].value) {
-        cur = prev = n - 1;
+        *cur = *prev = n - 1;
     } else {
-        while (v > (double)e[cur].value)
-            prev = cur++;
-        if (v == (double)e[cur].value)
-            prev = cur;
+        while (v > (double)e[*cur].value)
+            *prev = (*cur)++;
+        if (v == (double)e[*cur].value)
+            *prev = *cur;
     }
-    double c[5];
-    for (int k = 0; k < 5; k++)
-        c[k] = (double)e[cur].rgbft[k];
-    if (prev != cur) {
-        double f = (v - (double)e[prev].value) / ((double)e[cur].value - (double)e[prev].value);
-        for (int k = 0; k < 5; k++)
-            c[k] = (double)e[prev].rgbft[k] + f * (c[k] - (double)e[prev].rgbft[k]);
-    }
+    if (*prev == *cur)
+        return 0.0;
+    return (v - (double)e[*prev].value) / ((double)e[*cur].value - (double)e[*prev].value);
+}
+
+/* a + f (b - a), component by component (POV-Ray's blend of two entries). */
+static void blend(double *a, const double *b, double f, int n)
+{
+    for (int k = 0; k < n; k++)
+        a[k] = a[k] + f * (b[k] - a[k]);
+}
+
+static pigment_color color_of(const double c[5])
+{
     pigment_color pc;
     pc.color = v3((real)c[0], (real)c[1], (real)c[2]);
     pc.filter = (real)c[3];
     pc.transmit = (real)c[4];
     return pc;
+}
+
+static void load_color(pigment_color pc, double c[5])
+{
+    c[0] = (double)pc.color.x, c[1] = (double)pc.color.y, c[2] = (double)pc.color.z;
+    c[3] = (double)pc.filter, c[4] = (double)pc.transmit;
+}
+
+/* Step 6 with a colour map. */
+static pigment_color map_color(const csg_map_color *e, int n, double v)
+{
+    int cur, prev;
+    double f = map_search(e, n, v, &prev, &cur), c[5], next[5];
+    for (int k = 0; k < 5; k++) {
+        c[k] = (double)e[prev].rgbft[k];
+        next[k] = (double)e[cur].rgbft[k];
+    }
+    if (prev != cur)
+        blend(c, next, f, 5);
+    else
+        for (int k = 0; k < 5; k++)
+            c[k] = next[k];
+    return color_of(c);
 }
 
 /* The largest row sum of |M| (3x3 part): how much M can grow an error. */
@@ -148,23 +430,59 @@ static double matrix_norm(const real *m)
     return best;
 }
 
-pigment_color PIGMENT_AT(const csg_material *m, const csg_map_color *maps,
-                         const csg_prim *prims, csg_u32 surf, vec3 p, real err)
+#define PIGMENT_MAX_DEPTH 64 /* nested pigment maps followed (the parser's
+                                nesting limit keeps real scenes far below) */
+
+static pigment_color evaluate(const csg_material *mats, const csg_material *m,
+                              const csg_map_color *maps, const double w[3], double err, int depth);
+
+/* Step 6 with a pigment map: the entries' pigments at the pattern's
+ * point q (POV-Ray's Compute_Pigment hands them the warped point). */
+static pigment_color pigment_map_color(const csg_material *mats, const csg_material *m,
+                                       const csg_map_color *maps, const double q[3], double err,
+                                       double v, int depth)
 {
-    pigment_color pc;
+    int cur, prev;
+    double f = map_search(maps + m->map_first, m->map_count, v, &prev, &cur), c[5], next[5];
+    load_color(evaluate(mats, &mats[m->sub_first + cur], maps, q, err, depth + 1), next);
+    if (prev == cur)
+        return color_of(next);
+    load_color(evaluate(mats, &mats[m->sub_first + prev], maps, q, err, depth + 1), c);
+    blend(c, next, f, 5);
+    return color_of(c);
+}
+
+/* Steps 2 to 6 at the point w (world space, or the space of the pattern
+ * whose pigment map holds m), err its rounding bound. */
+static pigment_color evaluate(const csg_material *mats, const csg_material *m,
+                              const csg_map_color *maps, const double w[3], double err, int depth)
+{
     if (m->pattern == CSG_MAT_PLAIN) {
+        pigment_color pc;
         pc.color = v3_load(m->color);
         pc.filter = m->filter;
         pc.transmit = m->transmit;
         return pc;
     }
-    double w[3] = {(double)p.x, (double)p.y, (double)p.z}, q[3];
-    if (prims && surf != CSG_SURF_NONE)
-        onto_surface(prims, surf, w);
+    double q[3];
     for (int i = 0; i < 3; i++)
         q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
                (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
-    double bias = PATTERN_EPSILON + (double)err * matrix_norm(m->to_pattern);
-    double v = m->pattern == CSG_MAT_CHECKER ? checker(q, bias) : gradient(m, q);
-    return map_color(maps + m->map_first, m->map_count, wave(m, v));
+    if (m->turb_on && m->pattern != CSG_MAT_WOOD && m->pattern != CSG_MAT_MARBLE)
+        turbulence_warp(m, q);
+    double q_err = err * matrix_norm(m->to_pattern);
+    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + q_err));
+    if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
+        return pigment_map_color(mats, m, maps, q, q_err, v, depth);
+    return map_color(maps + m->map_first, m->map_count, v);
+}
+
+pigment_color PIGMENT_AT(const csg_material *mats, const csg_material *m,
+                         const csg_map_color *maps, const csg_prim *prims, csg_u32 surf, vec3 p,
+                         real err)
+{
+    double w[3] = {(double)p.x, (double)p.y, (double)p.z};
+    if (m->pattern != CSG_MAT_PLAIN && prims && surf != CSG_SURF_NONE)
+        onto_surface(prims, surf, w);
+    return evaluate(mats, m, maps, w, (double)err, 0);
 }

@@ -115,7 +115,7 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
     const csg_material *m = &c->mats[prim->material];
     real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts);
     pigment_color pc =
-        PIGMENT_AT(m, c->maps, c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)), err);
+        PIGMENT_AT(c->mats, m, c->maps, c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)), err);
     if (pc.filter <= R(0.0) && pc.transmit <= R(0.0))
         return false;
     *pass = v3_mul(*pass, v3_add(v3_scale(pc.color, pc.filter),
@@ -193,7 +193,7 @@ static vec3 sky_color(const shade_ctx *c, vec3 d)
     vec3 col = v3(R(0.0), R(0.0), R(0.0)), fil = v3(R(1.0), R(1.0), R(1.0));
     real fil_f = R(1.0), fil_t = R(1.0), trans = R(1.0);
     for (csg_i32 i = c->sky_count - 1; i >= 0; i--) {
-        pigment_color pc = PIGMENT_AT(&c->sky[i], c->maps, NULL, CSG_SURF_NONE, d, R(0.0));
+        pigment_color pc = PIGMENT_AT(c->mats, &c->sky[i], c->maps, NULL, CSG_SURF_NONE, d, R(0.0));
         real opacity = R(1.0) - pc.filter - pc.transmit;
         if (c->sky_v37) {
             col = v3_add(col, v3_mul(v3_scale(pc.color, opacity), v3_mul(fil, c->sky_emission)));
@@ -284,7 +284,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
         nf = ngf;
     const csg_root *root = &c->view.roots[prim->root];
     real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
-    pigment_color pc = PIGMENT_AT(m, c->maps, c->view.prims, h.surf, p,
+    pigment_color pc = PIGMENT_AT(c->mats, m, c->maps, c->view.prims, h.surf, p,
                                   OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * mag);
     vec3 pig = pc.color;
     real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);

@@ -50,6 +50,10 @@ typedef struct {
     size_t blob_size;
     tile_runner runner;   /* set up once the blob is valid            */
     link_msg queue[WORKER_QUEUE]; /* messages from the master, in order */
+    bool stop_queued;             /* the STOP is in the queue: what comes
+                                     after it is the next render's (under
+                                     --enable-recovery its scene comes as
+                                     plain messages: link_bcast)          */
     int head, queued;     /* the oldest, and how many                 */
     size_t in_limit;      /* the largest message it may send us       */
     char *out[PROTO_IN_FLIGHT];     /* proto_result + the largest rgb  */
@@ -201,8 +205,10 @@ static link_status worker_take(worker_state *w)
         worker_send_fail(-1, "message from the master larger than any tile");
         link_abort(1);
     }
-    if (got == LINK_OK)
+    if (got == LINK_OK) {
         w->queued++;
+        w->stop_queued = m->tag == PROTO_TAG_STOP;
+    }
     return got;
 }
 
@@ -210,7 +216,7 @@ static link_status worker_take(worker_state *w)
 static int worker_serve(worker_state *w)
 {
     for (;;) {
-        while (w->queued < WORKER_QUEUE) { /* what is waiting, without waiting */
+        while (w->queued < WORKER_QUEUE && !w->stop_queued) { /* what is waiting, now */
             link_status got = worker_take(w);
             if (got == LINK_ERROR)
                 return 1; /* the master is gone: nothing to answer */
@@ -249,6 +255,7 @@ int worker_run(int rank)
         return 1;
     if (setup.status != 0)
         return setup.status; /* the master reported why */
+    proto_test_kill(rank, "scene", 0);
     worker_receive_blob(&w, (size_t)setup.blob_size);
     worker_prepare(&w, &setup);
     if (w.failure[0]) {

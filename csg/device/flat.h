@@ -210,7 +210,31 @@ enum csg_material_pattern {
     CSG_MAT_PLAIN = 0,    /* color, filter, transmit                          */
     CSG_MAT_CHECKER = 1,  /* the colour map's entry 0 or 1 by the parity of
                              floor(x) + floor(y) + floor(z)                     */
-    CSG_MAT_GRADIENT = 2  /* dot(point, gradient) through the colour map       */
+    CSG_MAT_GRADIENT = 2, /* dot(point, gradient) through the colour map       */
+    CSG_MAT_BOZO = 3,     /* POV-Ray's solid noise (bozo, spotted)             */
+    CSG_MAT_WOOD = 4,     /* distance from the z axis (+ cycloidal turbulence) */
+    CSG_MAT_MARBLE = 5,   /* x + turbulence                                    */
+    CSG_MAT_GRANITE = 6,  /* six octaves of |noise|                            */
+    CSG_MAT_AGATE = 7,    /* a cycloid of turbulence and z                     */
+    CSG_MAT_WRINKLES = 8, /* the rest: csg/scene.h's enum csg_pattern           */
+    CSG_MAT_RADIAL = 9,
+    CSG_MAT_ONION = 10,
+    CSG_MAT_LEOPARD = 11,
+    CSG_MAT_PLANAR = 12,
+    CSG_MAT_BOXED = 13,
+    CSG_MAT_CYLINDRICAL = 14,
+    CSG_MAT_CRACKLE = 15
+};
+
+/* A material's wave (csg_material.wave): POV-Ray's shape of a pattern's
+ * value, numbered as csg/scene.h's enum csg_wave. */
+enum csg_material_wave {
+    CSG_MAT_WAVE_RAMP = 0,
+    CSG_MAT_WAVE_TRIANGLE = 1,
+    CSG_MAT_WAVE_SINE = 2,
+    CSG_MAT_WAVE_SCALLOP = 3,
+    CSG_MAT_WAVE_CUBIC = 4,
+    CSG_MAT_WAVE_POLY = 5
 };
 
 /* One entry of a colour map (the blob's maps array). */
@@ -243,6 +267,21 @@ typedef struct {
     real phase;
     real to_pattern[12]; /* world -> pattern space, row-major 3x4 like
                             csg_prim.inv                                  */
+    csg_i32 wave;       /* enum csg_material_wave                        */
+    csg_i32 noise_gen;  /* POV-Ray's noise generator: 1, 2 or 3         */
+    csg_i32 turb_on;    /* classic turbulence given (1) or not (0)       */
+    csg_i32 octaves;    /* turbulence: 1 to 10                           */
+    real turbulence[3]; /* its amount along x, y, z                      */
+    real omega, lambda; /* each octave's weight and frequency factors    */
+    real agate_turb;    /* agate: its turbulence's weight                */
+    real exponent;      /* poly_wave                                     */
+    real crackle_form[3]; /* crackle: its form, metric and offset, and     */
+    real crackle_metric, crackle_offset;
+    csg_i32 crackle_solid; /* solid (1) or not (0)                          */
+    csg_i32 sub_first;  /* > 0: a pigment map: its entries' pigments are
+                           materials sub_first .. + map_count (after this
+                           one), the maps entries hold their values; 0: a
+                           colour map                                    */
 } csg_material;
 
 typedef struct {

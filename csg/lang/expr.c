@@ -450,7 +450,8 @@ bool lang_parse_float_param(parser *p, double *out)
     return lang_next(p);
 }
 
-/* A 3-vector; a float is promoted to <f, f, f>. */
+/* A 3-vector; a float is promoted to <f, f, f>, a 2-vector to <u, v, 0>
+ * (POV-Ray's Parse_Vector fills the terms it is not given with 0). */
 bool lang_parse_vector(parser *p, dvec3 *out, csg_loc *at)
 {
     csg_loc start = lang_tok(p)->loc;
@@ -459,6 +460,8 @@ bool lang_parse_vector(parser *p, dvec3 *out, csg_loc *at)
         return false;
     if (v.dim == 1) {
         v.v[1] = v.v[2] = v.v[0];
+    } else if (v.dim == 2) {
+        v.v[2] = 0.0;
     } else if (v.dim != 3) {
         csg_error(p->d, start, "a 3-component vector expected, got %s", lang_dim_name(v.dim));
         return false;

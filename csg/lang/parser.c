@@ -835,13 +835,20 @@ static bool parse_global_settings(parser *p)
                 return false;
             continue;
         case CSG_KW_ASSUMED_GAMMA: case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
+        case CSG_KW_NOISE_GENERATOR:
             if (!lang_next(p) || !lang_parse_float(p, &f, &at))
                 return false;
             break;
         default:
             return lang_expected_close(p, '}', "global_settings", open);
         }
-        if (kw == CSG_KW_ASSUMED_GAMMA) {
+        if (kw == CSG_KW_NOISE_GENERATOR) {
+            if (!(f == 1 || f == 2 || f == 3)) { /* POV-Ray: 1, 2 or 3 here */
+                csg_error(p->d, at, "noise_generator must be 1, 2 or 3, got %g", f);
+                return false;
+            }
+            g->noise_generator = (int)f;
+        } else if (kw == CSG_KW_ASSUMED_GAMMA) {
             if (!(f > 0)) {
                 csg_error(p->d, at, "assumed_gamma must be > 0, got %g", f);
                 return false;

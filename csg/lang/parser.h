@@ -59,6 +59,10 @@ typedef struct {
                                       separated) and POV-Ray's include folder  */
     long max_tokens;               /* <= 0: CSG_PARSE_MAX_TOKENS               */
     FILE *messages;                /* #debug and #warning text; NULL: dropped  */
+    /* Called with the path of every file an #include reads (render.c
+     * refuses outputs that would overwrite one); NULL: not called. */
+    void (*on_include)(void *arg, const char *path);
+    void *on_include_arg;
 } csg_parse_options;
 
 /* The defaults: 320 x 240, clock 0, the default library, no messages. */

@@ -572,6 +572,8 @@ bool lang_include(parser *p, csg_loc at)
             size_t len = 0;
             const char *text = canon && may_include(p, at, path, canon)
                                    ? read_include(p, at, path, searched, &len) : NULL;
+            if (text && p->opt.on_include)
+                p->opt.on_include(p->opt.on_include_arg, path);
             ok = text && push_file(p, path, canon, text, len, at);
             p->include_depth += ok;
         }

@@ -1,22 +1,37 @@
 /*
- * texture.c — pigments (plain colours, checker and gradient with their
- * colour maps), colour maps, finishes, textures, interiors, and the
- * transforms that objects, lights, cameras and pigments share.
+ * texture.c — pigments (plain colours, checker, gradient, the noise
+ * patterns and the simple shapes, with their colour or pigment maps,
+ * waves and turbulence), colour maps, finishes, textures, interiors, and
+ * the transforms that objects, lights, cameras and pigments share.
  *
- *   pigment { [PIGMENT_ID] [checker [COLOR [,] [COLOR]] | gradient VECTOR | COLOR]
- *             { color_map { ... } | frequency F | phase F | ramp_wave | TRANSFORM } }
+ *   pigment { [PIGMENT_ID] [PATTERN | COLOR] { MODIFIER } }
+ *     PATTERN  checker [COLOR [,] [COLOR]] | checker pigment {} [,] [pigment {}]
+ *              | gradient VECTOR | bozo | spotted | bumps | wood | marble | granite
+ *              | agate | wrinkles | radial | onion | leopard | planar | boxed | cylindrical
+ *              | crackle
+ *     MODIFIER color_map { ... } | pigment_map { [F PIGMENT_BODY] ... } | frequency F
+ *              | phase F | ramp_wave | triangle_wave | sine_wave | scallop_wave
+ *              | cubic_wave | poly_wave [F] | turbulence VECTOR | octaves N | omega F
+ *              | lambda F | agate_turb F | noise_generator N | form VECTOR | metric F
+ *              | offset F | solid | quick_color COLOR
+ *              | TRANSFORM
  *   color_map { COLOR_MAP_ID | [F COLOR] ... | [F, F COLOR COLOR] ... }
  *   texture { [TEXTURE_ID] [PIGMENT_ID] [FINISH_ID] { pigment {} | finish {} | TRANSFORM } }
  *
  * POV-Ray 3.7's semantics: a pigment starts from its identifier or from
  * the current one; checker keeps the colours given (blue and green by
  * default) as a two-entry map; gradient normalises its vector and starts
- * with the black-to-white map; a colour map keeps its entries in order,
- * merging an entry equal to the one before.  The transforms of a pigment
+ * with the black-to-white map; the other patterns start with POV-Ray's
+ * default map of each (pigment.cpp) and wood and marble with the triangle
+ * wave; a colour map keeps its entries in order, merging an entry equal
+ * to the one before; a pigment map's entries are pigment bodies, each
+ * starting from the default pigment.  Turbulence settings switch the
+ * classic turbulence on (agate always has it).  The transforms of a pigment
  * (and of a texture, and of the objects it is given to afterwards,
  * parser.c) compose into its xform, pattern space -> world.
  */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "parse_internal.h"
@@ -202,14 +217,36 @@ bool lang_parse_color_map(parser *p, lang_color_map *out)
 
 /* ---- pigments --------------------------------------------------------------------- */
 
-/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green. */
+/* checker pigment {..} [,] [pigment {..}]: a pigment map of two entries,
+ * 0 and 1, the one not given the default pigment (POV-Ray's
+ * Parse_Blend_List). */
+static bool parse_checker_pigments(parser *p, csg_pigment *pig)
+{
+    csg_pigment_entry *e = lang_alloc(p, 2 * sizeof *e);
+    if (!e)
+        return false;
+    for (int i = 0; i < 2; i++) {
+        e[i].value = i;
+        e[i].pigment = p->default_texture.pigment;
+    }
+    for (int i = 0; i < 2 && lang_is_kw(p, CSG_KW_PIGMENT); i++)
+        if (!lang_parse_pigment(p, &e[i].pigment) || (lang_is_punct(p, ',') && !lang_next(p)))
+            return false;
+    pig->pmap = e;
+    pig->pmap_count = 2;
+    return true;
+}
+
+/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green;
+ * or checker of two pigments. */
 static bool parse_checker(parser *p, csg_pigment *pig)
 {
     csg_map_entry e[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
     if (!lang_next(p))
         return false;
-    if (lang_is_kw(p, CSG_KW_PIGMENT))
-        return lang_unsupported(p, "'checker' of pigments", p->tok.loc);
+    pig->pmap_count = 0;
+    if (lang_is_kw(p, CSG_KW_PIGMENT) && !parse_checker_pigments(p, pig))
+        return false;
     for (int i = 0; i < 2 && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
         if (!lang_parse_color(p, e[i].rgbft) || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
@@ -243,6 +280,84 @@ static bool parse_gradient(parser *p, csg_pigment *pig)
     return true;
 }
 
+/* POV-Ray's default colour maps of the noise patterns (pigment.cpp);
+ * spotted and granite take the black-to-white one. */
+static const csg_map_entry gray_map[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+static const csg_map_entry bozo_map[6] = {
+    {0.4, {1, 1, 1, 0, 0}}, {0.4, {0, 1, 0, 0, 0}}, {0.6, {0, 1, 0, 0, 0}},
+    {0.6, {0, 0, 1, 0, 0}}, {0.8, {0, 0, 1, 0, 0}}, {0.8, {1, 0, 0, 0, 0}}};
+static const csg_map_entry wood_map[2] = {{0.6, {0.666, 0.312, 0.2, 0, 0}},
+                                          {0.6, {0.4, 0.1333, 0.066, 0, 0}}};
+static const csg_map_entry marble_map[3] = {
+    {0.0, {0.9, 0.8, 0.8, 0, 0}}, {0.9, {0.9, 0.08, 0.08, 0, 0}}, {0.9, {0, 0, 0, 0, 0}}};
+static const csg_map_entry radial_map[4] = {
+    {0.0, {0, 1, 1, 0, 0}}, {0.333, {1, 1, 0, 0, 0}}, {0.666, {1, 0, 1, 0, 0}}, {1.0, {0, 1, 1, 0, 0}}};
+static const csg_map_entry agate_map[6] = {
+    {0.0, {1, 1, 1, 0, 0}},      {0.5, {0.95, 0.75, 0.5, 0, 0}}, {0.5, {0.9, 0.7, 0.5, 0, 0}},
+    {0.6, {0.9, 0.7, 0.4, 0, 0}}, {0.6, {1, 0.7, 0.4, 0, 0}},    {1.0, {0.6, 0.3, 0, 0, 0}}};
+
+/* The pattern keywords of parse_noise_pattern: kind and default map. */
+static const struct {
+    enum csg_kw kw;
+    int pattern;
+    const csg_map_entry *map;
+    int map_count;
+} noise_patterns[] = {
+    {CSG_KW_BOZO, CSG_PATTERN_BOZO, bozo_map, 6},
+    {CSG_KW_SPOTTED, CSG_PATTERN_BOZO, gray_map, 2},
+    {CSG_KW_BUMPS, CSG_PATTERN_BOZO, gray_map, 2},
+    {CSG_KW_GRANITE, CSG_PATTERN_GRANITE, gray_map, 2},
+    {CSG_KW_WOOD, CSG_PATTERN_WOOD, wood_map, 2},
+    {CSG_KW_MARBLE, CSG_PATTERN_MARBLE, marble_map, 3},
+    {CSG_KW_AGATE, CSG_PATTERN_AGATE, agate_map, 6},
+    {CSG_KW_WRINKLES, CSG_PATTERN_WRINKLES, gray_map, 2},
+    {CSG_KW_RADIAL, CSG_PATTERN_RADIAL, radial_map, 4},
+    {CSG_KW_ONION, CSG_PATTERN_ONION, gray_map, 2},
+    {CSG_KW_LEOPARD, CSG_PATTERN_LEOPARD, gray_map, 2},
+    {CSG_KW_PLANAR, CSG_PATTERN_PLANAR, gray_map, 2},
+    {CSG_KW_BOXED, CSG_PATTERN_BOXED, gray_map, 2},
+    {CSG_KW_CYLINDRICAL, CSG_PATTERN_CYLINDRICAL, gray_map, 2},
+    {CSG_KW_CRACKLE, CSG_PATTERN_CRACKLE, gray_map, 2},
+};
+
+/* The index in noise_patterns of the current keyword, or -1. */
+static int noise_pattern_index(parser *p)
+{
+    for (int i = 0; i < (int)(sizeof noise_patterns / sizeof noise_patterns[0]); i++)
+        if (lang_is_kw(p, noise_patterns[i].kw))
+            return i;
+    return -1;
+}
+
+static bool is_noise_pattern(parser *p)
+{
+    return noise_pattern_index(p) >= 0;
+}
+
+/* A pattern keyword other than checker and gradient: its kind, POV-Ray's
+ * default map and wave (wood and marble: triangle), and agate's
+ * turbulence (always on). */
+static bool parse_noise_pattern(parser *p, csg_pigment *pig)
+{
+    int i = noise_pattern_index(p);
+    pig->pattern = noise_patterns[i].pattern;
+    pig->map = noise_patterns[i].map;
+    pig->map_count = noise_patterns[i].map_count;
+    if (pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE)
+        pig->wave = CSG_WAVE_TRIANGLE;
+    if (pig->pattern == CSG_PATTERN_AGATE) {
+        pig->turb.on = true;
+        pig->agate_turb = 1.0;
+    }
+    if (pig->pattern == CSG_PATTERN_CRACKLE) {
+        pig->crackle.form = (dvec3){-1, 1, 0};
+        pig->crackle.metric = 2;
+        pig->crackle.offset = 0;
+        pig->crackle.solid = false;
+    }
+    return lang_next(p);
+}
+
 /* What comes first: a pattern or a colour (or neither). */
 static bool parse_pattern(parser *p, csg_pigment *pig)
 {
@@ -250,6 +365,8 @@ static bool parse_pattern(parser *p, csg_pigment *pig)
         return parse_checker(p, pig);
     if (lang_is_kw(p, CSG_KW_GRADIENT))
         return parse_gradient(p, pig);
+    if (is_noise_pattern(p))
+        return parse_noise_pattern(p, pig);
     if (lang_is_punct(p, '}') || !lang_is_color_start(p))
         return true;
     double c[5];
@@ -260,11 +377,128 @@ static bool parse_pattern(parser *p, csg_pigment *pig)
     return true;
 }
 
-/* The modifiers after the pattern, up to the closing brace. */
-static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
+/* The wave keywords: POV-Ray's shape of the value (poly_wave's exponent
+ * is optional: it keeps the one before, 1 at first). */
+static bool parse_wave(parser *p, csg_pigment *pig)
+{
+    static const struct { enum csg_kw kw; int wave; } waves[] = {
+        {CSG_KW_RAMP_WAVE, CSG_WAVE_RAMP},       {CSG_KW_TRIANGLE_WAVE, CSG_WAVE_TRIANGLE},
+        {CSG_KW_SINE_WAVE, CSG_WAVE_SINE},       {CSG_KW_SCALLOP_WAVE, CSG_WAVE_SCALLOP},
+        {CSG_KW_CUBIC_WAVE, CSG_WAVE_CUBIC},     {CSG_KW_POLY_WAVE, CSG_WAVE_POLY}};
+    for (size_t i = 0; i < sizeof waves / sizeof waves[0]; i++)
+        if (lang_is_kw(p, waves[i].kw))
+            pig->wave = waves[i].wave;
+    if (!lang_next(p))
+        return false;
+    if (pig->wave == CSG_WAVE_POLY && lang_is_expr_start(p))
+        return lang_parse_float(p, &pig->exponent, NULL);
+    return true;
+}
+
+static bool is_wave(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_RAMP_WAVE) || lang_is_kw(p, CSG_KW_TRIANGLE_WAVE) ||
+           lang_is_kw(p, CSG_KW_SINE_WAVE) || lang_is_kw(p, CSG_KW_SCALLOP_WAVE) ||
+           lang_is_kw(p, CSG_KW_CUBIC_WAVE) || lang_is_kw(p, CSG_KW_POLY_WAVE);
+}
+
+/* turbulence VECTOR, octaves N, omega F, lambda F, agate_turb F,
+ * noise_generator N: POV-Ray's classic turbulence and noise settings.
+ * POV-Ray clamps octaves into 1..10 silently; a value outside is refused
+ * here instead (it is a scene error, not a setting). */
+static bool parse_noise_modifier(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at;
+    double f;
+    if (!lang_next(p))
+        return false;
+    if (kw == CSG_KW_TURBULENCE) {
+        pig->turb.on = true;
+        return lang_parse_vector(p, &pig->turb.amount, &at);
+    }
+    if (!lang_parse_float(p, &f, &at))
+        return false;
+    switch (kw) {
+    case CSG_KW_OCTAVES:
+        if (!(f >= 1 && f < 11)) {
+            csg_error(p->d, at, "octaves must be from 1 to 10, got %g", f);
+            return false;
+        }
+        pig->turb.on = true;
+        pig->turb.octaves = (int)f; /* POV-Ray truncates */
+        return true;
+    case CSG_KW_OMEGA: pig->turb.on = true; pig->turb.omega = f; return true;
+    case CSG_KW_LAMBDA: pig->turb.on = true; pig->turb.lambda = f; return true;
+    case CSG_KW_AGATE_TURB:
+        if (pig->pattern != CSG_PATTERN_AGATE) {
+            csg_error(p->d, at, "agate_turb needs the agate pattern");
+            return false;
+        }
+        pig->agate_turb = f;
+        return true;
+    default: /* noise_generator */
+        if (!(f == 0 || f == 1 || f == 2 || f == 3)) {
+            csg_error(p->d, at, "noise_generator must be 0, 1, 2 or 3, got %g", f);
+            return false;
+        }
+        pig->noise_generator |= (int)f; /* POV-Ray ORs it into the pattern's flags:
+                                           1 then 2 gives 3 */
+        return true;
+    }
+}
+
+/* crackle's modifiers: form VECTOR, metric F (a vector's x, as POV-Ray
+ * reads it), offset F, solid. */
+static bool parse_crackle_modifier(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at = lang_tok(p)->loc;
+    if (pig->pattern != CSG_PATTERN_CRACKLE) {
+        csg_error(p->d, at, "'%.*s' needs the crackle pattern", (int)lang_tok(p)->len,
+                  lang_tok(p)->text);
+        return false;
+    }
+    if (!lang_next(p))
+        return false;
+    dvec3 v;
+    switch (kw) {
+    case CSG_KW_SOLID: pig->crackle.solid = true; return true;
+    case CSG_KW_FORM: return lang_parse_vector(p, &pig->crackle.form, NULL);
+    case CSG_KW_OFFSET: return lang_parse_float(p, &pig->crackle.offset, NULL);
+    default: /* metric */
+        if (!lang_parse_vector(p, &v, &at))
+            return false;
+        if (!(v.x > 0)) {
+            csg_error(p->d, at, "metric must be > 0, got %g", v.x);
+            return false;
+        }
+        pig->crackle.metric = v.x;
+        return true;
+    }
+}
+
+static bool is_crackle_modifier(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_FORM) || lang_is_kw(p, CSG_KW_METRIC) ||
+           lang_is_kw(p, CSG_KW_OFFSET) || lang_is_kw(p, CSG_KW_SOLID);
+}
+
+static bool is_noise_modifier(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_TURBULENCE) || lang_is_kw(p, CSG_KW_OCTAVES) ||
+           lang_is_kw(p, CSG_KW_OMEGA) || lang_is_kw(p, CSG_KW_LAMBDA) ||
+           lang_is_kw(p, CSG_KW_AGATE_TURB) || lang_is_kw(p, CSG_KW_NOISE_GENERATOR);
+}
+
+static bool parse_pigment_map(parser *p, csg_pigment *pig);
+
+/* The modifiers after the pattern, up to `closer` ('}' of a pigment, ']'
+ * of a pigment map's entry), which is consumed. */
+static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg_loc open)
 {
     for (;;) {
-        if (lang_is_punct(p, '}'))
+        if (lang_is_punct(p, closer))
             return lang_next(p);
         bool ok;
         csg_loc at = lang_tok(p)->loc;
@@ -272,24 +506,106 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, csg_loc open)
             ok = transform_pigment(p, pig);
         } else if (lang_is_kw(p, CSG_KW_COLOR_MAP)) {
             lang_color_map m;
-            if (pig->pattern != CSG_PATTERN_GRADIENT) {
-                csg_error(p->d, at, "a color_map needs a pattern that takes one (gradient)");
+            if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+                csg_error(p->d, at, "a color_map needs a pattern that takes one "
+                                    "(any but checker)");
                 return false;
             }
             ok = lang_parse_color_map(p, &m);
             pig->map_count = m.count;
             pig->map = m.entries;
+            pig->pmap_count = 0; /* POV-Ray: the last map given counts */
+        } else if (lang_is_kw(p, CSG_KW_PIGMENT_MAP)) {
+            ok = parse_pigment_map(p, pig);
         } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
             double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
             ok = lang_next(p) && lang_parse_float(p, f, NULL);
-        } else if (lang_is_kw(p, CSG_KW_RAMP_WAVE)) {
-            ok = lang_next(p);
+        } else if (is_wave(p)) {
+            ok = parse_wave(p, pig);
+        } else if (is_noise_modifier(p)) {
+            ok = parse_noise_modifier(p, pig);
+        } else if (is_crackle_modifier(p)) {
+            ok = parse_crackle_modifier(p, pig);
+        } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
+            double ignored[5]; /* POV-Ray uses it only below quality 6 (+Q5) */
+            ok = lang_next(p) && lang_parse_color(p, ignored);
         } else {
-            return lang_expected_close(p, '}', "pigment", open);
+            return lang_expected_close(p, closer, closer == '}' ? "pigment" : "[", open);
         }
         if (!ok)
             return false;
     }
+}
+
+/* [F [,] PIGMENT_BODY]: the body starts from the default pigment, as in
+ * POV-Ray (#default), and ends at ']'. */
+static bool parse_pigment_entry(parser *p, csg_pigment_entry *e)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_parse_float(p, &e->value, NULL))
+        return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    e->pigment = p->default_texture.pigment;
+    if (lang_names(p, SYM_PIGMENT)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_PIGMENT, "a pigment", &d))
+            return false;
+        e->pigment = d->u.pigment;
+    }
+    return parse_pattern(p, &e->pigment) && parse_pigment_modifiers(p, &e->pigment, ']', open);
+}
+
+/* The entries of a pigment map up to its '}' into *out (malloc'd, *n of
+ * them); false on an error (*out still to be freed). */
+static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n)
+{
+    int cap = 0;
+    while (lang_is_punct(p, '[')) {
+        if (*n == CSG_MAP_MAX) {
+            csg_error(p->d, lang_tok(p)->loc, "a pigment_map has at most %d entries", CSG_MAP_MAX);
+            return false;
+        }
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 8;
+            csg_pigment_entry *grown = realloc(*out, (size_t)cap * sizeof *grown);
+            if (!grown)
+                return lang_oom(p);
+            *out = grown;
+        }
+        if (!parse_pigment_entry(p, &(*out)[(*n)++]))
+            return false;
+    }
+    return *n > 0 || lang_expected(p, "'[' expected (a pigment_map entry)");
+}
+
+/* pigment_map { [F PIGMENT_BODY] ... }: the map's entries are pigments. */
+static bool parse_pigment_map(parser *p, csg_pigment *pig)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+        csg_error(p->d, open, "a pigment_map needs a pattern that takes one "
+                              "(any but checker)");
+        return false;
+    }
+    if (!lang_enter(p, open) || !lang_next(p) || !lang_expect_open(p, "pigment_map"))
+        return false;
+    csg_pigment_entry *e = NULL, *copy = NULL;
+    int n = 0;
+    bool ok = parse_pigment_entries(p, &e, &n);
+    if (ok && !lang_is_punct(p, '}'))
+        ok = lang_expected_close(p, '}', "pigment_map", open);
+    if (ok && (copy = lang_alloc(p, (size_t)n * sizeof *copy)) == NULL)
+        ok = false;
+    if (ok) {
+        memcpy(copy, e, (size_t)n * sizeof *copy);
+        pig->pmap = copy;
+        pig->pmap_count = n;
+        lang_leave(p);
+        ok = lang_next(p);
+    }
+    free(e);
+    return ok;
 }
 
 /* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
@@ -304,7 +620,7 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig)
             return false;
         *pig = d->u.pigment;
     }
-    return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, open);
+    return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, '}', open);
 }
 
 /* ---- sky_sphere ------------------------------------------------------------------- */
@@ -472,7 +788,8 @@ bool lang_parse_texture(parser *p, csg_texture *t)
             ok = lang_parse_finish(p, &t->finish);
         else if (lang_is_transform(p))
             ok = transform_pigment(p, &t->pigment);
-        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT))
+        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT) ||
+                 is_noise_pattern(p))
             return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
         else
             return lang_expected_close(p, '}', "texture", open);

@@ -1,0 +1,443 @@
+/*
+ * journal.c — the finished tiles of a render, kept for --resume
+ * (journal.h).
+ */
+#include "journal.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../csg/flatten.h"
+#include "file_atomic.h"
+#include "render.h"
+#include "signals.h"
+#include "version.h"
+
+#define JOURNAL_FORMAT "csgtrace journal 1"
+#define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
+#define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
+#define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
+
+/* The fixed part of a tile record; then width * height * 3 floats, then
+ * the checksum (uint64) of both. */
+typedef struct {
+    uint32_t magic, tile;
+    uint32_t x, y, width, height;
+    uint32_t hits, pad;
+} journal_record;
+
+/* One line of the header: what the journal was written for. */
+typedef struct {
+    const char *key;  /* the header's word                      */
+    const char *what; /* for the message when it differs        */
+    char value[96];
+} journal_field;
+
+enum { JF_BUILD, JF_SIZE, JF_TILE, JF_SAMPLES, JF_PRECISION, JF_DEPTH, JF_RAYS, JF_SCENE,
+       JF_COUNT };
+
+struct journal {
+    int fd;
+    char *path;
+    int tiles;
+    tile_grid g;
+    bool *resumed;    /* [tile]                                   */
+    uint32_t *hits;   /* [tile]: resumed, or summed as items come */
+    int resumed_count;
+    int written;      /* tiles in the file                        */
+    bool broken;      /* a write failed: no more records          */
+    double synced;    /* when data was last forced to the disk    */
+    float *buf;       /* one record's bytes                       */
+    size_t buf_size;
+};
+
+/* ---- checksums and the program's identity ------------------------------------ */
+
+static uint64_t fnv1a(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++) {
+        h ^= b[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+#define FNV_BASIS 0xcbf29ce484222325ull
+
+/* The running program's file, hashed once: tiles written by another build
+ * could differ in their last bit, so a journal names the build that wrote
+ * it.  0 when it cannot be read. */
+static uint64_t journal_build_hash(void)
+{
+    static uint64_t cached;
+    if (cached)
+        return cached;
+    int fd = open("/proc/self/exe", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return 0;
+    uint64_t h = FNV_BASIS;
+    unsigned char buf[1 << 16];
+    ssize_t n;
+    while ((n = read(fd, buf, sizeof buf)) > 0)
+        h = fnv1a(h, buf, (size_t)n);
+    close(fd);
+    cached = n == 0 ? h : 0;
+    return cached;
+}
+
+static double journal_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The header fields of this render. */
+static void journal_fields(const void *blob, const tile_grid *g, journal_field *f)
+{
+    static const char *keys[JF_COUNT][2] = {
+        {"build", "the program (another build of csgtrace wrote it)"},
+        {"size", "the image size"},
+        {"tile", "the tile size (--tile)"},
+        {"samples", "the samples a pixel"},
+        {"precision", "the precision"},
+        {"depth", "the trace depth"},
+        {"max-rays", "the ray budget (--max-rays-per-pixel)"},
+        {"scene", "the scene (it, an include or an option it depends on changed)"}};
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    const csg_shading *sh = (const csg_shading *)((const char *)blob + h->off_shading);
+    for (int i = 0; i < JF_COUNT; i++) {
+        f[i].key = keys[i][0];
+        f[i].what = keys[i][1];
+    }
+    snprintf(f[JF_BUILD].value, sizeof f[0].value, "%s %016llx", CSGTRACE_VERSION,
+             (unsigned long long)journal_build_hash());
+    snprintf(f[JF_SIZE].value, sizeof f[0].value, "%dx%d", g->width, g->height);
+    snprintf(f[JF_TILE].value, sizeof f[0].value, "%d", g->tile);
+    snprintf(f[JF_SAMPLES].value, sizeof f[0].value, "%d", g->spp);
+    snprintf(f[JF_PRECISION].value, sizeof f[0].value, "%s",
+             h->real_size == 8 ? "double" : "float");
+    snprintf(f[JF_DEPTH].value, sizeof f[0].value, "%d", (int)h->max_depth);
+    snprintf(f[JF_RAYS].value, sizeof f[0].value, "%d", (int)sh->max_rays);
+    snprintf(f[JF_SCENE].value, sizeof f[0].value, "%016llx",
+             (unsigned long long)fnv1a(FNV_BASIS, blob, (size_t)h->total_size));
+}
+
+/* ---- the header ------------------------------------------------------------------ */
+
+static size_t journal_header_text(const journal_field *f, char *out, size_t size)
+{
+    size_t n = (size_t)snprintf(out, size, "%s\n", JOURNAL_FORMAT);
+    for (int i = 0; i < JF_COUNT && n < size; i++)
+        n += (size_t)snprintf(out + n, size - n, "%s %s\n", f[i].key, f[i].value);
+    if (n < size)
+        n += (size_t)snprintf(out + n, size - n, ".\n");
+    return n;
+}
+
+/* Reads the header of the journal at fd and checks it names this render;
+ * its length in *len.  0, or 2 with d filled. */
+static int journal_check_header(int fd, const char *path, const journal_field *f, size_t *len,
+                                csg_diag *d)
+{
+    char buf[JOURNAL_HEADER_MAX + 1];
+    ssize_t n = pread(fd, buf, JOURNAL_HEADER_MAX, 0);
+    buf[n > 0 ? n : 0] = '\0';
+    char *end = n > 0 ? strstr(buf, "\n.\n") : NULL;
+    size_t format = strlen(JOURNAL_FORMAT);
+    if (!end || strncmp(buf, JOURNAL_FORMAT, format) != 0 || buf[format] != '\n') {
+        csg_error_plain(d, "%s is not a csgtrace journal: refusing to resume from it (render "
+                        "without --resume to start over)", path);
+        return EXIT_BAD_INPUT;
+    }
+    end[1] = '\0';
+    *len = (size_t)(end + 3 - buf);
+    char *line = buf + format + 1;
+    for (int i = 0; i < JF_COUNT; i++) {
+        char *nl = strchr(line, '\n');
+        size_t k = strlen(f[i].key);
+        const char *got = "(none)";
+        if (nl) {
+            *nl = '\0';
+            if (strncmp(line, f[i].key, k) == 0 && line[k] == ' ')
+                got = line + k + 1;
+        }
+        if (strcmp(got, f[i].value) != 0) {
+            csg_error_plain(d, "%s was written for another render: %s differs (the journal's "
+                            "%s: '%.100s', this render's: '%s'); render without --resume to "
+                            "start over", path, f[i].what, f[i].key, got, f[i].value);
+            return EXIT_BAD_INPUT;
+        }
+        line = nl ? nl + 1 : line;
+    }
+    return EXIT_OK;
+}
+
+/* ---- records ---------------------------------------------------------------------- */
+
+static size_t journal_pixel_bytes(tile_rect r)
+{
+    return (size_t)r.width * (size_t)r.height * 3 * sizeof(float);
+}
+
+/* Reads the records after the header into the image; stops at the first
+ * record that is short, damaged or not of this grid.  Returns the offset
+ * after the last good one. */
+static off_t journal_read_records(journal *j, off_t at, float *image)
+{
+    for (;;) {
+        journal_record rec;
+        uint64_t sum;
+        if (pread(j->fd, &rec, sizeof rec, at) != (ssize_t)sizeof rec ||
+            rec.magic != JOURNAL_TILE_MAGIC || rec.tile >= (uint32_t)j->tiles ||
+            j->resumed[rec.tile])
+            return at;
+        tile_rect r = tile_rect_of(&j->g, (int)rec.tile);
+        size_t bytes = journal_pixel_bytes(r);
+        if (rec.x != (uint32_t)r.x || rec.y != (uint32_t)r.y ||
+            rec.width != (uint32_t)r.width || rec.height != (uint32_t)r.height ||
+            pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
+            pread(j->fd, &sum, sizeof sum, at + (off_t)(sizeof rec + bytes)) !=
+                (ssize_t)sizeof sum ||
+            sum != fnv1a(fnv1a(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
+            return at;
+        tile_store_rgb(image, j->g.width, r, j->buf);
+        j->resumed[rec.tile] = true;
+        j->hits[rec.tile] = rec.hits;
+        j->resumed_count++;
+        at += (off_t)(sizeof rec + bytes + sizeof sum);
+    }
+}
+
+/* Writes all n bytes (a signal may cut a write short). */
+static bool journal_write_all(int fd, const void *p, size_t n)
+{
+    const char *c = p;
+    while (n > 0) {
+        ssize_t w = write(fd, c, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return false;
+        c += w;
+        n -= (size_t)w;
+    }
+    return true;
+}
+
+void journal_tile_done(journal *j, int tile, const float *image)
+{
+    if (!j || j->broken)
+        return;
+    tile_rect r = tile_rect_of(&j->g, tile);
+    journal_record rec = {JOURNAL_TILE_MAGIC, (uint32_t)tile, (uint32_t)r.x, (uint32_t)r.y,
+                          (uint32_t)r.width, (uint32_t)r.height, j->hits[tile], 0};
+    for (int y = 0; y < r.height; y++) /* the tile's rows, packed */
+        memcpy(j->buf + (size_t)y * (size_t)r.width * 3,
+               image + ((size_t)(r.y + y) * (size_t)j->g.width + (size_t)r.x) * 3,
+               (size_t)r.width * 3 * sizeof(float));
+    size_t bytes = journal_pixel_bytes(r);
+    uint64_t sum = fnv1a(fnv1a(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
+    if (!journal_write_all(j->fd, &rec, sizeof rec) || !journal_write_all(j->fd, j->buf, bytes) ||
+        !journal_write_all(j->fd, &sum, sizeof sum)) {
+        fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "
+                        "on, but --resume will not find the tiles after this one\n",
+                j->path, strerror(errno));
+        j->broken = true;
+        return;
+    }
+    j->written++;
+    signals_journal_tiles(j->written);
+    double now = journal_clock();
+    if (now - j->synced >= JOURNAL_SYNC_S) {
+        fdatasync(j->fd);
+        j->synced = now;
+    }
+}
+
+/* ---- opening ------------------------------------------------------------------------ */
+
+/* An existing journal, opened without following a link and locked;
+ * -1 with errno ENOENT when there is none, else -1 with d filled. */
+static int journal_open_existing(const char *path, csg_diag *d)
+{
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) {
+        if (errno != ENOENT)
+            csg_error_plain(d, "cannot open the journal %s: %s", path, strerror(errno));
+        return -1;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        csg_error_plain(d, "%s is not a regular file: refusing to use it as a journal", path);
+    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        csg_error_plain(d, "%s is in use by another render of the same output: wait for it to "
+                        "end (or stop it)", path);
+    } else {
+        return fd;
+    }
+    close(fd);
+    errno = EEXIST;
+    return -1;
+}
+
+/* A new journal holding only the header, created exclusively beside the
+ * output and renamed into place; its descriptor (locked), or -1. */
+static int journal_create(const char *path, const journal_field *f, csg_diag *d)
+{
+    char header[JOURNAL_HEADER_MAX];
+    size_t n = journal_header_text(f, header, sizeof header);
+    size_t len = strlen(path) + sizeof ".tmp.XXXXXX";
+    char *tmp = malloc(len);
+    int fd = -1;
+    if (tmp) {
+        snprintf(tmp, len, "%s.tmp.XXXXXX", path);
+        fd = mkstemp(tmp);
+    }
+    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
+        !journal_write_all(fd, header, n) || rename(tmp, path) != 0) {
+        csg_error_plain(d, "cannot create the journal %s: %s", path,
+                        tmp ? strerror(errno) : "out of memory");
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp);
+        }
+        fd = -1;
+    }
+    free(tmp);
+    return fd;
+}
+
+static journal *journal_alloc(const char *out_path, const tile_grid *g)
+{
+    journal *j = calloc(1, sizeof *j);
+    if (!j)
+        return NULL;
+    j->fd = -1;
+    j->g = *g;
+    j->tiles = tile_count(g);
+    j->buf_size = g->pixels_max * 3 * sizeof(float);
+    j->path = malloc(strlen(out_path) + sizeof JOURNAL_SUFFIX);
+    j->resumed = calloc((size_t)j->tiles, sizeof *j->resumed);
+    j->hits = calloc((size_t)j->tiles, sizeof *j->hits);
+    j->buf = malloc(j->buf_size);
+    if (!j->path || !j->resumed || !j->hits || !j->buf) {
+        journal_close(j, true);
+        return NULL;
+    }
+    sprintf(j->path, "%s%s", out_path, JOURNAL_SUFFIX);
+    return j;
+}
+
+/* --resume with a journal at j->fd: its tiles into the image, the file cut
+ * after the last good record, ready to append.  0 or 2. */
+static int journal_resume(journal *j, const journal_field *f, float *image, csg_diag *d)
+{
+    size_t header = 0;
+    int status = journal_check_header(j->fd, j->path, f, &header, d);
+    if (status != EXIT_OK)
+        return status;
+    off_t end = journal_read_records(j, (off_t)header, image);
+    struct stat st;
+    if (fstat(j->fd, &st) == 0 && st.st_size > end)
+        fprintf(stderr, "csgtrace: the journal %s ends in %lld bytes that are not a whole, "
+                        "valid tile: the tiles after the first %d are rendered again\n",
+                j->path, (long long)(st.st_size - end), j->resumed_count);
+    if (ftruncate(j->fd, end) != 0 || lseek(j->fd, end, SEEK_SET) != end) {
+        csg_error_plain(d, "cannot append to the journal %s: %s", j->path, strerror(errno));
+        return EXIT_FAILURE_RUN;
+    }
+    j->written = j->resumed_count;
+    return EXIT_OK;
+}
+
+int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
+                 float *image, journal **out, csg_diag *d)
+{
+    journal_field f[JF_COUNT];
+    journal *j = journal_alloc(out_path, g);
+    *out = NULL;
+    if (!j) {
+        csg_error_plain(d, "out of memory for the journal of %s", out_path);
+        return EXIT_FAILURE_RUN;
+    }
+    journal_fields(blob, g, f);
+    j->fd = journal_open_existing(j->path, d);
+    int status = EXIT_OK;
+    if (j->fd < 0 && errno != ENOENT) {
+        status = EXIT_FAILURE_RUN;
+    } else if (j->fd >= 0 && resume) {
+        status = journal_resume(j, f, image, d);
+    } else {
+        if (resume)
+            fprintf(stderr, "csgtrace: no journal %s to resume from: the render starts from "
+                            "the beginning\n", j->path);
+        int old = j->fd; /* replaced (its lock held until then) */
+        j->fd = journal_create(j->path, f, d);
+        if (old >= 0)
+            close(old);
+        status = j->fd < 0 ? EXIT_FAILURE_RUN : EXIT_OK;
+    }
+    if (status != EXIT_OK) {
+        if (j->fd >= 0) /* (a journal of another render stays as it was) */
+            close(j->fd);
+        j->fd = -1;
+        journal_close(j, false);
+        return status;
+    }
+    j->synced = journal_clock();
+    signals_journal(j->path, j->written);
+    *out = j;
+    return EXIT_OK;
+}
+
+/* ---- queries and the end ------------------------------------------------------------ */
+
+bool journal_resumed(const journal *j, int tile)
+{
+    return j && j->resumed[tile];
+}
+
+int journal_tiles_resumed(const journal *j)
+{
+    return j ? j->resumed_count : 0;
+}
+
+uint32_t journal_resumed_hits(const journal *j, int tile)
+{
+    return journal_resumed(j, tile) ? j->hits[tile] : 0;
+}
+
+void journal_add_hits(journal *j, int tile, uint32_t hits)
+{
+    if (j)
+        j->hits[tile] += hits;
+}
+
+void journal_close(journal *j, bool finished)
+{
+    if (!j)
+        return;
+    signals_journal(NULL, 0);
+    if (j->fd >= 0) {
+        if (finished || j->written == 0)
+            unlink(j->path); /* (before the lock goes with the descriptor) */
+        else
+            fprintf(stderr, "csgtrace: %d finished tiles are kept in %s: the same command with "
+                            "--resume goes on from them\n", j->written, j->path);
+        close(j->fd);
+    }
+    free(j->path);
+    free(j->resumed);
+    free(j->hits);
+    free(j->buf);
+    free(j);
+}

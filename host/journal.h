@@ -1,0 +1,67 @@
+/*
+ * journal.h — the finished tiles of a render to a file, kept beside the
+ * output (OUT.journal) while it renders, so that an interrupted render goes
+ * on from them (--resume) instead of starting over.
+ *
+ * The file: a text header naming the render (the program's build, the
+ * image size, tile edge, samples, precision, depth, ray budget and a hash
+ * of the flattened scene: everything a pixel depends on), then one binary
+ * record a finished tile, appended (write(2), no stdio buffer) the moment
+ * the tile's last result is in: its index and rectangle, its primary hits,
+ * its RGB floats and an FNV-1a checksum over all of it.  A record cut short
+ * or damaged ends the journal there (the tiles after it are rendered
+ * again); a process killed at any point loses at most the tiles in flight.
+ * Data is forced to the disk (fdatasync) at most once a second: a power
+ * failure may cost the last second.
+ *
+ * The journal is created through an exclusive temporary file renamed into
+ * place (never following a link), locked (flock) while its render runs, so
+ * two renders never write one journal, and removed once the image and the
+ * stats are written.  A render without --resume replaces an earlier
+ * journal; with --resume one written for another render (any field of the
+ * header differs) is refused, saying what differs.
+ *
+ * Resumed tiles are bit-identical to rendered ones: every mode computes the
+ * same pixels (render.c), so a journal of a homo render may be resumed in
+ * hetero mode and the other way round.
+ */
+#ifndef HOST_JOURNAL_H
+#define HOST_JOURNAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../csg/diag.h"
+#include "../workers/tile.h"
+
+#define JOURNAL_SUFFIX ".journal"
+
+typedef struct journal journal;
+
+/* Opens the journal of the render of `blob` (validated) to `out_path` in
+ * tiles of g.  resume: the valid tiles of an existing journal are copied
+ * into `image` (g->width x g->height RGB floats) and marked resumed; no
+ * journal there is no error (the render starts from the beginning, saying
+ * so).  Returns 0, EXIT_BAD_INPUT (2: the journal belongs to another
+ * render) or 1 (cannot create, or in use), with d filled. */
+int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
+                 float *image, journal **out, csg_diag *d);
+
+/* Was tile `tile` taken from the journal?  (false for a NULL journal) */
+bool journal_resumed(const journal *j, int tile);
+int journal_tiles_resumed(const journal *j);
+/* The primary hits of a resumed tile. */
+uint32_t journal_resumed_hits(const journal *j, int tile);
+
+/* A work item of `tile` came in with `hits` primary hits. */
+void journal_add_hits(journal *j, int tile, uint32_t hits);
+/* Tile `tile` is complete in `image`: its record is appended.  A failed
+ * write (disk full) prints one warning and ends the journaling; the render
+ * goes on. */
+void journal_tile_done(journal *j, int tile, const float *image);
+
+/* The render ended: finished, the journal is removed; else it is kept
+ * (when it holds any tile) for --resume, and one line says so. */
+void journal_close(journal *j, bool finished);
+
+#endif

@@ -1,0 +1,211 @@
+#!/usr/bin/env bash
+# e2e_resume.sh — the journal and --resume (host/journal.h):
+#   - serial: SIGINT once tiles are finished leaves only OUT.journal; the
+#     same command with --resume finishes it, the image equal pixel for
+#     pixel to an uninterrupted render, the journal removed, the stats
+#     counting tiles_resumed and tiles_rendered;
+#   - mpirun (3 ranks): kill -9 of mpirun half-way; the orphaned master
+#     stops by itself (no rank left); --resume in hetero mode (a homo
+#     journal: every mode gives the same pixels) gives the identical image
+#     and resumes at least every tile the progress bar had counted (no
+#     finished tile is lost, only those in flight);
+#   - a journal of another render (another --depth) is refused, exit 2,
+#     naming what differs, and left as it was; a file that is not a journal
+#     likewise; a damaged record ends the journal there (the rest is
+#     rendered again, the image still identical); a link at the journal's
+#     name is never followed; --resume without a journal renders it all;
+#     two renders of one output at once: the second is refused; --stats
+#     naming the journal is refused.
+# Every render of a pair runs with another MALLOC_PERTURB_: a byte of the
+# flattened scene left uninitialised would change its hash (the journal's
+# header) and fail the resume.
+# Usage: tests/e2e_resume.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
+mkdir -p "$T/shm" "$T/sess"
+"$BIN" gen spheres --count 300 --occupancy 0.6 --seed 2 --width 64 --height 64 \
+    -o "$T/slow.pov" >/dev/null || ko "gen"
+SIZE=(--width 1000 --height 1000)
+MPI=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 3)
+
+MALLOC_PERTURB_=85 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$T/full.exr" >/dev/null 2>&1 ||
+    ko "the uninterrupted render"
+[ ! -e "$T/full.exr.journal" ] && ok "a finished render leaves no journal" ||
+    ko "a finished render left its journal"
+
+# records FILE: the tile records in a journal (its size past the header)
+records() { python3 - "$1" <<'EOF'
+import sys
+data = open(sys.argv[1], 'rb').read()
+end = data.find(b'\n.\n')
+print(0 if end < 0 else len(data) - end - 3)
+EOF
+}
+
+# wait_records JOURNAL: until it holds at least one tile (at most 60 s)
+wait_records() {
+    for _ in $(seq 600); do
+        [ -f "$1" ] && [ "$(records "$1")" -gt 0 ] && return 0
+        sleep 0.1
+    done
+    return 1
+}
+
+# alive PATTERN: processes (not zombies) whose command line matches
+alive() {
+    local n=0
+    for p in $(pgrep -f "$1"); do
+        [ "$(ps -o stat= -p "$p" 2>/dev/null | cut -c1)" = Z ] || n=$((n + 1))
+    done
+    echo $n
+}
+
+# ---- serial: SIGINT, then --resume ------------------------------------------
+d=$T/serial
+mkdir -p "$d"
+MALLOC_PERTURB_=170 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" >"$d/out" 2>"$d/err" &
+pid=$!
+wait_records "$d/o.exr.journal"
+kill -INT $pid
+wait $pid
+rc=$?
+left=$(ls -A "$d" | grep -v -e '^out$' -e '^err$' | tr '\n' ' ')
+if [ $rc = 130 ] && [ "$left" = "o.exr.journal " ] &&
+    grep -q "tiles are kept in $d/o.exr.journal: the same command with --resume" "$d/err"; then
+    ok "SIGINT: exit 130, only the journal left, the line says how to resume"
+else
+    ko "SIGINT: exit $rc, left: $left, stderr: $(head -c 300 "$d/err")"
+fi
+MALLOC_PERTURB_=85 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume \
+    --stats "$d/s.json" >"$d/out" 2>"$d/err2"
+rc=$?
+if [ $rc = 0 ] && same "$T/full.exr" "$d/o.exr" && [ ! -e "$d/o.exr.journal" ] &&
+    json "$d/s.json" "j['tiles_resumed'] > 0 and j['tiles_rendered'] > 0 and
+        j['tiles_resumed'] + j['tiles_rendered'] + j['tiles_degenerate'] == j['tiles_total']"; then
+    ok "--resume: the identical image, the journal gone, $(python3 -c "import json; j=json.load(open('$d/s.json')); print(j['tiles_resumed'], 'tiles resumed,', j['tiles_rendered'], 'rendered')")"
+else
+    ko "--resume: exit $rc, stderr: $(head -c 300 "$d/err2")"
+fi
+
+# ---- mpirun: kill -9 of mpirun, then --resume in hetero mode -------------------
+d=$T/mpi
+mkdir -p "$d"
+BIG=(--width 1600 --height 1600) # (long enough to be killed half-way on 2 cores)
+MALLOC_PERTURB_=85 "${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo \
+    -o "$d/full.exr" >/dev/null 2>&1 || ko "the uninterrupted render under mpirun"
+MALLOC_PERTURB_=170 "${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo -o "$d/o.exr" --progress \
+    >"$d/out" 2>"$d/err" &
+pid=$!
+wait_records "$d/o.exr.journal"
+kill -9 "$(pgrep -P $pid -x mpirun)" # (mpirun itself: $pid is its `timeout`)
+wait $pid 2>/dev/null
+shown=$(tr '\r' '\n' <"$d/err" | sed -n 's/.*\] \([0-9]*\)\/[0-9]* tiles.*/\1/p' | tail -1)
+for _ in $(seq 50); do [ "$(alive "render $T/slow.pov")" = 0 ] && break; sleep 0.1; done
+n=$(alive "render $T/slow.pov")
+[ "$n" = 0 ] && ok "kill -9 mpirun: no rank left within 5 s" ||
+    ko "kill -9 mpirun: $n ranks still running after 5 s"
+"${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode hetero -o "$d/o.exr" --resume \
+    --stats "$d/s.json" >"$d/out" 2>"$d/err2"
+rc=$?
+if [ $rc = 0 ] && same "$d/full.exr" "$d/o.exr" && [ ! -e "$d/o.exr.journal" ] &&
+    json "$d/s.json" "j['tiles_resumed'] >= ${shown:-1} and
+        j['tiles_resumed'] + j['tiles_rendered'] + j['tiles_degenerate'] == j['tiles_total']"; then
+    ok "kill -9 mpirun, --resume (hetero): the identical image; resumed $(python3 -c "import json; print(json.load(open('$d/s.json'))['tiles_resumed'])") tiles >= the ${shown:-?} the bar had shown"
+else
+    ko "kill -9 mpirun, --resume: exit $rc (bar showed ${shown:-?}), stderr: $(head -c 300 "$d/err2")"
+fi
+
+# ---- journals that do not fit ----------------------------------------------------
+# an interrupted render to resume from, again (serial, SIGTERM)
+interrupted() {
+    rm -f "$1" "$1.journal"
+    "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$1" >/dev/null 2>&1 &
+    local p=$!
+    wait_records "$1.journal"
+    kill -TERM $p
+    wait $p
+}
+d=$T/bad
+mkdir -p "$d"
+interrupted "$d/o.exr"
+cp "$d/o.exr.journal" "$d/copy"
+"$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume --depth 3 >/dev/null 2>"$d/err"
+rc=$?
+if [ $rc = 2 ] && grep -q "written for another render: the trace depth differs" "$d/err" &&
+    cmp -s "$d/copy" "$d/o.exr.journal" && [ ! -e "$d/o.exr" ]; then
+    ok "another --depth: exit 2, says the depth differs, the journal kept as it was"
+else
+    ko "another --depth: exit $rc, stderr: $(head -c 300 "$d/err")"
+fi
+
+# a damaged record half-way: the journal ends there, the image is still exact
+python3 - "$d/o.exr.journal" <<'EOF'
+import sys
+p = sys.argv[1]
+data = bytearray(open(p, 'rb').read())
+end = data.find(b'\n.\n') + 3
+data[end + (len(data) - end) // 2] ^= 0x40
+open(p, 'wb').write(data)
+EOF
+"$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume --stats "$d/s.json" \
+    >/dev/null 2>"$d/err"
+rc=$?
+if [ $rc = 0 ] && same "$T/full.exr" "$d/o.exr" && grep -q "not a whole, valid tile" "$d/err" &&
+    json "$d/s.json" "j['tiles_resumed'] > 0"; then
+    ok "a damaged record: said, the tiles from it rendered again, the image identical"
+else
+    ko "a damaged record: exit $rc, stderr: $(head -c 300 "$d/err")"
+fi
+
+echo "not a journal" >"$d/o.exr.journal"
+"$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 2 ] && grep -q "is not a csgtrace journal" "$d/err" &&
+    [ "$(cat "$d/o.exr.journal")" = "not a journal" ] &&
+    ok "a file that is not a journal: exit 2, left as it was" ||
+    ko "not a journal: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+echo "precious" >"$d/target"
+rm -f "$d/o.exr.journal"
+ln -s "$d/target" "$d/o.exr.journal"
+for flag in --resume ""; do
+    "$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/o.exr" $flag >/dev/null 2>"$d/err"
+    rc=$?
+    [ $rc = 1 ] && [ "$(cat "$d/target")" = precious ] && [ -L "$d/o.exr.journal" ] &&
+        ok "a link at the journal's name ${flag:-(no --resume)}: refused, its target untouched" ||
+        ko "a link at the journal's name ${flag:-(no --resume)}: exit $rc, target: $(head -c 40 "$d/target")"
+done
+rm -f "$d/o.exr.journal"
+
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/small.exr" --resume >/dev/null \
+    2>"$d/err"
+rc=$?
+[ $rc = 0 ] && grep -q "no journal .* to resume from: the render starts from the beginning" \
+    "$d/err" && [ -f "$d/small.exr" ] && [ ! -e "$d/small.exr.journal" ] &&
+    ok "--resume without a journal: said, rendered in full" ||
+    ko "--resume without a journal: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/small.exr" \
+    --stats "$d/small.exr.journal" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 2 ] && grep -q "the output's journal" "$d/err" &&
+    ok "--stats naming the output's journal: exit 2" ||
+    ko "--stats naming the journal: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+# two renders of one output at once
+rm -f "$d/o.exr" "$d/o.exr.journal"
+"$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" >/dev/null 2>&1 &
+pid=$!
+wait_records "$d/o.exr.journal"
+"$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" >/dev/null 2>"$d/err"
+rc=$?
+kill -TERM $pid
+wait $pid
+[ $rc = 1 ] && grep -q "is in use by another render" "$d/err" &&
+    ok "a second render of the same output while the first runs: refused" ||
+    ko "a second render of the same output: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+e2e_finish
