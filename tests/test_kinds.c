@@ -158,6 +158,8 @@ static void test_pipeline_each(void **state)
         csg_scene s;
         parse_ok(text, &s);
         assert_int_equal(s.objects[0]->kind, more_samples[m].kind);
+        char why[256];
+        assert_false(csg_needs_double(&s, 3, 3, why, sizeof why)); /* a unit scene */
         flatten_and_hit(&engine_float, &s, more_samples[m].kind, &prim_kinds);
         flatten_and_hit(&engine_double, &s, more_samples[m].kind, &prim_kinds);
         csg_scene_free(&s);
