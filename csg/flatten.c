@@ -20,8 +20,10 @@
  *     BVH then sees every triangle), inside CSG a union in the program.
  *  3. Primitives get canonical parameters: spheres and boxes under a pure
  *     translate + scale keep world-space parameters (exact, no matrix);
- *     everything else stores its world -> local matrix.  Cylinders and
- *     cones live in a frame with their axis on +z from 0 to their height.
+ *     everything else stores its world -> local matrix.  A box whose
+ *     corners share a coordinate (in `real`) is a flat_box, a sheet
+ *     (device/flat.h).  Cylinders and cones live in a frame with their
+ *     axis on +z from 0 to their height.
  *     Triangles are stored in world space (vertices and vertex normals
  *     transformed here, never a matrix); polygons are split into
  *     triangles (csg/polygon.c: fan when convex, ear clipping otherwise),
@@ -581,6 +583,8 @@ static bool flatten_box(flat_builder *fb, const csg_object *o, const csg_xform *
     for (int i = 0; i < 3; i++) {
         p->p[i] = (real)(world ? box->lo[i] : lo[i]);
         p->p[3 + i] = (real)(world ? box->hi[i] : hi[i]);
+        if (p->p[i] == p->p[3 + i]) /* zero thickness, in `real`: a sheet */
+            p->kind = CSG_PRIM_FLAT_BOX;
     }
     if (!world)
         store_inverse(p, world_to_obj);

@@ -107,10 +107,15 @@ static prec_extent feature_sphere(const csg_object *o)
     return x;
 }
 
+/* The shortest edge that is not zero: a box of zero thickness (a sheet)
+ * has the feature of its rectangle (none for a segment or a point). */
 static prec_extent feature_box(const csg_object *o)
 {
-    prec_extent x = {true, o->a, o->b, 0.0};
-    x.feature = fmin(o->b.x - o->a.x, fmin(o->b.y - o->a.y, o->b.z - o->a.z));
+    prec_extent x = {true, o->a, o->b, HUGE_VAL};
+    double edge[3] = {o->b.x - o->a.x, o->b.y - o->a.y, o->b.z - o->a.z};
+    for (int i = 0; i < 3; i++)
+        if (edge[i] > 0)
+            x.feature = fmin(x.feature, edge[i]);
     return x;
 }
 

@@ -103,6 +103,22 @@ render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl
 render xds 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl-kernel scalar
 same "$T/sd.exr" "$T/xd.exr" && same "$T/sd.exr" "$T/xds.exr" && ok "double: hetero (both kernels) == serial" || ko "double: hetero differs from serial"
 
+# --- boxes of zero thickness (sheets, in CSG and under transforms), shaded:
+#     the same image in every mode, in both precisions ---
+fb=tests/povray/flat_boxes.pov
+for prec in float double; do
+    render fbs_$prec 0 serial $fb --width 80 --height 60 --precision $prec
+    render fbh_$prec 3 homo $fb --width 80 --height 60 --precision $prec
+    render fbx_$prec 3 hetero $fb --width 80 --height 60 --precision $prec --cl-kernel packet
+    render fbxs_$prec 3 hetero $fb --width 80 --height 60 --precision $prec --cl-kernel scalar
+    if same "$T/fbs_$prec.exr" "$T/fbh_$prec.exr" && same "$T/fbs_$prec.exr" "$T/fbx_$prec.exr" &&
+        same "$T/fbs_$prec.exr" "$T/fbxs_$prec.exr"; then
+        ok "flat boxes ($prec): hetero (both kernels) == homo == serial"
+    else
+        ko "flat boxes ($prec): images differ"
+    fi
+done
+
 # --- the kernel variant from the environment; a bad one refused ---
 CSGTRACE_CL_KERNEL=scalar "${MPIRUN[@]}" -np 3 "$BIN" render scenes/csg_ops.pov -o "$T/env.exr" \
     --mode hetero --width 64 --height 48 >/dev/null 2>&1

@@ -106,6 +106,8 @@ if [ "$what" = all ]; then
     done
     # geometry agreement with POV-Ray 3.7 on every example scene
     run_script tests/crosscheck_povray.sh
+    # scenes of one feature each (tests/povray/: boxes of zero thickness)
+    run_script tests/crosscheck_povray.sh tests/povray/*.pov
     # the NFF reader's scenes through `export` (99 %: the issue's bar)
     MIN_AGREEMENT=99 run_script tests/crosscheck_povray.sh tests/nff/*.nff
     # the camera statement in every order of its modifiers, read by POV-Ray

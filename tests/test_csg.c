@@ -982,6 +982,8 @@ static void test_leaf_fast_path(void **state)
     add_prim(&s, CSG_PRIM_CONE, 0, cn, 3);
     add_prim(&s, CSG_PRIM_CONE, CSG_PF_OPEN, cn, 3);
     add_prim(&s, CSG_PRIM_PLANE, 0, pl, 4);
+    const real fb[6] = {R(-1.0), R(-0.5), R(0.25), R(0.8), R(1.0), R(0.25)};
+    add_prim(&s, CSG_PRIM_FLAT_BOX, 0, fb, 6);
     const real ranges[4][2] = {{R(0.0), CSG_R_INF}, {R(0.5), CSG_R_INF}, {R(0.0), R(2.0)},
                                {R(1.5), R(2.5)}};
     uint32_t seed = 12345u;
@@ -1012,6 +1014,89 @@ static void test_leaf_fast_path(void **state)
     assert_true(hits > 2000);
 }
 
+/* ---- boxes of zero thickness (sheets) ------------------------------------------ */
+
+static int add_flat_box(scene *s, int flags, real x0, real y0, real z0, real x1, real y1, real z1)
+{
+    real p[6] = {x0, y0, z0, x1, y1, z1};
+    return add_prim(s, CSG_PRIM_FLAT_BOX, flags, p, 6);
+}
+
+/* The sheet z = 0, |x|, |y| <= 1 (prim 0) alone as root 0. */
+static void one_sheet(scene *s)
+{
+    scene_init(s);
+    add_flat_box(s, 0, -1, -1, 0, 1, 1, 0);
+    ROOT(s, 0);
+}
+
+/* Met from both sides, each time on the face that looks at the ray (the
+ * face POV-Ray's Intersect_Box reports first), its edges included; a line
+ * in its plane meets it where it enters the rectangle. */
+static void test_flat_box_sides(void **state)
+{
+    (void)state;
+    scene s;
+    one_sheet(&s);
+    csg_hit h = nearest(&s, ray(R(0.25), R(0.5), -2, 0, 0, 1));
+    assert_true(h.t == R(2.0) && h.surf == S(0, CSG_SURF_BOX_NEG_X + 4));
+    NEAR_V(csg_surface_normal(s.prims, h.surf, v3(R(0.25), R(0.5), 0)), 0, 0, -1, 0);
+    h = nearest(&s, ray(R(0.25), R(0.5), 3, 0, 0, -1));
+    assert_true(h.t == R(3.0) && h.surf == S(0, CSG_SURF_BOX_NEG_X + 5));
+    NEAR_V(csg_surface_normal(s.prims, h.surf, v3(R(0.25), R(0.5), 0)), 0, 0, 1, 0);
+    /* slanted, through the corner, just past the edge */
+    h = nearest(&s, ray(-3, 0, -2, R(1.0), R(0.5), R(1.0)));
+    assert_true(h.t == R(2.0) && h.surf == S(0, 4));
+    assert_true(nearest(&s, ray(1, 1, -2, 0, 0, 1)).surf == S(0, 4));
+    assert_true(nearest(&s, ray(R(1.001), 0, -2, 0, 0, 1)).surf == CSG_SURF_NONE);
+    /* parallel to the sheet: in its plane (met at x = -1), beside it (not) */
+    h = nearest(&s, ray(-3, R(0.5), 0, 1, 0, 0));
+    assert_true(h.t == R(2.0) && h.surf != CSG_SURF_NONE);
+    assert_true(nearest(&s, ray(-3, R(0.5), R(0.001), 1, 0, 0)).surf == CSG_SURF_NONE);
+    /* from the sheet itself (t = 0 is not after tmin) */
+    assert_true(nearest(&s, ray(0, 0, 0, 0, 0, 1)).surf == CSG_SURF_NONE);
+    /* a box flat in two axes: a segment no ray across it meets */
+    scene_init(&s);
+    add_flat_box(&s, 0, -1, 0, 0, 1, 0, 0);
+    ROOT(&s, 0);
+    assert_true(nearest(&s, ray(R(0.25), R(0.1), -2, 0, 0, 1)).surf == CSG_SURF_NONE);
+}
+
+/* As a CSG operand a sheet is a surface (POV-Ray's closed inside test
+ * holds nothing but the sheet): intersection { sheet sphere } is the disc
+ * inside the sphere, difference { sheet sphere } the sheet with a hole,
+ * difference { sphere sheet } the sphere, with the sheet inside it. */
+static void test_flat_box_csg(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    add_flat_box(&s, 0, -1, -1, 0, 1, 1, 0);
+    add_sphere(&s, 0, 0, 0, 0, R(0.5));
+    ROOT(&s, 0, 1, I);
+    csg_hit h = nearest(&s, ray(R(0.25), 0, -2, 0, 0, 1));
+    assert_true(h.t == R(2.0) && h.surf == S(0, 4));
+    assert_true(nearest(&s, ray(R(0.75), 0, -2, 0, 0, 1)).surf == CSG_SURF_NONE);
+
+    scene_init(&s);
+    add_flat_box(&s, 0, -1, -1, 0, 1, 1, 0);
+    add_sphere(&s, CSG_PF_INVERT, 0, 0, 0, R(0.5));
+    ROOT(&s, 0, 1, I);
+    assert_true(nearest(&s, ray(R(0.25), 0, -2, 0, 0, 1)).surf == CSG_SURF_NONE);
+    h = nearest(&s, ray(R(0.75), 0, -2, 0, 0, 1));
+    assert_true(h.t == R(2.0) && h.surf == S(0, 4));
+
+    scene_init(&s);
+    add_sphere(&s, 0, 0, 0, 0, R(0.5));
+    add_flat_box(&s, CSG_PF_INVERT, -1, -1, 0, 1, 1, 0);
+    ROOT(&s, 0, 1, I);
+    h = nearest(&s, ray(R(0.25), 0, -2, 0, 0, 1));
+    assert_true(h.surf == S(0, CSG_SURF_SPHERE) && h.t < R(2.0));
+    h = nearest(&s, ray(R(0.25), 0, R(-0.1), 0, 0, 1)); /* from inside the sphere */
+    assert_true(h.surf == S(1, 4));
+    NEAR(h.t, 0.1, 1e-6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1032,6 +1117,8 @@ int main(void)
         cmocka_unit_test(test_box_ray_edges),
         cmocka_unit_test(test_box_ray_conservative),
         cmocka_unit_test(test_leaf_fast_path),
+        cmocka_unit_test(test_flat_box_sides),
+        cmocka_unit_test(test_flat_box_csg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -48,6 +48,15 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
     [CSG_OBJ_MERGE] = "merge { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
 };
 
+/* Statements that reach a primitive kind no sample above reaches: a box
+ * of zero thickness is a flat_box (a sheet). */
+static const struct {
+    enum csg_object_kind kind;
+    const char *text;
+} more_samples[] = {
+    {CSG_OBJ_BOX, "box { <-1, -1, 5>, <1, 1, 5> }"},
+};
+
 #define CAMERA "camera { location <0, 0, 0> look_at <0, 0, 1> }\n"
 
 static void test_samples_cover(void **state)
@@ -142,6 +151,17 @@ static void test_pipeline_each(void **state)
         assert_false(csg_needs_double(&s, 3, 3, why, sizeof why)); /* a unit scene */
         flatten_and_hit(&engine_float, &s, k, &prim_kinds);
         flatten_and_hit(&engine_double, &s, k, &prim_kinds);
+        csg_scene_free(&s);
+    }
+    for (size_t m = 0; m < sizeof more_samples / sizeof more_samples[0]; m++) {
+        snprintf(text, sizeof text, CAMERA "%s\n", more_samples[m].text);
+        csg_scene s;
+        parse_ok(text, &s);
+        assert_int_equal(s.objects[0]->kind, more_samples[m].kind);
+        char why[256];
+        assert_false(csg_needs_double(&s, 3, 3, why, sizeof why)); /* a unit scene */
+        flatten_and_hit(&engine_float, &s, more_samples[m].kind, &prim_kinds);
+        flatten_and_hit(&engine_double, &s, more_samples[m].kind, &prim_kinds);
         csg_scene_free(&s);
     }
     /* the samples reach every primitive kind the tracers know */

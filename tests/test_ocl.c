@@ -425,6 +425,51 @@ static void build_boxes(sc_scene *s)
     sc_prim_xform(s, j, 2, 20, 0, 0, 0);
 }
 
+/* Boxes of zero thickness (sheets, CSG_PRIM_FLAT_BOX): flat in z, in x
+ * and in y, the last at the camera's height (the middle row of an image
+ * with an odd height runs in its plane); turned; a sheet cut by a sphere
+ * (intersection) and with a hole (difference: the sphere complemented);
+ * a solid box with a complemented sheet (the sheet inside it); a box
+ * flat in two axes (a segment). */
+static void build_flat_boxes(sc_scene *s)
+{
+    double fz[6] = {-2.5, -1, 0, -1, 1, 0};
+    sc_solo(s, CSG_PRIM_FLAT_BOX, 0, fz, 6);
+    double fx[6] = {0, -0.5, -0.5, 0, 0.5, 0.5};
+    int i = sc_solo(s, CSG_PRIM_FLAT_BOX, 0, fx, 6);
+    sc_prim_xform(s, i, 1, 50, -0.6, 0.3, 0.5);
+    double fy[6] = {-4, 0.5, 1, 4, 0.5, 5};
+    sc_solo(s, CSG_PRIM_FLAT_BOX, 0, fy, 6);
+    double disc[6] = {0.3, -0.3, -0.2, 1.9, -0.3, 0.6}, ball[4] = {1.1, -0.3, 0.2, 0.6};
+    double sheet[6] = {-1, -1, 0, 1, 1, 0}, hole[4] = {0, 0, 0, 0.4};
+    int id = sc_prim_add(s, CSG_PRIM_FLAT_BOX, 0, disc, 6);
+    int ib = sc_prim_add(s, CSG_PRIM_SPHERE, 0, ball, 4);
+    sc_begin(s);
+    sc_leaf(s, id);
+    sc_leaf(s, ib);
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_end(s);
+    int is = sc_prim_add(s, CSG_PRIM_FLAT_BOX, 0, sheet, 6);
+    sc_prim_xform(s, is, 0, -30, 2.2, 1.2, 1);
+    int ih = sc_prim_add(s, CSG_PRIM_SPHERE, CSG_PF_INVERT, hole, 4);
+    sc_prim_xform(s, ih, 0, -30, 2.2, 1.2, 1);
+    sc_begin(s);
+    sc_leaf(s, is);
+    sc_leaf(s, ih);
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_end(s);
+    double solid[6] = {-3, 1.2, -1, -2, 2, 0}, cut[6] = {-4, 1.6, -2, -1, 1.6, 1};
+    int jb = sc_prim_add(s, CSG_PRIM_BOX, 0, solid, 6);
+    int jc = sc_prim_add(s, CSG_PRIM_FLAT_BOX, CSG_PF_INVERT, cut, 6);
+    sc_begin(s);
+    sc_leaf(s, jb);
+    sc_leaf(s, jc);
+    sc_op(s, CSG_OP_INTERSECT);
+    sc_end(s);
+    double segment[6] = {-3, -0.5, 2, 3, -0.5, 2};
+    sc_solo(s, CSG_PRIM_FLAT_BOX, 0, segment, 6);
+}
+
 static void build_cones(sc_scene *s)
 {
     double cone[3] = {0.8, 0.2, 1.5};
@@ -768,6 +813,7 @@ static void test_specialised_refuses(void **state)
 static void test_spheres(void **state) { check_scene_all(state, build_spheres, true); }
 static void test_boxes(void **state) { check_scene_all(state, build_boxes, false); }
 static void test_cones(void **state) { check_scene_all(state, build_cones, false); }
+static void test_flat_boxes(void **state) { check_scene_all(state, build_flat_boxes, false); }
 static void test_planes(void **state) { check_scene_all(state, build_planes, false); }
 static void test_csg(void **state) { check_scene_all(state, build_csg, true); }
 static void test_spheres_outside(void **state)
@@ -800,6 +846,69 @@ static void test_random_flattened(void **state)
             csg_blob_free(&blob);
         }
     assert_true(with_bvh > 0);
+}
+
+/* Sheets (boxes of zero thickness) through the parser and the flattener:
+ * in world space and under transforms, as CSG operands, in a BVH, several
+ * samples a pixel: both variants give the C records, and the sheets are
+ * seen (the same scene without them hits fewer records). */
+static const char flat_sdl[] =
+    "camera { location <0.3, 1.5, -9> look_at <0, 0, 0> }\n"
+    "box { <-5, -2, -3>, <5, -2, 9> }\n"
+    "box { <-3, -1, 0>, <-1, 1, 0> }\n"
+    "box { <0, -1, -1>, <0, 1, 1> rotate y * 60 translate <-0.5, 0, 2> }\n"
+    "box { <1, 1, 0>, <2, 2, 0> matrix <1, 0.3, 0, 0, 1, 0, 0.4, 0, 1, 0, 0, 0> scale <1.5, 1, 2> }\n"
+    "intersection { box { <-1, 0, 0>, <1, 0, 2> } sphere { <0, 0, 1>, 0.8 } translate <2, -1, 0> }\n"
+    "difference { box { -1, <1, 1, -1> } sphere { <0, 0, -1>, 0.5 } rotate x * -25 translate <3, 1, 3> }\n"
+    "difference { box { -0.5, 0.5 } box { <-1, 0, -1>, <1, 0, 1> } translate <0, 2, 1> }\n"
+    "merge { sphere { 0, 0.4 } box { <-0.7, -0.7, 0>, <0.7, 0.7, 0> } translate <-3, 2.2, 1> }\n"
+    "union { sphere { 0, 0.3 } box { <-0.6, 0, -0.6>, <0.6, 0, 0.6> } translate <0.5, -1.5, -2> }\n";
+
+static csg_blob text_blob(const char *text, int width, int height, int spp)
+{
+    csg_scene sc;
+    csg_diag d = {0};
+    csg_blob blob = {NULL, 0};
+    csg_scene_init(&sc);
+    csg_flatten_opts o = {width, height, 0, -1, spp, 0};
+#ifdef CSG_DOUBLE
+    bool ok = csg_parse_string("flat.pov", text, strlen(text), &sc, &d) &&
+              csg_flatten_double(&sc, &o, &blob, &d);
+#else
+    bool ok = csg_parse_string("flat.pov", text, strlen(text), &sc, &d) &&
+              csg_flatten_float(&sc, &o, &blob, &d);
+#endif
+    csg_scene_free(&sc);
+    if (!ok)
+        fail_msg("%s\n%s", d.message, text);
+    return blob;
+}
+
+static void test_flat_boxes_flattened(void **state)
+{
+    fixture *fx = *state;
+    static const int cases[][3] = {{61, 37, 1}, {40, 30, 3}};
+    /* the same camera without any sheet: only the one solid box */
+    static const char solid_sdl[] = "camera { location <0.3, 1.5, -9> look_at <0, 0, 0> }\n"
+                                    "box { -0.5, 0.5 translate <0, 2, 1> }\n";
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        csg_blob blob = text_blob(flat_sdl, cases[c][0], cases[c][1], cases[c][2]);
+        csg_blob solid = text_blob(solid_sdl, cases[c][0], cases[c][1], cases[c][2]);
+        const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+        const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                                 h->off_prims);
+        int flat = 0;
+        for (int i = 0; i < h->prim_count; i++)
+            flat += prims[i].kind == CSG_PRIM_FLAT_BOX;
+        assert_int_equal(flat, 9);
+        for (int v = 0; v < VARIANTS; v++) {
+            size_t hits = check_blob(fx->ctx[v], &prec, blob.bytes, 8);
+            size_t without = check_blob(fx->ctx[v], &prec, solid.bytes, 8);
+            assert_true(hits > without);
+        }
+        csg_blob_free(&blob);
+        csg_blob_free(&solid);
+    }
 }
 
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
@@ -1141,6 +1250,8 @@ int main(void)
         cmocka_unit_test(test_spheres_outside),
         cmocka_unit_test(test_boxes),
         cmocka_unit_test(test_cones),
+        cmocka_unit_test(test_flat_boxes),
+        cmocka_unit_test(test_flat_boxes_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

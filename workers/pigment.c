@@ -62,6 +62,7 @@ static bool face_plane(const csg_prim *pr, int sub, double n[3], double *dist)
         *dist = (double)pr->p[3];
         return true;
     case CSG_PRIM_BOX:
+    case CSG_PRIM_FLAT_BOX:
         n[sub >> 1] = 1;
         *dist = (double)pr->p[(sub & 1) ? 3 + (sub >> 1) : sub >> 1];
         return true;

@@ -37,6 +37,11 @@
  *                    side (v1 - v0) x (v2 - v0) points to
  *   smooth_triangle  the same, and p[9..11], p[12..14], p[15..17] the
  *                    vertex normals n0, n1, n2, interpolated at the hit
+ *   flat_box         a box (the same p[0..5]) with lo == hi on at least one
+ *                    axis: a sheet with no inside, seen from both sides, as
+ *                    POV-Ray renders a box of zero thickness; its crossing
+ *                    is on the face of its (first) flat axis that looks at
+ *                    the ray
  * p[] is a payload of CSG_PRIM_REALS reals; a kind under a transform
  * (CSG_PF_XFORM) keeps its world -> local matrix in the last 12, named
  * inv[] (so such a kind has p[0..7] for itself).
@@ -62,9 +67,13 @@
  *     intersection where it is inside the other operand's closed set.  So
  *     intersection { triangle sphere } is the part of the triangle inside
  *     the sphere, difference { triangle sphere } the part outside, and
- *     difference { sphere triangle } the whole sphere (tests/test_csg.c). */
+ *     difference { sphere triangle } the whole sphere (tests/test_csg.c).
+ *     A box of zero thickness is such a surface (flat_box): POV-Ray's own
+ *     box test accepts an entry equal to the exit, and its inside test,
+ *     closed, holds nothing but the sheet itself. */
 #define CSG_SOLID_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
-#define CSG_SURFACE_KINDS(X) X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle)
+#define CSG_SURFACE_KINDS(X)                                                                       \
+    X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
 
 /* What this compilation handles of the table and of the CSG machinery

@@ -22,7 +22,7 @@
  * intervals and records in `limit` where knowledge ends; hits beyond the
  * limit are not reported (the flattener warns when a scene can reach it).
  *
- * Surfaces (flat.h: CSG_SURFACE_KINDS, triangles) have no interval: a
+ * Surfaces (flat.h: CSG_SURFACE_KINDS, triangles, flat boxes) have no interval: a
  * crossing is a zero-length EVENT, kept in each list beside its intervals
  * (te/se, sorted, at most CSG_MAX_EVENTS).  A union keeps an operand's
  * event unless it lies strictly inside the other operand's intervals; an
@@ -637,6 +637,12 @@ CSG_FN vec3 csg_box_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     real s = (sub & 1) ? R(1.0) : R(-1.0);
     int axis = sub >> 1;
     return v3(axis == 0 ? s : R(0.0), axis == 1 ? s : R(0.0), axis == 2 ? s : R(0.0));
+}
+
+/* A sheet's face (csg_flat_box_span picks the one facing the ray). */
+CSG_FN vec3 csg_flat_box_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    return csg_box_normal(p, sub, lp);
 }
 
 CSG_FN vec3 csg_cone_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)

@@ -108,8 +108,10 @@ CSG_FN L_INT L_FN(csg_slab)(L_REAL o, L_REAL d, real lo_b, real hi_b, csg_i32 ax
     return L_SEL(flat, (o >= lo_b) & (o <= hi_b), *lo <= *hi);
 }
 
-CSG_FN L_INT L_FN(csg_box_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
-                                L_INT *s0, L_INT *s1)
+/* The three slabs of box p narrowing the whole line: the mask before the
+ * ends are compared (csg_box_span, csg_flat_box_span). */
+CSG_FN L_INT L_FN(csg_box_slabs)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                 L_INT *s0, L_INT *s1)
 {
     *t0 = L_RS(-CSG_R_INF);
     *t1 = L_RS(CSG_R_INF);
@@ -121,8 +123,40 @@ CSG_FN L_INT L_FN(csg_box_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L
     ok = ok & L_FN(csg_slab)(r.o.y, r.d.y, p[1], p[4], 1, t0, t1, s0, s1);
     if (!L_ANY(ok))
         return ok;
-    ok = ok & L_FN(csg_slab)(r.o.z, r.d.z, p[2], p[5], 2, t0, t1, s0, s1);
+    return ok & L_FN(csg_slab)(r.o.z, r.d.z, p[2], p[5], 2, t0, t1, s0, s1);
+}
+
+CSG_FN L_INT L_FN(csg_box_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                L_INT *s0, L_INT *s1)
+{
+    L_INT ok = L_FN(csg_box_slabs)(p, r, t0, t1, s0, s1);
     return ok & (*t0 < *t1);
+}
+
+/* A flat box (flat.h: a box with lo == hi on some axis, a surface kind):
+ * POV-Ray's Intersect_Box accepts tmin == tmax, so the sheet is met where
+ * the ray crosses its plane inside the closed rectangle.  The crossing is
+ * t0 == t1 on the face of the flat axis that looks at the ray (the + face
+ * when the ray runs towards -axis: POV-Ray's smin), on both sides.  A line
+ * lying in the sheet's plane meets it where it enters the rectangle. */
+CSG_FN L_INT L_FN(csg_flat_box_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                     L_INT *s0, L_INT *s1)
+{
+    L_INT ok = L_FN(csg_box_slabs)(p, r, t0, t1, s0, s1);
+    ok = ok & (*t0 <= *t1);
+    csg_i32 axis = 2;
+    L_REAL d = r.d.z;
+    if (p[0] == p[3]) {
+        axis = 0;
+        d = r.d.x;
+    } else if (p[1] == p[4]) {
+        axis = 1;
+        d = r.d.y;
+    }
+    *t1 = *t0;
+    *s0 = L_SEL(d < R(0.0), L_IS(2 * axis + 1), L_IS(2 * axis));
+    *s1 = *s0;
+    return ok;
 }
 
 /* Truncated cone (or cylinder) along local z in [0, h], radius

@@ -212,12 +212,9 @@ static bool parse_box(parser *p, csg_object *o)
         skip_comma(p, &ok);
     if (!ok || !lang_parse_vector(p, &o->b, NULL))
         return false;
+    /* corners in any order; equal on an axis: a sheet, as in POV-Ray */
     double lo[3] = {o->a.x, o->a.y, o->a.z}, hi[3] = {o->b.x, o->b.y, o->b.z};
     for (int i = 0; i < 3; i++) {
-        if (lo[i] == hi[i]) {
-            csg_error(p->d, o->loc, "box is flat: both corners have %c = %g", "xyz"[i], lo[i]);
-            return false;
-        }
         if (lo[i] > hi[i]) {
             double t = lo[i];
             lo[i] = hi[i];
