@@ -55,6 +55,11 @@
 #else
 #define CSG_USE_SMOOTH_TRIANGLE 0
 #endif
+#ifdef CSG_HAS_FLAT_BOX
+#define CSG_USE_FLAT_BOX 1
+#else
+#define CSG_USE_FLAT_BOX 0
+#endif
 #else /* every kind */
 #define CSG_USE_SPHERE 1
 #define CSG_USE_BOX 1
@@ -62,6 +67,7 @@
 #define CSG_USE_PLANE 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
+#define CSG_USE_FLAT_BOX 1
 #endif
 
 /* A kind of flat.h's table (its ID) is compiled in; a kind added to the
