@@ -79,6 +79,20 @@ static const csg_texture *tex_of(const csg_scene *s, const csg_object *o)
 
 /* ---- primitives ------------------------------------------------------------- */
 
+/* A vector may end in one comma after its 2nd to 4th component, as POV-Ray
+ * takes it (its float4.pov sample writes <0.2,0.1,0.5,>). */
+static void test_vector_trailing_comma(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("sphere { <1, 2, 3,>, 0.5 }\n"
+             "sphere { <4, 5,>, 1 }\n", &s);
+    assert_int_equal(s.object_count, 2);
+    assert_vec(s.objects[0]->a, 1, 2, 3);
+    assert_vec(s.objects[1]->a, 4, 5, 0);
+    csg_scene_free(&s);
+}
+
 static void test_primitives(void **state)
 {
     (void)state;
@@ -491,6 +505,10 @@ static void test_errors(void **state)
          "t.pov:1:10: error: a 3-component vector expected, got a 4-component vector"},
         {"sphere { <1>, 1 }", "t.pov:1:10: error: a vector needs at least 2 components"},
         {"sphere { <1,2,3,4,5,6>, 1 }", "t.pov:1:21: error: a vector has at most 5 components"},
+        /* one trailing comma after the 2nd to 4th component (POV-Ray's), no more */
+        {"sphere { <1,2,3,4,5,>, 1 }", "t.pov:1:21: error: an expression expected, got '>'"},
+        {"sphere { <1,>, 1 }", "t.pov:1:13: error: an expression expected, got '>'"},
+        {"sphere { <1,2,3,,>, 1 }", "t.pov:1:17: error: an expression expected, got ','"},
         {"sphere { <1,2,3, 1 }", "t.pov:1:20: error: '>' expected (to close '<' at 1:10), got '}'"},
         {"sphere { (1, 1 }", "t.pov:1:12: error: ')' expected (to close '(' at 1:10), got ','"},
         {"sphere { <1,x,3>, 1 }",
@@ -840,6 +858,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_primitives),
+        cmocka_unit_test(test_vector_trailing_comma),
         cmocka_unit_test(test_flat_boxes),
         cmocka_unit_test(test_expressions),
         cmocka_unit_test(test_promotion),

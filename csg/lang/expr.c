@@ -132,6 +132,8 @@ static bool parse_vector_literal(parser *p, value *out)
         if (lang_is_punct(p, ',')) {
             if (!lang_next(p))
                 return false;
+            if (lang_is_punct(p, '>') && out->dim >= 2 && out->dim <= 4)
+                break; /* POV-Ray takes one comma after the 2nd to 4th component */
         } else if (lang_is_punct(p, '>') || !lang_is_expr_start(p)) {
             break;
         }
