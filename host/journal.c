@@ -381,7 +381,10 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
             fprintf(stderr, "csgtrace: no journal %s to resume from: the render starts from "
                             "the beginning\n", j->path);
         int old = j->fd; /* replaced (its lock held until then) */
+        signals_hold(); /* a signal now would leave the temporary file */
         j->fd = journal_create(j->path, f, d);
+        signals_journal(j->fd >= 0 ? j->path : NULL, 0);
+        signals_release(NULL, 0); /* (a signal that came: the journal goes too) */
         if (old >= 0)
             close(old);
         status = j->fd < 0 ? EXIT_FAILURE_RUN : EXIT_OK;

@@ -23,11 +23,8 @@
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
 
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
-export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
-mkdir -p "$T/shm" "$T/sess"
-"$BIN" gen spheres --count 300 --occupancy 0.6 --seed 2 --width 64 --height 64 \
-    -o "$T/slow.pov" >/dev/null || ko "gen"
+mpi_sandbox
+slow_scene "$T/slow.pov"
 SIZE=(--width 1000 --height 1000)
 MPI=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 3)
 

@@ -29,10 +29,9 @@
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
 
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+mpi_sandbox
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
-export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
-mkdir -p "$T/shm" "$T/sess" "$POCL_CACHE_DIR"
+mkdir -p "$POCL_CACHE_DIR"
 unset CSGTRACE_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER CSGTRACE_TEST_KILL_AT \
     CSGTRACE_TEST_HANG
 MPIRUN=(timeout -s KILL 120 mpirun --enable-recovery --bind-to none --oversubscribe)

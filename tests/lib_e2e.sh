@@ -17,6 +17,22 @@ same() { idiff -fail 0 -warn 0 "$1" "$2" >/dev/null 2>&1; }
 # json FILE EXPR: a python expression over the parsed JSON `j` is true.
 json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(0 if ($2) else 1)" "$1"; }
 
+# mpi_sandbox: mpirun allowed as root, the ob1 layer (half the start-up),
+# and Open MPI's shared-memory segments and session folders under $T, so
+# a test can check that none is left behind.
+mpi_sandbox() {
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
+    export OMPI_MCA_btl_vader_backing_directory=$T/shm OMPI_MCA_orte_tmpdir_base=$T/sess
+    mkdir -p "$T/shm" "$T/sess"
+}
+
+# slow_scene FILE: 300 random spheres, seconds to render at a few
+# megapixels: long enough to be stopped half-way.
+slow_scene() {
+    "$BIN" gen spheres --count 300 --occupancy 0.6 --seed 2 --width 64 --height 64 \
+        -o "$1" >/dev/null || ko "gen $1"
+}
+
 e2e_finish() {
     echo "$pass passed, $fail failed"
     [ "$fail" -eq 0 ]

@@ -669,25 +669,35 @@ static char *random_sdl(uint64_t seed, int objects)
     return b.text;
 }
 
-/* The blob of a random scene in this file's precision. */
-static csg_blob random_blob(uint64_t seed, int objects, int width, int height, int spp)
+/* The blob of scene text `text` (named `name` in messages) in this
+ * file's precision. */
+static csg_blob text_blob(const char *name, const char *text, int width, int height, int spp)
 {
-    char *text = random_sdl(seed, objects);
     csg_scene sc;
     csg_diag d = {0};
     csg_blob blob = {NULL, 0};
     csg_scene_init(&sc);
     csg_flatten_opts o = {width, height, 0, -1, spp, 0};
 #ifdef CSG_DOUBLE
-    bool ok = csg_parse_string("random.pov", text, strlen(text), &sc, &d) &&
+    bool ok = csg_parse_string(name, text, strlen(text), &sc, &d) &&
               csg_flatten_double(&sc, &o, &blob, &d);
 #else
-    bool ok = csg_parse_string("random.pov", text, strlen(text), &sc, &d) &&
+    bool ok = csg_parse_string(name, text, strlen(text), &sc, &d) &&
               csg_flatten_float(&sc, &o, &blob, &d);
 #endif
     csg_scene_free(&sc);
     if (!ok)
-        fail_msg("random scene %llu: %s\n%s", (unsigned long long)seed, d.message, text);
+        fail_msg("%s: %s\n%s", name, d.message, text);
+    return blob;
+}
+
+/* The blob of a random scene in this file's precision. */
+static csg_blob random_blob(uint64_t seed, int objects, int width, int height, int spp)
+{
+    char *text = random_sdl(seed, objects);
+    char name[64];
+    snprintf(name, sizeof name, "random scene %llu", (unsigned long long)seed);
+    csg_blob blob = text_blob(name, text, width, height, spp);
     free(text);
     return blob;
 }
@@ -864,26 +874,6 @@ static const char flat_sdl[] =
     "merge { sphere { 0, 0.4 } box { <-0.7, -0.7, 0>, <0.7, 0.7, 0> } translate <-3, 2.2, 1> }\n"
     "union { sphere { 0, 0.3 } box { <-0.6, 0, -0.6>, <0.6, 0, 0.6> } translate <0.5, -1.5, -2> }\n";
 
-static csg_blob text_blob(const char *text, int width, int height, int spp)
-{
-    csg_scene sc;
-    csg_diag d = {0};
-    csg_blob blob = {NULL, 0};
-    csg_scene_init(&sc);
-    csg_flatten_opts o = {width, height, 0, -1, spp, 0};
-#ifdef CSG_DOUBLE
-    bool ok = csg_parse_string("flat.pov", text, strlen(text), &sc, &d) &&
-              csg_flatten_double(&sc, &o, &blob, &d);
-#else
-    bool ok = csg_parse_string("flat.pov", text, strlen(text), &sc, &d) &&
-              csg_flatten_float(&sc, &o, &blob, &d);
-#endif
-    csg_scene_free(&sc);
-    if (!ok)
-        fail_msg("%s\n%s", d.message, text);
-    return blob;
-}
-
 static void test_flat_boxes_flattened(void **state)
 {
     fixture *fx = *state;
@@ -892,8 +882,8 @@ static void test_flat_boxes_flattened(void **state)
     static const char solid_sdl[] = "camera { location <0.3, 1.5, -9> look_at <0, 0, 0> }\n"
                                     "box { -0.5, 0.5 translate <0, 2, 1> }\n";
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        csg_blob blob = text_blob(flat_sdl, cases[c][0], cases[c][1], cases[c][2]);
-        csg_blob solid = text_blob(solid_sdl, cases[c][0], cases[c][1], cases[c][2]);
+        csg_blob blob = text_blob("flat.pov", flat_sdl, cases[c][0], cases[c][1], cases[c][2]);
+        csg_blob solid = text_blob("flat.pov", solid_sdl, cases[c][0], cases[c][1], cases[c][2]);
         const csg_blob_header *h = csg_blob_hdr(blob.bytes);
         const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
                                                                  h->off_prims);
