@@ -147,6 +147,8 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
+    fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
+            (unsigned long long)s->tile_messages);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,
             s->items_reassigned);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n  \"max_rays_per_pixel\": %d,\n"
