@@ -2,7 +2,8 @@
 # bench/simulate.sh — one point of the simulated cluster (make sim; bench/SCALE.md).
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
-#       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F] --stats F.json
+#       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
+#       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three real renders at 384x384, tile 8, raster, 1 master
@@ -16,6 +17,9 @@
 # --pass-scale F (default 1) multiplies the measured OpenCL pass (hetero):
 # 1 is PoCL on this machine's 2 CPU cores; 0.01 stands for a device 100
 # times faster (a GPU-class accelerator): a hypothesis, labelled as such.
+# --pass-rate M (Mrays/s) replaces it by a measured device rate: the pass
+# takes W x H / (M x 1e6) seconds (bench/GPU.md: the H100's rates).
+# --batch N|auto: the master's batch limit (csgtrace --batch; default auto).
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
 set -euo pipefail
@@ -26,7 +30,7 @@ MAPS=${SIM_MAPS:-$ROOT/build/sim/maps}
 REC_SIZE=384 REC_TILE=8
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
-SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -40,6 +44,8 @@ while [ $# -gt 0 ]; do
     --size) SIZE=$2 ;;
     --stats) STATS=$2 ;;
     --pass-scale) PASS_SCALE=$2 ;;
+    --pass-rate) PASS_RATE=$2 ;;
+    --batch) BATCH=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -54,6 +60,8 @@ done
 [[ "$SIZE" =~ ^([1-9][0-9]{0,4})x([1-9][0-9]{0,4})$ ]] || die "--size: WxH"
 WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
+[[ "$PASS_RATE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-rate: Mrays/s, a decimal number"
+[[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -92,15 +100,19 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:
       --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536
       --log=root.thres:error)
 [ "$NETWORK" = ib ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
-CSGSIM_COSTS=$map CSGSIM_PASS_SCALE=$PASS_SCALE smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
+batch=()
+[ "$BATCH" = auto ] || batch=(--batch "$BATCH")
+CSGSIM_COSTS=$map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
+    smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
-python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" <<'PY'
+python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
 d["pass_scale"] = float(sys.argv[4])
+d["pass_rate_mrays"] = float(sys.argv[5])
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

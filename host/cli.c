@@ -6,6 +6,7 @@
 #include "cli.h"
 
 #include "../csg/flatten.h"
+#include "protocol.h"
 #include "schedule.h"
 
 #include <errno.h>
@@ -23,7 +24,8 @@ void cli_usage(FILE *out)
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
-          "                   [--schedule raster|cost|static|tail] [--tile-log FILE.jsonl]\n"
+          "                   [--schedule raster|cost|static|tail] [--batch N|auto]\n"
+          "                   [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
           "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
           "                   [--resume]  (go on from OUT.journal, an interrupted render's)\n"
@@ -135,6 +137,10 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     }
     if (strcmp(opt, "--schedule") == 0)
         return parse_choice(opt, val, schedules, SCHED_POLICIES, &r->schedule, d);
+    if (strcmp(opt, "--batch") == 0) {
+        r->batch = 0;
+        return strcmp(val, "auto") == 0 || parse_int(opt, val, 1, PROTO_BATCH_MAX, &r->batch, d);
+    }
     if (strcmp(opt, "--cl-device") == 0) {
         r->cl_device = val;
         return true;

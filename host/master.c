@@ -7,11 +7,13 @@
  *   2. receive one handshake (READY or FAIL) from every worker;
  *   3. an event loop until every item is answered: feed the scheduler
  *      (the tiles of the OpenCL slices completed since the last turn),
- *      fill every live worker up to PROTO_IN_FLIGHT items (first one item
+ *      fill every live worker up to PROTO_IN_FLIGHT messages (first one
  *      each, then the second, so the items at the head of the order go to
- *      idle workers), take every message waiting; only when a turn found
- *      nothing to do, the idle wait (link_idle: poll, then nap; the
- *      pass's completion callback ends a nap at once);
+ *      idle workers; a message carries the items of sched_next_batch: one
+ *      unless the workers are many and much is left), take every message
+ *      waiting; only when a turn found nothing to do, the idle wait
+ *      (link_idle: poll, then nap; the pass's completion callback ends a
+ *      nap at once);
  *   4. STOP(status) to every worker (master_end).
  * A FAIL or a failed feed ends the sending of items; the outstanding ones
  * are still drained so that no rank blocks in a send, then every worker
@@ -41,9 +43,10 @@
  * waiting for the worker's slice to run out (measured on 2 cores, homo
  * 384x384: workers busy 88-90 % of the tile phase without it, 93-95 % with).
  *
- * Invariants: workers[r] holds the items rank r computes, oldest first,
- * at most PROTO_IN_FLIGHT, each with its send buffer and request in the
- * ring position it occupies; an answer belongs to the oldest; STOP only
+ * Invariants: workers[r] holds the batches of items rank r computes,
+ * oldest first, at most PROTO_IN_FLIGHT, each with its send buffer and
+ * request in the ring position it occupies; an answer belongs to the
+ * oldest batch and has one part per item, in order; STOP only
  * goes once no live worker holds an item; a send buffer is reused or
  * freed only when its send is done; no message larger than the largest
  * RESULT is taken (link_recv's limit); the bytes counters count every
@@ -106,7 +109,10 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
 {
     if (m->workers == 0 || m->shared)
         return;
-    proto_setup setup = {status, tile, status == 0 ? blob->size : 0};
+    m->batch = sched_batch_limit(m->batch, m->workers, PROTO_BATCH_MAX);
+    if (status == 0) /* (a batch's RESULT within PROTO_BATCH_BYTES) */
+        m->batch = proto_batch_fit(m->batch, tile_grid_of(blob->bytes, tile).pixels_max);
+    proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, 0};
     link_bcast(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
     m->shared = true;
@@ -230,9 +236,11 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 #define MASTER_HANG_MIN_S 10.0
 
 typedef struct {
-    int item[PROTO_IN_FLIGHT];     /* held items, ring from head          */
+    int item[PROTO_IN_FLIGHT][PROTO_BATCH_MAX]; /* held batches, ring from head */
+    int count[PROTO_IN_FLIGHT];    /* items in each                       */
     int head, n;
     char *buf[PROTO_IN_FLIGHT];    /* the TILE of ring position k          */
+    size_t cap[PROTO_IN_FLIGHT];   /* its bytes (grown to the batch's)     */
     link_req req[PROTO_IN_FLIGHT]; /* and its send                        */
     bool dead;                     /* written off: nothing more expected   */
     double since;                  /* stats_clock(): the oldest item began  */
@@ -242,8 +250,7 @@ typedef struct {
     master_session *m;
     master_job *job;
     master_worker *w;        /* [1 .. workers]                            */
-    size_t buf_size;         /* the largest TILE                          */
-    int outstanding;         /* items held by live workers                 */
+    int outstanding;         /* batches held by live workers               */
     bool failed;             /* no more items go out; draining             */
     bool broken;             /* nothing can be received any more           */
 } master_loop;
@@ -257,27 +264,63 @@ bool master_idle_init(link_idle *idle)
     return link_idle_init(idle, MASTER_NAP_FIRST_NS, MASTER_SPINS);
 }
 
-static bool master_send_item(master_loop *L, int r, int item, csg_diag *d)
+/* One part of a TILE: item `item`'s header (and records) at `out`; its
+ * bytes. */
+static size_t master_pack_item(const master_job *job, int item, char *out)
 {
-    master_worker *w = &L->w[r];
-    const master_job *job = L->job;
     const tile_grid *g = &job->grid;
-    int pos = (w->head + w->n) % PROTO_IN_FLIGHT;
-    if (!w->buf[pos] && !(w->buf[pos] = malloc(L->buf_size))) {
-        csg_error_plain(d, "master: out of memory");
-        return false;
-    }
     const sched_item *it = &job->sched->items[item];
     tile_rect rect = it->rect;
     proto_tile h = {it->tile, job->t ? PROTO_WORK_SHADE : PROTO_WORK_RENDER, rect.x, rect.y,
                     rect.width, rect.height};
-    size_t len = sizeof h;
-    memcpy(w->buf[pos], &h, sizeof h);
-    if (job->t) {
-        tile_pack_records(g, job->t, job->surf, rect, w->buf[pos] + sizeof h);
-        len += tile_records_bytes(g, (size_t)rect.width * (size_t)rect.height);
+    memcpy(out, &h, sizeof h);
+    if (job->t)
+        tile_pack_records(g, job->t, job->surf, rect, out + sizeof h);
+    return proto_tile_part(g, job->t != NULL, (size_t)rect.width * (size_t)rect.height);
+}
+
+/* The bytes of the TILE for items[0 .. k - 1]. */
+static size_t master_tile_bytes(const master_job *job, const int *items, int k)
+{
+    size_t len = 0;
+    for (int i = 0; i < k; i++) {
+        tile_rect r = job->sched->items[items[i]].rect;
+        len = proto_align(len) +
+              proto_tile_part(&job->grid, job->t != NULL, (size_t)r.width * (size_t)r.height);
     }
-    w->item[pos] = item; /* held from now on: a lost worker hands it back */
+    return len;
+}
+
+/* Ring position pos of rank r can hold `len` bytes (its send is done). */
+static bool master_buffer(master_worker *w, int pos, size_t len)
+{
+    if (w->cap[pos] >= len)
+        return true;
+    char *grown = realloc(w->buf[pos], len);
+    if (!grown)
+        return false;
+    w->buf[pos] = grown;
+    w->cap[pos] = len;
+    return true;
+}
+
+/* Items items[0 .. k - 1] to rank r in one TILE. */
+static bool master_send_batch(master_loop *L, int r, const int *items, int k, csg_diag *d)
+{
+    master_worker *w = &L->w[r];
+    int pos = (w->head + w->n) % PROTO_IN_FLIGHT;
+    if (!master_buffer(w, pos, master_tile_bytes(L->job, items, k))) {
+        csg_error_plain(d, "master: out of memory");
+        return false;
+    }
+    size_t len = 0;
+    for (int i = 0; i < k; i++) {
+        size_t at = proto_align(len);
+        memset(w->buf[pos] + len, 0, at - len); /* the padding between parts */
+        len = at + master_pack_item(L->job, items[i], w->buf[pos] + at);
+        w->item[pos][i] = items[i]; /* held from now on: a lost worker hands it back */
+    }
+    w->count[pos] = k;
     if (w->n++ == 0)
         w->since = stats_clock();
     L->outstanding++;
@@ -290,10 +333,11 @@ static bool master_send_item(master_loop *L, int r, int item, csg_diag *d)
         return false;
     }
     L->m->bytes_sent += len;
+    L->m->tile_messages++;
     return true;
 }
 
-/* Room at rank r for one more item: its next send buffer free (its last
+/* Room at rank r for one more batch: its next send buffer free (its last
  * TILE was answered, so the send is done, unless the worker died). */
 static bool master_room(master_loop *L, int r, int depth)
 {
@@ -308,8 +352,8 @@ static bool master_room(master_loop *L, int r, int depth)
     return true;
 }
 
-/* Every live worker filled up to PROTO_IN_FLIGHT items, one level at a
- * time; true when something was sent. */
+/* Every live worker filled up to PROTO_IN_FLIGHT batches, one level at
+ * a time; true when something was sent. */
 static bool master_dispatch(master_loop *L, csg_diag *d)
 {
     bool sent = false;
@@ -318,12 +362,13 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
             if (!master_room(L, r, depth))
                 continue;
             double now = stats_clock();
-            int item = sched_next(L->job->sched, r - 1, now);
-            if (item < 0)
+            int items[PROTO_BATCH_MAX];
+            int k = sched_next_batch(L->job->sched, r - 1, now, L->m->batch, items);
+            if (k == 0)
                 continue;
             if (L->job->t_first == 0)
                 L->job->t_first = now;
-            if (!master_send_item(L, r, item, d))
+            if (!master_send_batch(L, r, items, k, d))
                 L->failed = true;
             sent = true;
         }
@@ -349,10 +394,16 @@ static void master_lose(master_loop *L, int r, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(why, sizeof why, fmt, ap);
     va_end(ap);
-    master_mark_lost(L->m, r, w->n, "%s", why);
-    for (int k = 0; k < w->n && !L->failed; k++)
-        if (!sched_requeue(L->job->sched, w->item[(w->head + k) % PROTO_IN_FLIGHT]))
-            L->failed = true; /* (out of memory: the render cannot end well) */
+    int held = 0;
+    for (int k = 0; k < w->n; k++)
+        held += w->count[(w->head + k) % PROTO_IN_FLIGHT];
+    master_mark_lost(L->m, r, held, "%s", why);
+    for (int k = 0; k < w->n && !L->failed; k++) {
+        int pos = (w->head + k) % PROTO_IN_FLIGHT;
+        for (int i = 0; i < w->count[pos] && !L->failed; i++)
+            if (!sched_requeue(L->job->sched, w->item[pos][i]))
+                L->failed = true; /* (out of memory: the render cannot end well) */
+    }
     sched_release(L->job->sched, r - 1);
     master_write_off(L, r);
 }
@@ -378,7 +429,7 @@ static int master_check_workers(master_loop *L)
             continue;
         if (master_peer_gone(L->m, r))
             master_lose(L, r, "its process is gone");
-        else if (limit > 0 && w->n > 0 && now - w->since > limit)
+        else if (limit > 0 && w->n > 0 && now - w->since > limit * w->count[w->head])
             master_lose(L, r, "no answer for %.1f s", now - w->since);
         else
             live++;
@@ -405,34 +456,62 @@ static void master_close_sends(master_loop *L)
 
 /* ---- answers ---------------------------------------------------------------- */
 
-/* A RESULT for item `item` of the job: checked, stored, counted. */
-static bool master_take_result(master_job *job, const link_msg *msg, int item, csg_diag *d)
+/* The bytes of the RESULT for items[0 .. k - 1]. */
+static size_t master_result_bytes(const master_job *job, const int *items, int k)
+{
+    size_t len = 0;
+    for (int i = 0; i < k; i++) {
+        tile_rect r = job->sched->items[items[i]].rect;
+        len = proto_align(len) + proto_result_part((size_t)r.width * (size_t)r.height);
+    }
+    return len;
+}
+
+/* Part `part` of a RESULT (its size already checked) for item `item`:
+ * checked, stored, counted. */
+static bool master_take_part(master_job *job, const link_msg *msg, const char *part, int item,
+                             csg_diag *d)
 {
     const sched_item *it = &job->sched->items[item];
     tile_rect r = it->rect;
     size_t n = (size_t)r.width * (size_t)r.height;
     proto_result h;
-    if (msg->len != sizeof h + n * 3 * sizeof(float)) {
-        csg_error_plain(d, "worker %d: result of tile %d has %zu bytes, expected %zu",
-                        msg->source, it->tile, msg->len, sizeof h + n * 3 * sizeof(float));
-        return false;
-    }
-    memcpy(&h, msg->data, sizeof h);
+    memcpy(&h, part, sizeof h);
     if (h.index != it->tile || h.hits > n * (size_t)job->grid.spp) {
         csg_error_plain(d, "worker %d: result for tile %d does not match tile %d sent",
                         msg->source, (int)h.index, it->tile);
         return false;
     }
-    /* msg->data is malloc'd and sizeof h a multiple of 8: floats aligned */
-    tile_store_rgb(job->image, job->grid.width, r,
-                   (const float *)(const void *)(msg->data + sizeof h));
+    /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
+     * multiple of 8: floats aligned */
+    tile_store_rgb(job->image, job->grid.width, r, (const float *)(const void *)(part + sizeof h));
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
     master_job_count(job, &job->workers[msg->source - 1], msg->source, item, &res, stats_clock());
     return true;
 }
 
-/* One message from a worker, taken: the answer to its oldest item. */
+/* A RESULT for items[0 .. k - 1] of the job: checked, stored, counted. */
+static bool master_take_result(master_job *job, const link_msg *msg, const int *items, int k,
+                               csg_diag *d)
+{
+    size_t expected = master_result_bytes(job, items, k);
+    if (msg->len != expected) {
+        csg_error_plain(d, "worker %d: result of tile %d has %zu bytes, expected %zu",
+                        msg->source, job->sched->items[items[0]].tile, msg->len, expected);
+        return false;
+    }
+    size_t at = 0;
+    for (int i = 0; i < k; i++) {
+        if (!master_take_part(job, msg, msg->data + at, items[i], d))
+            return false;
+        tile_rect r = job->sched->items[items[i]].rect;
+        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height));
+    }
+    return true;
+}
+
+/* One message from a worker, taken: the answer to its oldest batch. */
 static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
 {
     int src = msg->source;
@@ -447,7 +526,8 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         return;
     }
     master_worker *w = &L->w[src];
-    int item = w->item[w->head];
+    const int *items = w->item[w->head];
+    int k = w->count[w->head];
     w->head = (w->head + 1) % PROTO_IN_FLIGHT;
     w->n--;
     w->since = stats_clock(); /* the next item's turn */
@@ -465,7 +545,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     else if (L->failed)
         ok = msg->len >= sizeof(proto_result); /* draining: an answer, not stored */
     else
-        ok = master_take_result(L->job, msg, item, d);
+        ok = master_take_result(L->job, msg, items, k, d);
     if (!ok) {
         L->failed = true;
         master_write_off(L, src);
@@ -532,7 +612,7 @@ static bool master_done(const master_loop *L)
 static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 {
     link_msg msg = {NULL, 0, 0, 0, 0};
-    size_t limit = proto_master_limit(L->job->grid.pixels_max);
+    size_t limit = proto_master_limit(L->job->grid.pixels_max, L->m->batch);
     while (!master_done(L)) {
         bool worked = master_feed(L, d);
         worked |= master_dispatch(L, d);
@@ -552,8 +632,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
 {
-    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w),
-                     proto_worker_limit(&job->grid), 0, false, false};
+    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false};
     link_idle own;
     link_idle *idle = job->idle ? job->idle : &own;
     bool ok = false;

@@ -36,6 +36,10 @@ typedef struct {
     bool *lost;               /* [r]: rank r's process is gone (NULL:
                                  out of memory, nobody is ever lost)      */
     int workers_lost;         /* how many                                 */
+    int batch;                /* items in one TILE at most: set before
+                                 master_share_scene (0: auto, --batch),
+                                 the limit in force after it              */
+    uint64_t tile_messages;   /* TILE messages sent                       */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
 } master_session;
@@ -74,7 +78,8 @@ void master_begin(master_session *m, int ranks);
  * lends it one (master_job.idle) to wake from another thread. */
 bool master_idle_init(link_idle *idle);
 
-/* Broadcasts the status, then (status 0) the blob. */
+/* Broadcasts the status and the batch limit (m->batch resolved with
+ * sched_batch_limit), then (status 0) the blob. */
 void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob);
 
 /* Handshake, then every item of job->sched through the workers, feeding

@@ -20,20 +20,26 @@
  *    and allocates its tile buffers (workers/tile.h: tile_runner).
  * 2. Handshake: every worker sends the master exactly one message,
  *      PROTO_TAG_READY (proto_ready)  or  PROTO_TAG_FAIL (proto_fail).
- * 3. Work (demand-driven: each worker is kept PROTO_IN_FLIGHT work items
- *    ahead, so it never waits on the master between two; the master's
- *    scheduler, host/schedule.h, decides which item goes next):
- *      master -> worker  PROTO_TAG_TILE    proto_tile: a rectangle inside
- *                                          tile `index` (the whole tile,
- *                                          or a piece of it)
+ * 3. Work (demand-driven: each worker is kept PROTO_IN_FLIGHT messages
+ *    of work ahead, so it never waits on the master between two; the
+ *    master's scheduler, host/schedule.h, decides which items go next and
+ *    how many go in one message, 1 .. proto_setup.batch):
+ *      master -> worker  PROTO_TAG_TILE    k >= 1 parts, each:
+ *                          proto_tile: a rectangle inside tile `index`
+ *                          (the whole tile, or a piece of it)
  *                          [PROTO_WORK_SHADE: the rectangle's packed hit
  *                           records, workers/tile.h (tile_pack_records)]
- *      worker -> master  PROTO_TAG_RESULT  proto_result + rgb[3 n] float,
- *                                          n = the rectangle's pixels
- *                   or   PROTO_TAG_FAIL    proto_fail
+ *      worker -> master  PROTO_TAG_RESULT  k parts, in the TILE's order,
+ *                                          each proto_result + rgb[3 n]
+ *                                          float, n = its pixels
+ *                   or   PROTO_TAG_FAIL    proto_fail (for the whole TILE)
+ *    Parts follow one another, each starting 8-byte aligned (zero bytes
+ *    pad the one before; nothing follows the last): a TILE of one part
+ *    is exactly the single item's header and payload.  k <= batch, the
+ *    limit broadcast in the setup (1: one item a message).
  *    Every TILE gets exactly one answer, in the order the TILEs were sent
  *    (a worker answers first in, first out), so an answer belongs to the
- *    oldest item the worker holds; a worker holds at most PROTO_IN_FLIGHT.
+ *    oldest TILE the worker holds; a worker holds at most PROTO_IN_FLIGHT.
  *    Large messages go in the background on both sides (link_isend): the
  *    master never waits on a busy worker, a worker never on the master.
  *    A worker whose answer breaks the protocol (wrong size, tile or tag)
@@ -54,6 +60,7 @@
 #define HOST_PROTOCOL_H
 
 #include <signal.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -80,7 +87,14 @@ typedef struct {
     int32_t status;     /* 0: the blob follows; else exit status      */
     int32_t tile;       /* tile edge in pixels                         */
     uint64_t blob_size; /* bytes of the blob broadcast next            */
+    int32_t batch;      /* parts in one TILE at most: 1 .. PROTO_BATCH_MAX */
+    int32_t pad;
 } proto_setup;
+
+/* The largest batch (--batch), and the most bytes a batch's RESULT may
+ * take (a batch of one may take more). */
+#define PROTO_BATCH_MAX 32
+#define PROTO_BATCH_BYTES ((size_t)2 << 20)
 
 typedef struct {
     int32_t status; /* 0 */
@@ -117,18 +131,51 @@ typedef struct {
     int32_t pad;
 } proto_stop;
 
-/* The largest message a worker can be sent: a TILE with the records of
- * the largest tile (a STOP is smaller). */
-static inline size_t proto_worker_limit(const tile_grid *g)
+/* Where the part after one that ends at `end` begins. */
+static inline size_t proto_align(size_t end)
 {
-    return sizeof(proto_tile) + tile_records_bytes(g, g->pixels_max);
+    return (end + 7) & ~(size_t)7;
 }
 
-/* The largest message the master can be sent: the RESULT of the largest
- * tile, or a FAIL. */
-static inline size_t proto_master_limit(size_t pixels_max)
+/* `batch` parts of at most `part` bytes each, aligned as above. */
+static inline size_t proto_batch_bytes(size_t part, int batch)
 {
-    size_t result = sizeof(proto_result) + pixels_max * 3 * sizeof(float);
+    return (size_t)(batch > 1 ? batch - 1 : 0) * proto_align(part) + part;
+}
+
+/* One TILE part: header, and the records (shade) of n pixels. */
+static inline size_t proto_tile_part(const tile_grid *g, bool shade, size_t n)
+{
+    return sizeof(proto_tile) + (shade ? tile_records_bytes(g, n) : 0);
+}
+
+/* One RESULT part: header and the rgb of n pixels. */
+static inline size_t proto_result_part(size_t n)
+{
+    return sizeof(proto_result) + n * 3 * sizeof(float);
+}
+
+/* `batch`, lowered so that a RESULT of that many tiles of pixels_max
+ * pixels stays within PROTO_BATCH_BYTES; at least 1. */
+static inline int proto_batch_fit(int batch, size_t pixels_max)
+{
+    while (batch > 1 && proto_batch_bytes(proto_result_part(pixels_max), batch) > PROTO_BATCH_BYTES)
+        batch--;
+    return batch;
+}
+
+/* The largest message a worker can be sent: a TILE of `batch` parts with
+ * the records of the largest tile (a STOP is smaller). */
+static inline size_t proto_worker_limit(const tile_grid *g, int batch)
+{
+    return proto_batch_bytes(proto_tile_part(g, true, g->pixels_max), batch);
+}
+
+/* The largest message the master can be sent: the RESULT of `batch` of
+ * the largest tiles, or a FAIL. */
+static inline size_t proto_master_limit(size_t pixels_max, int batch)
+{
+    size_t result = proto_batch_bytes(proto_result_part(pixels_max), batch);
     return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
 }
 

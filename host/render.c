@@ -713,11 +713,14 @@ static int render_job(const render_request *req, int ranks)
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
+    ms.batch = req->batch;
     master_share_scene(&ms, status, st.tile, &rs.blob);
     mk.loaded = stats_clock();
     st.blob_bytes = rs.blob.size;
     if (status == EXIT_OK)
         status = render_image(req, &ms, &rs, &st, &mk, &d);
+    st.batch = ms.batch;
+    st.tile_messages = ms.tile_messages;
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
     st.workers_lost = ms.workers_lost;

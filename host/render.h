@@ -44,6 +44,8 @@ typedef struct {
     int schedule;             /* enum sched_policy (host/schedule.h);
                                  < 0: the mode's default (hetero: cost,
                                  else raster)                          */
+    int batch;                /* work items in one message at most
+                                 (--batch); 0: auto (host/schedule.h)  */
     const csg_parse_options *parse; /* clock, library folders, messages;
                                        NULL: the defaults (image_width and
                                        image_height are always the render's) */

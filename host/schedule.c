@@ -19,6 +19,7 @@
  */
 #include "schedule.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -113,6 +114,7 @@ static void sched_swap(int *v, int i, int j)
 
 static void sched_heap_push(sched *s, int item)
 {
+    s->heap_estimate += s->items[item].estimate;
     int i = s->heap_n++;
     s->heap[i] = item;
     while (i > 0 && sched_before(s, s->heap[i], s->heap[(i - 1) / 2])) {
@@ -124,6 +126,7 @@ static void sched_heap_push(sched *s, int item)
 static int sched_heap_pop(sched *s)
 {
     int top = s->heap[0];
+    s->heap_estimate = s->heap_n > 1 ? s->heap_estimate - s->items[top].estimate : 0.0;
     s->heap[0] = s->heap[--s->heap_n];
     for (int i = 0;;) {
         int l = 2 * i + 1, r = l + 1, best = i;
@@ -166,11 +169,16 @@ bool sched_add(sched *s, int tile, tile_rect r)
         s->fifo[s->fifo_n++] = item;
     }
     s->added++;
+    s->known++;
+    double e = s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
+    s->added_estimate += e;
+    s->max_estimate = e > s->max_estimate ? e : s->max_estimate;
     return true;
 }
 
 bool sched_skip(sched *s, int tile, tile_rect r)
 {
+    s->known++;
     return sched_new_item(s, tile, r, 0, true) >= 0;
 }
 
@@ -315,6 +323,79 @@ void sched_release(sched *s, int w)
 bool sched_finished(const sched *s)
 {
     return s->closed && s->front_head >= s->front_n && sched_waiting(s) == 0;
+}
+
+int sched_batch_limit(int requested, int workers, int max)
+{
+    int limit = requested > 0                     ? requested
+                : workers >= SCHED_BATCH_WORKERS ? SCHED_BATCH_AUTO
+                                                  : 1;
+    return limit < 1 ? 1 : limit > max ? max : limit;
+}
+
+/* Messages in one spread of the ready items over every worker. */
+static int sched_round(const sched *s)
+{
+    return s->workers * s->in_flight * SCHED_BATCH_SPREAD;
+}
+
+/* Tiles not known yet (the pass has not reached them), counted as
+ * `per_tile` each (what a known tile adds on average, skipped ones 0). */
+static double sched_unknown(const sched *s, double per_tile_total)
+{
+    int unknown = s->closed || s->known == 0 ? 0 : s->tiles - s->known;
+    return unknown > 0 ? unknown * per_tile_total / s->known : 0.0;
+}
+
+int sched_batch(const sched *s, int limit)
+{
+    if (limit <= 1 || sched_in_tail(s) || s->front_head < s->front_n)
+        return 1; /* (tail: the last tiles go as single quarters) */
+    double left = sched_waiting(s) + sched_unknown(s, s->added);
+    double b = ceil(left / sched_round(s));
+    return b < 1 ? 1 : b > limit ? limit : (int)b;
+}
+
+/* Raster: the next `want` tiles of the FIFO become every (ready / want)-th
+ * one, so a batch spreads over the image instead of taking a run of
+ * neighbours (whose costs go together). */
+static void sched_spread(sched *s, int want)
+{
+    int head = s->fifo_head, stride = (s->fifo_n - head) / want;
+    for (int k = 1; k < want && stride > 1; k++)
+        sched_swap(s->fifo, head + k, head + k * stride);
+}
+
+/* The estimate of the item sched_next would hand out next (0: none). */
+static double sched_peek_estimate(const sched *s)
+{
+    if (s->again_head < s->again_n)
+        return s->items[s->again[s->again_head]].estimate;
+    return s->heap_n > 0 ? s->items[s->heap[0]].estimate : 0.0;
+}
+
+int sched_next_batch(sched *s, int w, double now, int limit, int *out)
+{
+    int want = sched_batch(s, limit), k = 0;
+    bool fresh = s->again_head == s->again_n;
+    if (want > 1 && fresh && !sched_by_cost(s) && s->policy != SCHED_STATIC)
+        sched_spread(s, want);
+    /* cost: a batch costs at most its share of the estimate left, or the
+     * largest tile's when that is more (a worker takes that long on one
+     * tile anyway), so the costliest tiles go alone */
+    double left = (s->heap_estimate + sched_unknown(s, s->added_estimate)) / sched_round(s);
+    double budget = !sched_by_cost(s) || want < 2 ? 0.0
+                    : left > s->max_estimate     ? left
+                                                 : s->max_estimate;
+    for (double sum = 0.0; k < want; k++) {
+        double next = sched_peek_estimate(s);
+        if (k > 0 && budget > 0 && sum + next > budget)
+            break;
+        if ((out[k] = sched_next(s, w, now)) < 0)
+            break;
+        sum += s->items[out[k]].estimate;
+    }
+    return k;
 }
 
 bool sched_done(sched *s, int item)

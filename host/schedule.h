@@ -19,6 +19,22 @@
  *           quarters, so the last workers finish within a quarter tile of
  *           each other (VM_pRAY's small work items, at the end only).
  *
+ * Batches (--batch): the master may hand a worker several items in one
+ * message (sched_next_batch).  sched_batch_limit says how many at most
+ * (auto: 1 unless the workers are many).  How many the next message
+ * takes follows guided self-scheduling: a batch is its share of what is
+ * left (ready, and the tiles the pass has not reached yet, extrapolated
+ * from those it has) spread over SCHED_BATCH_SPREAD rounds of every
+ * worker's in-flight messages, so batches are large while much is left
+ * and 1 near the end (and once tail splits): the tail stays
+ * fine-grained.  The share is counted in items; with estimates (cost,
+ * tail) a batch also costs at most the larger of its share of the
+ * estimate left and the largest tile's estimate: the costliest tiles go
+ * alone, cheap ones together.  A batch only takes tiles that are ready.  A raster batch
+ * takes every (ready / size)-th ready tile, not a run of neighbours:
+ * neighbouring tiles cost alike, and a batch of expensive neighbours
+ * would make the tail.
+ *
  * A worker that is lost (its process died) hands its items back
  * (sched_requeue): they go out again before anything else, to whoever
  * asks; sched_release gives a lost worker's static share to the others.
@@ -38,6 +54,9 @@
 enum sched_policy { SCHED_RASTER, SCHED_COST, SCHED_STATIC, SCHED_TAIL, SCHED_POLICIES };
 
 #define SCHED_TAIL_TILES_PER_SLOT 2
+#define SCHED_BATCH_WORKERS 32 /* auto: batches from this many workers on  */
+#define SCHED_BATCH_AUTO 8     /* auto: at most this many items a message   */
+#define SCHED_BATCH_SPREAD 4
 
 typedef struct {
     tile_rect rect;
@@ -71,6 +90,10 @@ typedef struct {
     int fifo_head, fifo_n;
     int *heap;          /* cost order: a max-heap of ready tiles          */
     int heap_n;
+    double heap_estimate; /* the sum of their estimates                  */
+    int known;          /* tiles added or skipped so far                  */
+    double added_estimate; /* the estimates of every tile added          */
+    double max_estimate;   /* the largest of them                        */
     int *next_of;       /* static: the next item of the same worker      */
     int *first, *last;  /* static: each worker's queue (-1: empty)        */
     int added;          /* tiles added (not skipped), for static         */
@@ -112,6 +135,16 @@ bool sched_requeue(sched *s, int item);
 void sched_release(sched *s, int w);
 /* Closed and every item handed out. */
 bool sched_finished(const sched *s);
+/* The most items one message may carry: `requested` (--batch N, 1 ..
+ * max) or, for 0 (auto), SCHED_BATCH_AUTO from SCHED_BATCH_WORKERS
+ * workers on and 1 below. */
+int sched_batch_limit(int requested, int workers, int max);
+/* How many items the next message may take, 1 .. limit
+ * (sched_next_batch may cut it by the estimates). */
+int sched_batch(const sched *s, int limit);
+/* The items of the next message for worker w, at most `limit`, into
+ * out[] (each handed out as by sched_next); how many (0: none ready). */
+int sched_next_batch(sched *s, int w, double now, int limit, int *out);
 /* Item `item` is done; true when that completes its tile. */
 bool sched_done(sched *s, int item);
 

@@ -151,6 +151,8 @@ void stats_print_json(FILE *f, const render_stats *s)
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
     fprintf(f, "  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n", s->tiles_resumed,
             s->tiles_sent);
+    fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
+            (unsigned long long)s->tile_messages);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,
             s->items_reassigned);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n  \"max_rays_per_pixel\": %d,\n"

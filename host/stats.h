@@ -58,6 +58,10 @@
  *                 in-process without any)
  *   items_sent    work items sent: tiles_sent, plus 3 for each tile the
  *                 tail scheduler split into quarters, plus items_reassigned
+ *   batch         work items one message may carry at most (--batch; 1
+ *                 without workers)
+ *   tile_messages TILE messages the master sent (items_sent when batch
+ *                 is 1; 0 without workers)
  *   workers_lost  workers lost during the render (their process died, or
  *                 they hung: host/master.c); the render went on without
  *                 them
@@ -131,6 +135,8 @@ typedef struct render_stats {
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */
+    int batch;                                    /* (above)            */
+    uint64_t tile_messages;
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;

@@ -12,6 +12,11 @@
 #     message, no image;
 #   - the stats JSON holds every field, and its counts add up; the phases
 #     add up to wall_s within a millisecond;
+#   - batches (--batch N: several items a TILE, one RESULT for them):
+#     serial == homo == hetero with odd parts (tile 7: padding between
+#     parts; both precisions), every schedule, and fewer TILE messages
+#     than items; a rogue worker's batched answer with a part for the
+#     wrong tile, or with too few parts, is refused;
 #   - every --schedule (raster, cost, static, tail), homo and hetero, on
 #     1 to 5 ranks: the same image as serial, and a tile log that covers
 #     every tile exactly once (whole or as pieces), agrees with the stats
@@ -296,6 +301,47 @@ for sched in raster cost static tail; do
     done
 done
 
+# ---- batches: several items a TILE, one RESULT for them --------------------------
+# batched FILE: more items than TILE messages, within the batch asked for.
+batched() {
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
+sys.exit(0 if j['batch'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] else 1)" "$@"
+}
+for sched in raster cost static tail; do
+    for mode in "${modes[@]}"; do
+        name=bat-$sched-$mode
+        if ! render "$name" 3 "$first" "${SZ[@]}" --mode "$mode" --tile 7 --batch 4 \
+            --schedule "$sched" --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
+            bad "--batch 4 --schedule $sched, $mode, K=3 (exit: $(grep -m1 ': error: ' "$TMP/$name.err"))"
+        elif ! same "$R" "$name"; then
+            bad "--batch 4 --schedule $sched, $mode, K=3: pixels differ from serial"
+        elif ! check_stats "$TMP/$name.json" "$mode" 3 2>"$TMP/$name.py" ||
+            ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
+            bad "--batch 4 --schedule $sched, $mode, K=3: $(tail -1 "$TMP/$name.py")"
+        elif ! batched "$TMP/$name.json" 4; then
+            bad "--batch 4 --schedule $sched, $mode, K=3: not batched ($(grep -E '"(batch|tile_messages|items_sent)"' "$TMP/$name.json" | tr -d '\n ')"
+        else
+            ok "--batch 4 --schedule $sched, $mode, K=3, tile 7: == serial, fewer messages than items"
+        fi
+    done
+done
+render_same "double homo K=3 tile 7 --batch 3 == serial" dbl-ref dbl-bh3 3 "$first" "${SZ[@]}" \
+    --mode homo --tile 7 --precision double --batch 3
+[ $have_cl = 1 ] && render_same "double hetero K=3 tile 7 --batch 32 == serial" dbl-ref dbl-bx3 3 \
+    "$first" "${SZ[@]}" --mode hetero --tile 7 --precision double --batch 32
+MPIX="--mca btl tcp,self" render_same "homo K=3 --batch 4 over TCP == serial" "$R" m-btcp 3 \
+    "$first" "${SZ[@]}" --mode homo --tile 16 --batch 4
+if render bat-auto 3 "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/bat-auto.json" &&
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
+sys.exit(0 if j['batch'] == 1 and j['tile_messages'] == j['items_sent'] else 1)" "$TMP/bat-auto.json"; then
+    ok "--batch auto with 2 workers: one item a message"
+else
+    bad "--batch auto with 2 workers: $(grep -E '"(batch|tile_messages|items_sent)"' "$TMP/bat-auto.json" | tr -d '\n ')"
+fi
+render bat-bad 0 "$first" "${SZ[@]}" --mode serial --batch 33
+rc=$?
+check "--batch 33 (over 32): exit 2, one message (got $rc)" test $rc = 2 -a "$(error_lines bat-bad)" = 1
+
 # ---- failures ------------------------------------------------------------------
 printf 'sphere { <0, 0, 0>, 1 \n  pigment { color rgb <1, 0, 0> }\n  @@@ }\n' >"$TMP/bad.pov"
 render bad-h3 3 "$TMP/bad.pov" "${SZ[@]}" --mode homo
@@ -330,6 +376,16 @@ for mode in big short index tag; do
         >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
     rc=$?
     check "rogue worker ($mode): exit 1, one message naming worker 1, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
+        -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$TMP/rogue-$mode.exr"
+done
+for mode in part one; do
+    [ -x "$ROGUE" ] || continue
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
+        "$first" "${SZ[@]}" --mode homo --tile 8 --batch 4 -o "$TMP/rogue-$mode.exr" \
+        : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
+    rc=$?
+    check "rogue worker, batch of 4 ($mode): exit 1, one message naming worker 1, no image (got $rc)" \
         test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
         -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$TMP/rogue-$mode.exr"
 done

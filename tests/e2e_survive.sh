@@ -3,7 +3,8 @@
 # (host/link.c: the watchdog sockets; host/master.c: lost workers):
 #   - a worker SIGKILLed mid-render (homo and hetero, 3 and 4 ranks): exit
 #     0, the serial image bit for bit, stats workers_lost = 1 and
-#     items_reassigned >= 1, one line on stderr naming the worker;
+#     items_reassigned >= 1, one line on stderr naming the worker; also
+#     inside a batch (--batch 4: several items a message);
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
 #   - a worker dead before its handshake; one dead during the scene
@@ -127,6 +128,22 @@ for mode in "${modes[@]}"; do
         [ -n "$why" ] && fails="$fails [$i: $why]"
     done
     case_check "every worker SIGKILLed ($mode, $np ranks): the master finishes, exit 0, serial image" "$fails"
+done
+
+# Batches (--batch 4): worker 2 killed on the second item of its second
+# batch; every item of the batches it held goes to the others.
+for mode in "${modes[@]}"; do
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        name=batch-$mode-$i
+        CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=5 run "$name" 3 --mode "$mode" --batch 4
+        why=$(survived "$name" 1 2)
+        if [ -z "$why" ] && ! json "$T/$name.json" "j['batch'] == 4 and j['tile_messages'] < j['items_sent']"; then
+            why="not batched: $(grep -E '"(batch|tile_messages|items_sent)"' "$T/$name.json" | tr -d '\n ')"
+        fi
+        [ -n "$why" ] && fails="$fails [$i: $why]"
+    done
+    case_check "worker 2 SIGKILLed inside a batch ($mode, 3 ranks, --batch 4): exit 0, serial image, its items reassigned" "$fails"
 done
 
 # Other moments and transports: a worker dead before its handshake; a

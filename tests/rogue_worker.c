@@ -12,6 +12,9 @@
  *   short   a RESULT whose size does not fit the tile
  *   index   a well-sized RESULT for another tile
  *   tag     a message with a tag the protocol does not have
+ *   part    (run with --batch N > 1, homo) a well-sized RESULT for every
+ *           part of a batched TILE, the last part naming another tile
+ *   one     (--batch N > 1) a RESULT for the first part of a batch only
  * then waits for STOP and exits 0.  The master must report one error,
  * exit 1 and write no image, without taking the bytes it was not owed.
  */
@@ -22,9 +25,48 @@
 #include "../host/link.h"
 #include "../host/protocol.h"
 
+/* The parts of homo TILE `in` (headers only, 8-byte aligned) into
+ * t[0 .. n - 1]; n. */
+static int rogue_parts(const link_msg *in, proto_tile *t, int cap)
+{
+    int n = 0;
+    for (size_t at = 0; at + sizeof *t <= in->len && n < cap; at = proto_align(at + sizeof *t))
+        memcpy(&t[n++], in->data + at, sizeof *t);
+    return n;
+}
+
+/* Batch modes: a RESULT for the parts of `in` (part: all, the last one
+ * for the wrong tile; one: the first only). */
+static void rogue_batch_reply(const char *mode, const link_msg *in)
+{
+    proto_tile t[PROTO_BATCH_MAX];
+    int n = rogue_parts(in, t, PROTO_BATCH_MAX);
+    if (strcmp(mode, "one") == 0)
+        n = 1;
+    size_t len = 0;
+    for (int i = 0; i < n; i++)
+        len = proto_align(len) + proto_result_part((size_t)t[i].width * (size_t)t[i].height);
+    char *msg = calloc(1, len);
+    if (!msg)
+        exit(3);
+    len = 0;
+    for (int i = 0; i < n; i++) {
+        proto_result r = {t[i].index + (n > 1 && i == n - 1), 0, 0, 0, 0, 0, 0, 0};
+        len = proto_align(len);
+        memcpy(msg + len, &r, sizeof r);
+        len += proto_result_part((size_t)t[i].width * (size_t)t[i].height);
+    }
+    link_send(LINK_MASTER, PROTO_TAG_RESULT, msg, len);
+    free(msg);
+}
+
 /* The reply to the tile in `in` that MODE asks for. */
 static void rogue_reply(const char *mode, const link_msg *in)
 {
+    if (strcmp(mode, "part") == 0 || strcmp(mode, "one") == 0) {
+        rogue_batch_reply(mode, in);
+        return;
+    }
     proto_tile t;
     memcpy(&t, in->data, sizeof t);
     size_t pixels = (size_t)t.width * (size_t)t.height;

@@ -10,6 +10,13 @@
  *   - a lost worker's items (sched_requeue) go out again before anything
  *     else, and `finished` waits for them; a lost worker's static share
  *     (sched_release) goes to the others, also tiles added later;
+ *   - batches: the limit (--batch N, auto: 1 below SCHED_BATCH_WORKERS
+ *     workers), the size of each message from the items ready (large
+ *     first, never above the limit, 1 at the end and in tail's split
+ *     phase, requeued items and tiles the pass has not reached counted),
+ *     raster batches spread over the image, cost batches cut by their
+ *     share of the estimates, every item exactly once; the
+ *     protocol's batch sizes (parts 8-byte aligned, the RESULT cap);
  *   - the estimate ranks a mirror sphere over a matte one over the
  *     background, from a real flattened scene and hand-made records;
  *   - Spearman: +1, -1, ties, and NaN where it is undefined.
@@ -25,6 +32,7 @@
 
 #include "../csg/lang/parser.h"
 #include "../host/estimate.h"
+#include "../host/protocol.h"
 #include "../host/schedule.h"
 
 /* Estimates from a table: the tile at x / 16 costs cost[x / 16] per pixel
@@ -280,6 +288,195 @@ static void test_estimate_ranks_materials(void **state)
     csg_scene_free(&sc);
 }
 
+static void test_batch_limit(void **state)
+{
+    (void)state;
+    assert_int_equal(sched_batch_limit(4, 2, 32), 4);   /* asked: whatever the workers */
+    assert_int_equal(sched_batch_limit(40, 2, 32), 32); /* within the protocol's */
+    assert_int_equal(sched_batch_limit(0, SCHED_BATCH_WORKERS - 1, 32), 1);
+    assert_int_equal(sched_batch_limit(0, SCHED_BATCH_WORKERS, 32), SCHED_BATCH_AUTO);
+    assert_int_equal(sched_batch_limit(0, 1024, 4), 4);
+    assert_int_equal(sched_batch_limit(-3, 1024, 32), SCHED_BATCH_AUTO);
+}
+
+/* Hands everything out in messages the way master.c does
+ * (sched_next_batch); the sizes into sizes[], their count. */
+static int drain_batches(sched *s, int limit, int *sizes, int cap, bool *seen)
+{
+    int n = 0, got[PROTO_BATCH_MAX];
+    while (n < cap) {
+        int k = sched_next_batch(s, n % s->workers, 0.0, limit, got);
+        assert_true(k >= 0 && k <= limit);
+        if (k == 0)
+            break;
+        for (int i = 0; i < k; i++) {
+            assert_false(seen[got[i]]);
+            seen[got[i]] = true;
+        }
+        sizes[n++] = k;
+    }
+    return n;
+}
+
+/* Large messages while much is ready, shrinking to 1; every item once. */
+static void test_batch_sizes(void **state)
+{
+    (void)state;
+    sched s;
+    int sizes[256];
+    bool seen[160] = {false};
+    filled(&s, SCHED_RASTER, 4, 160, NULL, NULL); /* 4 workers x 2 in flight */
+    assert_int_equal(sched_batch(&s, 1), 1);        /* limit 1: one item a message */
+    assert_int_equal(sched_batch(&s, 4), 4);        /* 160 / 32, capped */
+    assert_int_equal(sched_batch(&s, 32), 5);       /* 160 / (4 x 2 x SCHED_BATCH_SPREAD) */
+    int n = drain_batches(&s, 8, sizes, 256, seen), total = 0;
+    for (int i = 0; i < n; i++) {
+        total += sizes[i];
+        if (i > 0)
+            assert_true(sizes[i] <= sizes[i - 1]); /* never grows: nothing was added */
+    }
+    assert_int_equal(total, 160);
+    assert_int_equal(sizes[0], 5);
+    assert_int_equal(sizes[n - 1], 1);
+    assert_true(n < 160 / 2); /* far fewer messages than items */
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+}
+
+/* Raster: a batch takes every (ready / size)-th tile, not neighbours. */
+static void test_batch_spread(void **state)
+{
+    (void)state;
+    sched s;
+    int got[PROTO_BATCH_MAX];
+    filled(&s, SCHED_RASTER, 4, 160, NULL, NULL);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 5); /* 160 / 32: stride 32 */
+    for (int i = 0; i < 5; i++)
+        assert_int_equal(s.items[got[i]].tile, 32 * i);
+    bool seen[160] = {false};
+    for (int i = 0; i < 5; i++)
+        seen[s.items[got[i]].tile] = true;
+    assert_int_equal(sched_next_batch(&s, 1, 0.0, 8, got), 5); /* 155 ready: stride 31 */
+    assert_int_equal(s.items[got[0]].tile, 5); /* (tiles 1 .. 4 went where 32 .. 128 were) */
+    assert_int_equal(s.items[got[1]].tile, 36);
+    for (int i = 0; i < 5; i++) {
+        assert_false(seen[s.items[got[i]].tile]); /* none handed out twice */
+        seen[s.items[got[i]].tile] = true;
+    }
+    assert_int_equal(s.items[got[0]].order, 5);
+    sched_free(&s);
+}
+
+/* Cost: a batch costs at most the larger of its share of the estimate
+ * left and the largest tile: the costliest tiles go alone, cheap ones
+ * together, as many as the count allows. */
+static void test_batch_cost(void **state)
+{
+    (void)state;
+    double cost[64];
+    for (int i = 0; i < 64; i++)
+        cost[i] = i < 2 ? 100.0 : 1.0; /* two expensive tiles, 62 cheap */
+    sched s;
+    int got[PROTO_BATCH_MAX];
+    filled(&s, SCHED_COST, 1, 64, table_estimate, cost); /* 1 x 2 x 4 a round */
+    assert_int_equal(SCHED_BATCH_SPREAD, 4);
+    assert_true(fabs(s.heap_estimate - 262.0) < 1e-9);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 100 + 100 > 100 */
+    assert_int_equal(s.items[got[0]].tile, 0);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 100 + 1 > 100 */
+    assert_int_equal(s.items[got[0]].tile, 1);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 8); /* 62 items / 8, up */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 7); /* 54 / 8, up */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 4, got), 4);  /* the limit 4 */
+    assert_true(fabs(s.heap_estimate - 43.0) < 1e-9);
+    sched_free(&s);
+    for (int i = 0; i < 64; i++)
+        cost[i] = i < 8 ? 3.0 : 1.0; /* the largest tile: 3 */
+    filled(&s, SCHED_COST, 1, 64, table_estimate, cost);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 3); /* 80 / 8 = 10: 3 + 3 + 3 */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 2); /* 71 / 8 < 3 + 3 + 3 */
+    sched_free(&s);
+}
+
+/* Tail: once tiles are split, one piece a message. */
+static void test_batch_tail(void **state)
+{
+    (void)state;
+    double cost[16] = {9, 8, 7, 6, 5, 4, 3, 2, 1, 1, 1, 1, 1, 1, 1, 1};
+    sched s;
+    filled(&s, SCHED_TAIL, 1, 16, table_estimate, cost); /* tail from 4 tiles left */
+    int pieces = 0, got[PROTO_BATCH_MAX], k;
+    while ((k = sched_next_batch(&s, 0, 0.0, 8, got)) > 0) {
+        for (int i = 0; i < k; i++) {
+            if (s.items[got[i]].piece > 0) {
+                assert_int_equal(k, 1);
+                pieces++;
+            }
+        }
+    }
+    assert_int_equal(pieces, 4 * 4);
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+}
+
+/* While the pass goes on, the tiles it has not reached count too, as
+ * the known ones do (skipped ones as nothing). */
+static void test_batch_unknown(void **state)
+{
+    (void)state;
+    double cost[128];
+    for (int i = 0; i < 128; i++)
+        cost[i] = 1.0;
+    sched s, c;
+    int got[PROTO_BATCH_MAX];
+    assert_true(sched_init(&s, SCHED_RASTER, 1, 2, 128, NULL, NULL));
+    assert_true(sched_init(&c, SCHED_COST, 1, 2, 128, table_estimate, cost));
+    for (int i = 0; i < 32; i++) { /* a quarter known: half of it skipped */
+        assert_true(i % 2 ? sched_skip(&s, i, rect_of(i)) : sched_add(&s, i, rect_of(i)));
+        assert_true(i % 2 ? sched_skip(&c, i, rect_of(i)) : sched_add(&c, i, rect_of(i)));
+    }
+    /* 16 ready + 96 unknown x 16 / 32 = 64 left: 64 / (1 x 2 x 4) = 8 */
+    assert_int_equal(sched_batch(&s, 32), 8);
+    /* the same in estimates: 64 / 8 = 8 tiles of 1 */
+    assert_int_equal(sched_next_batch(&c, 0, 0.0, 32, got), 8);
+    sched_close(&s);
+    assert_int_equal(sched_batch(&s, 32), 2); /* closed: the 16 ready only */
+    sched_free(&s);
+    sched_free(&c);
+}
+
+/* A lost worker's items count as ready. */
+static void test_batch_requeued(void **state)
+{
+    (void)state;
+    sched s;
+    int got[40];
+    filled(&s, SCHED_RASTER, 1, 20, NULL, NULL); /* one worker: 2 x 4 a round */
+    assert_int_equal(drain(&s, 0, got, 20), 20);
+    assert_int_equal(sched_batch(&s, 8), 1); /* nothing ready */
+    for (int i = 0; i < 12; i++)
+        assert_true(sched_requeue(&s, got[i]));
+    assert_int_equal(sched_batch(&s, 8), 2); /* 12 / (1 x 2 x 4), rounded up */
+    sched_free(&s);
+}
+
+/* Parts start 8-byte aligned; nothing follows the last; the cap. */
+static void test_batch_bytes(void **state)
+{
+    (void)state;
+    size_t odd = proto_result_part(49); /* 49 pixels: 4 bytes short of 8 */
+    assert_int_equal(odd % 8, 4);
+    assert_int_equal(proto_batch_bytes(odd, 1), odd);
+    assert_int_equal(proto_batch_bytes(odd, 3), 2 * (odd + 4) + odd);
+    assert_int_equal(proto_master_limit(49, 1), odd > sizeof(proto_fail) ? odd : sizeof(proto_fail));
+    assert_int_equal(proto_batch_fit(8, 64 * 64), 8); /* 8 x 49 KB */
+    size_t big = 512 * 512;                         /* 3 MB a tile */
+    assert_int_equal(proto_batch_fit(8, big), 1);
+    int fit = proto_batch_fit(PROTO_BATCH_MAX, 128 * 128);
+    assert_true(fit > 1 && proto_batch_bytes(proto_result_part(128 * 128), fit) <= PROTO_BATCH_BYTES);
+    assert_true(proto_batch_bytes(proto_result_part(128 * 128), fit + 1) > PROTO_BATCH_BYTES);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -291,6 +488,14 @@ int main(void)
         cmocka_unit_test(test_static_release),
         cmocka_unit_test(test_tail_split),
         cmocka_unit_test(test_tail_one_pixel),
+        cmocka_unit_test(test_batch_limit),
+        cmocka_unit_test(test_batch_sizes),
+        cmocka_unit_test(test_batch_spread),
+        cmocka_unit_test(test_batch_cost),
+        cmocka_unit_test(test_batch_tail),
+        cmocka_unit_test(test_batch_unknown),
+        cmocka_unit_test(test_batch_requeued),
+        cmocka_unit_test(test_batch_bytes),
         cmocka_unit_test(test_spearman),
         cmocka_unit_test(test_estimate_ranks_materials),
     };

@@ -3,9 +3,9 @@
  *
  * Algorithm: take part in the setup broadcast; validate the blob and set
  * up a tile runner for it (workers/tile.h); send READY (or FAIL with the
- * reason); then answer every TILE with one RESULT (tile_run_rect over its
- * rectangle) or one FAIL, first in first out, until STOP, whose status is
- * returned.
+ * reason); then answer every TILE with one RESULT (tile_run_rect over the
+ * rectangle of each of its parts, the parts' answers in one message) or
+ * one FAIL, first in first out, until STOP, whose status is returned.
  *
  * Two items in flight (protocol.h): the master sends the next TILE while
  * this one is computed.  Before each item the worker takes every message
@@ -56,7 +56,9 @@ typedef struct {
                                      plain messages: link_bcast)          */
     int head, queued;     /* the oldest, and how many                 */
     size_t in_limit;      /* the largest message it may send us       */
-    char *out[PROTO_IN_FLIGHT];     /* proto_result + the largest rgb  */
+    int batch;            /* parts in one TILE at most (the setup's)  */
+    char *out[PROTO_IN_FLIGHT];     /* RESULTs: one part at first,    */
+    size_t out_cap[PROTO_IN_FLIGHT]; /* grown to a batch's bytes       */
     link_req out_req[PROTO_IN_FLIGHT]; /* their sends                 */
     int out_next;         /* the buffer of the next RESULT            */
 } worker_state;
@@ -97,11 +99,17 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
         worker_set_failure(w, "no valid tile size for the scene received");
         return;
     }
+    if (setup->batch < 1 || setup->batch > PROTO_BATCH_MAX) {
+        worker_set_failure(w, "no valid batch size received (%d)", (int)setup->batch);
+        return;
+    }
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     const tile_grid *g = &w->runner.grid;
-    w->in_limit = proto_worker_limit(g);
+    w->batch = setup->batch;
+    w->in_limit = proto_worker_limit(g, w->batch);
     for (int i = 0; i < PROTO_IN_FLIGHT; i++) {
-        w->out[i] = malloc(sizeof(proto_result) + g->pixels_max * 3 * sizeof(float));
+        w->out_cap[i] = proto_result_part(g->pixels_max);
+        w->out[i] = malloc(w->out_cap[i]);
         ok = ok && w->out[i];
     }
     if (!ok)
@@ -117,28 +125,91 @@ static void worker_send_fail(int index, const char *text)
     link_send(LINK_MASTER, PROTO_TAG_FAIL, &f, sizeof f);
 }
 
-/* The rectangle of message `in` (header h), its pixels into `out`; the
- * reason when the message does not describe a rectangle of one tile. */
-static const char *worker_do_tile(worker_state *w, const link_msg *in, const proto_tile *h,
-                                  char *out)
+/* The part of message `in` at offset `at`: its header into h, checked
+ * against its tile and the bytes that are there; where it ends, or 0 with
+ * the reason in *why. */
+static size_t worker_part(const worker_state *w, const link_msg *in, size_t at, proto_tile *h,
+                          const char **why)
 {
     const tile_grid *g = &w->runner.grid;
+    if (at > in->len || in->len - at < sizeof *h) {
+        *why = "truncated tile message";
+        return 0;
+    }
+    memcpy(h, in->data + at, sizeof *h);
     tile_rect r = {h->x, h->y, h->width, h->height};
-    if (!tile_rect_in_tile(g, h->index, r))
-        return "tile outside the image";
-    size_t records = tile_records_bytes(g, (size_t)r.width * (size_t)r.height);
-    const void *payload = NULL; /* hetero: the records follow the header (8-byte aligned) */
-    if (h->work == PROTO_WORK_SHADE && in->len == sizeof *h + records)
-        payload = in->data + sizeof *h;
-    else if (h->work != PROTO_WORK_RENDER || in->len != sizeof *h)
-        return "malformed tile message";
+    if (!tile_rect_in_tile(g, h->index, r)) {
+        *why = "tile outside the image";
+        return 0;
+    }
+    size_t part = proto_tile_part(g, h->work == PROTO_WORK_SHADE,
+                                  (size_t)r.width * (size_t)r.height);
+    if ((h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER) || in->len - at < part) {
+        *why = "malformed tile message";
+        return 0;
+    }
+    return at + part;
+}
+
+/* The rectangle of part h (at `at` in `in`), its answer into `out`. */
+static void worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
+                           char *out)
+{
+    tile_rect r = {h->x, h->y, h->width, h->height};
+    /* hetero: the records follow the header (8-byte aligned) */
+    const void *payload = h->work == PROTO_WORK_SHADE ? in->data + at + sizeof *h : NULL;
     tile_result res;
     tile_run_rect(&w->runner, r, payload, (float *)(void *)(out + sizeof(proto_result)), &res);
     proto_result head = {h->index,          res.hits,           res.rays.primary,
                          res.rays.shadow,   res.rays.reflected, res.rays.refracted,
                          res.rays.over_budget, res.busy_s};
     memcpy(out, &head, sizeof head);
-    return NULL;
+}
+
+/* RESULT buffer `slot` (its send done) holds `len` bytes. */
+static bool worker_room(worker_state *w, int slot, size_t len)
+{
+    if (w->out_cap[slot] >= len)
+        return true;
+    char *grown = realloc(w->out[slot], len);
+    if (!grown)
+        return false;
+    w->out[slot] = grown;
+    w->out_cap[slot] = len;
+    return true;
+}
+
+/* Every part of TILE `in` computed into RESULT buffer `slot`: the
+ * RESULT's length, or 0 with the reason in *why (h: the part that
+ * failed). */
+static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h, int slot,
+                              const char **why)
+{
+    size_t at = 0, len = 0;
+    for (int k = 0;; k++) {
+        if (k == w->batch) {
+            *why = "more parts in a tile message than the batch";
+            return 0;
+        }
+        size_t end = worker_part(w, in, at, h, why);
+        if (end == 0)
+            return 0;
+        if (k > 0)
+            proto_test_kill(w->rank, "item", w->tiles_done);
+        size_t start = proto_align(len);
+        size_t next = start + proto_result_part((size_t)h->width * (size_t)h->height);
+        if (!worker_room(w, slot, next)) {
+            *why = "out of memory for a batch of tiles";
+            return 0;
+        }
+        memset(w->out[slot] + len, 0, start - len); /* the padding between parts */
+        worker_do_part(w, in, at, h, w->out[slot] + start);
+        len = next;
+        w->tiles_done++;
+        if (end == in->len)
+            return len;
+        at = proto_align(end);
+    }
 }
 
 static void worker_answer_tile(worker_state *w, const link_msg *in)
@@ -159,19 +230,18 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         w->tiles_done++;
         return;
     }
-    int slot = w->out_next;
+    int slot = w->out_next, first = w->tiles_done;
     link_req_wait(&w->out_req[slot]); /* its last RESULT is delivered */
-    const char *why = worker_do_tile(w, in, &h, w->out[slot]);
-    if (why) {
+    const char *why = NULL;
+    size_t len = worker_do_parts(w, in, &h, slot, &why);
+    if (len == 0) {
         worker_send_fail(h.index, why);
         return;
     }
-    size_t n = (size_t)h.width * (size_t)h.height;
-    link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot],
-               sizeof(proto_result) + n * 3 * sizeof(float), &w->out_req[slot]);
-    proto_test_kill(w->rank, "send", w->tiles_done);
+    link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot], len, &w->out_req[slot]);
+    for (int i = first; i < w->tiles_done; i++)
+        proto_test_kill(w->rank, "send", i);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
-    w->tiles_done++;
 }
 
 /* Every RESULT sent is delivered. */

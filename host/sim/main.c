@@ -16,10 +16,12 @@
  * proportion to the time elapsed), tiles without hits are skipped, the
  * others queued with the map's estimate.  Homo: every tile at once.
  *
- * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically).
+ * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically);
+ * $CSGSIM_PASS_RATE (Mrays/s, one primary ray a pixel) replaces it by a
+ * measured device rate: pass_s = width x height / rate (bench/GPU.md).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
- *          --schedule raster|cost|static|tail --stats FILE.json
+ *          --schedule raster|cost|static|tail [--batch N] --stats FILE.json
  * writes makespan_s (scene broadcast to the last STOP), serial_s (every
  * item's seconds, plus the pass in hetero), efficiency and master_busy
  * (1 - the simulated seconds the master napped / makespan).
@@ -40,6 +42,7 @@ typedef struct {
     const char *scene, *stats, *mode_name;
     bool hetero;
     int width, height, tile, policy;
+    int batch;               /* --batch: 0 auto (master.h)               */
 } sim_args;
 
 typedef struct {
@@ -87,6 +90,8 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         return sim_int(v, 1, 4096, &a->tile);
     if (strcmp(key, "--schedule") == 0)
         return sim_policy(v, &a->policy);
+    if (strcmp(key, "--batch") == 0)
+        return sim_int(v, 1, PROTO_BATCH_MAX, &a->batch);
     if (strcmp(key, "--stats") == 0) {
         a->stats = v;
         return true;
@@ -96,7 +101,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1};
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -165,7 +170,8 @@ static int sim_feed(master_job *job, bool wait, csg_diag *d)
 
 typedef struct {
     double makespan_s, napped_s;
-    int items;
+    int items, batch;
+    uint64_t messages;       /* TILE messages                            */
 } sim_result;
 
 static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
@@ -177,10 +183,11 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
     fprintf(f, "{\"workers\": %d, \"mode\": \"%s\", \"schedule\": \"%s\", \"tile\": %d, "
                "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
                "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
-               "\"master_busy\": %.6f}\n",
+               "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
-            serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s);
+            serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
+            (unsigned long long)r->messages);
     return fclose(f) == 0;
 }
 
@@ -209,11 +216,13 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         sim_watch_naps(&idle.wake);
         double t0 = stats_clock();
         master_begin(&m, ranks);
+        m.batch = a->batch;
         master_share_scene(&m, 0, a->tile, blob);
         run->pass_t0 = stats_clock();
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
-        *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done};
+        *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
+                            m.tile_messages};
         link_idle_free(&idle);
         sched_free(&run->s);
     } else { /* out of memory before the start: the workers still need a STOP */
@@ -237,6 +246,27 @@ static double sim_pass_scale(void)
     char *end;
     double f = text ? strtod(text, &end) : 1;
     return text && end != text && !*end && f > 0 ? f : 1;
+}
+
+/* $CSGSIM_PASS_RATE in rays a second (bench/simulate.sh --pass-rate, in
+ * Mrays/s), 0 when unset or not a positive number. */
+static double sim_pass_rate(void)
+{
+    const char *text = getenv("CSGSIM_PASS_RATE");
+    char *end;
+    double mrays = text ? strtod(text, &end) : 0;
+    return text && end != text && !*end && mrays > 0 ? mrays * 1e6 : 0;
+}
+
+/* The pass's duration at the simulated size: the measured rate when one
+ * is given, else the map's pass scaled by the pixel count (and the
+ * factor). */
+static double sim_pass_seconds(const sim_costs *c, int width, int height)
+{
+    double pixels = (double)width * height, rate = sim_pass_rate();
+    if (rate > 0)
+        return pixels / rate;
+    return sim_pass_scale() * c->pass_s * pixels / ((double)c->width * c->height);
 }
 
 int main(int argc, char **argv)
@@ -268,9 +298,7 @@ int main(int argc, char **argv)
     run.hetero = a.hetero;
     run.width = a.width;
     run.height = a.height;
-    run.pass_s = a.hetero ? sim_pass_scale() * run.costs->pass_s * (double)a.width * a.height /
-                                ((double)run.costs->width * run.costs->height)
-                          : 0;
+    run.pass_s = a.hetero ? sim_pass_seconds(run.costs, a.width, a.height) : 0;
     ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1, &res);
     if (!blob.bytes) {
         master_session m;
