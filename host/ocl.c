@@ -1001,8 +1001,7 @@ bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_dia
     return ocl_open_kernel(opt, OCL_KERNEL_AUTO, out, timing, d);
 }
 
-bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
-                     ocl_timing *timing, csg_diag *d)
+bool ocl_open_device(const char *device, ocl_ctx **out, ocl_timing *timing, csg_diag *d)
 {
     double t_open = ocl_now();
     *out = NULL;
@@ -1011,24 +1010,14 @@ bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **o
         csg_error_plain(d, "out of memory");
         return false;
     }
-    c->use_double = opt->use_double;
-    c->max_slice_bytes = opt->max_slice_bytes;
-    c->features = opt->features ? csg_features_specialised(*opt->features)
-                                : csg_features_specialised(csg_features_all());
-    const char *sel = opt->device;
+    const char *sel = device;
     if (!sel || !*sel)
         sel = getenv("CSGTRACE_CL_DEVICE");
     if (sel && !*sel)
         sel = NULL;
     if (!ocl_pick_device(sel, &c->device, d))
         goto fail;
-    char name[256];
-    ocl_device_name(c->device, name, sizeof name);
-    snprintf(timing->device_name, sizeof timing->device_name, "%s", name);
-    if (!ocl_check_device(c, name, d) || !ocl_pick_kernel(c, kernel, d))
-        goto fail;
-    timing->compute_units = (int)c->compute_units;
-    ocl_kernel_name(c, timing->kernel, sizeof timing->kernel);
+    ocl_device_name(c->device, timing->device_name, sizeof timing->device_name);
     cl_int err;
     c->context = clCreateContext(NULL, 1, &c->device, NULL, NULL, &err);
     if (err != CL_SUCCESS) {
@@ -1040,15 +1029,44 @@ bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **o
         ocl_fail(d, "clCreateCommandQueue", err);
         goto fail;
     }
-    double t0 = ocl_now();
-    if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
-        goto fail;
-    timing->compile_s = ocl_now() - t0;
-    timing->setup_s = ocl_now() - t_open - timing->compile_s;
+    timing->setup_s = ocl_now() - t_open;
     *out = c;
     return true;
 fail:
     ocl_close(c);
+    return false;
+}
+
+bool ocl_open_program(ocl_ctx *c, const ocl_options *opt, enum ocl_kernel kernel,
+                      ocl_timing *timing, csg_diag *d)
+{
+    double t_open = ocl_now();
+    c->use_double = opt->use_double;
+    c->max_slice_bytes = opt->max_slice_bytes;
+    c->features = opt->features ? csg_features_specialised(*opt->features)
+                                : csg_features_specialised(csg_features_all());
+    const char *name = timing->device_name;
+    if (!ocl_check_device(c, name, d) || !ocl_pick_kernel(c, kernel, d))
+        return false;
+    timing->compute_units = (int)c->compute_units;
+    ocl_kernel_name(c, timing->kernel, sizeof timing->kernel);
+    double t0 = ocl_now();
+    if (!ocl_build(c, name, d) || !ocl_warm_up(c, d))
+        return false;
+    timing->compile_s = ocl_now() - t0;
+    timing->setup_s += t0 - t_open;
+    return true;
+}
+
+bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
+                     ocl_timing *timing, csg_diag *d)
+{
+    if (!ocl_open_device(opt->device, out, timing, d))
+        return false;
+    if (ocl_open_program(*out, opt, kernel, timing, d))
+        return true;
+    ocl_close(*out);
+    *out = NULL;
     return false;
 }
 

@@ -57,6 +57,15 @@ typedef struct {
 bool ocl_open_kernel(const ocl_options *opt, enum ocl_kernel kernel, ocl_ctx **out,
                      ocl_timing *timing, csg_diag *d);
 
+/* ocl_open_kernel in two halves, so the first can run while the scene is
+ * read (render.c): the device (opt->device's rule), its context and
+ * queue; then, on that context, the checks that depend on the scene
+ * (cl_khr_fp64 for double), the kernel variant and the program.  After a
+ * failed ocl_open_program the caller closes the context. */
+bool ocl_open_device(const char *device, ocl_ctx **out, ocl_timing *timing, csg_diag *d);
+bool ocl_open_program(ocl_ctx *c, const ocl_options *opt, enum ocl_kernel kernel,
+                      ocl_timing *timing, csg_diag *d);
+
 /* Makes the context's program able to run scenes that use `need`: kept
  * when it already covers them (csg_features_cover), else rebuilt for
  * exactly `need` (the time added to timing->compile_s).  A pass refuses

@@ -40,6 +40,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +69,48 @@
  * more when a tile row is smaller (each slice costs two launches). */
 #define RENDER_SLICE_MIN_RECORDS 2048
 
+/* Hetero: OpenCL's device, context and queue do not depend on the scene,
+ * so a thread opens them while the scene is read, flattened and sent
+ * (ocl_open_device); the program, which does, is built after
+ * (render_open_cl).  On a small frame the set-up was a tenth of the
+ * render, paid before the pass could start. */
+typedef struct {
+    pthread_t thread;
+    bool started;          /* the thread runs, or ran and is not joined */
+    const char *device;
+    ocl_ctx *ctx;          /* its result (NULL: failed, d says why)     */
+    ocl_timing tm;
+    csg_diag d;
+} render_cl_early;
+
+static void *render_cl_early_run(void *arg)
+{
+    render_cl_early *e = arg;
+    ocl_open_device(e->device, &e->ctx, &e->tm, &e->d);
+    return NULL;
+}
+
+static void render_cl_early_start(render_cl_early *e, const render_request *req)
+{
+    if (req->mode != MODE_HETERO || req->cl_keep)
+        return; /* (a kept context is the caller's) */
+    e->device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    e->started = pthread_create(&e->thread, NULL, render_cl_early_run, e) == 0;
+}
+
+/* The thread's context, once it is done (NULL, d filled: it failed). */
+static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_diag *d)
+{
+    pthread_join(e->thread, NULL);
+    e->started = false;
+    *tm = e->tm;
+    if (!e->ctx)
+        *d = e->d;
+    ocl_ctx *c = e->ctx;
+    e->ctx = NULL;
+    return c;
+}
+
 /* Everything one render owns; freed in render_free. */
 typedef struct {
     csg_blob blob;
@@ -82,6 +125,7 @@ typedef struct {
     bool own_ctx;
     ocl_pass *pass;        /* hetero: the pass, until ended              */
     ocl_timing tm;
+    render_cl_early early; /* hetero: the context opened meanwhile    */
     journal *journal;      /* the finished tiles, for --resume (NULL:
                               no output file)                           */
     link_idle idle;        /* the master's wait; the pass wakes it       */
@@ -108,6 +152,11 @@ static void render_free(render_state *rs)
     }
     if (rs->own_ctx)
         ocl_close(rs->ctx);
+    if (rs->early.started) { /* a render that failed before it needed it */
+        ocl_timing ignored;
+        csg_diag none;
+        ocl_close(render_cl_early_take(&rs->early, &ignored, &none));
+    }
     if (rs->idle_ready)
         link_idle_free(&rs->idle);
     csg_blob_free(&rs->blob);
@@ -242,6 +291,12 @@ static bool render_open_cl(const render_request *req, render_state *rs, csg_diag
         return false;
     ocl_options opt = {device, h->real_size == 8, 0, &features};
     rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
+    if (!rs->ctx && rs->early.started) {
+        rs->ctx = render_cl_early_take(&rs->early, &rs->tm, d);
+        rs->own_ctx = true; /* (closed by render_free, also when the build fails) */
+        return rs->ctx && ocl_open_program(rs->ctx, &opt, (enum ocl_kernel)req->cl_kernel,
+                                           &rs->tm, d);
+    }
     if (!rs->ctx && !ocl_open_kernel(&opt, (enum ocl_kernel)req->cl_kernel, &rs->ctx, &rs->tm, d))
         return false;
     if (req->cl_keep && !ocl_specialise(rs->ctx, features, &rs->tm, d))
@@ -700,6 +755,7 @@ static int render_job(const render_request *req, int ranks)
     memset(&rs, 0, sizeof rs);
     memset(&d, 0, sizeof d);
     render_stats_init(req, ranks, &st);
+    render_cl_early_start(&rs.early, req);
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &st, &d);
