@@ -196,12 +196,12 @@ static bool outputs_distinct(const cli_args *a, csg_diag *d)
 {
     const char *names[] = {"the scene", "the output (-o)", "the stats (--stats)",
                            "the tile log (--tile-log)", "the output's journal"};
-    char journal_name[PATH_MAX + sizeof JOURNAL_SUFFIX];
+    char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX];
     bool renders = a->command == CMD_RENDER && a->out_path;
     if (renders)
-        snprintf(journal_name, sizeof journal_name, "%s%s", a->out_path, JOURNAL_SUFFIX);
+        journal_name(a->out_path, journal_path, sizeof journal_path);
     const char *paths[] = {a->req.scene_path, a->out_path, a->req.stats_path,
-                           a->req.tile_log_path, renders ? journal_name : NULL};
+                           a->req.tile_log_path, renders ? journal_path : NULL};
     for (int i = 1; i < 5; i++)
         for (int j = 0; j < i; j++)
             if (paths[i] && paths[j] && file_same(paths[i], paths[j])) {

@@ -325,7 +325,8 @@ static journal *journal_alloc(const char *out_path, const tile_grid *g)
     j->g = *g;
     j->tiles = tile_count(g);
     j->buf_size = g->pixels_max * 3 * sizeof(float);
-    j->path = malloc(strlen(out_path) + sizeof JOURNAL_SUFFIX);
+    size_t path_size = strlen(out_path) + sizeof JOURNAL_SUFFIX;
+    j->path = malloc(path_size);
     j->resumed = calloc((size_t)j->tiles, sizeof *j->resumed);
     j->hits = calloc((size_t)j->tiles, sizeof *j->hits);
     j->buf = malloc(j->buf_size);
@@ -333,7 +334,7 @@ static journal *journal_alloc(const char *out_path, const tile_grid *g)
         journal_close(j, true);
         return NULL;
     }
-    sprintf(j->path, "%s%s", out_path, JOURNAL_SUFFIX);
+    journal_name(out_path, j->path, path_size);
     return j;
 }
 
@@ -400,6 +401,11 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
     signals_journal(j->path, j->written);
     *out = j;
     return EXIT_OK;
+}
+
+void journal_name(const char *out_path, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s", out_path, JOURNAL_SUFFIX);
 }
 
 /* ---- queries and the end ------------------------------------------------------------ */

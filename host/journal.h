@@ -38,6 +38,9 @@
 
 typedef struct journal journal;
 
+/* OUT's journal: OUT.journal, into buf (cut to size). */
+void journal_name(const char *out_path, char *buf, size_t size);
+
 /* Opens the journal of the render of `blob` (validated) to `out_path` in
  * tiles of g.  resume: the valid tiles of an existing journal are copied
  * into `image` (g->width x g->height RGB floats) and marked resumed; no

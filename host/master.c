@@ -291,25 +291,12 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
     return len;
 }
 
-/* Ring position pos of rank r can hold `len` bytes (its send is done). */
-static bool master_buffer(master_worker *w, int pos, size_t len)
-{
-    if (w->cap[pos] >= len)
-        return true;
-    char *grown = realloc(w->buf[pos], len);
-    if (!grown)
-        return false;
-    w->buf[pos] = grown;
-    w->cap[pos] = len;
-    return true;
-}
-
 /* Items items[0 .. k - 1] to rank r in one TILE. */
 static bool master_send_batch(master_loop *L, int r, const int *items, int k, csg_diag *d)
 {
     master_worker *w = &L->w[r];
     int pos = (w->head + w->n) % PROTO_IN_FLIGHT;
-    if (!master_buffer(w, pos, master_tile_bytes(L->job, items, k))) {
+    if (!proto_buffer(&w->buf[pos], &w->cap[pos], master_tile_bytes(L->job, items, k))) {
         csg_error_plain(d, "master: out of memory");
         return false;
     }

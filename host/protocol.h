@@ -191,6 +191,21 @@ static inline size_t proto_master_limit(size_t pixels_max, int batch)
  * the scene of the broadcast (done 0).  With CSGTRACE_TEST_HANG set too, it
  * hangs instead (this thread waits for ever).  Unset (always, outside the
  * tests): nothing. */
+/* *buf (*cap bytes; its send done) holds at least `len` bytes: grown when
+ * not (a batch's TILE on the master, its RESULT on a worker); false, the
+ * buffer unchanged, when out of memory. */
+static inline bool proto_buffer(char **buf, size_t *cap, size_t len)
+{
+    if (*cap >= len)
+        return true;
+    char *grown = realloc(*buf, len);
+    if (!grown)
+        return false;
+    *buf = grown;
+    *cap = len;
+    return true;
+}
+
 static inline void proto_test_kill(int rank, const char *moment, int done)
 {
     const char *who = getenv("CSGTRACE_TEST_KILL_RANK");

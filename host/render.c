@@ -207,11 +207,11 @@ static void render_check_include(void *arg, const char *path)
     const render_request *req = ri->req;
     const char *names[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
                            "the output's journal"};
-    char journal_name[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
+    char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
     if (req->out_path)
-        snprintf(journal_name, sizeof journal_name, "%s%s", req->out_path, JOURNAL_SUFFIX);
+        journal_name(req->out_path, journal_path, sizeof journal_path);
     const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
-                           req->out_path ? journal_name : NULL};
+                           req->out_path ? journal_path : NULL};
     for (int i = 0; i < 4 && !ri->clash.failed; i++)
         if (paths[i] && file_same(paths[i], path))
             csg_error_plain(&ri->clash, "%s is '%s', a file the scene includes: refusing to "

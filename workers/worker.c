@@ -166,19 +166,6 @@ static void worker_do_part(worker_state *w, const link_msg *in, size_t at, const
     memcpy(out, &head, sizeof head);
 }
 
-/* RESULT buffer `slot` (its send done) holds `len` bytes. */
-static bool worker_room(worker_state *w, int slot, size_t len)
-{
-    if (w->out_cap[slot] >= len)
-        return true;
-    char *grown = realloc(w->out[slot], len);
-    if (!grown)
-        return false;
-    w->out[slot] = grown;
-    w->out_cap[slot] = len;
-    return true;
-}
-
 /* Every part of TILE `in` computed into RESULT buffer `slot`: the
  * RESULT's length, or 0 with the reason in *why (h: the part that
  * failed). */
@@ -198,7 +185,7 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
             proto_test_kill(w->rank, "item", w->tiles_done);
         size_t start = proto_align(len);
         size_t next = start + proto_result_part((size_t)h->width * (size_t)h->height);
-        if (!worker_room(w, slot, next)) {
+        if (!proto_buffer(&w->out[slot], &w->out_cap[slot], next)) {
             *why = "out of memory for a batch of tiles";
             return 0;
         }
