@@ -31,8 +31,9 @@ DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
 	libopenimageio-dev openimageio-tools povray povray-includes \
 	libcmocka-dev gnuplot-nox python3
-# Only for the benchmarks' reference programs (bench/embree_primary.c).
-BENCH_DEB_PACKAGES := libembree-dev
+# Only for the benchmarks: their reference programs (bench/embree_primary.c,
+# Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
+BENCH_DEB_PACKAGES := libembree-dev tachyon-bin-nox povray-examples
 
 CC := mpicc
 CXX := g++
