@@ -16,6 +16,7 @@
 
 #include "../csg/flatten.h"
 #include "file_atomic.h"
+#include "hash.h"
 #include "render.h"
 #include "signals.h"
 #include "version.h"
@@ -60,17 +61,6 @@ struct journal {
 
 /* ---- checksums and the program's identity ------------------------------------ */
 
-static uint64_t fnv1a(uint64_t h, const void *p, size_t n)
-{
-    const unsigned char *b = p;
-    for (size_t i = 0; i < n; i++) {
-        h ^= b[i];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
-#define FNV_BASIS 0xcbf29ce484222325ull
 
 /* The running program's file, hashed once: tiles written by another build
  * could differ in their last bit, so a journal names the build that wrote

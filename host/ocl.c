@@ -60,6 +60,7 @@
 
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
+#include "cl_cache.h"
 
 #ifndef CSG_SOURCE_DIR
 #define CSG_SOURCE_DIR "."
@@ -560,8 +561,116 @@ static void ocl_release_program(ocl_ctx *c)
     c->program = NULL;
 }
 
+/* The device, its driver and OpenCL version: what a cached binary was
+ * compiled for (cl_cache.h). */
+static bool ocl_device_identity(cl_device_id dev, char *out, size_t size)
+{
+    const cl_device_info what[] = {CL_DEVICE_NAME, CL_DRIVER_VERSION, CL_DEVICE_VERSION};
+    size_t at = 0;
+    for (size_t i = 0; i < sizeof what / sizeof what[0]; i++) {
+        size_t got = 0;
+        if (at + 1 >= size ||
+            clGetDeviceInfo(dev, what[i], size - at - 1, out + at, &got) != CL_SUCCESS || !got)
+            return false;
+        at += got; /* (got counts the NUL, which becomes the separator) */
+        out[at - 1] = '\n';
+    }
+    out[at] = '\0';
+    return true;
+}
+
+/* The program from the binary cached under `key`, built with `options`;
+ * false (nothing kept) when there is none or OpenCL refuses it. */
+static bool ocl_build_cached(ocl_ctx *c, uint64_t key, const char *options)
+{
+    size_t size = 0;
+    unsigned char *bin = cl_cache_load(key, &size);
+    if (!bin)
+        return false;
+    cl_int err, status = CL_SUCCESS;
+    const unsigned char *bins[1] = {bin};
+    cl_program prog = clCreateProgramWithBinary(c->context, 1, &c->device, &size, bins, &status,
+                                                &err);
+    free(bin);
+    if (err == CL_SUCCESS && status == CL_SUCCESS &&
+        clBuildProgram(prog, 1, &c->device, options, NULL, NULL) == CL_SUCCESS) {
+        c->program = prog;
+        return true;
+    }
+    if (prog)
+        clReleaseProgram(prog);
+    return false;
+}
+
+/* c->program's binary into the cache under `key` (best effort). */
+static void ocl_cache_program(const ocl_ctx *c, uint64_t key)
+{
+    size_t size = 0;
+    if (clGetProgramInfo(c->program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, NULL) !=
+            CL_SUCCESS ||
+        size == 0)
+        return;
+    unsigned char *bin = malloc(size);
+    unsigned char *bins[1] = {bin};
+    if (bin && clGetProgramInfo(c->program, CL_PROGRAM_BINARIES, sizeof bins, bins, NULL) ==
+                   CL_SUCCESS)
+        cl_cache_store(key, bin, size);
+    free(bin);
+}
+
+/* The program from `path` (source), built with `options`. */
+static bool ocl_build_source(ocl_ctx *c, const char *name, const char *path,
+                             const char *options, csg_diag *d)
+{
+    char *src = ocl_read_file(path, d);
+    if (!src)
+        return false;
+    cl_int err;
+    const char *srcs[1] = {src};
+    c->program = clCreateProgramWithSource(c->context, 1, srcs, NULL, &err);
+    free(src);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clCreateProgramWithSource", err);
+    err = clBuildProgram(c->program, 1, &c->device, options, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        ocl_print_build_log(c->program, c->device, name);
+        csg_error_plain(d, "OpenCL: building %s (%s) failed: %s (%d); the build log is above",
+                        path, options, ocl_error_name(err), (int)err);
+        return false;
+    }
+    return true;
+}
+
+/* The kernels of the built program and their work-group widths. */
+static bool ocl_create_kernels(ocl_ctx *c, csg_diag *d)
+{
+    struct {
+        cl_kernel *k;
+        const char *name;
+    } kernels[] = {{&c->k_primary, "csg_primary"},
+                   {&c->k_tiles, "csg_tile_hits"},
+                   {&c->k_layout, "csg_layout"}};
+    cl_int err;
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++) {
+        *kernels[i].k = clCreateKernel(c->program, kernels[i].name, &err);
+        if (err != CL_SUCCESS) {
+            csg_error_plain(d, "OpenCL: clCreateKernel(%s) failed: %s (%d)", kernels[i].name,
+                            ocl_error_name(err), (int)err);
+            return false;
+        }
+    }
+    err = ocl_group_width(c->k_primary, c->device, &c->group_primary);
+    if (err == CL_SUCCESS)
+        err = ocl_group_width(c->k_tiles, c->device, &c->group_tiles);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clGetKernelWorkGroupInfo(CL_KERNEL_WORK_GROUP_SIZE)", err);
+    return true;
+}
+
 /* Builds the program for c->features (the -D options of spec.h; none
- * for the general program). */
+ * for the general program): from the cached binary of the same sources,
+ * options and device when there is one (cl_cache.h), else from source
+ * (and then cached). */
 static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
 {
     char dir[PATH_MAX], path[PATH_MAX + 64], options[2 * PATH_MAX + 520];
@@ -579,42 +688,17 @@ static bool ocl_build(ocl_ctx *c, const char *name, csg_diag *d)
     snprintf(options, sizeof options,
              "-cl-std=CL1.2 -I %s/csg/device -I %s/simd_kernels -cl-fp32-correctly-rounded-divide-sqrt%s%s%s",
              dir, dir, c->use_double ? " -DCSG_DOUBLE" : "", variant, spec);
-    char *src = ocl_read_file(path, d);
-    if (!src)
-        return false;
-    cl_int err;
-    const char *srcs[1] = {src};
-    c->program = clCreateProgramWithSource(c->context, 1, srcs, NULL, &err);
-    free(src);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clCreateProgramWithSource", err);
-    err = clBuildProgram(c->program, 1, &c->device, options, NULL, NULL);
-    if (err != CL_SUCCESS) {
-        ocl_print_build_log(c->program, c->device, name);
-        csg_error_plain(d, "OpenCL: building %s (%s) failed: %s (%d); the build log is above",
-                        path, options, ocl_error_name(err), (int)err);
-        return false;
-    }
-    struct {
-        cl_kernel *k;
-        const char *name;
-    } kernels[] = {{&c->k_primary, "csg_primary"},
-                   {&c->k_tiles, "csg_tile_hits"},
-                   {&c->k_layout, "csg_layout"}};
-    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++) {
-        *kernels[i].k = clCreateKernel(c->program, kernels[i].name, &err);
-        if (err != CL_SUCCESS) {
-            csg_error_plain(d, "OpenCL: clCreateKernel(%s) failed: %s (%d)", kernels[i].name,
-                            ocl_error_name(err), (int)err);
+    char identity[1024];
+    uint64_t key = 0;
+    bool cacheable = ocl_device_identity(c->device, identity, sizeof identity) &&
+                     cl_cache_key(dir, options, identity, &key);
+    if (!(cacheable && ocl_build_cached(c, key, options))) {
+        if (!ocl_build_source(c, name, path, options, d))
             return false;
-        }
+        if (cacheable)
+            ocl_cache_program(c, key);
     }
-    err = ocl_group_width(c->k_primary, c->device, &c->group_primary);
-    if (err == CL_SUCCESS)
-        err = ocl_group_width(c->k_tiles, c->device, &c->group_tiles);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clGetKernelWorkGroupInfo(CL_KERNEL_WORK_GROUP_SIZE)", err);
-    return true;
+    return ocl_create_kernels(c, d);
 }
 
 /* ---- kernel arguments ----------------------------------------------------------- */

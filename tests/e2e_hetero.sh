@@ -189,6 +189,61 @@ else
 fi
 same "$T/cmp-homo.png" "$T/cmp-hetero.png" && ok "compare -o writes both images" || ko "compare images missing or different"
 
+# --- the program cache (host/cl_cache.h): a render stores the program's
+# binary, the next one builds from it with the same image; a damaged or
+# foreign file is ignored and replaced; "off" writes nothing; a cache that
+# cannot be written changes nothing but the speed ---
+cache="$T/clcache"
+scene=scenes/showcase.pov
+CSGTRACE_CL_CACHE=$cache render cc_1 0 hetero "$scene" --width 64 --height 48 --tile 16
+bins=("$cache"/*.clbin)
+if [ ${#bins[@]} = 1 ] && [ -s "${bins[0]}" ] && [ "$(stat -c %a "$cache")" = 700 ]; then
+    ok "program cache: one binary stored, folder private"
+else
+    ko "program cache: expected one .clbin in a 0700 folder: $(ls -la "$cache" 2>&1 | head -5)"
+fi
+CSGTRACE_CL_CACHE=$cache render cc_2 0 hetero "$scene" --width 64 --height 48 --tile 16
+same "$T/cc_1.exr" "$T/cc_2.exr" && same "$T/cc_1.exr" "$T/sp_s_showcase.exr" &&
+    ok "program cache: the render built from the cached binary == the first == serial" ||
+    ko "program cache: images differ"
+bin=${bins[0]}
+valid_bin() { # the header's size and FNV-1a match the payload (cl_cache.c)
+    python3 -c "
+import struct, sys
+b = open(sys.argv[1], 'rb').read()
+magic, key, size, total = struct.unpack('<16sQQQ', b[:40])
+h = 0xcbf29ce484222325
+for c in b[40:]:
+    h = ((h ^ c) * 0x100000001b3) & 0xffffffffffffffff
+sys.exit(0 if magic.startswith(b'csgtrace-cl-1') and size == len(b) - 40 and h == total else 1)" "$1"
+}
+valid_bin "$bin" && ok "program cache: the stored file's header matches its payload" || ko "program cache: stored file invalid"
+printf 'XXXXXXXX' | dd of="$bin" bs=1 seek=200 conv=notrunc 2>/dev/null # payload damaged
+CSGTRACE_CL_CACHE=$cache render cc_3 0 hetero "$scene" --width 64 --height 48 --tile 16
+if ! valid_bin "$bin"; then
+    ko "program cache: the damaged file was not replaced"
+elif same "$T/cc_1.exr" "$T/cc_3.exr"; then
+    ok "program cache: a damaged binary is ignored and replaced, same image"
+else
+    ko "program cache: damaged binary: $(head -c 300 "$T/cc_3.err")"
+fi
+head -c 100 "$bin" >"$bin.cut" && mv "$bin.cut" "$bin" # torn
+CSGTRACE_CL_CACHE=$cache render cc_4 0 hetero "$scene" --width 64 --height 48 --tile 16
+same "$T/cc_1.exr" "$T/cc_4.exr" && valid_bin "$bin" &&
+    ok "program cache: a torn binary is ignored and replaced" || ko "program cache: torn binary"
+CSGTRACE_CL_CACHE=off HOME="$T/home-off" XDG_CACHE_HOME= render cc_5 0 hetero "$scene" --width 64 --height 48 --tile 16
+same "$T/cc_1.exr" "$T/cc_5.exr" && [ ! -e "$T/home-off" ] &&
+    ok "program cache: CSGTRACE_CL_CACHE=off writes nothing" || ko "program cache: off still wrote $(ls -R "$T/home-off" 2>&1 | head -3)"
+CSGTRACE_CL_CACHE= HOME="$T/home" XDG_CACHE_HOME= render cc_6 0 hetero "$scene" --width 64 --height 48 --tile 16
+ls "$T/home/.cache/csgtrace/"*.clbin >/dev/null 2>&1 && same "$T/cc_1.exr" "$T/cc_6.exr" &&
+    ok "program cache: defaults to \$HOME/.cache/csgtrace" || ko "program cache: nothing in \$HOME/.cache/csgtrace"
+touch "$T/not-a-folder"
+CSGTRACE_CL_CACHE="$T/not-a-folder/sub" render cc_7 0 hetero "$scene" --width 64 --height 48 --tile 16
+rc=$?
+[ $rc = 0 ] && same "$T/cc_1.exr" "$T/cc_7.exr" && [ ! -s "$T/cc_7.err" ] &&
+    ok "program cache: a cache that cannot be written: same image, no message" ||
+    ko "program cache: unwritable cache: exit $rc, $(head -c 300 "$T/cc_7.err")"
+
 # --- the generator meets its occupancy within +-1 point (sample of the grid) ---
 for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do
     set -- $spec
