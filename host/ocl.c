@@ -9,7 +9,7 @@
  * baked in as CSG_SOURCE_DIR) and builds it with absolute -I paths to csg/
  * and simd_kernels/, correctly rounded divide/sqrt and, for the double build,
  * -DCSG_DOUBLE.  The kernel variant (ocl_pick_kernel) is a -D too: the packet
- * kernel (-DCSG_PACKET=W -DCSG_PACKET_COLS=C, W the device's preferred
+ * kernel (-DCSG_PACKET=W -DCSG_PACKET_COLS=C, W twice the device's preferred
  * vector width of `real`) on CPU devices, the one-ray kernel elsewhere,
  * unless the caller or $CSGTRACE_CL_KERNEL says otherwise; both are the
  * same kernel name with the same arguments, only the grid differs (a
@@ -413,9 +413,13 @@ bool ocl_kernel_parse(const char *name, enum ocl_kernel *out)
 /* AUTO becomes $CSGTRACE_CL_KERNEL when set, else packet on a CPU device
  * (PoCL turns OpenCL vectors into SIMD code, not a one-ray walk), scalar
  * on any other.  A packet is $CSGTRACE_CL_PACKET rays when set (2, 4, 8 or
- * 16: tests, or a device whose preferred width misleads), else the
+ * 16: tests, or a device whose preferred width misleads), else twice the
  * device's preferred vector width of `real` (rounded down to 4, 8 or 16;
- * at least 4), a block of 4 records by W / 4 rows (2 by W / 2 for W < 8). */
+ * at least 4, at most 16), a block of 4 records by W / 4 rows (2 by W / 2
+ * for W < 8).  Twice: a packet of two registers a value gives each step
+ * two independent chains and halves the walk's scalar work a ray (on
+ * AVX2, float16 over float8: 1.1-1.2x the rays per CPU-second, double8
+ * over double4 1.0-1.15x, bench/SPEED.md). */
 static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
 {
     const char *env = getenv("CSGTRACE_CL_KERNEL");
@@ -440,7 +444,7 @@ static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_PREFERRED_VECTOR_WIDTH)", err);
     c->packet = 4;
-    while (c->packet < 16 && (cl_uint)c->packet * 2 <= width)
+    while (c->packet < 16 && (cl_uint)c->packet <= width)
         c->packet *= 2;
     const char *forced = getenv("CSGTRACE_CL_PACKET");
     if (forced && *forced) {

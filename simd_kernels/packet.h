@@ -177,9 +177,10 @@ CSG_PK_FN void pk_packet_init(pk_packet *pk, csg_ray_pk r, intv live)
 /* The lanes whose range [tmin, tmax] meets the box lo..hi: csg_box_hit
  * (intersect.h) lane by lane, the same operations in the same order on the
  * same reciprocals, so the same lanes pass.  A NaN (0 * inf: the origin on
- * a plane of a slab the ray runs along) never replaces a bound. */
-CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
-                           const pk_packet *pk, realv tmax)
+ * a plane of a slab the ray runs along) never replaces a bound.  *enter
+ * gets each lane's entry (at least tmin), as csg_box_hit's t_enter. */
+CSG_PK_FN intv pk_box_enter(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
+                            const pk_packet *pk, realv tmax, realv *enter)
 {
     realv l = (realv)(pk->tmin), h = tmax;
     for (int a = 0; a < 3; a++) {
@@ -190,7 +191,15 @@ CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
         l = select(l, tn, tn > l);
         h = select(h, tf, tf < h);
     }
+    *enter = l;
     return l <= h;
+}
+
+CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
+                           const pk_packet *pk, realv tmax)
+{
+    realv enter;
+    return pk_box_enter(lo, hi, pk, tmax, &enter);
 }
 
 /* ---- one root ------------------------------------------------------------------- */
@@ -231,15 +240,19 @@ CSG_PK_COLD csg_hit_pk pk_try_root_lanes(csg_view v, csg_i32 i, csg_ray_pk ray, 
     return best;
 }
 
-/* Root i for the lanes of m: what csg_try_root does for each of them. */
-CSG_PK_FN void pk_try_root(csg_view v, csg_i32 i, const pk_packet *pk, intv m,
+/* Root i for the lanes of m: what csg_try_root does for each of them (its
+ * box tested first when test_box: a BVH leaf of one root has just tested
+ * the very same box). */
+CSG_PK_FN void pk_try_root(csg_view v, csg_i32 i, const pk_packet *pk, intv m, int test_box,
                            csg_hit_pk *best)
 {
     CSG_GLOBAL const csg_root *rt = &v.roots[i];
     realv limit = csg_hit_limit_pk(best);
-    m = m & pk_box_cull(rt->lo, rt->hi, pk, limit);
-    if (!CSG_PK_ANY(m))
-        return;
+    if (test_box) {
+        m = m & pk_box_cull(rt->lo, rt->hi, pk, limit);
+        if (!CSG_PK_ANY(m))
+            return;
+    }
     csg_i32 leaf = v.nodes[rt->first_node].prim;
     /* without CSG (spec.h) every root is one uncomplemented primitive */
     if (CSG_USE_CSG && (rt->node_count != 1 || (v.prims[leaf].flags & CSG_PF_INVERT))) {
@@ -275,7 +288,7 @@ CSG_PK_FN void pk_walk_bvh(csg_view v, const pk_packet *pk, csg_hit_pk *best)
             continue;
         if (pk_bvh_is_leaf(n)) {
             for (csg_i32 i = n->first; i < n->first + n->count; i++)
-                pk_try_root(v, i, pk, m, best);
+                pk_try_root(v, i, pk, m, n->count > 1, best);
             continue;
         }
         if (top + 2 > 2 * CSG_BVH_STACK) /* the flattener prevents this */
@@ -295,7 +308,7 @@ CSG_PK_FN csg_hit_pk pk_trace_nearest(csg_view v, const pk_packet *pk)
     best.t = (realv)(CSG_R_INF);
     best.surf = (uintv)(CSG_SURF_NONE);
     for (csg_i32 i = 0; i < v.root_count; i++)
-        pk_try_root(v, i, pk, pk->live, &best);
+        pk_try_root(v, i, pk, pk->live, 1, &best);
     pk_walk_bvh(v, pk, &best);
     best.t = select(best.t, (realv)(CSG_R_INF), best.surf == CSG_SURF_NONE);
     return best;
