@@ -1,22 +1,31 @@
 /*
  * packet.h — the packet variant of the primary pass (OpenCL C only): a
  * work-item traces a packet of CSG_PACKET rays held in OpenCL vectors
- * (float16 on AVX-512, float8 on AVX2, double8 ... in the double build),
- * which PoCL compiles to whole-register SIMD instructions.  PoCL 3.1 does
- * not vectorise the one-ray kernel across work-items (its walk is a
- * data-dependent loop with a private stack); explicit vectors are what it
- * turns into 512-bit code.
+ * (float16 on AVX-512 and on AVX2, double8 on AVX2 ... in the double
+ * build), which PoCL compiles to whole-register SIMD instructions (two
+ * registers a value where the vector is twice the register, as on AVX2).
+ * PoCL 3.1 does not vectorise the one-ray kernel across work-items (its
+ * walk is a data-dependent loop with a private stack); explicit vectors
+ * are what it turns into 512-bit code.
  *
- * Built by host/ocl.c with -DCSG_PACKET=W (the device's preferred vector
- * width of `real`) and -DCSG_PACKET_COLS=C: a packet is a block of C
- * records of a row (pixels, or samples side by side) by W / C rows, lane
- * k at (k % C, k / C), so its rays are coherent.
+ * Built by host/ocl.c with -DCSG_PACKET=W (twice the device's preferred
+ * vector width of `real`, at most 16) and -DCSG_PACKET_COLS=C: a packet
+ * is a block of C records of a row (pixels, or samples side by side) by
+ * W / C rows, lane k at (k % C, k / C), so its rays are coherent.
  *
  * Algorithm (pk_trace_nearest), for every lane at once:
  *   - the linear roots, then the BVH with an explicit stack of nodes: a
  *     node is entered when its box meets any live lane's range
  *     [0, hit limit of that lane]; its roots are tried for the lanes that
- *     met the box; the nearer child (lane 0's direction) goes first;
+ *     met the box (a leaf of one root: the root's box is the leaf's, not
+ *     tested again, as csg_trace_nearest does); the nearer child (lane
+ *     0's direction) goes first.  Tried and measured slower on AVX2
+ *     (0.86-0.94x at N = 10 .. 10^4): csg_bvh_open_pair's scheme, both
+ *     children tested at once, the nearer by the least entry over the
+ *     lanes entered, the other pushed with its entries per lane and
+ *     dropped on pop when beyond every limit: it tests as many boxes
+ *     (every child of every node entered, here at the pop) and adds the
+ *     vector stack and two reductions a node;
  *   - a root that is one uncomplemented primitive (most of them) is
  *     evaluated for all lanes by the packet compilation of the very
  *     code the C workers run (intersect_lanes.h: csg_leaf_first_hit_pk),
@@ -177,10 +186,9 @@ CSG_PK_FN void pk_packet_init(pk_packet *pk, csg_ray_pk r, intv live)
 /* The lanes whose range [tmin, tmax] meets the box lo..hi: csg_box_hit
  * (intersect.h) lane by lane, the same operations in the same order on the
  * same reciprocals, so the same lanes pass.  A NaN (0 * inf: the origin on
- * a plane of a slab the ray runs along) never replaces a bound.  *enter
- * gets each lane's entry (at least tmin), as csg_box_hit's t_enter. */
-CSG_PK_FN intv pk_box_enter(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
-                            const pk_packet *pk, realv tmax, realv *enter)
+ * a plane of a slab the ray runs along) never replaces a bound. */
+CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
+                           const pk_packet *pk, realv tmax)
 {
     realv l = (realv)(pk->tmin), h = tmax;
     for (int a = 0; a < 3; a++) {
@@ -191,15 +199,7 @@ CSG_PK_FN intv pk_box_enter(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi
         l = select(l, tn, tn > l);
         h = select(h, tf, tf < h);
     }
-    *enter = l;
     return l <= h;
-}
-
-CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
-                           const pk_packet *pk, realv tmax)
-{
-    realv enter;
-    return pk_box_enter(lo, hi, pk, tmax, &enter);
 }
 
 /* ---- one root ------------------------------------------------------------------- */
