@@ -418,8 +418,9 @@ bool ocl_kernel_parse(const char *name, enum ocl_kernel *out)
  * at least 4, at most 16), a block of 4 records by W / 4 rows (2 by W / 2
  * for W < 8).  Twice: a packet of two registers a value gives each step
  * two independent chains and halves the walk's scalar work a ray (on
- * AVX2, float16 over float8: 1.1-1.2x the rays per CPU-second, double8
- * over double4 1.0-1.15x, bench/SPEED.md). */
+ * AVX2, float16 over float8: 1.08-1.20x the rays per CPU-second, double8
+ * over double4 1.14-1.26x, bench/SPEED.md; untried on AVX-512, where
+ * only the double build changes, double8 -> double16). */
 static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
 {
     const char *env = getenv("CSGTRACE_CL_KERNEL");
