@@ -20,7 +20,7 @@
 #include "signals.h"
 #include "version.h"
 
-#define JOURNAL_FORMAT "csgtrace journal 1"
+#define JOURNAL_FORMAT "csgtrace journal 2" /* 2: word-wise checksums */
 #define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
 #define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
 #define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
@@ -60,10 +60,22 @@ struct journal {
 
 /* ---- checksums and the program's identity ------------------------------------ */
 
+/* FNV-1a taken 8 bytes a step (then the last bytes one by one): a tile's
+ * sum is computed inside the tile phase, and byte by byte it cost ~3% of
+ * a light scene's trace time.  Each step is a bijection of h, so one
+ * damaged word always changes the sum; the fold (h >> 29) carries the
+ * high bits down, which a multiply alone never does. */
 static uint64_t fnv1a(uint64_t h, const void *p, size_t n)
 {
     const unsigned char *b = p;
-    for (size_t i = 0; i < n; i++) {
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t w;
+        memcpy(&w, b + i, sizeof w);
+        h = (h ^ w) * 0x100000001b3ull;
+        h ^= h >> 29;
+    }
+    for (; i < n; i++) {
         h ^= b[i];
         h *= 0x100000001b3ull;
     }
