@@ -87,7 +87,9 @@ static void load_module(void)
     char path[4096];
     if (!module_path(path, sizeof path))
         return;
-    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    /* Lazy: of the functions of ~270 libraries, bind only those called
+     * (the module itself is linked with -z defs, so none is missing). */
+    void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
     if (!h) {
         snprintf(loader.error, sizeof loader.error, "cannot load the image module: %s", dlerror());
         return;

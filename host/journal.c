@@ -21,7 +21,7 @@
 #include "signals.h"
 #include "version.h"
 
-#define JOURNAL_FORMAT "csgtrace journal 1"
+#define JOURNAL_FORMAT "csgtrace journal 2" /* 2: word-wise checksums */
 #define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
 #define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
 #define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
@@ -77,7 +77,7 @@ static uint64_t journal_build_hash(void)
     unsigned char buf[1 << 16];
     ssize_t n;
     while ((n = read(fd, buf, sizeof buf)) > 0)
-        h = fnv1a(h, buf, (size_t)n);
+        h = fnv1a_words(h, buf, (size_t)n);
     close(fd);
     cached = n == 0 ? h : 0;
     return cached;
@@ -118,7 +118,7 @@ static void journal_fields(const void *blob, const tile_grid *g, journal_field *
     snprintf(f[JF_DEPTH].value, sizeof f[0].value, "%d", (int)h->max_depth);
     snprintf(f[JF_RAYS].value, sizeof f[0].value, "%d", (int)sh->max_rays);
     snprintf(f[JF_SCENE].value, sizeof f[0].value, "%016llx",
-             (unsigned long long)fnv1a(FNV_BASIS, blob, (size_t)h->total_size));
+             (unsigned long long)fnv1a_words(FNV_BASIS, blob, (size_t)h->total_size));
 }
 
 /* ---- the header ------------------------------------------------------------------ */
@@ -197,7 +197,7 @@ static off_t journal_read_records(journal *j, off_t at, float *image)
             pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
             pread(j->fd, &sum, sizeof sum, at + (off_t)(sizeof rec + bytes)) !=
                 (ssize_t)sizeof sum ||
-            sum != fnv1a(fnv1a(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
+            sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
             return at;
         tile_store_rgb(image, j->g.width, r, j->buf);
         j->resumed[rec.tile] = true;
@@ -235,7 +235,7 @@ void journal_tile_done(journal *j, int tile, const float *image)
                image + ((size_t)(r.y + y) * (size_t)j->g.width + (size_t)r.x) * 3,
                (size_t)r.width * 3 * sizeof(float));
     size_t bytes = journal_pixel_bytes(r);
-    uint64_t sum = fnv1a(fnv1a(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
+    uint64_t sum = fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
     if (!journal_write_all(j->fd, &rec, sizeof rec) || !journal_write_all(j->fd, j->buf, bytes) ||
         !journal_write_all(j->fd, &sum, sizeof sum)) {
         fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "

@@ -123,6 +123,30 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
     return true;
 }
 
+/* Multiplies *pass by what the uncomplemented solid primitive `leaf`, a
+ * root by itself, lets through on (0, dist): exactly what root_transmittance
+ * does with its one-interval list (csg_leaf_spans, csg_spans_push on a list
+ * whose limit is dist), without building the list. */
+static bool leaf_transmittance(const shade_ctx *c, csg_i32 leaf, csg_ray r, real dist, vec3 *pass)
+{
+    const csg_prim *p = &c->view.prims[leaf];
+    real t0, t1;
+    csg_i32 s0, s1;
+    if (!csg_prim_span(p, r, &t0, &t1, &s0, &s1))
+        return true;
+    csg_u32 e0 = t0 < R(0.0) ? CSG_SURF_NONE : csg_surf_of(leaf, s0, 0u, p->flags);
+    csg_u32 e1 = csg_surf_of(leaf, s1, 0u, p->flags);
+    real start = r_fmax(t0, R(0.0)), end = t1;
+    if (end > dist) {
+        end = dist;
+        e1 = CSG_SURF_NONE;
+    }
+    if (!(start < end))
+        return true;
+    return surface_transmittance(c, r, e0, start, dist, pass) &&
+           surface_transmittance(c, r, e1, end, dist, pass);
+}
+
 /* Multiplies *pass by what root i lets through between the shading point
  * and the light: every interval end and every surface event (the hidden
  * back of a one-sided surface too); false once nothing passes.  Its box is
@@ -140,6 +164,12 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
     if (rt->flags & CSG_ROOT_OPAQUE) { /* any visible boundary blocks: the first will do */
         csg_hit h = csg_root_first_hit(c->view, i, r, R(0.0), dist);
         return !(h.surf != CSG_SURF_NONE && h.t < dist);
+    }
+    if (rt->node_count == 1) {
+        csg_i32 leaf = c->view.nodes[rt->first_node].prim;
+        const csg_prim *p = &c->view.prims[leaf];
+        if (!(p->flags & CSG_PF_INVERT) && !CSG_PRIM_IS_SURFACE(p->kind))
+            return leaf_transmittance(c, leaf, r, dist, pass);
     }
     csg_spans spans;
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
@@ -434,16 +464,20 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
-                csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
-                                           rect.y + y, spp, s);
-                if (surf[k] == CSG_SURF_NONE) {
-                    one = sky_color(&c, r.d);
+                if (surf[k] == CSG_SURF_NONE && c.sky_count == 0) {
+                    one = c.background; /* sky_color's answer: no ray needed */
                 } else {
-                    csg_hit h;
-                    h.t = t[k];
-                    h.surf = surf[k];
-                    one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, &tally);
-                    hits++;
+                    csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
+                                               rect.y + y, spp, s);
+                    if (surf[k] == CSG_SURF_NONE) {
+                        one = sky_color(&c, r.d);
+                    } else {
+                        csg_hit h;
+                        h.t = t[k];
+                        h.surf = surf[k];
+                        one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, &tally);
+                        hits++;
+                    }
                 }
                 col = spp == 1 ? one : v3_add(col, one);
             }
