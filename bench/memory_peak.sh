@@ -49,4 +49,5 @@ for pid in "${!hwm[@]}"; do
         w_hwm=${hwm[$pid]}
     fi
 done
-echo "rank0_hwm_kib=$r0_hwm rank0_anon_kib=$r0_anon workers_hwm_kib=$w_hwm wall_s=$(echo "$t1 - $t0" | bc) rc=$rc"
+wall=$(echo "$t1 - $t0" | bc)
+echo "rank0_hwm_kib=$r0_hwm rank0_anon_kib=$r0_anon workers_hwm_kib=$w_hwm wall_s=$wall rc=$rc"

@@ -735,9 +735,9 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
 {
     uint64_t avail;
     tile_grid grid = tile_grid_of(blob->bytes, st->tile);
+    int slice_rows = req->mode == MODE_HETERO ? render_slice_rows(&grid) : 0;
     render_memory need = render_memory_need(st->width, st->height, st->spp,
-                                            csg_blob_hdr(blob->bytes)->real_size,
-                                            req->mode == MODE_HETERO ? render_slice_rows(&grid) : 0,
+                                            csg_blob_hdr(blob->bytes)->real_size, slice_rows,
                                             req->out_path);
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;

@@ -172,6 +172,13 @@ errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 1.62 G
 if [ -e "$T/huge.png" ] || ls "$T"/.huge* >/dev/null 2>&1; then ko "memory refusal wrote a file"; else
     ok "memory refusal wrote no file"
 fi
+# hetero adds the hit records (8 bytes a pixel in float) and one slice's
+# OpenCL buffers; the PNG encoder holds 64 rows, never a copy of the image
+expect 1 "hetero render beyond the memory it may allocate" \
+    bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
+    --width 12000 --height 12000 --mode hetero
+errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 2.69 GiB of memory \(the image 1.61 GiB, its encoding 10.99 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
+    "hetero memory estimate message"
 
 # --- a failed render never leaves a partial file: existing output untouched ---
 echo "previous" >"$T/keep.png"
