@@ -4,8 +4,9 @@
 #   bench/memory_peak.sh RANKS csgtrace render SCENE -o OUT [options…]
 #
 # Runs the command (under mpirun -np RANKS when RANKS > 1, with the
-# variables tests/run.sh sets and --bind-to none for PoCL), samples every
-# csgtrace process's /proc/PID/status every 0.1 s, and prints one line:
+# variables tests/run.sh sets and --bind-to none for PoCL), samples the
+# /proc/PID/status of the command (or of mpirun's csgtrace children)
+# every 0.1 s, and prints one line:
 #   rank0_hwm_kib=N rank0_anon_kib=N workers_hwm_kib=N wall_s=S rc=R
 # rank0_hwm is VmHWM (peak resident set: anonymous memory plus the pages
 # of the mapped libraries, PoCL's and OpenImageIO's), rank0_anon the peak
@@ -25,7 +26,7 @@ t0=$(date +%s.%N)
 top=$!
 declare -A hwm anon rank
 while kill -0 "$top" 2>/dev/null; do
-    for pid in $(pgrep -s 0 -x csgtrace 2>/dev/null; [ "$ranks" -gt 1 ] || echo "$top"); do
+    for pid in $(if [ "$ranks" -gt 1 ]; then pgrep -P "$top" -x csgtrace; else echo "$top"; fi); do
         s=$(cat "/proc/$pid/status" 2>/dev/null) || continue
         h=$(awk '/^VmHWM/{print $2}' <<<"$s")
         a=$(awk '/^RssAnon/{print $2}' <<<"$s")
