@@ -6,6 +6,9 @@
  * is caught here and turned into a false return with a message, so the C
  * side never sees C++.
  *
+ * 8-bit files are encoded and written a strip of rows at a time
+ * (write_display), so the writer never holds a copy of the whole image.
+ *
  * Writing goes to a temporary file beside the target (same extension, so
  * OpenImageIO picks the same format) and is renamed over the target only
  * once the file is complete.
@@ -113,55 +116,54 @@ bool create_temp_for(const std::string &path, std::string &tmp)
  * rounds without reaching the next integer. */
 constexpr float ambiguous_encoded = 0x1.0101p-9f;
 
-/* The pixels write_image gets, in the file's encoding. */
-struct pixel_source {
-    TypeDesc type;
-    const void *data;
-};
+/* Rows an 8-bit file is encoded and handed to OpenImageIO at a time: the
+ * writer holds one strip (15 bytes a pixel: the encoded floats and their
+ * bytes), never a copy of the whole image (host/memory.c counts it).  A
+ * multiple of TIFF's 32 rows a strip. */
+constexpr int display_strip_rows = 64;
 
-/* The bytes of an 8-bit file: encode_display, then OpenImageIO's
- * conversion of each row, the rows spread over its thread pool — a quarter
- * of the memory of the float copy write_image used to get, and no
- * conversion left for it to do.  false when some pixel encodes to
- * ambiguous_encoded: then only write_image's own conversion of the encoded
- * floats gives the bytes it always wrote. */
-bool display_bytes(const float *rgb, int width, int height, std::vector<unsigned char> &bytes)
+/* One strip of an 8-bit file, rows y0 .. y1 - 1: encode_display, then
+ * OpenImageIO's conversion of each row, the rows spread over its thread
+ * pool.  false when some pixel encodes to ambiguous_encoded: then only
+ * OpenImageIO's own conversion of the encoded floats (write_scanlines of
+ * FLOAT, a row at a time as write_image did) gives the bytes it always
+ * wrote; `encoded` holds them. */
+bool display_strip(const float *rgb, int width, int y0, int y1, std::vector<float> &encoded,
+                   std::vector<unsigned char> &bytes)
 {
     size_t row = (size_t)width * 3;
-    bytes.resize(row * (size_t)height);
+    encoded.resize(row * (size_t)(y1 - y0));
+    bytes.resize(encoded.size());
     std::atomic<bool> settled{true};
-    parallel_for_range(int64_t(0), int64_t(height), [&](int64_t y0, int64_t y1) {
-        std::vector<float> encoded(row);
-        for (int64_t y = y0; y < y1; y++) {
+    parallel_for_range(int64_t(y0), int64_t(y1), [&](int64_t r0, int64_t r1) {
+        for (int64_t y = r0; y < r1; y++) {
             const float *src = rgb + row * (size_t)y;
+            float *enc = encoded.data() + row * (size_t)(y - y0);
             for (size_t i = 0; i < row; i++)
-                encoded[i] = encode_display(src[i]);
-            if (std::find(encoded.begin(), encoded.end(), ambiguous_encoded) != encoded.end())
+                enc[i] = encode_display(src[i]);
+            if (std::find(enc, enc + row, ambiguous_encoded) != enc + row)
                 settled = false;
-            convert_pixel_values(TypeDesc::FLOAT, encoded.data(), TypeDesc::UINT8,
-                                 bytes.data() + row * (size_t)y, (int)row);
+            convert_pixel_values(TypeDesc::FLOAT, enc, TypeDesc::UINT8,
+                                 bytes.data() + row * (size_t)(y - y0), (int)row);
         }
     });
     return settled;
 }
 
-/* What write_image gets for a file of this extension: linear floats as
- * they are; for 8-bit formats the display bytes, or (rarely, see
- * ambiguous_encoded) the encoded floats.  `keep` owns what it points to. */
-pixel_source file_pixels(const std::string &ext, const float *rgb, int width, int height,
-                         std::vector<unsigned char> &keep_bytes, std::vector<float> &keep_floats)
+/* The pixels of an 8-bit file, a strip at a time (display_strip). */
+bool write_display(ImageOutput &out, const float *rgb, int width, int height)
 {
-    if (is_float_format(ext))
-        return {TypeDesc::FLOAT, rgb};
-    if (display_bytes(rgb, width, height, keep_bytes))
-        return {TypeDesc::UINT8, keep_bytes.data()};
-    std::vector<unsigned char>().swap(keep_bytes);
-    keep_floats.resize((size_t)width * (size_t)height * 3);
-    parallel_for_range(int64_t(0), int64_t(keep_floats.size()), [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; i++)
-            keep_floats[i] = encode_display(rgb[i]);
-    });
-    return {TypeDesc::FLOAT, keep_floats.data()};
+    std::vector<float> encoded;
+    std::vector<unsigned char> bytes;
+    for (int y0 = 0; y0 < height; y0 += display_strip_rows) {
+        int y1 = std::min(height, y0 + display_strip_rows);
+        bool ok = display_strip(rgb, width, y0, y1, encoded, bytes)
+                      ? out.write_scanlines(y0, y1, 0, TypeDesc::UINT8, bytes.data())
+                      : out.write_scanlines(y0, y1, 0, TypeDesc::FLOAT, encoded.data());
+        if (!ok)
+            return false;
+    }
+    return true;
 }
 
 /* PNG: the Up filter on every row, then zlib's run-length strategy.  On
@@ -205,9 +207,6 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
     ImageSpec spec(width, height, 3, is_float_format(ext) ? TypeDesc::FLOAT : TypeDesc::UINT8);
     if (ext == "png")
         set_png_options(spec);
-    std::vector<unsigned char> bytes;
-    std::vector<float> floats;
-    pixel_source px = file_pixels(ext, rgb, width, height, bytes, floats);
     if (!create_temp_for(path, tmp)) {
         set_error(err, esz, path + ": cannot create a temporary file beside it: " +
                                 std::strerror(errno));
@@ -218,7 +217,8 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
         std::remove(tmp.c_str());
         return false;
     }
-    bool ok = out->write_image(px.type, px.data);
+    bool ok = is_float_format(ext) ? out->write_image(TypeDesc::FLOAT, rgb)
+                                   : write_display(*out, rgb, width, height);
     std::string werr = ok ? "" : out->geterror();
     ok = out->close() && ok;
     if (!ok) {

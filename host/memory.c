@@ -9,31 +9,48 @@
 #include <strings.h>
 #include <sys/resource.h>
 
-/* 8-bit formats get a byte copy of the image, the others a float one. */
-static uint64_t writer_bytes_per_pixel(const char *out_path)
+/* Is out_path written as floats (by its extension, as image_oiio.cpp's
+ * is_float_format decides)?  Every other format is written in bytes. */
+static bool memory_float_file(const char *out_path)
 {
-    static const char *const eight_bit[] = {".png", ".jpg", ".jpeg", ".ppm", ".pnm",
-                                            ".bmp", ".tga", ".gif",  ".webp"};
-    const char *dot = out_path ? strrchr(out_path, '.') : NULL;
-    if (!out_path)
-        return 0;
-    for (size_t i = 0; dot && i < sizeof eight_bit / sizeof eight_bit[0]; i++)
-        if (strcasecmp(dot, eight_bit[i]) == 0)
-            return 3;
-    return 3 * sizeof(float);
+    static const char *const floats[] = {".exr", ".hdr", ".pfm"};
+    const char *dot = strrchr(out_path, '.');
+    for (size_t i = 0; dot && !strchr(dot, '/') && i < sizeof floats / sizeof floats[0]; i++)
+        if (strcasecmp(dot, floats[i]) == 0)
+            return true;
+    return false;
 }
 
-render_memory render_memory_need(uint64_t pixels, int spp, size_t real_size, bool hetero,
-                                 const char *out_path)
+/* What the encoder holds beside the image: 8-bit formats a strip of
+ * encoded floats and their bytes; float formats OpenImageIO's chunk. */
+static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path)
+{
+    uint64_t row = width * 3 * sizeof(float);
+    if (!out_path)
+        return 0;
+    if (!memory_float_file(out_path)) {
+        uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
+        return rows * width * 3 * (sizeof(float) + 1);
+    }
+    uint64_t chunk = MEMORY_WRITER_FLOAT_CHUNK / row * row;
+    chunk = chunk > row ? chunk : row;
+    return chunk < row * height ? chunk : row * height;
+}
+
+render_memory render_memory_need(int width, int height, int spp, size_t real_size,
+                                 int slice_rows, const char *out_path)
 {
     render_memory m = {0};
-    m.image = pixels * 3 * sizeof(float);
-    if (hetero) {
-        m.records = pixels * (uint64_t)(spp > 0 ? spp : 1) * (real_size + sizeof(uint32_t));
-        m.device = m.records;
+    uint64_t w = (uint64_t)(width > 0 ? width : 0), h = (uint64_t)(height > 0 ? height : 0);
+    uint64_t record = (uint64_t)(spp > 0 ? spp : 1) * (real_size + sizeof(uint32_t));
+    m.image = w * h * 3 * sizeof(float);
+    if (slice_rows > 0) {
+        m.records = w * h * record;
+        m.device = w * (uint64_t)(slice_rows < height ? slice_rows : height) * record;
     }
-    m.writer = pixels * writer_bytes_per_pixel(out_path);
-    m.total = m.image + m.records + m.device + m.writer;
+    m.writer = memory_writer(w, h, out_path);
+    uint64_t beside = m.records + m.device > m.writer ? m.records + m.device : m.writer;
+    m.total = m.image + beside;
     return m;
 }
 

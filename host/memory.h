@@ -14,16 +14,27 @@
 typedef struct {
     uint64_t image;   /* the float RGB image                             */
     uint64_t records; /* hetero: the hit records (t and surface id)      */
-    uint64_t device;  /* hetero: the OpenCL pass's own record buffers    */
-    uint64_t writer;  /* the encoder's copy of the image                 */
-    uint64_t total;
+    uint64_t device;  /* hetero: the OpenCL pass's record buffers, one
+                         slice's (reused from slice to slice)            */
+    uint64_t writer;  /* the encoder's strip of the image                */
+    uint64_t total;   /* the peak: the image, and the larger of the
+                         records (tile phase) and the writer (written
+                         after the records are freed)                    */
 } render_memory;
 
-/* The peak of a render of `pixels` pixels at `spp` samples, `real_size`
- * bytes a real; `hetero` adds the hit records on both sides of the OpenCL
- * pass; `out_path` (NULL: none) tells the encoder's depth by its extension. */
-render_memory render_memory_need(uint64_t pixels, int spp, size_t real_size, bool hetero,
-                                 const char *out_path);
+/* Rows of the image the encoder holds at a time, as encoded floats and
+ * their bytes for 8-bit formats (host/image_oiio.cpp, display_strip_rows). */
+#define MEMORY_WRITER_STRIP_ROWS 64
+/* OpenImageIO's write_image of a float file converts at most this many
+ * bytes of scanlines at a time (or one scanline). */
+#define MEMORY_WRITER_FLOAT_CHUNK ((uint64_t)16 << 20)
+
+/* The peak of a render of width x height pixels at `spp` samples,
+ * `real_size` bytes a real; `slice_rows` > 0 (hetero) adds the hit
+ * records and the OpenCL buffers of a slice of that many rows; `out_path`
+ * (NULL: none) tells the encoder's depth by its extension. */
+render_memory render_memory_need(int width, int height, int spp, size_t real_size,
+                                 int slice_rows, const char *out_path);
 
 /* The bytes this process may still allocate: the least of the machine's
  * MemAvailable and what RLIMIT_AS and RLIMIT_DATA leave; false when none of

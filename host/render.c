@@ -631,6 +631,20 @@ static int render_by_workers(master_session *ms, master_job *job, render_stats *
     return render_local_tiles(job, &job->workers[st->worker_count++], d);
 }
 
+/* Hetero, once the pass is ended and every tile is in: the hit records
+ * are freed before the image is written, so the writer's peak does not
+ * hold them (host/memory.c). */
+static void render_drop_records(render_state *rs, master_job *job)
+{
+    free(rs->t);
+    free(rs->surf);
+    rs->t = NULL;
+    rs->surf = NULL;
+    job->t = NULL;
+    job->surf = NULL;
+    estimator_free(&rs->est); /* (it reads surf) */
+}
+
 /* Steps 2 to 4, once the scene is shared; 0 or the failure status. */
 static int render_image(const render_request *req, master_session *ms, render_state *rs,
                         render_stats *st, render_marks *mk, csg_diag *d)
@@ -672,6 +686,7 @@ static int render_image(const render_request *req, master_session *ms, render_st
     st->pixels_hit = job.pixels_hit;
     st->rays = job.rays;
     st->workers = rs->workers;
+    render_drop_records(rs, &job);
     if (status == EXIT_OK)
         status = render_write(req, rs, st, d);
     mk->written = stats_clock();
@@ -719,21 +734,24 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
                                const render_stats *st, csg_diag *d)
 {
     uint64_t avail;
-    render_memory need = render_memory_need(st->pixels, st->spp,
-                                            csg_blob_hdr(blob->bytes)->real_size,
-                                            req->mode == MODE_HETERO, req->out_path);
+    tile_grid grid = tile_grid_of(blob->bytes, st->tile);
+    int slice_rows = req->mode == MODE_HETERO ? render_slice_rows(&grid) : 0;
+    render_memory need = render_memory_need(st->width, st->height, st->spp,
+                                            csg_blob_hdr(blob->bytes)->real_size, slice_rows,
+                                            req->out_path);
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;
-    char total[32], image[32], records[32], left[32], why[96] = "";
+    char total[32], image[32], writer[32], records[32], left[32], why[96] = "";
     if (need.records)
-        snprintf(why, sizeof why, ", the hit records on both sides of the OpenCL pass %s",
+        snprintf(why, sizeof why, ", the hit records of the OpenCL pass %s",
                  memory_format(need.records + need.device, records, sizeof records));
     csg_error_plain(d,
-                    "a %dx%d render in %s mode needs about %s of memory (the image and "
-                    "its encoding %s%s); this process may allocate %s",
+                    "a %dx%d render in %s mode needs about %s of memory (the image %s, its "
+                    "encoding %s%s); this process may allocate %s",
                     st->width, st->height, render_mode_name(req->mode),
                     memory_format(need.total, total, sizeof total),
-                    memory_format(need.image + need.writer, image, sizeof image), why,
+                    memory_format(need.image, image, sizeof image),
+                    memory_format(need.writer, writer, sizeof writer), why,
                     memory_format(avail, left, sizeof left));
     return EXIT_FAILURE_RUN;
 }
