@@ -51,6 +51,18 @@ same "$T/show.exr" "$T/show-serial.exr" && cmp -s "$T/showcase-serial.png" "$T/s
     ok "showcase: EXR (float results) = serial EXR, and the 8-bit results' PNG = the PNG of those floats" ||
     ko "showcase: EXR or PNG differs"
 
+# Parts that come as floats in an 8-bit render (a value without a byte of
+# its own, host/pixels.h; forced here for every other part): the same PNG.
+for mode in homo hetero; do
+    CSGTRACE_TEST_FLOAT_PARTS=1 "${MPI[@]}" -np 3 -x CSGTRACE_TEST_FLOAT_PARTS "$BIN" render \
+        "$T/random.pov" "${SZ[@]}" --batch 3 --mode $mode -o "$T/mixed-$mode.png" \
+        --stats "$T/mixed-$mode.json" >/dev/null 2>&1 &&
+        cmp -s "$T/random-serial.png" "$T/mixed-$mode.png" &&
+        json "$T/mixed-$mode.json" "j['result_pixels'] == 'rgb8'" &&
+        ok "$mode: every other part as floats in an 8-bit render: the same PNG" ||
+        ko "$mode: parts as floats in an 8-bit render"
+done
+
 # Truthful stats: 9 bytes a pixel fewer received to PNG than to EXR.
 for extra in "" "--tile 8 --batch 4"; do
     for ext in png exr; do

@@ -43,6 +43,8 @@
 
 typedef struct {
     int fail_rank;        /* CSGTRACE_FAIL_WORKER, 0 when unset      */
+    bool float_parts;     /* CSGTRACE_TEST_FLOAT_PARTS: every other
+                             8-bit part sent as floats (worker.h)     */
     int rank;
     int tiles_done;
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
@@ -176,11 +178,11 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     tile_result res;
     tile_run_rect(&w->runner, r, payload, w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
     int format = PIXELS_FLOAT;
-    if (w->pixels == PIXELS_RGB8) {
+    bool as_floats = w->float_parts && w->tiles_done % 2 == 1;
+    if (w->pixels == PIXELS_RGB8 && !as_floats)
         format = pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats) ? PIXELS_RGB8 : PIXELS_FLOAT;
-        if (format == PIXELS_FLOAT)
-            memcpy(floats, w->rgb, n * 3 * sizeof *floats);
-    }
+    if (w->pixels == PIXELS_RGB8 && format == PIXELS_FLOAT)
+        memcpy(floats, w->rgb, n * 3 * sizeof *floats);
     proto_result head = {h->index,          res.hits,           res.rays.primary,
                          res.rays.shadow,   res.rays.reflected, res.rays.refracted,
                          res.rays.over_budget, res.busy_s, format, 0};
@@ -327,6 +329,8 @@ int worker_run(int rank)
     w.rank = rank;
     const char *hook = getenv("CSGTRACE_FAIL_WORKER");
     w.fail_rank = hook ? atoi(hook) : 0;
+    const char *floats = getenv("CSGTRACE_TEST_FLOAT_PARTS");
+    w.float_parts = floats && strcmp(floats, "1") == 0;
     link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;
