@@ -7,7 +7,7 @@
 #       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
-#    scene's sha256): three real renders at 384x384, tile 8, raster, 1 master
+#    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
 #    + 1 worker (mpirun -np 2), their tile logs reduced by bench/sim/costmap.py
 #    (each cell's minimum: preemption on a shared machine only adds).
 #    Other sizes scale this map (workers/tile_sim.h): a pixel of a 4096x4096
@@ -32,6 +32,11 @@ CSGTRACE=${CSGTRACE:-$ROOT/build/csgtrace}
 CSGSIM=${CSGSIM:-$ROOT/build/sim/csgsim}
 MAPS=${SIM_MAPS:-$ROOT/build/sim/maps}
 REC_SIZE=384 REC_TILE=8
+# Renders the cost map is recorded from (each cell's minimum): 3, or
+# $SIM_MAP_RENDERS (10 for the map of bench/SCALE.md's 8-bit section: three
+# left cells 22 times the mean on a machine at load 10).
+MAP_RENDERS=${SIM_MAP_RENDERS:-3}
+[[ "$MAP_RENDERS" =~ ^[1-9][0-9]?$ ]] || { echo "bench/simulate.sh: SIM_MAP_RENDERS: 1..99" >&2; exit 2; }
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8
@@ -80,7 +85,7 @@ if [ ! -f "$map" ]; then
     rec=$(mktemp -d)
     trap 'rm -rf "$rec"' EXIT
     pairs=()
-    for k in 1 2 3; do # three renders: each cell's minimum (costmap.py)
+    for k in $(seq "$MAP_RENDERS"); do # each cell's minimum (costmap.py)
         OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np 2 \
             "$CSGTRACE" render "$SCENE" -o "$rec/img.png" --mode "$MODE" --width $REC_SIZE \
             --height $REC_SIZE --tile $REC_TILE --schedule raster --stats "$rec/$k.json" \
