@@ -476,7 +476,7 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
     return true;
 }
 
-/* n pixels of 8-bit values into the float image, as the values the
+/* Rectangle r's 8-bit values into the float image, as the values the
  * writer turns back into those bytes (pixels.h). */
 static void master_store_rgb8(float *image, int image_width, tile_rect r, const uint8_t *rgb8)
 {
