@@ -3,10 +3,11 @@
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
+#       [--batch N|auto] [--pixels rgb8|float]
 #       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
-#    scene's sha256): three real renders at 384x384, tile 8, raster, 1 master
+#    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
 #    + 1 worker (mpirun -np 2), their tile logs reduced by bench/sim/costmap.py
 #    (each cell's minimum: preemption on a shared machine only adds).
 #    Other sizes scale this map (workers/tile_sim.h): a pixel of a 4096x4096
@@ -20,6 +21,9 @@
 # --pass-rate M (Mrays/s) replaces it by a measured device rate: the pass
 # takes W x H / (M x 1e6) seconds (bench/GPU.md: the H100's rates).
 # --batch N|auto: the master's batch limit (csgtrace --batch; default auto).
+# --pixels rgb8|float: what a RESULT carries a pixel: rgb8 (default) is a
+# render to an 8-bit file (PNG, ...: 3 bytes), float one to EXR (12 bytes,
+# as every render sent before 2026-11-25).
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
 set -euo pipefail
@@ -28,9 +32,14 @@ CSGTRACE=${CSGTRACE:-$ROOT/build/csgtrace}
 CSGSIM=${CSGSIM:-$ROOT/build/sim/csgsim}
 MAPS=${SIM_MAPS:-$ROOT/build/sim/maps}
 REC_SIZE=384 REC_TILE=8
+# Renders the cost map is recorded from (each cell's minimum): 3, or
+# $SIM_MAP_RENDERS (10 for the map of bench/SCALE.md's 8-bit section: three
+# left cells 22 times the mean on a machine at load 10).
+MAP_RENDERS=${SIM_MAP_RENDERS:-3}
+[[ "$MAP_RENDERS" =~ ^[1-9][0-9]?$ ]] || { echo "bench/simulate.sh: SIM_MAP_RENDERS: 1..99" >&2; exit 2; }
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
-SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -46,6 +55,7 @@ while [ $# -gt 0 ]; do
     --pass-scale) PASS_SCALE=$2 ;;
     --pass-rate) PASS_RATE=$2 ;;
     --batch) BATCH=$2 ;;
+    --pixels) PIXELS=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -62,6 +72,7 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
 [[ "$PASS_RATE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-rate: Mrays/s, a decimal number"
 [[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
+[[ "$PIXELS" =~ ^(rgb8|float)$ ]] || die "--pixels: rgb8 or float"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -74,7 +85,7 @@ if [ ! -f "$map" ]; then
     rec=$(mktemp -d)
     trap 'rm -rf "$rec"' EXIT
     pairs=()
-    for k in 1 2 3; do # three renders: each cell's minimum (costmap.py)
+    for k in $(seq "$MAP_RENDERS"); do # each cell's minimum (costmap.py)
         OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np 2 \
             "$CSGTRACE" render "$SCENE" -o "$rec/img.png" --mode "$MODE" --width $REC_SIZE \
             --height $REC_SIZE --tile $REC_TILE --schedule raster --stats "$rec/$k.json" \
@@ -105,7 +116,7 @@ batch=()
 CSGSIM_COSTS=$map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" <<'PY'
 import json, sys

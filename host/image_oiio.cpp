@@ -14,6 +14,7 @@
  * once the file is complete.
  */
 #include "image_module.h"
+#include "pixels.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -60,18 +61,11 @@ bool is_float_format(const std::string &ext)
     return ext == "exr" || ext == "hdr" || ext == "pfm";
 }
 
-/* The display encoding of 8-bit files: the sRGB transfer curve, which is
- * what POV-Ray 3.7 writes to PNG with assumed_gamma 1 and its default file
- * gamma (measured: all 256 levels agree). */
+/* The display encoding of 8-bit files (host/pixels.h: the workers that
+ * send 8-bit results use the very same function). */
 float encode_display(float v)
 {
-    if (!(v > 0.0f))
-        return 0.0f;
-    if (v >= 1.0f)
-        return 1.0f;
-    if (v <= 0.0031308f)
-        return 12.92f * v;
-    return 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+    return pixels_srgb_encode(v);
 }
 
 /* A new, empty file beside `path` for the image to be written into, then
@@ -108,13 +102,10 @@ bool create_temp_for(const std::string &path, std::string &tmp)
 }
 
 /* The one encoded value whose byte OpenImageIO's float to uint8 conversion
- * does not settle by itself: x*255 is 0.49999997, the float just below 0.5;
- * its SIMD lanes round that to 0, its scalar tail computes
- * (int)(x*255 + 0.5f) = 1 (the sum rounds up to 1.0), and which lanes a
- * value meets depends on the row width and on how OpenImageIO splits the
- * work.  For every other value the two agree: x*255 + 0.5f is exact, or
- * rounds without reaching the next integer. */
-constexpr float ambiguous_encoded = 0x1.0101p-9f;
+ * does not settle by itself (host/pixels.h): its SIMD lanes round it to 0,
+ * its scalar tail to 1, and which lanes a value meets depends on the row
+ * width and on how OpenImageIO splits the work. */
+constexpr float ambiguous_encoded = PIXELS_AMBIGUOUS_ENCODED;
 
 /* Rows an 8-bit file is encoded and handed to OpenImageIO at a time: the
  * writer holds one strip (15 bytes a pixel: the encoded floats and their

@@ -17,6 +17,7 @@
 #include "../csg/flatten.h"
 #include "file_atomic.h"
 #include "hash.h"
+#include "pixels.h"
 #include "render.h"
 #include "signals.h"
 #include "version.h"
@@ -42,7 +43,7 @@ typedef struct {
 } journal_field;
 
 enum { JF_BUILD, JF_SIZE, JF_TILE, JF_SAMPLES, JF_PRECISION, JF_DEPTH, JF_RAYS, JF_SCENE,
-       JF_COUNT };
+       JF_PIXELS, JF_COUNT };
 
 struct journal {
     int fd;
@@ -90,8 +91,12 @@ static double journal_clock(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* The header fields of this render. */
-static void journal_fields(const void *blob, const tile_grid *g, journal_field *f)
+/* The header fields of this render (to out_path: its pixel format says
+ * what the records' floats are: the workers' own ("float"), or the
+ * stand-ins of the 8-bit file's bytes ("rgb8", host/pixels.h), which only
+ * an 8-bit file may be written from). */
+static void journal_fields(const char *out_path, const void *blob, const tile_grid *g,
+                           journal_field *f)
 {
     static const char *keys[JF_COUNT][2] = {
         {"build", "the program (another build of csgtrace wrote it)"},
@@ -101,7 +106,8 @@ static void journal_fields(const void *blob, const tile_grid *g, journal_field *
         {"precision", "the precision"},
         {"depth", "the trace depth"},
         {"max-rays", "the ray budget (--max-rays-per-pixel)"},
-        {"scene", "the scene (it, an include or an option it depends on changed)"}};
+        {"scene", "the scene (it, an include or an option it depends on changed)"},
+        {"pixels", "the pixel format of the output (8-bit or float file)"}};
     const csg_blob_header *h = csg_blob_hdr(blob);
     const csg_shading *sh = (const csg_shading *)((const char *)blob + h->off_shading);
     for (int i = 0; i < JF_COUNT; i++) {
@@ -119,6 +125,8 @@ static void journal_fields(const void *blob, const tile_grid *g, journal_field *
     snprintf(f[JF_RAYS].value, sizeof f[0].value, "%d", (int)sh->max_rays);
     snprintf(f[JF_SCENE].value, sizeof f[0].value, "%016llx",
              (unsigned long long)fnv1a_words(FNV_BASIS, blob, (size_t)h->total_size));
+    snprintf(f[JF_PIXELS].value, sizeof f[0].value, "%s",
+             pixels_format_name(pixels_format_for(out_path)));
 }
 
 /* ---- the header ------------------------------------------------------------------ */
@@ -360,7 +368,7 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
         csg_error_plain(d, "out of memory for the journal of %s", out_path);
         return EXIT_FAILURE_RUN;
     }
-    journal_fields(blob, g, f);
+    journal_fields(out_path, blob, g, f);
     j->fd = journal_open_existing(j->path, d);
     int status = EXIT_OK;
     if (j->fd < 0 && errno != ENOENT) {

@@ -4,8 +4,10 @@
  * on from them (--resume) instead of starting over.
  *
  * The file: a text header naming the render (the program's build, the
- * image size, tile edge, samples, precision, depth, ray budget and a hash
- * of the flattened scene: everything a pixel depends on), then one binary
+ * image size, tile edge, samples, precision, depth, ray budget, a hash
+ * of the flattened scene: everything a pixel depends on, and the output's
+ * pixel format: for an 8-bit file the floats kept stand for its bytes,
+ * host/pixels.h, and are refused for a float file), then one binary
  * record a finished tile, appended (write(2), no stdio buffer) the moment
  * the tile's last result is in: its index and rectangle, its primary hits,
  * its RGB floats and an FNV-1a checksum over all of it.  A record cut short

@@ -112,7 +112,7 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
     m->batch = sched_batch_limit(m->batch, m->workers, PROTO_BATCH_MAX);
     if (status == 0) /* (a batch's RESULT within PROTO_BATCH_BYTES) */
         m->batch = proto_batch_fit(m->batch, tile_grid_of(blob->bytes, tile).pixels_max);
-    proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, 0};
+    proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels};
     link_bcast(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
     m->shared = true;
@@ -443,15 +443,49 @@ static void master_close_sends(master_loop *L)
 
 /* ---- answers ---------------------------------------------------------------- */
 
-/* The bytes of the RESULT for items[0 .. k - 1]. */
-static size_t master_result_bytes(const master_job *job, const int *items, int k)
+/* The pixel format of the RESULT part at `at` in msg: its header's when
+ * the header is there (-1 when it names no format the session takes:
+ * floats always, bytes when it asked for them), else the session's. */
+static int master_part_pixels(const link_msg *msg, size_t at, int session)
 {
-    size_t len = 0;
+    proto_result h;
+    if (at > msg->len || msg->len - at < sizeof h)
+        return session;
+    memcpy(&h, msg->data + at, sizeof h);
+    return h.pixels == PIXELS_FLOAT || h.pixels == session ? h.pixels : -1;
+}
+
+/* The bytes of the RESULT for items[0 .. k - 1], each part in the format
+ * its header names; false with d filled when a header names none the
+ * session takes. */
+static bool master_result_bytes(const master_job *job, const link_msg *msg, const int *items,
+                                int k, int session, size_t *len, csg_diag *d)
+{
+    *len = 0;
     for (int i = 0; i < k; i++) {
         tile_rect r = job->sched->items[items[i]].rect;
-        len = proto_align(len) + proto_result_part((size_t)r.width * (size_t)r.height);
+        size_t at = proto_align(*len);
+        int format = master_part_pixels(msg, at, session);
+        if (format < 0) {
+            csg_error_plain(d, "worker %d: result of tile %d in an unknown pixel format",
+                            msg->source, job->sched->items[items[i]].tile);
+            return false;
+        }
+        *len = at + proto_result_part((size_t)r.width * (size_t)r.height, format);
     }
-    return len;
+    return true;
+}
+
+/* Rectangle r's 8-bit values into the float image, as the values the
+ * writer turns back into those bytes (pixels.h). */
+static void master_store_rgb8(float *image, int image_width, tile_rect r, const uint8_t *rgb8)
+{
+    for (int row = 0; row < r.height; row++) {
+        float *dst = image + ((size_t)(r.y + row) * (size_t)image_width + (size_t)r.x) * 3;
+        const uint8_t *src = rgb8 + (size_t)row * (size_t)r.width * 3;
+        for (size_t i = 0; i < (size_t)r.width * 3; i++)
+            dst[i] = pixels_linear_of(src[i]);
+    }
 }
 
 /* Part `part` of a RESULT (its size already checked) for item `item`:
@@ -471,18 +505,25 @@ static bool master_take_part(master_job *job, const link_msg *msg, const char *p
     }
     /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
      * multiple of 8: floats aligned */
-    tile_store_rgb(job->image, job->grid.width, r, (const float *)(const void *)(part + sizeof h));
+    if (h.pixels == PIXELS_RGB8)
+        master_store_rgb8(job->image, job->grid.width, r, (const uint8_t *)(part + sizeof h));
+    else
+        tile_store_rgb(job->image, job->grid.width, r,
+                       (const float *)(const void *)(part + sizeof h));
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
     master_job_count(job, &job->workers[msg->source - 1], msg->source, item, &res, stats_clock());
     return true;
 }
 
-/* A RESULT for items[0 .. k - 1] of the job: checked, stored, counted. */
+/* A RESULT for items[0 .. k - 1] of the job, its parts in the session's
+ * pixel format `session` or in floats: checked, stored, counted. */
 static bool master_take_result(master_job *job, const link_msg *msg, const int *items, int k,
-                               csg_diag *d)
+                               int session, csg_diag *d)
 {
-    size_t expected = master_result_bytes(job, items, k);
+    size_t expected;
+    if (!master_result_bytes(job, msg, items, k, session, &expected, d))
+        return false;
     if (msg->len != expected) {
         csg_error_plain(d, "worker %d: result of tile %d has %zu bytes, expected %zu",
                         msg->source, job->sched->items[items[0]].tile, msg->len, expected);
@@ -490,10 +531,11 @@ static bool master_take_result(master_job *job, const link_msg *msg, const int *
     }
     size_t at = 0;
     for (int i = 0; i < k; i++) {
+        int format = master_part_pixels(msg, at, session);
         if (!master_take_part(job, msg, msg->data + at, items[i], d))
             return false;
         tile_rect r = job->sched->items[items[i]].rect;
-        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height));
+        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height, format));
     }
     return true;
 }
@@ -532,7 +574,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     else if (L->failed)
         ok = msg->len >= sizeof(proto_result); /* draining: an answer, not stored */
     else
-        ok = master_take_result(L->job, msg, items, k, d);
+        ok = master_take_result(L->job, msg, items, k, L->m->pixels, d);
     if (!ok) {
         L->failed = true;
         master_write_off(L, src);

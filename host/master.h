@@ -39,6 +39,9 @@ typedef struct {
     int batch;                /* items in one TILE at most: set before
                                  master_share_scene (0: auto, --batch),
                                  the limit in force after it              */
+    int pixels;               /* enum pixels_format the workers answer in:
+                                 set before master_share_scene (host/
+                                 pixels.h: pixels_format_for the output)  */
     uint64_t tile_messages;   /* TILE messages sent                       */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
@@ -78,8 +81,9 @@ void master_begin(master_session *m, int ranks);
  * lends it one (master_job.idle) to wake from another thread. */
 bool master_idle_init(link_idle *idle);
 
-/* Broadcasts the status and the batch limit (m->batch resolved with
- * sched_batch_limit), then (status 0) the blob. */
+/* Broadcasts the status, the batch limit (m->batch resolved with
+ * sched_batch_limit) and the results' pixel format (m->pixels), then
+ * (status 0) the blob. */
 void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob);
 
 /* Handshake, then every item of job->sched through the workers, feeding

@@ -30,8 +30,14 @@
  *                          [PROTO_WORK_SHADE: the rectangle's packed hit
  *                           records, workers/tile.h (tile_pack_records)]
  *      worker -> master  PROTO_TAG_RESULT  k parts, in the TILE's order,
- *                                          each proto_result + rgb[3 n]
- *                                          float, n = its pixels
+ *                                          each proto_result + the n
+ *                                          pixels in proto_result.pixels:
+ *                                          rgb[3 n] float, or (when the
+ *                                          setup's pixels is RGB8) the
+ *                                          3 n bytes of the 8-bit file;
+ *                                          a part with a value that has
+ *                                          no byte of its own (pixels.h)
+ *                                          goes as floats all the same
  *                   or   PROTO_TAG_FAIL    proto_fail (for the whole TILE)
  *    Parts follow one another, each starting 8-byte aligned (zero bytes
  *    pad the one before; nothing follows the last): a TILE of one part
@@ -68,6 +74,7 @@
 #include <unistd.h>
 
 #include "../workers/tile.h"
+#include "pixels.h"
 
 enum proto_tag {
     PROTO_TAG_READY = 1, /* worker: set up, waiting for tiles  */
@@ -88,7 +95,8 @@ typedef struct {
     int32_t tile;       /* tile edge in pixels                         */
     uint64_t blob_size; /* bytes of the blob broadcast next            */
     int32_t batch;      /* parts in one TILE at most: 1 .. PROTO_BATCH_MAX */
-    int32_t pad;
+    int32_t pixels;     /* enum pixels_format of the RESULTs: RGB8 when
+                           the output is an 8-bit file                 */
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may
@@ -117,6 +125,8 @@ typedef struct {
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     uint64_t over_budget;   /* pixels that met their ray budget        */
     double busy_s;          /* seconds the worker spent on the tile    */
+    int32_t pixels;         /* enum pixels_format of the pixels after  */
+    int32_t pad;
 } proto_result;
 
 #define PROTO_FAIL_TEXT 240
@@ -149,17 +159,18 @@ static inline size_t proto_tile_part(const tile_grid *g, bool shade, size_t n)
     return sizeof(proto_tile) + (shade ? tile_records_bytes(g, n) : 0);
 }
 
-/* One RESULT part: header and the rgb of n pixels. */
-static inline size_t proto_result_part(size_t n)
+/* One RESULT part: header and n pixels in `format` (enum pixels_format). */
+static inline size_t proto_result_part(size_t n, int format)
 {
-    return sizeof(proto_result) + n * 3 * sizeof(float);
+    return sizeof(proto_result) + n * pixels_bytes(format);
 }
 
 /* `batch`, lowered so that a RESULT of that many tiles of pixels_max
  * pixels stays within PROTO_BATCH_BYTES; at least 1. */
 static inline int proto_batch_fit(int batch, size_t pixels_max)
 {
-    while (batch > 1 && proto_batch_bytes(proto_result_part(pixels_max), batch) > PROTO_BATCH_BYTES)
+    while (batch > 1 && proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch) >
+                            PROTO_BATCH_BYTES)
         batch--;
     return batch;
 }
@@ -172,10 +183,10 @@ static inline size_t proto_worker_limit(const tile_grid *g, int batch)
 }
 
 /* The largest message the master can be sent: the RESULT of `batch` of
- * the largest tiles, or a FAIL. */
+ * the largest tiles (in floats: any part may be), or a FAIL. */
 static inline size_t proto_master_limit(size_t pixels_max, int batch)
 {
-    size_t result = proto_batch_bytes(proto_result_part(pixels_max), batch);
+    size_t result = proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch);
     return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
 }
 

@@ -788,12 +788,14 @@ static int render_job(const render_request *req, int ranks)
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
     ms.batch = req->batch;
+    ms.pixels = pixels_format_for(req->out_path); /* 8-bit files: bytes back */
     master_share_scene(&ms, status, st.tile, &rs.blob);
     mk.loaded = stats_clock();
     st.blob_bytes = rs.blob.size;
     if (status == EXIT_OK)
         status = render_image(req, &ms, &rs, &st, &mk, &d);
     st.batch = ms.batch;
+    st.result_pixels = ms.workers > 0 ? pixels_format_name(ms.pixels) : "none";
     st.tile_messages = ms.tile_messages;
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;

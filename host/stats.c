@@ -165,6 +165,9 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, ",\n  \"bytes_sent\": %llu,\n  \"bytes_received\": %llu,\n  \"blob_bytes\": %llu,\n",
             (unsigned long long)s->bytes_sent, (unsigned long long)s->bytes_received,
             (unsigned long long)s->blob_bytes);
+    fputs("  \"result_pixels\": ", f);
+    stats_string(f, s->result_pixels ? s->result_pixels : "none");
+    fputs(",\n", f);
     stats_workers(f, s);
     fputs("}\n", f);
 }

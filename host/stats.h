@@ -81,6 +81,11 @@
  *   bytes_sent    bytes the master sent to workers (the scene broadcast
  *                 counted once per worker + the tile messages)
  *   bytes_received bytes the master received from workers
+ *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
+ *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
+ *                 a part with a value that has no byte of its own still
+ *                 comes as floats, host/pixels.h), "float" (EXR or no
+ *                 file), "none" (no workers)
  *   blob_bytes    size of the flattened scene
  *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
  *                 rays{...}}] one per rank that rendered tiles (rank 0
@@ -124,6 +129,7 @@ typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
     const char *precision;  /* "float", "double" (what ran)          */
     const char *schedule;   /* sched_policy_name                      */
+    const char *result_pixels; /* pixels_format_name, or "none"       */
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
     char cl_program[128];   /* csg_features_program_name, "" if none */

@@ -366,28 +366,34 @@ check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
 # every crafted answer is refused before it is used, with one message, exit
 # 1 and no image; an oversized one is never received (link_recv's limit).
 ROGUE=$ROOT/build/tests/rogue_worker
-for mode in big short index tag; do
-    if [ ! -x "$ROGUE" ]; then
-        bad "rogue worker ($mode): $ROGUE is not built"
-        continue
-    fi
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
-        "$first" "${SZ[@]}" --mode homo -o "$TMP/rogue-$mode.exr" : -np 1 "$ROGUE" "$mode" \
-        >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
-    rc=$?
-    check "rogue worker ($mode): exit 1, one message naming worker 1, no image (got $rc)" \
-        test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
-        -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$TMP/rogue-$mode.exr"
-done
-for mode in part one; do
-    [ -x "$ROGUE" ] || continue
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
-        "$first" "${SZ[@]}" --mode homo --tile 8 --batch 4 -o "$TMP/rogue-$mode.exr" \
-        : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
-    rc=$?
-    check "rogue worker, batch of 4 ($mode): exit 1, one message naming worker 1, no image (got $rc)" \
-        test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
-        -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$TMP/rogue-$mode.exr"
+# To EXR the answers are RGB floats (12 bytes a pixel), to PNG the file's
+# bytes (3: host/pixels.h); each well-sized answer is sized for its format.
+for ext in exr png; do
+    for mode in big short index tag pixels; do
+        if [ ! -x "$ROGUE" ]; then
+            bad "rogue worker ($mode): $ROGUE is not built"
+            continue
+        fi
+        out=$TMP/rogue-$mode.$ext
+        ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
+            "$first" "${SZ[@]}" --mode homo -o "$out" : -np 1 "$ROGUE" "$mode" \
+            >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
+        rc=$?
+        check "rogue worker ($mode, to $ext): exit 1, one message naming worker 1, no image (got $rc)" \
+            test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
+            -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$out"
+    done
+    for mode in part one; do
+        [ -x "$ROGUE" ] || continue
+        out=$TMP/rogue-$mode.$ext
+        ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 1 "$BIN" render \
+            "$first" "${SZ[@]}" --mode homo --tile 8 --batch 4 -o "$out" \
+            : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-$mode.out" 2>"$TMP/rogue-$mode.err"
+        rc=$?
+        check "rogue worker, batch of 4 ($mode, to $ext): exit 1, one message naming worker 1, no image (got $rc)" \
+            test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
+            -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$out"
+    done
 done
 
 if [ $have_cl = 1 ]; then

@@ -9,6 +9,10 @@
 #     journal: every mode gives the same pixels) gives the identical image
 #     and resumes at least every tile the progress bar had counted (no
 #     finished tile is lost, only those in flight);
+#   - the same to PNG (the workers send the 8-bit file's bytes and the
+#     journal keeps their stand-ins, host/pixels.h): the resumed PNG is
+#     byte-identical to an uninterrupted one; that journal renamed for an
+#     EXR output is refused (exit 2: the pixel format differs);
 #   - a journal of another render (another --depth) is refused, exit 2,
 #     naming what differs, and left as it was; a file that is not a journal
 #     likewise; a damaged record ends the journal there (the rest is
@@ -113,6 +117,35 @@ if [ $rc = 0 ] && same "$d/full.exr" "$d/o.exr" && [ ! -e "$d/o.exr.journal" ] &
     ok "kill -9 mpirun, --resume (hetero): the identical image; resumed $(python3 -c "import json; print(json.load(open('$d/s.json'))['tiles_resumed'])") tiles >= the ${shown:-?} the bar had shown"
 else
     ko "kill -9 mpirun, --resume: exit $rc (bar showed ${shown:-?}), stderr: $(head -c 300 "$d/err2")"
+fi
+
+# ---- mpirun to PNG: 8-bit results in the journal -----------------------------------
+d=$T/png
+mkdir -p "$d"
+"${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo -o "$d/full.png" >/dev/null 2>&1 ||
+    ko "the uninterrupted render to PNG under mpirun"
+MALLOC_PERTURB_=170 "${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo -o "$d/o.png" \
+    >"$d/out" 2>"$d/err" &
+pid=$!
+wait_records "$d/o.png.journal"
+kill -9 "$(pgrep -P $pid -x mpirun)"
+wait $pid 2>/dev/null
+for _ in $(seq 50); do [ "$(alive "render $T/slow.pov")" = 0 ] && break; sleep 0.1; done
+cp "$d/o.png.journal" "$d/o.exr.journal"
+"$BIN" render "$T/slow.pov" "${BIG[@]}" -o "$d/o.exr" --resume >/dev/null 2>"$d/err-exr"
+rc=$?
+[ $rc = 2 ] && grep -q "the pixel format of the output (8-bit or float file) differs (the journal's pixels: 'rgb8', this render's: 'float')" "$d/err-exr" &&
+    cmp -s "$d/o.png.journal" "$d/o.exr.journal" && [ ! -e "$d/o.exr" ] &&
+    ok "an 8-bit journal resumed to EXR: exit 2, says the pixel format differs, kept" ||
+    ko "an 8-bit journal resumed to EXR: exit $rc, stderr: $(head -c 300 "$d/err-exr")"
+"${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode hetero -o "$d/o.png" --resume \
+    --stats "$d/s.json" >"$d/out" 2>"$d/err2"
+rc=$?
+if [ $rc = 0 ] && cmp -s "$d/full.png" "$d/o.png" && [ ! -e "$d/o.png.journal" ] &&
+    json "$d/s.json" "j['tiles_resumed'] > 0 and j['result_pixels'] == 'rgb8'"; then
+    ok "kill -9 mpirun to PNG, --resume (hetero): the PNG byte-identical to an uninterrupted one"
+else
+    ko "kill -9 mpirun to PNG, --resume: exit $rc, stderr: $(head -c 300 "$d/err2")"
 fi
 
 # ---- journals that do not fit ----------------------------------------------------

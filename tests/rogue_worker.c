@@ -15,6 +15,11 @@
  *   part    (run with --batch N > 1, homo) a well-sized RESULT for every
  *           part of a batched TILE, the last part naming another tile
  *   one     (--batch N > 1) a RESULT for the first part of a batch only
+ *   pixels  a RESULT in a pixel format the session did not ask for: 8-bit
+ *           to a float (EXR) render, an unknown one (7) to an 8-bit one,
+ *           sized for 8-bit pixels
+ * Well-sized answers come in the session's pixel format (proto_setup:
+ * 3 bytes a pixel to an 8-bit file, 12 to a float one).
  * then waits for STOP and exits 0.  The master must report one error,
  * exit 1 and write no image, without taking the bytes it was not owed.
  */
@@ -37,7 +42,7 @@ static int rogue_parts(const link_msg *in, proto_tile *t, int cap)
 
 /* Batch modes: a RESULT for the parts of `in` (part: all, the last one
  * for the wrong tile; one: the first only). */
-static void rogue_batch_reply(const char *mode, const link_msg *in)
+static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels)
 {
     proto_tile t[PROTO_BATCH_MAX];
     int n = rogue_parts(in, t, PROTO_BATCH_MAX);
@@ -45,39 +50,44 @@ static void rogue_batch_reply(const char *mode, const link_msg *in)
         n = 1;
     size_t len = 0;
     for (int i = 0; i < n; i++)
-        len = proto_align(len) + proto_result_part((size_t)t[i].width * (size_t)t[i].height);
+        len = proto_align(len) + proto_result_part((size_t)t[i].width * (size_t)t[i].height, pixels);
     char *msg = calloc(1, len);
     if (!msg)
         exit(3);
     len = 0;
     for (int i = 0; i < n; i++) {
-        proto_result r = {t[i].index + (n > 1 && i == n - 1), 0, 0, 0, 0, 0, 0, 0};
+        proto_result r = {t[i].index + (n > 1 && i == n - 1), 0, 0, 0, 0, 0, 0, 0, pixels, 0};
         len = proto_align(len);
         memcpy(msg + len, &r, sizeof r);
-        len += proto_result_part((size_t)t[i].width * (size_t)t[i].height);
+        len += proto_result_part((size_t)t[i].width * (size_t)t[i].height, pixels);
     }
     link_send(LINK_MASTER, PROTO_TAG_RESULT, msg, len);
     free(msg);
 }
 
 /* The reply to the tile in `in` that MODE asks for. */
-static void rogue_reply(const char *mode, const link_msg *in)
+static void rogue_reply(const char *mode, const link_msg *in, int pixels)
 {
     if (strcmp(mode, "part") == 0 || strcmp(mode, "one") == 0) {
-        rogue_batch_reply(mode, in);
+        rogue_batch_reply(mode, in, pixels);
         return;
+    }
+    int claimed = pixels;
+    if (strcmp(mode, "pixels") == 0) {
+        claimed = pixels == PIXELS_FLOAT ? PIXELS_RGB8 : 7;
+        pixels = PIXELS_RGB8;
     }
     proto_tile t;
     memcpy(&t, in->data, sizeof t);
-    size_t pixels = (size_t)t.width * (size_t)t.height;
-    size_t good = sizeof(proto_result) + pixels * 3 * sizeof(float);
+    size_t good = proto_result_part((size_t)t.width * (size_t)t.height, pixels);
     size_t len = strcmp(mode, "big") == 0     ? (size_t)64 << 20
                  : strcmp(mode, "short") == 0 ? good - 4
                                               : good;
     char *msg = calloc(1, len);
     if (!msg)
         exit(3);
-    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0, 0};
+    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0, 0,
+                      claimed, 0};
     memcpy(msg, &r, sizeof r);
     link_send(LINK_MASTER, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
     free(msg);
@@ -104,7 +114,7 @@ int main(int argc, char **argv)
         if (in.tag == PROTO_TAG_STOP)
             break;
         if (in.tag == PROTO_TAG_TILE && !answered++)
-            rogue_reply(argv[1], &in);
+            rogue_reply(argv[1], &in, setup.pixels);
     }
     link_msg_free(&in);
     return 0;

@@ -464,7 +464,7 @@ static void test_batch_requeued(void **state)
 static void test_batch_bytes(void **state)
 {
     (void)state;
-    size_t odd = proto_result_part(49); /* 49 pixels: 4 bytes short of 8 */
+    size_t odd = proto_result_part(49, PIXELS_FLOAT); /* 49 pixels: 4 bytes short of 8 */
     assert_int_equal(odd % 8, 4);
     assert_int_equal(proto_batch_bytes(odd, 1), odd);
     assert_int_equal(proto_batch_bytes(odd, 3), 2 * (odd + 4) + odd);
@@ -473,8 +473,13 @@ static void test_batch_bytes(void **state)
     size_t big = 512 * 512;                         /* 3 MB a tile */
     assert_int_equal(proto_batch_fit(8, big), 1);
     int fit = proto_batch_fit(PROTO_BATCH_MAX, 128 * 128);
-    assert_true(fit > 1 && proto_batch_bytes(proto_result_part(128 * 128), fit) <= PROTO_BATCH_BYTES);
-    assert_true(proto_batch_bytes(proto_result_part(128 * 128), fit + 1) > PROTO_BATCH_BYTES);
+    size_t part = proto_result_part(128 * 128, PIXELS_FLOAT);
+    assert_true(fit > 1 && proto_batch_bytes(part, fit) <= PROTO_BATCH_BYTES);
+    assert_true(proto_batch_bytes(part, fit + 1) > PROTO_BATCH_BYTES);
+    /* 8-bit parts: 3 bytes a pixel; the limits stay those of floats (a
+     * part with a value that has no byte of its own comes as floats) */
+    assert_int_equal(proto_result_part(49, PIXELS_RGB8), sizeof(proto_result) + 49 * 3);
+    assert_int_equal(proto_result_part(49, PIXELS_RGB8) + 49 * 9, odd);
 }
 
 int main(void)

@@ -43,6 +43,8 @@
 
 typedef struct {
     int fail_rank;        /* CSGTRACE_FAIL_WORKER, 0 when unset      */
+    bool float_parts;     /* CSGTRACE_TEST_FLOAT_PARTS: every other
+                             8-bit part sent as floats (worker.h)     */
     int rank;
     int tiles_done;
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
@@ -57,6 +59,8 @@ typedef struct {
     int head, queued;     /* the oldest, and how many                 */
     size_t in_limit;      /* the largest message it may send us       */
     int batch;            /* parts in one TILE at most (the setup's)  */
+    int pixels;           /* enum pixels_format asked for (the setup's) */
+    float *rgb;           /* PIXELS_RGB8: a part's floats, converted    */
     char *out[PROTO_IN_FLIGHT];     /* RESULTs: one part at first,    */
     size_t out_cap[PROTO_IN_FLIGHT]; /* grown to a batch's bytes       */
     link_req out_req[PROTO_IN_FLIGHT]; /* their sends                 */
@@ -105,10 +109,19 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     }
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     const tile_grid *g = &w->runner.grid;
+    if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
+        worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
+        return;
+    }
     w->batch = setup->batch;
+    w->pixels = setup->pixels;
     w->in_limit = proto_worker_limit(g, w->batch);
+    if (w->pixels == PIXELS_RGB8) {
+        w->rgb = malloc(g->pixels_max * 3 * sizeof *w->rgb);
+        ok = ok && w->rgb;
+    }
     for (int i = 0; i < PROTO_IN_FLIGHT; i++) {
-        w->out_cap[i] = proto_result_part(g->pixels_max);
+        w->out_cap[i] = proto_result_part(g->pixels_max, PIXELS_FLOAT);
         w->out[i] = malloc(w->out_cap[i]);
         ok = ok && w->out[i];
     }
@@ -151,19 +164,30 @@ static size_t worker_part(const worker_state *w, const link_msg *in, size_t at, 
     return at + part;
 }
 
-/* The rectangle of part h (at `at` in `in`), its answer into `out`. */
-static void worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
-                           char *out)
+/* The rectangle of part h (at `at` in `in`), its answer into `out` (room
+ * for it in floats): the answer's bytes.  PIXELS_RGB8: the bytes of the
+ * 8-bit file, unless some value has none of its own (pixels.h): floats. */
+static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
+                             char *out)
 {
     tile_rect r = {h->x, h->y, h->width, h->height};
+    size_t n = (size_t)r.width * (size_t)r.height;
     /* hetero: the records follow the header (8-byte aligned) */
     const void *payload = h->work == PROTO_WORK_SHADE ? in->data + at + sizeof *h : NULL;
+    float *floats = (float *)(void *)(out + sizeof(proto_result));
     tile_result res;
-    tile_run_rect(&w->runner, r, payload, (float *)(void *)(out + sizeof(proto_result)), &res);
+    tile_run_rect(&w->runner, r, payload, w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
+    int format = PIXELS_FLOAT;
+    bool as_floats = w->float_parts && w->tiles_done % 2 == 1;
+    if (w->pixels == PIXELS_RGB8 && !as_floats)
+        format = pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats) ? PIXELS_RGB8 : PIXELS_FLOAT;
+    if (w->pixels == PIXELS_RGB8 && format == PIXELS_FLOAT)
+        memcpy(floats, w->rgb, n * 3 * sizeof *floats);
     proto_result head = {h->index,          res.hits,           res.rays.primary,
                          res.rays.shadow,   res.rays.reflected, res.rays.refracted,
-                         res.rays.over_budget, res.busy_s};
+                         res.rays.over_budget, res.busy_s, format, 0};
     memcpy(out, &head, sizeof head);
+    return proto_result_part(n, format);
 }
 
 /* Every part of TILE `in` computed into RESULT buffer `slot`: the
@@ -184,14 +208,13 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
         if (k > 0)
             proto_test_kill(w->rank, "item", w->tiles_done);
         size_t start = proto_align(len);
-        size_t next = start + proto_result_part((size_t)h->width * (size_t)h->height);
-        if (!proto_buffer(&w->out[slot], &w->out_cap[slot], next)) {
+        size_t room = start + proto_result_part((size_t)h->width * (size_t)h->height, PIXELS_FLOAT);
+        if (!proto_buffer(&w->out[slot], &w->out_cap[slot], room)) {
             *why = "out of memory for a batch of tiles";
             return 0;
         }
         memset(w->out[slot] + len, 0, start - len); /* the padding between parts */
-        worker_do_part(w, in, at, h, w->out[slot] + start);
-        len = next;
+        len = start + worker_do_part(w, in, at, h, w->out[slot] + start);
         w->tiles_done++;
         if (end == in->len)
             return len;
@@ -241,6 +264,7 @@ static void worker_flush(worker_state *w)
 static void worker_free(worker_state *w)
 {
     free(w->blob);
+    free(w->rgb);
     tile_runner_free(&w->runner);
     for (int i = 0; i < WORKER_QUEUE; i++)
         link_msg_free(&w->queue[i]);
@@ -305,6 +329,8 @@ int worker_run(int rank)
     w.rank = rank;
     const char *hook = getenv("CSGTRACE_FAIL_WORKER");
     w.fail_rank = hook ? atoi(hook) : 0;
+    const char *floats = getenv("CSGTRACE_TEST_FLOAT_PARTS");
+    w.float_parts = floats && strcmp(floats, "1") == 0;
     link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;

@@ -21,7 +21,11 @@
  * measured device rate: pass_s = width x height / rate (bench/GPU.md).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
- *          --schedule raster|cost|static|tail [--batch N] --stats FILE.json
+ *          --schedule raster|cost|static|tail [--batch N] [--pixels rgb8|float]
+ *          --stats FILE.json
+ * --pixels: what the workers' RESULTs carry a pixel (host/pixels.h): rgb8
+ * (default: what a render to an 8-bit file such as PNG sends) or float
+ * (EXR; every render before 2026-11-25).
  * writes makespan_s (scene broadcast to the last STOP), serial_s (every
  * item's seconds, plus the pass in hetero), efficiency and master_busy
  * (1 - the simulated seconds the master napped / makespan).
@@ -43,6 +47,7 @@ typedef struct {
     bool hetero;
     int width, height, tile, policy;
     int batch;               /* --batch: 0 auto (master.h)               */
+    int pixels;              /* --pixels: enum pixels_format             */
 } sim_args;
 
 typedef struct {
@@ -92,6 +97,10 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         return sim_policy(v, &a->policy);
     if (strcmp(key, "--batch") == 0)
         return sim_int(v, 1, PROTO_BATCH_MAX, &a->batch);
+    if (strcmp(key, "--pixels") == 0) {
+        a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT : PIXELS_RGB8;
+        return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0;
+    }
     if (strcmp(key, "--stats") == 0) {
         a->stats = v;
         return true;
@@ -101,7 +110,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0};
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, PIXELS_RGB8};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -172,6 +181,7 @@ typedef struct {
     double makespan_s, napped_s;
     int items, batch;
     uint64_t messages;       /* TILE messages                            */
+    uint64_t bytes_received; /* by the master, from the workers          */
 } sim_result;
 
 static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
@@ -183,11 +193,13 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
     fprintf(f, "{\"workers\": %d, \"mode\": \"%s\", \"schedule\": \"%s\", \"tile\": %d, "
                "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
                "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
-               "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu}\n",
+               "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
+               "\"result_pixels\": \"%s\", \"bytes_received\": %llu}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
-            (unsigned long long)r->messages);
+            (unsigned long long)r->messages, pixels_format_name(a->pixels),
+            (unsigned long long)r->bytes_received);
     return fclose(f) == 0;
 }
 
@@ -217,12 +229,13 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         double t0 = stats_clock();
         master_begin(&m, ranks);
         m.batch = a->batch;
+        m.pixels = a->pixels;
         master_share_scene(&m, 0, a->tile, blob);
         run->pass_t0 = stats_clock();
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
-                            m.tile_messages};
+                            m.tile_messages, m.bytes_received};
         link_idle_free(&idle);
         sched_free(&run->s);
     } else { /* out of memory before the start: the workers still need a STOP */

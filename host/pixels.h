@@ -1,0 +1,96 @@
+/*
+ * pixels.h — the pixel formats of the results a worker sends (protocol.h)
+ * and the one conversion from linear float RGB to the bytes of an 8-bit
+ * image file, shared by the workers (which send those bytes when the
+ * output is an 8-bit file), the master (which stores them) and the image
+ * writer (host/image_oiio.cpp: this header compiles as C++ too).
+ *
+ * An 8-bit file's byte for a linear value v is pixels_srgb_byte(v):
+ * pixels_srgb_encode (clamp to [0, 1], the sRGB curve, as POV-Ray 3.7
+ * writes PNG with assumed_gamma 1), then e * 255 + 0.5 truncated.  That
+ * last step is OpenImageIO's float to uint8 conversion, which the writer
+ * uses: checked for every float e in [0, 1] (2026-11-25, OpenImageIO 2.4),
+ * equal except at e == PIXELS_AMBIGUOUS_ENCODED, the one value whose byte
+ * OpenImageIO's SIMD lanes round to 0 and its scalar tail to 1 (which a
+ * pixel meets depends on the row width and the thread split).  A value
+ * that encodes to it has no byte of its own: pixels_srgb_byte says so,
+ * and its results go as floats (the writer settles it as it always did).
+ */
+#ifndef HOST_PIXELS_H
+#define HOST_PIXELS_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What a RESULT part carries a pixel (proto_setup.pixels,
+ * proto_result.pixels). */
+enum pixels_format {
+    PIXELS_FLOAT = 0, /* 3 linear floats: float files (EXR), or any part
+                         with an ambiguous value                          */
+    PIXELS_RGB8 = 1   /* 3 bytes: what an 8-bit file holds                */
+};
+
+/* Bytes a pixel in `format`. */
+static inline size_t pixels_bytes(int format)
+{
+    return format == PIXELS_RGB8 ? 3 : 3 * sizeof(float);
+}
+
+static inline const char *pixels_format_name(int format)
+{
+    return format == PIXELS_RGB8 ? "rgb8" : "float";
+}
+
+/* The encoded value whose byte OpenImageIO does not settle by itself:
+ * x * 255 is 0.49999997, the float just below 0.5. */
+#define PIXELS_AMBIGUOUS_ENCODED 0x1.0101p-9f
+
+/* The display encoding of 8-bit files: the sRGB transfer curve (POV-Ray
+ * 3.7's PNG with assumed_gamma 1: all 256 levels measured to agree). */
+static inline float pixels_srgb_encode(float v)
+{
+    if (!(v > 0.0f))
+        return 0.0f;
+    if (v >= 1.0f)
+        return 1.0f;
+    if (v <= 0.0031308f)
+        return 12.92f * v;
+    return 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+}
+
+/* The byte an 8-bit file holds for linear v, into *b; false (nothing
+ * stored) when v encodes to PIXELS_AMBIGUOUS_ENCODED. */
+static inline bool pixels_srgb_byte(float v, uint8_t *b)
+{
+    float e = pixels_srgb_encode(v);
+    if (e == PIXELS_AMBIGUOUS_ENCODED)
+        return false;
+    *b = (uint8_t)(int)(e * 255.0f + 0.5f);
+    return true;
+}
+
+/* n linear values converted to bytes (out may not alias rgb); false when
+ * some value has no byte of its own (out then partly written). */
+bool pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out);
+
+/* A linear value whose byte is b (pixels_srgb_byte gives b back, never
+ * the ambiguous value): what the master keeps for a byte received, so
+ * the writer turns it into that very byte. */
+float pixels_linear_of(uint8_t b);
+
+/* The format a render's results take for output file `path`: PIXELS_FLOAT
+ * for the float formats (exr, hdr, pfm: as host/image_oiio.cpp decides),
+ * PIXELS_RGB8 for every other (8-bit) one; NULL (no file): PIXELS_FLOAT. */
+int pixels_format_for(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# e2e_bytes.sh — results in the output's precision (host/pixels.h): to an
+# 8-bit file (PNG) the workers send the file's bytes, 3 a pixel, instead of
+# RGB floats, 12; the file must not change by a byte.
+#   - on every example scene and a random one, 61x37, tile 7: homo and
+#     hetero PNGs (2 and 3 ranks) are byte-identical (cmp) to the serial
+#     PNG, written from the floats themselves, and to the PNG an EXR render's
+#     floats give (csgtrace's writer, through a serial render's image);
+#   - the stats say which format was used (result_pixels: rgb8 to PNG,
+#     float to EXR, none serially) and are truthful: a homo render receives
+#     exactly 9 bytes a pixel fewer to PNG than to EXR (tile 8, --batch 4
+#     too).
+# Usage: tests/e2e_bytes.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+
+mpi_sandbox
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$PWD/build/pocl-cache}
+MPI=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe)
+SZ=(--width 61 --height 37 --tile 7)
+"$BIN" gen spheres --count 40 --occupancy 0.4 --seed 7 --width 61 --height 37 \
+    --materials opaque,reflective,transparent -o "$T/random.pov" >/dev/null || ko "gen"
+
+for scene in scenes/*.pov "$T/random.pov"; do
+    name=$(basename "$scene" .pov)
+    "$BIN" render "$scene" "${SZ[@]}" -o "$T/$name-serial.png" --stats "$T/$name-serial.json" \
+        >/dev/null 2>&1 || { ko "$name: serial render"; continue; }
+    bad=""
+    for np in 2 3; do
+        for mode in homo hetero; do
+            out=$T/$name-$mode-$np.png
+            "${MPI[@]}" -np $np "$BIN" render "$scene" "${SZ[@]}" --mode $mode -o "$out" \
+                --stats "$out.json" >/dev/null 2>&1 || { bad+=" $mode/$np:failed"; continue; }
+            cmp -s "$T/$name-serial.png" "$out" || bad+=" $mode/$np:differs"
+            json "$out.json" "j['result_pixels'] == 'rgb8'" || bad+=" $mode/$np:not-rgb8"
+        done
+    done
+    json "$T/$name-serial.json" "j['result_pixels'] == 'none'" || bad+=" serial:result_pixels"
+    [ -z "$bad" ] && ok "$name: homo and hetero PNGs (2, 3 ranks, 8-bit results) = the serial PNG, byte for byte" ||
+        ko "$name:$bad"
+done
+
+# The PNG of an EXR render's floats (the old path: floats to the master,
+# converted by the writer) against the 8-bit results' PNG.
+"${MPI[@]}" -np 3 "$BIN" render scenes/showcase.pov "${SZ[@]}" --mode homo -o "$T/show.exr" \
+    >/dev/null 2>&1 || ko "showcase to EXR"
+# A render that writes the EXR's floats to PNG: serial (the master's own
+# floats) is that path; the homo EXR equals it (float results).
+"$BIN" render scenes/showcase.pov "${SZ[@]}" -o "$T/show-serial.exr" >/dev/null 2>&1
+same "$T/show.exr" "$T/show-serial.exr" && cmp -s "$T/showcase-serial.png" "$T/showcase-homo-3.png" &&
+    ok "showcase: EXR (float results) = serial EXR, and the 8-bit results' PNG = the PNG of those floats" ||
+    ko "showcase: EXR or PNG differs"
+
+# Parts that come as floats in an 8-bit render (a value without a byte of
+# its own, host/pixels.h; forced here for every other part): the same PNG.
+for mode in homo hetero; do
+    CSGTRACE_TEST_FLOAT_PARTS=1 "${MPI[@]}" -np 3 -x CSGTRACE_TEST_FLOAT_PARTS "$BIN" render \
+        "$T/random.pov" "${SZ[@]}" --batch 3 --mode $mode -o "$T/mixed-$mode.png" \
+        --stats "$T/mixed-$mode.json" >/dev/null 2>&1 &&
+        cmp -s "$T/random-serial.png" "$T/mixed-$mode.png" &&
+        json "$T/mixed-$mode.json" "j['result_pixels'] == 'rgb8'" &&
+        ok "$mode: every other part as floats in an 8-bit render: the same PNG" ||
+        ko "$mode: parts as floats in an 8-bit render"
+done
+
+# Truthful stats: 9 bytes a pixel fewer received to PNG than to EXR.
+for extra in "" "--tile 8 --batch 4"; do
+    for ext in png exr; do
+        "${MPI[@]}" -np 3 "$BIN" render "$T/random.pov" --width 61 --height 37 $extra --mode homo \
+            -o "$T/b.$ext" --stats "$T/b-$ext.json" >/dev/null 2>&1 || ko "homo to $ext ($extra)"
+    done
+    python3 - "$T/b-png.json" "$T/b-exr.json" <<'PY' && ok "bytes_received: EXR - PNG = 9 bytes x 61x37 pixels${extra:+ ($extra)}; result_pixels rgb8 / float" || ko "bytes_received or result_pixels wrong${extra:+ ($extra)}"
+import json, sys
+p, e = (json.load(open(f)) for f in sys.argv[1:])
+ok = (e['bytes_received'] - p['bytes_received'] == 9 * 61 * 37 and
+      p['result_pixels'] == 'rgb8' and e['result_pixels'] == 'float')
+print(p['bytes_received'], e['bytes_received'])
+sys.exit(0 if ok else 1)
+PY
+done
+
+e2e_finish
