@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "file_atomic.h"
 #include "hash.h"
 
 /* A cached binary larger than this is not ours. */
@@ -139,22 +140,6 @@ void *cl_cache_load(uint64_t key, size_t *size)
     return NULL;
 }
 
-/* Writes all of p, through short writes. */
-static bool cl_cache_write_all(int fd, const void *p, size_t n)
-{
-    const char *b = p;
-    while (n > 0) {
-        ssize_t w = write(fd, b, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return false;
-        b += w;
-        n -= (size_t)w;
-    }
-    return true;
-}
-
 void cl_cache_store(uint64_t key, const void *payload, size_t size)
 {
     char dir[PATH_MAX], path[PATH_MAX], tmp[PATH_MAX + 16];
@@ -181,7 +166,7 @@ void cl_cache_store(uint64_t key, const void *payload, size_t size)
     h.key = key;
     h.size = size;
     h.sum = fnv1a(FNV_BASIS, payload, size);
-    bool ok = cl_cache_write_all(fd, &h, sizeof h) && cl_cache_write_all(fd, payload, size);
+    bool ok = file_write_all(fd, &h, sizeof h) && file_write_all(fd, payload, size);
     ok = close(fd) == 0 && ok;
     if (!ok || rename(tmp, path) != 0)
         unlink(tmp);

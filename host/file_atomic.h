@@ -20,6 +20,10 @@
 bool file_write_atomic(const char *path, void (*print)(FILE *, const void *), const void *arg,
                        char *err, size_t err_size);
 
+/* Writes all n bytes of p to fd, through short writes and EINTR (a
+ * signal may cut a write short); false on an error. */
+bool file_write_all(int fd, const void *p, size_t n);
+
 /* What fopen would give a new file: 0666 less the umask (mkstemp's 0600
  * would hide a render from the other users of a shared folder). */
 mode_t file_default_mode(void);

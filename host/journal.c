@@ -215,22 +215,6 @@ static off_t journal_read_records(journal *j, off_t at, float *image)
     }
 }
 
-/* Writes all n bytes (a signal may cut a write short). */
-static bool journal_write_all(int fd, const void *p, size_t n)
-{
-    const char *c = p;
-    while (n > 0) {
-        ssize_t w = write(fd, c, n);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return false;
-        c += w;
-        n -= (size_t)w;
-    }
-    return true;
-}
-
 void journal_tile_done(journal *j, int tile, const float *image)
 {
     if (!j || j->broken)
@@ -244,8 +228,8 @@ void journal_tile_done(journal *j, int tile, const float *image)
                (size_t)r.width * 3 * sizeof(float));
     size_t bytes = journal_pixel_bytes(r);
     uint64_t sum = fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
-    if (!journal_write_all(j->fd, &rec, sizeof rec) || !journal_write_all(j->fd, j->buf, bytes) ||
-        !journal_write_all(j->fd, &sum, sizeof sum)) {
+    if (!file_write_all(j->fd, &rec, sizeof rec) || !file_write_all(j->fd, j->buf, bytes) ||
+        !file_write_all(j->fd, &sum, sizeof sum)) {
         fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "
                         "on, but --resume will not find the tiles after this one\n",
                 j->path, strerror(errno));
@@ -301,7 +285,7 @@ static int journal_create(const char *path, const journal_field *f, csg_diag *d)
         fd = mkstemp(tmp);
     }
     if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
-        !journal_write_all(fd, header, n) || rename(tmp, path) != 0) {
+        !file_write_all(fd, header, n) || rename(tmp, path) != 0) {
         csg_error_plain(d, "cannot create the journal %s: %s", path,
                         tmp ? strerror(errno) : "out of memory");
         if (fd >= 0) {
