@@ -99,6 +99,8 @@ int main(int argc, char **argv)
         return bad("cannot open the spheres file");
     int version, w, h, n;
     csg_camera cam;
+    memset(&cam, 0, sizeof cam); /* perspective, rays from the location (no hither):
+                                    the only cameras primary_rays exports */
     float cv[12];
     if (fscanf(f, "csgtrace-spheres %d image %d %d camera", &version, &w, &h) != 3 ||
         version != 1 || w < 1 || h < 1 || w > 32768 || h > 32768 || !read_floats(f, cv, 12) ||

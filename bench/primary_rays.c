@@ -72,6 +72,12 @@ static bool export_spheres(const void *blob, const char *path)
         fprintf(stderr, "primary_rays: cannot write %s: %s\n", path, strerror(errno));
         return false;
     }
+    if (c->projection != CSG_CAMERA_PERSPECTIVE || c->hither != 0.0f) {
+        fprintf(stderr, "primary_rays: %s: only a perspective camera without hither is "
+                        "exported\n", path);
+        fclose(f);
+        return false;
+    }
     fprintf(f, "csgtrace-spheres 1\nimage %d %d\ncamera", h->width, h->height);
     const float *vecs[4] = {c->location, c->direction, c->right, c->up};
     for (int v = 0; v < 4; v++)
