@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -53,14 +54,41 @@ static float *render_scene(const char *path)
     return rgb;
 }
 
+/* This binary's output folder: <build>/test-out beside its tests/ folder
+ * (build/test-out, build/asan/test-out), so the plain and the ASan binaries
+ * never write the same files. */
+static void test_out_dir(char *out, size_t size)
+{
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    assert_true(n > 0);
+    exe[n] = '\0';
+    for (int up = 0; up < 2; up++) { /* .../build[/asan]/tests/test_golden */
+        char *slash = strrchr(exe, '/');
+        assert_non_null(slash);
+        *slash = '\0';
+    }
+    if ((size_t)snprintf(out, size, "%s/test-out", exe) >= size)
+        fail_msg("output folder path too long: %s/test-out", exe);
+    mkdir(out, 0755);
+}
+
+/* A file of that folder. */
+static void test_out_path(char *out, size_t size, const char *name)
+{
+    char dir[4096];
+    test_out_dir(dir, sizeof dir);
+    if ((size_t)snprintf(out, size, "%s/%s", dir, name) >= size)
+        fail_msg("output path too long: %s/%s", dir, name);
+}
+
 static void test_golden_images(void **state)
 {
     (void)state;
     const char *root = CSG_SOURCE_DIR;
     char dir[4096], out_dir[4096];
     snprintf(dir, sizeof dir, "%s/scenes", root);
-    snprintf(out_dir, sizeof out_dir, "%s/build/test-out", root);
-    mkdir(out_dir, 0755);
+    test_out_dir(out_dir, sizeof out_dir);
     DIR *dp = opendir(dir);
     assert_non_null(dp);
     int scenes = 0;
@@ -95,9 +123,9 @@ static void test_compare_detects_differences(void **state)
 {
     (void)state;
     char a[4096], b[4096], c[4096], err[512];
-    snprintf(a, sizeof a, "%s/build/test-out/cmp_a.png", CSG_SOURCE_DIR);
-    snprintf(b, sizeof b, "%s/build/test-out/cmp_b.png", CSG_SOURCE_DIR);
-    snprintf(c, sizeof c, "%s/build/test-out/cmp_c.png", CSG_SOURCE_DIR);
+    test_out_path(a, sizeof a, "cmp_a.png");
+    test_out_path(b, sizeof b, "cmp_b.png");
+    test_out_path(c, sizeof c, "cmp_c.png");
     float img[8 * 8 * 3] = {0};
     assert_true(img_write_rgb(a, img, 8, 8, err, sizeof err));
     img[3 * 27 + 1] = 1.0f;
@@ -143,8 +171,9 @@ static void test_display_encoding(void **state)
         float *rgb = calloc((size_t)w * h * 3, sizeof(float));
         assert_non_null(rgb);
         memcpy(rgb, in, N * sizeof(float));
-        char path[4096], err[512];
-        snprintf(path, sizeof path, "%s/build/test-out/encoding_%d.png", CSG_SOURCE_DIR, w);
+        char path[4096], err[512], name[64];
+        snprintf(name, sizeof name, "encoding_%d.png", w);
+        test_out_path(path, sizeof path, name);
         if (!img_write_rgb(path, rgb, w, h, err, sizeof err))
             fail_msg("%s", err);
         float *back;
