@@ -365,6 +365,11 @@ static void link_watch_start(void)
         close(lfd);
 }
 
+bool link_peer_gone_before(int rank)
+{
+    return link_w.gone && rank >= 1 && rank < link_w.size && link_w.gone[rank];
+}
+
 bool link_peer_lost(int rank)
 {
     if (!link_w.fd || rank < 1 || rank >= link_w.size)

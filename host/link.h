@@ -139,6 +139,9 @@ link_status link_bcast(void *data, size_t size);
 /* Master: true once rank r's process is gone (its watchdog socket closed,
  * however it died; a worker that never connected one is never "lost"
  * here).  Stays true. */
+/* Rank r was lost or written off earlier in this job (no polling: what
+ * link_peer_lost and link_forget recorded). */
+bool link_peer_gone_before(int rank);
 bool link_peer_lost(int rank);
 /* Master: stops watching rank r and closes its socket, so that worker,
  * if it is still alive (hung), exits at once. */

@@ -72,9 +72,12 @@ void master_begin(master_session *m, int ranks)
     memset(m, 0, sizeof *m);
     m->workers = ranks > 1 ? ranks - 1 : 0;
     m->lost = m->workers > 0 ? calloc((size_t)m->workers + 1, sizeof *m->lost) : NULL;
+    m->lost_before = m->lost ? calloc((size_t)m->workers + 1, sizeof *m->lost_before) : NULL;
+    for (int r = 1; m->lost_before && r <= m->workers; r++)
+        m->lost_before[r] = link_peer_gone_before(r);
 }
 
-/* Rank r is lost (it died or hung): one line on stderr, once. */
+/* Rank r is lost (it died or hung): one line on stderr, once a job. */
 static void master_mark_lost(master_session *m, int r, int items, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
@@ -89,6 +92,8 @@ static void master_mark_lost(master_session *m, int r, int items, const char *fm
     if (m->lost)
         m->lost[r] = true;
     m->workers_lost++;
+    if (m->lost_before && m->lost_before[r])
+        return; /* reported by the render that lost it */
     fprintf(stderr, "csgtrace: worker %d lost (%s): %d item%s handed to the others\n", r, why,
             items, items == 1 ? "" : "s");
     fflush(stderr);
@@ -757,5 +762,7 @@ void master_end(master_session *m, int status)
     if (m->workers > 0)
         master_stop_all(m, status);
     free(m->lost);
+    free(m->lost_before);
     m->lost = NULL;
+    m->lost_before = NULL;
 }

@@ -33,6 +33,8 @@ typedef struct {
     bool stopped;             /* the workers were told to exit            */
     bool link_broken;         /* a message could not be received: the job
                                  can only be aborted (master_end does)    */
+    bool *lost_before;        /* [r]: rank r was lost in an earlier render
+                                 of this job (compare): not reported again */
     bool *lost;               /* [r]: rank r's process is gone (NULL:
                                  out of memory, nobody is ever lost)      */
     int workers_lost;         /* how many                                 */
