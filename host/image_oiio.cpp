@@ -56,11 +56,6 @@ std::string extension_of(const std::string &path)
     return ext;
 }
 
-bool is_float_format(const std::string &ext)
-{
-    return ext == "exr" || ext == "hdr" || ext == "pfm";
-}
-
 /* The display encoding of 8-bit files (host/pixels.h: the workers that
  * send 8-bit results use the very same function). */
 float encode_display(float v)
@@ -195,7 +190,7 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
     auto out = output_for(path, err, esz);
     if (!out)
         return false;
-    ImageSpec spec(width, height, 3, is_float_format(ext) ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    ImageSpec spec(width, height, 3, pixels_format_for(path_c) == PIXELS_FLOAT ? TypeDesc::FLOAT : TypeDesc::UINT8);
     if (ext == "png")
         set_png_options(spec);
     if (!create_temp_for(path, tmp)) {
@@ -208,7 +203,7 @@ bool write_rgb(const char *path_c, const float *rgb, int width, int height, char
         std::remove(tmp.c_str());
         return false;
     }
-    bool ok = is_float_format(ext) ? out->write_image(TypeDesc::FLOAT, rgb)
+    bool ok = pixels_format_for(path_c) == PIXELS_FLOAT ? out->write_image(TypeDesc::FLOAT, rgb)
                                    : write_display(*out, rgb, width, height);
     std::string werr = ok ? "" : out->geterror();
     ok = out->close() && ok;

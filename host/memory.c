@@ -3,23 +3,12 @@
  * allocate (memory.h).
  */
 #include "memory.h"
+#include "pixels.h"
 
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/resource.h>
-
-/* Is out_path written as floats (by its extension, as image_oiio.cpp's
- * is_float_format decides)?  Every other format is written in bytes. */
-static bool memory_float_file(const char *out_path)
-{
-    static const char *const floats[] = {".exr", ".hdr", ".pfm"};
-    const char *dot = strrchr(out_path, '.');
-    for (size_t i = 0; dot && !strchr(dot, '/') && i < sizeof floats / sizeof floats[0]; i++)
-        if (strcasecmp(dot, floats[i]) == 0)
-            return true;
-    return false;
-}
 
 /* What the encoder holds beside the image: 8-bit formats a strip of
  * encoded floats and their bytes; float formats OpenImageIO's chunk. */
@@ -28,7 +17,7 @@ static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_p
     uint64_t row = width * 3 * sizeof(float);
     if (!out_path)
         return 0;
-    if (!memory_float_file(out_path)) {
+    if (pixels_format_for(out_path) == PIXELS_RGB8) {
         uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
         return rows * width * 3 * (sizeof(float) + 1);
     }

@@ -94,18 +94,3 @@ float pixels_linear_of(uint8_t b)
 {
     return linear_of_byte[b];
 }
-
-int pixels_format_for(const char *path)
-{
-    if (!path)
-        return PIXELS_FLOAT;
-    const char *slash = strrchr(path, '/');
-    const char *dot = strrchr(path, '.');
-    if (!dot || (slash && dot < slash))
-        return PIXELS_RGB8;
-    static const char *const floats[] = {"exr", "hdr", "pfm"};
-    for (size_t i = 0; i < sizeof floats / sizeof floats[0]; i++)
-        if (strcasecmp(dot + 1, floats[i]) == 0)
-            return PIXELS_FLOAT;
-    return PIXELS_RGB8;
-}

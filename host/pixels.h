@@ -23,6 +23,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
+#include <strings.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -84,10 +86,24 @@ bool pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out);
  * the writer turns it into that very byte. */
 float pixels_linear_of(uint8_t b);
 
-/* The format a render's results take for output file `path`: PIXELS_FLOAT
- * for the float formats (exr, hdr, pfm: as host/image_oiio.cpp decides),
- * PIXELS_RGB8 for every other (8-bit) one; NULL (no file): PIXELS_FLOAT. */
-int pixels_format_for(const char *path);
+/* The format of output file `path`, by its extension (any case): PIXELS_FLOAT
+ * for the float formats (exr, hdr, pfm), PIXELS_RGB8 for every other (8-bit)
+ * one; NULL (no file): PIXELS_FLOAT.  The one list of float formats: the
+ * writer (image_oiio.cpp), the results and the memory estimate use it. */
+static inline int pixels_format_for(const char *path)
+{
+    if (!path)
+        return PIXELS_FLOAT;
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(path, '.');
+    if (!dot || (slash && dot < slash))
+        return PIXELS_RGB8;
+    static const char *const floats[] = {"exr", "hdr", "pfm"};
+    for (size_t i = 0; i < sizeof floats / sizeof floats[0]; i++)
+        if (strcasecmp(dot + 1, floats[i]) == 0)
+            return PIXELS_FLOAT;
+    return PIXELS_RGB8;
+}
 
 #ifdef __cplusplus
 }
