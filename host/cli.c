@@ -27,6 +27,7 @@ void cli_usage(FILE *out)
           "                   [--schedule raster|cost|static|tail] [--batch N|auto]\n"
           "                   [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
+          "                   [--fill on|off]\n"
           "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
           "                   [--resume]  (go on from OUT.journal, an interrupted render's)\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
@@ -102,6 +103,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     static const char *const precisions[] = {"float", "double", "auto"};
     static const char *const schedules[] = {"raster", "cost", "static", "tail"};
     static const char *const kernels[] = {"auto", "scalar", "packet"};
+    static const char *const switches[] = {"on", "off"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -177,6 +179,12 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         if (!parse_choice(opt, val, modes, 3, &choice, d))
             return false;
         r->mode = (enum render_mode)choice;
+        return true;
+    }
+    if (strcmp(opt, "--fill") == 0) {
+        if (!parse_choice(opt, val, switches, 2, &choice, d))
+            return false;
+        r->no_fill = choice == 1;
         return true;
     }
     if (strcmp(opt, "--precision") == 0) {

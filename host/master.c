@@ -269,6 +269,13 @@ bool master_idle_init(link_idle *idle)
     return link_idle_init(idle, MASTER_NAP_FIRST_NS, MASTER_SPINS);
 }
 
+/* Is item `item` shaded from the pass's records (hetero, not a fill
+ * tile), or rendered whole? */
+static bool master_shades(const master_job *job, int item)
+{
+    return job->t && !job->sched->items[item].fill;
+}
+
 /* One part of a TILE: item `item`'s header (and records) at `out`; its
  * bytes. */
 static size_t master_pack_item(const master_job *job, int item, char *out)
@@ -276,12 +283,13 @@ static size_t master_pack_item(const master_job *job, int item, char *out)
     const tile_grid *g = &job->grid;
     const sched_item *it = &job->sched->items[item];
     tile_rect rect = it->rect;
-    proto_tile h = {it->tile, job->t ? PROTO_WORK_SHADE : PROTO_WORK_RENDER, rect.x, rect.y,
+    bool shade = master_shades(job, item);
+    proto_tile h = {it->tile, shade ? PROTO_WORK_SHADE : PROTO_WORK_RENDER, rect.x, rect.y,
                     rect.width, rect.height};
     memcpy(out, &h, sizeof h);
-    if (job->t)
+    if (shade)
         tile_pack_records(g, job->t, job->surf, rect, out + sizeof h);
-    return proto_tile_part(g, job->t != NULL, (size_t)rect.width * (size_t)rect.height);
+    return proto_tile_part(g, shade, (size_t)rect.width * (size_t)rect.height);
 }
 
 /* The bytes of the TILE for items[0 .. k - 1]. */
@@ -290,8 +298,8 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
     size_t len = 0;
     for (int i = 0; i < k; i++) {
         tile_rect r = job->sched->items[items[i]].rect;
-        len = proto_align(len) +
-              proto_tile_part(&job->grid, job->t != NULL, (size_t)r.width * (size_t)r.height);
+        len = proto_align(len) + proto_tile_part(&job->grid, master_shades(job, items[i]),
+                                                 (size_t)r.width * (size_t)r.height);
     }
     return len;
 }
@@ -356,6 +364,10 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
             double now = stats_clock();
             int items[PROTO_BATCH_MAX];
             int k = sched_next_batch(L->job->sched, r - 1, now, L->m->batch, items);
+            if (k == 0 && L->job->fill && (items[0] = L->job->fill(L->job, now, d)) != -1) {
+                L->failed = items[0] < 0; /* (-2: out of memory) */
+                k = items[0] >= 0;
+            }
             if (k == 0)
                 continue;
             if (L->job->t_first == 0)
@@ -709,7 +721,7 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     job->busy_s += res->busy_s;
     job->items_done++;
     job->t_last = now;
-    if (!job->t) /* (hetero counts them from the OpenCL tile hits) */
+    if (!job->t || it->fill) /* (hetero counts its others from the OpenCL tile hits) */
         job->pixels_hit += res->hits;
     journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */

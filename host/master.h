@@ -61,6 +61,11 @@ typedef struct master_job {
      * blocks until at least one more is known.  Returns how many became
      * known, or -1 with d filled (the OpenCL pass failed). */
     int (*feed)(struct master_job *job, bool wait, csg_diag *d);
+    /* When no item is ready for a worker with room (NULL: never): a tile
+     * claimed for it to render whole (schedule.h's fill), handed out;
+     * the item, -1 when there is none, -2 with d filled (out of memory).
+     * It takes feed_arg too. */
+    int (*fill)(struct master_job *job, double now, csg_diag *d);
     void *feed_arg;
     link_idle *idle;          /* the master's idle wait (the feed's
                                  producer wakes it); NULL: its own        */

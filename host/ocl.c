@@ -72,6 +72,10 @@
  * footprint of a large image; 256 MiB slices still hold 32 M pixels, far
  * more parallelism than any device needs, and cost one launch each. */
 #define OCL_DEFAULT_SLICE_BYTES ((uint64_t)256 << 20)
+/* Slices of a pass on the queue beyond the last complete one: enough to
+ * keep the device busy between two polls of the master, few enough that
+ * ocl_pass_limit stops the pass soon (host/render.c's fill). */
+#define OCL_PASS_WINDOW 3
 #define OCL_MAX_DEVICES 64
 #define OCL_PLATFORM_NOT_FOUND_KHR (-1001) /* cl_khr_icd: no platform installed */
 
@@ -859,6 +863,9 @@ struct ocl_pass {
     const csg_blob_header *h;
     int tile, rows, slices;   /* rows a slice (the last may be shorter)   */
     int enqueued, done;       /* slices enqueued; complete and counted    */
+    int needed;               /* slices the caller needs (ocl_pass_limit)  */
+    void *t_out;              /* the caller's arrays the slices fill       */
+    uint32_t *surf_out;
     size_t tiles_x, stride;   /* counts a slice may hold                  */
     ocl_pass_buffers b;
     uint32_t *host_hits;      /* slice k's counts at k * stride           */
@@ -890,6 +897,7 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
     size_t tiles_y = (size_t)((h->height + tile - 1) / tile);
     p->rows = ocl_slice_rows(c, h, tile, want);
     p->slices = (h->height + p->rows - 1) / p->rows;
+    p->needed = p->slices;
     size_t tile_rows = (size_t)(p->rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
     if (tile_rows > tiles_y)
         tile_rows = tiles_y;
@@ -910,23 +918,37 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
                              "tile hits", d);
 }
 
-/* Every slice on the queue, each with its completion callback; flushed. */
-static bool ocl_pass_enqueue(ocl_pass *p, void *t_out, uint32_t *surf_out, csg_diag *d)
+/* Slice k on the queue with its completion callback. */
+static bool ocl_pass_enqueue_slice(ocl_pass *p, int k, csg_diag *d)
 {
-    for (int k = 0; k < p->slices; k++) {
-        int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
-        if (!ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, t_out, surf_out,
-                           p->host_hits + (size_t)k * p->stride, &p->events[k], d))
-            return false;
-        p->enqueued++;
-        atomic_fetch_add(&p->callbacks, 1);
-        cl_int err = clSetEventCallback(p->events[k], CL_COMPLETE, ocl_slice_done, p);
-        if (err != CL_SUCCESS) {
-            atomic_fetch_sub(&p->callbacks, 1);
-            return ocl_fail(d, "clSetEventCallback", err);
-        }
+    int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
+    if (!ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, p->t_out, p->surf_out,
+                       p->host_hits + (size_t)k * p->stride, &p->events[k], d))
+        return false;
+    p->enqueued++;
+    atomic_fetch_add(&p->callbacks, 1);
+    cl_int err = clSetEventCallback(p->events[k], CL_COMPLETE, ocl_slice_done, p);
+    if (err != CL_SUCCESS) {
+        atomic_fetch_sub(&p->callbacks, 1);
+        return ocl_fail(d, "clSetEventCallback", err);
     }
-    cl_int err = clFlush(p->c->queue);
+    return true;
+}
+
+/* The queue topped up to OCL_PASS_WINDOW slices beyond the last complete
+ * one (every needed slice: `all`), flushed when something went on it.
+ * The window is what lets ocl_pass_limit stop the pass: a slice on the
+ * queue cannot be taken back. */
+static bool ocl_pass_enqueue(ocl_pass *p, bool all, csg_diag *d)
+{
+    int upto = all ? p->needed : p->done + OCL_PASS_WINDOW;
+    if (upto > p->needed)
+        upto = p->needed;
+    bool more = p->enqueued < upto;
+    while (p->enqueued < upto)
+        if (!ocl_pass_enqueue_slice(p, p->enqueued, d))
+            return false;
+    cl_int err = more ? clFlush(p->c->queue) : CL_SUCCESS;
     return err == CL_SUCCESS || ocl_fail(d, "clFlush", err);
 }
 
@@ -954,13 +976,15 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     p->tile_hits = tile_hits;
     p->notify = notify;
     p->notify_arg = notify_arg;
+    p->t_out = t_out;
+    p->surf_out = surf_out;
     atomic_init(&p->callbacks, 0);
     p->t0 = ocl_now();
     bool ok = ocl_pass_alloc(p, blob, slice_rows, d);
     if (ok) {
         memset(tile_hits, 0, p->tiles_x * (size_t)((h->height + tile - 1) / tile) *
                                  sizeof(uint32_t));
-        ok = ocl_pass_enqueue(p, t_out, surf_out, d);
+        ok = ocl_pass_enqueue(p, false, d);
     }
     *out = p; /* even on failure: ocl_pass_end waits for what was enqueued */
     return ok;
@@ -979,6 +1003,8 @@ static void ocl_pass_count(ocl_pass *p, int k)
 
 int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d)
 {
+    if (!ocl_pass_enqueue(p, false, d))
+        return -1;
     while (p->done < p->enqueued) {
         cl_event e = p->events[p->done];
         cl_int status = CL_QUEUED, err = CL_SUCCESS;
@@ -998,16 +1024,25 @@ int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d)
         ocl_pass_count(p, p->done++);
         p->t_end = ocl_now();
         wait = false; /* one more slice was waited for */
+        if (!ocl_pass_enqueue(p, false, d)) /* (the device kept busy) */
+            return -1;
     }
     int rows = p->done * p->rows;
     return rows < p->h->height ? rows : p->h->height;
+}
+
+void ocl_pass_limit(ocl_pass *p, int rows)
+{
+    int needed = rows <= 0 ? 0 : (rows + p->rows - 1) / p->rows;
+    if (needed < p->needed)
+        p->needed = needed; /* (slices on the queue beyond it still run) */
 }
 
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
 {
     if (!p)
         return false;
-    bool ok = p->done == p->slices;
+    bool ok = p->done >= p->needed;
     cl_int err = clFinish(p->c->queue); /* no read may still target the caller's arrays */
     if (err != CL_SUCCESS && ok)
         ok = ocl_fail(d, "clFinish", err);
@@ -1016,7 +1051,7 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
         nanosleep(&ts, NULL);
     }
     if (timing) {
-        timing->slices = p->slices;
+        timing->slices = p->enqueued;
         timing->primary_s = (p->t_end > 0 ? p->t_end : ocl_now()) - p->t0;
         timing->compute_units = (int)p->c->compute_units;
         ocl_kernel_name(p->c, timing->kernel, sizeof timing->kernel);
@@ -1035,7 +1070,8 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d)
 {
     ocl_pass *p;
-    bool ok = ocl_pass_begin(c, blob, tile, 0, t_out, surf_out, tile_hits, NULL, NULL, &p, d);
+    bool ok = ocl_pass_begin(c, blob, tile, 0, t_out, surf_out, tile_hits, NULL, NULL, &p, d) &&
+              ocl_pass_enqueue(p, true, d); /* (nothing to stop it for) */
     int height = csg_blob_hdr(blob)->height, rows = 0;
     while (ok && rows < height)
         ok = (rows = ocl_pass_rows(p, true, d)) >= 0;

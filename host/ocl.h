@@ -91,9 +91,11 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d);
 
 /* The same pass in the background, for a caller with other work (the
- * master serving its workers): ocl_pass_begin enqueues every slice of
+ * master serving its workers): ocl_pass_begin puts the first slices of
  * `slice_rows` rows (0: as many as the device allows; the device may
- * allow fewer) and returns at once; notify(notify_arg), if given, is
+ * allow fewer) on the queue and returns at once; every ocl_pass_rows
+ * call tops the queue up (a few slices beyond the last complete one,
+ * so call it often: the master does in every turn); notify(notify_arg), if given, is
  * called from an OpenCL thread whenever a slice completes (keep it short
  * and thread-safe: a wake-up).  ocl_pass_rows says how many rows from the
  * top have final records and final tile counts (slices complete in
@@ -102,12 +104,16 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
  * enqueued, fills timing (primary_s, slices, device_name) and frees the
  * pass; it must be called once ocl_pass_begin set *out (even when it
  * failed) and before the output arrays are freed; it returns whether
- * every slice completed. */
+ * every needed slice completed (ocl_pass_limit). */
 typedef struct ocl_pass ocl_pass;
 bool ocl_pass_begin(ocl_ctx *ctx, const void *blob, int tile, int slice_rows, void *t_out,
                     uint32_t *surf_out, uint32_t *tile_hits, void (*notify)(void *),
                     void *notify_arg, ocl_pass **out, csg_diag *d);
 int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d);
+/* Only the top `rows` rows are needed (the rest was rendered otherwise:
+ * render.c's fill): no slice below them goes on the queue any more, and
+ * the pass is whole once they are complete.  Only ever lowers. */
+void ocl_pass_limit(ocl_pass *p, int rows);
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d);
 
 void ocl_close(ocl_ctx *ctx);

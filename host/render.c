@@ -41,9 +41,11 @@
 #include <limits.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "../csg/flatten.h"
@@ -111,8 +113,33 @@ static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_dia
     return c;
 }
 
-/* Everything one render owns; freed in render_free. */
+/* Hetero with the fill: the program is built on the device thread's
+ * context by another thread (render_open_cl) while the workers already
+ * render fill tiles; the feed begins the pass once it is done. */
 typedef struct {
+    pthread_t thread;
+    bool started;          /* the thread runs, or ran and is not joined */
+    bool joined;           /* and its result taken                      */
+    atomic_bool done;      /* the thread has its result                 */
+    bool ok;
+    const render_request *req;
+    struct render_state *rs;
+    link_idle *wake;       /* woken when done (NULL: nobody naps)        */
+    csg_diag d;
+} render_cl_build;
+
+/* The thread joined and its context closed, if it was started. */
+static void render_cl_early_drop(render_cl_early *e)
+{
+    if (!e->started)
+        return;
+    ocl_timing ignored;
+    csg_diag none;
+    ocl_close(render_cl_early_take(e, &ignored, &none));
+}
+
+/* Everything one render owns; freed in render_free. */
+typedef struct render_state {
     csg_blob blob;
     float *image;          /* width * height * 3                        */
     void *t;               /* hetero: the OpenCL records                */
@@ -125,12 +152,17 @@ typedef struct {
     bool own_ctx;
     ocl_pass *pass;        /* hetero: the pass, until ended              */
     ocl_timing tm;
-    render_cl_early early; /* hetero: the context opened meanwhile    */
+    render_cl_early *early; /* hetero: the context opened meanwhile
+                              (render_run's: started before MPI_Init) */
+    render_cl_build build; /* hetero with the fill: the program, meanwhile */
     journal *journal;      /* the finished tiles, for --resume (NULL:
                               no output file)                           */
     link_idle idle;        /* the master's wait; the pass wakes it       */
     bool idle_ready;
-    int tile_rows_known;   /* tile rows handed to the scheduler          */
+    bool wake_master;      /* the pass's slices wake the master's naps   */
+    int fill_max;          /* tests: the fill claims at most this (0: no limit) */
+    int tiles_offered;     /* tiles handed to the scheduler, from the top
+                              (the fill's start below them: schedule.h) */
     float bg[3];           /* what a degenerate tile is filled with      */
     double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
 } render_state;
@@ -144,19 +176,19 @@ typedef struct {
     double written;   /* the image written                               */
 } render_marks;
 
+static void render_cl_build_join(render_state *rs);
+
 static void render_free(render_state *rs)
 {
+    render_cl_build_join(rs); /* (it may still be building: its context) */
     if (rs->pass) { /* before its arrays and its wake-up go */
         csg_diag ignored = {{0}, 0};
         ocl_pass_end(rs->pass, NULL, &ignored);
     }
     if (rs->own_ctx)
         ocl_close(rs->ctx);
-    if (rs->early.started) { /* a render that failed before it needed it */
-        ocl_timing ignored;
-        csg_diag none;
-        ocl_close(render_cl_early_take(&rs->early, &ignored, &none));
-    }
+    if (rs->early) /* a render that failed before it needed it */
+        render_cl_early_drop(rs->early);
     if (rs->idle_ready)
         link_idle_free(&rs->idle);
     csg_blob_free(&rs->blob);
@@ -291,8 +323,8 @@ static bool render_open_cl(const render_request *req, render_state *rs, csg_diag
         return false;
     ocl_options opt = {device, h->real_size == 8, 0, &features};
     rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
-    if (!rs->ctx && rs->early.started) {
-        rs->ctx = render_cl_early_take(&rs->early, &rs->tm, d);
+    if (!rs->ctx && rs->early && rs->early->started) {
+        rs->ctx = render_cl_early_take(rs->early, &rs->tm, d);
         rs->own_ctx = true; /* (closed by render_free, also when the build fails) */
         return rs->ctx && ocl_open_program(rs->ctx, &opt, (enum ocl_kernel)req->cl_kernel,
                                            &rs->tm, d);
@@ -327,8 +359,8 @@ static int render_slice_rows(const tile_grid *g)
     return rows < (size_t)g->height ? (int)rows : g->height;
 }
 
-/* The record arrays, the estimator and the pass started; 0 or 1. */
-static int render_start_pass(render_state *rs, const tile_grid *g, bool wake, csg_diag *d)
+/* The record arrays and the estimator; 0 or 1. */
+static int render_alloc_records(render_state *rs, const tile_grid *g, csg_diag *d)
 {
     size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp; /* records */
     rs->t = malloc(n * g->real_size);
@@ -339,14 +371,124 @@ static int render_start_pass(render_state *rs, const tile_grid *g, bool wake, cs
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
+    return EXIT_OK;
+}
+
+/* The pass started (on the context render_open_cl gave); 0 or 1. */
+static int render_begin_pass(render_state *rs, const tile_grid *g, csg_diag *d)
+{
     rs->pass_start = stats_clock();
     if (!ocl_pass_begin(rs->ctx, rs->blob.bytes, g->tile, render_slice_rows(g), rs->t, rs->surf,
-                        rs->tile_hits, wake ? render_wake : NULL, &rs->idle, &rs->pass, d)) {
+                        rs->tile_hits, rs->wake_master ? render_wake : NULL, &rs->idle,
+                        &rs->pass, d)) {
         if (!d->failed)
             csg_error_plain(d, "the OpenCL primary pass failed");
         return EXIT_FAILURE_RUN;
     }
     return EXIT_OK;
+}
+
+/* ---- the program built meanwhile (the fill) ------------------------------------- */
+
+/* A test hook's number from the environment (0 when unset or bad). */
+static long render_test_env(const char *name)
+{
+    const char *v = getenv(name);
+    char *end;
+    long n = v ? strtol(v, &end, 10) : 0;
+    return v && end != v && !*end && n > 0 && n < 1000000 ? n : 0;
+}
+
+static void *render_cl_build_run(void *arg)
+{
+    render_cl_build *b = arg;
+    /* Tests: CSGTRACE_TEST_CL_DELAY_MS makes the build that much slower,
+     * so that the fill certainly has the workers first */
+    long delay_ms = render_test_env("CSGTRACE_TEST_CL_DELAY_MS");
+    if (delay_ms > 0)
+        nanosleep(&(struct timespec){delay_ms / 1000, delay_ms % 1000 * 1000000L}, NULL);
+    b->ok = render_open_cl(b->req, b->rs, &b->d);
+    atomic_store(&b->done, true);
+    if (b->wake)
+        link_wake(b->wake);
+    return NULL;
+}
+
+/* The thread started (or, if it cannot be, the build done here); 0 or 1. */
+static int render_cl_build_start(render_state *rs, const render_request *req, csg_diag *d)
+{
+    render_cl_build *b = &rs->build;
+    memset(&b->d, 0, sizeof b->d);
+    b->req = req;
+    b->rs = rs;
+    b->wake = rs->wake_master ? &rs->idle : NULL;
+    atomic_init(&b->done, false);
+    b->started = pthread_create(&b->thread, NULL, render_cl_build_run, b) == 0;
+    if (!b->started)
+        render_cl_build_run(b);
+    b->joined = !b->started;
+    if (!b->started && !b->ok) {
+        *d = b->d;
+        return EXIT_FAILURE_RUN;
+    }
+    return EXIT_OK;
+}
+
+static void render_cl_build_join(render_state *rs)
+{
+    if (rs->build.started && !rs->build.joined) {
+        pthread_join(rs->build.thread, NULL);
+        rs->build.joined = true;
+    }
+}
+
+/* The program is there (waiting for it with `wait`): 1; still being
+ * built: 0; the build failed: -1 with d filled. */
+static int render_cl_build_ready(render_state *rs, bool wait, csg_diag *d)
+{
+    render_cl_build *b = &rs->build;
+    if (!b->joined && !wait && !atomic_load(&b->done))
+        return 0;
+    render_cl_build_join(rs);
+    if (!b->ok) {
+        *d = b->d;
+        return -1;
+    }
+    return 1;
+}
+
+/* ---- step 3: feeding the scheduler -------------------------------------------- */
+
+/* Rows from the top the pass must trace: those of the tiles above the
+ * fill's (all of them without the fill). */
+static int render_rows_needed(const render_state *rs, const tile_grid *g)
+{
+    int front = sched_fill_front(&rs->sched);
+    if (front <= 0)
+        return 0;
+    tile_rect last = tile_rect_of(g, front - 1);
+    return last.y + last.height;
+}
+
+/* Rows from the top whose records are final (homo, serial: every row);
+ * 0 while the program is being built, the pass started once it is (and
+ * only if some rows still need it); -1 with d filled on a failure. */
+static int render_pass_rows(render_state *rs, const tile_grid *g, bool wait, csg_diag *d)
+{
+    if (!rs->t)
+        return g->height;
+    int need = render_rows_needed(rs, g);
+    if (!rs->pass) {
+        if (need == 0)
+            return 0; /* the fill took every tile: no pass */
+        int ready = render_cl_build_ready(rs, wait, d);
+        if (ready <= 0)
+            return ready;
+        if (render_begin_pass(rs, g, d) != EXIT_OK)
+            return -1;
+    }
+    ocl_pass_limit(rs->pass, need);
+    return ocl_pass_rows(rs->pass, wait, d);
 }
 
 /* ---- step 3: feeding the scheduler -------------------------------------------- */
@@ -376,33 +518,53 @@ static bool render_offer_tile(render_state *rs, master_job *job, int i)
     return sched_add(&rs->sched, i, r);
 }
 
-/* master_job.feed: the tile rows whose slices are complete go to the
- * scheduler; homo and serial (no pass) give every tile at once. */
+/* master_job.feed: the tiles whose rows the pass completed go to the
+ * scheduler, down to the fill's; homo and serial give every tile at once. */
 static int render_feed(master_job *job, bool wait, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
     const tile_grid *g = &job->grid;
-    int columns = tile_columns(g), tile_rows = tile_count(g) / columns;
-    int rows = rs->pass ? ocl_pass_rows(rs->pass, wait, d) : g->height;
+    int rows = render_pass_rows(rs, g, wait, d), known = 0;
     if (rows < 0)
         return -1;
-    int known = 0;
-    for (; rs->tile_rows_known < tile_rows; rs->tile_rows_known++) {
-        int ty = rs->tile_rows_known, bottom = (ty + 1) * g->tile;
-        if ((bottom < g->height ? bottom : g->height) > rows)
+    for (; rs->tiles_offered < sched_fill_front(&rs->sched); rs->tiles_offered++, known++) {
+        tile_rect r = tile_rect_of(g, rs->tiles_offered);
+        if (r.y + r.height > rows)
             break;
-        for (int i = ty * columns; i < (ty + 1) * columns; i++, known++) {
-            if (!render_offer_tile(rs, job, i)) {
-                csg_error_plain(d, "out of memory for the work items");
-                return -1;
-            }
+        if (!render_offer_tile(rs, job, rs->tiles_offered)) {
+            csg_error_plain(d, "out of memory for the work items");
+            return -1;
         }
     }
-    if (rs->tile_rows_known == tile_rows && !rs->sched.closed) {
+    if (rs->tiles_offered >= sched_fill_front(&rs->sched) && !rs->sched.closed) {
         sched_close(&rs->sched);
         rs->pass_end = stats_clock();
     }
     return known;
+}
+
+/* master_job.fill: the last tile nobody has, to be rendered whole (a
+ * resumed one is taken from the journal instead); the item, -1 when the
+ * pass has reached every tile left, -2 when out of memory. */
+static int render_fill(master_job *job, double now, csg_diag *d)
+{
+    render_state *rs = job->feed_arg;
+    if (rs->fill_max > 0 && rs->sched.filled >= rs->fill_max)
+        return -1;
+    for (int tile; (tile = sched_fill_claim(&rs->sched, rs->tiles_offered)) >= 0;) {
+        tile_rect r = tile_rect_of(&job->grid, tile);
+        int item = -1;
+        if (journal_resumed(rs->journal, tile)) { /* (the pass does not count its hits) */
+            job->pixels_hit += journal_resumed_hits(rs->journal, tile);
+            if (sched_resume(&rs->sched, tile, r))
+                continue;
+        } else if ((item = sched_next_fill(&rs->sched, now, tile, r)) >= 0) {
+            return item;
+        }
+        csg_error_plain(d, "out of memory for the work items");
+        return -2;
+    }
+    return -1;
 }
 
 /* Step 3 without workers: every item in this process, through the very
@@ -425,6 +587,8 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
             goto fail;
         double now = stats_clock();
         int item = sched_next(job->sched, 0, now);
+        if (item < 0 && job->fill && (item = job->fill(job, now, d)) == -2)
+            goto fail;
         if (item < 0) {
             if (job->sched->closed) /* finished (one worker gets every item) */
                 break;
@@ -435,10 +599,11 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
         if (job->t_first == 0)
             job->t_first = now;
         tile_rect r = job->sched->items[item].rect;
+        bool shade = job->t && !job->sched->items[item].fill;
         tile_result res;
-        if (job->t)
+        if (shade)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);
-        tile_run_rect(&tr, r, records, rgb, &res);
+        tile_run_rect(&tr, r, shade ? records : NULL, rgb, &res);
         tile_store_rgb(job->image, job->grid.width, r, rgb);
         master_job_count(job, self, 0, item, &res, stats_clock());
     }
@@ -536,6 +701,15 @@ static int render_skipped(const sched *s)
     return n;
 }
 
+/* Tiles the fill claimed and workers rendered whole. */
+static int render_filled(const sched *s)
+{
+    int n = 0;
+    for (int i = 0; i < s->count; i++)
+        n += s->items[i].fill;
+    return n;
+}
+
 /* The phases (consecutive marks, stats.h) and the tile-phase figures. */
 static void render_account(const render_state *rs, const master_job *job,
                            const render_marks *mk, render_stats *st)
@@ -543,12 +717,17 @@ static void render_account(const render_state *rs, const master_job *job,
     bool pass = rs->pass_start > 0;
     double pass_end = pass && rs->pass_end > 0 ? rs->pass_end : mk->tiles_end;
     double first = job->t_first > 0 ? job->t_first : mk->tiles_end;
-    double t3 = pass ? (first < pass_end ? first : pass_end) : mk->cl_ready;
-    double t4 = pass ? pass_end : mk->cl_ready;
+    /* With the fill the OpenCL set-up ends when the pass begins, the tile
+     * phase may have begun before: the marks stay in order */
+    double cl_ready = rs->build.started ? (pass ? rs->pass_start : mk->loaded) : mk->cl_ready;
+    double t3 = pass ? (first < pass_end ? first : pass_end) : cl_ready;
+    t3 = t3 > cl_ready ? t3 : cl_ready;
+    double t4 = pass ? pass_end : cl_ready;
     st->setup_s = mk->loaded - mk->start;
-    st->compile_s = rs->tm.compile_s;
-    st->cl_setup_s = mk->cl_ready - mk->loaded - st->compile_s;
-    st->primary_s = t3 - mk->cl_ready;
+    /* (a build still running is not read: it only joins in render_free) */
+    st->compile_s = !rs->build.started || pass ? rs->tm.compile_s : 0.0;
+    st->cl_setup_s = cl_ready - mk->loaded - st->compile_s;
+    st->primary_s = t3 - cl_ready;
     st->pipelined_s = t4 - t3;
     st->secondary_s = mk->tiles_end - t4;
     st->write_s = mk->written - mk->tiles_end;
@@ -564,6 +743,7 @@ static void render_account(const render_state *rs, const master_job *job,
     st->tiles_sent = rs->sched.added;
     st->tiles_resumed = journal_tiles_resumed(rs->journal);
     st->tiles_degenerate = render_skipped(&rs->sched);
+    st->tiles_filled = render_filled(&rs->sched);
     st->items_sent = rs->sched.dispatched;
     st->items_reassigned = rs->sched.requeued;
 }
@@ -576,11 +756,11 @@ static int render_prepare(const render_request *req, master_session *ms, render_
 {
     tile_grid grid = tile_grid_of(rs->blob.bytes, st->tile);
     bool use_workers = ms->workers > 0 && req->mode != MODE_SERIAL;
-    bool hetero = req->mode == MODE_HETERO;
+    bool hetero = req->mode == MODE_HETERO, fill = hetero && !req->no_fill;
     st->tiles_total = tile_count(&grid);
     st->worker_count = use_workers ? ms->workers : 1;
     st->in_flight = use_workers ? PROTO_IN_FLIGHT : 1;
-    if (hetero && !render_open_cl(req, rs, d))
+    if (hetero && !fill && !render_open_cl(req, rs, d)) /* (fill: meanwhile) */
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
     rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
@@ -610,10 +790,16 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     job->image = rs->image;
     job->workers = rs->workers;
     if (hetero) {
-        int status = render_start_pass(rs, &grid, use_workers, d);
+        int status = render_alloc_records(rs, &grid, d);
         job->t = rs->t;
         job->surf = rs->surf;
-        return status;
+        rs->wake_master = use_workers;
+        if (status != EXIT_OK || !fill)
+            return status != EXIT_OK ? status : render_begin_pass(rs, &grid, d);
+        sched_fill_enable(&rs->sched);
+        job->fill = render_fill;
+        rs->fill_max = (int)render_test_env("CSGTRACE_TEST_FILL_TILES"); /* (tests) */
+        return render_cl_build_start(rs, req, d);
     }
     return render_feed(job, false, d) < 0 ? EXIT_FAILURE_RUN : EXIT_OK; /* every tile */
 }
@@ -668,6 +854,10 @@ static int render_image(const render_request *req, master_session *ms, render_st
     progress_end(&bar);
     mk->tiles_end = stats_clock();
     st->master_cpu_s = stats_thread_cpu() - cpu0;
+    if (status == EXIT_OK && !rs->pass && rs->build.started &&
+        render_cl_build_ready(rs, true, d) < 0) /* (the fill took every tile: still,
+                                                    a bad OpenCL option is an error) */
+        status = EXIT_FAILURE_RUN;
     if (rs->pass) {
         bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
         rs->pass = NULL;
@@ -679,8 +869,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
                 csg_error_plain(d, "the OpenCL primary pass failed");
             status = EXIT_FAILURE_RUN;
         }
-        for (int i = 0; i < st->tiles_total; i++) /* the device traced every primary ray */
-            job.pixels_hit += rs->tile_hits[i];
+        for (int i = 0; i < sched_fill_front(&rs->sched); i++) /* (the fill's: counted */
+            job.pixels_hit += rs->tile_hits[i];                /* from their results) */
         job.rays.primary = st->pixels * (uint64_t)job.grid.spp;
     }
     st->pixels_hit = job.pixels_hit;
@@ -756,8 +946,9 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
     return EXIT_FAILURE_RUN;
 }
 
-/* The whole render on the process that owns the image. */
-static int render_job(const render_request *req, int ranks)
+/* The whole render on the process that owns the image; `early`: the
+ * OpenCL device being opened (hetero), taken over. */
+static int render_job(const render_request *req, int ranks, render_cl_early *early)
 {
     /* The image module before the clock: loading it is no render time, and
      * a missing one stops the job before any work. */
@@ -773,7 +964,7 @@ static int render_job(const render_request *req, int ranks)
     memset(&rs, 0, sizeof rs);
     memset(&d, 0, sizeof d);
     render_stats_init(req, ranks, &st);
-    render_cl_early_start(&rs.early, req);
+    rs.early = early;
     master_begin(&ms, ranks);
 
     int status = render_load(req, &rs.blob, &st, &d);
@@ -837,13 +1028,21 @@ static int render_job(const render_request *req, int ranks)
 int render_run(const render_request *req)
 {
     int rank = 0, size = 1;
-    if (link_launched_by_mpirun() && !link_start(&rank, &size)) {
+    render_cl_early early;
+    memset(&early, 0, sizeof early);
+    bool launched = link_launched_by_mpirun();
+    if (!launched || link_rank_of_env() == 0) /* (MPI_Init takes tens of ms: meanwhile) */
+        render_cl_early_start(&early, req);
+    if (launched && !link_start(&rank, &size)) {
+        render_cl_early_drop(&early);
         fprintf(stderr, "csgtrace: error: MPI cannot start\n");
         return EXIT_FAILURE_RUN;
     }
-    if (rank != 0)
+    if (rank != 0) {
+        render_cl_early_drop(&early);
         return worker_run(rank);
-    int status = render_job(req, size);
+    }
+    int status = render_job(req, size, &early);
     link_exit_status(status); /* (made mpirun's under --enable-recovery) */
     return status;
 }

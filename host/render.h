@@ -44,6 +44,11 @@ typedef struct {
     int schedule;             /* enum sched_policy (host/schedule.h);
                                  < 0: the mode's default (hetero: cost,
                                  else raster)                          */
+    bool no_fill;             /* --fill off: hetero workers only shade
+                                 what the pass traced (the paper's
+                                 scheme); on: while no tile is ready
+                                 they render tiles whole from the
+                                 bottom (host/schedule.h)              */
     int batch;                /* work items in one message at most
                                  (--batch); 0: auto (host/schedule.h)  */
     const csg_parse_options *parse; /* clock, library folders, messages;

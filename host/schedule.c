@@ -40,6 +40,7 @@ bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int t
     s->estimate = estimate;
     s->estimate_arg = estimate_arg;
     s->tiles = tiles;
+    s->fill_front = tiles;
     size_t n = (size_t)(tiles > 0 ? tiles : 1), w = (size_t)s->workers;
     s->cap = tiles > 0 ? tiles : 1;
     s->items = malloc((size_t)s->cap * sizeof *s->items);
@@ -75,7 +76,9 @@ void sched_free(sched *s)
 /* ---- items ----------------------------------------------------------------- */
 
 /* A new item for rectangle r of tile `tile`; -1 when out of memory. */
-static int sched_new_item(sched *s, int tile, tile_rect r, int piece, bool skipped)
+/* A new item; its estimate asked for when `estimated` (and estimates exist). */
+static int sched_new_item(sched *s, int tile, tile_rect r, int piece, bool skipped,
+                          bool estimated)
 {
     if (s->count == s->cap) {
         int cap = s->cap * 2;
@@ -91,7 +94,7 @@ static int sched_new_item(sched *s, int tile, tile_rect r, int piece, bool skipp
     it->tile = tile;
     it->piece = piece;
     it->skipped = skipped;
-    it->estimate = s->estimate && !skipped ? s->estimate(s->estimate_arg, r) : -1.0;
+    it->estimate = s->estimate && estimated ? s->estimate(s->estimate_arg, r) : -1.0;
     it->order = -1;
     it->worker = -1;
     return s->count++;
@@ -151,7 +154,7 @@ static bool sched_by_cost(const sched *s)
 
 bool sched_add(sched *s, int tile, tile_rect r)
 {
-    int item = sched_new_item(s, tile, r, 0, false);
+    int item = sched_new_item(s, tile, r, 0, false, true);
     if (item < 0)
         return false;
     s->tile_left[tile] = 1;
@@ -179,12 +182,12 @@ bool sched_add(sched *s, int tile, tile_rect r)
 bool sched_skip(sched *s, int tile, tile_rect r)
 {
     s->known++;
-    return sched_new_item(s, tile, r, 0, true) >= 0;
+    return sched_new_item(s, tile, r, 0, true, false) >= 0;
 }
 
 bool sched_resume(sched *s, int tile, tile_rect r)
 {
-    int item = sched_new_item(s, tile, r, 0, true);
+    int item = sched_new_item(s, tile, r, 0, true, false);
     if (item >= 0)
         s->items[item].resumed = true;
     return item >= 0;
@@ -230,7 +233,7 @@ static bool sched_split(sched *s, int item)
     }
     for (int k = 0; k < 4; k++)
         if (q[k].width > 0 && q[k].height > 0)
-            made[n++] = sched_new_item(s, tile, q[k], k + 1, false);
+            made[n++] = sched_new_item(s, tile, q[k], k + 1, false, true);
     s->items[item].split = true;
     s->tile_left[tile] = n;
     s->front_head = 0;
@@ -339,11 +342,12 @@ static int sched_round(const sched *s)
     return s->workers * s->in_flight * SCHED_BATCH_SPREAD;
 }
 
-/* Tiles not known yet (the pass has not reached them), counted as
- * `per_tile` each (what a known tile adds on average, skipped ones 0). */
+/* Tiles not known yet (the pass has not reached them, the fill has not
+ * claimed them), counted as `per_tile` each (what a known tile adds on
+ * average, skipped ones 0). */
 static double sched_unknown(const sched *s, double per_tile_total)
 {
-    int unknown = s->closed || s->known == 0 ? 0 : s->tiles - s->known;
+    int unknown = s->closed || s->known == 0 ? 0 : s->fill_front - s->known;
     return unknown > 0 ? unknown * per_tile_total / s->known : 0.0;
 }
 
@@ -351,7 +355,7 @@ int sched_batch(const sched *s, int limit)
 {
     if (limit <= 1 || sched_in_tail(s) || s->front_head < s->front_n)
         return 1; /* (tail: the last tiles go as single quarters) */
-    double left = sched_waiting(s) + sched_unknown(s, s->added);
+    double left = sched_waiting(s) + sched_unknown(s, s->added - s->filled);
     double b = ceil(left / sched_round(s));
     return b < 1 ? 1 : b > limit ? limit : (int)b;
 }
@@ -396,6 +400,38 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
         sum += s->items[out[k]].estimate;
     }
     return k;
+}
+
+void sched_fill_enable(sched *s)
+{
+    s->fill = s->policy != SCHED_STATIC; /* (static: each tile has its worker) */
+}
+
+int sched_fill_front(const sched *s)
+{
+    return s->fill_front;
+}
+
+int sched_fill_claim(sched *s, int offered)
+{
+    if (!s->fill || s->closed || s->fill_front <= offered)
+        return -1;
+    s->filled++;
+    return --s->fill_front;
+}
+
+int sched_next_fill(sched *s, double now, int tile, tile_rect r)
+{
+    int item = sched_new_item(s, tile, r, 0, false, false); /* (no records to estimate from) */
+    if (item < 0)
+        return -1;
+    sched_item *it = &s->items[item];
+    it->fill = true;
+    it->order = s->dispatched++;
+    it->sent_s = now;
+    s->tile_left[tile] = 1;
+    s->added++;
+    return item;
 }
 
 bool sched_done(sched *s, int item)

@@ -35,6 +35,14 @@
  * neighbouring tiles cost alike, and a batch of expensive neighbours
  * would make the tail.
  *
+ * Fill (hetero, --fill on): while nothing is ready and the pass has not
+ * reached every tile, a worker with room gets a whole tile from the
+ * bottom of the image up, which it renders from scratch (its primary rays
+ * too: PROTO_WORK_RENDER), so no worker waits for the OpenCL set-up or
+ * pass.  The tiles claimed that way are the fill's: the feed offers the
+ * pass's tiles only above them (sched_fill_front), and the pass stops
+ * there.  A fill item has no estimate and is never split or batched.
+ *
  * A worker that is lost (its process died) hands its items back
  * (sched_requeue): they go out again before anything else, to whoever
  * asks; sched_release gives a lost worker's static share to the others.
@@ -66,6 +74,7 @@ typedef struct {
     bool split;        /* replaced by its pieces (tail): never sent      */
     bool resumed;      /* skipped: its pixels came from the journal of an
                           earlier run (--resume), not from the background */
+    bool fill;         /* claimed by the fill: rendered whole, no records */
     double estimate;   /* estimated ray casts; < 0: unknown (homo)       */
     int order;         /* dispatch order from 0; -1: not sent            */
     int worker;        /* the rank that computed it (0: the master)      */
@@ -107,6 +116,9 @@ typedef struct {
     int popped;         /* static: whole tiles taken from the queues     */
     bool *released;     /* static: [w] lost, its queue open to all       */
     bool closed;        /* every tile was added or skipped                */
+    bool fill;          /* the fill is on (sched_fill_enable)             */
+    int fill_front;     /* the fill's tiles: this index and every later  */
+    int filled;         /* tiles the fill claimed                        */
 } sched;
 
 const char *sched_policy_name(enum sched_policy p);
@@ -145,6 +157,20 @@ int sched_batch(const sched *s, int limit);
 /* The items of the next message for worker w, at most `limit`, into
  * out[] (each handed out as by sched_next); how many (0: none ready). */
 int sched_next_batch(sched *s, int w, double now, int limit, int *out);
+/* The fill on: tiles may be claimed from the last one up (hetero). */
+void sched_fill_enable(sched *s);
+/* The first tile the fill claimed (s->tiles when none): the feed offers
+ * only the tiles before it. */
+int sched_fill_front(const sched *s);
+/* The fill claims the last unclaimed tile when the feed has offered
+ * fewer than `offered` .. that tile: its index, or -1 (the fill is off, or
+ * no tile below the feed's front is left).  The caller then queues it
+ * with sched_next_fill, or, should it need no rendering (resumed), with
+ * sched_resume. */
+int sched_fill_claim(sched *s, int offered);
+/* Claimed tile `tile` (rectangle r) handed out at once as a fill item
+ * (marked sent as by sched_next); the item, or -1 when out of memory. */
+int sched_next_fill(sched *s, double now, int tile, tile_rect r);
 /* Item `item` is done; true when that completes its tile. */
 bool sched_done(sched *s, int item);
 

@@ -149,8 +149,8 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
-    fprintf(f, "  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n", s->tiles_resumed,
-            s->tiles_sent);
+    fprintf(f, "  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n  \"tiles_filled\": %d,\n",
+            s->tiles_resumed, s->tiles_sent, s->tiles_filled);
     fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
             (unsigned long long)s->tile_messages);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,
@@ -203,9 +203,10 @@ static void stats_log_time(FILE *f, const char *key, bool known, double v)
 static void stats_log_item(FILE *f, const sched_item *it, double t0)
 {
     fprintf(f, "{\"tile\": %d, \"piece\": %d, \"x\": %d, \"y\": %d, \"width\": %d, "
-               "\"height\": %d, \"skipped\": %s, \"resumed\": %s, ",
+               "\"height\": %d, \"skipped\": %s, \"resumed\": %s, \"fill\": %s, ",
             it->tile, it->piece, it->rect.x, it->rect.y, it->rect.width, it->rect.height,
-            it->skipped ? "true" : "false", it->resumed ? "true" : "false");
+            it->skipped ? "true" : "false", it->resumed ? "true" : "false",
+            it->fill ? "true" : "false");
     stats_log_time(f, "estimate", it->estimate >= 0, it->estimate);
     fprintf(f, "\"hits\": %u, \"worker\": %d, ", (unsigned)it->hits,
             it->skipped ? 0 : it->worker);

@@ -55,6 +55,12 @@
  *   tiles_resumed tiles taken from the journal of an interrupted run
  *                 (--resume, host/journal.h): never rendered again
  *   tiles_rendered = tiles_sent (the name --resume users look for)
+ *   tiles_filled  hetero: of tiles_sent, those the fill gave workers to
+ *                 render whole (primary rays too) while no tile of the
+ *                 pass was ready (--fill, host/schedule.h); 0 otherwise.
+ *                 With the fill, cl_setup_s and compile_s may overlap
+ *                 the tile phase: the workers render fill tiles meanwhile
+ *                 (primary_s is then 0)
  *   tiles_sent    tiles_total - tiles_degenerate - tiles_resumed: the
  *                 tiles of the tile phase (sent to workers, or done
  *                 in-process without any)
@@ -98,7 +104,8 @@
  * The tile log (--tile-log FILE, stats_write_tile_log): JSON lines, one
  * object a work item plus one a degenerate tile, in item order:
  *   {"tile", "piece" (0 whole, 1-4 a quarter), "x", "y", "width",
- *    "height", "skipped" (degenerate), "estimate" (ray casts, null if
+ *    "height", "skipped" (degenerate), "resumed" (from the journal),
+ *    "fill" (rendered whole by the fill, hetero), "estimate" (ray casts, null if
  *    unknown), "hits", "worker" (rank; 0 the master), "order" (dispatch
  *    order, null if skipped), "sent_s", "done_s" (seconds since the render
  *    began, null if skipped), "seconds" (the worker's time on it)}
@@ -142,6 +149,7 @@ typedef struct render_stats {
     double master_cpu_s;                          /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
+    int tiles_filled;         /* rendered whole while the pass ran (fill) */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */
     int batch;                                    /* (above)            */
     uint64_t tile_messages;

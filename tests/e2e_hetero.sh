@@ -6,7 +6,12 @@
 # skipped; a screen-filling object: none), a 1x1 image, `compare` (table,
 # identical images, JSON), and the generator's occupancy target on a sample
 # of the benchmark grid; the program specialised on each example scene
-# against the general one.
+# against the general one; the fill (workers render whole tiles while the
+# OpenCL program builds) with a delayed build: every tile filled, or a
+# fixed number and the pass the rest.
+# Every hetero render here runs --fill off unless it says otherwise: with
+# the fill on, a small image may be rendered before the pass has begun,
+# and the comparisons of the pass's records would prove nothing.
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
@@ -16,6 +21,7 @@ MPIRUN=(mpirun --oversubscribe --bind-to none)
 render() { # render NAME RANKS MODE SCENE EXTRA... -> $T/NAME.exr, $T/NAME.json
     local name=$1 ranks=$2 mode=$3 scene=$4
     shift 4
+    [ "$mode" = hetero ] && [[ " $* " != *" --fill "* ]] && set -- "$@" --fill off
     if [ "$ranks" = 0 ]; then
         "$BIN" render "$scene" -o "$T/$name.exr" --mode "$mode" --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
     else
@@ -121,14 +127,15 @@ done
 
 # --- the kernel variant from the environment; a bad one refused ---
 CSGTRACE_CL_KERNEL=scalar "${MPIRUN[@]}" -np 3 "$BIN" render scenes/csg_ops.pov -o "$T/env.exr" \
-    --mode hetero --width 64 --height 48 >/dev/null 2>&1
+    --mode hetero --width 64 --height 48 --fill off >/dev/null 2>&1
 render envs 0 serial scenes/csg_ops.pov --width 64 --height 48
 same "$T/env.exr" "$T/envs.exr" && ok "\$CSGTRACE_CL_KERNEL=scalar: hetero == serial" || ko "\$CSGTRACE_CL_KERNEL=scalar: hetero differs"
-if CSGTRACE_CL_KERNEL=wide "$BIN" render scenes/showcase.pov -o "$T/bad.exr" --mode hetero \
-    --width 8 --height 8 >/dev/null 2>"$T/bad.err"; then
+if CSGTRACE_CL_KERNEL=wide CSGTRACE_TEST_CL_DELAY_MS=300 "$BIN" render scenes/showcase.pov \
+    -o "$T/bad.exr" --mode hetero --width 8 --height 8 >/dev/null 2>"$T/bad.err"; then
     ko "a bad \$CSGTRACE_CL_KERNEL was accepted"
 else
-    grep -q "CSGTRACE_CL_KERNEL" "$T/bad.err" && ok "a bad \$CSGTRACE_CL_KERNEL is refused with a message" ||
+    grep -q "CSGTRACE_CL_KERNEL" "$T/bad.err" && [ ! -e "$T/bad.exr" ] &&
+        ok "a bad \$CSGTRACE_CL_KERNEL is refused with a message (also when the fill rendered every tile first)" ||
         ko "bad CSGTRACE_CL_KERNEL: $(head -c 300 "$T/bad.err")"
 fi
 "$BIN" render scenes/showcase.pov -o "$T/badk.exr" --cl-kernel wide >/dev/null 2>"$T/badk.err"
@@ -243,6 +250,42 @@ rc=$?
 [ $rc = 0 ] && same "$T/cc_1.exr" "$T/cc_7.exr" && [ ! -s "$T/cc_7.err" ] &&
     ok "program cache: a cache that cannot be written: same image, no message" ||
     ko "program cache: unwritable cache: exit $rc, $(head -c 300 "$T/cc_7.err")"
+
+# --- the fill: with the OpenCL build delayed (a test hook), workers render
+#     whole tiles from the bottom up meanwhile; the pass does the rest ---
+fill_check() { # fill_check NAME SERIAL EXPECTED_FILLED -> 0 when the image and the counts hold
+    same "$T/$2.exr" "$T/$1.exr" && json "$T/$1.json" "j['tiles_filled'] == $3 and
+        j['tiles_sent'] + j['tiles_degenerate'] == j['tiles_total'] and
+        j['pixels_hit'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['pixels_hit'])") and
+        j['rays']['primary'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['rays']['primary'])")"
+}
+CSGTRACE_TEST_CL_DELAY_MS=1500 render fa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on
+fill_check fa s_2 30 && json "$T/fa.json" "j['slices'] == 0 and j['device'] == '' and j['tiles_degenerate'] == 0" &&
+    ok "fill: the build delayed, the workers render every tile (no pass): == serial, hits and rays counted" ||
+    ko "fill, every tile: $(head -c 300 "$T/fa.err")"
+CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=7 render fb 3 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --tile-log "$T/fb.log" --fill on
+if fill_check fb s_2 7 && json "$T/fb.json" "j['slices'] > 0" && python3 - "$T/fb.log" <<'PY'
+import json, sys
+items = [json.loads(l) for l in open(sys.argv[1])]
+fill = sorted(i["tile"] for i in items if i["fill"])
+assert fill == list(range(23, 30)), fill
+assert all(i["estimate"] is None and not i["skipped"] for i in items if i["fill"])
+assert all(i["estimate"] is not None for i in items if not i["fill"] and not i["skipped"])
+PY
+then
+    ok "fill: 7 tiles filled (the last 7, no estimate), the pass the others: == serial, hits counted"
+else
+    ko "fill, 7 tiles: $(head -c 300 "$T/fb.err")"
+fi
+CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=5 render fc 0 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+fill_check fc s_2 5 && ok "fill without workers: the master renders 5 tiles itself, the pass the rest: == serial" ||
+    ko "fill, one process: $(head -c 300 "$T/fc.err")"
+CSGTRACE_TEST_CL_DELAY_MS=1500 render fd 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp 3 --tile 16 --fill on
+fill_check fd ss3 30 && ok "fill with --spp 3: == serial, 3 primary rays a pixel" || ko "fill, --spp 3: $(head -c 300 "$T/fd.err")"
+"$BIN" render "$T/gen_1.pov" -o "$T/fe.exr" --mode hetero --fill maybe >/dev/null 2>"$T/fe.err"
+[ $? -eq 2 ] && grep -q -- "--fill" "$T/fe.err" && ok "--fill maybe: a usage error (exit 2)" || ko "--fill maybe: $(head -c 300 "$T/fe.err")"
 
 # --- the generator meets its occupancy within +-1 point (sample of the grid) ---
 for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do

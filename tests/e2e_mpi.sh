@@ -235,13 +235,16 @@ for it in items:
     else:
         sent.append(it)
         assert it["seconds"] >= 0 and it["done_s"] >= it["sent_s"] >= 0, it
-        assert (it["estimate"] is not None) == (s["mode"] == "hetero"), it
+        assert (it["estimate"] is not None) == (s["mode"] == "hetero" and not it["fill"]), it
         workers = range(1, s["ranks"]) if s["ranks"] > 1 else [0]
         assert it["worker"] in workers, it
 for t in range(s["tiles_total"]):
     tx, ty = t % cols * T, t // cols * T
     assert area.get(t) == min(T, W - tx) * min(T, H - ty), (t, area.get(t))
 assert skipped == s["tiles_degenerate"], (skipped, s["tiles_degenerate"])
+fill = [i["tile"] for i in sent if i["fill"]]
+assert len(fill) == s["tiles_filled"] and (s["mode"] == "hetero" or not fill), fill
+assert all(f > i["tile"] for f in fill for i in items if not i["fill"]), "fill from the bottom up"
 assert len(sent) == s["items_sent"] and sorted(i["order"] for i in sent) == list(range(len(sent)))
 assert sum(i["hits"] for i in items) == s["pixels_hit"] or s["mode"] == "hetero"
 if schedule == "static" and s["ranks"] > 2:

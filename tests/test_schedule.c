@@ -137,6 +137,53 @@ static void test_static_assignment(void **state)
 }
 
 /* A lost worker's items go out again, first, to whoever asks. */
+/* The fill: tiles claimed from the last one up, each handed out at once
+ * without an estimate, never below the feed's front; the feed's tiles
+ * stop at the fill's; a fill item lost goes out again, still a fill;
+ * static has no fill. */
+static void test_fill(void **state)
+{
+    (void)state;
+    double cost[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    sched s;
+    assert_true(sched_init(&s, SCHED_COST, 2, 2, 8, table_estimate, cost));
+    assert_int_equal(sched_fill_claim(&s, 0), -1); /* off */
+    sched_fill_enable(&s);
+    assert_int_equal(sched_fill_front(&s), 8);
+    int a = sched_fill_claim(&s, 0), b = sched_fill_claim(&s, 0);
+    assert_int_equal(a, 7);
+    assert_int_equal(b, 6);
+    int ia = sched_next_fill(&s, 1.0, a, rect_of(a)), ib = sched_next_fill(&s, 2.0, b, rect_of(b));
+    assert_true(ia >= 0 && ib >= 0);
+    assert_true(s.items[ia].fill && s.items[ia].estimate < 0 && s.items[ia].order == 0);
+    assert_true(s.items[ib].order == 1 && s.items[ib].sent_s == 2.0);
+    assert_int_equal(sched_next(&s, 0, 3.0), -1); /* a fill item is never queued */
+    for (int i = 0; i < 4; i++) /* the pass's tiles 0 .. 3, a front of 4 */
+        assert_true(sched_add(&s, i, rect_of(i)));
+    assert_int_equal(sched_fill_claim(&s, 4), 5);
+    assert_true(sched_next_fill(&s, 4.0, 5, rect_of(5)) >= 0);
+    assert_int_equal(sched_fill_claim(&s, 4), 4);
+    assert_int_equal(sched_fill_front(&s), 4);
+    assert_int_equal(sched_fill_claim(&s, 4), -1); /* the feed has every tile left */
+    assert_true(sched_resume(&s, 4, rect_of(4))); /* (the caller's: tile 4 came resumed) */
+    sched_close(&s);
+    assert_int_equal(s.filled, 4);
+    assert_true(sched_requeue(&s, ia));
+    int order[5];
+    assert_int_equal(drain(&s, 0, order, 5), 5);
+    assert_int_equal(order[0], ia); /* again first, still a fill item */
+    assert_true(s.items[order[0]].fill);
+    for (int i = 1; i < 5; i++) /* then the pass's tiles by cost */
+        assert_int_equal(s.items[order[i]].tile, 4 - i);
+    assert_true(sched_finished(&s));
+    assert_int_equal(s.added, 7);
+    sched_free(&s);
+    assert_true(sched_init(&s, SCHED_STATIC, 2, 2, 8, NULL, NULL));
+    sched_fill_enable(&s);
+    assert_int_equal(sched_fill_claim(&s, 0), -1);
+    sched_free(&s);
+}
+
 static void test_requeue(void **state)
 {
     (void)state;
@@ -490,6 +537,7 @@ int main(void)
         cmocka_unit_test(test_cost_without_estimates),
         cmocka_unit_test(test_static_assignment),
         cmocka_unit_test(test_requeue),
+        cmocka_unit_test(test_fill),
         cmocka_unit_test(test_static_release),
         cmocka_unit_test(test_tail_split),
         cmocka_unit_test(test_tail_one_pixel),
