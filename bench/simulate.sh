@@ -3,7 +3,7 @@
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
-#       [--batch N|auto] [--pixels rgb8|float]
+#       [--batch N|auto] [--pixels rgb8|float] [--fill on|off]
 #       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
@@ -13,6 +13,9 @@
 #    Other sizes scale this map (workers/tile_sim.h): a pixel of a 4096x4096
 #    image costs what the recorded pixel under it cost, the pass scales with
 #    the pixel count.  Not a real 4096x4096 render: an estimate from 384x384.
+#    Hetero maps are recorded with --fill off (every cell's cost is its
+#    shading); hetero with the fill (the default, --fill on: csgtrace's)
+#    also needs the homo map: what a tile rendered whole costs.
 # 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks.
 # 3. F.json: the driver's object plus network and pass_scale.
 # --pass-scale F (default 1) multiplies the measured OpenCL pass (hetero):
@@ -39,7 +42,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 [[ "$MAP_RENDERS" =~ ^[1-9][0-9]?$ ]] || { echo "bench/simulate.sh: SIM_MAP_RENDERS: 1..99" >&2; exit 2; }
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
-SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -56,6 +59,7 @@ while [ $# -gt 0 ]; do
     --pass-rate) PASS_RATE=$2 ;;
     --batch) BATCH=$2 ;;
     --pixels) PIXELS=$2 ;;
+    --fill) FILL=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -73,27 +77,41 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_RATE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-rate: Mrays/s, a decimal number"
 [[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
 [[ "$PIXELS" =~ ^(rgb8|float)$ ]] || die "--pixels: rgb8 or float"
+[[ "$FILL" =~ ^(on|off)$ ]] || die "--fill: on or off"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
-# 1. the cost map (recorded once per scene and mode)
+# 1. the cost maps (recorded once per scene and mode)
 key=$(sha256sum "$SCENE" | cut -c1-16)
-map=$MAPS/$key-$MODE.costs
-if [ ! -f "$map" ]; then
+rec=""
+# ensure_map MODE: $MAPS/KEY-MODE.costs, recorded when missing.
+ensure_map() {
+    local mode=$1 map=$MAPS/$key-$1.costs fill=()
+    [ -f "$map" ] && return 0
     [ -x "$CSGTRACE" ] || die "$CSGTRACE missing: make"
+    [ "$mode" = hetero ] && fill=(--fill off)
     mkdir -p "$MAPS"
     rec=$(mktemp -d)
     trap 'rm -rf "$rec"' EXIT
-    pairs=()
+    local pairs=()
     for k in $(seq "$MAP_RENDERS"); do # each cell's minimum (costmap.py)
         OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np 2 \
-            "$CSGTRACE" render "$SCENE" -o "$rec/img.png" --mode "$MODE" --width $REC_SIZE \
-            --height $REC_SIZE --tile $REC_TILE --schedule raster --stats "$rec/$k.json" \
-            --tile-log "$rec/$k.log" >&2
+            "$CSGTRACE" render "$SCENE" -o "$rec/img.png" --mode "$mode" --width $REC_SIZE \
+            --height $REC_SIZE --tile $REC_TILE --schedule raster "${fill[@]}" \
+            --stats "$rec/$k.json" --tile-log "$rec/$k.log" >&2
         pairs+=("$rec/$k.json" "$rec/$k.log")
     done
     python3 "$ROOT/bench/sim/costmap.py" "$rec/map" "${pairs[@]}"
     mv "$rec/map" "$map"
+    rm -rf "$rec"
+    rec=""
+}
+ensure_map "$MODE"
+map=$MAPS/$key-$MODE.costs
+fill_map=""
+if [ "$MODE" = hetero ] && [ "$FILL" = on ]; then
+    ensure_map homo
+    fill_map=$MAPS/$key-homo.costs
 fi
 
 # 2. the simulation
@@ -113,10 +131,10 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:
 [ "$NETWORK" = ib ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
-CSGSIM_COSTS=$map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
+CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" <<'PY'
 import json, sys

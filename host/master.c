@@ -352,6 +352,23 @@ static bool master_room(master_loop *L, int r, int depth)
     return true;
 }
 
+/* Nothing ready: fill items for one message into items[] (as many as a
+ * batch of ready items would hold: guided by what is left, so the last
+ * ones go alone); how many (L->failed when out of memory). */
+static int master_fill_batch(master_loop *L, double now, int *items, csg_diag *d)
+{
+    int want = sched_batch(L->job->sched, L->m->batch), k = 0;
+    for (; k < want; k++) {
+        int item = L->job->fill(L->job, now, d);
+        if (item < 0) {
+            L->failed |= item == -2;
+            break;
+        }
+        items[k] = item;
+    }
+    return k;
+}
+
 /* Every live worker filled up to PROTO_IN_FLIGHT batches, one level at
  * a time; true when something was sent. */
 static bool master_dispatch(master_loop *L, csg_diag *d)
@@ -364,10 +381,8 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
             double now = stats_clock();
             int items[PROTO_BATCH_MAX];
             int k = sched_next_batch(L->job->sched, r - 1, now, L->m->batch, items);
-            if (k == 0 && L->job->fill && (items[0] = L->job->fill(L->job, now, d)) != -1) {
-                L->failed = items[0] < 0; /* (-2: out of memory) */
-                k = items[0] >= 0;
-            }
+            if (k == 0 && L->job->fill)
+                k = master_fill_batch(L, now, items, d);
             if (k == 0)
                 continue;
             if (L->job->t_first == 0)

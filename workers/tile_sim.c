@@ -105,14 +105,24 @@ const sim_costs *sim_costs_shared(void)
     return state == 1 ? &map : NULL;
 }
 
+const sim_costs *sim_costs_render(void)
+{
+    static sim_costs map;
+    static int state; /* 0 not tried, 1 loaded, -1 failed or unset */
+    const char *path = state == 0 ? getenv("CSGSIM_FILL_COSTS") : NULL;
+    if (state == 0)
+        state = path && *path && sim_costs_load(path, &map) ? 1 : -1;
+    return state == 1 ? &map : sim_costs_shared();
+}
+
 #ifdef CSG_SIM
 #include <smpi/smpi.h>
 
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
-    (void)records;
-    const sim_costs *c = sim_costs_shared();
+    /* shaded from records (hetero), or rendered whole (homo; hetero's fill) */
+    const sim_costs *c = records ? sim_costs_shared() : sim_costs_render();
     sim_cost cost = {0, 0, 0};
     if (c)
         cost = sim_costs_rect(c, tr->grid.width, tr->grid.height, r);

@@ -43,6 +43,10 @@ sim_cost sim_costs_rect(const sim_costs *c, int width, int height, tile_rect r);
  * ranks run one at a time in one process); NULL when it cannot be read. */
 const sim_costs *sim_costs_shared(void);
 
+/* What a tile rendered whole costs (no records: homo, or hetero's fill):
+ * the map named by $CSGSIM_FILL_COSTS (a homo map), else the shared one. */
+const sim_costs *sim_costs_render(void);
+
 /* Flops a simulated host does per measured second (the platform files
  * declare this speed, so simulated compute = measured seconds). */
 #define SIM_HOST_FLOPS 1e9

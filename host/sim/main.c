@@ -16,6 +16,15 @@
  * proportion to the time elapsed), tiles without hits are skipped, the
  * others queued with the map's estimate.  Homo: every tile at once.
  *
+ * The fill (csgtrace --fill, host/schedule.h) is on in hetero unless
+ * --fill off: while no tile of the pass is ready, a worker renders a whole
+ * tile from the bottom up, at the cost of the homo map in
+ * $CSGSIM_FILL_COSTS (bench/simulate.sh records it; without it, the
+ * hetero map's cost); the pass stops where the fill's tiles begin.
+ * serial_s stays the work of the scheme without the fill (every tile with
+ * hits shaded, the whole pass), so efficiencies with and without the fill
+ * compare as their makespans do.
+ *
  * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically);
  * $CSGSIM_PASS_RATE (Mrays/s, one primary ray a pixel) replaces it by a
  * measured device rate: pass_s = width x height / rate (bench/GPU.md).
@@ -48,13 +57,14 @@ typedef struct {
     int width, height, tile, policy;
     int batch;               /* --batch: 0 auto (master.h)               */
     int pixels;              /* --pixels: enum pixels_format             */
+    bool fill;               /* --fill on|off (hetero)                    */
 } sim_args;
 
 typedef struct {
     const sim_costs *costs;
     sched s;
     double pass_s, pass_t0;  /* the pass: its duration, its start       */
-    int tile_rows_known;
+    int tiles_offered;       /* tiles given to the scheduler, from the top */
     double serial_s;         /* the items' seconds, the pass included   */
     bool hetero;
     int width, height;
@@ -101,6 +111,10 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT : PIXELS_RGB8;
         return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0;
     }
+    if (strcmp(key, "--fill") == 0) {
+        a->fill = strcmp(v, "on") == 0;
+        return a->fill || strcmp(v, "off") == 0;
+    }
     if (strcmp(key, "--stats") == 0) {
         a->stats = v;
         return true;
@@ -110,7 +124,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, PIXELS_RGB8};
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, PIXELS_RGB8, true};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -148,38 +162,61 @@ static double sim_estimate(void *arg, tile_rect r)
     return sim_rect_cost(arg, r).estimate;
 }
 
-/* master_job.feed: the tile rows the pass has finished by now. */
+/* master_job.feed: the tiles of the rows the pass has finished by now,
+ * down to the fill's. */
 static int sim_feed(master_job *job, bool wait, csg_diag *d)
 {
     (void)wait;
     sim_run *run = job->feed_arg;
     const tile_grid *g = &job->grid;
-    int columns = tile_columns(g), tile_rows = tile_count(g) / columns, known = 0;
+    int known = 0, front = sched_fill_front(&run->s);
     double done = run->pass_s > 0 ? (stats_clock() - run->pass_t0) / run->pass_s : 1;
     double rows = done >= 1 ? g->height : done * g->height;
-    for (; run->tile_rows_known < tile_rows; run->tile_rows_known++) {
-        int ty = run->tile_rows_known, bottom = (ty + 1) * g->tile;
-        if ((bottom < g->height ? bottom : g->height) > rows)
+    for (; run->tiles_offered < front; run->tiles_offered++, known++) {
+        int i = run->tiles_offered;
+        tile_rect r = tile_rect_of(g, i);
+        if (r.y + r.height > rows)
             break;
-        for (int i = ty * columns; i < (ty + 1) * columns; i++, known++) {
-            tile_rect r = tile_rect_of(g, i);
-            sim_cost c = sim_rect_cost(run, r);
-            bool skip = run->hetero && c.hits < 0.5;
-            run->serial_s += skip ? 0 : c.seconds;
-            if (!(skip ? sched_skip(&run->s, i, r) : sched_add(&run->s, i, r))) {
-                csg_error_plain(d, "csgsim: out of memory for the work items");
-                return -1;
-            }
+        bool skip = run->hetero && sim_rect_cost(run, r).hits < 0.5;
+        if (!(skip ? sched_skip(&run->s, i, r) : sched_add(&run->s, i, r))) {
+            csg_error_plain(d, "csgsim: out of memory for the work items");
+            return -1;
         }
     }
-    if (run->tile_rows_known == tile_rows && !run->s.closed)
+    if (run->tiles_offered >= front && !run->s.closed)
         sched_close(&run->s);
     return known;
+}
+
+/* master_job.fill: the last tile nobody has (render.c's render_fill). */
+static int sim_fill(master_job *job, double now, csg_diag *d)
+{
+    sim_run *run = job->feed_arg;
+    int tile = sched_fill_claim(&run->s, run->tiles_offered);
+    if (tile < 0)
+        return -1;
+    int item = sched_next_fill(&run->s, now, tile, tile_rect_of(&job->grid, tile));
+    if (item < 0)
+        csg_error_plain(d, "csgsim: out of memory for the work items");
+    return item < 0 ? -2 : item;
+}
+
+/* The work of the scheme without the fill: every tile (hetero: with
+ * hits) at the map's cost, plus the whole pass. */
+static double sim_serial_s(const sim_run *run, const tile_grid *g)
+{
+    double sum = run->pass_s;
+    for (int i = 0; i < tile_count(g); i++) {
+        sim_cost c = sim_rect_cost(run, tile_rect_of(g, i));
+        sum += run->hetero && c.hits < 0.5 ? 0 : c.seconds;
+    }
+    return sum;
 }
 
 typedef struct {
     double makespan_s, napped_s;
     int items, batch;
+    int filled;              /* tiles the fill gave workers whole        */
     uint64_t messages;       /* TILE messages                            */
     uint64_t bytes_received; /* by the master, from the workers          */
 } sim_result;
@@ -189,17 +226,19 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
     FILE *f = fopen(a->stats, "w");
     if (!f)
         return false;
-    double serial = run->serial_s + run->pass_s;
+    double serial = run->serial_s;
     fprintf(f, "{\"workers\": %d, \"mode\": \"%s\", \"schedule\": \"%s\", \"tile\": %d, "
                "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
                "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
-               "\"result_pixels\": \"%s\", \"bytes_received\": %llu}\n",
+               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"fill\": %s, "
+               "\"tiles_filled\": %d}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
             (unsigned long long)r->messages, pixels_format_name(a->pixels),
-            (unsigned long long)r->bytes_received);
+            (unsigned long long)r->bytes_received, a->fill && run->hetero ? "true" : "false",
+            r->filled);
     return fclose(f) == 0;
 }
 
@@ -225,6 +264,11 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
                            .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
                            .image = job.image, .workers = job.workers};
+        if (run->hetero && a->fill) {
+            sched_fill_enable(&run->s);
+            job.fill = sim_fill;
+        }
+        run->serial_s = sim_serial_s(run, &job.grid);
         sim_watch_naps(&idle.wake);
         double t0 = stats_clock();
         master_begin(&m, ranks);
@@ -235,7 +279,7 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
-                            m.tile_messages, m.bytes_received};
+                            run->s.filled, m.tile_messages, m.bytes_received};
         link_idle_free(&idle);
         sched_free(&run->s);
     } else { /* out of memory before the start: the workers still need a STOP */
