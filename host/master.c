@@ -357,7 +357,7 @@ static bool master_room(master_loop *L, int r, int depth)
  * ones go alone); how many (L->failed when out of memory). */
 static int master_fill_batch(master_loop *L, double now, int *items, csg_diag *d)
 {
-    int want = sched_batch(L->job->sched, L->m->batch), k = 0;
+    int want = sched_fill_batch(L->job->sched, L->m->batch), k = 0;
     for (; k < want; k++) {
         int item = L->job->fill(L->job, now, d);
         if (item < 0) {

@@ -420,6 +420,13 @@ int sched_fill_claim(sched *s, int offered)
     return --s->fill_front;
 }
 
+int sched_fill_batch(const sched *s, int limit)
+{
+    int left = s->fill_front - s->known; /* (unclaimed, not offered yet) */
+    double b = ceil((double)left / sched_round(s));
+    return limit <= 1 || b < 1 ? 1 : b > limit ? limit : (int)b;
+}
+
 int sched_next_fill(sched *s, double now, int tile, tile_rect r)
 {
     int item = sched_new_item(s, tile, r, 0, false, false); /* (no records to estimate from) */

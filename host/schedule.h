@@ -168,6 +168,9 @@ int sched_fill_front(const sched *s);
  * with sched_next_fill, or, should it need no rendering (resumed), with
  * sched_resume. */
 int sched_fill_claim(sched *s, int offered);
+/* How many fill items the next message may take, 1 .. limit: guided as
+ * sched_batch, by the tiles neither the fill nor the feed has yet. */
+int sched_fill_batch(const sched *s, int limit);
 /* Claimed tile `tile` (rectangle r) handed out at once as a fill item
  * (marked sent as by sched_next); the item, or -1 when out of memory. */
 int sched_next_fill(sched *s, double now, int tile, tile_rect r);

@@ -182,6 +182,21 @@ static void test_fill(void **state)
     sched_fill_enable(&s);
     assert_int_equal(sched_fill_claim(&s, 0), -1);
     sched_free(&s);
+    /* fill batches: what neither has yet over a round of every worker's
+     * messages (2 x 2 x SCHED_BATCH_SPREAD), within the limit, 1 at least */
+    assert_true(sched_init(&s, SCHED_RASTER, 2, 2, 100, NULL, NULL));
+    sched_fill_enable(&s);
+    assert_int_equal(sched_fill_batch(&s, 4), 4); /* ceil(100 / 16) = 7 */
+    assert_int_equal(sched_fill_batch(&s, 1), 1);
+    for (int i = 0; i < 60; i++)
+        assert_true(sched_add(&s, i, rect_of(i)));
+    while (sched_fill_claim(&s, 60) > 80)
+        ;
+    assert_int_equal(sched_fill_batch(&s, 8), 2); /* tiles 60 .. 79 left: ceil(20 / 16) */
+    while (sched_fill_claim(&s, 60) >= 0)
+        ;
+    assert_int_equal(sched_fill_batch(&s, 8), 1);
+    sched_free(&s);
 }
 
 static void test_requeue(void **state)
