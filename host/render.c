@@ -491,8 +491,6 @@ static int render_pass_rows(render_state *rs, const tile_grid *g, bool wait, csg
     return ocl_pass_rows(rs->pass, wait, d);
 }
 
-/* ---- step 3: feeding the scheduler -------------------------------------------- */
-
 /* Tile `i`: queued; or taken from the journal (--resume: its pixels are
  * in the image already); or (no hit, and no sky_sphere: what a missed ray
  * sees would depend on its direction) filled with the background and
@@ -724,7 +722,7 @@ static void render_account(const render_state *rs, const master_job *job,
     t3 = t3 > cl_ready ? t3 : cl_ready;
     double t4 = pass ? pass_end : cl_ready;
     st->setup_s = mk->loaded - mk->start;
-    /* (a build still running is not read: it only joins in render_free) */
+    /* (no pass: the build only overlapped the tiles, no phase of its own) */
     st->compile_s = !rs->build.started || pass ? rs->tm.compile_s : 0.0;
     st->cl_setup_s = cl_ready - mk->loaded - st->compile_s;
     st->primary_s = t3 - cl_ready;
