@@ -195,6 +195,10 @@ $(B)/bench/primary_rays: $(B)/obj/bench/primary_rays.o $(LIB_OBJS) | $(B)/$(MODU
 $(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
+# The PNG writer's compression settings against the module's (bench/png_write.c).
+$(B)/bench/png_write: $(B)/obj/bench/png_write.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
 $(B)/bench/embree_primary: bench/embree_primary.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(OPT) $< -o $@ -lembree3 -lm

@@ -24,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <zlib.h>
 
 #include "file_atomic.h"
@@ -35,16 +34,11 @@ img_direct_format img_direct_format_of(const char *path)
     const char *writer = getenv(IMG_WRITER_ENV);
     if (!path || (writer && strcmp(writer, "oiio") == 0))
         return IMG_DIRECT_NONE;
-    const char *slash = strrchr(path, '/');
-    const char *dot = strrchr(path, '.');
-    if (!dot || (slash && dot < slash))
-        return IMG_DIRECT_NONE;
-    if (strcasecmp(dot + 1, "png") == 0)
+    static const char *const png[] = {"png"}, *const netpbm[] = {"ppm", "pnm", "pgm"};
+    if (pixels_extension_in(path, png, 1))
         return IMG_DIRECT_PNG;
-    static const char *const netpbm[] = {"ppm", "pnm", "pgm"};
-    for (size_t i = 0; i < sizeof netpbm / sizeof netpbm[0]; i++)
-        if (strcasecmp(dot + 1, netpbm[i]) == 0)
-            return IMG_DIRECT_PPM;
+    if (pixels_extension_in(path, netpbm, sizeof netpbm / sizeof netpbm[0]))
+        return IMG_DIRECT_PPM;
     return IMG_DIRECT_NONE;
 }
 

@@ -22,6 +22,7 @@
 #include "../host/image.h"
 #include "../host/image_direct.h"
 #include "../host/pixels.h"
+#include "same_file.h"
 
 enum { SWEEP_W = 1021, SWEEP_H = 677 };
 
@@ -36,23 +37,6 @@ static bool mapped(const char *what)
         found = strstr(line, what) != NULL;
     fclose(f);
     return found;
-}
-
-static bool same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    bool same = fa && fb;
-    while (same) {
-        int ca = fgetc(fa), cb = fgetc(fb);
-        same = ca == cb;
-        if (ca == EOF)
-            break;
-    }
-    if (fa)
-        fclose(fa);
-    if (fb)
-        fclose(fb);
-    return same;
 }
 
 /* Entries of `dir` besides . and .. */
@@ -229,15 +213,16 @@ static void test_failed_write_names_the_file(void **state)
 static void test_format_of_path(void **state)
 {
     (void)state;
-    assert_int_equal(img_direct_format_of("a.png"), IMG_DIRECT_PNG);
-    assert_int_equal(img_direct_format_of("dir.png/a.PNG"), IMG_DIRECT_PNG);
-    assert_int_equal(img_direct_format_of("a.ppm"), IMG_DIRECT_PPM);
-    assert_int_equal(img_direct_format_of("a.Pnm"), IMG_DIRECT_PPM);
-    assert_int_equal(img_direct_format_of("a.pgm"), IMG_DIRECT_PPM);
-    assert_int_equal(img_direct_format_of("a.exr"), IMG_DIRECT_NONE);
-    assert_int_equal(img_direct_format_of("a.tif"), IMG_DIRECT_NONE);
-    assert_int_equal(img_direct_format_of("png"), IMG_DIRECT_NONE);
-    assert_int_equal(img_direct_format_of("x.png/a"), IMG_DIRECT_NONE);
+    static const struct {
+        const char *path;
+        img_direct_format want;
+    } cases[] = {
+        {"a.png", IMG_DIRECT_PNG},  {"dir.png/a.PNG", IMG_DIRECT_PNG}, {"a.ppm", IMG_DIRECT_PPM},
+        {"a.Pnm", IMG_DIRECT_PPM},  {"a.pgm", IMG_DIRECT_PPM},         {"a.exr", IMG_DIRECT_NONE},
+        {"a.tif", IMG_DIRECT_NONE}, {"png", IMG_DIRECT_NONE},          {"x.png/a", IMG_DIRECT_NONE},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        assert_int_equal(img_direct_format_of(cases[i].path), cases[i].want);
     setenv(IMG_WRITER_ENV, "oiio", 1);
     assert_int_equal(img_direct_format_of("a.png"), IMG_DIRECT_NONE);
     unsetenv(IMG_WRITER_ENV);
