@@ -77,7 +77,8 @@ int main(int argc, char **argv)
     if (argc < 4 || argc > 6 || !bench_parse_int(argv[2], 1, MAX_ROUNDS, &rounds) ||
         (argc > 4 && !bench_parse_int(argv[4], 1, 16, &repeat)) ||
         (argc > 5 && !bench_parse_int(argv[5], 1, SETTINGS, &count))) {
-        fprintf(stderr, "usage: %s IMAGE.exr ROUNDS(1..%d) OUTDIR [REPEAT(1..16) [SETTINGS(1..%d)]]\n",
+        fprintf(stderr,
+                "usage: %s IMAGE.exr ROUNDS(1..%d) OUTDIR [REPEAT(1..16) [SETTINGS(1..%d)]]\n",
                 argv[0], MAX_ROUNDS, SETTINGS);
         return 2;
     }
@@ -106,7 +107,8 @@ int main(int argc, char **argv)
             remove(path);
         }
     printf("%dx%d, %d rounds interleaved\n", w, h, rounds);
-    printf("| setting | write s, median (min-max) | size bytes | size / default |\n|---|---|---|---|\n");
+    printf("| setting | write s, median (min-max) | size bytes | size / default |\n"
+           "|---|---|---|---|\n");
     for (int i = 0; i < count; i++) {
         double med = bench_median(t[i], rounds);
         printf("| %s | %.3f (%.3f-%.3f) | %lld | %.3f |\n", settings[i].name, med, t[i][0],

@@ -21,9 +21,9 @@ extern "C" {
 /* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
  * by the extension (PNG and PPM without the module; the rare image with a
  * pixel of no byte of its own, pixels.h, goes to the module anyway, which
- * alone reproduces its byte).  8-bit and 16-bit formats get the values clamped to
- * [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes PNG with
- * assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
+ * alone reproduces its byte).  8-bit and 16-bit formats get the values
+ * clamped to [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes
+ * PNG with assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
  * written under a temporary name in the same folder and renamed when
  * complete: a failure never leaves a partial file under `path`.
  * false with a message in err on failure. */
