@@ -24,12 +24,13 @@
 #
 # OpenImageIO is not linked into any program: host/image_oiio.cpp is built
 # alone as the module build/csgtrace-image.so, which host/image_loader.c loads on
-# the first image call (host/image_module.h).  A process that never reads or
-# writes an image (check, every MPI worker) never maps it.
+# the first image call that needs it (host/image_module.h).  A process that
+# never reads an image nor writes one other than PNG or PPM (check, every MPI
+# worker, a render to PNG: host/image_direct.c, libpng) never maps it.
 
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
-	libopenimageio-dev openimageio-tools povray povray-includes \
+	libpng-dev libopenimageio-dev openimageio-tools povray povray-includes \
 	libcmocka-dev gnuplot-nox python3
 # Only for the benchmarks: their reference programs (bench/embree_primary.c,
 # Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
@@ -56,7 +57,9 @@ ENGINE_OPT ?= $(OPT:-O2=-O3)
 CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
 CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
 	$(OIIO_CFLAGS)
-LDLIBS = -lOpenCL -lm
+# libpng writes PNG without the image module (host/image_direct.c).
+PNG_LIBS = $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng)
+LDLIBS = -lOpenCL $(PNG_LIBS) -lm
 # The image module: everything it needs resolved at link time (-z defs).
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
@@ -190,6 +193,10 @@ $(B)/bench/primary_rays: $(B)/obj/bench/primary_rays.o $(LIB_OBJS) | $(B)/$(MODU
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
 $(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
+# The PNG writer's compression settings against the module's (bench/png_write.c).
+$(B)/bench/png_write: $(B)/obj/bench/png_write.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
 $(B)/bench/embree_primary: bench/embree_primary.c

@@ -20,10 +20,8 @@ mode_t file_default_mode(void)
     return 0666 & ~mask;
 }
 
-/* print(f, arg) into `path`, through a temporary file renamed when
- * complete; false with a message in err. */
-bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
-                               const void *arg, char *err, size_t err_size)
+bool file_write_atomic_checked(const char *path, file_writer write, void *arg, char *err,
+                               size_t err_size)
 {
     size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
     char *tmp = malloc(n);
@@ -33,6 +31,7 @@ bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
         snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
         return false;
     }
+    err[0] = '\0';
     snprintf(tmp, n, "%s.tmp.XXXXXX", path);
     fd = mkstemp(tmp);
     if (fd < 0 || fchmod(fd, file_default_mode()) != 0)
@@ -41,8 +40,7 @@ bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
     if (!f)
         goto fail;
     fd = -1; /* owned by f now */
-    print(f, arg);
-    if (fflush(f) != 0 || ferror(f))
+    if (!write(f, arg, err, err_size) || fflush(f) != 0 || ferror(f))
         goto fail;
     if (fclose(f) != 0) {
         f = NULL;
@@ -55,7 +53,8 @@ bool file_write_atomic(const char *path, void (*print)(FILE *, const void *),
     return true;
 
 fail:
-    snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+    if (!err[0])
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
     if (f)
         fclose(f);
     if (fd >= 0)
@@ -63,6 +62,28 @@ fail:
     unlink(tmp); /* harmless when mkstemp failed: no such file */
     free(tmp);
     return false;
+}
+
+/* file_write_atomic's printer as a file_writer: errors show in ferror. */
+typedef struct {
+    void (*print)(FILE *, const void *);
+    const void *arg;
+} printer;
+
+static bool print_all(FILE *f, void *arg, char *err, size_t err_size)
+{
+    (void)err;
+    (void)err_size;
+    const printer *p = arg;
+    p->print(f, p->arg);
+    return true;
+}
+
+bool file_write_atomic(const char *path, void (*print)(FILE *, const void *), const void *arg,
+                       char *err, size_t err_size)
+{
+    printer p = {print, arg};
+    return file_write_atomic_checked(path, print_all, &p, err, err_size);
 }
 
 bool file_same(const char *a, const char *b)

@@ -5,8 +5,9 @@
  * with mkstemp (O_CREAT | O_EXCL, six random characters: PATH.tmp.XXXXXX),
  * so no name can be guessed and planted in advance, and no link already at
  * a name is ever followed.  Used for every text output (stats, tile logs,
- * compare's JSON, gen's scenes); images go the same way in the image module
- * (host/image_oiio.cpp).
+ * compare's JSON, gen's scenes) and the PNG and PPM images
+ * (host/image_direct.c); the other images go the same way in the image
+ * module (host/image_oiio.cpp).
  */
 #ifndef HOST_FILE_ATOMIC_H
 #define HOST_FILE_ATOMIC_H
@@ -19,6 +20,14 @@
 /* print(f, arg) into `path`; false with "csgtrace: error: ..." in err. */
 bool file_write_atomic(const char *path, void (*print)(FILE *, const void *), const void *arg,
                        char *err, size_t err_size);
+
+/* write(f, arg, err, err_size) into `path` the same way; write returns
+ * false to give up (the temporary file is removed, the target untouched),
+ * leaving its message in err, or nothing for the usual "cannot write PATH:
+ * strerror(errno)". */
+typedef bool (*file_writer)(FILE *f, void *arg, char *err, size_t err_size);
+bool file_write_atomic_checked(const char *path, file_writer write, void *arg, char *err,
+                               size_t err_size);
 
 /* Writes all n bytes of p to fd, through short writes and EINTR (a
  * signal may cut a write short); false on an error. */

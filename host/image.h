@@ -1,9 +1,11 @@
 /*
- * image.h — image files through OpenImageIO.  The functions live in the
- * module csgtrace-image.so (host/image_oiio.cpp, the one C++ file, which
- * turns every exception into a status), loaded by the first call
- * (host/image_loader.c): a process that never touches an image never loads
- * OpenImageIO.  When the module cannot be loaded every call returns false
+ * image.h — image files.  PNG and PPM are written by the program itself
+ * (host/image_direct.c, libpng); every other format, and all reading and
+ * comparing, go through OpenImageIO, in the module csgtrace-image.so
+ * (host/image_oiio.cpp, the one C++ file, which turns every exception into
+ * a status), loaded by the first call that needs it (host/image_loader.c):
+ * a process that writes only PNG or PPM, or no image at all, never loads
+ * OpenImageIO.  When the module cannot be loaded those calls return false
  * with one message naming the file and the reason.
  */
 #ifndef HOST_IMAGE_H
@@ -16,25 +18,23 @@
 extern "C" {
 #endif
 
-/* Loads the image module now instead of at the first image call: a
- * process that will write an image calls it before its timed work (the load
- * maps OpenImageIO's ~270 libraries, ~0.2 s) and learns at once when the
- * module is missing.  false with the reason in err. */
-bool img_load(char *err, size_t err_size);
-
 /* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
- * by the extension.  8-bit and 16-bit formats get the values clamped to
- * [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes PNG with
- * assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
+ * by the extension (PNG and PPM without the module; the rare image with a
+ * pixel of no byte of its own, pixels.h, goes to the module anyway, which
+ * alone reproduces its byte).  8-bit and 16-bit formats get the values
+ * clamped to [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes
+ * PNG with assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
  * written under a temporary name in the same folder and renamed when
  * complete: a failure never leaves a partial file under `path`.
  * false with a message in err on failure. */
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                    size_t err_size);
 
-/* Has OpenImageIO a writer for the format of `path` (its extension)?  A
- * render asks before it starts, not after its last tile.  false with the
- * message img_write_rgb would give. */
+/* Is there a writer for the format of `path` (its extension)?  A render
+ * asks before it starts, not after its last tile: for a format of the
+ * module this loads it (OpenImageIO's ~270 libraries, ~0.2 s) before the
+ * timed work, and learns at once when it is missing; PNG and PPM need no
+ * module.  false with the message img_write_rgb would give. */
 bool img_can_write(const char *path, char *err, size_t err_size);
 /* Reads any image OpenImageIO knows as float RGB (malloc'd, 3 a pixel). */
 bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,

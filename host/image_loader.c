@@ -1,9 +1,10 @@
 /*
- * image_loader.c — the image API (image.h) as every program links it: the
- * first call loads the OpenImageIO module (image_module.h), every call
- * forwards to it.
- * `csgtrace check` and the MPI workers never write an image, so they never
- * map OpenImageIO and its ~270 libraries.
+ * image_loader.c — the image API (image.h) as every program links it: PNG
+ * and PPM files are written here (image_direct.h); for every other call
+ * the first one loads the OpenImageIO module (image_module.h), and every
+ * call forwards to it.
+ * `csgtrace check`, the MPI workers and a render to PNG or PPM never map
+ * OpenImageIO and its ~270 libraries.
  *
  * Where the module is looked for, first found wins:
  *   1. $CSGTRACE_IMAGE_MODULE, a path (then nothing else is tried);
@@ -25,6 +26,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "image_direct.h"
 #include "image_module.h"
 
 typedef struct {
@@ -121,20 +123,24 @@ static const img_module *module_or_error(const char *subject, char *err, size_t 
     return loader.mod;
 }
 
-bool img_load(char *err, size_t err_size)
-{
-    return module_or_error(NULL, err, err_size) != NULL;
-}
-
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                    size_t err_size)
 {
+    img_direct_format direct = img_direct_format_of(path);
+    if (direct != IMG_DIRECT_NONE) {
+        img_direct_status s =
+            img_direct_write(path, direct, rgb, width, height, NULL, err, err_size);
+        if (s != IMG_DIRECT_AMBIGUOUS)
+            return s == IMG_DIRECT_WRITTEN;
+    }
     const img_module *m = module_or_error(path, err, err_size);
     return m && m->write_rgb(path, rgb, width, height, err, err_size);
 }
 
 bool img_can_write(const char *path, char *err, size_t err_size)
 {
+    if (img_direct_format_of(path) != IMG_DIRECT_NONE)
+        return true;
     const img_module *m = module_or_error(path, err, err_size);
     return m && m->can_write(path, err, err_size);
 }

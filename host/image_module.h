@@ -2,8 +2,9 @@
  * image_module.h — the boundary between the image API every program links
  * (host/image_loader.c, C) and its implementation over OpenImageIO
  * (host/image_oiio.cpp, C++), built as the module csgtrace-image.so and
- * loaded with dlopen by the first image call.  Only the process that reads
- * or writes an image pays for OpenImageIO (~270 shared libraries).
+ * loaded with dlopen by the first image call that needs it.  Only the
+ * process that reads an image, or writes one other than PNG or PPM
+ * (host/image_direct.c), pays for OpenImageIO (~270 shared libraries).
  *
  * The module exports one symbol, IMG_MODULE_ENTRY, a function returning
  * its table; the loader checks `abi` and `size` before using any entry.

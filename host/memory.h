@@ -23,7 +23,10 @@ typedef struct {
 } render_memory;
 
 /* Rows of the image the encoder holds at a time, as encoded floats and
- * their bytes for 8-bit formats (host/image_oiio.cpp, display_strip_rows). */
+ * their bytes for 8-bit formats (host/image_oiio.cpp, display_strip_rows).
+ * PNG and PPM hold one row of bytes (host/image_direct.c), but an image
+ * with a value of no byte of its own goes to the module anyway: the
+ * estimate keeps the strip. */
 #define MEMORY_WRITER_STRIP_ROWS 64
 /* OpenImageIO's write_image of a float file converts at most this many
  * bytes of scanlines at a time (or one scanline). */

@@ -9,14 +9,108 @@
  */
 #include "pixels.h"
 
+#include <pthread.h>
 #include <string.h>
 #include <strings.h>
 
+/* pixels_to_rgb8 without a powf a value: the bytes of the floats of (0, 1)
+ * by their bit patterns, in buckets of 2^PIXELS_BUCKET_SHIFT consecutive
+ * floats.  The byte never falls as the float grows (the curve's linear part
+ * is monotone by IEEE rounding; its powf part was checked float by float,
+ * tests/test_pixels.c, which also compares this table with
+ * pixels_srgb_byte for every float of that part), so a bucket whose first
+ * and last bytes differ by one has its byte `lo`, plus one from the float
+ * `step` on (found by bisection).  A bucket the table cannot settle so (more
+ * than one step, or a value with no byte of its own) is `slow`: its values
+ * go through pixels_srgb_byte.  ~0.5 ms to
+ * build, once a process, on the first conversion. */
+#define PIXELS_BUCKET_SHIFT 16
+#define PIXELS_ONE_BITS 0x3f800000u /* 1.0f */
+enum { PIXELS_BUCKETS = PIXELS_ONE_BITS >> PIXELS_BUCKET_SHIFT };
+
+typedef struct {
+    uint32_t step; /* first float bits of the bucket at lo + 1; UINT32_MAX: none */
+    uint8_t lo;
+    uint8_t slow;
+} pixels_bucket;
+
+typedef struct {
+    pthread_once_t once;
+    pixels_bucket bucket[PIXELS_BUCKETS];
+} pixels_table;
+
+static pixels_table table = {PTHREAD_ONCE_INIT, {{0, 0, 0}}};
+
+static float float_of_bits(uint32_t u)
+{
+    float v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+/* The byte of e * 255 + 0.5 truncated, the ambiguous value included. */
+static int raw_byte(uint32_t u)
+{
+    return (int)(pixels_srgb_encode(float_of_bits(u)) * 255.0f + 0.5f);
+}
+
+/* Bits of the ambiguous values, [*lo, *hi]: the linear part of the curve,
+ * where the encoding (12.92f * v) is monotone, so bisection finds them. */
+static void ambiguous_bits(uint32_t *lo, uint32_t *hi)
+{
+    uint32_t a = 0, b = PIXELS_ONE_BITS; /* first u with encode >= A */
+    while (a < b) {
+        uint32_t m = a + (b - a) / 2;
+        if (pixels_srgb_encode(float_of_bits(m)) >= PIXELS_AMBIGUOUS_ENCODED)
+            b = m;
+        else
+            a = m + 1;
+    }
+    *lo = a;
+    for (*hi = a; pixels_srgb_encode(float_of_bits(*hi + 1)) == PIXELS_AMBIGUOUS_ENCODED;)
+        (*hi)++;
+}
+
+static void build_table(void)
+{
+    uint32_t amb_lo, amb_hi;
+    ambiguous_bits(&amb_lo, &amb_hi);
+    for (uint32_t k = 0; k < PIXELS_BUCKETS; k++) {
+        pixels_bucket *bk = &table.bucket[k];
+        uint32_t first = k << PIXELS_BUCKET_SHIFT, last = first + (1u << PIXELS_BUCKET_SHIFT) - 1;
+        int lo = raw_byte(first), hi = raw_byte(last);
+        bk->lo = (uint8_t)lo;
+        bk->step = UINT32_MAX;
+        bk->slow = hi - lo > 1 || hi < lo || (first <= amb_hi && amb_lo <= last);
+        if (bk->slow || hi == lo)
+            continue;
+        uint32_t a = first, b = last; /* first u of byte hi */
+        while (a < b) {
+            uint32_t m = a + (b - a) / 2;
+            if (raw_byte(m) >= hi)
+                b = m;
+            else
+                a = m + 1;
+        }
+        bk->step = a;
+    }
+}
+
 bool pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out)
 {
-    for (size_t i = 0; i < n; i++)
-        if (!pixels_srgb_byte(rgb[i], &out[i]))
+    pthread_once(&table.once, build_table);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t u;
+        memcpy(&u, &rgb[i], sizeof u);
+        /* past the table (u - 1 wraps for 0): 0, negatives, 1 and more, NaN,
+         * which pixels_srgb_byte clamps without a powf */
+        const pixels_bucket *bk =
+            u - 1u < PIXELS_ONE_BITS - 1u ? &table.bucket[u >> PIXELS_BUCKET_SHIFT] : NULL;
+        if (bk && !bk->slow)
+            out[i] = (uint8_t)(bk->lo + (u >= bk->step));
+        else if (!pixels_srgb_byte(rgb[i], &out[i]))
             return false;
+    }
     return true;
 }
 

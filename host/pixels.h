@@ -90,18 +90,25 @@ float pixels_linear_of(uint8_t b);
  * for the float formats (exr, hdr, pfm), PIXELS_RGB8 for every other (8-bit)
  * one; NULL (no file): PIXELS_FLOAT.  The one list of float formats: the
  * writer (image_oiio.cpp), the results and the memory estimate use it. */
-static inline int pixels_format_for(const char *path)
+/* Is the extension of `path` (after the last '.' of its last component)
+ * one of names[0..n), in any case? */
+static inline bool pixels_extension_in(const char *path, const char *const *names, size_t n)
 {
-    if (!path)
-        return PIXELS_FLOAT;
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(path, '.');
     if (!dot || (slash && dot < slash))
-        return PIXELS_RGB8;
+        return false;
+    for (size_t i = 0; i < n; i++)
+        if (strcasecmp(dot + 1, names[i]) == 0)
+            return true;
+    return false;
+}
+
+static inline int pixels_format_for(const char *path)
+{
     static const char *const floats[] = {"exr", "hdr", "pfm"};
-    for (size_t i = 0; i < sizeof floats / sizeof floats[0]; i++)
-        if (strcasecmp(dot + 1, floats[i]) == 0)
-            return PIXELS_FLOAT;
+    if (!path || pixels_extension_in(path, floats, sizeof floats / sizeof floats[0]))
+        return PIXELS_FLOAT;
     return PIXELS_RGB8;
 }
 

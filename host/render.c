@@ -948,11 +948,10 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
  * OpenCL device being opened (hetero), taken over. */
 static int render_job(const render_request *req, int ranks, render_cl_early *early)
 {
-    /* The image module before the clock: loading it is no render time, and
-     * a missing one stops the job before any work. */
+    /* The image module (when the format needs it) before the clock: loading
+     * it is no render time, and a missing one stops the job before any work. */
     char img_err[512];
-    bool img_ready = !req->out_path || (img_load(img_err, sizeof img_err) &&
-                                        img_can_write(req->out_path, img_err, sizeof img_err));
+    bool img_ready = !req->out_path || img_can_write(req->out_path, img_err, sizeof img_err);
     signals_install();
     render_marks mk = {stats_clock(), 0, 0, 0, 0};
     render_state rs;

@@ -205,27 +205,32 @@ for level in 0 9; do
 done
 rm -f "$T"/level*.png
 
-# --- the image module: only a process that reads or writes an image loads
-#     OpenImageIO (build/csgtrace-image.so); without it, one message, exit 1 ---
+# --- the image module: only a process that reads an image or writes one other
+#     than PNG or PPM loads OpenImageIO (build/csgtrace-image.so); without it,
+#     one message, exit 1 ---
 if ldd "$BIN" | grep -q OpenImageIO; then ko "the program links OpenImageIO"; else
     ok "the program does not link OpenImageIO"
 fi
 NOMOD=$T/none/csgtrace-image.so
 expect 0 "check needs no image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" "$BIN" check "$T/good.pov"
 expect 1 "render without the image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" \
-    "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
+    "$BIN" render "$T/good.pov" -o "$T/nomod.exr" --width 8 --height 6
 errmsg "^csgtrace: error: .*image module.*none/csgtrace-image.so" "missing module message names it"
 expect 1 "render with a broken image module" env CSGTRACE_IMAGE_MODULE="$T/good.pov" \
-    "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
+    "$BIN" render "$T/good.pov" -o "$T/nomod.exr" --width 8 --height 6
 errmsg "^csgtrace: error: .*image module.*good.pov" "broken module message names it"
-[ ! -e "$T/nomod.png" ] && ok "no image without a module" || ko "image written without a module"
+[ ! -e "$T/nomod.exr" ] && ok "no image without a module" || ko "image written without a module"
+# PNG and PPM need no module (host/image_direct.c; tests/e2e_image.sh)
+expect 0 "render to PNG without the image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" \
+    "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
+rm -f "$T/nomod.png"
 mkdir -p "$T/moved"
 cp "$BIN" "$(dirname "$BIN")/csgtrace-image.so" "$T/moved/"
-LD_DEBUG=files "$T/moved/csgtrace" render "$T/good.pov" -o "$T/moved.png" --width 8 --height 6 \
+LD_DEBUG=files "$T/moved/csgtrace" render "$T/good.pov" -o "$T/moved.exr" --width 8 --height 6 \
     >/dev/null 2>"$T/err"
 grep -q "file=$T/moved/csgtrace-image.so " "$T/err" && ok "a moved program loads the module beside it" ||
     ko "a moved program did not load $T/moved/csgtrace-image.so"
-rm -rf "$T/moved" "$T/moved.png"
+rm -rf "$T/moved" "$T/moved.exr"
 
 # --- check and export ---
 expect 0 "check" "$BIN" check "$T/good.pov"

@@ -18,6 +18,7 @@
 
 #include "../host/image.h"
 #include "../host/pixels.h"
+#include "same_file.h"
 
 /* Every byte's stand-in converts back to that byte. */
 static void test_linear_of_every_byte(void **state)
@@ -76,6 +77,66 @@ static void test_ambiguous_has_no_byte(void **state)
     assert_int_equal(out[2], 255);
 }
 
+/* The byte of the float of bits u through pixels_to_rgb8 (its table)
+ * against pixels_srgb_byte; false on a difference, printed. */
+static bool table_agrees(uint32_t u)
+{
+    float v;
+    memcpy(&v, &u, sizeof v);
+    uint8_t want = 0, got = 0;
+    bool has = pixels_srgb_byte(v, &want);
+    bool conv = pixels_to_rgb8(&v, 1, &got);
+    if (has == conv && (!has || got == want))
+        return true;
+    fprintf(stderr, "bits 0x%08x (%a): byte %d/%d, table %d/%d\n", (unsigned)u, (double)v, has,
+            want, conv, got);
+    return false;
+}
+
+/* The byte of the float of bits u; 256 when it has none. */
+static int byte_of_bits(uint32_t u)
+{
+    float v;
+    memcpy(&v, &u, sizeof v);
+    uint8_t b;
+    return pixels_srgb_byte(v, &b) ? b : 256;
+}
+
+/* pixels_to_rgb8's table equals pixels_srgb_byte for every float of the
+ * curve's powf part (~70 million: this also checks that powf keeps the
+ * bytes monotone there, which the table assumes), and in the linear part
+ * (monotone by IEEE rounding) around every bucket's step and edges and at
+ * a stride of 509 floats; the specials and out-of-range values too. */
+static void test_table_is_the_function(void **state)
+{
+    (void)state;
+    float knee = 0.0031308f;
+    uint32_t pow_from, one = 0x3f800000u;
+    memcpy(&pow_from, &knee, sizeof pow_from);
+    long bad = 0;
+    for (uint32_t u = pow_from; u <= one + 4096; u++)
+        bad += !table_agrees(u);
+    for (uint32_t u = 0; u < pow_from; u += 509)
+        bad += !table_agrees(u);
+    for (uint32_t k = 0; k <= pow_from >> 16; k++) {
+        uint32_t first = k << 16;
+        for (uint32_t u = first > 300 ? first - 300 : 0; u <= first + 300; u++)
+            bad += !table_agrees(u); /* a bucket's edge */
+        for (uint32_t base = first; base < first + 65536; base += 4096)
+            if (byte_of_bits(base) != byte_of_bits(base + 4096))
+                for (uint32_t u = base; u <= base + 4096; u++)
+                    bad += !table_agrees(u); /* around a step */
+    }
+    const float specials[] = {0.0f, -0.0f, -1.0f, 1.0f, 2.0f, NAN, -NAN, INFINITY, -INFINITY,
+                              0x1p-149f, -0x1p-149f, 0x1.fffffep-1f};
+    for (size_t i = 0; i < sizeof specials / sizeof specials[0]; i++) {
+        uint32_t u;
+        memcpy(&u, &specials[i], sizeof u);
+        bad += !table_agrees(u);
+    }
+    assert_int_equal(bad, 0);
+}
+
 static void test_format_for_path(void **state)
 {
     (void)state;
@@ -91,23 +152,6 @@ static void test_format_for_path(void **state)
     assert_int_equal(pixels_format_for("exr"), PIXELS_RGB8);
     assert_int_equal(pixels_bytes(PIXELS_RGB8), 3);
     assert_int_equal(pixels_bytes(PIXELS_FLOAT), 12);
-}
-
-static bool same_file(const char *a, const char *b)
-{
-    FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
-    bool same = fa && fb;
-    while (same) {
-        int ca = fgetc(fa), cb = fgetc(fb);
-        same = ca == cb;
-        if (ca == EOF)
-            break;
-    }
-    if (fa)
-        fclose(fa);
-    if (fb)
-        fclose(fb);
-    return same;
 }
 
 /* A PNG written from the bytes' stand-ins is the PNG of the floats. */
@@ -148,6 +192,7 @@ int main(void)
         cmocka_unit_test(test_linear_of_every_byte),
         cmocka_unit_test(test_bytes_monotone_and_clamped),
         cmocka_unit_test(test_ambiguous_has_no_byte),
+        cmocka_unit_test(test_table_is_the_function),
         cmocka_unit_test(test_format_for_path),
         cmocka_unit_test(test_png_from_bytes_is_png_of_floats),
     };

@@ -1,0 +1,247 @@
+/*
+ * test_image.c — PNG and PPM written without OpenImageIO
+ * (host/image_direct.c): the process never maps the image module, the
+ * files are byte for byte the module's (its writer forced with
+ * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
+ * encoding, an image with a value of no byte of its own goes to the
+ * module, and a failed write names the file and leaves nothing behind.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <dirent.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "../host/image.h"
+#include "../host/image_direct.h"
+#include "../host/pixels.h"
+#include "same_file.h"
+
+enum { SWEEP_W = 1021, SWEEP_H = 677 };
+
+/* Does /proc/self/maps name `what`? */
+static bool mapped(const char *what)
+{
+    FILE *f = fopen("/proc/self/maps", "r");
+    char line[4096];
+    bool found = false;
+    assert_non_null(f);
+    while (!found && fgets(line, sizeof line, f))
+        found = strstr(line, what) != NULL;
+    fclose(f);
+    return found;
+}
+
+/* Entries of `dir` besides . and .. */
+static int entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    assert_non_null(d);
+    for (struct dirent *e; (e = readdir(d));)
+        n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    closedir(d);
+    return n;
+}
+
+/* Every float of [0, 1] at a stride of ~500 ulps (both parts of the sRGB
+ * curve, every byte's boundary region), then values out of range, each
+ * one not ambiguous (so the direct writer writes them all itself). */
+static float *sweep_image(void)
+{
+    size_t n = (size_t)SWEEP_W * SWEEP_H * 3;
+    float *rgb = malloc(n * sizeof *rgb);
+    assert_non_null(rgb);
+    uint32_t stride = 0x3f800000u / (uint32_t)(n - 1000) + 1;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t bits = (uint32_t)i * stride;
+        float v;
+        memcpy(&v, &bits, sizeof v);
+        if (bits > 0x3f800000u)
+            v = (float)(i % 7) * 0.5f - 1.0f; /* -1 .. 2: clamped */
+        uint8_t b;
+        rgb[i] = pixels_srgb_byte(v, &b) ? v : 0.0f;
+    }
+    return rgb;
+}
+
+typedef struct {
+    char dir[64];
+    char a[96], b[96];
+} scratch;
+
+static int scratch_setup(void **state)
+{
+    scratch *s = calloc(1, sizeof *s);
+    if (!s)
+        return -1;
+    snprintf(s->dir, sizeof s->dir, "/tmp/csgtrace-image-XXXXXX");
+    if (!mkdtemp(s->dir)) {
+        free(s);
+        return -1;
+    }
+    *state = s;
+    return 0;
+}
+
+static int scratch_teardown(void **state)
+{
+    scratch *s = *state;
+    unlink(s->a);
+    unlink(s->b);
+    rmdir(s->dir);
+    free(s);
+    return 0;
+}
+
+static void name_files(scratch *s, const char *ext)
+{
+    snprintf(s->a, sizeof s->a, "%s/direct.%s", s->dir, ext);
+    snprintf(s->b, sizeof s->b, "%s/module.%s", s->dir, ext);
+}
+
+/* Must run first: no earlier test may have loaded the module. */
+static void test_png_and_ppm_need_no_module(void **state)
+{
+    scratch *s = *state;
+    float rgb[4 * 3 * 3] = {0.0f, 0.5f, 1.0f, 0.25f, 2.0f, -1.0f};
+    char err[512] = "";
+    const char *exts[] = {"png", "ppm"};
+    for (int i = 0; i < 2; i++) {
+        name_files(s, exts[i]);
+        assert_true(img_can_write(s->a, err, sizeof err));
+        assert_true(img_write_rgb(s->a, rgb, 4, 3, err, sizeof err));
+        unlink(s->a);
+    }
+    assert_false(mapped("csgtrace-image.so"));
+    assert_false(mapped("OpenImageIO"));
+}
+
+/* The direct file and the module's, byte for byte, at the default
+ * compression and at CSGTRACE_PNG_LEVEL=9; PPM too. */
+static void test_direct_bytes_are_the_modules(void **state)
+{
+    scratch *s = *state;
+    float *rgb = sweep_image();
+    char err[512] = "";
+    const char *cases[][2] = {{"png", NULL}, {"png", "9"}, {"ppm", NULL}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        name_files(s, cases[c][0]);
+        if (cases[c][1])
+            setenv(IMG_PNG_LEVEL_ENV, cases[c][1], 1);
+        img_direct_format format = img_direct_format_of(s->a);
+        assert_int_equal(img_direct_write(s->a, format, rgb, SWEEP_W, SWEEP_H, NULL, err,
+                                          sizeof err),
+                         IMG_DIRECT_WRITTEN);
+        setenv(IMG_WRITER_ENV, "oiio", 1);
+        assert_int_equal(img_direct_format_of(s->b), IMG_DIRECT_NONE);
+        bool ok = img_write_rgb(s->b, rgb, SWEEP_W, SWEEP_H, err, sizeof err);
+        unsetenv(IMG_WRITER_ENV);
+        unsetenv(IMG_PNG_LEVEL_ENV);
+        if (!ok)
+            fprintf(stderr, "%s\n", err);
+        assert_true(ok);
+        assert_true(same_file(s->a, s->b));
+        unlink(s->a);
+        unlink(s->b);
+    }
+    free(rgb);
+}
+
+/* A value of no byte of its own: the direct writer leaves nothing, and
+ * img_write_rgb hands the image to the module, whose file it is. */
+static void test_ambiguous_goes_to_the_module(void **state)
+{
+    scratch *s = *state;
+    enum { W = 37, H = 70 };
+    static float rgb[W * H * 3];
+    float amb = PIXELS_AMBIGUOUS_ENCODED / 12.92f;
+    for (int k = 0; k < 16 && pixels_srgb_encode(amb) != PIXELS_AMBIGUOUS_ENCODED; k++)
+        amb = nextafterf(amb, pixels_srgb_encode(amb) < PIXELS_AMBIGUOUS_ENCODED ? 1.0f : 0.0f);
+    assert_true(pixels_srgb_encode(amb) == PIXELS_AMBIGUOUS_ENCODED);
+    for (size_t i = 0; i < sizeof rgb / sizeof rgb[0]; i++)
+        rgb[i] = (float)(i % 97) / 96.0f;
+    rgb[3 * W * 66 + 5] = amb; /* in the second 64-row strip */
+    char err[512] = "";
+    name_files(s, "png");
+    assert_int_equal(img_direct_write(s->a, IMG_DIRECT_PNG, rgb, W, H, NULL, err, sizeof err),
+                     IMG_DIRECT_AMBIGUOUS);
+    assert_int_equal(entries(s->dir), 0);
+    assert_true(img_write_rgb(s->a, rgb, W, H, err, sizeof err));
+    setenv(IMG_WRITER_ENV, "oiio", 1);
+    assert_true(img_write_rgb(s->b, rgb, W, H, err, sizeof err));
+    unsetenv(IMG_WRITER_ENV);
+    assert_true(same_file(s->a, s->b));
+}
+
+/* A folder that does not exist: false, the file named, nothing written;
+ * an existing file is left as it was when a write fails. */
+static void test_failed_write_names_the_file(void **state)
+{
+    scratch *s = *state;
+    float rgb[2 * 2 * 3] = {0};
+    char err[512] = "", path[128];
+    const char *exts[] = {"png", "PPM"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(path, sizeof path, "%s/no-such-folder/out.%s", s->dir, exts[i]);
+        assert_false(img_write_rgb(path, rgb, 2, 2, err, sizeof err));
+        assert_non_null(strstr(err, path));
+        assert_non_null(strstr(err, "No such file or directory"));
+    }
+    name_files(s, "png");
+    FILE *f = fopen(s->a, "w");
+    assert_non_null(f);
+    fputs("previous\n", f);
+    fclose(f);
+    assert_false(img_write_rgb(s->a, rgb, 0, 2, err, sizeof err));
+    assert_non_null(strstr(err, s->a));
+    assert_int_equal(entries(s->dir), 1);
+    f = fopen(s->a, "r");
+    char line[16] = "";
+    assert_non_null(fgets(line, sizeof line, f));
+    fclose(f);
+    assert_string_equal(line, "previous\n");
+}
+
+static void test_format_of_path(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *path;
+        img_direct_format want;
+    } cases[] = {
+        {"a.png", IMG_DIRECT_PNG},  {"dir.png/a.PNG", IMG_DIRECT_PNG}, {"a.ppm", IMG_DIRECT_PPM},
+        {"a.Pnm", IMG_DIRECT_PPM},  {"a.pgm", IMG_DIRECT_PPM},         {"a.exr", IMG_DIRECT_NONE},
+        {"a.tif", IMG_DIRECT_NONE}, {"png", IMG_DIRECT_NONE},          {"x.png/a", IMG_DIRECT_NONE},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        assert_int_equal(img_direct_format_of(cases[i].path), cases[i].want);
+    setenv(IMG_WRITER_ENV, "oiio", 1);
+    assert_int_equal(img_direct_format_of("a.png"), IMG_DIRECT_NONE);
+    unsetenv(IMG_WRITER_ENV);
+}
+
+int main(void)
+{
+    unsetenv(IMG_WRITER_ENV);
+    unsetenv(IMG_PNG_LEVEL_ENV);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_png_and_ppm_need_no_module, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_direct_bytes_are_the_modules, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_ambiguous_goes_to_the_module, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_failed_write_names_the_file, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test(test_format_of_path),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
