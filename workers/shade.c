@@ -33,6 +33,7 @@
 
 #include "../csg/device/camera.h"
 #include "engine.h"
+#include "frustum.h"
 #include "offset.h"
 #include "pigment.h"
 
@@ -406,12 +407,24 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
     shade_ctx c = ctx_of(blob);
     real *t = t_out;
     int spp = c.hdr->spp;
+    frustum_roots fr; /* the roots the rectangle's rays may hit (frustum.h) */
+    frustum_roots_of(c.view, c.cam, c.hdr->width, c.hdr->height, rect, &fr);
+    if (fr.culled && fr.n == 0 && c.view.root_count == 0) { /* every ray misses */
+        size_t n = (size_t)rect.width * (size_t)rect.height * (size_t)spp;
+        for (size_t i = 0; i < n; i++) {
+            t[i] = CSG_R_INF;
+            surf_out[i] = CSG_SURF_NONE;
+        }
+        rays->primary += n;
+        return;
+    }
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
             for (int s = 0; s < spp; s++) {
                 csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
                                            rect.y + y, spp, s);
-                csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
+                csg_hit h = fr.culled ? frustum_trace(c.view, &fr, r)
+                                      : csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
                 size_t i = ((size_t)y * (size_t)rect.width + (size_t)x) * (size_t)spp + (size_t)s;
                 t[i] = h.t;
                 surf_out[i] = h.surf;
