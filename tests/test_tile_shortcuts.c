@@ -1,9 +1,13 @@
 /*
- * test_primary.c — the primary hit records of the C engine
- * (engine->trace_primary) against csg_trace_nearest, ray by ray, bit for
- * bit: the per-tile culling of workers/frustum.h may drop only the roots
- * no ray of the tile can hit.  Compiled twice (test_primary_double.c:
- * real = double, the double engine).
+ * test_tile_shortcuts.c — what the C engine remembers across the rays of a
+ * tile changes no bit of the result:
+ *   - the primary culling (workers/frustum.h): the hit records of
+ *     engine->trace_primary equal csg_trace_nearest's, ray by ray;
+ *   - the shadow cache (workers/shade.c): a tile shaded as one rectangle,
+ *     the cache carried from pixel to pixel, equals the same pixels shaded
+ *     one by one, each with a fresh cache.
+ * Compiled twice (test_tile_shortcuts_double.c: real = double, the double
+ * engine).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -163,13 +167,75 @@ static void test_orthographic(void **state)
     check_scene("camera { orthographic location <0, 0, -9> look_at <0, 0, 0> }", "", 40, 30, false);
 }
 
+/* The pixels of the whole image shaded as one rectangle, or pixel by
+ * pixel (each with a fresh shadow cache). */
+static float *shade_image(const void *blob, int w, int h, bool by_pixel)
+{
+    real *t = malloc((size_t)w * h * sizeof *t);
+    uint32_t *surf = malloc((size_t)w * h * sizeof *surf);
+    float *rgb = malloc((size_t)w * h * 3 * sizeof *rgb);
+    assert_true(t && surf && rgb);
+    tile_rect all = {0, 0, w, h};
+    ray_counts rays = {0};
+    ENGINE->trace_primary(blob, all, t, surf, &rays);
+    if (!by_pixel) {
+        ENGINE->shade(blob, all, t, surf, rgb, &rays);
+    } else {
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                tile_rect one = {x, y, 1, 1};
+                size_t i = (size_t)y * w + x;
+                ENGINE->shade(blob, one, t + i, surf + i, rgb + 3 * i, &rays);
+            }
+    }
+    free(t);
+    free(surf);
+    return rgb;
+}
+
+/* A floor under a row of occluders between it and two lights: opaque
+ * spheres (the cache's case), a glass sphere (light through, tinted),
+ * a sphere opaque in one checker cell and transparent in the other, and
+ * gaps, so that along a row of pixels the cached blocker keeps changing
+ * and often no longer blocks; mirrors send reflected rays (another trace
+ * level) into the same shadows. */
+static void test_shadow_cache(void **state)
+{
+    (void)state;
+    const char *text =
+        "camera { location <0, 6, -9> look_at <0, 0, 0> }\n"
+        "light_source { <-3, 12, -2> rgb 1 }\n"
+        "light_source { <5, 9, 3> rgb <0.5, 0.4, 0.3> }\n"
+        "plane { y, 0 pigment { rgb 1 } finish { reflection 0.2 } }\n"
+        "sphere { <-3, 1, 0>, 0.8 pigment { rgb <1, 0, 0> } }\n"
+        "sphere { <-1, 1.2, 0.5>, 0.7 pigment { rgbf <0.6, 0.9, 0.6, 0.8> } }\n"
+        "sphere { <1, 1, 0>, 0.8 pigment { checker rgbt <0, 0, 1, 0> rgbt <1, 1, 1, 0.9> "
+        "scale 0.3 } }\n"
+        "sphere { <3, 1.5, 0.2>, 0.6 pigment { rgb 0.5 } finish { reflection 0.6 } }\n"
+        "sphere { <0, 3, 2>, 0.5 pigment { rgb <1, 1, 0> } }\n"
+        "box { <-4, 2.5, 3>, <4, 2.7, 3.3> pigment { rgbt <1, 1, 1, 0.5> } }\n";
+    csg_blob b;
+    flatten_text(text, 96, 64, 1, &b);
+    float *whole = shade_image(b.bytes, 96, 64, false);
+    float *single = shade_image(b.bytes, 96, 64, true);
+    assert_memory_equal(whole, single, (size_t)96 * 64 * 3 * sizeof *whole);
+    int shadowed = 0; /* the floor has shadows: some pixels darker than others */
+    for (int i = 0; i < 96 * 64; i++)
+        shadowed += whole[3 * i] < 0.05f;
+    assert_true(shadowed > 0);
+    free(whole);
+    free(single);
+    csg_blob_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_perspective),
         cmocka_unit_test(test_wide_and_plane),
         cmocka_unit_test(test_orthographic),
+        cmocka_unit_test(test_shadow_cache),
     };
-    return cmocka_run_group_tests_name(ENGINE == &engine_double ? "primary_double" : "primary",
+    return cmocka_run_group_tests_name(ENGINE == &engine_double ? "tile_shortcuts_double" : "tile_shortcuts",
                                        tests, NULL, NULL);
 }
