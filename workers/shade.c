@@ -33,6 +33,7 @@
 
 #include "../csg/device/camera.h"
 #include "engine.h"
+#include "frustum.h"
 #include "offset.h"
 #include "pigment.h"
 
@@ -65,7 +66,26 @@ typedef struct {
     ray_counts *rays;
     csg_i32 left;
     bool refused; /* a ray was not traced for want of budget */
+    csg_i32 *blockers; /* the shadow cache of the tile (shadow_slot) */
 } ray_tally;
+
+/* The shadow cache (POV-Ray's light buffer idea): for each light and
+ * trace level, the last root found to block that light, tried first by
+ * the next shadow ray of the same light and level.  Exact: a shadow ray
+ * returns "nothing passes" as soon as any root on its segment lets nothing
+ * through, and a root that does so is one the full walk would reach (its
+ * box passed, so did every BVH box around it), so trying it first changes
+ * which root is found, never the answer.  -1: no root cached (a cached
+ * root that fails to block is dropped: most shadow rays of a sparse scene
+ * reach their light, and a stale root would cost every one a test). */
+#define SHADOW_CACHE_SLOTS 256
+
+/* The cache slot of light i at trace level `level`, NULL beyond the cache. */
+static csg_i32 *shadow_slot(const shade_ctx *c, ray_tally *t, csg_i32 i, int level)
+{
+    size_t k = (size_t)level * (size_t)c->hdr->light_count + (size_t)i;
+    return k < SHADOW_CACHE_SLOTS ? &t->blockers[k] : NULL;
+}
 
 static bool ray_spend(ray_tally *t)
 {
@@ -187,7 +207,7 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
  * `dist` away along unit direction l: every root the segment may cross,
  * the unbounded ones and then those the BVH leads to, in the walk's
  * order (fixed for a given ray); it stops at the first opaque blocker. */
-static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
+static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, csg_i32 *blocker)
 {
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
     const vec3 none = v3(R(0.0), R(0.0), R(0.0));
@@ -195,19 +215,30 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
     r.o = p;
     r.d = l;
     csg_box_ray br = csg_box_ray_of(r);
-    for (csg_i32 i = 0; i < c->view.root_count; i++)
-        if (!root_transmittance(c, i, r, &br, 1, dist, &pass))
+    if (blocker && *blocker >= 0) { /* the shadow cache: its root behind its box */
+        vec3 ignored = pass;
+        if (!root_transmittance(c, *blocker, r, &br, 1, dist, &ignored))
             return none;
+        *blocker = -1; /* stale: not tried again until a walk finds a blocker */
+    }
+    csg_i32 found = -1;
+    for (csg_i32 i = 0; i < c->view.root_count && found < 0; i++)
+        if (!root_transmittance(c, i, r, &br, 1, dist, &pass))
+            found = i;
     csg_bvh_walk w;
     csg_bvh_walk_start(&w, c->view);
     csg_i32 k;
-    while ((k = csg_bvh_next_leaf(c->view.bvh, &br, R(0.0), dist, &w)) >= 0) {
+    while (found < 0 && (k = csg_bvh_next_leaf(c->view.bvh, &br, R(0.0), dist, &w)) >= 0) {
         const csg_bvh_node *n = &c->view.bvh[k];
-        for (csg_i32 i = n->first; i < n->first + n->count; i++)
+        for (csg_i32 i = n->first; i < n->first + n->count && found < 0; i++)
             if (!root_transmittance(c, i, r, &br, n->count > 1, dist, &pass))
-                return none;
+                found = i;
     }
-    return pass;
+    if (found < 0)
+        return pass;
+    if (blocker)
+        *blocker = found;
+    return none;
 }
 
 /* ---- the sky ---------------------------------------------------------------------- */
@@ -336,7 +367,8 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
         vec3 light = v3_load(lt->color);
         if (!lt->shadowless) {
             tally->rays->shadow++;
-            light = v3_mul(light, light_transmittance(c, above, l, dist));
+            light = v3_mul(light, light_transmittance(c, above, l, dist,
+                                                      shadow_slot(c, tally, i, level)));
             if (max3(light) <= R(0.0))
                 continue;
         }
@@ -406,12 +438,24 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
     shade_ctx c = ctx_of(blob);
     real *t = t_out;
     int spp = c.hdr->spp;
+    frustum_roots fr; /* the roots the rectangle's rays may hit (frustum.h) */
+    frustum_roots_of(c.view, c.cam, c.hdr->width, c.hdr->height, rect, &fr);
+    if (fr.culled && fr.n == 0 && c.view.root_count == 0) { /* every ray misses */
+        size_t n = (size_t)rect.width * (size_t)rect.height * (size_t)spp;
+        for (size_t i = 0; i < n; i++) {
+            t[i] = CSG_R_INF;
+            surf_out[i] = CSG_SURF_NONE;
+        }
+        rays->primary += n;
+        return;
+    }
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
             for (int s = 0; s < spp; s++) {
                 csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
                                            rect.y + y, spp, s);
-                csg_hit h = csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
+                csg_hit h = fr.culled ? frustum_trace(c.view, &fr, r)
+                                      : csg_trace_nearest(c.view, r, R(0.0), CSG_R_INF);
                 size_t i = ((size_t)y * (size_t)rect.width + (size_t)x) * (size_t)spp + (size_t)s;
                 t[i] = h.t;
                 surf_out[i] = h.surf;
@@ -455,12 +499,15 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
     shade_ctx c = ctx_of(blob);
     const real *t = t_in;
     int spp = c.hdr->spp;
+    csg_i32 blockers[SHADOW_CACHE_SLOTS];
+    for (int k = 0; k < SHADOW_CACHE_SLOTS; k++)
+        blockers[k] = -1;
     for (int y = 0; y < rect.height; y++) {
         for (int x = 0; x < rect.width; x++) {
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
-            ray_tally tally = {rays, c.max_rays, false};
+            ray_tally tally = {rays, c.max_rays, false, blockers};
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;

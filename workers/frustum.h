@@ -1,0 +1,200 @@
+/*
+ * frustum.h — the roots a rectangle of primary rays may hit, found once
+ * for the rectangle (a tile) instead of once a ray.  Host C only
+ * (workers/shade.c), in the `real` of the including file; the culling
+ * itself is computed in double whatever the engine's precision.
+ *
+ * A perspective camera without a near plane sends every primary ray of a
+ * pixel from `location` through a point of the image plane
+ * direction + x0 right + y0 up, (x0, y0) inside the pixel (camera_lanes.h),
+ * so the rays of a rectangle of pixels lie in the pyramid with its apex at
+ * the location over the rectangle's part of the image plane.  A box
+ * entirely outside one of the pyramid's four side planes meets none of
+ * them.  The BVH (nodes, then each leaf's roots' own boxes) is walked once
+ * with that test; what survives is the tile's candidate list, and each
+ * primary ray tries the unbounded roots and those candidates instead of
+ * walking the BVH.
+ *
+ * Exactness: the hit record of a ray does not depend on which roots are
+ * tried beyond those it may hit, nor on their order (csg_hit_wins breaks
+ * ties by surface id; every box test is a conservative cull), so the
+ * records equal csg_trace_nearest's bit for bit as long as no root a ray
+ * can hit is culled.  The pyramid is taken one whole pixel wider than the
+ * rectangle on every side: a ray as computed in `real` (its direction
+ * rounded by a few units of roundoff, at most ~1e-6 rad in float) stays
+ * far inside it (one pixel is ~1e-3 rad at 1536 pixels; ~1e-5 rad would
+ * still be ten times the rounding at a width of 100000), and a ray that
+ * misses a padded root box by that angle misses its solid by far more
+ * than the rounding of the primitive tests.  Anything unusual (another
+ * projection, a near plane, a degenerate or non-finite camera, a pyramid
+ * too wide) turns the culling off: the rays then walk the BVH as before.
+ */
+#ifndef WORKERS_FRUSTUM_H
+#define WORKERS_FRUSTUM_H
+
+#include <math.h>
+
+#include "../csg/device/intersect.h"
+#include "engine.h"
+
+#define FRUSTUM_MAX_ROOTS 16 /* more candidates than this: walk the BVH  */
+
+typedef struct {
+    bool culled;             /* false: no list, every ray walks the BVH   */
+    csg_i32 n;               /* candidate roots, nearest box first        */
+    csg_i32 roots[FRUSTUM_MAX_ROOTS];
+} frustum_roots;
+
+typedef struct {
+    double o[3];       /* the apex: the camera's location               */
+    double n[4][3];    /* the side planes' normals, pointing inwards    */
+    double axis[3];    /* the pyramid's central direction (for the order) */
+} frustum;
+
+static inline double frustum_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The pyramid of the rays of rect, one pixel wider on each side; false
+ * when the camera is not one this culling knows to be safe for. */
+static inline bool frustum_of(const csg_camera *cam, int width, int height, tile_rect rect,
+                              frustum *f)
+{
+    if (cam->projection != CSG_CAMERA_PERSPECTIVE || !(cam->hither <= R(0.0)))
+        return false;
+    double x0[2] = {((double)rect.x - 1.0) / width - 0.5,
+                    ((double)(rect.x + rect.width) + 1.0) / width - 0.5};
+    double y0[2] = {0.5 - ((double)(rect.y + rect.height) + 1.0) / height,
+                    0.5 - ((double)rect.y - 1.0) / height};
+    static const int cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
+    double d[4][3];
+    for (int k = 0; k < 4; k++)
+        for (int a = 0; a < 3; a++)
+            d[k][a] = (double)cam->direction[a] + x0[cx[k]] * (double)cam->right[a] +
+                      y0[cy[k]] * (double)cam->up[a];
+    for (int a = 0; a < 3; a++) {
+        f->o[a] = (double)cam->location[a];
+        f->axis[a] = (d[0][a] + d[1][a] + d[2][a] + d[3][a]) * 0.25;
+        if (!isfinite(f->o[a]) || !isfinite(f->axis[a]))
+            return false;
+    }
+    double axis_len = sqrt(frustum_dot(f->axis, f->axis));
+    for (int k = 0; k < 4; k++) {
+        const double *p = d[k], *q = d[(k + 1) % 4];
+        double *n = f->n[k];
+        n[0] = p[1] * q[2] - p[2] * q[1];
+        n[1] = p[2] * q[0] - p[0] * q[2];
+        n[2] = p[0] * q[1] - p[1] * q[0];
+        double len = sqrt(frustum_dot(n, n)), side = frustum_dot(n, f->axis);
+        /* the central direction well inside every side (a pyramid less
+         * than a half-space wide), or no culling */
+        if (!isfinite(len) || !(fabs(side) > 1e-6 * len * axis_len))
+            return false;
+        if (side < 0.0)
+            for (int a = 0; a < 3; a++)
+                n[a] = -n[a];
+    }
+    return true;
+}
+
+/* Is the box lo..hi entirely outside one side of the pyramid?  Its corner
+ * farthest inwards along each normal decides; a NaN (an infinite bound)
+ * never culls. */
+static inline bool frustum_culls(const frustum *f, const real lo[3], const real hi[3])
+{
+    for (int k = 0; k < 4; k++) {
+        const double *n = f->n[k];
+        double c[3];
+        for (int a = 0; a < 3; a++)
+            c[a] = (n[a] > 0.0 ? (double)hi[a] : (double)lo[a]) - f->o[a];
+        if (frustum_dot(n, c) < 0.0)
+            return true;
+    }
+    return false;
+}
+
+/* How far along the axis the box's centre lies: the candidates are tried
+ * nearest first, so that the best hit's limit shrinks early. */
+static inline double frustum_depth(const frustum *f, const real lo[3], const real hi[3])
+{
+    double c[3];
+    for (int a = 0; a < 3; a++)
+        c[a] = ((double)lo[a] + (double)hi[a]) * 0.5 - f->o[a];
+    return frustum_dot(f->axis, c);
+}
+
+/* Adds root i at its place in the depth order; false when the list is full. */
+static inline bool frustum_add(frustum_roots *fr, double *depth, csg_i32 i, double di)
+{
+    if (fr->n == FRUSTUM_MAX_ROOTS)
+        return false;
+    csg_i32 k = fr->n++;
+    while (k > 0 && depth[k - 1] > di) {
+        fr->roots[k] = fr->roots[k - 1];
+        depth[k] = depth[k - 1];
+        k--;
+    }
+    fr->roots[k] = i;
+    depth[k] = di;
+    return true;
+}
+
+/* The candidate roots of rect's primary rays: the BVH's roots whose boxes
+ * the pyramid may meet.  fr->culled is false when there is no list to use
+ * (the camera is not a plain perspective one, or too many candidates). */
+static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width, int height,
+                                    tile_rect rect, frustum_roots *fr)
+{
+    frustum f;
+    double depth[FRUSTUM_MAX_ROOTS];
+    fr->culled = false;
+    fr->n = 0;
+    if (!frustum_of(cam, width, height, rect, &f))
+        return;
+    csg_i32 stack[CSG_BVH_STACK + 2], top = 0;
+    if (v.bvh_count > 0) {
+        stack[top++] = 0;
+        stack[top++] = 1;
+    }
+    while (top > 0) {
+        const csg_bvh_node *node = &v.bvh[stack[--top]];
+        if (frustum_culls(&f, node->box, node->box + 3))
+            continue;
+        if (node->count < 0) {
+            if (top + 2 > CSG_BVH_STACK + 2) /* the flattener prevents this */
+                return;
+            stack[top++] = node->first;
+            stack[top++] = node->first + 1;
+            continue;
+        }
+        for (csg_i32 i = node->first; i < node->first + node->count; i++) {
+            const csg_root *rt = &v.roots[i];
+            if (frustum_culls(&f, rt->lo, rt->hi))
+                continue;
+            if (!frustum_add(fr, depth, i, frustum_depth(&f, rt->lo, rt->hi)))
+                return;
+        }
+    }
+    fr->culled = true;
+}
+
+/* csg_trace_nearest(v, r, 0, inf) for a ray of a rectangle whose
+ * candidates are fr (fr->culled): the unbounded roots, then the
+ * candidates, each behind its own box. */
+static inline csg_hit frustum_trace(csg_view v, const frustum_roots *fr, csg_ray r)
+{
+    csg_hit best;
+    best.t = CSG_R_INF;
+    best.surf = CSG_SURF_NONE;
+    csg_box_ray br = csg_box_ray_of(r);
+    for (csg_i32 i = 0; i < v.root_count; i++)
+        csg_try_root(v, i, r, &br, 1, R(0.0), &best);
+    for (csg_i32 k = 0; k < fr->n; k++)
+        csg_try_root(v, fr->roots[k], r, &br, 1, R(0.0), &best);
+    if (best.surf == CSG_SURF_NONE)
+        best.t = CSG_R_INF;
+    return best;
+}
+
+#endif
