@@ -56,7 +56,12 @@ typedef struct {
     csg_i32 sky_count, sky_v37;
     vec3 sky_emission;
     csg_i32 max_rays;        /* reflected and refracted rays a pixel may trace */
+    csg_i32 *blocker;        /* per light: the opaque root that last shadowed a
+                                point from it (-1: none), or NULL (light_transmittance) */
 } shade_ctx;
+
+/* The lights that get a shadow cache (the others are walked every time). */
+#define SHADOW_CACHE_LIGHTS 64
 
 /* The rays of one pixel: the tile's counts, and what is left of the
  * pixel's budget (a ray it cannot pay for is not traced: the order of the
@@ -96,6 +101,7 @@ static shade_ctx ctx_of(const void *blob)
     c.sky_v37 = sh->sky_v37;
     c.sky_emission = v3_load(sh->sky_emission);
     c.max_rays = sh->max_rays;
+    c.blocker = NULL;
     return c;
 }
 
@@ -183,11 +189,39 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
     return true;
 }
 
-/* What fraction of the light passes from p (already offset) to the light
+/* Root i stopped a shadow ray: remembered in *cached when it is opaque
+ * (a transparent root can stop one ray and let the next through). */
+static vec3 shadowed_by(const shade_ctx *c, csg_i32 *cached, csg_i32 i, vec3 none)
+{
+    if (cached && (c->view.roots[i].flags & CSG_ROOT_OPAQUE))
+        *cached = i;
+    return none;
+}
+
+/* Does the opaque root i block the segment to the light, as the walk
+ * below would find?  (root_transmittance leaves `pass` alone on an opaque
+ * root.) */
+static bool opaque_root_blocks(const shade_ctx *c, csg_i32 i, csg_ray r, const csg_box_ray *br,
+                               real dist)
+{
+    vec3 unused = v3(R(1.0), R(1.0), R(1.0));
+    return !root_transmittance(c, i, r, br, 1, dist, &unused);
+}
+
+/* What fraction of the light `light` passes from p (already offset) to it,
  * `dist` away along unit direction l: every root the segment may cross,
  * the unbounded ones and then those the BVH leads to, in the walk's
- * order (fixed for a given ray); it stops at the first opaque blocker. */
-static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
+ * order (fixed for a given ray); it stops at the first opaque blocker.
+ *
+ * The shadow cache (Haines and Greenberg's light buffer, its simplest
+ * form): the opaque root that blocked the light's last shadow ray is tried
+ * first; neighbouring points are mostly shadowed by the same object, and a
+ * hit there ends the ray without a walk.  The answer is the walk's: once
+ * any opaque root blocks the segment, the walk (whose boxes are
+ * conservative, so it reaches that root if nothing stops it before) ends in
+ * `none` too, whatever it met on the way; so the order the pixels come in
+ * changes the work, never a bit of the image. */
+static vec3 light_transmittance(const shade_ctx *c, csg_i32 light, vec3 p, vec3 l, real dist)
 {
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
     const vec3 none = v3(R(0.0), R(0.0), R(0.0));
@@ -195,9 +229,12 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
     r.o = p;
     r.d = l;
     csg_box_ray br = csg_box_ray_of(r);
+    csg_i32 *cached = c->blocker && light < SHADOW_CACHE_LIGHTS ? &c->blocker[light] : NULL;
+    if (cached && *cached >= 0 && opaque_root_blocks(c, *cached, r, &br, dist))
+        return none;
     for (csg_i32 i = 0; i < c->view.root_count; i++)
         if (!root_transmittance(c, i, r, &br, 1, dist, &pass))
-            return none;
+            return shadowed_by(c, cached, i, none);
     csg_bvh_walk w;
     csg_bvh_walk_start(&w, c->view);
     csg_i32 k;
@@ -205,7 +242,7 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist)
         const csg_bvh_node *n = &c->view.bvh[k];
         for (csg_i32 i = n->first; i < n->first + n->count; i++)
             if (!root_transmittance(c, i, r, &br, n->count > 1, dist, &pass))
-                return none;
+                return shadowed_by(c, cached, i, none);
     }
     return pass;
 }
@@ -336,7 +373,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
         vec3 light = v3_load(lt->color);
         if (!lt->shadowless) {
             tally->rays->shadow++;
-            light = v3_mul(light, light_transmittance(c, above, l, dist));
+            light = v3_mul(light, light_transmittance(c, i, above, l, dist));
             if (max3(light) <= R(0.0))
                 continue;
         }
@@ -453,6 +490,10 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                               const uint32_t *surf, float *rgb_out, ray_counts *rays)
 {
     shade_ctx c = ctx_of(blob);
+    csg_i32 blocker[SHADOW_CACHE_LIGHTS];
+    for (int i = 0; i < SHADOW_CACHE_LIGHTS; i++)
+        blocker[i] = -1;
+    c.blocker = blocker;
     const real *t = t_in;
     int spp = c.hdr->spp;
     for (int y = 0; y < rect.height; y++) {
