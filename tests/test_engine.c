@@ -556,7 +556,10 @@ static csg_i32 *root_flags(char *bytes, const csg_blob_header *h, int i)
 /* The shadow shortcuts change no pixel: a scene of opaque CSG, a
  * transparent sphere and a no_shadow one renders exactly the same with the
  * root flags as with every flag cleared (the full interval list on every
- * root), in both precisions; and the flags say what the roots are. */
+ * root, and no shadow cache: it keeps opaque roots only), in both
+ * precisions; so it does in tiles of one pixel (the shadow cache starts
+ * empty at every pixel) as in tiles of 16 (it carries over); and the
+ * flags say what the roots are. */
 static void test_shadow_flags(void **state)
 {
     (void)state;
@@ -604,6 +607,7 @@ static void test_shadow_flags(void **state)
         assert_int_equal(opaque, 3); /* the cut sphere, the ball, the floor */
         assert_int_equal(none, 1);   /* the ghost */
         float *with = render_all(engines[e], bytes, 48, 36, 16);
+        assert_renders(engines[e], bytes, 48, 36, 1, with);
         for (int i = 0; i < h->root_count; i++)
             *root_flags(bytes, h, i) = 0;
         assert_renders(engines[e], bytes, 48, 36, 16, with);
