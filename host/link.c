@@ -87,19 +87,6 @@ bool link_launched_by_mpirun(void)
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
 }
 
-int link_rank_of_env(void)
-{
-    const char *names[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        const char *v = getenv(names[i]);
-        char *end;
-        long r = v ? strtol(v, &end, 10) : -1;
-        if (v && end != v && !*end && r >= 0 && r <= INT_MAX)
-            return (int)r;
-    }
-    return -1;
-}
-
 /* ---- liveness: the watchdog sockets ------------------------------------------ */
 
 /* What rank 0 broadcasts: where to connect, and the token to show. */

@@ -31,9 +31,6 @@ enum { LINK_MASTER = 0, LINK_ANY_SOURCE = -1 };
 /* True when the process was started by mpirun (Open MPI's
  * OMPI_COMM_WORLD_SIZE, or PMI_SIZE / PMIX_RANK of other launchers). */
 bool link_launched_by_mpirun(void);
-/* This process's rank as the launcher's environment gives it before
- * MPI_Init (Open MPI, PMIx, PMI), -1 when it does not. */
-int link_rank_of_env(void);
 
 /* MPI_Init once per process (MPI_Finalize then runs at exit, so that a
  * program may render several times in one job); this rank and the number

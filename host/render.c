@@ -1027,18 +1027,15 @@ int render_run(const render_request *req)
     int rank = 0, size = 1;
     render_cl_early early;
     memset(&early, 0, sizeof early);
-    bool launched = link_launched_by_mpirun();
-    if (!launched || link_rank_of_env() == 0) /* (MPI_Init takes tens of ms: meanwhile) */
-        render_cl_early_start(&early, req);
-    if (launched && !link_start(&rank, &size)) {
-        render_cl_early_drop(&early);
+    /* (Not during MPI_Init: Open MPI patches memory functions then, and a
+     * thread inside PoCL's set-up at that moment is not safe) */
+    if (link_launched_by_mpirun() && !link_start(&rank, &size)) {
         fprintf(stderr, "csgtrace: error: MPI cannot start\n");
         return EXIT_FAILURE_RUN;
     }
-    if (rank != 0) {
-        render_cl_early_drop(&early);
+    if (rank != 0)
         return worker_run(rank);
-    }
+    render_cl_early_start(&early, req);
     int status = render_job(req, size, &early);
     link_exit_status(status); /* (made mpirun's under --enable-recovery) */
     return status;

@@ -19,8 +19,8 @@
  *   setup_s       parse + flatten + broadcast of the scene
  *   cl_setup_s    OpenCL platform and device choice, context, queue
  *                 (hetero, when the render opens OpenCL; 0 otherwise):
- *                 a thread opens them while MPI starts and the scene is
- *                 read (render.c), so this is only what is left of that
+ *                 a thread opens them while the image module loads and
+ *                 the scene is read (render.c), so this is only what is left of that
  *                 after setup_s; with the fill, until the pass begins
  *                 (the program built meanwhile included)
  *   compile_s     OpenCL program build or cache load + warm-up launch
