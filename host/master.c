@@ -269,9 +269,7 @@ bool master_idle_init(link_idle *idle)
     return link_idle_init(idle, MASTER_NAP_FIRST_NS, MASTER_SPINS);
 }
 
-/* Is item `item` shaded from the pass's records (hetero, not a fill
- * tile), or rendered whole? */
-static bool master_shades(const master_job *job, int item)
+bool master_shades(const master_job *job, int item)
 {
     return job->t && !job->sched->items[item].fill;
 }
@@ -736,7 +734,7 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     job->busy_s += res->busy_s;
     job->items_done++;
     job->t_last = now;
-    if (!job->t || it->fill) /* (hetero counts its others from the OpenCL tile hits) */
+    if (!master_shades(job, item)) /* (hetero counts its others from the OpenCL tile hits) */
         job->pixels_hit += res->hits;
     journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */

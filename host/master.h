@@ -102,6 +102,10 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
  * was lost (the caller does the rest itself). */
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 
+/* Is item `item` shaded from the pass's records (hetero, not a fill
+ * tile), or rendered whole (its primary rays traced too)? */
+bool master_shades(const master_job *job, int item);
+
 /* Item `item` came back from rank `rank` (0: the master's local path)
  * with `res`, at stats_clock() `now`: added to the item, the job, the
  * stats of the rank that computed it (w) and the progress bar. */

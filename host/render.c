@@ -597,7 +597,7 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
         if (job->t_first == 0)
             job->t_first = now;
         tile_rect r = job->sched->items[item].rect;
-        bool shade = job->t && !job->sched->items[item].fill;
+        bool shade = master_shades(job, item);
         tile_result res;
         if (shade)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);

@@ -281,6 +281,13 @@ static bool sched_in_tail(const sched *s)
            sched_waiting(s) <= SCHED_TAIL_TILES_PER_SLOT * s->workers * s->in_flight;
 }
 
+/* Item `item` handed out now: its dispatch order and time. */
+static void sched_mark_sent(sched *s, int item, double now)
+{
+    s->items[item].order = s->dispatched++;
+    s->items[item].sent_s = now;
+}
+
 int sched_next(sched *s, int w, double now)
 {
     int item = -1;
@@ -294,10 +301,8 @@ int sched_next(sched *s, int w, double now)
         if (item >= 0 && tail && sched_split(s, item))
             item = s->front[s->front_head++];
     }
-    if (item < 0)
-        return -1;
-    s->items[item].order = s->dispatched++;
-    s->items[item].sent_s = now;
+    if (item >= 0)
+        sched_mark_sent(s, item, now);
     return item;
 }
 
@@ -434,8 +439,7 @@ int sched_next_fill(sched *s, double now, int tile, tile_rect r)
         return -1;
     sched_item *it = &s->items[item];
     it->fill = true;
-    it->order = s->dispatched++;
-    it->sent_s = now;
+    sched_mark_sent(s, item, now);
     s->tile_left[tile] = 1;
     s->added++;
     return item;
