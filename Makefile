@@ -225,7 +225,7 @@ $(S)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM -DCSG_DOUBLE $(OPT) -c $< -o $@
 $(S)/csgsim: $(SIM_OBJS)
-	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit -lm
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(PNG_LIBS) -lm
 
 deps-sim:
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"
