@@ -39,8 +39,10 @@
 #include "render.h"
 
 #include <limits.h>
+#include <errno.h>
 #include <math.h>
 #include <pthread.h>
+#include <semaphore.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,7 +77,16 @@
  * so a thread opens them while the scene is read, flattened and sent
  * (ocl_open_device); the program, which does, is built after
  * (render_open_cl).  On a small frame the set-up was a tenth of the
- * render, paid before the pass could start. */
+ * render, paid before the pass could start.
+ *
+ * With the fill the same thread goes on to build the program once the
+ * master has the scene (`go`, with `build` set), while the workers render:
+ * no second thread is created, because pthread_create waits for the
+ * dynamic loader's lock, which the device's opening holds while it loads
+ * PoCL's drivers and LLVM (~30 ms here: the master sent its first tile
+ * only then).  Without the fill (or when the render ends before it needs
+ * the program) the master posts `go` with no build and joins it. */
+struct render_cl_build;
 typedef struct {
     pthread_t thread;
     bool started;          /* the thread runs, or ran and is not joined */
@@ -83,12 +94,20 @@ typedef struct {
     ocl_ctx *ctx;          /* its result (NULL: failed, d says why)     */
     ocl_timing tm;
     csg_diag d;
+    sem_t go;              /* posted once, when `build` is decided      */
+    struct render_cl_build *build; /* the program to build next (NULL: none) */
 } render_cl_early;
+
+static void *render_cl_build_run(void *arg);
 
 static void *render_cl_early_run(void *arg)
 {
     render_cl_early *e = arg;
     ocl_open_device(e->device, &e->ctx, &e->tm, &e->d);
+    while (sem_wait(&e->go) != 0 && errno == EINTR)
+        continue;
+    if (e->build)
+        render_cl_build_run(e->build);
     return NULL;
 }
 
@@ -97,14 +116,17 @@ static void render_cl_early_start(render_cl_early *e, const render_request *req)
     if (req->mode != MODE_HETERO || req->cl_keep)
         return; /* (a kept context is the caller's) */
     e->device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    if (sem_init(&e->go, 0, 0) != 0)
+        return;
     e->started = pthread_create(&e->thread, NULL, render_cl_early_run, e) == 0;
+    if (!e->started)
+        sem_destroy(&e->go);
 }
 
-/* The thread's context, once it is done (NULL, d filled: it failed). */
-static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_diag *d)
+/* The thread's context (NULL, d filled: it failed), taken over; on the
+ * thread itself, or once it is joined. */
+static ocl_ctx *render_cl_early_result(render_cl_early *e, ocl_timing *tm, csg_diag *d)
 {
-    pthread_join(e->thread, NULL);
-    e->started = false;
     *tm = e->tm;
     if (!e->ctx)
         *d = e->d;
@@ -113,13 +135,33 @@ static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_dia
     return c;
 }
 
+/* The thread joined (it was started, and told to build or not). */
+static void render_cl_early_join(render_cl_early *e)
+{
+    pthread_join(e->thread, NULL);
+    sem_destroy(&e->go);
+    e->started = false;
+}
+
+/* The thread's context once it is done, told to build nothing (NULL, d
+ * filled: it failed). */
+static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_diag *d)
+{
+    e->build = NULL;
+    sem_post(&e->go);
+    render_cl_early_join(e);
+    return render_cl_early_result(e, tm, d);
+}
+
 /* Hetero with the fill: the program is built on the device thread's
- * context by another thread (render_open_cl) while the workers already
- * render fill tiles; the feed begins the pass once it is done. */
-typedef struct {
+ * context (render_open_cl), by that thread (or by a new one when there is
+ * none: a kept context), while the workers already render fill tiles; the
+ * feed begins the pass once it is done. */
+typedef struct render_cl_build {
     pthread_t thread;
     bool started;          /* the thread runs, or ran and is not joined */
     bool joined;           /* and its result taken                      */
+    bool on_early;         /* the thread is the device thread (early)    */
     atomic_bool done;      /* the thread has its result                 */
     bool ok;
     const render_request *req;
@@ -324,7 +366,8 @@ static bool render_open_cl(const render_request *req, render_state *rs, csg_diag
     ocl_options opt = {device, h->real_size == 8, 0, &features};
     rs->ctx = req->cl_keep ? *req->cl_keep : NULL;
     if (!rs->ctx && rs->early && rs->early->started) {
-        rs->ctx = render_cl_early_take(rs->early, &rs->tm, d);
+        rs->ctx = rs->build.on_early ? render_cl_early_result(rs->early, &rs->tm, d)
+                                     : render_cl_early_take(rs->early, &rs->tm, d);
         rs->own_ctx = true; /* (closed by render_free, also when the build fails) */
         return rs->ctx && ocl_open_program(rs->ctx, &opt, (enum ocl_kernel)req->cl_kernel,
                                            &rs->tm, d);
@@ -423,7 +466,15 @@ static int render_cl_build_start(render_state *rs, const render_request *req, cs
     b->rs = rs;
     b->wake = rs->wake_master ? &rs->idle : NULL;
     atomic_init(&b->done, false);
-    b->started = pthread_create(&b->thread, NULL, render_cl_build_run, b) == 0;
+    render_cl_early *e = rs->early;
+    if (e && e->started) { /* (the device thread goes on: see render_cl_early) */
+        b->on_early = b->started = true;
+        b->thread = e->thread;
+        e->build = b;
+        sem_post(&e->go);
+    } else {
+        b->started = pthread_create(&b->thread, NULL, render_cl_build_run, b) == 0;
+    }
     if (!b->started)
         render_cl_build_run(b);
     b->joined = !b->started;
@@ -437,7 +488,10 @@ static int render_cl_build_start(render_state *rs, const render_request *req, cs
 static void render_cl_build_join(render_state *rs)
 {
     if (rs->build.started && !rs->build.joined) {
-        pthread_join(rs->build.thread, NULL);
+        if (rs->build.on_early)
+            render_cl_early_join(rs->early);
+        else
+            pthread_join(rs->build.thread, NULL);
         rs->build.joined = true;
     }
 }
