@@ -170,14 +170,16 @@ typedef struct render_cl_build {
     csg_diag d;
 } render_cl_build;
 
-/* The thread joined and its context closed, if it was started. */
+/* The thread joined (if it runs) and the context it opened closed,
+ * unless taken. */
 static void render_cl_early_drop(render_cl_early *e)
 {
-    if (!e->started)
-        return;
     ocl_timing ignored;
     csg_diag none;
-    ocl_close(render_cl_early_take(e, &ignored, &none));
+    /* (joined already: a build on the thread that failed before taking
+     * the context left it there) */
+    ocl_close(e->started ? render_cl_early_take(e, &ignored, &none)
+                         : render_cl_early_result(e, &ignored, &none));
 }
 
 /* Everything one render owns; freed in render_free. */

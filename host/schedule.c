@@ -117,7 +117,7 @@ static void sched_swap(int *v, int i, int j)
 
 static void sched_heap_push(sched *s, int item)
 {
-    s->heap_estimate += s->items[item].estimate;
+    s->ready_estimate += s->items[item].estimate;
     int i = s->heap_n++;
     s->heap[i] = item;
     while (i > 0 && sched_before(s, s->heap[i], s->heap[(i - 1) / 2])) {
@@ -129,7 +129,7 @@ static void sched_heap_push(sched *s, int item)
 static int sched_heap_pop(sched *s)
 {
     int top = s->heap[0];
-    s->heap_estimate = s->heap_n > 1 ? s->heap_estimate - s->items[top].estimate : 0.0;
+    s->ready_estimate = s->heap_n > 1 ? s->ready_estimate - s->items[top].estimate : 0.0;
     s->heap[0] = s->heap[--s->heap_n];
     for (int i = 0;;) {
         int l = 2 * i + 1, r = l + 1, best = i;
@@ -170,6 +170,7 @@ bool sched_add(sched *s, int tile, tile_rect r)
         sched_heap_push(s, item);
     } else {
         s->fifo[s->fifo_n++] = item;
+        s->ready_estimate += s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
     }
     s->added++;
     s->known++;
@@ -272,7 +273,12 @@ static int sched_pop(sched *s, int w)
         return sched_pop_static_any(s, w);
     if (s->heap_n > 0)
         return sched_heap_pop(s);
-    return s->fifo_head < s->fifo_n ? s->fifo[s->fifo_head++] : -1;
+    if (s->fifo_head == s->fifo_n)
+        return -1;
+    int item = s->fifo[s->fifo_head++];
+    double e = s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
+    s->ready_estimate = s->fifo_head < s->fifo_n ? s->ready_estimate - e : 0.0;
+    return item;
 }
 
 static bool sched_in_tail(const sched *s)
@@ -341,10 +347,20 @@ int sched_batch_limit(int requested, int workers, int max)
     return limit < 1 ? 1 : limit > max ? max : limit;
 }
 
-/* Messages in one spread of the ready items over every worker. */
-static int sched_round(const sched *s)
+/* The tiles' costs are estimated (hetero's records): batches are cut by
+ * their cost (sched_next_batch), not their count. */
+static bool sched_budgeted(const sched *s)
 {
-    return s->workers * s->in_flight * SCHED_BATCH_SPREAD;
+    return s->estimate && s->policy != SCHED_STATIC;
+}
+
+/* Messages in one spread of what is left over every worker: with
+ * estimates, one round (a batch is its share of the estimated cost, so
+ * costly tiles go in small batches); by count (homo, the fill),
+ * SCHED_BATCH_SPREAD rounds, since a count says nothing of the cost. */
+static int sched_round(const sched *s, bool by_cost)
+{
+    return s->workers * s->in_flight * (by_cost ? SCHED_BATCH_SPREAD_COST : SCHED_BATCH_SPREAD);
 }
 
 /* Tiles not known yet (the pass has not reached them, the fill has not
@@ -361,7 +377,7 @@ int sched_batch(const sched *s, int limit)
     if (limit <= 1 || sched_in_tail(s) || s->front_head < s->front_n)
         return 1; /* (tail: the last tiles go as single quarters) */
     double left = sched_waiting(s) + sched_unknown(s, s->added - s->filled);
-    double b = ceil(left / sched_round(s));
+    double b = ceil(left / sched_round(s, sched_budgeted(s)));
     return b < 1 ? 1 : b > limit ? limit : (int)b;
 }
 
@@ -380,7 +396,9 @@ static double sched_peek_estimate(const sched *s)
 {
     if (s->again_head < s->again_n)
         return s->items[s->again[s->again_head]].estimate;
-    return s->heap_n > 0 ? s->items[s->heap[0]].estimate : 0.0;
+    if (s->heap_n > 0)
+        return s->items[s->heap[0]].estimate;
+    return s->fifo_head < s->fifo_n ? s->items[s->fifo[s->fifo_head]].estimate : 0.0;
 }
 
 int sched_next_batch(sched *s, int w, double now, int limit, int *out)
@@ -392,14 +410,16 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
     /* cost: a batch costs at most its share of the estimate left, or the
      * largest tile's when that is more (a worker takes that long on one
      * tile anyway), so the costliest tiles go alone */
-    double left = (s->heap_estimate + sched_unknown(s, s->added_estimate)) / sched_round(s);
-    double budget = !sched_by_cost(s) || want < 2 ? 0.0
+    double left = (s->ready_estimate + sched_unknown(s, s->added_estimate)) / sched_round(s, true);
+    double budget = !sched_budgeted(s) || want < 2 ? 0.0
                     : left > s->max_estimate     ? left
                                                  : s->max_estimate;
     for (double sum = 0.0; k < want; k++) {
         double next = sched_peek_estimate(s);
         if (k > 0 && budget > 0 && sum + next > budget)
             break;
+        if (k > 0 && (sched_in_tail(s) || s->front_head < s->front_n))
+            break; /* (the tail began: its pieces go one a message) */
         if ((out[k] = sched_next(s, w, now)) < 0)
             break;
         sum += s->items[out[k]].estimate;
@@ -428,7 +448,7 @@ int sched_fill_claim(sched *s, int offered)
 int sched_fill_batch(const sched *s, int limit)
 {
     int left = s->fill_front - s->known; /* (unclaimed, not offered yet) */
-    double b = ceil((double)left / sched_round(s));
+    double b = ceil((double)left / sched_round(s, false));
     return limit <= 1 || b < 1 ? 1 : b > limit ? limit : (int)b;
 }
 

@@ -24,13 +24,17 @@
  * (auto: 1 unless the workers are many).  How many the next message
  * takes follows guided self-scheduling: a batch is its share of what is
  * left (ready, and the tiles the pass has not reached yet, extrapolated
- * from those it has) spread over SCHED_BATCH_SPREAD rounds of every
- * worker's in-flight messages, so batches are large while much is left
- * and 1 near the end (and once tail splits): the tail stays
- * fine-grained.  The share is counted in items; with estimates (cost,
- * tail) a batch also costs at most the larger of its share of the
- * estimate left and the largest tile's estimate: the costliest tiles go
- * alone, cheap ones together.  A batch only takes tiles that are ready.  A raster batch
+ * from those it has) spread over every worker's in-flight messages, so
+ * batches are large while much is left and 1 near the end (and once tail
+ * splits): the tail stays fine-grained.  With estimates (hetero, every
+ * policy but static) a batch is cut by cost: it costs at most its share
+ * of the estimate left over one such round (SCHED_BATCH_SPREAD_COST), or
+ * the largest tile's estimate when that is more, so the costliest tiles go
+ * alone and cheap ones together.  Without (homo, the fill's whole tiles) a
+ * batch is cut by count, over SCHED_BATCH_SPREAD rounds: a count says
+ * nothing of the cost, so its batches stay smaller.  Fewer messages is
+ * what many workers need (bench/SCALE.md: at 256 workers the master's
+ * messages bound the render).  A batch only takes tiles that are ready.  A raster batch
  * takes every (ready / size)-th ready tile, not a run of neighbours:
  * neighbouring tiles cost alike, and a batch of expensive neighbours
  * would make the tail.
@@ -64,7 +68,8 @@ enum sched_policy { SCHED_RASTER, SCHED_COST, SCHED_STATIC, SCHED_TAIL, SCHED_PO
 #define SCHED_TAIL_TILES_PER_SLOT 2
 #define SCHED_BATCH_WORKERS 32 /* auto: batches from this many workers on  */
 #define SCHED_BATCH_AUTO 8     /* auto: at most this many items a message   */
-#define SCHED_BATCH_SPREAD 4
+#define SCHED_BATCH_SPREAD 4      /* rounds, batches cut by count       */
+#define SCHED_BATCH_SPREAD_COST 2 /* rounds, batches cut by estimates   */
 
 typedef struct {
     tile_rect rect;
@@ -99,7 +104,7 @@ typedef struct {
     int fifo_head, fifo_n;
     int *heap;          /* cost order: a max-heap of ready tiles          */
     int heap_n;
-    double heap_estimate; /* the sum of their estimates                  */
+    double ready_estimate; /* the ready tiles' estimates (heap or FIFO) */
     int known;          /* tiles added or skipped so far                  */
     double added_estimate; /* the estimates of every tile added          */
     double max_estimate;   /* the largest of them                        */

@@ -430,8 +430,9 @@ static void test_batch_spread(void **state)
 }
 
 /* Cost: a batch costs at most the larger of its share of the estimate
- * left and the largest tile: the costliest tiles go alone, cheap ones
- * together, as many as the count allows. */
+ * left (over one round: SCHED_BATCH_SPREAD_COST) and the largest tile:
+ * the costliest tiles go alone, cheap ones together, as many as the
+ * count allows. */
 static void test_batch_cost(void **state)
 {
     (void)state;
@@ -440,23 +441,48 @@ static void test_batch_cost(void **state)
         cost[i] = i < 2 ? 100.0 : 1.0; /* two expensive tiles, 62 cheap */
     sched s;
     int got[PROTO_BATCH_MAX];
-    filled(&s, SCHED_COST, 1, 64, table_estimate, cost); /* 1 x 2 x 4 a round */
-    assert_int_equal(SCHED_BATCH_SPREAD, 4);
-    assert_true(fabs(s.heap_estimate - 262.0) < 1e-9);
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 100 + 100 > 100 */
+    filled(&s, SCHED_COST, 1, 64, table_estimate, cost); /* 1 x 2 x 2 a round */
+    assert_int_equal(SCHED_BATCH_SPREAD_COST, 2);
+    assert_true(fabs(s.ready_estimate - 262.0) < 1e-9);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 100 + 100 > max(262 / 4, 100) */
     assert_int_equal(s.items[got[0]].tile, 0);
     assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 100 + 1 > 100 */
     assert_int_equal(s.items[got[0]].tile, 1);
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 8); /* 62 items / 8, up */
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 7); /* 54 / 8, up */
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 4, got), 4);  /* the limit 4 */
-    assert_true(fabs(s.heap_estimate - 43.0) < 1e-9);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 16); /* the limit: 16 <= 100 */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 4, got), 4);   /* the limit 4 */
+    assert_true(fabs(s.ready_estimate - 42.0) < 1e-9);
     sched_free(&s);
     for (int i = 0; i < 64; i++)
-        cost[i] = i < 8 ? 3.0 : 1.0; /* the largest tile: 3 */
-    filled(&s, SCHED_COST, 1, 64, table_estimate, cost);
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 3); /* 80 / 8 = 10: 3 + 3 + 3 */
-    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 2); /* 71 / 8 < 3 + 3 + 3 */
+        cost[i] = i < 8 ? 30.0 : 1.0; /* the largest tile: 30 */
+    filled(&s, SCHED_COST, 1, 64, table_estimate, cost); /* 296 in all */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 2); /* 296 / 4 = 74: 2 x 30 */
+    for (int left = 236; left > 86; left -= 30) /* 59, 51.5, 44, 36.5, 29 (or the */
+        assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* largest, 30) */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* 86 / 4: 30 + 1 > 30 */
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 8); /* 56 / 4 < 30: 8 x 1 */
+    sched_free(&s);
+}
+
+/* Raster with estimates (hetero): the same cost cut, in raster order;
+ * without (homo) the count alone, over SCHED_BATCH_SPREAD rounds. */
+static void test_batch_raster_cost(void **state)
+{
+    (void)state;
+    double cost[64];
+    for (int i = 0; i < 64; i++)
+        cost[i] = i == 0 ? 100.0 : 1.0;
+    sched s;
+    int got[PROTO_BATCH_MAX];
+    filled(&s, SCHED_RASTER, 1, 64, table_estimate, cost);
+    assert_true(fabs(s.ready_estimate - 163.0) < 1e-9);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 1); /* tile 0 (100), then 8 (1): */
+    assert_int_equal(s.items[got[0]].tile, 0);                 /* 101 > max(163 / 4, 100) */
+    assert_true(fabs(s.ready_estimate - 63.0) < 1e-9);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 8); /* cheap: the limit */
+    assert_true(fabs(s.ready_estimate - 55.0) < 1e-9);
+    sched_free(&s);
+    filled(&s, SCHED_RASTER, 1, 64, NULL, NULL);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 16, got), 8); /* 64 / (1 x 2 x 4) */
     sched_free(&s);
 }
 
@@ -499,8 +525,10 @@ static void test_batch_unknown(void **state)
     }
     /* 16 ready + 96 unknown x 16 / 32 = 64 left: 64 / (1 x 2 x 4) = 8 */
     assert_int_equal(sched_batch(&s, 32), 8);
-    /* the same in estimates: 64 / 8 = 8 tiles of 1 */
-    assert_int_equal(sched_next_batch(&c, 0, 0.0, 32, got), 8);
+    /* the same in estimates, over SCHED_BATCH_SPREAD_COST rounds: 64 / 4 =
+     * 16 tiles of 1 */
+    assert_int_equal(sched_batch(&c, 32), 16);
+    assert_int_equal(sched_next_batch(&c, 0, 0.0, 32, got), 16);
     sched_close(&s);
     assert_int_equal(sched_batch(&s, 32), 2); /* closed: the 16 ready only */
     sched_free(&s);
@@ -560,6 +588,7 @@ int main(void)
         cmocka_unit_test(test_batch_sizes),
         cmocka_unit_test(test_batch_spread),
         cmocka_unit_test(test_batch_cost),
+        cmocka_unit_test(test_batch_raster_cost),
         cmocka_unit_test(test_batch_tail),
         cmocka_unit_test(test_batch_unknown),
         cmocka_unit_test(test_batch_requeued),

@@ -37,7 +37,12 @@
  * (EXR; every render before 2026-11-25).
  * writes makespan_s (scene broadcast to the last STOP), serial_s (every
  * item's seconds, plus the pass in hetero), efficiency and master_busy
- * (1 - the simulated seconds the master napped / makespan).
+ * (1 - the simulated seconds the master napped / makespan: its polls
+ * count as busy), and where the workers' time went: work_s (their items'
+ * seconds; more than serial_s with the fill, whose whole tiles cost
+ * more than shading), ramp_s (until the last worker had its first item),
+ * tail_s (from the moment the first worker's last result came in to the
+ * end), bytes_sent and bytes_received (the master's).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -219,7 +224,39 @@ typedef struct {
     int filled;              /* tiles the fill gave workers whole        */
     uint64_t messages;       /* TILE messages                            */
     uint64_t bytes_received; /* by the master, from the workers          */
+    uint64_t bytes_sent;     /* by the master: TILEs (with their records) */
+    double work_s;           /* the workers' seconds on their items       */
+    double ramp_s;           /* until the last worker had its first item  */
+    double tail_s;           /* from the first worker's last result on    */
 } sim_result;
+
+/* Where the workers' time went: their items' seconds, how long the last
+ * of them waited for its first item, how early the first ran dry. */
+static void sim_timeline(const sched *s, int workers, double t0, double end, sim_result *r)
+{
+    double *first = calloc((size_t)workers + 1, sizeof *first);
+    double *last = calloc((size_t)workers + 1, sizeof *last);
+    r->work_s = 0;
+    for (int i = 0; first && last && i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (it->order < 0 || it->worker < 1 || it->worker > workers)
+            continue;
+        r->work_s += it->busy_s;
+        if (first[it->worker] == 0 || it->sent_s < first[it->worker])
+            first[it->worker] = it->sent_s;
+        if (it->done_s > last[it->worker])
+            last[it->worker] = it->done_s;
+    }
+    double ramp = 0, dry = end;
+    for (int w = 1; first && last && w <= workers; w++) {
+        ramp = first[w] - t0 > ramp ? first[w] - t0 : ramp;
+        dry = last[w] > 0 && last[w] < dry ? last[w] : dry;
+    }
+    r->ramp_s = ramp;
+    r->tail_s = end - dry;
+    free(first);
+    free(last);
+}
 
 static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
 {
@@ -231,14 +268,14 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
                "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
-               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"fill\": %s, "
-               "\"tiles_filled\": %d}\n",
+               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, \"fill\": %s, "
+               "\"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, \"tail_s\": %.9g}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
             (unsigned long long)r->messages, pixels_format_name(a->pixels),
-            (unsigned long long)r->bytes_received, a->fill && run->hetero ? "true" : "false",
-            r->filled);
+            (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent, a->fill && run->hetero ? "true" : "false",
+            r->filled, r->work_s, r->ramp_s, r->tail_s);
     return fclose(f) == 0;
 }
 
@@ -279,7 +316,8 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
-                            run->s.filled, m.tile_messages, m.bytes_received};
+                            run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent, 0, 0, 0};
+        sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         link_idle_free(&idle);
         sched_free(&run->s);
     } else { /* out of memory before the start: the workers still need a STOP */
