@@ -119,13 +119,18 @@ static void count_culled(const void *blob, int w, int h, int tile, int *culled, 
 }
 
 /* expect_culled: the camera is one the culling handles, and some 5-pixel
- * tiles must get a list, some an empty one (else nothing was tested). */
-static void check_scene(const char *camera, const char *extra, int w, int h, bool expect_culled)
+ * tiles must get a list, some an empty one (else nothing was tested).
+ * hither > 0: the camera's near plane (NFF's hither; the POV language has
+ * none), set in the flattened blob. */
+static void check_scene_near(const char *camera, const char *extra, int w, int h,
+                             bool expect_culled, double hither)
 {
     char *text = random_scene(400, 777, camera, extra);
     for (int spp = 1; spp <= 4; spp += 3) {
         csg_blob b;
         flatten_text(text, w, h, spp, &b);
+        if (hither > 0.0)
+            ((csg_camera *)(void *)csg_blob_camera(b.bytes))->hither = (real)hither;
         int culled, empty;
         count_culled(b.bytes, w, h, 5, &culled, &empty);
         if (expect_culled) {
@@ -140,6 +145,11 @@ static void check_scene(const char *camera, const char *extra, int w, int h, boo
         csg_blob_free(&b);
     }
     free(text);
+}
+
+static void check_scene(const char *camera, const char *extra, int w, int h, bool expect_culled)
+{
+    check_scene_near(camera, extra, w, h, expect_culled, 0.0);
 }
 
 /* A slanted perspective camera: the culling's own case. */
@@ -159,8 +169,77 @@ static void test_wide_and_plane(void **state)
                 "plane { y, -2.5 pigment { rgb 1 } }", 53, 47, true);
 }
 
-/* The cameras the culling leaves alone: orthographic, and a near plane is
- * not expressible in this language, so orthographic stands for both. */
+/* A near plane (NFF's hither) starts each ray further along its own line,
+ * inside the same pyramid: culled as without one.  The camera sits inside
+ * the cloud, so the planes at 0.5 and 3 leave spheres (and parts of
+ * spheres) behind them: those rays start past them and must not hit. */
+static void test_near_plane(void **state)
+{
+    (void)state;
+    const char *camera = "camera { location <0.2, -0.3, -1> look_at <0.5, 0.1, 3> }";
+    check_scene_near(camera, "", 61, 43, true, 0.5);
+    check_scene_near(camera, "plane { y, -2.5 pigment { rgb 1 } }", 37, 29, true, 3.0);
+}
+
+/* Tiles whose pyramid meets a triangle root's box but not the triangle
+ * (frustum_culls_triangle), over a tiling of `tile` pixels. */
+static int count_triangle_culls(const void *blob, int w, int h, int tile)
+{
+    const unsigned char *bytes = blob;
+    csg_view v = csg_blob_view(bytes);
+    const csg_blob_header *hdr = (const csg_blob_header *)blob;
+    int n = 0;
+    for (int ty = 0; ty < h; ty += tile)
+        for (int tx = 0; tx < w; tx += tile) {
+            tile_rect r = {tx, ty, tile < w - tx ? tile : w - tx, tile < h - ty ? tile : h - ty};
+            frustum f;
+            assert_true(frustum_of(csg_blob_camera(bytes), w, h, r, &f));
+            for (csg_i32 i = 0; i < hdr->root_count; i++) {
+                const csg_root *rt = &v.roots[i];
+                n += !frustum_culls(&f, rt->lo, rt->hi) && frustum_culls_triangle(&f, v, rt);
+            }
+        }
+    return n;
+}
+
+/* Large slanted triangles (each its own root), with and without a near
+ * plane: some tiles lose a candidate to the triangle's own corners, and
+ * every record still equals the BVH walk's. */
+static void test_triangles(void **state)
+{
+    (void)state;
+    uint64_t seed = 4242;
+    size_t cap = 16384, len = 0;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    len += (size_t)snprintf(text + len, cap - len,
+                            "camera { location <0.2, -0.3, -6> look_at <0.5, 0.1, 0> }\n"
+                            "light_source { <-5, 8, -9> rgb 1 }\n");
+    for (int i = 0; i < 12; i++) {
+        double c[3] = {6 * unit_rand(&seed) - 3, 4 * unit_rand(&seed) - 2, 6 * unit_rand(&seed) - 2};
+        len += (size_t)snprintf(text + len, cap - len, "triangle {");
+        for (int k = 0; k < 3; k++)
+            len += (size_t)snprintf(text + len, cap - len, " <%.5f, %.5f, %.5f>%s",
+                                    c[0] + 3 * unit_rand(&seed) - 1.5, c[1] + 3 * unit_rand(&seed) - 1.5,
+                                    c[2] + 3 * unit_rand(&seed) - 1.5, k < 2 ? "," : "");
+        len += (size_t)snprintf(text + len, cap - len, " pigment { rgb 1 } }\n");
+        assert_true(len < cap);
+    }
+    for (int near = 0; near < 2; near++) {
+        csg_blob b;
+        flatten_text(text, 47, 35, 1, &b);
+        if (near)
+            ((csg_camera *)(void *)csg_blob_camera(b.bytes))->hither = (real)1.5;
+        assert_true(count_triangle_culls(b.bytes, 47, 35, 5) > 0);
+        int tiles[] = {1, 5, 16, 64};
+        for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++)
+            assert_primary_records(b.bytes, 47, 35, 1, tiles[i]);
+        csg_blob_free(&b);
+    }
+    free(text);
+}
+
+/* The camera the culling leaves alone: orthographic. */
 static void test_orthographic(void **state)
 {
     (void)state;
@@ -233,6 +312,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_perspective),
         cmocka_unit_test(test_wide_and_plane),
+        cmocka_unit_test(test_near_plane),
+        cmocka_unit_test(test_triangles),
         cmocka_unit_test(test_orthographic),
         cmocka_unit_test(test_shadow_cache),
     };

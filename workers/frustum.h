@@ -25,9 +25,14 @@
  * far inside it (one pixel is ~1e-3 rad at 1536 pixels; ~1e-5 rad would
  * still be ten times the rounding at a width of 100000), and a ray that
  * misses a padded root box by that angle misses its solid by far more
- * than the rounding of the primitive tests.  Anything unusual (another
- * projection, a near plane, a degenerate or non-finite camera, a pyramid
- * too wide) turns the culling off: the rays then walk the BVH as before.
+ * than the rounding of the primitive tests.  A near plane (NFF's hither)
+ * moves a ray's origin along the ray's own direction (camera_lanes.h),
+ * so the ray is a part of the one from the apex: inside the same pyramid
+ * (its origin off that line by a rounding, far within the pixel's pad);
+ * roots before the plane stay candidates that it no longer meets.
+ * Anything unusual (another projection, a degenerate or non-finite
+ * camera, a pyramid too wide) turns the culling off: the rays then walk
+ * the BVH as before.
  */
 #ifndef WORKERS_FRUSTUM_H
 #define WORKERS_FRUSTUM_H
@@ -61,7 +66,7 @@ static inline double frustum_dot(const double a[3], const double b[3])
 static inline bool frustum_of(const csg_camera *cam, int width, int height, tile_rect rect,
                               frustum *f)
 {
-    if (cam->projection != CSG_CAMERA_PERSPECTIVE || !(cam->hither <= R(0.0)))
+    if (cam->projection != CSG_CAMERA_PERSPECTIVE || !(cam->hither >= R(0.0))) /* (NaN) */
         return false;
     double x0[2] = {((double)rect.x - 1.0) / width - 0.5,
                     ((double)(rect.x + rect.width) + 1.0) / width - 0.5};
@@ -109,6 +114,32 @@ static inline bool frustum_culls(const frustum *f, const real lo[3], const real 
         for (int a = 0; a < 3; a++)
             c[a] = (n[a] > 0.0 ? (double)hi[a] : (double)lo[a]) - f->o[a];
         if (frustum_dot(n, c) < 0.0)
+            return true;
+    }
+    return false;
+}
+
+/* A root that is one untransformed triangle (NFF's polygons, meshes):
+ * outside the pyramid when its three corners are outside one side, the
+ * triangle being their convex hull; its box, a tenfold larger area for a
+ * slanted one, may not be (tetra's gasket: most of its empty tiles). */
+static inline bool frustum_culls_triangle(const frustum *f, csg_view v, const csg_root *rt)
+{
+    if (rt->node_count != 1 || v.nodes[rt->first_node].op != CSG_OP_PRIM)
+        return false;
+    const csg_prim *p = &v.prims[v.nodes[rt->first_node].prim];
+    if ((p->kind != CSG_PRIM_TRIANGLE && p->kind != CSG_PRIM_SMOOTH_TRIANGLE) ||
+        (p->flags & (CSG_PF_XFORM | CSG_PF_INVERT)))
+        return false;
+    for (int k = 0; k < 4; k++) {
+        bool outside = true;
+        for (int j = 0; j < 3 && outside; j++) {
+            double c[3];
+            for (int a = 0; a < 3; a++)
+                c[a] = (double)p->p[3 * j + a] - f->o[a];
+            outside = frustum_dot(f->n[k], c) < 0.0;
+        }
+        if (outside)
             return true;
     }
     return false;
@@ -170,7 +201,7 @@ static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width
         }
         for (csg_i32 i = node->first; i < node->first + node->count; i++) {
             const csg_root *rt = &v.roots[i];
-            if (frustum_culls(&f, rt->lo, rt->hi))
+            if (frustum_culls(&f, rt->lo, rt->hi) || frustum_culls_triangle(&f, v, rt))
                 continue;
             if (!frustum_add(fr, depth, i, frustum_depth(&f, rt->lo, rt->hi)))
                 return;
