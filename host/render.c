@@ -38,8 +38,8 @@
  */
 #include "render.h"
 
-#include <limits.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <semaphore.h>

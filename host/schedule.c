@@ -147,6 +147,12 @@ static int sched_heap_pop(sched *s)
 
 /* ---- adding ------------------------------------------------------------------- */
 
+/* An item's estimate as the sums count it (unknown, < 0: nothing). */
+static double sched_estimate_of(const sched *s, int item)
+{
+    return s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
+}
+
 static bool sched_by_cost(const sched *s)
 {
     return (s->policy == SCHED_COST || s->policy == SCHED_TAIL) && s->estimate;
@@ -170,11 +176,11 @@ bool sched_add(sched *s, int tile, tile_rect r)
         sched_heap_push(s, item);
     } else {
         s->fifo[s->fifo_n++] = item;
-        s->ready_estimate += s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
+        s->ready_estimate += sched_estimate_of(s, item);
     }
     s->added++;
     s->known++;
-    double e = s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
+    double e = sched_estimate_of(s, item);
     s->added_estimate += e;
     s->max_estimate = e > s->max_estimate ? e : s->max_estimate;
     return true;
@@ -276,8 +282,8 @@ static int sched_pop(sched *s, int w)
     if (s->fifo_head == s->fifo_n)
         return -1;
     int item = s->fifo[s->fifo_head++];
-    double e = s->items[item].estimate > 0 ? s->items[item].estimate : 0.0;
-    s->ready_estimate = s->fifo_head < s->fifo_n ? s->ready_estimate - e : 0.0;
+    s->ready_estimate =
+        s->fifo_head < s->fifo_n ? s->ready_estimate - sched_estimate_of(s, item) : 0.0;
     return item;
 }
 
@@ -285,6 +291,13 @@ static bool sched_in_tail(const sched *s)
 {
     return s->policy == SCHED_TAIL && s->closed &&
            sched_waiting(s) <= SCHED_TAIL_TILES_PER_SLOT * s->workers * s->in_flight;
+}
+
+/* Tail: tiles are being split (or the split begins with the next one):
+ * one piece a message. */
+static bool sched_splitting(const sched *s)
+{
+    return sched_in_tail(s) || s->front_head < s->front_n;
 }
 
 /* Item `item` handed out now: its dispatch order and time. */
@@ -372,13 +385,19 @@ static double sched_unknown(const sched *s, double per_tile_total)
     return unknown > 0 ? unknown * per_tile_total / s->known : 0.0;
 }
 
+/* `left` spread over `round` messages, rounded up, within 1 .. limit. */
+static int sched_share(double left, int round, int limit)
+{
+    double b = ceil(left / round);
+    return b < 1 ? 1 : b > limit ? limit : (int)b;
+}
+
 int sched_batch(const sched *s, int limit)
 {
-    if (limit <= 1 || sched_in_tail(s) || s->front_head < s->front_n)
+    if (limit <= 1 || sched_splitting(s))
         return 1; /* (tail: the last tiles go as single quarters) */
     double left = sched_waiting(s) + sched_unknown(s, s->added - s->filled);
-    double b = ceil(left / sched_round(s, sched_budgeted(s)));
-    return b < 1 ? 1 : b > limit ? limit : (int)b;
+    return sched_share(left, sched_round(s, sched_budgeted(s)), limit);
 }
 
 /* Raster: the next `want` tiles of the FIFO become every (ready / want)-th
@@ -418,7 +437,7 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
         double next = sched_peek_estimate(s);
         if (k > 0 && budget > 0 && sum + next > budget)
             break;
-        if (k > 0 && (sched_in_tail(s) || s->front_head < s->front_n))
+        if (k > 0 && sched_splitting(s))
             break; /* (the tail began: its pieces go one a message) */
         if ((out[k] = sched_next(s, w, now)) < 0)
             break;
@@ -448,8 +467,7 @@ int sched_fill_claim(sched *s, int offered)
 int sched_fill_batch(const sched *s, int limit)
 {
     int left = s->fill_front - s->known; /* (unclaimed, not offered yet) */
-    double b = ceil((double)left / sched_round(s, false));
-    return limit <= 1 || b < 1 ? 1 : b > limit ? limit : (int)b;
+    return limit <= 1 ? 1 : sched_share(left, sched_round(s, false), limit);
 }
 
 int sched_next_fill(sched *s, double now, int tile, tile_rect r)

@@ -216,12 +216,18 @@ static void test_triangles(void **state)
                             "camera { location <0.2, -0.3, -6> look_at <0.5, 0.1, 0> }\n"
                             "light_source { <-5, 8, -9> rgb 1 }\n");
     for (int i = 0; i < 12; i++) {
-        double c[3] = {6 * unit_rand(&seed) - 3, 4 * unit_rand(&seed) - 2, 6 * unit_rand(&seed) - 2};
+        double c[3]; /* (one draw a statement: the order is the program's) */
+        c[0] = 6 * unit_rand(&seed) - 3;
+        c[1] = 4 * unit_rand(&seed) - 2;
+        c[2] = 6 * unit_rand(&seed) - 2;
         len += (size_t)snprintf(text + len, cap - len, "triangle {");
-        for (int k = 0; k < 3; k++)
-            len += (size_t)snprintf(text + len, cap - len, " <%.5f, %.5f, %.5f>%s",
-                                    c[0] + 3 * unit_rand(&seed) - 1.5, c[1] + 3 * unit_rand(&seed) - 1.5,
-                                    c[2] + 3 * unit_rand(&seed) - 1.5, k < 2 ? "," : "");
+        for (int k = 0; k < 3; k++) {
+            double x = c[0] + 3 * unit_rand(&seed) - 1.5;
+            double y = c[1] + 3 * unit_rand(&seed) - 1.5;
+            double z = c[2] + 3 * unit_rand(&seed) - 1.5;
+            len += (size_t)snprintf(text + len, cap - len, " <%.5f, %.5f, %.5f>%s", x, y, z,
+                                    k < 2 ? "," : "");
+        }
         len += (size_t)snprintf(text + len, cap - len, " pigment { rgb 1 } }\n");
         assert_true(len < cap);
     }

@@ -268,13 +268,15 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
                "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
-               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, \"fill\": %s, "
-               "\"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, \"tail_s\": %.9g}\n",
+               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
+               "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
+               "\"tail_s\": %.9g}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
             (unsigned long long)r->messages, pixels_format_name(a->pixels),
-            (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent, a->fill && run->hetero ? "true" : "false",
+            (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent,
+            a->fill && run->hetero ? "true" : "false",
             r->filled, r->work_s, r->ramp_s, r->tail_s);
     return fclose(f) == 0;
 }
@@ -316,7 +318,8 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
-                            run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent, 0, 0, 0};
+                            run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
+                            0, 0, 0};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         link_idle_free(&idle);
         sched_free(&run->s);
