@@ -3,7 +3,7 @@
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
-#       [--batch N|auto] [--pixels rgb8|float] [--fill on|off]
+#       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
@@ -16,7 +16,9 @@
 #    Hetero maps are recorded with --fill off (every cell's cost is its
 #    shading); hetero with the fill (the default, --fill on: csgtrace's)
 #    also needs the homo map: what a tile rendered whole costs.
-# 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks.
+# 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks
+#    (N + K + 1 with --relays K: K relays, each the master of N / K of the
+#    N workers, host/relay.h).
 # 3. F.json: the driver's object plus network and pass_scale.
 # --pass-scale F (default 1) multiplies the measured OpenCL pass (hetero):
 # 1 is PoCL on this machine's 2 CPU cores; 0.01 stands for a device 100
@@ -42,7 +44,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 [[ "$MAP_RENDERS" =~ ^[1-9][0-9]?$ ]] || { echo "bench/simulate.sh: SIM_MAP_RENDERS: 1..99" >&2; exit 2; }
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
-SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -60,6 +62,7 @@ while [ $# -gt 0 ]; do
     --batch) BATCH=$2 ;;
     --pixels) PIXELS=$2 ;;
     --fill) FILL=$2 ;;
+    --relays) RELAYS=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -78,6 +81,7 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
 [[ "$PIXELS" =~ ^(rgb8|float)$ ]] || die "--pixels: rgb8 or float"
 [[ "$FILL" =~ ^(on|off)$ ]] || die "--fill: on or off"
+[[ "$RELAYS" =~ ^(0|[1-9][0-9]{0,2})$ ]] && [ "$RELAYS" -le 127 ] && [ "$RELAYS" -le "$WORKERS" ] || die "--relays: 0..min(127, workers)"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -117,7 +121,7 @@ fi
 # 2. the simulation
 work=$(mktemp -d)
 trap 'rm -rf "$work" ${rec:+"$rec"}' EXIT
-seq 0 "$WORKERS" | sed 's/^/node-/' >"$work/hosts"
+seq 0 $((WORKERS + RELAYS)) | sed 's/^/node-/' >"$work/hosts"
 # Per-message costs: a poll (MPI_Iprobe, MPI_Test) 0.1 us; sending or
 # receiving a message takes its rank 5 us + 0.2 ns a byte; messages up to
 # 64 KiB are eager (Open MPI's TCP eager limit): they travel before the
@@ -132,9 +136,9 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
-    smpirun -np $((WORKERS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
+    smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" <<'PY'
 import json, sys

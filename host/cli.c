@@ -16,6 +16,8 @@
 #include <sys/stat.h>
 
 #include "file_atomic.h"
+
+#define CLI_RELAYS_MAX 4096 /* --relays: a relay per 2 workers at most anyway */
 #include "journal.h"
 
 void cli_usage(FILE *out)
@@ -24,7 +26,7 @@ void cli_usage(FILE *out)
           "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
-          "                   [--schedule raster|cost|static|tail] [--batch N|auto]\n"
+          "                   [--schedule raster|cost|static|tail] [--batch N|auto] [--relays K]\n"
           "                   [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
           "                   [--fill on|off]\n"
@@ -143,6 +145,8 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         r->batch = 0;
         return strcmp(val, "auto") == 0 || parse_int(opt, val, 1, PROTO_BATCH_MAX, &r->batch, d);
     }
+    if (strcmp(opt, "--relays") == 0)
+        return parse_int(opt, val, 0, CLI_RELAYS_MAX, &r->relays, d);
     if (strcmp(opt, "--cl-device") == 0) {
         r->cl_device = val;
         return true;

@@ -43,6 +43,15 @@
  * waiting for the worker's slice to run out (measured on 2 cores, homo
  * 384x384: workers busy 88-90 % of the tile phase without it, 93-95 % with).
  *
+ * Relays (--relays K, relay.h): rank 0 then deals only to ranks 1 .. K
+ * (m->children), each holding up to PROTO_RELAY_IN_FLIGHT batches (m->depth)
+ * sized for its group (the scheduler counts K consumers and keeps a floor:
+ * sched_batch_floor); a part of a relay's RESULT names the worker that
+ * computed it, and its stats go to that worker.  Rank 0 still watches
+ * every process: a relay whose process or any worker's is gone, or whose
+ * oldest batch is overdue, is lost with its whole group (their watchdog
+ * sockets closed), its batches requeued.
+ *
  * Invariants: workers[r] holds the batches of items rank r computes,
  * oldest first, at most PROTO_IN_FLIGHT, each with its send buffer and
  * request in the ring position it occupies; an answer belongs to the
@@ -71,6 +80,8 @@ void master_begin(master_session *m, int ranks)
 {
     memset(m, 0, sizeof *m);
     m->workers = ranks > 1 ? ranks - 1 : 0;
+    m->children = m->workers;
+    m->depth = PROTO_IN_FLIGHT;
     m->lost = m->workers > 0 ? calloc((size_t)m->workers + 1, sizeof *m->lost) : NULL;
     m->lost_before = m->lost ? calloc((size_t)m->workers + 1, sizeof *m->lost_before) : NULL;
     for (int r = 1; m->lost_before && r <= m->workers; r++)
@@ -92,10 +103,22 @@ static void master_mark_lost(master_session *m, int r, int items, const char *fm
     if (m->lost)
         m->lost[r] = true;
     m->workers_lost++;
+    int group = 0;
+    for (int j = r + m->relays; r <= m->relays && j <= m->workers; j += m->relays) {
+        link_forget(j); /* (a relay goes with its group: they exit) */
+        group += m->lost && !m->lost[j];
+        if (m->lost)
+            m->lost[j] = true;
+    }
+    m->workers_lost += group;
     if (m->lost_before && m->lost_before[r])
         return; /* reported by the render that lost it */
-    fprintf(stderr, "csgtrace: worker %d lost (%s): %d item%s handed to the others\n", r, why,
-            items, items == 1 ? "" : "s");
+    if (r <= m->relays)
+        fprintf(stderr, "csgtrace: relay %d and its %d workers lost (%s): %d item%s handed to "
+                        "the others\n", r, group, why, items, items == 1 ? "" : "s");
+    else
+        fprintf(stderr, "csgtrace: worker %d lost (%s): %d item%s handed to the others\n", r,
+                why, items, items == 1 ? "" : "s");
     fflush(stderr);
 }
 
@@ -104,20 +127,36 @@ static bool master_is_lost(const master_session *m, int r)
     return m->lost && r >= 1 && r <= m->workers && m->lost[r];
 }
 
-/* Rank r's process is gone (never true without the lost table). */
+/* Rank r's process is gone, or (a relay) one of its group's (never true
+ * without the lost table). */
 static bool master_peer_gone(const master_session *m, int r)
 {
-    return m->lost && !m->lost[r] && link_peer_lost(r);
+    if (!m->lost || m->lost[r])
+        return false;
+    if (link_peer_lost(r))
+        return true;
+    for (int j = r + m->relays; r <= m->relays && j <= m->workers; j += m->relays)
+        if (link_peer_lost(j))
+            return true;
+    return false;
 }
 
 void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob)
 {
     if (m->workers == 0 || m->shared)
         return;
-    m->batch = sched_batch_limit(m->batch, m->workers, PROTO_BATCH_MAX);
+    if (m->relays < 0 || m->relays >= m->workers)
+        m->relays = 0; /* (the command line refuses these) */
+    m->children = m->relays > 0 ? m->relays : m->workers;
+    m->depth = m->relays > 0 ? PROTO_RELAY_IN_FLIGHT : PROTO_IN_FLIGHT;
+    /* a relay's batches feed a group: auto is as large as they go */
+    m->batch = m->relays > 0 && m->batch == 0
+                   ? PROTO_BATCH_MAX
+                   : sched_batch_limit(m->batch, m->workers, PROTO_BATCH_MAX);
     if (status == 0) /* (a batch's RESULT within PROTO_BATCH_BYTES) */
         m->batch = proto_batch_fit(m->batch, tile_grid_of(blob->bytes, tile).pixels_max);
-    proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels};
+    proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels,
+                         m->relays, m->workers + 1};
     link_bcast(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
     m->shared = true;
@@ -158,12 +197,14 @@ static void master_fail_text(const link_msg *msg, int *tile, char *text, size_t 
     snprintf(text, size, "%s", f.text[0] ? f.text : "no reason given");
 }
 
-static void master_report_fail(const link_msg *msg, csg_diag *d)
+static void master_report_fail(const master_session *m, const link_msg *msg, csg_diag *d)
 {
     int tile;
     char text[PROTO_FAIL_TEXT];
     master_fail_text(msg, &tile, text, sizeof text);
-    if (tile >= 0)
+    if (msg->source <= m->relays) /* (a relay's text names the worker itself) */
+        csg_error_plain(d, "%s", text);
+    else if (tile >= 0)
         csg_error_plain(d, "worker %d failed on tile %d: %s", msg->source, tile, text);
     else
         csg_error_plain(d, "worker %d failed: %s", msg->source, text);
@@ -173,7 +214,7 @@ static void master_report_fail(const link_msg *msg, csg_diag *d)
 static int master_greeters_lost(master_session *m, const bool *greeted)
 {
     int n = 0;
-    for (int r = 1; r <= m->workers; r++) {
+    for (int r = 1; r <= m->children; r++) {
         if (!greeted[r] && master_peer_gone(m, r)) {
             master_mark_lost(m, r, 0, "its process is gone");
             n++;
@@ -190,7 +231,7 @@ static void master_greeting(master_session *m, const link_msg *msg, csg_diag *d)
         return;
     m->setup_failed = true;
     if (msg->tag == PROTO_TAG_FAIL)
-        master_report_fail(msg, d);
+        master_report_fail(m, msg, d);
     else
         csg_error_plain(d, "worker %d: unexpected message (tag %d) at start-up", msg->source,
                         msg->tag);
@@ -202,7 +243,7 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
     bool *greeted = calloc((size_t)m->workers + 1, sizeof *greeted);
     link_idle idle;
     link_idle_init(&idle, LINK_NAP_MAX_NS, MASTER_SPINS);
-    for (int left = m->workers; greeted && left > 0 && !m->link_broken;) {
+    for (int left = m->children; greeted && left > 0 && !m->link_broken;) {
         link_status got = link_try_recv(msg, LINK_ANY_SOURCE, sizeof(proto_fail));
         if (got == LINK_NONE) {
             left -= master_greeters_lost(m, greeted);
@@ -241,12 +282,12 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 #define MASTER_HANG_MIN_S 10.0
 
 typedef struct {
-    int item[PROTO_IN_FLIGHT][PROTO_BATCH_MAX]; /* held batches, ring from head */
-    int count[PROTO_IN_FLIGHT];    /* items in each                       */
-    int head, n;
-    char *buf[PROTO_IN_FLIGHT];    /* the TILE of ring position k          */
-    size_t cap[PROTO_IN_FLIGHT];   /* its bytes (grown to the batch's)     */
-    link_req req[PROTO_IN_FLIGHT]; /* and its send                        */
+    int item[PROTO_DEPTH_MAX][PROTO_BATCH_MAX]; /* held batches, ring from head */
+    int count[PROTO_DEPTH_MAX];    /* items in each                       */
+    int head, n;                   /* (the ring is the session's depth)    */
+    char *buf[PROTO_DEPTH_MAX];    /* the TILE of ring position k          */
+    size_t cap[PROTO_DEPTH_MAX];   /* its bytes (grown to the batch's)     */
+    link_req req[PROTO_DEPTH_MAX]; /* and its send                        */
     bool dead;                     /* written off: nothing more expected   */
     double since;                  /* stats_clock(): the oldest item began  */
 } master_worker;
@@ -306,7 +347,7 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
 static bool master_send_batch(master_loop *L, int r, const int *items, int k, csg_diag *d)
 {
     master_worker *w = &L->w[r];
-    int pos = (w->head + w->n) % PROTO_IN_FLIGHT;
+    int pos = (w->head + w->n) % L->m->depth;
     if (!proto_buffer(&w->buf[pos], &w->cap[pos], master_tile_bytes(L->job, items, k))) {
         csg_error_plain(d, "master: out of memory");
         return false;
@@ -342,7 +383,7 @@ static bool master_room(master_loop *L, int r, int depth)
     master_worker *w = &L->w[r];
     if (w->dead || w->n >= depth)
         return false;
-    link_req *q = &w->req[(w->head + w->n) % PROTO_IN_FLIGHT];
+    link_req *q = &w->req[(w->head + w->n) % L->m->depth];
     if (q->active && link_req_wait(q) == LINK_LOST) {
         master_lose(L, r, "its process is gone");
         return false;
@@ -372,8 +413,8 @@ static int master_fill_batch(master_loop *L, double now, int *items, csg_diag *d
 static bool master_dispatch(master_loop *L, csg_diag *d)
 {
     bool sent = false;
-    for (int depth = 1; depth <= PROTO_IN_FLIGHT && !L->failed; depth++) {
-        for (int r = 1; r <= L->m->workers && !L->failed; r++) {
+    for (int depth = 1; depth <= L->m->depth && !L->failed; depth++) {
+        for (int r = 1; r <= L->m->children && !L->failed; r++) {
             if (!master_room(L, r, depth))
                 continue;
             double now = stats_clock();
@@ -413,10 +454,10 @@ static void master_lose(master_loop *L, int r, const char *fmt, ...)
     va_end(ap);
     int held = 0;
     for (int k = 0; k < w->n; k++)
-        held += w->count[(w->head + k) % PROTO_IN_FLIGHT];
+        held += w->count[(w->head + k) % L->m->depth];
     master_mark_lost(L->m, r, held, "%s", why);
     for (int k = 0; k < w->n && !L->failed; k++) {
-        int pos = (w->head + k) % PROTO_IN_FLIGHT;
+        int pos = (w->head + k) % L->m->depth;
         for (int i = 0; i < w->count[pos] && !L->failed; i++)
             if (!sched_requeue(L->job->sched, w->item[pos][i]))
                 L->failed = true; /* (out of memory: the render cannot end well) */
@@ -435,18 +476,30 @@ static double master_hang_limit(const master_job *job)
                                                          : MASTER_HANG_MIN_S;
 }
 
+/* How many items' time worker w's oldest batch may take: its items one
+ * after the other, or at a relay, spread over its group (each worker has
+ * one more item ahead of them). */
+static double master_hang_items(const master_session *m, const master_worker *w)
+{
+    int items = w->count[w->head];
+    if (m->relays == 0)
+        return items;
+    int group = (m->workers - m->relays) / m->relays;
+    return (items + group - 1) / (group > 0 ? group : 1) + PROTO_IN_FLIGHT;
+}
+
 /* Every live worker that died or hung, lost; how many live ones are left. */
 static int master_check_workers(master_loop *L)
 {
     double now = stats_clock(), limit = master_hang_limit(L->job);
     int live = 0;
-    for (int r = 1; r <= L->m->workers; r++) {
+    for (int r = 1; r <= L->m->children; r++) {
         master_worker *w = &L->w[r];
         if (w->dead)
             continue;
         if (master_peer_gone(L->m, r))
             master_lose(L, r, "its process is gone");
-        else if (limit > 0 && w->n > 0 && now - w->since > limit * w->count[w->head])
+        else if (limit > 0 && w->n > 0 && now - w->since > limit * master_hang_items(L->m, w))
             master_lose(L, r, "no answer for %.1f s", now - w->since);
         else
             live++;
@@ -458,8 +511,8 @@ static int master_check_workers(master_loop *L)
  * link, left to MPI with their buffers), the buffers freed. */
 static void master_close_sends(master_loop *L)
 {
-    for (int r = 1; r <= L->m->workers; r++) {
-        for (int k = 0; k < PROTO_IN_FLIGHT; k++) {
+    for (int r = 1; r <= L->m->children; r++) {
+        for (int k = 0; k < PROTO_DEPTH_MAX; k++) {
             link_req *q = &L->w[r].req[k];
             if (!link_req_done(q) && (L->w[r].dead || L->broken)) {
                 link_req_abandon(q); /* its buffer stays MPI's */
@@ -520,17 +573,22 @@ static void master_store_rgb8(float *image, int image_width, tile_rect r, const 
 
 /* Part `part` of a RESULT (its size already checked) for item `item`:
  * checked, stored, counted. */
-static bool master_take_part(master_job *job, const link_msg *msg, const char *part, int item,
-                             csg_diag *d)
+static bool master_take_part(master_job *job, const master_session *m, const link_msg *msg,
+                             const char *part, int item, csg_diag *d)
 {
     const sched_item *it = &job->sched->items[item];
     tile_rect r = it->rect;
     size_t n = (size_t)r.width * (size_t)r.height;
     proto_result h;
     memcpy(&h, part, sizeof h);
+    /* a relay's part names its worker (one of the relay's group) */
+    int by = m->relays > 0 && h.rank > m->relays && h.rank <= m->workers &&
+                     proto_parent(h.rank, m->relays) == msg->source
+                 ? h.rank
+                 : msg->source;
     if (h.index != it->tile || h.hits > n * (size_t)job->grid.spp) {
-        csg_error_plain(d, "worker %d: result for tile %d does not match tile %d sent",
-                        msg->source, (int)h.index, it->tile);
+        csg_error_plain(d, "worker %d: result for tile %d does not match tile %d sent", by,
+                        (int)h.index, it->tile);
         return false;
     }
     /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
@@ -542,15 +600,16 @@ static bool master_take_part(master_job *job, const link_msg *msg, const char *p
                        (const float *)(const void *)(part + sizeof h));
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
-    master_job_count(job, &job->workers[msg->source - 1], msg->source, item, &res, stats_clock());
+    master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
     return true;
 }
 
 /* A RESULT for items[0 .. k - 1] of the job, its parts in the session's
  * pixel format `session` or in floats: checked, stored, counted. */
-static bool master_take_result(master_job *job, const link_msg *msg, const int *items, int k,
-                               int session, csg_diag *d)
+static bool master_take_result(master_job *job, const master_session *m, const link_msg *msg,
+                               const int *items, int k, csg_diag *d)
 {
+    int session = m->pixels;
     size_t expected;
     if (!master_result_bytes(job, msg, items, k, session, &expected, d))
         return false;
@@ -562,7 +621,7 @@ static bool master_take_result(master_job *job, const link_msg *msg, const int *
     size_t at = 0;
     for (int i = 0; i < k; i++) {
         int format = master_part_pixels(msg, at, session);
-        if (!master_take_part(job, msg, msg->data + at, items[i], d))
+        if (!master_take_part(job, m, msg, msg->data + at, items[i], d))
             return false;
         tile_rect r = job->sched->items[items[i]].rect;
         at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height, format));
@@ -576,25 +635,25 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     int src = msg->source;
     if (master_is_lost(L->m, src))
         return; /* sent before it died: its items went to the others */
-    if (src < 1 || src > L->m->workers || L->w[src].dead || L->w[src].n == 0) {
+    if (src < 1 || src > L->m->children || L->w[src].dead || L->w[src].n == 0) {
         if (!L->failed)
             csg_error_plain(d, "unexpected message (tag %d) from rank %d", msg->tag, src);
         L->failed = true;
-        if (src >= 1 && src <= L->m->workers)
+        if (src >= 1 && src <= L->m->children)
             master_write_off(L, src);
         return;
     }
     master_worker *w = &L->w[src];
     const int *items = w->item[w->head];
     int k = w->count[w->head];
-    w->head = (w->head + 1) % PROTO_IN_FLIGHT;
+    w->head = (w->head + 1) % L->m->depth;
     w->n--;
     w->since = stats_clock(); /* the next item's turn */
     L->outstanding--;
     csg_diag ignored = {{0}, 0};
     csg_diag *report = L->failed ? &ignored : d; /* the first failure is the one reported */
     if (msg->tag == PROTO_TAG_FAIL) {
-        master_report_fail(msg, report); /* it still answers its other items */
+        master_report_fail(L->m, msg, report); /* it still answers its other items */
         L->failed = true;
         return;
     }
@@ -604,7 +663,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     else if (L->failed)
         ok = msg->len >= sizeof(proto_result); /* draining: an answer, not stored */
     else
-        ok = master_take_result(L->job, msg, items, k, L->m->pixels, d);
+        ok = master_take_result(L->job, L->m, msg, items, k, d);
     if (!ok) {
         L->failed = true;
         master_write_off(L, src);
@@ -707,7 +766,7 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
             master_greet(m, &msg, d);
             link_msg_free(&msg);
         }
-        for (int r = 1; r <= m->workers; r++)
+        for (int r = 1; r <= m->children; r++)
             L.w[r].dead = master_is_lost(m, r); /* (lost before the handshake) */
         ok = !m->setup_failed && master_deal(&L, idle, d);
         master_close_sends(&L);
@@ -775,7 +834,7 @@ static void master_stop_all(master_session *m, int status)
         link_msg_free(&msg);
     }
     if (!m->stopped) {
-        for (int r = 1; r <= m->workers; r++)
+        for (int r = 1; r <= m->children; r++) /* (a relay passes it on) */
             if (!master_is_lost(m, r))
                 master_stop(m, r, status);
         m->stopped = true;

@@ -27,6 +27,11 @@
 
 typedef struct {
     int workers;              /* ranks - 1                                */
+    int relays;               /* ranks 1 .. relays are relays (--relays):
+                                 set before master_share_scene; 0: none  */
+    int children;             /* rank 0 deals to ranks 1 .. children: the
+                                 relays, or every worker                 */
+    int depth;                /* TILEs a child holds at most              */
     bool shared;              /* the setup broadcast happened             */
     bool greeted;             /* every worker's handshake was received    */
     bool setup_failed;        /* a worker failed its setup                */

@@ -57,6 +57,17 @@
  *    only when no live worker holds an item (results drained).  The worker exits with
  *    proto_stop.status, so every rank ends with the master's status.
  *
+ * Relays (--relays K > 0, for many workers: bench/SCALE.md): ranks 1 .. K
+ * are relays, a second level of masters (host/relay.h); every other
+ * worker rank r belongs to relay proto_parent(r, K) and speaks the
+ * protocol above with it instead of rank 0.  To rank 0 a relay is one
+ * worker that holds up to PROTO_RELAY_IN_FLIGHT TILEs and answers each
+ * with one RESULT (or FAIL), in order, as a worker does; each part of its
+ * RESULT names in proto_result.rank the worker that computed it.  The
+ * setup broadcast still goes to every rank, and rank 0 still watches
+ * every rank's process (link.h): a relay or any worker of its group lost
+ * loses the whole group at once.
+ *
  * Tiles are numbered as in workers/tile.h (tile_rect_of).  Headers hold
  * fixed-width fields only, each a multiple of 8 bytes, so a payload that
  * follows starts 8-byte aligned.  The ranks must share one byte order (the
@@ -97,6 +108,8 @@ typedef struct {
     int32_t batch;      /* parts in one TILE at most: 1 .. PROTO_BATCH_MAX */
     int32_t pixels;     /* enum pixels_format of the RESULTs: RGB8 when
                            the output is an 8-bit file                 */
+    int32_t relays;     /* ranks 1 .. relays are relays (0: none)      */
+    int32_t ranks;      /* of the job, rank 0 included                 */
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may
@@ -111,6 +124,26 @@ typedef struct {
 
 /* Work items a worker holds at most: the one it computes and the next. */
 #define PROTO_IN_FLIGHT 2
+/* TILEs a relay holds at most: its group's work while it waits for the
+ * oldest one's last part. */
+#define PROTO_RELAY_IN_FLIGHT 8
+#define PROTO_DEPTH_MAX PROTO_RELAY_IN_FLIGHT
+
+/* The fewest items in a TILE to a relay (schedule.h's sched_batch_floor),
+ * with `ranks` - 1 workers of which `relays` relay: PROTO_RELAY_IN_FLIGHT
+ * TILEs keep each worker of the largest group PROTO_IN_FLIGHT items deep. */
+static inline int proto_relay_batch_floor(int ranks, int relays)
+{
+    int group = (ranks - 1 - relays + relays - 1) / relays;
+    return (2 * PROTO_IN_FLIGHT * group + PROTO_RELAY_IN_FLIGHT - 1) / PROTO_RELAY_IN_FLIGHT;
+}
+
+/* The rank rank r takes its TILEs from: 0, or its relay when there are
+ * `relays` (the workers dealt round-robin over them). */
+static inline int proto_parent(int r, int relays)
+{
+    return relays > 0 && r > relays ? 1 + (r - relays - 1) % relays : 0;
+}
 
 typedef struct {
     int32_t index;          /* tile number, row-major                  */
@@ -126,7 +159,8 @@ typedef struct {
     uint64_t over_budget;   /* pixels that met their ray budget        */
     double busy_s;          /* seconds the worker spent on the tile    */
     int32_t pixels;         /* enum pixels_format of the pixels after  */
-    int32_t pad;
+    int32_t rank;           /* the worker that computed it (a relay's
+                               answer; a worker sends 0: itself)       */
 } proto_result;
 
 #define PROTO_FAIL_TEXT 240
@@ -157,6 +191,31 @@ static inline size_t proto_batch_bytes(size_t part, int batch)
 static inline size_t proto_tile_part(const tile_grid *g, bool shade, size_t n)
 {
     return sizeof(proto_tile) + (shade ? tile_records_bytes(g, n) : 0);
+}
+
+/* The TILE part of `data` (len bytes) at offset `at`: its header into h,
+ * checked against its tile and the bytes that are there; where it ends,
+ * or 0 with the reason in *why. */
+static inline size_t proto_tile_part_at(const tile_grid *g, const char *data, size_t len,
+                                        size_t at, proto_tile *h, const char **why)
+{
+    if (at > len || len - at < sizeof *h) {
+        *why = "truncated tile message";
+        return 0;
+    }
+    memcpy(h, data + at, sizeof *h);
+    tile_rect r = {h->x, h->y, h->width, h->height};
+    if (!tile_rect_in_tile(g, h->index, r)) {
+        *why = "tile outside the image";
+        return 0;
+    }
+    size_t part = proto_tile_part(g, h->work == PROTO_WORK_SHADE,
+                                  (size_t)r.width * (size_t)r.height);
+    if ((h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER) || len - at < part) {
+        *why = "malformed tile message";
+        return 0;
+    }
+    return at + part;
 }
 
 /* One RESULT part: header and n pixels in `format` (enum pixels_format). */

@@ -706,7 +706,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
 /* ---- the figures of the tile phase ---------------------------------------------- */
 
 /* The last result in minus the first worker idle for good. */
-static double render_tail(const sched *s, int workers, double t_first, double t_last)
+static double render_tail(const sched *s, int first, int workers, double t_first, double t_last)
 {
     double *last = calloc((size_t)workers + 1, sizeof *last);
     double first_idle = t_last;
@@ -719,7 +719,7 @@ static double render_tail(const sched *s, int workers, double t_first, double t_
         if (it->worker >= 1 && it->worker <= workers && it->done_s > last[it->worker])
             last[it->worker] = it->done_s;
     }
-    for (int r = 1; r <= workers; r++) {
+    for (int r = first; r <= workers; r++) { /* (relays compute nothing) */
         double idle = last[r] > 0 ? last[r] : t_first;
         if (idle < first_idle)
             first_idle = idle;
@@ -789,9 +789,10 @@ static void render_account(const render_state *rs, const master_job *job,
     st->pass_s = pass ? pass_end - rs->pass_start : 0.0;
     st->slices = rs->tm.slices;
     st->tile_phase_s = job->t_first > 0 ? job->t_last - job->t_first : 0.0;
-    double span = st->tile_phase_s * (double)st->worker_count;
+    double span = st->tile_phase_s * (double)(st->worker_count - st->relays);
     st->busy_fraction = span > 0 ? job->busy_s / span : 0.0;
-    st->tail_s = render_tail(&rs->sched, st->worker_count > 1 ? st->worker_count : 0,
+    st->tail_s = render_tail(&rs->sched, st->relays + 1,
+                             st->worker_count > 1 ? st->worker_count : 0,
                              job->t_first, job->t_last);
     st->estimate_spearman = render_spearman(&rs->sched);
     st->tiles_sent = rs->sched.added;
@@ -814,6 +815,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     st->tiles_total = tile_count(&grid);
     st->worker_count = use_workers ? ms->workers : 1;
     st->in_flight = use_workers ? PROTO_IN_FLIGHT : 1;
+    st->relays = use_workers ? ms->relays : 0;
     if (hetero && !fill && !render_open_cl(req, rs, d)) /* (fill: meanwhile) */
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
@@ -822,11 +824,14 @@ static int render_prepare(const render_request *req, master_session *ms, render_
                                                    master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);
     if (!rs->image || !rs->workers || (use_workers && !rs->idle_ready) ||
-        !sched_init(&rs->sched, render_policy(req), st->worker_count, st->in_flight,
+        !sched_init(&rs->sched, render_policy(req), use_workers ? ms->children : 1, st->in_flight,
                     st->tiles_total, hetero ? render_estimate : NULL, &rs->est)) {
         csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
         return EXIT_FAILURE_RUN;
     }
+    if (use_workers && ms->relays > 0) /* (each relay's group kept fed) */
+        sched_batch_floor(&rs->sched, proto_relay_batch_floor(ms->workers + 1, ms->relays),
+                          ms->relays * ms->depth);
     engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, rs->bg);
     if (req->out_path) {
         int status = journal_open(req->out_path, rs->blob.bytes, &grid, req->resume, rs->image,
@@ -1031,7 +1036,16 @@ static int render_job(const render_request *req, int ranks, render_cl_early *ear
     bool reported = status != EXIT_OK;
     if (reported) /* before the workers learn it: they exit at once */
         render_report(&d);
+    if (status == EXIT_OK && req->relays > 0 && ms.workers < 2 * req->relays) {
+        csg_error_plain(&d, "--relays %d needs at least %d worker ranks (the relays and a "
+                            "worker for each): this job has %d (mpirun -np %d or more)",
+                        req->relays, 2 * req->relays, ms.workers, 2 * req->relays + 1);
+        status = EXIT_BAD_INPUT;
+        reported = true;
+        render_report(&d);
+    }
     ms.batch = req->batch;
+    ms.relays = req->mode == MODE_SERIAL ? 0 : req->relays;
     ms.pixels = pixels_format_for(req->out_path); /* 8-bit files: bytes back */
     master_share_scene(&ms, status, st.tile, &rs.blob);
     mk.loaded = stats_clock();

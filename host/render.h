@@ -51,6 +51,9 @@ typedef struct {
                                  bottom (host/schedule.h)              */
     int batch;                /* work items in one message at most
                                  (--batch); 0: auto (host/schedule.h)  */
+    int relays;               /* --relays: ranks 1 .. relays are relays,
+                                 masters of groups of workers
+                                 (host/relay.h); 0: none               */
     const csg_parse_options *parse; /* clock, library folders, messages;
                                        NULL: the defaults (image_width and
                                        image_height are always the render's) */

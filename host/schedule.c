@@ -37,6 +37,7 @@ bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int t
     s->policy = p;
     s->workers = workers > 0 ? workers : 1;
     s->in_flight = in_flight > 0 ? in_flight : 1;
+    s->batch_floor = 1;
     s->estimate = estimate;
     s->estimate_arg = estimate_arg;
     s->tiles = tiles;
@@ -385,19 +386,40 @@ static double sched_unknown(const sched *s, double per_tile_total)
     return unknown > 0 ? unknown * per_tile_total / s->known : 0.0;
 }
 
-/* `left` spread over `round` messages, rounded up, within 1 .. limit. */
-static int sched_share(double left, int round, int limit)
+/* `left` spread over `round` messages, rounded up, within floor .. limit. */
+static int sched_share(double left, int round, int floor, int limit)
 {
     double b = ceil(left / round);
-    return b < 1 ? 1 : b > limit ? limit : (int)b;
+    return b < floor ? (floor < limit ? floor : limit) : b > limit ? limit : (int)b;
+}
+
+void sched_batch_floor(sched *s, int floor, int slots)
+{
+    s->batch_floor = floor > 1 && slots > 0 ? floor : 1;
+    s->floor_slots = slots > 0 ? slots : 0;
+}
+
+/* The floor of a batch with `left` items to go (sched_batch_floor). */
+static int sched_floor(const sched *s, double left)
+{
+    if (s->batch_floor <= 1)
+        return 1;
+    double spread = ceil(left / s->floor_slots);
+    return spread < 1 ? 1 : spread < s->batch_floor ? (int)spread : s->batch_floor;
+}
+
+/* Items left: ready, and those of the tiles not known yet. */
+static double sched_items_left(const sched *s)
+{
+    return sched_waiting(s) + sched_unknown(s, s->added - s->filled);
 }
 
 int sched_batch(const sched *s, int limit)
 {
     if (limit <= 1 || sched_splitting(s))
         return 1; /* (tail: the last tiles go as single quarters) */
-    double left = sched_waiting(s) + sched_unknown(s, s->added - s->filled);
-    return sched_share(left, sched_round(s, sched_budgeted(s)), limit);
+    double left = sched_items_left(s);
+    return sched_share(left, sched_round(s, sched_budgeted(s)), sched_floor(s, left), limit);
 }
 
 /* Raster: the next `want` tiles of the FIFO become every (ready / want)-th
@@ -422,7 +444,7 @@ static double sched_peek_estimate(const sched *s)
 
 int sched_next_batch(sched *s, int w, double now, int limit, int *out)
 {
-    int want = sched_batch(s, limit), k = 0;
+    int want = sched_batch(s, limit), k = 0, floor = sched_floor(s, sched_items_left(s));
     bool fresh = s->again_head == s->again_n;
     if (want > 1 && fresh && !sched_by_cost(s) && s->policy != SCHED_STATIC)
         sched_spread(s, want);
@@ -435,7 +457,7 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
                                                  : s->max_estimate;
     for (double sum = 0.0; k < want; k++) {
         double next = sched_peek_estimate(s);
-        if (k > 0 && budget > 0 && sum + next > budget)
+        if (k >= floor && budget > 0 && sum + next > budget)
             break;
         if (k > 0 && sched_splitting(s))
             break; /* (the tail began: its pieces go one a message) */
@@ -467,7 +489,7 @@ int sched_fill_claim(sched *s, int offered)
 int sched_fill_batch(const sched *s, int limit)
 {
     int left = s->fill_front - s->known; /* (unclaimed, not offered yet) */
-    return limit <= 1 ? 1 : sched_share(left, sched_round(s, false), limit);
+    return limit <= 1 ? 1 : sched_share(left, sched_round(s, false), sched_floor(s, left), limit);
 }
 
 int sched_next_fill(sched *s, double now, int tile, tile_rect r)

@@ -124,6 +124,10 @@ typedef struct {
     bool fill;          /* the fill is on (sched_fill_enable)             */
     int fill_front;     /* the fill's tiles: this index and every later  */
     int filled;         /* tiles the fill claimed                        */
+    int batch_floor;    /* a batch takes at least this many items when
+                           they are ready (1; a relay's group: more)...  */
+    int floor_slots;    /* ...but no more than what is left spread over
+                           this many messages (0: no floor)              */
 } sched;
 
 const char *sched_policy_name(enum sched_policy p);
@@ -132,6 +136,13 @@ const char *sched_policy_name(enum sched_policy p);
 bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int tiles,
                 sched_estimate_fn estimate, void *estimate_arg);
 void sched_free(sched *s);
+
+/* Every batch takes at least `floor` items (as many as are ready, and
+ * within the limit), or what is left over `slots` messages when that is
+ * less (so the last items still spread over every relay): the workers are
+ * relays (host/relay.h), each the master of a group that must not run dry
+ * while its TILEs are out. */
+void sched_batch_floor(sched *s, int floor, int slots);
 
 /* Tile `tile` (rectangle r) is ready to be sent / is degenerate. */
 bool sched_add(sched *s, int tile, tile_rect r);

@@ -96,11 +96,11 @@ static void stats_field(FILE *f, const char *key, double v)
 static void stats_workers(FILE *f, const render_stats *s)
 {
     fputs("  \"workers\": [", f);
-    for (int i = 0; i < s->worker_count; i++) {
+    for (int i = s->relays; i < s->worker_count; i++) {
         const stats_worker *w = &s->workers[i];
         fprintf(f, "%s\n    {\"rank\": %d, \"tiles\": %llu, \"items\": %llu, \"hits\": %llu, "
                    "\"busy_s\": ",
-                i ? "," : "", w->rank, (unsigned long long)w->tiles,
+                i > s->relays ? "," : "", w->rank, (unsigned long long)w->tiles,
                 (unsigned long long)w->items, (unsigned long long)w->hits);
         stats_number(f, w->busy_s);
         fputs(", \"busy_fraction\": ", f);
@@ -109,7 +109,7 @@ static void stats_workers(FILE *f, const render_stats *s)
         stats_rays(f, &w->rays);
         fputc('}', f);
     }
-    fputs(s->worker_count ? "\n  ]\n" : "]\n", f);
+    fputs(s->worker_count > s->relays ? "\n  ]\n" : "]\n", f);
 }
 
 /* The phases (they add up to wall_s) and the figures derived from them,
@@ -143,8 +143,9 @@ void stats_print_json(FILE *f, const render_stats *s)
     fputs(",\n  \"schedule\": ", f);
     stats_string(f, s->schedule);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
-               "  \"spp\": %d,\n  \"in_flight\": %d,\n",
-            s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1, s->in_flight);
+               "  \"spp\": %d,\n  \"in_flight\": %d,\n  \"relays\": %d,\n",
+            s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1, s->in_flight,
+            s->relays);
     stats_phases(f, s);
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",

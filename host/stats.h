@@ -10,6 +10,7 @@
  *   schedule      the scheduler (--schedule: raster, cost, static, tail)
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
+ *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)
  *
  *   Phases: consecutive intervals of one clock, so that
  *     wall_s = setup_s + cl_setup_s + compile_s + primary_s + pipelined_s
@@ -154,11 +155,13 @@ typedef struct render_stats {
     int tiles_filled;         /* rendered whole while the pass ran (fill) */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */
     int batch;                                    /* (above)            */
+    int relays;               /* ranks 1 .. relays relay (--relays): not in
+                                 `workers` of the JSON                     */
     uint64_t tile_messages;
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;
-    int worker_count;
+    int worker_count;       /* ranks - 1 (the relays' entries first)  */
     stats_worker *workers;  /* worker_count entries (not owned)      */
 } render_stats;
 

@@ -17,10 +17,15 @@
 #     parts; both precisions), every schedule, and fewer TILE messages
 #     than items; a rogue worker's batched answer with a part for the
 #     wrong tile, or with too few parts, is refused;
+#   - relays (--relays K): serial == homo == hetero with 1 to 3 relays,
+#     every schedule, items computed by workers only, parts dealt several a
+#     message, over TCP; too few ranks is exit 2; a failing or rogue worker
+#     under a relay ends the render with one message naming it;
 #   - every --schedule (raster, cost, static, tail), homo and hetero, on
 #     1 to 5 ranks: the same image as serial, and a tile log that covers
 #     every tile exactly once (whole or as pieces), agrees with the stats
-#     and with the schedule (static: the k-th tile on worker k mod W).
+#     and with the schedule (static: the k-th tile on worker k mod W, or
+#     under relays on a worker of relay k mod K).
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
@@ -195,7 +200,8 @@ assert s["tiles_sent"] + s["tiles_degenerate"] == s["tiles_total"]
 assert 0.0 <= s["occupancy"] <= 1.0
 assert s["rays"]["primary"] == s["width"] * s["height"], s["rays"]
 ws = s["workers"]
-assert len(ws) == max(ranks - 1, 1), len(ws)
+assert len(ws) == max(ranks - 1 - s["relays"], 1), len(ws)
+assert s["relays"] == 0 or all(w["rank"] > s["relays"] for w in ws), ws
 for w in ws:
     for k in ("rank", "tiles", "rays", "busy_s"):
         assert k in w, "worker field " + k
@@ -236,7 +242,7 @@ for it in items:
         sent.append(it)
         assert it["seconds"] >= 0 and it["done_s"] >= it["sent_s"] >= 0, it
         assert (it["estimate"] is not None) == (s["mode"] == "hetero" and not it["fill"]), it
-        workers = range(1, s["ranks"]) if s["ranks"] > 1 else [0]
+        workers = range(s["relays"] + 1, s["ranks"]) if s["ranks"] > 1 else [0]
         assert it["worker"] in workers, it
 for t in range(s["tiles_total"]):
     tx, ty = t % cols * T, t // cols * T
@@ -247,9 +253,13 @@ assert len(fill) == s["tiles_filled"] and (s["mode"] == "hetero" or not fill), f
 assert all(f > i["tile"] for f in fill for i in items if not i["fill"]), "fill from the bottom up"
 assert len(sent) == s["items_sent"] and sorted(i["order"] for i in sent) == list(range(len(sent)))
 assert sum(i["hits"] for i in items) == s["pixels_hit"] or s["mode"] == "hetero"
+K = s["relays"]  # (static with relays: the k-th tile to relay k mod K, then its group)
+def dealt_to(w):
+    return w if K == 0 else 1 + (w - K - 1) % K
 if schedule == "static" and s["ranks"] > 2:
     whole = sorted(sent, key=lambda i: i["tile"])
-    assert all(i["worker"] == k % (s["ranks"] - 1) + 1 for k, i in enumerate(whole)), "static"
+    children = K if K else s["ranks"] - 1
+    assert all(dealt_to(i["worker"]) == k % children + 1 for k, i in enumerate(whole)), "static"
 if schedule == "tail" and s["tiles_sent"] > 2 * 2 * max(s["ranks"] - 1, 1) and s["tiles_filled"] == 0:
     assert any(i["piece"] > 0 for i in sent), "tail: no piece"  # (the fill may take the last tiles whole)
 elif schedule != "tail":
@@ -330,6 +340,52 @@ for sched in raster cost static tail; do
         fi
     done
 done
+# ---- relays: a second level of masters (--relays, host/relay.h) ----------------------
+# Ranks 1 .. K relay: rank 0 deals them batches, they deal their workers;
+# the image is the serial one, every item is computed by a worker (never a
+# relay), the stats name the relays and list only the workers, and rank 0
+# sends fewer TILE messages than the items.
+relayed() { # relayed STATS K: K relays, fewer messages than items
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
+sys.exit(0 if j['relays'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] else 1)" "$@"
+}
+for mode in "${modes[@]}"; do
+    for cfg in "4 1 raster" "5 2 cost" "6 2 tail" "7 3 static"; do
+        read -r np k sched <<<"$cfg"
+        name=rel-$mode-$np-$k
+        if ! render "$name" "$np" "$first" "${SZ[@]}" --mode "$mode" --tile 5 --relays "$k" \
+            --schedule "$sched" --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
+            bad "--relays $k, $mode, K=$np (exit: $(grep -m1 ': error: ' "$TMP/$name.err"))"
+        elif ! same "$R" "$name"; then
+            bad "--relays $k, $mode, K=$np: pixels differ from serial"
+        elif ! check_stats "$TMP/$name.json" "$mode" "$np" 2>"$TMP/$name.py" ||
+            ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
+            bad "--relays $k, $mode, K=$np: $(tail -1 "$TMP/$name.py")"
+        elif [ "$sched" != static ] && ! relayed "$TMP/$name.json" "$k"; then
+            bad "--relays $k, $mode, K=$np: not relayed ($(grep -E '"(relays|tile_messages|items_sent)"' "$TMP/$name.json" | tr -d '\n ')"
+        else
+            ok "--relays $k --schedule $sched, $mode, K=$np, tile 5: == serial, items on workers only, stats and tile log consistent"
+        fi
+    done
+done
+[ $have_cl = 1 ] && render_same "double hetero K=5 --relays 2 --batch 3 == serial" dbl-ref dbl-rel 5 \
+    "$first" "${SZ[@]}" --mode hetero --tile 7 --precision double --relays 2 --batch 3
+for mode in "${modes[@]}"; do # (a relay holding hundreds of parts deals several a message)
+    render_same "$mode K=3 --relays 1 tile 2 --batch 32 == serial" "$R" "rel-many-$mode" 3 \
+        "$first" "${SZ[@]}" --mode "$mode" --tile 2 --batch 32 --relays 1
+done
+MPIX="--mca btl tcp,self" render_same "homo K=5 --relays 2 over TCP == serial" "$R" m-rtcp 5 \
+    "$first" "${SZ[@]}" --mode homo --tile 16 --relays 2
+render rel-few 4 "$first" "${SZ[@]}" --mode homo --relays 2
+rc=$?
+check "--relays 2 with 3 workers: exit 2, one message, no image (got $rc)" \
+    test $rc = 2 -a "$(error_lines rel-few)" = 1 -a ! -e "$TMP/rel-few.exr"
+CSGTRACE_FAIL_WORKER=3 render rel-fail 5 "$first" "${SZ[@]}" --mode homo --tile 8 --relays 2
+rc=$?
+check "a worker under a relay fails (K=5, --relays 2): exit 1, one message naming worker 3, no image (got $rc)" \
+    test $rc = 1 -a "$(error_lines rel-fail)" = 1 -a "$(grep -c 'worker 3 failed' "$TMP/rel-fail.err")" = 1 \
+    -a ! -e "$TMP/rel-fail.exr"
+
 render_same "double homo K=3 tile 7 --batch 3 == serial" dbl-ref dbl-bh3 3 "$first" "${SZ[@]}" \
     --mode homo --tile 7 --precision double --batch 3
 [ $have_cl = 1 ] && render_same "double hetero K=3 tile 7 --batch 32 == serial" dbl-ref dbl-bx3 3 \
@@ -399,6 +455,22 @@ for ext in exr png; do
             test $rc = 1 -a "$(error_lines "rogue-$mode")" = 1 \
             -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$out"
     done
+done
+# The same rogue under a relay (ranks 0, 1: csgtrace with --relays 1; rank
+# 2: the rogue, relay 1's only worker): the relay refuses its answer, the
+# render ends with one message naming worker 2, exit 1, no image.  Tile 2
+# and --batch 32: the relay holds hundreds of parts and deals the rogue
+# several a message (part, one).
+for mode in big short index tag pixels part one; do
+    [ -x "$ROGUE" ] || continue
+    out=$TMP/rogue-rel-$mode.png
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 2 "$BIN" render \
+        "$first" "${SZ[@]}" --mode homo --tile 2 --batch 32 --relays 1 -o "$out" \
+        : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-rel-$mode.out" 2>"$TMP/rogue-rel-$mode.err"
+    rc=$?
+    check "rogue worker under a relay ($mode): exit 1, one message naming worker 2, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines "rogue-rel-$mode")" = 1 \
+        -a "$(grep -c 'worker 2' "$TMP/rogue-rel-$mode.err")" = 1 -a ! -e "$out"
 done
 
 if [ $have_cl = 1 ]; then

@@ -5,6 +5,8 @@
 #     0, the serial image bit for bit, stats workers_lost = 1 and
 #     items_reassigned >= 1, one line on stderr naming the worker; also
 #     inside a batch (--batch 4: several items a message);
+#   - a worker under a relay (--relays) SIGKILLed: its relay's whole group
+#     is lost, the others finish, exit 0, the same image;
 #   - every worker SIGKILLed: the master renders the rest itself, exit 0,
 #     the same image, workers_lost = ranks - 1;
 #   - a worker dead before its handshake; one dead during the scene
@@ -70,8 +72,9 @@ run() {
 }
 
 # survived NAME LOST [MIN]: exit 0, the serial image, LOST workers lost
-# and at least MIN items reassigned (default 1), one line per lost worker,
-# nothing left behind; else why not.
+# and at least MIN items reassigned (default 1), one line per lost worker
+# ($LOST_LINES lines when set: a relay's line covers its group), nothing
+# left behind; else why not.
 survived() {
     local name=$1 lost=$2 min=${3:-1} left
     left=$(leftovers "$name")
@@ -81,7 +84,7 @@ survived() {
         echo "pixels differ from serial"
     elif ! json "$T/$name.json" "j['workers_lost'] == $lost and j['items_reassigned'] >= $min"; then
         echo "stats: $(grep -E 'workers_lost|items_reassigned' "$T/$name.json" | tr -d '\n ')"
-    elif [ "$(grep -c ' lost (' "$T/$name.err")" != "$lost" ]; then
+    elif [ "$(grep -c ' lost (' "$T/$name.err")" != "${LOST_LINES:-$lost}" ]; then
         echo "stderr: $(grep -c ' lost (' "$T/$name.err") lines of a lost worker"
     elif [ -n "$left" ]; then
         echo "left behind: $left"
@@ -128,6 +131,24 @@ for mode in "${modes[@]}"; do
         [ -n "$why" ] && fails="$fails [$i: $why]"
     done
     case_check "every worker SIGKILLed ($mode, $np ranks): the master finishes, exit 0, serial image" "$fails"
+done
+
+# Relays (--relays 2, 7 ranks: relay 1 deals to workers 3 and 5, relay 2
+# to 4 and 6): worker 4 killed on its second item; rank 0 loses relay 2
+# with its whole group (one line), their items go to relay 1's group, and
+# relay 2 and worker 6, alive, exit when rank 0 lets them go.
+for mode in "${modes[@]}"; do
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        name=relay-$mode-$i
+        CSGTRACE_TEST_KILL_RANK=4 CSGTRACE_TEST_KILL_AFTER=1 run "$name" 7 --mode "$mode" --relays 2
+        why=$(LOST_LINES=1 survived "$name" 3)
+        if [ -z "$why" ] && ! grep -q 'relay 2 and its 2 workers lost' "$T/$name.err"; then
+            why="no line naming relay 2 and its group: $(grep -v PMIX "$T/$name.err" | head -2)"
+        fi
+        [ -n "$why" ] && fails="$fails [$i: $why]"
+    done
+    case_check "worker 4 under relay 2 SIGKILLed ($mode, 7 ranks, --relays 2): its group lost (workers_lost 3), exit 0, serial image, nothing left" "$fails"
 done
 
 # Batches (--batch 4): worker 2 killed on the second item of its second

@@ -22,6 +22,8 @@
  * 3 bytes a pixel to an 8-bit file, 12 to a float one).
  * then waits for STOP and exits 0.  The master must report one error,
  * exit 1 and write no image, without taking the bytes it was not owed.
+ * Under a relay (csgtrace render ... --relays K, the rogue a rank above
+ * 2K - 1) it speaks to its relay, which must refuse the same answers.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,7 +44,7 @@ static int rogue_parts(const link_msg *in, proto_tile *t, int cap)
 
 /* Batch modes: a RESULT for the parts of `in` (part: all, the last one
  * for the wrong tile; one: the first only). */
-static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels)
+static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels, int parent)
 {
     proto_tile t[PROTO_BATCH_MAX];
     int n = rogue_parts(in, t, PROTO_BATCH_MAX);
@@ -61,15 +63,15 @@ static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels)
         memcpy(msg + len, &r, sizeof r);
         len += proto_result_part((size_t)t[i].width * (size_t)t[i].height, pixels);
     }
-    link_send(LINK_MASTER, PROTO_TAG_RESULT, msg, len);
+    link_send(parent, PROTO_TAG_RESULT, msg, len);
     free(msg);
 }
 
 /* The reply to the tile in `in` that MODE asks for. */
-static void rogue_reply(const char *mode, const link_msg *in, int pixels)
+static void rogue_reply(const char *mode, const link_msg *in, int pixels, int parent)
 {
     if (strcmp(mode, "part") == 0 || strcmp(mode, "one") == 0) {
-        rogue_batch_reply(mode, in, pixels);
+        rogue_batch_reply(mode, in, pixels, parent);
         return;
     }
     int claimed = pixels;
@@ -89,7 +91,7 @@ static void rogue_reply(const char *mode, const link_msg *in, int pixels)
     proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0, 0,
                       claimed, 0};
     memcpy(msg, &r, sizeof r);
-    link_send(LINK_MASTER, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
+    link_send(parent, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
     free(msg);
 }
 
@@ -105,16 +107,17 @@ int main(int argc, char **argv)
     void *blob = malloc(setup.blob_size ? setup.blob_size : 1);
     link_bcast(blob, setup.blob_size);
     free(blob);
+    int parent = proto_parent(rank, setup.relays);
     proto_ready ready = {0, 0};
-    link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
+    link_send(parent, PROTO_TAG_READY, &ready, sizeof ready);
     link_msg in = {NULL, 0, 0, 0, 0};
     for (int answered = 0;;) {
-        if (link_recv(&in, LINK_MASTER, (size_t)1 << 30) != LINK_OK)
+        if (link_recv(&in, parent, (size_t)1 << 30) != LINK_OK)
             return 3;
         if (in.tag == PROTO_TAG_STOP)
             break;
         if (in.tag == PROTO_TAG_TILE && !answered++)
-            rogue_reply(argv[1], &in, setup.pixels);
+            rogue_reply(argv[1], &in, setup.pixels, parent);
     }
     link_msg_free(&in);
     return 0;

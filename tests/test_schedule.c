@@ -463,6 +463,48 @@ static void test_batch_cost(void **state)
     sched_free(&s);
 }
 
+/* Relays (sched_batch_floor): a batch takes at least the floor while
+ * much is left, however cheap the guided share or the cost budget; once
+ * what is left spread over the slots is less, that much, down to 1. */
+static void test_batch_floor(void **state)
+{
+    (void)state;
+    sched s;
+    int got[PROTO_BATCH_MAX];
+    filled(&s, SCHED_RASTER, 4, 160, NULL, NULL); /* 4 relays x 2 in flight */
+    assert_int_equal(sched_batch(&s, 32), 5);       /* 160 / (4 x 2 x 4): guided */
+    sched_batch_floor(&s, 8, 16);                   /* 4 relays x 4 TILEs */
+    assert_int_equal(sched_batch(&s, 32), 8);       /* the floor */
+    assert_int_equal(sched_batch(&s, 6), 6);        /* the limit still wins */
+    int left = 160;
+    while (left > 0) {
+        int k = sched_next_batch(&s, 0, 0.0, 32, got);
+        int floor = (left + 15) / 16 < 8 ? (left + 15) / 16 : 8;
+        int guided = (left + 31) / 32;
+        int want = guided > floor ? guided : floor;
+        assert_int_equal(k, want < left ? want : left);
+        left -= k;
+    }
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 32, got), 0);
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+
+    filled(&s, SCHED_RASTER, 4, 160, NULL, NULL);
+    sched_batch_floor(&s, 8, 0); /* no slots: no floor */
+    assert_int_equal(sched_batch(&s, 32), 5);
+    sched_free(&s);
+
+    double cost[64]; /* cost cut: the floor goes past the budget */
+    for (int i = 0; i < 64; i++)
+        cost[i] = i < 2 ? 100.0 : 1.0;
+    filled(&s, SCHED_COST, 1, 64, table_estimate, cost);
+    sched_batch_floor(&s, 4, 8);
+    assert_int_equal(sched_next_batch(&s, 0, 0.0, 8, got), 4); /* 100 + 100 + 1 + 1 */
+    assert_int_equal(s.items[got[0]].tile, 0);
+    assert_int_equal(s.items[got[1]].tile, 1);
+    sched_free(&s);
+}
+
 /* Raster with estimates (hetero): the same cost cut, in raster order;
  * without (homo) the count alone, over SCHED_BATCH_SPREAD rounds. */
 static void test_batch_raster_cost(void **state)
@@ -589,6 +631,7 @@ int main(void)
         cmocka_unit_test(test_batch_spread),
         cmocka_unit_test(test_batch_cost),
         cmocka_unit_test(test_batch_raster_cost),
+        cmocka_unit_test(test_batch_floor),
         cmocka_unit_test(test_batch_tail),
         cmocka_unit_test(test_batch_unknown),
         cmocka_unit_test(test_batch_requeued),

@@ -36,6 +36,7 @@
 
 #include "../host/link.h"
 #include "../host/protocol.h"
+#include "../host/relay.h"
 #include "tile.h"
 
 /* Messages taken and not yet answered: the items in flight and a STOP. */
@@ -46,6 +47,7 @@ typedef struct {
     bool float_parts;     /* CSGTRACE_TEST_FLOAT_PARTS: every other
                              8-bit part sent as floats (worker.h)     */
     int rank;
+    int parent;           /* the rank TILEs come from: 0 or a relay   */
     int tiles_done;
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
     void *blob;
@@ -129,39 +131,13 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
         worker_set_failure(w, "out of memory for tiles of %zu pixels", g->pixels_max);
 }
 
-static void worker_send_fail(int index, const char *text)
+static void worker_send_fail(const worker_state *w, int index, const char *text)
 {
     proto_fail f;
     memset(&f, 0, sizeof f);
     f.index = index;
     snprintf(f.text, sizeof f.text, "%s", text);
-    link_send(LINK_MASTER, PROTO_TAG_FAIL, &f, sizeof f);
-}
-
-/* The part of message `in` at offset `at`: its header into h, checked
- * against its tile and the bytes that are there; where it ends, or 0 with
- * the reason in *why. */
-static size_t worker_part(const worker_state *w, const link_msg *in, size_t at, proto_tile *h,
-                          const char **why)
-{
-    const tile_grid *g = &w->runner.grid;
-    if (at > in->len || in->len - at < sizeof *h) {
-        *why = "truncated tile message";
-        return 0;
-    }
-    memcpy(h, in->data + at, sizeof *h);
-    tile_rect r = {h->x, h->y, h->width, h->height};
-    if (!tile_rect_in_tile(g, h->index, r)) {
-        *why = "tile outside the image";
-        return 0;
-    }
-    size_t part = proto_tile_part(g, h->work == PROTO_WORK_SHADE,
-                                  (size_t)r.width * (size_t)r.height);
-    if ((h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER) || in->len - at < part) {
-        *why = "malformed tile message";
-        return 0;
-    }
-    return at + part;
+    link_send(w->parent, PROTO_TAG_FAIL, &f, sizeof f);
 }
 
 /* The rectangle of part h (at `at` in `in`), its answer into `out` (room
@@ -202,7 +178,7 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
             *why = "more parts in a tile message than the batch";
             return 0;
         }
-        size_t end = worker_part(w, in, at, h, why);
+        size_t end = proto_tile_part_at(&w->runner.grid, in->data, in->len, at, h, why);
         if (end == 0)
             return 0;
         if (k > 0)
@@ -226,17 +202,17 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
 {
     proto_tile h;
     if (w->failure[0]) {
-        worker_send_fail(-1, w->failure);
+        worker_send_fail(w, -1, w->failure);
         return;
     }
     if (in->len < sizeof h) {
-        worker_send_fail(-1, "truncated tile message");
+        worker_send_fail(w, -1, "truncated tile message");
         return;
     }
     memcpy(&h, in->data, sizeof h);
     proto_test_kill(w->rank, "item", w->tiles_done);
     if (w->tiles_done == 0 && w->fail_rank == w->rank) {
-        worker_send_fail(h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
+        worker_send_fail(w, h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
         w->tiles_done++;
         return;
     }
@@ -245,10 +221,10 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
     const char *why = NULL;
     size_t len = worker_do_parts(w, in, &h, slot, &why);
     if (len == 0) {
-        worker_send_fail(h.index, why);
+        worker_send_fail(w, h.index, why);
         return;
     }
-    link_isend(LINK_MASTER, PROTO_TAG_RESULT, w->out[slot], len, &w->out_req[slot]);
+    link_isend(w->parent, PROTO_TAG_RESULT, w->out[slot], len, &w->out_req[slot]);
     for (int i = first; i < w->tiles_done; i++)
         proto_test_kill(w->rank, "send", i);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
@@ -280,10 +256,10 @@ static link_status worker_take(worker_state *w)
     /* Before the setup succeeded, only a STOP or a header is of use. */
     size_t limit = w->in_limit > sizeof(proto_tile) ? w->in_limit : sizeof(proto_tile);
     link_msg *m = &w->queue[(w->head + w->queued) % WORKER_QUEUE];
-    link_status got = w->queued == 0 ? link_recv(m, LINK_MASTER, limit)
-                                     : link_try_recv(m, LINK_MASTER, limit);
+    link_status got = w->queued == 0 ? link_recv(m, w->parent, limit)
+                                     : link_try_recv(m, w->parent, limit);
     if (got == LINK_TOO_BIG) { /* it cannot be drained: end the job */
-        worker_send_fail(-1, "message from the master larger than any tile");
+        worker_send_fail(w, -1, "message from the master larger than any tile");
         link_abort(1);
     }
     if (got == LINK_OK) {
@@ -318,7 +294,7 @@ static int worker_serve(worker_state *w)
         if (m->tag == PROTO_TAG_TILE)
             worker_answer_tile(w, m);
         else
-            worker_send_fail(-1, w->failure[0] ? w->failure : "unexpected message");
+            worker_send_fail(w, -1, w->failure[0] ? w->failure : "unexpected message");
     }
 }
 
@@ -340,13 +316,19 @@ int worker_run(int rank)
         return setup.status; /* the master reported why */
     proto_test_kill(rank, "scene", 0);
     worker_receive_blob(&w, (size_t)setup.blob_size);
+    if (rank <= setup.relays) { /* a relay: the master of a group */
+        int status = relay_run(rank, &setup, w.blob, w.blob_size, w.failure);
+        free(w.blob);
+        return status;
+    }
+    w.parent = proto_parent(rank, setup.relays);
     worker_prepare(&w, &setup);
     if (w.failure[0]) {
-        worker_send_fail(-1, w.failure);
+        worker_send_fail(&w, -1, w.failure);
     } else {
         proto_ready ready = {0, 0};
         proto_test_kill(rank, "ready", 0);
-        link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
+        link_send(w.parent, PROTO_TAG_READY, &ready, sizeof ready);
     }
     int status = worker_serve(&w);
     worker_free(&w);

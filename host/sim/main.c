@@ -61,6 +61,7 @@ typedef struct {
     bool hetero;
     int width, height, tile, policy;
     int batch;               /* --batch: 0 auto (master.h)               */
+    int relays;              /* --relays: ranks 1 .. relays relay (0)    */
     int pixels;              /* --pixels: enum pixels_format             */
     bool fill;               /* --fill on|off (hetero)                    */
 } sim_args;
@@ -112,6 +113,8 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         return sim_policy(v, &a->policy);
     if (strcmp(key, "--batch") == 0)
         return sim_int(v, 1, PROTO_BATCH_MAX, &a->batch);
+    if (strcmp(key, "--relays") == 0)
+        return sim_int(v, 0, 4096, &a->relays);
     if (strcmp(key, "--pixels") == 0) {
         a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT : PIXELS_RGB8;
         return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0;
@@ -129,7 +132,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, PIXELS_RGB8, true};
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -270,14 +273,15 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
                "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
                "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
-               "\"tail_s\": %.9g}\n",
+               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f}\n",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
             (unsigned long long)r->messages, pixels_format_name(a->pixels),
             (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent,
             a->fill && run->hetero ? "true" : "false",
-            r->filled, r->work_s, r->ramp_s, r->tail_s);
+            r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
+            serial / ((workers + a->relays) * r->makespan_s));
     return fclose(f) == 0;
 }
 
@@ -297,12 +301,16 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
     void *t = run->hetero ? calloc(n, job.grid.real_size) : NULL;
     uint32_t *surf = run->hetero ? calloc(n, sizeof *surf) : NULL;
     bool ok = job.image && job.workers && (!run->hetero || (t && surf)) && master_idle_init(&idle) &&
-              sched_init(&run->s, (enum sched_policy)a->policy, ranks - 1, PROTO_IN_FLIGHT,
+              sched_init(&run->s, (enum sched_policy)a->policy,
+                         a->relays > 0 ? a->relays : ranks - 1, PROTO_IN_FLIGHT,
                          tile_count(&job.grid), run->hetero ? sim_estimate : NULL, run);
     if (ok) {
         job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
                            .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
                            .image = job.image, .workers = job.workers};
+        if (a->relays > 0)
+            sched_batch_floor(&run->s, proto_relay_batch_floor(ranks, a->relays),
+                              a->relays * PROTO_RELAY_IN_FLIGHT);
         if (run->hetero && a->fill) {
             sched_fill_enable(&run->s);
             job.fill = sim_fill;
@@ -312,6 +320,7 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         double t0 = stats_clock();
         master_begin(&m, ranks);
         m.batch = a->batch;
+        m.relays = a->relays;
         m.pixels = a->pixels;
         master_share_scene(&m, 0, a->tile, blob);
         run->pass_t0 = stats_clock();
@@ -383,7 +392,7 @@ int main(int argc, char **argv)
     sim_result res;
     memset(&run, 0, sizeof run);
     run.costs = sim_costs_shared();
-    if (!sim_parse(argc, argv, &a) || ranks < 2 || !run.costs) {
+    if (!sim_parse(argc, argv, &a) || ranks < 2 || ranks < 1 + 2 * a.relays || !run.costs) {
         fprintf(stderr, "usage: smpirun -np K csgsim SCENE --mode homo|hetero --width W "
                         "--height H --tile T --schedule S --stats FILE (CSGSIM_COSTS=map)\n");
         master_session m;
@@ -397,7 +406,7 @@ int main(int argc, char **argv)
     run.width = a.width;
     run.height = a.height;
     run.pass_s = a.hetero ? sim_pass_seconds(run.costs, a.width, a.height) : 0;
-    ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1, &res);
+    ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1 - a.relays, &res);
     if (!blob.bytes) {
         master_session m;
         master_begin(&m, ranks);
