@@ -4,26 +4,34 @@
 # outnumber the cores) and the simulation of the same configuration from
 # the cost map bench/simulate.sh records.  Prints a CSV: workers, mode,
 # real tile_phase_s (median of REPEATS), simulated makespan_s, difference.
+# Hetero runs the paper's scheme on both sides (--fill off: the map then
+# holds shading costs only).  WORKERS (default "1 2 3") and MODES (default
+# "homo hetero") choose the points.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 REPEATS=${REPEATS:-3}
+WORKERS=${WORKERS:-1 2 3}
+MODES=${MODES:-homo hetero}
 [[ "$REPEATS" =~ ^[1-9]$ ]] || { echo "REPEATS: 1..9" >&2; exit 2; }
+[[ "$WORKERS" =~ ^[1-9]( [1-9])*$ ]] || { echo "WORKERS: digits 1..9, space-separated" >&2; exit 2; }
+[[ "$MODES" =~ ^(homo|hetero)( (homo|hetero))*$ ]] || { echo "MODES: homo and/or hetero" >&2; exit 2; }
 WORK=$ROOT/build/sim/validate
 mkdir -p "$WORK"
 SCENE=$WORK/spheres50.pov
 [ -f "$SCENE" ] || "$ROOT/build/csgtrace" gen spheres --count 50 --occupancy 0.5 --seed 1 -o "$SCENE" >&2
 echo "workers,mode,tile,real_s,sim_s,diff_pct,load1"
 key=$(sha256sum "$SCENE" | cut -c1-16)
-for mode in homo hetero; do for w in 1 2 3; do for _ in $(seq "$REPEATS"); do
+for mode in $MODES; do for w in $WORKERS; do for _ in $(seq "$REPEATS"); do
     sched=$([ $mode = homo ] && echo raster || echo cost)
     OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np $((w + 1)) \
         "$ROOT/build/csgtrace" render "$SCENE" -o "$WORK/img.png" --mode $mode --width 384 \
-        --height 384 --tile 16 --schedule $sched --stats "$WORK/real.json" \
+        --height 384 --tile 16 --schedule $sched --fill off --stats "$WORK/real.json" \
         --tile-log "$WORK/real.log" >/dev/null 2>&1
     mkdir -p "$WORK/maps"
     python3 "$ROOT/bench/sim/costmap.py" "$WORK/maps/$key-$mode.costs" "$WORK/real.json" "$WORK/real.log"
     SIM_MAPS=$WORK/maps "$ROOT/bench/simulate.sh" "$SCENE" --workers $w --mode $mode \
-        --schedule $sched --tile 16 --network ib --size 384x384 --stats "$WORK/sim.json" >/dev/null
+        --schedule $sched --tile 16 --network ib --size 384x384 --fill off \
+        --stats "$WORK/sim.json" >/dev/null
     python3 - "$WORK/real.json" "$WORK/sim.json" "$w" "$mode" <<'PY'
 import json, os, sys
 r, d = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
