@@ -105,16 +105,23 @@ static void relay_fail(relay_tile *t, const char *fmt, ...)
     va_end(ap);
 }
 
-/* With no worker left, every queued part fails. */
-static void relay_drain_queue(relay_state *s)
+/* The next k queued parts fail (relay_fail: "relay N: why"). */
+static void relay_fail_queued(relay_state *s, int k, const char *why)
 {
     const int qcap = (int)(sizeof s->queue / sizeof s->queue[0]);
-    for (; s->live == 0 && s->q_n > 0; s->q_n--) {
+    for (; k > 0 && s->q_n > 0; k--, s->q_n--) {
         relay_tile *t = &s->ring[s->queue[s->q_head].slot];
-        relay_fail(t, "relay %d: no worker left", s->rank);
+        relay_fail(t, "relay %d: %s", s->rank, why);
         t->answered++;
         s->q_head = (s->q_head + 1) % qcap;
     }
+}
+
+/* With no worker left, every queued part fails. */
+static void relay_drain_queue(relay_state *s)
+{
+    if (s->live == 0)
+        relay_fail_queued(s, s->q_n, "no worker left");
 }
 
 /* Rank 0's TILE in ring slot `slot`: its parts found and queued, or the
@@ -222,8 +229,10 @@ static bool relay_send(relay_state *s, relay_worker *w)
         len = proto_align(len) + s->ring[p.slot].bytes[p.part];
     }
     link_req_wait(&w->req[pos]); /* (answered: its send is done) */
-    if (!proto_buffer(&w->buf[pos], &w->cap[pos], len))
+    if (!proto_buffer(&w->buf[pos], &w->cap[pos], len)) {
+        relay_fail_queued(s, k, "out of memory for a worker's tiles");
         return false;
+    }
     size_t at = 0;
     for (int i = 0; i < k; i++) {
         relay_part p = s->queue[(s->q_head + i) % qcap];
