@@ -104,7 +104,8 @@ static void master_mark_lost(master_session *m, int r, int items, const char *fm
         m->lost[r] = true;
     m->workers_lost++;
     int group = 0;
-    for (int j = r + m->relays; r <= m->relays && j <= m->workers; j += m->relays) {
+    for (int j = proto_member(r, 0, m->relays); r <= m->relays && j <= m->workers;
+         j += m->relays) {
         link_forget(j); /* (a relay goes with its group: they exit) */
         group += m->lost && !m->lost[j];
         if (m->lost)
@@ -135,7 +136,8 @@ static bool master_peer_gone(const master_session *m, int r)
         return false;
     if (link_peer_lost(r))
         return true;
-    for (int j = r + m->relays; r <= m->relays && j <= m->workers; j += m->relays)
+    for (int j = proto_member(r, 0, m->relays); r <= m->relays && j <= m->workers;
+         j += m->relays)
         if (link_peer_lost(j))
             return true;
     return false;
@@ -479,12 +481,12 @@ static double master_hang_limit(const master_job *job)
 /* How many items' time worker w's oldest batch may take: its items one
  * after the other, or at a relay, spread over its group (each worker has
  * one more item ahead of them). */
-static double master_hang_items(const master_session *m, const master_worker *w)
+static double master_hang_items(const master_session *m, int r, const master_worker *w)
 {
     int items = w->count[w->head];
     if (m->relays == 0)
         return items;
-    int group = (m->workers - m->relays) / m->relays;
+    int group = proto_group(r, m->workers + 1, m->relays);
     return (items + group - 1) / (group > 0 ? group : 1) + PROTO_IN_FLIGHT;
 }
 
@@ -499,7 +501,7 @@ static int master_check_workers(master_loop *L)
             continue;
         if (master_peer_gone(L->m, r))
             master_lose(L, r, "its process is gone");
-        else if (limit > 0 && w->n > 0 && now - w->since > limit * master_hang_items(L->m, w))
+        else if (limit > 0 && w->n > 0 && now - w->since > limit * master_hang_items(L->m, r, w))
             master_lose(L, r, "no answer for %.1f s", now - w->since);
         else
             live++;
@@ -775,6 +777,13 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         link_idle_free(&own);
     free(L.w);
     return ok;
+}
+
+void master_relay_floor(const master_session *m, sched *s)
+{
+    if (m->relays > 0) /* (each relay's group kept fed) */
+        sched_batch_floor(s, proto_relay_batch_floor(m->workers + 1, m->relays),
+                          m->relays * m->depth);
 }
 
 void master_job_count(master_job *job, stats_worker *w, int rank, int item,

@@ -107,6 +107,11 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
  * was lost (the caller does the rest itself). */
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 
+/* With relays (after master_share_scene), the floor of every batch of
+ * the scheduler that feeds them (schedule.h: sched_batch_floor); without,
+ * nothing. */
+void master_relay_floor(const master_session *m, sched *s);
+
 /* Is item `item` shaded from the pass's records (hetero, not a fill
  * tile), or rendered whole (its primary rays traced too)? */
 bool master_shades(const master_job *job, int item);

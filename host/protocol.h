@@ -132,17 +132,31 @@ typedef struct {
 /* The fewest items in a TILE to a relay (schedule.h's sched_batch_floor),
  * with `ranks` - 1 workers of which `relays` relay: PROTO_RELAY_IN_FLIGHT
  * TILEs keep each worker of the largest group PROTO_IN_FLIGHT items deep. */
-static inline int proto_relay_batch_floor(int ranks, int relays)
-{
-    int group = (ranks - 1 - relays + relays - 1) / relays;
-    return (2 * PROTO_IN_FLIGHT * group + PROTO_RELAY_IN_FLIGHT - 1) / PROTO_RELAY_IN_FLIGHT;
-}
-
 /* The rank rank r takes its TILEs from: 0, or its relay when there are
  * `relays` (the workers dealt round-robin over them). */
 static inline int proto_parent(int r, int relays)
 {
     return relays > 0 && r > relays ? 1 + (r - relays - 1) % relays : 0;
+}
+
+/* The j-th worker (j = 0, 1, ...) of relay `relay`: proto_parent's inverse. */
+static inline int proto_member(int relay, int j, int relays)
+{
+    return relays + relay + j * relays;
+}
+
+/* How many workers relay `relay` has in a job of `ranks` (relay 1 has the
+ * most). */
+static inline int proto_group(int relay, int ranks, int relays)
+{
+    int first = proto_member(relay, 0, relays);
+    return first < ranks ? (ranks - 1 - first) / relays + 1 : 0;
+}
+
+static inline int proto_relay_batch_floor(int ranks, int relays)
+{
+    int group = proto_group(1, ranks, relays);
+    return (2 * PROTO_IN_FLIGHT * group + PROTO_RELAY_IN_FLIGHT - 1) / PROTO_RELAY_IN_FLIGHT;
 }
 
 typedef struct {

@@ -205,7 +205,7 @@ static relay_worker *relay_member(relay_state *s, int r)
 {
     if (!s->w || r <= s->relays || proto_parent(r, s->relays) != s->rank)
         return NULL;
-    int j = (r - s->relays - 1) / s->relays;
+    int j = (r - proto_member(s->rank, 0, s->relays)) / s->relays;
     return j < s->group ? &s->w[j] : NULL;
 }
 
@@ -477,8 +477,8 @@ static int relay_serve(relay_state *s, link_msg *msg)
 static void relay_stop(relay_state *s, int status)
 {
     proto_stop st = {status, 0};
-    for (int j = 0; j < s->group; j++) /* (its ranks: relay_run) */
-        link_send(s->relays + s->rank + j * s->relays, PROTO_TAG_STOP, &st, sizeof st);
+    for (int j = 0; j < s->group; j++) /* (by rank: s->w may be NULL) */
+        link_send(proto_member(s->rank, j, s->relays), PROTO_TAG_STOP, &st, sizeof st);
     link_ending(status);
     for (int i = 0; i < PROTO_RELAY_IN_FLIGHT; i++)
         link_req_wait(&s->ring[i].out_req);
@@ -509,11 +509,10 @@ int relay_run(int rank, const proto_setup *setup, const void *blob, size_t blob_
     s.relays = setup->relays;
     s.batch = setup->batch;
     s.pixels = setup->pixels;
-    for (int r = s.relays + 1; r < setup->ranks; r++)
-        s.group += proto_parent(r, s.relays) == rank;
+    s.group = proto_group(rank, setup->ranks, s.relays);
     s.w = calloc((size_t)(s.group > 0 ? s.group : 1), sizeof *s.w);
-    for (int j = 0; s.w && j < s.group; j++) /* (proto_parent's inverse) */
-        s.w[j].rank = s.relays + rank + j * s.relays;
+    for (int j = 0; s.w && j < s.group; j++)
+        s.w[j].rank = proto_member(rank, j, s.relays);
     s.live = s.w ? s.group : 0;
     char why[PROTO_FAIL_TEXT] = "";
     if (failure && failure[0])

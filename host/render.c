@@ -829,9 +829,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
         return EXIT_FAILURE_RUN;
     }
-    if (use_workers && ms->relays > 0) /* (each relay's group kept fed) */
-        sched_batch_floor(&rs->sched, proto_relay_batch_floor(ms->workers + 1, ms->relays),
-                          ms->relays * ms->depth);
+    if (use_workers)
+        master_relay_floor(ms, &rs->sched);
     engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, rs->bg);
     if (req->out_path) {
         int status = journal_open(req->out_path, rs->blob.bytes, &grid, req->resume, rs->image,

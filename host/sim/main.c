@@ -308,9 +308,6 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
                            .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
                            .image = job.image, .workers = job.workers};
-        if (a->relays > 0)
-            sched_batch_floor(&run->s, proto_relay_batch_floor(ranks, a->relays),
-                              a->relays * PROTO_RELAY_IN_FLIGHT);
         if (run->hetero && a->fill) {
             sched_fill_enable(&run->s);
             job.fill = sim_fill;
@@ -323,6 +320,7 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         m.relays = a->relays;
         m.pixels = a->pixels;
         master_share_scene(&m, 0, a->tile, blob);
+        master_relay_floor(&m, &run->s);
         run->pass_t0 = stats_clock();
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
