@@ -21,7 +21,7 @@
 bool estimator_init(estimator *e, const void *blob, const tile_grid *g, const uint32_t *surf)
 {
     const csg_blob_header *h = csg_blob_hdr(blob);
-    e->grid = g;
+    e->grid = *g;
     e->surf = surf;
     e->prim_count = h->prim_count;
     e->prim_class = calloc((size_t)(h->prim_count > 0 ? h->prim_count : 1), 1);
@@ -49,7 +49,7 @@ void estimator_free(estimator *e)
 
 double estimate_rect(const estimator *e, tile_rect r)
 {
-    const tile_grid *g = e->grid;
+    const tile_grid *g = &e->grid;
     size_t spp = (size_t)g->spp, line = (size_t)r.width * spp;
     double cost = 0.0;
     for (int row = 0; row < r.height; row++) {

@@ -26,7 +26,7 @@
 #define ESTIMATE_REFRACT 2.0
 
 typedef struct {
-    const tile_grid *grid;
+    tile_grid grid;         /* (a copy: the caller's may be a local)       */
     const uint32_t *surf;   /* whole-image surface ids (the OpenCL pass)   */
     uint8_t *prim_class;    /* ENGINE_CLASS_* a primitive (workers/engine.h) */
     int prim_count;

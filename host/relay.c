@@ -484,6 +484,19 @@ static void relay_stop(relay_state *s, int status)
         link_req_wait(&s->ring[i].out_req);
 }
 
+/* Worker w's send k done and its buffer freed; one to a worker written
+ * off, not done, is left to MPI with its buffer (as the master does). */
+static void relay_close_send(relay_worker *w, int k)
+{
+    link_req *q = &w->req[k];
+    if (!link_req_done(q) && w->dead) {
+        link_req_abandon(q);
+        return;
+    }
+    if (link_req_wait(q) == LINK_OK) /* (LINK_LOST: MPI's too) */
+        free(w->buf[k]);
+}
+
 static void relay_free(relay_state *s)
 {
     for (int i = 0; i < PROTO_RELAY_IN_FLIGHT; i++) {
@@ -495,8 +508,7 @@ static void relay_free(relay_state *s)
     }
     for (int j = 0; s->w && j < s->group; j++)
         for (int k = 0; k < PROTO_IN_FLIGHT; k++)
-            if (!s->w[j].req[k].active)
-                free(s->w[j].buf[k]);
+            relay_close_send(&s->w[j], k);
     free(s->w);
 }
 

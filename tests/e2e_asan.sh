@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# e2e_asan.sh — the whole program under AddressSanitizer + UBSan, end to
+# end: every example scene and the NFF test scenes rendered by the
+# sanitised binary (build/asan/csgtrace) in serial, homo and hetero (with
+# and without the fill, with the cost order), and on one scene with relays,
+# the tail schedule and double precision.  Each image must equal the
+# optimised binary's serial image bit for bit, each run must exit 0, and no
+# rank may print a sanitizer report (leaks included: tests/lsan.supp
+# suppresses only the libraries we do not own).
+#
+# use_sigaltstack=0: PoCL's LLVM gives each thread it runs on a larger
+# alternate signal stack of its own (malloc'd); at that thread's exit ASan
+# would unmap it as if it were its own and stop ("failed to deallocate").
+# Our code installs no alternate stack, so nothing of ours is hidden.
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+mpi_sandbox
+export OMPI_MCA_rmaps_base_oversubscribe=1
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:allocator_may_return_null=1:use_sigaltstack=0
+export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp:print_suppressions=0:exitcode=0"
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ABIN=${CSGTRACE_ASAN_BIN:-build/asan/csgtrace}
+MPIRUN=(mpirun --bind-to none)
+if [ ! -x "$ABIN" ]; then
+    ko "no sanitised binary at $ABIN (make asan)"
+    e2e_finish
+    exit
+fi
+
+# our_leaks FILE: the leak reports in FILE whose allocation stack passes
+# through our sources.  Open MPI unloads its components at MPI_Finalize,
+# so the leaks it leaves there are reported from "<unknown module>" and no
+# suppression can name them; our code is never unloaded, so its frames are
+# always named.
+our_leaks() {
+    awk '/^(Direct|Indirect) leak of/ { block = $0; keep = 0; inside = 1; next }
+         inside && /^$/ { if (keep) print block; inside = 0; next }
+         inside { block = block "\n" $0
+                  if ($0 ~ / (host|workers|csg|scenes|simd_kernels)\/[A-Za-z0-9_\/]+\.[ch]:/) keep = 1 }
+         END { if (inside && keep) print block }' "$1"
+}
+
+# clean NAME: the run NAME exited 0 and printed no sanitizer report but
+# leaks outside our code (LSAN_OPTIONS exitcode=0: leak reports leave the
+# exit code alone; our_leaks reads them).
+clean() {
+    [ "$(cat "$T/$1.rc")" = 0 ] &&
+        ! grep -qE 'ERROR: AddressSanitizer|runtime error:|Sanitizer CHECK' "$T/$1.err" &&
+        [ -z "$(our_leaks "$T/$1.err")" ]
+}
+
+# sanitised NAME RANKS MODE SCENE EXTRA...: one render by the sanitised
+# binary (RANKS 0: no mpirun) -> $T/NAME.png, .err, .rc
+sanitised() {
+    local name=$1 ranks=$2 mode=$3 scene=$4
+    shift 4
+    local run=("$ABIN")
+    [ "$ranks" -gt 0 ] && run=("${MPIRUN[@]}" -np "$ranks" "$ABIN")
+    timeout 300 "${run[@]}" render "$scene" -o "$T/$name.png" --mode "$mode" "$@" \
+        >/dev/null 2>"$T/$name.err"
+    echo $? >"$T/$name.rc"
+}
+
+# check NAME REF WHAT: the run was clean and its image is REF's.
+check() {
+    if clean "$1" && same "$T/$2.png" "$T/$1.png"; then
+        ok "asan: $3"
+    else
+        ko "asan: $3 (exit $(cat "$T/$1.rc"); $(grep -m1 -E 'ERROR|error|runtime' "$T/$1.err"))"
+    fi
+}
+
+for scene in scenes/*.pov tests/nff/*.nff; do
+    n=$(basename "$scene" | tr . _)
+    if ! "$BIN" render "$scene" -o "$T/$n.png" --mode serial >/dev/null 2>&1; then
+        ko "optimised serial render of $scene"
+        continue
+    fi
+    sanitised "${n}_s" 0 serial "$scene"
+    check "${n}_s" "$n" "$scene serial"
+    sanitised "${n}_h" 3 homo "$scene"
+    check "${n}_h" "$n" "$scene homo, 2 workers"
+    sanitised "${n}_x" 3 hetero "$scene"
+    check "${n}_x" "$n" "$scene hetero (the fill)"
+    sanitised "${n}_c" 3 hetero "$scene" --fill off --schedule cost
+    check "${n}_c" "$n" "$scene hetero --fill off --schedule cost"
+done
+
+scene=scenes/showcase.pov
+sanitised relay 5 hetero "$scene" --relays 2 --schedule cost
+check relay showcase_pov "$scene hetero, 2 relays of 1 worker each"
+sanitised tail 4 homo "$scene" --schedule tail --tile 8
+check tail showcase_pov "$scene homo --schedule tail --tile 8, 3 workers"
+"$BIN" render "$scene" -o "$T/showcase_d.png" --mode serial --precision double >/dev/null 2>&1
+sanitised double 3 hetero "$scene" --precision double --fill off
+check double showcase_d "$scene hetero in double precision"
+
+# failing NAME ERRORS TEXT WHAT: the run NAME failed as it should (exit
+# 1) with ERRORS error lines, one holding TEXT, no image, no sanitizer
+# report of ours.
+failing() {
+    local rc lines
+    rc=$(cat "$T/$1.rc")
+    lines=$(grep -v -E 'Sanitizer|^ *#|^SUMMARY' "$T/$1.err" | grep -c 'error')
+    if [ "$rc" = 1 ] && [ "$lines" = "$2" ] && grep -q "$3" "$T/$1.err" &&
+        [ ! -e "$T/$1.png" ] && ! grep -qE 'ERROR: AddressSanitizer|runtime error:' "$T/$1.err" &&
+        [ -z "$(our_leaks "$T/$1.err")" ]; then
+        ok "asan: $4"
+    else
+        ko "asan: $4 (exit $rc, $lines error lines: $(grep -m2 -E 'error|ERROR' "$T/$1.err" | tr '\n' ' '))"
+    fi
+}
+
+CSGTRACE_FAIL_WORKER=2 sanitised fail 3 homo "$scene" --tile 8
+failing fail 1 'worker 2' "worker 2 fails (homo, 2 workers): one message, no image, no leak of ours"
+CSGTRACE_FAIL_WORKER=3 sanitised relay-fail 5 hetero "$scene" --tile 8 --relays 2
+failing relay-fail 1 'worker 3' "worker 3 fails under relay 1 (hetero, 2 relays): one message, no image, no leak of ours"
+printf 'camera { location <0,0,-5> look_at <0,0,0> }\nsphere { <0,0,0>, }\n' >"$T/bad.pov"
+sanitised bad 3 homo "$T/bad.pov"
+if [ "$(cat "$T/bad.rc")" = 2 ] && grep -q "bad.pov:2:.*error" "$T/bad.err" && [ ! -e "$T/bad.png" ] &&
+    ! grep -qE 'ERROR: AddressSanitizer|runtime error:' "$T/bad.err" && [ -z "$(our_leaks "$T/bad.err")" ]; then
+    ok "asan: a scene error under mpirun: exit 2, file:line:col, no image, no leak of ours"
+else
+    ko "asan: a scene error under mpirun (exit $(cat "$T/bad.rc"): $(head -2 "$T/bad.err" | tr '\n' ' '))"
+fi
+
+e2e_finish
