@@ -567,9 +567,7 @@ static void master_store_rgb8(float *image, int image_width, tile_rect r, const 
 {
     for (int row = 0; row < r.height; row++) {
         float *dst = image + ((size_t)(r.y + row) * (size_t)image_width + (size_t)r.x) * 3;
-        const uint8_t *src = rgb8 + (size_t)row * (size_t)r.width * 3;
-        for (size_t i = 0; i < (size_t)r.width * 3; i++)
-            dst[i] = pixels_linear_of(src[i]);
+        pixels_linear_of_bytes(rgb8 + (size_t)row * (size_t)r.width * 3, (size_t)r.width * 3, dst);
     }
 }
 
@@ -694,7 +692,9 @@ static bool master_receive(master_loop *L, link_msg *msg, size_t limit, csg_diag
             break;
         }
         L->m->bytes_received += (uint64_t)msg->len;
+        double t0 = stats_clock();
         master_answer(L, msg, d);
+        L->job->results_s += stats_clock() - t0;
     }
     return any;
 }

@@ -82,6 +82,7 @@ typedef struct master_job {
     uint64_t pixels_hit;
     ray_counts rays;
     double busy_s;            /* seconds of every item, all workers       */
+    double results_s;         /* the master's seconds taking results in   */
     int items_done;
     double t_first;           /* stats_clock(): first item out (0: none)  */
     double t_last;            /* the last result in                       */

@@ -188,3 +188,9 @@ float pixels_linear_of(uint8_t b)
 {
     return linear_of_byte[b];
 }
+
+void pixels_linear_of_bytes(const uint8_t *src, size_t n, float *dst)
+{
+    for (size_t i = 0; i < n; i++)
+        dst[i] = linear_of_byte[src[i]];
+}

@@ -85,6 +85,9 @@ bool pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out);
  * the ambiguous value): what the master keeps for a byte received, so
  * the writer turns it into that very byte. */
 float pixels_linear_of(uint8_t b);
+/* pixels_linear_of of each of n bytes, into dst (one call a row: the
+ * master stores every received 8-bit tile so). */
+void pixels_linear_of_bytes(const uint8_t *src, size_t n, float *dst);
 
 /* The format of output file `path`, by its extension (any case): PIXELS_FLOAT
  * for the float formats (exr, hdr, pfm), PIXELS_RGB8 for every other (8-bit)

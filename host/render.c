@@ -912,6 +912,7 @@ static int render_image(const render_request *req, master_session *ms, render_st
     progress_end(&bar);
     mk->tiles_end = stats_clock();
     st->master_cpu_s = stats_thread_cpu() - cpu0;
+    st->master_results_s = job.results_s;
     if (status == EXIT_OK && !rs->pass && rs->build.started &&
         render_cl_build_ready(rs, true, d) < 0) /* (the fill took every tile: still,
                                                     a bad OpenCL option is an error) */

@@ -50,6 +50,11 @@
  *                 phase (its event loop: polls, naps, packing, storing;
  *                 OpenCL's threads not included): what it takes from the
  *                 workers when the ranks outnumber the cores
+ *   master_results_s  seconds the master spent taking the workers' results
+ *                 in (checking them, storing their pixels in the image,
+ *                 appending finished tiles to the journal), MPI aside:
+ *                 the work a result costs it, which bounds how many
+ *                 workers one master can keep busy (bench/SCALE.md)
  *   slices        OpenCL slices of the pass (0 without one)
  *
  *   tiles_total   tiles of the image
@@ -149,7 +154,7 @@ typedef struct render_stats {
     double cl_setup_s, pipelined_s;               /* phases (above)     */
     double pass_s, tile_phase_s, tail_s;          /* derived            */
     double busy_fraction, estimate_spearman;
-    double master_cpu_s;                          /* (below)            */
+    double master_cpu_s, master_results_s;        /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */

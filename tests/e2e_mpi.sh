@@ -213,6 +213,10 @@ phases = ["setup_s", "cl_setup_s", "compile_s", "primary_s", "pipelined_s", "sec
 assert abs(sum(s[k] for k in phases) - s["wall_s"]) < 1e-3, [s[k] for k in phases]
 assert all(s[k] >= -1e-9 for k in phases), [s[k] for k in phases]
 assert 0.0 <= s["busy_fraction"] <= 1.0 + 1e-6 and s["tail_s"] >= 0
+# the master's time taking results in: some when workers sent any, and
+# within the tile phase it is part of
+assert 0.0 <= s["master_results_s"] <= s["tile_phase_s"] + 1e-6, s["master_results_s"]
+assert (s["master_results_s"] > 0) == (ranks > 1 and s["tiles_sent"] > 0), s["master_results_s"]
 EOF
 }
 
