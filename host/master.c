@@ -301,6 +301,7 @@ typedef struct {
     int outstanding;         /* batches held by live workers               */
     bool failed;             /* no more items go out; draining             */
     bool broken;             /* nothing can be received any more           */
+    double checked;          /* stats_clock() of the last liveness check   */
 } master_loop;
 
 static void master_lose(master_loop *L, int r, const char *fmt, ...)
@@ -489,6 +490,12 @@ static double master_hang_items(const master_session *m, int r, const master_wor
     int group = proto_group(r, m->workers + 1, m->relays);
     return (items + group - 1) / (group > 0 ? group : 1) + PROTO_IN_FLIGHT;
 }
+
+/* Liveness is checked at most this often while idle: a check polls every
+ * worker's watchdog socket, a system call each (one worker: a fifth of
+ * rank 0's samples went there; 256 workers: ~80 us an idle step, in the
+ * way of the next answer).  A lost worker is still seen within 2 ms. */
+#define MASTER_CHECK_EVERY_S 0.002
 
 /* Every live worker that died or hung, lost; how many live ones are left. */
 static int master_check_workers(master_loop *L)
@@ -741,8 +748,12 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
             link_idle_reset(idle);
             continue;
         }
-        if (master_check_workers(L) == 0)
-            break; /* every worker lost: the caller does the rest */
+        double now = stats_clock();
+        if (now - L->checked >= MASTER_CHECK_EVERY_S) {
+            L->checked = now;
+            if (master_check_workers(L) == 0)
+                break; /* every worker lost: the caller does the rest */
+        }
         idle->nap_max_ns = master_nap_cap(L->job);
         link_idle_step(idle);
     }
@@ -752,7 +763,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
 {
-    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false};
+    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false, 0.0};
     link_idle own;
     link_idle *idle = job->idle ? job->idle : &own;
     bool ok = false;
