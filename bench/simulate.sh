@@ -4,7 +4,7 @@
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
-#       --stats F.json
+#       [--master-part-us A --master-pixel-ns B] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -29,6 +29,10 @@
 # --pixels rgb8|float: what a RESULT carries a pixel: rgb8 (default) is a
 # render to an 8-bit file (PNG, ...: 3 bytes), float one to EXR (12 bytes,
 # as every render sent before 2026-11-25).
+# --master-part-us A, --master-pixel-ns B: the master's own work on each
+# RESULT part of P pixels, A us + P x B ns (checking, storing the pixels,
+# queuing the journal), executed on its host; default 0 (only MPI's
+# per-message costs below).  bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
 set -euo pipefail
@@ -45,6 +49,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
+PART_US=0 PIXEL_NS=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -63,6 +68,8 @@ while [ $# -gt 0 ]; do
     --pixels) PIXELS=$2 ;;
     --fill) FILL=$2 ;;
     --relays) RELAYS=$2 ;;
+    --master-part-us) PART_US=$2 ;;
+    --master-pixel-ns) PIXEL_NS=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -82,6 +89,8 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PIXELS" =~ ^(rgb8|float)$ ]] || die "--pixels: rgb8 or float"
 [[ "$FILL" =~ ^(on|off)$ ]] || die "--fill: on or off"
 [[ "$RELAYS" =~ ^(0|[1-9][0-9]{0,2})$ ]] && [ "$RELAYS" -le 127 ] && [ "$RELAYS" -le "$WORKERS" ] || die "--relays: 0..min(127, workers)"
+[[ "$PART_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-part-us: microseconds, 0..9999.999"
+[[ "$PIXEL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-pixel-ns: nanoseconds, 0..9999.999"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -135,17 +144,20 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:
 [ "$NETWORK" = ib ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
+CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
     --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
-python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" <<'PY'
+python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
 d["pass_scale"] = float(sys.argv[4])
 d["pass_rate_mrays"] = float(sys.argv[5])
+d["master_part_us"] = float(sys.argv[6])
+d["master_pixel_ns"] = float(sys.argv[7])
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

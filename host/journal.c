@@ -29,6 +29,7 @@
 #define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
 #define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
 #define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
+#define JOURNAL_POLL_S 0.001         /* the writer looks for tiles so often */
 
 /* The fixed part of a tile record; then width * height * 3 floats, then
  * the checksum (uint64) of both. */
@@ -57,7 +58,7 @@ enum { JF_BUILD, JF_SIZE, JF_TILE, JF_SAMPLES, JF_PRECISION, JF_DEPTH, JF_RAYS, 
  * them, the tile's pixels and hits) to the writer. */
 typedef struct {
     pthread_t thread;
-    sem_t wake;          /* posted: a tile queued, or the end          */
+    sem_t wake;          /* posted by journal_close                    */
     bool running;
     atomic_bool stop;    /* journal_close: write what is queued, end   */
     int *queue;          /* [tiles]: finished tiles, in order          */
@@ -281,10 +282,14 @@ static void journal_sync_due(journal *j)
     }
 }
 
-/* Waits for a post or until the next sync is due. */
+/* Waits JOURNAL_POLL_S, or less until the next sync is due, or until
+ * journal_close posts.  (The master does not post a queued tile: a post
+ * to a sleeping thread is a system call, and a context switch on a busy
+ * core, on every tile.) */
 static void journal_writer_wait(journal *j)
 {
     double left = j->synced + JOURNAL_SYNC_S - journal_clock();
+    left = left < JOURNAL_POLL_S ? left : JOURNAL_POLL_S;
     struct timespec until;
     clock_gettime(CLOCK_MONOTONIC, &until);
     long ns = left > 0 ? (long)(left * 1e9) : 0;
@@ -365,7 +370,6 @@ void journal_tile_done(journal *j, int tile, const float *image)
         w->image = image; /* (one image a render: set before the writer may read it) */
     w->queue[slot] = tile;
     atomic_store_explicit(&w->queued, slot + 1, memory_order_release);
-    sem_post(&w->wake);
 }
 
 /* ---- opening ------------------------------------------------------------------------ */

@@ -11,12 +11,13 @@
  * record a finished tile, appended (write(2), no stdio buffer) as soon as
  * the tile's last result is in: its index and rectangle, its primary hits,
  * its RGB floats and an FNV-1a checksum over all of it.  The master only
- * queues the tile; a thread of the journal's own appends the records and
- * forces them to the disk, so neither is in the way of the workers'
- * answers.  A record cut short or damaged ends the journal there (the
- * tiles after it are rendered again); a process killed at any point loses
- * at most the tiles in flight and the few queued and not yet appended
- * (the count a signal's message gives is of those appended).  Data is
+ * queues the tile; a thread of the journal's own, which looks every
+ * millisecond, appends the records and forces them to the disk, so
+ * neither is in the way of the workers' answers.  A record cut short or
+ * damaged ends the journal there (the tiles after it are rendered again);
+ * a process killed at any point loses at most the tiles in flight and
+ * those of the last millisecond, queued and not yet appended (the count a
+ * signal's message gives is of those appended).  Data is
  * forced to the disk (fdatasync) at most once a second: a power failure
  * may cost the last second.
  *

@@ -71,6 +71,9 @@
 #include "journal.h"
 #include "link.h"
 #include "protocol.h"
+#ifdef CSG_SIM
+#include "../workers/tile_sim.h"
+#endif
 
 #define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
 #define MASTER_NAP_MIN_NS 2000L
@@ -608,6 +611,9 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
+#ifdef CSG_SIM
+    sim_charge_master_part(n); /* what that took a real master (workers/tile_sim.h) */
+#endif
     return true;
 }
 

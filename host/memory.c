@@ -8,7 +8,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 /* What the encoder holds beside the image: 8-bit formats a strip of
  * encoded floats and their bytes; float formats OpenImageIO's chunk. */
@@ -94,4 +96,44 @@ const char *memory_format(uint64_t bytes, char *buf, size_t size)
     }
     snprintf(buf, size, u ? "%.2f %s" : "%.0f %s", v, units[u]);
     return buf;
+}
+
+/* ---- the image's pages, faulted in meanwhile -------------------------------- */
+
+#define MEMORY_PREFAULT_MIN ((size_t)8 << 20)
+#define MEMORY_PREFAULT_STEP ((size_t)1 << 20) /* a madvise call at a time */
+
+static void *memory_prefault_run(void *arg)
+{
+#ifdef MADV_POPULATE_WRITE
+    memory_prefault *p = arg;
+    for (size_t at = 0; at < p->len; at += MEMORY_PREFAULT_STEP) {
+        size_t n = p->len - at < MEMORY_PREFAULT_STEP ? p->len - at : MEMORY_PREFAULT_STEP;
+        if (madvise(p->start + at, n, MADV_POPULATE_WRITE) != 0)
+            break; /* (an older kernel: EINVAL; the stores fault as before) */
+    }
+#else
+    (void)arg;
+#endif
+    return NULL;
+}
+
+void memory_prefault_start(memory_prefault *p, void *image, size_t bytes)
+{
+    memset(p, 0, sizeof *p);
+    long page = sysconf(_SC_PAGESIZE);
+    if (!image || bytes < MEMORY_PREFAULT_MIN || page <= 0)
+        return;
+    uintptr_t first = ((uintptr_t)image + (uintptr_t)page - 1) / (uintptr_t)page * (uintptr_t)page;
+    uintptr_t end = ((uintptr_t)image + bytes) / (uintptr_t)page * (uintptr_t)page;
+    p->start = (char *)first;
+    p->len = end - first;
+    p->running = pthread_create(&p->thread, NULL, memory_prefault_run, p) == 0;
+}
+
+void memory_prefault_join(memory_prefault *p)
+{
+    if (p->running)
+        pthread_join(p->thread, NULL);
+    p->running = false;
 }

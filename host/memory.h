@@ -7,6 +7,7 @@
 #ifndef HOST_MEMORY_H
 #define HOST_MEMORY_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -28,6 +29,25 @@ typedef struct {
  * with a value of no byte of its own goes to the module anyway: the
  * estimate keeps the strip. */
 #define MEMORY_WRITER_STRIP_ROWS 64
+
+/* The image's pages faulted in by a thread of their own, in address
+ * order, while the render goes on (madvise MADV_POPULATE_WRITE: the
+ * contents are never touched, so the master may store into them
+ * meanwhile).  Without it the master takes a page fault each 4 KiB of
+ * each row it first stores: a 32x32 tile's rows, 32 faults, in the loop
+ * that answers the workers (2048x2048, one worker: over half of the
+ * master's time storing pixels).  Images under 8 MiB, and kernels without
+ * MADV_POPULATE_WRITE (before 5.14), go without. */
+typedef struct {
+    pthread_t thread;
+    bool running;
+    char *start;
+    size_t len;
+} memory_prefault;
+
+void memory_prefault_start(memory_prefault *p, void *image, size_t bytes);
+/* Waits for the thread (if any); safe to call again. */
+void memory_prefault_join(memory_prefault *p);
 /* OpenImageIO's write_image of a float file converts at most this many
  * bytes of scanlines at a time (or one scanline). */
 #define MEMORY_WRITER_FLOAT_CHUNK ((uint64_t)16 << 20)

@@ -209,6 +209,7 @@ typedef struct render_state {
                               (the fill's start below them: schedule.h) */
     float bg[3];           /* what a degenerate tile is filled with      */
     double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
+    memory_prefault prefault; /* the image's pages, faulted in meanwhile */
 } render_state;
 
 /* The marks that cut a render into its phases (stats.h). */
@@ -236,6 +237,7 @@ static void render_free(render_state *rs)
     if (rs->idle_ready)
         link_idle_free(&rs->idle);
     csg_blob_free(&rs->blob);
+    memory_prefault_join(&rs->prefault);
     free(rs->image);
     free(rs->t);
     free(rs->surf);
@@ -820,6 +822,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
     rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
+    if (use_workers) /* (serial: the faults are a sliver of its tiles' work) */
+        memory_prefault_start(&rs->prefault, rs->image, st->pixels * 3 * sizeof *rs->image);
     rs->workers = calloc((size_t)st->worker_count + 1, sizeof *rs->workers); /* (+ the
                                                    master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);

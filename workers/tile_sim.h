@@ -51,4 +51,12 @@ const sim_costs *sim_costs_render(void);
  * declare this speed, so simulated compute = measured seconds). */
 #define SIM_HOST_FLOPS 1e9
 
+/* The master's own work on a RESULT part of `pixels` pixels (checking it,
+ * storing its pixels, queuing its tile for the journal), executed on its
+ * simulated host: $CSGSIM_MASTER_PART_S + pixels x $CSGSIM_MASTER_PIXEL_S
+ * seconds, as measured on a real master (bench/simulate.sh
+ * --master-part-us, --master-pixel-ns; bench/SCALE.md); 0 when unset,
+ * which leaves the master only MPI's per-message costs. */
+void sim_charge_master_part(size_t pixels);
+
 #endif
