@@ -3,7 +3,8 @@
 # end: every example scene and the NFF test scenes rendered by the
 # sanitised binary (build/asan/csgtrace) in serial, homo and hetero (with
 # and without the fill, with the cost order), and on one scene with relays,
-# the tail schedule and double precision.  Each image must equal the
+# the tail schedule, double precision and an image large enough for the
+# master's page-faulting thread.  Each image must equal the
 # optimised binary's serial image bit for bit, each run must exit 0, and no
 # rank may print a sanitizer report (leaks included: tests/lsan.supp
 # suppresses only the libraries we do not own).
@@ -90,6 +91,11 @@ done
 scene=scenes/showcase.pov
 sanitised relay 5 hetero "$scene" --relays 2 --schedule cost
 check relay showcase_pov "$scene hetero, 2 relays of 1 worker each"
+# 12 MiB of image: the master's page-faulting thread runs (host/memory.h)
+"$BIN" render scenes/primitives.pov -o "$T/big_ref.png" --mode serial --width 1024 --height 1024 \
+    >/dev/null 2>&1
+sanitised big 3 homo scenes/primitives.pov --width 1024 --height 1024
+check big big_ref "scenes/primitives.pov homo at 1024x1024 (the image's pages faulted in by a thread)"
 sanitised tail 4 homo "$scene" --schedule tail --tile 8
 check tail showcase_pov "$scene homo --schedule tail --tile 8, 3 workers"
 "$BIN" render "$scene" -o "$T/showcase_d.png" --mode serial --precision double >/dev/null 2>&1

@@ -1,0 +1,102 @@
+/*
+ * test_memory.c — the image's pages faulted in by a thread of their own
+ * (host/memory.h, memory_prefault_*): the pages become resident, what the
+ * master stores meanwhile is kept, small images go without a thread.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "../host/memory.h"
+
+#define BIG ((size_t)24 << 20) /* over the 8 MiB below which no thread runs */
+
+/* Pages of [p, p + n) resident now; -1 when mincore cannot say. */
+static long resident_pages(const void *p, size_t n)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    uintptr_t first = ((uintptr_t)p + (uintptr_t)page - 1) / (uintptr_t)page * (uintptr_t)page;
+    uintptr_t end = ((uintptr_t)p + n) / (uintptr_t)page * (uintptr_t)page;
+    size_t count = (end - first) / (size_t)page;
+    unsigned char *v = malloc(count);
+    if (!v || mincore((void *)first, end - first, v) != 0) {
+        free(v);
+        return -1;
+    }
+    long in = 0;
+    for (size_t i = 0; i < count; i++)
+        in += v[i] & 1;
+    free(v);
+    return in;
+}
+
+/* Untouched, the image's pages are resident once the thread is done
+ * (where the kernel has MADV_POPULATE_WRITE: 5.14 on). */
+static void test_pages_become_resident(void **state)
+{
+    (void)state;
+    char *image = malloc(BIG);
+    assert_non_null(image);
+    long before = resident_pages(image, BIG);
+    memory_prefault p;
+    memory_prefault_start(&p, image, BIG);
+    assert_true(p.running);
+    memory_prefault_join(&p);
+    assert_false(p.running);
+    long page = sysconf(_SC_PAGESIZE), all = (long)(BIG / (size_t)page) - 1;
+    long after = resident_pages(image, BIG);
+    if (before >= 0 && madvise(image + page, (size_t)page, MADV_POPULATE_WRITE) == 0) {
+        assert_true(before < all / 2); /* (fresh memory: mostly not yet) */
+        assert_true(after >= all - 1);
+    }
+    memory_prefault_join(&p); /* (again: nothing to wait for) */
+    free(image);
+}
+
+/* Stores made while the thread runs are all there afterwards. */
+static void test_stores_meanwhile_are_kept(void **state)
+{
+    (void)state;
+    size_t n = BIG / sizeof(float);
+    float *image = malloc(BIG);
+    assert_non_null(image);
+    memory_prefault p;
+    memory_prefault_start(&p, image, BIG);
+    for (size_t i = 0; i < n; i++)
+        image[i] = (float)(i % 1000) * 0.5f;
+    memory_prefault_join(&p);
+    for (size_t i = 0; i < n; i++)
+        if (image[i] != (float)(i % 1000) * 0.5f)
+            fail_msg("float %zu changed", i);
+    free(image);
+}
+
+static void test_small_images_go_without(void **state)
+{
+    (void)state;
+    char *image = malloc(1 << 20);
+    assert_non_null(image);
+    memory_prefault p;
+    memory_prefault_start(&p, image, 1 << 20);
+    assert_false(p.running);
+    memory_prefault_join(&p);
+    memory_prefault_start(&p, NULL, BIG);
+    assert_false(p.running);
+    free(image);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pages_become_resident),
+        cmocka_unit_test(test_stores_meanwhile_are_kept),
+        cmocka_unit_test(test_small_images_go_without),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
