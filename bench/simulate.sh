@@ -2,7 +2,7 @@
 # bench/simulate.sh — one point of the simulated cluster (make sim; bench/SCALE.md).
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
-#       [--tile T] [--network gige|ib] [--size WxH] [--pass-scale F | --pass-rate M]
+#       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       [--master-part-us A --master-pixel-ns B] --stats F.json
 #
@@ -17,6 +17,7 @@
 #    shading); hetero with the fill (the default, --fill on: csgtrace's)
 #    also needs the homo map: what a tile rendered whole costs.
 # 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks
+#    (local: this 2-core machine, every rank on its one host)
 #    (N + K + 1 with --relays K: K relays, each the master of N / K of the
 #    N workers, host/relay.h).
 # 3. F.json: the driver's object plus network and pass_scale.
@@ -50,7 +51,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0
-[ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib] [--size WxH] --stats F.json"
+[ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
     [ $# -ge 2 ] || die "$1 needs a value"
@@ -80,7 +81,7 @@ done
 [ -n "$SCHEDULE" ] || { [ "$MODE" = hetero ] && SCHEDULE=cost || SCHEDULE=raster; }
 [[ "$SCHEDULE" =~ ^(raster|cost|static|tail)$ ]] || die "--schedule: raster, cost, static or tail"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
-[[ "$NETWORK" =~ ^(gige|ib)$ ]] || die "--network: gige or ib"
+[[ "$NETWORK" =~ ^(gige|ib|local)$ ]] || die "--network: gige, ib or local"
 [[ "$SIZE" =~ ^([1-9][0-9]{0,4})x([1-9][0-9]{0,4})$ ]] || die "--size: WxH"
 WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
@@ -130,7 +131,11 @@ fi
 # 2. the simulation
 work=$(mktemp -d)
 trap 'rm -rf "$work" ${rec:+"$rec"}' EXIT
-seq 0 $((WORKERS + RELAYS)) | sed 's/^/node-/' >"$work/hosts"
+if [ "$NETWORK" = local ]; then # every rank on this machine's one host
+    for _ in $(seq 0 $((WORKERS + RELAYS))); do echo node-0; done >"$work/hosts"
+else
+    seq 0 $((WORKERS + RELAYS)) | sed 's/^/node-/' >"$work/hosts"
+fi
 # Per-message costs: a poll (MPI_Iprobe, MPI_Test) 0.1 us; sending or
 # receiving a message takes its rank 5 us + 0.2 ns a byte; messages up to
 # 64 KiB are eager (Open MPI's TCP eager limit): they travel before the
@@ -141,7 +146,7 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:
       --cfg=smpi/os:0:5e-6:2e-10 --cfg=smpi/or:0:5e-6:2e-10 --cfg=smpi/host-speed:1Gf
       --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536
       --log=root.thres:error)
-[ "$NETWORK" = ib ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
+[ "$NETWORK" != gige ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \

@@ -24,11 +24,8 @@ export SIM_MAP_RENDERS=${SIM_MAP_RENDERS:-10}
 [[ "$POINT_TIMEOUT" =~ ^[1-9][0-9]*$ ]] || { echo "POINT_TIMEOUT: seconds" >&2; exit 2; }
 [[ "$PART" =~ ^(all|256|64|1024)$ ]] || { echo "PART: all, 256, 64 or 1024" >&2; exit 2; }
 mkdir -p "$(dirname "$CSV")" "$WORK"
-for seed in 1 2 3; do
-    scene=$WORK/spheres50-s$seed.pov
-    [ -f "$scene" ] || "$ROOT/build/csgtrace" gen spheres --count 50 --occupancy 0.5 \
-        --seed $seed -o "$scene"
-done
+source "$ROOT/bench/sim/scenes.sh"
+sim_scenes "$WORK"
 [ -f "$CSV" ] || echo "seed,workers,relays,mode,schedule,tile,makespan_s,serial_s,efficiency,efficiency_ranks,tile_messages,items,tail_s,master_busy,sim_wall_s" >"$CSV"
 
 # point SEED WORKERS RELAYS MODE SCHEDULE TILE

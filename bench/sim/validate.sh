@@ -12,6 +12,14 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 REPEATS=${REPEATS:-3}
 WORKERS=${WORKERS:-1 2 3}
 MODES=${MODES:-homo hetero}
+# rank 0's own work on a RESULT part (bench/SCALE.md, "the master's own
+# work"): measured on this machine, charged in the simulation
+PART_US=${MASTER_PART_US:-2.35}
+# the platform: this machine (local: 2 cores shared by every rank) or the
+# InfiniBand cluster (ib: a host a rank)
+NETWORK=${NETWORK:-local}
+[[ "$NETWORK" =~ ^(local|ib)$ ]] || { echo "NETWORK: local or ib" >&2; exit 2; }
+PIXEL_NS=${MASTER_PIXEL_NS:-2.93}
 [[ "$REPEATS" =~ ^[1-9]$ ]] || { echo "REPEATS: 1..9" >&2; exit 2; }
 [[ "$WORKERS" =~ ^[1-9]( [1-9])*$ ]] || { echo "WORKERS: digits 1..9, space-separated" >&2; exit 2; }
 [[ "$MODES" =~ ^(homo|hetero)( (homo|hetero))*$ ]] || { echo "MODES: homo and/or hetero" >&2; exit 2; }
@@ -30,7 +38,8 @@ for mode in $MODES; do for w in $WORKERS; do for _ in $(seq "$REPEATS"); do
     mkdir -p "$WORK/maps"
     python3 "$ROOT/bench/sim/costmap.py" "$WORK/maps/$key-$mode.costs" "$WORK/real.json" "$WORK/real.log"
     SIM_MAPS=$WORK/maps "$ROOT/bench/simulate.sh" "$SCENE" --workers $w --mode $mode \
-        --schedule $sched --tile 16 --network ib --size 384x384 --fill off \
+        --schedule $sched --tile 16 --network "$NETWORK" --size 384x384 --fill off \
+        --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
         --stats "$WORK/sim.json" >/dev/null
     python3 - "$WORK/real.json" "$WORK/sim.json" "$w" "$mode" <<'PY'
 import json, os, sys
