@@ -269,17 +269,20 @@ static bool journal_append(journal *j, int tile, const float *image)
     return true;
 }
 
-/* fdatasync when JOURNAL_SYNC_S has passed since the last one and there
- * is something new. */
+/* fdatasync when JOURNAL_SYNC_S has passed since the last look and there
+ * is something new; either way the next look is JOURNAL_SYNC_S on (else a
+ * second with no new tile would leave the writer no time to wait). */
 static void journal_sync_due(journal *j)
 {
     double now = journal_clock();
+    if (now - j->synced < JOURNAL_SYNC_S)
+        return;
     int written = atomic_load(&j->written);
-    if (now - j->synced >= JOURNAL_SYNC_S && written != j->writer.synced) {
+    if (written != j->writer.synced) {
         fdatasync(j->fd);
-        j->synced = now;
         j->writer.synced = written;
     }
+    j->synced = now;
 }
 
 /* Waits JOURNAL_POLL_S, or less until the next sync is due, or until

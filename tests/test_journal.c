@@ -1,0 +1,136 @@
+/*
+ * test_journal.c — the journal's writer thread (host/journal.c): the tiles
+ * the master queues are all in the file once the journal is closed, and
+ * --resume reads them back bit for bit; a writer with nothing to write
+ * sleeps (it once spun on a core from the first second without a new tile
+ * until the next one).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "../csg/lang/parser.h"
+#include "../host/journal.h"
+#include "../workers/engine.h"
+
+typedef struct {
+    csg_scene scene;
+    csg_blob blob;
+    tile_grid grid;
+    char dir[64], out[96];
+} fixture;
+
+static int setup(void **state)
+{
+    static const char sdl[] =
+        "camera { location <0, 0, -5> look_at <0, 0, 0> }\n"
+        "light_source { <0, 5, -5> color rgb 1 }\n"
+        "sphere { <0, 0, 0>, 1 pigment { color rgb 1 } }\n";
+    fixture *f = calloc(1, sizeof *f);
+    csg_diag d = {{0}, 0};
+    csg_flatten_opts o = {24, 16, 5, -1, 1, 0}; /* 24x16 */
+    if (!f || !csg_parse_string("j.pov", sdl, strlen(sdl), &f->scene, &d) ||
+        !engine_float.flatten(&f->scene, &o, &f->blob, &d))
+        return -1;
+    f->grid = tile_grid_of(f->blob.bytes, 4); /* 6 x 4 tiles */
+    snprintf(f->dir, sizeof f->dir, "/tmp/csgtrace-journal-XXXXXX");
+    if (!mkdtemp(f->dir))
+        return -1;
+    snprintf(f->out, sizeof f->out, "%s/out.png", f->dir);
+    *state = f;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    fixture *f = *state;
+    char path[128];
+    snprintf(path, sizeof path, "%s%s", f->out, JOURNAL_SUFFIX);
+    unlink(path);
+    rmdir(f->dir);
+    csg_blob_free(&f->blob);
+    csg_scene_free(&f->scene);
+    free(f);
+    return 0;
+}
+
+static double cpu_seconds(void)
+{
+    struct rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return (double)u.ru_utime.tv_sec + (double)u.ru_utime.tv_usec * 1e-6 +
+           (double)u.ru_stime.tv_sec + (double)u.ru_stime.tv_usec * 1e-6;
+}
+
+/* Every tile queued is appended by the time the journal is closed; a
+ * resume gives back the pixels and hits. */
+static void test_queued_tiles_are_all_kept(void **state)
+{
+    fixture *f = *state;
+    size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
+    float *image = malloc(floats * sizeof *image), *back = calloc(floats, sizeof *back);
+    assert_non_null(image);
+    assert_non_null(back);
+    for (size_t i = 0; i < floats; i++)
+        image[i] = (float)i * 0.25f;
+    journal *j = NULL;
+    csg_diag d = {{0}, 0};
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    int tiles = tile_count(&f->grid);
+    for (int t = 0; t < tiles; t++) {
+        journal_add_hits(j, t, (uint32_t)t + 1);
+        journal_tile_done(j, t, image);
+    }
+    journal_close(j, false); /* kept: the render did not finish */
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, true, back, &j, &d), 0);
+    assert_int_equal(journal_tiles_resumed(j), tiles);
+    for (int t = 0; t < tiles; t++)
+        assert_int_equal(journal_resumed_hits(j, t), (uint32_t)t + 1);
+    assert_memory_equal(image, back, floats * sizeof *image);
+    journal_close(j, true);
+    free(image);
+    free(back);
+}
+
+/* 2.5 s without a tile: the writer looks every millisecond and sleeps in
+ * between (measured: ~0.03 s of CPU); spinning, it took a core from the
+ * first second on (a second with no new tile left it no time to wait:
+ * 1.5 s of CPU here).
+ * CPU time, not speed: other load cannot raise it, only make a spinning
+ * writer take less. */
+static void test_idle_writer_sleeps(void **state)
+{
+    fixture *f = *state;
+    size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
+    float *image = calloc(floats, sizeof *image);
+    assert_non_null(image);
+    journal *j = NULL;
+    csg_diag d = {{0}, 0};
+    prctl(PR_SET_TIMERSLACK, 1000UL); /* (as every rank has it: host/link.c; the writer inherits it) */
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    double cpu0 = cpu_seconds();
+    nanosleep(&(struct timespec){2, 500000000L}, NULL);
+    double used = cpu_seconds() - cpu0;
+    journal_close(j, true);
+    if (used > 0.1)
+        fail_msg("the idle journal writer used %.2f s of CPU in 2.5 s", used);
+    free(image);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_queued_tiles_are_all_kept, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_idle_writer_sleeps, setup, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
