@@ -322,9 +322,10 @@ static void *journal_writer_run(void *arg)
     }
 }
 
-/* The writer started; when it cannot be, journal_tile_done appends itself. */
-static void journal_writer_start(journal *j)
+void journal_start_writer(journal *j)
 {
+    if (!j || j->writer.running || atomic_load(&j->broken))
+        return;
     journal_writer *w = &j->writer;
     w->synced = atomic_load(&j->written);
     w->queue = malloc((size_t)(j->tiles > 0 ? j->tiles : 1) * sizeof *w->queue);
@@ -512,7 +513,6 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
     }
     j->synced = journal_clock();
     signals_journal(j->path, atomic_load(&j->written));
-    journal_writer_start(j);
     *out = j;
     return EXIT_OK;
 }

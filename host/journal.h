@@ -63,6 +63,13 @@ int journal_tiles_resumed(const journal *j);
 /* The primary hits of a resumed tile. */
 uint32_t journal_resumed_hits(const journal *j, int tile);
 
+/* From now on a thread of the journal's own appends the records and syncs
+ * them (until then, and if it cannot be started, journal_tile_done does).
+ * Not at journal_open: creating a thread waits for the dynamic loader's
+ * lock, which PoCL's loading holds for ~25 ms in hetero (host/render.c
+ * starts it once the OpenCL program is built). */
+void journal_start_writer(journal *j);
+
 /* A work item of `tile` came in with `hits` primary hits. */
 void journal_add_hits(journal *j, int tile, uint32_t hits);
 /* Tile `tile` is complete in `image`: its record is appended.  A failed

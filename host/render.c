@@ -210,6 +210,7 @@ typedef struct render_state {
     float bg[3];           /* what a degenerate tile is filled with      */
     double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
     memory_prefault prefault; /* the image's pages, faulted in meanwhile */
+    bool helpers;          /* the journal's writer and the prefault started */
 } render_state;
 
 /* The marks that cut a render into its phases (stats.h). */
@@ -574,11 +575,30 @@ static bool render_offer_tile(render_state *rs, master_job *job, int i)
     return sched_add(&rs->sched, i, r);
 }
 
+/* The master's helper threads: the journal's writer and, with workers,
+ * the image's page faulting (serial: the faults are a sliver of its
+ * tiles' work).  In hetero with the fill only once the OpenCL program is
+ * built: a thread created while PoCL loads waits for the dynamic loader's
+ * lock (up to ~25 ms: the first tiles went out ~8 ms later on small
+ * frames). */
+static void render_start_helpers(render_state *rs, bool use_workers, size_t image_bytes)
+{
+    if (rs->helpers)
+        return;
+    rs->helpers = true;
+    journal_start_writer(rs->journal);
+    if (use_workers)
+        memory_prefault_start(&rs->prefault, rs->image, image_bytes);
+}
+
 /* master_job.feed: the tiles whose rows the pass completed go to the
  * scheduler, down to the fill's; homo and serial give every tile at once. */
 static int render_feed(master_job *job, bool wait, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
+    if (!rs->helpers && atomic_load(&rs->build.done))
+        render_start_helpers(rs, true, (size_t)job->grid.width * (size_t)job->grid.height * 3 *
+                                           sizeof *rs->image);
     const tile_grid *g = &job->grid;
     int rows = render_pass_rows(rs, g, wait, d), known = 0;
     if (rows < 0)
@@ -822,8 +842,6 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
     rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
-    if (use_workers) /* (serial: the faults are a sliver of its tiles' work) */
-        memory_prefault_start(&rs->prefault, rs->image, st->pixels * 3 * sizeof *rs->image);
     rs->workers = calloc((size_t)st->worker_count + 1, sizeof *rs->workers); /* (+ the
                                                    master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);
@@ -842,6 +860,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         if (status != EXIT_OK)
             return status;
     }
+    if (!fill) /* (hetero with the fill: once the program is built, render_feed) */
+        render_start_helpers(rs, use_workers, st->pixels * 3 * sizeof *rs->image);
     job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;

@@ -7,6 +7,7 @@
  */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -71,11 +72,11 @@ static double cpu_seconds(void)
            (double)u.ru_stime.tv_sec + (double)u.ru_stime.tv_usec * 1e-6;
 }
 
-/* Every tile queued is appended by the time the journal is closed; a
- * resume gives back the pixels and hits. */
-static void test_queued_tiles_are_all_kept(void **state)
+/* Every tile queued is appended by the time the journal is closed (by
+ * the writer thread, or by journal_tile_done itself before the writer is
+ * started); a resume gives back the pixels and hits. */
+static void tiles_are_all_kept(fixture *f, bool writer)
 {
-    fixture *f = *state;
     size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
     float *image = malloc(floats * sizeof *image), *back = calloc(floats, sizeof *back);
     assert_non_null(image);
@@ -85,6 +86,8 @@ static void test_queued_tiles_are_all_kept(void **state)
     journal *j = NULL;
     csg_diag d = {{0}, 0};
     assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    if (writer)
+        journal_start_writer(j);
     int tiles = tile_count(&f->grid);
     for (int t = 0; t < tiles; t++) {
         journal_add_hits(j, t, (uint32_t)t + 1);
@@ -99,6 +102,16 @@ static void test_queued_tiles_are_all_kept(void **state)
     journal_close(j, true);
     free(image);
     free(back);
+}
+
+static void test_queued_tiles_are_all_kept(void **state)
+{
+    tiles_are_all_kept(*state, true);
+}
+
+static void test_tiles_without_the_writer(void **state)
+{
+    tiles_are_all_kept(*state, false);
 }
 
 /* 2.5 s without a tile: the writer looks every millisecond and sleeps in
@@ -117,6 +130,7 @@ static void test_idle_writer_sleeps(void **state)
     csg_diag d = {{0}, 0};
     prctl(PR_SET_TIMERSLACK, 1000UL); /* (as every rank has it: host/link.c; the writer inherits it) */
     assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    journal_start_writer(j);
     double cpu0 = cpu_seconds();
     nanosleep(&(struct timespec){2, 500000000L}, NULL);
     double used = cpu_seconds() - cpu0;
@@ -130,6 +144,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_queued_tiles_are_all_kept, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tiles_without_the_writer, setup, teardown),
         cmocka_unit_test_setup_teardown(test_idle_writer_sleeps, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
