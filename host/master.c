@@ -91,6 +91,12 @@ void master_begin(master_session *m, int ranks)
         m->lost_before[r] = link_peer_gone_before(r);
 }
 
+/* The workers of rank r's group: a relay's, none for a worker. */
+static int master_group_size(const master_session *m, int r)
+{
+    return r >= 1 && r <= m->relays ? proto_group(r, m->workers + 1, m->relays) : 0;
+}
+
 /* Rank r is lost (it died or hung): one line on stderr, once a job. */
 static void master_mark_lost(master_session *m, int r, int items, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
@@ -107,8 +113,8 @@ static void master_mark_lost(master_session *m, int r, int items, const char *fm
         m->lost[r] = true;
     m->workers_lost++;
     int group = 0;
-    for (int j = proto_member(r, 0, m->relays); r <= m->relays && j <= m->workers;
-         j += m->relays) {
+    for (int k = 0; k < master_group_size(m, r); k++) {
+        int j = proto_member(r, k, m->relays);
         link_forget(j); /* (a relay goes with its group: they exit) */
         group += m->lost && !m->lost[j];
         if (m->lost)
@@ -139,9 +145,8 @@ static bool master_peer_gone(const master_session *m, int r)
         return false;
     if (link_peer_lost(r))
         return true;
-    for (int j = proto_member(r, 0, m->relays); r <= m->relays && j <= m->workers;
-         j += m->relays)
-        if (link_peer_lost(j))
+    for (int k = 0; k < master_group_size(m, r); k++)
+        if (link_peer_lost(proto_member(r, k, m->relays)))
             return true;
     return false;
 }
@@ -490,7 +495,7 @@ static double master_hang_items(const master_session *m, int r, const master_wor
     int items = w->count[w->head];
     if (m->relays == 0)
         return items;
-    int group = proto_group(r, m->workers + 1, m->relays);
+    int group = master_group_size(m, r);
     return (items + group - 1) / (group > 0 ? group : 1) + PROTO_IN_FLIGHT;
 }
 

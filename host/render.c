@@ -210,6 +210,7 @@ typedef struct render_state {
     float bg[3];           /* what a degenerate tile is filled with      */
     double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
     memory_prefault prefault; /* the image's pages, faulted in meanwhile */
+    size_t prefault_bytes; /* the image's bytes to fault in (0: none)    */
     bool helpers;          /* the journal's writer and the prefault started */
 } render_state;
 
@@ -581,14 +582,14 @@ static bool render_offer_tile(render_state *rs, master_job *job, int i)
  * built: a thread created while PoCL loads waits for the dynamic loader's
  * lock (up to ~25 ms: the first tiles went out ~8 ms later on small
  * frames). */
-static void render_start_helpers(render_state *rs, bool use_workers, size_t image_bytes)
+static void render_start_helpers(render_state *rs)
 {
     if (rs->helpers)
         return;
     rs->helpers = true;
     journal_start_writer(rs->journal);
-    if (use_workers)
-        memory_prefault_start(&rs->prefault, rs->image, image_bytes);
+    if (rs->prefault_bytes > 0)
+        memory_prefault_start(&rs->prefault, rs->image, rs->prefault_bytes);
 }
 
 /* master_job.feed: the tiles whose rows the pass completed go to the
@@ -597,8 +598,7 @@ static int render_feed(master_job *job, bool wait, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
     if (!rs->helpers && atomic_load(&rs->build.done))
-        render_start_helpers(rs, true, (size_t)job->grid.width * (size_t)job->grid.height * 3 *
-                                           sizeof *rs->image);
+        render_start_helpers(rs);
     const tile_grid *g = &job->grid;
     int rows = render_pass_rows(rs, g, wait, d), known = 0;
     if (rows < 0)
@@ -860,8 +860,9 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         if (status != EXIT_OK)
             return status;
     }
+    rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
     if (!fill) /* (hetero with the fill: once the program is built, render_feed) */
-        render_start_helpers(rs, use_workers, st->pixels * 3 * sizeof *rs->image);
+        render_start_helpers(rs);
     job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;

@@ -115,24 +115,23 @@ const sim_costs *sim_costs_render(void)
     return state == 1 ? &map : sim_costs_shared();
 }
 
+double sim_env_number(const char *name, double fallback)
+{
+    const char *text = getenv(name);
+    char *end;
+    double x = text ? strtod(text, &end) : 0;
+    return text && end != text && !*end && x > 0 ? x : fallback;
+}
+
 #ifdef CSG_SIM
 #include <smpi/smpi.h>
-
-/* A non-negative number from the environment, 0 when unset or bad. */
-static double sim_env_seconds(const char *name)
-{
-    const char *v = getenv(name);
-    char *end;
-    double x = v ? strtod(v, &end) : 0;
-    return v && end != v && !*end && x > 0 && x < 1 ? x : 0;
-}
 
 void sim_charge_master_part(size_t pixels)
 {
     static double part_s = -1, pixel_s = -1; /* (the master is one rank) */
     if (part_s < 0) {
-        part_s = sim_env_seconds("CSGSIM_MASTER_PART_S");
-        pixel_s = sim_env_seconds("CSGSIM_MASTER_PIXEL_S");
+        part_s = sim_env_number("CSGSIM_MASTER_PART_S", 0);
+        pixel_s = sim_env_number("CSGSIM_MASTER_PIXEL_S", 0);
     }
     double s = part_s + (double)pixels * pixel_s;
     if (s > 0)

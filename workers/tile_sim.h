@@ -47,6 +47,10 @@ const sim_costs *sim_costs_shared(void);
  * the map named by $CSGSIM_FILL_COSTS (a homo map), else the shared one. */
 const sim_costs *sim_costs_render(void);
 
+/* The positive number in environment variable `name` (bench/simulate.sh
+ * sets them), or `fallback` when it is unset or not one. */
+double sim_env_number(const char *name, double fallback);
+
 /* Flops a simulated host does per measured second (the platform files
  * declare this speed, so simulated compute = measured seconds). */
 #define SIM_HOST_FLOPS 1e9

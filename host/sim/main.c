@@ -347,20 +347,14 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
  * --pass-scale), 1 when unset or not a positive number. */
 static double sim_pass_scale(void)
 {
-    const char *text = getenv("CSGSIM_PASS_SCALE");
-    char *end;
-    double f = text ? strtod(text, &end) : 1;
-    return text && end != text && !*end && f > 0 ? f : 1;
+    return sim_env_number("CSGSIM_PASS_SCALE", 1);
 }
 
 /* $CSGSIM_PASS_RATE in rays a second (bench/simulate.sh --pass-rate, in
  * Mrays/s), 0 when unset or not a positive number. */
 static double sim_pass_rate(void)
 {
-    const char *text = getenv("CSGSIM_PASS_RATE");
-    char *end;
-    double mrays = text ? strtod(text, &end) : 0;
-    return text && end != text && !*end && mrays > 0 ? mrays * 1e6 : 0;
+    return sim_env_number("CSGSIM_PASS_RATE", 0) * 1e6;
 }
 
 /* The pass's duration at the simulated size: the measured rate when one
