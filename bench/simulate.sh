@@ -4,7 +4,8 @@
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
-#       [--master-part-us A --master-pixel-ns B] --stats F.json
+#       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
+#       [--master-store-ns C] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -33,7 +34,12 @@
 # --master-part-us A, --master-pixel-ns B: the master's own work on each
 # RESULT part of P pixels, A us + P x B ns (checking, storing the pixels,
 # queuing the journal), executed on its host; default 0 (only MPI's
-# per-message costs below).  bench/SCALE.md has the values measured here.
+# per-message costs below).  --master-message-us M: M us more a RESULT
+# message.  --master-store-ns C: the 8-bit parts' pixels are stored by the
+# master's store thread (host/store.h), C ns a pixel on a core of its own,
+# while its ring has room (A and B are then the loop's part without the
+# store); default 0: no store thread, the loop stores them (B).
+# bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
 set -euo pipefail
@@ -50,7 +56,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
-PART_US=0 PIXEL_NS=0
+PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -71,6 +77,8 @@ while [ $# -gt 0 ]; do
     --relays) RELAYS=$2 ;;
     --master-part-us) PART_US=$2 ;;
     --master-pixel-ns) PIXEL_NS=$2 ;;
+    --master-message-us) MESSAGE_US=$2 ;;
+    --master-store-ns) STORE_NS=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -92,6 +100,8 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$RELAYS" =~ ^(0|[1-9][0-9]{0,2})$ ]] && [ "$RELAYS" -le 127 ] && [ "$RELAYS" -le "$WORKERS" ] || die "--relays: 0..min(127, workers)"
 [[ "$PART_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-part-us: microseconds, 0..9999.999"
 [[ "$PIXEL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-pixel-ns: nanoseconds, 0..9999.999"
+[[ "$MESSAGE_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-message-us: microseconds, 0..9999.999"
+[[ "$STORE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-store-ns: nanoseconds, 0..9999.999"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -137,25 +147,40 @@ else
     seq 0 $((WORKERS + RELAYS)) | sed 's/^/node-/' >"$work/hosts"
 fi
 # Per-message costs: a poll (MPI_Iprobe, MPI_Test) 0.1 us; sending or
-# receiving a message takes its rank 5 us + 0.2 ns a byte; messages up to
-# 64 KiB are eager (Open MPI's TCP eager limit): they travel before the
-# receive is posted (bench/SCALE.md).
+# receiving a message takes its rank 5 us + 0.2 ns a byte across hosts;
+# on this machine (local: Open MPI's shared memory) 0.05 us + 0.1 ns a
+# byte, so that with local.xml's 0.5 us and 10 GB/s a message takes
+# 0.6 us + 0.3 ns a byte end to end, as a ping-pong here measures it
+# (0.64 us at 64 bytes, 7.7 us at 16 KiB, 74-80 us at 256 KiB: bench/
+# SCALE.md); messages up to 64 KiB are eager (Open MPI's TCP eager
+# limit): they travel before the receive is posted (bench/SCALE.md).
 # GigE keeps SMPI's default latency/bandwidth factors (fitted to MPI over
 # TCP on Ethernet); InfiniBand gets none (RDMA).
-opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:1e-7 --cfg=smpi/test:1e-7
-      --cfg=smpi/os:0:5e-6:2e-10 --cfg=smpi/or:0:5e-6:2e-10 --cfg=smpi/host-speed:1Gf
+# A poll that finds nothing costs the same each time, as in MPI (SMPI's
+# default makes each one longer than the last until one succeeds: a master
+# polling 50 times between naps then spent 127 us polling, 0.1 + 0.2 + ...
+# + 5 us, and was slow to see the next result; $SIM_PROBE_GROWTH=yes brings
+# that back, as every simulation before 2026-11-26 (fifth) ran).
+GROW=${SIM_PROBE_GROWTH:-no}
+[[ "$GROW" =~ ^(yes|no)$ ]] || die "SIM_PROBE_GROWTH: yes or no"
+overhead=0:5e-6:2e-10 iprobe=1e-7 test=1e-7
+[ "$NETWORK" = local ] && overhead=0:5e-8:1e-10 iprobe=8e-8 test=2.6e-8
+opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:$iprobe --cfg=smpi/test:$test
+      --cfg=smpi/os:$overhead --cfg=smpi/or:$overhead --cfg=smpi/host-speed:1Gf
       --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536
-      --log=root.thres:error)
+      --cfg=smpi/grow-injected-times:$GROW --log=root.thres:error)
 [ "$NETWORK" != gige ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
+CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
     --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
-python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" <<'PY'
+python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" \
+    "$MESSAGE_US" "$STORE_NS" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
@@ -163,6 +188,8 @@ d["pass_scale"] = float(sys.argv[4])
 d["pass_rate_mrays"] = float(sys.argv[5])
 d["master_part_us"] = float(sys.argv[6])
 d["master_pixel_ns"] = float(sys.argv[7])
+d["master_message_us"] = float(sys.argv[8])
+d["master_store_ns"] = float(sys.argv[9])
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

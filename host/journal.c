@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "../csg/flatten.h"
+#include "deadline.h"
 #include "file_atomic.h"
 #include "hash.h"
 #include "pixels.h"
@@ -293,15 +294,7 @@ static void journal_writer_wait(journal *j)
 {
     double left = j->synced + JOURNAL_SYNC_S - journal_clock();
     left = left < JOURNAL_POLL_S ? left : JOURNAL_POLL_S;
-    struct timespec until;
-    clock_gettime(CLOCK_MONOTONIC, &until);
-    long ns = left > 0 ? (long)(left * 1e9) : 0;
-    until.tv_sec += ns / 1000000000L;
-    until.tv_nsec += ns % 1000000000L;
-    if (until.tv_nsec >= 1000000000L) {
-        until.tv_sec++;
-        until.tv_nsec -= 1000000000L;
-    }
+    struct timespec until = deadline_after_ns(left > 0 ? (long)(left * 1e9) : 0);
     while (sem_clockwait(&j->writer.wake, CLOCK_MONOTONIC, &until) != 0 && errno == EINTR)
         continue;
 }

@@ -71,6 +71,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "deadline.h"
+
 #define LINK_SPINS 200
 #define LINK_NAP_MIN_NS 1000L
 #define LINK_SLICE_NS 100000ULL /* the shortest slice Linux grants a fair task */
@@ -510,13 +512,7 @@ void link_idle_step(link_idle *w)
     }
     long nap = w->nap_ns < w->nap_max_ns ? w->nap_ns : w->nap_max_ns;
     if (w->ready) {
-        struct timespec until;
-        clock_gettime(CLOCK_MONOTONIC, &until);
-        until.tv_nsec += nap;
-        if (until.tv_nsec >= 1000000000L) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000L;
-        }
+        struct timespec until = deadline_after_ns(nap);
         int rc;
         while ((rc = sem_clockwait(&w->wake, CLOCK_MONOTONIC, &until)) != 0 && errno == EINTR)
             continue;

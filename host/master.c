@@ -71,6 +71,7 @@
 #include "journal.h"
 #include "link.h"
 #include "protocol.h"
+#include "store.h"
 #ifdef CSG_SIM
 #include "../workers/tile_sim.h"
 #endif
@@ -580,10 +581,9 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
  * writer turns back into those bytes (pixels.h). */
 static void master_store_rgb8(float *image, int image_width, tile_rect r, const uint8_t *rgb8)
 {
-    for (int row = 0; row < r.height; row++) {
-        float *dst = image + ((size_t)(r.y + row) * (size_t)image_width + (size_t)r.x) * 3;
-        pixels_linear_of_bytes(rgb8 + (size_t)row * (size_t)r.width * 3, (size_t)r.width * 3, dst);
-    }
+    pixels_store_bytes_rect(rgb8, (size_t)r.width * 3, (size_t)r.height,
+                            image + ((size_t)r.y * (size_t)image_width + (size_t)r.x) * 3,
+                            (size_t)image_width * 3);
 }
 
 /* Part `part` of a RESULT (its size already checked) for item `item`:
@@ -608,16 +608,18 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     }
     /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
      * multiple of 8: floats aligned */
-    if (h.pixels == PIXELS_RGB8)
-        master_store_rgb8(job->image, job->grid.width, r, (const uint8_t *)(part + sizeof h));
-    else
-        tile_store_rgb(job->image, job->grid.width, r,
-                       (const float *)(const void *)(part + sizeof h));
+    const char *pixels = part + sizeof h;
+    if (h.pixels != PIXELS_RGB8)
+        tile_store_rgb(job->image, job->grid.width, r, (const float *)(const void *)pixels);
+    else if (!job->store || !store_queue(job->store, r, (const uint8_t *)pixels))
+        master_store_rgb8(job->image, job->grid.width, r, (const uint8_t *)pixels); /* (no
+                                                             thread, or its ring full) */
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
 #ifdef CSG_SIM
-    sim_charge_master_part(n); /* what that took a real master (workers/tile_sim.h) */
+    sim_charge_master_part(n, h.pixels == PIXELS_RGB8); /* what that took a real master
+                                                           (workers/tile_sim.h) */
 #endif
     return true;
 }
@@ -636,6 +638,9 @@ static bool master_take_result(master_job *job, const master_session *m, const l
                         msg->source, job->sched->items[items[0]].tile, msg->len, expected);
         return false;
     }
+#ifdef CSG_SIM
+    sim_charge_master_message();
+#endif
     size_t at = 0;
     for (int i = 0; i < k; i++) {
         int format = master_part_pixels(msg, at, session);
@@ -746,6 +751,15 @@ static bool master_done(const master_loop *L)
     return L->broken || (L->outstanding == 0 && (L->failed || sched_finished(L->job->sched)));
 }
 
+/* The complete tiles the store thread has put in the image since the
+ * last call, to the journal; with `wait`, every one, once stored. */
+static void master_journal_stored(master_job *job, bool wait)
+{
+    int tile;
+    while (job->store && store_finished(job->store, &tile, wait))
+        journal_tile_done(job->journal, tile, job->image);
+}
+
 /* Step 3 once the handshake is done: false with d filled on a failure. */
 static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 {
@@ -755,6 +769,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
         bool worked = master_feed(L, d);
         worked |= master_dispatch(L, d);
         worked |= master_receive(L, &msg, limit, d);
+        master_journal_stored(L->job, false);
         if (worked) {
             link_idle_reset(idle);
             continue;
@@ -795,6 +810,13 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         ok = !m->setup_failed && master_deal(&L, idle, d);
         master_close_sends(&L);
     }
+#ifdef CSG_SIM
+    sim_master_store_drain();
+#endif
+    if (job->store) { /* the image whole before the caller reads it */
+        store_drain(job->store);
+        master_journal_stored(job, true);
+    }
     if (!job->idle)
         link_idle_free(&own);
     free(L.w);
@@ -828,7 +850,8 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
         job->pixels_hit += res->hits;
     journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */
-        journal_tile_done(job->journal, it->tile, job->image);
+        if (!job->store || store_after(job->store, it->tile)) /* (else once it is stored) */
+            journal_tile_done(job->journal, it->tile, job->image);
         w->tiles++;
         if (job->progress)
             progress_step(job->progress);

@@ -75,6 +75,8 @@ typedef struct master_job {
     link_idle *idle;          /* the master's idle wait (the feed's
                                  producer wakes it); NULL: its own        */
     float *image;             /* width * height * 3: results stored here  */
+    struct store *store;      /* the thread that stores 8-bit results
+                                 (store.h; NULL: the loop stores them)    */
     progress_bar *progress;   /* stepped once a tile                      */
     struct journal *journal;  /* each finished tile appended (NULL: none) */
     /* Results, added to: */

@@ -68,6 +68,7 @@
 #include "schedule.h"
 #include "signals.h"
 #include "stats.h"
+#include "store.h"
 
 /* Records a slice of the pipelined pass holds at least: one tile row, or
  * more when a tile row is smaller (each slice costs two launches). */
@@ -211,7 +212,10 @@ typedef struct render_state {
     double pass_start, pass_end; /* stats_clock(); pass_end 0: not over  */
     memory_prefault prefault; /* the image's pages, faulted in meanwhile */
     size_t prefault_bytes; /* the image's bytes to fault in (0: none)    */
-    bool helpers;          /* the journal's writer and the prefault started */
+    bool helpers;          /* the journal's writer, the prefault, the store
+                              thread started (render_start_helpers)      */
+    bool store_wanted;     /* the workers' 8-bit results stored by a thread */
+    store *store;          /* that thread (store.h; NULL: none)          */
 } render_state;
 
 /* The marks that cut a render into its phases (stats.h). */
@@ -240,6 +244,7 @@ static void render_free(render_state *rs)
         link_idle_free(&rs->idle);
     csg_blob_free(&rs->blob);
     memory_prefault_join(&rs->prefault);
+    store_stop(rs->store);
     free(rs->image);
     free(rs->t);
     free(rs->surf);
@@ -578,11 +583,12 @@ static bool render_offer_tile(render_state *rs, master_job *job, int i)
 
 /* The master's helper threads: the journal's writer and, with workers,
  * the image's page faulting (serial: the faults are a sliver of its
- * tiles' work).  In hetero with the fill only once the OpenCL program is
+ * tiles' work) and the store thread of the 8-bit results (store.h; until
+ * it runs, the loop stores them).  In hetero with the fill only once the OpenCL program is
  * built: a thread created while PoCL loads waits for the dynamic loader's
  * lock (up to ~25 ms: the first tiles went out ~8 ms later on small
  * frames). */
-static void render_start_helpers(render_state *rs)
+static void render_start_helpers(render_state *rs, master_job *job)
 {
     if (rs->helpers)
         return;
@@ -590,6 +596,9 @@ static void render_start_helpers(render_state *rs)
     journal_start_writer(rs->journal);
     if (rs->prefault_bytes > 0)
         memory_prefault_start(&rs->prefault, rs->image, rs->prefault_bytes);
+    if (rs->store_wanted)
+        rs->store = store_start(rs->image, job->grid.width, tile_count(&job->grid));
+    job->store = rs->store;
 }
 
 /* master_job.feed: the tiles whose rows the pass completed go to the
@@ -598,7 +607,7 @@ static int render_feed(master_job *job, bool wait, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
     if (!rs->helpers && atomic_load(&rs->build.done))
-        render_start_helpers(rs);
+        render_start_helpers(rs, job);
     const tile_grid *g = &job->grid;
     int rows = render_pass_rows(rs, g, wait, d), known = 0;
     if (rows < 0)
@@ -861,8 +870,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
             return status;
     }
     rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
-    if (!fill) /* (hetero with the fill: once the program is built, render_feed) */
-        render_start_helpers(rs);
+    rs->store_wanted = use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8;
     job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;
@@ -872,6 +880,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     job->idle = rs->idle_ready ? &rs->idle : NULL;
     job->image = rs->image;
     job->workers = rs->workers;
+    if (!fill) /* (hetero with the fill: once the program is built, render_feed) */
+        render_start_helpers(rs, job);
     if (hetero) {
         int status = render_alloc_records(rs, &grid, d);
         job->t = rs->t;

@@ -155,6 +155,36 @@ static void test_format_for_path(void **state)
 }
 
 /* A PNG written from the bytes' stand-ins is the PNG of the floats. */
+/* A rectangle of bytes stored into a larger float image: each value is
+ * pixels_linear_of of its byte, nothing outside the rectangle moves; at
+ * every start alignment (the non-temporal stores' aligned and unaligned
+ * paths) and rectangle width, odd ones included. */
+static void test_store_bytes_rect(void **state)
+{
+    (void)state;
+    enum { W = 23, H = 9 };
+    static float image[W * H * 3];
+    static uint8_t src[W * H * 3];
+    for (size_t i = 0; i < sizeof src; i++)
+        src[i] = (uint8_t)(i * 37u + 11u);
+    for (int x = 0; x < 5; x++)
+        for (int w = 1; x + w <= W; w += 3) {
+            for (size_t i = 0; i < W * H * 3; i++)
+                image[i] = -7.0f;
+            int y = 2, h = 5;
+            pixels_store_bytes_rect(src, (size_t)w * 3, (size_t)h,
+                                    image + ((size_t)y * W + (size_t)x) * 3, (size_t)W * 3);
+            for (int row = 0; row < H; row++)
+                for (int col = 0; col < W * 3; col++) {
+                    bool inside = row >= y && row < y + h && col >= x * 3 && col < (x + w) * 3;
+                    float want = inside ? pixels_linear_of(src[(size_t)(row - y) * (size_t)w * 3 +
+                                                               (size_t)(col - x * 3)])
+                                        : -7.0f;
+                    assert_true(image[(size_t)row * W * 3 + (size_t)col] == want);
+                }
+        }
+}
+
 static void test_png_from_bytes_is_png_of_floats(void **state)
 {
     (void)state;
@@ -195,6 +225,7 @@ int main(void)
         cmocka_unit_test(test_table_is_the_function),
         cmocka_unit_test(test_format_for_path),
         cmocka_unit_test(test_png_from_bytes_is_png_of_floats),
+        cmocka_unit_test(test_store_bytes_rect),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -124,18 +124,61 @@ double sim_env_number(const char *name, double fallback)
 }
 
 #ifdef CSG_SIM
+#include <simgrid/actor.h>
+#include <simgrid/engine.h>
 #include <smpi/smpi.h>
 
-void sim_charge_master_part(size_t pixels)
+#include "../host/store.h"
+
+typedef struct {
+    double message_s, part_s, pixel_s, store_s;
+    double store_until; /* simulated time the store thread is busy until */
+} sim_master_costs;
+
+/* (the master is one rank: one set) */
+static sim_master_costs *sim_master(void)
 {
-    static double part_s = -1, pixel_s = -1; /* (the master is one rank) */
-    if (part_s < 0) {
-        part_s = sim_env_number("CSGSIM_MASTER_PART_S", 0);
-        pixel_s = sim_env_number("CSGSIM_MASTER_PIXEL_S", 0);
+    static sim_master_costs m;
+    static bool loaded;
+    if (!loaded) {
+        loaded = true;
+        m.message_s = sim_env_number("CSGSIM_MASTER_MESSAGE_S", 0);
+        m.part_s = sim_env_number("CSGSIM_MASTER_PART_S", 0);
+        m.pixel_s = sim_env_number("CSGSIM_MASTER_PIXEL_S", 0);
+        m.store_s = sim_env_number("CSGSIM_MASTER_STORE_S", 0);
     }
-    double s = part_s + (double)pixels * pixel_s;
+    return &m;
+}
+
+void sim_charge_master_message(void)
+{
+    double s = sim_master()->message_s;
     if (s > 0)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
+}
+
+void sim_charge_master_part(size_t pixels, bool rgb8)
+{
+    sim_master_costs *m = sim_master();
+    double s = m->part_s + (double)pixels * m->pixel_s;
+    if (rgb8 && m->store_s > 0) {
+        double now = simgrid_get_clock();
+        double start = m->store_until > now ? m->store_until : now;
+        double waiting = (start - now) / m->store_s * 3; /* bytes not stored yet */
+        if (waiting + (double)pixels * 3 + STORE_ALIGN <= (double)STORE_RING_BYTES)
+            m->store_until = start + (double)pixels * m->store_s;
+        else
+            s += (double)pixels * m->store_s; /* the ring is full */
+    }
+    if (s > 0)
+        smpi_execute_flops(s * SIM_HOST_FLOPS);
+}
+
+void sim_master_store_drain(void)
+{
+    double left = sim_master()->store_until - simgrid_get_clock();
+    if (left > 0)
+        sg_actor_sleep_for(left);
 }
 
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,

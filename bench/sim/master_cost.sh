@@ -3,7 +3,9 @@
 # each result charged (bench/simulate.sh --master-part-us A
 # --master-pixel-ns B; bench/SCALE.md, "the master's own work").
 #
-#   bench/sim/master_cost.sh A B     A us a RESULT part, B ns a pixel
+#   bench/sim/master_cost.sh A B [M C]   A us a RESULT part, B ns a pixel,
+#                                        M us a RESULT message, C ns a pixel
+#                                        on the store thread (0: none)
 #
 # The points of bench/sim/relays.sh that decide the issue's targets:
 # 256 workers hetero raster with one master and with 16 relays on the
@@ -18,13 +20,13 @@ CSV=${MASTER_COST_CSV:-$ROOT/bench/results-scale/master_cost.csv}
 WORK=${SCALE_WORK:-$ROOT/build/sim/scale}
 POINT_TIMEOUT=${POINT_TIMEOUT:-900}
 export SIM_MAP_RENDERS=${SIM_MAP_RENDERS:-10}
-[ $# -eq 2 ] || { echo "usage: bench/sim/master_cost.sh PART_US PIXEL_NS" >&2; exit 2; }
-PART_US=$1 PIXEL_NS=$2
+[ $# -eq 2 ] || [ $# -eq 4 ] || { echo "usage: bench/sim/master_cost.sh PART_US PIXEL_NS [MESSAGE_US STORE_NS]" >&2; exit 2; }
+PART_US=$1 PIXEL_NS=$2 MESSAGE_US=${3:-0} STORE_NS=${4:-0}
 [[ "$POINT_TIMEOUT" =~ ^[1-9][0-9]*$ ]] || { echo "POINT_TIMEOUT: seconds" >&2; exit 2; }
 mkdir -p "$(dirname "$CSV")" "$WORK"
 source "$ROOT/bench/sim/scenes.sh"
 sim_scenes "$WORK"
-[ -f "$CSV" ] || echo "part_us,pixel_ns,seed,workers,relays,mode,schedule,makespan_s,serial_s,efficiency,efficiency_ranks,master_busy,tail_s,tile_messages" >"$CSV"
+[ -f "$CSV" ] || echo "probe_growth,part_us,pixel_ns,message_us,store_ns,seed,workers,relays,mode,schedule,makespan_s,serial_s,efficiency,efficiency_ranks,master_busy,tail_s,tile_messages" >"$CSV"
 
 # point SEED WORKERS RELAYS MODE
 point() {
@@ -34,12 +36,13 @@ point() {
     timeout "$POINT_TIMEOUT" "$ROOT/bench/simulate.sh" "$WORK/spheres50-s$1.pov" \
         --size 4096x4096 --workers "$2" --relays "$3" --network ib --mode "$4" --schedule raster \
         --tile 32 "${pass[@]}" --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
+        --master-message-us "$MESSAGE_US" --master-store-ns "$STORE_NS" \
         --stats "$json" </dev/null >/dev/null 2>>"$WORK/master_cost-errors.log" || true
-    python3 - "$json" "$CSV" "$PART_US" "$PIXEL_NS" "$@" <<'PY'
+    python3 - "$json" "$CSV" "$PART_US" "$PIXEL_NS" "$MESSAGE_US" "$STORE_NS" "$@" <<'PY'
 import json, os, sys
-path, csv, part, pixel, seed, workers, relays, mode = sys.argv[1:]
+path, csv, part, pixel, message, store, seed, workers, relays, mode = sys.argv[1:]
 d = json.load(open(path)) if os.path.getsize(path) else {}
-row = [part, pixel, seed, workers, relays, mode, "raster"] + [str(d.get(k, "")) for k in
+row = [os.environ.get("SIM_PROBE_GROWTH", "no"), part, pixel, message, store, seed, workers, relays, mode, "raster"] + [str(d.get(k, "")) for k in
        ("makespan_s", "serial_s", "efficiency", "efficiency_ranks", "master_busy", "tail_s",
         "tile_messages")]
 with open(csv, "a") as f:

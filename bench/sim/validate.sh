@@ -12,14 +12,18 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 REPEATS=${REPEATS:-3}
 WORKERS=${WORKERS:-1 2 3}
 MODES=${MODES:-homo hetero}
-# rank 0's own work on a RESULT part (bench/SCALE.md, "the master's own
-# work"): measured on this machine, charged in the simulation
-PART_US=${MASTER_PART_US:-2.35}
+# rank 0's own work on the results (bench/SCALE.md, "the master's own
+# work" and "the store thread"): measured on this machine, charged in the
+# simulation: a part, a pixel and a message in the loop, a pixel on the
+# store thread
+PART_US=${MASTER_PART_US:-0.20}
+MESSAGE_US=${MASTER_MESSAGE_US:-0.75}
+STORE_NS=${MASTER_STORE_NS:-5.4}
 # the platform: this machine (local: 2 cores shared by every rank) or the
 # InfiniBand cluster (ib: a host a rank)
 NETWORK=${NETWORK:-local}
 [[ "$NETWORK" =~ ^(local|ib)$ ]] || { echo "NETWORK: local or ib" >&2; exit 2; }
-PIXEL_NS=${MASTER_PIXEL_NS:-2.93}
+PIXEL_NS=${MASTER_PIXEL_NS:-0.42}
 [[ "$REPEATS" =~ ^[1-9]$ ]] || { echo "REPEATS: 1..9" >&2; exit 2; }
 [[ "$WORKERS" =~ ^[1-9]( [1-9])*$ ]] || { echo "WORKERS: digits 1..9, space-separated" >&2; exit 2; }
 [[ "$MODES" =~ ^(homo|hetero)( (homo|hetero))*$ ]] || { echo "MODES: homo and/or hetero" >&2; exit 2; }
@@ -40,6 +44,7 @@ for mode in $MODES; do for w in $WORKERS; do for _ in $(seq "$REPEATS"); do
     SIM_MAPS=$WORK/maps "$ROOT/bench/simulate.sh" "$SCENE" --workers $w --mode $mode \
         --schedule $sched --tile 16 --network "$NETWORK" --size 384x384 --fill off \
         --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
+        --master-message-us "$MESSAGE_US" --master-store-ns "$STORE_NS" \
         --stats "$WORK/sim.json" >/dev/null
     python3 - "$WORK/real.json" "$WORK/sim.json" "$w" "$mode" <<'PY'
 import json, os, sys

@@ -1,0 +1,61 @@
+/*
+ * store.h — a thread of rank 0's that writes the received 8-bit tile parts
+ * into the float image, so that the master's own loop only checks a part,
+ * copies its bytes into a ring and goes back to the workers.
+ *
+ * Turning a byte into the float the image keeps (pixels.h) and writing 12
+ * bytes of image a pixel was most of rank 0's work on a result (bench/
+ * SCALE.md, "the master's own work"), and the master's work on results is
+ * what bounds the simulated 256-worker cluster.  The thread does it on
+ * another core, in the order the parts came.
+ *
+ * Use (master.c, from rank 0's main thread only):
+ *   s = store_start(image, width, tiles);    NULL: store every part yourself
+ *   store_queue(s, rect, bytes)              false: no room, store it yourself
+ *   store_after(s, tile)                     the tile is complete: true when
+ *                                            every byte queued so far is in
+ *                                            the image (journal it now), else
+ *                                            store_finished gives it back once so
+ *   store_finished(s, &tile, wait)           a tile whose bytes are all stored
+ *   store_drain(s)                           every queued part in the image
+ *   store_stop(s)                            every queued part stored, then
+ *                                            the thread is gone
+ * A tile is handed to the journal (which reads its pixels from the image)
+ * only once it is in the image: that is what store_after and
+ * store_finished are for.
+ */
+#ifndef HOST_STORE_H
+#define HOST_STORE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../workers/tile.h"
+
+/* The ring the parts wait in: ~2600 parts of 32x32 (a record: its
+ * STORE_ALIGN-byte header and its bytes, padded to STORE_ALIGN). */
+#define STORE_RING_BYTES ((size_t)8 << 20)
+#define STORE_ALIGN 32
+
+typedef struct store store;
+
+/* The store thread for an image `width` pixels wide of `tiles` tiles;
+ * NULL (out of memory, no thread): the caller stores every part itself. */
+store *store_start(float *image, int width, int tiles);
+/* Rectangle r's packed 8-bit values (3 a pixel) copied into the ring, to
+ * be stored; false when the ring has no room for them (nothing queued). */
+bool store_queue(store *s, tile_rect r, const uint8_t *rgb8);
+/* Tile `tile` is complete (every part of it queued or stored): true when
+ * all that was queued is already in the image, else false and the tile is
+ * given back by store_finished once it is.  Each tile at most once. */
+bool store_after(store *s, int tile);
+/* A tile of store_after's whose bytes are now all in the image, into
+ * *tile; with `wait`, waits for the thread while some is pending.  False
+ * when none (is left). */
+bool store_finished(store *s, int *tile, bool wait);
+/* Returns once every part queued is in the image. */
+void store_drain(store *s);
+/* Every queued part stored, the thread joined, everything freed. */
+void store_stop(store *s);
+
+#endif
