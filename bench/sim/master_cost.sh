@@ -10,10 +10,10 @@
 # The points of bench/sim/relays.sh that decide the issue's targets:
 # 256 workers hetero raster with one master and with 16 relays on the
 # three scenes, 64 workers (one master, 4 relays), 16 workers, and homo at
-# 256 (seed 1), 4096x4096, tile 32, InfiniBand, the pass at 145 Mrays/s
-# with the fill.  Rows are appended to $MASTER_COST_CSV (default
-# bench/results-scale/master_cost.csv, header written when the file is
-# new); POINT_TIMEOUT (default 900 s) bounds each run.
+# 256 (seed 1) (MASTER_COST_MORE=1: more, below), 4096x4096, tile 32,
+# InfiniBand, the pass at 145 Mrays/s with the fill.  Rows are appended to
+# $MASTER_COST_CSV (default bench/results-scale/master_cost.csv, header
+# written when the file is new); POINT_TIMEOUT (default 900 s) bounds each run.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 CSV=${MASTER_COST_CSV:-$ROOT/bench/results-scale/master_cost.csv}
@@ -28,21 +28,22 @@ source "$ROOT/bench/sim/scenes.sh"
 sim_scenes "$WORK"
 [ -f "$CSV" ] || echo "probe_growth,part_us,pixel_ns,message_us,store_ns,seed,workers,relays,mode,schedule,makespan_s,serial_s,efficiency,efficiency_ranks,master_busy,tail_s,tile_messages" >"$CSV"
 
-# point SEED WORKERS RELAYS MODE
+# point SEED WORKERS RELAYS MODE [SCHEDULE]
 point() {
-    local json pass=()
+    local json pass=() schedule=${5:-raster}
     json=$(mktemp "$WORK/master_cost.XXXXXX.json")
     [ "$4" = hetero ] && pass=(--pass-rate 145 --fill on) || pass=(--fill off)
     timeout "$POINT_TIMEOUT" "$ROOT/bench/simulate.sh" "$WORK/spheres50-s$1.pov" \
-        --size 4096x4096 --workers "$2" --relays "$3" --network ib --mode "$4" --schedule raster \
+        --size 4096x4096 --workers "$2" --relays "$3" --network ib --mode "$4" --schedule "$schedule" \
         --tile 32 "${pass[@]}" --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
         --master-message-us "$MESSAGE_US" --master-store-ns "$STORE_NS" \
         --stats "$json" </dev/null >/dev/null 2>>"$WORK/master_cost-errors.log" || true
-    python3 - "$json" "$CSV" "$PART_US" "$PIXEL_NS" "$MESSAGE_US" "$STORE_NS" "$@" <<'PY'
+    python3 - "$json" "$CSV" "$PART_US" "$PIXEL_NS" "$MESSAGE_US" "$STORE_NS" "$1" "$2" "$3" "$4" \
+        "$schedule" <<'PY'
 import json, os, sys
-path, csv, part, pixel, message, store, seed, workers, relays, mode = sys.argv[1:]
+path, csv, part, pixel, message, store, seed, workers, relays, mode, schedule = sys.argv[1:]
 d = json.load(open(path)) if os.path.getsize(path) else {}
-row = [os.environ.get("SIM_PROBE_GROWTH", "no"), part, pixel, message, store, seed, workers, relays, mode, "raster"] + [str(d.get(k, "")) for k in
+row = [os.environ.get("SIM_PROBE_GROWTH", "no"), part, pixel, message, store, seed, workers, relays, mode, schedule] + [str(d.get(k, "")) for k in
        ("makespan_s", "serial_s", "efficiency", "efficiency_ranks", "master_busy", "tail_s",
         "tile_messages")]
 with open(csv, "a") as f:
@@ -60,3 +61,13 @@ point 1 64 4 hetero
 point 1 16 0 hetero
 point 1 256 0 homo
 point 1 256 16 homo
+# MASTER_COST_MORE=1: the cost-ranked order against raster's at 256
+# workers, and 1024 workers with one master and with 32 relays
+if [ "${MASTER_COST_MORE:-0}" = 1 ]; then
+    for seed in 1 2 3; do
+        point $seed 256 0 hetero cost
+        point $seed 256 16 hetero cost
+    done
+    point 1 1024 0 hetero
+    point 1 1024 32 hetero
+fi
