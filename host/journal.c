@@ -26,18 +26,23 @@
 #include "signals.h"
 #include "version.h"
 
-#define JOURNAL_FORMAT "csgtrace journal 2" /* 2: word-wise checksums */
+#define JOURNAL_FORMAT "csgtrace journal 3" /* 2: word-wise checksums;
+                                               3: 8-bit records */
 #define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
 #define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
 #define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
 #define JOURNAL_POLL_S 0.001         /* the writer looks for tiles so often */
 
-/* The fixed part of a tile record; then width * height * 3 floats, then
- * the checksum (uint64) of both. */
+/* The fixed part of a tile record; then width * height * 3 values in
+ * `pixels` (enum pixels_format: floats, or the 8-bit file's bytes), then
+ * the checksum (uint64) of both.  For an 8-bit output a tile is written
+ * in bytes whenever each of its values has one (pixels_to_rgb8): a
+ * quarter of the floats' bytes, and resumed as pixels_linear_of of them,
+ * which the writer turns back into the very bytes (host/pixels.h). */
 typedef struct {
     uint32_t magic, tile;
     uint32_t x, y, width, height;
-    uint32_t hits, pad;
+    uint32_t hits, pixels;
 } journal_record;
 
 /* One line of the header: what the journal was written for. */
@@ -84,6 +89,8 @@ struct journal {
                               pixels, the checksum (one write)     */
     float *buf;       /* its pixels                               */
     size_t buf_size;  /* their room, in bytes                     */
+    int pixels;       /* the output's format (pixels_format_for)  */
+    uint8_t *bytes;   /* a tile's bytes, converted                */
     journal_writer writer;
 };
 
@@ -208,9 +215,9 @@ static int journal_check_header(int fd, const char *path, const journal_field *f
 
 /* ---- records ---------------------------------------------------------------------- */
 
-static size_t journal_pixel_bytes(tile_rect r)
+static size_t journal_pixel_bytes(tile_rect r, int pixels)
 {
-    return (size_t)r.width * (size_t)r.height * 3 * sizeof(float);
+    return (size_t)r.width * (size_t)r.height * pixels_bytes(pixels);
 }
 
 /* Reads the records after the header into the image; stops at the first
@@ -226,7 +233,10 @@ static off_t journal_read_records(journal *j, off_t at, float *image)
             j->resumed[rec.tile])
             return at;
         tile_rect r = tile_rect_of(&j->g, (int)rec.tile);
-        size_t bytes = journal_pixel_bytes(r);
+        bool rgb8 = rec.pixels == PIXELS_RGB8 && j->pixels == PIXELS_RGB8;
+        if (!rgb8 && rec.pixels != PIXELS_FLOAT)
+            return at;
+        size_t bytes = journal_pixel_bytes(r, (int)rec.pixels);
         if (rec.x != (uint32_t)r.x || rec.y != (uint32_t)r.y ||
             rec.width != (uint32_t)r.width || rec.height != (uint32_t)r.height ||
             pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
@@ -234,7 +244,13 @@ static off_t journal_read_records(journal *j, off_t at, float *image)
                 (ssize_t)sizeof sum ||
             sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
             return at;
-        tile_store_rgb(image, j->g.width, r, j->buf);
+        if (rgb8)
+            pixels_store_bytes_rect((const uint8_t *)j->buf, (size_t)r.width * 3,
+                                    (size_t)r.height,
+                                    image + ((size_t)r.y * (size_t)j->g.width + (size_t)r.x) * 3,
+                                    (size_t)j->g.width * 3);
+        else
+            tile_store_rgb(image, j->g.width, r, j->buf);
         j->resumed[rec.tile] = true;
         j->hits[rec.tile] = rec.hits;
         j->resumed_count++;
@@ -250,12 +266,17 @@ static bool journal_append(journal *j, int tile, const float *image)
 {
     tile_rect r = tile_rect_of(&j->g, tile);
     journal_record rec = {JOURNAL_TILE_MAGIC, (uint32_t)tile, (uint32_t)r.x, (uint32_t)r.y,
-                          (uint32_t)r.width, (uint32_t)r.height, j->hits[tile], 0};
+                          (uint32_t)r.width, (uint32_t)r.height, j->hits[tile], PIXELS_FLOAT};
     for (int y = 0; y < r.height; y++) /* the tile's rows, packed */
         memcpy(j->buf + (size_t)y * (size_t)r.width * 3,
                image + ((size_t)(r.y + y) * (size_t)j->g.width + (size_t)r.x) * 3,
                (size_t)r.width * 3 * sizeof(float));
-    size_t bytes = journal_pixel_bytes(r);
+    size_t values = (size_t)r.width * (size_t)r.height * 3;
+    if (j->pixels == PIXELS_RGB8 && pixels_to_rgb8(j->buf, values, j->bytes)) {
+        memcpy(j->buf, j->bytes, values);
+        rec.pixels = PIXELS_RGB8;
+    } /* (else a value without a byte of its own: the floats) */
+    size_t bytes = journal_pixel_bytes(r, (int)rec.pixels);
     uint64_t sum = fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
     memcpy(j->record, &rec, sizeof rec);
     memcpy(j->record + sizeof rec + bytes, &sum, sizeof sum);
@@ -437,7 +458,9 @@ static journal *journal_alloc(const char *out_path, const tile_grid *g)
     j->hits = calloc((size_t)j->tiles, sizeof *j->hits);
     j->record = malloc(sizeof(journal_record) + j->buf_size + sizeof(uint64_t));
     j->buf = (float *)(void *)(j->record + sizeof(journal_record)); /* (32 bytes on) */
-    if (!j->path || !j->resumed || !j->hits || !j->record) {
+    j->pixels = pixels_format_for(out_path);
+    j->bytes = malloc(g->pixels_max * 3);
+    if (!j->path || !j->resumed || !j->hits || !j->record || !j->bytes) {
         journal_close(j, true);
         return NULL;
     }
@@ -557,5 +580,6 @@ void journal_close(journal *j, bool finished)
     free(j->resumed);
     free(j->hits);
     free(j->record);
+    free(j->bytes);
     free(j);
 }

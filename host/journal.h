@@ -10,7 +10,10 @@
  * host/pixels.h, and are refused for a float file), then one binary
  * record a finished tile, appended (write(2), no stdio buffer) as soon as
  * the tile's last result is in: its index and rectangle, its primary hits,
- * its RGB floats and an FNV-1a checksum over all of it.  The master only
+ * its pixels and an FNV-1a checksum over all of it.  The pixels are the
+ * RGB floats, or, for an 8-bit output, the file's bytes whenever each
+ * value has one (a quarter of the size; resumed as the floats the master
+ * keeps for those bytes, so the file is the same).  The master only
  * queues the tile; a thread of the journal's own, which looks every
  * millisecond, appends the records and forces them to the disk, so
  * neither is in the way of the workers' answers.  A record cut short or

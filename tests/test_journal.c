@@ -1,10 +1,12 @@
 /*
  * test_journal.c — the journal's writer thread (host/journal.c): the tiles
  * the master queues are all in the file once the journal is closed, and
- * --resume reads them back bit for bit; a writer with nothing to write
+ * --resume reads them back (bit for bit for a float output; for an 8-bit
+ * one as the same bytes, from records of bytes); a writer with nothing to write
  * sleeps (it once spun on a core from the first second without a new tile
  * until the next one).
  */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -15,12 +17,14 @@
 #include <string.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 #include <cmocka.h>
 
 #include "../csg/lang/parser.h"
 #include "../host/journal.h"
+#include "../host/pixels.h"
 #include "../workers/engine.h"
 
 typedef struct {
@@ -72,20 +76,30 @@ static double cpu_seconds(void)
            (double)u.ru_stime.tv_sec + (double)u.ru_stime.tv_usec * 1e-6;
 }
 
+/* The journal's file size, the file kept. */
+static long journal_size(const char *out)
+{
+    char path[160];
+    snprintf(path, sizeof path, "%s%s", out, JOURNAL_SUFFIX);
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
 /* Every tile queued is appended by the time the journal is closed (by
  * the writer thread, or by journal_tile_done itself before the writer is
- * started); a resume gives back the pixels and hits. */
-static void tiles_are_all_kept(fixture *f, bool writer)
+ * started); a resume gives back the hits, and the pixels: the very floats
+ * for a float output, for an 8-bit one the floats of the same bytes
+ * (pixels_linear_of: the file is the same).  `image` is the render's
+ * (its values in [0, 1)); the journal's size is returned (the file kept,
+ * removed by the next open without --resume or by teardown). */
+static long tiles_are_all_kept(fixture *f, const char *out, bool writer, const float *image)
 {
     size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
-    float *image = malloc(floats * sizeof *image), *back = calloc(floats, sizeof *back);
-    assert_non_null(image);
+    float *back = calloc(floats, sizeof *back);
     assert_non_null(back);
-    for (size_t i = 0; i < floats; i++)
-        image[i] = (float)i * 0.25f;
     journal *j = NULL;
     csg_diag d = {{0}, 0};
-    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    assert_int_equal(journal_open(out, f->blob.bytes, &f->grid, false, (float *)image, &j, &d), 0);
     if (writer)
         journal_start_writer(j);
     int tiles = tile_count(&f->grid);
@@ -94,24 +108,78 @@ static void tiles_are_all_kept(fixture *f, bool writer)
         journal_tile_done(j, t, image);
     }
     journal_close(j, false); /* kept: the render did not finish */
-    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, true, back, &j, &d), 0);
+    long size = journal_size(out);
+    assert_int_equal(journal_open(out, f->blob.bytes, &f->grid, true, back, &j, &d), 0);
     assert_int_equal(journal_tiles_resumed(j), tiles);
     for (int t = 0; t < tiles; t++)
         assert_int_equal(journal_resumed_hits(j, t), (uint32_t)t + 1);
-    assert_memory_equal(image, back, floats * sizeof *image);
-    journal_close(j, true);
-    free(image);
+    if (pixels_format_for(out) == PIXELS_FLOAT) {
+        assert_memory_equal(image, back, floats * sizeof *image);
+    } else {
+        for (size_t i = 0; i < floats; i++) {
+            uint8_t want = 0, got = 0;
+            if (!pixels_srgb_byte(image[i], &want)) /* (no byte: kept as floats) */
+                assert_true(back[i] == image[i]);
+            else
+                assert_true(pixels_srgb_byte(back[i], &got) && got == want);
+        }
+    }
+    journal_close(j, false);
     free(back);
+    return size;
+}
+
+/* The render's image: values over [0, 1), both of the curve's parts. */
+static float *test_image(const fixture *f)
+{
+    size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
+    float *image = malloc(floats * sizeof *image);
+    assert_non_null(image);
+    for (size_t i = 0; i < floats; i++)
+        image[i] = (float)(i % 97) / 97.0f * (i % 5 == 0 ? 0.003f : 1.0f);
+    return image;
 }
 
 static void test_queued_tiles_are_all_kept(void **state)
 {
-    tiles_are_all_kept(*state, true);
+    fixture *f = *state;
+    float *image = test_image(f);
+    tiles_are_all_kept(f, f->out, true, image);
+    free(image);
 }
 
 static void test_tiles_without_the_writer(void **state)
 {
-    tiles_are_all_kept(*state, false);
+    fixture *f = *state;
+    float *image = test_image(f);
+    tiles_are_all_kept(f, f->out, false, image);
+    free(image);
+}
+
+/* An 8-bit output's records hold its bytes: 3 bytes a pixel against a
+ * float output's 12 (24 tiles of 4x4: 3456 bytes fewer; the headers differ
+ * by the pixel format's name, "rgb8" against "float"); a tile with a value
+ * that has no byte of its own keeps its floats, and comes back exact. */
+static void test_8bit_records_are_bytes(void **state)
+{
+    fixture *f = *state;
+    float *image = test_image(f);
+    char exr[112];
+    snprintf(exr, sizeof exr, "%s/out.exr", f->dir);
+    long png = tiles_are_all_kept(f, f->out, true, image);
+    long flt = tiles_are_all_kept(f, exr, true, image);
+    assert_int_equal(flt - png, 24 * 4 * 4 * 3 * 3 + 1);
+    float x = PIXELS_AMBIGUOUS_ENCODED / 12.92f; /* (its neighbours: test_pixels.c) */
+    for (int k = 0; k < 16 && pixels_srgb_encode(x) != PIXELS_AMBIGUOUS_ENCODED; k++)
+        x = nextafterf(x, pixels_srgb_encode(x) < PIXELS_AMBIGUOUS_ENCODED ? 1.0f : 0.0f);
+    assert_true(pixels_srgb_encode(x) == PIXELS_AMBIGUOUS_ENCODED);
+    image[(size_t)(5 * f->grid.width + 9) * 3 + 1] = x; /* in tile 8 (row 1, column 2) */
+    long mixed = tiles_are_all_kept(f, f->out, true, image);
+    assert_int_equal(mixed - png, 4 * 4 * 3 * 3); /* that tile in floats */
+    char path[160];
+    snprintf(path, sizeof path, "%s%s", exr, JOURNAL_SUFFIX);
+    unlink(path);
+    free(image);
 }
 
 /* 2.5 s without a tile: the writer looks every millisecond and sleeps in
@@ -145,6 +213,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_queued_tiles_are_all_kept, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tiles_without_the_writer, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_8bit_records_are_bytes, setup, teardown),
         cmocka_unit_test_setup_teardown(test_idle_writer_sleeps, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
