@@ -245,10 +245,8 @@ static off_t journal_read_records(journal *j, off_t at, float *image)
             sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
             return at;
         if (rgb8)
-            pixels_store_bytes_rect((const uint8_t *)j->buf, (size_t)r.width * 3,
-                                    (size_t)r.height,
-                                    image + ((size_t)r.y * (size_t)j->g.width + (size_t)r.x) * 3,
-                                    (size_t)j->g.width * 3);
+            pixels_store_bytes_rect(image, j->g.width, r.x, r.y, r.width, r.height,
+                                    (const uint8_t *)j->buf);
         else
             tile_store_rgb(image, j->g.width, r, j->buf);
         j->resumed[rec.tile] = true;

@@ -577,15 +577,6 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
     return true;
 }
 
-/* Rectangle r's 8-bit values into the float image, as the values the
- * writer turns back into those bytes (pixels.h). */
-static void master_store_rgb8(float *image, int image_width, tile_rect r, const uint8_t *rgb8)
-{
-    pixels_store_bytes_rect(rgb8, (size_t)r.width * 3, (size_t)r.height,
-                            image + ((size_t)r.y * (size_t)image_width + (size_t)r.x) * 3,
-                            (size_t)image_width * 3);
-}
-
 /* Part `part` of a RESULT (its size already checked) for item `item`:
  * checked, stored, counted. */
 static bool master_take_part(master_job *job, const master_session *m, const link_msg *msg,
@@ -612,8 +603,8 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     if (h.pixels != PIXELS_RGB8)
         tile_store_rgb(job->image, job->grid.width, r, (const float *)(const void *)pixels);
     else if (!job->store || !store_queue(job->store, r, (const uint8_t *)pixels))
-        master_store_rgb8(job->image, job->grid.width, r, (const uint8_t *)pixels); /* (no
-                                                             thread, or its ring full) */
+        pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
+                                (const uint8_t *)pixels); /* (no thread, or its ring full) */
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());

@@ -219,11 +219,13 @@ static void pixels_linear_row(const uint8_t *src, size_t n, float *dst)
 #endif
 }
 
-void pixels_store_bytes_rect(const uint8_t *src, size_t values, size_t rows, float *dst,
-                             size_t dst_stride)
+void pixels_store_bytes_rect(float *image, int image_width, int x, int y, int width, int height,
+                             const uint8_t *src)
 {
-    for (size_t row = 0; row < rows; row++)
-        pixels_linear_row(src + row * values, values, dst + row * dst_stride);
+    size_t values = (size_t)width * 3, stride = (size_t)image_width * 3;
+    float *dst = image + (size_t)y * stride + (size_t)x * 3;
+    for (size_t row = 0; row < (size_t)height; row++)
+        pixels_linear_row(src + row * values, values, dst + row * stride);
 #if defined(__SSE2__)
     _mm_sfence(); /* the stores seen by every thread before the tile is handed on */
 #endif

@@ -85,12 +85,12 @@ bool pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out);
  * the ambiguous value): what the master keeps for a byte received, so
  * the writer turns it into that very byte. */
 float pixels_linear_of(uint8_t b);
-/* pixels_linear_of of a rectangle's bytes: `rows` rows of `values` bytes
- * each (3 a pixel), packed in src, into dst's rows `dst_stride` floats
- * apart (the master stores every received 8-bit tile so).  Visible to
- * every thread when it returns; dst is not read into the cache. */
-void pixels_store_bytes_rect(const uint8_t *src, size_t values, size_t rows, float *dst,
-                             size_t dst_stride);
+/* pixels_linear_of of a rectangle's bytes (packed in src, 3 a pixel) into
+ * the rectangle x, y, width x height of a float image `image_width` pixels
+ * wide (the master stores every received 8-bit tile so).  Visible to every
+ * thread when it returns; the image is not read into the cache. */
+void pixels_store_bytes_rect(float *image, int image_width, int x, int y, int width, int height,
+                             const uint8_t *src);
 
 /* The format of output file `path`, by its extension (any case): PIXELS_FLOAT
  * for the float formats (exr, hdr, pfm), PIXELS_RGB8 for every other (8-bit)

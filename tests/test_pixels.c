@@ -172,8 +172,7 @@ static void test_store_bytes_rect(void **state)
             for (size_t i = 0; i < W * H * 3; i++)
                 image[i] = -7.0f;
             int y = 2, h = 5;
-            pixels_store_bytes_rect(src, (size_t)w * 3, (size_t)h,
-                                    image + ((size_t)y * W + (size_t)x) * 3, (size_t)W * 3);
+            pixels_store_bytes_rect(image, W, x, y, w, h, src);
             for (int row = 0; row < H; row++)
                 for (int col = 0; col < W * 3; col++) {
                     bool inside = row >= y && row < y + h && col >= x * 3 && col < (x + w) * 3;

@@ -37,8 +37,7 @@ static void fill_bytes(int index, int round)
 /* What the master's loop stores for those bytes. */
 static void expect(tile_rect r)
 {
-    pixels_store_bytes_rect(bytes, (size_t)r.width * 3, (size_t)r.height,
-                            want + ((size_t)r.y * W + (size_t)r.x) * 3, (size_t)W * 3);
+    pixels_store_bytes_rect(want, W, r.x, r.y, r.width, r.height, bytes);
 }
 
 /* 80 rounds over the 150 tiles: 15 MB through the 8 MiB ring (its end
