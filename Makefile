@@ -199,6 +199,14 @@ $(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODU
 $(B)/bench/png_write: $(B)/obj/bench/png_write.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
+# The store threads' throughput, one against several (bench/store_threads.c).
+$(B)/bench/store_threads: $(B)/obj/bench/store_threads.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
+# A nap's CPU time, what the simulation charges for it (bench/nap_cost.c).
+$(B)/bench/nap_cost: $(B)/obj/bench/nap_cost.o
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ -lpthread
 $(B)/bench/embree_primary: bench/embree_primary.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(OPT) $< -o $@ -lembree3 -lm

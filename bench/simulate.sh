@@ -5,7 +5,7 @@
 #       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
-#       [--master-store-ns C] --stats F.json
+#       [--master-store-ns C [--store-threads N]] [--nap-us U] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -39,6 +39,12 @@
 # master's store thread (host/store.h), C ns a pixel on a core of its own,
 # while its ring has room (A and B are then the loop's part without the
 # store); default 0: no store thread, the loop stores them (B).
+# --store-threads N: so many store threads (csgtrace --store-threads), each
+# on a core of its own at C ns a pixel, a part going to the one that is
+# free first; default 1.
+# --nap-us U: every nap that runs out (link.c's idle wait, any rank) costs
+# its rank U us of CPU besides (the timer and the wake-up: 6.4 measured
+# here, bench/SCALE.md); default 0.
 # bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
@@ -56,7 +62,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
-PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0
+PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -79,6 +85,8 @@ while [ $# -gt 0 ]; do
     --master-pixel-ns) PIXEL_NS=$2 ;;
     --master-message-us) MESSAGE_US=$2 ;;
     --master-store-ns) STORE_NS=$2 ;;
+    --store-threads) STORE_THREADS=$2 ;;
+    --nap-us) NAP_US=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -102,6 +110,8 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PIXEL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-pixel-ns: nanoseconds, 0..9999.999"
 [[ "$MESSAGE_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-message-us: microseconds, 0..9999.999"
 [[ "$STORE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-store-ns: nanoseconds, 0..9999.999"
+[[ "$STORE_THREADS" =~ ^[1-8]$ ]] || die "--store-threads: 1..8"
+[[ "$NAP_US" =~ ^(0|[1-9][0-9]{0,2})(\.[0-9]{1,3})?$ ]] || die "--nap-us: microseconds, 0..999.999"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -174,13 +184,14 @@ batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
+CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
     --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" \
-    "$MESSAGE_US" "$STORE_NS" <<'PY'
+    "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
@@ -190,6 +201,8 @@ d["master_part_us"] = float(sys.argv[6])
 d["master_pixel_ns"] = float(sys.argv[7])
 d["master_message_us"] = float(sys.argv[8])
 d["master_store_ns"] = float(sys.argv[9])
+d["master_store_threads"] = int(sys.argv[10]) if float(sys.argv[9]) > 0 else 0  # (C 0: none)
+d["nap_us"] = float(sys.argv[11])
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

@@ -19,6 +19,7 @@
 
 #define CLI_RELAYS_MAX 4096 /* --relays: a relay per 2 workers at most anyway */
 #include "journal.h"
+#include "store.h"
 
 void cli_usage(FILE *out)
 {
@@ -27,6 +28,7 @@ void cli_usage(FILE *out)
           "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
           "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
           "                   [--schedule raster|cost|static|tail] [--batch N|auto] [--relays K]\n"
+          "                   [--store-threads N]\n"
           "                   [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
           "                   [--fill on|off]\n"
@@ -147,6 +149,8 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     }
     if (strcmp(opt, "--relays") == 0)
         return parse_int(opt, val, 0, CLI_RELAYS_MAX, &r->relays, d);
+    if (strcmp(opt, "--store-threads") == 0)
+        return parse_int(opt, val, 1, STORE_THREADS_MAX, &r->store_threads, d);
     if (strcmp(opt, "--cl-device") == 0) {
         r->cl_device = val;
         return true;

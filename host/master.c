@@ -606,7 +606,7 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
         pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
                                 (const uint8_t *)pixels); /* (no thread, or its ring full) */
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
-                       h.busy_s};
+                       h.busy_s, h.cpu_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
 #ifdef CSG_SIM
     sim_charge_master_part(n, h.pixels == PIXELS_RGB8); /* what that took a real master
@@ -828,6 +828,7 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     it->worker = rank;
     it->done_s = now;
     it->busy_s = res->busy_s;
+    it->cpu_s = res->cpu_s;
     it->hits = res->hits;
     w->items++;
     w->hits += res->hits;

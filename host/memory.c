@@ -6,6 +6,7 @@
 #include "pixels.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/mman.h>
@@ -116,6 +117,21 @@ static void *memory_prefault_run(void *arg)
     (void)arg;
 #endif
     return NULL;
+}
+
+#define MEMORY_HUGE_PAGE ((size_t)2 << 20)
+
+void *memory_image_alloc(size_t bytes)
+{
+    if (bytes < MEMORY_PREFAULT_MIN)
+        return malloc(bytes ? bytes : 1);
+    size_t whole = (bytes + MEMORY_HUGE_PAGE - 1) / MEMORY_HUGE_PAGE * MEMORY_HUGE_PAGE;
+    void *p = aligned_alloc(MEMORY_HUGE_PAGE, whole);
+#ifdef MADV_HUGEPAGE
+    if (p)
+        madvise(p, whole, MADV_HUGEPAGE); /* (a request: small pages if refused) */
+#endif
+    return p;
 }
 
 void memory_prefault_start(memory_prefault *p, void *image, size_t bytes)

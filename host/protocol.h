@@ -171,7 +171,9 @@ typedef struct {
     uint32_t hits;          /* primary samples that hit                */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     uint64_t over_budget;   /* pixels that met their ray budget        */
-    double busy_s;          /* seconds the worker spent on the tile    */
+    double busy_s;          /* seconds the worker spent on the part:
+                               tracing it and converting its pixels    */
+    double cpu_s;           /* of them, its thread's CPU time          */
     int32_t pixels;         /* enum pixels_format of the pixels after  */
     int32_t rank;           /* the worker that computed it (a relay's
                                answer; a worker sends 0: itself)       */

@@ -215,6 +215,7 @@ typedef struct render_state {
     bool helpers;          /* the journal's writer, the prefault, the store
                               thread started (render_start_helpers)      */
     bool store_wanted;     /* the workers' 8-bit results stored by a thread */
+    int store_threads;     /* ... by so many (--store-threads)            */
     store *store;          /* that thread (store.h; NULL: none)          */
 } render_state;
 
@@ -597,7 +598,8 @@ static void render_start_helpers(render_state *rs, master_job *job)
     if (rs->prefault_bytes > 0)
         memory_prefault_start(&rs->prefault, rs->image, rs->prefault_bytes);
     if (rs->store_wanted)
-        rs->store = store_start(rs->image, job->grid.width, tile_count(&job->grid));
+        rs->store = store_start(rs->image, job->grid.width, tile_count(&job->grid),
+                                rs->store_threads);
     job->store = rs->store;
 }
 
@@ -850,7 +852,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     if (hetero && !fill && !render_open_cl(req, rs, d)) /* (fill: meanwhile) */
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
-    rs->image = malloc(st->pixels * 3 * sizeof *rs->image);
+    rs->image = memory_image_alloc(st->pixels * 3 * sizeof *rs->image);
     rs->workers = calloc((size_t)st->worker_count + 1, sizeof *rs->workers); /* (+ the
                                                    master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);
@@ -871,6 +873,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     }
     rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
     rs->store_wanted = use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8;
+    rs->store_threads = req->store_threads > 0 ? req->store_threads : 1;
     job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;
@@ -948,6 +951,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
     mk->tiles_end = stats_clock();
     st->master_cpu_s = stats_thread_cpu() - cpu0;
     st->master_results_s = job.results_s;
+    st->store_threads = store_threads(rs->store);
+    st->store_cpu_s = store_cpu_s(rs->store);
     if (status == EXIT_OK && !rs->pass && rs->build.started &&
         render_cl_build_ready(rs, true, d) < 0) /* (the fill took every tile: still,
                                                     a bad OpenCL option is an error) */

@@ -54,6 +54,9 @@ typedef struct {
     int relays;               /* --relays: ranks 1 .. relays are relays,
                                  masters of groups of workers
                                  (host/relay.h); 0: none               */
+    int store_threads;        /* --store-threads: rank 0's threads that
+                                 store 8-bit results (host/store.h);
+                                 <= 0: one                             */
     const csg_parse_options *parse; /* clock, library folders, messages;
                                        NULL: the defaults (image_width and
                                        image_height are always the render's) */

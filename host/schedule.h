@@ -86,6 +86,7 @@ typedef struct {
     double sent_s;     /* stats_clock() when it was sent / started       */
     double done_s;     /* when its result was in                         */
     double busy_s;     /* the worker's seconds on it                     */
+    double cpu_s;      /* of them, the CPU time of the worker's thread   */
     uint32_t hits;     /* primary samples that hit                       */
 } sched_item;
 

@@ -117,7 +117,7 @@ static void stats_workers(FILE *f, const render_stats *s)
 #define STATS_TIMES(X)                                                                  \
     X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
     X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
-    X(estimate_spearman) X(master_cpu_s) X(master_results_s)
+    X(estimate_spearman) X(master_cpu_s) X(master_results_s) X(store_cpu_s)
 
 static void stats_phases(FILE *f, const render_stats *s)
 {
@@ -143,9 +143,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     fputs(",\n  \"schedule\": ", f);
     stats_string(f, s->schedule);
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
-               "  \"spp\": %d,\n  \"in_flight\": %d,\n  \"relays\": %d,\n",
+               "  \"spp\": %d,\n  \"in_flight\": %d,\n  \"relays\": %d,\n"
+               "  \"store_threads\": %d,\n",
             s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1, s->in_flight,
-            s->relays);
+            s->relays, s->store_threads);
     stats_phases(f, s);
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
@@ -219,6 +220,8 @@ static void stats_log_item(FILE *f, const sched_item *it, double t0)
     stats_log_time(f, "done_s", !it->skipped, it->done_s - t0);
     fputs("\"seconds\": ", f);
     stats_number(f, it->busy_s);
+    fputs(", \"cpu_s\": ", f);
+    stats_number(f, it->cpu_s);
     fputs("}\n", f);
 }
 

@@ -11,6 +11,9 @@
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
  *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)
+ *   store_threads rank 0's threads that stored the workers' 8-bit results
+ *                 (--store-threads, host/store.h; 0: none ran, the loop
+ *                 stored every result: float output, serial, one rank)
  *
  *   Phases: consecutive intervals of one clock, so that
  *     wall_s = setup_s + cl_setup_s + compile_s + primary_s + pipelined_s
@@ -55,6 +58,9 @@
  *                 appending finished tiles to the journal), MPI aside:
  *                 the work a result costs it, which bounds how many
  *                 workers one master can keep busy (bench/SCALE.md)
+ *   store_cpu_s   CPU seconds of rank 0's store threads, all together
+ *                 (store_threads; 0 when none ran): storing the workers'
+ *                 8-bit results into the image, off the master's loop
  *   slices        OpenCL slices of the pass (0 without one)
  *
  *   tiles_total   tiles of the image
@@ -116,7 +122,9 @@
  *    "fill" (rendered whole by the fill, hetero), "estimate" (ray casts, null if
  *    unknown), "hits", "worker" (rank; 0 the master), "order" (dispatch
  *    order, null if skipped), "sent_s", "done_s" (seconds since the render
- *    began, null if skipped), "seconds" (the worker's time on it)}
+ *    began, null if skipped), "seconds" (the worker's time on it), "cpu_s"
+ *    (of it, the CPU time of the worker's thread: "seconds" less any time a
+ *    shared core spent elsewhere; what bench/sim/costmap.py maps)}
  * The pieces of a tile partition it; every tile appears once whole or as
  * its pieces.
  */
@@ -155,6 +163,7 @@ typedef struct render_stats {
     double pass_s, tile_phase_s, tail_s;          /* derived            */
     double busy_fraction, estimate_spearman;
     double master_cpu_s, master_results_s;        /* (below)            */
+    double store_cpu_s;                           /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */
@@ -162,6 +171,7 @@ typedef struct render_stats {
     int batch;                                    /* (above)            */
     int relays;               /* ranks 1 .. relays relay (--relays): not in
                                  `workers` of the JSON                     */
+    int store_threads;        /* rank 0's store threads that ran          */
     uint64_t tile_messages;
     uint64_t pixels, pixels_hit;
     ray_counts rays;

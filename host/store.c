@@ -1,23 +1,26 @@
 /*
- * store.c — the store thread (store.h).
+ * store.c — the store threads (store.h).
  *
- * One producer (rank 0's main thread) and one consumer (the thread) share
- * a ring of STORE_RING_BYTES.  Positions are byte counts since the start
- * that only grow: `head` is what the producer has written, `tail` what the
- * consumer has stored; a record is a header and the part's bytes, padded
- * to STORE_ALIGN, and a header of width 0 marks the ring's end (the next
- * record starts again at offset 0).  The producer publishes a record by
- * moving head on (release), the consumer frees it by moving tail on once
- * its pixels are in the image (pixels_store_bytes_rect makes its stores
- * visible first), so a tile is complete in the image when tail has passed
- * the head of the moment the tile was complete (store_after).
+ * Each thread is a lane: one producer (rank 0's main thread) and one
+ * consumer (the lane's thread) share the lane's ring of STORE_RING_BYTES.
+ * Positions are byte counts since the start that only grow: `head` is
+ * what the producer has written, `tail` what the consumer has stored; a
+ * record is a header and the part's bytes, padded to STORE_ALIGN, and a
+ * header of width 0 marks the ring's end (the next record starts again at
+ * offset 0).  The producer publishes a record by moving head on (release),
+ * the consumer frees it by moving tail on once its pixels are in the image
+ * (pixels_store_bytes_rect makes its stores visible first), so a tile is
+ * complete in the image when every lane's tail has passed that lane's head
+ * of the moment the tile was complete (store_after).  Parts are disjoint
+ * rectangles, so the lanes never write the same pixel; a part goes to the
+ * lane with the fewest bytes waiting.
  *
- * An idle consumer sleeps on a condition variable for STORE_POLL_NS at
- * most.  The producer wakes it at once only when it must not wait that
- * long (the ring a quarter full, store_drain), and only when it said it
- * sleeps: `sleeping` and `head` are sequentially consistent, so either the
- * consumer sees the new head before it waits, or the producer sees
- * `sleeping` and signals under the mutex the consumer holds until it
+ * An idle consumer sleeps on its lane's condition variable for
+ * STORE_POLL_NS at most.  The producer wakes it at once only when it must
+ * not wait that long (its ring a quarter full, store_drain), and only when
+ * it said it sleeps: `sleeping` and `head` are sequentially consistent, so
+ * either the consumer sees the new head before it waits, or the producer
+ * sees `sleeping` and signals under the mutex the consumer holds until it
  * waits.
  */
 #include "store.h"
@@ -47,19 +50,28 @@ typedef struct {
 _Static_assert(sizeof(store_record) == STORE_ALIGN, "a header is one STORE_ALIGN");
 _Static_assert(STORE_RING_BYTES % STORE_ALIGN == 0, "a ring's end always has room for a header");
 
-struct store {
-    float *image;
-    int width;
+typedef struct store_lane {
+    struct store *owner;
     uint8_t *ring;
     _Atomic uint64_t head, tail;
-    atomic_int sleeping, stop;
+    atomic_int sleeping;
     pthread_mutex_t mutex;
     pthread_cond_t wake;
     pthread_t thread;
-    /* main thread only: the tiles store_after deferred, oldest first */
+} store_lane;
+
+struct store {
+    float *image;
+    int width;
+    atomic_int stop;
+    int lanes;
+    store_lane *lane[STORE_THREADS_MAX];
+    /* main thread only: the tiles store_after deferred, oldest first, and
+     * each lane's head when the tile was complete (`lanes` a tile) */
     int *pending;
-    uint64_t *pending_at; /* head when the tile was complete */
+    uint64_t *pending_at;
     int pending_first, pending_count, tiles;
+    int last; /* the lane of the last part queued */
 };
 
 static size_t store_record_size(uint32_t bytes)
@@ -69,63 +81,112 @@ static size_t store_record_size(uint32_t bytes)
 
 /* The consumer, with nothing to do at `at`: sleeps until it is woken or
  * STORE_POLL_NS have passed; false once stopped with nothing left. */
-static bool store_wait_work(store *s, uint64_t at)
+static bool store_wait_work(store_lane *l, uint64_t at)
 {
-    if (atomic_load(&s->head) != at)
+    if (atomic_load(&l->head) != at)
         return true;
-    pthread_mutex_lock(&s->mutex);
-    atomic_store(&s->sleeping, 1);
-    if (atomic_load(&s->head) == at && !atomic_load(&s->stop)) {
+    pthread_mutex_lock(&l->mutex);
+    atomic_store(&l->sleeping, 1);
+    if (atomic_load(&l->head) == at && !atomic_load(&l->owner->stop)) {
         struct timespec until = deadline_after_ns(STORE_POLL_NS);
-        pthread_cond_timedwait(&s->wake, &s->mutex, &until);
+        pthread_cond_timedwait(&l->wake, &l->mutex, &until);
     }
-    atomic_store(&s->sleeping, 0);
-    pthread_mutex_unlock(&s->mutex);
-    return atomic_load(&s->head) != at || !atomic_load(&s->stop);
+    atomic_store(&l->sleeping, 0);
+    pthread_mutex_unlock(&l->mutex);
+    return atomic_load(&l->head) != at || !atomic_load(&l->owner->stop);
 }
 
-/* The consumer woken now, if it sleeps. */
-static void store_wake(store *s)
+/* The lane's consumer woken now, if it sleeps. */
+static void store_wake(store_lane *l)
 {
-    if (atomic_load(&s->sleeping)) {
-        pthread_mutex_lock(&s->mutex);
-        pthread_cond_signal(&s->wake);
-        pthread_mutex_unlock(&s->mutex);
+    if (atomic_load(&l->sleeping)) {
+        pthread_mutex_lock(&l->mutex);
+        pthread_cond_signal(&l->wake);
+        pthread_mutex_unlock(&l->mutex);
     }
 }
 
 static void *store_run(void *arg)
 {
-    store *s = arg;
-    uint64_t at = atomic_load_explicit(&s->tail, memory_order_relaxed);
-    while (store_wait_work(s, at)) {
-        uint64_t head = atomic_load_explicit(&s->head, memory_order_acquire);
+    store_lane *l = arg;
+    const store *s = l->owner;
+    uint64_t at = atomic_load_explicit(&l->tail, memory_order_relaxed);
+    while (store_wait_work(l, at)) {
+        uint64_t head = atomic_load_explicit(&l->head, memory_order_acquire);
         while (at != head) {
             size_t offset = (size_t)(at % STORE_RING_BYTES);
             store_record rec;
-            memcpy(&rec, s->ring + offset, sizeof rec);
+            memcpy(&rec, l->ring + offset, sizeof rec);
             if (rec.width == 0) { /* the ring's end */
                 at += STORE_RING_BYTES - offset;
             } else {
                 pixels_store_bytes_rect(s->image, s->width, rec.x, rec.y, rec.width, rec.height,
-                                        s->ring + offset + sizeof rec);
+                                        l->ring + offset + sizeof rec);
                 at += store_record_size(rec.bytes);
             }
-            atomic_store_explicit(&s->tail, at, memory_order_release);
+            atomic_store_explicit(&l->tail, at, memory_order_release);
         }
     }
     return NULL;
 }
 
+/* A lane of s with its thread running; NULL when out of memory or
+ * threads. */
+static store_lane *store_lane_start(store *s)
+{
+    store_lane *l = calloc(1, sizeof *l);
+    if (!l)
+        return NULL;
+    l->owner = s;
+    l->ring = malloc(STORE_RING_BYTES);
+    pthread_condattr_t attr;
+    bool ok = l->ring && pthread_condattr_init(&attr) == 0;
+    if (ok) {
+        ok = pthread_condattr_setclock(&attr, CLOCK_MONOTONIC) == 0 &&
+             pthread_cond_init(&l->wake, &attr) == 0;
+        pthread_condattr_destroy(&attr);
+    }
+    if (ok && pthread_mutex_init(&l->mutex, NULL) != 0) {
+        pthread_cond_destroy(&l->wake);
+        ok = false;
+    }
+    if (ok) { /* the thread takes no signal: they stay the main thread's (signals.c) */
+        sigset_t all, old;
+        sigfillset(&all);
+        pthread_sigmask(SIG_BLOCK, &all, &old);
+        ok = pthread_create(&l->thread, NULL, store_run, l) == 0;
+        pthread_sigmask(SIG_SETMASK, &old, NULL);
+        if (!ok) {
+            pthread_cond_destroy(&l->wake);
+            pthread_mutex_destroy(&l->mutex);
+        }
+    }
+    if (!ok) {
+        free(l->ring);
+        free(l);
+        return NULL;
+    }
+    return l;
+}
+
+/* (s->stop set, lanes told) */
+static void store_lane_join(store_lane *l)
+{
+    pthread_join(l->thread, NULL);
+    pthread_cond_destroy(&l->wake);
+    pthread_mutex_destroy(&l->mutex);
+    free(l->ring);
+    free(l);
+}
+
 static void store_free(store *s)
 {
-    free(s->ring);
     free(s->pending);
     free(s->pending_at);
     free(s);
 }
 
-store *store_start(float *image, int width, int tiles)
+store *store_start(float *image, int width, int tiles, int threads)
 {
     store *s = calloc(1, sizeof *s);
     if (!s)
@@ -133,80 +194,133 @@ store *store_start(float *image, int width, int tiles)
     s->image = image;
     s->width = width;
     s->tiles = tiles > 0 ? tiles : 1;
-    s->ring = malloc(STORE_RING_BYTES);
+    int want = threads < 1 ? 1 : threads > STORE_THREADS_MAX ? STORE_THREADS_MAX : threads;
     s->pending = malloc((size_t)s->tiles * sizeof *s->pending);
-    s->pending_at = malloc((size_t)s->tiles * sizeof *s->pending_at);
-    if (!s->ring || !s->pending || !s->pending_at || pthread_mutex_init(&s->mutex, NULL) != 0) {
+    s->pending_at = malloc((size_t)s->tiles * (size_t)want * sizeof *s->pending_at);
+    if (!s->pending || !s->pending_at) {
         store_free(s);
         return NULL;
     }
-    pthread_condattr_t attr;
-    bool cond = pthread_condattr_init(&attr) == 0;
-    cond = cond && pthread_condattr_setclock(&attr, CLOCK_MONOTONIC) == 0 &&
-           pthread_cond_init(&s->wake, &attr) == 0;
-    pthread_condattr_destroy(&attr);
-    if (!cond) {
-        pthread_mutex_destroy(&s->mutex);
-        store_free(s);
-        return NULL;
-    }
-    /* the thread takes no signal: they stay the main thread's (signals.c) */
-    sigset_t all, old;
-    sigfillset(&all);
-    pthread_sigmask(SIG_BLOCK, &all, &old);
-    int failed = pthread_create(&s->thread, NULL, store_run, s);
-    pthread_sigmask(SIG_SETMASK, &old, NULL);
-    if (failed) {
-        pthread_cond_destroy(&s->wake);
-        pthread_mutex_destroy(&s->mutex);
+    /* as many lanes as start (at least one) */
+    while (s->lanes < want && (s->lane[s->lanes] = store_lane_start(s)))
+        s->lanes++;
+    if (s->lanes == 0) {
         store_free(s);
         return NULL;
     }
     return s;
 }
 
-bool store_queue(store *s, tile_rect r, const uint8_t *rgb8)
+int store_threads(const store *s)
 {
-    uint32_t bytes = (uint32_t)((size_t)r.width * (size_t)r.height * 3);
-    size_t need = store_record_size(bytes);
-    uint64_t head = atomic_load_explicit(&s->head, memory_order_relaxed);
-    uint64_t tail = atomic_load_explicit(&s->tail, memory_order_acquire);
+    return s ? s->lanes : 0;
+}
+
+double store_cpu_s(const store *s)
+{
+    double sum = 0;
+    for (int k = 0; s && k < s->lanes; k++) {
+        clockid_t clock;
+        struct timespec ts;
+        if (pthread_getcpuclockid(s->lane[k]->thread, &clock) == 0 &&
+            clock_gettime(clock, &ts) == 0)
+            sum += (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    }
+    return sum;
+}
+
+/* Bytes queued in lane l and not stored yet. */
+static uint64_t store_lane_waiting(store_lane *l)
+{
+    return atomic_load_explicit(&l->head, memory_order_relaxed) -
+           atomic_load_explicit(&l->tail, memory_order_acquire);
+}
+
+/* The record of `need` bytes into lane l: false when it has no room. */
+static bool store_lane_queue(store_lane *l, tile_rect r, uint32_t bytes, size_t need,
+                             const uint8_t *rgb8)
+{
+    uint64_t head = atomic_load_explicit(&l->head, memory_order_relaxed);
+    uint64_t tail = atomic_load_explicit(&l->tail, memory_order_acquire);
     size_t offset = (size_t)(head % STORE_RING_BYTES), to_end = STORE_RING_BYTES - offset;
     size_t skip = need > to_end ? to_end : 0; /* (to_end is a record size at least) */
-    if (r.width <= 0 || r.height <= 0 || need + skip > STORE_RING_BYTES - (size_t)(head - tail))
+    if (need + skip > STORE_RING_BYTES - (size_t)(head - tail))
         return false;
     if (skip) {
         store_record end = {0};
-        memcpy(s->ring + offset, &end, sizeof end);
+        memcpy(l->ring + offset, &end, sizeof end);
         offset = 0;
     }
     store_record rec = {.x = r.x, .y = r.y, .width = r.width, .height = r.height, .bytes = bytes};
-    memcpy(s->ring + offset, &rec, sizeof rec);
-    memcpy(s->ring + offset + sizeof rec, rgb8, bytes);
-    atomic_store(&s->head, head + skip + need); /* (sequentially consistent: see the top) */
+    memcpy(l->ring + offset, &rec, sizeof rec);
+    memcpy(l->ring + offset + sizeof rec, rgb8, bytes);
+    atomic_store(&l->head, head + skip + need); /* (sequentially consistent: see the top) */
     if (head + skip + need - tail > STORE_RING_BYTES / 4)
-        store_wake(s); /* (a quarter full: not waiting for its next look) */
+        store_wake(l); /* (a quarter full: not waiting for its next look) */
     return true;
 }
 
-/* Until tail reaches `at`. */
-static void store_wait_for(store *s, uint64_t at)
+bool store_queue(store *s, tile_rect r, const uint8_t *rgb8)
+{
+    if (r.width <= 0 || r.height <= 0)
+        return false;
+    uint32_t bytes = (uint32_t)((size_t)r.width * (size_t)r.height * 3);
+    size_t need = store_record_size(bytes);
+    if (need > STORE_RING_BYTES)
+        return false;
+    /* the lane with the fewest bytes waiting (ties: the next after the
+     * last one used); the next fewest if it is full */
+    bool tried[STORE_THREADS_MAX] = {false};
+    for (int round = 0; round < s->lanes; round++) {
+        int best = -1;
+        uint64_t least = 0;
+        for (int i = 1; i <= s->lanes; i++) {
+            int k = (s->last + i) % s->lanes;
+            uint64_t waiting = tried[k] ? 0 : store_lane_waiting(s->lane[k]);
+            if (!tried[k] && (best < 0 || waiting < least)) {
+                best = k;
+                least = waiting;
+            }
+        }
+        if (store_lane_queue(s->lane[best], r, bytes, need, rgb8)) {
+            s->last = best;
+            return true;
+        }
+        tried[best] = true;
+    }
+    return false;
+}
+
+/* Has every lane's tail reached at[lane]? */
+static bool store_reached(store *s, const uint64_t *at)
+{
+    for (int k = 0; k < s->lanes; k++)
+        if (atomic_load_explicit(&s->lane[k]->tail, memory_order_acquire) < at[k])
+            return false;
+    return true;
+}
+
+/* Until every lane's tail reaches at[lane]. */
+static void store_wait_for(store *s, const uint64_t *at)
 {
     struct timespec nap = {0, STORE_WAIT_NS};
-    while (atomic_load_explicit(&s->tail, memory_order_acquire) < at)
+    while (!store_reached(s, at))
         nanosleep(&nap, NULL);
 }
 
 bool store_after(store *s, int tile)
 {
-    uint64_t head = atomic_load_explicit(&s->head, memory_order_relaxed);
-    if (atomic_load_explicit(&s->tail, memory_order_acquire) == head)
+    uint64_t heads[STORE_THREADS_MAX];
+    for (int k = 0; k < s->lanes; k++)
+        heads[k] = atomic_load_explicit(&s->lane[k]->head, memory_order_relaxed);
+    if (store_reached(s, heads))
         return true;
     if (s->pending_count >= s->tiles)
         return true; /* (each tile once: never) */
     int slot = (s->pending_first + s->pending_count) % s->tiles;
     s->pending[slot] = tile;
-    s->pending_at[slot] = head;
+    memcpy(s->pending_at + (size_t)slot * (size_t)s->lanes, heads,
+           (size_t)s->lanes * sizeof *heads);
     s->pending_count++;
     return false;
 }
@@ -215,8 +329,8 @@ bool store_finished(store *s, int *tile, bool wait)
 {
     if (s->pending_count == 0)
         return false;
-    uint64_t at = s->pending_at[s->pending_first];
-    if (!wait && atomic_load_explicit(&s->tail, memory_order_acquire) < at)
+    const uint64_t *at = s->pending_at + (size_t)s->pending_first * (size_t)s->lanes;
+    if (!wait && !store_reached(s, at))
         return false;
     store_wait_for(s, at);
     *tile = s->pending[s->pending_first];
@@ -227,20 +341,25 @@ bool store_finished(store *s, int *tile, bool wait)
 
 void store_drain(store *s)
 {
-    store_wake(s);
-    store_wait_for(s, atomic_load_explicit(&s->head, memory_order_relaxed));
+    uint64_t heads[STORE_THREADS_MAX];
+    for (int k = 0; k < s->lanes; k++) {
+        heads[k] = atomic_load_explicit(&s->lane[k]->head, memory_order_relaxed);
+        store_wake(s->lane[k]);
+    }
+    store_wait_for(s, heads);
 }
 
 void store_stop(store *s)
 {
     if (!s)
         return;
-    pthread_mutex_lock(&s->mutex);
     atomic_store(&s->stop, 1);
-    pthread_cond_signal(&s->wake);
-    pthread_mutex_unlock(&s->mutex);
-    pthread_join(s->thread, NULL);
-    pthread_cond_destroy(&s->wake);
-    pthread_mutex_destroy(&s->mutex);
+    for (int k = 0; k < s->lanes; k++) { /* (under the mutex: not lost between its checks) */
+        pthread_mutex_lock(&s->lane[k]->mutex);
+        pthread_cond_signal(&s->lane[k]->wake);
+        pthread_mutex_unlock(&s->lane[k]->mutex);
+    }
+    for (int k = 0; k < s->lanes; k++)
+        store_lane_join(s->lane[k]);
     store_free(s);
 }

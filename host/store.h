@@ -1,16 +1,18 @@
 /*
- * store.h — a thread of rank 0's that writes the received 8-bit tile parts
+ * store.h — threads of rank 0's that write the received 8-bit tile parts
  * into the float image, so that the master's own loop only checks a part,
  * copies its bytes into a ring and goes back to the workers.
  *
  * Turning a byte into the float the image keeps (pixels.h) and writing 12
  * bytes of image a pixel was most of rank 0's work on a result (bench/
  * SCALE.md, "the master's own work"), and the master's work on results is
- * what bounds the simulated 256-worker cluster.  The thread does it on
- * another core, in the order the parts came.
+ * what bounds the simulated 256-worker cluster.  A thread does it on
+ * another core; with several (--store-threads, where rank 0's node has
+ * the cores), each has a ring of its own and a part goes to the one with
+ * the least waiting.
  *
  * Use (master.c, from rank 0's main thread only):
- *   s = store_start(image, width, tiles);    NULL: store every part yourself
+ *   s = store_start(image, width, tiles, n); NULL: store every part yourself
  *   store_queue(s, rect, bytes)              false: no room, store it yourself
  *   store_after(s, tile)                     the tile is complete: true when
  *                                            every byte queued so far is in
@@ -32,18 +34,25 @@
 
 #include "../workers/tile.h"
 
-/* The ring the parts wait in: ~2600 parts of 32x32 (a record: its
- * STORE_ALIGN-byte header and its bytes, padded to STORE_ALIGN). */
+/* A thread's ring: ~2600 parts of 32x32 (a record: its STORE_ALIGN-byte
+ * header and its bytes, padded to STORE_ALIGN). */
 #define STORE_RING_BYTES ((size_t)8 << 20)
 #define STORE_ALIGN 32
+#define STORE_THREADS_MAX 8
 
 typedef struct store store;
 
-/* The store thread for an image `width` pixels wide of `tiles` tiles;
- * NULL (out of memory, no thread): the caller stores every part itself. */
-store *store_start(float *image, int width, int tiles);
-/* Rectangle r's packed 8-bit values (3 a pixel) copied into the ring, to
- * be stored; false when the ring has no room for them (nothing queued). */
+/* `threads` store threads (1..STORE_THREADS_MAX; as many as start) for an
+ * image `width` pixels wide of `tiles` tiles; NULL (out of memory, no
+ * thread): the caller stores every part itself. */
+store *store_start(float *image, int width, int tiles, int threads);
+/* The threads running (0 for NULL). */
+int store_threads(const store *s);
+/* The CPU seconds the threads have taken so far, all together (0 for
+ * NULL). */
+double store_cpu_s(const store *s);
+/* Rectangle r's packed 8-bit values (3 a pixel) copied into a ring, to
+ * be stored; false when no ring has room for them (nothing queued). */
 bool store_queue(store *s, tile_rect r, const uint8_t *rgb8);
 /* Tile `tile` is complete (every part of it queued or stored): true when
  * all that was queued is already in the image, else false and the tile is

@@ -9,7 +9,12 @@
 #   - the stats say which format was used (result_pixels: rgb8 to PNG,
 #     float to EXR, none serially) and are truthful: a homo render receives
 #     exactly 9 bytes a pixel fewer to PNG than to EXR (tile 8, --batch 4
-#     too).
+#     too);
+#   - rank 0's store threads (host/store.h): one stores the 8-bit results
+#     of every multi-rank PNG render (hetero: unless the fill finished the
+#     frame before the OpenCL build), none runs serially or to EXR, and
+#     --store-threads 3 gives the same PNG with 3 (store_threads,
+#     store_cpu_s in the stats).
 # Usage: tests/e2e_bytes.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -33,9 +38,15 @@ for scene in scenes/*.pov "$T/random.pov"; do
                 --stats "$out.json" >/dev/null 2>&1 || { bad+=" $mode/$np:failed"; continue; }
             cmp -s "$T/$name-serial.png" "$out" || bad+=" $mode/$np:differs"
             json "$out.json" "j['result_pixels'] == 'rgb8'" || bad+=" $mode/$np:not-rgb8"
+            # (hetero with the fill starts the thread once the OpenCL
+            # program is built: these tiny frames may be done before)
+            json "$out.json" "j['store_threads'] == 1 or '$mode' == 'hetero' and j['tiles_filled'] > 0 and j['store_threads'] == 0" ||
+                bad+=" $mode/$np:store-threads"
         done
     done
     json "$T/$name-serial.json" "j['result_pixels'] == 'none'" || bad+=" serial:result_pixels"
+    json "$T/$name-serial.json" "j['store_threads'] == 0 and j['store_cpu_s'] == 0" ||
+        bad+=" serial:store-threads"
     [ -z "$bad" ] && ok "$name: homo and hetero PNGs (2, 3 ranks, 8-bit results) = the serial PNG, byte for byte" ||
         ko "$name:$bad"
 done
@@ -50,6 +61,21 @@ done
 same "$T/show.exr" "$T/show-serial.exr" && cmp -s "$T/showcase-serial.png" "$T/showcase-homo-3.png" &&
     ok "showcase: EXR (float results) = serial EXR, and the 8-bit results' PNG = the PNG of those floats" ||
     ko "showcase: EXR or PNG differs"
+
+# Several store threads: the parts spread over their rings, the same PNG.
+# (hetero without the fill: the threads start before the first tile)
+for mode in homo hetero; do
+    "${MPI[@]}" -np 3 "$BIN" render "$T/random.pov" "${SZ[@]}" --mode $mode --store-threads 3 \
+        --fill off -o "$T/st3-$mode.png" --stats "$T/st3-$mode.json" >/dev/null 2>&1 &&
+        cmp -s "$T/random-serial.png" "$T/st3-$mode.png" &&
+        json "$T/st3-$mode.json" "j['store_threads'] == 3 and j['store_cpu_s'] > 0" &&
+        ok "$mode: --store-threads 3: the same PNG, 3 threads in the stats" ||
+        ko "$mode: --store-threads 3"
+done
+"${MPI[@]}" -np 3 "$BIN" render "$T/random.pov" "${SZ[@]}" --mode homo --store-threads 2 \
+    -o "$T/st-exr.exr" --stats "$T/st-exr.json" >/dev/null 2>&1 &&
+    json "$T/st-exr.json" "j['store_threads'] == 0" &&
+    ok "to EXR (float results): no store thread runs" || ko "store threads to EXR"
 
 # Parts that come as floats in an 8-bit render (a value without a byte of
 # its own, host/pixels.h; forced here for every other part): the same PNG.

@@ -47,6 +47,8 @@ expect 2 "bad --mode" "$BIN" render "$T/good.pov" -o "$T/x.png" --mode fast
 expect 2 "bad --precision" "$BIN" render "$T/good.pov" -o "$T/x.png" --precision half
 expect 2 "bad --max-rays-per-pixel" "$BIN" render "$T/good.pov" -o "$T/x.png" --max-rays-per-pixel 0
 expect 2 "unknown option" "$BIN" render "$T/good.pov" -o "$T/x.png" --frobnicate
+expect 2 "bad --store-threads" "$BIN" render "$T/good.pov" -o "$T/x.png" --store-threads 9
+errmsg '^csgtrace: error: --store-threads expects a whole number from 1 to 8' "bad --store-threads message"
 expect 0 "--help" "$BIN" --help
 
 # --- bad scenes: exit 2, one file:line:col message, no output ---

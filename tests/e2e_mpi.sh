@@ -245,6 +245,9 @@ for it in items:
     else:
         sent.append(it)
         assert it["seconds"] >= 0 and it["done_s"] >= it["sent_s"] >= 0, it
+        # the thread's CPU time is part of the tile's wall time (the two
+        # clocks are read in nested order; their grain and rates)
+        assert 0 <= it["cpu_s"] <= it["seconds"] * 1.001 + 1e-6, it
         assert (it["estimate"] is not None) == (s["mode"] == "hetero" and not it["fill"]), it
         workers = range(s["relays"] + 1, s["ranks"]) if s["ranks"] > 1 else [0]
         assert it["worker"] in workers, it
@@ -256,6 +259,7 @@ fill = [i["tile"] for i in sent if i["fill"]]
 assert len(fill) == s["tiles_filled"] and (s["mode"] == "hetero" or not fill), fill
 assert all(f > i["tile"] for f in fill for i in items if not i["fill"]), "fill from the bottom up"
 assert len(sent) == s["items_sent"] and sorted(i["order"] for i in sent) == list(range(len(sent)))
+assert not sent or sum(i["cpu_s"] for i in sent) > 0, "no CPU time in the tile log"
 assert sum(i["hits"] for i in items) == s["pixels_hit"] or s["mode"] == "hetero"
 K = s["relays"]  # (static with relays: the k-th tile to relay k mod K, then its group)
 def dealt_to(w):

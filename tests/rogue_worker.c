@@ -58,7 +58,7 @@ static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels, 
         exit(3);
     len = 0;
     for (int i = 0; i < n; i++) {
-        proto_result r = {t[i].index + (n > 1 && i == n - 1), 0, 0, 0, 0, 0, 0, 0, pixels, 0};
+        proto_result r = {.index = t[i].index + (n > 1 && i == n - 1), .pixels = pixels};
         len = proto_align(len);
         memcpy(msg + len, &r, sizeof r);
         len += proto_result_part((size_t)t[i].width * (size_t)t[i].height, pixels);
@@ -88,8 +88,8 @@ static void rogue_reply(const char *mode, const link_msg *in, int pixels, int pa
     char *msg = calloc(1, len);
     if (!msg)
         exit(3);
-    proto_result r = {strcmp(mode, "index") == 0 ? t.index + 1 : t.index, 0, 0, 0, 0, 0, 0, 0,
-                      claimed, 0};
+    proto_result r = {.index = strcmp(mode, "index") == 0 ? t.index + 1 : t.index,
+                      .pixels = claimed};
     memcpy(msg, &r, sizeof r);
     link_send(parent, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
     free(msg);

@@ -1,12 +1,15 @@
 /*
  * test_memory.c — the image's pages faulted in by a thread of their own
  * (host/memory.h, memory_prefault_*): the pages become resident, what the
- * master stores meanwhile is kept, small images go without a thread.
+ * master stores meanwhile is kept, small images go without a thread; and
+ * the image's memory (memory_image_alloc): a large one aligned to 2 MiB
+ * and in huge pages where the kernel grants them on request.
  */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -91,12 +94,63 @@ static void test_small_images_go_without(void **state)
     free(image);
 }
 
+/* Does this kernel give transparent huge pages on request ("always" or
+ * "madvise" chosen)? */
+static bool huge_pages_on_request(void)
+{
+    char line[128] = "";
+    FILE *f = fopen("/sys/kernel/mm/transparent_hugepage/enabled", "r");
+    if (!f)
+        return false;
+    bool on = fgets(line, sizeof line, f) && !strstr(line, "[never]");
+    fclose(f);
+    return on;
+}
+
+/* kB of huge pages in the mapping that holds p (/proc/self/smaps); -1 when
+ * it cannot be read. */
+static long huge_kb_at(const void *p)
+{
+    FILE *f = fopen("/proc/self/smaps", "r");
+    if (!f)
+        return -1;
+    char line[512];
+    bool inside = false;
+    long kb = -1;
+    while (fgets(line, sizeof line, f)) {
+        unsigned long lo, hi;
+        if (sscanf(line, "%lx-%lx ", &lo, &hi) == 2 && strchr(line, '-') < strchr(line, ' '))
+            inside = (uintptr_t)p >= lo && (uintptr_t)p < hi;
+        else if (inside && sscanf(line, "AnonHugePages: %ld kB", &kb) == 1)
+            break;
+    }
+    fclose(f);
+    return kb;
+}
+
+static void test_image_memory(void **state)
+{
+    (void)state;
+    float *small = memory_image_alloc(1000);
+    assert_non_null(small);
+    small[249] = 1.0f;
+    free(small);
+    char *image = memory_image_alloc(BIG + 12345);
+    assert_non_null(image);
+    assert_int_equal((uintptr_t)image % ((uintptr_t)2 << 20), 0);
+    memset(image, 1, BIG + 12345);
+    if (huge_pages_on_request())
+        assert_true(huge_kb_at(image) > 0);
+    free(image);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pages_become_resident),
         cmocka_unit_test(test_stores_meanwhile_are_kept),
         cmocka_unit_test(test_small_images_go_without),
+        cmocka_unit_test(test_image_memory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

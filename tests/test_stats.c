@@ -316,7 +316,8 @@ static void test_phases_add_up(void **state)
     assert_true(fabs(sum - js_num(fx->json, "wall_s")) < 1e-9);
     assert_true(fabs(stats_phase_sum(&fx->s) - fx->s.wall_s) < 1e-12);
     const char *derived[] = { "pass_s", "tile_phase_s", "tail_s", "busy_fraction",
-                              "estimate_spearman", "slices", "in_flight", "master_cpu_s", "master_results_s" };
+                              "estimate_spearman", "slices", "in_flight", "master_cpu_s", "master_results_s",
+                              "store_threads", "store_cpu_s" };
     for (size_t i = 0; i < sizeof derived / sizeof *derived; i++)
         if (!js_member(fx->json, derived[i]))
             fail_msg("missing field %s", derived[i]);
@@ -337,6 +338,7 @@ static void test_tile_log(void **state)
     s.items[item].worker = 2;
     s.items[item].done_s = 10.75;
     s.items[item].busy_s = 0.125;
+    s.items[item].cpu_s = 0.0625;
     char dir[] = "/tmp/test_stats.XXXXXX", path[256], err[256] = "", line[1024];
     assert_non_null(mkdtemp(dir));
     snprintf(path, sizeof path, "%s/log.jsonl", dir);
@@ -353,7 +355,7 @@ static void test_tile_log(void **state)
             assert_true(js_num(line, "tile") == 1.0 && js_num(line, "x") == 16.0);
             assert_true(js_num(line, "worker") == 2.0 && js_num(line, "order") == 0.0);
             assert_true(js_num(line, "sent_s") == 0.5 && js_num(line, "done_s") == 0.75);
-            assert_true(js_num(line, "seconds") == 0.125);
+            assert_true(js_num(line, "seconds") == 0.125 && js_num(line, "cpu_s") == 0.0625);
             assert_int_equal(strncmp(js_member(line, "estimate"), "null", 4), 0);
         }
         lines++;

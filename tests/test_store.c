@@ -1,9 +1,10 @@
 /*
- * test_store.c — the store thread (host/store.h): every queued part ends
- * in the image as the loop would have stored it, across many turns of the
- * ring; a complete tile is given back for the journal only once all that
- * was queued before it is stored, in order; a part larger than the ring
- * is refused (the caller stores it); stopping drains the ring.
+ * test_store.c — the store threads (host/store.h), one and several: every
+ * queued part ends in the image as the loop would have stored it, across
+ * many turns of the rings; a complete tile is given back for the journal
+ * only once all that was queued before it is stored, in order; a part
+ * larger than a ring is refused (the caller stores it); stopping drains
+ * the rings.  Each test runs with 1 and with 3 threads (the state).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -40,14 +41,21 @@ static void expect(tile_rect r)
     pixels_store_bytes_rect(want, W, r.x, r.y, r.width, r.height, bytes);
 }
 
-/* 80 rounds over the 150 tiles: 15 MB through the 8 MiB ring (its end
- * passed once at least). */
+static int threads_of(void **state)
+{
+    return *(const int *)*state;
+}
+
+/* 80 rounds a thread over the 150 tiles: 15 MB a thread through the 8 MiB
+ * rings (each ring's end passed once at least). */
 static void test_every_part_stored(void **state)
 {
-    (void)state;
-    store *s = store_start(image, W, W / T * (H / T));
+    memset(image, 0, sizeof image);
+    store *s = store_start(image, W, W / T * (H / T), threads_of(state));
     assert_non_null(s);
-    for (int round = 0; round < 80; round++) {
+    assert_int_equal(store_threads(s), threads_of(state));
+    int rounds = 80 * threads_of(state);
+    for (int round = 0; round < rounds; round++) {
         for (int i = 0; i < W / T * (H / T); i++) {
             fill_bytes(i, round);
             tile_rect r = tile_of(i);
@@ -58,8 +66,10 @@ static void test_every_part_stored(void **state)
         store_drain(s);
         assert_memory_equal(image, want, sizeof image);
     }
-    /* (the records' bytes: what went through the ring) */
-    assert_true(80.0 * (W / T) * (H / T) * (STORE_ALIGN + T * T * 3) > 1.5 * STORE_RING_BYTES);
+    /* (the records' bytes: what went through the rings, each about its
+     * share: the ties rotate) */
+    assert_true((double)rounds * (W / T) * (H / T) * (STORE_ALIGN + T * T * 3) >
+                1.5 * STORE_RING_BYTES * threads_of(state));
     store_stop(s);
 }
 
@@ -67,9 +77,8 @@ static void test_every_part_stored(void **state)
  * only once everything queued before the tile is in the image. */
 static void test_tiles_given_back_once_stored(void **state)
 {
-    (void)state;
     memset(image, 0, sizeof image);
-    store *s = store_start(image, W, W / T * (H / T));
+    store *s = store_start(image, W, W / T * (H / T), threads_of(state));
     assert_non_null(s);
     assert_true(store_after(s, 3)); /* nothing queued */
     int tile;
@@ -101,34 +110,56 @@ static void test_tiles_given_back_once_stored(void **state)
  * with parts queued stores them first. */
 static void test_too_large_refused_and_stop_drains(void **state)
 {
-    (void)state;
     enum { BW = 2000, BH = 1500 }; /* 9 MB of bytes */
     float *big = calloc((size_t)BW * BH * 3, sizeof *big);
     uint8_t *src = calloc((size_t)BW * BH * 3, 1);
     assert_non_null(big);
     assert_non_null(src);
-    store *s = store_start(big, BW, 1);
+    store *s = store_start(big, BW, 1, threads_of(state));
     assert_non_null(s);
     tile_rect all = {0, 0, BW, BH};
     assert_false(store_queue(s, all, src));
     for (size_t i = 0; i < 300 * 3; i++)
         src[i] = 255;
-    tile_rect row = {0, 7, 300, 1};
-    assert_true(store_queue(s, row, src));
+    for (int y = 7; y < 11; y++) { /* (with 3 threads: in more than one ring) */
+        tile_rect row = {0, y, 300, 1};
+        assert_true(store_queue(s, row, src));
+    }
     store_stop(s);
-    for (size_t i = 0; i < 300 * 3; i++)
-        assert_true(big[(size_t)7 * BW * 3 + i] == 1.0f);
+    for (int y = 7; y < 11; y++)
+        for (size_t i = 0; i < 300 * 3; i++)
+            assert_true(big[(size_t)y * BW * 3 + i] == 1.0f);
     assert_true(big[0] == 0.0f);
     free(big);
     free(src);
 }
 
+/* The thread count is clamped to 1 .. STORE_THREADS_MAX; NULL has none. */
+static void test_thread_count(void **state)
+{
+    (void)state;
+    assert_int_equal(store_threads(NULL), 0);
+    int asked[] = {0, 1, 2, STORE_THREADS_MAX + 5}, got[] = {1, 1, 2, STORE_THREADS_MAX};
+    for (int i = 0; i < 4; i++) {
+        store *s = store_start(image, W, 4, asked[i]);
+        assert_non_null(s);
+        assert_int_equal(store_threads(s), got[i]);
+        store_stop(s);
+    }
+}
+
+static int one = 1, three = 3;
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_part_stored),
-        cmocka_unit_test(test_tiles_given_back_once_stored),
-        cmocka_unit_test(test_too_large_refused_and_stop_drains),
+        cmocka_unit_test_prestate(test_every_part_stored, &one),
+        cmocka_unit_test_prestate(test_tiles_given_back_once_stored, &one),
+        cmocka_unit_test_prestate(test_too_large_refused_and_stop_drains, &one),
+        cmocka_unit_test_prestate(test_every_part_stored, &three),
+        cmocka_unit_test_prestate(test_tiles_given_back_once_stored, &three),
+        cmocka_unit_test_prestate(test_too_large_refused_and_stop_drains, &three),
+        cmocka_unit_test(test_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

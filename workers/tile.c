@@ -98,12 +98,27 @@ void tile_runner_free(tile_runner *tr)
     tr->records = NULL;
 }
 
-static double tile_clock(void)
+#ifndef CSG_SIM /* (the simulated build's: tile_sim.c) */
+static double tile_clock(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
+
+/* (the CPU clock read inside the wall clock's span: cpu_s <= busy_s) */
+void tile_time_start(tile_timer *t)
+{
+    t->wall = tile_clock(CLOCK_MONOTONIC);
+    t->cpu = tile_clock(CLOCK_THREAD_CPUTIME_ID);
+}
+
+void tile_time_stop(const tile_timer *t, tile_result *res)
+{
+    res->cpu_s = tile_clock(CLOCK_THREAD_CPUTIME_ID) - t->cpu;
+    res->busy_s = tile_clock(CLOCK_MONOTONIC) - t->wall;
+}
+#endif
 
 void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res)
 {
@@ -114,7 +129,8 @@ void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
-    double t0 = tile_clock();
+    tile_timer timer;
+    tile_time_start(&timer);
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
     size_t t_bytes = n * tr->grid.real_size;
     memset(res, 0, sizeof *res);
@@ -127,6 +143,6 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     tr->eng->shade(tr->blob, r, records, surf, rgb, &res->rays);
     for (size_t i = 0; i < n; i++)
         res->hits += surf[i] != CSG_SURF_NONE;
-    res->busy_s = tile_clock() - t0;
+    tile_time_stop(&timer, res);
 }
 #endif

@@ -69,7 +69,21 @@ typedef struct {
     uint32_t hits;   /* primary samples that hit something              */
     ray_counts rays; /* rays traced (primary ones too, in homo)          */
     double busy_s;   /* seconds tile_run took                            */
+    double cpu_s;    /* of them, the CPU time of its thread: the work    *
+                      * without the time a shared core was elsewhere     */
 } tile_result;
+
+/* The clocks of a piece of work on one thread: tile_time_stop puts the
+ * seconds since tile_time_start into res->busy_s and that thread's CPU
+ * seconds into res->cpu_s.  tile_run_rect times itself so; a worker times
+ * its whole part (the tile and its conversion to the file's bytes).  The
+ * simulated build's read no clock and leave res alone: there the seconds
+ * are the cost map's. */
+typedef struct {
+    double wall, cpu;
+} tile_timer;
+void tile_time_start(tile_timer *t);
+void tile_time_stop(const tile_timer *t, tile_result *res);
 
 /* The RGB of rectangle r (inside one tile: tile_rect_in_tile; 3 floats a
  * pixel, r.width wide, linear) into rgb: shaded from its packed hit records

@@ -152,6 +152,8 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     const void *payload = h->work == PROTO_WORK_SHADE ? in->data + at + sizeof *h : NULL;
     float *floats = (float *)(void *)(out + sizeof(proto_result));
     tile_result res;
+    tile_timer timer; /* (the part's whole work: the map of bench/sim/costmap.py) */
+    tile_time_start(&timer);
     tile_run_rect(&w->runner, r, payload, w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
     int format = PIXELS_FLOAT;
     bool as_floats = w->float_parts && w->tiles_done % 2 == 1;
@@ -159,9 +161,17 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
         format = pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats) ? PIXELS_RGB8 : PIXELS_FLOAT;
     if (w->pixels == PIXELS_RGB8 && format == PIXELS_FLOAT)
         memcpy(floats, w->rgb, n * 3 * sizeof *floats);
-    proto_result head = {h->index,          res.hits,           res.rays.primary,
-                         res.rays.shadow,   res.rays.reflected, res.rays.refracted,
-                         res.rays.over_budget, res.busy_s, format, 0};
+    tile_time_stop(&timer, &res);
+    proto_result head = {.index = h->index,
+                         .hits = res.hits,
+                         .primary = res.rays.primary,
+                         .shadow = res.rays.shadow,
+                         .reflected = res.rays.reflected,
+                         .refracted = res.rays.refracted,
+                         .over_budget = res.rays.over_budget,
+                         .busy_s = res.busy_s,
+                         .cpu_s = res.cpu_s,
+                         .pixels = format};
     memcpy(out, &head, sizeof head);
     return proto_result_part(n, format);
 }

@@ -3,6 +3,13 @@
 of real renders of one configuration, reduced to the cost map the simulated
 build reads (workers/tile_sim.h).
 
+A cell's cost is the tile's "cpu_s", the CPU time of the worker's thread
+(its "seconds", wall time, in logs older than that field): the work
+itself.  Wall time also holds the time the worker's core spent on other
+ranks, and the simulation shares a host's cores among its ranks itself;
+where ranks outnumber the cores (bench/sim/validate.sh up to 7 workers on
+2 cores), wall seconds would count that sharing twice.
+
 Several renders: each cell gets its smallest seconds and the pass its
 smallest duration.  On a shared machine a tile's seconds include any time
 the worker was preempted (a few ms, against a mean of 0.2 ms: seen here),
@@ -41,7 +48,7 @@ def reduce(pairs):
         count = ((key[0] + key[2] - 1) // key[2]) * ((key[1] + key[2] - 1) // key[2])
         if sorted(items) != list(range(count)):
             sys.exit("costmap.py: a log does not cover every tile once")
-        got = [(0.0 if it["skipped"] else float(it["seconds"]), int(it["hits"]),
+        got = [(0.0 if it["skipped"] else float(it.get("cpu_s", it["seconds"])), int(it["hits"]),
                 float(it["estimate"] or 0.0)) for it in (items[i] for i in range(count))]
         cells = got if cells is None else [(min(a[0], b[0]), a[1], a[2]) for a, b in zip(cells, got)]
         p = float(stats.get("pass_s") or 0) if key[3] == "hetero" else 0.0

@@ -6,6 +6,7 @@
 #   bench/sim/master_cost.sh A B [M C]   A us a RESULT part, B ns a pixel,
 #                                        M us a RESULT message, C ns a pixel
 #                                        on the store thread (0: none)
+#   MASTER_STORE_THREADS=N (default 1): so many store threads, each at C
 #
 # The points of bench/sim/relays.sh that decide the issue's targets:
 # 256 workers hetero raster with one master and with 16 relays on the
@@ -22,11 +23,13 @@ POINT_TIMEOUT=${POINT_TIMEOUT:-900}
 export SIM_MAP_RENDERS=${SIM_MAP_RENDERS:-10}
 [ $# -eq 2 ] || [ $# -eq 4 ] || { echo "usage: bench/sim/master_cost.sh PART_US PIXEL_NS [MESSAGE_US STORE_NS]" >&2; exit 2; }
 PART_US=$1 PIXEL_NS=$2 MESSAGE_US=${3:-0} STORE_NS=${4:-0}
+STORE_THREADS=${MASTER_STORE_THREADS:-1}
+[[ "$STORE_THREADS" =~ ^[1-8]$ ]] || { echo "MASTER_STORE_THREADS: 1..8" >&2; exit 2; }
 [[ "$POINT_TIMEOUT" =~ ^[1-9][0-9]*$ ]] || { echo "POINT_TIMEOUT: seconds" >&2; exit 2; }
 mkdir -p "$(dirname "$CSV")" "$WORK"
 source "$ROOT/bench/sim/scenes.sh"
 sim_scenes "$WORK"
-[ -f "$CSV" ] || echo "probe_growth,part_us,pixel_ns,message_us,store_ns,seed,workers,relays,mode,schedule,makespan_s,serial_s,efficiency,efficiency_ranks,master_busy,tail_s,tile_messages" >"$CSV"
+[ -f "$CSV" ] || echo "probe_growth,part_us,pixel_ns,message_us,store_ns,seed,workers,relays,mode,schedule,makespan_s,serial_s,efficiency,efficiency_ranks,master_busy,tail_s,tile_messages,store_threads" >"$CSV"
 
 # point SEED WORKERS RELAYS MODE [SCHEDULE]
 point() {
@@ -37,7 +40,7 @@ point() {
         --size 4096x4096 --workers "$2" --relays "$3" --network ib --mode "$4" --schedule "$schedule" \
         --tile 32 "${pass[@]}" --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
         --master-message-us "$MESSAGE_US" --master-store-ns "$STORE_NS" \
-        --stats "$json" </dev/null >/dev/null 2>>"$WORK/master_cost-errors.log" || true
+        --store-threads "$STORE_THREADS" --stats "$json" </dev/null >/dev/null 2>>"$WORK/master_cost-errors.log" || true
     python3 - "$json" "$CSV" "$PART_US" "$PIXEL_NS" "$MESSAGE_US" "$STORE_NS" "$1" "$2" "$3" "$4" \
         "$schedule" <<'PY'
 import json, os, sys
@@ -45,7 +48,7 @@ path, csv, part, pixel, message, store, seed, workers, relays, mode, schedule = 
 d = json.load(open(path)) if os.path.getsize(path) else {}
 row = [os.environ.get("SIM_PROBE_GROWTH", "no"), part, pixel, message, store, seed, workers, relays, mode, schedule] + [str(d.get(k, "")) for k in
        ("makespan_s", "serial_s", "efficiency", "efficiency_ranks", "master_busy", "tail_s",
-        "tile_messages")]
+        "tile_messages", "master_store_threads")]
 with open(csv, "a") as f:
     f.write(",".join(row) + "\n")
 PY

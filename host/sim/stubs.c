@@ -12,11 +12,31 @@
  *
  * The simulated seconds the watched wait (the master's) napped are summed,
  * so the driver can report the share of the makespan the master was busy.
+ *
+ * A nap that ran out costs its rank CPU time as well: the timer, the
+ * wake-up and the switch back, $CSGSIM_NAP_CPU_S seconds (bench/
+ * simulate.sh --nap-us; default 0).  Measured here, a semaphore wait with
+ * a 20-50 us deadline takes its thread 6.4-7.1 us of CPU (bench/SCALE.md,
+ * sixth section); on a shared core (bench/sim/local.xml) that is time the
+ * other ranks do not get.
  */
 #include "stubs.h"
 
 #include <errno.h>
 #include <time.h>
+
+#include <smpi/smpi.h>
+
+#include "../../workers/tile_sim.h"
+
+/* CSGSIM_NAP_CPU_S, read once (every rank the same) */
+static double sim_nap_cpu_s(void)
+{
+    static double seconds = -1;
+    if (seconds < 0)
+        seconds = sim_env_number("CSGSIM_NAP_CPU_S", 0);
+    return seconds;
+}
 
 typedef struct {
     const sem_t *watched; /* the master's wake semaphore                 */
@@ -59,6 +79,8 @@ int __wrap_sem_clockwait(sem_t *sem, clockid_t clock, const struct timespec *unt
         nanosleep(&ts, NULL);
         if (sem == sim_naps_state()->watched)
             sim_naps_state()->napped_s += nap;
+        if (sim_nap_cpu_s() > 0)
+            smpi_execute_flops(sim_nap_cpu_s() * SIM_HOST_FLOPS);
     }
     if (sem_trywait(sem) == 0)
         return 0;
