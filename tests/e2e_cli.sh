@@ -98,8 +98,12 @@ if [ "$modes" = "$want_mode" ]; then
 else
     ko "output modes '$modes', wanted $want_mode (umask $(umask))"
 fi
-if ls -a "$P/plant" | grep -Eq '\.[A-Za-z0-9]{6}(\.png)?$|tmp\.[A-Za-z0-9]{6}$'; then
-    ko "a temporary file was left behind: $(ls -a "$P/plant" | grep -E '[A-Za-z0-9]{6}' | head -3)"
+# (regular files only: the planted links' own names match the pattern
+# where the process ids have 3 digits, as on a fresh machine)
+left=$(find "$P/plant" -maxdepth 1 -type f -printf '%f\n' |
+    grep -E '\.[A-Za-z0-9]{6}(\.png)?$|tmp\.[A-Za-z0-9]{6}$')
+if [ -n "$left" ]; then
+    ko "a temporary file was left behind: $(echo "$left" | head -3)"
 else
     ok "no temporary file left behind"
 fi
