@@ -18,13 +18,6 @@
 #include "../host/deadline.h"
 #include "timing.h"
 
-static double thread_cpu_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 int main(int argc, char **argv)
 {
     int rounds = 0, naps = 0, lengths = argc - 3;
@@ -47,12 +40,12 @@ int main(int argc, char **argv)
             return 2;
         }
         for (int r = 0; r < rounds; r++) {
-            double c0 = thread_cpu_s(), w0 = bench_now_s();
+            double c0 = bench_clock_s(CLOCK_THREAD_CPUTIME_ID), w0 = bench_now_s();
             for (int i = 0; i < naps; i++) {
                 struct timespec until = deadline_after_ns(ns);
                 sem_clockwait(&never, CLOCK_MONOTONIC, &until);
             }
-            cpu[r] = (thread_cpu_s() - c0) / naps * 1e6;
+            cpu[r] = (bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - c0) / naps * 1e6;
             wall[r] = (bench_now_s() - w0) / naps * 1e6;
         }
         double c = bench_median(cpu, rounds); /* (sorts cpu) */

@@ -98,9 +98,7 @@ static void trace_c(const engine *e, const void *blob, void *t, uint32_t *surf, 
 /* CPU seconds of the whole process: every thread, PoCL's included. */
 static double cpu_now_s(void)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    return bench_clock_s(CLOCK_PROCESS_CPUTIME_ID);
 }
 
 static bool run_once(variant *v, const engine *e, const void *blob, void *tile_t,

@@ -34,13 +34,6 @@
 
 enum { PART = 32 };
 
-static double cpu_seconds(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 /* One image's parts through a store of `threads`, every `stride`-th tile
  * (stride prime to the tile count): seconds, and the store threads' CPU
  * seconds into *cpu. */
@@ -54,8 +47,8 @@ static double store_round(float *image, int side, const uint8_t *bytes, int thre
         exit(1);
     }
     struct timespec nap = {0, 20000};
-    double process0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
-    double main0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+    double process0 = bench_clock_s(CLOCK_PROCESS_CPUTIME_ID);
+    double main0 = bench_clock_s(CLOCK_THREAD_CPUTIME_ID);
     double t0 = bench_now_s();
     for (int k = 0; k < tiles; k++) {
         int t = (int)((long)k * stride % tiles);
@@ -66,8 +59,8 @@ static double store_round(float *image, int side, const uint8_t *bytes, int thre
     }
     store_drain(s);
     double seconds = bench_now_s() - t0;
-    double main_cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - main0;
-    *cpu = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - process0 - main_cpu;
+    double main_cpu = bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - main0;
+    *cpu = bench_clock_s(CLOCK_PROCESS_CPUTIME_ID) - process0 - main_cpu;
     store_stop(s);
     return seconds;
 }

@@ -1,6 +1,7 @@
 /*
  * timing.h — what the benchmark helpers share (bench/primary_rays.c,
- * bench/primary_pass.c, bench/embree_primary.c): the clock, the median and
+ * bench/primary_pass.c, bench/embree_primary.c, bench/store_threads.c,
+ * bench/nap_cost.c): the clocks, the median and
  * the options they have in common; header only, so the Embree helper needs
  * nothing of csgtrace's objects.
  */
@@ -13,11 +14,17 @@
 #include <string.h>
 #include <time.h>
 
-static inline double bench_now_s(void)
+/* Seconds on `clock` (CLOCK_THREAD_CPUTIME_ID: this thread's CPU time). */
+static inline double bench_clock_s(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static inline double bench_now_s(void)
+{
+    return bench_clock_s(CLOCK_MONOTONIC);
 }
 
 static int bench_cmp_double(const void *a, const void *b)

@@ -214,9 +214,9 @@ typedef struct render_state {
     size_t prefault_bytes; /* the image's bytes to fault in (0: none)    */
     bool helpers;          /* the journal's writer, the prefault, the store
                               thread started (render_start_helpers)      */
-    bool store_wanted;     /* the workers' 8-bit results stored by a thread */
-    int store_threads;     /* ... by so many (--store-threads)            */
-    store *store;          /* that thread (store.h; NULL: none)          */
+    int store_threads;     /* threads to store the workers' 8-bit results
+                              (--store-threads; 0: none wanted)         */
+    store *store;          /* they (store.h; NULL: none)                 */
 } render_state;
 
 /* The marks that cut a render into its phases (stats.h). */
@@ -597,7 +597,7 @@ static void render_start_helpers(render_state *rs, master_job *job)
     journal_start_writer(rs->journal);
     if (rs->prefault_bytes > 0)
         memory_prefault_start(&rs->prefault, rs->image, rs->prefault_bytes);
-    if (rs->store_wanted)
+    if (rs->store_threads > 0)
         rs->store = store_start(rs->image, job->grid.width, tile_count(&job->grid),
                                 rs->store_threads);
     job->store = rs->store;
@@ -688,9 +688,12 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
         tile_rect r = job->sched->items[item].rect;
         bool shade = master_shades(job, item);
         tile_result res;
+        tile_timer timer;
         if (shade)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);
+        tile_time_start(&timer);
         tile_run_rect(&tr, r, shade ? records : NULL, rgb, &res);
+        tile_time_stop(&timer, &res);
         tile_store_rgb(job->image, job->grid.width, r, rgb);
         master_job_count(job, self, 0, item, &res, stats_clock());
     }
@@ -872,8 +875,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
             return status;
     }
     rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
-    rs->store_wanted = use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8;
-    rs->store_threads = req->store_threads > 0 ? req->store_threads : 1;
+    if (use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8)
+        rs->store_threads = req->store_threads > 0 ? req->store_threads : 1;
     job->journal = rs->journal;
     job->blob = rs->blob.bytes;
     job->grid = grid;

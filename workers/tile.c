@@ -129,8 +129,6 @@ void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
-    tile_timer timer;
-    tile_time_start(&timer);
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
     size_t t_bytes = n * tr->grid.real_size;
     memset(res, 0, sizeof *res);
@@ -143,6 +141,5 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     tr->eng->shade(tr->blob, r, records, surf, rgb, &res->rays);
     for (size_t i = 0; i < n; i++)
         res->hits += surf[i] != CSG_SURF_NONE;
-    tile_time_stop(&timer, res);
 }
 #endif

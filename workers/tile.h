@@ -68,17 +68,17 @@ void tile_runner_free(tile_runner *tr);
 typedef struct {
     uint32_t hits;   /* primary samples that hit something              */
     ray_counts rays; /* rays traced (primary ones too, in homo)          */
-    double busy_s;   /* seconds tile_run took                            */
+    double busy_s;   /* seconds the work took (tile_time_stop)           */
     double cpu_s;    /* of them, the CPU time of its thread: the work    *
                       * without the time a shared core was elsewhere     */
 } tile_result;
 
 /* The clocks of a piece of work on one thread: tile_time_stop puts the
  * seconds since tile_time_start into res->busy_s and that thread's CPU
- * seconds into res->cpu_s.  tile_run_rect times itself so; a worker times
- * its whole part (the tile and its conversion to the file's bytes).  The
- * simulated build's read no clock and leave res alone: there the seconds
- * are the cost map's. */
+ * seconds into res->cpu_s.  tile_run_rect leaves them 0: its callers time
+ * what they count as the tile's work (a worker: the tile and its
+ * conversion to the file's bytes).  The simulated build's read no clock
+ * and leave res alone: there tile_run_rect sets the cost map's seconds. */
 typedef struct {
     double wall, cpu;
 } tile_timer;
