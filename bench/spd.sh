@@ -2,7 +2,8 @@
 # spd.sh — the SPD benchmark: every Eric Haines SPD scene of ../shared/nff
 # (relative to the repository; not part of a clean clone, so `make test`
 # never reads it) rendered at 512x512 by
-#   csgtrace serial, homo and hetero (the scene's own view, 45 degrees),
+#   csgtrace serial, homo and hetero (the scene's own view, 45 degrees;
+#   hetero twice: --pass auto, the default, and --pass always),
 #   csgtrace homo on Tachyon's view (the file with angle 53.130102),
 #   Tachyon (tachyon-bin-nox, reads NFF natively, 2 threads),
 #   POV-Ray 3.7 on `csgtrace export SCENE.nff` (2 threads),
@@ -56,7 +57,7 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 mkdir -p "$OUT/img" "$OUT/work" "$POCL_CACHE_DIR"
 RAW=$OUT/raw.csv
-[ "$append" = 1 ] && [ -s "$RAW" ] || echo "scene,renderer,run,frame_s,trace_s,rays" >"$RAW"
+[ "$append" = 1 ] && [ -s "$RAW" ] || echo "scene,renderer,run,frame_s,trace_s,rays,cl_open" >"$RAW"
 MPI=(mpirun -np 3 --bind-to none)
 
 # Inputs made once: the POV-Ray export and the file on Tachyon's view.
@@ -69,15 +70,16 @@ done
 # csgtrace: one render, its stats appended as a row.
 # (an mpirun that fails to start, as Open MPI's shared-memory set-up
 # sometimes does on this machine, is tried once more)
-run_csg() { # name renderer run scene mode image
-    local json=$OUT/work/$1-$2.json
-    if [ "$5" = serial ]; then
-        "$BIN" render "$4" -o "$6" --mode serial --stats "$json" >/dev/null
+run_csg() { # name renderer run scene mode image [option...]
+    local json=$OUT/work/$1-$2.json name=$1 renderer=$2 run=$3 scene=$4 mode=$5 image=$6
+    shift 6
+    if [ "$mode" = serial ]; then
+        "$BIN" render "$scene" -o "$image" --mode serial --stats "$json" "$@" >/dev/null
     else
-        "${MPI[@]}" "$BIN" render "$4" -o "$6" --mode "$5" --stats "$json" >/dev/null 2>&1 ||
-            "${MPI[@]}" "$BIN" render "$4" -o "$6" --mode "$5" --stats "$json" >/dev/null
-    fi || { echo "spd.sh: csgtrace $5 failed on $1" >&2; return 1; }
-    python3 "$ROOT/bench/spd_report.py" row "$json" "$1" "$2" "$3" >>"$RAW"
+        "${MPI[@]}" "$BIN" render "$scene" -o "$image" --mode "$mode" --stats "$json" "$@" >/dev/null 2>&1 ||
+            "${MPI[@]}" "$BIN" render "$scene" -o "$image" --mode "$mode" --stats "$json" "$@" >/dev/null
+    fi || { echo "spd.sh: csgtrace $mode failed on $name" >&2; return 1; }
+    python3 "$ROOT/bench/spd_report.py" row "$json" "$name" "$renderer" "$run" >>"$RAW"
 }
 
 run_tachyon() { # name run
@@ -105,6 +107,7 @@ for r in $(seq 1 "$RUNS"); do
         run_csg "$n" serial "$r" "$NFF/$n.nff" serial "$OUT/img/$n-serial.png"
         run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
         run_csg "$n" hetero "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-hetero.png"
+        run_csg "$n" hetero-always "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-always.png" --pass always
         run_csg "$n" homo-tview "$r" "$OUT/work/$n-tview.nff" homo "$OUT/img/$n-tview.png"
         run_tachyon "$n" "$r"
         run_povray "$n" "$r"
@@ -122,7 +125,8 @@ done
 : >"$OUT/identical.txt"
 for n in "${names[@]}"; do
     if idiff -fail 0 -warn 0 "$OUT/img/$n-serial.png" "$OUT/img/$n-homo.png" >/dev/null 2>&1 &&
-       idiff -fail 0 -warn 0 "$OUT/img/$n-serial.png" "$OUT/img/$n-hetero.png" >/dev/null 2>&1; then
+       idiff -fail 0 -warn 0 "$OUT/img/$n-serial.png" "$OUT/img/$n-hetero.png" >/dev/null 2>&1 &&
+       idiff -fail 0 -warn 0 "$OUT/img/$n-serial.png" "$OUT/img/$n-always.png" >/dev/null 2>&1; then
         echo "$n identical" >>"$OUT/identical.txt"
     else
         echo "$n DIFFERENT" >>"$OUT/identical.txt"

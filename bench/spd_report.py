@@ -7,11 +7,12 @@ never runs anything).
   spd_report.py povray LOG SCENE RUN             POV-Ray's timings as a CSV row
   spd_report.py report RAW.csv IDENTICAL.txt OUT.md
 
-CSV columns: scene, renderer, run, frame_s, trace_s, rays (empty: unknown).
+CSV columns: scene, renderer, run, frame_s, trace_s, rays (empty: unknown),
+cl_open (csgtrace hetero: when its OpenCL device opened; empty otherwise).
 The report takes the median of the runs of each scene and renderer and
 writes one table: frame times, csgtrace's rays, and the ratios the SPD
 issue asks for (Tachyon / csgtrace homo on Tachyon's view; POV-Ray trace /
-csgtrace trace; hetero / homo), then the sums and the per-pixel cost of
+csgtrace trace; hetero / homo, with --pass auto and always), then the sums and the per-pixel cost of
 the tetra series, then bench/SPD-notes.md (the reading of the numbers,
 written by hand) when it exists.
 """
@@ -28,7 +29,7 @@ def row(path, scene, renderer, run):
         j = json.load(f)
     trace = j["primary_s"] + j["secondary_s"]
     rays = j["rays"]["total"] if "total" in j["rays"] else sum(j["rays"].values())
-    print(f"{scene},{renderer},{run},{j['wall_s']:.6f},{trace:.6f},{rays}")
+    print(f"{scene},{renderer},{run},{j['wall_s']:.6f},{trace:.6f},{rays},{j.get('cl_open', '')}")
 
 
 # How each renderer's log states its times: the trace, then the rest of
@@ -53,10 +54,10 @@ def timings(renderer, path, scene, run):
     trace = seconds(trace_label)
     frame = trace + sum(seconds(label) for label in others)
     m = re.search(r"Rays:\s*([0-9]+)", text) if renderer == "povray" else None
-    print(f"{scene},{renderer},{run},{frame:.6f},{trace:.6f},{m.group(1) if m else ''}")
+    print(f"{scene},{renderer},{run},{frame:.6f},{trace:.6f},{m.group(1) if m else ''},")
 
 
-RENDERERS = ["serial", "homo", "hetero", "homo-tview", "tachyon", "povray"]
+RENDERERS = ["serial", "homo", "hetero", "hetero-always", "homo-tview", "tachyon", "povray"]
 
 
 def medians(raw):
@@ -72,6 +73,9 @@ def medians(raw):
             "trace": statistics.median(float(r["trace_s"]) for r in rs),
             "rays": statistics.median(int(r["rays"]) for r in rs) if rs[0]["rays"] else None,
             "runs": len(rs),
+            # (None: rows written before spd.sh recorded cl_open)
+            "opened": None if rs[0].get("cl_open") is None else
+            sum(r["cl_open"] not in ("", "never", "none") for r in rs),
         }
     return out
 
@@ -102,20 +106,25 @@ def report(raw, identical, out_path):
         "homo/hetero run 1 master + 2 workers under mpirun (launch not counted).",
         "`tview`: csgtrace homo on the file with Tachyon's fixed 53.13 degree view (the",
         "same work as Tachyon, which ignores `angle`). POV-Ray renders `csgtrace export`.",
-        "Ratios above 1 favour csgtrace. `same`: serial, homo and hetero images bit-identical.",
+        "Ratios above 1 favour csgtrace. `hetero`: the default `--pass auto` (`opened`: in",
+        "how many of its runs rank 0's guess opened the OpenCL device); `always`: hetero",
+        "`--pass always`. `same`: serial, homo and both hetero images bit-identical.",
         "",
-        "| scene | serial | homo | hetero | homo tview | Tachyon | Tachyon / tview | POV trace | POV trace / homo trace | hetero / homo | rays (M) | same |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| scene | serial | homo | hetero | opened | always | homo tview | Tachyon | Tachyon / tview | POV trace | POV trace / homo trace | hetero / homo | always / homo | rays (M) | same |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for s in scenes:
         g = lambda r, k="frame": m.get((s, r), {}).get(k)
         rays = g("serial", "rays")
+        opened = ("—" if g("hetero") is None or g("hetero", "opened") is None
+                  else f"{g('hetero', 'opened')}/{g('hetero', 'runs')}")
         lines.append(
-            f"| {s} | {fmt(g('serial'))} | {fmt(g('homo'))} | {fmt(g('hetero'))} | "
+            f"| {s} | {fmt(g('serial'))} | {fmt(g('homo'))} | {fmt(g('hetero'))} | {opened} | "
+            f"{fmt(g('hetero-always'))} | "
             f"{fmt(g('homo-tview'))} | {fmt(g('tachyon'))} | {ratio(g('tachyon'), g('homo-tview'))} | "
             f"{fmt(g('povray', 'trace'))} | {ratio(g('povray', 'trace'), g('homo', 'trace'))} | "
-            f"{ratio(g('hetero'), g('homo'))} | {'—' if rays is None else f'{rays / 1e6:.2f}'} | "
-            f"{same.get(s, '?')} |")
+            f"{ratio(g('hetero'), g('homo'))} | {ratio(g('hetero-always'), g('homo'))} | "
+            f"{'—' if rays is None else f'{rays / 1e6:.2f}'} | {same.get(s, '?')} |")
     tetra = [s for s in scenes if s.startswith("tetra")]
     if tetra:
         lines += ["", "Tetra series, csgtrace serial trace time per pixel (us):", ""]

@@ -31,7 +31,7 @@ void cli_usage(FILE *out)
           "                   [--store-threads N]\n"
           "                   [--tile-log FILE.jsonl]\n"
           "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
-          "                   [--fill on|off]\n"
+          "                   [--fill on|off] [--pass auto|always]\n"
           "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
           "                   [--resume]  (go on from OUT.journal, an interrupted render's)\n"
           "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
@@ -108,6 +108,7 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
     static const char *const schedules[] = {"raster", "cost", "static", "tail"};
     static const char *const kernels[] = {"auto", "scalar", "packet"};
     static const char *const switches[] = {"on", "off"};
+    static const char *const passes[] = {"auto", "always"};
     const char *opt = argv[*i];
     render_request *r = &a->req;
     if (strcmp(opt, "--flat") == 0) {
@@ -193,6 +194,12 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         if (!parse_choice(opt, val, switches, 2, &choice, d))
             return false;
         r->no_fill = choice == 1;
+        return true;
+    }
+    if (strcmp(opt, "--pass") == 0) {
+        if (!parse_choice(opt, val, passes, 2, &choice, d))
+            return false;
+        r->pass_always = choice == 1;
         return true;
     }
     if (strcmp(opt, "--precision") == 0) {

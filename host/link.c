@@ -804,6 +804,18 @@ link_status link_bcast(void *data, size_t size)
     return status;
 }
 
+link_status link_bcast_idle(void *data, size_t size)
+{
+    if (link_bcast_direct() || size > LINK_BCAST_CHUNK)
+        return link_bcast(data, size);
+    link_req req = {.active = false, .peer = LINK_MASTER};
+    if (MPI_Ibcast(data, (int)size, MPI_BYTE, LINK_MASTER, MPI_COMM_WORLD, link_req_mpi(&req)) !=
+        MPI_SUCCESS)
+        return LINK_ERROR;
+    req.active = true;
+    return link_req_wait(&req);
+}
+
 void link_abort(int code)
 {
     for (int r = 1; link_w.fd && r < link_w.size; r++)

@@ -133,6 +133,12 @@ void link_wake(link_idle *w);
  * and a rank short of memory can still take part: data NULL receives into
  * a sink). */
 link_status link_bcast(void *data, size_t size);
+/* The same for a small message (<= 64 KiB) the others may wait long for
+ * (the master reads the scene first): they poll, then nap (link_idle),
+ * rather than spin in MPI_Bcast on the cores the master's reading, and
+ * hetero's OpenCL set-up meanwhile, could use.  Each round of the
+ * broadcast's tree may then cost a nap (LINK_NAP_MAX_NS at most). */
+link_status link_bcast_idle(void *data, size_t size);
 
 /* ---- liveness ---------------------------------------------------------------- */
 

@@ -168,7 +168,7 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
         m->batch = proto_batch_fit(m->batch, tile_grid_of(blob->bytes, tile).pixels_max);
     proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels,
                          m->relays, m->workers + 1};
-    link_bcast(&setup, sizeof setup);
+    link_bcast_idle(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
     m->shared = true;
     if (status != 0) {

@@ -425,13 +425,20 @@ bool ocl_kernel_parse(const char *name, enum ocl_kernel *out)
  * AVX2, float16 over float8: 1.08-1.20x the rays per CPU-second, double8
  * over double4 1.14-1.26x, bench/SPEED.md; untried on AVX-512, where
  * only the double build changes, double8 -> double16). */
-static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
+bool ocl_kernel_from_env(enum ocl_kernel *want, csg_diag *d)
 {
     const char *env = getenv("CSGTRACE_CL_KERNEL");
-    if (want == OCL_KERNEL_AUTO && env && *env && !ocl_kernel_parse(env, &want)) {
+    if (*want == OCL_KERNEL_AUTO && env && *env && !ocl_kernel_parse(env, want)) {
         csg_error_plain(d, "CSGTRACE_CL_KERNEL must be auto, scalar or packet, not \"%s\"", env);
         return false;
     }
+    return true;
+}
+
+static bool ocl_pick_kernel(ocl_ctx *c, enum ocl_kernel want, csg_diag *d)
+{
+    if (!ocl_kernel_from_env(&want, d))
+        return false;
     if (want == OCL_KERNEL_AUTO) {
         cl_device_type type = 0;
         cl_int err = clGetDeviceInfo(c->device, CL_DEVICE_TYPE, sizeof type, &type, NULL);

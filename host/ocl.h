@@ -81,6 +81,10 @@ bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_dia
 
 /* "auto", "scalar", "packet" -> *out; false for anything else. */
 bool ocl_kernel_parse(const char *name, enum ocl_kernel *out);
+/* AUTO (*want) becomes $CSGTRACE_CL_KERNEL's variant when that is set;
+ * false with d filled when it names none (no device needed: a render
+ * checks it before it knows whether it will open one). */
+bool ocl_kernel_from_env(enum ocl_kernel *want, csg_diag *d);
 
 /* Traces the primary rays of the whole image of `blob` (its header holds
  * width and height).  t_out: real[w*h] (the blob's precision), surf_out:

@@ -86,7 +86,73 @@
  * dynamic loader's lock, which the device's opening holds while it loads
  * PoCL's drivers and LLVM (~30 ms here: the master sent its first tile
  * only then).  Without the fill (or when the render ends before it needs
- * the program) the master posts `go` with no build and joins it. */
+ * the program) the master posts `go` with no build and joins it.
+ *
+ * --pass auto (the default, with the fill): once the scene is loaded the
+ * thread first guesses the frame's work from a sparse sample of its pixels
+ * (render_guess_work, while the workers render the fill's first tiles),
+ * and the device is opened only when the guess is at least
+ * RENDER_PASS_PAYS_S; else the fill renders every tile and the device is
+ * never opened.  Where the device is the CPU
+ * the workers already fill (PoCL, as here), its opening alone costs ~26 ms
+ * of CPU (loading LLVM) and the program ~10 ms more: more than the pass
+ * saves on a frame of 0.05-0.2 s (bench/SPD.md).  Opening it while the
+ * master reads the scene instead slowed the reading by more than the
+ * opening's own CPU (tetra8: 0.42 -> 0.47 s, with the workers napping);
+ * guessing from the fill's first tiles failed (they are the image's
+ * bottom rows: 0.05 s guessed for the teapots' 0.25-0.32 s). */
+#define RENDER_PASS_PAYS_S 0.60 /* (guessed seconds: the pass paid from ~0.4 s
+                                   of the tiles' CPU, guessed 0.5-0.8 s) */
+#define RENDER_GUESS_BLOCK 4   /* the guess traces blocks of 4 x 4 pixels, */
+#define RENDER_GUESS_STRIDE 64 /* one in every 64 x 64                    */
+
+/* A guess block's edge from `at`: RENDER_GUESS_BLOCK, or less where the
+ * image or the tile ends (a rectangle lies inside one tile). */
+static int render_guess_edge(int at, int size, int tile)
+{
+    int edge = RENDER_GUESS_BLOCK;
+    edge = tile - at % tile < edge ? tile - at % tile : edge;
+    return size - at < edge ? size - at : edge;
+}
+
+/* The CPU seconds a frame's tiles will take, guessed from blocks of
+ * RENDER_GUESS_BLOCK x RENDER_GUESS_BLOCK pixels, one in every
+ * RENDER_GUESS_STRIDE x RENDER_GUESS_STRIDE (1/256 of the image), traced
+ * and shaded on this thread; 0 when out of memory.  A small rectangle
+ * costs more a pixel than a tile (its culling and set-up are shared by
+ * fewer rays): on the SPD scenes the guess was 1.1-1.9x the tiles' CPU
+ * with blocks of 4 x 4, 1.9-7.4x with single pixels. */
+static double render_guess_work(const void *blob, int tile)
+{
+    tile_runner tr;
+    if (!tile_runner_init(&tr, blob, tile))
+        return 0;
+    int w = tr.grid.width, h = tr.grid.height, step = RENDER_GUESS_STRIDE;
+    int x0 = w > step / 4 ? step / 4 : w / 2, y0 = h > step / 4 ? step / 4 : h / 2;
+    double pixels = 0;
+    float rgb[RENDER_GUESS_BLOCK * RENDER_GUESS_BLOCK * 3];
+    double cpu0 = stats_thread_cpu();
+    for (int y = y0; y < h; y += step)
+        for (int x = x0; x < w; x += step) {
+            tile_rect r = {x, y, render_guess_edge(x, w, tile), render_guess_edge(y, h, tile)};
+            tile_result res;
+            tile_run_rect(&tr, r, NULL, rgb, &res);
+            pixels += (double)r.width * (double)r.height;
+        }
+    double cpu = stats_thread_cpu() - cpu0;
+    tile_runner_free(&tr);
+    return pixels > 0 ? cpu * ((double)w * (double)h / pixels) : 0;
+}
+
+/* Why (and whether) the device was opened: the stats' cl_open. */
+enum render_cl_open { CL_OPEN_NONE, CL_OPEN_START, CL_OPEN_WORK, CL_OPEN_NEVER };
+
+static const char *render_cl_open_name(int why)
+{
+    static const char *const names[] = {"never", "start", "work", "never"};
+    return names[why];
+}
+
 struct render_cl_build;
 typedef struct {
     pthread_t thread;
@@ -95,16 +161,64 @@ typedef struct {
     ocl_ctx *ctx;          /* its result (NULL: failed, d says why)     */
     ocl_timing tm;
     csg_diag d;
+    sem_t open;            /* posted once `why` is set by the master     */
+    atomic_int why;        /* enum render_cl_open: set once              */
+    atomic_bool opening;   /* the thread is inside ocl_open_device       */
+    const void *guess_blob; /* --pass auto: the scene to guess the work of
+                              (set before `open` is first posted)        */
+    int guess_tile;
+    double work_s;         /* the guess (render_guess_work), once...      */
+    atomic_bool guessed;   /* ...this is set                             */
     sem_t go;              /* posted once, when `build` is decided      */
     struct render_cl_build *build; /* the program to build next (NULL: none) */
 } render_cl_early;
 
 static void *render_cl_build_run(void *arg);
 
+/* The device wanted for `why` (CL_OPEN_NEVER: not at all), unless it was
+ * said already. */
+static void render_cl_early_want(render_cl_early *e, int why)
+{
+    int none = CL_OPEN_NONE;
+    if (e && e->started && atomic_compare_exchange_strong(&e->why, &none, why))
+        sem_post(&e->open);
+}
+
+/* The scene is loaded: the thread is to guess its work (--pass auto). */
+static void render_cl_early_guess(render_cl_early *e, const void *blob, int tile)
+{
+    if (!e || !e->started)
+        return;
+    e->guess_blob = blob;
+    e->guess_tile = tile;
+    sem_post(&e->open);
+}
+
+/* The thread's guess of the work (render_cl_early_guess); false: none yet. */
+static bool render_cl_early_guessed(render_cl_early *e, double *work_s)
+{
+    if (!e || !atomic_load(&e->guessed))
+        return false;
+    *work_s = e->work_s;
+    return true;
+}
+
 static void *render_cl_early_run(void *arg)
 {
     render_cl_early *e = arg;
-    ocl_open_device(e->device, &e->ctx, &e->tm, &e->d);
+    while (sem_wait(&e->open) != 0 && errno == EINTR)
+        continue;
+    if (atomic_load(&e->why) == CL_OPEN_NONE && e->guess_blob) { /* --pass auto */
+        e->work_s = render_guess_work(e->guess_blob, e->guess_tile);
+        atomic_store(&e->guessed, true);
+        while (sem_wait(&e->open) != 0 && errno == EINTR) /* the word: WORK or NEVER */
+            continue;
+    }
+    if (atomic_load(&e->why) != CL_OPEN_NEVER) {
+        atomic_store(&e->opening, true);
+        ocl_open_device(e->device, &e->ctx, &e->tm, &e->d);
+        atomic_store(&e->opening, false);
+    }
     while (sem_wait(&e->go) != 0 && errno == EINTR)
         continue;
     if (e->build)
@@ -112,16 +226,44 @@ static void *render_cl_early_run(void *arg)
     return NULL;
 }
 
+static enum sched_policy render_policy(const render_request *req)
+{
+    if (req->schedule >= 0 && req->schedule < SCHED_POLICIES)
+        return (enum sched_policy)req->schedule;
+    return req->mode == MODE_HETERO ? SCHED_COST : SCHED_RASTER;
+}
+
+/* Does --pass auto apply?  Hetero with the fill (which the static
+ * schedule has not), no --pass always, no device named (--cl-device,
+ * $CSGTRACE_CL_DEVICE: the user asked for that one, and a name that
+ * matches none is an error whatever the frame), and no context kept
+ * across renders (opened once for all of them). */
+static bool render_pass_auto(const render_request *req)
+{
+    const char *named = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    return req->mode == MODE_HETERO && !req->no_fill && render_policy(req) != SCHED_STATIC &&
+           !req->pass_always && !req->cl_keep && !(named && *named);
+}
+
 static void render_cl_early_start(render_cl_early *e, const render_request *req)
 {
     if (req->mode != MODE_HETERO || req->cl_keep)
         return; /* (a kept context is the caller's) */
     e->device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    atomic_init(&e->why, render_pass_auto(req) ? CL_OPEN_NONE : CL_OPEN_START);
+    atomic_init(&e->opening, false);
+    atomic_init(&e->guessed, false);
     if (sem_init(&e->go, 0, 0) != 0)
         return;
-    e->started = pthread_create(&e->thread, NULL, render_cl_early_run, e) == 0;
-    if (!e->started)
+    if (sem_init(&e->open, 0, render_pass_auto(req) ? 0 : 1) != 0) {
         sem_destroy(&e->go);
+        return;
+    }
+    e->started = pthread_create(&e->thread, NULL, render_cl_early_run, e) == 0;
+    if (!e->started) {
+        sem_destroy(&e->go);
+        sem_destroy(&e->open);
+    }
 }
 
 /* The thread's context (NULL, d filled: it failed), taken over; on the
@@ -141,6 +283,7 @@ static void render_cl_early_join(render_cl_early *e)
 {
     pthread_join(e->thread, NULL);
     sem_destroy(&e->go);
+    sem_destroy(&e->open);
     e->started = false;
 }
 
@@ -148,6 +291,7 @@ static void render_cl_early_join(render_cl_early *e)
  * filled: it failed). */
 static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_diag *d)
 {
+    render_cl_early_want(e, CL_OPEN_NEVER); /* (not opened yet: never needed) */
     e->build = NULL;
     sem_post(&e->go);
     render_cl_early_join(e);
@@ -160,6 +304,7 @@ static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_dia
  * feed begins the pass once it is done. */
 typedef struct render_cl_build {
     pthread_t thread;
+    bool begun;            /* render_cl_build_start was called           */
     bool started;          /* the thread runs, or ran and is not joined */
     bool joined;           /* and its result taken                      */
     bool on_early;         /* the thread is the device thread (early)    */
@@ -200,6 +345,11 @@ typedef struct render_state {
     render_cl_early *early; /* hetero: the context opened meanwhile
                               (render_run's: started before MPI_Init) */
     render_cl_build build; /* hetero with the fill: the program, meanwhile */
+    const render_request *req;
+    bool pass_auto;        /* --pass auto applies (render_pass_auto)      */
+    bool pass_waits;       /* and undecided: the fill renders until
+                              render_pass_decide has rank 0's guess     */
+    double pass_work_s;    /* the guess of the frame's work (0: none)    */
     journal *journal;      /* the finished tiles, for --resume (NULL:
                               no output file)                           */
     link_idle idle;        /* the master's wait; the pass wakes it       */
@@ -258,13 +408,6 @@ static void render_free(render_state *rs)
 static const char *render_mode_name(enum render_mode m)
 {
     return m == MODE_SERIAL ? "serial" : m == MODE_HOMO ? "homo" : "hetero";
-}
-
-static enum sched_policy render_policy(const render_request *req)
-{
-    if (req->schedule >= 0 && req->schedule < SCHED_POLICIES)
-        return (enum sched_policy)req->schedule;
-    return req->mode == MODE_HETERO ? SCHED_COST : SCHED_RASTER;
 }
 
 /* The engine of the request's precision; auto decides from the scene
@@ -474,6 +617,7 @@ static int render_cl_build_start(render_state *rs, const render_request *req, cs
 {
     render_cl_build *b = &rs->build;
     memset(&b->d, 0, sizeof b->d);
+    b->begun = true;
     b->req = req;
     b->rs = rs;
     b->wake = rs->wake_master ? &rs->idle : NULL;
@@ -536,6 +680,32 @@ static int render_rows_needed(const render_state *rs, const tile_grid *g)
     return last.y + last.height;
 }
 
+/* --pass auto, once rank 0's guess of the work is in (waiting for it with
+ * `wait`): the program's build begun when the guess says the pass pays
+ * (RENDER_PASS_PAYS_S), else never (the fill renders every tile); 0, or
+ * -1 with d filled. */
+static int render_pass_decide(render_state *rs, bool wait, csg_diag *d)
+{
+    if (!rs->pass_waits)
+        return 0;
+    if (!rs->early || !rs->early->started) { /* (no thread to guess: never) */
+        rs->pass_waits = false;
+        return 0;
+    }
+    while (!render_cl_early_guessed(rs->early, &rs->pass_work_s)) {
+        if (!wait)
+            return 0;
+        nanosleep(&(struct timespec){0, 100000L}, NULL); /* (a guess takes ~1/256 of
+                                                            the frame's work) */
+    }
+    rs->pass_waits = false; /* (decided: once) */
+    double pays = render_test_env("CSGTRACE_TEST_PASS_PAYS_MS") * 1e-3;
+    if (rs->pass_work_s < (pays > 0 ? pays : RENDER_PASS_PAYS_S))
+        return 0;
+    render_cl_early_want(rs->early, CL_OPEN_WORK);
+    return render_cl_build_start(rs, rs->req, d) == EXIT_OK ? 0 : -1;
+}
+
 /* Rows from the top whose records are final (homo, serial: every row);
  * 0 while the program is being built, the pass started once it is (and
  * only if some rows still need it); -1 with d filled on a failure. */
@@ -547,6 +717,10 @@ static int render_pass_rows(render_state *rs, const tile_grid *g, bool wait, csg
     if (!rs->pass) {
         if (need == 0)
             return 0; /* the fill took every tile: no pass */
+        if (render_pass_decide(rs, wait, d) < 0)
+            return -1;
+        if (!rs->build.begun)
+            return 0; /* (--pass auto: not yet decided, or never: the fill's) */
         int ready = render_cl_build_ready(rs, wait, d);
         if (ready <= 0)
             return ready;
@@ -603,12 +777,21 @@ static void render_start_helpers(render_state *rs, master_job *job)
     job->store = rs->store;
 }
 
+/* The helpers may be created: no thread loads PoCL now (the program is
+ * built, or, --pass auto, the device is not being opened). */
+static bool render_helpers_may_start(const render_state *rs)
+{
+    if (rs->build.started || !rs->pass_auto)
+        return atomic_load(&rs->build.done);
+    return !rs->early || !atomic_load(&rs->early->opening);
+}
+
 /* master_job.feed: the tiles whose rows the pass completed go to the
  * scheduler, down to the fill's; homo and serial give every tile at once. */
 static int render_feed(master_job *job, bool wait, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
-    if (!rs->helpers && atomic_load(&rs->build.done))
+    if (!rs->helpers && render_helpers_may_start(rs))
         render_start_helpers(rs, job);
     const tile_grid *g = &job->grid;
     int rows = render_pass_rows(rs, g, wait, d), known = 0;
@@ -632,11 +815,16 @@ static int render_feed(master_job *job, bool wait, csg_diag *d)
 
 /* master_job.fill: the last tile nobody has, to be rendered whole (a
  * resumed one is taken from the journal instead); the item, -1 when the
- * pass has reached every tile left, -2 when out of memory. */
+ * pass has reached every tile left, -2 with d filled (out of memory, or
+ * the OpenCL build could not begin). */
 static int render_fill(master_job *job, double now, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
-    if (rs->fill_max > 0 && rs->sched.filled >= rs->fill_max)
+    if (render_pass_decide(rs, false, d) < 0)
+        return -2;
+    /* (the tests' cap holds while a pass may come: not once it never will) */
+    if (rs->fill_max > 0 && rs->sched.filled >= rs->fill_max &&
+        (rs->pass_waits || rs->build.begun))
         return -1;
     for (int tile; (tile = sched_fill_claim(&rs->sched, rs->tiles_offered)) >= 0;) {
         tile_rect r = tile_rect_of(&job->grid, tile);
@@ -728,6 +916,7 @@ static void render_stats_init(const render_request *req, int ranks, render_stats
     memset(st, 0, sizeof *st);
     st->mode = render_mode_name(req->mode);
     st->schedule = sched_policy_name(render_policy(req));
+    st->cl_open = req->mode == MODE_HETERO ? render_cl_open_name(CL_OPEN_START) : "none";
     st->precision = req->precision == PREC_DOUBLE ? "double" : "float";
     st->width = req->width;
     st->height = req->height;
@@ -841,6 +1030,16 @@ static void render_account(const render_state *rs, const master_job *job,
 
 /* ---- steps 2 and 3 ------------------------------------------------------------------ */
 
+/* The OpenCL settings of the environment are valid (the kernel variant,
+ * the specialisation), device or not; false with d filled. */
+static bool render_cl_settings_ok(const render_request *req, const render_state *rs,
+                                  csg_diag *d)
+{
+    enum ocl_kernel kernel = (enum ocl_kernel)req->cl_kernel;
+    csg_features features;
+    return ocl_kernel_from_env(&kernel, d) && render_cl_features(rs->blob.bytes, &features, d);
+}
+
 /* Everything the tile phase needs, the pass started; 0 or the failure. */
 static int render_prepare(const render_request *req, master_session *ms, render_state *rs,
                           render_stats *st, render_marks *mk, master_job *job, csg_diag *d)
@@ -852,6 +1051,9 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     st->worker_count = use_workers ? ms->workers : 1;
     st->in_flight = use_workers ? PROTO_IN_FLIGHT : 1;
     st->relays = use_workers ? ms->relays : 0;
+    if (hetero && !render_cl_settings_ok(req, rs, d)) /* (before any tile: the device
+                                                        may never be opened) */
+        return EXIT_FAILURE_RUN;
     if (hetero && !fill && !render_open_cl(req, rs, d)) /* (fill: meanwhile) */
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
@@ -898,7 +1100,13 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         sched_fill_enable(&rs->sched);
         job->fill = render_fill;
         rs->fill_max = (int)render_test_env("CSGTRACE_TEST_FILL_TILES"); /* (tests) */
-        return render_cl_build_start(rs, req, d);
+        rs->req = req;
+        rs->pass_auto = render_pass_auto(req);
+        rs->pass_waits = rs->pass_auto;
+        if (!rs->pass_auto)
+            return render_cl_build_start(rs, req, d);
+        render_cl_early_guess(rs->early, rs->blob.bytes, st->tile);
+        return EXIT_OK;
     }
     return render_feed(job, false, d) < 0 ? EXIT_FAILURE_RUN : EXIT_OK; /* every tile */
 }
@@ -956,6 +1164,9 @@ static int render_image(const render_request *req, master_session *ms, render_st
     st->master_results_s = job.results_s;
     st->store_threads = store_threads(rs->store);
     st->store_cpu_s = store_cpu_s(rs->store);
+    st->pass_work_s = rs->pass_work_s;
+    if (rs->pass_auto && rs->early) /* (read before the thread is told: none yet is never) */
+        st->cl_open = render_cl_open_name(atomic_load(&rs->early->why));
     if (status == EXIT_OK && !rs->pass && rs->build.started &&
         render_cl_build_ready(rs, true, d) < 0) /* (the fill took every tile: still,
                                                     a bad OpenCL option is an error) */

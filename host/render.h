@@ -49,6 +49,10 @@ typedef struct {
                                  scheme); on: while no tile is ready
                                  they render tiles whole from the
                                  bottom (host/schedule.h)              */
+    bool pass_always;         /* --pass always: hetero opens the OpenCL
+                                 device at once, whatever the frame; auto
+                                 (with the fill): only once the frame
+                                 shows it pays (host/render.c)         */
     int batch;                /* work items in one message at most
                                  (--batch); 0: auto (host/schedule.h)  */
     int relays;               /* --relays: ranks 1 .. relays are relays,

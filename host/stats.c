@@ -117,7 +117,8 @@ static void stats_workers(FILE *f, const render_stats *s)
 #define STATS_TIMES(X)                                                                  \
     X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
     X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
-    X(estimate_spearman) X(master_cpu_s) X(master_results_s) X(store_cpu_s)
+    X(estimate_spearman) X(master_cpu_s) X(master_results_s) X(store_cpu_s)     \
+    X(pass_work_s)
 
 static void stats_phases(FILE *f, const render_stats *s)
 {
@@ -142,6 +143,8 @@ void stats_print_json(FILE *f, const render_stats *s)
     stats_string(f, s->cl_program);
     fputs(",\n  \"schedule\": ", f);
     stats_string(f, s->schedule);
+    fputs(",\n  \"cl_open\": ", f);
+    stats_string(f, s->cl_open ? s->cl_open : "none");
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
                "  \"spp\": %d,\n  \"in_flight\": %d,\n  \"relays\": %d,\n"
                "  \"store_threads\": %d,\n",

@@ -8,6 +8,12 @@
  *                 the scene's kinds and CSG ("sphere plane; no csg":
  *                 csg/features.h); "" without an OpenCL pass
  *   schedule      the scheduler (--schedule: raster, cost, static, tail)
+ *   cl_open       hetero: when the OpenCL device was opened: "start" (at
+ *                 once: --pass always, --fill off, --schedule static, a
+ *                 device named by --cl-device), "work" (--pass auto:
+ *                 once the first tiles said the rest pays for the pass),
+ *                 "never" (--pass auto: the workers rendered every tile);
+ *                 "none" in homo and serial
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
  *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)
@@ -58,6 +64,12 @@
  *                 appending finished tiles to the journal), MPI aside:
  *                 the work a result costs it, which bounds how many
  *                 workers one master can keep busy (bench/SCALE.md)
+ *   pass_work_s   hetero, --pass auto: the CPU seconds the frame's tiles
+ *                 were guessed to take, from blocks of 4 x 4 pixels, one
+ *                 in 64 x 64, traced on rank 0 while the workers began
+ *                 (1.1-1.6x the tiles' CPU on the SPD scenes): the device
+ *                 is opened when that is at least 0.6 s (host/render.c);
+ *                 0 when there was no guess
  *   store_cpu_s   CPU seconds of rank 0's store threads, all together
  *                 (store_threads; 0 when none ran): storing the workers'
  *                 8-bit results into the image, off the master's loop
@@ -152,6 +164,7 @@ typedef struct render_stats {
     const char *mode;       /* "serial", "homo", "hetero"            */
     const char *precision;  /* "float", "double" (what ran)          */
     const char *schedule;   /* sched_policy_name                      */
+    const char *cl_open;    /* hetero: when the OpenCL device opened   */
     const char *result_pixels; /* pixels_format_name, or "none"       */
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
@@ -164,6 +177,7 @@ typedef struct render_stats {
     double busy_fraction, estimate_spearman;
     double master_cpu_s, master_results_s;        /* (below)            */
     double store_cpu_s;                           /* (below)            */
+    double pass_work_s;                           /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */

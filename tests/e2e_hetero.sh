@@ -259,12 +259,13 @@ fill_check() { # fill_check NAME SERIAL EXPECTED_FILLED -> 0 when the image and 
         j['pixels_hit'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['pixels_hit'])") and
         j['rays']['primary'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['rays']['primary'])")"
 }
-CSGTRACE_TEST_CL_DELAY_MS=1500 render fa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on
+CSGTRACE_TEST_CL_DELAY_MS=1500 render fa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on \
+    --pass always
 fill_check fa s_2 30 && json "$T/fa.json" "j['slices'] == 0 and j['device'] == '' and j['tiles_degenerate'] == 0" &&
     ok "fill: the build delayed, the workers render every tile (no pass): == serial, hits and rays counted" ||
     ko "fill, every tile: $(head -c 300 "$T/fa.err")"
 CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=7 render fb 3 hetero "$T/gen_2.pov" \
-    --width 96 --height 72 --tile 16 --tile-log "$T/fb.log" --fill on
+    --width 96 --height 72 --tile 16 --tile-log "$T/fb.log" --fill on --pass always
 if fill_check fb s_2 7 && json "$T/fb.json" "j['slices'] > 0" && python3 - "$T/fb.log" <<'PY'
 import json, sys
 items = [json.loads(l) for l in open(sys.argv[1])]
@@ -279,13 +280,47 @@ else
     ko "fill, 7 tiles: $(head -c 300 "$T/fb.err")"
 fi
 CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=5 render fc 0 hetero "$T/gen_2.pov" \
-    --width 96 --height 72 --tile 16 --fill on
+    --width 96 --height 72 --tile 16 --fill on --pass always
 fill_check fc s_2 5 && ok "fill without workers: the master renders 5 tiles itself, the pass the rest: == serial" ||
     ko "fill, one process: $(head -c 300 "$T/fc.err")"
-CSGTRACE_TEST_CL_DELAY_MS=1500 render fd 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp 3 --tile 16 --fill on
+CSGTRACE_TEST_CL_DELAY_MS=1500 render fd 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp 3 --tile 16 --fill on \
+    --pass always
 fill_check fd ss3 30 && ok "fill with --spp 3: == serial, 3 primary rays a pixel" || ko "fill, --spp 3: $(head -c 300 "$T/fd.err")"
 "$BIN" render "$T/gen_1.pov" -o "$T/fe.exr" --mode hetero --fill maybe >/dev/null 2>"$T/fe.err"
 [ $? -eq 2 ] && grep -q -- "--fill" "$T/fe.err" && ok "--fill maybe: a usage error (exit 2)" || ko "--fill maybe: $(head -c 300 "$T/fe.err")"
+
+# --- --pass auto (the default): rank 0 guesses the frame's work from a
+#     sample; a frame too small for the pass to pay never opens the device
+#     (the fill renders it all); one that pays (here: a test threshold of
+#     1 ms) opens it, and the pass takes the tiles the fill leaves ---
+render pa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on
+fill_check pa s_2 30 && json "$T/pa.json" "j['cl_open'] == 'never' and j['device'] == '' and
+    j['slices'] == 0 and 0 < j['pass_work_s'] < 0.6" &&
+    ok "pass auto, a small frame: the device never opened, every tile filled: == serial" ||
+    ko "pass auto, small frame: $(head -c 300 "$T/pa.err")"
+CSGTRACE_TEST_PASS_PAYS_MS=1 CSGTRACE_TEST_FILL_TILES=5 render pb 3 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+fill_check pb s_2 5 && json "$T/pb.json" "j['cl_open'] == 'work' and j['device'] != '' and
+    j['slices'] > 0 and j['pass_work_s'] >= 0.001" &&
+    ok "pass auto, a frame that pays: the device opened on the guess, the pass took the tiles left: == serial" ||
+    ko "pass auto, opened: $(head -c 300 "$T/pb.err")"
+CSGTRACE_TEST_PASS_PAYS_MS=1 CSGTRACE_TEST_FILL_TILES=5 render pc 0 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+fill_check pc s_2 5 && json "$T/pc.json" "j['cl_open'] == 'work' and j['slices'] > 0" &&
+    ok "pass auto without workers: the master renders 5 tiles while rank 0 guesses, the pass the rest: == serial" ||
+    ko "pass auto, one process: $(head -c 300 "$T/pc.err")"
+CSGTRACE_TEST_FILL_TILES=5 render pd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on
+fill_check pd s_2 30 && json "$T/pd.json" "j['cl_open'] == 'never'" &&
+    ok "pass auto, never: the fill goes past the tests' cap (no pass to wait for): == serial" ||
+    ko "pass auto, never with a cap: $(head -c 300 "$T/pd.err")"
+render pe 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on --pass always
+render pf 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
+same "$T/s_2.exr" "$T/pe.exr" && json "$T/pe.json" "j['cl_open'] == 'start' and j['pass_work_s'] == 0" &&
+    json "$T/pf.json" "j['cl_open'] == 'start'" && json "$T/h_2.json" "j['cl_open'] == 'none'" &&
+    ok "--pass always and --fill off open the device at once (cl_open start; homo: none)" ||
+    ko "--pass always: $(head -c 300 "$T/pe.err")"
+"$BIN" render "$T/gen_1.pov" -o "$T/pg.exr" --mode hetero --pass sometimes >/dev/null 2>"$T/pg.err"
+[ $? -eq 2 ] && grep -q -- "--pass" "$T/pg.err" && ok "--pass sometimes: a usage error (exit 2)" || ko "--pass sometimes: $(head -c 300 "$T/pg.err")"
 
 # --- the generator meets its occupancy within +-1 point (sample of the grid) ---
 for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do

@@ -101,7 +101,7 @@ int main(int argc, char **argv)
     if (argc != 2 || !link_start(&rank, &size))
         return 2;
     proto_setup setup;
-    link_bcast(&setup, sizeof setup);
+    link_bcast_idle(&setup, sizeof setup);
     if (setup.status != 0)
         return 0;
     void *blob = malloc(setup.blob_size ? setup.blob_size : 1);

@@ -29,6 +29,7 @@
 #include "noise.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -88,7 +89,8 @@ typedef struct {
 } noise_tables;
 
 static noise_tables tables;
-static bool tables_ready;
+static pthread_once_t tables_once = PTHREAD_ONCE_INIT; /* (rank 0 may trace on two
+                                                          threads: host/render.c) */
 
 /* POV-Ray's table generator: next = next * 1812433253 + 12345 in 32 bits,
  * drawing bits 16..30. */
@@ -175,14 +177,16 @@ static void init_rands(noise_tables *t)
     }
 }
 
+static void init_tables(void)
+{
+    init_hash(&tables);
+    init_solid(&tables);
+    init_rands(&tables);
+}
+
 static const noise_tables *get_tables(void)
 {
-    if (!tables_ready) {
-        init_hash(&tables);
-        init_solid(&tables);
-        init_rands(&tables);
-        tables_ready = true;
-    }
+    pthread_once(&tables_once, init_tables);
     return &tables;
 }
 

@@ -320,7 +320,7 @@ int worker_run(int rank)
     link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;
-    if (link_bcast(&setup, sizeof setup) != LINK_OK)
+    if (link_bcast_idle(&setup, sizeof setup) != LINK_OK)
         return 1;
     if (setup.status != 0)
         return setup.status; /* the master reported why */
