@@ -121,8 +121,9 @@ static int render_guess_edge(int at, int size, int tile)
  * and shaded on this thread; 0 when out of memory.  A small rectangle
  * costs more a pixel than a tile (its culling and set-up are shared by
  * fewer rays): on the SPD scenes the guess was 1.1-1.9x the tiles' CPU
- * with blocks of 4 x 4, 1.9-7.4x with single pixels. */
-static double render_guess_work(const void *blob, int tile)
+ * with blocks of 4 x 4, 1.9-7.4x with single pixels.  It stops (0) once
+ * *stop holds: a render that ends first does not wait for it. */
+static double render_guess_work(const void *blob, int tile, const atomic_bool *stop)
 {
     tile_runner tr;
     if (!tile_runner_init(&tr, blob, tile))
@@ -132,7 +133,7 @@ static double render_guess_work(const void *blob, int tile)
     double pixels = 0;
     float rgb[RENDER_GUESS_BLOCK * RENDER_GUESS_BLOCK * 3];
     double cpu0 = stats_thread_cpu();
-    for (int y = y0; y < h; y += step)
+    for (int y = y0; y < h && !atomic_load(stop); y += step)
         for (int x = x0; x < w; x += step) {
             tile_rect r = {x, y, render_guess_edge(x, w, tile), render_guess_edge(y, h, tile)};
             tile_result res;
@@ -141,7 +142,7 @@ static double render_guess_work(const void *blob, int tile)
         }
     double cpu = stats_thread_cpu() - cpu0;
     tile_runner_free(&tr);
-    return pixels > 0 ? cpu * ((double)w * (double)h / pixels) : 0;
+    return pixels > 0 && !atomic_load(stop) ? cpu * ((double)w * (double)h / pixels) : 0;
 }
 
 /* Why (and whether) the device was opened: the stats' cl_open. */
@@ -169,6 +170,7 @@ typedef struct {
     int guess_tile;
     double work_s;         /* the guess (render_guess_work), once...      */
     atomic_bool guessed;   /* ...this is set                             */
+    atomic_bool ending;    /* the render is over: the guess stops        */
     sem_t go;              /* posted once, when `build` is decided      */
     struct render_cl_build *build; /* the program to build next (NULL: none) */
 } render_cl_early;
@@ -209,7 +211,7 @@ static void *render_cl_early_run(void *arg)
     while (sem_wait(&e->open) != 0 && errno == EINTR)
         continue;
     if (atomic_load(&e->why) == CL_OPEN_NONE && e->guess_blob) { /* --pass auto */
-        e->work_s = render_guess_work(e->guess_blob, e->guess_tile);
+        e->work_s = render_guess_work(e->guess_blob, e->guess_tile, &e->ending);
         atomic_store(&e->guessed, true);
         while (sem_wait(&e->open) != 0 && errno == EINTR) /* the word: WORK or NEVER */
             continue;
@@ -253,6 +255,7 @@ static void render_cl_early_start(render_cl_early *e, const render_request *req)
     atomic_init(&e->why, render_pass_auto(req) ? CL_OPEN_NONE : CL_OPEN_START);
     atomic_init(&e->opening, false);
     atomic_init(&e->guessed, false);
+    atomic_init(&e->ending, false);
     if (sem_init(&e->go, 0, 0) != 0)
         return;
     if (sem_init(&e->open, 0, render_pass_auto(req) ? 0 : 1) != 0) {
@@ -291,6 +294,7 @@ static void render_cl_early_join(render_cl_early *e)
  * filled: it failed). */
 static ocl_ctx *render_cl_early_take(render_cl_early *e, ocl_timing *tm, csg_diag *d)
 {
+    atomic_store(&e->ending, true);
     render_cl_early_want(e, CL_OPEN_NEVER); /* (not opened yet: never needed) */
     e->build = NULL;
     sem_post(&e->go);
