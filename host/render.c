@@ -235,6 +235,13 @@ static enum sched_policy render_policy(const render_request *req)
     return req->mode == MODE_HETERO ? SCHED_COST : SCHED_RASTER;
 }
 
+/* The OpenCL device asked for: --cl-device, else $CSGTRACE_CL_DEVICE
+ * (NULL: the default one). */
+static const char *render_cl_device(const render_request *req)
+{
+    return req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+}
+
 /* Does --pass auto apply?  Hetero with the fill (which the static
  * schedule has not), no --pass always, no device named (--cl-device,
  * $CSGTRACE_CL_DEVICE: the user asked for that one, and a name that
@@ -242,7 +249,7 @@ static enum sched_policy render_policy(const render_request *req)
  * across renders (opened once for all of them). */
 static bool render_pass_auto(const render_request *req)
 {
-    const char *named = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    const char *named = render_cl_device(req);
     return req->mode == MODE_HETERO && !req->no_fill && render_policy(req) != SCHED_STATIC &&
            !req->pass_always && !req->cl_keep && !(named && *named);
 }
@@ -251,14 +258,15 @@ static void render_cl_early_start(render_cl_early *e, const render_request *req)
 {
     if (req->mode != MODE_HETERO || req->cl_keep)
         return; /* (a kept context is the caller's) */
-    e->device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
-    atomic_init(&e->why, render_pass_auto(req) ? CL_OPEN_NONE : CL_OPEN_START);
+    e->device = render_cl_device(req);
+    bool wait_for_word = render_pass_auto(req); /* (else: opened at once) */
+    atomic_init(&e->why, wait_for_word ? CL_OPEN_NONE : CL_OPEN_START);
     atomic_init(&e->opening, false);
     atomic_init(&e->guessed, false);
     atomic_init(&e->ending, false);
     if (sem_init(&e->go, 0, 0) != 0)
         return;
-    if (sem_init(&e->open, 0, render_pass_auto(req) ? 0 : 1) != 0) {
+    if (sem_init(&e->open, 0, wait_for_word ? 0 : 1) != 0) {
         sem_destroy(&e->go);
         return;
     }
@@ -518,7 +526,7 @@ static bool render_cl_features(const void *blob, csg_features *out, csg_diag *d)
 static bool render_open_cl(const render_request *req, render_state *rs, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(rs->blob.bytes);
-    const char *device = req->cl_device ? req->cl_device : getenv("CSGTRACE_CL_DEVICE");
+    const char *device = render_cl_device(req);
     csg_features features;
     if (!render_cl_features(rs->blob.bytes, &features, d))
         return false;
