@@ -57,6 +57,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdint.h>
@@ -458,6 +459,43 @@ bool link_start(int *rank, int *size)
     *rank = link_w.rank;
     *size = link_w.size;
     return true;
+}
+
+/* ---- where a worker runs ------------------------------------------------- */
+
+int link_worker_cpu(const char *setting, const char *binding, const char *local_rank,
+                    const char *local_size, const cpu_set_t *allowed)
+{
+    if ((setting && strcmp(setting, "off") == 0) || !binding || strcmp(binding, "none") != 0 ||
+        !local_rank || !local_size)
+        return -1;
+    int cpus = CPU_COUNT(allowed), at = atoi(local_rank);
+    if (cpus < 2 || atoi(local_size) <= cpus || at < 0)
+        return -1; /* (a core for every rank: the OS spreads them) */
+    int nth = at % cpus;
+    for (int cpu = 0; cpu < CPU_SETSIZE; cpu++)
+        if (CPU_ISSET(cpu, allowed) && nth-- == 0)
+            return cpu;
+    return -1;
+}
+
+int link_bind_worker(void)
+{
+#ifndef CSG_SIM /* (SMPI's ranks are threads of one process) */
+    cpu_set_t allowed, one;
+    if (sched_getaffinity(0, sizeof allowed, &allowed) != 0)
+        return -1;
+    int cpu = link_worker_cpu(getenv("CSGTRACE_WORKER_BIND"),
+                              getenv("OMPI_MCA_hwloc_base_binding_policy"),
+                              getenv("OMPI_COMM_WORLD_LOCAL_RANK"),
+                              getenv("OMPI_COMM_WORLD_LOCAL_SIZE"), &allowed);
+    CPU_ZERO(&one);
+    if (cpu >= 0)
+        CPU_SET(cpu, &one);
+    return cpu >= 0 && sched_setaffinity(0, sizeof one, &one) == 0 ? cpu : -1;
+#else
+    return -1;
+#endif
 }
 
 /* ---- the idle wait ------------------------------------------------------ */

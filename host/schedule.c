@@ -492,6 +492,11 @@ int sched_fill_batch(const sched *s, int limit)
     return limit <= 1 ? 1 : sched_share(left, sched_round(s, false), sched_floor(s, left), limit);
 }
 
+bool sched_fill_skip(sched *s, int tile, tile_rect r)
+{
+    return sched_new_item(s, tile, r, 0, true, false) >= 0;
+}
+
 int sched_next_fill(sched *s, double now, int tile, tile_rect r)
 {
     int item = sched_new_item(s, tile, r, 0, false, false); /* (no records to estimate from) */

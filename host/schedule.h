@@ -188,6 +188,9 @@ int sched_fill_claim(sched *s, int offered);
 /* How many fill items the next message may take, 1 .. limit: guided as
  * sched_batch, by the tiles neither the fill nor the feed has yet. */
 int sched_fill_batch(const sched *s, int limit);
+/* Claimed tile `tile` (rectangle r) is degenerate: filled by the master,
+ * never sent (skipped, as sched_skip's). */
+bool sched_fill_skip(sched *s, int tile, tile_rect r);
 /* Claimed tile `tile` (rectangle r) handed out at once as a fill item
  * (marked sent as by sched_next); the item, or -1 when out of memory. */
 int sched_next_fill(sched *s, double now, int tile, tile_rect r);

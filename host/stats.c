@@ -154,8 +154,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
-    fprintf(f, "  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n  \"tiles_filled\": %d,\n",
-            s->tiles_resumed, s->tiles_sent, s->tiles_filled);
+    fprintf(f,
+            "  \"tiles_culled\": %d,\n  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n"
+            "  \"tiles_filled\": %d,\n",
+            s->tiles_culled, s->tiles_resumed, s->tiles_sent, s->tiles_filled);
     fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
             (unsigned long long)s->tile_messages);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,

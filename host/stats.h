@@ -78,6 +78,10 @@
  *   tiles_total   tiles of the image
  *   tiles_degenerate  tiles no primary ray hit (hetero: filled with the
  *                 background by the master, never sent; 0 otherwise)
+ *   tiles_culled  hetero with the fill: of tiles_degenerate, those the
+ *                 master proved degenerate before any pass, by the frustum
+ *                 culling of the workers' primary rays (engine.h
+ *                 rect_misses): no object may meet any ray of the tile
  *   tiles_resumed tiles taken from the journal of an interrupted run
  *                 (--resume, host/journal.h): never rendered again
  *   tiles_rendered = tiles_sent (the name --resume users look for)
@@ -178,7 +182,7 @@ typedef struct render_stats {
     double master_cpu_s, master_results_s;        /* (below)            */
     double store_cpu_s;                           /* (below)            */
     double pass_work_s;                           /* (below)            */
-    int tiles_total, tiles_sent, tiles_degenerate, items_sent, slices;
+    int tiles_total, tiles_sent, tiles_degenerate, tiles_culled, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */

@@ -253,15 +253,17 @@ rc=$?
 
 # --- the fill: with the OpenCL build delayed (a test hook), workers render
 #     whole tiles from the bottom up meanwhile; the pass does the rest ---
-fill_check() { # fill_check NAME SERIAL EXPECTED_FILLED -> 0 when the image and the counts hold
-    same "$T/$2.exr" "$T/$1.exr" && json "$T/$1.json" "j['tiles_filled'] == $3 and
+fill_check() { # fill_check NAME SERIAL EXPECTED_CLAIMED -> 0 when the image and the counts hold
+    # (the fill's claimed tiles: rendered whole, or culled by the master)
+    same "$T/$2.exr" "$T/$1.exr" && json "$T/$1.json" "j['tiles_filled'] + j['tiles_culled'] == $3 and
         j['tiles_sent'] + j['tiles_degenerate'] == j['tiles_total'] and
         j['pixels_hit'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['pixels_hit'])") and
         j['rays']['primary'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['rays']['primary'])")"
 }
 CSGTRACE_TEST_CL_DELAY_MS=1500 render fa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on \
     --pass always
-fill_check fa s_2 30 && json "$T/fa.json" "j['slices'] == 0 and j['device'] == '' and j['tiles_degenerate'] == 0" &&
+fill_check fa s_2 30 && json "$T/fa.json" "j['slices'] == 0 and j['device'] == '' and
+    j['tiles_degenerate'] == j['tiles_culled']" &&
     ok "fill: the build delayed, the workers render every tile (no pass): == serial, hits and rays counted" ||
     ko "fill, every tile: $(head -c 300 "$T/fa.err")"
 CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=7 render fb 3 hetero "$T/gen_2.pov" \
@@ -269,8 +271,10 @@ CSGTRACE_TEST_CL_DELAY_MS=300 CSGTRACE_TEST_FILL_TILES=7 render fb 3 hetero "$T/
 if fill_check fb s_2 7 && json "$T/fb.json" "j['slices'] > 0" && python3 - "$T/fb.log" <<'PY'
 import json, sys
 items = [json.loads(l) for l in open(sys.argv[1])]
-fill = sorted(i["tile"] for i in items if i["fill"])
-assert fill == list(range(23, 30)), fill
+claimed = sorted(i["tile"] for i in items if i["tile"] >= 23)
+assert claimed == list(range(23, 30)), claimed
+assert all(i["fill"] or i["skipped"] for i in items if i["tile"] >= 23)
+assert not any(i["fill"] for i in items if i["tile"] < 23)
 assert all(i["estimate"] is None and not i["skipped"] for i in items if i["fill"])
 assert all(i["estimate"] is not None for i in items if not i["fill"] and not i["skipped"])
 PY
@@ -288,6 +292,30 @@ CSGTRACE_TEST_CL_DELAY_MS=1500 render fd 3 hetero "$T/gen_1.pov" --width 96 --he
 fill_check fd ss3 30 && ok "fill with --spp 3: == serial, 3 primary rays a pixel" || ko "fill, --spp 3: $(head -c 300 "$T/fd.err")"
 "$BIN" render "$T/gen_1.pov" -o "$T/fe.exr" --mode hetero --fill maybe >/dev/null 2>"$T/fe.err"
 [ $? -eq 2 ] && grep -q -- "--fill" "$T/fe.err" && ok "--fill maybe: a usage error (exit 2)" || ko "--fill maybe: $(head -c 300 "$T/fe.err")"
+
+# --- the fill's degenerate tiles, without any pass: the master proves a
+#     tile empty with the workers' own frustum culling (no object may meet
+#     any of its rays) and fills it with the background instead of sending
+#     it; homo sends every tile; a sky_sphere (a missed ray's colour then
+#     depends on its direction) culls nothing ---
+"$BIN" gen spheres --count 6 --occupancy 0.15 --seed 9 --width 160 --height 120 -o "$T/sparse.pov" >/dev/null
+render cu_s 0 serial "$T/sparse.pov" --width 160 --height 120 --tile 16
+render cu_x 3 hetero "$T/sparse.pov" --width 160 --height 120 --tile 16 --fill on
+render cu_h 3 homo "$T/sparse.pov" --width 160 --height 120 --tile 16
+render cu_1 0 hetero "$T/sparse.pov" --width 160 --height 120 --tile 16 --fill on
+same "$T/cu_s.exr" "$T/cu_x.exr" && same "$T/cu_s.exr" "$T/cu_h.exr" && same "$T/cu_s.exr" "$T/cu_1.exr" &&
+    json "$T/cu_x.json" "j['cl_open'] == 'never' and 10 <= j['tiles_culled'] == j['tiles_degenerate'] and
+        j['tiles_sent'] + j['tiles_culled'] == j['tiles_total'] == 80 and j['tiles_filled'] == j['tiles_sent']" &&
+    json "$T/cu_1.json" "j['tiles_culled'] == $(python3 -c "import json; print(json.load(open('$T/cu_x.json'))['tiles_culled'])")" &&
+    json "$T/cu_h.json" "j['tiles_culled'] == 0 and j['tiles_sent'] == 80" &&
+    ok "fill: empty tiles culled by the master, never sent ($(python3 -c "import json; print(json.load(open('$T/cu_x.json'))['tiles_culled'])") of 80): hetero == homo == serial, with and without workers" ||
+    ko "fill, culled tiles: $(head -c 300 "$T/cu_x.err")"
+{ cat "$T/sparse.pov"; echo 'sky_sphere { pigment { gradient y color_map { [0 color rgb <0.2,0.3,0.9>] [1 color rgb 1] } } }'; } >"$T/sparse_sky.pov"
+render cu_ss 0 serial "$T/sparse_sky.pov" --width 160 --height 120 --tile 16
+render cu_sx 3 hetero "$T/sparse_sky.pov" --width 160 --height 120 --tile 16 --fill on
+same "$T/cu_ss.exr" "$T/cu_sx.exr" && json "$T/cu_sx.json" "j['tiles_culled'] == 0 and j['tiles_degenerate'] == 0" &&
+    ok "fill with a sky_sphere: no tile culled (what a miss sees depends on its direction): == serial" ||
+    ko "fill, sky_sphere: $(head -c 300 "$T/cu_sx.err")"
 
 # --- --pass auto (the default): rank 0 guesses the frame's work from a
 #     sample; a frame too small for the pass to pay never opens the device

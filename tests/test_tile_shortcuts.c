@@ -2,7 +2,8 @@
  * test_tile_shortcuts.c — what the C engine remembers across the rays of a
  * tile changes no bit of the result:
  *   - the primary culling (workers/frustum.h): the hit records of
- *     engine->trace_primary equal csg_trace_nearest's, ray by ray;
+ *     engine->trace_primary equal csg_trace_nearest's, ray by ray, and a
+ *     rectangle engine->rect_misses calls empty has no ray that hits;
  *   - the shadow cache (workers/shade.c): a tile shaded as one rectangle,
  *     the cache carried from pixel to pixel, equals the same pixels shaded
  *     one by one, each with a fresh cache.
@@ -87,6 +88,12 @@ static void assert_primary_records(const void *blob, int w, int h, int spp, int 
             ray_counts rays = {0};
             ENGINE->trace_primary(blob, r, t, surf, &rays);
             assert_int_equal(rays.primary, (uint64_t)r.width * r.height * spp);
+            /* the hetero master's proof of a degenerate tile (rect_misses)
+             * is the trace's own shortcut, and every ray below misses */
+            frustum_roots fr;
+            frustum_roots_of(v, cam, w, h, r, &fr);
+            bool misses = ENGINE->rect_misses(blob, r);
+            assert_int_equal(misses, frustum_all_miss(v, &fr));
             for (int y = 0; y < r.height; y++)
                 for (int x = 0; x < r.width; x++)
                     for (int k = 0; k < spp; k++) {
@@ -94,6 +101,8 @@ static void assert_primary_records(const void *blob, int w, int h, int spp, int 
                         csg_ray ray = csg_sample_ray(cam, w, h, tx + x, ty + y, spp, k);
                         csg_hit hit = csg_trace_nearest(v, ray, R(0.0), CSG_R_INF);
                         assert_int_equal(surf[i], hit.surf);
+                        if (misses)
+                            assert_int_equal(hit.surf, CSG_SURF_NONE);
                         assert_memory_equal(&t[i], &hit.t, sizeof hit.t);
                     }
         }

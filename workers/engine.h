@@ -60,6 +60,11 @@ typedef struct {
     /* The pixel shade gives when no primary sample hit (the background):
      * what the hetero master fills degenerate tiles with. */
     void (*miss_rgb)(const void *blob, float rgb[3]);
+    /* Every primary ray of `rect` provably misses every object (the
+     * frustum culling of trace_primary found no root it may meet; false
+     * when that culling does not apply): with no sky_sphere, the
+     * rectangle is miss_rgb throughout, traced or not. */
+    bool (*rect_misses)(const void *blob, tile_rect rect);
     /* For the cost estimate of a tile (host/estimate.h): the ENGINE_CLASS_*
      * bits of every primitive's material into class_out[prim_count]; returns
      * the number of lights that cast shadows (a shadow ray each a hit). */

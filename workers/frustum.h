@@ -171,18 +171,12 @@ static inline bool frustum_add(frustum_roots *fr, double *depth, csg_i32 i, doub
     return true;
 }
 
-/* The candidate roots of rect's primary rays: the BVH's roots whose boxes
- * the pyramid may meet.  fr->culled is false when there is no list to use
- * (the camera is not a plain perspective one, or too many candidates). */
-static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width, int height,
-                                    tile_rect rect, frustum_roots *fr)
+/* Walks the BVH with the pyramid f: each root whose box (and triangle)
+ * it may meet goes to take(arg, root), which returns false to stop the
+ * walk.  True when the walk went through (no stop, no overflow). */
+static inline bool frustum_walk(csg_view v, const frustum *f,
+                                bool (*take)(void *arg, csg_i32 root), void *arg)
 {
-    frustum f;
-    double depth[FRUSTUM_MAX_ROOTS];
-    fr->culled = false;
-    fr->n = 0;
-    if (!frustum_of(cam, width, height, rect, &f))
-        return;
     csg_i32 stack[CSG_BVH_STACK + 2], top = 0;
     if (v.bvh_count > 0) {
         stack[top++] = 0;
@@ -190,24 +184,80 @@ static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width
     }
     while (top > 0) {
         const csg_bvh_node *node = &v.bvh[stack[--top]];
-        if (frustum_culls(&f, node->box, node->box + 3))
+        if (frustum_culls(f, node->box, node->box + 3))
             continue;
         if (node->count < 0) {
             if (top + 2 > CSG_BVH_STACK + 2) /* the flattener prevents this */
-                return;
+                return false;
             stack[top++] = node->first;
             stack[top++] = node->first + 1;
             continue;
         }
         for (csg_i32 i = node->first; i < node->first + node->count; i++) {
             const csg_root *rt = &v.roots[i];
-            if (frustum_culls(&f, rt->lo, rt->hi) || frustum_culls_triangle(&f, v, rt))
+            if (frustum_culls(f, rt->lo, rt->hi) || frustum_culls_triangle(f, v, rt))
                 continue;
-            if (!frustum_add(fr, depth, i, frustum_depth(&f, rt->lo, rt->hi)))
-                return;
+            if (!take(arg, i))
+                return false;
         }
     }
-    fr->culled = true;
+    return true;
+}
+
+typedef struct {
+    const frustum *f;
+    csg_view v;
+    frustum_roots *fr;
+    double depth[FRUSTUM_MAX_ROOTS];
+} frustum_gather;
+
+static inline bool frustum_take_candidate(void *arg, csg_i32 i)
+{
+    frustum_gather *g = arg;
+    const csg_root *rt = &g->v.roots[i];
+    return frustum_add(g->fr, g->depth, i, frustum_depth(g->f, rt->lo, rt->hi));
+}
+
+/* The candidate roots of rect's primary rays: the BVH's roots whose boxes
+ * the pyramid may meet.  fr->culled is false when there is no list to use
+ * (the camera is not a plain perspective one, or too many candidates). */
+static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width, int height,
+                                    tile_rect rect, frustum_roots *fr)
+{
+    frustum f;
+    fr->culled = false;
+    fr->n = 0;
+    if (!frustum_of(cam, width, height, rect, &f))
+        return;
+    frustum_gather g = {&f, v, fr, {0}};
+    fr->culled = frustum_walk(v, &f, frustum_take_candidate, &g);
+}
+
+static inline bool frustum_take_none(void *arg, csg_i32 i)
+{
+    (void)arg;
+    (void)i;
+    return false; /* (one root the pyramid may meet: not a miss) */
+}
+
+/* Does every primary ray of the rectangle whose candidates are fr miss
+ * everything?  No candidate survived, and no unbounded root is tried:
+ * the rectangle's pixels are then the background (no sky_sphere) without
+ * a ray (engine_trace_primary's shortcut). */
+static inline bool frustum_all_miss(csg_view v, const frustum_roots *fr)
+{
+    return fr->culled && fr->n == 0 && v.root_count == 0;
+}
+
+/* frustum_all_miss of rect's candidates, found without gathering them:
+ * the walk stops at the first root the pyramid may meet (the hetero
+ * master asks this of every fill tile: engine->rect_misses). */
+static inline bool frustum_rect_misses(csg_view v, const csg_camera *cam, int width, int height,
+                                       tile_rect rect)
+{
+    frustum f;
+    return v.root_count == 0 && frustum_of(cam, width, height, rect, &f) &&
+           frustum_walk(v, &f, frustum_take_none, NULL);
 }
 
 /* csg_trace_nearest(v, r, 0, inf) for a ray of a rectangle whose

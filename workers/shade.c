@@ -440,7 +440,7 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
     int spp = c.hdr->spp;
     frustum_roots fr; /* the roots the rectangle's rays may hit (frustum.h) */
     frustum_roots_of(c.view, c.cam, c.hdr->width, c.hdr->height, rect, &fr);
-    if (fr.culled && fr.n == 0 && c.view.root_count == 0) { /* every ray misses */
+    if (frustum_all_miss(c.view, &fr)) {
         size_t n = (size_t)rect.width * (size_t)rect.height * (size_t)spp;
         for (size_t i = 0; i < n; i++) {
             t[i] = CSG_R_INF;
@@ -486,6 +486,12 @@ static void store_rgb(float *out, vec3 col)
     out[0] = finite_or_zero(col.x);
     out[1] = finite_or_zero(col.y);
     out[2] = finite_or_zero(col.z);
+}
+
+bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect)
+{
+    shade_ctx c = ctx_of(blob);
+    return frustum_rect_misses(c.view, c.cam, c.hdr->width, c.hdr->height, rect);
 }
 
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])

@@ -332,6 +332,7 @@ int worker_run(int rank)
         return status;
     }
     w.parent = proto_parent(rank, setup.relays);
+    link_bind_worker(); /* (more ranks than cores: one core each, link.h) */
     worker_prepare(&w, &setup);
     if (w.failure[0]) {
         worker_send_fail(&w, -1, w.failure);
