@@ -115,34 +115,63 @@ static int render_guess_edge(int at, int size, int tile)
     return size - at < edge ? size - at : edge;
 }
 
+/* The blocks of one stage of the guess, traced: stage 0 every other one
+ * across and down (1/1024 of the image), stage 1 the others; adds their
+ * pixels and thread CPU seconds.  False when *stop came first. */
+static bool render_guess_stage(tile_runner *tr, int tile, int stage, const atomic_bool *stop,
+                               double *pixels, double *cpu)
+{
+    int w = tr->grid.width, h = tr->grid.height, step = RENDER_GUESS_STRIDE;
+    int x0 = w > step / 4 ? step / 4 : w / 2, y0 = h > step / 4 ? step / 4 : h / 2;
+    float rgb[RENDER_GUESS_BLOCK * RENDER_GUESS_BLOCK * 3];
+    double cpu0 = stats_thread_cpu();
+    for (int y = y0, iy = 0; y < h; y += step, iy++) {
+        if (atomic_load(stop))
+            return false;
+        for (int x = x0, ix = 0; x < w; x += step, ix++) {
+            if ((ix % 2 == 0 && iy % 2 == 0) != (stage == 0))
+                continue;
+            tile_rect r = {x, y, render_guess_edge(x, w, tile), render_guess_edge(y, h, tile)};
+            tile_result res;
+            tile_run_rect(tr, r, NULL, rgb, &res);
+            *pixels += (double)r.width * (double)r.height;
+        }
+    }
+    *cpu += stats_thread_cpu() - cpu0;
+    return true;
+}
+
 /* The CPU seconds a frame's tiles will take, guessed from blocks of
  * RENDER_GUESS_BLOCK x RENDER_GUESS_BLOCK pixels, one in every
  * RENDER_GUESS_STRIDE x RENDER_GUESS_STRIDE (1/256 of the image), traced
  * and shaded on this thread; 0 when out of memory.  A small rectangle
  * costs more a pixel than a tile (its culling and set-up are shared by
  * fewer rays): on the SPD scenes the guess was 1.1-1.9x the tiles' CPU
- * with blocks of 4 x 4, 1.9-7.4x with single pixels.  It stops (0) once
- * *stop holds: a render that ends first does not wait for it. */
-static double render_guess_work(const void *blob, int tile, const atomic_bool *stop)
+ * with blocks of 4 x 4, 1.9-7.4x with single pixels.  A quarter of the
+ * blocks first: a guess under `small` from them is the answer (the rest
+ * would cost three times as much, for a frame far from paying).  It stops
+ * (0) once *stop holds: a render that ends first does not wait for it. */
+static double render_guess_work(const void *blob, int tile, double small, const atomic_bool *stop)
 {
     tile_runner tr;
     if (!tile_runner_init(&tr, blob, tile))
         return 0;
-    int w = tr.grid.width, h = tr.grid.height, step = RENDER_GUESS_STRIDE;
-    int x0 = w > step / 4 ? step / 4 : w / 2, y0 = h > step / 4 ? step / 4 : h / 2;
-    double pixels = 0;
-    float rgb[RENDER_GUESS_BLOCK * RENDER_GUESS_BLOCK * 3];
-    double cpu0 = stats_thread_cpu();
-    for (int y = y0; y < h && !atomic_load(stop); y += step)
-        for (int x = x0; x < w; x += step) {
-            tile_rect r = {x, y, render_guess_edge(x, w, tile), render_guess_edge(y, h, tile)};
-            tile_result res;
-            tile_run_rect(&tr, r, NULL, rgb, &res);
-            pixels += (double)r.width * (double)r.height;
-        }
-    double cpu = stats_thread_cpu() - cpu0;
+    double area = (double)tr.grid.width * (double)tr.grid.height, pixels = 0, cpu = 0;
+    bool done = render_guess_stage(&tr, tile, 0, stop, &pixels, &cpu);
+    if (done && !(pixels > 0 && cpu * (area / pixels) < small))
+        done = render_guess_stage(&tr, tile, 1, stop, &pixels, &cpu);
     tile_runner_free(&tr);
-    return pixels > 0 && !atomic_load(stop) ? cpu * ((double)w * (double)h / pixels) : 0;
+    return done && pixels > 0 ? cpu * (area / pixels) : 0;
+}
+
+static long render_test_env(const char *name);
+
+/* The guessed work from which the pass pays: RENDER_PASS_PAYS_S (tests:
+ * CSGTRACE_TEST_PASS_PAYS_MS). */
+static double render_pass_pays_s(void)
+{
+    double pays = render_test_env("CSGTRACE_TEST_PASS_PAYS_MS") * 1e-3;
+    return pays > 0 ? pays : RENDER_PASS_PAYS_S;
 }
 
 /* Why (and whether) the device was opened: the stats' cl_open. */
@@ -211,7 +240,8 @@ static void *render_cl_early_run(void *arg)
     while (sem_wait(&e->open) != 0 && errno == EINTR)
         continue;
     if (atomic_load(&e->why) == CL_OPEN_NONE && e->guess_blob) { /* --pass auto */
-        e->work_s = render_guess_work(e->guess_blob, e->guess_tile, &e->ending);
+        e->work_s = render_guess_work(e->guess_blob, e->guess_tile, render_pass_pays_s() / 4,
+                                      &e->ending);
         atomic_store(&e->guessed, true);
         while (sem_wait(&e->open) != 0 && errno == EINTR) /* the word: WORK or NEVER */
             continue;
@@ -712,8 +742,7 @@ static int render_pass_decide(render_state *rs, bool wait, csg_diag *d)
                                                             the frame's work) */
     }
     rs->pass_waits = false; /* (decided: once) */
-    double pays = render_test_env("CSGTRACE_TEST_PASS_PAYS_MS") * 1e-3;
-    if (rs->pass_work_s < (pays > 0 ? pays : RENDER_PASS_PAYS_S))
+    if (rs->pass_work_s < render_pass_pays_s())
         return 0;
     render_cl_early_want(rs->early, CL_OPEN_WORK);
     return render_cl_build_start(rs, rs->req, d) == EXIT_OK ? 0 : -1;
