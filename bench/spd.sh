@@ -57,7 +57,8 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 mkdir -p "$OUT/img" "$OUT/work" "$POCL_CACHE_DIR"
 RAW=$OUT/raw.csv
-[ "$append" = 1 ] && [ -s "$RAW" ] || echo "scene,renderer,run,frame_s,trace_s,rays,cl_open" >"$RAW"
+[ "$append" = 1 ] && [ -s "$RAW" ] ||
+    echo "scene,renderer,run,frame_s,trace_s,rays,cl_open,culled,own_s,tiles_s" >"$RAW"
 MPI=(mpirun -np 3 --bind-to none)
 
 # Inputs made once: the POV-Ray export and the file on Tachyon's view.
@@ -105,8 +106,14 @@ for r in $(seq 1 "$RUNS"); do
     for n in "${names[@]}"; do
         echo "round $r/$RUNS: $n" >&2
         run_csg "$n" serial "$r" "$NFF/$n.nff" serial "$OUT/img/$n-serial.png"
-        run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
-        run_csg "$n" hetero "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-hetero.png"
+        # (homo and hetero side by side, each first in every other round)
+        if [ $((r % 2)) = 1 ]; then
+            run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
+            run_csg "$n" hetero "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-hetero.png"
+        else
+            run_csg "$n" hetero "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-hetero.png"
+            run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
+        fi
         run_csg "$n" hetero-always "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-always.png" --pass always
         run_csg "$n" homo-tview "$r" "$OUT/work/$n-tview.nff" homo "$OUT/img/$n-tview.png"
         run_tachyon "$n" "$r"

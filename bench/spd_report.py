@@ -8,12 +8,18 @@ never runs anything).
   spd_report.py report RAW.csv IDENTICAL.txt OUT.md
 
 CSV columns: scene, renderer, run, frame_s, trace_s, rays (empty: unknown),
-cl_open (csgtrace hetero: when its OpenCL device opened; empty otherwise).
+cl_open (csgtrace hetero: when its OpenCL device opened; empty otherwise),
+culled (csgtrace: tiles_culled), own_s (csgtrace: guess_cpu_s + cull_s, the
+work hetero does that homo does not while its device stays closed) and
+tiles_s (csgtrace: the workers' seconds on tiles, summed); the last three
+are empty for the other renderers and in rows written before them.
 The report takes the median of the runs of each scene and renderer and
 writes one table: frame times, csgtrace's rays, and the ratios the SPD
 issue asks for (Tachyon / csgtrace homo on Tachyon's view; POV-Ray trace /
-csgtrace trace; hetero / homo, with --pass auto and always), then the sums and the per-pixel cost of
-the tetra series, then bench/SPD-notes.md (the reading of the numbers,
+csgtrace trace; hetero / homo, with --pass auto and always), then hetero
+against homo round by round (each round's two runs side by side: their
+ratio's median and range, and hetero's own work), then the per-pixel cost
+of the tetra series, then bench/SPD-notes.md (the reading of the numbers,
 written by hand) when it exists.
 """
 import csv
@@ -29,7 +35,10 @@ def row(path, scene, renderer, run):
         j = json.load(f)
     trace = j["primary_s"] + j["secondary_s"]
     rays = j["rays"]["total"] if "total" in j["rays"] else sum(j["rays"].values())
-    print(f"{scene},{renderer},{run},{j['wall_s']:.6f},{trace:.6f},{rays},{j.get('cl_open', '')}")
+    own = j.get("guess_cpu_s", 0) + j.get("cull_s", 0)
+    tiles = sum(w["busy_s"] for w in j.get("workers", []))
+    print(f"{scene},{renderer},{run},{j['wall_s']:.6f},{trace:.6f},{rays},{j.get('cl_open', '')},"
+          f"{j.get('tiles_culled', 0)},{own:.6f},{tiles:.6f}")
 
 
 # How each renderer's log states its times: the trace, then the rest of
@@ -54,18 +63,22 @@ def timings(renderer, path, scene, run):
     trace = seconds(trace_label)
     frame = trace + sum(seconds(label) for label in others)
     m = re.search(r"Rays:\s*([0-9]+)", text) if renderer == "povray" else None
-    print(f"{scene},{renderer},{run},{frame:.6f},{trace:.6f},{m.group(1) if m else ''},")
+    print(f"{scene},{renderer},{run},{frame:.6f},{trace:.6f},{m.group(1) if m else ''},,,,")
 
 
 RENDERERS = ["serial", "homo", "hetero", "hetero-always", "homo-tview", "tachyon", "povray"]
 
 
-def medians(raw):
+def read_runs(raw):
     runs = {}
     with open(raw) as f:
         for r in csv.DictReader(f):
             key = (r["scene"], r["renderer"])
             runs.setdefault(key, []).append(r)
+    return runs
+
+
+def medians(runs):
     out = {}
     for key, rs in runs.items():
         out[key] = {
@@ -88,8 +101,55 @@ def ratio(a, b):
     return "—" if not a or not b else f"{a / b:.2f}"
 
 
+def optional(rs, column):
+    """The median of a column written only by newer rows (None: absent)."""
+    values = [float(r[column]) for r in rs if r.get(column) not in (None, "")]
+    return statistics.median(values) if values else None
+
+
+def paired(runs, scene, a, b):
+    """a / b of the frame, round by round (the runs of one round ran side
+    by side): the sorted ratios."""
+    frames = {key: {r["run"]: float(r["frame_s"]) for r in runs.get((scene, key), [])}
+              for key in (a, b)}
+    return sorted(frames[a][k] / frames[b][k] for k in frames[a] if frames[b].get(k))
+
+
+def hetero_lines(runs, m, scenes):
+    """Hetero (--pass auto) against homo, round by round."""
+    lines = [
+        "",
+        "Hetero (`--pass auto`) against homo, round by round (the two ran side by side",
+        "in each round, in turn first): `per round` is the median of the rounds' hetero /",
+        "homo frame ratios and their range; `faster` the rounds hetero took less time in.",
+        "`own work`: rank 0's guess of the frame's work and the master's cull checks",
+        "(`guess_cpu_s` + `cull_s`), what hetero does that homo does not while its",
+        "device stays closed, against the workers' seconds on tiles (medians).",
+        "",
+        "| scene | tiles culled | opened | hetero / homo | per round | faster | own work (ms) | own / tiles |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for s in scenes:
+        ratios = paired(runs, s, "hetero", "homo")
+        if not ratios:
+            continue
+        hs = runs[(s, "hetero")]
+        culled, own, tiles = (optional(hs, c) for c in ("culled", "own_s", "tiles_s"))
+        g = m[(s, "hetero")]
+        opened = "—" if g["opened"] is None else f"{g['opened']}/{g['runs']}"
+        faster = sum(x < 1 for x in ratios)
+        lines.append(
+            f"| {s} | {'—' if culled is None else f'{culled:.0f}'} | {opened} | "
+            f"{ratio(g['frame'], m[(s, 'homo')]['frame'])} | "
+            f"{statistics.median(ratios):.3f} [{ratios[0]:.2f}-{ratios[-1]:.2f}] | "
+            f"{faster}/{len(ratios)} | {'—' if own is None else f'{own * 1e3:.2f}'} | "
+            f"{'—' if not own or not tiles else f'{own / tiles * 100:.2f} %'} |")
+    return lines
+
+
 def report(raw, identical, out_path):
-    m = medians(raw)
+    runs = read_runs(raw)
+    m = medians(runs)
     scenes = sorted({s for s, _ in m})
     same = {}
     with open(identical) as f:
@@ -97,11 +157,11 @@ def report(raw, identical, out_path):
             parts = line.split()
             if len(parts) == 2:
                 same[parts[0]] = parts[1]
-    runs = max(v["runs"] for v in m.values())
+    rounds = max(v["runs"] for v in m.values())
     lines = [
         "# SPD benchmark: csgtrace, Tachyon and POV-Ray on Eric Haines' scenes",
         "",
-        f"Written by `bench/spd.sh` (medians of {runs} interleaved rounds, 512x512, this",
+        f"Written by `bench/spd.sh` (medians of {rounds} interleaved rounds, 512x512, this",
         "machine: 2 cores). Frame = parse + build + trace + write, in seconds; csgtrace",
         "homo/hetero run 1 master + 2 workers under mpirun (launch not counted).",
         "`tview`: csgtrace homo on the file with Tachyon's fixed 53.13 degree view (the",
@@ -125,6 +185,7 @@ def report(raw, identical, out_path):
             f"{fmt(g('povray', 'trace'))} | {ratio(g('povray', 'trace'), g('homo', 'trace'))} | "
             f"{ratio(g('hetero'), g('homo'))} | {ratio(g('hetero-always'), g('homo'))} | "
             f"{'—' if rays is None else f'{rays / 1e6:.2f}'} | {same.get(s, '?')} |")
+    lines += hetero_lines(runs, m, scenes)
     tetra = [s for s in scenes if s.startswith("tetra")]
     if tetra:
         lines += ["", "Tetra series, csgtrace serial trace time per pixel (us):", ""]

@@ -148,17 +148,21 @@ static bool render_guess_stage(tile_runner *tr, int tile, int stage, const atomi
  * costs more a pixel than a tile (its culling and set-up are shared by
  * fewer rays): on the SPD scenes the guess was 1.1-1.9x the tiles' CPU
  * with blocks of 4 x 4, 1.9-7.4x with single pixels.  A quarter of the
- * blocks first: a guess under `small` from them is the answer (the rest
- * would cost three times as much, for a frame far from paying).  It stops
+ * blocks first: a guess from them under half of `pays`, or at least
+ * twice it, is the answer; the rest (three times the work: up to 2.6 ms a
+ * frame, all of it hetero's own) only refines a guess near `pays`, where
+ * the pass about breaks even.  (The whole guess was 0.63-1.10x the
+ * quarter's on 25 SPD files, 1.33-1.53x on rings7; 3 runs each.)  It stops
  * (0) once *stop holds: a render that ends first does not wait for it. */
-static double render_guess_work(const void *blob, int tile, double small, const atomic_bool *stop)
+static double render_guess_work(const void *blob, int tile, double pays, const atomic_bool *stop)
 {
     tile_runner tr;
     if (!tile_runner_init(&tr, blob, tile))
         return 0;
     double area = (double)tr.grid.width * (double)tr.grid.height, pixels = 0, cpu = 0;
     bool done = render_guess_stage(&tr, tile, 0, stop, &pixels, &cpu);
-    if (done && !(pixels > 0 && cpu * (area / pixels) < small))
+    double quarter = pixels > 0 ? cpu * (area / pixels) : 0;
+    if (done && quarter >= pays / 2 && quarter < pays * 2)
         done = render_guess_stage(&tr, tile, 1, stop, &pixels, &cpu);
     tile_runner_free(&tr);
     return done && pixels > 0 ? cpu * (area / pixels) : 0;
@@ -197,7 +201,8 @@ typedef struct {
     const void *guess_blob; /* --pass auto: the scene to guess the work of
                               (set before `open` is first posted)        */
     int guess_tile;
-    double work_s;         /* the guess (render_guess_work), once...      */
+    double work_s;         /* the guess (render_guess_work) and its...    */
+    double guess_cpu_s;    /* ...thread CPU seconds, once...              */
     atomic_bool guessed;   /* ...this is set                             */
     atomic_bool ending;    /* the render is over: the guess stops        */
     sem_t go;              /* posted once, when `build` is decided      */
@@ -234,14 +239,22 @@ static bool render_cl_early_guessed(render_cl_early *e, double *work_s)
     return true;
 }
 
+/* The CPU seconds the thread's guess took (0: none finished). */
+static double render_cl_early_guess_cpu(render_cl_early *e)
+{
+    return e && atomic_load(&e->guessed) ? e->guess_cpu_s : 0;
+}
+
 static void *render_cl_early_run(void *arg)
 {
     render_cl_early *e = arg;
     while (sem_wait(&e->open) != 0 && errno == EINTR)
         continue;
     if (atomic_load(&e->why) == CL_OPEN_NONE && e->guess_blob) { /* --pass auto */
-        e->work_s = render_guess_work(e->guess_blob, e->guess_tile, render_pass_pays_s() / 4,
+        double cpu0 = stats_thread_cpu();
+        e->work_s = render_guess_work(e->guess_blob, e->guess_tile, render_pass_pays_s(),
                                       &e->ending);
+        e->guess_cpu_s = stats_thread_cpu() - cpu0;
         atomic_store(&e->guessed, true);
         while (sem_wait(&e->open) != 0 && errno == EINTR) /* the word: WORK or NEVER */
             continue;
@@ -393,6 +406,9 @@ typedef struct render_state {
                               render_pass_decide has rank 0's guess     */
     double pass_work_s;    /* the guess of the frame's work (0: none)    */
     int tiles_culled;      /* fill tiles proven degenerate (render_culled) */
+    int32_t cull_met;      /* the object the last fill tile's check met
+                              (engine->rect_misses; -1: none)          */
+    double cull_s;         /* the master's seconds in those checks       */
     journal *journal;      /* the finished tiles, for --resume (NULL:
                               no output file)                           */
     link_idle idle;        /* the master's wait; the pass wakes it       */
@@ -880,10 +896,14 @@ static bool render_fill_capped(const render_state *rs)
  * hetero gains without opening its device: homo sends such a tile and a
  * worker traces its misses (tetra2: 158 of 256 tiles, 14 % of the tiles'
  * CPU); hetero fills it here, as it fills the pass's degenerate tiles. */
-static bool render_culled(const render_state *rs, tile_rect r)
+static bool render_culled(render_state *rs, tile_rect r)
 {
-    return render_misses_are_background(rs) &&
-           engine_for_blob(rs->blob.bytes)->rect_misses(rs->blob.bytes, r);
+    if (!render_misses_are_background(rs))
+        return false;
+    double t0 = stats_clock(); /* (not the thread's CPU clock: a system call) */
+    bool misses = engine_for_blob(rs->blob.bytes)->rect_misses(rs->blob.bytes, r, &rs->cull_met);
+    rs->cull_s += stats_clock() - t0;
+    return misses;
 }
 
 /* master_job.fill: the last tile nobody has, to be rendered whole (a
@@ -1180,6 +1200,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         sched_fill_enable(&rs->sched);
         job->fill = render_fill;
         rs->fill_max = (int)render_test_env("CSGTRACE_TEST_FILL_TILES"); /* (tests) */
+        rs->cull_met = -1;
         rs->req = req;
         rs->pass_auto = render_pass_auto(req);
         rs->pass_waits = rs->pass_auto;
@@ -1245,6 +1266,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
     st->store_threads = store_threads(rs->store);
     st->store_cpu_s = store_cpu_s(rs->store);
     st->pass_work_s = rs->pass_work_s;
+    st->guess_cpu_s = render_cl_early_guess_cpu(rs->early);
+    st->cull_s = rs->cull_s;
     if (rs->pass_auto && rs->early) /* (read before the thread is told: none yet is never) */
         st->cl_open = render_cl_open_name(atomic_load(&rs->early->why));
     if (status == EXIT_OK && !rs->pass && rs->build.started &&

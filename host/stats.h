@@ -66,10 +66,17 @@
  *                 workers one master can keep busy (bench/SCALE.md)
  *   pass_work_s   hetero, --pass auto: the CPU seconds the frame's tiles
  *                 were guessed to take, from blocks of 4 x 4 pixels, one
- *                 in 64 x 64, traced on rank 0 while the workers began
+ *                 in 64 x 64 (a quarter of them when theirs is under 0.3 s
+ *                 or over 1.2 s), traced on rank 0 while the workers began
  *                 (1.1-1.6x the tiles' CPU on the SPD scenes): the device
  *                 is opened when that is at least 0.6 s (host/render.c);
  *                 0 when there was no guess
+ *   guess_cpu_s   hetero, --pass auto: the CPU seconds that guess took on
+ *                 rank 0 (0 when none was done before the tiles were):
+ *                 with cull_s, what hetero spends that homo does not
+ *                 while its device stays closed
+ *   cull_s        hetero with the fill: the master's seconds in the checks
+ *                 of tiles_culled (one a fill tile)
  *   store_cpu_s   CPU seconds of rank 0's store threads, all together
  *                 (store_threads; 0 when none ran): storing the workers'
  *                 8-bit results into the image, off the master's loop
@@ -181,7 +188,7 @@ typedef struct render_stats {
     double busy_fraction, estimate_spearman;
     double master_cpu_s, master_results_s;        /* (below)            */
     double store_cpu_s;                           /* (below)            */
-    double pass_work_s;                           /* (below)            */
+    double pass_work_s, guess_cpu_s, cull_s;      /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, tiles_culled, items_sent, slices;
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */

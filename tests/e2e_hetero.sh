@@ -305,9 +305,11 @@ render cu_h 3 homo "$T/sparse.pov" --width 160 --height 120 --tile 16
 render cu_1 0 hetero "$T/sparse.pov" --width 160 --height 120 --tile 16 --fill on
 same "$T/cu_s.exr" "$T/cu_x.exr" && same "$T/cu_s.exr" "$T/cu_h.exr" && same "$T/cu_s.exr" "$T/cu_1.exr" &&
     json "$T/cu_x.json" "j['cl_open'] == 'never' and 10 <= j['tiles_culled'] == j['tiles_degenerate'] and
+        0 < j['cull_s'] < j['wall_s'] and
         j['tiles_sent'] + j['tiles_culled'] == j['tiles_total'] == 80 and j['tiles_filled'] == j['tiles_sent']" &&
     json "$T/cu_1.json" "j['tiles_culled'] == $(python3 -c "import json; print(json.load(open('$T/cu_x.json'))['tiles_culled'])")" &&
-    json "$T/cu_h.json" "j['tiles_culled'] == 0 and j['tiles_sent'] == 80" &&
+    json "$T/cu_h.json" "j['tiles_culled'] == 0 and j['tiles_sent'] == 80 and j['cull_s'] == 0 and
+        j['guess_cpu_s'] == 0" &&
     ok "fill: empty tiles culled by the master, never sent ($(python3 -c "import json; print(json.load(open('$T/cu_x.json'))['tiles_culled'])") of 80): hetero == homo == serial, with and without workers" ||
     ko "fill, culled tiles: $(head -c 300 "$T/cu_x.err")"
 { cat "$T/sparse.pov"; echo 'sky_sphere { pigment { gradient y color_map { [0 color rgb <0.2,0.3,0.9>] [1 color rgb 1] } } }'; } >"$T/sparse_sky.pov"
@@ -323,7 +325,7 @@ same "$T/cu_ss.exr" "$T/cu_sx.exr" && json "$T/cu_sx.json" "j['tiles_culled'] ==
 #     1 ms) opens it, and the pass takes the tiles the fill leaves ---
 render pa 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on
 fill_check pa s_2 30 && json "$T/pa.json" "j['cl_open'] == 'never' and j['device'] == '' and
-    j['slices'] == 0 and 0 < j['pass_work_s'] < 0.6" &&
+    j['slices'] == 0 and 0 < j['pass_work_s'] < 0.6 and 0 < j['guess_cpu_s'] < j['wall_s']" &&
     ok "pass auto, a small frame: the device never opened, every tile filled: == serial" ||
     ko "pass auto, small frame: $(head -c 300 "$T/pa.err")"
 CSGTRACE_TEST_PASS_PAYS_MS=1 CSGTRACE_TEST_FILL_TILES=5 render pb 3 hetero "$T/gen_2.pov" \
@@ -343,7 +345,8 @@ fill_check pd s_2 30 && json "$T/pd.json" "j['cl_open'] == 'never'" &&
     ko "pass auto, never with a cap: $(head -c 300 "$T/pd.err")"
 render pe 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on --pass always
 render pf 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
-same "$T/s_2.exr" "$T/pe.exr" && json "$T/pe.json" "j['cl_open'] == 'start' and j['pass_work_s'] == 0" &&
+same "$T/s_2.exr" "$T/pe.exr" &&
+    json "$T/pe.json" "j['cl_open'] == 'start' and j['pass_work_s'] == 0 and j['guess_cpu_s'] == 0" &&
     json "$T/pf.json" "j['cl_open'] == 'start'" && json "$T/h_2.json" "j['cl_open'] == 'none'" &&
     ok "--pass always and --fill off open the device at once (cl_open start; homo: none)" ||
     ko "--pass always: $(head -c 300 "$T/pe.err")"

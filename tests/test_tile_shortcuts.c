@@ -72,6 +72,23 @@ static void flatten_text(const char *text, int w, int h, int spp, csg_blob *b)
     csg_scene_free(&s);
 }
 
+/* The object engine->rect_misses said a rectangle met: none when it
+ * misses or an unbounded object may meet every ray, else one of the
+ * candidates its culling gathers (fr), when it gathered them all. */
+static void assert_rect_met(csg_view v, const frustum_roots *fr, bool misses, int32_t met)
+{
+    if (misses || v.root_count > 0) {
+        assert_int_equal(met, -1);
+        return;
+    }
+    if (!fr->culled)
+        return;
+    bool found = false;
+    for (int k = 0; k < fr->n; k++)
+        found = found || fr->roots[k] == met;
+    assert_true(found);
+}
+
 /* Every rectangle of a tiling of `tile` pixels: the engine's records equal
  * csg_trace_nearest of each sample's ray. */
 static void assert_primary_records(const void *blob, int w, int h, int spp, int tile)
@@ -79,6 +96,7 @@ static void assert_primary_records(const void *blob, int w, int h, int spp, int 
     const unsigned char *bytes = blob;
     csg_view v = csg_blob_view(bytes);
     const csg_camera *cam = csg_blob_camera(bytes);
+    int32_t met_before = -1; /* (carried from tile to tile, as the master does) */
     real *t = malloc((size_t)tile * tile * spp * sizeof *t);
     uint32_t *surf = malloc((size_t)tile * tile * spp * sizeof *surf);
     assert_true(t && surf);
@@ -89,11 +107,18 @@ static void assert_primary_records(const void *blob, int w, int h, int spp, int 
             ENGINE->trace_primary(blob, r, t, surf, &rays);
             assert_int_equal(rays.primary, (uint64_t)r.width * r.height * spp);
             /* the hetero master's proof of a degenerate tile (rect_misses)
-             * is the trace's own shortcut, and every ray below misses */
+             * is the trace's own shortcut, and every ray below misses; the
+             * same with the previous tile's object tried first, or with
+             * one that does not exist */
             frustum_roots fr;
             frustum_roots_of(v, cam, w, h, r, &fr);
-            bool misses = ENGINE->rect_misses(blob, r);
+            bool misses = ENGINE->rect_misses(blob, r, &met_before);
             assert_int_equal(misses, frustum_all_miss(v, &fr));
+            assert_rect_met(v, &fr, misses, met_before);
+            int32_t fresh = -1, bogus = INT32_MAX;
+            assert_int_equal(ENGINE->rect_misses(blob, r, &fresh), misses);
+            assert_rect_met(v, &fr, misses, fresh);
+            assert_int_equal(ENGINE->rect_misses(blob, r, &bogus), misses);
             for (int y = 0; y < r.height; y++)
                 for (int x = 0; x < r.width; x++)
                     for (int k = 0; k < spp; k++) {

@@ -19,7 +19,7 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t,
                               const uint32_t *surf, float *rgb_out, ray_counts *rays);
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3]);
-bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect);
+bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met);
 int ENGINE_SYM(engine_surface_classes)(const void *blob, uint8_t *class_out);
 
 const engine ENGINE_SYM(engine) = {

@@ -63,8 +63,11 @@ typedef struct {
     /* Every primary ray of `rect` provably misses every object (the
      * frustum culling of trace_primary found no root it may meet; false
      * when that culling does not apply): with no sky_sphere, the
-     * rectangle is miss_rgb throughout, traced or not. */
-    bool (*rect_misses)(const void *blob, tile_rect rect);
+     * rectangle is miss_rgb throughout, traced or not.  *met: -1, or what
+     * the previous call left there, an object tried first (a neighbouring
+     * rectangle's; the answer is the same, found sooner); on return the
+     * object this rectangle may meet (-1: none). */
+    bool (*rect_misses)(const void *blob, tile_rect rect, int32_t *met);
     /* For the cost estimate of a tile (host/estimate.h): the ENGINE_CLASS_*
      * bits of every primitive's material into class_out[prim_count]; returns
      * the number of lights that cast shadows (a shadow ray each a hit). */

@@ -488,10 +488,11 @@ static void store_rgb(float *out, vec3 col)
     out[2] = finite_or_zero(col.z);
 }
 
-bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect)
+bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met)
 {
     shade_ctx c = ctx_of(blob);
-    return frustum_rect_misses(c.view, c.cam, c.hdr->width, c.hdr->height, rect);
+    return frustum_rect_misses(c.view, c.cam, c.hdr->width, c.hdr->height, rect,
+                               c.hdr->root_count, met);
 }
 
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
