@@ -623,8 +623,7 @@ static int render_alloc_records(render_state *rs, const tile_grid *g, csg_diag *
     rs->t = malloc(n * g->real_size);
     rs->surf = malloc(n * sizeof *rs->surf);
     rs->tile_hits = calloc((size_t)tile_count(g), sizeof *rs->tile_hits);
-    if (!rs->t || !rs->surf || !rs->tile_hits ||
-        !estimator_init(&rs->est, rs->blob.bytes, g, rs->surf)) {
+    if (!rs->t || !rs->surf || !rs->tile_hits) {
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
@@ -632,9 +631,17 @@ static int render_alloc_records(render_state *rs, const tile_grid *g, csg_diag *
 }
 
 /* The pass started (on the context render_open_cl gave); 0 or 1. */
+/* The pass begun, and the estimator its tiles' costs come from (only
+ * now: the fill's tiles have none, and its set-up, a walk over every
+ * primitive, kept the first fill tiles waiting on large scenes). */
 static int render_begin_pass(render_state *rs, const tile_grid *g, csg_diag *d)
 {
     rs->pass_start = stats_clock();
+    if (!estimator_init(&rs->est, rs->blob.bytes, g, rs->surf)) {
+        csg_error_plain(d, "out of memory for the costs of %d primitives",
+                        csg_blob_hdr(rs->blob.bytes)->prim_count);
+        return EXIT_FAILURE_RUN;
+    }
     if (!ocl_pass_begin(rs->ctx, rs->blob.bytes, g->tile, render_slice_rows(g), rs->t, rs->surf,
                         rs->tile_hits, rs->wake_master ? render_wake : NULL, &rs->idle,
                         &rs->pass, d)) {
