@@ -17,7 +17,8 @@
 # alone; POV-Ray's parse + bounding + trace and its trace alone.
 #
 # Usage: bench/spd.sh [--runs R] [--nff DIR] [--out DIR] [--size N] [--append] [SCENE ...]
-#   (--append: add rows to OUT/raw.csv instead of starting it again; the
+#   (--append: add rows to OUT/raw.csv instead of starting it again, its
+#   rounds numbered after the file's last (more rounds of the same runs); the
 #   report, the identity check and the sheet then cover every scene of DIR
 #   that has images in OUT)
 #   (DIR: --nff, else $SPD_NFF, else ../shared/nff beside the repository)
@@ -102,9 +103,11 @@ run_povray() { # name run
 # A warm-up hetero render builds the OpenCL program into the cache.
 "$BIN" render "$NFF/${names[0]}.nff" -o "$OUT/work/warm.png" --mode hetero --width 16 >/dev/null
 
-for r in $(seq 1 "$RUNS"); do
+# (--append: the rounds go on from the file's last)
+first=$(awk -F, 'NR > 1 && $3 + 0 > m { m = $3 + 0 } END { print m + 1 }' "$RAW")
+for r in $(seq "$first" $((first + RUNS - 1))); do
     for n in "${names[@]}"; do
-        echo "round $r/$RUNS: $n" >&2
+        echo "round $r/$((first + RUNS - 1)): $n" >&2
         run_csg "$n" serial "$r" "$NFF/$n.nff" serial "$OUT/img/$n-serial.png"
         # (homo and hetero side by side, each first in every other round)
         if [ $((r % 2)) = 1 ]; then
