@@ -630,10 +630,10 @@ static int render_alloc_records(render_state *rs, const tile_grid *g, csg_diag *
     return EXIT_OK;
 }
 
-/* The pass started (on the context render_open_cl gave); 0 or 1. */
-/* The pass begun, and the estimator its tiles' costs come from (only
- * now: the fill's tiles have none, and its set-up, a walk over every
- * primitive, kept the first fill tiles waiting on large scenes). */
+/* The pass started (on the context render_open_cl gave), and the
+ * estimator its tiles' costs come from (only now: the fill's tiles have
+ * none, and its set-up, a walk over every primitive, kept the first fill
+ * tiles waiting on large scenes); 0 or 1. */
 static int render_begin_pass(render_state *rs, const tile_grid *g, csg_diag *d)
 {
     rs->pass_start = stats_clock();
