@@ -114,7 +114,8 @@ static int journal_build_id_of(struct dl_phdr_info *info, size_t size, void *arg
         size_t align = ph->p_align == 8 ? 8 : 4;
         const unsigned char *p = (const unsigned char *)(info->dlpi_addr + ph->p_vaddr);
         const unsigned char *end = p + ph->p_memsz;
-        while ((size_t)(end - p) >= sizeof(ElfW(Nhdr))) {
+        /* (p < end: a note's padding may reach past the segment's end) */
+        while (p < end && (size_t)(end - p) >= sizeof(ElfW(Nhdr))) {
             const ElfW(Nhdr) *n = (const void *)p;
             const unsigned char *name = p + sizeof *n;
             const unsigned char *desc = name + ((n->n_namesz + align - 1) & ~(align - 1));

@@ -68,7 +68,8 @@
  *                 were guessed to take, from blocks of 4 x 4 pixels, one
  *                 in 64 x 64 (a quarter of them when theirs is under 0.3 s
  *                 or over 1.2 s), traced on rank 0 while the workers began
- *                 (1.1-1.6x the tiles' CPU on the SPD scenes): the device
+ *                 (0.84-3.4x the workers' seconds on tiles on the SPD
+ *                 scenes, median 1.33; tetra the most): the device
  *                 is opened when that is at least 0.6 s (host/render.c);
  *                 0 when there was no guess
  *   guess_cpu_s   hetero, --pass auto: the CPU seconds that guess took on

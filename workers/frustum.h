@@ -171,8 +171,8 @@ static inline bool frustum_add(frustum_roots *fr, double *depth, csg_i32 i, doub
     return true;
 }
 
-/* May the pyramid meet bounded root i?  Neither its box nor (one
- * triangle) its triangle lies outside a side.  Monotone: a box that
+/* May the pyramid meet bounded root i?  Neither its box nor, for a root
+ * that is one triangle, the triangle lies outside a side.  Monotone: a box that
  * holds another culls no less, so every BVH node above a root the pyramid
  * may meet passes too (rounding is monotone in each operand). */
 static inline bool frustum_may_meet(const frustum *f, csg_view v, csg_i32 i)
