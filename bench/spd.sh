@@ -16,11 +16,14 @@
 # parse + preprocessing + ray tracing + image I/O and its ray tracing
 # alone; POV-Ray's parse + bounding + trace and its trace alone.
 #
-# Usage: bench/spd.sh [--runs R] [--nff DIR] [--out DIR] [--size N] [--append] [SCENE ...]
+# Usage: bench/spd.sh [--runs R] [--nff DIR] [--out DIR] [--size N] [--append] [--pairs] [SCENE ...]
 #   (--append: add rows to OUT/raw.csv instead of starting it again, its
 #   rounds numbered after the file's last (more rounds of the same runs); the
 #   report, the identity check and the sheet then cover every scene of DIR
 #   that has images in OUT)
+#   (--pairs: the rounds run csgtrace homo and hetero only, side by side,
+#   for more rounds of the hetero / homo comparison in the same time; with
+#   --append the other renderers keep the rounds they had)
 #   (DIR: --nff, else $SPD_NFF, else ../shared/nff beside the repository)
 #   (SCENE: base names such as balls4; default every *.nff of DIR)
 # Needs: build/csgtrace, mpirun, tachyon, povray, oiiotool, python3.
@@ -34,6 +37,7 @@ OUT=$ROOT/bench/spd
 SIZE=512
 names=()
 append=0
+pairs=0
 while [ $# -gt 0 ]; do
     case "$1" in
         --runs) RUNS=$2; shift 2 ;;
@@ -41,11 +45,14 @@ while [ $# -gt 0 ]; do
         --out) OUT=$2; shift 2 ;;
         --size) SIZE=$2; shift 2 ;;
         --append) append=1; shift ;;
+        --pairs) pairs=1; shift ;;
         -h|--help) sed -n '2,/^set -u/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
         -*) echo "spd.sh: unknown option $1" >&2; exit 2 ;;
         *) names+=("$1"); shift ;;
     esac
 done
+[ "$pairs" = 0 ] || [ "$append" = 1 ] ||
+    { echo "spd.sh: --pairs adds rounds to a full run's: use it with --append" >&2; exit 2; }
 for tool in mpirun tachyon povray oiiotool python3; do
     command -v "$tool" >/dev/null || { echo "spd.sh: $tool not found" >&2; exit 1; }
 done
@@ -108,7 +115,7 @@ first=$(awk -F, 'NR > 1 && $3 + 0 > m { m = $3 + 0 } END { print m + 1 }' "$RAW"
 for r in $(seq "$first" $((first + RUNS - 1))); do
     for n in "${names[@]}"; do
         echo "round $r/$((first + RUNS - 1)): $n" >&2
-        run_csg "$n" serial "$r" "$NFF/$n.nff" serial "$OUT/img/$n-serial.png"
+        [ "$pairs" = 1 ] || run_csg "$n" serial "$r" "$NFF/$n.nff" serial "$OUT/img/$n-serial.png"
         # (homo and hetero side by side, each first in every other round)
         if [ $((r % 2)) = 1 ]; then
             run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
@@ -117,6 +124,7 @@ for r in $(seq "$first" $((first + RUNS - 1))); do
             run_csg "$n" hetero "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-hetero.png"
             run_csg "$n" homo "$r" "$NFF/$n.nff" homo "$OUT/img/$n-homo.png"
         fi
+        [ "$pairs" = 1 ] && continue
         run_csg "$n" hetero-always "$r" "$NFF/$n.nff" hetero "$OUT/img/$n-always.png" --pass always
         run_csg "$n" homo-tview "$r" "$OUT/work/$n-tview.nff" homo "$OUT/img/$n-tview.png"
         run_tachyon "$n" "$r"

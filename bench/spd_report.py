@@ -18,12 +18,14 @@ writes one table: frame times, csgtrace's rays, and the ratios the SPD
 issue asks for (Tachyon / csgtrace homo on Tachyon's view; POV-Ray trace /
 csgtrace trace; hetero / homo, with --pass auto and always), then hetero
 against homo round by round (each round's two runs side by side: their
-ratio's median and range, and hetero's own work), then the per-pixel cost
+ratio's median, its 95 % confidence interval and the verdict it allows,
+its range, and hetero's own work), then the per-pixel cost
 of the tetra series, then bench/SPD-notes.md (the reading of the numbers,
 written by hand) when it exists.
 """
 import csv
 import json
+import math
 import os
 import re
 import statistics
@@ -115,19 +117,52 @@ def paired(runs, scene, a, b):
     return sorted(frames[a][k] / frames[b][k] for k in frames[a] if frames[b].get(k))
 
 
-def hetero_lines(runs, m, scenes):
-    """Hetero (--pass auto) against homo, round by round."""
+def median_interval(values, confidence=0.95):
+    """The distribution-free confidence interval of the median of `values`
+    (sorted): its k-th smallest and k-th largest, k the largest rank with
+    P(Binomial(n, 1/2) < k) <= (1 - confidence) / 2.  None when n is too
+    small for any k (n < 6 at 95 %)."""
+    n = len(values)
+    tail, k = (1 - confidence) / 2, 0
+    below = 0.0  # P(Binomial(n, 1/2) < k + 1)
+    while k < n // 2:
+        below += math.comb(n, k) / 2 ** n
+        if below > tail:
+            break
+        k += 1
+    return None if k == 0 else (values[k - 1], values[n - k])
+
+
+def verdict(interval):
+    """hetero / homo's interval against 1: `slower` or `faster` when all of
+    it lies on one side, `tie` when it holds 1 (the rounds cannot tell)."""
+    if interval is None:
+        return "—"
+    lo, hi = interval
+    return "slower" if lo > 1 else "faster" if hi < 1 else "tie"
+
+
+def hetero_lines(runs, m, scenes, full):
+    """Hetero (--pass auto) against homo, round by round: every round, the
+    `full` ones and those of spd.sh --pairs."""
+    pairs = max(v["runs"] for (_, renderer), v in m.items() if renderer == "homo")
     lines = [
         "",
-        "Hetero (`--pass auto`) against homo, round by round (the two ran side by side",
-        "in each round, in turn first): `per round` is the median of the rounds' hetero /",
-        "homo frame ratios and their range; `faster` the rounds hetero took less time in.",
+        "Hetero (`--pass auto`) against homo, round by round.",
+    ] + ([f"Of {pairs} rounds: the table's {full} and {pairs - full} of homo and hetero alone"
+          " (`spd.sh --pairs`)."] if pairs > full else []) + [
+        "The two ran side by side",
+        "in each round, in turn first: `per round` is the median of the rounds' hetero /",
+        "homo frame ratios and their range; `95 % interval`: where that median lies",
+        "with 95 % confidence (order statistics, no assumption on the noise), and",
+        "`verdict` what it says: `slower` or `faster` when the whole interval lies on one",
+        "side of 1, `tie` when it holds 1; `faster` the rounds hetero took less time in.",
         "`own work`: rank 0's guess of the frame's work and the master's cull checks",
         "(`guess_cpu_s` + `cull_s`), what hetero does that homo does not while its",
         "device stays closed, against the workers' seconds on tiles (medians).",
         "",
-        "| scene | tiles culled | opened | hetero / homo | per round | faster | own work (ms) | own / tiles |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| scene | tiles culled | opened | hetero / homo | per round | 95 % interval | verdict | faster | own work (ms) | own / tiles |",
+        "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|",
     ]
     for s in scenes:
         ratios = paired(runs, s, "hetero", "homo")
@@ -138,17 +173,39 @@ def hetero_lines(runs, m, scenes):
         g = m[(s, "hetero")]
         opened = "—" if g["opened"] is None else f"{g['opened']}/{g['runs']}"
         faster = sum(x < 1 for x in ratios)
+        interval = median_interval(ratios)
         lines.append(
             f"| {s} | {'—' if culled is None else f'{culled:.0f}'} | {opened} | "
             f"{ratio(g['frame'], m[(s, 'homo')]['frame'])} | "
             f"{statistics.median(ratios):.3f} [{ratios[0]:.2f}-{ratios[-1]:.2f}] | "
-            f"{faster}/{len(ratios)} | {'—' if own is None else f'{own * 1e3:.2f}'} | "
+            f"{'—' if interval is None else f'{interval[0]:.3f}-{interval[1]:.3f}'} | "
+            f"{verdict(interval)} | {faster}/{len(ratios)} | {'—' if own is None else f'{own * 1e3:.2f}'} | "
             f"{'—' if not own or not tiles else f'{own / tiles * 100:.2f} %'} |")
     return lines
 
 
+def full_rounds(runs):
+    """The (scene, round) pairs in which every renderer ran: those of
+    csgtrace serial, which spd.sh --pairs leaves out."""
+    return {(r["scene"], r["run"]) for (_, renderer), rs in runs.items() if renderer == "serial"
+            for r in rs}
+
+
+def only_rounds(runs, keep):
+    """The runs of the rounds in `keep` alone."""
+    out = {}
+    for key, rs in runs.items():
+        kept = [r for r in rs if (r["scene"], r["run"]) in keep]
+        if kept:
+            out[key] = kept
+    return out
+
+
 def report(raw, identical, out_path):
-    runs = read_runs(raw)
+    every_run = read_runs(raw)
+    # (the table compares renderers: the rounds they all ran in; the
+    # round-by-round hetero table takes the --pairs rounds too)
+    runs = only_rounds(every_run, full_rounds(every_run))
     m = medians(runs)
     scenes = sorted({s for s, _ in m})
     same = {}
@@ -185,7 +242,7 @@ def report(raw, identical, out_path):
             f"{fmt(g('povray', 'trace'))} | {ratio(g('povray', 'trace'), g('homo', 'trace'))} | "
             f"{ratio(g('hetero'), g('homo'))} | {ratio(g('hetero-always'), g('homo'))} | "
             f"{'—' if rays is None else f'{rays / 1e6:.2f}'} | {same.get(s, '?')} |")
-    lines += hetero_lines(runs, m, scenes)
+    lines += hetero_lines(every_run, medians(every_run), scenes, rounds)
     tetra = [s for s in scenes if s.startswith("tetra")]
     if tetra:
         lines += ["", "Tetra series, csgtrace serial trace time per pixel (us):", ""]

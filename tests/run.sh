@@ -115,6 +115,8 @@ if [ "$what" = all ]; then
     run_script tests/crosscheck_camera.sh
     # the benchmark bookkeeping (medians, advantage, CSV columns)
     run_unittest bench/test_collect.py
+    # the SPD report's confidence intervals and spd.sh --pairs
+    run_unittest bench/test_spd_report.py
 fi
 
 echo
