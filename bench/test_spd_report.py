@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """test_spd_report.py — unit tests of bench/spd_report.py (stdlib unittest):
 the median's confidence interval (its coverage, exactly, for 6 to 80
-rounds), the verdict it gives hetero against homo, the report on a small
-synthetic raw.csv whose homo and hetero have more rounds than the other
-renderers (spd.sh --pairs: those rounds go into the round-by-round table
-only, never against another renderer's rounds), and spd.sh refusing
---pairs without --append.
+rounds, and wider for many scenes at once), the verdict it gives hetero
+against homo, the report on a small synthetic raw.csv whose homo and
+hetero have more rounds than the other renderers (spd.sh --pairs: those
+rounds go into the round-by-round table only, never against another
+renderer's rounds), and spd.sh refusing --pairs without --append.
 Run: python3 bench/test_spd_report.py
 """
 import math
@@ -36,6 +36,17 @@ class MedianIntervalTest(unittest.TestCase):
         # the textbook ranks for n = 14 at 95 %: (3, 12), 98.7 % coverage
         values = [float(v) for v in range(1, 15)]
         self.assertEqual(spd_report.median_interval(values), (3.0, 12.0))
+
+    def test_many_scenes_widen_the_interval(self):
+        # 30 rounds: ranks (10, 21) at 95 %, (7, 24) at 1 - 0.05 / 26
+        values = [float(v) for v in range(1, 31)]
+        self.assertEqual(spd_report.median_interval(values), (10.0, 21.0))
+        self.assertEqual(spd_report.median_interval(values, 1 - 0.05 / 26), (7.0, 24.0))
+        # hetero faster in 8 of 30 rounds: slower for one scene, not for 26
+        ratios = sorted([0.99] * 8 + [1.02] * 22)
+        self.assertEqual(spd_report.verdict(spd_report.median_interval(ratios)), "slower")
+        self.assertEqual(spd_report.verdict(spd_report.median_interval(ratios, 1 - 0.05 / 26)),
+                         "tie")
 
     def test_coverage_is_95_percent_and_no_wider_than_needed(self):
         for n in range(6, 81):
@@ -110,16 +121,18 @@ class ReportTest(unittest.TestCase):
         self.assertEqual(slow[3], "1.10")          # ratio of the medians
         self.assertTrue(slow[4].startswith("1.100"), slow)
         self.assertEqual(slow[6], "slower")
-        self.assertEqual(slow[7], "0/20")
+        self.assertEqual(slow[7], "slower")  # (all scenes: at 97.5 % each)
+        self.assertEqual(slow[8], "0/20")
         even = self.row(text, "even")
         self.assertEqual(even[6], "tie")
-        self.assertEqual(even[7], "10/20")
+        self.assertEqual(even[7], "tie")
+        self.assertEqual(even[8], "10/20")
 
     def test_one_count_without_pairs(self):
         text = self.write_raw(8, 0)
         self.assertIn("medians of 8 interleaved rounds,", text)
         self.assertIn("round by round.\nThe two", text)
-        self.assertEqual(self.row(text, "slow")[7], "0/8")
+        self.assertEqual(self.row(text, "slow")[8], "0/8")
 
 
 class SpdShTest(unittest.TestCase):
