@@ -1431,6 +1431,8 @@ static int render_job(const render_request *req, int ranks, render_cl_early *ear
     }
     const char *written[] = {req->out_path, req->stats_path, req->tile_log_path};
     signals_release(written, status == EXIT_OK ? 3 : 0);
+    if (status == EXIT_OK && req->out_path)
+        signals_finished(); /* (a later signal: "its files are kept") */
     journal_close(rs.journal, status == EXIT_OK); /* (kept, unless finished) */
     rs.journal = NULL;
     if (status == EXIT_OK) {

@@ -16,6 +16,7 @@
 
 static atomic_int holding; /* a file write is under way            */
 static atomic_int pending; /* the signal that came during it, or 0 */
+static atomic_int finished; /* the outputs are written and kept     */
 static atomic_int journal_tiles;  /* tiles in the journal              */
 static atomic_int journal_ready;  /* journal_path is complete         */
 static char journal_path[4096];   /* the journal (set before the tile
@@ -45,6 +46,13 @@ static void say_and_exit(int sig)
 {
     int tiles = atomic_load(&journal_tiles);
     bool journal = atomic_load(&journal_ready);
+    if (atomic_load(&finished)) {
+        if (journal)
+            unlink(journal_path); /* (a finished render's: of no use) */
+        say(sig == SIGINT ? "csgtrace: interrupted (SIGINT)" : "csgtrace: terminated (SIGTERM)");
+        say(" after the render had finished: its files are kept\n");
+        _exit(128 + sig);
+    }
     say(sig == SIGINT ? "csgtrace: interrupted (SIGINT): the render stopped, "
                       : "csgtrace: terminated (SIGTERM): the render stopped, ");
     if (journal && tiles > 0) {
@@ -95,6 +103,11 @@ void signals_release(const char *const *written, int n)
         if (written[i])
             unlink(written[i]);
     say_and_exit(sig);
+}
+
+void signals_finished(void)
+{
+    atomic_store(&finished, 1);
 }
 
 void signals_journal(const char *path, int tiles)

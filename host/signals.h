@@ -21,6 +21,11 @@ void signals_hold(void);
  * outputs just completed). */
 void signals_release(const char *const *written, int n);
 
+/* The render's outputs are written and kept: a signal from now on (one
+ * mpirun sends every rank when another rank aborts the job, say) stops the
+ * process with a line that says so, instead of "no file written". */
+void signals_finished(void);
+
 /* The journal of the render (host/journal.h), holding `tiles` finished
  * tiles; a signal's line then says how to resume (or, when it holds none,
  * removes it).  NULL: no journal. */
