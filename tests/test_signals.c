@@ -74,13 +74,20 @@ static void test_signal_during_render(void **state)
     assert_non_null(strstr(err, "terminated (SIGTERM): the render stopped, no file written"));
 }
 
-static void test_signal_during_write_removes_the_file(void **state)
+/* An empty file of our own in /tmp, its name into file. */
+static void temp_file(char file[static 34])
 {
-    (void)state;
-    char file[] = "/tmp/csgtrace-test-signals-XXXXXX", err[512];
+    strcpy(file, "/tmp/csgtrace-test-signals-XXXXXX");
     int fd = mkstemp(file);
     assert_true(fd >= 0);
     close(fd);
+}
+
+static void test_signal_during_write_removes_the_file(void **state)
+{
+    (void)state;
+    char file[34], err[512];
+    temp_file(file);
     assert_int_equal(run_child(DURING_WRITE, file, err, sizeof err), 143);
     assert_non_null(strstr(err, "no file written"));
     assert_int_not_equal(access(file, F_OK), 0);
@@ -89,10 +96,8 @@ static void test_signal_during_write_removes_the_file(void **state)
 static void test_signal_after_finish_keeps_the_files(void **state)
 {
     (void)state;
-    char file[] = "/tmp/csgtrace-test-signals-XXXXXX", err[512];
-    int fd = mkstemp(file);
-    assert_true(fd >= 0);
-    close(fd);
+    char file[34], err[512];
+    temp_file(file);
     assert_int_equal(run_child(AFTER_FINISH, file, err, sizeof err), 143);
     assert_non_null(strstr(err, "terminated (SIGTERM) after the render had finished: its files "
                                 "are kept"));
