@@ -49,14 +49,12 @@ static inline bool csg_decimal_fast(const char *s, size_t len, double *out)
         if (c < '0' || c > '9')
             break;
         digits++;
-        if (w == 0 && c == '0') { /* a leading zero: no significant digit */
-            scale -= point;
-            continue;
-        }
+        scale -= point; /* (a digit after the point: one tenth more) */
+        if (w == 0 && c == '0')
+            continue; /* a leading zero: no significant digit */
         if (++significant > 19)
             return false;
         w = w * 10 + (uint64_t)(c - '0');
-        scale -= point;
     }
     if (digits == 0)
         return false;

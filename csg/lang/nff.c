@@ -29,7 +29,6 @@
 #include "nff.h"
 
 #include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -169,7 +168,6 @@ static bool nff_token_number(const nff_reader *r, double *v)
     memcpy(buf, r->tok, r->tok_len);
     buf[r->tok_len] = '\0';
     char *end;
-    errno = 0;
     *v = strtod(buf, &end);
     return end == buf + r->tok_len && isfinite(*v) &&
            (buf[0] == '-' || buf[0] == '+' || buf[0] == '.' || isdigit((unsigned char)buf[0]));
