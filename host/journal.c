@@ -63,17 +63,28 @@ enum { JF_BUILD, JF_SIZE, JF_TILE, JF_SAMPLES, JF_PRECISION, JF_DEPTH, JF_RAYS, 
  * and 35 us of fdatasync on average (one a second, ~70 ms each of a growing
  * file, during which no worker got an answer).  The queue has a slot a
  * tile (each is finished once); `queued` publishes the slots (and, before
- * them, the tile's pixels and hits) to the writer. */
+ * them, the tile's pixels and hits) to the writer.
+ *
+ * Nothing is appended before `begin` (journal_open's after_s on): a render
+ * that ends first writes no record, and one stopped first keeps what was
+ * queued (journal_close).  The records cost CPU the workers want (the
+ * writer shares the cores they fill): the SPD frames, 0.02-0.7 s of
+ * tiles, traced 2.5 % faster in homo and hetero without them
+ * (bench/SPD-notes.md), for a journal no one resumes from. */
 typedef struct {
     pthread_t thread;
     sem_t wake;          /* posted by journal_close                    */
     bool running;
     atomic_bool stop;    /* journal_close: write what is queued, end   */
+    atomic_bool finished; /* ...unless the render finished: the journal
+                            goes, its last records are of no use       */
     int *queue;          /* [tiles]: finished tiles, in order          */
     atomic_int queued;   /* slots filled (the master's)                */
-    int taken;           /* slots written (the writer's)               */
+    int taken;           /* slots written (the writer's, or the
+                            master's while no writer runs)             */
     const float *image;  /* the master's image (set before the first)  */
     int synced;          /* records forced to the disk                 */
+    double begin;        /* journal_clock(): no record before it       */
 } journal_writer;
 
 struct journal {
@@ -359,15 +370,37 @@ static void journal_writer_wait(journal *j)
         continue;
 }
 
+/* The queued tiles not yet appended, appended (stopping if the journal
+ * breaks). */
+static void journal_append_queued(journal *j)
+{
+    journal_writer *w = &j->writer;
+    int queued = atomic_load_explicit(&w->queued, memory_order_acquire);
+    while (w->taken < queued && !atomic_load(&j->broken))
+        journal_append(j, w->queue[w->taken++], w->image);
+}
+
+/* Sleeps until `begin`, or until journal_close posts. */
+static void journal_writer_hold(journal *j)
+{
+    journal_writer *w = &j->writer;
+    for (double left; !atomic_load(&w->stop) && (left = w->begin - journal_clock()) > 0;) {
+        struct timespec until = deadline_after_ns((long)(left * 1e9));
+        if (sem_clockwait(&w->wake, CLOCK_MONOTONIC, &until) == 0)
+            break; /* (journal_close's one post: `stop` is set) */
+    }
+}
+
 static void *journal_writer_run(void *arg)
 {
     journal *j = arg;
     journal_writer *w = &j->writer;
+    journal_writer_hold(j);
     for (;;) {
         bool stop = atomic_load(&w->stop); /* (read first: what was queued before it is written) */
-        int queued = atomic_load_explicit(&w->queued, memory_order_acquire);
-        while (w->taken < queued && !atomic_load(&j->broken))
-            journal_append(j, w->queue[w->taken++], w->image);
+        if (stop && atomic_load(&w->finished))
+            return NULL;
+        journal_append_queued(j);
         if (stop)
             return NULL;
         journal_sync_due(j);
@@ -381,32 +414,27 @@ void journal_start_writer(journal *j)
         return;
     journal_writer *w = &j->writer;
     w->synced = atomic_load(&j->written);
-    w->queue = malloc((size_t)(j->tiles > 0 ? j->tiles : 1) * sizeof *w->queue);
-    if (!w->queue || sem_init(&w->wake, 0, 0) != 0) {
-        free(w->queue);
-        w->queue = NULL;
+    if (sem_init(&w->wake, 0, 0) != 0)
         return;
-    }
     w->running = pthread_create(&w->thread, NULL, journal_writer_run, j) == 0;
-    if (!w->running) {
+    if (!w->running)
         sem_destroy(&w->wake);
-        free(w->queue);
-        w->queue = NULL;
-    }
 }
 
-/* Every queued tile appended, the writer gone. */
-static void journal_writer_stop(journal *j)
+/* Every queued tile appended (none when `finished`), the writer gone. */
+static void journal_writer_stop(journal *j, bool finished)
 {
     journal_writer *w = &j->writer;
-    if (!w->running)
+    if (!w->running) {
+        if (!finished && w->queue) /* (the tiles queued before `begin`) */
+            journal_append_queued(j);
         return;
+    }
+    atomic_store(&w->finished, finished);
     atomic_store(&w->stop, true);
     sem_post(&w->wake);
     pthread_join(w->thread, NULL);
     sem_destroy(&w->wake);
-    free(w->queue);
-    w->queue = NULL;
     w->running = false;
 }
 
@@ -415,11 +443,6 @@ void journal_tile_done(journal *j, int tile, const float *image)
     if (!j || atomic_load(&j->broken))
         return;
     journal_writer *w = &j->writer;
-    if (!w->running) {
-        if (journal_append(j, tile, image))
-            journal_sync_due(j);
-        return;
-    }
     int slot = atomic_load_explicit(&w->queued, memory_order_relaxed);
     if (slot >= j->tiles)
         return; /* (a tile finished twice: never; the queue holds each once) */
@@ -427,6 +450,10 @@ void journal_tile_done(journal *j, int tile, const float *image)
         w->image = image; /* (one image a render: set before the writer may read it) */
     w->queue[slot] = tile;
     atomic_store_explicit(&w->queued, slot + 1, memory_order_release);
+    if (!w->running && journal_clock() >= w->begin) { /* no writer: the master appends */
+        journal_append_queued(j);
+        journal_sync_due(j);
+    }
 }
 
 /* ---- opening ------------------------------------------------------------------------ */
@@ -499,7 +526,8 @@ static journal *journal_alloc(const char *out_path, const tile_grid *g)
     j->buf = (float *)(void *)(j->record + sizeof(journal_record)); /* (32 bytes on) */
     j->pixels = pixels_format_for(out_path);
     j->bytes = malloc(g->pixels_max * 3);
-    if (!j->path || !j->resumed || !j->hits || !j->record || !j->bytes) {
+    j->writer.queue = malloc((size_t)(j->tiles > 0 ? j->tiles : 1) * sizeof *j->writer.queue);
+    if (!j->path || !j->resumed || !j->hits || !j->record || !j->bytes || !j->writer.queue) {
         journal_close(j, true);
         return NULL;
     }
@@ -530,7 +558,7 @@ static int journal_resume(journal *j, const journal_field *f, float *image, csg_
 }
 
 int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
-                 float *image, journal **out, csg_diag *d)
+                 float *image, double after_s, journal **out, csg_diag *d)
 {
     journal_field f[JF_COUNT];
     journal *j = journal_alloc(out_path, g);
@@ -567,6 +595,7 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
         return status;
     }
     j->synced = journal_clock();
+    j->writer.begin = j->synced + after_s;
     signals_journal(j->path, atomic_load(&j->written));
     *out = j;
     return EXIT_OK;
@@ -604,7 +633,7 @@ void journal_close(journal *j, bool finished)
 {
     if (!j)
         return;
-    journal_writer_stop(j);
+    journal_writer_stop(j, finished);
     signals_journal(NULL, 0);
     int written = atomic_load(&j->written);
     if (j->fd >= 0) {
@@ -620,5 +649,6 @@ void journal_close(journal *j, bool finished)
     free(j->hits);
     free(j->record);
     free(j->bytes);
+    free(j->writer.queue);
     free(j);
 }

@@ -1179,7 +1179,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     engine_for_blob(rs->blob.bytes)->miss_rgb(rs->blob.bytes, rs->bg);
     if (req->out_path) {
         int status = journal_open(req->out_path, rs->blob.bytes, &grid, req->resume, rs->image,
-                                  &rs->journal, d);
+                                  JOURNAL_AFTER_S, &rs->journal, d);
         if (status != EXIT_OK)
             return status;
     }

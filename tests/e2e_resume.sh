@@ -29,7 +29,7 @@ source "$(dirname "$0")/lib_e2e.sh"
 
 mpi_sandbox
 slow_scene "$T/slow.pov"
-SIZE=(--width 1000 --height 1000)
+SIZE=(--width 1400 --height 1400) # (seconds: the first record waits JOURNAL_AFTER_S)
 MPI=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 3)
 
 MALLOC_PERTURB_=85 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$T/full.exr" >/dev/null 2>&1 ||
@@ -94,7 +94,8 @@ fi
 # ---- mpirun: kill -9 of mpirun, then --resume in hetero mode -------------------
 d=$T/mpi
 mkdir -p "$d"
-BIG=(--width 1600 --height 1600) # (long enough to be killed half-way on 2 cores)
+BIG=(--width 2000 --height 2000) # (long enough to be killed half-way on 2 cores, after
+                                  # the first record: JOURNAL_AFTER_S)
 MALLOC_PERTURB_=85 "${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo \
     -o "$d/full.exr" >/dev/null 2>&1 || ko "the uninterrupted render under mpirun"
 MALLOC_PERTURB_=170 "${MPI[@]}" "$BIN" render "$T/slow.pov" "${BIG[@]}" --mode homo -o "$d/o.exr" --progress \
@@ -225,11 +226,12 @@ rc=$?
     ok "--stats naming the output's journal: exit 2" ||
     ko "--stats naming the journal: exit $rc, stderr: $(head -c 300 "$d/err")"
 
-# two renders of one output at once
+# two renders of one output at once (the journal is locked from the start,
+# before its first record)
 rm -f "$d/o.exr" "$d/o.exr.journal"
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" >/dev/null 2>&1 &
 pid=$!
-wait_records "$d/o.exr.journal"
+for _ in $(seq 600); do [ -f "$d/o.exr.journal" ] && break; sleep 0.05; done
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" >/dev/null 2>"$d/err"
 rc=$?
 kill -TERM $pid

@@ -2,7 +2,9 @@
  * test_journal.c — the journal's writer thread (host/journal.c): the tiles
  * the master queues are all in the file once the journal is closed, and
  * --resume reads them back (bit for bit for a float output; for an 8-bit
- * one as the same bytes, from records of bytes); a writer with nothing to write
+ * one as the same bytes, from records of bytes); nothing is appended before
+ * the journal's after_s (JOURNAL_AFTER_S in a render), and a render that
+ * finishes first writes no record; a writer with nothing to write
  * sleeps (it once spun on a core from the first second without a new tile
  * until the next one).
  */
@@ -85,21 +87,34 @@ static long journal_size(const char *out)
     return stat(path, &st) == 0 ? (long)st.st_size : -1;
 }
 
+/* The time now, in seconds (CLOCK_MONOTONIC, the journal's). */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Every tile queued is appended by the time the journal is closed (by
  * the writer thread, or by journal_tile_done itself before the writer is
- * started); a resume gives back the hits, and the pixels: the very floats
- * for a float output, for an 8-bit one the floats of the same bytes
- * (pixels_linear_of: the file is the same).  `image` is the render's
- * (its values in [0, 1)); the journal's size is returned (the file kept,
- * removed by the next open without --resume or by teardown). */
-static long tiles_are_all_kept(fixture *f, const char *out, bool writer, const float *image)
+ * started), `after_s` or not: with a long one, nothing is in the file
+ * until the close, which does not wait for it; a resume gives back the
+ * hits, and the pixels: the very floats for a float output, for an 8-bit
+ * one the floats of the same bytes (pixels_linear_of: the file is the
+ * same).  `image` is the render's (its values in [0, 1)); the journal's
+ * size is returned (the file kept, removed by the next open without
+ * --resume or by teardown). */
+static long tiles_are_kept_after(fixture *f, const char *out, bool writer, const float *image,
+                                 double after_s)
 {
     size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
     float *back = calloc(floats, sizeof *back);
     assert_non_null(back);
     journal *j = NULL;
     csg_diag d = {{0}, 0};
-    assert_int_equal(journal_open(out, f->blob.bytes, &f->grid, false, (float *)image, &j, &d), 0);
+    assert_int_equal(
+        journal_open(out, f->blob.bytes, &f->grid, false, (float *)image, after_s, &j, &d), 0);
+    long header = journal_size(out);
     if (writer)
         journal_start_writer(j);
     int tiles = tile_count(&f->grid);
@@ -107,9 +122,13 @@ static long tiles_are_all_kept(fixture *f, const char *out, bool writer, const f
         journal_add_hits(j, t, (uint32_t)t + 1);
         journal_tile_done(j, t, image);
     }
+    if (after_s >= 60) /* (queued only: the first record waits a minute) */
+        assert_int_equal(journal_size(out), header);
+    double t0 = now_s();
     journal_close(j, false); /* kept: the render did not finish */
+    assert_true(now_s() - t0 < 30); /* (the writer's wait cut short) */
     long size = journal_size(out);
-    assert_int_equal(journal_open(out, f->blob.bytes, &f->grid, true, back, &j, &d), 0);
+    assert_int_equal(journal_open(out, f->blob.bytes, &f->grid, true, back, 0, &j, &d), 0);
     assert_int_equal(journal_tiles_resumed(j), tiles);
     for (int t = 0; t < tiles; t++)
         assert_int_equal(journal_resumed_hits(j, t), (uint32_t)t + 1);
@@ -127,6 +146,11 @@ static long tiles_are_all_kept(fixture *f, const char *out, bool writer, const f
     journal_close(j, false);
     free(back);
     return size;
+}
+
+static long tiles_are_all_kept(fixture *f, const char *out, bool writer, const float *image)
+{
+    return tiles_are_kept_after(f, out, writer, image, 0);
 }
 
 /* The render's image: values over [0, 1), both of the curve's parts. */
@@ -153,6 +177,81 @@ static void test_tiles_without_the_writer(void **state)
     fixture *f = *state;
     float *image = test_image(f);
     tiles_are_all_kept(f, f->out, false, image);
+    free(image);
+}
+
+/* A render stopped before the journal's first record keeps what it had
+ * queued: the close appends it (with the writer, or without). */
+static void test_stopped_before_after_keeps_the_tiles(void **state)
+{
+    fixture *f = *state;
+    float *image = test_image(f);
+    long now = tiles_are_kept_after(f, f->out, true, image, 0);
+    assert_int_equal(tiles_are_kept_after(f, f->out, true, image, 60), now);
+    assert_int_equal(tiles_are_kept_after(f, f->out, false, image, 60), now);
+    free(image);
+}
+
+/* A render finished before the first record writes none: the journal is
+ * removed at once, the writer's wait cut short. */
+static void test_finished_before_after_writes_none(void **state)
+{
+    fixture *f = *state;
+    float *image = test_image(f);
+    for (int writer = 0; writer < 2; writer++) {
+        journal *j = NULL;
+        csg_diag d = {{0}, 0};
+        assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, 60, &j, &d),
+                         0);
+        long header = journal_size(f->out);
+        if (writer)
+            journal_start_writer(j);
+        for (int t = 0; t < tile_count(&f->grid); t++)
+            journal_tile_done(j, t, image);
+        assert_int_equal(journal_size(f->out), header);
+        double t0 = now_s();
+        journal_close(j, true);
+        assert_true(now_s() - t0 < 30);
+        assert_int_equal(journal_size(f->out), -1);
+    }
+    free(image);
+}
+
+/* Once after_s has passed, the writer appends what was queued before
+ * (never sooner), and the tiles after it as they come. */
+static void test_records_once_after_has_passed(void **state)
+{
+    fixture *f = *state;
+    float *image = test_image(f);
+    long full = tiles_are_all_kept(f, f->out, true, image);
+    const double after_s = 0.3;
+    journal *j = NULL;
+    csg_diag d = {{0}, 0};
+    double opened = now_s();
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, after_s, &j, &d),
+                     0);
+    long header = journal_size(f->out);
+    journal_start_writer(j);
+    int tiles = tile_count(&f->grid);
+    for (int t = 0; t < tiles / 2; t++)
+        journal_tile_done(j, t, image);
+    double first = 0;
+    long size = header;
+    for (double until = now_s() + 20; size == header && now_s() < until;) {
+        nanosleep(&(struct timespec){0, 2000000L}, NULL);
+        size = journal_size(f->out);
+        first = now_s();
+    }
+    assert_true(size > header);
+    assert_true(first - opened >= after_s);
+    for (int t = tiles / 2; t < tiles; t++)
+        journal_tile_done(j, t, image);
+    for (double until = now_s() + 20; size != full && now_s() < until;) {
+        nanosleep(&(struct timespec){0, 2000000L}, NULL);
+        size = journal_size(f->out);
+    }
+    assert_int_equal(size, full); /* (before the close: the writer's own) */
+    journal_close(j, false);
     free(image);
 }
 
@@ -197,7 +296,7 @@ static void test_idle_writer_sleeps(void **state)
     journal *j = NULL;
     csg_diag d = {{0}, 0};
     prctl(PR_SET_TIMERSLACK, 1000UL); /* (as every rank has it: host/link.c; the writer inherits it) */
-    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, &j, &d), 0);
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, 0, &j, &d), 0);
     journal_start_writer(j);
     double cpu0 = cpu_seconds();
     nanosleep(&(struct timespec){2, 500000000L}, NULL);
@@ -213,6 +312,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_queued_tiles_are_all_kept, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tiles_without_the_writer, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_stopped_before_after_keeps_the_tiles, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_finished_before_after_writes_none, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_records_once_after_has_passed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_8bit_records_are_bytes, setup, teardown),
         cmocka_unit_test_setup_teardown(test_idle_writer_sleeps, setup, teardown),
     };
