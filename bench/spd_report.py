@@ -90,7 +90,7 @@ def medians(runs):
             "runs": len(rs),
             # (None: rows written before spd.sh recorded cl_open)
             "opened": None if rs[0].get("cl_open") is None else
-            sum(r["cl_open"] not in ("", "never", "none") for r in rs),
+            sum(r["cl_open"] in ("start", "work") for r in rs),  # (not "failed")
         }
     return out
 

@@ -404,6 +404,8 @@ typedef struct render_state {
     bool pass_auto;        /* --pass auto applies (render_pass_auto)      */
     bool pass_waits;       /* and undecided: the fill renders until
                               render_pass_decide has rank 0's guess     */
+    bool pass_failed;      /* and the device could not be had: the fill
+                              renders every tile (render_pass_give_up)  */
     double pass_work_s;    /* the guess of the frame's work (0: none)    */
     int tiles_culled;      /* fill tiles proven degenerate (render_culled) */
     int32_t cull_met;      /* the object the last fill tile's check met
@@ -771,6 +773,29 @@ static int render_pass_decide(render_state *rs, bool wait, csg_diag *d)
     return render_cl_build_start(rs, rs->req, d) == EXIT_OK ? 0 : -1;
 }
 
+/* The device (or its program) d says could not be had: under --pass
+ * auto the render goes on without it, the fill rendering every tile, as
+ * when the guess says the pass does not pay (whether the device works
+ * must not decide whether a frame renders: a small frame never opens
+ * it), and says so once; 0.  Else -1, d kept: the pass was asked for. */
+static int render_pass_give_up(render_state *rs, csg_diag *d)
+{
+    csg_features features;
+    csg_diag bad = {{0}, 0};
+    if (!rs->pass_auto ||
+        !render_cl_features(rs->blob.bytes, &features, &bad)) /* (an option's fault: d's) */
+        return -1;
+    static const char prefix[] = "csgtrace: error: ";
+    const char *why = strncmp(d->message, prefix, sizeof prefix - 1) == 0
+                          ? d->message + sizeof prefix - 1
+                          : d->message;
+    fprintf(stderr, "csgtrace: warning: %s: the render goes on without the OpenCL pass "
+                    "(--pass auto), its workers rendering every tile\n", why);
+    memset(d, 0, sizeof *d);
+    rs->pass_failed = true;
+    return 0;
+}
+
 /* Rows from the top whose records are final (homo, serial: every row);
  * 0 while the program is being built, the pass started once it is (and
  * only if some rows still need it); -1 with d filled on a failure. */
@@ -780,15 +805,17 @@ static int render_pass_rows(render_state *rs, const tile_grid *g, bool wait, csg
         return g->height;
     int need = render_rows_needed(rs, g);
     if (!rs->pass) {
-        if (need == 0)
-            return 0; /* the fill took every tile: no pass */
+        if (need == 0 || rs->pass_failed)
+            return 0; /* the fill took every tile, or takes them: no pass */
         if (render_pass_decide(rs, wait, d) < 0)
-            return -1;
+            return render_pass_give_up(rs, d);
         if (!rs->build.begun)
             return 0; /* (--pass auto: not yet decided, or never: the fill's) */
         int ready = render_cl_build_ready(rs, wait, d);
-        if (ready <= 0)
-            return ready;
+        if (ready < 0)
+            return render_pass_give_up(rs, d);
+        if (ready == 0)
+            return 0;
         if (render_begin_pass(rs, g, d) != EXIT_OK)
             return -1;
     }
@@ -921,7 +948,7 @@ static bool render_culled(render_state *rs, tile_rect r)
 static int render_fill(master_job *job, double now, csg_diag *d)
 {
     render_state *rs = job->feed_arg;
-    if (render_pass_decide(rs, false, d) < 0)
+    if (render_pass_decide(rs, false, d) < 0 && render_pass_give_up(rs, d) < 0)
         return -2;
     for (int tile; !render_fill_capped(rs) &&
                    (tile = sched_fill_claim(&rs->sched, rs->tiles_offered)) >= 0;) {
@@ -1275,12 +1302,14 @@ static int render_image(const render_request *req, master_session *ms, render_st
     st->pass_work_s = rs->pass_work_s;
     st->guess_cpu_s = render_cl_early_guess_cpu(rs->early);
     st->cull_s = rs->cull_s;
-    if (rs->pass_auto && rs->early) /* (read before the thread is told: none yet is never) */
-        st->cl_open = render_cl_open_name(atomic_load(&rs->early->why));
-    if (status == EXIT_OK && !rs->pass && rs->build.started &&
-        render_cl_build_ready(rs, true, d) < 0) /* (the fill took every tile: still,
-                                                    a bad OpenCL option is an error) */
+    int why = rs->early ? atomic_load(&rs->early->why) : CL_OPEN_NONE; /* (read before the
+                                                  thread is told: none yet is never) */
+    if (status == EXIT_OK && !rs->pass && rs->build.started && !rs->pass_failed &&
+        render_cl_build_ready(rs, true, d) < 0 && /* (the fill took every tile: still, */
+        render_pass_give_up(rs, d) < 0)           /* a bad OpenCL option is an error) */
         status = EXIT_FAILURE_RUN;
+    if (rs->pass_auto && rs->early)
+        st->cl_open = rs->pass_failed ? "failed" : render_cl_open_name(why);
     if (rs->pass) {
         bool whole = ocl_pass_end(rs->pass, &rs->tm, status == EXIT_OK ? d : &(csg_diag){{0}, 0});
         rs->pass = NULL;

@@ -12,8 +12,11 @@
  *                 once: --pass always, --fill off, --schedule static, a
  *                 device named by --cl-device), "work" (--pass auto:
  *                 once the first tiles said the rest pays for the pass),
- *                 "never" (--pass auto: the workers rendered every tile);
- *                 "none" in homo and serial
+ *                 "never" (--pass auto: the workers rendered every tile),
+ *                 "failed" (--pass auto: the device or its program could
+ *                 not be had, one warning said why, and the workers
+ *                 rendered every tile left: render_pass_give_up); "none"
+ *                 in homo and serial
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
  *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)

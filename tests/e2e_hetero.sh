@@ -8,7 +8,8 @@
 # of the benchmark grid; the program specialised on each example scene
 # against the general one; the fill (workers render whole tiles while the
 # OpenCL program builds) with a delayed build: every tile filled, or a
-# fixed number and the pass the rest.
+# fixed number and the pass the rest; --pass auto without an OpenCL
+# platform renders with a warning.
 # Every hetero render here runs --fill off unless it says otherwise: with
 # the fill on, a small image may be rendered before the pass has begun,
 # and the comparisons of the pass's records would prove nothing.
@@ -352,6 +353,41 @@ same "$T/s_2.exr" "$T/pe.exr" &&
     ko "--pass always: $(head -c 300 "$T/pe.err")"
 "$BIN" render "$T/gen_1.pov" -o "$T/pg.exr" --mode hetero --pass sometimes >/dev/null 2>"$T/pg.err"
 [ $? -eq 2 ] && grep -q -- "--pass" "$T/pg.err" && ok "--pass sometimes: a usage error (exit 2)" || ko "--pass sometimes: $(head -c 300 "$T/pg.err")"
+
+# --- --pass auto whose device cannot be had (no OpenCL platform: an empty
+#     ICD folder) on a frame that pays: the render goes on, the workers
+#     rendering every tile, one warning saying why (whether OpenCL works
+#     must not decide whether a frame renders: a small one never opens
+#     it); asked for (--pass always), the pass's failure is the render's;
+#     a bad OpenCL option stays an error under auto too ---
+mkdir -p "$T/no-icd"
+OCL_ICD_VENDORS=$T/no-icd CSGTRACE_TEST_PASS_PAYS_MS=1 render ph 3 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+rc=$?
+[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/ph.exr" &&
+    [ "$(grep -c "^csgtrace: warning: OpenCL: no platform found.*the render goes on without the OpenCL pass (--pass auto)" "$T/ph.err")" = 1 ] &&
+    json "$T/ph.json" "j['cl_open'] == 'failed' and j['device'] == '' and j['slices'] == 0 and
+        j['tiles_filled'] == j['tiles_sent'] == j['tiles_total'] - j['tiles_culled']" &&
+    ok "pass auto, no OpenCL platform, a frame that pays: one warning, every tile filled, cl_open failed: == serial" ||
+    ko "pass auto, no platform: exit $rc, $(head -c 300 "$T/ph.err")"
+OCL_ICD_VENDORS=$T/no-icd CSGTRACE_TEST_PASS_PAYS_MS=1 render pi 0 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+rc=$?
+[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/pi.exr" && json "$T/pi.json" "j['cl_open'] == 'failed'" &&
+    ok "pass auto, no OpenCL platform, one process: the warning, == serial" ||
+    ko "pass auto, no platform, one process: exit $rc, $(head -c 300 "$T/pi.err")"
+OCL_ICD_VENDORS=$T/no-icd render pj 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 \
+    --fill on --pass always
+rc=$?
+[ $rc -eq 1 ] && grep -q "^csgtrace: error: OpenCL: no platform found" "$T/pj.err" && [ ! -e "$T/pj.exr" ] &&
+    ok "--pass always, no OpenCL platform: exit 1, the error, no image" ||
+    ko "--pass always, no platform: exit $rc, $(head -c 300 "$T/pj.err")"
+CSGTRACE_CL_SPECIALISE=bad CSGTRACE_TEST_PASS_PAYS_MS=1 render pk 3 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+rc=$?
+[ $rc -eq 1 ] && grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/pk.err" && [ ! -e "$T/pk.exr" ] &&
+    ok "pass auto with a bad OpenCL option: still an error (exit 1)" ||
+    ko "pass auto, bad option: exit $rc, $(head -c 300 "$T/pk.err")"
 
 # --- the generator meets its occupancy within +-1 point (sample of the grid) ---
 for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do
