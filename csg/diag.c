@@ -38,6 +38,8 @@ static void diag_append(csg_diag *d, size_t *n, const char *text)
     d->message[*n] = '\0';
 }
 
+#define DIAG_PLAIN_PREFIX "csgtrace: error: " /* csg_error_plain's */
+
 static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, const char *fmt,
                          va_list ap)
 {
@@ -48,7 +50,7 @@ static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, cons
     size_t n = 0;
     d->message[0] = '\0';
     if (!loc) {
-        diag_append(d, &n, "csgtrace: error: ");
+        diag_append(d, &n, DIAG_PLAIN_PREFIX);
     } else {
         char numbers[48], name[CSG_DIAG_MAX];
         snprintf(numbers, sizeof numbers, ":%d:%d: error: ", loc->line, loc->col);
@@ -75,4 +77,10 @@ void csg_error_plain(csg_diag *d, const char *fmt, ...)
     va_start(ap, fmt);
     diag_vformat(d, NULL, NULL, fmt, ap);
     va_end(ap);
+}
+
+const char *csg_diag_reason(const csg_diag *d)
+{
+    size_t n = sizeof DIAG_PLAIN_PREFIX - 1;
+    return strncmp(d->message, DIAG_PLAIN_PREFIX, n) == 0 ? d->message + n : d->message;
 }

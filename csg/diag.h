@@ -29,5 +29,8 @@ void csg_error(csg_diag *d, csg_loc loc, const char *fmt, ...)
 /* An error with no source position ("csgtrace: error: ..."). */
 void csg_error_plain(csg_diag *d, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/* What a csg_error_plain said, without its "csgtrace: error: " (to say
+ * it again as a warning); d's whole message otherwise. */
+const char *csg_diag_reason(const csg_diag *d);
 
 #endif

@@ -426,7 +426,7 @@ static void journal_writer_stop(journal *j, bool finished)
 {
     journal_writer *w = &j->writer;
     if (!w->running) {
-        if (!finished && w->queue) /* (the tiles queued before `begin`) */
+        if (!finished) /* (the tiles queued before `begin`) */
             journal_append_queued(j);
         return;
     }

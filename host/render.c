@@ -785,12 +785,8 @@ static int render_pass_give_up(render_state *rs, csg_diag *d)
     if (!rs->pass_auto ||
         !render_cl_features(rs->blob.bytes, &features, &bad)) /* (an option's fault: d's) */
         return -1;
-    static const char prefix[] = "csgtrace: error: ";
-    const char *why = strncmp(d->message, prefix, sizeof prefix - 1) == 0
-                          ? d->message + sizeof prefix - 1
-                          : d->message;
     fprintf(stderr, "csgtrace: warning: %s: the render goes on without the OpenCL pass "
-                    "(--pass auto), its workers rendering every tile\n", why);
+                    "(--pass auto), its workers rendering every tile\n", csg_diag_reason(d));
     memset(d, 0, sizeof *d);
     rs->pass_failed = true;
     return 0;
