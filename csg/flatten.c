@@ -36,7 +36,7 @@
  *     opaque).
  *  6. Unbounded roots (planes, complements) go first and are tested one by
  *     one; the bounded ones are reordered into the leaves of a BVH built by
- *     binned SAH, siblings side by side (see bvh_build below; the depth
+ *     binned SAH, siblings side by side (csg/bvh_build.c; the depth
  *     stays below CSG_BVH_STACK whatever the scene); the nodes and the
  *     primitives are then laid out in the roots' new order.
  */
@@ -47,6 +47,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bvh_build.h"
 #include "camera_setup.h"
 #include "polygon.h"
 
@@ -57,10 +58,6 @@
 #define FLATTEN_FN csg_flatten_float
 #define FLATTEN_SCAN csg_blob_scan_features_float
 #endif
-
-typedef struct {
-    double lo[3], hi[3];
-} dbox;
 
 #define CSG_MAX_MAP_PIGMENTS (1 << 20) /* materials of pigment map entries */
 
@@ -128,19 +125,6 @@ static bool grow(void **arr, int *cap, int need, size_t elem)
 
 /* ---- boxes ------------------------------------------------------------------ */
 
-/* fmin and fmax, to the bit (a tie, -0 against +0 included, gives b; a NaN
- * gives the other operand), inline: without -ffinite-math-only GCC calls
- * libm's, and those calls were 9 % of a tetra7 render (the BVH's boxes). */
-static inline double box_min(double a, double b)
-{
-    return a < b ? a : isnan(b) ? a : b;
-}
-
-static inline double box_max(double a, double b)
-{
-    return a > b ? a : isnan(b) ? a : b;
-}
-
 static dbox box_infinite(void)
 {
     dbox b;
@@ -153,11 +137,7 @@ static dbox box_infinite(void)
 
 static dbox box_of_corners(const csg_xform *x, const double lo[3], const double hi[3])
 {
-    dbox b;
-    for (int i = 0; i < 3; i++) {
-        b.lo[i] = INFINITY;
-        b.hi[i] = -INFINITY;
-    }
+    dbox b = box_empty();
     for (int c = 0; c < 8; c++) {
         double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
         for (int i = 0; i < 3; i++) {
@@ -167,15 +147,6 @@ static dbox box_of_corners(const csg_xform *x, const double lo[3], const double 
         }
     }
     return b;
-}
-
-static dbox box_union(dbox a, dbox b)
-{
-    for (int i = 0; i < 3; i++) {
-        a.lo[i] = box_min(a.lo[i], b.lo[i]);
-        a.hi[i] = box_max(a.hi[i], b.hi[i]);
-    }
-    return a;
 }
 
 static dbox box_intersect(dbox a, dbox b)
@@ -1080,204 +1051,6 @@ static bool box_bounded(const dbox *b)
     return true;
 }
 
-/* Binned SAH (Wald, "On fast Construction of SAH-based Bounding Volume
- * Hierarchies", 2007): at each node the box centres are binned along each
- * axis and the split between two bins that minimises
- *   BVH_TRAVERSAL_COST + (area(L) * n(L) + area(R) * n(R)) / area(node)
- * (one root test costs 1) is taken, unless a leaf, costing n, is no
- * dearer and n <= BVH_MAX_LEAF.  Centres that all coincide on every axis
- * cannot be binned: such a set is halved in index order.  Below depth
- * BVH_MEDIAN_DEPTH every split halves the set (median of the centres
- * along the widest axis), so the depth stays below
- * BVH_MEDIAN_DEPTH + log2(CSG_MAX_PRIMS) + 1 < CSG_BVH_STACK whatever the
- * scene.  Everything is computed in double in a fixed order with total
- * orders for ties: the same scene gives the same tree on every run. */
-#define BVH_BINS 32
-#define BVH_MAX_LEAF 4
-#define BVH_TRAVERSAL_COST 1.0
-#define BVH_MEDIAN_DEPTH 32
-
-typedef struct {
-    double c[3]; /* box centre */
-    double key;  /* the centre along the axis being sorted on */
-    int root;
-} bvh_item;
-
-static int bvh_item_cmp(const void *a, const void *b)
-{
-    const bvh_item *x = a, *y = b;
-    if (x->key != y->key)
-        return x->key < y->key ? -1 : 1;
-    return x->root - y->root; /* a total order: the tree is the same everywhere */
-}
-
-static double box_half_area(const dbox *b)
-{
-    double d[3];
-    for (int a = 0; a < 3; a++)
-        d[a] = b->hi[a] - b->lo[a];
-    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
-}
-
-static dbox box_empty(void)
-{
-    dbox b;
-    for (int i = 0; i < 3; i++) {
-        b.lo[i] = INFINITY;
-        b.hi[i] = -INFINITY;
-    }
-    return b;
-}
-
-static int bvh_bin(const bvh_item *it, int axis, double lo, double scale)
-{
-    int b = (int)((it->c[axis] - lo) * scale);
-    return b < 0 ? 0 : (b >= BVH_BINS ? BVH_BINS - 1 : b);
-}
-
-/* The SAH split of items[0..n): axis and first bin of the right part;
- * false when no binned split is cheaper than a leaf of them (or possible). */
-static bool bvh_sah(const flat_builder *fb, const bvh_item *items, int n, const dbox *box,
-                    const dbox *centres, int *axis_out, int *bin_out)
-{
-    double best = n <= BVH_MAX_LEAF ? (double)n : HUGE_VAL;
-    double area = box_half_area(box);
-    bool found = false;
-    for (int a = 0; a < 3; a++) {
-        double extent = centres->hi[a] - centres->lo[a];
-        if (!(extent > 0))
-            continue;
-        double scale = BVH_BINS / extent;
-        int count[BVH_BINS] = {0};
-        dbox bounds[BVH_BINS];
-        for (int b = 0; b < BVH_BINS; b++)
-            bounds[b] = box_empty();
-        for (int i = 0; i < n; i++) {
-            int b = bvh_bin(&items[i], a, centres->lo[a], scale);
-            count[b]++;
-            bounds[b] = box_union(bounds[b], fb->root_boxes[items[i].root]);
-        }
-        /* right-to-left sweep: the cost of the right part of each split */
-        double right_cost[BVH_BINS];
-        dbox acc = box_empty();
-        int acc_n = 0;
-        for (int b = BVH_BINS - 1; b > 0; b--) {
-            acc = box_union(acc, bounds[b]);
-            acc_n += count[b];
-            right_cost[b] = acc_n ? box_half_area(&acc) * acc_n : 0;
-        }
-        acc = box_empty();
-        acc_n = 0;
-        for (int b = 1; b < BVH_BINS; b++) {
-            acc = box_union(acc, bounds[b - 1]);
-            acc_n += count[b - 1];
-            if (acc_n == 0 || acc_n == n)
-                continue;
-            double cost = BVH_TRAVERSAL_COST + (box_half_area(&acc) * acc_n + right_cost[b]) / area;
-            if (cost < best) {
-                best = cost;
-                *axis_out = a;
-                *bin_out = b;
-                found = true;
-            }
-        }
-    }
-    return found;
-}
-
-/* Splits items[0..n) in two parts, items[0..*left) and the rest, and says
- * on which axis; false when they make a leaf. */
-static bool bvh_split(const flat_builder *fb, bvh_item *items, int n, int depth, const dbox *box,
-                      bvh_item *tmp, int *left, int *axis)
-{
-    if (n <= 1)
-        return false;
-    dbox centres = box_empty();
-    for (int i = 0; i < n; i++)
-        for (int a = 0; a < 3; a++) {
-            centres.lo[a] = box_min(centres.lo[a], items[i].c[a]);
-            centres.hi[a] = box_max(centres.hi[a], items[i].c[a]);
-        }
-    int bin = 0;
-    if (depth < BVH_MEDIAN_DEPTH && bvh_sah(fb, items, n, box, &centres, axis, &bin)) {
-        /* a stable partition by bin */
-        double scale = BVH_BINS / (centres.hi[*axis] - centres.lo[*axis]);
-        int l = 0, r = 0;
-        for (int i = 0; i < n; i++) {
-            if (bvh_bin(&items[i], *axis, centres.lo[*axis], scale) < bin)
-                items[l++] = items[i];
-            else
-                tmp[r++] = items[i];
-        }
-        memcpy(items + l, tmp, (size_t)r * sizeof *items);
-        *left = l;
-        return true;
-    }
-    if (n <= BVH_MAX_LEAF && depth < BVH_MEDIAN_DEPTH)
-        return false;
-    /* halve along the widest spread of centres (in index order if none) */
-    *axis = 0;
-    for (int a = 1; a < 3; a++)
-        if (centres.hi[a] - centres.lo[a] > centres.hi[*axis] - centres.lo[*axis])
-            *axis = a;
-    for (int i = 0; i < n; i++)
-        items[i].key = items[i].c[*axis];
-    qsort(items, (size_t)n, sizeof *items, bvh_item_cmp);
-    *left = n / 2;
-    return true;
-}
-
-/* Fills node k with the subtree over items[0..n); `order` receives the
- * roots in leaf order.  False when out of memory. */
-static bool bvh_build(flat_builder *fb, int k, bvh_item *items, int n, int depth, bvh_item *tmp,
-                      int *order, int *placed)
-{
-    dbox box = box_empty();
-    for (int i = 0; i < n; i++)
-        box = box_union(box, fb->root_boxes[items[i].root]);
-    csg_bvh_node node;
-    box_store(box, node.box, node.box + 3);
-    int left, axis;
-    if (!bvh_split(fb, items, n, depth, &box, tmp, &left, &axis)) {
-        node.first = *placed;
-        node.count = n;
-        for (int i = 0; i < n; i++)
-            order[(*placed)++] = items[i].root;
-        fb->bvh[k] = node;
-        return true;
-    }
-    int c = fb->bvh_count;
-    if (!grow((void **)&fb->bvh, &fb->bvh_cap, c + 2, sizeof(csg_bvh_node)))
-        return false;
-    fb->bvh_count += 2;
-    node.first = c;
-    node.count = -1 - axis;
-    fb->bvh[k] = node;
-    return bvh_build(fb, c, items, left, depth + 1, tmp, order, placed) &&
-           bvh_build(fb, c + 1, items + left, n - left, depth + 1, tmp, order, placed);
-}
-
-/* The top pair, nodes 0 and 1: the two halves of the first split, or one
- * leaf of everything and the empty leaf. */
-static bool bvh_build_top(flat_builder *fb, bvh_item *items, int n, bvh_item *tmp, int *order,
-                          int *placed)
-{
-    if (!grow((void **)&fb->bvh, &fb->bvh_cap, 2, sizeof(csg_bvh_node)))
-        return false;
-    fb->bvh_count = 2;
-    dbox box = box_empty();
-    for (int i = 0; i < n; i++)
-        box = box_union(box, fb->root_boxes[items[i].root]);
-    int left, axis;
-    if (bvh_split(fb, items, n, 0, &box, tmp, &left, &axis))
-        return bvh_build(fb, 0, items, left, 1, tmp, order, placed) &&
-               bvh_build(fb, 1, items + left, n - left, 1, tmp, order, placed);
-    csg_bvh_node empty = {*placed + n, 0,
-                          {CSG_R_INF, CSG_R_INF, CSG_R_INF, -CSG_R_INF, -CSG_R_INF, -CSG_R_INF}};
-    fb->bvh[1] = empty;
-    return bvh_build(fb, 0, items, n, 1, tmp, order, placed);
-}
-
 /* Copies the root programs and their primitives in the roots' order, so
  * that the roots of a BVH leaf, their nodes and their primitives lie side
  * by side in memory (a walk through a big scene touches them in that
@@ -1307,16 +1080,38 @@ static bool lay_out_programs(flat_builder *fb)
         }
         rt->first_node = first;
     }
-    memcpy(fb->nodes, nodes, (size_t)nn * sizeof *nodes);
-    memcpy(fb->prims, prims, (size_t)np * sizeof *prims);
-    free(nodes);
-    free(prims);
+    for (; nn < fb->node_count; nn++) /* (none: every node is a root's) */
+        nodes[nn] = fb->nodes[nn];
+    for (; np < fb->prim_count; np++)
+        prims[np] = fb->prims[np];
+    free(fb->nodes);
+    free(fb->prims);
+    fb->nodes = nodes;
+    fb->prims = prims;
+    fb->node_cap = fb->node_count;
+    fb->prim_cap = fb->prim_count;
     return true;
 }
 
 /* Reorders the roots: unbounded ones first (source order), then the
  * bounded ones in the BVH's leaf order; nodes and primitives follow their
  * roots (lay_out_programs). */
+/* fb->bvh from bvh_build's nodes, their boxes stored in `real`. */
+static bool store_bvh(flat_builder *fb, const bvh_build_node *built, int count)
+{
+    fb->bvh = malloc((size_t)count * sizeof *fb->bvh);
+    if (!fb->bvh)
+        return false;
+    fb->bvh_count = fb->bvh_cap = count;
+    for (int i = 0; i < count; i++) {
+        csg_bvh_node *node = &fb->bvh[i];
+        box_store(built[i].box, node->box, node->box + 3);
+        node->first = built[i].first;
+        node->count = built[i].count;
+    }
+    return true;
+}
+
 static bool build_bvh(flat_builder *fb)
 {
     int n = fb->root_count;
@@ -1324,40 +1119,42 @@ static bool build_bvh(flat_builder *fb)
         return true;
     int *order = malloc((size_t)n * sizeof *order);
     int *new_index = malloc((size_t)n * sizeof *new_index);
-    bvh_item *items = malloc((size_t)n * sizeof *items);
-    bvh_item *tmp = malloc((size_t)n * sizeof *tmp);
+    int *bounded = malloc((size_t)n * sizeof *bounded);
     csg_root *roots = malloc((size_t)n * sizeof *roots);
-    bool ok = order && new_index && items && tmp && roots;
-    int placed = 0, bounded = 0;
+    bool ok = order && new_index && bounded && roots;
+    int placed = 0, count = 0;
     for (int i = 0; ok && i < n; i++) {
-        const dbox *b = &fb->root_boxes[i];
-        if (box_bounded(b)) {
-            bvh_item *it = &items[bounded++];
-            for (int a = 0; a < 3; a++)
-                it->c[a] = 0.5 * (b->lo[a] + b->hi[a]);
-            it->key = 0;
-            it->root = i;
-        } else {
+        if (box_bounded(&fb->root_boxes[i]))
+            bounded[count++] = i;
+        else
             order[placed++] = i;
-        }
     }
     fb->linear_roots = placed;
-    if (ok && bounded > 0)
-        ok = bvh_build_top(fb, items, bounded, tmp, order, &placed);
+    if (ok && count > 0) {
+        bvh_build_node *built = NULL;
+        int built_count = 0;
+        ok = bvh_build(fb->root_boxes, bounded, count, order, placed, 0, &built, &built_count) &&
+             store_bvh(fb, built, built_count);
+        free(built);
+    }
+    free(bounded);
+    free(fb->root_boxes); /* (the boxes' last use: memory for the layout's copies) */
+    fb->root_boxes = NULL;
     if (ok) {
         for (int i = 0; i < n; i++) {
             roots[i] = fb->roots[order[i]];
             new_index[order[i]] = i;
         }
-        memcpy(fb->roots, roots, (size_t)n * sizeof *roots);
+        free(fb->roots);
+        fb->roots = roots;
+        fb->root_cap = n;
+        roots = NULL;
         for (int i = 0; i < fb->prim_count; i++)
             fb->prims[i].root = new_index[fb->prims[i].root];
         ok = lay_out_programs(fb);
     }
     free(order);
     free(new_index);
-    free(items);
-    free(tmp);
     free(roots);
     return ok;
 }

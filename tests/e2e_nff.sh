@@ -77,4 +77,28 @@ bad trunc 'b 0 0 0\np 4\n0 0 0\n1 0 0\n' "trunc.nff:5:1: error: a number (polygo
 bad count 'p 1e12\n' "count.nff:1:3: error: polygon vertex count must be"
 bad noview 's 0 0 0 1\n' "noview.nff:2:1: error: no view"
 
+# --- big files: one of 80 MiB reads (the SPD scaled up: tetra10 is 103 MB),
+# one over 2 GiB (CSG_PARSE_MAX_FILE: csg_loc's int lines and columns) is
+# refused before a byte is read (a sparse file: no disk taken) ---
+{ cat tests/nff/shapes.nff; printf '#'; head -c $((80 << 20)) /dev/zero | tr '\0' x; echo; } \
+    >"$T/big.nff"
+render big serial "$T/big.nff" --width 40
+render small serial tests/nff/shapes.nff --width 40
+if [ -s "$T/big.exr" ] && same "$T/big.exr" "$T/small.exr"; then
+    ok "an 80 MiB NFF file (a comment line of 80 MiB) renders as the small one"
+else
+    ko "an 80 MiB NFF file: $(cat "$T/big.err")"
+fi
+rm -f "$T/big.nff"
+truncate -s $((2 << 30)) "$T/huge.nff"
+"$BIN" render "$T/huge.nff" -o "$T/huge.png" >/dev/null 2>"$T/huge.err"
+rc=$?
+if [ "$rc" = 2 ] && [ "$(wc -l <"$T/huge.err")" = 1 ] && [ ! -e "$T/huge.png" ] &&
+    grep -q "cannot read scene '.*huge.nff': larger than 2147483647 bytes" "$T/huge.err"; then
+    ok "a file over 2 GiB: exit 2, $(cat "$T/huge.err")"
+else
+    ko "a file over 2 GiB: status $rc, $(cat "$T/huge.err")"
+fi
+rm -f "$T/huge.nff"
+
 e2e_finish

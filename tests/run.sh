@@ -117,6 +117,8 @@ if [ "$what" = all ]; then
     run_unittest bench/test_collect.py
     # the SPD report's confidence intervals and spd.sh --pairs
     run_unittest bench/test_spd_report.py
+    # the SPD's tetra at sizes beyond the shipped files (bench/spd_big.sh)
+    run_unittest bench/test_spd_subdivide.py
 fi
 
 echo

@@ -13,8 +13,10 @@
 #include "../scene.h"
 
 /* Entities one file may hold (objects, lights, materials together), and
- * vertices one polygon may have: bounds on the memory a file can ask for. */
-#define CSG_NFF_MAX_ENTITIES (1L << 24)
+ * vertices one polygon may have: bounds on the memory a file can ask for
+ * (an entity's object takes about 300 bytes while the scene lives; the
+ * SPD's tetra12 has 16 777 216 triangles, a third of the bound). */
+#define CSG_NFF_MAX_ENTITIES (1L << 26)
 #define CSG_NFF_MAX_VERTICES 1000000
 
 /* Parses NFF text; `name` is used in messages.  On failure returns false,

@@ -34,6 +34,7 @@
  */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,6 +44,9 @@
 #include <unistd.h>
 
 #include "parse_internal.h"
+
+/* Every line and column of a file fits csg_loc's ints. */
+_Static_assert(CSG_PARSE_MAX_FILE <= INT_MAX, "a file's positions must fit an int");
 
 /* ---- messages about the current token --------------------------------------- */
 
