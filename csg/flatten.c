@@ -1021,6 +1021,9 @@ static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
         r->first_node = first;
         r->node_count = 1;
         r->stack_depth = 1;
+        r->flags = root_shadow_flags(fb, prim); /* (as add_root's: a mesh's
+                                                   opaque triangles stop shadow
+                                                   rays at their first hit) */
         box_store(box, r->lo, r->hi);
         fb->root_boxes[root] = box;
     }

@@ -554,7 +554,9 @@ static csg_i32 *root_flags(char *bytes, const csg_blob_header *h, int i)
 }
 
 /* The shadow shortcuts change no pixel: a scene of opaque CSG, a
- * transparent sphere and a no_shadow one renders exactly the same with the
+ * transparent sphere, a no_shadow one, a top-level polygon and a no_shadow
+ * mesh (a root a triangle, flagged as add_root flags one) renders exactly
+ * the same with the
  * root flags as with every flag cleared (the full interval list on every
  * root, and no shadow cache: it keeps opaque roots only), in both
  * precisions; so it does in tiles of one pixel (the shadow cache starts
@@ -590,6 +592,23 @@ static void test_shadow_flags(void **state)
     floor->a = (dvec3){0, 1, 0};
     floor->r0 = -1.6;
     add_top(&s, floor);
+    /* surfaces of several triangles at the top level: a root a piece */
+    csg_object *tile = obj_new(&s, CSG_OBJ_POLYGON); /* two-sided, opaque */
+    tile->verts = csg_arena_alloc(s.arena, 4 * sizeof *tile->verts);
+    tile->verts[0] = (dvec3){-1, -1.2, -1};
+    tile->verts[1] = (dvec3){0, -1.2, -1};
+    tile->verts[2] = (dvec3){0, -1.2, 0};
+    tile->verts[3] = (dvec3){-1, -1.2, 0};
+    tile->vert_count = 4;
+    add_top(&s, tile);
+    csg_object *veil = obj_new(&s, CSG_OBJ_MESH); /* casts no shadow */
+    veil->verts = csg_arena_alloc(s.arena, 6 * sizeof *veil->verts);
+    const dvec3 veil_verts[6] = {{0.5, -1.3, -1.2}, {1.2, -1.3, -1.2}, {1.2, -1.3, -0.5},
+                                 {0.5, -1.3, -1.2}, {1.2, -1.3, -0.5}, {0.5, -1.3, -0.5}};
+    memcpy(veil->verts, veil_verts, sizeof veil_verts);
+    veil->vert_count = 6;
+    veil->no_shadow = true;
+    add_top(&s, veil);
     csg_light lights[2] = {{{3, 6, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}},
                            {{-4, 2, -3}, {0.5, 0.4, 0.3}, false, {"hand.pov", 1, 1}}};
     s.lights = lights;
@@ -604,8 +623,9 @@ static void test_shadow_flags(void **state)
             opaque += (*root_flags(bytes, h, i) & CSG_ROOT_OPAQUE) != 0;
             none += (*root_flags(bytes, h, i) & CSG_ROOT_NO_SHADOW) != 0;
         }
-        assert_int_equal(opaque, 3); /* the cut sphere, the ball, the floor */
-        assert_int_equal(none, 1);   /* the ghost */
+        /* the cut sphere, the ball, the floor and the tile's two pieces */
+        assert_int_equal(opaque, 5);
+        assert_int_equal(none, 3); /* the ghost and the veil's two triangles */
         float *with = render_all(engines[e], bytes, 48, 36, 16);
         assert_renders(engines[e], bytes, 48, 36, 1, with);
         for (int i = 0; i < h->root_count; i++)
