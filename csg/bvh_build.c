@@ -91,10 +91,15 @@ static double box_half_area(const dbox *b)
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
+/* The bin of an item's centre.  The clamps come before the conversion: a
+ * spread of a few subnormals makes the scale infinite, and an int from an
+ * infinity or a NaN is undefined (a NaN, 0 * inf, goes to bin 0). */
 static int bvh_bin(const bvh_item *it, int axis, double lo, double scale)
 {
-    int b = (int)((centre(it, axis) - lo) * scale);
-    return b < 0 ? 0 : (b >= BVH_BINS ? BVH_BINS - 1 : b);
+    double b = (centre(it, axis) - lo) * scale;
+    if (!(b >= 0))
+        return 0;
+    return b >= BVH_BINS ? BVH_BINS - 1 : (int)b;
 }
 
 static dbox items_box(const bvh_item *items, int n)

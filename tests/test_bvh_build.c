@@ -9,8 +9,8 @@
  * The inputs reach every path: the few-item search and the bins, the
  * halves built by threads (sets of tens of thousands), centres that
  * coincide (halved in index order), flat boxes, grids whose centres fall
- * on bin edges, and a geometric run that the SAH peels one box at a time,
- * deeper than the median depth.
+ * on bin edges, a geometric run that the SAH peels one box at a time,
+ * deeper than the median depth, and centres a few subnormals apart.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -55,8 +55,8 @@ static double ref_area(const dbox *b)
 
 static int ref_bin(double c, double lo, double scale)
 {
-    int b = (int)((c - lo) * scale);
-    return b < 0 ? 0 : (b >= REF_BINS ? REF_BINS - 1 : b);
+    double b = (c - lo) * scale; /* (clamped before the conversion: NaN to 0) */
+    return !(b >= 0) ? 0 : b >= REF_BINS ? REF_BINS - 1 : (int)b;
 }
 
 static const dbox *ref_sort_boxes;
@@ -389,6 +389,21 @@ static void test_deep_run(void **state)
     check_all(boxes, 100);
 }
 
+/* Centres a few subnormals apart: the bins' scale is infinite (32 over
+ * the spread), so a centre's bin is an infinity or a NaN before it is
+ * clamped; UBSan (make test's second build) stops on a conversion of
+ * either to int. */
+static void test_subnormal_spread(void **state)
+{
+    (void)state;
+    dbox boxes[40];
+    for (int i = 0; i < 40; i++) {
+        double x = (i % 4) * 4.9e-324; /* 0 and the smallest subnormals */
+        boxes[i] = (dbox){{x, i, 0}, {x, i + 0.5, 1}};
+    }
+    check_all(boxes, 40);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -397,6 +412,7 @@ int main(void)
         cmocka_unit_test(test_grids_and_flat_boxes),
         cmocka_unit_test(test_coinciding_centres),
         cmocka_unit_test(test_deep_run),
+        cmocka_unit_test(test_subnormal_spread),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
