@@ -89,11 +89,19 @@
  * the program) the master posts `go` with no build and joins it.
  *
  * --pass auto (the default, with the fill): once the scene is loaded the
- * thread first guesses the frame's work from a sparse sample of its pixels
- * (render_guess_work, while the workers render the fill's first tiles),
- * and the device is opened only when the guess is at least
- * RENDER_PASS_PAYS_S; else the fill renders every tile and the device is
- * never opened.  Where the device is the CPU
+ * thread first guesses the work of the frame's primary rays from a sparse
+ * sample of its pixels (render_guess_work, while the workers render the
+ * fill's first tiles), and the device is opened only when the guess is at
+ * least RENDER_PASS_PAYS_S; else the fill renders every tile and the
+ * device is never opened.  Primary rays are what the pass takes off the
+ * workers, and the device costs a fixed ~0.08 s here (cl_setup_s
+ * 0.067-0.078, compile_s 0.008-0.013) while the pass, on the same cores,
+ * saves about half of what it takes: it pays from ~0.16 s of primary
+ * rays.  A guess of the whole frame's work (the rule until 2026-11-27,
+ * from 0.6 s) opened the device on frames of many secondary rays, where
+ * it does not pay (gears2, gears4, rings4: guessed 0.59-0.85 s, 1.07-1.09x
+ * homo's frame when opened, their primary rays 11-18 % of the rays), and
+ * more often on a slower day (bench/SPD-notes.md).  Where the device is the CPU
  * the workers already fill (PoCL, as here), its opening alone costs ~26 ms
  * of CPU (loading LLVM) and the program ~10 ms more: more than the pass
  * saves on a frame of 0.05-0.2 s (bench/SPD.md).  Opening it while the
@@ -101,8 +109,10 @@
  * opening's own CPU (tetra8: 0.42 -> 0.47 s, with the workers napping);
  * guessing from the fill's first tiles failed (they are the image's
  * bottom rows: 0.05 s guessed for the teapots' 0.25-0.32 s). */
-#define RENDER_PASS_PAYS_S 0.60 /* (guessed seconds: the pass paid from ~0.4 s
-                                   of the tiles' CPU, guessed 0.5-0.8 s) */
+#define RENDER_PASS_PAYS_S 0.16 /* (guessed seconds of primary rays: gears
+                                   0.06-0.10, rings4 0.09-0.12, mount6_t6
+                                   0.12-0.19, rings7 0.14-0.20, rings4_t1
+                                   0.16-0.32) */
 #define RENDER_GUESS_BLOCK 4   /* the guess traces blocks of 4 x 4 pixels, */
 #define RENDER_GUESS_STRIDE 64 /* one in every 64 x 64                    */
 
@@ -115,11 +125,17 @@ static int render_guess_edge(int at, int size, int tile)
     return size - at < edge ? size - at : edge;
 }
 
+/* What the guess has traced: pixels, thread CPU seconds, rays. */
+typedef struct {
+    double pixels, cpu;
+    uint64_t primary, rays;
+} render_guess_sample;
+
 /* The blocks of one stage of the guess, traced: stage 0 every other one
- * across and down (1/1024 of the image), stage 1 the others; adds their
- * pixels and thread CPU seconds.  False when *stop came first. */
+ * across and down (1/1024 of the image), stage 1 the others; added to
+ * *sample.  False when *stop came first. */
 static bool render_guess_stage(tile_runner *tr, int tile, int stage, const atomic_bool *stop,
-                               double *pixels, double *cpu)
+                               render_guess_sample *sample)
 {
     int w = tr->grid.width, h = tr->grid.height, step = RENDER_GUESS_STRIDE;
     int x0 = w > step / 4 ? step / 4 : w / 2, y0 = h > step / 4 ? step / 4 : h / 2;
@@ -134,22 +150,37 @@ static bool render_guess_stage(tile_runner *tr, int tile, int stage, const atomi
             tile_rect r = {x, y, render_guess_edge(x, w, tile), render_guess_edge(y, h, tile)};
             tile_result res;
             tile_run_rect(tr, r, NULL, rgb, &res);
-            *pixels += (double)r.width * (double)r.height;
+            sample->pixels += (double)r.width * (double)r.height;
+            sample->primary += res.rays.primary;
+            sample->rays +=
+                res.rays.primary + res.rays.shadow + res.rays.reflected + res.rays.refracted;
         }
     }
-    *cpu += stats_thread_cpu() - cpu0;
+    sample->cpu += stats_thread_cpu() - cpu0;
     return true;
 }
 
-/* The CPU seconds a frame's tiles will take, guessed from blocks of
- * RENDER_GUESS_BLOCK x RENDER_GUESS_BLOCK pixels, one in every
- * RENDER_GUESS_STRIDE x RENDER_GUESS_STRIDE (1/256 of the image), traced
- * and shaded on this thread; 0 when out of memory.  A small rectangle
+/* The CPU seconds of the frame's primary rays the sample says: its
+ * seconds a pixel over the whole image, times the primary rays' share of
+ * its rays (0 when it traced none). */
+static double render_guess_primary(const render_guess_sample *sample, double area)
+{
+    if (!(sample->pixels > 0) || sample->rays == 0)
+        return 0;
+    return sample->cpu * (area / sample->pixels) * ((double)sample->primary / (double)sample->rays);
+}
+
+/* The CPU seconds a frame's primary rays will take on the workers,
+ * guessed from blocks of RENDER_GUESS_BLOCK x RENDER_GUESS_BLOCK pixels,
+ * one in every RENDER_GUESS_STRIDE x RENDER_GUESS_STRIDE (1/256 of the
+ * image), traced and shaded on this thread (the tiles' seconds, weighed by
+ * the primary rays' share of the rays: render_guess_primary); 0 when out
+ * of memory.  A small rectangle
  * costs more a pixel than a tile (its culling and set-up are shared by
  * fewer rays): on the SPD scenes the guess was 1.1-1.9x the tiles' CPU
  * with blocks of 4 x 4, 1.9-7.4x with single pixels.  A quarter of the
- * blocks first: a guess from them under half of `pays`, or at least
- * twice it, is the answer; the rest (three times the work: up to 2.6 ms a
+ * blocks first: a guess from them under 2/3 of `pays`, or at least 1.5
+ * times it, is the answer; the rest (three times the work: up to 2.6 ms a
  * frame, all of it hetero's own) only refines a guess near `pays`, where
  * the pass about breaks even.  (The whole guess was 0.63-1.10x the
  * quarter's on 25 SPD files, 1.33-1.53x on rings7; 3 runs each.)  It stops
@@ -159,18 +190,19 @@ static double render_guess_work(const void *blob, int tile, double pays, const a
     tile_runner tr;
     if (!tile_runner_init(&tr, blob, tile))
         return 0;
-    double area = (double)tr.grid.width * (double)tr.grid.height, pixels = 0, cpu = 0;
-    bool done = render_guess_stage(&tr, tile, 0, stop, &pixels, &cpu);
-    double quarter = pixels > 0 ? cpu * (area / pixels) : 0;
-    if (done && quarter >= pays / 2 && quarter < pays * 2)
-        done = render_guess_stage(&tr, tile, 1, stop, &pixels, &cpu);
+    double area = (double)tr.grid.width * (double)tr.grid.height;
+    render_guess_sample sample = {0, 0, 0, 0};
+    bool done = render_guess_stage(&tr, tile, 0, stop, &sample);
+    double quarter = render_guess_primary(&sample, area);
+    if (done && quarter >= pays * 2 / 3 && quarter < pays * 1.5)
+        done = render_guess_stage(&tr, tile, 1, stop, &sample);
     tile_runner_free(&tr);
-    return done && pixels > 0 ? cpu * (area / pixels) : 0;
+    return done ? render_guess_primary(&sample, area) : 0;
 }
 
 static long render_test_env(const char *name);
 
-/* The guessed work from which the pass pays: RENDER_PASS_PAYS_S (tests:
+/* The guessed primary-ray work from which the pass pays: RENDER_PASS_PAYS_S (tests:
  * CSGTRACE_TEST_PASS_PAYS_MS). */
 static double render_pass_pays_s(void)
 {

@@ -67,14 +67,15 @@
  *                 appending finished tiles to the journal), MPI aside:
  *                 the work a result costs it, which bounds how many
  *                 workers one master can keep busy (bench/SCALE.md)
- *   pass_work_s   hetero, --pass auto: the CPU seconds the frame's tiles
- *                 were guessed to take, from blocks of 4 x 4 pixels, one
- *                 in 64 x 64 (a quarter of them when theirs is under 0.3 s
- *                 or over 1.2 s), traced on rank 0 while the workers began
- *                 (0.84-3.4x the workers' seconds on tiles on the SPD
- *                 scenes, median 1.33; tetra the most): the device
- *                 is opened when that is at least 0.6 s (host/render.c);
- *                 0 when there was no guess
+ *   pass_work_s   hetero, --pass auto: the CPU seconds the frame's
+ *                 primary rays were guessed to take on the workers (what
+ *                 the pass takes off them): the seconds of blocks of 4 x 4
+ *                 pixels, one in 64 x 64 (a quarter of them when theirs
+ *                 is under 2/3 of the threshold or over 1.5 times it),
+ *                 traced on rank 0 while the workers began, over the
+ *                 image, times the primary rays' share of their rays; the
+ *                 device is opened when that is at least 0.16 s
+ *                 (host/render.c); 0 when there was no guess
  *   guess_cpu_s   hetero, --pass auto: the CPU seconds that guess took on
  *                 rank 0 (0 when none was done before the tiles were):
  *                 with cull_s, what hetero spends that homo does not
