@@ -10,7 +10,7 @@ and preprocessing beside them, and whether the three modes' images are
 the same bit for bit.
 
 Usage: bench/spd_big.py [--runs R] [--sizes 9,10,11] [--nff DIR] [--out DIR]
-                        [--report-only]
+                        [--report FILE.md] [--report-only]
   (DIR: --nff, else $SPD_NFF, else ../shared/nff beside the repository;
   the generated files, 23 MB to 450 MB, go to OUT/work, not into git)
 Needs: build/csgtrace, mpirun, tachyon (make deps-bench), oiiotool's idiff.

@@ -369,9 +369,10 @@ static void *bvh_half_run(void *arg)
 
 /* Appends the halves' descendants to t where the one-thread build numbers
  * them, their roots at c and c + 1 (t->count is c + 2). */
-static bool bvh_splice(bvh_tree *t, int c, const bvh_tree *half)
+static bool bvh_splice(bvh_tree *t, int c, const bvh_tree *left, const bvh_tree *right)
 {
-    int below[2] = {half[0].count - 1, half[1].count - 1};
+    const bvh_tree *half[2] = {left, right};
+    int below[2] = {left->count - 1, right->count - 1};
     int need = t->count + below[0] + below[1];
     if (need > t->cap) {
         bvh_build_node *nodes = realloc(t->nodes, (size_t)need * sizeof *nodes);
@@ -383,8 +384,8 @@ static bool bvh_splice(bvh_tree *t, int c, const bvh_tree *half)
     for (int h = 0; h < 2; h++) {
         /* local node j >= 1 of half h is node shift + j of t */
         int shift = c + 1 + (h ? below[0] : 0);
-        for (int j = 0; j < half[h].count; j++) {
-            bvh_build_node node = half[h].nodes[j];
+        for (int j = 0; j < half[h]->count; j++) {
+            bvh_build_node node = half[h]->nodes[j];
             if (node.count < 0)
                 node.first += shift;
             t->nodes[j ? shift + j : c + h] = node;
@@ -415,8 +416,7 @@ static bool bvh_children_apart(bvh_tree *t, int c, bvh_item *items, int n, int d
         pthread_join(thread, NULL);
     bool ok = half[0].ok && half[1].ok;
     if (ok) {
-        bvh_tree trees[2] = {half[0].tree, half[1].tree};
-        ok = bvh_splice(t, c, trees);
+        ok = bvh_splice(t, c, &half[0].tree, &half[1].tree);
         t->placed += n;
     }
     free(half[0].tree.nodes);

@@ -1083,16 +1083,12 @@ static bool lay_out_programs(flat_builder *fb)
         }
         rt->first_node = first;
     }
-    for (; nn < fb->node_count; nn++) /* (none: every node is a root's) */
-        nodes[nn] = fb->nodes[nn];
-    for (; np < fb->prim_count; np++)
-        prims[np] = fb->prims[np];
     free(fb->nodes);
     free(fb->prims);
     fb->nodes = nodes;
     fb->prims = prims;
-    fb->node_cap = fb->node_count;
-    fb->prim_cap = fb->prim_count;
+    fb->node_cap = fb->node_count = nn; /* (every node is a root's: the same counts) */
+    fb->prim_cap = fb->prim_count = np;
     return true;
 }
 

@@ -152,8 +152,7 @@ static bool render_guess_stage(tile_runner *tr, int tile, int stage, const atomi
             tile_run_rect(tr, r, NULL, rgb, &res);
             sample->pixels += (double)r.width * (double)r.height;
             sample->primary += res.rays.primary;
-            sample->rays +=
-                res.rays.primary + res.rays.shadow + res.rays.reflected + res.rays.refracted;
+            sample->rays += ray_counts_total(&res.rays);
         }
     }
     sample->cpu += stats_thread_cpu() - cpu0;

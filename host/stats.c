@@ -82,7 +82,7 @@ static void stats_rays(FILE *f, const ray_counts *r)
             "\"total\": %llu}",
             (unsigned long long)r->primary, (unsigned long long)r->shadow,
             (unsigned long long)r->reflected, (unsigned long long)r->refracted,
-            (unsigned long long)(r->primary + r->shadow + r->reflected + r->refracted));
+            (unsigned long long)ray_counts_total(r));
 }
 
 /* "  "key": value,\n" for a double. */

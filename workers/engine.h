@@ -46,6 +46,12 @@ typedef struct {
     uint64_t over_budget; /* pixels that met their ray budget (shade.c) */
 } ray_counts;
 
+/* Rays of every kind. */
+static inline uint64_t ray_counts_total(const ray_counts *r)
+{
+    return r->primary + r->shadow + r->reflected + r->refracted;
+}
+
 typedef struct {
     const char *name;  /* "float" or "double" */
     size_t real_size;  /* sizeof(real) of this build */
