@@ -520,11 +520,14 @@ static int material_for(flat_builder *fb, inherited inh)
  * when the parameters cannot be kept in world space) and the shape's world
  * bounding box. */
 
-static bool degenerate(flat_builder *fb, const csg_object *o)
+static bool degenerate_piece(flat_builder *fb, const csg_object *o, int piece)
 {
-    csg_error(fb->diag, o->loc, "degenerate shape: zero size, negative radius or zero normal");
+    csg_error(fb->diag, csg_piece_loc(o, piece),
+              "degenerate shape: zero size, negative radius or zero normal");
     return false;
 }
+
+static bool degenerate(flat_builder *fb, const csg_object *o) { return degenerate_piece(fb, o, 0); }
 
 static bool flatten_sphere(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
                            int piece, csg_prim *p, dbox *box)
@@ -660,7 +663,7 @@ static bool triangle_prim(flat_builder *fb, const csg_object *o, const csg_xform
     dvec3 e2 = {w[2].x - w[0].x, w[2].y - w[0].y, w[2].z - w[0].z};
     dvec3 ng = {e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
     if (!(ng.x * ng.x + ng.y * ng.y + ng.z * ng.z > 0) && o->kind != CSG_OBJ_POLYGON)
-        return degenerate(fb, o);
+        return degenerate_piece(fb, o, o->kind == CSG_OBJ_MESH ? idx[0] / 3 : 0);
     bool smooth = false;
     for (int k = 0; n && k < 3; k++)
         smooth = smooth || n[idx[k]].x != 0 || n[idx[k]].y != 0 || n[idx[k]].z != 0;
@@ -769,7 +772,8 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
                     int root, dbox *box)
 {
     if (fb->prim_count >= CSG_MAX_PRIMS) {
-        csg_error(fb->diag, o->loc, "too many primitives (limit %d)", CSG_MAX_PRIMS);
+        csg_error(fb->diag, csg_piece_loc(o, piece), "too many primitives (limit %d)",
+                  CSG_MAX_PRIMS);
         return -1;
     }
     if (!grow((void **)&fb->prims, &fb->prim_cap, fb->prim_count + 1, sizeof(csg_prim))) {
@@ -1117,10 +1121,10 @@ static bool build_bvh(flat_builder *fb)
     if (n == 0)
         return true;
     int *order = malloc((size_t)n * sizeof *order);
-    int *new_index = malloc((size_t)n * sizeof *new_index);
     int *bounded = malloc((size_t)n * sizeof *bounded);
-    csg_root *roots = malloc((size_t)n * sizeof *roots);
-    bool ok = order && new_index && bounded && roots;
+    int *new_index = NULL;
+    csg_root *roots = NULL; /* (both taken after the build: its peak is the flattener's) */
+    bool ok = order && bounded;
     int placed = 0, count = 0;
     for (int i = 0; ok && i < n; i++) {
         if (box_bounded(&fb->root_boxes[i]))
@@ -1139,6 +1143,11 @@ static bool build_bvh(flat_builder *fb)
     free(bounded);
     free(fb->root_boxes); /* (the boxes' last use: memory for the layout's copies) */
     fb->root_boxes = NULL;
+    if (ok) {
+        new_index = malloc((size_t)n * sizeof *new_index);
+        roots = malloc((size_t)n * sizeof *roots);
+        ok = new_index && roots;
+    }
     if (ok) {
         for (int i = 0; i < n; i++) {
             roots[i] = fb->roots[order[i]];
@@ -1212,6 +1221,12 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     return h;
 }
 
+static void free_array(void **arr)
+{
+    free(*arr);
+    *arr = NULL;
+}
+
 static void copy_array(unsigned char *b, uint64_t off, const void *src, int count, size_t elem)
 {
     if (count > 0)
@@ -1262,10 +1277,16 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     if (!b)
         return false;
     memcpy(b, &h, sizeof h);
+    /* each big array freed once in the blob, whose pages are touched (made
+     * resident) only as they are written: the two are never whole at once */
     copy_array(b, h.off_prims, fb->prims, fb->prim_count, sizeof(csg_prim));
+    free_array((void **)&fb->prims);
     copy_array(b, h.off_nodes, fb->nodes, fb->node_count, sizeof(csg_node));
+    free_array((void **)&fb->nodes);
     copy_array(b, h.off_roots, fb->roots, fb->root_count, sizeof(csg_root));
+    free_array((void **)&fb->roots);
     copy_array(b, h.off_bvh, fb->bvh, fb->bvh_count, sizeof(csg_bvh_node));
+    free_array((void **)&fb->bvh);
     copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
     copy_array(b, h.off_maps, fb->maps, fb->map_count, sizeof(csg_map_color));
     write_scene_values(fb, o, &h, b);

@@ -11,10 +11,11 @@
  * float is a scene whose coordinates are large against what must be
  * resolved: a small object or a near camera far from the origin.
  *
- * For every primitive (leaves of every CSG tree, subtracted ones too):
+ * For every primitive (leaves of every CSG tree, subtracted ones too;
+ * each triangle of a mesh apart, as it is traced):
  *   - its world bounding sphere (centre c, radius R), its smallest feature
  *     size F (sphere radius, shortest box edge, min(cone radius, height),
- *     shortest edge of a triangle, polygon or mesh, scaled by the
+ *     shortest edge of a triangle or polygon, scaled by the
  *     transform's smallest column norm); planes have no F;
  *   - its distance D from the camera: to the surface for a sphere or a
  *     plane, else to the bounding sphere (from inside: to the nearest
@@ -46,6 +47,7 @@ typedef struct {
     double alpha;         /* angle of one pixel (radians, approx)  */
     double worst;         /* largest err / allowance seen          */
     const csg_object *at; /* the primitive that gave it            */
+    csg_loc at_loc;       /* where it was written (a mesh: its triangle) */
     double err, allow_px, allow_feat, dist, mag;
 } prec_walk;
 
@@ -139,27 +141,31 @@ static prec_extent feature_plane(const csg_object *o)
     return x;
 }
 
-/* Triangles, polygons, meshes: the box of the vertices; the feature is
- * the shortest edge (of every triangle of a mesh, of the outline of a
- * polygon). */
-static prec_extent feature_points(const csg_object *o, bool triangles)
+/* Triangles, polygons, a mesh's triangle: the box of the n vertices v;
+ * the feature is the shortest edge (of the outline). */
+static prec_extent feature_points(const dvec3 *v, int n)
 {
     prec_extent x = {true, {HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL},
                      HUGE_VAL};
-    for (int i = 0; i < o->vert_count; i++) {
-        dvec3 v = o->verts[i];
-        x.lo = (dvec3){fmin(x.lo.x, v.x), fmin(x.lo.y, v.y), fmin(x.lo.z, v.z)};
-        x.hi = (dvec3){fmax(x.hi.x, v.x), fmax(x.hi.y, v.y), fmax(x.hi.z, v.z)};
-        int next = triangles ? (i % 3 == 2 ? i - 2 : i + 1) : (i + 1) % o->vert_count;
-        x.feature = fmin(x.feature, len3(sub3(o->verts[next], v)));
+    for (int i = 0; i < n; i++) {
+        x.lo = (dvec3){fmin(x.lo.x, v[i].x), fmin(x.lo.y, v[i].y), fmin(x.lo.z, v[i].z)};
+        x.hi = (dvec3){fmax(x.hi.x, v[i].x), fmax(x.hi.y, v[i].y), fmax(x.hi.z, v[i].z)};
+        x.feature = fmin(x.feature, len3(sub3(v[(i + 1) % n], v[i])));
     }
     return x;
 }
 
-static prec_extent feature_triangle(const csg_object *o) { return feature_points(o, true); }
-static prec_extent feature_smooth_triangle(const csg_object *o) { return feature_points(o, true); }
-static prec_extent feature_polygon(const csg_object *o) { return feature_points(o, false); }
-static prec_extent feature_mesh(const csg_object *o) { return feature_points(o, true); }
+static prec_extent feature_triangle(const csg_object *o) { return feature_points(o->verts, 3); }
+static prec_extent feature_smooth_triangle(const csg_object *o)
+{
+    return feature_points(o->verts, 3);
+}
+static prec_extent feature_polygon(const csg_object *o)
+{
+    return feature_points(o->verts, o->vert_count);
+}
+/* (not called: a mesh is weighed a triangle at a time, leaf_mesh) */
+static prec_extent feature_mesh(const csg_object *o) { return feature_points(o->verts, 0); }
 
 /* A plane: its point nearest the local origin, the camera's distance. */
 static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, double *mag,
@@ -198,19 +204,11 @@ static bool leaf_bounded(const prec_walk *w, const csg_object *o, const prec_ext
     return true;
 }
 
-/* One primitive: world bounding sphere, feature size, distance. */
-static void leaf(prec_walk *w, const csg_object *o)
+/* One primitive of extent x (written at loc): world bounding sphere,
+ * feature size, distance. */
+static void leaf_extent(prec_walk *w, const csg_object *o, const prec_extent *xp, csg_loc loc)
 {
-    prec_extent x;
-    switch (o->kind) {
-#define PREC_FEATURE(ID, name)                                                                     \
-    case CSG_OBJ_##ID:                                                                             \
-        x = feature_##name(o);                                                                     \
-        break;
-        CSG_OBJECT_KINDS(PREC_FEATURE, CSG_KIND_NONE)
-    default:
-        return;
-    }
+    prec_extent x = *xp;
     double smin, smax;
     xf_scales(&o->xform, &smin, &smax);
     const double eps = CSG_PREC_ULPS * ldexp(1.0, -24);
@@ -231,12 +229,43 @@ static void leaf(prec_walk *w, const csg_object *o)
     if (w->at == NULL || ratio > w->worst) {
         w->worst = ratio;
         w->at = o;
+        w->at_loc = loc;
         w->err = err;
         w->allow_px = allow_px;
         w->allow_feat = allow_feat;
         w->dist = dist;
         w->mag = mag;
     }
+}
+
+/* A mesh: each triangle apart, as each is traced (its box, not the
+ * mesh's, is what a ray meets: a camera inside a terrain's box is not
+ * inside any of its triangles). */
+static void leaf_mesh(prec_walk *w, const csg_object *o)
+{
+    for (int k = 0; k + 2 < o->vert_count; k += 3) {
+        prec_extent x = feature_points(o->verts + k, 3);
+        leaf_extent(w, o, &x, csg_piece_loc(o, k / 3));
+    }
+}
+
+static void leaf(prec_walk *w, const csg_object *o)
+{
+    if (o->kind == CSG_OBJ_MESH) {
+        leaf_mesh(w, o);
+        return;
+    }
+    prec_extent x;
+    switch (o->kind) {
+#define PREC_FEATURE(ID, name)                                                                     \
+    case CSG_OBJ_##ID:                                                                             \
+        x = feature_##name(o);                                                                     \
+        break;
+        CSG_OBJECT_KINDS(PREC_FEATURE, CSG_KIND_NONE)
+    default:
+        return;
+    }
+    leaf_extent(w, o, &x, o->loc);
 }
 
 static void walk(prec_walk *w, const csg_object *o)
@@ -269,12 +298,14 @@ bool csg_needs_double(const csg_scene *s, int width, int height, char *why, size
         if (w.at == NULL) {
             snprintf(why, why_size, "float: no object");
         } else {
+            const char *what =
+                w.at->kind == CSG_OBJ_MESH ? "mesh triangle" : csg_object_kind_name(w.at->kind);
             snprintf(why, why_size,
                      "%s: %s at %s:%d:%d: float error %.3g (2^-24 x %g x |p| %.3g) against "
                      "1/8 pixel = %.3g at distance %.3g, 1e-3 of its feature = %.3g "
                      "(ratio %.3g)",
-                     need ? "double" : "float", csg_object_kind_name(w.at->kind),
-                     w.at->loc.file ? w.at->loc.file : "?", w.at->loc.line, w.at->loc.col, w.err,
+                     need ? "double" : "float", what,
+                     w.at_loc.file ? w.at_loc.file : "?", w.at_loc.line, w.at_loc.col, w.err,
                      CSG_PREC_ULPS, w.mag, w.allow_px, w.dist, w.allow_feat, w.worst);
         }
     }

@@ -166,8 +166,14 @@ typedef struct arena_block {
     _Alignas(16) unsigned char data[];
 } arena_block;
 
+typedef struct arena_adopted {
+    struct arena_adopted *next;
+    void *block;
+} arena_adopted;
+
 struct csg_arena {
     arena_block *head;
+    arena_adopted *adopted; /* (the list's nodes are in the blocks) */
 };
 
 csg_arena *csg_arena_new(void)
@@ -194,15 +200,33 @@ void *csg_arena_alloc(csg_arena *a, size_t size)
     return p;
 }
 
+bool csg_arena_adopt(csg_arena *a, void *block)
+{
+    arena_adopted *node = csg_arena_alloc(a, sizeof *node);
+    if (!node)
+        return false;
+    node->block = block;
+    node->next = a->adopted;
+    a->adopted = node;
+    return true;
+}
+
 void csg_arena_free(csg_arena *a)
 {
     if (!a)
         return;
+    for (arena_adopted *n = a->adopted; n; n = n->next)
+        free(n->block);
     for (arena_block *b = a->head, *next; b; b = next) {
         next = b->next;
         free(b);
     }
     free(a);
+}
+
+csg_loc csg_piece_loc(const csg_object *o, int piece)
+{
+    return o->piece_locs ? o->piece_locs[piece] : o->loc;
 }
 
 void csg_scene_init(csg_scene *s)

@@ -203,6 +203,8 @@ struct csg_object {
      * primitives.                                                       */
     dvec3 *verts;
     dvec3 *normals;
+    const csg_loc *piece_locs; /* mesh: where each triangle was written (an
+                                  NFF file's run of triangles), or NULL: loc */
     int vert_count;
     bool one_sided;       /* surfaces: the back is invisible to looking rays */
     bool open;            /* cylinder / cone: no caps                        */
@@ -305,7 +307,13 @@ void csg_xform_rotate(csg_xform *x, dvec3 degrees);
 /* The arena: every allocation of a scene, freed at once. */
 csg_arena *csg_arena_new(void);
 void *csg_arena_alloc(csg_arena *a, size_t size); /* zeroed; NULL when out of memory */
+/* The arena takes block (malloc'd), freed with it; false (block not
+ * taken) when out of memory. */
+bool csg_arena_adopt(csg_arena *a, void *block);
 void csg_arena_free(csg_arena *a);
+
+/* Where piece `piece` of o was written (csg_object.piece_locs), else o's. */
+csg_loc csg_piece_loc(const csg_object *o, int piece);
 
 void csg_scene_init(csg_scene *s);
 void csg_scene_free(csg_scene *s);

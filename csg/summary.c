@@ -14,6 +14,7 @@
 typedef struct {
     long by_kind[CSG_OBJ_KIND_COUNT];
     long inverted, open, no_shadow;
+    long mesh_triangles;
     int max_depth;
     bool *texture_used;  /* texture_count entries, or NULL */
     bool *interior_used; /* interior_count entries, or NULL */
@@ -25,6 +26,8 @@ static void walk(const csg_scene *s, const csg_object *o, int depth, tally *t)
     t->inverted += o->inverse;
     t->open += o->open;
     t->no_shadow += o->no_shadow;
+    if (o->kind == CSG_OBJ_MESH)
+        t->mesh_triangles += o->vert_count / 3;
     if (depth > t->max_depth)
         t->max_depth = depth;
     if (t->texture_used && o->texture >= 0 && o->texture < s->texture_count)
@@ -50,7 +53,7 @@ static void print_vec(FILE *out, const char *label, dvec3 v)
 
 void csg_print_summary(const csg_scene *s, FILE *out)
 {
-    tally t = {{0}, 0, 0, 0, 0, NULL, NULL};
+    tally t = {{0}, 0, 0, 0, 0, 0, NULL, NULL};
     t.texture_used = s->texture_count > 0 ? calloc((size_t)s->texture_count, sizeof(bool)) : NULL;
     t.interior_used =
         s->interior_count > 0 ? calloc((size_t)s->interior_count, sizeof(bool)) : NULL;
@@ -66,8 +69,11 @@ void csg_print_summary(const csg_scene *s, FILE *out)
             s->object_count, prims, csg, t.max_depth);
     fprintf(out, " ");
     for (int k = 0; k < CSG_OBJ_KIND_COUNT; k++)
-        if (t.by_kind[k])
+        if (t.by_kind[k]) {
             fprintf(out, " %s %ld", csg_object_kind_name(k), t.by_kind[k]);
+            if (k == CSG_OBJ_MESH)
+                fprintf(out, " (%ld triangles)", t.mesh_triangles);
+        }
     fprintf(out, "%s\n", prims + csg ? "" : " (none)");
     if (t.inverted || t.open || t.no_shadow)
         fprintf(out, "  inverse %ld, open %ld, no_shadow %ld\n", t.inverted, t.open, t.no_shadow);

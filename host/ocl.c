@@ -366,6 +366,13 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
                                  &c->max_alloc, NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)", err);
+    /* tests: CSGTRACE_TEST_CL_MAX_ALLOC=N makes the device's buffers N
+     * bytes at most, as on a GPU too small for the scene */
+    const char *cap = getenv("CSGTRACE_TEST_CL_MAX_ALLOC");
+    char *end;
+    unsigned long long n = cap ? strtoull(cap, &end, 10) : 0;
+    if (cap && end != cap && !*end && n > 0 && n < c->max_alloc)
+        c->max_alloc = n;
     err = clGetDeviceInfo(c->device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof c->global_mem,
                           &c->global_mem, NULL);
     if (err != CL_SUCCESS)
@@ -746,6 +753,15 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
     }
     if (tile <= 0 || !csg_blob_valid(h, (size_t)h->total_size)) {
         csg_error_plain(d, "OpenCL primary pass: not a valid scene blob, or tile %d", tile);
+        return false;
+    }
+    if (h->total_size > c->max_alloc) { /* (one buffer: the kernel reads it whole) */
+        char name[256];
+        ocl_device_name(c->device, name, sizeof name);
+        csg_error_plain(d, "OpenCL: the flattened scene, %llu bytes, is larger than device "
+                           "\"%s\"'s largest buffer, %llu bytes (CL_DEVICE_MAX_MEM_ALLOC_SIZE)",
+                        (unsigned long long)h->total_size, name,
+                        (unsigned long long)c->max_alloc);
         return false;
     }
     return true;

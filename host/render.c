@@ -663,6 +663,8 @@ static int render_alloc_records(render_state *rs, const tile_grid *g, csg_diag *
     return EXIT_OK;
 }
 
+static int render_pass_abandon(render_state *rs, csg_diag *d);
+
 /* The pass started (on the context render_open_cl gave), and the
  * estimator its tiles' costs come from (only now: the fill's tiles have
  * none, and its set-up, a walk over every primitive, kept the first fill
@@ -680,7 +682,7 @@ static int render_begin_pass(render_state *rs, const tile_grid *g, csg_diag *d)
                         &rs->pass, d)) {
         if (!d->failed)
             csg_error_plain(d, "the OpenCL primary pass failed");
-        return EXIT_FAILURE_RUN;
+        return render_pass_abandon(rs, d) == 0 ? EXIT_OK : EXIT_FAILURE_RUN;
     }
     return EXIT_OK;
 }
@@ -823,6 +825,22 @@ static int render_pass_give_up(render_state *rs, csg_diag *d)
     return 0;
 }
 
+/* The pass d says could not start (a scene larger than the device's
+ * buffers, say): under --pass auto given up as a device that cannot be
+ * had (render_pass_give_up), what it enqueued waited for; 0.  Else -1. */
+static int render_pass_abandon(render_state *rs, csg_diag *d)
+{
+    if (!rs->pass_auto)
+        return -1;
+    if (rs->pass) {
+        csg_diag ignored = {{0}, 0};
+        ocl_pass_end(rs->pass, NULL, &ignored);
+        rs->pass = NULL;
+    }
+    rs->pass_start = 0; /* (no pass in the phases: render_account) */
+    return render_pass_give_up(rs, d);
+}
+
 /* Rows from the top whose records are final (homo, serial: every row);
  * 0 while the program is being built, the pass started once it is (and
  * only if some rows still need it); -1 with d filled on a failure. */
@@ -845,6 +863,8 @@ static int render_pass_rows(render_state *rs, const tile_grid *g, bool wait, csg
             return 0;
         if (render_begin_pass(rs, g, d) != EXIT_OK)
             return -1;
+        if (rs->pass_failed)
+            return 0; /* (given up: the fill takes the rest) */
     }
     ocl_pass_limit(rs->pass, need);
     return ocl_pass_rows(rs->pass, wait, d);
@@ -948,7 +968,7 @@ static int render_feed(master_job *job, bool wait, csg_diag *d)
 static bool render_fill_capped(const render_state *rs)
 {
     return rs->fill_max > 0 && rs->sched.filled >= rs->fill_max &&
-           (rs->pass_waits || rs->build.begun);
+           (rs->pass_waits || rs->build.begun) && !rs->pass_failed;
 }
 
 /* Is fill tile r degenerate, proven without the pass?  The frustum

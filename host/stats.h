@@ -14,8 +14,9 @@
  *                 once the first tiles said the rest pays for the pass),
  *                 "never" (--pass auto: the workers rendered every tile),
  *                 "failed" (--pass auto: the device or its program could
- *                 not be had, one warning said why, and the workers
- *                 rendered every tile left: render_pass_give_up); "none"
+ *                 not be had, or the scene did not fit its buffers; one
+ *                 warning said why, and the workers rendered every tile
+ *                 left: render_pass_give_up); "none"
  *                 in homo and serial
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)

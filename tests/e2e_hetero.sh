@@ -389,6 +389,29 @@ rc=$?
     ok "pass auto with a bad OpenCL option: still an error (exit 1)" ||
     ko "pass auto, bad option: exit $rc, $(head -c 300 "$T/pk.err")"
 
+# --- a scene larger than the device's largest buffer (a GPU too small for
+#     it; CSGTRACE_TEST_CL_MAX_ALLOC pretends one): under --pass auto the
+#     pass is given up as a device that cannot be had, one warning naming
+#     both sizes, the workers rendering every tile; asked for, an error
+#     (the fill capped: the pass must begin, and the cap must lift) ---
+CSGTRACE_TEST_FILL_TILES=5 CSGTRACE_TEST_CL_MAX_ALLOC=1000 CSGTRACE_TEST_PASS_PAYS_MS=1 \
+    render pl 3 hetero "$T/gen_2.pov" \
+    --width 96 --height 72 --tile 16 --fill on
+rc=$?
+[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/pl.exr" &&
+    [ "$(grep -c "^csgtrace: warning: OpenCL: the flattened scene, [0-9]* bytes, is larger than device \".*\"'s largest buffer, 1000 bytes (CL_DEVICE_MAX_MEM_ALLOC_SIZE): the render goes on without the OpenCL pass (--pass auto)" "$T/pl.err")" = 1 ] &&
+    json "$T/pl.json" "j['cl_open'] == 'failed' and j['device'] == '' and j['slices'] == 0 and
+        j['pass_s'] == 0 and j['tiles_filled'] == j['tiles_sent'] == j['tiles_total'] - j['tiles_culled']" &&
+    ok "pass auto, a scene larger than the device's buffers: one warning, every tile filled: == serial" ||
+    ko "pass auto, scene over the device's buffers: exit $rc, $(head -c 300 "$T/pl.err")"
+CSGTRACE_TEST_FILL_TILES=5 CSGTRACE_TEST_CL_MAX_ALLOC=1000 render pm 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 \
+    --fill on --pass always
+rc=$?
+[ $rc -eq 1 ] && grep -q "^csgtrace: error: OpenCL: the flattened scene, [0-9]* bytes, is larger than" "$T/pm.err" &&
+    [ ! -e "$T/pm.exr" ] &&
+    ok "--pass always, a scene larger than the device's buffers: exit 1, the error, no image" ||
+    ko "--pass always, scene over the device's buffers: exit $rc, $(head -c 300 "$T/pm.err")"
+
 # --- the generator meets its occupancy within +-1 point (sample of the grid) ---
 for spec in "10 0.2 11" "30 0.5 12" "50 0.8 13"; do
     set -- $spec

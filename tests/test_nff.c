@@ -24,6 +24,8 @@
 #include "../csg/flatten.h"
 #include "../csg/lang/nff.h"
 #include "../csg/load.h"
+#include "../csg/precision.h"
+#include "../csg/summary.h"
 #include "../workers/engine.h"
 #include "fuzz_rng.h"
 
@@ -143,6 +145,182 @@ static void test_flatten(void **state)
         csg_blob_free(&b);
     }
     csg_scene_free(&s);
+}
+
+/* ---- runs of triangles ------------------------------------------------------ */
+
+/* Lines: 1-7 the view, 8 f, 9-11 a run of 3, 12 s, 13 a run of 1, 14 f,
+ * 15-16 a run of 2, 17-18 smooth ones (another run), 19 the same f again
+ * (the same material: the run goes on), 20 a third smooth one, 21 a flat
+ * one (a run of 1); line 10's triangle has an edge of 1e-7. */
+static const char *const runs_text =
+    "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 45\nhither 0\nresolution 16 16\n"
+    "f 1 0 0 1 0 1 0 1\n"
+    "p 3 0 0 0 1 0 0 0 0 1\n"
+    "p 3 0 0.5 0 1e-7 0.5 0 0 0.5 1\n"
+    "p 3 1 0 0 1 0 1 0 0 1\n"
+    "s 3 0 0 0.5\n"
+    "p 3 -1 0 0 -2 0 0 -1 0 1\n"
+    "f 0 1 0 1 0 1 0 1\n"
+    "p 3 0 1 0 1 1 0 0 1 1\n"
+    "p 3 1 1 0 1 1 1 0 1 1\n"
+    "pp 3 0 2 0 0 -1 0 1 2 0 0 -1 0 0 2 1 0 -1 0\n"
+    "pp 3 1 2 0 0 -1 0 1 2 1 0 -1 0 0 2 1 0 -1 0\n"
+    "f 0 1 0 1 0 1 0 1\n"
+    "pp 3 2 2 0 0 -1 0 3 2 0 0 -1 0 2 2 1 0 -1 0\n"
+    "p 3 2 3 0 3 3 0 2 3 1\n";
+
+/* The scene with every mesh of a run written out as its triangles, one
+ * object each (what the reader made before it kept runs); the objects
+ * and the array are malloc'd (free_unpacked). */
+static csg_scene unpacked(const csg_scene *s)
+{
+    csg_scene u = *s;
+    int n = 0;
+    for (int i = 0; i < s->object_count; i++)
+        n += s->objects[i]->piece_locs ? s->objects[i]->vert_count / 3 : 1;
+    u.objects = calloc((size_t)n, sizeof *u.objects);
+    assert_non_null(u.objects);
+    u.object_count = 0;
+    for (int i = 0; i < s->object_count; i++) {
+        const csg_object *o = s->objects[i];
+        int pieces = o->piece_locs ? o->vert_count / 3 : 1;
+        for (int k = 0; k < pieces; k++) {
+            csg_object *t = malloc(sizeof *t);
+            assert_non_null(t);
+            *t = *o;
+            if (o->piece_locs) {
+                t->kind = o->normals ? CSG_OBJ_SMOOTH_TRIANGLE : CSG_OBJ_TRIANGLE;
+                t->verts = o->verts + 3 * k;
+                t->normals = o->normals ? o->normals + 3 * k : NULL;
+                t->vert_count = 3;
+                t->piece_locs = NULL;
+                t->loc = o->piece_locs[k];
+            }
+            u.objects[u.object_count++] = t;
+        }
+    }
+    return u;
+}
+
+static void free_unpacked(csg_scene *u)
+{
+    for (int i = 0; i < u->object_count; i++)
+        free(u->objects[i]);
+    free(u->objects);
+}
+
+/* Both scenes flatten to the same bytes, in both precisions. */
+static void assert_same_blobs(const csg_scene *a, const csg_scene *b)
+{
+    csg_flatten_opts o = {16, 16, 0, -1, 1, 0};
+    const engine *e[2] = {&engine_float, &engine_double};
+    for (int k = 0; k < 2; k++) {
+        csg_blob x, y;
+        csg_diag d = {0};
+        if (!e[k]->flatten(a, &o, &x, &d) || !e[k]->flatten(b, &o, &y, &d))
+            fail_msg("flatten: %s", d.message);
+        assert_int_equal(x.size, y.size);
+        assert_memory_equal(x.bytes, y.bytes, x.size);
+        csg_blob_free(&x);
+        csg_blob_free(&y);
+    }
+}
+
+/* Consecutive triangles of one material and kind are one mesh, each
+ * triangle's location kept; it flattens to the bytes the triangles as
+ * objects of their own would; `check` counts its triangles; the
+ * precision report names the triangle, not the run. */
+static void test_runs(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok(runs_text, &s);
+    static const int kinds[6] = {CSG_OBJ_MESH, CSG_OBJ_SPHERE, CSG_OBJ_TRIANGLE,
+                                 CSG_OBJ_MESH, CSG_OBJ_MESH,   CSG_OBJ_TRIANGLE};
+    static const int verts[6] = {9, 0, 3, 6, 9, 3};
+    static const int first_line[6] = {9, 12, 13, 15, 17, 21};
+    assert_int_equal(s.object_count, 6);
+    for (int i = 0; i < 6; i++) {
+        const csg_object *o = s.objects[i];
+        assert_int_equal(o->kind, kinds[i]);
+        assert_int_equal(o->vert_count, verts[i]);
+        assert_int_equal(o->loc.line, first_line[i]);
+        assert_true((o->piece_locs != NULL) == (o->kind == CSG_OBJ_MESH));
+    }
+    assert_true(s.objects[0]->one_sided && !s.objects[4]->one_sided);
+    assert_null(s.objects[3]->normals);
+    assert_non_null(s.objects[4]->normals);
+    assert_true(s.objects[4]->normals[8].y == -1 && s.objects[4]->verts[6].x == 2);
+    static const int lines[3] = {17, 18, 20};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(s.objects[4]->piece_locs[k].line, lines[k]);
+        assert_int_equal(s.objects[4]->piece_locs[k].col, 1);
+        assert_string_equal(s.objects[4]->piece_locs[k].file, "t.nff");
+    }
+    assert_int_equal(s.objects[0]->texture, s.objects[2]->texture);
+    assert_int_equal(s.objects[3]->texture, s.objects[4]->texture);
+
+    csg_scene u = unpacked(&s);
+    assert_int_equal(u.object_count, 11);
+    assert_same_blobs(&s, &u);
+    free_unpacked(&u);
+
+    char why[512];
+    csg_needs_double(&s, 16, 16, why, sizeof why);
+    if (!strstr(why, ": mesh triangle at t.nff:10:1: "))
+        fail_msg("the precision report names <%s>, not line 10's triangle", why);
+
+    char *buf = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&buf, &size);
+    assert_non_null(f);
+    csg_print_summary(&s, f);
+    fclose(f);
+    if (!strstr(buf, "objects: 6 top-level, 6 primitives") ||
+        !strstr(buf, "sphere 1 triangle 2 mesh 3 (8 triangles)"))
+        fail_msg("summary:\n%s", buf);
+    free(buf);
+    csg_scene_free(&s);
+}
+
+/* A run big enough for a BVH of many levels (4 000 random triangles, a
+ * sphere amid them) flattens to the same bytes as its triangles. */
+static void test_run_bvh(void **state)
+{
+    (void)state;
+    enum { TRIANGLES = 4000 };
+    size_t cap = 200 + (size_t)TRIANGLES * 120, len = 0;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    len += (size_t)snprintf(text + len, cap - len, "%s",
+                            "v\nfrom 0 -30 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0\n"
+                            "resolution 32 32\nf 0.5 0.5 1 1 0 1 0 1\n");
+    uint64_t rng = 0x7e7a2024u;
+    for (int i = 0; i < TRIANGLES; i++) {
+        if (i == TRIANGLES / 2)
+            len += (size_t)snprintf(text + len, cap - len, "s 0 0 0 1\n");
+        double c[3], v[9];
+        for (int a = 0; a < 3; a++)
+            c[a] = 20.0 * ((double)rng_below(&rng, 100000) / 100000.0 - 0.5);
+        for (int a = 0; a < 9; a++)
+            v[a] = c[a % 3] + (double)rng_below(&rng, 1000) / 1000.0;
+        len += (size_t)snprintf(text + len, cap - len, "p 3 %.6f %.6f %.6f %.6f %.6f %.6f "
+                                "%.6f %.6f %.6f\n", v[0], v[1], v[2], v[3], v[4], v[5], v[6],
+                                v[7], v[8]);
+    }
+    csg_scene s;
+    csg_diag d = {0};
+    if (!csg_load_string("t.nff", text, len, NULL, &s, &d))
+        fail_msg("parse failed: %s", d.message);
+    assert_int_equal(s.object_count, 3);
+    assert_int_equal(s.objects[0]->vert_count + s.objects[2]->vert_count, 3 * TRIANGLES);
+    csg_scene u = unpacked(&s);
+    assert_int_equal(u.object_count, TRIANGLES + 1);
+    assert_same_blobs(&s, &u);
+    free_unpacked(&u);
+    csg_scene_free(&s);
+    free(text);
 }
 
 /* Malformed NFF: one line, file:line:col, at the token concerned. */
@@ -295,7 +473,8 @@ int main(void)
         cmocka_unit_test(test_entities), cmocka_unit_test(test_view),
         cmocka_unit_test(test_shading),  cmocka_unit_test(test_flatten),
         cmocka_unit_test(test_errors),   cmocka_unit_test(test_nul_and_extension),
-        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_fuzz),     cmocka_unit_test(test_runs),
+        cmocka_unit_test(test_run_bvh),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

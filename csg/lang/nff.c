@@ -15,6 +15,13 @@
  *   p  a polygon (3 vertices: a triangle), one-sided unless the material
  *      transmits;   pp a smooth triangle (more vertices: a mesh of smooth
  *      triangles, split as a polygon), two-sided.
+ *      Consecutive triangles (p 3, or pp 3) of one material are one run:
+ *      a mesh of them (one of them: a triangle), its vertices in one
+ *      array, each triangle's location kept (csg_object.piece_locs).  It
+ *      flattens to the very primitives and roots the triangles would
+ *      (a top-level mesh is a root a triangle) and takes ~90 bytes a
+ *      triangle where an object each took ~330: tetra11, 4 194 304 of
+ *      them, is one mesh.
  * At the end every light gets the intensity sqrt(n) / (2n) of n lights
  * (the SPD's suggestion) unless it gave a colour, and ambient_light the
  * same value.
@@ -60,6 +67,13 @@ typedef struct {
     nff_vec objects;    /* csg_object *                                */
     nff_vec lights;     /* csg_light                                   */
     nff_vec materials;  /* nff_material: one texture and interior each */
+    struct {
+        csg_object *o;  /* the run of triangles being read, or NULL    */
+        bool smooth;    /* of pp 3 (normals kept), else of p 3          */
+        nff_vec verts;  /* dvec3, 3 a triangle                          */
+        nff_vec normals; /* dvec3, 3 a triangle (smooth)                */
+        nff_vec locs;   /* csg_loc, 1 a triangle                        */
+    } run;
     int material;       /* the current one; -1 before the first `f`   */
     bool has_view;
     long entities;
@@ -373,15 +387,63 @@ static bool nff_fill(nff_reader *r)
 
 /* ---- objects ------------------------------------------------------------------- */
 
-/* A new object of `kind` at loc with the current material, in the list. */
+/* The current material (before any `f`: NFF's implicit white matte). */
+static bool nff_material_set(nff_reader *r)
+{
+    if (r->material >= 0)
+        return true;
+    nff_material m = {{1, 1, 1, 1, 0, 0, 0, 1}};
+    r->material = r->materials.count;
+    return nff_push(r, &r->materials, sizeof m, &m);
+}
+
+/* A malloc'd table of `count` elements, shrunk to them and handed to the
+ * scene's arena; v emptied.  NULL when out of memory. */
+static void *nff_vec_to_arena(nff_reader *r, nff_vec *v, size_t elem)
+{
+    void *data = realloc(v->data, (size_t)v->count * elem);
+    if (!data) /* (a shrink that failed leaves the block as it was) */
+        data = v->data;
+    if (!csg_arena_adopt(r->s->arena, data)) {
+        v->data = data;
+        nff_oom(r);
+        return NULL;
+    }
+    memset(v, 0, sizeof *v);
+    return data;
+}
+
+/* The run of triangles ends: a mesh of them, or (one) a triangle. */
+static bool nff_run_close(nff_reader *r)
+{
+    csg_object *o = r->run.o;
+    if (!o)
+        return true;
+    r->run.o = NULL;
+    int triangles = r->run.verts.count / 3;
+    bool smooth = r->run.smooth;
+    if (triangles == 1) { /* (the tables kept for the next run) */
+        o->verts = nff_to_arena(r, &r->run.verts, sizeof(dvec3));
+        o->normals = smooth ? nff_to_arena(r, &r->run.normals, sizeof(dvec3)) : NULL;
+        r->run.verts.count = r->run.normals.count = r->run.locs.count = 0;
+    } else {
+        o->kind = CSG_OBJ_MESH;
+        o->verts = nff_vec_to_arena(r, &r->run.verts, sizeof(dvec3));
+        o->normals = smooth ? nff_vec_to_arena(r, &r->run.normals, sizeof(dvec3)) : NULL;
+        o->piece_locs = nff_vec_to_arena(r, &r->run.locs, sizeof(csg_loc));
+        if (!o->piece_locs)
+            return false;
+    }
+    o->vert_count = 3 * triangles;
+    return o->verts && (o->normals || !smooth);
+}
+
+/* A new object of `kind` at loc with the current material, in the list
+ * (after the run of triangles before it). */
 static csg_object *nff_object(nff_reader *r, enum csg_object_kind kind, csg_loc loc)
 {
-    if (r->material < 0) { /* before any `f`: NFF's implicit white matte */
-        nff_material m = {{1, 1, 1, 1, 0, 0, 0, 1}};
-        r->material = r->materials.count;
-        if (!nff_push(r, &r->materials, sizeof m, &m))
-            return NULL;
-    }
+    if (!nff_material_set(r) || !nff_run_close(r))
+        return NULL;
     csg_object *o = nff_alloc(r, sizeof *o);
     if (!o || !nff_push(r, &r->objects, sizeof o, &o))
         return NULL;
@@ -451,20 +513,24 @@ static bool nff_cone(nff_reader *r)
     return true;
 }
 
-/* n vertices (and normals) of a p or pp into arena arrays. */
-static bool nff_vertices(nff_reader *r, bool patch, long n, dvec3 **v, dvec3 **nv)
+/* n vertices (and, of a pp, normals) of a p or pp into v (and nv). */
+static bool nff_vertices(nff_reader *r, bool patch, long n, dvec3 *v, dvec3 *nv)
 {
-    *v = nff_alloc(r, (size_t)n * sizeof **v);
-    *nv = patch ? nff_alloc(r, (size_t)n * sizeof **nv) : NULL;
-    if (!*v || (patch && !*nv))
-        return false;
     for (long i = 0; i < n; i++) {
         if (!nff_point(r, patch ? "a number (patch vertex x y z)" : "a number (polygon vertex x y z)",
-                       &(*v)[i]) ||
-            (*nv && !nff_point(r, "a number (patch normal x y z)", &(*nv)[i])))
+                       &v[i]) ||
+            (patch && !nff_point(r, "a number (patch normal x y z)", &nv[i])))
             return false;
     }
     return true;
+}
+
+/* The same into new arena arrays (*nv NULL for a p). */
+static bool nff_vertices_new(nff_reader *r, bool patch, long n, dvec3 **v, dvec3 **nv)
+{
+    *v = nff_alloc(r, (size_t)n * sizeof **v);
+    *nv = patch ? nff_alloc(r, (size_t)n * sizeof **nv) : NULL;
+    return *v && (*nv || !patch) && nff_vertices(r, patch, n, *v, *nv);
 }
 
 /* A pp of more than 3 vertices: a mesh of its smooth triangles. */
@@ -491,6 +557,32 @@ static bool nff_patch_mesh(nff_reader *r, csg_object *o, const dvec3 *v, const d
     return ok;
 }
 
+/* A p 3 or pp 3 (its vertices read): the run's next triangle, or the
+ * first of a new run (another material, or kind, or an object between). */
+static bool nff_triangle(nff_reader *r, bool patch, csg_loc loc, const dvec3 v[3],
+                         const dvec3 nv[3])
+{
+    if (!(v3d_len(csg_polygon_normal(v, 3)) > 0)) {
+        csg_error(r->d, loc, "degenerate polygon: its vertices enclose no area");
+        return false;
+    }
+    if (!nff_material_set(r))
+        return false;
+    if (!r->run.o || r->run.smooth != patch || r->run.o->texture != r->material) {
+        csg_object *o = nff_object(r, patch ? CSG_OBJ_SMOOTH_TRIANGLE : CSG_OBJ_TRIANGLE, loc);
+        if (!o)
+            return false;
+        o->one_sided = !patch && !nff_transmits(r);
+        r->run.o = o;
+        r->run.smooth = patch;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!nff_push(r, &r->run.verts, sizeof v[k], &v[k]) ||
+            (patch && !nff_push(r, &r->run.normals, sizeof nv[k], &nv[k])))
+            return false;
+    return nff_push(r, &r->run.locs, sizeof loc, &loc);
+}
+
 /* p n / pp n and the vertices. */
 static bool nff_polygon(nff_reader *r)
 {
@@ -500,19 +592,21 @@ static bool nff_polygon(nff_reader *r)
     dvec3 *v, *nv;
     nff_next(r);
     if (!nff_count(r, patch ? "patch vertex count" : "polygon vertex count", 3,
-                   CSG_NFF_MAX_VERTICES, &n) ||
-        !nff_vertices(r, patch, n, &v, &nv))
+                   CSG_NFF_MAX_VERTICES, &n))
         return false;
-    enum csg_object_kind kind = patch ? (n == 3 ? CSG_OBJ_SMOOTH_TRIANGLE : CSG_OBJ_MESH)
-                                      : (n == 3 ? CSG_OBJ_TRIANGLE : CSG_OBJ_POLYGON);
-    csg_object *o = nff_object(r, kind, loc);
+    if (n == 3) {
+        dvec3 tv[3], tn[3];
+        return nff_vertices(r, patch, n, tv, tn) && nff_triangle(r, patch, loc, tv, tn);
+    }
+    if (!nff_vertices_new(r, patch, n, &v, &nv))
+        return false;
+    csg_object *o = nff_object(r, patch ? CSG_OBJ_MESH : CSG_OBJ_POLYGON, loc);
     if (!o)
         return false;
     o->one_sided = !patch && !nff_transmits(r);
-    if (kind == CSG_OBJ_MESH)
+    if (patch)
         return nff_patch_mesh(r, o, v, nv, n);
     o->verts = v;
-    o->normals = nv;
     o->vert_count = (int)n;
     dvec3 nn = csg_polygon_normal(v, (int)n);
     if (!(v3d_len(nn) > 0)) {
@@ -579,6 +673,8 @@ static bool nff_finish(nff_reader *r)
         csg_error(r->d, r->tok_loc, "no view ('v') in the file");
         return false;
     }
+    if (!nff_run_close(r))
+        return false;
     int n = r->lights.count;
     double each = n > 0 ? sqrt((double)n) / (2.0 * n) : 0.5;
     csg_light *l = r->lights.data;
@@ -622,20 +718,17 @@ bool csg_nff_parse_string(const char *name, const char *text, size_t len, csg_sc
     }
     size_t nlen = strlen(name ? name : "<input>");
     char *path = nff_alloc(&r, nlen + 1);
-    char *copy = nff_alloc(&r, len + 1);
-    if (!path || !copy)
+    if (!path)
         goto done;
     memcpy(path, name ? name : "<input>", nlen);
-    if (len)
-        memcpy(copy, text, len);
     s->path = path;
     r.name = path;
-    r.src = copy;
+    r.src = text ? text : ""; /* (read in place, never past len: no copy) */
     r.len = len;
-    const char *nul = memchr(copy, '\0', len);
+    const char *nul = len ? memchr(text, '\0', len) : NULL;
     if (nul) {
         csg_loc at = {path, 1, 1};
-        for (const char *c = copy; c < nul; c++)
+        for (const char *c = text; c < nul; c++)
             at = *c == '\n' ? (csg_loc){path, at.line + 1, 1} : (csg_loc){path, at.line, at.col + 1};
         csg_error(d, at, "a NUL byte: not an NFF text file");
         goto done;
@@ -649,6 +742,9 @@ done:
     free(r.objects.data);
     free(r.lights.data);
     free(r.materials.data);
+    free(r.run.verts.data); /* (those a mesh took are NULL here) */
+    free(r.run.normals.data);
+    free(r.run.locs.data);
     if (!ok) {
         if (!d->failed)
             csg_error_plain(d, "internal error: the NFF parse failed without a message");
