@@ -52,6 +52,18 @@ if "$BIN" check tests/nff/shapes.nff >"$T/check.out" 2>&1 &&
 else
     ko "check on an NFF scene"
 fi
+# runs of triangles (p 3, pp 3) of one material: one mesh each, each
+# triangle still a primitive and a root of its own
+if "$BIN" check tests/nff/terrain.nff >"$T/terrain.out" 2>&1 &&
+    grep -q "^  sphere 1 mesh 3 (148 triangles)$" "$T/terrain.out" &&
+    grep -q "^flat scene: 149 primitives in 149 roots," "$T/terrain.out" &&
+    "$BIN" export tests/nff/terrain.nff -o "$T/terrain.pov" >/dev/null 2>&1 &&
+    [ "$(grep -c "mesh {" "$T/terrain.pov")" = 3 ] &&
+    [ "$(grep -c "triangle {" "$T/terrain.pov")" = 148 ]; then
+    ok "check and export: 148 triangles in 3 runs are 3 meshes, 149 roots"
+else
+    ko "runs of triangles: $(head -c 300 "$T/terrain.out")"
+fi
 if "$BIN" export tests/nff/shapes.nff -o "$T/shapes.pov" >/dev/null 2>&1 &&
     "$BIN" check "$T/shapes.pov" >/dev/null 2>&1; then
     ok "export: the NFF scene as POV-Ray SDL that parses again"

@@ -25,7 +25,7 @@
 #include "../csg/lang/nff.h"
 #include "../csg/load.h"
 #include "../csg/precision.h"
-#include "../csg/summary.h"
+#include "summary_text.h"
 #include "../workers/engine.h"
 #include "fuzz_rng.h"
 
@@ -271,12 +271,8 @@ static void test_runs(void **state)
     if (!strstr(why, ": mesh triangle at t.nff:10:1: "))
         fail_msg("the precision report names <%s>, not line 10's triangle", why);
 
-    char *buf = NULL;
-    size_t size = 0;
-    FILE *f = open_memstream(&buf, &size);
-    assert_non_null(f);
-    csg_print_summary(&s, f);
-    fclose(f);
+    char *buf = summary_text(&s);
+    assert_non_null(buf);
     if (!strstr(buf, "objects: 6 top-level, 6 primitives") ||
         !strstr(buf, "sphere 1 triangle 2 mesh 3 (8 triangles)"))
         fail_msg("summary:\n%s", buf);

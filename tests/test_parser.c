@@ -21,7 +21,7 @@
 
 #include "../csg/lang/lexer.h"
 #include "../csg/lang/parser.h"
-#include "../csg/summary.h"
+#include "summary_text.h"
 
 /* ---- helpers ------------------------------------------------------------- */
 
@@ -839,12 +839,8 @@ static void test_summary(void **state)
              "difference { box { -1, 1 } union { sphere { 0, 1.2 } cylinder { -2*x, 2*x, 0.5 } }\n"
              "  pigment { rgbf <1, 1, 1, 0.5> } finish { reflection 0.3 } }\n"
              "plane { y, -1 }\n", &s);
-    char *buf = NULL;
-    size_t size = 0;
-    FILE *f = open_memstream(&buf, &size);
-    assert_non_null(f);
-    csg_print_summary(&s, f);
-    fclose(f);
+    char *buf = summary_text(&s);
+    assert_non_null(buf);
     assert_non_null(strstr(buf, "objects: 2 top-level, 4 primitives, 2 CSG operations, CSG depth 3"));
     assert_non_null(strstr(buf, "sphere 1 box 1 cylinder 1 plane 1 union 1 difference 1"));
     assert_non_null(strstr(buf, "lights: 1 (0 shadowless)"));
