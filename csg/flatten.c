@@ -123,6 +123,12 @@ static bool grow(void **arr, int *cap, int need, size_t elem)
     return true;
 }
 
+static void free_array(void **arr)
+{
+    free(*arr);
+    *arr = NULL;
+}
+
 /* ---- boxes ------------------------------------------------------------------ */
 
 static dbox box_infinite(void)
@@ -1141,8 +1147,8 @@ static bool build_bvh(flat_builder *fb)
         free(built);
     }
     free(bounded);
-    free(fb->root_boxes); /* (the boxes' last use: memory for the layout's copies) */
-    fb->root_boxes = NULL;
+    free_array((void **)&fb->root_boxes); /* (the boxes' last use: memory for the
+                                             layout's copies) */
     if (ok) {
         new_index = malloc((size_t)n * sizeof *new_index);
         roots = malloc((size_t)n * sizeof *roots);
@@ -1219,12 +1225,6 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.off_maps = place(&off, fb->map_count, sizeof(csg_map_color));
     h.total_size = off;
     return h;
-}
-
-static void free_array(void **arr)
-{
-    free(*arr);
-    *arr = NULL;
 }
 
 static void copy_array(unsigned char *b, uint64_t off, const void *src, int count, size_t elem)

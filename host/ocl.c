@@ -61,6 +61,7 @@
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
 #include "cl_cache.h"
+#include "test_env.h"
 
 #ifndef CSG_SOURCE_DIR
 #define CSG_SOURCE_DIR "."
@@ -368,11 +369,9 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
         return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)", err);
     /* tests: CSGTRACE_TEST_CL_MAX_ALLOC=N makes the device's buffers N
      * bytes at most, as on a GPU too small for the scene */
-    const char *cap = getenv("CSGTRACE_TEST_CL_MAX_ALLOC");
-    char *end;
-    unsigned long long n = cap ? strtoull(cap, &end, 10) : 0;
-    if (cap && end != cap && !*end && n > 0 && n < c->max_alloc)
-        c->max_alloc = n;
+    long long cap = test_env_number("CSGTRACE_TEST_CL_MAX_ALLOC", LLONG_MAX);
+    if (cap > 0 && (cl_ulong)cap < c->max_alloc)
+        c->max_alloc = (cl_ulong)cap;
     err = clGetDeviceInfo(c->device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof c->global_mem,
                           &c->global_mem, NULL);
     if (err != CL_SUCCESS)

@@ -69,6 +69,7 @@
 #include "signals.h"
 #include "stats.h"
 #include "store.h"
+#include "test_env.h"
 
 /* Records a slice of the pipelined pass holds at least: one tile row, or
  * more when a tile row is smaller (each slice costs two launches). */
@@ -692,10 +693,7 @@ static int render_begin_pass(render_state *rs, const tile_grid *g, csg_diag *d)
 /* A test hook's number from the environment (0 when unset or bad). */
 static long render_test_env(const char *name)
 {
-    const char *v = getenv(name);
-    char *end;
-    long n = v ? strtol(v, &end, 10) : 0;
-    return v && end != v && !*end && n > 0 && n < 1000000 ? n : 0;
+    return (long)test_env_number(name, 1000000);
 }
 
 static void *render_cl_build_run(void *arg)
