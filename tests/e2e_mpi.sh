@@ -480,9 +480,13 @@ for mode in big short index tag pixels part one; do
         : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-rel-$mode.out" 2>"$TMP/rogue-rel-$mode.err"
     rc=$?
     kept=$(grep -c 'after the render had finished: its files are kept' "$TMP/rogue-rel-$mode.err")
+    # (the rogue's own line when its relay's abort beats mpirun's SIGTERM to
+    # it, about 1 run in 100 on a loaded machine, is not the render's)
+    grep -v ': error: worker 2: the master is gone; exiting$' "$TMP/rogue-rel-$mode.err" \
+        >"$TMP/rogue-rel-$mode.master.err"
     check "rogue worker under a relay ($mode): exit 1, one message naming worker 2, no image (got $rc)" \
-        test $rc = 1 -a "$(error_lines "rogue-rel-$mode")" = 1 \
-        -a "$(grep -c 'worker 2' "$TMP/rogue-rel-$mode.err")" = 1 \
+        test $rc = 1 -a "$(error_lines "rogue-rel-$mode.master")" = 1 \
+        -a "$(grep -c 'worker 2' "$TMP/rogue-rel-$mode.master.err")" = 1 \
         -a \( ! -e "$out" -o "$kept" = 1 \)
 done
 
