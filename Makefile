@@ -22,16 +22,16 @@
 # per precision (real = float, real = double with -DCSG_DOUBLE), into one
 # program: --precision picks the table at run time (workers/engine.h).
 #
-# OpenImageIO is not linked into any program: host/image_oiio.cpp is built
-# alone as the module build/csgtrace-image.so, which host/image_loader.c loads on
-# the first image call that needs it (host/image_module.h).  A process that
+# OpenImageIO is not linked into any program: host/output/image_oiio.cpp is built
+# alone as the module build/csgtrace-image.so, which host/output/image_loader.c loads on
+# the first image call that needs it (host/output/image_module.h).  A process that
 # never reads an image nor writes one other than PNG or PPM (check, every MPI
-# worker, a render to PNG: host/image_direct.c, libpng) never maps it.
+# worker, a render to PNG: host/output/image_direct.c, libpng) never maps it.
 
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
 	libpng-dev libopenimageio-dev openimageio-tools povray povray-includes \
-	libcmocka-dev gnuplot-nox python3
+	libcmocka-dev gnuplot-nox python3 nettle-dev
 # Only for the benchmarks: their reference programs (bench/embree_primary.c,
 # Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
 BENCH_DEB_PACKAGES := libembree-dev tachyon-bin-nox povray-examples
@@ -45,7 +45,7 @@ WARN := -Wall -Wextra -Werror -Wshadow -Wundef -Wdouble-promotion \
 # Bit-exact agreement with the OpenCL kernels: no contraction into FMA,
 # IEEE semantics everywhere.
 FPFLAGS := -ffp-contract=off -fno-fast-math -fexcess-precision=standard
-DEFS := -D_GNU_SOURCE -DCSG_SOURCE_DIR='"$(ROOT)"'
+DEFS := -D_GNU_SOURCE
 OIIO_CFLAGS = $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 OIIO_LIBS = $(shell pkg-config --libs OpenImageIO 2>/dev/null || echo -lOpenImageIO -lOpenImageIO_Util)
 
@@ -57,31 +57,43 @@ ENGINE_OPT ?= $(OPT:-O2=-O3)
 CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
 CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
 	$(OIIO_CFLAGS)
-# libpng writes PNG without the image module (host/image_direct.c).
+# libpng writes PNG without the image module (host/output/image_direct.c).
 PNG_LIBS = $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng)
-LDLIBS = -lOpenCL $(PNG_LIBS) -lm
+LDLIBS = -lOpenCL $(PNG_LIBS) -lnettle -lm
 # The image module: everything it needs resolved at link time (-z defs).
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
 
 SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+SAN_HOOKS := $(SAN) -DCSG_TEST_HOOKS
 
 # Sources: every .c of these folders; the engine ones get two objects each.
 ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/pigment.c workers/engine.c \
 	workers/cost.c
-ALL_C := $(wildcard csg/*.c csg/lang/*.c host/*.c workers/*.c scenes/*.c)
+ALL_C := $(wildcard csg/*.c csg/lang/*.c comm/*.c workers/*.c host/*.c host/pass/*.c \
+	host/output/*.c) sim/tile_sim.c
 PLAIN_SRCS := $(filter-out $(ENGINE_SRCS) host/main.c,$(ALL_C))
-MODULE_SRCS := host/image_oiio.cpp
+MODULE_SRCS := host/output/image_oiio.cpp
 TEST_SRCS := $(wildcard tests/test_*.c)
 
 # $(call objs,BUILDDIR)
 objs = $(PLAIN_SRCS:%.c=$(1)/obj/%.o) \
-	$(ENGINE_SRCS:%.c=$(1)/obj/float/%.o) $(ENGINE_SRCS:%.c=$(1)/obj/double/%.o)
+	$(ENGINE_SRCS:%.c=$(1)/obj/float/%.o) $(ENGINE_SRCS:%.c=$(1)/obj/double/%.o) \
+	$(1)/obj/gen/kernel_source.o
 
 B := build
 BA := build/asan
 
+# The test hooks (comm/test_hooks.h) exist only in test builds: each source
+# that includes that header (directly: the list is its includers) is
+# compiled a second time with -DCSG_TEST_HOOKS, into $(B)/hooks, for the
+# test programs and build/csgtrace-test; build/csgtrace, the program that is
+# installed, reads no CSGTRACE_TEST_* variable.  The ASan build is a test
+# build throughout.
+HOOKED_SRCS := $(shell grep -l '"[./]*comm/test_hooks\.h"\|"test_hooks\.h"' $(PLAIN_SRCS))
 LIB_OBJS := $(call objs,$(B))
+LIB_OBJS_TEST := $(filter-out $(HOOKED_SRCS:%.c=$(B)/obj/%.o),$(LIB_OBJS)) \
+	$(HOOKED_SRCS:%.c=$(B)/hooks/%.o)
 LIB_OBJS_ASAN := $(call objs,$(BA))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
@@ -89,13 +101,24 @@ TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 .PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
 	clean
-all: $(B)/csgtrace $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
+all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
 
-# The loader's last resort: the module of its own build folder (the test
-# programs live one folder below it).
-$(B)/obj/host/image_loader.o: DEFS += -DCSG_IMAGE_MODULE_BUILT='"$(ROOT)/$(B)/$(MODULE)"'
-$(BA)/obj/host/image_loader.o: DEFS += -DCSG_IMAGE_MODULE_BUILT='"$(ROOT)/$(BA)/$(MODULE)"'
+
+# ---- the OpenCL program's source, embedded ------------------------------------
+# simd_kernels/primary.cl with its includes inlined, as a C string
+# (tools/embed_kernels.py): the program reads no source tree at run time.
+# build/gen/kernel_source.d lists the headers it was made from.
+GEN := build/gen
+$(GEN)/kernel_source.c: simd_kernels/primary.cl tools/embed_kernels.py
+	@mkdir -p $(dir $@)
+	python3 tools/embed_kernels.py $< $@ -I csg/device -I simd_kernels
+$(B)/obj/gen/kernel_source.o: $(GEN)/kernel_source.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) $(OPT) -c $< -o $@
+$(BA)/obj/gen/kernel_source.o: $(GEN)/kernel_source.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) -O1 $(SAN_HOOKS) -c $< -o $@
 
 # ---- objects ---------------------------------------------------------------
 $(B)/obj/%.o: %.c
@@ -110,16 +133,19 @@ $(B)/obj/double/%.o: %.c
 $(B)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS_COMMON) $(OPT) -c $< -o $@
+$(B)/hooks/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) $(OPT) -DCSG_TEST_HOOKS -c $< -o $@
 
 $(BA)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_COMMON) -O1 $(SAN) -c $< -o $@
+	$(CC) $(CFLAGS_COMMON) -O1 $(SAN_HOOKS) -c $< -o $@
 $(BA)/obj/float/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_COMMON) -O1 $(SAN) -c $< -o $@
+	$(CC) $(CFLAGS_COMMON) -O1 $(SAN_HOOKS) -c $< -o $@
 $(BA)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_COMMON) -O1 $(SAN) -DCSG_DOUBLE -c $< -o $@
+	$(CC) $(CFLAGS_COMMON) -O1 $(SAN_HOOKS) -DCSG_DOUBLE -c $< -o $@
 $(BA)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXFLAGS_COMMON) -O1 $(SAN) -c $< -o $@
@@ -129,14 +155,17 @@ $(BA)/obj/%.o: %.cpp
 # module does not relink the programs).
 $(B)/csgtrace: $(B)/obj/host/main.o $(LIB_OBJS) | $(B)/$(MODULE)
 	$(CC) $^ -o $@ $(LDLIBS)
+# The same program with the test hooks, for the end-to-end tests that use them.
+$(B)/csgtrace-test: $(B)/obj/host/main.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
+	$(CC) $^ -o $@ $(LDLIBS)
 $(BA)/csgtrace: $(BA)/obj/host/main.o $(LIB_OBJS_ASAN) | $(BA)/$(MODULE)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS)
 
-$(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS) | $(B)/$(MODULE)
+$(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS) -lcmocka
 # A worker that breaks the protocol on purpose (tests/e2e_mpi.sh).
-$(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS) | $(B)/$(MODULE)
+$(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
 
@@ -144,10 +173,18 @@ $(BA)/tests/%: $(BA)/obj/tests/%.o $(LIB_OBJS_ASAN) | $(BA)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $(SAN) $^ -o $@ $(LDLIBS) -lcmocka
 
-$(B)/$(MODULE): $(MODULE_SRCS:%.cpp=$(B)/obj/%.o)
+# The module converts 8-bit pixels with the program's own code
+# (comm/pixels.c, compiled again position-independent).
+$(B)/$(MODULE): $(MODULE_SRCS:%.cpp=$(B)/obj/%.o) $(B)/obj/pic/comm/pixels.o
 	$(CXX) $(MODULE_LDFLAGS) $^ -o $@ $(OIIO_LIBS)
-$(BA)/$(MODULE): $(MODULE_SRCS:%.cpp=$(BA)/obj/%.o)
+$(BA)/$(MODULE): $(MODULE_SRCS:%.cpp=$(BA)/obj/%.o) $(BA)/obj/pic/comm/pixels.o
 	$(CXX) $(SAN) $(MODULE_LDFLAGS) $^ -o $@ $(OIIO_LIBS)
+$(B)/obj/pic/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) $(OPT) -fPIC -c $< -o $@
+$(BA)/obj/pic/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) -O1 $(SAN) -fPIC -c $< -o $@
 
 # ---- the pipeline fuzzer (libFuzzer, clang) ----------------------------------------
 # build/fuzz/fuzz_pipeline: every stage of a render on each input
@@ -161,7 +198,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
-	workers/engine_common.c workers/tile.c workers/noise.c
+	workers/engine_common.c workers/tile.c workers/tile_run.c workers/noise.c
 FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)
 
@@ -213,25 +250,25 @@ $(B)/bench/embree_primary: bench/embree_primary.c
 
 # ---- the simulated build (SimGrid SMPI) -----------------------------------------
 # The project's own master, scheduler, link and worker compiled with smpicc;
-# what differs: tile_run_rect (workers/tile_sim.c, -DCSG_SIM), the driver
-# (host/sim/main.c) and the link-time stubs (host/sim/stubs.c).  Not part of
+# what differs: tile_run_rect (sim/tile_run.c for workers/tile_run.c), the driver
+# (sim/main.c) and the link-time stubs (sim/stubs.c).  Not part of
 # `make test`'s build: SimGrid is only needed here (make deps-sim).
 S := build/sim
 SIM_CC := smpicc
-SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/ocl.c \
-	$(ENGINE_SRCS),$(ALL_C)) host/sim/main.c host/sim/stubs.c
+SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/pass/ocl.c \
+	workers/tile_run.c $(ENGINE_SRCS),$(ALL_C)) sim/main.c sim/stubs.c sim/tile_run.c
 SIM_OBJS := $(SIM_SRCS:%.c=$(S)/obj/%.o) $(ENGINE_SRCS:%.c=$(S)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(S)/obj/double/%.o)
 
 $(S)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+	$(SIM_CC) $(CFLAGS_COMMON) $(OPT) -c $< -o $@
 $(S)/obj/float/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM $(OPT) -c $< -o $@
+	$(SIM_CC) $(CFLAGS_COMMON) $(OPT) -c $< -o $@
 $(S)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_SIM -DCSG_DOUBLE $(OPT) -c $< -o $@
+	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_DOUBLE $(OPT) -c $< -o $@
 $(S)/csgsim: $(SIM_OBJS)
 	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(PNG_LIBS) -lm
 

@@ -1,7 +1,7 @@
 /*
  * nap_cost.c — what a nap that runs out costs the napping thread in CPU
- * time: the semaphore wait with a deadline of host/link.c's idle wait
- * (sem_clockwait on CLOCK_MONOTONIC, timer slack 1 us as link.c sets
+ * time: the semaphore wait with a deadline of comm/mpi_link.c's idle wait
+ * (sem_clockwait on CLOCK_MONOTONIC, timer slack 1 us as mpi_link.c sets
  * it), NAPS times a round, ROUNDS rounds; printed per nap length: the
  * median CPU and wall microseconds a nap with their range.  The simulated
  * build charges a rank this CPU time after each of its naps (bench/
@@ -15,7 +15,7 @@
 #include <sys/prctl.h>
 #include <time.h>
 
-#include "../host/deadline.h"
+#include "../comm/deadline.h"
 #include "timing.h"
 
 int main(int argc, char **argv)
@@ -26,7 +26,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: nap_cost ROUNDS(1..99) NAPS NS...\n");
         return 2;
     }
-    prctl(PR_SET_TIMERSLACK, 1000UL); /* (link.c's LINK_NAP_MIN_NS) */
+    prctl(PR_SET_TIMERSLACK, 1000UL); /* (mpi_link.c's LINK_NAP_MIN_NS) */
     sem_t never;
     sem_init(&never, 0, 0);
     double *cpu = malloc((size_t)rounds * sizeof *cpu), *wall = malloc((size_t)rounds * sizeof *wall);

@@ -4,7 +4,7 @@
  * turn, ROUNDS times interleaved (setting 1, 2, ..., then again), and
  * prints per setting the median write time with its range and the file's
  * size.  "oiio" is the image module's writer (the path before
- * host/image_direct.c, $CSGTRACE_IMAGE_WRITER=oiio); the others are the
+ * host/output/image_direct.c, $CSGTRACE_IMAGE_WRITER=oiio); the others are the
  * direct writer with the named zlib level, strategy and filter.
  *
  *   build/bench/png_write IMAGE.exr ROUNDS OUTDIR [REPEAT [SETTINGS]]
@@ -18,8 +18,8 @@
 #include <sys/stat.h>
 #include <zlib.h>
 
-#include "../host/image.h"
-#include "../host/image_direct.h"
+#include "../host/output/image.h"
+#include "../host/output/image_direct.h"
 #include "timing.h"
 
 typedef struct {
@@ -45,11 +45,10 @@ static bool write_one(const setting *s, const char *path, const float *rgb, int 
                       char *err, size_t err_size)
 {
     if (!s->module)
-        return img_direct_write(path, IMG_DIRECT_PNG, rgb, w, h, &s->png, err, err_size) ==
-               IMG_DIRECT_WRITTEN;
-    setenv(IMG_WRITER_ENV, "oiio", 1);
+        return img_direct_write(path, IMG_DIRECT_PNG, rgb, w, h, &s->png, err, err_size);
+    img_configure(&(img_settings){NULL, true, -1}); /* (the module writes PNG) */
     bool ok = img_write_rgb(path, rgb, w, h, err, err_size);
-    unsetenv(IMG_WRITER_ENV);
+    img_configure(&(img_settings){NULL, false, -1});
     return ok;
 }
 

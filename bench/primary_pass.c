@@ -53,7 +53,7 @@
 
 #include "../csg/features.h"
 #include "../csg/lang/parser.h"
-#include "../host/ocl.h"
+#include "../host/pass/ocl.h"
 #include "../workers/engine.h"
 #include "timing.h"
 
@@ -203,7 +203,7 @@ static int variant_open(variant *v, bool dbl, csg_features scene)
         fprintf(stderr, "primary_pass: unknown variant '%s'\n", v->name);
         return 2;
     }
-    ocl_options opt = {NULL, dbl, 0, &f};
+    ocl_options opt = {.use_double = dbl, .features = &f};
     csg_diag d;
     memset(&d, 0, sizeof d);
     if (!ocl_open_kernel(&opt, kernel, &v->ctx, &v->open, &d)) {

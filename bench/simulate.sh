@@ -11,7 +11,7 @@
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
 #    + 1 worker (mpirun -np 2), their tile logs reduced by bench/sim/costmap.py
 #    (each cell's minimum: preemption on a shared machine only adds).
-#    Other sizes scale this map (workers/tile_sim.h): a pixel of a 4096x4096
+#    Other sizes scale this map (sim/tile_sim.h): a pixel of a 4096x4096
 #    image costs what the recorded pixel under it cost, the pass scales with
 #    the pixel count.  Not a real 4096x4096 render: an estimate from 384x384.
 #    Hetero maps are recorded with --fill off (every cell's cost is its
@@ -20,7 +20,7 @@
 # 2. build/sim/csgsim under smpirun on bench/sim/<network>.xml, N + 1 ranks
 #    (local: this 2-core machine, every rank on its one host)
 #    (N + K + 1 with --relays K: K relays, each the master of N / K of the
-#    N workers, host/relay.h).
+#    N workers, comm/relay.h).
 # 3. F.json: the driver's object plus network and pass_scale.
 # --pass-scale F (default 1) multiplies the measured OpenCL pass (hetero):
 # 1 is PoCL on this machine's 2 CPU cores; 0.01 stands for a device 100
@@ -42,7 +42,7 @@
 # --store-threads N: so many store threads (csgtrace --store-threads), each
 # on a core of its own at C ns a pixel, a part going to the one that is
 # free first; default 1.
-# --nap-us U: every nap that runs out (link.c's idle wait, any rank) costs
+# --nap-us U: every nap that runs out (mpi_link.c's idle wait, any rank) costs
 # its rank U us of CPU besides (the timer and the wake-up: 6.4 measured
 # here, bench/SCALE.md); default 0.
 # bench/SCALE.md has the values measured here.

@@ -2,7 +2,7 @@
  * features.h — what a scene uses (device/flat.h: csg_blob_header.kinds and
  * .features, recorded by the flattener, checked by the blob validator) and
  * what code specialised on it looks like: the -D options of the OpenCL
- * program (host/ocl.c; csg/device/spec.h reads them) and the line
+ * program (host/pass/ocl.c; csg/device/spec.h reads them) and the line
  * `csgtrace check` prints.
  */
 #ifndef CSG_FEATURES_H

@@ -500,7 +500,7 @@ static int material_for(flat_builder *fb, inherited inh)
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
     memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
-                                byte: the blob is hashed (host/journal.c) */
+                                byte: the blob is hashed (host/output/journal.c) */
     for (int i = 0; i < 3; i++) {
         m->ambient[i] = (real)tex.finish.ambient[i];
         m->reflection[i] = (real)tex.finish.reflection[i];

@@ -6,7 +6,8 @@
 #include "cli.h"
 
 #include "../csg/flatten.h"
-#include "protocol.h"
+#include "../csg/numbers.h"
+#include "../comm/protocol.h"
 #include "schedule.h"
 
 #include <errno.h>
@@ -15,10 +16,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "file_atomic.h"
+#include "output/file_atomic.h"
 
 #define CLI_RELAYS_MAX 4096 /* --relays: a relay per 2 workers at most anyway */
-#include "journal.h"
+#include "output/journal.h"
 #include "store.h"
 
 void cli_usage(FILE *out)
@@ -49,10 +50,8 @@ void cli_usage(FILE *out)
 
 static bool parse_int(const char *opt, const char *s, int lo, int hi, int *out, csg_diag *d)
 {
-    char *end;
-    errno = 0;
-    long v = s ? strtol(s, &end, 10) : 0;
-    if (!s || errno || end == s || *end || v < lo || v > hi) {
+    long long v;
+    if (!number_whole(s, lo, hi, &v)) {
         csg_error_plain(d, "%s expects a whole number from %d to %d, got '%s'", opt, lo, hi,
                         s ? s : "");
         return false;
@@ -64,14 +63,10 @@ static bool parse_int(const char *opt, const char *s, int lo, int hi, int *out, 
 static bool parse_real(const char *opt, const char *s, double lo, double hi, double *out,
                        csg_diag *d)
 {
-    char *end;
-    errno = 0;
-    double v = s ? strtod(s, &end) : 0;
-    if (!s || errno || end == s || *end || !(v >= lo && v <= hi)) {
+    if (!number_real(s, lo, hi, out)) {
         csg_error_plain(d, "%s expects a number from %g to %g, got '%s'", opt, lo, hi, s ? s : "");
         return false;
     }
-    *out = v;
     return true;
 }
 
@@ -235,9 +230,31 @@ static bool outputs_distinct(const cli_args *a, csg_diag *d)
     return true;
 }
 
+/* The folders of $CSGTRACE_LIBRARY_PATH after those of --library-path;
+ * false with d filled when they are too many. */
+static bool library_from_env(cli_args *a, csg_diag *d)
+{
+    if (!a->env.library_path)
+        return true;
+    snprintf(a->library_env, sizeof a->library_env, "%s", a->env.library_path);
+    for (char *s = a->library_env, *dir; (dir = strsep(&s, ":")) != NULL;) {
+        if (!*dir)
+            continue;
+        if (a->parse.library_path_count == CLI_MAX_LIBRARY) {
+            csg_error_plain(d, "at most %d folders in --library-path and $CSGTRACE_LIBRARY_PATH",
+                            CLI_MAX_LIBRARY);
+            return false;
+        }
+        a->library[a->parse.library_path_count++] = dir;
+    }
+    return true;
+}
+
 bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
 {
     memset(a, 0, sizeof *a);
+    config_read(&a->env);
+    a->req.env = &a->env;
     a->req.mode = MODE_SERIAL;
     a->req.precision = PREC_FLOAT;
     a->req.width = 0; /* not given: the scene's size, else 320 x 240 (csg/load.h) */
@@ -294,7 +311,7 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
         csg_error_plain(d, "--resume goes with render (it continues the render to -o OUT)");
         return false;
     }
-    if (!outputs_distinct(a, d))
+    if (!outputs_distinct(a, d) || !library_from_env(a, d))
         return false;
     a->parse.image_width = a->req.width;
     a->parse.image_height = a->req.height;

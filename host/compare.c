@@ -17,7 +17,7 @@
  */
 #include "compare.h"
 
-#include "file_atomic.h"
+#include "output/file_atomic.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -25,9 +25,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "image.h"
-#include "link.h"
-#include "ocl.h"
+#include "output/image.h"
+#include "../comm/mpi_link.h"
+#include "pass/ocl.h"
 #include "render.h"
 #include "stats.h"
 

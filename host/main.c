@@ -5,17 +5,20 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "../csg/export_pov.h"
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
 #include "../csg/features.h"
 #include "../csg/load.h"
+#include "../csg/numbers.h"
 #include "../csg/precision.h"
 #include "../csg/summary.h"
 #include "cli.h"
 #include "compare.h"
-#include "../scenes/gen.h"
+#include "output/image.h"
+#include "gen.h"
 #include "render.h"
 #include "version.h"
 
@@ -102,15 +105,32 @@ static int run_gen(int argc, char **argv)
     return EXIT_OK;
 }
 
+/* The image settings of the environment (config.h), given to the image
+ * layer once; a PNG level that is not 0 to 9 is ignored with a warning. */
+static void configure_images(const csg_config *env)
+{
+    long long level = -1;
+    if (env->png_level && !number_whole(env->png_level, 0, 9, &level)) {
+        fprintf(stderr, "csgtrace: warning: CSGTRACE_PNG_LEVEL=%s is not 0 to 9; ignored\n",
+                env->png_level);
+        level = -1;
+    }
+    img_settings s = {env->image_module,
+                      env->image_writer && strcmp(env->image_writer, "oiio") == 0, (int)level};
+    img_configure(&s);
+}
+
 int main(int argc, char **argv)
 {
     cli_args a;
     csg_diag d = {0};
     if (!cli_parse(argc, argv, &a, &d))
         return fail(&d, EXIT_BAD_INPUT);
+    configure_images(&a.env);
     switch (a.command) {
     case CMD_HELP:
         cli_usage(stdout);
+        config_usage(stdout);
         return EXIT_OK;
     case CMD_VERSION:
         printf("csgtrace %s\n", CSGTRACE_VERSION);

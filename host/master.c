@@ -20,7 +20,7 @@
  * gets STOP(1).  A worker whose answer breaks the protocol (size, tile,
  * tag) is written off: its outstanding items are not waited for, its
  * pending sends are left to MPI.  Nothing is ever aborted for bad input:
- * the only abort (code 1) is a message too large to take (link.c).
+ * the only abort (code 1) is a message too large to take (mpi_link.c).
  *
  * A dead worker does not end the render: a worker whose process is gone
  * (link_peer_lost: its watchdog socket closed; or its message cut off:
@@ -68,13 +68,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "journal.h"
-#include "link.h"
-#include "protocol.h"
+#include "output/journal.h"
+#include "../comm/mpi_link.h"
+#include "../comm/protocol.h"
+#include "../comm/test_hooks.h"
 #include "store.h"
-#ifdef CSG_SIM
-#include "../workers/tile_sim.h"
-#endif
 
 #define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
 #define MASTER_NAP_MIN_NS 2000L
@@ -544,21 +542,9 @@ static void master_close_sends(master_loop *L)
 
 /* ---- answers ---------------------------------------------------------------- */
 
-/* The pixel format of the RESULT part at `at` in msg: its header's when
- * the header is there (-1 when it names no format the session takes:
- * floats always, bytes when it asked for them), else the session's. */
-static int master_part_pixels(const link_msg *msg, size_t at, int session)
-{
-    proto_result h;
-    if (at > msg->len || msg->len - at < sizeof h)
-        return session;
-    memcpy(&h, msg->data + at, sizeof h);
-    return h.pixels == PIXELS_FLOAT || h.pixels == session ? h.pixels : -1;
-}
-
-/* The bytes of the RESULT for items[0 .. k - 1], each part in the format
- * its header names; false with d filled when a header names none the
- * session takes. */
+/* The bytes of the RESULT for items[0 .. k - 1], each part in the
+ * session's pixel format; false with d filled when a part's header names
+ * another. */
 static bool master_result_bytes(const master_job *job, const link_msg *msg, const int *items,
                                 int k, int session, size_t *len, csg_diag *d)
 {
@@ -566,13 +552,16 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
     for (int i = 0; i < k; i++) {
         tile_rect r = job->sched->items[items[i]].rect;
         size_t at = proto_align(*len);
-        int format = master_part_pixels(msg, at, session);
-        if (format < 0) {
-            csg_error_plain(d, "worker %d: result of tile %d in an unknown pixel format",
-                            msg->source, job->sched->items[items[i]].tile);
-            return false;
+        proto_result h;
+        if (at <= msg->len && msg->len - at >= sizeof h) {
+            memcpy(&h, msg->data + at, sizeof h);
+            if (h.pixels != session) {
+                csg_error_plain(d, "worker %d: result of tile %d in another pixel format",
+                                msg->source, job->sched->items[items[i]].tile);
+                return false;
+            }
         }
-        *len = at + proto_result_part((size_t)r.width * (size_t)r.height, format);
+        *len = at + proto_result_part((size_t)r.width * (size_t)r.height, session);
     }
     return true;
 }
@@ -608,15 +597,13 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
                        h.busy_s, h.cpu_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
-#ifdef CSG_SIM
-    sim_charge_master_part(n, h.pixels == PIXELS_RGB8); /* what that took a real master
-                                                           (workers/tile_sim.h) */
-#endif
+    if (m->costs) /* (the simulated build: what a real master took) */
+        m->costs->part(n, h.pixels == PIXELS_RGB8);
     return true;
 }
 
 /* A RESULT for items[0 .. k - 1] of the job, its parts in the session's
- * pixel format `session` or in floats: checked, stored, counted. */
+ * pixel format `session`: checked, stored, counted. */
 static bool master_take_result(master_job *job, const master_session *m, const link_msg *msg,
                                const int *items, int k, csg_diag *d)
 {
@@ -629,16 +616,14 @@ static bool master_take_result(master_job *job, const master_session *m, const l
                         msg->source, job->sched->items[items[0]].tile, msg->len, expected);
         return false;
     }
-#ifdef CSG_SIM
-    sim_charge_master_message();
-#endif
+    if (m->costs)
+        m->costs->message();
     size_t at = 0;
     for (int i = 0; i < k; i++) {
-        int format = master_part_pixels(msg, at, session);
         if (!master_take_part(job, m, msg, msg->data + at, items[i], d))
             return false;
         tile_rect r = job->sched->items[items[i]].rect;
-        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height, format));
+        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height, session));
     }
     return true;
 }
@@ -682,7 +667,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         L->failed = true;
         master_write_off(L, src);
     }
-    proto_test_kill(0, "item", L->job->items_done);
+    test_hook_kill(0, "item", L->job->items_done);
 }
 
 /* Every message waiting, taken and answered; true when there was one. */
@@ -801,9 +786,8 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         ok = !m->setup_failed && master_deal(&L, idle, d);
         master_close_sends(&L);
     }
-#ifdef CSG_SIM
-    sim_master_store_drain();
-#endif
+    if (m->costs)
+        m->costs->drain();
     if (job->store) { /* the image whole before the caller reads it */
         store_drain(job->store);
         master_journal_stored(job, true);

@@ -2,7 +2,7 @@
  * master.h — rank 0's side of the tile protocol (protocol.h): the scene
  * broadcast, the work items of the scheduler (schedule.h) kept
  * PROTO_IN_FLIGHT deep at every worker while the OpenCL pass still
- * produces them, the final STOP (through link.h).
+ * produces them, the final STOP (through mpi_link.h).
  *
  * Use (render.c):
  *   master_begin(&m, ranks);                 ranks 1: every call below is a
@@ -20,10 +20,20 @@
 
 #include "../csg/flatten.h"
 #include "../workers/tile.h"
-#include "link.h"
+#include "../comm/mpi_link.h"
 #include "progress.h"
 #include "schedule.h"
 #include "stats.h"
+
+/* What the master's own work on the results costs where that is
+ * simulated (make sim: sim/main.c sets it after master_begin, sim/
+ * charges.h); NULL in a real render, where the work is simply done. */
+typedef struct {
+    void (*message)(void);                /* a RESULT taken in            */
+    void (*part)(size_t pixels, bool rgb8); /* one of its parts stored     */
+    void (*drain)(void);                  /* the tile phase's end: the
+                                             store threads' backlog       */
+} master_costs;
 
 typedef struct {
     int workers;              /* ranks - 1                                */
@@ -52,6 +62,7 @@ typedef struct {
     uint64_t tile_messages;   /* TILE messages sent                       */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
+    const master_costs *costs; /* the simulated build's (NULL: none)      */
 } master_session;
 
 /* One tile phase: what to do and where the results go. */

@@ -3,7 +3,7 @@
  * allocate (memory.h).
  */
 #include "memory.h"
-#include "pixels.h"
+#include "../comm/pixels.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,8 +13,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-/* What the encoder holds beside the image: 8-bit formats a strip of
- * encoded floats and their bytes; float formats OpenImageIO's chunk. */
+/* What the encoder holds beside the image: 8-bit formats a strip of their
+ * bytes; float formats OpenImageIO's chunk. */
 static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path)
 {
     uint64_t row = width * 3 * sizeof(float);
@@ -22,7 +22,7 @@ static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_p
         return 0;
     if (pixels_format_for(out_path) == PIXELS_RGB8) {
         uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
-        return rows * width * 3 * (sizeof(float) + 1);
+        return rows * width * 3;
     }
     uint64_t chunk = MEMORY_WRITER_FLOAT_CHUNK / row * row;
     chunk = chunk > row ? chunk : row;

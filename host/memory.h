@@ -24,8 +24,8 @@ typedef struct {
 } render_memory;
 
 /* Rows of the image the encoder holds at a time, as encoded floats and
- * their bytes for 8-bit formats (host/image_oiio.cpp, display_strip_rows).
- * PNG and PPM hold one row of bytes (host/image_direct.c), but an image
+ * their bytes for 8-bit formats (host/output/image_oiio.cpp, display_strip_rows).
+ * PNG and PPM hold one row of bytes (host/output/image_direct.c), but an image
  * with a value of no byte of its own goes to the module anyway: the
  * estimate keeps the strip. */
 #define MEMORY_WRITER_STRIP_ROWS 64

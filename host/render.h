@@ -8,6 +8,8 @@
 #include <stdbool.h>
 
 #include "../csg/lang/parser.h"
+#include "config.h"
+#include "exit_status.h"
 
 struct ocl_ctx;
 struct render_stats;
@@ -25,7 +27,7 @@ typedef struct {
     const char *out_path;     /* NULL: render, write nothing (compare) */
     const char *stats_path;   /* NULL: no JSON                       */
     const char *tile_log_path; /* NULL: no tile log (--tile-log)     */
-    const char *cl_device;    /* NULL: $CSGTRACE_CL_DEVICE or first  */
+    const char *cl_device;    /* NULL: env's cl_device, or the first */
     enum render_mode mode;
     enum render_precision precision;
     int width, height;        /* 0: the scene's (NFF), else 320 x 240 */
@@ -39,7 +41,7 @@ typedef struct {
     enum progress_mode progress; /* the bar on stderr                */
     bool resume;              /* go on from out_path's journal (host/
                                  journal.h); else a new one replaces it */
-    int cl_kernel;            /* enum ocl_kernel (host/ocl.h): 0 auto,
+    int cl_kernel;            /* enum ocl_kernel (host/pass/ocl.h): 0 auto,
                                  1 scalar, 2 packet                    */
     int schedule;             /* enum sched_policy (host/schedule.h);
                                  < 0: the mode's default (hetero: cost,
@@ -57,10 +59,12 @@ typedef struct {
                                  (--batch); 0: auto (host/schedule.h)  */
     int relays;               /* --relays: ranks 1 .. relays are relays,
                                  masters of groups of workers
-                                 (host/relay.h); 0: none               */
+                                 (comm/relay.h); 0: none               */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */
+    const csg_config *env;    /* the environment's settings (config.h,
+                                 read once at start); NULL: none        */
     const csg_parse_options *parse; /* clock, library folders, messages;
                                        NULL: the defaults (image_width and
                                        image_height are always the render's) */
@@ -73,9 +77,6 @@ typedef struct {
                                        (its `workers` left NULL)         */
     float **image_out;        /* receives the image (malloc'd, RGB)     */
 } render_request;
-
-/* Exit statuses of the program (DESIGN.md). */
-enum { EXIT_OK = 0, EXIT_FAILURE_RUN = 1, EXIT_BAD_INPUT = 2 };
 
 /* Runs one render (host/render.c) and returns the exit status.
  * Without mpirun (no OMPI_COMM_WORLD_SIZE) MPI is never initialised and

@@ -141,7 +141,7 @@ void sched_free(sched *s);
 /* Every batch takes at least `floor` items (as many as are ready, and
  * within the limit), or what is left over `slots` messages when that is
  * less (so the last items still spread over every relay): the workers are
- * relays (host/relay.h), each the master of a group that must not run dry
+ * relays (comm/relay.h), each the master of a group that must not run dry
  * while its TILEs are out. */
 void sched_batch_floor(sched *s, int floor, int slots);
 

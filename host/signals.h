@@ -26,7 +26,7 @@ void signals_release(const char *const *written, int n);
  * process with a line that says so, instead of "no file written". */
 void signals_finished(void);
 
-/* The journal of the render (host/journal.h), holding `tiles` finished
+/* The journal of the render (host/output/journal.h), holding `tiles` finished
  * tiles; a signal's line then says how to resume (or, when it holds none,
  * removes it).  NULL: no journal. */
 void signals_journal(const char *path, int tiles);

@@ -9,7 +9,8 @@
  */
 #include "stats.h"
 
-#include "file_atomic.h"
+#include "output/file_atomic.h"
+#include "pass/estimate.h"
 
 #include <errno.h>
 #include <math.h>
@@ -251,4 +252,81 @@ void stats_print_summary(FILE *f, const render_stats *s)
             s->mode, s->width, s->height, s->precision, s->ranks, s->wall_s, s->tiles_total,
             s->tiles_sent, s->tiles_degenerate,
             stats_occupancy(s));
+}
+
+/* ---- the figures of the tile phase ---------------------------------------------- */
+
+/* The last result in minus the first worker idle for good. */
+static double stats_tail(const sched *s, int first, int workers, double t_first, double t_last)
+{
+    double *last = calloc((size_t)workers + 1, sizeof *last);
+    double first_idle = t_last;
+    if (workers < 2 || t_first == 0 || !last) {
+        free(last);
+        return 0.0;
+    }
+    for (int i = 0; i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (it->worker >= 1 && it->worker <= workers && it->done_s > last[it->worker])
+            last[it->worker] = it->done_s;
+    }
+    for (int r = first; r <= workers; r++) { /* (relays compute nothing) */
+        double idle = last[r] > 0 ? last[r] : t_first;
+        if (idle < first_idle)
+            first_idle = idle;
+    }
+    free(last);
+    return t_last - first_idle;
+}
+
+/* Spearman's rho of the sent items' estimates and seconds. */
+static double stats_spearman(const sched *s)
+{
+    double *x = malloc((size_t)s->count * sizeof *x), *y = malloc((size_t)s->count * sizeof *y);
+    int n = 0;
+    for (int i = 0; x && y && i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (!it->skipped && !it->split && it->order >= 0 && it->estimate >= 0) {
+            x[n] = it->estimate;
+            y[n++] = it->busy_s;
+        }
+    }
+    double rho = x && y ? estimate_spearman(x, y, n) : (double)NAN;
+    free(x);
+    free(y);
+    return rho;
+}
+
+/* Degenerate tiles (skipped, not resumed). */
+static int stats_skipped(const sched *s)
+{
+    int n = 0;
+    for (int i = 0; i < s->count; i++)
+        n += s->items[i].skipped && !s->items[i].resumed;
+    return n;
+}
+
+/* Tiles the fill claimed and workers rendered whole. */
+static int stats_filled(const sched *s)
+{
+    int n = 0;
+    for (int i = 0; i < s->count; i++)
+        n += s->items[i].fill;
+    return n;
+}
+
+void stats_tile_figures(render_stats *st, const sched *s, double t_first, double t_last,
+                        double busy_s)
+{
+    st->tile_phase_s = t_first > 0 ? t_last - t_first : 0.0;
+    double span = st->tile_phase_s * (double)(st->worker_count - st->relays);
+    st->busy_fraction = span > 0 ? busy_s / span : 0.0;
+    st->tail_s = stats_tail(s, st->relays + 1, st->worker_count > 1 ? st->worker_count : 0,
+                            t_first, t_last);
+    st->estimate_spearman = stats_spearman(s);
+    st->tiles_sent = s->added;
+    st->tiles_degenerate = stats_skipped(s);
+    st->tiles_filled = stats_filled(s);
+    st->items_sent = s->dispatched;
+    st->items_reassigned = s->requeued;
 }

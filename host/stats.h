@@ -16,7 +16,7 @@
  *                 "failed" (--pass auto: the device or its program could
  *                 not be had, or the scene did not fit its buffers; one
  *                 warning said why, and the workers rendered every tile
- *                 left: render_pass_give_up); "none"
+ *                 left: host/pass/pass.c); "none"
  *                 in homo and serial
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
@@ -76,7 +76,7 @@
  *                 traced on rank 0 while the workers began, over the
  *                 image, times the primary rays' share of their rays; the
  *                 device is opened when that is at least 0.16 s
- *                 (host/render.c); 0 when there was no guess
+ *                 (host/pass/pass.c); 0 when there was no guess
  *   guess_cpu_s   hetero, --pass auto: the CPU seconds that guess took on
  *                 rank 0 (0 when none was done before the tiles were):
  *                 with cull_s, what hetero spends that homo does not
@@ -96,7 +96,7 @@
  *                 culling of the workers' primary rays (engine.h
  *                 rect_misses): no object may meet any ray of the tile
  *   tiles_resumed tiles taken from the journal of an interrupted run
- *                 (--resume, host/journal.h): never rendered again
+ *                 (--resume, host/output/journal.h): never rendered again
  *   tiles_rendered = tiles_sent (the name --resume users look for)
  *   tiles_filled  hetero: of tiles_sent, those the fill gave workers to
  *                 render whole (primary rays too) while no tile of the
@@ -133,7 +133,7 @@
  *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
  *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
  *                 a part with a value that has no byte of its own still
- *                 comes as floats, host/pixels.h), "float" (EXR or no
+ *                 comes as floats, comm/pixels.h), "float" (EXR or no
  *                 file), "none" (no workers)
  *   blob_bytes    size of the flattened scene
  *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
@@ -236,6 +236,14 @@ bool stats_write_json(const char *path, const render_stats *s, char *err, size_t
  * relative to t0, written like the JSON; false with a message in err. */
 bool stats_write_tile_log(const char *path, const sched *s, double t0, char *err,
                           size_t err_size);
+
+/* The figures of a tile phase from its scheduler's items (s), the first
+ * item out and the last result in (stats_clock(); t_first 0: none) and
+ * the workers' busy seconds: tile_phase_s, busy_fraction, tail_s,
+ * estimate_spearman, tiles_sent, tiles_degenerate, tiles_filled,
+ * items_sent, items_reassigned (worker_count and relays set before). */
+void stats_tile_figures(render_stats *st, const sched *s, double t_first, double t_last,
+                        double busy_s);
 
 /* One short line for people: mode, size, ranks, wall time, tiles. */
 void stats_print_summary(FILE *f, const render_stats *s);

@@ -32,8 +32,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "deadline.h"
-#include "pixels.h"
+#include "../comm/deadline.h"
+#include "../comm/pixels.h"
 
 #define STORE_WAIT_NS 20000L               /* store_finished's naps      */
 /* An idle consumer looks again this often unless woken: waking it for

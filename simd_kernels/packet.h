@@ -8,7 +8,7 @@
  * walk is a data-dependent loop with a private stack); explicit vectors
  * are what it turns into 512-bit code.
  *
- * Built by host/ocl.c with -DCSG_PACKET=W (twice the device's preferred
+ * Built by host/pass/ocl.c with -DCSG_PACKET=W (twice the device's preferred
  * vector width of `real`, at most 16) and -DCSG_PACKET_COLS=C: a packet
  * is a block of C records of a row (pixels, or samples side by side) by
  * W / C rows, lane k at (k % C, k / C), so its rays are coherent.

@@ -123,9 +123,9 @@ failing() {
     fi
 }
 
-CSGTRACE_FAIL_WORKER=2 sanitised fail 3 homo "$scene" --tile 8
+CSGTRACE_TEST_FAIL_WORKER=2 sanitised fail 3 homo "$scene" --tile 8
 failing fail 1 'worker 2' "worker 2 fails (homo, 2 workers): one message, no image, no leak of ours"
-CSGTRACE_FAIL_WORKER=3 sanitised relay-fail 5 hetero "$scene" --tile 8 --relays 2
+CSGTRACE_TEST_FAIL_WORKER=3 sanitised relay-fail 5 hetero "$scene" --tile 8 --relays 2
 failing relay-fail 1 'worker 3' "worker 3 fails under relay 1 (hetero, 2 relays): one message, no image, no leak of ours"
 printf 'camera { location <0,0,-5> look_at <0,0,0> }\nsphere { <0,0,0>, }\n' >"$T/bad.pov"
 sanitised bad 3 homo "$T/bad.pov"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# e2e_bytes.sh — results in the output's precision (host/pixels.h): to an
+# e2e_bytes.sh — results in the output's precision (comm/pixels.h): to an
 # 8-bit file (PNG) the workers send the file's bytes, 3 a pixel, instead of
 # RGB floats, 12; the file must not change by a byte.
 #   - on every example scene and a random one, 61x37, tile 7: homo and
@@ -77,16 +77,16 @@ done
     json "$T/st-exr.json" "j['store_threads'] == 0" &&
     ok "to EXR (float results): no store thread runs" || ko "store threads to EXR"
 
-# Parts that come as floats in an 8-bit render (a value without a byte of
-# its own, host/pixels.h; forced here for every other part): the same PNG.
+# An 8-bit format of OpenImageIO's (TIFF): the workers' bytes, handed to
+# it as bytes, give the serial PNG's pixels (every 8-bit file is encoded
+# one way: comm/pixels.h).
 for mode in homo hetero; do
-    CSGTRACE_TEST_FLOAT_PARTS=1 "${MPI[@]}" -np 3 -x CSGTRACE_TEST_FLOAT_PARTS "$BIN" render \
-        "$T/random.pov" "${SZ[@]}" --batch 3 --mode $mode -o "$T/mixed-$mode.png" \
-        --stats "$T/mixed-$mode.json" >/dev/null 2>&1 &&
-        cmp -s "$T/random-serial.png" "$T/mixed-$mode.png" &&
-        json "$T/mixed-$mode.json" "j['result_pixels'] == 'rgb8'" &&
-        ok "$mode: every other part as floats in an 8-bit render: the same PNG" ||
-        ko "$mode: parts as floats in an 8-bit render"
+    "${MPI[@]}" -np 3 "$BIN" render "$T/random.pov" "${SZ[@]}" --batch 3 --mode $mode \
+        -o "$T/tif-$mode.tif" --stats "$T/tif-$mode.json" >/dev/null 2>&1 &&
+        same "$T/random-serial.png" "$T/tif-$mode.tif" &&
+        json "$T/tif-$mode.json" "j['result_pixels'] == 'rgb8'" &&
+        ok "$mode: to TIFF (8-bit, through OpenImageIO): the serial PNG's pixels" ||
+        ko "$mode: to TIFF"
 done
 
 # Truthful stats: 9 bytes a pixel fewer received to PNG than to EXR.

@@ -173,7 +173,7 @@ rm -f "$T/nostats.png" "$T/resumed.json"
 expect 1 "render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode serial
-errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 1.62 GiB of memory .*may allocate" \
+errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 1.61 GiB of memory .*may allocate" \
     "memory estimate message"
 if [ -e "$T/huge.png" ] || ls "$T"/.huge* >/dev/null 2>&1; then ko "memory refusal wrote a file"; else
     ok "memory refusal wrote no file"
@@ -183,7 +183,7 @@ fi
 expect 1 "hetero render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode hetero
-errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 2.69 GiB of memory \(the image 1.61 GiB, its encoding 10.99 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
+errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 2.69 GiB of memory \(the image 1.61 GiB, its encoding 2.20 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
     "hetero memory estimate message"
 
 # --- a failed render never leaves a partial file: existing output untouched ---
@@ -226,7 +226,7 @@ expect 1 "render with a broken image module" env CSGTRACE_IMAGE_MODULE="$T/good.
     "$BIN" render "$T/good.pov" -o "$T/nomod.exr" --width 8 --height 6
 errmsg "^csgtrace: error: .*image module.*good.pov" "broken module message names it"
 [ ! -e "$T/nomod.exr" ] && ok "no image without a module" || ko "image written without a module"
-# PNG and PPM need no module (host/image_direct.c; tests/e2e_image.sh)
+# PNG and PPM need no module (host/output/image_direct.c; tests/e2e_image.sh)
 expect 0 "render to PNG without the image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" \
     "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
 rm -f "$T/nomod.png"
@@ -258,5 +258,20 @@ grep -qx "specialised: sphere box cone triangle; csg (the scene also: transforms
     ko "check specialised line: $(grep specialised "$T/out")"
 expect 0 "export" "$BIN" export "$T/good.pov" -o "$T/exported.pov"
 expect 0 "exported scene parses again" "$BIN" check "$T/exported.pov"
+
+# --- the test hooks are not in the installed program (comm/test_hooks.h) ---
+if grep -qa 'CSGTRACE_TEST_' "$BIN"; then
+    ko "$BIN holds a CSGTRACE_TEST_ hook's name"
+elif ! grep -qa 'CSGTRACE_TEST_FAIL_WORKER' "$HOOKED_BIN"; then
+    ko "$HOOKED_BIN lacks the hooks (the check above would prove nothing)"
+else
+    ok "the test hooks are in $HOOKED_BIN only, not in $BIN"
+fi
+(
+    mpi_sandbox
+    CSGTRACE_TEST_FAIL_WORKER=1 mpirun -np 2 -x CSGTRACE_TEST_FAIL_WORKER "$BIN" render "$T/good.pov" \
+        -o "$T/hooked.png" --mode homo --width 8 --height 6 >/dev/null 2>&1
+) && [ -s "$T/hooked.png" ] && ok "$BIN ignores CSGTRACE_TEST_FAIL_WORKER" ||
+    ko "$BIN obeyed (or failed under) CSGTRACE_TEST_FAIL_WORKER"
 
 e2e_finish

@@ -15,6 +15,7 @@
 # and the comparisons of the pass's records would prove nothing.
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
+BIN=$HOOKED_BIN # (CSGTRACE_TEST_* hooks)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
 MPIRUN=(mpirun --oversubscribe --bind-to none)
@@ -197,7 +198,7 @@ else
 fi
 same "$T/cmp-homo.png" "$T/cmp-hetero.png" && ok "compare -o writes both images" || ko "compare images missing or different"
 
-# --- the program cache (host/cl_cache.h): a render stores the program's
+# --- the program cache (host/pass/cl_cache.h): a render stores the program's
 # binary, the next one builds from it with the same image; a damaged or
 # foreign file is ignored and replaced; "off" writes nothing; a cache that
 # cannot be written changes nothing but the speed ---
@@ -215,15 +216,13 @@ same "$T/cc_1.exr" "$T/cc_2.exr" && same "$T/cc_1.exr" "$T/sp_s_showcase.exr" &&
     ok "program cache: the render built from the cached binary == the first == serial" ||
     ko "program cache: images differ"
 bin=${bins[0]}
-valid_bin() { # the header's size and FNV-1a match the payload (cl_cache.c)
+valid_bin() { # the header's size and SHA-256 of key and payload match (cl_cache.c)
     python3 -c "
-import struct, sys
+import hashlib, struct, sys
 b = open(sys.argv[1], 'rb').read()
-magic, key, size, total = struct.unpack('<16sQQQ', b[:40])
-h = 0xcbf29ce484222325
-for c in b[40:]:
-    h = ((h ^ c) * 0x100000001b3) & 0xffffffffffffffff
-sys.exit(0 if magic.startswith(b'csgtrace-cl-1') and size == len(b) - 40 and h == total else 1)" "$1"
+magic, key, size, digest = struct.unpack('<16s32sQ32s', b[:88])
+ok = magic.startswith(b'csgtrace-cl-2') and size == len(b) - 88
+sys.exit(0 if ok and hashlib.sha256(key + b[88:]).digest() == digest else 1)" "$1"
 }
 valid_bin "$bin" && ok "program cache: the stored file's header matches its payload" || ko "program cache: stored file invalid"
 printf 'XXXXXXXX' | dd of="$bin" bs=1 seek=200 conv=notrunc 2>/dev/null # payload damaged
@@ -239,6 +238,43 @@ head -c 100 "$bin" >"$bin.cut" && mv "$bin.cut" "$bin" # torn
 CSGTRACE_CL_CACHE=$cache render cc_4 0 hetero "$scene" --width 64 --height 48 --tile 16
 same "$T/cc_1.exr" "$T/cc_4.exr" && valid_bin "$bin" &&
     ok "program cache: a torn binary is ignored and replaced" || ko "program cache: torn binary"
+# another program's entry under this one's name (a foreign file: its
+# header names its own key), and one whose key is rewritten to this name
+# (its digest, of the other key and the payload, no longer holds):
+# refused and rebuilt, the same image
+CSGTRACE_CL_CACHE=$cache render cc_b 0 hetero "$T/gen_1.pov" --width 64 --height 48 --tile 16
+other=$(ls "$cache"/*.clbin | grep -v "$bin")
+cp "$other" "$bin"
+CSGTRACE_CL_CACHE=$cache render cc_f 0 hetero "$scene" --width 64 --height 48 --tile 16
+same "$T/cc_1.exr" "$T/cc_f.exr" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
+    ok "program cache: another program's entry under this name is refused and rebuilt" ||
+    ko "program cache: foreign entry: $(head -c 300 "$T/cc_f.err")"
+python3 -c "
+import sys
+a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
+open(sys.argv[2], 'wb').write(a[:16] + b[16:48] + a[48:])" "$other" "$bin"
+CSGTRACE_CL_CACHE=$cache render cc_r 0 hetero "$scene" --width 64 --height 48 --tile 16
+same "$T/cc_1.exr" "$T/cc_r.exr" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
+    ok "program cache: a re-keyed entry (the digest no longer holds) is refused and rebuilt" ||
+    ko "program cache: re-keyed entry: $(head -c 300 "$T/cc_r.err")"
+# a FIFO where the entry should be: not opened for reading (it would block
+# for ever), refused, and the render goes on
+rm -f "$bin" && mkfifo "$bin"
+CSGTRACE_CL_CACHE=$cache timeout 60 "$BIN" render "$scene" -o "$T/cc_p.exr" --mode hetero --fill off \
+    --width 64 --height 48 --tile 16 >/dev/null 2>"$T/cc_p.err"
+rc=$?
+[ $rc = 0 ] && same "$T/cc_1.exr" "$T/cc_p.exr" &&
+    ok "program cache: a FIFO in place of an entry: no hang, the same image" ||
+    ko "program cache: FIFO entry: exit $rc (124: it hung), $(head -c 300 "$T/cc_p.err")"
+rm -f "$bin"
+# a cache folder others may write: not used, one warning, the same image
+chmod 777 "$cache"
+CSGTRACE_CL_CACHE=$cache render cc_w 0 hetero "$scene" --width 64 --height 48 --tile 16
+grep -q "program cache is not used: others may write in $cache" "$T/cc_w.err" &&
+    same "$T/cc_1.exr" "$T/cc_w.exr" && [ ! -e "$bin" ] &&
+    ok "program cache: a folder others may write is not used, with one warning" ||
+    ko "program cache: shared folder used, or no warning: $(head -c 300 "$T/cc_w.err")"
+chmod 700 "$cache"
 CSGTRACE_CL_CACHE=off HOME="$T/home-off" XDG_CACHE_HOME= render cc_5 0 hetero "$scene" --width 64 --height 48 --tile 16
 same "$T/cc_1.exr" "$T/cc_5.exr" && [ ! -e "$T/home-off" ] &&
     ok "program cache: CSGTRACE_CL_CACHE=off writes nothing" || ko "program cache: off still wrote $(ls -R "$T/home-off" 2>&1 | head -3)"

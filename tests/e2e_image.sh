@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# e2e_image.sh — PNG and PPM written without OpenImageIO (host/image_direct.c):
+# e2e_image.sh — PNG and PPM written without OpenImageIO (host/output/image_direct.c):
 #   - on every example scene and a random one (80x60): the PNG is the file
 #     the image module writes ($CSGTRACE_IMAGE_WRITER=oiio), byte for byte
 #     (cmp), and so the same pixels (idiff); the PPM of one scene too;

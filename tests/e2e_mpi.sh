@@ -7,7 +7,7 @@
 #     and larger than the image, K = 1, 2, 3, 5 ranks, sizes that are not
 #     multiples of the tile, both precisions, the TCP transport;
 #   - a scene error under mpirun: exit 2 and one message;
-#   - a worker failure (CSGTRACE_FAIL_WORKER), a worker that breaks the
+#   - a worker failure (CSGTRACE_TEST_FAIL_WORKER), a worker that breaks the
 #     protocol (tests/rogue_worker.c) and an OpenCL failure: exit 1, one
 #     message, no image;
 #   - the stats JSON holds every field, and its counts add up; the phases
@@ -31,14 +31,14 @@
 set -u
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BIN=${1:-$ROOT/build/csgtrace}
+BIN=${1:-$ROOT/build/csgtrace-test} # (with the test hooks: CSGTRACE_TEST_FAIL_WORKER)
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/csgtrace-mpi.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 mkdir -p "$POCL_CACHE_DIR"
-unset CSGTRACE_FAIL_WORKER
+unset CSGTRACE_TEST_FAIL_WORKER
 MPIRUN=(mpirun --bind-to none --oversubscribe)
 W=64 H=48
 
@@ -348,7 +348,7 @@ for sched in raster cost static tail; do
         fi
     done
 done
-# ---- relays: a second level of masters (--relays, host/relay.h) ----------------------
+# ---- relays: a second level of masters (--relays, comm/relay.h) ----------------------
 # Ranks 1 .. K relay: rank 0 deals them batches, they deal their workers;
 # the image is the serial one, every item is computed by a worker (never a
 # relay), the stats name the relays and list only the workers, and rank 0
@@ -388,7 +388,7 @@ render rel-few 4 "$first" "${SZ[@]}" --mode homo --relays 2
 rc=$?
 check "--relays 2 with 3 workers: exit 2, one message, no image (got $rc)" \
     test $rc = 2 -a "$(error_lines rel-few)" = 1 -a ! -e "$TMP/rel-few.exr"
-CSGTRACE_FAIL_WORKER=3 render rel-fail 5 "$first" "${SZ[@]}" --mode homo --tile 8 --relays 2
+CSGTRACE_TEST_FAIL_WORKER=3 render rel-fail 5 "$first" "${SZ[@]}" --mode homo --tile 8 --relays 2
 rc=$?
 check "a worker under a relay fails (K=5, --relays 2): exit 1, one message naming worker 3, no image (got $rc)" \
     test $rc = 1 -a "$(error_lines rel-fail)" = 1 -a "$(grep -c 'worker 3 failed' "$TMP/rel-fail.err")" = 1 \
@@ -419,14 +419,14 @@ check "scene error under mpirun K=3: exit 2 (got $rc)" test $rc = 2
 check "scene error under mpirun K=3: one message" test "$(error_lines bad-h3)" = 1
 check "scene error under mpirun K=3: no image" test ! -e "$TMP/bad-h3.exr"
 
-CSGTRACE_FAIL_WORKER=2 render fail-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8
+CSGTRACE_TEST_FAIL_WORKER=2 render fail-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8
 rc=$?
 check "worker 2 fails (homo K=3): exit 1 (got $rc)" test $rc = 1
 check "worker 2 fails (homo K=3): one message naming worker 2" \
     test "$(error_lines fail-h3)" = 1 -a "$(grep -c 'worker 2' "$TMP/fail-h3.err")" = 1
 check "worker 2 fails (homo K=3): no image" test ! -e "$TMP/fail-h3.exr"
 
-CSGTRACE_FAIL_WORKER=1 render fail-h2 2 "$first" "${SZ[@]}" --mode homo --tile 100
+CSGTRACE_TEST_FAIL_WORKER=1 render fail-h2 2 "$first" "${SZ[@]}" --mode homo --tile 100
 rc=$?
 check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
     test $rc = 1 -a ! -e "$TMP/fail-h2.exr"
@@ -436,7 +436,7 @@ check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
 # 1 and no image; an oversized one is never received (link_recv's limit).
 ROGUE=$ROOT/build/tests/rogue_worker
 # To EXR the answers are RGB floats (12 bytes a pixel), to PNG the file's
-# bytes (3: host/pixels.h); each well-sized answer is sized for its format.
+# bytes (3: comm/pixels.h); each well-sized answer is sized for its format.
 for ext in exr png; do
     for mode in big short index tag pixels; do
         if [ ! -x "$ROGUE" ]; then
@@ -491,7 +491,7 @@ for mode in big short index tag pixels part one; do
 done
 
 if [ $have_cl = 1 ]; then
-    CSGTRACE_FAIL_WORKER=1 render fail-x3 3 "$first" "${SZ[@]}" --mode hetero --tile 4
+    CSGTRACE_TEST_FAIL_WORKER=1 render fail-x3 3 "$first" "${SZ[@]}" --mode hetero --tile 4
     rc=$?
     check "worker 1 fails (hetero K=3): exit 1, one message, no image (got $rc)" \
         test $rc = 1 -a "$(error_lines fail-x3)" = 1 -a ! -e "$TMP/fail-x3.exr"

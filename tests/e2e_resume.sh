@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# e2e_resume.sh — the journal and --resume (host/journal.h):
+# e2e_resume.sh — the journal and --resume (host/output/journal.h):
 #   - serial: SIGINT once tiles are finished leaves only OUT.journal; the
 #     same command with --resume finishes it, the image equal pixel for
 #     pixel to an uninterrupted render, the journal removed, the stats
@@ -10,7 +10,7 @@
 #     and resumes at least every tile the progress bar had counted (no
 #     finished tile is lost, only those in flight);
 #   - the same to PNG (the workers send the 8-bit file's bytes and the
-#     journal keeps their stand-ins, host/pixels.h): the resumed PNG is
+#     journal keeps their stand-ins, comm/pixels.h): the resumed PNG is
 #     byte-identical to an uninterrupted one; that journal renamed for an
 #     EXR output is refused (exit 2: the pixel format differs);
 #   - a journal of another render (another --depth) is refused, exit 2,

@@ -2,7 +2,7 @@
 # e2e_signals.sh — SIGINT and SIGTERM during a render (host/signals.c):
 #   - serial: exit 130 (SIGINT) or 143 (SIGTERM), one line on stderr
 #     saying so, no file in the output's folder (image, stats, temporary)
-#     but the journal of the finished tiles (host/journal.h), which the
+#     but the journal of the finished tiles (host/output/journal.h), which the
 #     line then names with the way to resume (tests/e2e_resume.sh resumes);
 #   - under mpirun (3 ranks): SIGTERM and SIGINT to mpirun (which forwards
 #     SIGTERM to every rank): mpirun exits non-zero, no rank left running,

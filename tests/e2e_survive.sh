@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # e2e_survive.sh — a dead rank under `mpirun --enable-recovery`
-# (host/link.c: the watchdog sockets; host/master.c: lost workers):
+# (comm/mpi_link.c: the watchdog sockets; host/master.c: lost workers):
 #   - a worker SIGKILLed mid-render (homo and hetero, 3 and 4 ranks): exit
 #     0, the serial image bit for bit, stats workers_lost = 1 and
 #     items_reassigned >= 1, one line on stderr naming the worker; also
@@ -24,18 +24,19 @@
 # and after every run: no process of the run left, no shared-memory
 # segment or session folder left (Open MPI's go to a private folder).
 # The kills come from the test hook CSGTRACE_TEST_KILL_RANK /
-# CSGTRACE_TEST_KILL_AFTER (host/protocol.h: proto_test_kill).  A worker
+# CSGTRACE_TEST_KILL_AFTER (comm/protocol.h: proto_test_kill).  A worker
 # dies on its second item: the master gives every worker two at once, so
 # even a worker starved of CPU on a loaded machine reaches it.
 # REPEAT=N runs every case N times (default 1).
 # Usage: tests/e2e_survive.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
+BIN=$HOOKED_BIN # (CSGTRACE_TEST_* hooks)
 
 mpi_sandbox
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
 mkdir -p "$POCL_CACHE_DIR"
-unset CSGTRACE_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER CSGTRACE_TEST_KILL_AT \
+unset CSGTRACE_TEST_FAIL_WORKER CSGTRACE_TEST_KILL_RANK CSGTRACE_TEST_KILL_AFTER CSGTRACE_TEST_KILL_AT \
     CSGTRACE_TEST_HANG
 MPIRUN=(timeout -s KILL 120 mpirun --enable-recovery --bind-to none --oversubscribe)
 SCENE=scenes/csg_ops.pov

@@ -4,6 +4,9 @@
 # `e2e_finish`, which prints "N passed, N failed" (tests/run.sh reads it).
 cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
 BIN=${CSGTRACE_BIN:-build/csgtrace}
+# The same program with the test hooks (comm/test_hooks.h: CSGTRACE_TEST_*),
+# for the scripts that use them; build/csgtrace reads none.
+HOOKED_BIN=${CSGTRACE_TEST_BIN:-build/csgtrace-test}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 pass=0

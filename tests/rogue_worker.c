@@ -29,8 +29,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/link.h"
-#include "../host/protocol.h"
+#include "../comm/mpi_link.h"
+#include "../comm/protocol.h"
 
 /* The parts of homo TILE `in` (headers only, 8-byte aligned) into
  * t[0 .. n - 1]; n. */

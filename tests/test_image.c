@@ -1,6 +1,6 @@
 /*
  * test_image.c — PNG and PPM written without OpenImageIO
- * (host/image_direct.c): the process never maps the image module, the
+ * (host/output/image_direct.c): the process never maps the image module, the
  * files are byte for byte the module's (its writer forced with
  * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
  * encoding, an image with a value of no byte of its own goes to the
@@ -19,9 +19,9 @@
 
 #include <cmocka.h>
 
-#include "../host/image.h"
-#include "../host/image_direct.h"
-#include "../host/pixels.h"
+#include "../host/output/image.h"
+#include "../host/output/image_direct.h"
+#include "../comm/pixels.h"
 #include "same_file.h"
 
 enum { SWEEP_W = 1021, SWEEP_H = 677 };
@@ -52,8 +52,7 @@ static int entries(const char *dir)
 }
 
 /* Every float of [0, 1] at a stride of ~500 ulps (both parts of the sRGB
- * curve, every byte's boundary region), then values out of range, each
- * one not ambiguous (so the direct writer writes them all itself). */
+ * curve, every byte's boundary region), then values out of range. */
 static float *sweep_image(void)
 {
     size_t n = (size_t)SWEEP_W * SWEEP_H * 3;
@@ -66,8 +65,7 @@ static float *sweep_image(void)
         memcpy(&v, &bits, sizeof v);
         if (bits > 0x3f800000u)
             v = (float)(i % 7) * 0.5f - 1.0f; /* -1 .. 2: clamped */
-        uint8_t b;
-        rgb[i] = pixels_srgb_byte(v, &b) ? v : 0.0f;
+        rgb[i] = v;
     }
     return rgb;
 }
@@ -124,27 +122,34 @@ static void test_png_and_ppm_need_no_module(void **state)
     assert_false(mapped("OpenImageIO"));
 }
 
+/* The image settings of a test: the module writes all, at PNG level
+ * `level` (-1: csgtrace's). */
+static void settings(bool module_writes_all, int level)
+{
+    img_settings s = {NULL, module_writes_all, level};
+    img_configure(&s);
+}
+
 /* The direct file and the module's, byte for byte, at the default
- * compression and at CSGTRACE_PNG_LEVEL=9; PPM too. */
+ * compression and at PNG level 9 ($CSGTRACE_PNG_LEVEL); PPM too. */
 static void test_direct_bytes_are_the_modules(void **state)
 {
     scratch *s = *state;
     float *rgb = sweep_image();
     char err[512] = "";
-    const char *cases[][2] = {{"png", NULL}, {"png", "9"}, {"ppm", NULL}};
+    const struct {
+        const char *ext;
+        int level;
+    } cases[] = {{"png", -1}, {"png", 9}, {"ppm", -1}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        name_files(s, cases[c][0]);
-        if (cases[c][1])
-            setenv(IMG_PNG_LEVEL_ENV, cases[c][1], 1);
-        img_direct_format format = img_direct_format_of(s->a);
-        assert_int_equal(img_direct_write(s->a, format, rgb, SWEEP_W, SWEEP_H, NULL, err,
-                                          sizeof err),
-                         IMG_DIRECT_WRITTEN);
-        setenv(IMG_WRITER_ENV, "oiio", 1);
-        assert_int_equal(img_direct_format_of(s->b), IMG_DIRECT_NONE);
+        name_files(s, cases[c].ext);
+        img_direct_format format = img_direct_format_of(s->a, false);
+        img_png_options png = img_png_options_for(cases[c].level);
+        assert_true(img_direct_write(s->a, format, rgb, SWEEP_W, SWEEP_H, &png, err, sizeof err));
+        assert_int_equal(img_direct_format_of(s->b, true), IMG_DIRECT_NONE);
+        settings(true, cases[c].level);
         bool ok = img_write_rgb(s->b, rgb, SWEEP_W, SWEEP_H, err, sizeof err);
-        unsetenv(IMG_WRITER_ENV);
-        unsetenv(IMG_PNG_LEVEL_ENV);
+        settings(false, -1);
         if (!ok)
             fprintf(stderr, "%s\n", err);
         assert_true(ok);
@@ -153,32 +158,6 @@ static void test_direct_bytes_are_the_modules(void **state)
         unlink(s->b);
     }
     free(rgb);
-}
-
-/* A value of no byte of its own: the direct writer leaves nothing, and
- * img_write_rgb hands the image to the module, whose file it is. */
-static void test_ambiguous_goes_to_the_module(void **state)
-{
-    scratch *s = *state;
-    enum { W = 37, H = 70 };
-    static float rgb[W * H * 3];
-    float amb = PIXELS_AMBIGUOUS_ENCODED / 12.92f;
-    for (int k = 0; k < 16 && pixels_srgb_encode(amb) != PIXELS_AMBIGUOUS_ENCODED; k++)
-        amb = nextafterf(amb, pixels_srgb_encode(amb) < PIXELS_AMBIGUOUS_ENCODED ? 1.0f : 0.0f);
-    assert_true(pixels_srgb_encode(amb) == PIXELS_AMBIGUOUS_ENCODED);
-    for (size_t i = 0; i < sizeof rgb / sizeof rgb[0]; i++)
-        rgb[i] = (float)(i % 97) / 96.0f;
-    rgb[3 * W * 66 + 5] = amb; /* in the second 64-row strip */
-    char err[512] = "";
-    name_files(s, "png");
-    assert_int_equal(img_direct_write(s->a, IMG_DIRECT_PNG, rgb, W, H, NULL, err, sizeof err),
-                     IMG_DIRECT_AMBIGUOUS);
-    assert_int_equal(entries(s->dir), 0);
-    assert_true(img_write_rgb(s->a, rgb, W, H, err, sizeof err));
-    setenv(IMG_WRITER_ENV, "oiio", 1);
-    assert_true(img_write_rgb(s->b, rgb, W, H, err, sizeof err));
-    unsetenv(IMG_WRITER_ENV);
-    assert_true(same_file(s->a, s->b));
 }
 
 /* A folder that does not exist: false, the file named, nothing written;
@@ -222,22 +201,16 @@ static void test_format_of_path(void **state)
         {"a.tif", IMG_DIRECT_NONE}, {"png", IMG_DIRECT_NONE},          {"x.png/a", IMG_DIRECT_NONE},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        assert_int_equal(img_direct_format_of(cases[i].path), cases[i].want);
-    setenv(IMG_WRITER_ENV, "oiio", 1);
-    assert_int_equal(img_direct_format_of("a.png"), IMG_DIRECT_NONE);
-    unsetenv(IMG_WRITER_ENV);
+        assert_int_equal(img_direct_format_of(cases[i].path, false), cases[i].want);
+    assert_int_equal(img_direct_format_of("a.png", true), IMG_DIRECT_NONE);
 }
 
 int main(void)
 {
-    unsetenv(IMG_WRITER_ENV);
-    unsetenv(IMG_PNG_LEVEL_ENV);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_png_and_ppm_need_no_module, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_direct_bytes_are_the_modules, scratch_setup,
-                                        scratch_teardown),
-        cmocka_unit_test_setup_teardown(test_ambiguous_goes_to_the_module, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_failed_write_names_the_file, scratch_setup,
                                         scratch_teardown),

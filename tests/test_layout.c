@@ -7,7 +7,7 @@
  * file expands the same list with the C compiler
  * in its precision and compares entry by entry.  It is compiled as is
  * (float) and, through tests/test_layout_double.c, with -DCSG_DOUBLE.  The
- * program is built through host/ocl.c, so the probe runs in the very
+ * program is built through host/pass/ocl.c, so the probe runs in the very
  * program the renderer uses.
  */
 #include <setjmp.h>
@@ -19,7 +19,7 @@
 #include <cmocka.h>
 
 #include "../csg/device/camera.h"
-#include "../host/ocl.h"
+#include "../host/pass/ocl.h"
 
 #define LAYOUT_CAP 128
 

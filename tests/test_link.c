@@ -1,5 +1,5 @@
 /*
- * test_link.c — where a worker computes (host/link.h, link_worker_cpu):
+ * test_link.c — where a worker computes (comm/mpi_link.h, link_worker_cpu):
  * bound to one CPU of its allowed set, by local rank, only when Open MPI
  * launched it unbound on a node with more ranks than allowed CPUs and
  * $CSGTRACE_WORKER_BIND is not "off"; left alone otherwise.
@@ -11,7 +11,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "../host/link.h"
+#include "../comm/mpi_link.h"
 
 /* The set of CPUs first .. first + n - 1, every `step`-th. */
 static cpu_set_t cpus(int first, int n, int step)

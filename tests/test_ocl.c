@@ -1,5 +1,5 @@
 /*
- * test_ocl.c — the OpenCL primary pass (host/ocl.c, simd_kernels/primary.cl)
+ * test_ocl.c — the OpenCL primary pass (host/pass/ocl.c, simd_kernels/primary.cl)
  * gives exactly the C records, in both kernel variants (one ray a
  * work-item, and a packet of rays in OpenCL vectors a work-item): for every
  * record, t has the same bits and surf the same id as csg_sample_ray +
@@ -32,7 +32,7 @@
 #include "../csg/device/camera.h"
 #include "../csg/flatten.h"
 #include "../csg/lang/parser.h"
-#include "../host/ocl.h"
+#include "../host/pass/ocl.h"
 
 /* ---- precision-neutral scene description ----------------------------------- */
 
@@ -338,38 +338,12 @@ static size_t check_pass(ocl_ctx *ctx, const precision_ops *ops, const sc_scene 
     return hits;
 }
 
-/* Sets the environment variable `var` to `value` (unsets it for NULL);
- * returns its previous value for env_restore (malloc'd, NULL if unset). */
-static char *env_set(const char *var, const char *value)
+/* ocl_open_kernel(kernel) with the default options, the context closed. */
+static bool open_variant(enum ocl_kernel kernel, ocl_timing *timing, csg_diag *d)
 {
-    const char *old = getenv(var);
-    char *saved = old ? strdup(old) : NULL;
-    if (value)
-        setenv(var, value, 1);
-    else
-        unsetenv(var);
-    return saved;
-}
-
-static void env_restore(const char *var, char *saved)
-{
-    if (saved)
-        setenv(var, saved, 1);
-    else
-        unsetenv(var);
-    free(saved);
-}
-
-/* ocl_open_kernel(kernel) with the environment variable `var` set to
- * `value` (unset when NULL) for the call only; the context is closed. */
-static bool open_with_env(const char *var, const char *value, enum ocl_kernel kernel,
-                          ocl_timing *timing, csg_diag *d)
-{
-    char *saved = env_set(var, value);
     ocl_options opt = {0};
     ocl_ctx *ctx = NULL;
     bool ok = ocl_open_kernel(&opt, kernel, &ctx, timing, d);
-    env_restore(var, saved);
     ocl_close(ctx);
     return ok;
 }
@@ -706,8 +680,7 @@ static csg_blob random_blob(uint64_t seed, int objects, int width, int height, i
  * the scene text `text` when given. */
 static csg_blob file_blob(const char *path, const char *text, int width, int height)
 {
-    char full[4096];
-    snprintf(full, sizeof full, "%s/%s", CSG_SOURCE_DIR, path);
+    const char *full = path; /* (the tests run in the source tree: tests/run.sh) */
     csg_scene sc;
     csg_diag d = {0};
     csg_blob blob = {NULL, 0};
@@ -732,7 +705,7 @@ static void check_specialised(void **state, const void *blob, const char *what)
 {
     fixture *fx = *state;
     csg_features f = csg_blob_features(blob);
-    ocl_options opt = {NULL, prec.real_size == 8, 0, &f};
+    ocl_options opt = {.use_double = prec.real_size == 8, .features = &f};
     for (int v = 0; v < VARIANTS; v++) {
         ocl_ctx *ctx = NULL;
         ocl_timing timing = {0};
@@ -794,7 +767,7 @@ static void test_specialised_refuses(void **state)
     size_t size;
     void *bs = prec.make_blob(spheres, &size), *bb = prec.make_blob(boxes, &size);
     csg_features f = csg_blob_features(bs);
-    ocl_options opt = {NULL, prec.real_size == 8, 0, &f};
+    ocl_options opt = {.use_double = prec.real_size == 8, .features = &f};
     ocl_ctx *ctx = NULL;
     ocl_timing timing = {0};
     csg_diag d = {0};
@@ -907,21 +880,19 @@ static void test_flat_boxes_flattened(void **state)
 static void test_packet_widths(void **state)
 {
     (void)state;
-    static const char *const widths[] = {"2", "4", "8", "16"};
+    static const int widths[] = {2, 4, 8, 16};
     csg_blob blob = random_blob(7, 40, 37, 21, 3);
     for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
-        char *saved = env_set("CSGTRACE_CL_PACKET", widths[w]);
         ocl_options opt = {.device = NULL, .use_double = prec.real_size == 8,
-                           .max_slice_bytes = 37 * 3 * 12 * 5};
+                           .max_slice_bytes = 37 * 3 * 12 * 5, .packet = widths[w]};
         ocl_timing timing = {0};
         csg_diag d = {0};
         ocl_ctx *ctx = NULL;
         bool ok = ocl_open_kernel(&opt, OCL_KERNEL_PACKET, &ctx, &timing, &d);
-        env_restore("CSGTRACE_CL_PACKET", saved);
         if (!ok)
-            fail_msg("ocl_open (packet %s): %s", widths[w], d.message);
+            fail_msg("ocl_open (packet %d): %s", widths[w], d.message);
         char want[16];
-        snprintf(want, sizeof want, "packet %s ", widths[w]);
+        snprintf(want, sizeof want, "packet %d ", widths[w]);
         assert_memory_equal(timing.kernel, want, strlen(want));
         check_blob(ctx, &prec, blob.bytes, 6);
         ocl_close(ctx);
@@ -929,9 +900,11 @@ static void test_packet_widths(void **state)
     csg_blob_free(&blob);
     ocl_timing timing = {0};
     csg_diag d = {0};
-    bool ok = open_with_env("CSGTRACE_CL_PACKET", "3", OCL_KERNEL_PACKET, &timing, &d);
-    assert_false(ok);
-    assert_non_null(strstr(d.message, "CSGTRACE_CL_PACKET"));
+    ocl_options bad = {.packet = 3};
+    ocl_ctx *ctx = NULL;
+    assert_false(ocl_open_kernel(&bad, OCL_KERNEL_PACKET, &ctx, &timing, &d));
+    assert_null(ctx);
+    assert_non_null(strstr(d.message, "2, 4, 8 or 16, not 3"));
 }
 
 /* The same with slices of a few rows (cutting packets and tiles). */
@@ -1050,17 +1023,6 @@ static void test_bad_device(void **state)
     }
 }
 
-/* $CSGTRACE_CL_DEVICE is the selector when the options give none. */
-static void test_env_device(void **state)
-{
-    (void)state;
-    ocl_timing timing = {0};
-    csg_diag d = {0};
-    bool ok = open_with_env("CSGTRACE_CL_DEVICE", "bogus-env-device", OCL_KERNEL_AUTO, &timing, &d);
-    assert_false(ok);
-    assert_non_null(strstr(d.message, "bogus-env-device"));
-}
-
 /* The device selector "0:0" and a name substring both work. */
 static void test_device_selectors(void **state)
 {
@@ -1091,33 +1053,23 @@ static void test_kernel_choice(void **state)
     assert_true(ocl_kernel_parse("packet", &k) && k == OCL_KERNEL_PACKET);
     assert_false(ocl_kernel_parse("vector", &k));
     assert_false(ocl_kernel_parse(NULL, &k));
+    /* auto: the packet kernel on a CPU device, the one-ray kernel on any
+     * other; an explicit choice is what it says, on any device */
     static const struct {
-        const char *env;
-        const char *kernel; /* prefix of timing.kernel, NULL: refused */
-    } cases[] = {{NULL, "packet"}, {"scalar", "scalar"}, {"packet", "packet"},
-                 {"auto", "packet"}, {"wide", NULL}};
+        enum ocl_kernel want;
+        const char *cpu, *other; /* prefix of timing.kernel */
+    } cases[] = {{OCL_KERNEL_AUTO, "packet", "scalar"},
+                 {OCL_KERNEL_SCALAR, "scalar", "scalar"},
+                 {OCL_KERNEL_PACKET, "packet", "packet"}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         ocl_timing timing = {0};
         csg_diag d = {0};
-        bool ok = open_with_env("CSGTRACE_CL_KERNEL", cases[i].env, OCL_KERNEL_AUTO, &timing, &d);
-        if (cases[i].kernel) {
-            if (!ok)
-                fail_msg("ocl_open with CSGTRACE_CL_KERNEL=%s: %s", cases[i].env, d.message);
-            assert_memory_equal(timing.kernel, cases[i].kernel, strlen(cases[i].kernel));
-        } else {
-            assert_false(ok);
-            assert_non_null(strstr(d.message, "CSGTRACE_CL_KERNEL"));
-            assert_non_null(strstr(d.message, cases[i].env));
-        }
+        if (!open_variant(cases[i].want, &timing, &d))
+            fail_msg("ocl_open (kernel %d): %s", (int)cases[i].want, d.message);
+        const char *want = timing.cpu_device ? cases[i].cpu : cases[i].other;
+        assert_memory_equal(timing.kernel, want, strlen(want));
+        assert_true(timing.compute_units >= 1);
     }
-    /* an explicit choice wins over the environment */
-    ocl_timing timing = {0};
-    csg_diag d = {0};
-    bool ok = open_with_env("CSGTRACE_CL_KERNEL", "packet", OCL_KERNEL_SCALAR, &timing, &d);
-    assert_true(ok);
-    assert_string_equal(timing.kernel, "scalar");
-    /* PoCL's CPU device: 16 floats a packet with AVX-512, 8 with AVX2 */
-    assert_true(timing.compute_units >= 1);
 }
 
 /* A blob in the other precision, or a bad one, is refused with a message. */
@@ -1145,43 +1097,18 @@ static void test_bad_blob(void **state)
     free(s);
 }
 
-/* A kernel that does not compile: a clear error, the build log on stderr;
- * a missing source folder: an error that names it. */
+/* A kernel that does not compile: a clear error, the build log on stderr. */
 static void test_build_failure(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/csgtrace-test-ocl-XXXXXX", sub[64], path[96];
-    assert_non_null(mkdtemp(dir));
-    snprintf(sub, sizeof sub, "%s/simd_kernels", dir);
-    snprintf(path, sizeof path, "%s/primary.cl", sub);
-    assert_int_equal(mkdir(sub, 0700), 0);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs("__kernel void csg_primary(__global int *o) { o[0] = undeclared_name; }\n", f);
-    fclose(f);
-    const char *old = getenv("CSGTRACE_SOURCE_DIR");
-    char *saved = old ? strdup(old) : NULL;
-    setenv("CSGTRACE_SOURCE_DIR", dir, 1);
-    ocl_options opt = {0};
+    ocl_options opt = {.source = "__kernel void csg_primary(__global int *o) "
+                                 "{ o[0] = undeclared_name; }\n"};
     ocl_timing timing = {0};
     csg_diag d = {0};
     ocl_ctx *ctx = NULL;
-    bool ok = ocl_open(&opt, &ctx, &timing, &d);
-    csg_diag d2 = {0};
-    setenv("CSGTRACE_SOURCE_DIR", "/nonexistent/csgtrace-src", 1);
-    bool ok2 = ocl_open(&opt, &ctx, &timing, &d2);
-    if (saved)
-        setenv("CSGTRACE_SOURCE_DIR", saved, 1);
-    else
-        unsetenv("CSGTRACE_SOURCE_DIR");
-    free(saved);
-    remove(path);
-    rmdir(sub);
-    rmdir(dir);
-    assert_false(ok);
+    assert_false(ocl_open(&opt, &ctx, &timing, &d));
+    assert_null(ctx);
     assert_non_null(strstr(d.message, "CL_BUILD_PROGRAM_FAILURE"));
-    assert_false(ok2);
-    assert_non_null(strstr(d2.message, "/nonexistent/csgtrace-src"));
 }
 
 static void test_error_names(void **state)
@@ -1231,7 +1158,6 @@ int main(void)
 #ifndef CSG_DOUBLE /* the precision-independent ones once, in the float build */
         cmocka_unit_test(test_error_names),
         cmocka_unit_test(test_bad_device),
-        cmocka_unit_test(test_env_device),
         cmocka_unit_test(test_device_selectors),
         cmocka_unit_test(test_build_failure),
         cmocka_unit_test(test_kernel_choice),

@@ -1,5 +1,5 @@
 /*
- * test_ocl_pass.c — the primary pass in the background (host/ocl.h:
+ * test_ocl_pass.c — the primary pass in the background (host/pass/ocl.h:
  * ocl_pass_begin / ocl_pass_rows / ocl_pass_end), as the pipelined master
  * drives it: slices of one tile row, completion callbacks, polling.
  *   - the records and tile counts equal those of the pass waited for whole
@@ -27,7 +27,7 @@
 
 #include "../csg/flatten.h"
 #include "../csg/lang/parser.h"
-#include "../host/ocl.h"
+#include "../host/pass/ocl.h"
 
 enum { W = 90, H = 61, TILE = 8 };
 
@@ -49,7 +49,7 @@ static int group_setup(void **state)
     csg_scene s;
     csg_diag d = {{0}, 0};
     csg_flatten_opts o = {W, H, 5, -1, 1, 0};
-    ocl_options opt = {NULL, 0, 0, NULL};
+    ocl_options opt = {0};
     ocl_timing tm;
     memset(&tm, 0, sizeof tm);
     if (!fx || !csg_parse_string("pass.pov", scene_sdl, strlen(scene_sdl), &s, &d) ||

@@ -1,6 +1,6 @@
 /*
  * test_schedule.c — the work-item schedulers (host/schedule.c), the tile
- * cost estimate and Spearman's rank correlation (host/estimate.c):
+ * cost estimate and Spearman's rank correlation (host/pass/estimate.c):
  *   - raster hands out tiles in the order they became ready, cost by
  *     decreasing estimate (ties: the lower tile), static the k-th tile to
  *     worker k mod W and nothing of another worker's;
@@ -31,8 +31,8 @@
 #include <string.h>
 
 #include "../csg/lang/parser.h"
-#include "../host/estimate.h"
-#include "../host/protocol.h"
+#include "../host/pass/estimate.h"
+#include "../comm/protocol.h"
 #include "../host/schedule.h"
 
 /* Estimates from a table: the tile at x / 16 costs cost[x / 16] per pixel

@@ -14,7 +14,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "../host/pixels.h"
+#include "../comm/pixels.h"
 #include "../host/store.h"
 
 enum { W = 300, H = 200, T = 20 }; /* tiles of 20x20: 15 x 10 */

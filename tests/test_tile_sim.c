@@ -1,6 +1,6 @@
 /*
  * test_tile_sim.c — the cost maps of the simulated build
- * (workers/tile_sim.c):
+ * (sim/tile_sim.c):
  *   - a map read back gives each recorded tile its own totals;
  *   - any rectangle's cost is the area integral of the densities (a
  *     rectangle across cells, a partial cell);
@@ -18,7 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "../workers/tile_sim.h"
+#include "../sim/tile_sim.h"
 
 /* `text` in a new temporary file; its path (valid until the next call). */
 static const char *write_map(const char *text)

@@ -9,7 +9,7 @@
  * reflected ray if the material reflects and a refracted ray if it lets
  * light through (filter or transmit) — the same tests shade.c applies
  * before it traces them.  So a primitive's class (ENGINE_CLASS_*) and the
- * number of shadow lights are what the estimate needs (host/estimate.h).
+ * number of shadow lights are what the estimate needs (host/pass/estimate.h).
  */
 #include "engine.h"
 

@@ -34,12 +34,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../comm/tiles.h"
 #include "../csg/flatten.h"
-
-typedef struct {
-    int x, y;          /* top-left pixel */
-    int width, height; /* edge tiles are smaller */
-} tile_rect;
 
 typedef struct {
     uint64_t primary, shadow, reflected, refracted;
@@ -74,7 +70,7 @@ typedef struct {
      * rectangle's; the answer is the same, found sooner); on return the
      * object this rectangle may meet (-1: none). */
     bool (*rect_misses)(const void *blob, tile_rect rect, int32_t *met);
-    /* For the cost estimate of a tile (host/estimate.h): the ENGINE_CLASS_*
+    /* For the cost estimate of a tile (host/pass/estimate.h): the ENGINE_CLASS_*
      * bits of every primitive's material into class_out[prim_count]; returns
      * the number of lights that cast shadows (a shadow ray each a hit). */
     int (*surface_classes)(const void *blob, uint8_t *class_out);

@@ -1,18 +1,8 @@
 /*
- * tile.h — one tile of the image: where it lies, and the one function that
- * computes its pixels.  A worker rank (worker.c) and the master's local
- * path (host/render.c, no workers) both call tile_run, so every mode gives
- * the same pixels by construction, not by two copies kept in step.
- *
- * Tiles are tile x tile pixels (the last column and row smaller), numbered
- * row-major over the grid of tiles: index = ty * columns + tx.  A work
- * item is a rectangle within one tile: the whole tile, or a piece of it
- * (the tail scheduler splits the last tiles, host/schedule.h); a pixel
- * depends only on its own record, so any split gives the same pixels.
- *
- * Hit records of a tile (hetero: from the OpenCL pass) are packed tile-wise:
- * t[n] of the blob's real then surf[n] of uint32, n = pixels * spp,
- * row-major, the spp samples of a pixel side by side (engine.h).
+ * tile.h — the one function that computes the pixels of a tile (where
+ * tiles lie: comm/tiles.h).  A worker rank (worker.c) and the master's
+ * local path (host/render.c, no workers) both call tile_run, so every mode
+ * gives the same pixels by construction, not by two copies kept in step.
  */
 #ifndef WORKERS_TILE_H
 #define WORKERS_TILE_H
@@ -22,35 +12,6 @@
 #include <stdint.h>
 
 #include "engine.h"
-
-/* The tiles of one image of one scene. */
-typedef struct {
-    int width, height;  /* the image                                   */
-    int tile;           /* tile edge in pixels (> 0)                   */
-    int spp;            /* hit records a pixel                         */
-    size_t real_size;   /* bytes of a record's t                       */
-    size_t pixels_max;  /* pixels of the largest tile                  */
-} tile_grid;
-
-/* The grid of a validated blob's image; tile must be > 0. */
-tile_grid tile_grid_of(const void *blob, int tile);
-int tile_columns(const tile_grid *g);
-int tile_count(const tile_grid *g);
-/* The pixels of tile `index` (0 <= index < tile_count). */
-tile_rect tile_rect_of(const tile_grid *g, int index);
-/* True when r is a non-empty rectangle inside tile `index` of g (index in
- * range): what a worker checks before it touches a byte of a tile message. */
-bool tile_rect_in_tile(const tile_grid *g, int index, tile_rect r);
-/* Bytes of the packed hit records of a tile of `pixels` pixels. */
-size_t tile_records_bytes(const tile_grid *g, size_t pixels);
-
-/* The records of tile `r` out of whole-image arrays (t_image: the blob's
- * real; width * spp records a row) into `out`, packed tile-wise. */
-void tile_pack_records(const tile_grid *g, const void *t_image, const uint32_t *surf_image,
-                       tile_rect r, void *out);
-
-/* The tile's RGB (3 floats a pixel, r.width wide) into the image. */
-void tile_store_rgb(float *image, int image_width, tile_rect r, const float *rgb);
 
 /* What tile_run needs for any tile of one image: the scene, and scratch
  * records for the largest tile (homo: the primary rays it traces). */

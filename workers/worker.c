@@ -1,5 +1,5 @@
 /*
- * worker.c — a worker rank of the tile protocol (host/protocol.h).
+ * worker.c — a worker rank of the tile protocol (comm/protocol.h).
  *
  * Algorithm: take part in the setup broadcast; validate the blob and set
  * up a tile runner for it (workers/tile.h); send READY (or FAIL with the
@@ -15,7 +15,7 @@
  * (link_isend) from one of PROTO_IN_FLIGHT buffers, so the worker starts
  * the next item at once; a buffer is reused only once its send is done.
  *
- * The master's death ends the worker at once (link.h: its watchdog), so
+ * The master's death ends the worker at once (mpi_link.h: its watchdog), so
  * no worker outlives it.
  *
  * Invariants: the worker never prints (the master reports once; the one
@@ -34,18 +34,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../host/link.h"
-#include "../host/protocol.h"
-#include "../host/relay.h"
+#include "../comm/mpi_link.h"
+#include "../comm/protocol.h"
+#include "../comm/relay.h"
+#include "../comm/test_hooks.h"
 #include "tile.h"
 
 /* Messages taken and not yet answered: the items in flight and a STOP. */
 #define WORKER_QUEUE (PROTO_IN_FLIGHT + 1)
 
 typedef struct {
-    int fail_rank;        /* CSGTRACE_FAIL_WORKER, 0 when unset      */
-    bool float_parts;     /* CSGTRACE_TEST_FLOAT_PARTS: every other
-                             8-bit part sent as floats (worker.h)     */
     int rank;
     int parent;           /* the rank TILEs come from: 0 or a relay   */
     int tiles_done;
@@ -142,7 +140,7 @@ static void worker_send_fail(const worker_state *w, int index, const char *text)
 
 /* The rectangle of part h (at `at` in `in`), its answer into `out` (room
  * for it in floats): the answer's bytes.  PIXELS_RGB8: the bytes of the
- * 8-bit file, unless some value has none of its own (pixels.h): floats. */
+ * 8-bit file (comm/pixels.h). */
 static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
                              char *out)
 {
@@ -155,12 +153,8 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     tile_timer timer; /* (the part's whole work: the map of bench/sim/costmap.py) */
     tile_time_start(&timer);
     tile_run_rect(&w->runner, r, payload, w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
-    int format = PIXELS_FLOAT;
-    bool as_floats = w->float_parts && w->tiles_done % 2 == 1;
-    if (w->pixels == PIXELS_RGB8 && !as_floats)
-        format = pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats) ? PIXELS_RGB8 : PIXELS_FLOAT;
-    if (w->pixels == PIXELS_RGB8 && format == PIXELS_FLOAT)
-        memcpy(floats, w->rgb, n * 3 * sizeof *floats);
+    if (w->pixels == PIXELS_RGB8)
+        pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats);
     tile_time_stop(&timer, &res);
     proto_result head = {.index = h->index,
                          .hits = res.hits,
@@ -171,9 +165,9 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
                          .over_budget = res.rays.over_budget,
                          .busy_s = res.busy_s,
                          .cpu_s = res.cpu_s,
-                         .pixels = format};
+                         .pixels = w->pixels};
     memcpy(out, &head, sizeof head);
-    return proto_result_part(n, format);
+    return proto_result_part(n, w->pixels);
 }
 
 /* Every part of TILE `in` computed into RESULT buffer `slot`: the
@@ -192,7 +186,7 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
         if (end == 0)
             return 0;
         if (k > 0)
-            proto_test_kill(w->rank, "item", w->tiles_done);
+            test_hook_kill(w->rank, "item", w->tiles_done);
         size_t start = proto_align(len);
         size_t room = start + proto_result_part((size_t)h->width * (size_t)h->height, PIXELS_FLOAT);
         if (!proto_buffer(&w->out[slot], &w->out_cap[slot], room)) {
@@ -220,9 +214,10 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         return;
     }
     memcpy(&h, in->data, sizeof h);
-    proto_test_kill(w->rank, "item", w->tiles_done);
-    if (w->tiles_done == 0 && w->fail_rank == w->rank) {
-        worker_send_fail(w, h.index, "internal failure injected by CSGTRACE_FAIL_WORKER");
+    test_hook_kill(w->rank, "item", w->tiles_done);
+    long long fail_rank = test_hook_number(TEST_FAIL_WORKER, 1 << 30); /* (tests only) */
+    if (fail_rank > 0 && fail_rank == w->rank && w->tiles_done == 0) {
+        worker_send_fail(w, h.index, "internal failure injected by CSGTRACE_TEST_FAIL_WORKER");
         w->tiles_done++;
         return;
     }
@@ -236,7 +231,7 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
     }
     link_isend(w->parent, PROTO_TAG_RESULT, w->out[slot], len, &w->out_req[slot]);
     for (int i = first; i < w->tiles_done; i++)
-        proto_test_kill(w->rank, "send", i);
+        test_hook_kill(w->rank, "send", i);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
 }
 
@@ -308,15 +303,11 @@ static int worker_serve(worker_state *w)
     }
 }
 
-int worker_run(int rank)
+int worker_run(int rank, const char *bind)
 {
     worker_state w;
     memset(&w, 0, sizeof w);
     w.rank = rank;
-    const char *hook = getenv("CSGTRACE_FAIL_WORKER");
-    w.fail_rank = hook ? atoi(hook) : 0;
-    const char *floats = getenv("CSGTRACE_TEST_FLOAT_PARTS");
-    w.float_parts = floats && strcmp(floats, "1") == 0;
     link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;
@@ -324,7 +315,7 @@ int worker_run(int rank)
         return 1;
     if (setup.status != 0)
         return setup.status; /* the master reported why */
-    proto_test_kill(rank, "scene", 0);
+    test_hook_kill(rank, "scene", 0);
     worker_receive_blob(&w, (size_t)setup.blob_size);
     if (rank <= setup.relays) { /* a relay: the master of a group */
         int status = relay_run(rank, &setup, w.blob, w.blob_size, w.failure);
@@ -332,13 +323,13 @@ int worker_run(int rank)
         return status;
     }
     w.parent = proto_parent(rank, setup.relays);
-    link_bind_worker(); /* (more ranks than cores: one core each, link.h) */
+    link_bind_worker(bind); /* (more ranks than cores: one core each, mpi_link.h) */
     worker_prepare(&w, &setup);
     if (w.failure[0]) {
         worker_send_fail(&w, -1, w.failure);
     } else {
         proto_ready ready = {0, 0};
-        proto_test_kill(rank, "ready", 0);
+        test_hook_kill(rank, "ready", 0);
         link_send(w.parent, PROTO_TAG_READY, &ready, sizeof ready);
     }
     int status = worker_serve(&w);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """costmap.py OUT STATS_JSON TILE_LOG [STATS_JSON TILE_LOG ...] — tile logs
 of real renders of one configuration, reduced to the cost map the simulated
-build reads (workers/tile_sim.h).
+build reads (sim/tile_sim.h).
 
 A cell's cost is the tile's "cpu_s", the CPU time of the worker's thread
 (its "seconds", wall time, in logs older than that field): the work

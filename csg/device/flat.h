@@ -332,7 +332,7 @@ typedef struct {
  * the kinds are csg_blob_header.kinds, bit 1 << kind).  The flattener
  * records them and the blob validator recomputes them from the arrays and
  * rejects a header that disagrees, so code specialised on a feature set
- * (the OpenCL program: host/ocl.c, features.h) never meets a scene
+ * (the OpenCL program: host/pass/ocl.c, features.h) never meets a scene
  * outside it.  A set bit says "some of the scene uses it". */
 enum csg_feature {
     CSG_FEAT_CSG = 1,         /* a root needs interval lists: a program of

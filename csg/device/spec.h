@@ -2,7 +2,7 @@
  * spec.h — what the code is compiled for: every primitive kind and all the
  * CSG machinery (the default: C, the tests, a general OpenCL program), or
  * only what one scene uses (an OpenCL program built for its feature set,
- * flat.h: csg_blob_header.kinds / .features; host/ocl.c passes the
+ * flat.h: csg_blob_header.kinds / .features; host/pass/ocl.c passes the
  * options, csg/features.c writes them).
  *
  * Options (all absent: everything compiled):

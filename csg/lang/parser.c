@@ -43,6 +43,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../camera_setup.h"
 #include "parse_internal.h"
@@ -1101,28 +1102,14 @@ bool csg_parse_file(const char *path, csg_scene *s, csg_diag *d)
     return csg_parse_file_opts(path, NULL, s, d);
 }
 
-/* $CSGTRACE_LIBRARY_PATH's folders, then POV-Ray's include folder. */
+/* POV-Ray's include folder, where it is installed. */
 const char *csg_default_library(int i)
 {
     static const char *const povray[] = {"/usr/share/povray-3.7/include",
                                          "/usr/local/share/povray-3.7/include"};
-    static char env[4096];
-    static const char *dirs[64];
-    static int count = -1;
-    if (count < 0) { /* once: the environment does not change under a parse */
-        count = 0;
-        const char *e = getenv("CSGTRACE_LIBRARY_PATH");
-        snprintf(env, sizeof env, "%s", e ? e : "");
-        for (char *s = env, *tok; count < 60 && (tok = strsep(&s, ":")) != NULL;)
-            if (*tok)
-                dirs[count++] = tok;
-        for (size_t k = 0; k < sizeof povray / sizeof povray[0]; k++) {
-            FILE *f = fopen(povray[k], "r");
-            if (f) {
-                fclose(f);
-                dirs[count++] = povray[k];
-            }
-        }
+    for (size_t k = 0; k < sizeof povray / sizeof povray[0]; k++) {
+        if (access(povray[k], F_OK) == 0 && i-- == 0)
+            return povray[k];
     }
-    return i >= 0 && i < count ? dirs[i] : NULL;
+    return NULL;
 }

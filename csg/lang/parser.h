@@ -56,10 +56,11 @@ typedef struct {
     int image_width, image_height; /* image_width, image_height; <= 0: 320 x 240 */
     double clock;                  /* clock (--clock); 0 by default             */
     const char *const *library_paths; /* folders searched by #include after the
-                                         including file's and the scene's       */
+                                         including file's and the scene's (the
+                                         command line's: --library-path, then
+                                         $CSGTRACE_LIBRARY_PATH's)              */
     int library_path_count;
-    bool no_default_library;       /* do not add $CSGTRACE_LIBRARY_PATH (':'-
-                                      separated) and POV-Ray's include folder  */
+    bool no_default_library;       /* do not add POV-Ray's include folder    */
     long max_tokens;               /* <= 0: CSG_PARSE_MAX_TOKENS               */
     FILE *messages;                /* #debug and #warning text; NULL: dropped  */
     /* Called with the path of every file an #include reads (render.c
@@ -70,9 +71,8 @@ typedef struct {
 
 /* The defaults: 320 x 240, clock 0, the default library, no messages. */
 void csg_parse_options_default(csg_parse_options *o);
-/* The default library folders, in search order ($CSGTRACE_LIBRARY_PATH's,
- * then POV-Ray's include folder when it exists): the i-th, NULL past the
- * end. */
+/* The default library folders, searched last (POV-Ray's include folder
+ * when it exists): the i-th, NULL past the end. */
 const char *csg_default_library(int i);
 
 /* Parses a scene file. On failure returns false, d holds the one-line message

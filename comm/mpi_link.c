@@ -1,0 +1,861 @@
+/*
+ * mpi_link.c — the MPI side of mpi_link.h, written once for the master and the
+ * workers.
+ *
+ * Waiting (link_idle): the caller polls, LINK_SPINS times at once, then
+ * with naps that double up to a cap (LINK_NAP_MAX_NS for a blocking
+ * receive; an event loop sets its own).  A blocked MPI_Probe would spin on
+ * a core for as long as the peer is busy — a core the other ranks (more
+ * ranks than cores) or the OpenCL pass need; the nap is small next to a
+ * tile's work.  A nap is a wait on a semaphore with a deadline
+ * (sem_clockwait on CLOCK_MONOTONIC), so link_wake ends it at once.
+ *
+ * Sending in the background (link_isend): a message over the transport's
+ * eager limit (a tile's hit records, a tile's pixels) is only delivered
+ * once the receiver takes it; MPI_Send would hold the sender that long, so
+ * the master and the workers use MPI_Isend and test the request later.
+ *
+ * Bounded receive: the size is known from the probe before any byte is
+ * taken, and a message over the caller's limit is not received at all, so
+ * a peer can never make this rank allocate what it claims.  It cannot be
+ * drained either: a truncated receive is no way out (Open MPI 4.1's
+ * shared-memory single copy writes the whole message past the end of the
+ * smaller buffer: seen here, heap corruption), so the caller reports it
+ * and ends the job (link_abort).
+ *
+ * Liveness (a dead worker does not end the render; Open MPI 4.1 has no
+ * ULFM): launched with `mpirun --enable-recovery`, the job outlives a rank
+ * that dies, and MPI's error handler returns codes; but a call that waits
+ * on a dead peer may never return.  So every worker opens a TCP "watchdog"
+ * connection to rank 0 at start (rank 0 listens on any port and
+ * broadcasts its host name, the port and a random token; a worker
+ * connects and sends the token and its rank).  The kernel closes a socket
+ * when its process dies, however it dies, so EOF on rank r's socket means
+ * rank r is gone: link_peer_lost, on any transport and host.  Nothing in
+ * this module ever waits inside MPI for a peer that may be dead: receives
+ * are MPI_Irecv + MPI_Test, sends MPI_Isend + MPI_Test, and a wait gives up
+ * (LINK_LOST) once the peer is lost, leaving the request and its buffer to
+ * MPI.  The other way round, a worker's watchdog thread blocks on its
+ * socket: EOF means the master is gone (or wrote it off: link_forget), and
+ * the worker exits at once, so no rank outlives its master.
+ *
+ * Under --enable-recovery mpirun exits 0 whatever the ranks return (tried
+ * here, also with orte_abort_on_non_zero_status, also after MPI_Abort): a
+ * rank whose job failed SIGTERMs its parent when that is mpirun, which
+ * then ends the job and exits 1 (link_exit_status, link_fail_job).
+ * MPI_Finalize with a dead rank hangs about a third of the time unless
+ * Open MPI finalizes asynchronously (OMPI_MCA_async_mpi_finalize, set
+ * before MPI_Init unless the user set it).
+ */
+#include "mpi_link.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <limits.h>
+#include <mpi.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <pthread.h>
+#include <sched.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/random.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "deadline.h"
+
+#define LINK_SPINS 200
+#define LINK_NAP_MIN_NS 1000L
+#define LINK_SLICE_NS 100000ULL /* the shortest slice Linux grants a fair task */
+#define LINK_BCAST_CHUNK 65536
+#define LINK_ACCEPT_S 10     /* how long rank 0 waits for the watchdogs   */
+#define LINK_END_GRACE_S 5   /* a stopping worker's time to exit alone    */
+#define LINK_BYE_QUIET 'q'   /* the last byte to a watchdog: see there  */
+#define LINK_BYE_EXIT 'e' /* the master exits in order */
+
+_Static_assert(sizeof(MPI_Request) <= sizeof(((link_req *)0)->impl),
+               "link_req must hold an MPI_Request");
+
+bool link_launched_by_mpirun(void)
+{
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
+}
+
+/* ---- liveness: the watchdog sockets ------------------------------------------ */
+
+/* What rank 0 broadcasts: where to connect, and the token to show. */
+typedef struct {
+    char host[256];
+    int32_t port;      /* 0: no watchdog (rank 0 could not listen)       */
+    int32_t pad;
+    uint64_t token;
+} link_watch_addr;
+
+/* What a worker sends first on its watchdog connection. */
+typedef struct {
+    uint64_t token;    /* link_watch_addr.token: the job's, not a stranger's */
+    int32_t rank, pad;
+} link_watch_hello;
+
+/* The one liveness state of this process (MPI's own state is per process
+ * too): rank 0 holds a socket per worker, a worker its socket to rank 0. */
+static struct {
+    int rank, size;
+    int *fd;              /* rank 0: [r] rank r's socket, -1: none/lost */
+    bool *gone;           /* rank 0: [r] rank r was lost or written off
+                             (link_peer_lost stays true for it)          */
+    bool watched;         /* every rank: the watchdogs are up            */
+    int master_fd;        /* a worker: its socket to rank 0             */
+    atomic_int ending;    /* a worker: STOP came (its status + 1), or the
+                             process exits (-1)                          */
+    int status;           /* rank 0: the job's status (link_exit_status) */
+} link_w = {0, 1, NULL, NULL, false, -1, 0, 0};
+
+static int link_listen(link_watch_addr *a)
+{
+    struct sockaddr_in sa = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_ANY)};
+    socklen_t len = sizeof sa;
+    int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0 || bind(fd, (struct sockaddr *)&sa, sizeof sa) != 0 || listen(fd, 1024) != 0 ||
+        getsockname(fd, (struct sockaddr *)&sa, &len) != 0 ||
+        gethostname(a->host, sizeof a->host - 1) != 0 ||
+        getrandom(&a->token, sizeof a->token, 0) != (ssize_t)sizeof a->token) {
+        if (fd >= 0)
+            close(fd);
+        a->port = 0;
+        return -1;
+    }
+    a->port = ntohs(sa.sin_port);
+    return fd;
+}
+
+/* One connection: its token and rank, checked; false to close it. */
+static bool link_greet_watch(int c, uint64_t token)
+{
+    link_watch_hello hello;
+    struct pollfd p = {c, POLLIN, 0};
+    if (poll(&p, 1, 1000) != 1 || recv(c, &hello, sizeof hello, MSG_WAITALL) != sizeof hello)
+        return false;
+    if (hello.token != token || hello.rank < 1 || hello.rank >= link_w.size ||
+        link_w.fd[hello.rank] >= 0)
+        return false;
+    link_w.fd[hello.rank] = c;
+    return true;
+}
+
+/* Rank 0: every worker's connection, for at most LINK_ACCEPT_S (a worker
+ * that never connects stays unwatched: only the item timeout sees it). */
+static void link_accept_all(int lfd, uint64_t token)
+{
+    int want = link_w.size - 1;
+    time_t until = time(NULL) + LINK_ACCEPT_S;
+    while (want > 0 && time(NULL) < until) {
+        struct pollfd p = {lfd, POLLIN, 0};
+        if (poll(&p, 1, 100) != 1)
+            continue;
+        int c = accept4(lfd, NULL, NULL, SOCK_CLOEXEC);
+        if (c >= 0 && link_greet_watch(c, token))
+            want--;
+        else if (c >= 0)
+            close(c);
+    }
+}
+
+/* Fails the job as mpirun reports it: under --enable-recovery mpirun
+ * exits 0 whatever the ranks return, so the parent, if it is mpirun
+ * (on this host), is sent SIGTERM: it ends the job and exits 1. */
+void link_fail_job(void)
+{
+    const char *rec = getenv("OMPI_MCA_orte_enable_recovery");
+    char path[64], comm[32] = "";
+    if (!rec || strcmp(rec, "1") != 0)
+        return; /* mpirun reports the ranks' status itself */
+    snprintf(path, sizeof path, "/proc/%d/comm", (int)getppid());
+    FILE *f = fopen(path, "r");
+    if (f) {
+        if (!fgets(comm, sizeof comm, f))
+            comm[0] = '\0';
+        fclose(f);
+    }
+    if (strncmp(comm, "mpirun", 6) == 0 || strncmp(comm, "orterun", 7) == 0)
+        kill(getppid(), SIGTERM);
+}
+
+/* The MPI rank of process `pid` if it is a child of `parent`, else -1. */
+static int link_sibling_rank(const char *pid, pid_t parent)
+{
+    char path[64], buf[4096];
+    int rank = -1;
+    snprintf(path, sizeof path, "/proc/%s/stat", pid);
+    FILE *f = fopen(path, "r");
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f)
+        fclose(f);
+    buf[n] = '\0';
+    const char *end = strrchr(buf, ')'); /* "pid (comm) state ppid ..." */
+    int ppid = -1;
+    if (!end || sscanf(end + 1, " %*c %d", &ppid) != 1 || ppid != (int)parent)
+        return -1;
+    snprintf(path, sizeof path, "/proc/%s/environ", pid);
+    f = fopen(path, "r");
+    n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f)
+        fclose(f);
+    buf[n] = '\0';
+    for (size_t i = 0; i < n; i += strlen(buf + i) + 1)
+        if (strncmp(buf + i, "OMPI_COMM_WORLD_RANK=", 21) == 0)
+            rank = atoi(buf + i + 21);
+    return rank; /* (an exited one has no environ left: -1) */
+}
+
+/* How many other ranks of this job run under the same parent; *lowest:
+ * the lowest of their ranks. */
+static int link_siblings(int *lowest)
+{
+    DIR *d = opendir("/proc");
+    struct dirent *e;
+    int n = 0;
+    *lowest = INT_MAX;
+    while (d && (e = readdir(d))) {
+        if (e->d_name[0] < '0' || e->d_name[0] > '9' || atoi(e->d_name) == (int)getpid())
+            continue;
+        int r = link_sibling_rank(e->d_name, getppid());
+        if (r >= 0) {
+            n++;
+            *lowest = r < *lowest ? r : *lowest;
+        }
+    }
+    if (d)
+        closedir(d);
+    return n;
+}
+
+/* A worker whose master is gone: the lowest-ranked worker left waits for
+ * the others to exit (mpirun, killed while ranks still run, leaves their
+ * shared memory behind), then fails the job (link_fail_job). */
+static void link_worker_fail_job(void)
+{
+    for (int i = 0; i < LINK_END_GRACE_S * 10; i++) {
+        int lowest;
+        if (link_siblings(&lowest) == 0)
+            break;
+        if (lowest < link_w.rank)
+            return; /* that one will */
+        struct timespec ts = {0, 100000000L};
+        nanosleep(&ts, NULL);
+    }
+    link_fail_job();
+}
+
+/* A worker's watchdog: blocks on the socket to rank 0, then acts on the
+ * last byte before EOF.  LINK_BYE_QUIET: the master goes on without this
+ * worker (link_forget), or ends the job (link_abort): exit quietly.  LINK_BYE_EXIT, or a STOP came:
+ * the master ended in order: the process gets LINK_END_GRACE_S to end on
+ * its own (its STOP may still be on the way).  EOF alone: the master is
+ * gone: exit now. */
+static void *link_watchdog(void *arg)
+{
+    char c, last = 0;
+    (void)arg;
+    while (read(link_w.master_fd, &c, 1) > 0)
+        last = c;
+    int ending = atomic_load(&link_w.ending);
+    if (ending < 0)
+        return NULL; /* the process is exiting anyway */
+    if (last == LINK_BYE_QUIET)
+        _exit(1);
+    if (ending > 0 || last == LINK_BYE_EXIT) {
+        sleep(LINK_END_GRACE_S);
+        _exit(ending > 0 ? ending - 1 : 1);
+    }
+    fprintf(stderr, "csgtrace: error: worker %d: the master is gone; exiting\n", link_w.rank);
+    link_worker_fail_job();
+    _exit(1);
+}
+
+static void link_watch_connect(const link_watch_addr *a)
+{
+    struct addrinfo hints = {.ai_family = AF_INET, .ai_socktype = SOCK_STREAM}, *ai = NULL;
+    char port[16];
+    link_watch_hello hello = {a->token, link_w.rank, 0};
+    snprintf(port, sizeof port, "%d", (int)a->port);
+    int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0 || getaddrinfo(a->host, port, &hints, &ai) != 0 ||
+        connect(fd, ai->ai_addr, ai->ai_addrlen) != 0 ||
+        send(fd, &hello, sizeof hello, MSG_NOSIGNAL) != (ssize_t)sizeof hello) {
+        if (fd >= 0)
+            close(fd); /* unwatched: the master may still time it out */
+        fd = -1;
+    }
+    if (ai)
+        freeaddrinfo(ai);
+    link_w.master_fd = fd;
+    pthread_t th;
+    if (fd >= 0 && pthread_create(&th, NULL, link_watchdog, NULL) == 0)
+        pthread_detach(th);
+}
+
+/* The ranks are threads of one process (link_ranks_are_threads): there is
+ * no process to watch, no watchdog socket, no CPU of a rank's own. */
+static bool link_threads;
+
+void link_ranks_are_threads(void)
+{
+    link_threads = true;
+}
+
+/* Rank 0 watches its parent, mpirun (or the local daemon): when it dies
+ * (kill -9 of mpirun), nothing else tells this process, which would go on
+ * rendering, unseen, for as long as the render lasts.  It is sent SIGTERM
+ * instead: the render stops as if the user had stopped it (host/signals.h:
+ * the journal kept, one line), and the workers follow it (their
+ * watchdogs).  A poll, not PR_SET_PDEATHSIG: that fires when the parent's
+ * forking *thread* ends, which need not be the parent's end. */
+#define LINK_PARENT_POLL_NS 250000000L
+
+static void *link_parent_watch(void *arg)
+{
+    pid_t parent = (pid_t)(intptr_t)arg;
+    struct timespec nap = {0, LINK_PARENT_POLL_NS};
+    while (getppid() == parent)
+        nanosleep(&nap, NULL);
+    kill(getpid(), SIGTERM);
+    return NULL;
+}
+
+static void link_parent_watch_start(void)
+{
+    pthread_t th;
+    if (!link_threads &&
+        pthread_create(&th, NULL, link_parent_watch, (void *)(intptr_t)getppid()) == 0)
+        pthread_detach(th);
+}
+
+/* Every rank, once after MPI_Init: the watchdog sockets set up. */
+static void link_watch_start(void)
+{
+    link_watch_addr a;
+    int lfd = -1;
+    memset(&a, 0, sizeof a);
+    if (link_w.rank == 0) {
+        link_w.fd = malloc((size_t)link_w.size * sizeof *link_w.fd);
+        link_w.gone = calloc((size_t)link_w.size, sizeof *link_w.gone);
+        if (!link_w.gone) {
+            free(link_w.fd);
+            link_w.fd = NULL;
+        }
+        for (int r = 0; link_w.fd && r < link_w.size; r++)
+            link_w.fd[r] = -1;
+        if (link_w.fd && link_w.size > 1 && !link_threads)
+            lfd = link_listen(&a);
+    }
+    if (MPI_Bcast(&a, sizeof a, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS || a.port == 0)
+        return;
+    link_w.watched = true;
+    if (link_w.rank != 0)
+        link_watch_connect(&a);
+    else
+        link_accept_all(lfd, a.token);
+    if (lfd >= 0)
+        close(lfd);
+}
+
+bool link_peer_gone_before(int rank)
+{
+    return link_w.gone && rank >= 1 && rank < link_w.size && link_w.gone[rank];
+}
+
+bool link_peer_lost(int rank)
+{
+    if (!link_w.fd || rank < 1 || rank >= link_w.size)
+        return false;
+    if (link_w.gone[rank])
+        return true;
+    if (link_w.fd[rank] < 0)
+        return false;
+    struct pollfd p = {link_w.fd[rank], POLLIN, 0};
+    char c;
+    if (poll(&p, 1, 0) <= 0 || recv(p.fd, &c, 1, MSG_DONTWAIT) > 0)
+        return false; /* (a worker never writes after its hello) */
+    link_forget(rank);
+    return true;
+}
+
+/* One byte to rank r's watchdog before its socket closes (link_watchdog). */
+static void link_bye(int rank, char why)
+{
+    send(link_w.fd[rank], &why, 1, MSG_NOSIGNAL | MSG_DONTWAIT);
+}
+
+void link_forget(int rank)
+{
+    if (!link_w.fd || rank < 1 || rank >= link_w.size || link_w.fd[rank] < 0)
+        return;
+    link_bye(rank, LINK_BYE_QUIET);
+    close(link_w.fd[rank]); /* the worker's watchdog sees EOF and exits */
+    link_w.fd[rank] = -1;
+    link_w.gone[rank] = true;
+}
+
+void link_ending(int status)
+{
+    atomic_store(&link_w.ending, status < 0 ? 0 : status + 1);
+}
+
+void link_exit_status(int status)
+{
+    if (status != 0) /* the first failure of the job stands */
+        link_w.status = link_w.status ? link_w.status : status;
+}
+
+/* MPI_Finalize once (at exit, or sooner: link_finish), after telling every
+ * watched worker goodbye; a failed job fails mpirun too (link_fail_job). */
+void link_finish(void)
+{
+    int finalized = 0;
+    atomic_store(&link_w.ending, -1); /* the master's EOF is expected now */
+    for (int r = 1; link_w.fd && r < link_w.size; r++)
+        if (link_w.fd[r] >= 0)
+            link_bye(r, LINK_BYE_EXIT); /* (a STOP may still be on its way) */
+    MPI_Finalized(&finalized);
+    if (!finalized)
+        MPI_Finalize();
+    if (link_w.rank == 0 && link_w.status != 0)
+        link_fail_job();
+}
+
+bool link_start(int *rank, int *size)
+{
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized) {
+        setenv("OMPI_MCA_async_mpi_finalize", "1", 0); /* (the header) */
+        if (MPI_Init(NULL, NULL) != MPI_SUCCESS)
+            return false;
+        atexit(link_finish);
+        MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+        if (MPI_Comm_rank(MPI_COMM_WORLD, &link_w.rank) != MPI_SUCCESS ||
+            MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS)
+            return false;
+        /* A nap's deadline is late by the timer slack, 50 us by default:
+         * more than most naps, and more than a cheap tile, which a worker
+         * then waits out for its next TILE (1 worker, 384x384, tile 16:
+         * 41 -> 21 us between tiles, the tile phase -9 %).  Threads
+         * started later (PoCL's) inherit it. */
+        prctl(PR_SET_TIMERSLACK, (unsigned long)LINK_NAP_MIN_NS);
+        link_watch_start();
+        if (link_w.rank == 0)
+            link_parent_watch_start();
+    }
+    *rank = link_w.rank;
+    *size = link_w.size;
+    return true;
+}
+
+/* ---- where a worker runs ------------------------------------------------- */
+
+int link_worker_cpu(const char *setting, const char *binding, const char *local_rank,
+                    const char *local_size, const cpu_set_t *allowed)
+{
+    if ((setting && strcmp(setting, "off") == 0) || !binding || strcmp(binding, "none") != 0 ||
+        !local_rank || !local_size)
+        return -1;
+    int cpus = CPU_COUNT(allowed), at = atoi(local_rank);
+    if (cpus < 2 || atoi(local_size) <= cpus || at < 0)
+        return -1; /* (a core for every rank: the OS spreads them) */
+    int nth = at % cpus;
+    for (int cpu = 0; cpu < CPU_SETSIZE; cpu++)
+        if (CPU_ISSET(cpu, allowed) && nth-- == 0)
+            return cpu;
+    return -1;
+}
+
+int link_bind_worker(const char *setting)
+{
+    cpu_set_t allowed, one;
+    if (link_threads || sched_getaffinity(0, sizeof allowed, &allowed) != 0)
+        return -1;
+    int cpu = link_worker_cpu(setting,
+                              getenv("OMPI_MCA_hwloc_base_binding_policy"),
+                              getenv("OMPI_COMM_WORLD_LOCAL_RANK"),
+                              getenv("OMPI_COMM_WORLD_LOCAL_SIZE"), &allowed);
+    CPU_ZERO(&one);
+    if (cpu >= 0)
+        CPU_SET(cpu, &one);
+    return cpu >= 0 && sched_setaffinity(0, sizeof one, &one) == 0 ? cpu : -1;
+}
+
+/* ---- the idle wait ------------------------------------------------------ */
+
+bool link_idle_init(link_idle *w, long nap_max_ns, int spin_steps)
+{
+    memset(w, 0, sizeof *w);
+    w->nap_max_ns = nap_max_ns;
+    w->spin_steps = spin_steps;
+    w->ready = sem_init(&w->wake, 0, 0) == 0;
+    link_idle_reset(w);
+    return w->ready;
+}
+
+void link_idle_free(link_idle *w)
+{
+    if (w->ready)
+        sem_destroy(&w->wake);
+    w->ready = false;
+}
+
+void link_idle_reset(link_idle *w)
+{
+    w->spins = w->spin_steps;
+    w->nap_ns = LINK_NAP_MIN_NS;
+}
+
+void link_wake(link_idle *w)
+{
+    if (w->ready)
+        sem_post(&w->wake);
+}
+
+/* Takes every pending wake-up; true if there was one. */
+static bool link_idle_woken(link_idle *w)
+{
+    bool woken = false;
+    while (w->ready && sem_trywait(&w->wake) == 0)
+        woken = true;
+    return woken;
+}
+
+void link_idle_step(link_idle *w)
+{
+    if (link_idle_woken(w)) {
+        link_idle_reset(w); /* something happened: poll again at once */
+        return;
+    }
+    if (w->spins > 0) {
+        w->spins--;
+        return;
+    }
+    long nap = w->nap_ns < w->nap_max_ns ? w->nap_ns : w->nap_max_ns;
+    if (w->ready) {
+        struct timespec until = deadline_after_ns(nap);
+        int rc;
+        while ((rc = sem_clockwait(&w->wake, CLOCK_MONOTONIC, &until)) != 0 && errno == EINTR)
+            continue;
+        if (rc == 0) {
+            link_idle_woken(w);
+            link_idle_reset(w);
+            return;
+        }
+    } else {
+        struct timespec ts = {0, nap};
+        nanosleep(&ts, NULL);
+    }
+    w->nap_ns = nap * 2 < w->nap_max_ns ? nap * 2 : w->nap_max_ns;
+}
+
+/* ---- the scheduler slice -------------------------------------------------- */
+
+/* The kernel's struct sched_attr, first version (48 bytes): glibc has no
+ * wrapper, and <linux/sched/types.h> clashes with <sched.h>. */
+typedef struct {
+    uint32_t size, sched_policy;
+    uint64_t sched_flags;
+    int32_t sched_nice;
+    uint32_t sched_priority;
+    uint64_t sched_runtime, sched_deadline, sched_period;
+} link_sched_attr;
+
+void link_respond_quickly(void)
+{
+#ifdef SYS_sched_setattr
+    link_sched_attr a;
+    memset(&a, 0, sizeof a);
+    a.size = sizeof a;
+    a.sched_policy = 0; /* SCHED_OTHER */
+    a.sched_nice = getpriority(PRIO_PROCESS, 0);
+    a.sched_runtime = LINK_SLICE_NS;
+    syscall(SYS_sched_setattr, 0, &a, 0); /* older kernels: no such slice, no harm */
+#endif
+}
+
+/* ---- receiving ------------------------------------------------------------ */
+
+static link_status link_wait(int source, MPI_Status *st)
+{
+    link_idle w;
+    link_status status = LINK_OK;
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    for (;;) {
+        int flag = 0;
+        if (MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, st) != MPI_SUCCESS) {
+            status = LINK_ERROR;
+            break;
+        }
+        if (flag)
+            break;
+        link_idle_step(&w);
+    }
+    link_idle_free(&w);
+    return status;
+}
+
+/* Receives a probed message without ever blocking in MPI (a peer that
+ * dies in the middle of a large message never completes it, on TCP);
+ * LINK_LOST when the peer is gone first: the request stays MPI's. */
+static link_status link_recv_from(char *data, int count, int source, int tag)
+{
+    MPI_Request rq;
+    link_idle w;
+    link_status status = LINK_OK;
+    if (MPI_Irecv(data, count, MPI_BYTE, source, tag, MPI_COMM_WORLD, &rq) != MPI_SUCCESS)
+        return LINK_ERROR;
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    for (;;) {
+        int flag = 0;
+        if (MPI_Test(&rq, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+            status = LINK_ERROR;
+        if (flag || status != LINK_OK)
+            break;
+        if (link_peer_lost(source)) {
+            status = LINK_LOST;
+            break;
+        }
+        link_idle_step(&w);
+    }
+    link_idle_free(&w);
+    return status;
+}
+
+/* m->data holds at least `need` bytes (+1 for a terminating NUL). */
+static bool link_reserve(link_msg *m, size_t need)
+{
+    if (need + 1 <= m->cap)
+        return true;
+    char *p = realloc(m->data, need + 1);
+    if (!p)
+        return false;
+    m->data = p;
+    m->cap = need + 1;
+    return true;
+}
+
+/* Receives the message `st` describes (probed, not yet taken). */
+static link_status link_take(link_msg *m, const MPI_Status *st, size_t limit)
+{
+    int count = 0;
+    if (MPI_Get_count(st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
+        return LINK_ERROR;
+    m->len = (size_t)count;
+    m->source = st->MPI_SOURCE;
+    m->tag = st->MPI_TAG;
+    if ((size_t)count > limit)
+        return LINK_TOO_BIG; /* left where it is: see mpi_link.h */
+    if (!link_reserve(m, (size_t)count)) {
+        /* A message can only be received whole: nothing else to do. */
+        int rank = -1;
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+        fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %d-byte message\n", rank,
+                count);
+        link_abort(1);
+    }
+    link_status got = link_recv_from(m->data, count, st->MPI_SOURCE, st->MPI_TAG);
+    if (got == LINK_LOST) { /* MPI may still write into it: left to MPI */
+        m->data = NULL;
+        m->cap = 0;
+    }
+    if (got == LINK_OK)
+        m->data[count] = '\0';
+    return got;
+}
+
+static int link_source(int source)
+{
+    return source == LINK_ANY_SOURCE ? MPI_ANY_SOURCE : source;
+}
+
+link_status link_recv(link_msg *m, int source, size_t limit)
+{
+    MPI_Status st;
+    if (link_wait(link_source(source), &st) != LINK_OK)
+        return LINK_ERROR;
+    return link_take(m, &st, limit);
+}
+
+link_status link_try_recv(link_msg *m, int source, size_t limit)
+{
+    MPI_Status st;
+    int flag = 0;
+    if (MPI_Iprobe(link_source(source), MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS)
+        return LINK_ERROR;
+    return flag ? link_take(m, &st, limit) : LINK_NONE;
+}
+
+void link_msg_free(link_msg *m)
+{
+    free(m->data);
+    memset(m, 0, sizeof *m);
+}
+
+link_status link_send(int dest, int tag, const void *data, size_t len)
+{
+    return MPI_Send(data, (int)len, MPI_BYTE, dest, tag, MPI_COMM_WORLD) == MPI_SUCCESS
+               ? LINK_OK
+               : LINK_ERROR;
+}
+
+/* ---- sending in the background ---------------------------------------------- */
+
+static MPI_Request *link_req_mpi(link_req *req)
+{
+    return (MPI_Request *)(void *)req->impl.bytes;
+}
+
+link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req)
+{
+    req->active = false;
+    req->peer = dest;
+    if (MPI_Isend(data, (int)len, MPI_BYTE, dest, tag, MPI_COMM_WORLD, link_req_mpi(req)) !=
+        MPI_SUCCESS)
+        return LINK_ERROR;
+    req->active = true;
+    return LINK_OK;
+}
+
+bool link_req_done(link_req *req)
+{
+    int flag = 1;
+    if (!req->active)
+        return true;
+    if (MPI_Test(link_req_mpi(req), &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+        flag = 1; /* an error ends the request too: its bytes are free */
+    if (flag)
+        req->active = false;
+    return flag != 0;
+}
+
+link_status link_req_wait(link_req *req)
+{
+    link_idle w;
+    link_status status = LINK_OK;
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    while (!link_req_done(req)) {
+        if (link_peer_lost(req->peer)) {
+            link_req_abandon(req);
+            status = LINK_LOST;
+            break;
+        }
+        link_idle_step(&w);
+    }
+    link_idle_free(&w);
+    return status;
+}
+
+void link_req_abandon(link_req *req)
+{
+    if (req->active)
+        MPI_Request_free(link_req_mpi(req));
+    req->active = false;
+}
+
+/* Under --enable-recovery a worker may die at any time, also while the
+ * scene is broadcast, and MPI_Bcast would then wait for ever (on the
+ * master, or on the ranks below the dead one in the tree).  There the
+ * master sends every chunk to each worker itself, with background sends
+ * it gives up on when the worker is lost (link_req_wait), and the workers
+ * receive them as plain messages: W copies through the master's link
+ * instead of a tree's log2(W) rounds, the price of surviving. */
+#define LINK_TAG_BCAST 32000 /* (above protocol.h's tags) */
+
+static bool link_bcast_direct(void)
+{
+    const char *rec = getenv("OMPI_MCA_orte_enable_recovery");
+    return link_w.watched && rec && strcmp(rec, "1") == 0;
+}
+
+static link_status link_bcast_send(const void *data, size_t size)
+{
+    link_req *req = calloc((size_t)link_w.size, sizeof *req);
+    if (!req)
+        return LINK_ERROR;
+    link_status status = LINK_OK;
+    for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
+        size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
+        for (int r = 1; r < link_w.size; r++)
+            if (!link_peer_lost(r) &&
+                link_isend(r, LINK_TAG_BCAST, (const char *)data + off, n, &req[r]) != LINK_OK)
+                status = LINK_ERROR;
+        for (int r = 1; r < link_w.size; r++)
+            if (req[r].active)
+                link_req_wait(&req[r]); /* (LINK_LOST: that worker is skipped from now) */
+        if (size == 0)
+            break;
+    }
+    free(req);
+    return status;
+}
+
+static link_status link_bcast_receive(void *data, size_t size)
+{
+    link_msg msg = {0};
+    link_status status = LINK_OK;
+    for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
+        size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
+        link_status got = link_recv(&msg, LINK_MASTER, LINK_BCAST_CHUNK);
+        if (got != LINK_OK || msg.tag != LINK_TAG_BCAST || msg.len != n) {
+            status = got == LINK_OK ? LINK_ERROR : got;
+            break;
+        }
+        if (data)
+            memcpy((char *)data + off, msg.data, n);
+        if (size == 0)
+            break;
+    }
+    link_msg_free(&msg);
+    return status;
+}
+
+link_status link_bcast(void *data, size_t size)
+{
+    if (link_bcast_direct())
+        return link_w.rank == 0 ? link_bcast_send(data, size) : link_bcast_receive(data, size);
+    char sink[LINK_BCAST_CHUNK]; /* where a rank without memory receives */
+    link_status status = LINK_OK;
+    for (size_t off = 0; off < size; off += LINK_BCAST_CHUNK) {
+        size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
+        if (MPI_Bcast(data ? (char *)data + off : sink, (int)n, MPI_BYTE, LINK_MASTER,
+                      MPI_COMM_WORLD) != MPI_SUCCESS)
+            status = LINK_ERROR; /* every chunk still goes: the others wait for it */
+    }
+    return status;
+}
+
+link_status link_bcast_idle(void *data, size_t size)
+{
+    if (link_bcast_direct() || size > LINK_BCAST_CHUNK)
+        return link_bcast(data, size);
+    link_req req = {.active = false, .peer = LINK_MASTER};
+    if (MPI_Ibcast(data, (int)size, MPI_BYTE, LINK_MASTER, MPI_COMM_WORLD, link_req_mpi(&req)) !=
+        MPI_SUCCESS)
+        return LINK_ERROR;
+    req.active = true;
+    return link_req_wait(&req);
+}
+
+void link_abort(int code)
+{
+    for (int r = 1; link_w.fd && r < link_w.size; r++)
+        if (link_w.fd[r] >= 0)
+            link_bye(r, LINK_BYE_QUIET); /* (this rank reported why) */
+    link_fail_job();
+    MPI_Abort(MPI_COMM_WORLD, code);
+}

@@ -1,0 +1,201 @@
+/*
+ * mpi_link.h — the message link between the master (rank 0) and the workers:
+ * the one module that talks to MPI (only mpi_link.c includes mpi.h).
+ *
+ * Everything the tile protocol (protocol.h) needs and nothing more: start
+ * MPI when launched by mpirun, send one message (blocking, or in the
+ * background: link_isend), wait for or poll for one message of a bounded
+ * size, broadcast the scene in chunks, and the idle wait of an event loop
+ * (link_idle: poll, then nap, woken early by link_wake from any thread).
+ * Without mpirun no MPI call is ever made and MPI is never initialised
+ * (link_idle alone touches no MPI).
+ *
+ * Errors return: MPI's error handler is set to return codes, so a call
+ * that fails reports LINK_ERROR to its caller instead of killing the job.
+ *
+ * Liveness: launched with `mpirun --enable-recovery`, the job outlives a
+ * worker that dies; the master learns it from link_peer_lost (a watchdog
+ * socket per worker, mpi_link.c), and no wait of this module outlives the peer
+ * it waits on (LINK_LOST).  A worker exits by itself as soon as the master
+ * is gone.
+ */
+#ifndef COMM_MPI_LINK_H
+#define COMM_MPI_LINK_H
+
+#include <semaphore.h>
+#include <sched.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+enum { LINK_MASTER = 0, LINK_ANY_SOURCE = -1 };
+
+/* True when the process was started by mpirun (Open MPI's
+ * OMPI_COMM_WORLD_SIZE, or PMI_SIZE / PMIX_RANK of other launchers). */
+bool link_launched_by_mpirun(void);
+
+/* MPI_Init once per process (MPI_Finalize then runs at exit, so that a
+ * program may render several times in one job); this rank and the number
+ * of ranks.  false when MPI cannot start. */
+bool link_start(int *rank, int *size);
+/* The ranks are threads of one process (the simulated build, SMPI:
+ * sim/main.c calls it first): no process to watch (no watchdog sockets),
+ * no CPU to bind a worker to. */
+void link_ranks_are_threads(void);
+
+typedef enum {
+    LINK_OK = 0,
+    LINK_TOO_BIG, /* the message exceeds the limit: NOT received (source,
+                     tag and len say what it is); it stays at the head
+                     of the queue, so the job can only end: report it,
+                     then link_abort                                    */
+    LINK_ERROR,   /* MPI failed                                        */
+    LINK_NONE,    /* link_try_recv: no message is waiting              */
+    LINK_LOST     /* the peer died before the message was through (its
+                     bytes, and the buffer they went to, are MPI's now) */
+} link_status;
+
+/* A received message; data is malloc'd and grows to the limit asked for,
+ * never to what a sender claims. */
+typedef struct {
+    char *data;
+    size_t cap;
+    size_t len;  /* bytes of the last message */
+    int source;
+    int tag;
+} link_msg;
+
+/* Waits for the next message from `source` (a rank or LINK_ANY_SOURCE) and
+ * receives it if it holds at most `limit` bytes.  Out of memory for it, the
+ * job is aborted (exit 1, one message): MPI can only take a message whole.  The wait polls, then
+ * naps with a short back-off, rather than spinning in MPI: the ranks may
+ * outnumber the cores, and the OpenCL pass needs them. */
+link_status link_recv(link_msg *m, int source, size_t limit);
+/* The same without waiting: LINK_NONE when no message from `source` is
+ * there now. */
+link_status link_try_recv(link_msg *m, int source, size_t limit);
+void link_msg_free(link_msg *m);
+
+/* One message of `len` bytes to `dest`. */
+link_status link_send(int dest, int tag, const void *data, size_t len);
+
+/* A send in the background (MPI_Isend): the sender goes on at once, even
+ * when the message is too large to be buffered and the receiver is busy.
+ * Its bytes must stay untouched until the request is done. */
+typedef struct {
+    union {
+        void *p;
+        long long i;
+        unsigned char bytes[16];
+    } impl;      /* the MPI_Request (mpi_link.c checks it fits)            */
+    bool active; /* started and not yet known to be done               */
+    int peer;    /* the receiver                                       */
+} link_req;
+
+link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req);
+/* True once the send is done (or none was active); LINK_ERROR aside, a
+ * done request is inactive again. */
+bool link_req_done(link_req *req);
+/* Waits (poll, then nap) until the send is done; LINK_LOST (the request
+ * abandoned) when the receiver is lost first (link_peer_lost). */
+link_status link_req_wait(link_req *req);
+/* Gives up on a send the receiver may never take (a worker written off
+ * after breaking the protocol): MPI keeps the request; the caller must
+ * neither reuse nor free its bytes. */
+void link_req_abandon(link_req *req);
+
+/* The idle wait of an event loop: the caller polls for work and, when
+ * there was none, calls link_idle_step, which spins a little, then naps,
+ * each nap twice the last up to nap_max_ns.  link_wake (from any thread:
+ * it is a sem_post) ends the current nap at once and makes the next step
+ * return without napping, so a producer that is not a message (an OpenCL
+ * slice completing) is never kept waiting by a nap.  After useful work the
+ * caller calls link_idle_reset, which restarts the spins. */
+typedef struct {
+    sem_t wake;        /* posted by link_wake                            */
+    long nap_ns;       /* the next nap                                   */
+    long nap_max_ns;   /* the longest nap; the caller may change it      */
+    int spins;         /* steps left before the first nap                */
+    int spin_steps;    /* the spins after a reset                        */
+    bool ready;        /* wake was initialised                           */
+} link_idle;
+
+#define LINK_NAP_MAX_NS 200000L /* a worker with nothing queued, at most */
+
+/* Asks the OS to run this process soon after each wake-up rather than
+ * letting a busy process finish its time slice first: on Linux >= 6.12
+ * (EEVDF) a short custom slice (sched_setattr), so a nap's end or a wake-up
+ * preempts a worker at once; elsewhere it does nothing.  For the master,
+ * whose every delay is a worker's wait once the ranks outnumber the cores. */
+void link_respond_quickly(void);
+
+bool link_idle_init(link_idle *w, long nap_max_ns, int spin_steps);
+void link_idle_free(link_idle *w);
+void link_idle_step(link_idle *w);
+void link_idle_reset(link_idle *w);
+void link_wake(link_idle *w);
+
+/* MPI_Bcast of `size` bytes from the master, in chunks (no int overflow,
+ * and a rank short of memory can still take part: data NULL receives into
+ * a sink). */
+link_status link_bcast(void *data, size_t size);
+/* The same for a small message (<= 64 KiB) the others may wait long for
+ * (the master reads the scene first): they poll, then nap (link_idle),
+ * rather than spin in MPI_Bcast on the cores the master's reading, and
+ * hetero's OpenCL set-up meanwhile, could use.  Each round of the
+ * broadcast's tree may then cost a nap (LINK_NAP_MAX_NS at most). */
+link_status link_bcast_idle(void *data, size_t size);
+
+/* Where a worker computes (link_bind_worker).  With more ranks on a node
+ * than CPUs, launched unbound (`mpirun --bind-to none`, which rank 0
+ * needs so that the OpenCL pass may use every core), Linux often leaves
+ * two busy workers on one core for a whole short frame, the master alone
+ * on the other: rank 0 polls and naps every few microseconds, too briefly
+ * for the idle core to pull a worker over (measured here, 2 cores,
+ * tetra2 homo: half of the runs took 0.033 s instead of 0.022 s, rank 0's
+ * CPU 0.016 s instead of 0.003 s; placing the workers once, then
+ * unbinding them, did not help).  So each worker binds itself to the
+ * (local rank mod n)-th of the n CPUs it may use: the workers spread
+ * evenly, rank 0 (not a worker) stays unbound.  Only under Open MPI with
+ * binding "none" (anything else: the launcher's choice stands), more
+ * local ranks than allowed CPUs, and the setting ($CSGTRACE_WORKER_BIND)
+ * not "off".
+ * The CPU, or -1: left unbound.  Pure: the environment's strings and the
+ * allowed set given. */
+int link_worker_cpu(const char *setting, const char *binding, const char *local_rank,
+                    const char *local_size, const cpu_set_t *allowed);
+/* This worker bound to link_worker_cpu's CPU for its environment and
+ * `setting`; the CPU, or -1 (left as it was). */
+int link_bind_worker(const char *setting);
+
+/* ---- liveness ---------------------------------------------------------------- */
+
+/* Master: true once rank r's process is gone (its watchdog socket closed,
+ * however it died; a worker that never connected one is never "lost"
+ * here).  Stays true. */
+/* Rank r was lost or written off earlier in this job (no polling: what
+ * link_peer_lost and link_forget recorded). */
+bool link_peer_gone_before(int rank);
+bool link_peer_lost(int rank);
+/* Master: stops watching rank r and closes its socket, so that worker,
+ * if it is still alive (hung), exits at once. */
+void link_forget(int rank);
+/* Worker: STOP(status) came (status >= 0): from now on the master's exit
+ * is expected, and this process is given a few seconds to end by itself
+ * before it exits with `status`; -1: a new render, the master's exit is
+ * again fatal. */
+void link_ending(int status);
+/* Master: the job's status.  A non-zero one is made mpirun's too at exit
+ * (under --enable-recovery mpirun would report 0: link_fail_job). */
+void link_exit_status(int status);
+/* Under mpirun --enable-recovery: SIGTERM to the parent mpirun, so that it
+ * ends the job and exits 1 (it reports 0 otherwise, whatever the ranks
+ * return).  Does nothing otherwise. */
+void link_fail_job(void);
+/* MPI_Finalize now, if it has not run (else it runs at exit): for a
+ * launcher that does not run atexit handlers per rank (SMPI, make sim). */
+void link_finish(void);
+
+/* Ends every rank of the job with `code` (a rank that cannot go on). */
+void link_abort(int code);
+
+#endif

@@ -1,0 +1,281 @@
+/*
+ * protocol.h — the master/worker tile protocol, in this one place.  The
+ * master (master.c) owns it; the worker side is workers/worker.c; both
+ * move bytes through mpi_link.h only.
+ *
+ * Ranks of MPI_COMM_WORLD: 0 is the master, 1 .. K-1 are workers.  Every
+ * message is ONE message of bytes: a fixed-size header struct of this
+ * file, followed by its payload when it has one.  The receiver knows the
+ * largest message it can be sent (proto_*_limit) and refuses a larger one
+ * before taking a byte of it (link_recv), then checks the size against
+ * the header.
+ *
+ * 1. Setup (broadcasts, every rank, from the master):
+ *      proto_setup                       status first: 0 go on; otherwise
+ *                                        every rank exits with it (2: the
+ *                                        scene is bad, 1: other failure)
+ *      blob bytes                        only when status == 0: blob_size
+ *                                        bytes (link_bcast, in chunks)
+ *    A worker validates the bytes (csg_blob_valid), picks engine_for_blob
+ *    and allocates its tile buffers (workers/tile.h: tile_runner).
+ * 2. Handshake: every worker sends the master exactly one message,
+ *      PROTO_TAG_READY (proto_ready)  or  PROTO_TAG_FAIL (proto_fail).
+ * 3. Work (demand-driven: each worker is kept PROTO_IN_FLIGHT messages
+ *    of work ahead, so it never waits on the master between two; the
+ *    master's scheduler, host/schedule.h, decides which items go next and
+ *    how many go in one message, 1 .. proto_setup.batch):
+ *      master -> worker  PROTO_TAG_TILE    k >= 1 parts, each:
+ *                          proto_tile: a rectangle inside tile `index`
+ *                          (the whole tile, or a piece of it)
+ *                          [PROTO_WORK_SHADE: the rectangle's packed hit
+ *                           records, tiles.h (tile_pack_records)]
+ *      worker -> master  PROTO_TAG_RESULT  k parts, in the TILE's order,
+ *                                          each proto_result + the n
+ *                                          pixels in proto_result.pixels:
+ *                                          rgb[3 n] float, or (when the
+ *                                          setup's pixels is RGB8) the
+ *                                          3 n bytes of the 8-bit file;
+ *                                          a part with a value that has
+ *                                          no byte of its own (pixels.h)
+ *                                          goes as floats all the same
+ *                   or   PROTO_TAG_FAIL    proto_fail (for the whole TILE)
+ *    Parts follow one another, each starting 8-byte aligned (zero bytes
+ *    pad the one before; nothing follows the last): a TILE of one part
+ *    is exactly the single item's header and payload.  k <= batch, the
+ *    limit broadcast in the setup (1: one item a message).
+ *    Every TILE gets exactly one answer, in the order the TILEs were sent
+ *    (a worker answers first in, first out), so an answer belongs to the
+ *    oldest TILE the worker holds; a worker holds at most PROTO_IN_FLIGHT.
+ *    Large messages go in the background on both sides (link_isend): the
+ *    master never waits on a busy worker, a worker never on the master.
+ *    A worker whose answer breaks the protocol (wrong size, tile or tag)
+ *    is written off: the master expects nothing more from it.  A worker
+ *    whose process dies (or that hangs) is lost: written off too, its
+ *    items sent again to the others, whatever it sent before dying
+ *    dropped (host/master.c; liveness: comm/mpi_link.h).
+ * 4. End: master -> every worker not lost PROTO_TAG_STOP (proto_stop), sent
+ *    only when no live worker holds an item (results drained).  The worker exits with
+ *    proto_stop.status, so every rank ends with the master's status.
+ *
+ * Relays (--relays K > 0, for many workers: bench/SCALE.md): ranks 1 .. K
+ * are relays, a second level of masters (comm/relay.h); every other
+ * worker rank r belongs to relay proto_parent(r, K) and speaks the
+ * protocol above with it instead of rank 0.  To rank 0 a relay is one
+ * worker that holds up to PROTO_RELAY_IN_FLIGHT TILEs and answers each
+ * with one RESULT (or FAIL), in order, as a worker does; each part of its
+ * RESULT names in proto_result.rank the worker that computed it.  The
+ * setup broadcast still goes to every rank, and rank 0 still watches
+ * every rank's process (mpi_link.h): a relay or any worker of its group lost
+ * loses the whole group at once.
+ *
+ * Tiles are numbered as in tiles.h (tile_rect_of).  Headers hold
+ * fixed-width fields only, each a multiple of 8 bytes, so a payload that
+ * follows starts 8-byte aligned.  The ranks must share one byte order (the
+ * blob is sent as bytes too).
+ */
+#ifndef COMM_PROTOCOL_H
+#define COMM_PROTOCOL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tiles.h"
+#include "pixels.h"
+
+enum proto_tag {
+    PROTO_TAG_READY = 1, /* worker: set up, waiting for tiles  */
+    PROTO_TAG_TILE,      /* master: render / shade this tile    */
+    PROTO_TAG_RESULT,    /* worker: the tile's pixels           */
+    PROTO_TAG_FAIL,      /* worker: cannot go on (text)         */
+    PROTO_TAG_STOP       /* master: exit with this status       */
+};
+
+/* What a TILE asks for. */
+enum proto_work {
+    PROTO_WORK_RENDER = 0, /* homo: trace the primary rays and shade   */
+    PROTO_WORK_SHADE = 1   /* hetero: shade from the records sent       */
+};
+
+typedef struct {
+    int32_t status;     /* 0: the blob follows; else exit status      */
+    int32_t tile;       /* tile edge in pixels                         */
+    uint64_t blob_size; /* bytes of the blob broadcast next            */
+    int32_t batch;      /* parts in one TILE at most: 1 .. PROTO_BATCH_MAX */
+    int32_t pixels;     /* enum pixels_format of the RESULTs: RGB8 when
+                           the output is an 8-bit file                 */
+    int32_t relays;     /* ranks 1 .. relays are relays (0: none)      */
+    int32_t ranks;      /* of the job, rank 0 included                 */
+} proto_setup;
+
+/* The largest batch (--batch), and the most bytes a batch's RESULT may
+ * take (a batch of one may take more). */
+#define PROTO_BATCH_MAX 32
+#define PROTO_BATCH_BYTES ((size_t)2 << 20)
+
+typedef struct {
+    int32_t status; /* 0 */
+    int32_t pad;
+} proto_ready;
+
+/* Work items a worker holds at most: the one it computes and the next. */
+#define PROTO_IN_FLIGHT 2
+/* TILEs a relay holds at most: its group's work while it waits for the
+ * oldest one's last part. */
+#define PROTO_RELAY_IN_FLIGHT 8
+#define PROTO_DEPTH_MAX PROTO_RELAY_IN_FLIGHT
+
+/* The fewest items in a TILE to a relay (schedule.h's sched_batch_floor),
+ * with `ranks` - 1 workers of which `relays` relay: PROTO_RELAY_IN_FLIGHT
+ * TILEs keep each worker of the largest group PROTO_IN_FLIGHT items deep. */
+/* The rank rank r takes its TILEs from: 0, or its relay when there are
+ * `relays` (the workers dealt round-robin over them). */
+static inline int proto_parent(int r, int relays)
+{
+    return relays > 0 && r > relays ? 1 + (r - relays - 1) % relays : 0;
+}
+
+/* The j-th worker (j = 0, 1, ...) of relay `relay`: proto_parent's inverse. */
+static inline int proto_member(int relay, int j, int relays)
+{
+    return relays + relay + j * relays;
+}
+
+/* How many workers relay `relay` has in a job of `ranks` (relay 1 has the
+ * most). */
+static inline int proto_group(int relay, int ranks, int relays)
+{
+    int first = proto_member(relay, 0, relays);
+    return first < ranks ? (ranks - 1 - first) / relays + 1 : 0;
+}
+
+static inline int proto_relay_batch_floor(int ranks, int relays)
+{
+    int group = proto_group(1, ranks, relays);
+    return (2 * PROTO_IN_FLIGHT * group + PROTO_RELAY_IN_FLIGHT - 1) / PROTO_RELAY_IN_FLIGHT;
+}
+
+typedef struct {
+    int32_t index;          /* tile number, row-major                  */
+    int32_t work;           /* enum proto_work                         */
+    int32_t x, y;           /* top-left pixel of the rectangle         */
+    int32_t width, height;  /* its pixels: inside tile `index`         */
+} proto_tile;
+
+typedef struct {
+    int32_t index;          /* the tile of the rectangle answered      */
+    uint32_t hits;          /* primary samples that hit                */
+    uint64_t primary, shadow, reflected, refracted; /* rays traced    */
+    uint64_t over_budget;   /* pixels that met their ray budget        */
+    double busy_s;          /* seconds the worker spent on the part:
+                               tracing it and converting its pixels    */
+    double cpu_s;           /* of them, its thread's CPU time          */
+    int32_t pixels;         /* enum pixels_format of the pixels after  */
+    int32_t rank;           /* the worker that computed it (a relay's
+                               answer; a worker sends 0: itself)       */
+} proto_result;
+
+#define PROTO_FAIL_TEXT 240
+typedef struct {
+    int32_t index;               /* the tile that failed; -1: setup    */
+    int32_t pad;
+    char text[PROTO_FAIL_TEXT];  /* NUL-terminated, one line           */
+} proto_fail;
+
+typedef struct {
+    int32_t status; /* the exit status of the whole run */
+    int32_t pad;
+} proto_stop;
+
+/* Where the part after one that ends at `end` begins. */
+static inline size_t proto_align(size_t end)
+{
+    return (end + 7) & ~(size_t)7;
+}
+
+/* `batch` parts of at most `part` bytes each, aligned as above. */
+static inline size_t proto_batch_bytes(size_t part, int batch)
+{
+    return (size_t)(batch > 1 ? batch - 1 : 0) * proto_align(part) + part;
+}
+
+/* One TILE part: header, and the records (shade) of n pixels. */
+static inline size_t proto_tile_part(const tile_grid *g, bool shade, size_t n)
+{
+    return sizeof(proto_tile) + (shade ? tile_records_bytes(g, n) : 0);
+}
+
+/* The TILE part of `data` (len bytes) at offset `at`: its header into h,
+ * checked against its tile and the bytes that are there; where it ends,
+ * or 0 with the reason in *why. */
+static inline size_t proto_tile_part_at(const tile_grid *g, const char *data, size_t len,
+                                        size_t at, proto_tile *h, const char **why)
+{
+    if (at > len || len - at < sizeof *h) {
+        *why = "truncated tile message";
+        return 0;
+    }
+    memcpy(h, data + at, sizeof *h);
+    tile_rect r = {h->x, h->y, h->width, h->height};
+    if (!tile_rect_in_tile(g, h->index, r)) {
+        *why = "tile outside the image";
+        return 0;
+    }
+    size_t part = proto_tile_part(g, h->work == PROTO_WORK_SHADE,
+                                  (size_t)r.width * (size_t)r.height);
+    if ((h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER) || len - at < part) {
+        *why = "malformed tile message";
+        return 0;
+    }
+    return at + part;
+}
+
+/* One RESULT part: header and n pixels in `format` (enum pixels_format). */
+static inline size_t proto_result_part(size_t n, int format)
+{
+    return sizeof(proto_result) + n * pixels_bytes(format);
+}
+
+/* `batch`, lowered so that a RESULT of that many tiles of pixels_max
+ * pixels stays within PROTO_BATCH_BYTES; at least 1. */
+static inline int proto_batch_fit(int batch, size_t pixels_max)
+{
+    while (batch > 1 && proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch) >
+                            PROTO_BATCH_BYTES)
+        batch--;
+    return batch;
+}
+
+/* The largest message a worker can be sent: a TILE of `batch` parts with
+ * the records of the largest tile (a STOP is smaller). */
+static inline size_t proto_worker_limit(const tile_grid *g, int batch)
+{
+    return proto_batch_bytes(proto_tile_part(g, true, g->pixels_max), batch);
+}
+
+/* The largest message the master can be sent: the RESULT of `batch` of
+ * the largest tiles (in floats: any part may be), or a FAIL. */
+static inline size_t proto_master_limit(size_t pixels_max, int batch)
+{
+    size_t result = proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch);
+    return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
+}
+
+/* *buf (*cap bytes; its send done) holds at least `len` bytes: grown when
+ * not (a batch's TILE on the master, its RESULT on a worker); false, the
+ * buffer unchanged, when out of memory. */
+static inline bool proto_buffer(char **buf, size_t *cap, size_t len)
+{
+    if (*cap >= len)
+        return true;
+    char *grown = realloc(*buf, len);
+    if (!grown)
+        return false;
+    *buf = grown;
+    *cap = len;
+    return true;
+}
+
+#endif

@@ -1,0 +1,58 @@
+/*
+ * tiles.h — the image cut into tiles: the unit of work every message of
+ * the protocol speaks of (protocol.h), and the rectangles the engine
+ * renders (workers/engine.h).
+ *
+ * Tiles are tile x tile pixels (the last column and row smaller), numbered
+ * row-major over the grid of tiles: index = ty * columns + tx.  A work
+ * item is a rectangle within one tile: the whole tile, or a piece of it
+ * (the tail scheduler splits the last tiles, host/schedule.h); a pixel
+ * depends only on its own record, so any split gives the same pixels
+ * (workers/tile_run.c).
+ *
+ * Hit records of a tile (hetero: from the OpenCL pass) are packed tile-wise:
+ * t[n] of the blob's real then surf[n] of uint32, n = pixels * spp,
+ * row-major, the spp samples of a pixel side by side (workers/engine.h).
+ */
+#ifndef COMM_TILES_H
+#define COMM_TILES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    int x, y;          /* top-left pixel */
+    int width, height; /* edge tiles are smaller */
+} tile_rect;
+
+/* The tiles of one image of one scene. */
+typedef struct {
+    int width, height;  /* the image                                   */
+    int tile;           /* tile edge in pixels (> 0)                   */
+    int spp;            /* hit records a pixel                         */
+    size_t real_size;   /* bytes of a record's t                       */
+    size_t pixels_max;  /* pixels of the largest tile                  */
+} tile_grid;
+
+/* The grid of a validated blob's image; tile must be > 0. */
+tile_grid tile_grid_of(const void *blob, int tile);
+int tile_columns(const tile_grid *g);
+int tile_count(const tile_grid *g);
+/* The pixels of tile `index` (0 <= index < tile_count). */
+tile_rect tile_rect_of(const tile_grid *g, int index);
+/* True when r is a non-empty rectangle inside tile `index` of g (index in
+ * range): what a worker checks before it touches a byte of a tile message. */
+bool tile_rect_in_tile(const tile_grid *g, int index, tile_rect r);
+/* Bytes of the packed hit records of a tile of `pixels` pixels. */
+size_t tile_records_bytes(const tile_grid *g, size_t pixels);
+
+/* The records of tile `r` out of whole-image arrays (t_image: the blob's
+ * real; width * spp records a row) into `out`, packed tile-wise. */
+void tile_pack_records(const tile_grid *g, const void *t_image, const uint32_t *surf_image,
+                       tile_rect r, void *out);
+
+/* The tile's RGB (3 floats a pixel, r.width wide) into the image. */
+void tile_store_rgb(float *image, int image_width, tile_rect r, const float *rgb);
+
+#endif

@@ -1,0 +1,70 @@
+/*
+ * image.h — image files.  PNG and PPM are written by the program itself
+ * (host/output/image_direct.c, libpng); every other format, and all reading and
+ * comparing, go through OpenImageIO, in the module csgtrace-image.so
+ * (host/output/image_oiio.cpp, the one C++ file, which turns every exception into
+ * a status), loaded by the first call that needs it (host/output/image_loader.c):
+ * a process that writes only PNG or PPM, or no image at all, never loads
+ * OpenImageIO.  When the module cannot be loaded those calls return false
+ * with one message naming the file and the reason.
+ */
+#ifndef OUTPUT_IMAGE_H
+#define OUTPUT_IMAGE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The image settings of the environment (host/config.h), taken once at
+ * start (main); until then the defaults (all zero but png_level -1). */
+typedef struct {
+    const char *module;     /* $CSGTRACE_IMAGE_MODULE: the module's path
+                               (NULL: looked for, image_loader.c)        */
+    bool module_writes_all; /* $CSGTRACE_IMAGE_WRITER=oiio: PNG and PPM
+                               through the module too                    */
+    int png_level;          /* $CSGTRACE_PNG_LEVEL: 0 to 9, zlib's level
+                               with every filter; -1: csgtrace's PNG (Up
+                               filter, run-length strategy)              */
+} img_settings;
+void img_configure(const img_settings *s);
+
+/* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
+ * by the extension (PNG and PPM without the module; the rare image with a
+ * pixel of no byte of its own, pixels.h, goes to the module anyway, which
+ * alone reproduces its byte).  8-bit and 16-bit formats get the values
+ * clamped to [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes
+ * PNG with assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
+ * written under a temporary name in the same folder and renamed when
+ * complete: a failure never leaves a partial file under `path`.
+ * false with a message in err on failure. */
+bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                   size_t err_size);
+
+/* Is there a writer for the format of `path` (its extension)?  A render
+ * asks before it starts, not after its last tile: for a format of the
+ * module this loads it (OpenImageIO's ~270 libraries, ~0.2 s) before the
+ * timed work, and learns at once when it is missing; PNG and PPM need no
+ * module.  false with the message img_write_rgb would give. */
+bool img_can_write(const char *path, char *err, size_t err_size);
+/* Reads any image OpenImageIO knows as float RGB (malloc'd, 3 a pixel). */
+bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
+                  size_t err_size);
+
+/* OpenImageIO's ImageBufAlgo::compare of two files, plus the size check it
+ * does not do. */
+typedef struct {
+    bool same_size;
+    double rmse, psnr, max_error;
+    long pixels_over; /* pixels whose difference exceeds `threshold` */
+} img_compare_result;
+bool img_compare_files(const char *a, const char *b, double threshold, img_compare_result *r,
+                       char *err, size_t err_size);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,168 @@
+/*
+ * image_loader.c — the image API (image.h) as every program links it: PNG
+ * and PPM files are written here (image_direct.h); for every other call
+ * the first one loads the OpenImageIO module (image_module.h), and every
+ * call forwards to it.
+ * `csgtrace check`, the MPI workers and a render to PNG or PPM never map
+ * OpenImageIO and its ~270 libraries.
+ *
+ * Where the module is looked for, first found wins (DIR: the running
+ * program's folder, /proc/self/exe):
+ *   1. img_settings.module ($CSGTRACE_IMAGE_MODULE), a path (then nothing
+ *      else is tried);
+ *   2. DIR/csgtrace-image.so (the build folder, or a copied program);
+ *   3. DIR/../lib/csgtrace/csgtrace-image.so (make install's layout);
+ *   4. DIR/../csgtrace-image.so (the test and bench programs, a folder
+ *      below their build's).
+ * A missing or unusable module makes every call return false with one
+ * message saying which file and why; nothing is retried.
+ *
+ * The loaded table and the settings are process state by nature
+ * (dlopen's is too): one static record, the settings given once at start
+ * (img_configure), the module loaded once under pthread_once, never
+ * unloaded.
+ */
+#include "image.h"
+
+#include <dlfcn.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "image_direct.h"
+#include "image_module.h"
+
+typedef struct {
+    pthread_once_t once;
+    const img_module *mod; /* NULL when loading failed */
+    char error[4096 + 1024]; /* why, when mod is NULL (a path and a reason) */
+    img_settings settings;
+} img_loader;
+
+static img_loader loader = {PTHREAD_ONCE_INIT, NULL, "", {NULL, false, -1}};
+
+void img_configure(const img_settings *s)
+{
+    loader.settings = *s;
+}
+
+/* The folder of the running program, with its trailing '/'; "" if unknown. */
+static void program_dir(char *dir, size_t size)
+{
+    ssize_t n = readlink("/proc/self/exe", dir, size - 1);
+    dir[n > 0 ? n : 0] = '\0';
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[1] = '\0';
+    else
+        dir[0] = '\0';
+}
+
+/* DIR + FILE into path; true when it fits and names an existing file. */
+static bool existing(char *path, size_t size, const char *dir, const char *file)
+{
+    int n = snprintf(path, size, "%s%s", dir, file);
+    return n > 0 && (size_t)n < size && access(path, F_OK) == 0;
+}
+
+/* The module's path by the search order above; false (with loader.error)
+ * when no candidate exists. */
+static bool module_path(char *path, size_t size)
+{
+    static const char *const beside[] = {"", "../lib/csgtrace/", "../"};
+    const char *given = loader.settings.module;
+    if (given) {
+        if (snprintf(path, size, "%s", given) < (int)size)
+            return true; /* dlopen says what is wrong with it */
+        snprintf(loader.error, sizeof loader.error, "CSGTRACE_IMAGE_MODULE is too long");
+        return false;
+    }
+    char dir[4096], sub[4096 + 32];
+    program_dir(dir, sizeof dir);
+    for (size_t i = 0; i < sizeof beside / sizeof beside[0]; i++) {
+        snprintf(sub, sizeof sub, "%s%s", dir, beside[i]);
+        if (existing(path, size, sub, IMG_MODULE_FILE))
+            return true;
+    }
+    snprintf(loader.error, sizeof loader.error,
+             "the image module %s is missing (looked in %s, its lib/csgtrace/ and its parent); "
+             "run make, or set CSGTRACE_IMAGE_MODULE to its path",
+             IMG_MODULE_FILE, dir[0] ? dir : "the program's folder");
+    return false;
+}
+
+static void load_module(void)
+{
+    char path[4096];
+    if (!module_path(path, sizeof path))
+        return;
+    /* Lazy: of the functions of ~270 libraries, bind only those called
+     * (the module itself is linked with -z defs, so none is missing). */
+    void *h = dlopen(path, RTLD_LAZY | RTLD_LOCAL);
+    if (!h) {
+        snprintf(loader.error, sizeof loader.error, "cannot load the image module: %s", dlerror());
+        return;
+    }
+    img_module_entry_fn entry = (img_module_entry_fn)dlsym(h, IMG_MODULE_ENTRY);
+    const img_module *m = entry ? entry() : NULL;
+    if (!m) {
+        snprintf(loader.error, sizeof loader.error,
+                 "%s is not a csgtrace image module (no %s)", path, IMG_MODULE_ENTRY);
+    } else if (m->abi != IMG_MODULE_ABI || m->size != sizeof *m) {
+        snprintf(loader.error, sizeof loader.error,
+                 "the image module %s has interface %d (%zu bytes), this program needs %d (%zu); "
+                 "rebuild both with make",
+                 path, m->abi, m->size, IMG_MODULE_ABI, sizeof *m);
+    } else {
+        loader.mod = m;
+        return;
+    }
+    dlclose(h);
+}
+
+/* The module, or NULL with the reason in err (prefixed with `subject`). */
+static const img_module *module_or_error(const char *subject, char *err, size_t err_size)
+{
+    pthread_once(&loader.once, load_module);
+    if (!loader.mod && err && err_size)
+        snprintf(err, err_size, "%s%s%s", subject ? subject : "", subject ? ": " : "",
+                 loader.error);
+    return loader.mod;
+}
+
+bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                   size_t err_size)
+{
+    img_direct_format direct = img_direct_format_of(path, loader.settings.module_writes_all);
+    if (direct != IMG_DIRECT_NONE) {
+        img_png_options png = img_png_options_for(loader.settings.png_level);
+        return img_direct_write(path, direct, rgb, width, height, &png, err, err_size);
+    }
+    const img_module *m = module_or_error(path, err, err_size);
+    return m && m->write_rgb(path, rgb, width, height, loader.settings.png_level, err, err_size);
+}
+
+bool img_can_write(const char *path, char *err, size_t err_size)
+{
+    if (img_direct_format_of(path, loader.settings.module_writes_all) != IMG_DIRECT_NONE)
+        return true;
+    const img_module *m = module_or_error(path, err, err_size);
+    return m && m->can_write(path, err, err_size);
+}
+
+bool img_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
+                  size_t err_size)
+{
+    *rgb = NULL;
+    const img_module *m = module_or_error(path, err, err_size);
+    return m && m->read_rgb(path, rgb, width, height, err, err_size);
+}
+
+bool img_compare_files(const char *a, const char *b, double threshold, img_compare_result *r,
+                       char *err, size_t err_size)
+{
+    const img_module *m = module_or_error(NULL, err, err_size);
+    return m && m->compare_files(a, b, threshold, r, err, err_size);
+}

@@ -1,0 +1,655 @@
+/*
+ * journal.c — the finished tiles of a render, kept for --resume
+ * (journal.h).
+ */
+#include "journal.h"
+
+#include <errno.h>
+#include <elf.h>
+#include <fcntl.h>
+#include <link.h> /* (the system's: dl_iterate_phdr) */
+#include <pthread.h>
+#include <semaphore.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../../csg/flatten.h"
+#include "../../comm/deadline.h"
+#include "file_atomic.h"
+#include "hash.h"
+#include "../../comm/pixels.h"
+#include "../exit_status.h"
+#include "../signals.h"
+#include "../version.h"
+
+#define JOURNAL_FORMAT "csgtrace journal 3" /* 2: word-wise checksums;
+                                               3: 8-bit records */
+#define JOURNAL_HEADER_MAX 4096      /* bytes of the text header, at most  */
+#define JOURNAL_TILE_MAGIC 0x454c4954u /* "TILE" (little-endian)          */
+#define JOURNAL_SYNC_S 1.0           /* fdatasync at most this often      */
+#define JOURNAL_POLL_S 0.001         /* the writer looks for tiles so often */
+
+/* The fixed part of a tile record; then width * height * 3 values in
+ * `pixels` (enum pixels_format: floats, or the 8-bit file's bytes), then
+ * the checksum (uint64) of both.  For an 8-bit output a tile is written in
+ * the file's bytes (pixels_to_rgb8): a quarter of the floats' bytes, and
+ * resumed as pixels_linear_of of them, which the writer turns back into
+ * the very bytes (comm/pixels.h). */
+typedef struct {
+    uint32_t magic, tile;
+    uint32_t x, y, width, height;
+    uint32_t hits, pixels;
+} journal_record;
+
+/* One line of the header: what the journal was written for. */
+typedef struct {
+    const char *key;  /* the header's word                      */
+    const char *what; /* for the message when it differs        */
+    char value[96];
+} journal_field;
+
+enum { JF_BUILD, JF_SIZE, JF_TILE, JF_SAMPLES, JF_PRECISION, JF_DEPTH, JF_RAYS, JF_SCENE,
+       JF_PIXELS, JF_COUNT };
+
+/* Appending the records and forcing them to the disk: a thread of its
+ * own, so that the master only queues a finished tile's index.  Both were
+ * the master's: per 32x32 tile of a 2048x2048 render, 14-21 us of writes
+ * and 35 us of fdatasync on average (one a second, ~70 ms each of a growing
+ * file, during which no worker got an answer).  The queue has a slot a
+ * tile (each is finished once); `queued` publishes the slots (and, before
+ * them, the tile's pixels and hits) to the writer.
+ *
+ * Nothing is appended before `begin` (journal_open's after_s on): a render
+ * that ends first writes no record, and one stopped first keeps what was
+ * queued (journal_close).  The records cost CPU the workers want (the
+ * writer shares the cores they fill): the SPD frames, 0.02-0.7 s of
+ * tiles, traced 2.5 % faster in homo and hetero without them
+ * (bench/SPD-notes.md), for a journal no one resumes from. */
+typedef struct {
+    pthread_t thread;
+    sem_t wake;          /* posted by journal_close                    */
+    bool running;
+    atomic_bool stop;    /* journal_close: write what is queued, end   */
+    atomic_bool finished; /* ...unless the render finished: the journal
+                            goes, its last records are of no use       */
+    int *queue;          /* [tiles]: finished tiles, in order          */
+    atomic_int queued;   /* slots filled (the master's)                */
+    int taken;           /* slots written (the writer's, or the
+                            master's while no writer runs)             */
+    const float *image;  /* the master's image (set before the first)  */
+    int synced;          /* records forced to the disk                 */
+    double begin;        /* journal_clock(): no record before it       */
+} journal_writer;
+
+struct journal {
+    int fd;
+    char *path;
+    int tiles;
+    tile_grid g;
+    bool *resumed;    /* [tile]                                   */
+    uint32_t *hits;   /* [tile]: resumed, or summed as items come */
+    int resumed_count;
+    atomic_int written; /* tiles in the file                      */
+    atomic_bool broken; /* a write failed: no more records        */
+    double synced;    /* when data was last forced to the disk    */
+    unsigned char *record; /* one record: journal_record, the
+                              pixels, the checksum (one write)     */
+    float *buf;       /* its pixels                               */
+    size_t buf_size;  /* their room, in bytes                     */
+    int pixels;       /* the output's format (pixels_format_for)  */
+    uint8_t *bytes;   /* a tile's bytes, converted                */
+    journal_writer writer;
+};
+
+/* ---- checksums and the program's identity ------------------------------------ */
+
+
+/* The hash of the program's ELF build ID (NT_GNU_BUILD_ID, which the
+ * linker derives from the whole output), found in the loaded program's
+ * PT_NOTE segments: the first object dl_iterate_phdr reports is the
+ * program itself. */
+static int journal_build_id_of(struct dl_phdr_info *info, size_t size, void *arg)
+{
+    (void)size;
+    uint64_t *out = arg;
+    for (int i = 0; i < info->dlpi_phnum; i++) {
+        const ElfW(Phdr) *ph = &info->dlpi_phdr[i];
+        if (ph->p_type != PT_NOTE)
+            continue;
+        size_t align = ph->p_align == 8 ? 8 : 4;
+        const unsigned char *p = (const unsigned char *)(info->dlpi_addr + ph->p_vaddr);
+        const unsigned char *end = p + ph->p_memsz;
+        /* (p < end: a note's padding may reach past the segment's end) */
+        while (p < end && (size_t)(end - p) >= sizeof(ElfW(Nhdr))) {
+            const ElfW(Nhdr) *n = (const void *)p;
+            const unsigned char *name = p + sizeof *n;
+            const unsigned char *desc = name + ((n->n_namesz + align - 1) & ~(align - 1));
+            if (desc > end || (size_t)(end - desc) < n->n_descsz)
+                break;
+            if (n->n_type == NT_GNU_BUILD_ID && n->n_namesz == 4 && memcmp(name, "GNU", 4) == 0 &&
+                n->n_descsz > 0) {
+                *out = fnv1a(FNV_BASIS, desc, n->n_descsz);
+                return 1;
+            }
+            p = desc + ((n->n_descsz + align - 1) & ~(align - 1));
+        }
+    }
+    return 1; /* (the program only) */
+}
+
+/* The running program, named once: tiles written by another build could
+ * differ in their last bit, so a journal names the build that wrote it.
+ * Its ELF build ID where it has one; else its file, hashed whole (that
+ * read ~1.1 ms before the first tile of every render: 5 % of a tetra6
+ * frame's tile phase).  0 when neither can be read. */
+static uint64_t journal_build_hash(void)
+{
+    static uint64_t cached;
+    if (cached)
+        return cached;
+    uint64_t id = 0;
+    dl_iterate_phdr(journal_build_id_of, &id);
+    if (id)
+        return cached = id;
+    int fd = open("/proc/self/exe", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return 0;
+    uint64_t h = FNV_BASIS;
+    unsigned char buf[1 << 16];
+    ssize_t n;
+    while ((n = read(fd, buf, sizeof buf)) > 0)
+        h = fnv1a_words(h, buf, (size_t)n);
+    close(fd);
+    cached = n == 0 ? h : 0;
+    return cached;
+}
+
+static double journal_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The header fields of this render (to out_path: its pixel format says
+ * what the records' floats are: the workers' own ("float"), or the
+ * stand-ins of the 8-bit file's bytes ("rgb8", comm/pixels.h), which only
+ * an 8-bit file may be written from). */
+static void journal_fields(const char *out_path, const void *blob, const tile_grid *g,
+                           journal_field *f)
+{
+    static const char *keys[JF_COUNT][2] = {
+        {"build", "the program (another build of csgtrace wrote it)"},
+        {"size", "the image size"},
+        {"tile", "the tile size (--tile)"},
+        {"samples", "the samples a pixel"},
+        {"precision", "the precision"},
+        {"depth", "the trace depth"},
+        {"max-rays", "the ray budget (--max-rays-per-pixel)"},
+        {"scene", "the scene (it, an include or an option it depends on changed)"},
+        {"pixels", "the pixel format of the output (8-bit or float file)"}};
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    const csg_shading *sh = (const csg_shading *)((const char *)blob + h->off_shading);
+    for (int i = 0; i < JF_COUNT; i++) {
+        f[i].key = keys[i][0];
+        f[i].what = keys[i][1];
+    }
+    snprintf(f[JF_BUILD].value, sizeof f[0].value, "%s %016llx", CSGTRACE_VERSION,
+             (unsigned long long)journal_build_hash());
+    snprintf(f[JF_SIZE].value, sizeof f[0].value, "%dx%d", g->width, g->height);
+    snprintf(f[JF_TILE].value, sizeof f[0].value, "%d", g->tile);
+    snprintf(f[JF_SAMPLES].value, sizeof f[0].value, "%d", g->spp);
+    snprintf(f[JF_PRECISION].value, sizeof f[0].value, "%s",
+             h->real_size == 8 ? "double" : "float");
+    snprintf(f[JF_DEPTH].value, sizeof f[0].value, "%d", (int)h->max_depth);
+    snprintf(f[JF_RAYS].value, sizeof f[0].value, "%d", (int)sh->max_rays);
+    snprintf(f[JF_SCENE].value, sizeof f[0].value, "%016llx",
+             (unsigned long long)fnv1a_words(FNV_BASIS, blob, (size_t)h->total_size));
+    snprintf(f[JF_PIXELS].value, sizeof f[0].value, "%s",
+             pixels_format_name(pixels_format_for(out_path)));
+}
+
+/* ---- the header ------------------------------------------------------------------ */
+
+static size_t journal_header_text(const journal_field *f, char *out, size_t size)
+{
+    size_t n = (size_t)snprintf(out, size, "%s\n", JOURNAL_FORMAT);
+    for (int i = 0; i < JF_COUNT && n < size; i++)
+        n += (size_t)snprintf(out + n, size - n, "%s %s\n", f[i].key, f[i].value);
+    if (n < size)
+        n += (size_t)snprintf(out + n, size - n, ".\n");
+    return n;
+}
+
+/* Reads the header of the journal at fd and checks it names this render;
+ * its length in *len.  0, or 2 with d filled. */
+static int journal_check_header(int fd, const char *path, const journal_field *f, size_t *len,
+                                csg_diag *d)
+{
+    char buf[JOURNAL_HEADER_MAX + 1];
+    ssize_t n = pread(fd, buf, JOURNAL_HEADER_MAX, 0);
+    buf[n > 0 ? n : 0] = '\0';
+    char *end = n > 0 ? strstr(buf, "\n.\n") : NULL;
+    size_t format = strlen(JOURNAL_FORMAT);
+    if (!end || strncmp(buf, JOURNAL_FORMAT, format) != 0 || buf[format] != '\n') {
+        csg_error_plain(d, "%s is not a csgtrace journal: refusing to resume from it (render "
+                        "without --resume to start over)", path);
+        return EXIT_BAD_INPUT;
+    }
+    end[1] = '\0';
+    *len = (size_t)(end + 3 - buf);
+    char *line = buf + format + 1;
+    for (int i = 0; i < JF_COUNT; i++) {
+        char *nl = strchr(line, '\n');
+        size_t k = strlen(f[i].key);
+        const char *got = "(none)";
+        if (nl) {
+            *nl = '\0';
+            if (strncmp(line, f[i].key, k) == 0 && line[k] == ' ')
+                got = line + k + 1;
+        }
+        if (strcmp(got, f[i].value) != 0) {
+            csg_error_plain(d, "%s was written for another render: %s differs (the journal's "
+                            "%s: '%.100s', this render's: '%s'); render without --resume to "
+                            "start over", path, f[i].what, f[i].key, got, f[i].value);
+            return EXIT_BAD_INPUT;
+        }
+        line = nl ? nl + 1 : line;
+    }
+    return EXIT_OK;
+}
+
+/* ---- records ---------------------------------------------------------------------- */
+
+static size_t journal_pixel_bytes(tile_rect r, int pixels)
+{
+    return (size_t)r.width * (size_t)r.height * pixels_bytes(pixels);
+}
+
+/* Reads the records after the header into the image; stops at the first
+ * record that is short, damaged or not of this grid.  Returns the offset
+ * after the last good one. */
+static off_t journal_read_records(journal *j, off_t at, float *image)
+{
+    for (;;) {
+        journal_record rec;
+        uint64_t sum;
+        if (pread(j->fd, &rec, sizeof rec, at) != (ssize_t)sizeof rec ||
+            rec.magic != JOURNAL_TILE_MAGIC || rec.tile >= (uint32_t)j->tiles ||
+            j->resumed[rec.tile])
+            return at;
+        tile_rect r = tile_rect_of(&j->g, (int)rec.tile);
+        bool rgb8 = j->pixels == PIXELS_RGB8;
+        if ((int)rec.pixels != j->pixels)
+            return at;
+        size_t bytes = journal_pixel_bytes(r, (int)rec.pixels);
+        if (rec.x != (uint32_t)r.x || rec.y != (uint32_t)r.y ||
+            rec.width != (uint32_t)r.width || rec.height != (uint32_t)r.height ||
+            pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
+            pread(j->fd, &sum, sizeof sum, at + (off_t)(sizeof rec + bytes)) !=
+                (ssize_t)sizeof sum ||
+            sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
+            return at;
+        if (rgb8)
+            pixels_store_bytes_rect(image, j->g.width, r.x, r.y, r.width, r.height,
+                                    (const uint8_t *)j->buf);
+        else
+            tile_store_rgb(image, j->g.width, r, j->buf);
+        j->resumed[rec.tile] = true;
+        j->hits[rec.tile] = rec.hits;
+        j->resumed_count++;
+        at += (off_t)(sizeof rec + bytes + sizeof sum);
+    }
+}
+
+/* ---- appending -------------------------------------------------------------------- */
+
+/* Tile `tile`'s record, its pixels read from the image, appended; false
+ * (the journal broken, said once) when it cannot be. */
+static bool journal_append(journal *j, int tile, const float *image)
+{
+    tile_rect r = tile_rect_of(&j->g, tile);
+    journal_record rec = {JOURNAL_TILE_MAGIC, (uint32_t)tile, (uint32_t)r.x, (uint32_t)r.y,
+                          (uint32_t)r.width, (uint32_t)r.height, j->hits[tile],
+                          (uint32_t)j->pixels};
+    for (int y = 0; y < r.height; y++) /* the tile's rows, packed */
+        memcpy(j->buf + (size_t)y * (size_t)r.width * 3,
+               image + ((size_t)(r.y + y) * (size_t)j->g.width + (size_t)r.x) * 3,
+               (size_t)r.width * 3 * sizeof(float));
+    size_t values = (size_t)r.width * (size_t)r.height * 3;
+    if (j->pixels == PIXELS_RGB8) {
+        pixels_to_rgb8(j->buf, values, j->bytes);
+        memcpy(j->buf, j->bytes, values);
+    }
+    size_t bytes = journal_pixel_bytes(r, (int)rec.pixels);
+    uint64_t sum = fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes);
+    memcpy(j->record, &rec, sizeof rec);
+    memcpy(j->record + sizeof rec + bytes, &sum, sizeof sum);
+    if (!file_write_all(j->fd, j->record, sizeof rec + bytes + sizeof sum)) {
+        fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "
+                        "on, but --resume will not find the tiles after this one\n",
+                j->path, strerror(errno));
+        atomic_store(&j->broken, true);
+        return false;
+    }
+    signals_journal_tiles(atomic_fetch_add(&j->written, 1) + 1);
+    return true;
+}
+
+/* fdatasync when JOURNAL_SYNC_S has passed since the last look and there
+ * is something new; either way the next look is JOURNAL_SYNC_S on (else a
+ * second with no new tile would leave the writer no time to wait). */
+static void journal_sync_due(journal *j)
+{
+    double now = journal_clock();
+    if (now - j->synced < JOURNAL_SYNC_S)
+        return;
+    int written = atomic_load(&j->written);
+    if (written != j->writer.synced) {
+        fdatasync(j->fd);
+        j->writer.synced = written;
+    }
+    j->synced = now;
+}
+
+/* Waits JOURNAL_POLL_S, or less until the next sync is due, or until
+ * journal_close posts.  (The master does not post a queued tile: a post
+ * to a sleeping thread is a system call, and a context switch on a busy
+ * core, on every tile.) */
+static void journal_writer_wait(journal *j)
+{
+    double left = j->synced + JOURNAL_SYNC_S - journal_clock();
+    left = left < JOURNAL_POLL_S ? left : JOURNAL_POLL_S;
+    struct timespec until = deadline_after_ns(left > 0 ? (long)(left * 1e9) : 0);
+    while (sem_clockwait(&j->writer.wake, CLOCK_MONOTONIC, &until) != 0 && errno == EINTR)
+        continue;
+}
+
+/* The queued tiles not yet appended, appended (stopping if the journal
+ * breaks). */
+static void journal_append_queued(journal *j)
+{
+    journal_writer *w = &j->writer;
+    int queued = atomic_load_explicit(&w->queued, memory_order_acquire);
+    while (w->taken < queued && !atomic_load(&j->broken))
+        journal_append(j, w->queue[w->taken++], w->image);
+}
+
+/* Sleeps until `begin`, or until journal_close posts. */
+static void journal_writer_hold(journal *j)
+{
+    journal_writer *w = &j->writer;
+    for (double left; !atomic_load(&w->stop) && (left = w->begin - journal_clock()) > 0;) {
+        struct timespec until = deadline_after_ns((long)(left * 1e9));
+        if (sem_clockwait(&w->wake, CLOCK_MONOTONIC, &until) == 0)
+            break; /* (journal_close's one post: `stop` is set) */
+    }
+}
+
+static void *journal_writer_run(void *arg)
+{
+    journal *j = arg;
+    journal_writer *w = &j->writer;
+    journal_writer_hold(j);
+    for (;;) {
+        bool stop = atomic_load(&w->stop); /* (read first: what was queued before it is written) */
+        if (stop && atomic_load(&w->finished))
+            return NULL;
+        journal_append_queued(j);
+        if (stop)
+            return NULL;
+        journal_sync_due(j);
+        journal_writer_wait(j);
+    }
+}
+
+void journal_start_writer(journal *j)
+{
+    if (!j || j->writer.running || atomic_load(&j->broken))
+        return;
+    journal_writer *w = &j->writer;
+    w->synced = atomic_load(&j->written);
+    if (sem_init(&w->wake, 0, 0) != 0)
+        return;
+    w->running = pthread_create(&w->thread, NULL, journal_writer_run, j) == 0;
+    if (!w->running)
+        sem_destroy(&w->wake);
+}
+
+/* Every queued tile appended (none when `finished`), the writer gone. */
+static void journal_writer_stop(journal *j, bool finished)
+{
+    journal_writer *w = &j->writer;
+    if (!w->running) {
+        if (!finished) /* (the tiles queued before `begin`) */
+            journal_append_queued(j);
+        return;
+    }
+    atomic_store(&w->finished, finished);
+    atomic_store(&w->stop, true);
+    sem_post(&w->wake);
+    pthread_join(w->thread, NULL);
+    sem_destroy(&w->wake);
+    w->running = false;
+}
+
+void journal_tile_done(journal *j, int tile, const float *image)
+{
+    if (!j || atomic_load(&j->broken))
+        return;
+    journal_writer *w = &j->writer;
+    int slot = atomic_load_explicit(&w->queued, memory_order_relaxed);
+    if (slot >= j->tiles)
+        return; /* (a tile finished twice: never; the queue holds each once) */
+    if (slot == 0)
+        w->image = image; /* (one image a render: set before the writer may read it) */
+    w->queue[slot] = tile;
+    atomic_store_explicit(&w->queued, slot + 1, memory_order_release);
+    if (!w->running && journal_clock() >= w->begin) { /* no writer: the master appends */
+        journal_append_queued(j);
+        journal_sync_due(j);
+    }
+}
+
+/* ---- opening ------------------------------------------------------------------------ */
+
+/* An existing journal, opened without following a link and locked;
+ * -1 with errno ENOENT when there is none, else -1 with d filled. */
+static int journal_open_existing(const char *path, csg_diag *d)
+{
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0) {
+        if (errno != ENOENT)
+            csg_error_plain(d, "cannot open the journal %s: %s", path, strerror(errno));
+        return -1;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        csg_error_plain(d, "%s is not a regular file: refusing to use it as a journal", path);
+    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        csg_error_plain(d, "%s is in use by another render of the same output: wait for it to "
+                        "end (or stop it)", path);
+    } else {
+        return fd;
+    }
+    close(fd);
+    errno = EEXIST;
+    return -1;
+}
+
+/* A new journal holding only the header, created exclusively beside the
+ * output and renamed into place; its descriptor (locked), or -1. */
+static int journal_create(const char *path, const journal_field *f, csg_diag *d)
+{
+    char header[JOURNAL_HEADER_MAX];
+    size_t n = journal_header_text(f, header, sizeof header);
+    size_t len = strlen(path) + sizeof ".tmp.XXXXXX";
+    char *tmp = malloc(len);
+    int fd = -1;
+    if (tmp) {
+        snprintf(tmp, len, "%s.tmp.XXXXXX", path);
+        fd = mkstemp(tmp);
+    }
+    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
+        !file_write_all(fd, header, n) || rename(tmp, path) != 0) {
+        csg_error_plain(d, "cannot create the journal %s: %s", path,
+                        tmp ? strerror(errno) : "out of memory");
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp);
+        }
+        fd = -1;
+    }
+    free(tmp);
+    return fd;
+}
+
+static journal *journal_alloc(const char *out_path, const tile_grid *g)
+{
+    journal *j = calloc(1, sizeof *j);
+    if (!j)
+        return NULL;
+    j->fd = -1;
+    j->g = *g;
+    j->tiles = tile_count(g);
+    j->buf_size = g->pixels_max * 3 * sizeof(float);
+    size_t path_size = strlen(out_path) + sizeof JOURNAL_SUFFIX;
+    j->path = malloc(path_size);
+    j->resumed = calloc((size_t)j->tiles, sizeof *j->resumed);
+    j->hits = calloc((size_t)j->tiles, sizeof *j->hits);
+    j->record = malloc(sizeof(journal_record) + j->buf_size + sizeof(uint64_t));
+    j->buf = (float *)(void *)(j->record + sizeof(journal_record)); /* (32 bytes on) */
+    j->pixels = pixels_format_for(out_path);
+    j->bytes = malloc(g->pixels_max * 3);
+    j->writer.queue = malloc((size_t)(j->tiles > 0 ? j->tiles : 1) * sizeof *j->writer.queue);
+    if (!j->path || !j->resumed || !j->hits || !j->record || !j->bytes || !j->writer.queue) {
+        journal_close(j, true);
+        return NULL;
+    }
+    journal_name(out_path, j->path, path_size);
+    return j;
+}
+
+/* --resume with a journal at j->fd: its tiles into the image, the file cut
+ * after the last good record, ready to append.  0 or 2. */
+static int journal_resume(journal *j, const journal_field *f, float *image, csg_diag *d)
+{
+    size_t header = 0;
+    int status = journal_check_header(j->fd, j->path, f, &header, d);
+    if (status != EXIT_OK)
+        return status;
+    off_t end = journal_read_records(j, (off_t)header, image);
+    struct stat st;
+    if (fstat(j->fd, &st) == 0 && st.st_size > end)
+        fprintf(stderr, "csgtrace: the journal %s ends in %lld bytes that are not a whole, "
+                        "valid tile: the tiles after the first %d are rendered again\n",
+                j->path, (long long)(st.st_size - end), j->resumed_count);
+    if (ftruncate(j->fd, end) != 0 || lseek(j->fd, end, SEEK_SET) != end) {
+        csg_error_plain(d, "cannot append to the journal %s: %s", j->path, strerror(errno));
+        return EXIT_FAILURE_RUN;
+    }
+    atomic_store(&j->written, j->resumed_count);
+    return EXIT_OK;
+}
+
+int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
+                 float *image, double after_s, journal **out, csg_diag *d)
+{
+    journal_field f[JF_COUNT];
+    journal *j = journal_alloc(out_path, g);
+    *out = NULL;
+    if (!j) {
+        csg_error_plain(d, "out of memory for the journal of %s", out_path);
+        return EXIT_FAILURE_RUN;
+    }
+    journal_fields(out_path, blob, g, f);
+    j->fd = journal_open_existing(j->path, d);
+    int status = EXIT_OK;
+    if (j->fd < 0 && errno != ENOENT) {
+        status = EXIT_FAILURE_RUN;
+    } else if (j->fd >= 0 && resume) {
+        status = journal_resume(j, f, image, d);
+    } else {
+        if (resume)
+            fprintf(stderr, "csgtrace: no journal %s to resume from: the render starts from "
+                            "the beginning\n", j->path);
+        int old = j->fd; /* replaced (its lock held until then) */
+        signals_hold(); /* a signal now would leave the temporary file */
+        j->fd = journal_create(j->path, f, d);
+        signals_journal(j->fd >= 0 ? j->path : NULL, 0);
+        signals_release(NULL, 0); /* (a signal that came: the journal goes too) */
+        if (old >= 0)
+            close(old);
+        status = j->fd < 0 ? EXIT_FAILURE_RUN : EXIT_OK;
+    }
+    if (status != EXIT_OK) {
+        if (j->fd >= 0) /* (a journal of another render stays as it was) */
+            close(j->fd);
+        j->fd = -1;
+        journal_close(j, false);
+        return status;
+    }
+    j->synced = journal_clock();
+    j->writer.begin = j->synced + after_s;
+    signals_journal(j->path, atomic_load(&j->written));
+    *out = j;
+    return EXIT_OK;
+}
+
+void journal_name(const char *out_path, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s", out_path, JOURNAL_SUFFIX);
+}
+
+/* ---- queries and the end ------------------------------------------------------------ */
+
+bool journal_resumed(const journal *j, int tile)
+{
+    return j && j->resumed[tile];
+}
+
+int journal_tiles_resumed(const journal *j)
+{
+    return j ? j->resumed_count : 0;
+}
+
+uint32_t journal_resumed_hits(const journal *j, int tile)
+{
+    return journal_resumed(j, tile) ? j->hits[tile] : 0;
+}
+
+void journal_add_hits(journal *j, int tile, uint32_t hits)
+{
+    if (j)
+        j->hits[tile] += hits;
+}
+
+void journal_close(journal *j, bool finished)
+{
+    if (!j)
+        return;
+    journal_writer_stop(j, finished);
+    signals_journal(NULL, 0);
+    int written = atomic_load(&j->written);
+    if (j->fd >= 0) {
+        if (finished || written == 0)
+            unlink(j->path); /* (before the lock goes with the descriptor) */
+        else
+            fprintf(stderr, "csgtrace: %d finished tiles are kept in %s: the same command with "
+                            "--resume goes on from them\n", written, j->path);
+        close(j->fd);
+    }
+    free(j->path);
+    free(j->resumed);
+    free(j->hits);
+    free(j->record);
+    free(j->bytes);
+    free(j->writer.queue);
+    free(j);
+}

@@ -1,0 +1,30 @@
+/*
+ * charges.h — the master's own work on the results, charged to its
+ * simulated host (sim/tile_run.c): sim/main.c hands these to the real
+ * master as its master_costs (host/master.h).
+ */
+#ifndef SIM_CHARGES_H
+#define SIM_CHARGES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* The master's own work on the results, executed on its simulated host
+ * as measured on a real master (bench/simulate.sh --master-message-us,
+ * --master-part-us, --master-pixel-ns, --master-store-ns; bench/SCALE.md);
+ * each 0 when unset, which leaves the master only MPI's per-message costs.
+ * A RESULT message: $CSGSIM_MASTER_MESSAGE_S seconds.  A part of `pixels`
+ * pixels: $CSGSIM_MASTER_PART_S + pixels x $CSGSIM_MASTER_PIXEL_S (checking
+ * it, counting it, queuing its tile for the journal; with the store thread,
+ * copying its bytes into the ring).  With $CSGSIM_MASTER_STORE_S, an 8-bit
+ * (`rgb8`) part's pixels are stored by the store thread (host/store.h), a
+ * core of its own at that many seconds a pixel: queued while the ring has
+ * room for them behind what the thread has not stored yet, else stored by
+ * the loop itself at that cost. */
+void sim_charge_master_message(void);
+void sim_charge_master_part(size_t pixels, bool rgb8);
+/* The end of the tile phase: waits until the store thread has stored
+ * everything queued (master_run_tiles). */
+void sim_master_store_drain(void);
+
+#endif

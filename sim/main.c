@@ -1,0 +1,417 @@
+/*
+ * main.c — the driver of the simulated build (make sim; bench/simulate.sh).
+ *
+ * Built with smpicc and run by smpirun on a platform file: rank 0 runs the
+ * project's own master (host/master.c, scheduler host/schedule.c, link
+ * comm/mpi_link.c), ranks 1.. the project's own worker loop (workers/worker.c);
+ * only tile_run_rect differs (sim/tile_run.c: the measured seconds of
+ * the rectangle, from the cost map in $CSGSIM_COSTS, executed on the
+ * simulated host).  The scene is loaded and flattened for real, so the
+ * broadcast carries the real blob; hetero tiles carry their hit records
+ * (zeros of the real size), results the real pixels' bytes.
+ *
+ * Hetero: the OpenCL pass is a duration (the map's pass_s scaled by the
+ * pixel count), done by a device beside the master: the feed releases the
+ * tile rows a pipelined pass would have finished by now (rows in
+ * proportion to the time elapsed), tiles without hits are skipped, the
+ * others queued with the map's estimate.  Homo: every tile at once.
+ *
+ * The fill (csgtrace --fill, host/schedule.h) is on in hetero unless
+ * --fill off: while no tile of the pass is ready, a worker renders a whole
+ * tile from the bottom up, at the cost of the homo map in
+ * $CSGSIM_FILL_COSTS (bench/simulate.sh records it; without it, the
+ * hetero map's cost); the pass stops where the fill's tiles begin.
+ * serial_s stays the work of the scheme without the fill (every tile with
+ * hits shaded, the whole pass), so efficiencies with and without the fill
+ * compare as their makespans do.
+ *
+ * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically);
+ * $CSGSIM_PASS_RATE (Mrays/s, one primary ray a pixel) replaces it by a
+ * measured device rate: pass_s = width x height / rate (bench/GPU.md).
+ *
+ *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
+ *          --schedule raster|cost|static|tail [--batch N] [--pixels rgb8|float]
+ *          --stats FILE.json
+ * --pixels: what the workers' RESULTs carry a pixel (comm/pixels.h): rgb8
+ * (default: what a render to an 8-bit file such as PNG sends) or float
+ * (EXR; every render before 2026-11-25).
+ * writes makespan_s (scene broadcast to the last STOP), serial_s (every
+ * item's seconds, plus the pass in hetero), efficiency and master_busy
+ * (1 - the simulated seconds the master napped / makespan: its polls
+ * count as busy), and where the workers' time went: work_s (their items'
+ * seconds; more than serial_s with the fill, whose whole tiles cost
+ * more than shading), ramp_s (until the last worker had its first item),
+ * tail_s (from the moment the first worker's last result came in to the
+ * end), bytes_sent and bytes_received (the master's).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../csg/load.h"
+#include "tile_sim.h"
+#include "../workers/worker.h"
+#include "../comm/mpi_link.h"
+#include "../host/master.h"
+#include "../comm/protocol.h"
+#include "charges.h"
+#include "stubs.h"
+
+typedef struct {
+    const char *scene, *stats, *mode_name;
+    bool hetero;
+    int width, height, tile, policy;
+    int batch;               /* --batch: 0 auto (master.h)               */
+    int relays;              /* --relays: ranks 1 .. relays relay (0)    */
+    int pixels;              /* --pixels: enum pixels_format             */
+    bool fill;               /* --fill on|off (hetero)                    */
+} sim_args;
+
+typedef struct {
+    const sim_costs *costs;
+    sched s;
+    double pass_s, pass_t0;  /* the pass: its duration, its start       */
+    int tiles_offered;       /* tiles given to the scheduler, from the top */
+    double serial_s;         /* the items' seconds, the pass included   */
+    bool hetero;
+    int width, height;
+} sim_run;
+
+static bool sim_int(const char *text, int lo, int hi, int *out)
+{
+    char *end;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end || v < lo || v > hi)
+        return false;
+    *out = (int)v;
+    return true;
+}
+
+static bool sim_policy(const char *text, int *out)
+{
+    for (int p = 0; p < SCHED_POLICIES; p++)
+        if (strcmp(text, sched_policy_name((enum sched_policy)p)) == 0) {
+            *out = p;
+            return true;
+        }
+    return false;
+}
+
+static bool sim_option(sim_args *a, const char *key, const char *v)
+{
+    if (strcmp(key, "--mode") == 0) {
+        a->hetero = strcmp(v, "hetero") == 0;
+        a->mode_name = a->hetero ? "hetero" : "homo";
+        return a->hetero || strcmp(v, "homo") == 0;
+    }
+    if (strcmp(key, "--width") == 0)
+        return sim_int(v, 1, 16384, &a->width);
+    if (strcmp(key, "--height") == 0)
+        return sim_int(v, 1, 16384, &a->height);
+    if (strcmp(key, "--tile") == 0)
+        return sim_int(v, 1, 4096, &a->tile);
+    if (strcmp(key, "--schedule") == 0)
+        return sim_policy(v, &a->policy);
+    if (strcmp(key, "--batch") == 0)
+        return sim_int(v, 1, PROTO_BATCH_MAX, &a->batch);
+    if (strcmp(key, "--relays") == 0)
+        return sim_int(v, 0, 4096, &a->relays);
+    if (strcmp(key, "--pixels") == 0) {
+        a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT : PIXELS_RGB8;
+        return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0;
+    }
+    if (strcmp(key, "--fill") == 0) {
+        a->fill = strcmp(v, "on") == 0;
+        return a->fill || strcmp(v, "off") == 0;
+    }
+    if (strcmp(key, "--stats") == 0) {
+        a->stats = v;
+        return true;
+    }
+    return false;
+}
+
+static bool sim_parse(int argc, char **argv, sim_args *a)
+{
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true};
+    for (int i = 1; i < argc; i++) {
+        if (argv[i][0] != '-' && !a->scene)
+            a->scene = argv[i];
+        else if (i + 1 >= argc || !sim_option(a, argv[i], argv[i + 1]))
+            return false;
+        else
+            i++;
+    }
+    if (a->policy < 0)
+        a->policy = a->hetero ? SCHED_COST : SCHED_RASTER;
+    return a->scene && a->stats;
+}
+
+static bool sim_load(const sim_args *a, csg_blob *blob)
+{
+    csg_scene s;
+    csg_diag d = {{0}, 0};
+    csg_flatten_opts o = {a->width, a->height, 0, -1, 1, 0};
+    csg_scene_init(&s);
+    bool ok = csg_load_file(a->scene, NULL, &s, &d) && engine_float.flatten(&s, &o, blob, &d) &&
+              csg_blob_valid(blob->bytes, blob->size);
+    if (!ok)
+        fprintf(stderr, "%s\n", d.failed ? d.message : "csgsim: cannot load the scene");
+    csg_scene_free(&s);
+    return ok;
+}
+
+static sim_cost sim_rect_cost(const sim_run *run, tile_rect r)
+{
+    return sim_costs_rect(run->costs, run->width, run->height, r);
+}
+
+static double sim_estimate(void *arg, tile_rect r)
+{
+    return sim_rect_cost(arg, r).estimate;
+}
+
+/* master_job.feed: the tiles of the rows the pass has finished by now,
+ * down to the fill's. */
+static int sim_feed(master_job *job, bool wait, csg_diag *d)
+{
+    (void)wait;
+    sim_run *run = job->feed_arg;
+    const tile_grid *g = &job->grid;
+    int known = 0, front = sched_fill_front(&run->s);
+    double done = run->pass_s > 0 ? (stats_clock() - run->pass_t0) / run->pass_s : 1;
+    double rows = done >= 1 ? g->height : done * g->height;
+    for (; run->tiles_offered < front; run->tiles_offered++, known++) {
+        int i = run->tiles_offered;
+        tile_rect r = tile_rect_of(g, i);
+        if (r.y + r.height > rows)
+            break;
+        bool skip = run->hetero && sim_rect_cost(run, r).hits < 0.5;
+        if (!(skip ? sched_skip(&run->s, i, r) : sched_add(&run->s, i, r))) {
+            csg_error_plain(d, "csgsim: out of memory for the work items");
+            return -1;
+        }
+    }
+    if (run->tiles_offered >= front && !run->s.closed)
+        sched_close(&run->s);
+    return known;
+}
+
+/* master_job.fill: the last tile nobody has (render.c's render_fill). */
+static int sim_fill(master_job *job, double now, csg_diag *d)
+{
+    sim_run *run = job->feed_arg;
+    int tile = sched_fill_claim(&run->s, run->tiles_offered);
+    if (tile < 0)
+        return -1;
+    int item = sched_next_fill(&run->s, now, tile, tile_rect_of(&job->grid, tile));
+    if (item < 0)
+        csg_error_plain(d, "csgsim: out of memory for the work items");
+    return item < 0 ? -2 : item;
+}
+
+/* The work of the scheme without the fill: every tile (hetero: with
+ * hits) at the map's cost, plus the whole pass. */
+static double sim_serial_s(const sim_run *run, const tile_grid *g)
+{
+    double sum = run->pass_s;
+    for (int i = 0; i < tile_count(g); i++) {
+        sim_cost c = sim_rect_cost(run, tile_rect_of(g, i));
+        sum += run->hetero && c.hits < 0.5 ? 0 : c.seconds;
+    }
+    return sum;
+}
+
+typedef struct {
+    double makespan_s, napped_s;
+    int items, batch;
+    int filled;              /* tiles the fill gave workers whole        */
+    uint64_t messages;       /* TILE messages                            */
+    uint64_t bytes_received; /* by the master, from the workers          */
+    uint64_t bytes_sent;     /* by the master: TILEs (with their records) */
+    double work_s;           /* the workers' seconds on their items       */
+    double ramp_s;           /* until the last worker had its first item  */
+    double tail_s;           /* from the first worker's last result on    */
+} sim_result;
+
+/* Where the workers' time went: their items' seconds, how long the last
+ * of them waited for its first item, how early the first ran dry. */
+static void sim_timeline(const sched *s, int workers, double t0, double end, sim_result *r)
+{
+    double *first = calloc((size_t)workers + 1, sizeof *first);
+    double *last = calloc((size_t)workers + 1, sizeof *last);
+    r->work_s = 0;
+    for (int i = 0; first && last && i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (it->order < 0 || it->worker < 1 || it->worker > workers)
+            continue;
+        r->work_s += it->busy_s;
+        if (first[it->worker] == 0 || it->sent_s < first[it->worker])
+            first[it->worker] = it->sent_s;
+        if (it->done_s > last[it->worker])
+            last[it->worker] = it->done_s;
+    }
+    double ramp = 0, dry = end;
+    for (int w = 1; first && last && w <= workers; w++) {
+        ramp = first[w] - t0 > ramp ? first[w] - t0 : ramp;
+        dry = last[w] > 0 && last[w] < dry ? last[w] : dry;
+    }
+    r->ramp_s = ramp;
+    r->tail_s = end - dry;
+    free(first);
+    free(last);
+}
+
+static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
+{
+    FILE *f = fopen(a->stats, "w");
+    if (!f)
+        return false;
+    double serial = run->serial_s;
+    fprintf(f, "{\"workers\": %d, \"mode\": \"%s\", \"schedule\": \"%s\", \"tile\": %d, "
+               "\"width\": %d, \"height\": %d, \"items\": %d, \"pass_s\": %.9g, "
+               "\"makespan_s\": %.9g, \"serial_s\": %.9g, \"efficiency\": %.6f, "
+               "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
+               "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
+               "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
+               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f}\n",
+            workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
+            a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
+            serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
+            (unsigned long long)r->messages, pixels_format_name(a->pixels),
+            (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent,
+            a->fill && run->hetero ? "true" : "false",
+            r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
+            serial / ((workers + a->relays) * r->makespan_s));
+    return fclose(f) == 0;
+}
+
+/* The master's own work, charged to its simulated host (charges.h). */
+static const master_costs sim_master_charges = {sim_charge_master_message,
+                                                sim_charge_master_part, sim_master_store_drain};
+
+/* The master's whole job: broadcast, tiles, STOP; false on a failure. */
+static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, int ranks,
+                       sim_result *out)
+{
+    master_session m;
+    master_job job;
+    link_idle idle;
+    csg_diag d = {{0}, 0};
+    memset(&job, 0, sizeof job);
+    job.grid = tile_grid_of(blob->bytes, a->tile);
+    size_t n = (size_t)a->width * (size_t)a->height;
+    job.image = calloc(n * 3, sizeof *job.image);
+    job.workers = calloc((size_t)ranks, sizeof *job.workers);
+    void *t = run->hetero ? calloc(n, job.grid.real_size) : NULL;
+    uint32_t *surf = run->hetero ? calloc(n, sizeof *surf) : NULL;
+    bool ok = job.image && job.workers && (!run->hetero || (t && surf)) && master_idle_init(&idle) &&
+              sched_init(&run->s, (enum sched_policy)a->policy,
+                         a->relays > 0 ? a->relays : ranks - 1, PROTO_IN_FLIGHT,
+                         tile_count(&job.grid), run->hetero ? sim_estimate : NULL, run);
+    if (ok) {
+        job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
+                           .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
+                           .image = job.image, .workers = job.workers};
+        if (run->hetero && a->fill) {
+            sched_fill_enable(&run->s);
+            job.fill = sim_fill;
+        }
+        run->serial_s = sim_serial_s(run, &job.grid);
+        sim_watch_naps(&idle.wake);
+        double t0 = stats_clock();
+        master_begin(&m, ranks);
+        m.costs = &sim_master_charges;
+        m.batch = a->batch;
+        m.relays = a->relays;
+        m.pixels = a->pixels;
+        master_share_scene(&m, 0, a->tile, blob);
+        master_relay_floor(&m, &run->s);
+        run->pass_t0 = stats_clock();
+        ok = master_run_tiles(&m, &job, &d);
+        master_end(&m, ok ? 0 : 1);
+        *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
+                            run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
+                            0, 0, 0};
+        sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
+        link_idle_free(&idle);
+        sched_free(&run->s);
+    } else { /* out of memory before the start: the workers still need a STOP */
+        master_begin(&m, ranks);
+        master_end(&m, 1);
+    }
+    if (d.failed)
+        fprintf(stderr, "%s\n", d.message);
+    free(job.image);
+    free(job.workers);
+    free(t);
+    free(surf);
+    return ok;
+}
+
+/* $CSGSIM_PASS_SCALE: a factor on the recorded pass (bench/simulate.sh
+ * --pass-scale), 1 when unset or not a positive number. */
+static double sim_pass_scale(void)
+{
+    return sim_env_number("CSGSIM_PASS_SCALE", 1);
+}
+
+/* $CSGSIM_PASS_RATE in rays a second (bench/simulate.sh --pass-rate, in
+ * Mrays/s), 0 when unset or not a positive number. */
+static double sim_pass_rate(void)
+{
+    return sim_env_number("CSGSIM_PASS_RATE", 0) * 1e6;
+}
+
+/* The pass's duration at the simulated size: the measured rate when one
+ * is given, else the map's pass scaled by the pixel count (and the
+ * factor). */
+static double sim_pass_seconds(const sim_costs *c, int width, int height)
+{
+    double pixels = (double)width * height, rate = sim_pass_rate();
+    if (rate > 0)
+        return pixels / rate;
+    return sim_pass_scale() * c->pass_s * pixels / ((double)c->width * c->height);
+}
+
+int main(int argc, char **argv)
+{
+    int rank = 0, ranks = 1;
+    link_ranks_are_threads(); /* (SMPI's ranks share this process) */
+    if (!link_start(&rank, &ranks))
+        return 1;
+    if (rank != 0) {
+        int status = worker_run(rank, NULL);
+        link_finish();
+        return status;
+    }
+    sim_args a;
+    csg_blob blob = {NULL, 0};
+    sim_run run;
+    sim_result res;
+    memset(&run, 0, sizeof run);
+    run.costs = sim_costs_shared();
+    if (!sim_parse(argc, argv, &a) || ranks < 2 || ranks < 1 + 2 * a.relays || !run.costs) {
+        fprintf(stderr, "usage: smpirun -np K csgsim SCENE --mode homo|hetero --width W "
+                        "--height H --tile T --schedule S --stats FILE (CSGSIM_COSTS=map)\n");
+        master_session m;
+        master_begin(&m, ranks);
+        master_end(&m, 2);
+        link_finish();
+        return 2;
+    }
+    bool ok = sim_load(&a, &blob);
+    run.hetero = a.hetero;
+    run.width = a.width;
+    run.height = a.height;
+    run.pass_s = a.hetero ? sim_pass_seconds(run.costs, a.width, a.height) : 0;
+    ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1 - a.relays, &res);
+    if (!blob.bytes) {
+        master_session m;
+        master_begin(&m, ranks);
+        master_end(&m, 2);
+    }
+    csg_blob_free(&blob);
+    link_finish();
+    return ok ? 0 : 1;
+}

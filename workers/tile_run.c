@@ -1,0 +1,56 @@
+/*
+ * tile_run.c — tile_run_rect, the one path from a rectangle of a tile to
+ * its pixels, and the clocks that time it (tile.h).
+ *
+ * tile_run_rect: homo and serial trace the rectangle's primary rays into
+ * the runner's scratch records (engine->trace_primary); hetero hands in
+ * the records of the OpenCL pass.  Either way the pixels then come from
+ * engine->shade over those records, and the hit count from the records'
+ * surface ids, so a pixel depends on nothing but its record — which is
+ * why a tile may be split into pieces (any rectangle inside it) without
+ * changing a bit of the image.
+ *
+ * The simulated build (make sim) links sim/tile_run.c instead: the same
+ * functions, the rectangle's measured cost executed on a simulated host.
+ */
+#include "tile.h"
+
+#include <string.h>
+#include <time.h>
+
+static double tile_clock(clockid_t clock)
+{
+    struct timespec ts;
+    clock_gettime(clock, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* (the CPU clock read inside the wall clock's span: cpu_s <= busy_s) */
+void tile_time_start(tile_timer *t)
+{
+    t->wall = tile_clock(CLOCK_MONOTONIC);
+    t->cpu = tile_clock(CLOCK_THREAD_CPUTIME_ID);
+}
+
+void tile_time_stop(const tile_timer *t, tile_result *res)
+{
+    res->cpu_s = tile_clock(CLOCK_THREAD_CPUTIME_ID) - t->cpu;
+    res->busy_s = tile_clock(CLOCK_MONOTONIC) - t->wall;
+}
+
+void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
+                   tile_result *res)
+{
+    size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
+    size_t t_bytes = n * tr->grid.real_size;
+    memset(res, 0, sizeof *res);
+    if (!records) {
+        records = tr->records;
+        tr->eng->trace_primary(tr->blob, r, tr->records,
+                               (uint32_t *)(void *)((char *)tr->records + t_bytes), &res->rays);
+    }
+    const uint32_t *surf = (const uint32_t *)(const void *)((const char *)records + t_bytes);
+    tr->eng->shade(tr->blob, r, records, surf, rgb, &res->rays);
+    for (size_t i = 0; i < n; i++)
+        res->hits += surf[i] != CSG_SURF_NONE;
+}
