@@ -12,6 +12,9 @@
 #   make bench-primary    the primary pass's throughput: both OpenCL kernel
 #                 variants against the C worker (bench/primary_pass.sh)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
+#   make install  build/csgtrace, its image module and its manual page under
+#                 PREFIX (/usr/local): bin/, lib/csgtrace/, share/man/man1/;
+#                 DESTDIR for staging; make uninstall removes them
 #   make sim      build/sim/csgsim: the same master and worker built with
 #                 SimGrid's SMPI, tiles replaced by measured costs (bench/sim/)
 #   make bench-scale  the simulated 16..1024-worker grid (bench/SCALE.md)
@@ -100,7 +103,7 @@ TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
-	clean
+	clean install uninstall
 all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
 
@@ -339,6 +342,24 @@ bench-accuracy: deps
 golden: $(B)/csgtrace
 	@for s in scenes/*.pov; do n=$$(basename $$s .pov); \
 	  $(B)/csgtrace render $$s -o tests/golden/$$n.png --width 160 --height 120 || exit 1; done
+
+# ---- installation ------------------------------------------------------------------
+# The program needs nothing of the source tree: its OpenCL source is built
+# in, and it finds its image module in ../lib/csgtrace/ (host/output/
+# image_loader.c).  The manual page is --help's text (tools/man_page.py).
+PREFIX ?= /usr/local
+$(B)/csgtrace.1: $(B)/csgtrace tools/man_page.py | $(B)/$(MODULE)
+	python3 tools/man_page.py $(B)/csgtrace >$@.tmp && mv $@.tmp $@
+install: $(B)/csgtrace $(B)/$(MODULE) $(B)/csgtrace.1
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib/csgtrace \
+		$(DESTDIR)$(PREFIX)/share/man/man1
+	install -m 755 $(B)/csgtrace $(DESTDIR)$(PREFIX)/bin/csgtrace
+	install -m 644 $(B)/$(MODULE) $(DESTDIR)$(PREFIX)/lib/csgtrace/$(MODULE)
+	install -m 644 $(B)/csgtrace.1 $(DESTDIR)$(PREFIX)/share/man/man1/csgtrace.1
+uninstall:
+	rm -f $(DESTDIR)$(PREFIX)/bin/csgtrace $(DESTDIR)$(PREFIX)/lib/csgtrace/$(MODULE) \
+		$(DESTDIR)$(PREFIX)/share/man/man1/csgtrace.1
+	-rmdir $(DESTDIR)$(PREFIX)/lib/csgtrace 2>/dev/null
 
 clean:
 	rm -rf build

@@ -1,157 +1,207 @@
 /*
- * cli.c — parsing of `csgtrace COMMAND ARGS...` (see cli_usage).
- * Every option is checked for range and form here, so the stages after it
- * can trust the request.
+ * cli.c — parsing of `csgtrace COMMAND ARGS...` (see cli_usage) through
+ * the one table of options (options.h): each value is checked for range
+ * and form here, and each option for the command it is given to, so the
+ * stages after it can trust the request.
  */
 #include "cli.h"
 
-#include "../csg/flatten.h"
-#include "../csg/numbers.h"
-#include "../comm/protocol.h"
-#include "schedule.h"
-
-#include <errno.h>
 #include <limits.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "../comm/protocol.h"
+#include "../csg/flatten.h"
+#include "../csg/numbers.h"
+#include "options.h"
 #include "output/file_atomic.h"
-
-#define CLI_RELAYS_MAX 4096 /* --relays: a relay per 2 workers at most anyway */
 #include "output/journal.h"
+#include "schedule.h"
 #include "store.h"
 
-void cli_usage(FILE *out)
-{
-    fputs("usage:\n"
-          "  csgtrace render  SCENE -o OUT [--mode serial|homo|hetero] [--width W] [--height H]\n"
-          "                   [--tile N] [--depth D] [--threshold W] [--spp N]\n"
-          "                   [--precision float|double|auto] [--max-rays-per-pixel N]\n"
-          "                   [--schedule raster|cost|static|tail] [--batch N|auto] [--relays K]\n"
-          "                   [--store-threads N]\n"
-          "                   [--tile-log FILE.jsonl]\n"
-          "                   [--stats FILE.json] [--cl-device SEL] [--cl-kernel auto|scalar|packet]\n"
-          "                   [--fill on|off] [--pass auto|always]\n"
-          "                   [--progress|--no-progress] [--clock F] [--library-path DIR]...\n"
-          "                   [--resume]  (go on from OUT.journal, an interrupted render's)\n"
-          "  csgtrace compare SCENE [-o PREFIX] [--repeat R] [same options as render]\n"
-          "  csgtrace check   SCENE [--width W] [--height H] [--clock F] [--library-path DIR]...\n"
-          "  csgtrace gen spheres --count N --occupancy F --seed S [--width W --height H]\n"
-          "                   [--materials opaque,reflective,transparent] -o scene.pov\n"
-          "  csgtrace export  SCENE -o OUT.pov [--flat] [same scene options as check]\n"
-          "  csgtrace help | --help | --version\n"
-          "Run the parallel modes under mpirun: mpirun -np K build/csgtrace render ...\n"
-          "Image format follows OUT's extension (png, exr, tif, ppm, ...).\n"
-          "#include looks in the including file's folder, the scene's, each --library-path\n"
-          "DIR, $CSGTRACE_LIBRARY_PATH (':'-separated) and POV-Ray's include folder.\n",
-          out);
-}
+/* The words of the choices (options.h), in the order of their enums. */
+static const char *const cli_modes[] = {"serial", "homo", "hetero", NULL};
+static const char *const cli_precisions[] = {"float", "double", "auto", NULL};
+static const char *const cli_schedules[] = {"raster", "cost", "static", "tail", NULL};
+static const char *const cli_kernels[] = {"auto", "scalar", "packet", NULL}; /* enum ocl_kernel */
+static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"        */
+static const char *const cli_pass[] = {"auto", "always", NULL}; /* pass_always: "always" */
+static const char *const cli_materials[] = {"opaque", "reflective", "transparent", NULL};
 
-static bool parse_int(const char *opt, const char *s, int lo, int hi, int *out, csg_diag *d)
-{
-    long long v;
-    if (!number_whole(s, lo, hi, &v)) {
-        csg_error_plain(d, "%s expects a whole number from %d to %d, got '%s'", opt, lo, hi,
-                        s ? s : "");
-        return false;
-    }
-    *out = (int)v;
-    return true;
-}
+typedef struct {
+    const char *name, *alias, *value;
+    enum cli_kind kind;
+    size_t offset;        /* of the field in cli_args                  */
+    size_t size;          /* of the field: checked against the kind    */
+    double lo, hi;
+    const char *const *choices;
+    unsigned commands;    /* CLI_ON_* bits                             */
+    const char *help;
+} cli_option;
 
-static bool parse_real(const char *opt, const char *s, double lo, double hi, double *out,
-                       csg_diag *d)
-{
-    if (!number_real(s, lo, hi, out)) {
-        csg_error_plain(d, "%s expects a number from %g to %g, got '%s'", opt, lo, hi, s ? s : "");
-        return false;
-    }
-    return true;
-}
+static const cli_option cli_options[] = {
+#define CLI_ROW(name, alias, value, kind, field, lo, hi, choices, commands, help)             \
+    {name, alias, value, kind, offsetof(cli_args, field), sizeof(((cli_args *)0)->field), lo,  \
+     hi, choices, commands, help},
+    CLI_OPTIONS(CLI_ROW)
+#undef CLI_ROW
+};
+enum { CLI_OPTION_COUNT = sizeof cli_options / sizeof cli_options[0] };
 
-static bool parse_choice(const char *opt, const char *s, const char *const *names, int n,
-                         int *out, csg_diag *d)
-{
-    for (int i = 0; s && i < n; i++) {
-        if (strcmp(s, names[i]) == 0) {
-            *out = i;
-            return true;
-        }
-    }
-    char list[256] = "";
-    for (int i = 0; i < n; i++) {
-        size_t used = strlen(list);
-        snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", names[i]);
-    }
-    csg_error_plain(d, "%s expects one of %s, got '%s'", opt, list, s ? s : "");
-    return false;
-}
+/* The size of the field each kind writes (the table's rows are checked
+ * against it: a row whose field has another size does not compile). */
+#define CLI_KIND_SIZE(kind)                                                                    \
+    ((kind) == CLI_FLAG || (kind) == CLI_SWITCH ? sizeof(bool)                                 \
+     : (kind) == CLI_TEXT                       ? sizeof(const char *)                         \
+     : (kind) == CLI_U64                        ? sizeof(uint64_t)                             \
+     : (kind) == CLI_REAL                       ? sizeof(double)                               \
+     : (kind) == CLI_FOLDER                     ? sizeof(((cli_args *)0)->library)             \
+                                                : sizeof(int))
+#define CLI_CHECK(name, alias, value, kind, field, lo, hi, choices, commands, help)           \
+    _Static_assert(sizeof(((cli_args *)0)->field) == CLI_KIND_SIZE(kind),                      \
+                   name " sets a field of another type than its kind writes");
+CLI_OPTIONS(CLI_CHECK)
+#undef CLI_CHECK
 
 static const struct {
     const char *name;
     enum cli_command cmd;
-} commands[] = {{"render", CMD_RENDER}, {"compare", CMD_COMPARE}, {"check", CMD_CHECK}, {"export", CMD_EXPORT},
-                {"gen", CMD_GEN},       {"help", CMD_HELP},
+} commands[] = {{"render", CMD_RENDER}, {"compare", CMD_COMPARE}, {"check", CMD_CHECK},
+                {"export", CMD_EXPORT}, {"gen", CMD_GEN},         {"help", CMD_HELP},
                 {"--help", CMD_HELP},   {"-h", CMD_HELP},         {"--version", CMD_VERSION}};
 
-/* One option with its value (argv[*i + 1]); false on a bad one. */
-static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d)
+/* The commands' names in `mask`, comma-separated, into buf. */
+static void cli_command_names(unsigned mask, char *buf, size_t size)
 {
-    static const char *const modes[] = {"serial", "homo", "hetero"};
-    static const char *const precisions[] = {"float", "double", "auto"};
-    static const char *const schedules[] = {"raster", "cost", "static", "tail"};
-    static const char *const kernels[] = {"auto", "scalar", "packet"};
-    static const char *const switches[] = {"on", "off"};
-    static const char *const passes[] = {"auto", "always"};
-    const char *opt = argv[*i];
-    render_request *r = &a->req;
-    if (strcmp(opt, "--flat") == 0) {
-        a->flat = true;
-        return true;
+    buf[0] = '\0';
+    for (int c = CMD_RENDER; c <= CMD_GEN; c++) {
+        if (!(mask & (1u << c)))
+            continue;
+        size_t used = strlen(buf);
+        snprintf(buf + used, size - used, "%s%s", used ? ", " : "", commands[c].name);
     }
-    if (strcmp(opt, "--resume") == 0) {
-        r->resume = true;
-        return true;
+}
+
+void cli_usage(FILE *out)
+{
+    fputs("usage:\n"
+          "  csgtrace render  SCENE -o OUT [options]      render an image\n"
+          "  csgtrace compare SCENE [-o PREFIX] [options] homo and hetero, interleaved: "
+          "the table\n"
+          "  csgtrace check   SCENE [options]             parse, validate, summarise\n"
+          "  csgtrace export  SCENE -o OUT.pov [options]  the parsed scene as POV-Ray SDL\n"
+          "  csgtrace gen spheres -o OUT.pov [options]    a random-sphere scene\n"
+          "  csgtrace help | --help | --version\n"
+          "Run the parallel modes under mpirun: mpirun -np K csgtrace render ...\n"
+          "options (the commands that take each):\n",
+          out);
+    for (int i = 0; i < CLI_OPTION_COUNT; i++) {
+        const cli_option *o = &cli_options[i];
+        char spell[64], on[64];
+        snprintf(spell, sizeof spell, "%s%s%s%s%s", o->name, o->alias ? ", " : "",
+                 o->alias ? o->alias : "", o->value ? " " : "", o->value ? o->value : "");
+        cli_command_names(o->commands, on, sizeof on);
+        if (strlen(spell) > 33) /* (a long spelling: its help on the next line) */
+            fprintf(out, "  %s\n  %-34s %s [%s]\n", spell, "", o->help, on);
+        else
+            fprintf(out, "  %-34s %s [%s]\n", spell, o->help, on);
     }
-    if (strcmp(opt, "--progress") == 0 || strcmp(opt, "--no-progress") == 0) {
-        r->progress = opt[2] == 'p' ? PROGRESS_ON : PROGRESS_OFF;
+}
+
+/* ---- values ------------------------------------------------------------------- */
+
+static bool cli_int(const cli_option *o, const char *s, long long *out, csg_diag *d)
+{
+    if (number_whole(s, (long long)o->lo, (long long)o->hi, out))
         return true;
+    csg_error_plain(d, "%s expects a whole number from %.0f to %.0f, got '%s'", o->name, o->lo,
+                    o->hi, s);
+    return false;
+}
+
+/* The index of `s` among o's choices, or -1 with d filled. */
+static int cli_choice(const cli_option *o, const char *s, csg_diag *d)
+{
+    char list[256] = "";
+    for (int i = 0; o->choices[i]; i++) {
+        if (strcmp(s, o->choices[i]) == 0)
+            return i;
+        size_t used = strlen(list);
+        snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", o->choices[i]);
     }
-    const char *val = *i + 1 < argc ? argv[*i + 1] : NULL;
-    if (!val) {
-        csg_error_plain(d, "%s needs a value", opt);
+    csg_error_plain(d, "%s expects one of %s, got '%s'", o->name, list, s);
+    return -1;
+}
+
+/* The comma-separated choices of s as bits (1 << index each). */
+static bool cli_bits(const cli_option *o, const char *s, unsigned *out, csg_diag *d)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", s);
+    *out = 0;
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        int i = cli_choice(o, tok, d);
+        if (i < 0)
+            return false;
+        *out |= 1u << i;
+    }
+    if (*out == 0) {
+        csg_error_plain(d, "%s needs at least one of its kinds", o->name);
         return false;
     }
-    (*i)++;
-    int choice;
-    if (strcmp(opt, "-o") == 0 || strcmp(opt, "--output") == 0) {
-        a->out_path = val;
+    return true;
+}
+
+/* Option o's value `val` (NULL for a kind that takes none) into its
+ * field of a. */
+static bool cli_set(const cli_option *o, const char *val, cli_args *a, csg_diag *d)
+{
+    void *field = (char *)a + o->offset;
+    long long n;
+    int i;
+    switch (o->kind) {
+    case CLI_FLAG:
+        *(bool *)field = true;
         return true;
-    }
-    if (strcmp(opt, "--stats") == 0) {
-        r->stats_path = val;
+    case CLI_SET:
+        *(int *)field = (int)o->lo;
         return true;
-    }
-    if (strcmp(opt, "--tile-log") == 0) {
-        r->tile_log_path = val;
+    case CLI_TEXT:
+        *(const char **)field = val;
         return true;
-    }
-    if (strcmp(opt, "--schedule") == 0)
-        return parse_choice(opt, val, schedules, SCHED_POLICIES, &r->schedule, d);
-    if (strcmp(opt, "--batch") == 0) {
-        r->batch = 0;
-        return strcmp(val, "auto") == 0 || parse_int(opt, val, 1, PROTO_BATCH_MAX, &r->batch, d);
-    }
-    if (strcmp(opt, "--relays") == 0)
-        return parse_int(opt, val, 0, CLI_RELAYS_MAX, &r->relays, d);
-    if (strcmp(opt, "--store-threads") == 0)
-        return parse_int(opt, val, 1, STORE_THREADS_MAX, &r->store_threads, d);
-    if (strcmp(opt, "--cl-device") == 0) {
-        r->cl_device = val;
+    case CLI_INT_AUTO:
+    case CLI_INT:
+        n = 0; /* ("auto") */
+        if (!(o->kind == CLI_INT_AUTO && strcmp(val, "auto") == 0) && !cli_int(o, val, &n, d))
+            return false;
+        *(int *)field = (int)n;
         return true;
-    }
-    if (strcmp(opt, "--library-path") == 0) {
+    case CLI_U64:
+        if (!cli_int(o, val, &n, d))
+            return false;
+        *(uint64_t *)field = (uint64_t)n;
+        return true;
+    case CLI_REAL:
+        if (number_real(val, o->lo, o->hi, (double *)field))
+            return true;
+        csg_error_plain(d, "%s expects a number from %g to %g, got '%s'", o->name, o->lo, o->hi,
+                        val);
+        return false;
+    case CLI_CHOICE:
+    case CLI_SWITCH:
+        if ((i = cli_choice(o, val, d)) < 0)
+            return false;
+        if (o->kind == CLI_SWITCH)
+            *(bool *)field = i == 1;
+        else
+            *(int *)field = i;
+        return true;
+    case CLI_BITS:
+        return cli_bits(o, val, (unsigned *)field, d);
+    case CLI_FOLDER:
         if (a->parse.library_path_count == CLI_MAX_LIBRARY) {
             csg_error_plain(d, "at most %d --library-path options", CLI_MAX_LIBRARY);
             return false;
@@ -159,54 +209,54 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
         a->library[a->parse.library_path_count++] = val;
         return true;
     }
-    if (strcmp(opt, "--clock") == 0)
-        return parse_real(opt, val, -1e30, 1e30, &a->parse.clock, d);
-    if (strcmp(opt, "--cl-kernel") == 0) /* enum ocl_kernel's order */
-        return parse_choice(opt, val, kernels, 3, &r->cl_kernel, d);
-    if (strcmp(opt, "--width") == 0)
-        return parse_int(opt, val, 1, 65536, &r->width, d);
-    if (strcmp(opt, "--height") == 0)
-        return parse_int(opt, val, 1, 65536, &r->height, d);
-    if (strcmp(opt, "--tile") == 0)
-        return parse_int(opt, val, 1, 65536, &r->tile, d);
-    if (strcmp(opt, "--spp") == 0)
-        return parse_int(opt, val, 1, CSG_MAX_SPP, &r->spp, d);
-    if (strcmp(opt, "--max-rays-per-pixel") == 0)
-        return parse_int(opt, val, 1, CSG_MAX_RAYS_PER_PIXEL, &r->max_rays, d);
-    if (strcmp(opt, "--depth") == 0)
-        return parse_int(opt, val, 1, 256, &r->depth, d);
-    if (strcmp(opt, "--repeat") == 0)
-        return parse_int(opt, val, 1, 1000, &a->repeat, d);
-    if (strcmp(opt, "--threshold") == 0)
-        return parse_real(opt, val, 0.0, 1.0, &r->threshold, d);
-    if (strcmp(opt, "--mode") == 0) {
-        if (!parse_choice(opt, val, modes, 3, &choice, d))
-            return false;
-        r->mode = (enum render_mode)choice;
-        return true;
-    }
-    if (strcmp(opt, "--fill") == 0) {
-        if (!parse_choice(opt, val, switches, 2, &choice, d))
-            return false;
-        r->no_fill = choice == 1;
-        return true;
-    }
-    if (strcmp(opt, "--pass") == 0) {
-        if (!parse_choice(opt, val, passes, 2, &choice, d))
-            return false;
-        r->pass_always = choice == 1;
-        return true;
-    }
-    if (strcmp(opt, "--precision") == 0) {
-        if (!parse_choice(opt, val, precisions, 3, &choice, d))
-            return false;
-        r->precision = (enum render_precision)choice;
-        return true;
-    }
-    (*i)--;
-    csg_error_plain(d, "unknown option '%s' (see csgtrace --help)", opt);
     return false;
 }
+
+/* The row for spelling `opt` given to command `cmd`: the first that
+ * takes it there; NULL with d filled when none does. */
+static const cli_option *cli_find(const char *opt, enum cli_command cmd, csg_diag *d)
+{
+    const cli_option *named = NULL;
+    for (int i = 0; i < CLI_OPTION_COUNT; i++) {
+        const cli_option *o = &cli_options[i];
+        if (strcmp(opt, o->name) != 0 && !(o->alias && strcmp(opt, o->alias) == 0))
+            continue;
+        if (o->commands & (1u << cmd))
+            return o;
+        named = named ? named : o;
+    }
+    if (!named) {
+        csg_error_plain(d, "unknown option '%s' (see csgtrace --help)", opt);
+        return NULL;
+    }
+    char on[64];
+    unsigned all = 0;
+    for (int i = 0; i < CLI_OPTION_COUNT; i++)
+        if (strcmp(opt, cli_options[i].name) == 0 ||
+            (cli_options[i].alias && strcmp(opt, cli_options[i].alias) == 0))
+            all |= cli_options[i].commands;
+    cli_command_names(all, on, sizeof on);
+    csg_error_plain(d, "%s does not apply to %s (only to %s)", opt, commands[cmd].name, on);
+    return NULL;
+}
+
+/* One option and its value (argv[*i + 1]); false on a bad one. */
+static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d)
+{
+    const cli_option *o = cli_find(argv[*i], a->command, d);
+    if (!o)
+        return false;
+    if (o->kind == CLI_FLAG || o->kind == CLI_SET)
+        return cli_set(o, NULL, a, d);
+    if (*i + 1 >= argc) {
+        csg_error_plain(d, "%s needs a value", argv[*i]);
+        return false;
+    }
+    (*i)++;
+    return cli_set(o, argv[*i], a, d);
+}
+
+/* ---- the whole line ----------------------------------------------------------------- */
 
 /* No output may overwrite the scene or another output: a mistyped -o or
  * --stats would silently replace it. */
@@ -250,7 +300,7 @@ static bool library_from_env(cli_args *a, csg_diag *d)
     return true;
 }
 
-bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
+static void cli_defaults(cli_args *a)
 {
     memset(a, 0, sizeof *a);
     config_read(&a->env);
@@ -265,10 +315,64 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
     a->req.threshold = -1;
     a->req.schedule = -1; /* the mode's own */
     a->repeat = 3;
+    a->gen.count = -1; /* (required) */
+    a->gen.occupancy = -1;
+    a->gen.width = 384;
+    a->gen.height = 384;
+    a->gen.materials = GEN_OPAQUE | GEN_REFLECTIVE | GEN_TRANSPARENT;
     csg_parse_options_default(&a->parse);
     a->parse.library_paths = a->library;
     a->parse.messages = stderr; /* #debug and #warning */
     a->req.parse = &a->parse;
+}
+
+/* The command's positional argument (the scene; gen: "spheres"). */
+static bool cli_positional(cli_args *a, const char *arg, csg_diag *d)
+{
+    if (a->req.scene_path) {
+        csg_error_plain(d, "unexpected argument '%s'", arg);
+        return false;
+    }
+    a->req.scene_path = arg;
+    return true;
+}
+
+/* What each command needs once every option is read. */
+static bool cli_complete(cli_args *a, bool seed_given, csg_diag *d)
+{
+    if (a->command == CMD_GEN) {
+        if (!a->req.scene_path || strcmp(a->req.scene_path, "spheres") != 0) {
+            csg_error_plain(d, "gen: only 'gen spheres' exists");
+            return false;
+        }
+        a->req.scene_path = NULL;
+        a->gen.out_path = a->out_path;
+        if (a->gen.count < 0 || a->gen.occupancy < 0 || !seed_given || !a->out_path) {
+            csg_error_plain(d, "gen spheres needs --count N --occupancy F --seed S -o FILE");
+            return false;
+        }
+        return true;
+    }
+    if (!a->req.scene_path) {
+        csg_error_plain(d, "no scene file given");
+        return false;
+    }
+    if ((a->command == CMD_RENDER || a->command == CMD_EXPORT) && !a->out_path) {
+        csg_error_plain(d, "no output file given (-o OUT)");
+        return false;
+    }
+    if (a->command == CMD_RENDER)
+        a->req.out_path = a->out_path;
+    if (!outputs_distinct(a, d) || !library_from_env(a, d))
+        return false;
+    a->parse.image_width = a->req.width;
+    a->parse.image_height = a->req.height;
+    return true;
+}
+
+bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
+{
+    cli_defaults(a);
     if (argc < 2) {
         csg_error_plain(d, "no command given (see csgtrace --help)");
         return false;
@@ -284,36 +388,14 @@ bool cli_parse(int argc, char **argv, cli_args *a, csg_diag *d)
         csg_error_plain(d, "unknown command '%s' (see csgtrace --help)", argv[1]);
         return false;
     }
-    if (a->command == CMD_HELP || a->command == CMD_VERSION || a->command == CMD_GEN)
+    if (a->command == CMD_HELP || a->command == CMD_VERSION)
         return true;
+    bool seed_given = false;
     for (int i = 2; i < argc; i++) {
-        if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            if (!parse_option(a, argc, argv, &i, d))
-                return false;
-        } else if (!a->req.scene_path) {
-            a->req.scene_path = argv[i];
-        } else {
-            csg_error_plain(d, "unexpected argument '%s'", argv[i]);
+        bool option = argv[i][0] == '-' && argv[i][1] != '\0';
+        seed_given |= option && strcmp(argv[i], "--seed") == 0;
+        if (!(option ? parse_option(a, argc, argv, &i, d) : cli_positional(a, argv[i], d)))
             return false;
-        }
     }
-    if (!a->req.scene_path) {
-        csg_error_plain(d, "no scene file given");
-        return false;
-    }
-    if ((a->command == CMD_RENDER || a->command == CMD_EXPORT) && !a->out_path) {
-        csg_error_plain(d, "no output file given (-o OUT)");
-        return false;
-    }
-    if (a->command == CMD_RENDER)
-        a->req.out_path = a->out_path;
-    else if (a->req.resume) {
-        csg_error_plain(d, "--resume goes with render (it continues the render to -o OUT)");
-        return false;
-    }
-    if (!outputs_distinct(a, d) || !library_from_env(a, d))
-        return false;
-    a->parse.image_width = a->req.width;
-    a->parse.image_height = a->req.height;
-    return true;
+    return cli_complete(a, seed_given, d);
 }

@@ -13,6 +13,7 @@
 
 enum { GEN_OPAQUE = 1, GEN_REFLECTIVE = 2, GEN_TRANSPARENT = 4 };
 
+/* What the command line asked for (host/options.h: gen's rows). */
 typedef struct {
     int count;          /* spheres, >= 1                              */
     double occupancy;   /* wanted fraction of pixels hit, 0 .. 1      */
@@ -27,9 +28,6 @@ typedef struct {
     double scale;       /* the radius scale the search settled on      */
     int evaluations;    /* primary passes the search ran               */
 } gen_result;
-
-/* Parses `gen spheres ...` (argv after "gen"); false with d filled. */
-bool gen_parse_args(int argc, char **argv, gen_options *o, csg_diag *d);
 
 /* Writes the scene; false with d filled (exit 2 for d->failed from bad
  * options, 1 otherwise). */

@@ -18,7 +18,6 @@
 #include "cli.h"
 #include "compare.h"
 #include "output/image.h"
-#include "gen.h"
 #include "render.h"
 #include "version.h"
 
@@ -89,12 +88,10 @@ static int run_export(const cli_args *a)
 }
 
 /* gen spheres: a random-sphere scene with a measured occupancy. */
-static int run_gen(int argc, char **argv)
+static int run_gen(const cli_args *a)
 {
     csg_diag d = {0};
-    gen_options o;
-    if (!gen_parse_args(argc, argv, &o, &d))
-        return fail(&d, EXIT_BAD_INPUT);
+    const gen_options o = a->gen;
     gen_result r;
     if (!gen_spheres(&o, &r, &d))
         return fail(&d, EXIT_FAILURE_RUN);
@@ -133,14 +130,15 @@ int main(int argc, char **argv)
         config_usage(stdout);
         return EXIT_OK;
     case CMD_VERSION:
-        printf("csgtrace %s\n", CSGTRACE_VERSION);
+        printf("csgtrace %s (build %016llx)\n", CSGTRACE_VERSION,
+               (unsigned long long)version_build_hash());
         return EXIT_OK;
     case CMD_CHECK:
         return run_check(&a);
     case CMD_EXPORT:
         return run_export(&a);
     case CMD_GEN:
-        return run_gen(argc - 2, argv + 2);
+        return run_gen(&a);
     case CMD_COMPARE:
         return compare_run(&a);
     case CMD_RENDER:

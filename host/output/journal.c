@@ -7,7 +7,6 @@
 #include <errno.h>
 #include <elf.h>
 #include <fcntl.h>
-#include <link.h> /* (the system's: dl_iterate_phdr) */
 #include <pthread.h>
 #include <semaphore.h>
 #include <stdatomic.h>
@@ -110,66 +109,6 @@ struct journal {
 /* ---- checksums and the program's identity ------------------------------------ */
 
 
-/* The hash of the program's ELF build ID (NT_GNU_BUILD_ID, which the
- * linker derives from the whole output), found in the loaded program's
- * PT_NOTE segments: the first object dl_iterate_phdr reports is the
- * program itself. */
-static int journal_build_id_of(struct dl_phdr_info *info, size_t size, void *arg)
-{
-    (void)size;
-    uint64_t *out = arg;
-    for (int i = 0; i < info->dlpi_phnum; i++) {
-        const ElfW(Phdr) *ph = &info->dlpi_phdr[i];
-        if (ph->p_type != PT_NOTE)
-            continue;
-        size_t align = ph->p_align == 8 ? 8 : 4;
-        const unsigned char *p = (const unsigned char *)(info->dlpi_addr + ph->p_vaddr);
-        const unsigned char *end = p + ph->p_memsz;
-        /* (p < end: a note's padding may reach past the segment's end) */
-        while (p < end && (size_t)(end - p) >= sizeof(ElfW(Nhdr))) {
-            const ElfW(Nhdr) *n = (const void *)p;
-            const unsigned char *name = p + sizeof *n;
-            const unsigned char *desc = name + ((n->n_namesz + align - 1) & ~(align - 1));
-            if (desc > end || (size_t)(end - desc) < n->n_descsz)
-                break;
-            if (n->n_type == NT_GNU_BUILD_ID && n->n_namesz == 4 && memcmp(name, "GNU", 4) == 0 &&
-                n->n_descsz > 0) {
-                *out = fnv1a(FNV_BASIS, desc, n->n_descsz);
-                return 1;
-            }
-            p = desc + ((n->n_descsz + align - 1) & ~(align - 1));
-        }
-    }
-    return 1; /* (the program only) */
-}
-
-/* The running program, named once: tiles written by another build could
- * differ in their last bit, so a journal names the build that wrote it.
- * Its ELF build ID where it has one; else its file, hashed whole (that
- * read ~1.1 ms before the first tile of every render: 5 % of a tetra6
- * frame's tile phase).  0 when neither can be read. */
-static uint64_t journal_build_hash(void)
-{
-    static uint64_t cached;
-    if (cached)
-        return cached;
-    uint64_t id = 0;
-    dl_iterate_phdr(journal_build_id_of, &id);
-    if (id)
-        return cached = id;
-    int fd = open("/proc/self/exe", O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return 0;
-    uint64_t h = FNV_BASIS;
-    unsigned char buf[1 << 16];
-    ssize_t n;
-    while ((n = read(fd, buf, sizeof buf)) > 0)
-        h = fnv1a_words(h, buf, (size_t)n);
-    close(fd);
-    cached = n == 0 ? h : 0;
-    return cached;
-}
-
 static double journal_clock(void)
 {
     struct timespec ts;
@@ -201,7 +140,7 @@ static void journal_fields(const char *out_path, const void *blob, const tile_gr
         f[i].what = keys[i][1];
     }
     snprintf(f[JF_BUILD].value, sizeof f[0].value, "%s %016llx", CSGTRACE_VERSION,
-             (unsigned long long)journal_build_hash());
+             (unsigned long long)version_build_hash());
     snprintf(f[JF_SIZE].value, sizeof f[0].value, "%dx%d", g->width, g->height);
     snprintf(f[JF_TILE].value, sizeof f[0].value, "%d", g->tile);
     snprintf(f[JF_SAMPLES].value, sizeof f[0].value, "%d", g->spp);
