@@ -34,10 +34,8 @@
  *                                          pixels in proto_result.pixels:
  *                                          rgb[3 n] float, or (when the
  *                                          setup's pixels is RGB8) the
- *                                          3 n bytes of the 8-bit file;
- *                                          a part with a value that has
- *                                          no byte of its own (pixels.h)
- *                                          goes as floats all the same
+ *                                          3 n bytes of the 8-bit file
+ *                                          (comm/pixels.h)
  *                   or   PROTO_TAG_FAIL    proto_fail (for the whole TILE)
  *    Parts follow one another, each starting 8-byte aligned (zero bytes
  *    pad the one before; nothing follows the last): a TILE of one part

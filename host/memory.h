@@ -23,11 +23,10 @@ typedef struct {
                          after the records are freed)                    */
 } render_memory;
 
-/* Rows of the image the encoder holds at a time, as encoded floats and
- * their bytes for 8-bit formats (host/output/image_oiio.cpp, display_strip_rows).
- * PNG and PPM hold one row of bytes (host/output/image_direct.c), but an image
- * with a value of no byte of its own goes to the module anyway: the
- * estimate keeps the strip. */
+/* Rows of the image the encoder holds at a time, as bytes, for 8-bit
+ * formats (host/output/image_oiio.cpp, display_strip_rows).  PNG and PPM
+ * hold one row (host/output/image_direct.c); the estimate keeps the strip,
+ * the larger. */
 #define MEMORY_WRITER_STRIP_ROWS 64
 
 /* The image's pages faulted in by a thread of their own, in address

@@ -132,9 +132,8 @@
  *   bytes_received bytes the master received from workers
  *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
  *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
- *                 a part with a value that has no byte of its own still
- *                 comes as floats, comm/pixels.h), "float" (EXR or no
- *                 file), "none" (no workers)
+ *                 comm/pixels.h), "float" (EXR or no file), "none" (no
+ *                 workers)
  *   blob_bytes    size of the flattened scene
  *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
  *                 rays{...}}] one per rank that rendered tiles (rank 0

@@ -9,7 +9,8 @@
  *     vectors (CPUs, where PoCL turns them into SIMD code): the packet
  *     compilation of the same shared code (simd_kernels/packet.h).
  *
- * Built by host/pass/ocl.c with -I <source>/csg/device -I <source>/simd_kernels
+ * Embedded in the program with its includes inlined (tools/
+ * embed_kernels.py), built by host/pass/ocl.c with
  * -cl-fp32-correctly-rounded-divide-sqrt (and -DCSG_DOUBLE for the double
  * build); portable.h turns FP_CONTRACT off.  Nothing here does arithmetic
  * on `real` of its own: every bit of a record comes from the shared code,

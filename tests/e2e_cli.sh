@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# e2e_cli.sh — the command line contract of DESIGN.md, end to end:
+# e2e_cli.sh — the command line contract (docs/cli.md), end to end:
 # exit statuses (0 ok, 2 bad input, 1 other failure), one-line
 # `file:line:col: error:` messages, no output file left behind on failure,
 # image formats by extension, `check` and `export`.

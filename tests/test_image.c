@@ -3,8 +3,7 @@
  * (host/output/image_direct.c): the process never maps the image module, the
  * files are byte for byte the module's (its writer forced with
  * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
- * encoding, an image with a value of no byte of its own goes to the
- * module, and a failed write names the file and leaves nothing behind.
+ * encoding, and a failed write names the file and leaves nothing behind.
  */
 #include <math.h>
 #include <setjmp.h>

@@ -608,8 +608,8 @@ static void test_batch_bytes(void **state)
     size_t part = proto_result_part(128 * 128, PIXELS_FLOAT);
     assert_true(fit > 1 && proto_batch_bytes(part, fit) <= PROTO_BATCH_BYTES);
     assert_true(proto_batch_bytes(part, fit + 1) > PROTO_BATCH_BYTES);
-    /* 8-bit parts: 3 bytes a pixel; the limits stay those of floats (a
-     * part with a value that has no byte of its own comes as floats) */
+    /* 8-bit parts: 3 bytes a pixel (the limits stay those of floats: one
+     * limit for every output) */
     assert_int_equal(proto_result_part(49, PIXELS_RGB8), sizeof(proto_result) + 49 * 3);
     assert_int_equal(proto_result_part(49, PIXELS_RGB8) + 49 * 9, odd);
 }

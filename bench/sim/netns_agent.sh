@@ -1,6 +1,6 @@
 #!/bin/sh
 # bench/sim/netns_agent.sh — Open MPI's "remote shell" for the two-namespace
-# recipe (README, "Across hosts"): `netns_agent.sh HOST CMD...` runs CMD in
+# recipe (docs/parallel.md, "Across hosts"): `netns_agent.sh HOST CMD...` runs CMD in
 # the network namespace that owns HOST's address.  Only the two fixed
 # addresses of the recipe are known; anything else is refused.
 host=$1

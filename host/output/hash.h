@@ -1,8 +1,9 @@
 /*
  * hash.h — FNV-1a, 64 bits: the checksum of the journal's records and the
- * identities of what a file on disk must match (a journal's render, a
- * cached OpenCL program's source).  Not cryptographic: it catches torn
- * writes and stale files, not an attacker who can write the files anyway.
+ * identities of what a journal must match (its render, the program's
+ * build).  Not cryptographic: it catches torn writes and stale files, not
+ * an attacker who can write the files anyway (the OpenCL program cache,
+ * which hands binaries to the driver, uses SHA-256: pass/cl_cache.h).
  */
 #ifndef OUTPUT_HASH_H
 #define OUTPUT_HASH_H

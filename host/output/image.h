@@ -32,11 +32,10 @@ typedef struct {
 void img_configure(const img_settings *s);
 
 /* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
- * by the extension (PNG and PPM without the module; the rare image with a
- * pixel of no byte of its own, pixels.h, goes to the module anyway, which
- * alone reproduces its byte).  8-bit and 16-bit formats get the values
- * clamped to [0, 1] and encoded with the sRGB curve (as POV-Ray 3.7 writes
- * PNG with assumed_gamma 1); float formats (exr, hdr, pfm) get them linear.  The file is
+ * by the extension (PNG and PPM without the module).  8-bit formats get
+ * each value's byte of comm/pixels.h (clamped to [0, 1], the sRGB curve,
+ * as POV-Ray 3.7 writes PNG with assumed_gamma 1), whoever writes them;
+ * float formats (exr, hdr, pfm) get them linear.  The file is
  * written under a temporary name in the same folder and renamed when
  * complete: a failure never leaves a partial file under `path`.
  * false with a message in err on failure. */

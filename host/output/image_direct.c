@@ -41,7 +41,7 @@ img_png_options img_png_options_for(int level)
 {
     if (level >= 0 && level <= 9)
         return (img_png_options){level, Z_DEFAULT_STRATEGY, PNG_ALL_FILTERS};
-    /* Measured (README, "Very large images"): a quarter of the time of zlib
+    /* Measured (bench/NOTES-README.md, the PNG settings): a quarter of the time of zlib
      * level 6 with every filter, for files 6 to 25 % larger.  The level is
      * only written in the zlib header under Z_RLE: 6 as the module did. */
     return (img_png_options){6, Z_RLE, PNG_FILTER_UP};

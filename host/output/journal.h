@@ -11,9 +11,9 @@
  * record a finished tile, appended (write(2), no stdio buffer) as soon as
  * the tile's last result is in: its index and rectangle, its primary hits,
  * its pixels and an FNV-1a checksum over all of it.  The pixels are the
- * RGB floats, or, for an 8-bit output, the file's bytes whenever each
- * value has one (a quarter of the size; resumed as the floats the master
- * keeps for those bytes, so the file is the same).  The master only
+ * RGB floats, or, for an 8-bit output, the file's bytes (a quarter of
+ * the size; resumed as the floats the master keeps for those bytes, so
+ * the file is the same).  The master only
  * queues the tile; a thread of the journal's own, which looks every
  * millisecond, appends the records and forces them to the disk, so
  * neither is in the way of the workers' answers.  The first record waits

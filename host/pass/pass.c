@@ -23,7 +23,7 @@
  * the device costs a fixed set-up and compile, while the pass, on the
  * cores the workers use (PoCL), saves about half of what it takes.  The
  * rule's measurements, and the rules tried before it, are in
- * bench/SPD-notes.md ("The pass decision").
+ * bench/SPD-notes.md ("The pass decided on the frame's primary rays").
  *
  * Give-up: under --pass auto a device (or program, or pass) that cannot
  * be had does not fail the render: one warning, and the fill renders
