@@ -104,7 +104,8 @@ TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 .PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
 	clean install uninstall
-all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker
+all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker \
+	$(B)/tests/progress_probe
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
 
 
@@ -167,6 +168,10 @@ $(BA)/csgtrace: $(BA)/obj/host/main.o $(LIB_OBJS_ASAN) | $(BA)/$(MODULE)
 $(B)/tests/%: $(B)/obj/tests/%.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS) -lcmocka
+# Who must make MPI progress for a large message (tests/e2e_progress.sh).
+$(B)/tests/progress_probe: $(B)/obj/tests/progress_probe.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
 # A worker that breaks the protocol on purpose (tests/e2e_mpi.sh).
 $(B)/tests/rogue_worker: $(B)/obj/tests/rogue_worker.o $(LIB_OBJS_TEST) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)

@@ -119,7 +119,10 @@ static struct {
     atomic_int ending;    /* a worker: STOP came (its status + 1), or the
                              process exits (-1)                          */
     int status;           /* rank 0: the job's status (link_exit_status) */
-} link_w = {0, 1, NULL, NULL, false, -1, 0, 0};
+    MPI_Comm bcast_comm;  /* the scene's chunks sent as messages (under
+                             --enable-recovery: link_bcast) apart from
+                             the protocol's, which are matched eagerly  */
+} link_w = {0, 1, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL};
 
 static int link_listen(link_watch_addr *a)
 {
@@ -445,8 +448,10 @@ bool link_start(int *rank, int *size)
         atexit(link_finish);
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
         if (MPI_Comm_rank(MPI_COMM_WORLD, &link_w.rank) != MPI_SUCCESS ||
-            MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS)
+            MPI_Comm_size(MPI_COMM_WORLD, &link_w.size) != MPI_SUCCESS ||
+            MPI_Comm_dup(MPI_COMM_WORLD, &link_w.bcast_comm) != MPI_SUCCESS)
             return false;
+        MPI_Comm_set_errhandler(link_w.bcast_comm, MPI_ERRORS_RETURN);
         /* A nap's deadline is late by the timer slack, 50 us by default:
          * more than most naps, and more than a cheap tile, which a worker
          * then waits out for its next TILE (1 worker, 384x384, tile 16:
@@ -546,6 +551,8 @@ void link_idle_step(link_idle *w)
         return;
     }
     long nap = w->nap_ns < w->nap_max_ns ? w->nap_ns : w->nap_max_ns;
+    if (link_receiving()) /* bytes on their way: the shortest nap, a yield */
+        nap = LINK_NAP_MIN_NS;
     if (w->ready) {
         struct timespec until = deadline_after_ns(nap);
         int rc;
@@ -590,52 +597,6 @@ void link_respond_quickly(void)
 
 /* ---- receiving ------------------------------------------------------------ */
 
-static link_status link_wait(int source, MPI_Status *st)
-{
-    link_idle w;
-    link_status status = LINK_OK;
-    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
-    for (;;) {
-        int flag = 0;
-        if (MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, st) != MPI_SUCCESS) {
-            status = LINK_ERROR;
-            break;
-        }
-        if (flag)
-            break;
-        link_idle_step(&w);
-    }
-    link_idle_free(&w);
-    return status;
-}
-
-/* Receives a probed message without ever blocking in MPI (a peer that
- * dies in the middle of a large message never completes it, on TCP);
- * LINK_LOST when the peer is gone first: the request stays MPI's. */
-static link_status link_recv_from(char *data, int count, int source, int tag)
-{
-    MPI_Request rq;
-    link_idle w;
-    link_status status = LINK_OK;
-    if (MPI_Irecv(data, count, MPI_BYTE, source, tag, MPI_COMM_WORLD, &rq) != MPI_SUCCESS)
-        return LINK_ERROR;
-    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
-    for (;;) {
-        int flag = 0;
-        if (MPI_Test(&rq, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
-            status = LINK_ERROR;
-        if (flag || status != LINK_OK)
-            break;
-        if (link_peer_lost(source)) {
-            status = LINK_LOST;
-            break;
-        }
-        link_idle_step(&w);
-    }
-    link_idle_free(&w);
-    return status;
-}
-
 /* m->data holds at least `need` bytes (+1 for a terminating NUL). */
 static bool link_reserve(link_msg *m, size_t need)
 {
@@ -649,33 +610,171 @@ static bool link_reserve(link_msg *m, size_t need)
     return true;
 }
 
-/* Receives the message `st` describes (probed, not yet taken). */
-static link_status link_take(link_msg *m, const MPI_Status *st, size_t limit)
+/* Receiving in the background.  A message is matched as soon as a probe
+ * sees it (MPI_Improbe: it leaves MPI's queue, so the next probe sees the
+ * next message) and received into a buffer of its own while the caller
+ * goes on (MPI_Imrecv); it is handed out once all its bytes are in, the
+ * oldest of its source first (messages from one rank stay in their
+ * order).  So this rank never waits inside a receive for a peer that is
+ * computing, and while it polls, the peer's large message goes on
+ * whenever the peer makes progress (link_progress): with Open MPI's
+ * shared memory and no single-copy support, or over a network, a message
+ * over the eager limit moves in fragments that need both sides to call
+ * MPI (docs/parallel.md, "Progress"). */
+typedef struct {
+    MPI_Request rq;
+    link_msg msg;      /* its buffer, size, source and tag            */
+    uint64_t order;    /* when it was matched                          */
+    bool done;         /* every byte is in                             */
+} link_incoming;
+
+static struct {
+    link_incoming *slot; /* [count] matched, not handed out yet         */
+    int count, cap;
+    uint64_t next_order;
+} link_in;
+
+/* The slots that may still hand out (or lose) a message of `source`. */
+static bool link_in_matches(const link_incoming *in, int source)
 {
-    int count = 0;
-    if (MPI_Get_count(st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
+    return source == MPI_ANY_SOURCE || in->msg.source == source;
+}
+
+/* Every message waiting from `source` matched and its receive posted; a
+ * message over `limit` is not received (LINK_TOO_BIG, *big says which):
+ * see mpi_link.h. */
+static link_status link_in_match(int source, size_t limit, link_msg *big)
+{
+    for (;;) {
+        int flag = 0, count = 0;
+        MPI_Message handle;
+        MPI_Status st;
+        if (MPI_Improbe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &handle, &st) !=
+            MPI_SUCCESS)
+            return LINK_ERROR;
+        if (!flag)
+            return LINK_OK;
+        if (MPI_Get_count(&st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
+            return LINK_ERROR;
+        if ((size_t)count > limit) { /* (matched, never received: the job ends) */
+            big->len = (size_t)count;
+            big->source = st.MPI_SOURCE;
+            big->tag = st.MPI_TAG;
+            return LINK_TOO_BIG;
+        }
+        if (link_in.count == link_in.cap) {
+            int cap = link_in.cap ? 2 * link_in.cap : 8;
+            link_incoming *grown = realloc(link_in.slot, (size_t)cap * sizeof *grown);
+            if (!grown) {
+                fprintf(stderr, "csgtrace: error: rank %d: out of memory for a receive\n",
+                        link_w.rank);
+                link_abort(1);
+            }
+            link_in.slot = grown;
+            link_in.cap = cap;
+        }
+        link_incoming *in = &link_in.slot[link_in.count];
+        memset(in, 0, sizeof *in);
+        if (!link_reserve(&in->msg, (size_t)count)) {
+            /* A message can only be received whole: nothing else to do. */
+            fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %d-byte message\n",
+                    link_w.rank, count);
+            link_abort(1);
+        }
+        in->msg.len = (size_t)count;
+        in->msg.source = st.MPI_SOURCE;
+        in->msg.tag = st.MPI_TAG;
+        in->order = link_in.next_order++;
+        if (MPI_Imrecv(in->msg.data, count, MPI_BYTE, &handle, &in->rq) != MPI_SUCCESS) {
+            link_msg_free(&in->msg);
+            return LINK_ERROR;
+        }
+        link_in.count++;
+    }
+}
+
+/* The receives posted, tested: each done or not. */
+static link_status link_in_test(void)
+{
+    for (int i = 0; i < link_in.count; i++) {
+        link_incoming *in = &link_in.slot[i];
+        int flag = 0;
+        if (!in->done && MPI_Test(&in->rq, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+            return LINK_ERROR;
+        in->done = in->done || flag;
+    }
+    return LINK_OK;
+}
+
+/* Slot i handed out into m (m's old buffer dropped), the slot removed. */
+static void link_in_take(int i, link_msg *m)
+{
+    link_incoming *in = &link_in.slot[i];
+    free(m->data);
+    *m = in->msg;
+    m->data[m->len] = '\0';
+    link_in.slot[i] = link_in.slot[--link_in.count];
+}
+
+/* The oldest message of `source` whose bytes are all in (its source's
+ * older ones handed out first), into m: LINK_OK; LINK_LOST when the
+ * oldest one's sender died first (m->source says who; the request and its
+ * buffer are left to MPI); LINK_NONE when none is complete. */
+static link_status link_in_next(int source, link_msg *m)
+{
+    int best = -1;
+    for (int i = 0; i < link_in.count; i++) {
+        const link_incoming *in = &link_in.slot[i];
+        if (!link_in_matches(in, source))
+            continue;
+        bool older = false; /* an older one of its own source is not out yet */
+        for (int k = 0; k < link_in.count && !older; k++)
+            older = link_in.slot[k].msg.source == in->msg.source &&
+                    link_in.slot[k].order < in->order;
+        if (!older && (best < 0 || in->order < link_in.slot[best].order) &&
+            (in->done || link_peer_lost(in->msg.source)))
+            best = i;
+    }
+    if (best < 0)
+        return LINK_NONE;
+    if (link_in.slot[best].done) {
+        link_in_take(best, m);
+        return LINK_OK;
+    }
+    m->source = link_in.slot[best].msg.source; /* (lost: the buffer is MPI's) */
+    link_in.slot[best] = link_in.slot[--link_in.count];
+    return LINK_LOST;
+}
+
+/* Receives into data on `comm` without ever blocking in MPI (a peer that
+ * dies in the middle of a large message never completes it, on TCP);
+ * LINK_LOST when the peer is gone first: the request stays MPI's.  For the
+ * scene's chunks (link_bcast), which nothing else receives meanwhile. */
+static link_status link_recv_on(MPI_Comm comm, char *data, int count, int source, int tag)
+{
+    MPI_Request rq;
+    MPI_Status st;
+    link_idle w;
+    link_status status = LINK_OK;
+    if (MPI_Irecv(data, count, MPI_BYTE, source, tag, comm, &rq) != MPI_SUCCESS)
         return LINK_ERROR;
-    m->len = (size_t)count;
-    m->source = st->MPI_SOURCE;
-    m->tag = st->MPI_TAG;
-    if ((size_t)count > limit)
-        return LINK_TOO_BIG; /* left where it is: see mpi_link.h */
-    if (!link_reserve(m, (size_t)count)) {
-        /* A message can only be received whole: nothing else to do. */
-        int rank = -1;
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-        fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %d-byte message\n", rank,
-                count);
-        link_abort(1);
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    for (;;) {
+        int flag = 0, got = -1;
+        if (MPI_Test(&rq, &flag, &st) != MPI_SUCCESS)
+            status = LINK_ERROR;
+        if (flag && (MPI_Get_count(&st, MPI_BYTE, &got) != MPI_SUCCESS || got != count))
+            status = LINK_ERROR; /* (a shorter message than the chunk) */
+        if (flag || status != LINK_OK)
+            break;
+        if (link_peer_lost(source)) {
+            status = LINK_LOST;
+            break;
+        }
+        link_idle_step(&w);
     }
-    link_status got = link_recv_from(m->data, count, st->MPI_SOURCE, st->MPI_TAG);
-    if (got == LINK_LOST) { /* MPI may still write into it: left to MPI */
-        m->data = NULL;
-        m->cap = 0;
-    }
-    if (got == LINK_OK)
-        m->data[count] = '\0';
-    return got;
+    link_idle_free(&w);
+    return status;
 }
 
 static int link_source(int source)
@@ -683,21 +782,48 @@ static int link_source(int source)
     return source == LINK_ANY_SOURCE ? MPI_ANY_SOURCE : source;
 }
 
-link_status link_recv(link_msg *m, int source, size_t limit)
+/* One turn of receiving: what waits from `source` matched, the receives
+ * tested, the next complete message handed out (link_in_next). */
+static link_status link_in_turn(int source, size_t limit, link_msg *m)
 {
-    MPI_Status st;
-    if (link_wait(link_source(source), &st) != LINK_OK)
-        return LINK_ERROR;
-    return link_take(m, &st, limit);
+    link_status got = link_in_match(source, limit, m);
+    if (got == LINK_OK)
+        got = link_in_test();
+    return got == LINK_OK ? link_in_next(source, m) : got;
 }
 
 link_status link_try_recv(link_msg *m, int source, size_t limit)
 {
+    return link_in_turn(link_source(source), limit, m);
+}
+
+link_status link_recv(link_msg *m, int source, size_t limit)
+{
+    link_idle w;
+    link_status got;
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    while ((got = link_in_turn(link_source(source), limit, m)) == LINK_NONE)
+        link_idle_step(&w);
+    link_idle_free(&w);
+    return got;
+}
+
+bool link_receiving(void)
+{
+    for (int i = 0; i < link_in.count; i++)
+        if (!link_in.slot[i].done)
+            return true;
+    return false;
+}
+
+void link_progress(void)
+{
+    int flag;
     MPI_Status st;
-    int flag = 0;
-    if (MPI_Iprobe(link_source(source), MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS)
-        return LINK_ERROR;
-    return flag ? link_take(m, &st, limit) : LINK_NONE;
+    /* (any call into MPI moves Open MPI's pending transfers on; a probe
+     * that takes nothing is the cheapest) */
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+    link_in_test();
 }
 
 void link_msg_free(link_msg *m)
@@ -720,15 +846,20 @@ static MPI_Request *link_req_mpi(link_req *req)
     return (MPI_Request *)(void *)req->impl.bytes;
 }
 
-link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req)
+static link_status link_isend_on(MPI_Comm comm, int dest, int tag, const void *data, size_t len,
+                                 link_req *req)
 {
     req->active = false;
     req->peer = dest;
-    if (MPI_Isend(data, (int)len, MPI_BYTE, dest, tag, MPI_COMM_WORLD, link_req_mpi(req)) !=
-        MPI_SUCCESS)
+    if (MPI_Isend(data, (int)len, MPI_BYTE, dest, tag, comm, link_req_mpi(req)) != MPI_SUCCESS)
         return LINK_ERROR;
     req->active = true;
     return LINK_OK;
+}
+
+link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req)
+{
+    return link_isend_on(MPI_COMM_WORLD, dest, tag, data, len, req);
 }
 
 bool link_req_done(link_req *req)
@@ -791,8 +922,9 @@ static link_status link_bcast_send(const void *data, size_t size)
     for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
         size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
         for (int r = 1; r < link_w.size; r++)
-            if (!link_peer_lost(r) &&
-                link_isend(r, LINK_TAG_BCAST, (const char *)data + off, n, &req[r]) != LINK_OK)
+            if (!link_peer_lost(r) && link_isend_on(link_w.bcast_comm, r, LINK_TAG_BCAST,
+                                                    (const char *)data + off, n,
+                                                    &req[r]) != LINK_OK)
                 status = LINK_ERROR;
         for (int r = 1; r < link_w.size; r++)
             if (req[r].active)
@@ -806,21 +938,18 @@ static link_status link_bcast_send(const void *data, size_t size)
 
 static link_status link_bcast_receive(void *data, size_t size)
 {
-    link_msg msg = {0};
+    char *sink = data ? NULL : malloc(LINK_BCAST_CHUNK); /* (no memory for the scene) */
     link_status status = LINK_OK;
-    for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
+    for (size_t off = 0; status == LINK_OK && (off < size || off == 0); off += LINK_BCAST_CHUNK) {
         size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
-        link_status got = link_recv(&msg, LINK_MASTER, LINK_BCAST_CHUNK);
-        if (got != LINK_OK || msg.tag != LINK_TAG_BCAST || msg.len != n) {
-            status = got == LINK_OK ? LINK_ERROR : got;
-            break;
-        }
-        if (data)
-            memcpy((char *)data + off, msg.data, n);
+        char *into = data ? (char *)data + off : sink;
+        status = into || n == 0 ? link_recv_on(link_w.bcast_comm, into, (int)n, LINK_MASTER,
+                                               LINK_TAG_BCAST)
+                                : LINK_ERROR;
         if (size == 0)
             break;
     }
-    link_msg_free(&msg);
+    free(sink);
     return status;
 }
 

@@ -66,13 +66,24 @@ typedef struct {
 
 /* Waits for the next message from `source` (a rank or LINK_ANY_SOURCE) and
  * receives it if it holds at most `limit` bytes.  Out of memory for it, the
- * job is aborted (exit 1, one message): MPI can only take a message whole.  The wait polls, then
- * naps with a short back-off, rather than spinning in MPI: the ranks may
- * outnumber the cores, and the OpenCL pass needs them. */
+ * job is aborted (exit 1, one message): MPI can only take a message whole.
+ * Every message waiting is taken at once and received in the background
+ * (mpi_link.c): the wait polls, then naps with a short back-off, rather
+ * than spinning in MPI (the ranks may outnumber the cores, and the OpenCL
+ * pass needs them), but never naps while bytes are on their way. */
 link_status link_recv(link_msg *m, int source, size_t limit);
-/* The same without waiting: LINK_NONE when no message from `source` is
- * there now. */
+/* The same without waiting: the next message from `source` whose bytes
+ * are all in; LINK_NONE when there is none now (a message may be on its
+ * way: link_receiving). */
 link_status link_try_recv(link_msg *m, int source, size_t limit);
+/* Some message is being received (matched, its bytes not all in): the
+ * caller's next poll may bring it, and a nap would hold it back. */
+bool link_receiving(void);
+/* Moves this rank's transfers on (its large sends, which need the
+ * sender's calls into MPI to go on, and its receives), without taking
+ * anything: for a rank busy computing, between pieces of its work
+ * (workers/tile.h: tile_runner.progress).  A few microseconds. */
+void link_progress(void);
 void link_msg_free(link_msg *m);
 
 /* One message of `len` bytes to `dest`. */
@@ -108,8 +119,10 @@ void link_req_abandon(link_req *req);
  * each nap twice the last up to nap_max_ns.  link_wake (from any thread:
  * it is a sem_post) ends the current nap at once and makes the next step
  * return without napping, so a producer that is not a message (an OpenCL
- * slice completing) is never kept waiting by a nap.  After useful work the
- * caller calls link_idle_reset, which restarts the spins. */
+ * slice completing) is never kept waiting by a nap.  While a message is
+ * being received (link_receiving) a nap is the shortest, a yield: its
+ * bytes come in as this rank polls.  After useful work the caller calls
+ * link_idle_reset, which restarts the spins. */
 typedef struct {
     sem_t wake;        /* posted by link_wake                            */
     long nap_ns;       /* the next nap                                   */

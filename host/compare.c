@@ -148,8 +148,33 @@ static void print_row_times(const char *label, const compare_results *r, size_t 
     print_row(label, r, offset, "s");
 }
 
+/* Workers busier than this over their tile phase measure the modes; less
+ * busy ones measure the runtime (a stall: docs/parallel.md, "Progress"). */
+#define COMPARE_BUSY_MIN 0.90
+
+/* Why the advantage is not reported (into why; false), or true: both
+ * modes' workers were busy at least COMPARE_BUSY_MIN of their tile phase
+ * (the median over the rounds) where the render had workers. */
+static bool compare_healthy(const compare_results *r, char *why, size_t size)
+{
+    const char *names[COMPARE_MODES] = {"homo", "hetero"};
+    why[0] = '\0';
+    for (int m = 0; m < COMPARE_MODES; m++) {
+        double busy = spread_of(r->runs[m], r->repeat, offsetof(render_stats, busy_fraction)).median;
+        if (r->runs[m][0].ranks > 1 && busy < COMPARE_BUSY_MIN) {
+            snprintf(why, size,
+                     "not reported: the %s workers were busy %.1f %% of their tile phase (the "
+                     "median; under %.0f %%), so the times measure the runtime's waits, not the "
+                     "modes (docs/parallel.md, \"Progress\")",
+                     names[m], 100 * busy, 100 * COMPARE_BUSY_MIN);
+            return false;
+        }
+    }
+    return true;
+}
+
 static void print_table(const cli_args *a, const compare_results *r, bool identical,
-                        double advantage, spread paired)
+                        double advantage, spread paired, const char *withheld)
 {
     const render_stats *h = &r->runs[0][0], *x = &r->runs[1][0];
     printf("csgtrace compare %s: %dx%d, tile %d, %d rank%s, %s, %d timed rounds (homo, hetero) "
@@ -183,6 +208,10 @@ static void print_table(const cli_args *a, const compare_results *r, bool identi
     printf("%-22s  %s\n", "images", identical ? "identical, bit for bit" : "DIFFERENT");
     printf("schedules: homo %s, hetero %s; hetero estimate vs seconds (Spearman): %.3f\n",
            h->schedule, x->schedule, x->estimate_spearman);
+    if (withheld[0]) {
+        printf("advantage: %s\n", withheld);
+        return;
+    }
     printf("advantage (homo - hetero) / homo: %.1f%%\n", advantage);
     printf("advantage paired by round: %.1f%% (%.1f .. %.1f)\n", paired.median, paired.min,
            paired.max);
@@ -194,6 +223,7 @@ typedef struct {
     bool identical;
     double advantage;
     const double *paired;
+    const char *withheld; /* "" or why the advantage is not reported */
 } compare_json;
 
 static void print_json(FILE *f, const void *arg)
@@ -207,12 +237,20 @@ static void print_json(FILE *f, const void *arg)
     fprintf(f, "{\n\"command\": \"compare\",\n\"scene\": \"");
     for (const char *c = a->req.scene_path; *c; c++)
         fprintf(f, (*c == '"' || *c == '\\') ? "\\%c" : "%c", *c);
-    fprintf(f, "\",\n\"repeat\": %d,\n\"identical\": %s,\n\"advantage_pct\": %.6f,\n", r->repeat,
-            identical ? "true" : "false", advantage);
-    fprintf(f, "\"interleaved\": true,\n\"advantage_paired_pct\": [");
-    for (int i = 0; i < r->repeat; i++)
-        fprintf(f, "%s%.6f", i ? ", " : "", paired[i]);
-    fprintf(f, "],\n");
+    fprintf(f, "\",\n\"repeat\": %d,\n\"identical\": %s,\n", r->repeat,
+            identical ? "true" : "false");
+    if (j->withheld[0]) { /* (no figure: the text says why) */
+        fprintf(f, "\"advantage_pct\": null,\n\"advantage_withheld\": \"");
+        for (const char *c = j->withheld; *c; c++)
+            fprintf(f, (*c == '"' || *c == '\\') ? "\\%c" : "%c", *c);
+        fprintf(f, "\",\n\"interleaved\": true,\n\"advantage_paired_pct\": null,\n");
+    } else {
+        fprintf(f, "\"advantage_pct\": %.6f,\n\"interleaved\": true,\n", advantage);
+        fprintf(f, "\"advantage_paired_pct\": [");
+        for (int i = 0; i < r->repeat; i++)
+            fprintf(f, "%s%.6f", i ? ", " : "", paired[i]);
+        fprintf(f, "],\n");
+    }
     const char *names[COMPARE_MODES] = {"homo", "hetero"};
     for (int m = 0; m < COMPARE_MODES; m++) {
         fprintf(f, "\"%s\": [\n", names[m]);
@@ -227,9 +265,10 @@ static void print_json(FILE *f, const void *arg)
 }
 
 static bool write_json(const char *path, const cli_args *a, const compare_results *r,
-                       bool identical, double advantage, const double *paired)
+                       bool identical, double advantage, const double *paired,
+                       const char *withheld)
 {
-    compare_json j = {a, r, identical, advantage, paired};
+    compare_json j = {a, r, identical, advantage, paired, withheld};
     char err[1024];
     if (file_write_atomic(path, print_json, &j, err, sizeof err))
         return true;
@@ -278,10 +317,13 @@ int compare_run(const cli_args *a)
     double advantage = homo > 0 ? 100.0 * (homo - hetero) / homo : 0.0;
     double paired[r.repeat];
     spread pair = paired_advantage(&r, paired);
-    print_table(a, &r, identical, advantage, pair);
+    char withheld[512];
+    compare_healthy(&r, withheld, sizeof withheld);
+    print_table(a, &r, identical, advantage, pair, withheld);
     if (a->out_path && !write_images(a->out_path, &r, h->width, h->height))
         status = EXIT_FAILURE_RUN;
-    if (a->req.stats_path && !write_json(a->req.stats_path, a, &r, identical, advantage, paired))
+    if (a->req.stats_path &&
+        !write_json(a->req.stats_path, a, &r, identical, advantage, paired, withheld))
         status = EXIT_FAILURE_RUN; /* write_json said why */
     if (!identical) {
         fprintf(stderr, "csgtrace: error: the homo and hetero images differ: this is a bug\n");

@@ -190,7 +190,36 @@ else
     ko "compare failed: $(head -c 300 "$T/cmp.err")"
 fi
 grep -q "identical, bit for bit" "$T/cmp.out" && ok "compare reports identical images" || ko "compare table: $(head -c 400 "$T/cmp.out")"
-grep -q "^advantage (homo - hetero) / homo: -\?[0-9.]*%" "$T/cmp.out" && ok "compare prints the advantage" || ko "no advantage line"
+# the advantage is reported only when both modes' workers were busy at
+# least 90 % of their tile phase (medians), else the line says why: checked
+# against the JSON's figures, whichever way this run went, and on a frame
+# so small that its workers mostly wait
+compare_guard() { # compare_guard OUT JSON -> 0 when the line matches the figures
+    python3 - "$1" "$2" <<'PY'
+import json, statistics, sys
+out, j = open(sys.argv[1]).read(), json.load(open(sys.argv[2]))
+busy = {m: statistics.median(r['busy_fraction'] for r in j[m]) for m in ('homo', 'hetero')}
+healthy = all(b >= 0.90 for b in busy.values())
+line = [l for l in out.splitlines() if l.startswith('advantage')]
+if healthy:
+    ok = (line and line[0].startswith('advantage (homo - hetero) / homo: ') and
+          j['advantage_pct'] is not None)
+else:
+    ok = (line and line[0].startswith('advantage: not reported: the ') and
+          'under 90 %' in line[0] and j['advantage_pct'] is None and
+          'busy' in j['advantage_withheld'])
+print(busy, line[:1])
+sys.exit(0 if ok else 1)
+PY
+}
+compare_guard "$T/cmp.out" "$T/cmp.json" >"$T/guard.log" &&
+    ok "compare: the advantage is reported only when every mode's workers were busy >= 90 % ($(cat "$T/guard.log"))" ||
+    ko "compare's advantage line against its busy figures: $(cat "$T/guard.log")"
+"${MPIRUN[@]}" -np 3 "$BIN" compare scenes/csg_ops.pov --width 16 --height 12 --tile 2 --repeat 1 \
+    --stats "$T/cmp2.json" >"$T/cmp2.out" 2>"$T/cmp2.err" &&
+    compare_guard "$T/cmp2.out" "$T/cmp2.json" >"$T/guard2.log" &&
+    ok "compare on a frame whose workers mostly wait: the same rule ($(cat "$T/guard2.log"))" ||
+    ko "compare guard, tiny frame: $(cat "$T/guard2.log") $(head -c 300 "$T/cmp2.err")"
 if json "$T/cmp.json" "j['identical'] and len(j['homo']) == 2 and len(j['hetero']) == 2 and j['hetero'][0]['mode'] == 'hetero' and j['hetero'][0]['compile_s'] == 0"; then
     ok "compare JSON: both modes, R runs each, no compilation in timed runs"
 else

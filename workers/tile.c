@@ -15,6 +15,8 @@ bool tile_runner_init(tile_runner *tr, const void *blob, int tile)
     tr->eng = engine_for_blob(blob);
     tr->blob = blob;
     tr->records = malloc(tile_records_bytes(&tr->grid, tr->grid.pixels_max));
+    tr->progress = NULL;
+    tr->progress_arg = NULL;
     return tr->records != NULL;
 }
 

@@ -20,9 +20,21 @@ typedef struct {
     const engine *eng;
     const void *blob;
     void *records;      /* tile_records_bytes(pixels_max) of scratch    */
+    /* Called between bands of TILE_BAND_PIXELS of a rectangle (NULL: the
+     * rectangle in one piece): a worker's large answer, sent in the
+     * background, moves on only when its rank calls MPI, so it is called
+     * there while the next item is computed (comm/mpi_link.h,
+     * link_progress).  A band's pixels are the rectangle's pixels there:
+     * each depends on its record alone (tile_run.c). */
+    void (*progress)(void *arg);
+    void *progress_arg;
 } tile_runner;
 
-/* False when out of memory. */
+/* Pixels of a band of rows, about (tile_runner.progress): whole rows of
+ * the rectangle, at least one. */
+#define TILE_BAND_PIXELS 1024
+
+/* False when out of memory (no progress hook: set it after). */
 bool tile_runner_init(tile_runner *tr, const void *blob, int tile);
 void tile_runner_free(tile_runner *tr);
 

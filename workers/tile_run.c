@@ -38,19 +38,46 @@ void tile_time_stop(const tile_timer *t, tile_result *res)
     res->busy_s = tile_clock(CLOCK_MONOTONIC) - t->wall;
 }
 
+/* Rows y0 .. y0 + rows - 1 of rectangle r (r.width * spp records a row):
+ * traced first (homo, serial: into the runner's scratch records, which
+ * `records` then is), then shaded from `records` into the rectangle's
+ * pixels at that row. */
+static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool trace,
+                          const void *records, float *rgb, tile_result *res)
+{
+    size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp, rs = tr->grid.real_size;
+    size_t first = (size_t)y0 * (size_t)r.width * (size_t)tr->grid.spp; /* its first record */
+    tile_rect band = {r.x, r.y + y0, r.width, rows};
+    if (trace)
+        tr->eng->trace_primary(tr->blob, band, (char *)tr->records + first * rs,
+                               (uint32_t *)(void *)((char *)tr->records + n * rs) + first,
+                               &res->rays);
+    const uint32_t *surf = (const uint32_t *)(const void *)((const char *)records + n * rs);
+    tr->eng->shade(tr->blob, band, (const char *)records + first * rs, surf + first,
+                   rgb + (size_t)y0 * (size_t)r.width * 3, &res->rays);
+}
+
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
-    size_t t_bytes = n * tr->grid.real_size;
+    bool trace = !records;
     memset(res, 0, sizeof *res);
-    if (!records) {
+    if (trace)
         records = tr->records;
-        tr->eng->trace_primary(tr->blob, r, tr->records,
-                               (uint32_t *)(void *)((char *)tr->records + t_bytes), &res->rays);
+    int rows = r.height; /* a band: the whole rectangle, or TILE_BAND_PIXELS */
+    if (tr->progress) {
+        rows = TILE_BAND_PIXELS / (r.width * tr->grid.spp);
+        rows = rows < 1 ? 1 : rows;
     }
-    const uint32_t *surf = (const uint32_t *)(const void *)((const char *)records + t_bytes);
-    tr->eng->shade(tr->blob, r, records, surf, rgb, &res->rays);
+    for (int y0 = 0; y0 < r.height; y0 += rows) {
+        if (y0 > 0)
+            tr->progress(tr->progress_arg);
+        tile_run_band(tr, r, y0, r.height - y0 < rows ? r.height - y0 : rows, trace, records, rgb,
+                      res);
+    }
+    const uint32_t *surf =
+        (const uint32_t *)(const void *)((const char *)records + n * tr->grid.real_size);
     for (size_t i = 0; i < n; i++)
         res->hits += surf[i] != CSG_SURF_NONE;
 }

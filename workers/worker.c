@@ -14,6 +14,10 @@
  * then nap) only with nothing queued.  A RESULT goes in the background
  * (link_isend) from one of PROTO_IN_FLIGHT buffers, so the worker starts
  * the next item at once; a buffer is reused only once its send is done.
+ * A RESULT over MPI's eager limit (a tile of 64, a batch, floats) moves on
+ * only while this rank calls MPI, so the worker does between bands of an
+ * item and between the parts of a batch (link_progress: worker_progress,
+ * workers/tile.h); the master has it while the next item is computed.
  *
  * The master's death ends the worker at once (mpi_link.h: its watchdog), so
  * no worker outlives it.
@@ -91,6 +95,15 @@ static void worker_receive_blob(worker_state *w, size_t size)
         worker_set_failure(w, "out of memory for the scene (%zu bytes)", size);
 }
 
+/* tile_runner.progress: between bands of an item, this rank's transfers
+ * moved on: its last answer, over MPI's eager limit, goes to the master
+ * while the next item is computed, not after it (comm/mpi_link.h). */
+static void worker_progress(void *arg)
+{
+    (void)arg;
+    link_progress();
+}
+
 static void worker_prepare(worker_state *w, const proto_setup *setup)
 {
     if (w->failure[0])
@@ -108,6 +121,7 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
         return;
     }
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
+    w->runner.progress = worker_progress; /* (its answers move on meanwhile) */
     const tile_grid *g = &w->runner.grid;
     if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
         worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
@@ -185,8 +199,10 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
         size_t end = proto_tile_part_at(&w->runner.grid, in->data, in->len, at, h, why);
         if (end == 0)
             return 0;
-        if (k > 0)
+        if (k > 0) {
+            link_progress(); /* (the last answer moves on between parts too) */
             test_hook_kill(w->rank, "item", w->tiles_done);
+        }
         size_t start = proto_align(len);
         size_t room = start + proto_result_part((size_t)h->width * (size_t)h->height, PIXELS_FLOAT);
         if (!proto_buffer(&w->out[slot], &w->out_cap[slot], room)) {
