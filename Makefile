@@ -263,8 +263,9 @@ $(B)/bench/embree_primary: bench/embree_primary.c
 # `make test`'s build: SimGrid is only needed here (make deps-sim).
 S := build/sim
 SIM_CC := smpicc
-SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/pass/ocl.c \
-	workers/tile_run.c $(ENGINE_SRCS),$(ALL_C)) sim/main.c sim/stubs.c sim/tile_run.c
+SIM_SRCS := $(filter-out host/main.c host/render.c host/compare.c host/cli.c host/feed.c \
+	host/pass/ocl.c host/pass/pass.c host/pass/cl_cache.c workers/tile_run.c $(ENGINE_SRCS), \
+	$(ALL_C)) sim/main.c sim/stubs.c sim/tile_run.c
 SIM_OBJS := $(SIM_SRCS:%.c=$(S)/obj/%.o) $(ENGINE_SRCS:%.c=$(S)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(S)/obj/double/%.o)
 

@@ -611,9 +611,12 @@ static bool link_reserve(link_msg *m, size_t need)
 }
 
 /* Receiving in the background.  A message is matched as soon as a probe
- * sees it (MPI_Improbe: it leaves MPI's queue, so the next probe sees the
- * next message) and received into a buffer of its own while the caller
- * goes on (MPI_Imrecv); it is handed out once all its bytes are in, the
+ * sees it (MPI_Iprobe, then MPI_Irecv of its source and tag, which takes
+ * that very message out of MPI's queue: nothing else receives on this
+ * communicator, and a rank's messages are matched in order; MPI_Improbe
+ * would say it more directly, but SimGrid's SMPI lacks it) and received
+ * into a buffer of its own while the caller goes on; it is handed out once
+ * all its bytes are in, the
  * oldest of its source first (messages from one rank stay in their
  * order).  So this rank never waits inside a receive for a peer that is
  * computing, and while it polls, the peer's large message goes on
@@ -647,16 +650,14 @@ static link_status link_in_match(int source, size_t limit, link_msg *big)
 {
     for (;;) {
         int flag = 0, count = 0;
-        MPI_Message handle;
         MPI_Status st;
-        if (MPI_Improbe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &handle, &st) !=
-            MPI_SUCCESS)
+        if (MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS)
             return LINK_ERROR;
         if (!flag)
             return LINK_OK;
         if (MPI_Get_count(&st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
             return LINK_ERROR;
-        if ((size_t)count > limit) { /* (matched, never received: the job ends) */
+        if ((size_t)count > limit) { /* (never received: the job ends) */
             big->len = (size_t)count;
             big->source = st.MPI_SOURCE;
             big->tag = st.MPI_TAG;
@@ -685,7 +686,10 @@ static link_status link_in_match(int source, size_t limit, link_msg *big)
         in->msg.source = st.MPI_SOURCE;
         in->msg.tag = st.MPI_TAG;
         in->order = link_in.next_order++;
-        if (MPI_Imrecv(in->msg.data, count, MPI_BYTE, &handle, &in->rq) != MPI_SUCCESS) {
+        /* (the oldest message of that source and tag: the one probed, as
+         * nothing else receives on this communicator) */
+        if (MPI_Irecv(in->msg.data, count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
+                      &in->rq) != MPI_SUCCESS) {
             link_msg_free(&in->msg);
             return LINK_ERROR;
         }
