@@ -12,6 +12,8 @@
 #   make bench-primary    the primary pass's throughput: both OpenCL kernel
 #                 variants against the C worker (bench/primary_pass.sh)
 #   make bench-full       the full suite and the accuracy grid (~45 min)
+#   make bench-node       this node: serial, homo and hetero at np = 2, 4, ..
+#                 its CPUs, tile 32 and 64, PNG and EXR (bench/NODE.md)
 #   make install  build/csgtrace, its image module and its manual page under
 #                 PREFIX (/usr/local): bin/, lib/csgtrace/, share/man/man1/;
 #                 DESTDIR for staging; make uninstall removes them
@@ -29,11 +31,11 @@
 # alone as the module build/csgtrace-image.so, which host/output/image_loader.c loads on
 # the first image call that needs it (host/output/image_module.h).  A process that
 # never reads an image nor writes one other than PNG or PPM (check, every MPI
-# worker, a render to PNG: host/output/image_direct.c, libpng) never maps it.
+# worker, a render to PNG or PPM: host/output/stream.c, zlib) never maps it.
 
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
-	libpng-dev libopenimageio-dev openimageio-tools povray povray-includes \
+	zlib1g-dev libopenimageio-dev openimageio-tools povray povray-includes \
 	libcmocka-dev gnuplot-nox python3 nettle-dev
 # Only for the benchmarks: their reference programs (bench/embree_primary.c,
 # Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
@@ -60,9 +62,9 @@ ENGINE_OPT ?= $(OPT:-O2=-O3)
 CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
 CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
 	$(OIIO_CFLAGS)
-# libpng writes PNG without the image module (host/output/image_direct.c).
-PNG_LIBS = $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng)
-LDLIBS = -lOpenCL $(PNG_LIBS) -lnettle -lm
+# PNG is written without the image module, with zlib (host/output/stream.c).
+ZLIB_LIBS = $(shell pkg-config --libs zlib 2>/dev/null || echo -lz)
+LDLIBS = -lOpenCL $(ZLIB_LIBS) -lnettle -lpthread -lm
 # The image module: everything it needs resolved at link time (-z defs).
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
@@ -103,6 +105,7 @@ TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: sim bench-scale deps-sim
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
+	bench-node \
 	clean install uninstall
 all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker \
 	$(B)/tests/progress_probe
@@ -279,7 +282,7 @@ $(S)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_DOUBLE $(OPT) -c $< -o $@
 $(S)/csgsim: $(SIM_OBJS)
-	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(PNG_LIBS) -lm
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(ZLIB_LIBS) -lm
 
 deps-sim:
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"
@@ -332,6 +335,11 @@ bench-full: deps
 	$(MAKE) $(B)/csgtrace
 	bench/run.sh --full
 	bench/accuracy.sh
+
+# One node as a user runs it: speed-up, efficiency, busy, write tail.
+bench-node: deps
+	$(MAKE) $(B)/csgtrace
+	python3 bench/node.py
 
 # The primary pass in Mrays/s per core: packet and scalar kernels against the
 # C worker's primary rays, N = 10 .. 10^4 spheres (bench/results/primary_pass).

@@ -1,53 +1,60 @@
 /*
- * png_write.c — the PNG writer's compression settings, measured: reads a
- * float image (an EXR render), then writes it as PNG under each setting in
- * turn, ROUNDS times interleaved (setting 1, 2, ..., then again), and
- * prints per setting the median write time with its range and the file's
- * size.  "oiio" is the image module's writer (the path before
- * host/output/image_direct.c, $CSGTRACE_IMAGE_WRITER=oiio); the others are the
- * direct writer with the named zlib level, strategy and filter.
+ * png_write.c — the PNG writer measured: reads a float image (an EXR
+ * render), then writes it as PNG in each way in turn, ROUNDS times
+ * interleaved (way 1, 2, ..., then again), and prints per way the median
+ * write time with its range and the file's size.  "oiio" is the image
+ * module's writer ($CSGTRACE_IMAGE_WRITER=oiio); the others are csgtrace's
+ * own (host/output/stream.c: bands of 64 rows, each compressed apart) on
+ * so many threads, at csgtrace's settings (Up and Sub, run-length) or at a
+ * zlib level with every filter ($CSGTRACE_PNG_LEVEL).
  *
- *   build/bench/png_write IMAGE.exr ROUNDS OUTDIR [REPEAT [SETTINGS]]
+ *   build/bench/png_write IMAGE.exr ROUNDS OUTDIR [REPEAT [WAYS]]
  *
  * REPEAT (default 1) tiles the image REPEAT x REPEAT times (a 16384² image
- * from a 4096² render); SETTINGS (default all) measures only the first ones.
+ * from a 4096² render); WAYS (default all) measures only the first ones.
  */
-#include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
-#include <zlib.h>
 
 #include "../host/output/image.h"
-#include "../host/output/image_direct.h"
+#include "../host/output/stream.h"
 #include "timing.h"
 
 typedef struct {
     const char *name;
-    bool module; /* the image module's writer */
-    img_png_options png;
+    bool module;  /* the image module's writer            */
+    int threads;  /* csgtrace's: encoder threads (0: every CPU) */
+    int level;    /* -1: csgtrace's settings; else the zlib level */
 } setting;
 
 static const setting settings[] = {
-    {"oiio (module, Up + RLE)", true, {0, 0, 0}},
-    {"direct Up + RLE (default)", false, {6, Z_RLE, PNG_FILTER_UP}},
-    {"direct Sub + RLE", false, {6, Z_RLE, PNG_FILTER_SUB}},
-    {"direct None + RLE", false, {6, Z_RLE, PNG_FILTER_NONE}},
-    {"direct Up, level 1", false, {1, Z_DEFAULT_STRATEGY, PNG_FILTER_UP}},
-    {"direct all filters, level 1", false, {1, Z_DEFAULT_STRATEGY, PNG_ALL_FILTERS}},
-    {"direct all filters, level 6", false, {6, Z_DEFAULT_STRATEGY, PNG_ALL_FILTERS}},
-    {"direct all filters, level 9", false, {9, Z_DEFAULT_STRATEGY, PNG_ALL_FILTERS}},
-    {"direct None, level 0 (stored)", false, {0, Z_DEFAULT_STRATEGY, PNG_FILTER_NONE}},
+    {"oiio (module, Up + RLE)", true, 0, -1},
+    {"csgtrace, 1 thread (default settings)", false, 1, -1},
+    {"csgtrace, every CPU (default settings)", false, 0, -1},
+    {"csgtrace, 1 thread, level 6 every filter", false, 1, 6},
+    {"csgtrace, every CPU, level 9 every filter", false, 0, 9},
 };
 enum { SETTINGS = sizeof settings / sizeof settings[0], MAX_ROUNDS = 64 };
 
 static bool write_one(const setting *s, const char *path, const float *rgb, int w, int h,
                       char *err, size_t err_size)
 {
-    if (!s->module)
-        return img_direct_write(path, IMG_DIRECT_PNG, rgb, w, h, &s->png, err, err_size);
-    img_configure(&(img_settings){NULL, true, -1}); /* (the module writes PNG) */
-    bool ok = img_write_rgb(path, rgb, w, h, err, err_size);
+    img_configure(&(img_settings){NULL, s->module, s->level});
+    tile_grid g = {w, h, IMG_STREAM_ROWS, 1, sizeof(float), 0};
+    img_stream *st = s->module ? NULL : img_stream_open(path, rgb, &g, err, err_size);
+    bool ok;
+    if (s->module) {
+        ok = img_write_rgb(path, rgb, w, h, err, err_size);
+    } else if (st) {
+        for (int t = 0; t < tile_count(&g); t++)
+            img_stream_tile(st, t);
+        img_stream_report r;
+        ok = img_stream_finish(st, s->threads, &r, err, err_size);
+    } else {
+        ok = false;
+    }
     img_configure(&(img_settings){NULL, false, -1});
     return ok;
 }
@@ -106,7 +113,7 @@ int main(int argc, char **argv)
             remove(path);
         }
     printf("%dx%d, %d rounds interleaved\n", w, h, rounds);
-    printf("| setting | write s, median (min-max) | size bytes | size / default |\n"
+    printf("| way | write s, median (min-max) | size bytes | size / csgtrace's |\n"
            "|---|---|---|---|\n");
     for (int i = 0; i < count; i++) {
         double med = bench_median(t[i], rounds);

@@ -15,14 +15,17 @@
 
 #include "../comm/test_hooks.h"
 #include "output/journal.h"
+#include "output/stream.h"
 #include "progress.h"
 #include "stats.h"
 
-void feed_init(feed *f, sched *s, struct journal *j, pass *p, float *image, const void *blob)
+void feed_init(feed *f, sched *s, struct journal *j, struct img_stream *stream, pass *p,
+               float *image, const void *blob)
 {
     memset(f, 0, sizeof *f);
     f->sched = s;
     f->journal = j;
+    f->stream = stream;
     f->pass = p;
     f->image = image;
     f->blob = blob;
@@ -52,13 +55,15 @@ static int feed_rows_ready(feed *f, const tile_grid *g, bool wait, csg_diag *d)
     return pass_rows(f->pass, feed_rows_needed(f, g), wait, d);
 }
 
-/* Degenerate rectangle r: the background throughout, by the master. */
-static void feed_background(feed *f, master_job *job, tile_rect r)
+/* Degenerate tile `tile` (rectangle r): the background throughout, by the
+ * master; final. */
+static void feed_background(feed *f, master_job *job, int tile, tile_rect r)
 {
     for (int y = r.y; y < r.y + r.height; y++)
         for (int x = r.x; x < r.x + r.width; x++)
             memcpy(f->image + ((size_t)y * (size_t)job->grid.width + (size_t)x) * 3, f->bg,
                    sizeof f->bg);
+    img_stream_tile(f->stream, tile);
     if (job->progress)
         progress_step(job->progress);
 }
@@ -73,10 +78,11 @@ static bool feed_offer(feed *f, master_job *job, int i)
     if (journal_resumed(f->journal, i)) {
         if (!job->t)
             job->pixels_hit += journal_resumed_hits(f->journal, i);
+        img_stream_tile(f->stream, i); /* (its pixels came from the journal) */
         return sched_resume(f->sched, i, r);
     }
     if (tile_hits && tile_hits[i] == 0 && f->misses_are_background) {
-        feed_background(f, job, r);
+        feed_background(f, job, i, r);
         return sched_skip(f->sched, i, r);
     }
     return sched_add(f->sched, i, r);
@@ -131,10 +137,11 @@ int feed_fill(feed *f, master_job *job, double now, csg_diag *d)
         int item = -1;
         if (journal_resumed(f->journal, tile)) { /* (the pass does not count its hits) */
             job->pixels_hit += journal_resumed_hits(f->journal, tile);
+            img_stream_tile(f->stream, tile);
             if (sched_resume(f->sched, tile, r))
                 continue;
         } else if (feed_culled(f, r)) {
-            feed_background(f, job, r);
+            feed_background(f, job, tile, r);
             f->tiles_culled++;
             /* (its primary rays counted as serial counts them: trace_primary
              * counts a rectangle its culling empties, traced or not) */

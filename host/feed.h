@@ -22,6 +22,8 @@
 typedef struct {
     sched *sched;          /* the work items                            */
     struct journal *journal; /* --resume's finished tiles (NULL: none)   */
+    struct img_stream *stream; /* the image file, told each tile made final
+                                  here (NULL: none)                      */
     pass *pass;            /* hetero's pass (NULL: every row is ready)  */
     float *image;          /* where degenerate tiles are filled         */
     float bg[3];           /* with what: what a missed ray shades to     */
@@ -41,7 +43,8 @@ typedef struct {
 } feed;
 
 /* A feed for one render (sched, image, blob: the render's). */
-void feed_init(feed *f, sched *s, struct journal *j, pass *p, float *image, const void *blob);
+void feed_init(feed *f, sched *s, struct journal *j, struct img_stream *stream, pass *p,
+               float *image, const void *blob);
 
 /* master_job.feed's work: the tiles whose rows are ready to the
  * scheduler, down to the fill's; how many became known, or -1 with d

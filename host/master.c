@@ -69,6 +69,7 @@
 #include <string.h>
 
 #include "output/journal.h"
+#include "output/stream.h"
 #include "../comm/mpi_link.h"
 #include "../comm/protocol.h"
 #include "../comm/test_hooks.h"
@@ -727,13 +728,21 @@ static bool master_done(const master_loop *L)
     return L->broken || (L->outstanding == 0 && (L->failed || sched_finished(L->job->sched)));
 }
 
+/* Tile `tile` is final in the image: to the journal and to the image's
+ * stream (host/output/stream.h). */
+static void master_tile_final(master_job *job, int tile)
+{
+    journal_tile_done(job->journal, tile, job->image);
+    img_stream_tile(job->stream, tile);
+}
+
 /* The complete tiles the store thread has put in the image since the
- * last call, to the journal; with `wait`, every one, once stored. */
-static void master_journal_stored(master_job *job, bool wait)
+ * last call, final; with `wait`, every one, once stored. */
+static void master_tiles_stored(master_job *job, bool wait)
 {
     int tile;
     while (job->store && store_finished(job->store, &tile, wait))
-        journal_tile_done(job->journal, tile, job->image);
+        master_tile_final(job, tile);
 }
 
 /* Step 3 once the handshake is done: false with d filled on a failure. */
@@ -745,7 +754,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
         bool worked = master_feed(L, d);
         worked |= master_dispatch(L, d);
         worked |= master_receive(L, &msg, limit, d);
-        master_journal_stored(L->job, false);
+        master_tiles_stored(L->job, false);
         if (worked) {
             link_idle_reset(idle);
             continue;
@@ -790,7 +799,7 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         m->costs->drain();
     if (job->store) { /* the image whole before the caller reads it */
         store_drain(job->store);
-        master_journal_stored(job, true);
+        master_tiles_stored(job, true);
     }
     if (!job->idle)
         link_idle_free(&own);
@@ -827,7 +836,7 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */
         if (!job->store || store_after(job->store, it->tile)) /* (else once it is stored) */
-            journal_tile_done(job->journal, it->tile, job->image);
+            master_tile_final(job, it->tile);
         w->tiles++;
         if (job->progress)
             progress_step(job->progress);

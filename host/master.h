@@ -90,6 +90,8 @@ typedef struct master_job {
                                  (store.h; NULL: the loop stores them)    */
     progress_bar *progress;   /* stepped once a tile                      */
     struct journal *journal;  /* each finished tile appended (NULL: none) */
+    struct img_stream *stream; /* the image file, told each final tile
+                                  (NULL: none)                           */
     /* Results, added to: */
     stats_worker *workers;    /* [r - 1] is rank r (master_run_tiles)     */
     uint64_t pixels_hit;

@@ -3,6 +3,7 @@
  * allocate (memory.h).
  */
 #include "memory.h"
+#include "output/image.h"
 #include "../comm/pixels.h"
 
 #include <stdio.h>
@@ -13,17 +14,33 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-/* What the encoder holds beside the image: 8-bit formats a strip of their
- * bytes; float formats OpenImageIO's chunk. */
-static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path)
+/* What the encoder holds beside the image, and whether while the tiles
+ * are rendered (*during): a PNG's encoded bands until they are written in
+ * order (at worst, an image that does not compress, every band but the
+ * first: 3 bytes a pixel); a PPM's band on each encoder thread, written at
+ * once (one band of every CPU's, at most MEMORY_WRITER_STRIP_ROWS rows);
+ * the module's formats, written after the tiles: a strip of 8-bit bytes,
+ * or OpenImageIO's chunk of floats. */
+static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path, bool *during)
 {
     uint64_t row = width * 3 * sizeof(float);
+    uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    *during = false;
     if (!out_path)
         return 0;
-    if (pixels_format_for(out_path) == PIXELS_RGB8) {
-        uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
-        return rows * width * 3;
+    switch (img_format_of(out_path)) {
+    case IMG_FORMAT_PNG:
+        *during = true;
+        return width * height * 3;
+    case IMG_FORMAT_PPM:
+        *during = true;
+        return rows * width * 3 * (uint64_t)(cpus > 0 ? cpus : 1);
+    case IMG_FORMAT_MODULE:
+        break;
     }
+    if (pixels_format_for(out_path) == PIXELS_RGB8)
+        return rows * width * 3;
     uint64_t chunk = MEMORY_WRITER_FLOAT_CHUNK / row * row;
     chunk = chunk > row ? chunk : row;
     return chunk < row * height ? chunk : row * height;
@@ -40,9 +57,10 @@ render_memory render_memory_need(int width, int height, int spp, size_t real_siz
         m.records = w * h * record;
         m.device = w * (uint64_t)(slice_rows < height ? slice_rows : height) * record;
     }
-    m.writer = memory_writer(w, h, out_path);
+    bool during;
+    m.writer = memory_writer(w, h, out_path, &during);
     uint64_t beside = m.records + m.device > m.writer ? m.records + m.device : m.writer;
-    m.total = m.image + beside;
+    m.total = m.image + (during ? m.records + m.device + m.writer : beside);
     return m;
 }
 

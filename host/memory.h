@@ -17,16 +17,17 @@ typedef struct {
     uint64_t records; /* hetero: the hit records (t and surface id)      */
     uint64_t device;  /* hetero: the OpenCL pass's record buffers, one
                          slice's (reused from slice to slice)            */
-    uint64_t writer;  /* the encoder's strip of the image                */
-    uint64_t total;   /* the peak: the image, and the larger of the
-                         records (tile phase) and the writer (written
-                         after the records are freed)                    */
+    uint64_t writer;  /* what the encoder holds (memory.c)              */
+    uint64_t total;   /* the peak: the image, the records (tile phase)
+                         and the writer when it encodes during the tile
+                         phase (PNG, PPM), else the larger of the records
+                         and the writer (written after the records are
+                         freed)                                         */
 } render_memory;
 
-/* Rows of the image the encoder holds at a time, as bytes, for 8-bit
- * formats (host/output/image_oiio.cpp, display_strip_rows).  PNG and PPM
- * hold one row (host/output/image_direct.c); the estimate keeps the strip,
- * the larger. */
+/* Rows of the image the encoder holds at a time, as bytes, for the
+ * module's 8-bit formats (host/output/image_oiio.cpp, display_strip_rows);
+ * a PPM's band at most (host/output/stream.c). */
 #define MEMORY_WRITER_STRIP_ROWS 64
 
 /* The image's pages faulted in by a thread of their own, in address

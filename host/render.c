@@ -51,6 +51,7 @@
 #include "output/file_atomic.h"
 #include "output/image.h"
 #include "output/journal.h"
+#include "output/stream.h"
 #include "pass/cl_cache.h"
 #include "pass/pass.h"
 #include "progress.h"
@@ -69,6 +70,9 @@ typedef struct {
     feed feed;             /* what the scheduler is fed                  */
     journal *journal;      /* the finished tiles, for --resume (NULL:
                               no output file)                           */
+    img_stream *stream;    /* the image file, written as its bands are
+                              final (NULL: no output file, or given to
+                              render_write)                             */
     link_idle idle;        /* the master's wait; the pass wakes it       */
     bool idle_ready;
     memory_prefault prefault; /* the image's pages, faulted in meanwhile */
@@ -97,6 +101,7 @@ static void render_free(render_state *rs)
     csg_blob_free(&rs->blob);
     memory_prefault_join(&rs->prefault);
     store_stop(rs->store);
+    img_stream_abort(rs->stream); /* (a render that failed: no file) */
     free(rs->image);
     free(rs->workers);
     sched_free(&rs->sched);
@@ -296,6 +301,7 @@ static void render_start_helpers(render_state *rs, master_job *job)
         rs->store = store_start(rs->image, job->grid.width, tile_count(&job->grid),
                                 rs->store_threads);
     job->store = rs->store;
+    img_stream_start(rs->stream);
 }
 
 /* master_job.feed: the helpers started once they may be, and the tiles
@@ -316,14 +322,20 @@ static int render_fill(master_job *job, double now, csg_diag *d)
 }
 
 /* Step 4: the image file; 0 or 1 with d filled. */
-static int render_write(const render_request *req, const render_state *rs,
-                        const render_stats *st, csg_diag *d)
+static int render_write(const render_request *req, render_state *rs, render_stats *st,
+                        csg_diag *d)
 {
     char err[512] = "";
-    if (!req->out_path)
+    if (!rs->stream)
         return EXIT_OK;
     signals_hold(); /* until the stats are written too (render_job) */
-    if (img_write_rgb(req->out_path, rs->image, st->width, st->height, err, sizeof err))
+    img_stream_report report;
+    bool ok = img_stream_finish(rs->stream, 0, &report, err, sizeof err);
+    rs->stream = NULL;
+    st->write_bands = report.bands;
+    st->write_bands_early = report.bands_early;
+    st->write_cpu_s = report.cpu_s;
+    if (ok)
         return EXIT_OK;
     if (strstr(err, "error:"))
         snprintf(d->message, sizeof d->message, "%s", err);
@@ -415,11 +427,22 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         if (status != EXIT_OK)
             return status;
     }
-    feed_init(&rs->feed, &rs->sched, rs->journal, rs->pass, rs->image, rs->blob.bytes);
+    if (req->out_path) { /* (the image written as its bands are final) */
+        char err[512];
+        rs->stream = img_stream_open(req->out_path, rs->image, &grid, err, sizeof err);
+        if (!rs->stream) {
+            snprintf(d->message, sizeof d->message, "%s", err);
+            d->failed = 1;
+            return EXIT_FAILURE_RUN;
+        }
+    }
+    feed_init(&rs->feed, &rs->sched, rs->journal, rs->stream, rs->pass, rs->image,
+              rs->blob.bytes);
     rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
     if (use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8)
         rs->store_threads = req->store_threads > 0 ? req->store_threads : 1;
     job->journal = rs->journal;
+    job->stream = rs->stream;
     job->blob = rs->blob.bytes;
     job->grid = grid;
     job->sched = &rs->sched;

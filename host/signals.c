@@ -21,6 +21,8 @@ static atomic_int journal_tiles;  /* tiles in the journal              */
 static atomic_int journal_ready;  /* journal_path is complete         */
 static char journal_path[4096];   /* the journal (set before the tile
                                      phase, cleared after it)           */
+static atomic_int temporary_ready; /* temporary_path is complete      */
+static char temporary_path[4096];  /* a file being written, to remove   */
 
 /* write(2) of a string; the result is of no use in a handler. */
 static void say(const char *s)
@@ -44,6 +46,8 @@ static void say_count(int n)
 
 static void say_and_exit(int sig)
 {
+    if (atomic_load(&temporary_ready))
+        unlink(temporary_path); /* (an unfinished image's: never left behind) */
     int tiles = atomic_load(&journal_tiles);
     bool journal = atomic_load(&journal_ready);
     if (atomic_load(&finished)) {
@@ -123,4 +127,13 @@ void signals_journal(const char *path, int tiles)
 void signals_journal_tiles(int tiles)
 {
     atomic_store(&journal_tiles, tiles);
+}
+
+void signals_temporary(const char *path)
+{
+    atomic_store(&temporary_ready, 0); /* (the handler never sees half a name) */
+    if (path && strlen(path) < sizeof temporary_path) {
+        memcpy(temporary_path, path, strlen(path) + 1);
+        atomic_store(&temporary_ready, 1);
+    }
 }

@@ -26,6 +26,11 @@ void signals_release(const char *const *written, int n);
  * process with a line that says so, instead of "no file written". */
 void signals_finished(void);
 
+/* A temporary file being written (an image streamed while it renders:
+ * host/output/stream.h): a signal that ends the process removes it.  NULL:
+ * none any more. */
+void signals_temporary(const char *path);
+
 /* The journal of the render (host/output/journal.h), holding `tiles` finished
  * tiles; a signal's line then says how to resume (or, when it holds none,
  * removes it).  NULL: no journal. */

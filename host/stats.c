@@ -119,7 +119,7 @@ static void stats_workers(FILE *f, const render_stats *s)
     X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
     X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
     X(estimate_spearman) X(master_cpu_s) X(master_results_s) X(store_cpu_s)     \
-    X(pass_work_s) X(guess_cpu_s) X(cull_s)
+    X(pass_work_s) X(guess_cpu_s) X(cull_s) X(write_cpu_s)
 
 static void stats_phases(FILE *f, const render_stats *s)
 {
@@ -159,6 +159,8 @@ void stats_print_json(FILE *f, const render_stats *s)
             "  \"tiles_culled\": %d,\n  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n"
             "  \"tiles_filled\": %d,\n",
             s->tiles_culled, s->tiles_resumed, s->tiles_sent, s->tiles_filled);
+    fprintf(f, "  \"write_bands\": %d,\n  \"write_bands_early\": %d,\n", s->write_bands,
+            s->write_bands_early);
     fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
             (unsigned long long)s->tile_messages);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,

@@ -87,6 +87,14 @@
  *                 (store_threads; 0 when none ran): storing the workers'
  *                 8-bit results into the image, off the master's loop
  *   slices        OpenCL slices of the pass (0 without one)
+ *   write_bands   the image's bands (rows of tiles), each encoded once the
+ *                 tiles over it are final, while the tiles go on (PNG,
+ *                 PPM: host/output/stream.h); 0 when the file is written
+ *                 whole at the end (the image module's formats) or there
+ *                 is none
+ *   write_bands_early  of them, encoded before the last tile was in (the
+ *                 rest are write_s's work)
+ *   write_cpu_s   the CPU seconds of the image's encoder threads
  *
  *   tiles_total   tiles of the image
  *   tiles_degenerate  tiles no primary ray hit (hetero: filled with the
@@ -202,6 +210,9 @@ typedef struct render_stats {
     int relays;               /* ranks 1 .. relays relay (--relays): not in
                                  `workers` of the JSON                     */
     int store_threads;        /* rank 0's store threads that ran          */
+    int write_bands, write_bands_early; /* the image's bands, and those
+                                 encoded before the last tile was in     */
+    double write_cpu_s;       /* the image encoder threads' CPU seconds    */
     uint64_t tile_messages;
     uint64_t pixels, pixels_hit;
     ray_counts rays;

@@ -173,7 +173,7 @@ rm -f "$T/nostats.png" "$T/resumed.json"
 expect 1 "render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode serial
-errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 1.61 GiB of memory .*may allocate" \
+errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 2.01 GiB of memory .*may allocate" \
     "memory estimate message"
 if [ -e "$T/huge.png" ] || ls "$T"/.huge* >/dev/null 2>&1; then ko "memory refusal wrote a file"; else
     ok "memory refusal wrote no file"
@@ -183,7 +183,7 @@ fi
 expect 1 "hetero render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode hetero
-errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 2.69 GiB of memory \(the image 1.61 GiB, its encoding 2.20 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
+errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 3.09 GiB of memory \(the image 1.61 GiB, its encoding 411.99 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
     "hetero memory estimate message"
 
 # --- a failed render never leaves a partial file: existing output untouched ---
@@ -226,7 +226,7 @@ expect 1 "render with a broken image module" env CSGTRACE_IMAGE_MODULE="$T/good.
     "$BIN" render "$T/good.pov" -o "$T/nomod.exr" --width 8 --height 6
 errmsg "^csgtrace: error: .*image module.*good.pov" "broken module message names it"
 [ ! -e "$T/nomod.exr" ] && ok "no image without a module" || ko "image written without a module"
-# PNG and PPM need no module (host/output/image_direct.c; tests/e2e_image.sh)
+# PNG and PPM need no module (host/output/stream.c; tests/e2e_image.sh)
 expect 0 "render to PNG without the image module" env CSGTRACE_IMAGE_MODULE="$NOMOD" \
     "$BIN" render "$T/good.pov" -o "$T/nomod.png" --width 8 --height 6
 rm -f "$T/nomod.png"

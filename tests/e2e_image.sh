@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# e2e_image.sh — PNG and PPM written without OpenImageIO (host/output/image_direct.c):
-#   - on every example scene and a random one (80x60): the PNG is the file
-#     the image module writes ($CSGTRACE_IMAGE_WRITER=oiio), byte for byte
-#     (cmp), and so the same pixels (idiff); the PPM of one scene too;
+# e2e_image.sh — PNG and PPM written by csgtrace itself, band by band
+# (host/output/stream.c):
+#   - on every example scene and a random one (80x60): the PNG holds the
+#     pixels of the file the image module writes ($CSGTRACE_IMAGE_WRITER=oiio,
+#     idiff), and is a valid PNG to it; the PPM of one scene is the module's
+#     byte for byte (a PPM has no freedom);
 #   - a render to PNG or PPM maps neither csgtrace-image.so nor OpenImageIO
 #     (LD_DEBUG=files) and works without the module; to EXR it needs it, and
 #     says so;
@@ -23,11 +25,10 @@ for scene in scenes/*.pov "$T/random.pov"; do
     "$BIN" render "$scene" "${SZ[@]}" -o "$T/$name.png" >/dev/null 2>&1 &&
         CSGTRACE_IMAGE_WRITER=oiio "$BIN" render "$scene" "${SZ[@]}" -o "$T/$name-oiio.png" \
             >/dev/null 2>&1 || { bad+=" $name:failed"; continue; }
-    cmp -s "$T/$name.png" "$T/$name-oiio.png" || bad+=" $name:bytes"
     same "$T/$name.png" "$T/$name-oiio.png" || bad+=" $name:pixels"
 done
-[ -z "$bad" ] && ok "every example scene and a random one: the PNG is the module's, byte for byte" ||
-    ko "direct PNG against the module's:$bad"
+[ -z "$bad" ] && ok "every example scene and a random one: the PNG holds the module's pixels" ||
+    ko "csgtrace's PNG against the module's:$bad"
 
 "$BIN" render scenes/showcase.pov "${SZ[@]}" -o "$T/showcase.ppm" >/dev/null 2>&1 &&
     CSGTRACE_IMAGE_WRITER=oiio "$BIN" render scenes/showcase.pov "${SZ[@]}" \
@@ -38,7 +39,7 @@ done
 for ext in png ppm; do
     LD_DEBUG=files "$BIN" render "$T/random.pov" "${SZ[@]}" -o "$T/mapped.$ext" \
         >/dev/null 2>"$T/ld.err"
-    if [ -s "$T/mapped.$ext" ] && grep -q "file=.*libpng" "$T/ld.err" &&
+    if [ -s "$T/mapped.$ext" ] && grep -q "file=.*libz" "$T/ld.err" &&
         ! grep -q -e "file=.*csgtrace-image.so" -e "file=.*OpenImageIO" "$T/ld.err"; then
         ok "a render to .$ext maps neither the image module nor OpenImageIO"
     else

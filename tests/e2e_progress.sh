@@ -36,8 +36,9 @@ python3 -c "import sys; sys.exit(0 if float('${without:-0}') >= 550 else 1)" &&
 for opt in "--tile 64" "--batch 8 --tile 16"; do
     for mode in homo hetero; do
         "${MPI[@]}" -np 3 "$BIN" render scenes/showcase.pov -o "$T/x.png" --width 192 --height 144 \
-            --mode $mode $opt >/dev/null 2>&1 && cmp -s "$T/ref.png" "$T/x.png" &&
-            ok "$mode $opt, no single-copy: the serial image" || ko "$mode $opt, no single-copy"
+            --mode $mode $opt >"$T/x.log" 2>&1 && cmp -s "$T/ref.png" "$T/x.png" &&
+            ok "$mode $opt, no single-copy: the serial image" ||
+            ko "$mode $opt, no single-copy: $(tail -c 300 "$T/x.log")"
     done
 done
 e2e_finish

@@ -1,9 +1,11 @@
 /*
- * test_image.c — PNG and PPM written without OpenImageIO
- * (host/output/image_direct.c): the process never maps the image module, the
- * files are byte for byte the module's (its writer forced with
+ * test_image.c — PNG and PPM written by csgtrace itself
+ * (host/output/stream.c): the process never maps the image module, the
+ * files hold the module's pixels (its writer forced with
  * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
- * encoding, and a failed write names the file and leaves nothing behind.
+ * encoding, a streamed file's bytes do not depend on the order its bands
+ * are final in nor on its threads, and a failed write names the file and
+ * leaves nothing behind.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -19,7 +21,7 @@
 #include <cmocka.h>
 
 #include "../host/output/image.h"
-#include "../host/output/image_direct.h"
+#include "../host/output/stream.h"
 #include "../comm/pixels.h"
 #include "same_file.h"
 
@@ -129,9 +131,25 @@ static void settings(bool module_writes_all, int level)
     img_configure(&s);
 }
 
-/* The direct file and the module's, byte for byte, at the default
- * compression and at PNG level 9 ($CSGTRACE_PNG_LEVEL); PPM too. */
-static void test_direct_bytes_are_the_modules(void **state)
+/* Files a and b hold the same pixels (read back through the module). */
+static void assert_same_pixels(const char *a, const char *b)
+{
+    float *pa = NULL, *pb = NULL;
+    int wa, ha, wb, hb;
+    char err[512];
+    assert_true(img_read_rgb(a, &pa, &wa, &ha, err, sizeof err));
+    assert_true(img_read_rgb(b, &pb, &wb, &hb, err, sizeof err));
+    assert_int_equal(wa, wb);
+    assert_int_equal(ha, hb);
+    assert_memory_equal(pa, pb, (size_t)wa * (size_t)ha * 3 * sizeof *pa);
+    free(pa);
+    free(pb);
+}
+
+/* csgtrace's PNG (csgtrace's settings, and a zlib level with every
+ * filter) and PPM hold the pixels of the module's files of the same image,
+ * over a sweep of every region of the encoding. */
+static void test_own_files_have_the_modules_pixels(void **state)
 {
     scratch *s = *state;
     float *rgb = sweep_image();
@@ -142,20 +160,59 @@ static void test_direct_bytes_are_the_modules(void **state)
     } cases[] = {{"png", -1}, {"png", 9}, {"ppm", -1}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         name_files(s, cases[c].ext);
-        img_direct_format format = img_direct_format_of(s->a, false);
-        img_png_options png = img_png_options_for(cases[c].level);
-        assert_true(img_direct_write(s->a, format, rgb, SWEEP_W, SWEEP_H, &png, err, sizeof err));
-        assert_int_equal(img_direct_format_of(s->b, true), IMG_DIRECT_NONE);
+        settings(false, cases[c].level);
+        assert_int_equal(img_format_of(s->a), cases[c].ext[1] == 'n' ? IMG_FORMAT_PNG
+                                                                      : IMG_FORMAT_PPM);
+        assert_true(img_write_rgb(s->a, rgb, SWEEP_W, SWEEP_H, err, sizeof err));
         settings(true, cases[c].level);
+        assert_int_equal(img_format_of(s->b), IMG_FORMAT_MODULE);
         bool ok = img_write_rgb(s->b, rgb, SWEEP_W, SWEEP_H, err, sizeof err);
         settings(false, -1);
         if (!ok)
             fprintf(stderr, "%s\n", err);
         assert_true(ok);
+        assert_same_pixels(s->a, s->b);
+        unlink(s->a);
+        unlink(s->b);
+    }
+    free(rgb);
+}
+
+/* A streamed file does not depend on the order its bands are final in, nor
+ * on the threads that encode them: tiles final in a scrambled order, one
+ * thread, against in order, every CPU; the same bytes; a stream aborted
+ * leaves nothing. */
+static void test_stream_order_changes_nothing(void **state)
+{
+    scratch *s = *state;
+    float *rgb = sweep_image();
+    char err[512] = "";
+    const char *exts[] = {"png", "ppm"};
+    for (int e = 0; e < 2; e++) {
+        name_files(s, exts[e]);
+        tile_grid g = {SWEEP_W, SWEEP_H, 7, 1, sizeof(float), 0};
+        int tiles = tile_count(&g);
+        for (int way = 0; way < 2; way++) {
+            img_stream *st = img_stream_open(way ? s->b : s->a, rgb, &g, err, sizeof err);
+            assert_non_null(st);
+            img_stream_start(st);
+            for (int k = 0; k < tiles; k++) /* (a permutation when way is 1) */
+                img_stream_tile(st, way ? (int)(((long)k * 7919) % tiles) : k);
+            img_stream_report r;
+            assert_true(img_stream_finish(st, way ? 0 : 1, &r, err, sizeof err));
+            assert_int_equal(r.bands, (SWEEP_H + IMG_STREAM_ROWS - 1) / IMG_STREAM_ROWS);
+        }
         assert_true(same_file(s->a, s->b));
         unlink(s->a);
         unlink(s->b);
     }
+    img_stream *st = img_stream_open(s->a, rgb, &(tile_grid){SWEEP_W, SWEEP_H, 7, 1, 4, 0}, err,
+                                     sizeof err);
+    assert_non_null(st);
+    img_stream_start(st);
+    img_stream_tile(st, 0);
+    img_stream_abort(st);
+    assert_int_equal(entries(s->dir), 0);
     free(rgb);
 }
 
@@ -193,15 +250,17 @@ static void test_format_of_path(void **state)
     (void)state;
     static const struct {
         const char *path;
-        img_direct_format want;
+        img_format want;
     } cases[] = {
-        {"a.png", IMG_DIRECT_PNG},  {"dir.png/a.PNG", IMG_DIRECT_PNG}, {"a.ppm", IMG_DIRECT_PPM},
-        {"a.Pnm", IMG_DIRECT_PPM},  {"a.pgm", IMG_DIRECT_PPM},         {"a.exr", IMG_DIRECT_NONE},
-        {"a.tif", IMG_DIRECT_NONE}, {"png", IMG_DIRECT_NONE},          {"x.png/a", IMG_DIRECT_NONE},
+        {"a.png", IMG_FORMAT_PNG},    {"dir.png/a.PNG", IMG_FORMAT_PNG}, {"a.ppm", IMG_FORMAT_PPM},
+        {"a.Pnm", IMG_FORMAT_PPM},    {"a.pgm", IMG_FORMAT_PPM},         {"a.exr", IMG_FORMAT_MODULE},
+        {"a.tif", IMG_FORMAT_MODULE}, {"png", IMG_FORMAT_MODULE},        {"x.png/a", IMG_FORMAT_MODULE},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        assert_int_equal(img_direct_format_of(cases[i].path, false), cases[i].want);
-    assert_int_equal(img_direct_format_of("a.png", true), IMG_DIRECT_NONE);
+        assert_int_equal(img_format_of(cases[i].path), cases[i].want);
+    settings(true, -1);
+    assert_int_equal(img_format_of("a.png"), IMG_FORMAT_MODULE);
+    settings(false, -1);
 }
 
 int main(void)
@@ -209,7 +268,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_png_and_ppm_need_no_module, scratch_setup,
                                         scratch_teardown),
-        cmocka_unit_test_setup_teardown(test_direct_bytes_are_the_modules, scratch_setup,
+        cmocka_unit_test_setup_teardown(test_own_files_have_the_modules_pixels, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_stream_order_changes_nothing, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_failed_write_names_the_file, scratch_setup,
                                         scratch_teardown),

@@ -6,7 +6,7 @@
  * so no name can be guessed and planted in advance, and no link already at
  * a name is ever followed.  Used for every text output (stats, tile logs,
  * compare's JSON, gen's scenes) and the PNG and PPM images
- * (host/output/image_direct.c); the other images go the same way in the image
+ * (host/output/stream.c, which does the same itself); the other images go the same way in the image
  * module (host/output/image_oiio.cpp).
  */
 #ifndef OUTPUT_FILE_ATOMIC_H

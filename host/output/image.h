@@ -1,6 +1,6 @@
 /*
  * image.h — image files.  PNG and PPM are written by the program itself
- * (host/output/image_direct.c, libpng); every other format, and all reading and
+ * (host/output/stream.c, zlib; while the render runs); every other format, and all reading and
  * comparing, go through OpenImageIO, in the module csgtrace-image.so
  * (host/output/image_oiio.cpp, the one C++ file, which turns every exception into
  * a status), loaded by the first call that needs it (host/output/image_loader.c):
@@ -30,9 +30,19 @@ typedef struct {
                                filter, run-length strategy)              */
 } img_settings;
 void img_configure(const img_settings *s);
+img_settings img_settings_now(void);
+
+/* Who writes a file of `path`'s extension: csgtrace itself, band by band
+ * (PNG, PPM: stream.h), or the OpenImageIO module, whole. */
+typedef enum { IMG_FORMAT_PNG, IMG_FORMAT_PPM, IMG_FORMAT_MODULE } img_format;
+img_format img_format_of(const char *path);
+
+/* The rows of a band when a whole image is written at once. */
+#define IMG_STREAM_ROWS 64
 
 /* Writes RGB float pixels (3 a pixel, linear) to `path`, the format chosen
- * by the extension (PNG and PPM without the module).  8-bit formats get
+ * by the extension (PNG and PPM without the module, encoded on every CPU
+ * this process may use).  8-bit formats get
  * each value's byte of comm/pixels.h (clamped to [0, 1], the sRGB curve,
  * as POV-Ray 3.7 writes PNG with assumed_gamma 1), whoever writes them;
  * float formats (exr, hdr, pfm) get them linear.  The file is
@@ -41,6 +51,10 @@ void img_configure(const img_settings *s);
  * false with a message in err on failure. */
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                    size_t err_size);
+
+/* The module's writer alone (a format of IMG_FORMAT_MODULE). */
+bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                          size_t err_size);
 
 /* Is there a writer for the format of `path` (its extension)?  A render
  * asks before it starts, not after its last tile: for a format of the

@@ -1,8 +1,8 @@
 /*
  * image_loader.c — the image API (image.h) as every program links it: PNG
- * and PPM files are written here (image_direct.h); for every other call
- * the first one loads the OpenImageIO module (image_module.h), and every
- * call forwards to it.
+ * and PPM files are written by csgtrace itself (stream.h, also for a whole
+ * image at once); for every other call the first one loads the
+ * OpenImageIO module (image_module.h), and every call forwards to it.
  * `csgtrace check`, the MPI workers and a render to PNG or PPM never map
  * OpenImageIO and its ~270 libraries.
  *
@@ -31,8 +31,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "image_direct.h"
+#include "../../comm/pixels.h"
 #include "image_module.h"
+#include "stream.h"
 
 typedef struct {
     pthread_once_t once;
@@ -46,6 +47,23 @@ static img_loader loader = {PTHREAD_ONCE_INIT, NULL, "", {NULL, false, -1}};
 void img_configure(const img_settings *s)
 {
     loader.settings = *s;
+}
+
+img_settings img_settings_now(void)
+{
+    return loader.settings;
+}
+
+img_format img_format_of(const char *path)
+{
+    static const char *const png[] = {"png"}, *const netpbm[] = {"ppm", "pnm", "pgm"};
+    if (!path || loader.settings.module_writes_all)
+        return IMG_FORMAT_MODULE;
+    if (pixels_extension_in(path, png, 1))
+        return IMG_FORMAT_PNG;
+    if (pixels_extension_in(path, netpbm, sizeof netpbm / sizeof netpbm[0]))
+        return IMG_FORMAT_PPM;
+    return IMG_FORMAT_MODULE;
 }
 
 /* The folder of the running program, with its trailing '/'; "" if unknown. */
@@ -132,21 +150,38 @@ static const img_module *module_or_error(const char *subject, char *err, size_t 
     return loader.mod;
 }
 
-bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
-                   size_t err_size)
+bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                          size_t err_size)
 {
-    img_direct_format direct = img_direct_format_of(path, loader.settings.module_writes_all);
-    if (direct != IMG_DIRECT_NONE) {
-        img_png_options png = img_png_options_for(loader.settings.png_level);
-        return img_direct_write(path, direct, rgb, width, height, &png, err, err_size);
-    }
     const img_module *m = module_or_error(path, err, err_size);
     return m && m->write_rgb(path, rgb, width, height, loader.settings.png_level, err, err_size);
 }
 
+bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                   size_t err_size)
+{
+    if (width <= 0 || height <= 0) {
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: an image of %dx%d pixels",
+                 path, width, height);
+        return false;
+    }
+    if (img_format_of(path) == IMG_FORMAT_MODULE)
+        return img_module_write_rgb(path, rgb, width, height, err, err_size);
+    /* (PNG, PPM: a stream of bands of 64 rows, every band final at once,
+     * encoded on every CPU) */
+    tile_grid g = {width, height, IMG_STREAM_ROWS, 1, sizeof(float), 0};
+    img_stream *s = img_stream_open(path, rgb, &g, err, err_size);
+    if (!s)
+        return false;
+    for (int t = 0; t < tile_count(&g); t++)
+        img_stream_tile(s, t);
+    img_stream_report r;
+    return img_stream_finish(s, 0, &r, err, err_size);
+}
+
 bool img_can_write(const char *path, char *err, size_t err_size)
 {
-    if (img_direct_format_of(path, loader.settings.module_writes_all) != IMG_DIRECT_NONE)
+    if (img_format_of(path) != IMG_FORMAT_MODULE)
         return true;
     const img_module *m = module_or_error(path, err, err_size);
     return m && m->can_write(path, err, err_size);

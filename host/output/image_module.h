@@ -4,7 +4,7 @@
  * (host/output/image_oiio.cpp, C++), built as the module csgtrace-image.so and
  * loaded with dlopen by the first image call that needs it.  Only the
  * process that reads an image, or writes one other than PNG or PPM
- * (host/output/image_direct.c), pays for OpenImageIO (~270 shared libraries).
+ * (host/output/stream.c), pays for OpenImageIO (~270 shared libraries).
  *
  * The module exports one symbol, IMG_MODULE_ENTRY, a function returning
  * its table; the loader checks `abi` and `size` before using any entry.
