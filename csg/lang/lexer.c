@@ -5,9 +5,9 @@
  * comments are skipped first: `//` to the end of the line and slash-star ... star-slash
  * block comments, which nest as in POV-Ray (a depth counter, no recursion).
  * Words are looked up by binary search in a table sorted by byte order
- * (kw_table; test_parser checks a sample of it): every reserved word of
- * POV-Ray 3.7 is there, so a word csgtrace does not implement is named as
- * unsupported rather than taken for an identifier.  Operators are one
+ * (kw_table; test_parser checks that every row is found): every reserved
+ * word of POV-Ray 3.7 is there, so a word csgtrace does not implement is
+ * named as unsupported rather than taken for an identifier.  Operators are one
  * character, or two for <= >= != (csg_token.punct).  A UTF-8 byte-order
  * mark before the first character is skipped.  A number is scanned to
  * its extent by the grammar digits [. digits] [e [+-] digits] (or . digits
@@ -138,8 +138,8 @@ static const kw_entry kw_table[] = {
     {"cylinder", CSG_KW_CYLINDER},
     {"cylindrical", CSG_KW_CYLINDRICAL},
     {"datetime", CSG_KW_UNSUPPORTED},
-    {"defined", CSG_KW_DEFINED},
     {"default", CSG_KW_DEFAULT}, /* POV-Ray takes `default { }` without '#' */
+    {"defined", CSG_KW_DEFINED},
     {"degrees", CSG_KW_DEGREES},
     {"density", CSG_KW_UNSUPPORTED},
     {"density_file", CSG_KW_UNSUPPORTED},
