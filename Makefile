@@ -200,9 +200,10 @@ $(BA)/obj/pic/%.o: %.c
 # ---- the pipeline fuzzer (libFuzzer, clang) ----------------------------------------
 # build/fuzz/fuzz_pipeline: every stage of a render on each input
 # (tests/fuzz_pipeline.c), with ASan + UBSan; the dictionary is the lexer's
-# own keyword table, the seeds are the example scenes.  (Warnings are
-# enforced by the gcc builds; clang's -Wdouble-promotion also flags libm
-# macros, so the fuzz build only reports.)
+# own keyword table and the pattern and wave keywords (csg/device/patterns.h),
+# the seeds are the example scenes.  (Warnings are enforced by the gcc
+# builds; clang's -Wdouble-promotion also flags libm macros, so the fuzz
+# build only reports.)
 F := build/fuzz
 FUZZ_CC ?= clang-15
 FUZZ_SECONDS ?= 60
@@ -224,9 +225,13 @@ $(F)/obj/double/%.o: %.c
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DCSG_DOUBLE -c $< -o $@
 $(F)/fuzz_pipeline: $(F)/obj/tests/fuzz_pipeline.o $(FUZZ_OBJS)
 	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ -lm
-$(F)/pov.dict: csg/lang/lexer.c
+$(F)/pov.dict: csg/lang/lexer.c csg/device/patterns.h
 	@mkdir -p $(dir $@)
-	sed -n 's/^ *{"\([a-z_0-9]*\)", CSG_KW_.*/"\1"/p' $< >$@
+	sed -n 's/^ *{"\([a-z_0-9]*\)", CSG_KW_.*/"\1"/p' csg/lang/lexer.c >$@
+	sed -n 's/^ *PATTERN([A-Z_]*, \([a-z_]*\),.*/"\1"/p; s/^ *X([A-Z_]*, \([a-z_]*\)).*/"\1_wave"/p' \
+		csg/device/patterns.h >>$@
+	sed -n '/^#define CSG_PATTERN_ALIASES/p' csg/device/patterns.h | \
+		grep -o 'ALIAS([a-z_]*,' | sed 's/ALIAS(\(.*\),/"\1"/' >>$@
 	printf '"#declare"\n"#include"\n"#version"\n"{"\n"}"\n"<"\n">"\n' >>$@
 
 fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict

@@ -48,24 +48,33 @@ static bool prims_valid(const csg_blob_header *h, const csg_prim *prims)
     return true;
 }
 
+/* A pattern or a wave of the tables (device/patterns.h): workers/pigment.c
+ * dispatches on them with no default case, so an id outside is refused
+ * here, never evaluated as another one. */
+static bool pattern_known(const csg_material *m)
+{
+    return m->pattern >= 0 && m->pattern < CSG_PATTERN_COUNT &&
+           (m->pattern == CSG_PATTERN_PLAIN || (m->wave >= 0 && m->wave < CSG_WAVE_COUNT));
+}
+
 /* A patterned material's colour map lies inside the maps array, its
- * pigment map's materials inside the materials after it, its wave, noise
- * generator and octaves within their ranges. */
+ * pigment map's materials inside the materials after it, its pattern and
+ * wave known, its noise generator and octaves within their ranges. */
 static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
 {
     for (int32_t i = 0; i < h->material_count; i++) {
         const csg_material *m = &mats[i];
-        if (m->pattern < CSG_MAT_PLAIN || m->pattern > CSG_MAT_CRACKLE)
+        if (!pattern_known(m))
             return false;
-        if (m->pattern != CSG_MAT_PLAIN &&
+        if (m->pattern != CSG_PATTERN_PLAIN &&
             (m->map_count < 1 || m->map_first < 0 || m->map_first > h->map_count - m->map_count))
             return false;
         if (m->sub_first < 0 || (m->sub_first > 0 && (m->sub_first <= i || /* acyclic */
                                  m->sub_first > h->material_count - m->map_count)))
             return false;
-        if (m->pattern != CSG_MAT_PLAIN && /* pigment.c's tables and switches */
-            (m->wave < CSG_MAT_WAVE_RAMP || m->wave > CSG_MAT_WAVE_POLY || m->noise_gen < 1 || m->noise_gen > 3 ||
-             ((m->turb_on || m->pattern == CSG_MAT_AGATE) && (m->octaves < 1 || m->octaves > 10))))
+        if (m->pattern != CSG_PATTERN_PLAIN && /* pigment.c's tables and loops */
+            (m->noise_gen < 1 || m->noise_gen > 3 ||
+             ((m->turb_on || m->pattern == CSG_PATTERN_AGATE) && (m->octaves < 1 || m->octaves > 10))))
             return false;
     }
     return true;
@@ -119,7 +128,7 @@ static bool bvh_valid(const csg_blob_header *h, const csg_bvh_node *bvh)
 /* Lets light through: its pigment or any colour of its map. */
 static bool material_transparent(const csg_material *m, const csg_map_color *maps)
 {
-    if (m->pattern == CSG_MAT_PLAIN)
+    if (m->pattern == CSG_PATTERN_PLAIN)
         return m->filter > 0 || m->transmit > 0;
     for (int32_t k = 0; k < m->map_count; k++)
         if (maps[m->map_first + k].rgbft[3] > 0 || maps[m->map_first + k].rgbft[4] > 0)

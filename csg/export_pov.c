@@ -186,17 +186,11 @@ static void write_map(const exporter *e, const csg_pigment *pig)
     fputs(" }", e->out);
 }
 
-/* The pattern keyword (spotted and bumps are written as bozo with their map). */
+/* The pattern keyword, its name in the table (device/patterns.h; spotted
+ * and bumps are written as bozo with their map), with checker's colours
+ * or pigments and gradient's vector. */
 static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int depth)
 {
-    static const char *const names[] = {
-        [CSG_PATTERN_BOZO] = "bozo",     [CSG_PATTERN_WOOD] = "wood",
-        [CSG_PATTERN_MARBLE] = "marble", [CSG_PATTERN_GRANITE] = "granite",
-        [CSG_PATTERN_AGATE] = "agate",   [CSG_PATTERN_WRINKLES] = "wrinkles",
-        [CSG_PATTERN_RADIAL] = "radial", [CSG_PATTERN_ONION] = "onion",
-        [CSG_PATTERN_LEOPARD] = "leopard", [CSG_PATTERN_PLANAR] = "planar",
-        [CSG_PATTERN_BOXED] = "boxed",   [CSG_PATTERN_CYLINDRICAL] = "cylindrical",
-        [CSG_PATTERN_CRACKLE] = "crackle"};
     if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
         fputs("checker", e->out);
         for (int i = 0; i < pig->pmap_count; i++) {
@@ -216,7 +210,7 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
         fputs("gradient ", e->out);
         put_dvec(e->out, pig->gradient);
     } else {
-        fputs(names[pig->pattern], e->out);
+        fputs(csg_pattern_name(pig->pattern), e->out);
     }
     if (pig->pmap_count > 0)
         write_pigment_map(e, pig, depth);
@@ -224,21 +218,11 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
         write_map(e, pig);
 }
 
-static bool pig_uses_noise(const csg_pigment *pig)
-{
-    return pig->pattern == CSG_PATTERN_BOZO || pig->pattern == CSG_PATTERN_WOOD ||
-           pig->pattern == CSG_PATTERN_MARBLE || pig->pattern == CSG_PATTERN_GRANITE ||
-           pig->pattern == CSG_PATTERN_AGATE || pig->pattern == CSG_PATTERN_WRINKLES ||
-           pig->pattern == CSG_PATTERN_CRACKLE;
-}
-
 /* The noise settings, all explicit (the generator resolved: the scene's
  * #version or global_settings would not travel with the pigment), and
- * the wave unless it is the pattern's default ramp. */
+ * the wave unless it and the pattern's default are both ramp. */
 static void write_noise(const exporter *e, const csg_pigment *pig)
 {
-    static const char *const waves[] = {"ramp_wave", "triangle_wave", "sine_wave",
-                                        "scallop_wave", "cubic_wave", "poly_wave"};
     FILE *out = e->out;
     if (pig->turb.on) {
         fputs(" turbulence ", out);
@@ -262,11 +246,10 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
         if (pig->crackle.solid)
             fputs(" solid", out);
     }
-    if (pig->turb.on || pig_uses_noise(pig))
+    if (pig->turb.on || csg_pattern_reads_noise(pig->pattern))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
-    bool triangle_default = pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE;
-    if (pig->wave != CSG_WAVE_RAMP || triangle_default)
-        fprintf(out, " %s", waves[pig->wave]);
+    if (pig->wave != CSG_WAVE_RAMP || csg_pattern_wave(pig->pattern) != CSG_WAVE_RAMP)
+        fprintf(out, " %s_wave", csg_wave_name(pig->wave));
     if (pig->wave == CSG_WAVE_POLY) {
         fputc(' ', out);
         put_num(out, pig->exponent);

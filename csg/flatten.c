@@ -308,7 +308,7 @@ static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_mat
 
 /* A patterned pigment: its kind, world -> pattern matrix (pig's own
  * transform, then `then` when not NULL), wave and colour map (appended to
- * fb->maps); a plain one: its colour (pattern 0). */
+ * fb->maps); a plain one: its colour (CSG_PATTERN_PLAIN). */
 static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg_xform *then,
                              csg_material *m)
 {
@@ -316,20 +316,10 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
         m->color[i] = (real)pig->rgbft[i];
     m->filter = (real)pig->rgbft[3];
     m->transmit = (real)pig->rgbft[4];
-    static const csg_i32 kinds[] = {
-        [CSG_PATTERN_PLAIN] = CSG_MAT_PLAIN,     [CSG_PATTERN_CHECKER] = CSG_MAT_CHECKER,
-        [CSG_PATTERN_GRADIENT] = CSG_MAT_GRADIENT, [CSG_PATTERN_BOZO] = CSG_MAT_BOZO,
-        [CSG_PATTERN_WOOD] = CSG_MAT_WOOD,       [CSG_PATTERN_MARBLE] = CSG_MAT_MARBLE,
-        [CSG_PATTERN_GRANITE] = CSG_MAT_GRANITE, [CSG_PATTERN_AGATE] = CSG_MAT_AGATE,
-        [CSG_PATTERN_WRINKLES] = CSG_MAT_WRINKLES, [CSG_PATTERN_RADIAL] = CSG_MAT_RADIAL,
-        [CSG_PATTERN_ONION] = CSG_MAT_ONION,     [CSG_PATTERN_LEOPARD] = CSG_MAT_LEOPARD,
-        [CSG_PATTERN_PLANAR] = CSG_MAT_PLANAR,   [CSG_PATTERN_BOXED] = CSG_MAT_BOXED,
-        [CSG_PATTERN_CYLINDRICAL] = CSG_MAT_CYLINDRICAL, [CSG_PATTERN_CRACKLE] = CSG_MAT_CRACKLE};
-    m->pattern = kinds[pig->pattern];
+    m->pattern = pig->pattern; /* one id in the scene and the blob (device/patterns.h) */
     m->map_first = m->map_count = m->pad = 0;
-    if (m->pattern == CSG_MAT_PLAIN)
+    if (m->pattern == CSG_PATTERN_PLAIN)
         return true;
-    _Static_assert((int)CSG_WAVE_POLY == (int)CSG_MAT_WAVE_POLY, "the two wave enums agree");
     m->wave = pig->wave;
     m->exponent = (real)pig->exponent;
     m->noise_gen = csg_noise_of(fb->scene, pig);
@@ -949,7 +939,7 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
  * when patterned, any colour of its map. */
 static bool material_opaque(const flat_builder *fb, const csg_material *m)
 {
-    if (m->pattern == CSG_MAT_PLAIN)
+    if (m->pattern == CSG_PATTERN_PLAIN)
         return m->filter <= 0 && m->transmit <= 0;
     for (int k = 0; k < m->map_count; k++) {
         const csg_map_color *c = &fb->maps[m->map_first + k];

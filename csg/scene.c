@@ -1,7 +1,8 @@
 /*
  * scene.c — the scene tree's support: defaults (POV-Ray 3.7's), affine
  * transforms in double, the arena that owns a scene's memory, and the
- * names and roles of the object kinds (CSG_OBJECT_KINDS).
+ * names and roles of the object kinds (CSG_OBJECT_KINDS), of the patterns
+ * and of the waves (device/patterns.h).
  */
 #include "scene.h"
 
@@ -263,4 +264,41 @@ bool csg_object_is_leaf(int kind)
     default:
         return false;
     }
+}
+
+/* ---- the tables of patterns and waves (device/patterns.h) ------------------- */
+
+#define SCENE_PATTERN_NAME(ID, name, wave, noise, warp) [CSG_PATTERN_##ID] = #name,
+static const char *const pattern_names[CSG_PATTERN_COUNT] = {
+    CSG_PATTERNS(SCENE_PATTERN_NAME, SCENE_PATTERN_NAME)};
+
+#define SCENE_PATTERN_WAVE(ID, name, wave, noise, warp) [CSG_PATTERN_##ID] = CSG_WAVE_##wave,
+static const enum csg_wave pattern_waves[CSG_PATTERN_COUNT] = {
+    CSG_PATTERNS(SCENE_PATTERN_WAVE, SCENE_PATTERN_WAVE)};
+
+#define SCENE_PATTERN_NOISE(ID, name, wave, noise, warp) [CSG_PATTERN_##ID] = noise,
+static const bool pattern_noise[CSG_PATTERN_COUNT] = {
+    CSG_PATTERNS(SCENE_PATTERN_NOISE, SCENE_PATTERN_NOISE)};
+
+#define SCENE_WAVE_NAME(ID, name) [CSG_WAVE_##ID] = #name,
+static const char *const wave_names[CSG_WAVE_COUNT] = {CSG_WAVES(SCENE_WAVE_NAME)};
+
+const char *csg_pattern_name(int pattern)
+{
+    return pattern >= 0 && pattern < CSG_PATTERN_COUNT ? pattern_names[pattern] : NULL;
+}
+
+const char *csg_wave_name(int wave)
+{
+    return wave >= 0 && wave < CSG_WAVE_COUNT ? wave_names[wave] : NULL;
+}
+
+enum csg_wave csg_pattern_wave(enum csg_pattern pattern)
+{
+    return (int)pattern >= 0 && pattern < CSG_PATTERN_COUNT ? pattern_waves[pattern] : CSG_WAVE_RAMP;
+}
+
+bool csg_pattern_reads_noise(enum csg_pattern pattern)
+{
+    return (int)pattern >= 0 && pattern < CSG_PATTERN_COUNT && pattern_noise[pattern];
 }

@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "device/patterns.h"
 #include "diag.h"
 
 typedef struct {
@@ -64,27 +65,21 @@ const char *csg_object_kind_name(int kind);
 /* A shape (true) or an operator (false); false out of range. */
 bool csg_object_is_leaf(int kind);
 
-/* Pigment patterns (POV-Ray 3.7's semantics, evaluated by the C workers:
- * workers/pigment.c): the pattern gives a value at a point of pattern
- * space, the colour map turns it into a colour. */
-enum csg_pattern {
-    CSG_PATTERN_PLAIN,    /* one colour: rgbft                                 */
-    CSG_PATTERN_CHECKER,  /* 0 or 1 by the parity of floor(x)+floor(y)+floor(z) */
-    CSG_PATTERN_GRADIENT, /* dot(point, gradient), wrapped into [0, 1)          */
-    CSG_PATTERN_BOZO,     /* POV-Ray's solid noise (also spotted and bumps)    */
-    CSG_PATTERN_WOOD,     /* distance from the z axis, turbulence by cycloids  */
-    CSG_PATTERN_MARBLE,   /* x plus turbulence                                 */
-    CSG_PATTERN_GRANITE,  /* six octaves of |noise|                            */
-    CSG_PATTERN_AGATE,    /* a cycloid of turbulence and z                     */
-    CSG_PATTERN_WRINKLES, /* ten octaves of noise, halved                      */
-    CSG_PATTERN_RADIAL,   /* the angle about the y axis, in turns from -z      */
-    CSG_PATTERN_ONION,    /* the distance from the origin, modulo 1            */
-    CSG_PATTERN_LEOPARD,  /* ((sin x + sin y + sin z) / 3)^2                   */
-    CSG_PATTERN_PLANAR,   /* 1 - |y| (0 beyond 1)                              */
-    CSG_PATTERN_BOXED,    /* 1 - the largest |coordinate| (0 beyond 1)         */
-    CSG_PATTERN_CYLINDRICAL, /* 1 - the distance from the y axis (0 beyond 1)  */
-    CSG_PATTERN_CRACKLE   /* Worley's cells: distances to the random points     */
-};
+/* Pigment patterns and waves (POV-Ray 3.7's semantics, evaluated by the C
+ * workers: workers/pigment.c): the pattern gives a value at a point of
+ * pattern space, the wave shapes it, the colour map turns it into a
+ * colour.  Both sets are the tables of device/patterns.h (enum csg_pattern,
+ * enum csg_wave), whose ids the blob keeps as they are. */
+
+/* The keyword of a pattern ("checker", ...; "plain" for a plain colour,
+ * which has none) or of a wave without its "_wave" ("ramp", ...); NULL
+ * out of range. */
+const char *csg_pattern_name(int pattern);
+const char *csg_wave_name(int wave);
+/* POV-Ray's default wave of a pattern (ramp out of range). */
+enum csg_wave csg_pattern_wave(enum csg_pattern pattern);
+/* The pattern's value depends on the noise generator (false out of range). */
+bool csg_pattern_reads_noise(enum csg_pattern pattern);
 
 /* crackle's settings (POV-Ray's defaults: form <-1, 1, 0>, metric 2,
  * offset 0, not solid). */
@@ -94,17 +89,6 @@ typedef struct {
     double offset;   /* added to every distance                          */
     bool solid;      /* each cell one noise value instead                */
 } csg_crackle;
-
-/* POV-Ray's wave types: how a pattern's value (after frequency and phase)
- * is shaped before the colour map. */
-enum csg_wave {
-    CSG_WAVE_RAMP,     /* the value                                    */
-    CSG_WAVE_TRIANGLE, /* up and back down (wood's and marble's)       */
-    CSG_WAVE_SINE,     /* (1 + sin) / 2 of the cycle                   */
-    CSG_WAVE_SCALLOP,  /* |sin| of half the cycle                      */
-    CSG_WAVE_CUBIC,    /* 3v^2 - 2v^3                                  */
-    CSG_WAVE_POLY      /* v^exponent                                   */
-};
 
 /* POV-Ray's classic turbulence of a pattern (turbulence, octaves, omega,
  * lambda): fractal noise that displaces the point (bozo, spotted, granite,
@@ -133,10 +117,10 @@ typedef struct csg_pigment_entry csg_pigment_entry;
  * with its colour map or its pigment map. */
 typedef struct {
     double rgbft[5];          /* the colour of a plain pigment              */
-    int pattern;              /* enum csg_pattern                           */
+    enum csg_pattern pattern; /* device/patterns.h                          */
     dvec3 gradient;           /* gradient: its unit vector                  */
     double frequency, phase;  /* POV-Ray's wave: value * frequency + phase  */
-    int wave;                 /* enum csg_wave; exponent: poly_wave's       */
+    enum csg_wave wave;       /* device/patterns.h; exponent: poly_wave's   */
     double exponent;
     int noise_generator;      /* 1, 2 or 3; 0: the scene's (csg_noise_of)   */
     csg_turb turb;

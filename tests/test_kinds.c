@@ -10,6 +10,13 @@
  *     blob validation -> a primary ray -> export -> parse again;
  *   - an operator kind that does not parse or export.
  * A kind added to a table without a sample here fails test_samples_cover.
+ *
+ * The same for the tables of patterns and waves (csg/device/patterns.h),
+ * whose rows need no sample: each row's keyword is a keyword of the lexer
+ * and parses to its row, every pattern and wave flattens to its own id in
+ * the blob (no map between the two), and export writes it back; and the
+ * other side of "no default": a blob holding a pattern or a wave outside
+ * the tables is refused by csg_blob_valid, so no worker evaluates one.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -22,6 +29,7 @@
 
 #include "../csg/export_pov.h"
 #include "../csg/flatten.h"
+#include "../csg/lang/lexer.h"
 #include "../csg/lang/parser.h"
 #include "../csg/precision.h"
 #include "../csg/summary.h"
@@ -202,12 +210,198 @@ static void test_export_each(void **state)
     }
 }
 
+/* ---- the tables of patterns and waves ---------------------------------------- */
+
+static void test_pattern_names(void **state)
+{
+    (void)state;
+    for (int k = 0; k < CSG_PATTERN_COUNT; k++) {
+        assert_non_null(csg_pattern_name(k));
+        for (int j = 0; j < k; j++)
+            assert_string_not_equal(csg_pattern_name(j), csg_pattern_name(k));
+    }
+    for (int w = 0; w < CSG_WAVE_COUNT; w++) {
+        assert_non_null(csg_wave_name(w));
+        for (int j = 0; j < w; j++)
+            assert_string_not_equal(csg_wave_name(j), csg_wave_name(w));
+    }
+    assert_null(csg_pattern_name(-1));
+    assert_null(csg_pattern_name(CSG_PATTERN_COUNT));
+    assert_null(csg_wave_name(-1));
+    assert_null(csg_wave_name(CSG_WAVE_COUNT));
+    /* the ids a blob holds: appended rows keep them */
+    assert_int_equal(CSG_PATTERN_PLAIN, 0);
+    assert_int_equal(CSG_PATTERN_CRACKLE, 15);
+    assert_int_equal(CSG_WAVE_POLY, 5);
+}
+
+static void assert_pattern_word(const char *word, int pattern, bool alias)
+{
+    bool is_alias = !alias;
+    assert_int_equal(csg_keyword(word, strlen(word), false), CSG_KW_PATTERN);
+    assert_int_equal(csg_pattern_keyword(word, strlen(word), &is_alias), pattern);
+    assert_int_equal(is_alias, alias);
+}
+
+/* Every pattern's name is a pattern keyword (plain's is none: an
+ * identifier), every alias too, every wave's <name>_wave a wave keyword. */
+static void test_pattern_keywords(void **state)
+{
+    (void)state;
+    for (int k = 0; k < CSG_PATTERN_COUNT; k++) {
+        const char *name = csg_pattern_name(k);
+        if (k == CSG_PATTERN_PLAIN) {
+            assert_int_equal(csg_keyword(name, strlen(name), false), CSG_KW_NONE);
+            assert_int_equal(csg_pattern_keyword(name, strlen(name), NULL), -1);
+        } else {
+            assert_pattern_word(name, k, false);
+        }
+    }
+#define KINDS_ALIAS(word, ID) assert_pattern_word(#word, CSG_PATTERN_##ID, true);
+    CSG_PATTERN_ALIASES(KINDS_ALIAS)
+#undef KINDS_ALIAS
+    for (int w = 0; w < CSG_WAVE_COUNT; w++) {
+        char word[64];
+        snprintf(word, sizeof word, "%s_wave", csg_wave_name(w));
+        assert_int_equal(csg_keyword(word, strlen(word), false), CSG_KW_WAVE);
+        assert_int_equal(csg_wave_keyword(word, strlen(word)), w);
+    }
+    assert_int_equal(csg_wave_keyword("ramp", 4), -1);
+    assert_int_equal(csg_pattern_keyword("bozo_", 5, NULL), -1);
+}
+
+/* A sphere with `pigment { BODY }` in front of the camera. */
+static void parse_pigment(const char *body, csg_scene *s)
+{
+    char text[512];
+    snprintf(text, sizeof text, CAMERA "sphere { <0, 0, 5>, 1 pigment { %s } }\n", body);
+    parse_ok(text, s);
+}
+
+static const csg_pigment *pigment_of(const csg_scene *s)
+{
+    return &s->textures[s->objects[0]->texture].pigment;
+}
+
+/* The blob's materials (this file's csg_material is the float one). */
+static csg_material *blob_materials(const csg_blob *b)
+{
+    const csg_blob_header *h = csg_blob_hdr(b->bytes);
+    assert_int_equal(h->real_size, sizeof(real));
+    return (csg_material *)(void *)((char *)b->bytes + h->off_materials);
+}
+
+/* s flattened (float): its primitive's material has this pattern and
+ * wave (wave < 0: not looked at), and the blob is valid. */
+static void assert_flat_ids(const csg_scene *s, int pattern, int wave)
+{
+    csg_flatten_opts o = {3, 3, 1, -1, 1, 0};
+    csg_diag d = {0};
+    csg_blob b;
+    if (!engine_float.flatten(s, &o, &b, &d))
+        fail_msg("flatten failed: %s", d.message);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    const csg_blob_header *h = csg_blob_hdr(b.bytes);
+    const csg_prim *prims = (const csg_prim *)(const void *)((const char *)b.bytes + h->off_prims);
+    const csg_material *m = &blob_materials(&b)[prims[0].material];
+    assert_int_equal(m->pattern, pattern);
+    if (wave >= 0)
+        assert_int_equal(m->wave, wave);
+    csg_blob_free(&b);
+}
+
+/* Exported and parsed again: the same pattern and wave. */
+static void assert_export_keeps(const csg_scene *s)
+{
+    char *out = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&out, &len);
+    assert_non_null(f);
+    csg_diag d = {0};
+    if (!csg_export_pov(s, f, false, &d))
+        fail_msg("export failed: %s", d.message);
+    fclose(f);
+    csg_scene back;
+    parse_ok(out, &back);
+    assert_int_equal(pigment_of(&back)->pattern, pigment_of(s)->pattern);
+    assert_int_equal(pigment_of(&back)->wave, pigment_of(s)->wave);
+    free(out);
+    csg_scene_free(&back);
+}
+
+/* Each pattern by its keyword (gradient needs its vector): parsed to its
+ * row with the table's default wave, flattened to the same id, exported
+ * back; each wave likewise. */
+static void test_pattern_pipeline(void **state)
+{
+    (void)state;
+    char body[128];
+    for (int k = 0; k < CSG_PATTERN_COUNT; k++) {
+        if (k == CSG_PATTERN_PLAIN)
+            snprintf(body, sizeof body, "rgb <1, 0.5, 0>");
+        else
+            snprintf(body, sizeof body, "%s%s", csg_pattern_name(k),
+                     k == CSG_PATTERN_GRADIENT ? " y" : "");
+        csg_scene s;
+        parse_pigment(body, &s);
+        assert_int_equal(pigment_of(&s)->pattern, k);
+        assert_int_equal(pigment_of(&s)->wave, csg_pattern_wave(k));
+        assert_flat_ids(&s, k, k == CSG_PATTERN_PLAIN ? -1 : (int)csg_pattern_wave(k));
+        assert_export_keeps(&s);
+        csg_scene_free(&s);
+    }
+    for (int w = 0; w < CSG_WAVE_COUNT; w++) {
+        snprintf(body, sizeof body, "wood %s_wave", csg_wave_name(w));
+        csg_scene s;
+        parse_pigment(body, &s);
+        assert_int_equal(pigment_of(&s)->wave, w);
+        assert_flat_ids(&s, CSG_PATTERN_WOOD, w);
+        assert_export_keeps(&s);
+        csg_scene_free(&s);
+    }
+}
+
+/* A pattern or a wave outside the tables: the validator refuses the blob
+ * (the workers' dispatch has no default to fall back on). */
+static void test_blob_refuses_unknown(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_pigment("bozo sine_wave", &s);
+    csg_flatten_opts o = {3, 3, 1, -1, 1, 0};
+    csg_diag d = {0};
+    csg_blob b;
+    assert_true(engine_float.flatten(&s, &o, &b, &d));
+    csg_material *m = &blob_materials(&b)[0];
+    assert_int_equal(m->pattern, CSG_PATTERN_BOZO);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    const int bad_patterns[] = {-1, CSG_PATTERN_COUNT, 1000};
+    for (size_t i = 0; i < sizeof bad_patterns / sizeof bad_patterns[0]; i++) {
+        m->pattern = bad_patterns[i];
+        assert_false(csg_blob_valid(b.bytes, b.size));
+    }
+    m->pattern = CSG_PATTERN_COUNT - 1; /* the last row is known */
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    m->pattern = CSG_PATTERN_BOZO;
+    const int bad_waves[] = {-1, CSG_WAVE_COUNT, 1000};
+    for (size_t i = 0; i < sizeof bad_waves / sizeof bad_waves[0]; i++) {
+        m->wave = bad_waves[i];
+        assert_false(csg_blob_valid(b.bytes, b.size));
+    }
+    m->wave = CSG_WAVE_COUNT - 1;
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_samples_cover), cmocka_unit_test(test_names),
         cmocka_unit_test(test_parse_each),    cmocka_unit_test(test_pipeline_each),
-        cmocka_unit_test(test_export_each),
+        cmocka_unit_test(test_export_each),   cmocka_unit_test(test_pattern_names),
+        cmocka_unit_test(test_pattern_keywords), cmocka_unit_test(test_pattern_pipeline),
+        cmocka_unit_test(test_blob_refuses_unknown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -828,6 +828,37 @@ static void test_keywords(void **state)
     assert_int_equal(csg_keyword("declare", 7, true), CSG_KW_DECLARE);
     assert_int_equal(csg_keyword("fopen", 5, true), CSG_KW_UNSUPPORTED);
     assert_int_equal(csg_keyword("declare", 7, false), CSG_KW_NONE);
+    assert_int_equal(csg_keyword("default", 7, false), CSG_KW_DEFAULT);
+    assert_int_equal(csg_keyword("defined", 7, false), CSG_KW_DEFINED);
+}
+
+/* Every row of the lexer's tables, read from its source, is found by the
+ * binary search: a row out of byte order hides itself or a neighbour
+ * (`defined` was taken for an identifier that way). */
+static void test_keyword_tables_sorted(void **state)
+{
+    (void)state;
+    FILE *f = fopen("csg/lang/lexer.c", "r");
+    assert_non_null(f);
+    char line[256], word[64], last[64] = "";
+    int table = 0, rows = 0; /* 1: kw_table, 2: directive_table */
+    while (fgets(line, sizeof line, f)) {
+        if (strstr(line, "kw_entry kw_table[]") || strstr(line, "kw_entry directive_table[]")) {
+            table = strstr(line, "directive") ? 2 : 1;
+            last[0] = '\0';
+        } else if (table && strncmp(line, "};", 2) == 0) {
+            table = 0;
+        } else if (table && sscanf(line, " {\"%63[^\"]\"", word) == 1) {
+            if (strcmp(last, word) >= 0)
+                fail_msg("lexer.c: '%s' after '%s' (not in byte order)", word, last);
+            if (csg_keyword(word, strlen(word), table == 2) == CSG_KW_NONE)
+                fail_msg("lexer.c: '%s' is not found", word);
+            snprintf(last, sizeof last, "%s", word);
+            rows++;
+        }
+    }
+    fclose(f);
+    assert_true(rows > 400);
 }
 
 static void test_summary(void **state)
@@ -870,6 +901,7 @@ int main(void)
         cmocka_unit_test(test_nesting_limits),
         cmocka_unit_test(test_include),
         cmocka_unit_test(test_keywords),
+        cmocka_unit_test(test_keyword_tables_sorted),
         cmocka_unit_test(test_summary),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

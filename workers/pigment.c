@@ -34,6 +34,13 @@
  *      first entry whose value is >= the value, and
  *      linear interpolation from the entry before it (at or past the last
  *      entry: the last colour).
+ *
+ * Steps 3 to 5 follow the tables of csg/device/patterns.h: each pattern's
+ * value is pattern_<name>, each wave wave_<name>, and the switches that
+ * call them are the tables expanded, with no default case.  A material
+ * whose pattern or wave is outside the tables never reaches them:
+ * csg_blob_valid (csg/blob.c) refuses its blob before any worker, local
+ * or remote, reads it (host/render.c, workers/worker.c, comm/relay.c).
  */
 #include "pigment.h"
 
@@ -103,18 +110,7 @@ static void onto_surface(const csg_prim *prims, csg_u32 surf, double w[3])
             w[i] -= f * g[i] / gg;
 }
 
-static double checker(const double q[3], double bias)
-{
-    double sum = floor(q[0] + bias) + floor(q[1] + bias) + floor(q[2] + bias);
-    return fmod(sum, 2.0) != 0.0 ? 1.0 : 0.0;
-}
-
-static double gradient(const csg_material *m, const double q[3])
-{
-    double g[3] = {(double)m->gradient[0], (double)m->gradient[1], (double)m->gradient[2]};
-    double r = dot3d(q, g);
-    return r > 1.0 ? fmod(r, 1.0) : r;
-}
+/* ---- step 3: classic turbulence ------------------------------------------ */
 
 static noise_turb turb_of(const csg_material *m)
 {
@@ -122,7 +118,6 @@ static noise_turb turb_of(const csg_material *m)
     return t;
 }
 
-/* Step 3. */
 static void turbulence_warp(const csg_material *m, double q[3])
 {
     noise_turb t = turb_of(m);
@@ -132,8 +127,46 @@ static void turbulence_warp(const csg_material *m, double q[3])
         q[i] += d[i] * (double)m->turbulence[i];
 }
 
-static double granite(const double q[3], int gen)
+/* The turbulence moves the point before m's pattern: the table's warp
+ * column (device/patterns.h), 0 for the patterns that read it themselves. */
+static bool turbulence_moves(const csg_material *m)
 {
+#define PIGMENT_WARP(ID, name, wave, noise, warp) [CSG_PATTERN_##ID] = warp,
+    static const bool warps[CSG_PATTERN_COUNT] = {CSG_PATTERNS(PIGMENT_WARP, PIGMENT_WARP)};
+#undef PIGMENT_WARP
+    return warps[m->pattern];
+}
+
+/* ---- step 4: the patterns' values ------------------------------------------
+ * pattern_<name> for each PATTERN row of CSG_PATTERNS (device/patterns.h),
+ * with one signature: the material, the point in pattern space, and the
+ * bias that puts a point on a cell boundary in the upper cell (checker's). */
+
+static double pattern_checker(const csg_material *m, const double q[3], double bias)
+{
+    (void)m;
+    double sum = floor(q[0] + bias) + floor(q[1] + bias) + floor(q[2] + bias);
+    return fmod(sum, 2.0) != 0.0 ? 1.0 : 0.0;
+}
+
+static double pattern_gradient(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double g[3] = {(double)m->gradient[0], (double)m->gradient[1], (double)m->gradient[2]};
+    double r = dot3d(q, g);
+    return r > 1.0 ? fmod(r, 1.0) : r;
+}
+
+static double pattern_bozo(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    return noise_value(q, m->noise_gen);
+}
+
+static double pattern_granite(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    int gen = m->noise_gen;
     double sum = 0.0, freq = 1.0;
     double p4[3] = {q[0] * 4.0, q[1] * 4.0, q[2] * 4.0};
     for (int i = 0; i < 6; freq *= 2.0, i++) {
@@ -149,8 +182,9 @@ static double granite(const double q[3], int gen)
     return sum;
 }
 
-static double marble(const csg_material *m, const double q[3])
+static double pattern_marble(const csg_material *m, const double q[3], double bias)
 {
+    (void)bias;
     double turb = 0.0;
     if (m->turb_on) {
         noise_turb t = turb_of(m);
@@ -159,8 +193,9 @@ static double marble(const csg_material *m, const double q[3])
     return q[0] + turb;
 }
 
-static double wood(const csg_material *m, const double q[3])
+static double pattern_wood(const csg_material *m, const double q[3], double bias)
 {
+    (void)bias;
     double x = 0.0, y = 0.0;
     if (m->turb_on) {
         noise_turb t = turb_of(m);
@@ -174,8 +209,9 @@ static double wood(const csg_material *m, const double q[3])
     return sqrt(x * x + y * y + 0.0 * 0.0);
 }
 
-static double agate(const csg_material *m, const double q[3])
+static double pattern_agate(const csg_material *m, const double q[3], double bias)
 {
+    (void)bias;
     noise_turb t = turb_of(m);
     double turb = (double)m->agate_turb * noise_turbulence(q, &t, m->noise_gen);
     double v = 0.5 * (noise_cycloidal(1.3 * turb + 1.1 * q[2]) + 1.0);
@@ -186,8 +222,10 @@ static double agate(const csg_material *m, const double q[3])
 
 /* POV-Ray's wrinkles: nine more octaves of noise after the first, each
  * (for generators 2 and 3) stretched to 2 n - 0.5 and clamped. */
-static double wrinkles(const double q[3], int gen)
+static double pattern_wrinkles(const csg_material *m, const double q[3], double bias)
 {
+    (void)bias;
+    int gen = m->noise_gen;
     double lambda = 2.0, omega = 0.5, value;
     if (gen > 1) {
         double n = noise_value(q, gen) * 2.0 - 0.5;
@@ -215,33 +253,44 @@ static double clip_density(double r)
     return r < 0.0 ? 1.0 : r > 1.0 ? 0.0 : 1.0 - r;
 }
 
-static double radial(const double q[3])
+static double pattern_radial(const csg_material *m, const double q[3], double bias)
 {
+    (void)m, (void)bias;
     if (fabs(q[0]) < 0.001 && fabs(q[2]) < 0.001)
         return 0.25;
     return 0.25 + (atan2(q[0], q[2]) + M_PI) / (2.0 * M_PI);
 }
 
-static double leopard(const double q[3])
+static double pattern_onion(const csg_material *m, const double q[3], double bias)
 {
+    (void)m, (void)bias;
+    return fmod(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]), 1.0);
+}
+
+static double pattern_leopard(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)bias;
     double v = (sin(q[0]) + sin(q[1]) + sin(q[2])) / 3.0;
     return v * v;
 }
 
-/* The simple geometric patterns. */
-static double shape_value(const csg_material *m, const double q[3])
+static double pattern_planar(const csg_material *m, const double q[3], double bias)
 {
-    switch (m->pattern) {
-    case CSG_MAT_RADIAL: return radial(q);
-    case CSG_MAT_ONION: return fmod(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]), 1.0);
-    case CSG_MAT_LEOPARD: return leopard(q);
-    case CSG_MAT_PLANAR: return clip_density(fabs(q[1]));
-    case CSG_MAT_BOXED: {
-        double a = fabs(q[0]), b = fabs(q[1]), c = fabs(q[2]);
-        return clip_density(a > (b > c ? b : c) ? a : (b > c ? b : c));
-    }
-    default: return clip_density(sqrt(q[0] * q[0] + q[2] * q[2])); /* cylindrical */
-    }
+    (void)m, (void)bias;
+    return clip_density(fabs(q[1]));
+}
+
+static double pattern_boxed(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)bias;
+    double a = fabs(q[0]), b = fabs(q[1]), c = fabs(q[2]);
+    return clip_density(a > (b > c ? b : c) ? a : (b > c ? b : c));
+}
+
+static double pattern_cylindrical(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)bias;
+    return clip_density(sqrt(q[0] * q[0] + q[2] * q[2]));
 }
 
 /* POV-Ray's crackle distance of d (a point minus q) by the metric. */
@@ -298,8 +347,9 @@ static int crackle_nearest(double *s, int n)
  * points of the cubes around q, plus the offset, weighted by the form
  * (back from the metric); or, solid, the noise at the nearest point.
  * Clamped to [0, 1]. */
-static double crackle(const csg_material *m, const double q[3])
+static double pattern_crackle(const csg_material *m, const double q[3], double bias)
 {
+    (void)bias;
     int cubes[81][3], n = crackle_cubes(cubes);
     int fx = (int)floor(q[0] - PATTERN_EPSILON), fy = (int)floor(q[1] - PATTERN_EPSILON);
     int fz = (int)floor(q[2] - PATTERN_EPSILON);
@@ -329,39 +379,82 @@ static double crackle(const csg_material *m, const double q[3])
     return v < 1.0 ? (v > 0.0 ? v : 0.0) : 1.0;
 }
 
-/* Step 4. */
+/* Step 4: the value of m's pattern.  The cases are the table's rows, each
+ * its pattern_<name> (a row without one does not compile); there is no
+ * default, so -Wswitch names a pattern left out.  Plain never gets here
+ * (evaluate() returns its colour first), and no other id reaches a worker:
+ * csg_blob_valid refuses a blob with one (csg/blob.c). */
 static double pattern_value(const csg_material *m, const double q[3], double bias)
 {
-    switch (m->pattern) {
-    case CSG_MAT_CHECKER: return checker(q, bias);
-    case CSG_MAT_GRADIENT: return gradient(m, q);
-    case CSG_MAT_BOZO: return noise_value(q, m->noise_gen);
-    case CSG_MAT_GRANITE: return granite(q, m->noise_gen);
-    case CSG_MAT_MARBLE: return marble(m, q);
-    case CSG_MAT_WOOD: return wood(m, q);
-    case CSG_MAT_AGATE: return agate(m, q);
-    case CSG_MAT_WRINKLES: return wrinkles(q, m->noise_gen);
-    case CSG_MAT_CRACKLE: return crackle(m, q);
-    default: return shape_value(m, q);
+    switch ((enum csg_pattern)m->pattern) {
+    case CSG_PATTERN_PLAIN:
+        break;
+#define PIGMENT_PATTERN_CASE(ID, name, wave, noise, warp)                                          \
+    case CSG_PATTERN_##ID:                                                                         \
+        return pattern_##name(m, q, bias);
+        CSG_PATTERNS(CSG_PATTERN_NONE, PIGMENT_PATTERN_CASE)
+#undef PIGMENT_PATTERN_CASE
     }
+    return 0.0; /* not reached (above) */
 }
 
-/* Step 5. */
+/* ---- step 5: the waves, wave_<name> for each row of CSG_WAVES ------------ */
+
+static double wave_ramp(const csg_material *m, double v)
+{
+    (void)m;
+    return v;
+}
+
+static double wave_triangle(const csg_material *m, double v)
+{
+    (void)m;
+    return noise_triangle(v);
+}
+
+static double wave_sine(const csg_material *m, double v)
+{
+    (void)m;
+    return (1.0 + noise_cycloidal(v)) * 0.5;
+}
+
+static double wave_scallop(const csg_material *m, double v)
+{
+    (void)m;
+    return fabs(noise_cycloidal(v * 0.5));
+}
+
+static double wave_cubic(const csg_material *m, double v)
+{
+    (void)m;
+    return v * v * (-2.0 * v + 3.0);
+}
+
+static double wave_poly(const csg_material *m, double v)
+{
+    return pow(v, (double)m->exponent);
+}
+
+/* Step 5: frequency and phase, then m's wave (dispatched like
+ * pattern_value: the table's rows, no default, ids checked by
+ * csg_blob_valid). */
 static double wave(const csg_material *m, double v)
 {
     if ((double)m->frequency != 0.0)
         v = fmod(v * (double)m->frequency + (double)m->phase, 1.00001);
     if (v < 0.0)
         v -= floor(v);
-    switch (m->wave) {
-    case CSG_MAT_WAVE_TRIANGLE: return noise_triangle(v);
-    case CSG_MAT_WAVE_SINE: return (1.0 + noise_cycloidal(v)) * 0.5;
-    case CSG_MAT_WAVE_SCALLOP: return fabs(noise_cycloidal(v * 0.5));
-    case CSG_MAT_WAVE_CUBIC: return v * v * (-2.0 * v + 3.0);
-    case CSG_MAT_WAVE_POLY: return pow(v, (double)m->exponent);
-    default: return v;
+    switch ((enum csg_wave)m->wave) {
+#define PIGMENT_WAVE_CASE(ID, name)                                                                \
+    case CSG_WAVE_##ID:                                                                            \
+        return wave_##name(m, v);
+        CSG_WAVES(PIGMENT_WAVE_CASE)
+#undef PIGMENT_WAVE_CASE
     }
+    return v; /* not reached (above) */
 }
+
+/* ---- step 6: the colour map or the pigment map ----------------------------- */
 
 /* Step 6, POV-Ray's Search_Blend_Map: the entries *prev and *cur around
  * v, and the fraction of the way from prev to cur (0 when they are one). */
@@ -458,7 +551,7 @@ static pigment_color pigment_map_color(const csg_material *mats, const csg_mater
 static pigment_color evaluate(const csg_material *mats, const csg_material *m,
                               const csg_map_color *maps, const double w[3], double err, int depth)
 {
-    if (m->pattern == CSG_MAT_PLAIN) {
+    if (m->pattern == CSG_PATTERN_PLAIN) {
         pigment_color pc;
         pc.color = v3_load(m->color);
         pc.filter = m->filter;
@@ -469,7 +562,7 @@ static pigment_color evaluate(const csg_material *mats, const csg_material *m,
     for (int i = 0; i < 3; i++)
         q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
                (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
-    if (m->turb_on && m->pattern != CSG_MAT_WOOD && m->pattern != CSG_MAT_MARBLE)
+    if (m->turb_on && turbulence_moves(m))
         turbulence_warp(m, q);
     double q_err = err * matrix_norm(m->to_pattern);
     double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + q_err));
@@ -483,7 +576,7 @@ pigment_color PIGMENT_AT(const csg_material *mats, const csg_material *m,
                          real err)
 {
     double w[3] = {(double)p.x, (double)p.y, (double)p.z};
-    if (m->pattern != CSG_MAT_PLAIN && prims && surf != CSG_SURF_NONE)
+    if (m->pattern != CSG_PATTERN_PLAIN && prims && surf != CSG_SURF_NONE)
         onto_surface(prims, surf, w);
     return evaluate(mats, m, maps, w, (double)err, 0);
 }

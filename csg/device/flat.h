@@ -19,6 +19,7 @@
 #ifndef CSG_FLAT_H
 #define CSG_FLAT_H
 
+#include "patterns.h"
 #include "portable.h"
 
 /* The table of primitive kinds the tracers know, X(ID, name), in the
@@ -213,39 +214,6 @@ typedef struct {
     real sky_emission[3];
 } csg_shading;
 
-/* A material's pigment pattern (csg_material.pattern), POV-Ray 3.7's:
- * workers/pigment.c evaluates it at a hit point. */
-enum csg_material_pattern {
-    CSG_MAT_PLAIN = 0,    /* color, filter, transmit                          */
-    CSG_MAT_CHECKER = 1,  /* the colour map's entry 0 or 1 by the parity of
-                             floor(x) + floor(y) + floor(z)                     */
-    CSG_MAT_GRADIENT = 2, /* dot(point, gradient) through the colour map       */
-    CSG_MAT_BOZO = 3,     /* POV-Ray's solid noise (bozo, spotted)             */
-    CSG_MAT_WOOD = 4,     /* distance from the z axis (+ cycloidal turbulence) */
-    CSG_MAT_MARBLE = 5,   /* x + turbulence                                    */
-    CSG_MAT_GRANITE = 6,  /* six octaves of |noise|                            */
-    CSG_MAT_AGATE = 7,    /* a cycloid of turbulence and z                     */
-    CSG_MAT_WRINKLES = 8, /* the rest: csg/scene.h's enum csg_pattern           */
-    CSG_MAT_RADIAL = 9,
-    CSG_MAT_ONION = 10,
-    CSG_MAT_LEOPARD = 11,
-    CSG_MAT_PLANAR = 12,
-    CSG_MAT_BOXED = 13,
-    CSG_MAT_CYLINDRICAL = 14,
-    CSG_MAT_CRACKLE = 15
-};
-
-/* A material's wave (csg_material.wave): POV-Ray's shape of a pattern's
- * value, numbered as csg/scene.h's enum csg_wave. */
-enum csg_material_wave {
-    CSG_MAT_WAVE_RAMP = 0,
-    CSG_MAT_WAVE_TRIANGLE = 1,
-    CSG_MAT_WAVE_SINE = 2,
-    CSG_MAT_WAVE_SCALLOP = 3,
-    CSG_MAT_WAVE_CUBIC = 4,
-    CSG_MAT_WAVE_POLY = 5
-};
-
 /* One entry of a colour map (the blob's maps array). */
 typedef struct {
     real value;
@@ -254,11 +222,11 @@ typedef struct {
 
 /* Shading data, used by the C workers only (the kernel never reads it). */
 typedef struct {
-    csg_i32 pattern;    /* enum csg_material_pattern                    */
+    csg_i32 pattern;    /* enum csg_pattern (patterns.h)                 */
     csg_i32 map_first;  /* its colour map: maps[map_first .. + map_count) */
     csg_i32 map_count;
     csg_i32 pad;
-    real color[3];      /* pigment rgb (CSG_MAT_PLAIN)                  */
+    real color[3];      /* pigment rgb (CSG_PATTERN_PLAIN)              */
     real filter;        /* pigment filter: light through, tinted         */
     real transmit;      /* pigment transmit: light through, untinted     */
     real ambient[3];
@@ -271,12 +239,12 @@ typedef struct {
     real metallic;      /* highlights tinted by the pigment (POV-Ray's)  */
     real reflection[3];
     real ior;           /* interior: index of refraction                 */
-    real gradient[3];   /* CSG_MAT_GRADIENT: unit vector                 */
+    real gradient[3];   /* CSG_PATTERN_GRADIENT: unit vector             */
     real frequency;     /* POV-Ray's wave: value * frequency + phase     */
     real phase;
     real to_pattern[12]; /* world -> pattern space, row-major 3x4 like
                             csg_prim.inv                                  */
-    csg_i32 wave;       /* enum csg_material_wave                        */
+    csg_i32 wave;       /* enum csg_wave (patterns.h)                    */
     csg_i32 noise_gen;  /* POV-Ray's noise generator: 1, 2 or 3         */
     csg_i32 turb_on;    /* classic turbulence given (1) or not (0)       */
     csg_i32 octaves;    /* turbulence: 1 to 10                           */

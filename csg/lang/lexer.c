@@ -5,15 +5,18 @@
  * comments are skipped first: `//` to the end of the line and slash-star ... star-slash
  * block comments, which nest as in POV-Ray (a depth counter, no recursion).
  * Words are looked up by binary search in a table sorted by byte order
- * (kw_table; test_parser checks a sample of it): every reserved word of
- * POV-Ray 3.7 is there, so a word csgtrace does not implement is named as
- * unsupported rather than taken for an identifier.  Operators are one
- * character, or two for <= >= != (csg_token.punct).  A UTF-8 byte-order
- * mark before the first character is skipped.  A number is scanned to
- * its extent by the grammar digits [. digits] [e [+-] digits] (or . digits
- * ...), then converted on a bounded copy (decimal.h, else strtod: the
- * same value), so strtod's own extensions (hex, inf, nan) can never be
- * reached.
+ * (kw_table; test_parser checks that every row is found): every reserved
+ * word of POV-Ray 3.7 is there, so a word csgtrace does not implement is
+ * named as unsupported rather than taken for an identifier.  The pattern
+ * and wave keywords csgtrace implements are not: they come from the
+ * tables of csg/device/patterns.h (CSG_KW_PATTERN, CSG_KW_WAVE; the parser
+ * asks csg_pattern_keyword and csg_wave_keyword which one), so a row added
+ * there is a keyword with no edit here.  Operators are one character, or
+ * two for <= >= != (csg_token.punct).  A UTF-8 byte-order mark before the
+ * first character is skipped.  A number is scanned to its extent by the
+ * grammar digits [. digits] [e [+-] digits] (or . digits ...), then
+ * converted on a bounded copy (decimal.h, else strtod: the same value),
+ * so strtod's own extensions (hex, inf, nan) can never be reached.
  *
  * Invariants: pos <= len; line/col always describe src[pos]; every token
  * records where it starts; the scanner never reads past len.
@@ -25,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../device/patterns.h"
 #include "decimal.h"
 
 typedef struct {
@@ -33,8 +37,9 @@ typedef struct {
 } kw_entry;
 
 /* POV-Ray 3.7's reserved words (477; those that are only directives are
- * in directive_table), sorted by byte order (LC_ALL=C sort):
- * binary search below. */
+ * in directive_table, the 23 pattern and wave keywords csgtrace implements
+ * in the tables of device/patterns.h: pattern_words, wave_words below),
+ * sorted by byte order (LC_ALL=C sort): binary search below. */
 static const kw_entry kw_table[] = {
     {"aa_level", CSG_KW_UNSUPPORTED},
     {"aa_threshold", CSG_KW_UNSUPPORTED},
@@ -45,7 +50,6 @@ static const kw_entry kw_table[] = {
     {"acosh", CSG_KW_ACOSH},
     {"adaptive", CSG_KW_UNSUPPORTED},
     {"adc_bailout", CSG_KW_ADC_BAILOUT},
-    {"agate", CSG_KW_AGATE},
     {"agate_turb", CSG_KW_AGATE_TURB},
     {"albedo", CSG_KW_UNSUPPORTED},
     {"all", CSG_KW_UNSUPPORTED},
@@ -89,21 +93,17 @@ static const kw_entry kw_table[] = {
     {"bokeh", CSG_KW_UNSUPPORTED},
     {"bounded_by", CSG_KW_BOUNDED_BY},
     {"box", CSG_KW_BOX},
-    {"boxed", CSG_KW_BOXED},
-    {"bozo", CSG_KW_BOZO},
     {"brick", CSG_KW_UNSUPPORTED},
     {"brick_size", CSG_KW_UNSUPPORTED},
     {"brightness", CSG_KW_UNSUPPORTED},
     {"brilliance", CSG_KW_BRILLIANCE},
     {"bump_map", CSG_KW_UNSUPPORTED},
     {"bump_size", CSG_KW_UNSUPPORTED},
-    {"bumps", CSG_KW_BUMPS},
     {"camera", CSG_KW_CAMERA},
     {"caustics", CSG_KW_UNSUPPORTED},
     {"ceil", CSG_KW_CEIL},
     {"cells", CSG_KW_UNSUPPORTED},
     {"charset", CSG_KW_UNSUPPORTED},
-    {"checker", CSG_KW_CHECKER},
     {"chr", CSG_KW_CHR},
     {"circular", CSG_KW_UNSUPPORTED},
     {"clipped_by", CSG_KW_UNSUPPORTED},
@@ -128,18 +128,15 @@ static const kw_entry kw_table[] = {
     {"cos", CSG_KW_COS},
     {"cosh", CSG_KW_COSH},
     {"count", CSG_KW_UNSUPPORTED},
-    {"crackle", CSG_KW_CRACKLE},
     {"crand", CSG_KW_UNSUPPORTED},
     {"cube", CSG_KW_UNSUPPORTED},
     {"cubic", CSG_KW_UNSUPPORTED},
     {"cubic_spline", CSG_KW_UNSUPPORTED},
-    {"cubic_wave", CSG_KW_CUBIC_WAVE},
     {"cutaway_textures", CSG_KW_UNSUPPORTED},
     {"cylinder", CSG_KW_CYLINDER},
-    {"cylindrical", CSG_KW_CYLINDRICAL},
     {"datetime", CSG_KW_UNSUPPORTED},
-    {"defined", CSG_KW_DEFINED},
     {"default", CSG_KW_DEFAULT}, /* POV-Ray takes `default { }` without '#' */
+    {"defined", CSG_KW_DEFINED},
     {"degrees", CSG_KW_DEGREES},
     {"density", CSG_KW_UNSUPPORTED},
     {"density_file", CSG_KW_UNSUPPORTED},
@@ -203,8 +200,6 @@ static const kw_entry kw_table[] = {
     {"global", CSG_KW_UNSUPPORTED},
     {"global_lights", CSG_KW_UNSUPPORTED},
     {"global_settings", CSG_KW_GLOBAL_SETTINGS},
-    {"gradient", CSG_KW_GRADIENT},
-    {"granite", CSG_KW_GRANITE},
     {"gray", CSG_KW_GRAY},
     {"gray_threshold", CSG_KW_UNSUPPORTED},
     {"green", CSG_KW_GREEN},
@@ -239,7 +234,6 @@ static const kw_entry kw_table[] = {
     {"julia_fractal", CSG_KW_UNSUPPORTED},
     {"lambda", CSG_KW_LAMBDA},
     {"lathe", CSG_KW_UNSUPPORTED},
-    {"leopard", CSG_KW_LEOPARD},
     {"light_group", CSG_KW_UNSUPPORTED},
     {"light_source", CSG_KW_LIGHT_SOURCE},
     {"linear_spline", CSG_KW_UNSUPPORTED},
@@ -255,7 +249,6 @@ static const kw_entry kw_table[] = {
     {"major_radius", CSG_KW_UNSUPPORTED},
     {"mandel", CSG_KW_UNSUPPORTED},
     {"map_type", CSG_KW_UNSUPPORTED},
-    {"marble", CSG_KW_MARBLE},
     {"material", CSG_KW_UNSUPPORTED},
     {"material_map", CSG_KW_UNSUPPORTED},
     {"matrix", CSG_KW_MATRIX},
@@ -309,7 +302,6 @@ static const kw_entry kw_table[] = {
     {"omnimax", CSG_KW_UNSUPPORTED},
     {"on", CSG_KW_TRUE},
     {"once", CSG_KW_UNSUPPORTED},
-    {"onion", CSG_KW_ONION},
     {"open", CSG_KW_OPEN},
     {"orient", CSG_KW_UNSUPPORTED},
     {"orientation", CSG_KW_UNSUPPORTED},
@@ -331,12 +323,10 @@ static const kw_entry kw_table[] = {
     {"pigment", CSG_KW_PIGMENT},
     {"pigment_map", CSG_KW_PIGMENT_MAP},
     {"pigment_pattern", CSG_KW_UNSUPPORTED},
-    {"planar", CSG_KW_PLANAR},
     {"plane", CSG_KW_PLANE},
     {"png", CSG_KW_UNSUPPORTED},
     {"point_at", CSG_KW_UNSUPPORTED},
     {"poly", CSG_KW_UNSUPPORTED},
-    {"poly_wave", CSG_KW_POLY_WAVE},
     {"polygon", CSG_KW_POLYGON},
     {"polynomial", CSG_KW_UNSUPPORTED},
     {"pot", CSG_KW_UNSUPPORTED},
@@ -358,12 +348,10 @@ static const kw_entry kw_table[] = {
     {"quick_color", CSG_KW_QUICK_COLOR},
     {"quick_colour", CSG_KW_QUICK_COLOR},
     {"quilted", CSG_KW_UNSUPPORTED},
-    {"radial", CSG_KW_RADIAL},
     {"radians", CSG_KW_RADIANS},
     {"radiosity", CSG_KW_UNSUPPORTED},
     {"radius", CSG_KW_UNSUPPORTED},
     {"rainbow", CSG_KW_UNSUPPORTED},
-    {"ramp_wave", CSG_KW_RAMP_WAVE},
     {"rand", CSG_KW_RAND},
     {"ratio", CSG_KW_UNSUPPORTED},
     {"reciprocal", CSG_KW_UNSUPPORTED},
@@ -385,14 +373,12 @@ static const kw_entry kw_table[] = {
     {"save_file", CSG_KW_UNSUPPORTED},
     {"sblue", CSG_KW_UNSUPPORTED},
     {"scale", CSG_KW_SCALE},
-    {"scallop_wave", CSG_KW_SCALLOP_WAVE},
     {"scattering", CSG_KW_UNSUPPORTED},
     {"seed", CSG_KW_SEED},
     {"select", CSG_KW_SELECT},
     {"sgreen", CSG_KW_UNSUPPORTED},
     {"shadowless", CSG_KW_SHADOWLESS},
     {"sin", CSG_KW_SIN},
-    {"sine_wave", CSG_KW_SINE_WAVE},
     {"sinh", CSG_KW_SINH},
     {"sint16be", CSG_KW_UNSUPPORTED},
     {"sint16le", CSG_KW_UNSUPPORTED},
@@ -419,7 +405,6 @@ static const kw_entry kw_table[] = {
     {"spline", CSG_KW_UNSUPPORTED},
     {"split_union", CSG_KW_UNSUPPORTED},
     {"spotlight", CSG_KW_UNSUPPORTED},
-    {"spotted", CSG_KW_SPOTTED},
     {"sqr", CSG_KW_SQR},
     {"sqrt", CSG_KW_SQRT},
     {"square", CSG_KW_UNSUPPORTED},
@@ -466,7 +451,6 @@ static const kw_entry kw_table[] = {
     {"translucency", CSG_KW_UNSUPPORTED},
     {"transmit", CSG_KW_TRANSMIT},
     {"triangle", CSG_KW_TRIANGLE},
-    {"triangle_wave", CSG_KW_TRIANGLE_WAVE},
     {"triangular", CSG_KW_UNSUPPORTED},
     {"true", CSG_KW_TRUE},
     {"ttf", CSG_KW_UNSUPPORTED},
@@ -507,8 +491,6 @@ static const kw_entry kw_table[] = {
     {"water_level", CSG_KW_UNSUPPORTED},
     {"waves", CSG_KW_UNSUPPORTED},
     {"width", CSG_KW_UNSUPPORTED},
-    {"wood", CSG_KW_WOOD},
-    {"wrinkles", CSG_KW_WRINKLES},
     {"x", CSG_KW_X},
     {"xyz", CSG_KW_UNSUPPORTED},
     {"y", CSG_KW_Y},
@@ -574,12 +556,67 @@ static enum csg_kw table_lookup(const kw_entry *t, size_t n, const char *text, s
     return CSG_KW_NONE;
 }
 
+/* The pattern keywords: each PATTERN row of CSG_PATTERNS by its name, and
+ * each alias (device/patterns.h). */
+static const struct {
+    const char *word;
+    enum csg_pattern pattern;
+    bool alias;
+} pattern_words[] = {
+#define LEX_PATTERN_WORD(ID, name, wave, noise, warp) {#name, CSG_PATTERN_##ID, false},
+#define LEX_PATTERN_ALIAS(word, ID) {#word, CSG_PATTERN_##ID, true},
+    CSG_PATTERNS(CSG_PATTERN_NONE, LEX_PATTERN_WORD) CSG_PATTERN_ALIASES(LEX_PATTERN_ALIAS)
+#undef LEX_PATTERN_WORD
+#undef LEX_PATTERN_ALIAS
+};
+
+/* The wave keywords: <name>_wave for each row of CSG_WAVES. */
+#define LEX_WAVE_WORD(ID, name) [CSG_WAVE_##ID] = #name "_wave",
+static const char *const wave_words[CSG_WAVE_COUNT] = {CSG_WAVES(LEX_WAVE_WORD)};
+#undef LEX_WAVE_WORD
+
+static bool word_is(const char *text, size_t len, const char *word)
+{
+    return strlen(word) == len && memcmp(text, word, len) == 0;
+}
+
+int csg_pattern_keyword(const char *text, size_t len, bool *alias)
+{
+    for (size_t i = 0; i < sizeof pattern_words / sizeof pattern_words[0]; i++)
+        if (word_is(text, len, pattern_words[i].word)) {
+            if (alias)
+                *alias = pattern_words[i].alias;
+            return (int)pattern_words[i].pattern;
+        }
+    return -1;
+}
+
+int csg_wave_keyword(const char *text, size_t len)
+{
+    for (int w = 0; w < CSG_WAVE_COUNT; w++)
+        if (word_is(text, len, wave_words[w]))
+            return w;
+    return -1;
+}
+
+/* kw_table first: a word it implements is that keyword; else a pattern or
+ * wave of the tables (so a row added there takes over a word kw_table
+ * still calls unsupported); else what kw_table says (unsupported or an
+ * identifier).  So only the words kw_table does not implement, mostly
+ * identifiers, pay for the scan of the pattern tables. */
 enum csg_kw csg_keyword(const char *text, size_t len, bool directive)
 {
     if (directive)
         return table_lookup(directive_table, sizeof directive_table / sizeof directive_table[0],
                             text, len);
-    return table_lookup(kw_table, sizeof kw_table / sizeof kw_table[0], text, len);
+    enum csg_kw kw = table_lookup(kw_table, sizeof kw_table / sizeof kw_table[0], text, len);
+    if (kw != CSG_KW_NONE && kw != CSG_KW_UNSUPPORTED)
+        return kw;
+    if (csg_pattern_keyword(text, len, NULL) >= 0)
+        return CSG_KW_PATTERN;
+    if (csg_wave_keyword(text, len) >= 0)
+        return CSG_KW_WAVE;
+    return kw;
 }
 
 void csg_lexer_init(csg_lexer *lx, const char *file, const char *src, size_t len)

@@ -58,16 +58,12 @@ enum csg_kw {
     CSG_KW_PIGMENT, CSG_KW_FINISH, CSG_KW_TEXTURE, CSG_KW_INTERIOR,
     CSG_KW_TRANSLATE, CSG_KW_ROTATE, CSG_KW_SCALE, CSG_KW_MATRIX, CSG_KW_INVERSE,
     CSG_KW_NO_SHADOW, CSG_KW_OPEN, CSG_KW_HOLLOW,
-    /* pigment patterns and their modifiers */
-    CSG_KW_CHECKER, CSG_KW_GRADIENT, CSG_KW_COLOR_MAP, CSG_KW_FREQUENCY,
-    CSG_KW_PHASE, CSG_KW_RAMP_WAVE, CSG_KW_TRIANGLE_WAVE, CSG_KW_SINE_WAVE,
-    CSG_KW_SCALLOP_WAVE, CSG_KW_CUBIC_WAVE, CSG_KW_POLY_WAVE, CSG_KW_BOZO,
-    CSG_KW_SPOTTED, CSG_KW_WOOD, CSG_KW_MARBLE, CSG_KW_GRANITE, CSG_KW_AGATE,
+    /* pigment patterns and waves (which one: csg_pattern_keyword,
+       csg_wave_keyword below), and their modifiers */
+    CSG_KW_PATTERN, CSG_KW_WAVE, CSG_KW_COLOR_MAP, CSG_KW_FREQUENCY, CSG_KW_PHASE,
     CSG_KW_AGATE_TURB, CSG_KW_TURBULENCE, CSG_KW_OCTAVES, CSG_KW_OMEGA,
-    CSG_KW_LAMBDA, CSG_KW_NOISE_GENERATOR, CSG_KW_PIGMENT_MAP, CSG_KW_BUMPS,
-    CSG_KW_WRINKLES, CSG_KW_RADIAL, CSG_KW_ONION, CSG_KW_LEOPARD, CSG_KW_PLANAR,
-    CSG_KW_BOXED, CSG_KW_CYLINDRICAL, CSG_KW_QUICK_COLOR, CSG_KW_CRACKLE, CSG_KW_FORM,
-    CSG_KW_METRIC, CSG_KW_OFFSET, CSG_KW_SOLID,
+    CSG_KW_LAMBDA, CSG_KW_NOISE_GENERATOR, CSG_KW_PIGMENT_MAP, CSG_KW_QUICK_COLOR,
+    CSG_KW_FORM, CSG_KW_METRIC, CSG_KW_OFFSET, CSG_KW_SOLID,
     /* finish / interior items */
     CSG_KW_AMBIENT, CSG_KW_DIFFUSE, CSG_KW_SPECULAR, CSG_KW_ROUGHNESS,
     CSG_KW_PHONG, CSG_KW_PHONG_SIZE, CSG_KW_BRILLIANCE, CSG_KW_METALLIC, CSG_KW_BOUNDED_BY,
@@ -124,6 +120,12 @@ void csg_lexer_init(csg_lexer *lx, const char *file, const char *src, size_t len
 bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d);
 /* The keyword of a word, CSG_KW_NONE for an identifier. */
 enum csg_kw csg_keyword(const char *text, size_t len, bool directive);
+/* The pattern a CSG_KW_PATTERN word names (enum csg_pattern, the table of
+ * csg/device/patterns.h), or -1 for another word; *alias (unless NULL):
+ * the word is one of CSG_PATTERN_ALIASES, not the pattern's own name. */
+int csg_pattern_keyword(const char *text, size_t len, bool *alias);
+/* The wave a CSG_KW_WAVE word names (enum csg_wave), or -1. */
+int csg_wave_keyword(const char *text, size_t len);
 /* Writes a short quoted description of t into buf ("'sphere'", "end of file"). */
 void csg_token_describe(const csg_token *t, char *buf, size_t size);
 

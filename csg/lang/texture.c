@@ -18,6 +18,11 @@
  *   color_map { COLOR_MAP_ID | [F COLOR] ... | [F, F COLOR COLOR] ... }
  *   texture { [TEXTURE_ID] [PIGMENT_ID] [FINISH_ID] { pigment {} | finish {} | TRANSFORM } }
  *
+ * The pattern and wave keywords are those of the tables of
+ * csg/device/patterns.h (the lexer's CSG_KW_PATTERN and CSG_KW_WAVE), with
+ * their default waves; what a pattern takes beyond the common modifiers,
+ * and its default map, are this file's.
+ *
  * POV-Ray 3.7's semantics: a pigment starts from its identifier or from
  * the current one; checker keeps the colours given (blue and green by
  * default) as a two-entry map; gradient normalises its vector and starts
@@ -296,55 +301,33 @@ static const csg_map_entry agate_map[6] = {
     {0.0, {1, 1, 1, 0, 0}},      {0.5, {0.95, 0.75, 0.5, 0, 0}}, {0.5, {0.9, 0.7, 0.5, 0, 0}},
     {0.6, {0.9, 0.7, 0.4, 0, 0}}, {0.6, {1, 0.7, 0.4, 0, 0}},    {1.0, {0.6, 0.3, 0, 0, 0}}};
 
-/* The pattern keywords of parse_noise_pattern: kind and default map. */
+/* POV-Ray's default map of a pattern given by its own keyword, where it is
+ * not gray_map (POV-Ray's for every other pattern, and for the aliases
+ * spotted and bumps: CSG_PATTERN_ALIASES). */
 static const struct {
-    enum csg_kw kw;
-    int pattern;
     const csg_map_entry *map;
-    int map_count;
-} noise_patterns[] = {
-    {CSG_KW_BOZO, CSG_PATTERN_BOZO, bozo_map, 6},
-    {CSG_KW_SPOTTED, CSG_PATTERN_BOZO, gray_map, 2},
-    {CSG_KW_BUMPS, CSG_PATTERN_BOZO, gray_map, 2},
-    {CSG_KW_GRANITE, CSG_PATTERN_GRANITE, gray_map, 2},
-    {CSG_KW_WOOD, CSG_PATTERN_WOOD, wood_map, 2},
-    {CSG_KW_MARBLE, CSG_PATTERN_MARBLE, marble_map, 3},
-    {CSG_KW_AGATE, CSG_PATTERN_AGATE, agate_map, 6},
-    {CSG_KW_WRINKLES, CSG_PATTERN_WRINKLES, gray_map, 2},
-    {CSG_KW_RADIAL, CSG_PATTERN_RADIAL, radial_map, 4},
-    {CSG_KW_ONION, CSG_PATTERN_ONION, gray_map, 2},
-    {CSG_KW_LEOPARD, CSG_PATTERN_LEOPARD, gray_map, 2},
-    {CSG_KW_PLANAR, CSG_PATTERN_PLANAR, gray_map, 2},
-    {CSG_KW_BOXED, CSG_PATTERN_BOXED, gray_map, 2},
-    {CSG_KW_CYLINDRICAL, CSG_PATTERN_CYLINDRICAL, gray_map, 2},
-    {CSG_KW_CRACKLE, CSG_PATTERN_CRACKLE, gray_map, 2},
+    int count;
+} own_maps[CSG_PATTERN_COUNT] = {
+    [CSG_PATTERN_BOZO] = {bozo_map, 6},   [CSG_PATTERN_WOOD] = {wood_map, 2},
+    [CSG_PATTERN_MARBLE] = {marble_map, 3}, [CSG_PATTERN_AGATE] = {agate_map, 6},
+    [CSG_PATTERN_RADIAL] = {radial_map, 4},
 };
 
-/* The index in noise_patterns of the current keyword, or -1. */
-static int noise_pattern_index(parser *p)
+/* A pattern keyword but checker and gradient (which take parameters
+ * first): its pattern, POV-Ray's default map and wave (the table's: wood
+ * and marble have the triangle wave), agate's turbulence (always on) and
+ * crackle's settings. */
+static bool parse_bare_pattern(parser *p, csg_pigment *pig, enum csg_pattern pattern, bool alias)
 {
-    for (int i = 0; i < (int)(sizeof noise_patterns / sizeof noise_patterns[0]); i++)
-        if (lang_is_kw(p, noise_patterns[i].kw))
-            return i;
-    return -1;
-}
-
-static bool is_noise_pattern(parser *p)
-{
-    return noise_pattern_index(p) >= 0;
-}
-
-/* A pattern keyword other than checker and gradient: its kind, POV-Ray's
- * default map and wave (wood and marble: triangle), and agate's
- * turbulence (always on). */
-static bool parse_noise_pattern(parser *p, csg_pigment *pig)
-{
-    int i = noise_pattern_index(p);
-    pig->pattern = noise_patterns[i].pattern;
-    pig->map = noise_patterns[i].map;
-    pig->map_count = noise_patterns[i].map_count;
-    if (pig->pattern == CSG_PATTERN_WOOD || pig->pattern == CSG_PATTERN_MARBLE)
-        pig->wave = CSG_WAVE_TRIANGLE;
+    pig->pattern = pattern;
+    pig->map = gray_map;
+    pig->map_count = 2;
+    if (!alias && own_maps[pattern].map) {
+        pig->map = own_maps[pattern].map;
+        pig->map_count = own_maps[pattern].count;
+    }
+    if (csg_pattern_wave(pattern) != CSG_WAVE_RAMP) /* else the wave given before stays */
+        pig->wave = csg_pattern_wave(pattern);
     if (pig->pattern == CSG_PATTERN_AGATE) {
         pig->turb.on = true;
         pig->agate_turb = 1.0;
@@ -358,15 +341,24 @@ static bool parse_noise_pattern(parser *p, csg_pigment *pig)
     return lang_next(p);
 }
 
+/* A pattern keyword (CSG_KW_PATTERN: the lexer found it in the table, so
+ * csg_pattern_keyword names a pattern of it) and what follows it. */
+static bool parse_pattern_keyword(parser *p, csg_pigment *pig)
+{
+    bool alias = false;
+    int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, &alias);
+    if (pattern == CSG_PATTERN_CHECKER)
+        return parse_checker(p, pig);
+    if (pattern == CSG_PATTERN_GRADIENT)
+        return parse_gradient(p, pig);
+    return parse_bare_pattern(p, pig, (enum csg_pattern)pattern, alias);
+}
+
 /* What comes first: a pattern or a colour (or neither). */
 static bool parse_pattern(parser *p, csg_pigment *pig)
 {
-    if (lang_is_kw(p, CSG_KW_CHECKER))
-        return parse_checker(p, pig);
-    if (lang_is_kw(p, CSG_KW_GRADIENT))
-        return parse_gradient(p, pig);
-    if (is_noise_pattern(p))
-        return parse_noise_pattern(p, pig);
+    if (lang_is_kw(p, CSG_KW_PATTERN))
+        return parse_pattern_keyword(p, pig);
     if (lang_is_punct(p, '}') || !lang_is_color_start(p))
         return true;
     double c[5];
@@ -381,25 +373,13 @@ static bool parse_pattern(parser *p, csg_pigment *pig)
  * is optional: it keeps the one before, 1 at first). */
 static bool parse_wave(parser *p, csg_pigment *pig)
 {
-    static const struct { enum csg_kw kw; int wave; } waves[] = {
-        {CSG_KW_RAMP_WAVE, CSG_WAVE_RAMP},       {CSG_KW_TRIANGLE_WAVE, CSG_WAVE_TRIANGLE},
-        {CSG_KW_SINE_WAVE, CSG_WAVE_SINE},       {CSG_KW_SCALLOP_WAVE, CSG_WAVE_SCALLOP},
-        {CSG_KW_CUBIC_WAVE, CSG_WAVE_CUBIC},     {CSG_KW_POLY_WAVE, CSG_WAVE_POLY}};
-    for (size_t i = 0; i < sizeof waves / sizeof waves[0]; i++)
-        if (lang_is_kw(p, waves[i].kw))
-            pig->wave = waves[i].wave;
+    /* CSG_KW_WAVE: the lexer found the word in the table of waves */
+    pig->wave = (enum csg_wave)csg_wave_keyword(lang_tok(p)->text, lang_tok(p)->len);
     if (!lang_next(p))
         return false;
     if (pig->wave == CSG_WAVE_POLY && lang_is_expr_start(p))
         return lang_parse_float(p, &pig->exponent, NULL);
     return true;
-}
-
-static bool is_wave(parser *p)
-{
-    return lang_is_kw(p, CSG_KW_RAMP_WAVE) || lang_is_kw(p, CSG_KW_TRIANGLE_WAVE) ||
-           lang_is_kw(p, CSG_KW_SINE_WAVE) || lang_is_kw(p, CSG_KW_SCALLOP_WAVE) ||
-           lang_is_kw(p, CSG_KW_CUBIC_WAVE) || lang_is_kw(p, CSG_KW_POLY_WAVE);
 }
 
 /* turbulence VECTOR, octaves N, omega F, lambda F, agate_turb F,
@@ -520,7 +500,7 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
         } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
             double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
             ok = lang_next(p) && lang_parse_float(p, f, NULL);
-        } else if (is_wave(p)) {
+        } else if (lang_is_kw(p, CSG_KW_WAVE)) {
             ok = parse_wave(p, pig);
         } else if (is_noise_modifier(p)) {
             ok = parse_noise_modifier(p, pig);
@@ -788,8 +768,7 @@ bool lang_parse_texture(parser *p, csg_texture *t)
             ok = lang_parse_finish(p, &t->finish);
         else if (lang_is_transform(p))
             ok = transform_pigment(p, &t->pigment);
-        else if (lang_is_kw(p, CSG_KW_CHECKER) || lang_is_kw(p, CSG_KW_GRADIENT) ||
-                 is_noise_pattern(p))
+        else if (lang_is_kw(p, CSG_KW_PATTERN))
             return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
         else
             return lang_expected_close(p, '}', "texture", open);
