@@ -5,7 +5,8 @@
 #       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
-#       [--master-store-ns C [--store-threads N]] [--nap-us U] --stats F.json
+#       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
+#       --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -45,6 +46,10 @@
 # --nap-us U: every nap that runs out (mpi_link.c's idle wait, any rank) costs
 # its rank U us of CPU besides (the timer and the wake-up: 6.4 measured
 # here, bench/SCALE.md); default 0.
+# --map FILE (and --fill-map FILE, hetero's whole tiles): cost maps made
+# elsewhere (bench/sim/costmap.py from a real run's tile log: the node's,
+# bench/sim/node_validate.sh) instead of the ones recorded here.
+# --network node: one host of 16 cores sharing memory (bench/sim/node.xml).
 # bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
@@ -62,7 +67,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
-PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0
+PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -87,6 +92,8 @@ while [ $# -gt 0 ]; do
     --master-store-ns) STORE_NS=$2 ;;
     --store-threads) STORE_THREADS=$2 ;;
     --nap-us) NAP_US=$2 ;;
+    --map) GIVEN_MAP=$2 ;;
+    --fill-map) GIVEN_FILL_MAP=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -97,7 +104,9 @@ done
 [ -n "$SCHEDULE" ] || { [ "$MODE" = hetero ] && SCHEDULE=cost || SCHEDULE=raster; }
 [[ "$SCHEDULE" =~ ^(raster|cost|static|tail)$ ]] || die "--schedule: raster, cost, static or tail"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
-[[ "$NETWORK" =~ ^(gige|ib|local)$ ]] || die "--network: gige, ib or local"
+[[ "$NETWORK" =~ ^(gige|ib|local|node)$ ]] || die "--network: gige, ib, local or node"
+[ -z "$GIVEN_MAP" ] || [ -f "$GIVEN_MAP" ] || die "--map: no file '$GIVEN_MAP'"
+[ -z "$GIVEN_FILL_MAP" ] || [ -f "$GIVEN_FILL_MAP" ] || die "--fill-map: no file '$GIVEN_FILL_MAP'"
 [[ "$SIZE" =~ ^([1-9][0-9]{0,4})x([1-9][0-9]{0,4})$ ]] || die "--size: WxH"
 WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
@@ -140,18 +149,22 @@ ensure_map() {
     rm -rf "$rec"
     rec=""
 }
-ensure_map "$MODE"
-map=$MAPS/$key-$MODE.costs
-fill_map=""
-if [ "$MODE" = hetero ] && [ "$FILL" = on ]; then
-    ensure_map homo
-    fill_map=$MAPS/$key-homo.costs
+if [ -n "$GIVEN_MAP" ]; then
+    map=$GIVEN_MAP fill_map=$GIVEN_FILL_MAP
+else
+    ensure_map "$MODE"
+    map=$MAPS/$key-$MODE.costs
+    fill_map=""
+    if [ "$MODE" = hetero ] && [ "$FILL" = on ]; then
+        ensure_map homo
+        fill_map=$MAPS/$key-homo.costs
+    fi
 fi
 
 # 2. the simulation
 work=$(mktemp -d)
 trap 'rm -rf "$work" ${rec:+"$rec"}' EXIT
-if [ "$NETWORK" = local ]; then # every rank on this machine's one host
+if [ "$NETWORK" = local ] || [ "$NETWORK" = node ]; then # every rank on the one host
     for _ in $(seq 0 $((WORKERS + RELAYS))); do echo node-0; done >"$work/hosts"
 else
     seq 0 $((WORKERS + RELAYS)) | sed 's/^/node-/' >"$work/hosts"
@@ -174,7 +187,7 @@ fi
 GROW=${SIM_PROBE_GROWTH:-no}
 [[ "$GROW" =~ ^(yes|no)$ ]] || die "SIM_PROBE_GROWTH: yes or no"
 overhead=0:5e-6:2e-10 iprobe=1e-7 test=1e-7
-[ "$NETWORK" = local ] && overhead=0:5e-8:1e-10 iprobe=8e-8 test=2.6e-8
+[ "$NETWORK" = local ] || [ "$NETWORK" = node ] && overhead=0:5e-8:1e-10 iprobe=8e-8 test=2.6e-8
 opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:$iprobe --cfg=smpi/test:$test
       --cfg=smpi/os:$overhead --cfg=smpi/or:$overhead --cfg=smpi/host-speed:1Gf
       --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536

@@ -20,6 +20,15 @@ mkdir -p "$POCL_CACHE_DIR" build/test-out
 passed=0
 failed=0
 failed_suites=()
+timings=() # "SECONDS SUITE", printed slowest first at the end
+
+# timed NAME COMMAND...: runs it, noting its seconds under NAME.
+timed() {
+    local name=$1 t0=$SECONDS
+    shift
+    "$@"
+    timings+=("$((SECONDS - t0)) $name")
+}
 
 # A cmocka binary: count its test cases.
 run_cmocka() {
@@ -96,23 +105,23 @@ run_unittest() {
 
 what=${1:-all}
 for bin in build/tests/test_*; do
-    [ -x "$bin" ] && run_cmocka "$bin"
+    [ -x "$bin" ] && timed "$bin" run_cmocka "$bin"
 done
 for bin in build/asan/tests/test_*; do
-    [ -x "$bin" ] && run_cmocka "$bin"
+    [ -x "$bin" ] && timed "$bin" run_cmocka "$bin"
 done
 if [ "$what" = all ]; then
     for script in tests/e2e_*.sh; do
-        [ -f "$script" ] && run_script "$script"
+        [ -f "$script" ] && timed "$script" run_script "$script"
     done
     # geometry agreement with POV-Ray 3.7 on every example scene
-    run_script tests/crosscheck_povray.sh
+    timed crosscheck_povray run_script tests/crosscheck_povray.sh
     # scenes of one feature each (tests/povray/: boxes of zero thickness)
     run_script tests/crosscheck_povray.sh tests/povray/*.pov
     # the NFF reader's scenes through `export` (99 %: the issue's bar)
-    MIN_AGREEMENT=99 run_script tests/crosscheck_povray.sh tests/nff/*.nff
+    MIN_AGREEMENT=99 timed crosscheck_nff run_script tests/crosscheck_povray.sh tests/nff/*.nff
     # the camera statement in every order of its modifiers, read by POV-Ray
-    run_script tests/crosscheck_camera.sh
+    timed crosscheck_camera run_script tests/crosscheck_camera.sh
     # the benchmark bookkeeping (medians, advantage, CSV columns)
     run_unittest bench/test_collect.py
     # the SPD report's confidence intervals and spd.sh --pairs
@@ -122,6 +131,8 @@ if [ "$what" = all ]; then
 fi
 
 echo
+echo "the slowest suites (seconds):"
+printf '%s\n' "${timings[@]}" | sort -rn | head -12 | sed 's/^/  /'
 if [ ${#failed_suites[@]} -gt 0 ]; then
     echo "failing suites: ${failed_suites[*]}"
 fi
