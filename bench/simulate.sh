@@ -6,7 +6,7 @@
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
 #       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
-#       --stats F.json
+#       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -28,6 +28,8 @@
 # times faster (a GPU-class accelerator): a hypothesis, labelled as such.
 # --pass-rate M (Mrays/s) replaces it by a measured device rate: the pass
 # takes W x H / (M x 1e6) seconds (bench/GPU.md: the H100's rates).
+# --pass-delay S: the device's set-up, seconds before the pass's first slice
+# (cl_setup_s of the stats; default 0).
 # --batch N|auto: the master's batch limit (csgtrace --batch; default auto).
 # --pixels rgb8|float: what a RESULT carries a pixel: rgb8 (default) is a
 # render to an 8-bit file (PNG, ...: 3 bytes), float one to EXR (12 bytes,
@@ -50,6 +52,16 @@
 # elsewhere (bench/sim/costmap.py from a real run's tile log: the node's,
 # bench/sim/node_validate.sh) instead of the ones recorded here.
 # --network node: one host of 16 cores sharing memory (bench/sim/node.xml).
+# --eager-bytes E: Open MPI's eager limit on the network (its 4.1 defaults:
+# shared memory 4096 (btl_vader_eager_limit; node, local), openib 12288 (ib),
+# tcp 65536 (gige)); a larger message waits for the receiver to match it.
+# --sender-progress yes|no: whether its bytes then also wait for the
+# sender's next call into MPI (comm/mpi_link.h, link_model_protocol): yes
+# on shared memory without single copy (containers; the node's) and TCP,
+# no on InfiniBand (the receiver reads it by RDMA); defaults as said.
+# --runtime legacy: the runtime before 2026-11-28 (a message received whole
+# before the next, no progress while a worker computes), to check the
+# model against the node's runs of that code (bench/sim/node_validate.sh).
 # bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
@@ -68,6 +80,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
+EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -94,6 +107,10 @@ while [ $# -gt 0 ]; do
     --nap-us) NAP_US=$2 ;;
     --map) GIVEN_MAP=$2 ;;
     --fill-map) GIVEN_FILL_MAP=$2 ;;
+    --eager-bytes) EAGER=$2 ;;
+    --pass-delay) PASS_DELAY=$2 ;;
+    --sender-progress) SENDER_PROGRESS=$2 ;;
+    --runtime) RUNTIME=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -121,6 +138,15 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$STORE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-store-ns: nanoseconds, 0..9999.999"
 [[ "$STORE_THREADS" =~ ^[1-8]$ ]] || die "--store-threads: 1..8"
 [[ "$NAP_US" =~ ^(0|[1-9][0-9]{0,2})(\.[0-9]{1,3})?$ ]] || die "--nap-us: microseconds, 0..999.999"
+case $NETWORK in
+ib) : "${EAGER:=12288}" "${SENDER_PROGRESS:=no}" ;;
+gige) : "${EAGER:=65536}" "${SENDER_PROGRESS:=yes}" ;;
+*) : "${EAGER:=4096}" "${SENDER_PROGRESS:=yes}" ;;
+esac
+[[ "$PASS_DELAY" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-delay: seconds, a decimal number"
+[[ "$EAGER" =~ ^[1-9][0-9]{0,8}$ ]] || die "--eager-bytes: 1..999999999"
+[[ "$SENDER_PROGRESS" =~ ^(yes|no)$ ]] || die "--sender-progress: yes or no"
+[[ "$RUNTIME" =~ ^(current|legacy)$ ]] || die "--runtime: current or legacy"
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -175,8 +201,9 @@ fi
 # byte, so that with local.xml's 0.5 us and 10 GB/s a message takes
 # 0.6 us + 0.3 ns a byte end to end, as a ping-pong here measures it
 # (0.64 us at 64 bytes, 7.7 us at 16 KiB, 74-80 us at 256 KiB: bench/
-# SCALE.md); messages up to 64 KiB are eager (Open MPI's TCP eager
-# limit): they travel before the receive is posted (bench/SCALE.md).
+# SCALE.md); messages up to the eager limit (--eager-bytes) travel before
+# the receive is posted, larger ones once it is (and the sender has
+# called in again, with --sender-progress yes).
 # GigE keeps SMPI's default latency/bandwidth factors (fitted to MPI over
 # TCP on Ethernet); InfiniBand gets none (RDMA).
 # A poll that finds nothing costs the same each time, as in MPI (SMPI's
@@ -190,7 +217,7 @@ overhead=0:5e-6:2e-10 iprobe=1e-7 test=1e-7
 [ "$NETWORK" = local ] || [ "$NETWORK" = node ] && overhead=0:5e-8:1e-10 iprobe=8e-8 test=2.6e-8
 opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:$iprobe --cfg=smpi/test:$test
       --cfg=smpi/os:$overhead --cfg=smpi/or:$overhead --cfg=smpi/host-speed:1Gf
-      --cfg=smpi/async-small-thresh:65536 --cfg=smpi/send-is-detached-thresh:65536
+      --cfg=smpi/async-small-thresh:$EAGER --cfg=smpi/send-is-detached-thresh:$EAGER
       --cfg=smpi/grow-injected-times:$GROW --log=root.thres:error)
 [ "$NETWORK" != gige ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
@@ -198,13 +225,15 @@ batch=()
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
+CSGSIM_EAGER_BYTES=$([ "$SENDER_PROGRESS" = yes ] && echo "$EAGER" || echo 0) \
+CSGSIM_PASS_DELAY_S=$PASS_DELAY CSGSIM_LEGACY_RUNTIME=$([ "$RUNTIME" = legacy ] && echo 1 || echo 0) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
     --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" \
-    "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" <<'PY'
+    "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" "$EAGER" "$SENDER_PROGRESS" "$RUNTIME" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
@@ -216,6 +245,9 @@ d["master_message_us"] = float(sys.argv[8])
 d["master_store_ns"] = float(sys.argv[9])
 d["master_store_threads"] = int(sys.argv[10]) if float(sys.argv[9]) > 0 else 0  # (C 0: none)
 d["nap_us"] = float(sys.argv[11])
+d["eager_bytes"] = int(sys.argv[12])
+d["sender_progress"] = sys.argv[13] == "yes"
+d["runtime"] = sys.argv[14]
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

@@ -86,6 +86,8 @@
 _Static_assert(sizeof(MPI_Request) <= sizeof(((link_req *)0)->impl),
                "link_req must hold an MPI_Request");
 
+static bool link_model_legacy(void); /* (the protocol model: see there) */
+
 bool link_launched_by_mpirun(void)
 {
     return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMIX_RANK");
@@ -551,7 +553,7 @@ void link_idle_step(link_idle *w)
         return;
     }
     long nap = w->nap_ns < w->nap_max_ns ? w->nap_ns : w->nap_max_ns;
-    if (link_receiving()) /* bytes on their way: the shortest nap, a yield */
+    if (link_receiving() && !link_model_legacy()) /* bytes on their way: a yield */
         nap = LINK_NAP_MIN_NS;
     if (w->ready) {
         struct timespec until = deadline_after_ns(nap);
@@ -610,6 +612,147 @@ static bool link_reserve(link_msg *m, size_t need)
     return true;
 }
 
+/* ---- Open MPI's large-message protocol, modelled (the simulated build) --------- */
+
+/* SMPI moves a message whatever its ranks do meanwhile; Open MPI moves a
+ * message over its eager limit only while both ranks call into MPI (ob1's
+ * rendezvous: the first fragment is matched by the receiver, which
+ * answers; the sender sends the rest when it next makes progress).  With
+ * link_model_protocol that is played here, for the simulation to show
+ * what the node showed (bench/SCALE.md, "The protocol modelled"): a large
+ * message is an RTS on the protocol's communicator, a clear-to-send on a
+ * communicator of the model's own when the receiver matches it
+ * (link_in_post), and the payload, sent by the sender's next call into
+ * this module after that (link_model_step). */
+#define LINK_TAG_RTS 32001     /* (above protocol.h's tags)            */
+#define LINK_TAG_CTS 32002
+#define LINK_MODEL_TAGS 0xFFFFF /* a payload's tag: its number, modulo */
+
+/* What a probe found: a message's tag and size, and its number in the
+ * model when only its RTS has come (0: the message itself). */
+typedef struct {
+    int32_t tag;
+    uint32_t id;
+    uint64_t len;
+} link_envelope;
+
+typedef struct link_model_send {
+    struct link_model_send *next;
+    link_envelope rts;      /* (sent from here: it lives as long as the send) */
+    MPI_Request rts_rq, payload_rq;
+    const void *data;
+    int dest;
+    bool cleared;           /* the payload is on its way                */
+} link_model_send;
+
+static struct {
+    size_t eager;           /* 0: off                                   */
+    bool legacy;
+    MPI_Comm comm;          /* clear-to-sends and payloads              */
+    link_model_send *sends; /* the sends not done                       */
+    uint32_t next_id;
+} link_model = {0, false, MPI_COMM_NULL, NULL, 0};
+
+void link_model_protocol(size_t eager_bytes, bool legacy)
+{
+    if (eager_bytes && link_model.comm == MPI_COMM_NULL)
+        MPI_Comm_dup(MPI_COMM_WORLD, &link_model.comm); /* (every rank: collective) */
+    link_model.eager = eager_bytes;
+    link_model.legacy = legacy;
+}
+
+static bool link_model_legacy(void)
+{
+    return link_model.legacy;
+}
+
+static bool link_model_rendezvous(MPI_Comm comm, size_t len)
+{
+    return link_model.eager && comm == MPI_COMM_WORLD && len > link_model.eager;
+}
+
+static link_status link_model_isend(int dest, int tag, const void *data, size_t len,
+                                    link_req *req)
+{
+    link_model_send *s = calloc(1, sizeof *s);
+    if (!s)
+        return LINK_ERROR;
+    s->rts = (link_envelope){tag, ++link_model.next_id, len};
+    s->rts.id = s->rts.id ? s->rts.id : ++link_model.next_id; /* (0 is "none") */
+    s->data = data;
+    s->dest = dest;
+    if (MPI_Isend(&s->rts, sizeof s->rts, MPI_BYTE, dest, LINK_TAG_RTS, MPI_COMM_WORLD,
+                  &s->rts_rq) != MPI_SUCCESS) {
+        free(s);
+        return LINK_ERROR;
+    }
+    s->next = link_model.sends;
+    link_model.sends = s;
+    req->modelled = s->rts.id;
+    req->active = true;
+    return LINK_OK;
+}
+
+/* The sender's side of any call into this module: the payloads cleared
+ * since the last one go. */
+static void link_model_step(void)
+{
+    while (link_model.eager) {
+        int flag = 0;
+        uint32_t id = 0;
+        MPI_Status st;
+        if (MPI_Iprobe(MPI_ANY_SOURCE, LINK_TAG_CTS, link_model.comm, &flag, &st) !=
+                MPI_SUCCESS ||
+            !flag)
+            return;
+        MPI_Recv(&id, sizeof id, MPI_BYTE, st.MPI_SOURCE, LINK_TAG_CTS, link_model.comm,
+                 MPI_STATUS_IGNORE);
+        for (link_model_send *s = link_model.sends; s; s = s->next)
+            if (s->rts.id == id && s->dest == st.MPI_SOURCE && !s->cleared) {
+                MPI_Isend(s->data, (int)s->rts.len, MPI_BYTE, s->dest, (int)(id & LINK_MODEL_TAGS),
+                          link_model.comm, &s->payload_rq);
+                s->cleared = true;
+                break;
+            }
+    }
+}
+
+/* Send number `id` is through (its record freed then). */
+static bool link_model_done(uint32_t id)
+{
+    link_model_step();
+    for (link_model_send **p = &link_model.sends; *p; p = &(*p)->next) {
+        link_model_send *s = *p;
+        int flag = 0;
+        if (s->rts.id != id)
+            continue;
+        if (!s->cleared || MPI_Test(&s->payload_rq, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS ||
+            !flag)
+            return false;
+        MPI_Wait(&s->rts_rq, MPI_STATUS_IGNORE); /* (matched before the clear-to-send) */
+        *p = s->next;
+        free(s);
+        return true;
+    }
+    return true;
+}
+
+/* The message a probe of MPI_COMM_WORLD found: its own envelope, or the
+ * one its RTS announces (the RTS taken). */
+static link_status link_envelope_of(const MPI_Status *st, link_envelope *e)
+{
+    int count = 0;
+    if (link_model.eager && st->MPI_TAG == LINK_TAG_RTS)
+        return MPI_Recv(e, sizeof *e, MPI_BYTE, st->MPI_SOURCE, LINK_TAG_RTS, MPI_COMM_WORLD,
+                        MPI_STATUS_IGNORE) == MPI_SUCCESS
+                   ? LINK_OK
+                   : LINK_ERROR;
+    if (MPI_Get_count(st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
+        return LINK_ERROR;
+    *e = (link_envelope){st->MPI_TAG, 0, (uint64_t)count};
+    return LINK_OK;
+}
+
 /* Receiving in the background.  A message is matched as soon as a probe
  * sees it (MPI_Iprobe, then MPI_Irecv of its source and tag, which takes
  * that very message out of MPI's queue: nothing else receives on this
@@ -643,53 +786,80 @@ static bool link_in_matches(const link_incoming *in, int source)
     return source == MPI_ANY_SOURCE || in->msg.source == source;
 }
 
+/* A new slot for a message of `count` bytes, its buffer reserved (out of
+ * memory, the job is aborted: a message can only be received whole). */
+static link_incoming *link_in_slot(size_t count)
+{
+    if (link_in.count == link_in.cap) {
+        int cap = link_in.cap ? 2 * link_in.cap : 8;
+        link_incoming *grown = realloc(link_in.slot, (size_t)cap * sizeof *grown);
+        if (!grown) {
+            fprintf(stderr, "csgtrace: error: rank %d: out of memory for a receive\n",
+                    link_w.rank);
+            link_abort(1);
+        }
+        link_in.slot = grown;
+        link_in.cap = cap;
+    }
+    link_incoming *in = &link_in.slot[link_in.count];
+    memset(in, 0, sizeof *in);
+    if (!link_reserve(&in->msg, count)) {
+        fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %zu-byte message\n",
+                link_w.rank, count);
+        link_abort(1);
+    }
+    return in;
+}
+
+/* The receive of the message a probe found posted into `in`: the message
+ * itself (the oldest of its source and tag, the one probed, as nothing
+ * else receives on this communicator), or, modelled, its payload, cleared
+ * to come. */
+static link_status link_in_post(link_incoming *in, const MPI_Status *st, const link_envelope *e)
+{
+    int count = (int)e->len;
+    if (!e->id)
+        return MPI_Irecv(in->msg.data, count, MPI_BYTE, st->MPI_SOURCE, st->MPI_TAG,
+                         MPI_COMM_WORLD, &in->rq) == MPI_SUCCESS
+                   ? LINK_OK
+                   : LINK_ERROR;
+    uint32_t id = e->id;
+    if (MPI_Irecv(in->msg.data, count, MPI_BYTE, st->MPI_SOURCE, (int)(id & LINK_MODEL_TAGS),
+                  link_model.comm, &in->rq) != MPI_SUCCESS)
+        return LINK_ERROR;
+    return MPI_Send(&id, sizeof id, MPI_BYTE, st->MPI_SOURCE, LINK_TAG_CTS, link_model.comm) ==
+                   MPI_SUCCESS
+               ? LINK_OK
+               : LINK_ERROR;
+}
+
 /* Every message waiting from `source` matched and its receive posted; a
  * message over `limit` is not received (LINK_TOO_BIG, *big says which):
  * see mpi_link.h. */
 static link_status link_in_match(int source, size_t limit, link_msg *big)
 {
     for (;;) {
-        int flag = 0, count = 0;
+        int flag = 0;
         MPI_Status st;
+        link_envelope e;
         if (MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st) != MPI_SUCCESS)
             return LINK_ERROR;
         if (!flag)
             return LINK_OK;
-        if (MPI_Get_count(&st, MPI_BYTE, &count) != MPI_SUCCESS || count < 0)
+        if (link_envelope_of(&st, &e) != LINK_OK)
             return LINK_ERROR;
-        if ((size_t)count > limit) { /* (never received: the job ends) */
-            big->len = (size_t)count;
+        if (e.len > limit) { /* (never received: the job ends) */
+            big->len = (size_t)e.len;
             big->source = st.MPI_SOURCE;
-            big->tag = st.MPI_TAG;
+            big->tag = e.tag;
             return LINK_TOO_BIG;
         }
-        if (link_in.count == link_in.cap) {
-            int cap = link_in.cap ? 2 * link_in.cap : 8;
-            link_incoming *grown = realloc(link_in.slot, (size_t)cap * sizeof *grown);
-            if (!grown) {
-                fprintf(stderr, "csgtrace: error: rank %d: out of memory for a receive\n",
-                        link_w.rank);
-                link_abort(1);
-            }
-            link_in.slot = grown;
-            link_in.cap = cap;
-        }
-        link_incoming *in = &link_in.slot[link_in.count];
-        memset(in, 0, sizeof *in);
-        if (!link_reserve(&in->msg, (size_t)count)) {
-            /* A message can only be received whole: nothing else to do. */
-            fprintf(stderr, "csgtrace: error: rank %d: out of memory for a %d-byte message\n",
-                    link_w.rank, count);
-            link_abort(1);
-        }
-        in->msg.len = (size_t)count;
+        link_incoming *in = link_in_slot((size_t)e.len);
+        in->msg.len = (size_t)e.len;
         in->msg.source = st.MPI_SOURCE;
-        in->msg.tag = st.MPI_TAG;
+        in->msg.tag = e.tag;
         in->order = link_in.next_order++;
-        /* (the oldest message of that source and tag: the one probed, as
-         * nothing else receives on this communicator) */
-        if (MPI_Irecv(in->msg.data, count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
-                      &in->rq) != MPI_SUCCESS) {
+        if (link_in_post(in, &st, &e) != LINK_OK) {
             link_msg_free(&in->msg);
             return LINK_ERROR;
         }
@@ -786,13 +956,34 @@ static int link_source(int source)
     return source == LINK_ANY_SOURCE ? MPI_ANY_SOURCE : source;
 }
 
+/* The model's legacy receive: every matched message waited for whole,
+ * polling, then napping with a doubling nap (the receive before
+ * 2026-11-28: a probe, then the message's receive to its end). */
+static link_status link_model_whole(void)
+{
+    link_idle w;
+    link_status status = LINK_OK;
+    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    for (;;) {
+        link_model_step();
+        if (link_in_test() != LINK_OK)
+            status = LINK_ERROR;
+        if (status != LINK_OK || !link_receiving())
+            break;
+        link_idle_step(&w);
+    }
+    link_idle_free(&w);
+    return status;
+}
+
 /* One turn of receiving: what waits from `source` matched, the receives
  * tested, the next complete message handed out (link_in_next). */
 static link_status link_in_turn(int source, size_t limit, link_msg *m)
 {
+    link_model_step();
     link_status got = link_in_match(source, limit, m);
     if (got == LINK_OK)
-        got = link_in_test();
+        got = link_model.legacy ? link_model_whole() : link_in_test();
     return got == LINK_OK ? link_in_next(source, m) : got;
 }
 
@@ -824,6 +1015,9 @@ void link_progress(void)
 {
     int flag;
     MPI_Status st;
+    if (link_model.legacy)
+        return;
+    link_model_step();
     /* (any call into MPI moves Open MPI's pending transfers on; a probe
      * that takes nothing is the cheapest) */
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
@@ -855,6 +1049,9 @@ static link_status link_isend_on(MPI_Comm comm, int dest, int tag, const void *d
 {
     req->active = false;
     req->peer = dest;
+    req->modelled = 0;
+    if (link_model_rendezvous(comm, len))
+        return link_model_isend(dest, tag, data, len, req);
     if (MPI_Isend(data, (int)len, MPI_BYTE, dest, tag, comm, link_req_mpi(req)) != MPI_SUCCESS)
         return LINK_ERROR;
     req->active = true;
@@ -871,6 +1068,11 @@ bool link_req_done(link_req *req)
     int flag = 1;
     if (!req->active)
         return true;
+    if (req->modelled) {
+        req->active = !link_model_done(req->modelled);
+        req->modelled = req->active ? req->modelled : 0;
+        return !req->active;
+    }
     if (MPI_Test(link_req_mpi(req), &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
         flag = 1; /* an error ends the request too: its bytes are free */
     if (flag)
@@ -897,7 +1099,7 @@ link_status link_req_wait(link_req *req)
 
 void link_req_abandon(link_req *req)
 {
-    if (req->active)
+    if (req->active && !req->modelled) /* (a modelled one stays the model's) */
         MPI_Request_free(link_req_mpi(req));
     req->active = false;
 }

@@ -26,6 +26,7 @@
 #include <sched.h>
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 enum { LINK_MASTER = 0, LINK_ANY_SOURCE = -1 };
 
@@ -86,6 +87,19 @@ bool link_receiving(void);
 void link_progress(void);
 void link_msg_free(link_msg *m);
 
+/* The simulated build only (sim/main.c, bench/simulate.sh --eager-bytes):
+ * Open MPI's large-message protocol played over SMPI, which by itself
+ * moves every message whatever its ranks are doing.  A message of more
+ * than `eager_bytes` (0: off) is announced (RTS), and its bytes move only
+ * once the receiver has matched it, which sends a clear-to-send back, and
+ * the sender has seen that in a later call into this module: so a rank
+ * that computes without calling in holds its large sends, as it does on
+ * a node without single-copy transfers (docs/parallel.md, "Progress").
+ * `legacy`: the runtime before 2026-11-28, for the validation against
+ * that day's node runs: a rank receives each matched message whole before
+ * it goes on (napping), and link_progress does nothing. */
+void link_model_protocol(size_t eager_bytes, bool legacy);
+
 /* One message of `len` bytes to `dest`. */
 link_status link_send(int dest, int tag, const void *data, size_t len);
 
@@ -100,6 +114,7 @@ typedef struct {
     } impl;      /* the MPI_Request (mpi_link.c checks it fits)            */
     bool active; /* started and not yet known to be done               */
     int peer;    /* the receiver                                       */
+    uint32_t modelled; /* a send of the protocol model: its number (0: none) */
 } link_req;
 
 link_status link_isend(int dest, int tag, const void *data, size_t len, link_req *req);

@@ -25,6 +25,15 @@
  * hits shaded, the whole pass), so efficiencies with and without the fill
  * compare as their makespans do.
  *
+ * Open MPI's large-message protocol (mpi_link.h: link_model_protocol):
+ * $CSGSIM_EAGER_BYTES, the eager limit (0 or unset: SMPI's own protocol,
+ * which needs no progress from either side); $CSGSIM_LEGACY_RUNTIME=1
+ * replays the runtime before 2026-11-28 (each message received whole, no
+ * progress while a rank computes) for the validation against the node.
+ *
+ * $CSGSIM_PASS_DELAY_S: the device's set-up before its first slice (the
+ * node's NVIDIA driver: cl_setup_s 0.13 s), which the fill fills.
+ *
  * $CSGSIM_PASS_SCALE multiplies the pass (a faster device, hypothetically);
  * $CSGSIM_PASS_RATE (Mrays/s, one primary ray a pixel) replaces it by a
  * measured device rate: pass_s = width x height / rate (bench/GPU.md).
@@ -327,7 +336,7 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         m.pixels = a->pixels;
         master_share_scene(&m, 0, a->tile, blob);
         master_relay_floor(&m, &run->s);
-        run->pass_t0 = stats_clock();
+        run->pass_t0 = stats_clock() + sim_env_number("CSGSIM_PASS_DELAY_S", 0);
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
@@ -380,6 +389,8 @@ int main(int argc, char **argv)
     link_ranks_are_threads(); /* (SMPI's ranks share this process) */
     if (!link_start(&rank, &ranks))
         return 1;
+    link_model_protocol((size_t)sim_env_number("CSGSIM_EAGER_BYTES", 0),
+                        sim_env_number("CSGSIM_LEGACY_RUNTIME", 0) > 0);
     if (rank != 0) {
         int status = worker_run(rank, NULL);
         link_finish();

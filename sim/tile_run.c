@@ -3,7 +3,8 @@
  * same functions as workers/tile_run.c, which this file replaces at link
  * time, the one seam between the traced and the simulated tile.
  * tile_run_rect executes the rectangle's measured seconds on the
- * simulated host (smpi_execute_flops at SIM_HOST_FLOPS); its pixels are
+ * simulated host (smpi_execute_flops at SIM_HOST_FLOPS), band by band as
+ * the traced one runs, progress between bands included; its pixels are
  * black, its hits come from the map.  And the master's own costs
  * (charges.h), charged where a real master spends them.
  */
@@ -111,5 +112,13 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     res->hits = (uint32_t)(cost.hits + 0.5);
     res->busy_s = cost.seconds;
     res->cpu_s = cost.seconds;
-    smpi_execute_flops(cost.seconds * SIM_HOST_FLOPS);
+    /* in the bands of workers/tile_run.c, this rank's transfers moved on
+     * between them as there (tile_runner.progress) */
+    int rows = tile_band_rows(tr, r);
+    for (int y0 = 0; y0 < r.height; y0 += rows) {
+        int band = r.height - y0 < rows ? r.height - y0 : rows;
+        if (y0 > 0)
+            tr->progress(tr->progress_arg);
+        smpi_execute_flops(cost.seconds * band / r.height * SIM_HOST_FLOPS);
+    }
 }

@@ -34,6 +34,16 @@ typedef struct {
  * the rectangle, at least one. */
 #define TILE_BAND_PIXELS 1024
 
+/* The rows of rectangle r a band holds (all of them without a hook); the
+ * simulated build's tile_run_rect cuts its cost the same way. */
+static inline int tile_band_rows(const tile_runner *tr, tile_rect r)
+{
+    if (!tr->progress)
+        return r.height;
+    int rows = TILE_BAND_PIXELS / (r.width * tr->grid.spp);
+    return rows < 1 ? 1 : rows;
+}
+
 /* False when out of memory (no progress hook: set it after). */
 bool tile_runner_init(tile_runner *tr, const void *blob, int tile);
 void tile_runner_free(tile_runner *tr);

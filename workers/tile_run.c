@@ -65,11 +65,7 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     memset(res, 0, sizeof *res);
     if (trace)
         records = tr->records;
-    int rows = r.height; /* a band: the whole rectangle, or TILE_BAND_PIXELS */
-    if (tr->progress) {
-        rows = TILE_BAND_PIXELS / (r.width * tr->grid.spp);
-        rows = rows < 1 ? 1 : rows;
-    }
+    int rows = tile_band_rows(tr, r);
     for (int y0 = 0; y0 < r.height; y0 += rows) {
         if (y0 > 0)
             tr->progress(tr->progress_arg);

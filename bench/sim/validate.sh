@@ -9,7 +9,11 @@
 # simulated makespan, their difference, the load.  Hetero runs the paper's
 # scheme on both sides (--fill off: the map then holds shading costs
 # only).  WORKERS (default "1 2 3") and MODES (default "homo hetero")
-# choose the points; SIZE and TILE the image.
+# choose the points; SIZE and TILE the image.  The large-message protocol
+# (bench/SCALE.md, "The protocol modelled"): MPI_ARGS, words added to
+# mpirun's (e.g. "--mca btl_vader_single_copy_mechanism none"), SIM_ARGS to
+# simulate.sh's (e.g. "--runtime legacy" with CSGTRACE_BIN, a build from
+# before 2026-11-28; "--sender-progress no" for a transport with single copy).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 REPEATS=${REPEATS:-3}
@@ -41,6 +45,9 @@ NAP_US=${NAP_US:-6.4}
 [[ "$TILE" =~ ^(8|16|32|64|128)$ ]] || { echo "TILE: 8, 16, 32, 64 or 128" >&2; exit 2; }
 [[ "$WORKERS" =~ ^[1-9]( [1-9])*$ ]] || { echo "WORKERS: digits 1..9, space-separated" >&2; exit 2; }
 [[ "$MODES" =~ ^(homo|hetero)( (homo|hetero))*$ ]] || { echo "MODES: homo and/or hetero" >&2; exit 2; }
+BIN=${CSGTRACE_BIN:-$ROOT/build/csgtrace}
+read -r -a mpi_args <<<"${MPI_ARGS:-}"
+read -r -a sim_args <<<"${SIM_ARGS:-}"
 WORK=$ROOT/build/sim/validate
 mkdir -p "$WORK"
 SCENE=$WORK/spheres50.pov
@@ -50,7 +57,7 @@ key=$(sha256sum "$SCENE" | cut -c1-16)
 for mode in $MODES; do for w in $WORKERS; do for _ in $(seq "$REPEATS"); do
     sched=$([ $mode = homo ] && echo raster || echo cost)
     OMPI_MCA_pml=ob1 mpirun --allow-run-as-root --oversubscribe --bind-to none -np $((w + 1)) \
-        "$ROOT/build/csgtrace" render "$SCENE" -o "$WORK/img.png" --mode $mode --width $SIZE \
+        "${mpi_args[@]}" "$BIN" render "$SCENE" -o "$WORK/img.png" --mode $mode --width $SIZE \
         --height $SIZE --tile $TILE --schedule $sched --fill off --stats "$WORK/real.json" \
         --tile-log "$WORK/real.log" >/dev/null 2>&1
     mkdir -p "$WORK/maps"
@@ -59,7 +66,7 @@ for mode in $MODES; do for w in $WORKERS; do for _ in $(seq "$REPEATS"); do
         --schedule $sched --tile $TILE --network "$NETWORK" --size ${SIZE}x$SIZE --fill off \
         --master-part-us "$PART_US" --master-pixel-ns "$PIXEL_NS" \
         --master-message-us "$MESSAGE_US" --master-store-ns "$STORE_NS" --nap-us "$NAP_US" \
-        --stats "$WORK/sim.json" >/dev/null
+        "${sim_args[@]}" --stats "$WORK/sim.json" >/dev/null
     python3 - "$WORK/real.json" "$WORK/sim.json" "$w" "$mode" "$TILE" <<'PY'
 import json, os, sys
 r, d = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))

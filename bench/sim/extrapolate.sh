@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# bench/sim/extrapolate.sh — issue 35's scale targets, simulated with the
+# model validated against the node (bench/sim/node_validate.py): the
+# node's own cost maps (a real 15-worker run's tile logs, scaling/*.jsonl)
+# scaled to 4096x4096, the pass at the H200's measured rate (the map's),
+# today's runtime, Open MPI's protocol as each network has it
+# (bench/simulate.sh: --eager-bytes, --sender-progress defaults).
+# Writes CSV rows to stdout: network, workers, relays, mode, tile, makespan,
+# efficiency, master_busy, tail_s, ramp_s, bytes the master sent/received.
+#   POINTS="ib:64:0:homo ..." bench/sim/extrapolate.sh > out.csv
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
+TILE=${TILE:-32}
+POINTS=${POINTS:-"ib:64:0:homo ib:64:0:hetero ib:256:16:homo ib:256:16:hetero ib:1024:32:homo ib:1024:32:hetero gige:64:0:hetero gige:64:0:homo"}
+TIMEOUT=${POINT_TIMEOUT:-900}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$ROOT/build/csgtrace" gen spheres --count 50 --occupancy 0.5 --seed 1 --width 2048 --height 2048 \
+    -o "$work/s50.pov" >/dev/null 2>&1
+for mode in homo hetero; do
+    python3 "$ROOT/bench/sim/costmap.py" "$work/$mode.costs" "$NODE/scaling/${mode}16.json" \
+        "$NODE/scaling/${mode}16.jsonl"
+done
+echo "network,workers,relays,mode,tile,makespan_s,efficiency,efficiency_ranks,master_busy,tail_s,ramp_s,bytes_sent,bytes_received"
+for p in $POINTS; do
+    IFS=: read -r net workers relays mode <<<"$p"
+    [[ "$net" =~ ^(ib|gige)$ && "$workers" =~ ^[0-9]+$ && "$relays" =~ ^[0-9]+$ && "$mode" =~ ^(homo|hetero)$ ]] ||
+        { echo "bad point '$p'" >&2; exit 2; }
+    fill=()
+    [ "$mode" = hetero ] && fill=(--fill-map "$work/homo.costs")
+    if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" --mode "$mode" \
+        --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" --schedule raster \
+        --map "$work/$mode.costs" "${fill[@]}" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
+        python3 - "$work/p.json" "$net" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print(f"{sys.argv[2]},{d['workers']},{d['relays']},{d['mode']},{d['tile']},{d['makespan_s']:.5f},"
+      f"{d['efficiency']:.4f},{d['efficiency_ranks']:.4f},{d['master_busy']:.3f},{d['tail_s']:.5f},"
+      f"{d['ramp_s']:.5f},{d['bytes_sent']},{d['bytes_received']}", flush=True)
+PY
+    else
+        echo "$net,$workers,$relays,$mode,$TILE,,,,,,,, # failed or past ${TIMEOUT} s: $(tail -1 "$work/err")"
+    fi
+done
