@@ -16,6 +16,7 @@
 #include "../csg/flatten.h"
 #include "../csg/numbers.h"
 #include "options.h"
+#include "output/claim.h"
 #include "output/file_atomic.h"
 #include "output/journal.h"
 #include "schedule.h"
@@ -263,14 +264,19 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
 static bool outputs_distinct(const cli_args *a, csg_diag *d)
 {
     const char *names[] = {"the scene", "the output (-o)", "the stats (--stats)",
-                           "the tile log (--tile-log)", "the output's journal"};
+                           "the tile log (--tile-log)", "the output's journal",
+                           "the output's lock"};
     char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX];
+    char lock_path[PATH_MAX + sizeof CLAIM_LOCK_SUFFIX];
     bool renders = a->command == CMD_RENDER && a->out_path;
-    if (renders)
+    if (renders) {
         journal_name(a->out_path, journal_path, sizeof journal_path);
+        claim_lock_name(a->out_path, lock_path, sizeof lock_path);
+    }
     const char *paths[] = {a->req.scene_path, a->out_path, a->req.stats_path,
-                           a->req.tile_log_path, renders ? journal_path : NULL};
-    for (int i = 1; i < 5; i++)
+                           a->req.tile_log_path, renders ? journal_path : NULL,
+                           renders ? lock_path : NULL};
+    for (int i = 1; i < 6; i++)
         for (int j = 0; j < i; j++)
             if (paths[i] && paths[j] && file_same(paths[i], paths[j])) {
                 csg_error_plain(d, "%s and %s are the same file ('%s'): refusing to overwrite it",

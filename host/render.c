@@ -48,6 +48,7 @@
 #include "feed.h"
 #include "master.h"
 #include "memory.h"
+#include "output/claim.h"
 #include "output/file_atomic.h"
 #include "output/image.h"
 #include "output/journal.h"
@@ -62,6 +63,7 @@
 
 /* Everything one render owns; freed in render_free. */
 typedef struct {
+    claim *claim;          /* the output's lock (NULL: no output file)   */
     csg_blob blob;
     float *image;          /* width * height * 3                        */
     stats_worker *workers; /* one per worker (or one for this process)  */
@@ -144,16 +146,28 @@ static void render_check_include(void *arg, const char *path)
     render_includes *ri = arg;
     const render_request *req = ri->req;
     const char *names[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
-                           "the output's journal"};
+                           "the output's journal", "the output's lock"};
     char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
-    if (req->out_path)
+    char lock_path[PATH_MAX + sizeof CLAIM_LOCK_SUFFIX] = "";
+    if (req->out_path) {
         journal_name(req->out_path, journal_path, sizeof journal_path);
+        claim_lock_name(req->out_path, lock_path, sizeof lock_path);
+    }
     const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
-                           req->out_path ? journal_path : NULL};
-    for (int i = 0; i < 4 && !ri->clash.failed; i++)
+                           req->out_path ? journal_path : NULL, req->out_path ? lock_path : NULL};
+    for (int i = 0; i < 5 && !ri->clash.failed; i++)
         if (paths[i] && file_same(paths[i], path))
             csg_error_plain(&ri->clash, "%s is '%s', a file the scene includes: refusing to "
                             "overwrite it", names[i], path);
+}
+
+/* The lock of the output, before any file of the render is made (and
+ * before the scene is read: a second render of the output stops at once);
+ * 0 or 1 with d filled. */
+static int render_claim(const render_request *req, claim **c, csg_diag *d)
+{
+    *c = req->out_path ? claim_take(req->out_path, d) : NULL;
+    return req->out_path && !*c ? EXIT_FAILURE_RUN : EXIT_OK;
 }
 
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
@@ -616,7 +630,9 @@ static int render_job(const render_request *req, int ranks, pass *p)
     rs.pass = p;
     master_begin(&ms, ranks);
 
-    int status = render_load(req, &rs.blob, &st, &d);
+    int status = render_claim(req, &rs.claim, &d);
+    if (status == EXIT_OK)
+        status = render_load(req, &rs.blob, &st, &d);
     if (status == EXIT_OK)
         status = render_memory_check(req, &rs.blob, &st, &d);
     if (status == EXIT_OK && !img_ready) {
@@ -662,6 +678,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
         signals_finished(); /* (a later signal: "its files are kept") */
     journal_close(rs.journal, status == EXIT_OK); /* (kept, unless finished) */
     rs.journal = NULL;
+    claim_release(rs.claim); /* (the journal's fate settled: another render may go on) */
+    rs.claim = NULL;
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

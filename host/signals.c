@@ -23,6 +23,8 @@ static char journal_path[4096];   /* the journal (set before the tile
                                      phase, cleared after it)           */
 static atomic_int temporary_ready; /* temporary_path is complete      */
 static char temporary_path[4096];  /* a file being written, to remove   */
+static atomic_int lock_ready;      /* lock_path is complete            */
+static char lock_path[4096];       /* the output's lock, to remove      */
 
 /* write(2) of a string; the result is of no use in a handler. */
 static void say(const char *s)
@@ -48,6 +50,8 @@ static void say_and_exit(int sig)
 {
     if (atomic_load(&temporary_ready))
         unlink(temporary_path); /* (an unfinished image's: never left behind) */
+    if (atomic_load(&lock_ready))
+        unlink(lock_path); /* (held by this process until it ends) */
     int tiles = atomic_load(&journal_tiles);
     bool journal = atomic_load(&journal_ready);
     if (atomic_load(&finished)) {
@@ -109,6 +113,17 @@ void signals_release(const char *const *written, int n)
     say_and_exit(sig);
 }
 
+/* path into the handler's buffer (cut: none), `ready` set once it is
+ * complete, so the handler never sees half a name. */
+static void signals_name(atomic_int *ready, char *buf, size_t size, const char *path)
+{
+    atomic_store(ready, 0);
+    if (path && strlen(path) < size) {
+        memcpy(buf, path, strlen(path) + 1);
+        atomic_store(ready, 1);
+    }
+}
+
 void signals_finished(void)
 {
     atomic_store(&finished, 1);
@@ -116,12 +131,9 @@ void signals_finished(void)
 
 void signals_journal(const char *path, int tiles)
 {
-    atomic_store(&journal_ready, 0); /* (the handler never sees half a name) */
+    atomic_store(&journal_ready, 0);
     atomic_store(&journal_tiles, tiles);
-    if (path && strlen(path) < sizeof journal_path) {
-        memcpy(journal_path, path, strlen(path) + 1);
-        atomic_store(&journal_ready, 1);
-    }
+    signals_name(&journal_ready, journal_path, sizeof journal_path, path);
 }
 
 void signals_journal_tiles(int tiles)
@@ -131,9 +143,10 @@ void signals_journal_tiles(int tiles)
 
 void signals_temporary(const char *path)
 {
-    atomic_store(&temporary_ready, 0); /* (the handler never sees half a name) */
-    if (path && strlen(path) < sizeof temporary_path) {
-        memcpy(temporary_path, path, strlen(path) + 1);
-        atomic_store(&temporary_ready, 1);
-    }
+    signals_name(&temporary_ready, temporary_path, sizeof temporary_path, path);
+}
+
+void signals_lock(const char *path)
+{
+    signals_name(&lock_ready, lock_path, sizeof lock_path, path);
 }

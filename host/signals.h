@@ -31,6 +31,10 @@ void signals_finished(void);
  * none any more. */
 void signals_temporary(const char *path);
 
+/* The render's lock (host/output/claim.h): a signal that ends the process
+ * removes it (the lock itself ends with the process).  NULL: none. */
+void signals_lock(const char *path);
+
 /* The journal of the render (host/output/journal.h), holding `tiles` finished
  * tiles; a signal's line then says how to resume (or, when it holds none,
  * removes it).  NULL: no journal. */

@@ -18,8 +18,9 @@
 #     likewise; a damaged record ends the journal there (the rest is
 #     rendered again, the image still identical); a link at the journal's
 #     name is never followed; --resume without a journal renders it all;
-#     two renders of one output at once: the second is refused; --stats
-#     naming the journal is refused.
+#     two renders of one output at once: the second is refused, also while
+#     the first still reads its scene (the output's lock, OUT.lock, comes
+#     before any file); --stats naming the journal is refused.
 # Every render of a pair runs with another MALLOC_PERTURB_: a byte of the
 # flattened scene left uninitialised would change its hash (the journal's
 # header) and fail the resume.
@@ -225,6 +226,12 @@ rc=$?
 [ $rc = 2 ] && grep -q "the output's journal" "$d/err" &&
     ok "--stats naming the output's journal: exit 2" ||
     ko "--stats naming the journal: exit $rc, stderr: $(head -c 300 "$d/err")"
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/small.exr" \
+    --tile-log "$d/small.exr.lock" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 2 ] && grep -q "the output's lock" "$d/err" &&
+    ok "--tile-log naming the output's lock: exit 2" ||
+    ko "--tile-log naming the lock: exit $rc, stderr: $(head -c 300 "$d/err")"
 
 # two renders of one output at once (the journal is locked from the start,
 # before its first record)
@@ -239,5 +246,29 @@ wait $pid
 [ $rc = 1 ] && grep -q "is in use by another render" "$d/err" &&
     ok "a second render of the same output while the first runs: refused" ||
     ko "a second render of the same output: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+# ... and while the first still reads its scene (no journal yet): the lock
+# (OUT.lock, never renamed) is taken before anything, so the second stops at
+# once naming it; each once made a journal of its own and both ran
+cat >"$d/parse.pov" <<'POV'
+#declare I = 0;
+#while (I < 1000000) #declare I = I + 1; #end
+camera { location <0, 0, -4> look_at 0 }
+light_source { <2, 4, -3> color rgb 1 }
+sphere { 0, 1 pigment { color rgb 1 } }
+POV
+rm -f "$d/p.png" "$d/p.png.journal"
+"$BIN" render "$d/parse.pov" --width 64 --height 64 -o "$d/p.png" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 100); do [ -e "$d/p.png.lock" ] && break; sleep 0.05; done
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/p.png" >/dev/null 2>"$d/err"
+rc=$?
+wait $pid
+rc_first=$?
+[ $rc = 1 ] && [ $rc_first = 0 ] && [ "$(wc -l <"$d/err")" = 1 ] &&
+    grep -q "p.png is in use by another render (process $pid holds its lock $d/p.png.lock)" "$d/err" &&
+    [ ! -e "$d/p.png.lock" ] && [ ! -e "$d/p.png.journal" ] &&
+    ok "a second render while the first reads its scene: refused at once, naming the lock; the lock gone after" ||
+    ko "a second render while the first reads its scene: exit $rc (first: $rc_first), stderr: $(head -c 300 "$d/err")"
 
 e2e_finish

@@ -29,9 +29,11 @@
  * second.
  *
  * The journal is created through an exclusive temporary file renamed into
- * place (never following a link), locked (flock) while its render runs, so
- * two renders never write one journal, and removed once the image and the
- * stats are written.  A render without --resume replaces an earlier
+ * place (never following a link), and removed once the image and the
+ * stats are written.  Two renders never write one journal: the output's
+ * lock (claim.h), taken before the journal is opened, keeps the second
+ * out (a lock on the journal itself held only the inode its render made:
+ * two renders started together each renamed their own into place).  A render without --resume replaces an earlier
  * journal; with --resume one written for another render (any field of the
  * header differs) is refused, saying what differs.
  *
