@@ -351,8 +351,11 @@ static int render_write(const render_request *req, render_state *rs, render_stat
     st->write_cpu_s = report.cpu_s;
     if (ok)
         return EXIT_OK;
+    size_t named = strlen(req->out_path); /* (the module's messages begin "OUT: ") */
     if (strstr(err, "error:"))
         snprintf(d->message, sizeof d->message, "%s", err);
+    else if (strncmp(err, req->out_path, named) == 0 && err[named] == ':')
+        csg_error_plain(d, "%s", err);
     else
         csg_error_plain(d, "%s: %s", req->out_path, err[0] ? err : "cannot write the image");
     d->failed = 1;

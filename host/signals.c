@@ -96,6 +96,11 @@ void signals_install(void)
     sigaction(SIGTERM, &sa, NULL);
 }
 
+void signals_ignore_file_limit(void)
+{
+    signal(SIGXFSZ, SIG_IGN);
+}
+
 void signals_hold(void)
 {
     atomic_store(&holding, 1);

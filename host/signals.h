@@ -11,6 +11,12 @@
 
 #include <stdbool.h>
 
+/* SIGXFSZ ignored, in every process (main): a write past the file-size
+ * limit (`ulimit -f`) then fails with EFBIG, which the writer reports with
+ * the limit (host/output/file_atomic.h: file_strerror), instead of the
+ * signal killing the process with no word and a half-written file. */
+void signals_ignore_file_limit(void);
+
 /* Installs the handlers (once per process). */
 void signals_install(void);
 

@@ -13,6 +13,9 @@
 #     journal keeps their stand-ins, comm/pixels.h): the resumed PNG is
 #     byte-identical to an uninterrupted one; that journal renamed for an
 #     EXR output is refused (exit 2: the pixel format differs);
+#   - under a file-size limit (ulimit -f) the journal's writes fail with
+#     one warning naming the limit, the image's with an error naming it
+#     (exit 1), a render and its --resume alike; no SIGXFSZ;
 #   - a journal of another render (another --depth) is refused, exit 2,
 #     naming what differs, and left as it was; a file that is not a journal
 #     likewise; a damaged record ends the journal there (the rest is
@@ -149,6 +152,50 @@ if [ $rc = 0 ] && cmp -s "$d/full.png" "$d/o.png" && [ ! -e "$d/o.png.journal" ]
 else
     ko "kill -9 mpirun to PNG, --resume: exit $rc, stderr: $(head -c 300 "$d/err2")"
 fi
+
+# ---- a file-size limit (ulimit -f) --------------------------------------------------
+# It once killed the render with SIGXFSZ (exit 153, no word) as the journal
+# met it, and --resume the same way: now the journal's write fails with one
+# warning naming the limit, the render goes on, and the image that cannot be
+# written is an error naming it (exit 1), no file left but the journal.
+d=$T/fsize
+mkdir -p "$d"
+limited() { bash -c 'ulimit -f 64 && exec "$@"' _ "$BIN" render "$T/slow.pov" \
+    --width 1000 --height 1000 -o "$d/o.png" "$@" >/dev/null 2>"$d/err"; }
+for flag in "" --resume; do
+    limited $flag
+    rc=$?
+    left=$(ls -A "$d" | grep -v -e '^err$' | tr '\n' ' ')
+    if [ $rc = 1 ] && [ "$(grep -c 'warning: cannot write the journal .*File too large: the file-size limit (ulimit -f) is 65536 bytes' "$d/err")" = 1 ] &&
+        grep -q "error: cannot write $d/o.png: File too large: the file-size limit (ulimit -f) is 65536 bytes" "$d/err" &&
+        [ "$left" = "o.png.journal " ]; then
+        ok "ulimit -f 64 ${flag:-(a fresh render)}: exit 1, the journal's warning and the image's error name the limit, only the journal left"
+    else
+        ko "ulimit -f 64 ${flag:-(a fresh render)}: exit $rc, left: $left, stderr: $(head -c 400 "$d/err")"
+    fi
+done
+"$BIN" render "$T/slow.pov" --width 1000 --height 1000 -o "$d/o.png" --resume \
+    --stats "$d/s.json" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 0 ] && json "$d/s.json" "j['tiles_resumed'] > 0" && [ ! -e "$d/o.png.journal" ] &&
+    ok "... then --resume without the limit: exit 0, from the journal's tiles" ||
+    ko "--resume after the limit: exit $rc, stderr: $(head -c 300 "$d/err")"
+rm -f "$d"/*
+bash -c 'ulimit -f 64 && exec "$@"' _ "$BIN" render "$T/slow.pov" --width 48 --height 48 \
+    --tile 1 -o "$d/small.png" --tile-log "$d/log.jsonl" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 1 ] && grep -q "error: cannot write $d/log.jsonl: File too large: the file-size limit (ulimit -f) is 65536 bytes" "$d/err" &&
+    [ -z "$(ls -A "$d" | grep -v -e '^err$' -e '^small.png.journal$')" ] &&
+    ok "a tile log over the file-size limit: exit 1, said with the limit, no image, log or temporary file left" ||
+    ko "a tile log over the file-size limit: exit $rc, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
+rm -f "$d"/*
+bash -c 'ulimit -f 1 && exec "$@"' _ "$BIN" render "$T/slow.pov" --width 64 --height 64 \
+    -o "$d/small.exr" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 1 ] && grep -q "^csgtrace: error: $d/small.exr: .*(the file met the file-size limit (ulimit -f) of 1024 bytes)$" "$d/err" &&
+    [ -z "$(ls -A "$d" | grep -v -e '^err$')" ] &&
+    ok "an EXR over the file-size limit (the image module): exit 1, said with the limit, no file left" ||
+    ko "an EXR over the file-size limit: exit $rc, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
 
 # ---- journals that do not fit ----------------------------------------------------
 # an interrupted render to resume from, again (serial, SIGTERM)

@@ -271,9 +271,10 @@ static bool journal_append(journal *j, int tile, const float *image)
     memcpy(j->record, &rec, sizeof rec);
     memcpy(j->record + sizeof rec + bytes, &sum, sizeof sum);
     if (!file_write_all(j->fd, j->record, sizeof rec + bytes + sizeof sum)) {
+        char why[160];
         fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "
                         "on, but --resume will not find the tiles after this one\n",
-                j->path, strerror(errno));
+                j->path, file_strerror(errno, why, sizeof why));
         atomic_store(&j->broken, true);
         return false;
     }
@@ -437,8 +438,9 @@ static int journal_create(const char *path, const journal_field *f, csg_diag *d)
     }
     if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
         !file_write_all(fd, header, n) || rename(tmp, path) != 0) {
+        char why[160];
         csg_error_plain(d, "cannot create the journal %s: %s", path,
-                        tmp ? strerror(errno) : "out of memory");
+                        tmp ? file_strerror(errno, why, sizeof why) : "out of memory");
         if (fd >= 0) {
             close(fd);
             unlink(tmp);

@@ -415,8 +415,9 @@ static bool stream_create(img_stream *s, char *err, size_t err_size)
     bool ok = fchmod(s->fd, file_default_mode()) == 0 &&
               (s->kind == STREAM_PNG ? stream_png_head(s) : file_write_all(s->fd, head, (size_t)len));
     if (!ok) {
+        char why[160];
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
-                 strerror(errno));
+                 file_strerror(errno, why, sizeof why));
         signals_temporary(NULL);
         unlink(s->tmp);
     }
@@ -532,7 +533,9 @@ bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *e
         error = errno;
     ok = !error;
     if (!ok) {
-        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path, strerror(error));
+        char why[160];
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
+                 file_strerror(error, why, sizeof why));
         unlink(s->tmp);
     }
     signals_temporary(NULL);
