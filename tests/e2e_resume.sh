@@ -18,9 +18,10 @@
 #     (exit 1), a render and its --resume alike; no SIGXFSZ;
 #   - a journal of another render (another --depth) is refused, exit 2,
 #     naming what differs, and left as it was; a file that is not a journal
-#     likewise; a damaged record ends the journal there (the rest is
-#     rendered again, the image still identical); a link at the journal's
-#     name is never followed; --resume without a journal renders it all;
+#     likewise; a damaged record is skipped, its tile rendered again, the
+#     valid records after it kept (the image still identical); a link at
+#     the journal's name is never followed; --resume without a journal
+#     renders it all;
 #     two renders of one output at once: the second is refused, also while
 #     the first still reads its scene (the output's lock, OUT.lock, comes
 #     before any file); --stats naming the journal is refused.
@@ -220,15 +221,27 @@ else
     ko "another --depth: exit $rc, stderr: $(head -c 300 "$d/err")"
 fi
 
-# a damaged record half-way: the journal ends there, the image is still exact
-python3 - "$d/o.exr.journal" <<'EOF'
-import sys
+# damaged records, the first and one half-way: each is skipped (its tile
+# rendered again), every valid record after it kept (a damaged record once
+# ended the journal: every tile after it was rendered again); the image is
+# still exact
+whole=$(python3 - "$d/o.exr.journal" <<'EOF'
+import struct, sys
 p = sys.argv[1]
 data = bytearray(open(p, 'rb').read())
 end = data.find(b'\n.\n') + 3
+size = 4 if b'\npixels float\n' in data[:end] else 1
+at, whole = end, 0  # the whole records, before the damage
+while at + 32 <= len(data):
+    w, h = struct.unpack_from('<II', data, at + 16)
+    at += 32 + w * h * 3 * size + 8
+    whole += at <= len(data)
+data[end + 40] ^= 0x40  # the first record's pixels
 data[end + (len(data) - end) // 2] ^= 0x40
 open(p, 'wb').write(data)
+print(whole)
 EOF
+)
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume --stats "$d/s.json" \
     >/dev/null 2>"$d/err"
 rc=$?
@@ -238,6 +251,9 @@ if [ $rc = 0 ] && same "$T/full.exr" "$d/o.exr" && grep -q "not a whole, valid t
 else
     ko "a damaged record: exit $rc, stderr: $(head -c 300 "$d/err")"
 fi
+json "$d/s.json" "j['tiles_resumed'] == $whole - 2" &&
+    ok "two damaged records (the first, one half-way): the other $((whole - 2)) of $whole tiles resumed" ||
+    ko "two damaged records: $(python3 -c "import json; print(json.load(open('$d/s.json'))['tiles_resumed'])" 2>&1) tiles resumed of $whole records"
 
 echo "not a journal" >"$d/o.exr.journal"
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume >/dev/null 2>"$d/err"

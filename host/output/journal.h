@@ -20,8 +20,11 @@
  * JOURNAL_AFTER_S: a render that ends sooner (the SPD frames, the
  * examples) never pays for a journal, and one stopped sooner keeps what it
  * had queued when it stops by itself (an error, a lost rank), but not when
- * a signal or kill -9 ends it.  A record cut short or damaged ends the
- * journal there (the tiles after it are rendered again); a process killed
+ * a signal or kill -9 ends it.  Every record has a size known from its
+ * tile, so a damaged one (a flipped byte) is skipped, its tile rendered
+ * again, and the valid records after it are kept (after a damaged header
+ * the reader looks for the next valid record); a record cut short ends the
+ * journal there (it is cut off before the next append); a process killed
  * after JOURNAL_AFTER_S loses at most the tiles in flight and those of the
  * last millisecond, queued and not yet appended (the count a signal's
  * message gives is of those appended).  Data is forced to the disk
