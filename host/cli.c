@@ -55,7 +55,7 @@ enum { CLI_OPTION_COUNT = sizeof cli_options / sizeof cli_options[0] };
  * against it: a row whose field has another size does not compile). */
 #define CLI_KIND_SIZE(kind)                                                                    \
     ((kind) == CLI_FLAG || (kind) == CLI_SWITCH ? sizeof(bool)                                 \
-     : (kind) == CLI_TEXT                       ? sizeof(const char *)                         \
+     : (kind) == CLI_TEXT || (kind) == CLI_PATH ? sizeof(const char *)                         \
      : (kind) == CLI_U64                        ? sizeof(uint64_t)                             \
      : (kind) == CLI_REAL                       ? sizeof(double)                               \
      : (kind) == CLI_FOLDER                     ? sizeof(((cli_args *)0)->library)             \
@@ -169,6 +169,13 @@ static bool cli_set(const cli_option *o, const char *val, cli_args *a, csg_diag 
         return true;
     case CLI_SET:
         *(int *)field = (int)o->lo;
+        return true;
+    case CLI_PATH:
+        if (!val[0]) { /* (else a library's message about no file name, exit 1) */
+            csg_error_plain(d, "%s needs a file name, got an empty one", o->name);
+            return false;
+        }
+        *(const char **)field = val;
         return true;
     case CLI_TEXT:
         *(const char **)field = val;

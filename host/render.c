@@ -161,11 +161,22 @@ static void render_check_include(void *arg, const char *path)
                             "overwrite it", names[i], path);
 }
 
-/* The lock of the output, before any file of the render is made (and
- * before the scene is read: a second render of the output stops at once);
- * 0 or 1 with d filled. */
+/* Every output checked (claim_check_output), then the lock of the image's,
+ * before any file of the render is made (and before the scene is read: a
+ * second render of the output stops at once); 0 or 1 with d filled. */
 static int render_claim(const render_request *req, claim **c, csg_diag *d)
 {
+    const char *what[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
+                          "the output's journal"};
+    char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
+    if (req->out_path)
+        journal_name(req->out_path, journal_path, sizeof journal_path);
+    const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
+                           req->out_path ? journal_path : NULL};
+    *c = NULL;
+    for (int i = 0; i < 4; i++)
+        if (paths[i] && !claim_check_output(paths[i], what[i], d))
+            return EXIT_FAILURE_RUN;
     *c = req->out_path ? claim_take(req->out_path, d) : NULL;
     return req->out_path && !*c ? EXIT_FAILURE_RUN : EXIT_OK;
 }

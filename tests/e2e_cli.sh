@@ -152,21 +152,33 @@ cmp -s "$T/good.pov" "$T/part.inc" && [ ! -e "$T/inc.png" ] &&
     ko "an output naming an include wrote something"
 rm -f "$T/inc.pov" "$T/part.inc"
 
-# a stats file that cannot be written fails the render, and leaves no image
+# a stats file that cannot be written fails the render, and leaves no image;
+# a folder that is not there is found before the first tile (it once was
+# after the last, and the finished image was deleted): one line, no journal
 expect 1 "unwritable --stats" "$BIN" render "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 \
     --stats "$T/no-such-folder/s.json"
 [ ! -e "$T/nostats.png" ] && ok "unwritable --stats: no image left" || ko "unwritable --stats left the image"
-# ... but the finished tiles are kept, and the line says so: --resume with
-# a stats path that works writes both without rendering a tile again
+errmsg "^csgtrace: error: cannot write the stats \(--stats\) '$T/no-such-folder/s.json': its folder $T/no-such-folder: No such file or directory$" \
+    "unwritable --stats: refused before the first tile, naming its folder"
+[ ! -e "$T/nostats.png.journal" ] && ok "unwritable --stats: no journal (no tile rendered)" ||
+    ko "unwritable --stats: a journal was made"
+# ... one that fails as it is written (here: over the file-size limit) keeps
+# the finished tiles, and the line says so: --resume with a log path that
+# works writes both without rendering a tile again
+expect 1 "a tile log over the file-size limit" bash -c 'ulimit -f 4 && exec "$@"' _ "$BIN" render \
+    "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 --tile 1 --tile-log "$T/log.jsonl"
+[ ! -e "$T/nostats.png" ] && ok "a tile log over the limit: no image left" ||
+    ko "a tile log over the limit left the image"
 grep -q "finished tiles are kept in $T/nostats.png.journal" "$T/err" &&
-    ok "unwritable --stats: the journal kept, and named" || ko "unwritable --stats: no journal named"
-expect 0 "unwritable --stats, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
-    --width 8 --height 6 --stats "$T/resumed.json" --resume
+    ok "a tile log over the limit: the journal kept, and named" ||
+    ko "a tile log over the limit: no journal named: $(head -c 300 "$T/err")"
+expect 0 "a tile log over the limit, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
+    --width 8 --height 6 --tile 1 --stats "$T/resumed.json" --tile-log "$T/log.jsonl" --resume
 json "$T/resumed.json" "j['tiles_resumed'] == j['tiles_total'] and j['tiles_rendered'] == 0" &&
-    [ -f "$T/nostats.png" ] && [ ! -e "$T/nostats.png.journal" ] &&
-    ok "--resume after the stats failed: every tile resumed, image written, journal gone" ||
-    ko "--resume after the stats failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
-rm -f "$T/nostats.png" "$T/resumed.json"
+    [ -f "$T/nostats.png" ] && [ -s "$T/log.jsonl" ] && [ ! -e "$T/nostats.png.journal" ] &&
+    ok "--resume after the tile log failed: every tile resumed, image and log written, journal gone" ||
+    ko "--resume after the tile log failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
+rm -f "$T/nostats.png" "$T/resumed.json" "$T/log.jsonl"
 
 # a render that cannot fit says so before allocating anything (here under a
 # 1 GiB address-space limit: 12000x12000 needs 1.6 GiB), and writes nothing

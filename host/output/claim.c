@@ -9,11 +9,16 @@
  * that opened the name just before may lock an inode no name leads to any
  * more; it tries again (a few times: each try means another render ended
  * or began meanwhile).
+ *
+ * Checking an output: lstat, never following a link; the folder's
+ * permission with faccessat(AT_EACCESS), the effective ids' (a read-only
+ * mount says EROFS).  No file is made to find out.
  */
 #include "claim.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +35,41 @@ struct claim {
     int fd;     /* the lock file, flocked          */
     char *path; /* OUT.lock                        */
 };
+
+/* What a file that is not a regular one is, for the message. */
+static const char *claim_kind(mode_t mode)
+{
+    return S_ISLNK(mode)    ? "a symbolic link"
+           : S_ISDIR(mode)  ? "a folder"
+           : S_ISFIFO(mode) ? "a FIFO"
+           : S_ISCHR(mode)  ? "a character device"
+           : S_ISBLK(mode)  ? "a block device"
+           : S_ISSOCK(mode) ? "a socket"
+                            : "not a regular file";
+}
+
+bool claim_check_output(const char *path, const char *what, csg_diag *d)
+{
+    struct stat st;
+    if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        csg_error_plain(d, "%s '%s' is %s: refusing to replace it with a file%s", what, path,
+                        claim_kind(st.st_mode),
+                        S_ISLNK(st.st_mode) ? " (name the file it leads to instead)" : "");
+        return false;
+    }
+    const char *slash = strrchr(path, '/');
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (slash == path ? 1 : (int)(slash - path)) : 1,
+             slash ? path : ".");
+    int err = stat(dir, &st) != 0                                       ? errno
+              : !S_ISDIR(st.st_mode)                                    ? ENOTDIR
+              : faccessat(AT_FDCWD, dir, W_OK | X_OK, AT_EACCESS) != 0 ? errno
+                                                                        : 0;
+    if (err)
+        csg_error_plain(d, "cannot write %s '%s': its folder %s: %s", what, path, dir,
+                        strerror(err));
+    return err == 0;
+}
 
 void claim_lock_name(const char *out_path, char *buf, size_t size)
 {

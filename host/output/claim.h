@@ -14,10 +14,14 @@
  * locked a name removed meanwhile (the holder's end) sees that the name no
  * longer leads to its inode and tries again.  A signal that ends the
  * render removes it too (host/signals.h).
+ *
+ * Before the lock, every output path is checked (claim_check_output): a
+ * render learns that it cannot write an output before its first tile.
  */
 #ifndef OUTPUT_CLAIM_H
 #define OUTPUT_CLAIM_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "../../csg/diag.h"
@@ -25,6 +29,16 @@
 #define CLAIM_LOCK_SUFFIX ".lock"
 
 typedef struct claim claim;
+
+/* One output of the render (`what`, for the message: "the stats
+ * (--stats)"), checked before the render makes any file, so that no
+ * output is found unwritable after the last tile (when the finished image
+ * would go again): an existing one must be a regular file, no link (a
+ * render replaces a file by renaming a new one over it, which would
+ * replace a FIFO, a device node or a link itself, not write into it), and
+ * its folder must exist and be writable by this process.  false with d
+ * filled (exit 1). */
+bool claim_check_output(const char *path, const char *what, csg_diag *d);
 
 /* OUT's lock file: OUT.lock, into buf (cut to size). */
 void claim_lock_name(const char *out_path, char *buf, size_t size);

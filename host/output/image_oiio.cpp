@@ -99,14 +99,29 @@ void set_png_options(ImageSpec &spec, int level)
     spec.attribute("compression", "rle");
 }
 
+/* OpenImageIO's writers that make no file: "null" (discards the pixels:
+ * -o x.null wrote an empty file, exit 0) and "term" (draws on the
+ * terminal). */
+bool writes_no_file(const ImageOutput &out)
+{
+    std::string name = out.format_name();
+    return name == "null" || name == "term";
+}
+
 /* An ImageOutput for path's format, or null with the message in err. */
 std::unique_ptr<ImageOutput> output_for(const std::string &path, char *err, size_t esz)
 {
     auto out = ImageOutput::create(path);
-    if (!out)
+    if (!out) {
         set_error(err, esz,
                   path + ": cannot write this image format ('" + extension_of(path) +
                       "'): " + OIIO::geterror());
+    } else if (writes_no_file(*out)) {
+        set_error(err, esz,
+                  path + ": cannot write this image format ('" + extension_of(path) +
+                      "'): OpenImageIO's '" + out->format_name() + "' writer makes no file");
+        out.reset();
+    }
     return out;
 }
 

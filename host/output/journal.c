@@ -13,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -463,32 +462,44 @@ void journal_tile_done(journal *j, int tile, const float *image)
 
 /* ---- opening ------------------------------------------------------------------------ */
 
-/* An existing journal, opened without following a link and locked;
- * -1 with errno ENOENT when there is none, else -1 with d filled. */
+/* Why an existing journal may not be resumed from ("" when it may): it is
+ * appended to and cut, so it must be this user's plain file with no other
+ * name (through a hard link a --resume would write into another file). */
+static const char *journal_unfit(const struct stat *st)
+{
+    if (!S_ISREG(st->st_mode))
+        return "is not a regular file";
+    if (st->st_uid != geteuid())
+        return "belongs to another user";
+    if (st->st_nlink != 1)
+        return "has other names (hard links)";
+    return "";
+}
+
+/* --resume: the existing journal, opened without following a link (nor
+ * blocking on a FIFO) and checked (journal_unfit); -1 with errno ENOENT
+ * when there is none, else -1 with d filled. */
 static int journal_open_existing(const char *path, csg_diag *d)
 {
-    int fd = open(path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     struct stat st;
     if (fd < 0) {
         if (errno != ENOENT)
             csg_error_plain(d, "cannot open the journal %s: %s", path, strerror(errno));
         return -1;
     }
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        csg_error_plain(d, "%s is not a regular file: refusing to use it as a journal", path);
-    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        csg_error_plain(d, "%s is in use by another render of the same output: wait for it to "
-                        "end (or stop it)", path);
-    } else {
+    const char *unfit = fstat(fd, &st) == 0 ? journal_unfit(&st) : strerror(errno);
+    if (!unfit[0])
         return fd;
-    }
+    csg_error_plain(d, "the journal %s %s: refusing to resume from it", path, unfit);
     close(fd);
     errno = EEXIST;
     return -1;
 }
 
 /* A new journal holding only the header, created exclusively beside the
- * output and renamed into place; its descriptor (locked), or -1. */
+ * output and renamed into place (over an earlier one, whatever its mode:
+ * starting over replaces it); its descriptor, or -1. */
 static int journal_create(const char *path, const journal_field *f, csg_diag *d)
 {
     char header[JOURNAL_HEADER_MAX];
@@ -500,8 +511,8 @@ static int journal_create(const char *path, const journal_field *f, csg_diag *d)
         snprintf(tmp, len, "%s.tmp.XXXXXX", path);
         fd = mkstemp(tmp);
     }
-    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
-        !file_write_all(fd, header, n) || rename(tmp, path) != 0) {
+    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || !file_write_all(fd, header, n) ||
+        rename(tmp, path) != 0) {
         char why[160];
         csg_error_plain(d, "cannot create the journal %s: %s", path,
                         tmp ? file_strerror(errno, why, sizeof why) : "out of memory");
@@ -576,23 +587,22 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
         return EXIT_FAILURE_RUN;
     }
     journal_fields(out_path, blob, g, f);
-    j->fd = journal_open_existing(j->path, d);
+    /* (without --resume an earlier journal is not opened at all: it is
+     * replaced, even read-only; the output's lock keeps other renders out) */
+    j->fd = resume ? journal_open_existing(j->path, d) : -1;
     int status = EXIT_OK;
-    if (j->fd < 0 && errno != ENOENT) {
+    if (resume && j->fd < 0 && errno != ENOENT) {
         status = EXIT_FAILURE_RUN;
-    } else if (j->fd >= 0 && resume) {
+    } else if (j->fd >= 0) {
         status = journal_resume(j, f, image, d);
     } else {
         if (resume)
             fprintf(stderr, "csgtrace: no journal %s to resume from: the render starts from "
                             "the beginning\n", j->path);
-        int old = j->fd; /* replaced (its lock held until then) */
         signals_hold(); /* a signal now would leave the temporary file */
         j->fd = journal_create(j->path, f, d);
         signals_journal(j->fd >= 0 ? j->path : NULL, 0);
         signals_release(NULL, 0); /* (a signal that came: the journal goes too) */
-        if (old >= 0)
-            close(old);
         status = j->fd < 0 ? EXIT_FAILURE_RUN : EXIT_OK;
     }
     if (status != EXIT_OK) {

@@ -36,9 +36,12 @@
  * stats are written.  Two renders never write one journal: the output's
  * lock (claim.h), taken before the journal is opened, keeps the second
  * out (a lock on the journal itself held only the inode its render made:
- * two renders started together each renamed their own into place).  A render without --resume replaces an earlier
- * journal; with --resume one written for another render (any field of the
- * header differs) is refused, saying what differs.
+ * two renders started together each renamed their own into place).  A
+ * render without --resume replaces an earlier journal (never opening it:
+ * a read-only one too); with --resume one written for another render (any
+ * field of the header differs) is refused, saying what differs, and so is
+ * one that is not this user's plain file with one name (opened
+ * O_NOFOLLOW: never written through a link, symbolic or hard).
  *
  * Resumed tiles are bit-identical to rendered ones: every mode computes the
  * same pixels (render.c), so a journal of a homo render may be resumed in
@@ -70,7 +73,8 @@ void journal_name(const char *out_path, char *buf, size_t size);
  * so).  No record is appended before after_s seconds have passed
  * (JOURNAL_AFTER_S for a render; 0: from the first tile).  Returns 0,
  * EXIT_BAD_INPUT (2: the journal belongs to another render) or 1 (cannot
- * create, or in use), with d filled. */
+ * create; with --resume, not a plain file of this user's with one name),
+ * with d filled. */
 int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
                  float *image, double after_s, journal **out, csg_diag *d);
 
