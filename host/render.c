@@ -353,7 +353,10 @@ static int render_write(const render_request *req, render_state *rs, render_stat
     char err[512] = "";
     if (!rs->stream)
         return EXIT_OK;
-    signals_hold(); /* until the stats are written too (render_job) */
+    /* A signal during the encoding of the tail or the module's write
+     * removes the temporary file and stops at once; from the rename on it
+     * waits until the stats are written too (render_job releases it). */
+    img_stream_hold_signals(rs->stream);
     img_stream_report report;
     bool ok = img_stream_finish(rs->stream, 0, &report, err, sizeof err);
     rs->stream = NULL;

@@ -35,6 +35,7 @@
 #include <unistd.h>
 
 #include "../../comm/pixels.h"
+#include "../signals.h"
 #include "file_atomic.h"
 #include "image_module.h"
 #include "stream.h"
@@ -197,8 +198,8 @@ static void module_write_failed(const char *tmp, char *err, size_t err_size)
                  (unsigned long long)rl.rlim_cur);
 }
 
-bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
-                          size_t err_size)
+bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
+                      char *err, size_t err_size)
 {
     const img_module *m = module_or_error(path, err, err_size);
     if (!m)
@@ -210,19 +211,29 @@ bool img_module_write_rgb(const char *path, const float *rgb, int width, int hei
                  file_strerror(errno, why, sizeof why));
         return false;
     }
+    signals_temporary(tmp); /* (a signal now removes it, however long the write) */
     err[0] = '\0';
     bool ok = m->write_rgb(path, tmp, rgb, width, height, loader.settings.png_level, err,
                            err_size);
     if (!ok)
         module_write_failed(tmp, err, err_size);
+    if (ok && hold)
+        signals_hold(); /* (from the rename on, a signal waits for the caller's release) */
     if (ok && rename(tmp, path) != 0) {
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
         ok = false;
     }
     if (!ok)
         unlink(tmp);
+    signals_temporary(NULL);
     free(tmp);
     return ok;
+}
+
+bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
+                          size_t err_size)
+{
+    return img_module_write(path, rgb, width, height, false, err, err_size);
 }
 
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
