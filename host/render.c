@@ -181,6 +181,19 @@ static int render_claim(const render_request *req, claim **c, csg_diag *d)
     return req->out_path && !*c ? EXIT_FAILURE_RUN : EXIT_OK;
 }
 
+/* The image cut into at most TILES_MAX tiles (comm/tiles.h: past it the
+ * counts overflow int); false with d filled (a bad request: exit 2). */
+static bool render_tiles_fit(const render_stats *st, csg_diag *d)
+{
+    uint64_t tiles = tiles_wide(st->width, st->height, st->tile);
+    if (tiles <= TILES_MAX)
+        return true;
+    csg_error_plain(d, "a %dx%d image in tiles of %dx%d pixels is %llu tiles, more than a render "
+                    "may have (%d): use a larger --tile", st->width, st->height, st->tile, st->tile,
+                    (unsigned long long)tiles, TILES_MAX);
+    return false;
+}
+
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
 static int render_load(const render_request *req, csg_blob *blob, render_stats *st, csg_diag *d)
 {
@@ -210,6 +223,10 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
         st->pixels = (uint64_t)st->width * (uint64_t)st->height;
         o.width = st->width;
         o.height = st->height;
+    }
+    if (ok && !render_tiles_fit(st, d)) {
+        csg_scene_free(&s);
+        return EXIT_BAD_INPUT;
     }
     if (!ok || !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
         if (!d->failed)
@@ -600,29 +617,32 @@ static void render_warn_budget(const render_stats *st)
 }
 
 /* Refuses, with the figures, a render whose peak memory this process
- * cannot have (before any of it is allocated). */
+ * cannot have (before any of it is allocated); the estimate into the
+ * stats. */
 static int render_memory_check(const render_request *req, const csg_blob *blob,
-                               const render_stats *st, csg_diag *d)
+                               render_stats *st, csg_diag *d)
 {
     uint64_t avail;
     tile_grid grid = tile_grid_of(blob->bytes, st->tile);
     int slice_rows = req->mode == MODE_HETERO ? pass_slice_rows(&grid) : 0;
-    render_memory need = render_memory_need(st->width, st->height, st->spp,
+    render_memory need = render_memory_need(st->width, st->height, st->tile, st->spp,
                                             csg_blob_hdr(blob->bytes)->real_size, slice_rows,
                                             req->out_path);
+    st->memory_estimate = need.total;
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;
-    char total[32], image[32], writer[32], records[32], left[32], why[96] = "";
+    char total[32], image[32], writer[32], records[32], tiles[32], left[32], why[96] = "";
     if (need.records)
         snprintf(why, sizeof why, ", the hit records of the OpenCL pass %s",
                  memory_format(need.records + need.device, records, sizeof records));
     csg_error_plain(d,
                     "a %dx%d render in %s mode needs about %s of memory (the image %s, its "
-                    "encoding %s%s); this process may allocate %s",
+                    "encoding %s%s, the tiles' bookkeeping %s); this process may allocate %s",
                     st->width, st->height, render_mode_name(req->mode),
                     memory_format(need.total, total, sizeof total),
                     memory_format(need.image, image, sizeof image),
                     memory_format(need.writer, writer, sizeof writer), why,
+                    memory_format(need.tiles, tiles, sizeof tiles),
                     memory_format(avail, left, sizeof left));
     return EXIT_FAILURE_RUN;
 }
