@@ -3,8 +3,11 @@
  * of ranks (render.h).
  *
  * Steps, on the process that owns the image (rank 0, or the only one):
- *   1. parse the scene and flatten it in the requested precision; share the
- *      status and the blob with the workers (master.c);
+ *   0. claim the outputs: every output path checked, the output's lock
+ *      taken (output/claim.h), before any file is made;
+ *   1. parse the scene and flatten it in the requested precision (an image
+ *      of more than TILES_MAX tiles refused); share the status and the
+ *      blob with the workers (master.c);
  *   2. hetero: the primary pass (pass/pass.h), its device opened while the
  *      scene was read, begun now or once the program is built;
  *   3. the tile phase, through the workers (master_run_tiles) or, without

@@ -58,8 +58,9 @@ static void test_second_claim_is_refused(void **state)
     if (pid == 0) {
         csg_diag d2 = {{0}, 0};
         char want[512];
-        snprintf(want, sizeof want, "%s is in use by another render (process %ld holds its lock %s)",
-                 f->out, (long)getppid(), f->lock);
+        snprintf(want, sizeof want,
+                 "%s is in use by another render (process %ld holds its lock %s)", f->out,
+                 (long)getppid(), f->lock);
         _exit(claim_take(f->out, &d2) == NULL && strstr(d2.message, want) ? 0 : 1);
     }
     int status;
