@@ -106,7 +106,8 @@ typedef struct {
 /* What a worker sends first on its watchdog connection. */
 typedef struct {
     uint64_t token;    /* link_watch_addr.token: the job's, not a stranger's */
-    int32_t rank, pad;
+    int32_t rank;
+    int32_t pid;       /* its process id (link_kill_stopped)              */
 } link_watch_hello;
 
 /* The one liveness state of this process (MPI's own state is per process
@@ -114,6 +115,7 @@ typedef struct {
 static struct {
     int rank, size;
     int *fd;              /* rank 0: [r] rank r's socket, -1: none/lost */
+    int *pid;             /* rank 0: [r] rank r's process id, as it said */
     bool *gone;           /* rank 0: [r] rank r was lost or written off
                              (link_peer_lost stays true for it)          */
     bool watched;         /* every rank: the watchdogs are up            */
@@ -124,7 +126,7 @@ static struct {
     MPI_Comm bcast_comm;  /* the scene's chunks sent as messages (under
                              --enable-recovery: link_bcast) apart from
                              the protocol's, which are matched eagerly  */
-} link_w = {0, 1, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL};
+} link_w = {0, 1, NULL, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL};
 
 static int link_listen(link_watch_addr *a)
 {
@@ -155,6 +157,7 @@ static bool link_greet_watch(int c, uint64_t token)
         link_w.fd[hello.rank] >= 0)
         return false;
     link_w.fd[hello.rank] = c;
+    link_w.pid[hello.rank] = hello.pid;
     return true;
 }
 
@@ -292,7 +295,7 @@ static void link_watch_connect(const link_watch_addr *a)
 {
     struct addrinfo hints = {.ai_family = AF_INET, .ai_socktype = SOCK_STREAM}, *ai = NULL;
     char port[16];
-    link_watch_hello hello = {a->token, link_w.rank, 0};
+    link_watch_hello hello = {a->token, link_w.rank, (int32_t)getpid()};
     snprintf(port, sizeof port, "%d", (int)a->port);
     int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd < 0 || getaddrinfo(a->host, port, &hints, &ai) != 0 ||
@@ -355,7 +358,8 @@ static void link_watch_start(void)
     if (link_w.rank == 0) {
         link_w.fd = malloc((size_t)link_w.size * sizeof *link_w.fd);
         link_w.gone = calloc((size_t)link_w.size, sizeof *link_w.gone);
-        if (!link_w.gone) {
+        link_w.pid = calloc((size_t)link_w.size, sizeof *link_w.pid);
+        if (!link_w.gone || !link_w.pid) {
             free(link_w.fd);
             link_w.fd = NULL;
         }
@@ -402,6 +406,38 @@ static void link_bye(int rank, char why)
     send(link_w.fd[rank], &why, 1, MSG_NOSIGNAL | MSG_DONTWAIT);
 }
 
+/* Is process `pid` stopped (SIGSTOP, SIGTSTP, a debugger)?  Its state in
+ * /proc/PID/stat: 'T' or 't'. */
+static bool link_process_stopped(int pid)
+{
+    char path[64], buf[512];
+    snprintf(path, sizeof path, "/proc/%d/stat", pid);
+    FILE *f = fopen(path, "r");
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f)
+        fclose(f);
+    buf[n] = '\0';
+    const char *end = strrchr(buf, ')'); /* "pid (comm) state ..." */
+    char state = 0;
+    return end && sscanf(end + 1, " %c", &state) == 1 && (state == 'T' || state == 't');
+}
+
+/* A worker written off that is stopped cannot exit by its watchdog, and
+ * mpirun waits for it for ever: the master SIGKILLs it, when it is a
+ * process of this host (a child of the master's own parent, mpirun, that
+ * says it is rank r: never a stranger with a reused id).  On another host
+ * nothing reaches it: mpirun waits until it is continued or killed
+ * there. */
+static void link_kill_stopped(int rank)
+{
+    char pid[16];
+    if (link_threads || link_w.pid[rank] <= 0)
+        return;
+    snprintf(pid, sizeof pid, "%d", link_w.pid[rank]);
+    if (link_process_stopped(link_w.pid[rank]) && link_sibling_rank(pid, getppid()) == rank)
+        kill(link_w.pid[rank], SIGKILL);
+}
+
 void link_forget(int rank)
 {
     if (!link_w.fd || rank < 1 || rank >= link_w.size || link_w.fd[rank] < 0)
@@ -410,6 +446,7 @@ void link_forget(int rank)
     close(link_w.fd[rank]); /* the worker's watchdog sees EOF and exits */
     link_w.fd[rank] = -1;
     link_w.gone[rank] = true;
+    link_kill_stopped(rank); /* (unless it cannot: stopped) */
 }
 
 void link_ending(int status)

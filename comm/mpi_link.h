@@ -205,7 +205,9 @@ int link_bind_worker(const char *setting);
 bool link_peer_gone_before(int rank);
 bool link_peer_lost(int rank);
 /* Master: stops watching rank r and closes its socket, so that worker,
- * if it is still alive (hung), exits at once. */
+ * if it is still alive (hung), exits at once; one that is stopped
+ * (SIGSTOP), which cannot, is SIGKILLed when it runs on this host (on
+ * another, mpirun waits for it until it is continued or killed there). */
 void link_forget(int rank);
 /* Worker: STOP(status) came (status >= 0): from now on the master's exit
  * is expected, and this process is given a few seconds to end by itself

@@ -37,7 +37,10 @@ void test_hook_kill(int rank, const char *moment, int done)
     const char *after = test_hook_text(TEST_KILL_AFTER);
     if (strcmp(at ? at : "item", moment) != 0 || done != (after ? atoi(after) : 2))
         return;
-    while (test_hook_text(TEST_HANG))
+    const char *hang = test_hook_text(TEST_HANG);
+    if (hang && strcmp(hang, "stop") == 0)
+        raise(SIGSTOP);
+    while (hang)
         pause();
     raise(SIGKILL);
 }

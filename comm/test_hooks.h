@@ -23,7 +23,10 @@
       "at that moment: item (default), send, scene, ready")                                    \
     X(TEST_KILL_AFTER, "CSGTRACE_TEST_KILL_AFTER",                                             \
       "after so many of them (default 2)")                                                     \
-    X(TEST_HANG, "CSGTRACE_TEST_HANG", "set: it hangs there instead of dying")                 \
+    X(TEST_HANG, "CSGTRACE_TEST_HANG",                                                         \
+      "set: it hangs there instead of dying ('stop': the process stops, SIGSTOP)")             \
+    X(TEST_HANG_S, "CSGTRACE_TEST_HANG_S",                                                     \
+      "the master's backstop for a silent worker, in seconds (default 10)")                    \
     X(TEST_CL_DELAY_MS, "CSGTRACE_TEST_CL_DELAY_MS",                                           \
       "the OpenCL program's build takes that much longer")                                     \
     X(TEST_CL_MAX_ALLOC, "CSGTRACE_TEST_CL_MAX_ALLOC",                                         \
@@ -56,7 +59,8 @@ long long test_hook_number(enum test_hook h, long long bound);
  * its answer to item `done` (counted from 0); "ready": a worker before its
  * handshake (done 0); "scene": a worker between the setup and the scene
  * of the broadcast (done 0).  With CSGTRACE_TEST_HANG set too, it hangs
- * instead (this thread waits for ever). */
+ * instead (this thread waits for ever; "stop": the whole process stops,
+ * as SIGSTOP or Ctrl-Z would stop it). */
 void test_hook_kill(int rank, const char *moment, int done);
 #else
 static inline const char *test_hook_text(enum test_hook h)

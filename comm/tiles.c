@@ -16,6 +16,12 @@ tile_grid tile_grid_of(const void *blob, int tile)
     return g;
 }
 
+uint64_t tiles_wide(int width, int height, int tile)
+{
+    uint64_t t = (uint64_t)(tile > 0 ? tile : 1);
+    return ((uint64_t)width + t - 1) / t * (((uint64_t)height + t - 1) / t);
+}
+
 int tile_columns(const tile_grid *g)
 {
     return (g->width + g->tile - 1) / g->tile;

@@ -17,6 +17,7 @@
 #ifndef COMM_TILES_H
 #define COMM_TILES_H
 
+#include <limits.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -34,6 +35,18 @@ typedef struct {
     size_t real_size;   /* bytes of a record's t                       */
     size_t pixels_max;  /* pixels of the largest tile                  */
 } tile_grid;
+
+/* The most tiles an image may be cut into (--tile 1 at 65536 x 65536 would
+ * be 2^32, past int): every count derived from the tiles (items: a tile
+ * split in four, requeued; an array's capacity doubled) stays an int, with
+ * room.  Checked where the request's size is known (host/render.c), before
+ * anything is counted; that many tiles' bookkeeping is already ~18 GB
+ * (host/memory.c). */
+#define TILES_MAX (INT_MAX / 16)
+
+/* The tiles of a width x height image of tile x tile tiles, counted
+ * without overflow (to check against TILES_MAX). */
+uint64_t tiles_wide(int width, int height, int tile);
 
 /* The grid of a validated blob's image; tile must be > 0. */
 tile_grid tile_grid_of(const void *blob, int tile);

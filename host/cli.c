@@ -16,6 +16,7 @@
 #include "../csg/flatten.h"
 #include "../csg/numbers.h"
 #include "options.h"
+#include "output/claim.h"
 #include "output/file_atomic.h"
 #include "output/journal.h"
 #include "schedule.h"
@@ -54,7 +55,7 @@ enum { CLI_OPTION_COUNT = sizeof cli_options / sizeof cli_options[0] };
  * against it: a row whose field has another size does not compile). */
 #define CLI_KIND_SIZE(kind)                                                                    \
     ((kind) == CLI_FLAG || (kind) == CLI_SWITCH ? sizeof(bool)                                 \
-     : (kind) == CLI_TEXT                       ? sizeof(const char *)                         \
+     : (kind) == CLI_TEXT || (kind) == CLI_PATH ? sizeof(const char *)                         \
      : (kind) == CLI_U64                        ? sizeof(uint64_t)                             \
      : (kind) == CLI_REAL                       ? sizeof(double)                               \
      : (kind) == CLI_FOLDER                     ? sizeof(((cli_args *)0)->library)             \
@@ -169,6 +170,13 @@ static bool cli_set(const cli_option *o, const char *val, cli_args *a, csg_diag 
     case CLI_SET:
         *(int *)field = (int)o->lo;
         return true;
+    case CLI_PATH:
+        if (!val[0]) { /* (else a library's message about no file name, exit 1) */
+            csg_error_plain(d, "%s needs a file name, got an empty one", o->name);
+            return false;
+        }
+        *(const char **)field = val;
+        return true;
     case CLI_TEXT:
         *(const char **)field = val;
         return true;
@@ -263,14 +271,19 @@ static bool parse_option(cli_args *a, int argc, char **argv, int *i, csg_diag *d
 static bool outputs_distinct(const cli_args *a, csg_diag *d)
 {
     const char *names[] = {"the scene", "the output (-o)", "the stats (--stats)",
-                           "the tile log (--tile-log)", "the output's journal"};
+                           "the tile log (--tile-log)", "the output's journal",
+                           "the output's lock"};
     char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX];
+    char lock_path[PATH_MAX + sizeof CLAIM_LOCK_SUFFIX];
     bool renders = a->command == CMD_RENDER && a->out_path;
-    if (renders)
+    if (renders) {
         journal_name(a->out_path, journal_path, sizeof journal_path);
+        claim_lock_name(a->out_path, lock_path, sizeof lock_path);
+    }
     const char *paths[] = {a->req.scene_path, a->out_path, a->req.stats_path,
-                           a->req.tile_log_path, renders ? journal_path : NULL};
-    for (int i = 1; i < 5; i++)
+                           a->req.tile_log_path, renders ? journal_path : NULL,
+                           renders ? lock_path : NULL};
+    for (int i = 1; i < 6; i++)
         for (int j = 0; j < i; j++)
             if (paths[i] && paths[j] && file_same(paths[i], paths[j])) {
                 csg_error_plain(d, "%s and %s are the same file ('%s'): refusing to overwrite it",

@@ -19,6 +19,7 @@
 #include "compare.h"
 #include "output/image.h"
 #include "render.h"
+#include "signals.h"
 #include "version.h"
 
 static int fail(const csg_diag *d, int status)
@@ -121,6 +122,7 @@ int main(int argc, char **argv)
 {
     cli_args a;
     csg_diag d = {0};
+    signals_ignore_file_limit(); /* (every command, every rank: EFBIG, said) */
     if (!cli_parse(argc, argv, &a, &d))
         return fail(&d, EXIT_BAD_INPUT);
     configure_images(&a.env);

@@ -18,12 +18,19 @@ typedef struct {
     uint64_t device;  /* hetero: the OpenCL pass's record buffers, one
                          slice's (reused from slice to slice)            */
     uint64_t writer;  /* what the encoder holds (memory.c)              */
-    uint64_t total;   /* the peak: the image, the records (tile phase)
-                         and the writer when it encodes during the tile
-                         phase (PNG, PPM), else the larger of the records
-                         and the writer (written after the records are
-                         freed)                                         */
+    uint64_t tiles;   /* the master's bookkeeping of the tiles, from the
+                         tile phase to the end (memory_tile_bytes a
+                         tile: --tile 1 makes it the largest part)       */
+    uint64_t total;   /* the peak: the image, the tiles, the records
+                         (tile phase) and the writer when it encodes
+                         during the tile phase (PNG, PPM), else the
+                         larger of the records and the writer (written
+                         after the records are freed)                    */
 } render_memory;
+
+/* The master's bookkeeping of one tile, in bytes (memory.c lists it);
+ * `hetero` adds the pass's. */
+uint64_t memory_tile_bytes(bool hetero);
 
 /* Rows of the image the encoder holds at a time, as bytes, for the
  * module's 8-bit formats (host/output/image_oiio.cpp, display_strip_rows);
@@ -61,11 +68,11 @@ void memory_prefault_join(memory_prefault *p);
  * bytes of scanlines at a time (or one scanline). */
 #define MEMORY_WRITER_FLOAT_CHUNK ((uint64_t)16 << 20)
 
-/* The peak of a render of width x height pixels at `spp` samples,
- * `real_size` bytes a real; `slice_rows` > 0 (hetero) adds the hit
- * records and the OpenCL buffers of a slice of that many rows; `out_path`
- * (NULL: none) tells the encoder's depth by its extension. */
-render_memory render_memory_need(int width, int height, int spp, size_t real_size,
+/* The peak of a render of width x height pixels in tiles of `tile`, at
+ * `spp` samples, `real_size` bytes a real; `slice_rows` > 0 (hetero) adds
+ * the hit records and the OpenCL buffers of a slice of that many rows;
+ * `out_path` (NULL: none) tells the encoder's depth by its extension. */
+render_memory render_memory_need(int width, int height, int tile, int spp, size_t real_size,
                                  int slice_rows, const char *out_path);
 
 /* The bytes this process may still allocate: the least of the machine's

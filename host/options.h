@@ -25,6 +25,7 @@ enum cli_kind {
     CLI_FLAG,    /* no value: true                          bool          */
     CLI_SET,     /* no value: lo                            int (enum)    */
     CLI_TEXT,    /* the text itself                         const char *  */
+    CLI_PATH,    /* a file's name: the text, never empty    const char *  */
     CLI_INT,     /* a whole number in [lo, hi]              int           */
     CLI_INT_AUTO, /* "auto" (0) or a whole number in [lo, hi]  int        */
     CLI_U64,     /* a whole number in [lo, hi]              uint64_t      */
@@ -44,7 +45,7 @@ enum cli_kind {
 #define CLI_ON_SCENES (CLI_ON_RENDERS | CLI_ON_CHECK | CLI_ON_EXPORT)
 
 #define CLI_OPTIONS(X)                                                                         \
-    X("-o", "--output", "OUT", CLI_TEXT, out_path, 0, 0, NULL,                                 \
+    X("-o", "--output", "OUT", CLI_PATH, out_path, 0, 0, NULL,                                 \
       CLI_ON_RENDER | CLI_ON_COMPARE | CLI_ON_EXPORT | CLI_ON_GEN,                             \
       "the output: the image (render; its format by the extension), a prefix for both "        \
       "images (compare), the scene (export, gen)")                                             \
@@ -76,9 +77,9 @@ enum cli_kind {
       "ranks 1..K become masters of groups of workers (default 0)")                            \
     X("--store-threads", NULL, "N", CLI_INT, req.store_threads, 1, STORE_THREADS_MAX, NULL,    \
       CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default 1)")                    \
-    X("--stats", NULL, "FILE.json", CLI_TEXT, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \
+    X("--stats", NULL, "FILE.json", CLI_PATH, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \
       "the render's figures as JSON (compare: every run)")                                     \
-    X("--tile-log", NULL, "FILE.jsonl", CLI_TEXT, req.tile_log_path, 0, 0, NULL,               \
+    X("--tile-log", NULL, "FILE.jsonl", CLI_PATH, req.tile_log_path, 0, 0, NULL,               \
       CLI_ON_RENDER, "one JSON line a work item")                                              \
     X("--cl-device", NULL, "SEL", CLI_TEXT, req.cl_device, 0, 0, NULL, CLI_ON_RENDERS,         \
       "the OpenCL device: P:D or a part of its name (default $CSGTRACE_CL_DEVICE, "            \

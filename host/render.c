@@ -3,8 +3,11 @@
  * of ranks (render.h).
  *
  * Steps, on the process that owns the image (rank 0, or the only one):
- *   1. parse the scene and flatten it in the requested precision; share the
- *      status and the blob with the workers (master.c);
+ *   0. claim the outputs: every output path checked, the output's lock
+ *      taken (output/claim.h), before any file is made;
+ *   1. parse the scene and flatten it in the requested precision (an image
+ *      of more than TILES_MAX tiles refused); share the status and the
+ *      blob with the workers (master.c);
  *   2. hetero: the primary pass (pass/pass.h), its device opened while the
  *      scene was read, begun now or once the program is built;
  *   3. the tile phase, through the workers (master_run_tiles) or, without
@@ -48,6 +51,7 @@
 #include "feed.h"
 #include "master.h"
 #include "memory.h"
+#include "output/claim.h"
 #include "output/file_atomic.h"
 #include "output/image.h"
 #include "output/journal.h"
@@ -62,6 +66,7 @@
 
 /* Everything one render owns; freed in render_free. */
 typedef struct {
+    claim *claim;          /* the output's lock (NULL: no output file)   */
     csg_blob blob;
     float *image;          /* width * height * 3                        */
     stats_worker *workers; /* one per worker (or one for this process)  */
@@ -144,16 +149,52 @@ static void render_check_include(void *arg, const char *path)
     render_includes *ri = arg;
     const render_request *req = ri->req;
     const char *names[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
-                           "the output's journal"};
+                           "the output's journal", "the output's lock"};
+    char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
+    char lock_path[PATH_MAX + sizeof CLAIM_LOCK_SUFFIX] = "";
+    if (req->out_path) {
+        journal_name(req->out_path, journal_path, sizeof journal_path);
+        claim_lock_name(req->out_path, lock_path, sizeof lock_path);
+    }
+    const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
+                           req->out_path ? journal_path : NULL, req->out_path ? lock_path : NULL};
+    for (int i = 0; i < 5 && !ri->clash.failed; i++)
+        if (paths[i] && file_same(paths[i], path))
+            csg_error_plain(&ri->clash, "%s is '%s', a file the scene includes: refusing to "
+                            "overwrite it", names[i], path);
+}
+
+/* Every output checked (claim_check_output), then the lock of the image's,
+ * before any file of the render is made (and before the scene is read: a
+ * second render of the output stops at once); 0 or 1 with d filled. */
+static int render_claim(const render_request *req, claim **c, csg_diag *d)
+{
+    const char *what[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
+                          "the output's journal"};
     char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
     if (req->out_path)
         journal_name(req->out_path, journal_path, sizeof journal_path);
     const char *paths[] = {req->out_path, req->stats_path, req->tile_log_path,
                            req->out_path ? journal_path : NULL};
-    for (int i = 0; i < 4 && !ri->clash.failed; i++)
-        if (paths[i] && file_same(paths[i], path))
-            csg_error_plain(&ri->clash, "%s is '%s', a file the scene includes: refusing to "
-                            "overwrite it", names[i], path);
+    *c = NULL;
+    for (int i = 0; i < 4; i++)
+        if (paths[i] && !claim_check_output(paths[i], what[i], d))
+            return EXIT_FAILURE_RUN;
+    *c = req->out_path ? claim_take(req->out_path, d) : NULL;
+    return req->out_path && !*c ? EXIT_FAILURE_RUN : EXIT_OK;
+}
+
+/* The image cut into at most TILES_MAX tiles (comm/tiles.h: past it the
+ * counts overflow int); false with d filled (a bad request: exit 2). */
+static bool render_tiles_fit(const render_stats *st, csg_diag *d)
+{
+    uint64_t tiles = tiles_wide(st->width, st->height, st->tile);
+    if (tiles <= TILES_MAX)
+        return true;
+    csg_error_plain(d, "a %dx%d image in tiles of %dx%d pixels is %llu tiles, more than a render "
+                    "may have (%d): use a larger --tile", st->width, st->height, st->tile, st->tile,
+                    (unsigned long long)tiles, TILES_MAX);
+    return false;
 }
 
 /* Step 1: 0, or 2 (bad scene) / 1 (other failure) with d filled. */
@@ -185,6 +226,10 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
         st->pixels = (uint64_t)st->width * (uint64_t)st->height;
         o.width = st->width;
         o.height = st->height;
+    }
+    if (ok && !render_tiles_fit(st, d)) {
+        csg_scene_free(&s);
+        return EXIT_BAD_INPUT;
     }
     if (!ok || !render_engine(req, &s, st)->flatten(&s, &o, blob, d)) {
         if (!d->failed)
@@ -328,7 +373,10 @@ static int render_write(const render_request *req, render_state *rs, render_stat
     char err[512] = "";
     if (!rs->stream)
         return EXIT_OK;
-    signals_hold(); /* until the stats are written too (render_job) */
+    /* A signal during the encoding of the tail or the module's write
+     * removes the temporary file and stops at once; from the rename on it
+     * waits until the stats are written too (render_job releases it). */
+    img_stream_hold_signals(rs->stream);
     img_stream_report report;
     bool ok = img_stream_finish(rs->stream, 0, &report, err, sizeof err);
     rs->stream = NULL;
@@ -337,8 +385,11 @@ static int render_write(const render_request *req, render_state *rs, render_stat
     st->write_cpu_s = report.cpu_s;
     if (ok)
         return EXIT_OK;
+    size_t named = strlen(req->out_path); /* (the module's messages begin "OUT: ") */
     if (strstr(err, "error:"))
         snprintf(d->message, sizeof d->message, "%s", err);
+    else if (strncmp(err, req->out_path, named) == 0 && err[named] == ':')
+        csg_error_plain(d, "%s", err);
     else
         csg_error_plain(d, "%s: %s", req->out_path, err[0] ? err : "cannot write the image");
     d->failed = 1;
@@ -569,29 +620,32 @@ static void render_warn_budget(const render_stats *st)
 }
 
 /* Refuses, with the figures, a render whose peak memory this process
- * cannot have (before any of it is allocated). */
+ * cannot have (before any of it is allocated); the estimate into the
+ * stats. */
 static int render_memory_check(const render_request *req, const csg_blob *blob,
-                               const render_stats *st, csg_diag *d)
+                               render_stats *st, csg_diag *d)
 {
     uint64_t avail;
     tile_grid grid = tile_grid_of(blob->bytes, st->tile);
     int slice_rows = req->mode == MODE_HETERO ? pass_slice_rows(&grid) : 0;
-    render_memory need = render_memory_need(st->width, st->height, st->spp,
+    render_memory need = render_memory_need(st->width, st->height, st->tile, st->spp,
                                             csg_blob_hdr(blob->bytes)->real_size, slice_rows,
                                             req->out_path);
+    st->memory_estimate = need.total;
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;
-    char total[32], image[32], writer[32], records[32], left[32], why[96] = "";
+    char total[32], image[32], writer[32], records[32], tiles[32], left[32], why[96] = "";
     if (need.records)
         snprintf(why, sizeof why, ", the hit records of the OpenCL pass %s",
                  memory_format(need.records + need.device, records, sizeof records));
     csg_error_plain(d,
                     "a %dx%d render in %s mode needs about %s of memory (the image %s, its "
-                    "encoding %s%s); this process may allocate %s",
+                    "encoding %s%s, the tiles' bookkeeping %s); this process may allocate %s",
                     st->width, st->height, render_mode_name(req->mode),
                     memory_format(need.total, total, sizeof total),
                     memory_format(need.image, image, sizeof image),
                     memory_format(need.writer, writer, sizeof writer), why,
+                    memory_format(need.tiles, tiles, sizeof tiles),
                     memory_format(avail, left, sizeof left));
     return EXIT_FAILURE_RUN;
 }
@@ -616,7 +670,9 @@ static int render_job(const render_request *req, int ranks, pass *p)
     rs.pass = p;
     master_begin(&ms, ranks);
 
-    int status = render_load(req, &rs.blob, &st, &d);
+    int status = render_claim(req, &rs.claim, &d);
+    if (status == EXIT_OK)
+        status = render_load(req, &rs.blob, &st, &d);
     if (status == EXIT_OK)
         status = render_memory_check(req, &rs.blob, &st, &d);
     if (status == EXIT_OK && !img_ready) {
@@ -662,6 +718,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
         signals_finished(); /* (a later signal: "its files are kept") */
     journal_close(rs.journal, status == EXIT_OK); /* (kept, unless finished) */
     rs.journal = NULL;
+    claim_release(rs.claim); /* (the journal's fate settled: another render may go on) */
+    rs.claim = NULL;
     if (status == EXIT_OK) {
         if (req->stats_out) {
             *req->stats_out = st;

@@ -172,9 +172,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     stats_field(f, "occupancy", stats_occupancy(s));
     fputs("  \"rays\": ", f);
     stats_rays(f, &s->rays);
-    fprintf(f, ",\n  \"bytes_sent\": %llu,\n  \"bytes_received\": %llu,\n  \"blob_bytes\": %llu,\n",
+    fprintf(f, ",\n  \"bytes_sent\": %llu,\n  \"bytes_received\": %llu,\n  \"blob_bytes\": %llu,\n"
+               "  \"memory_estimate\": %llu,\n",
             (unsigned long long)s->bytes_sent, (unsigned long long)s->bytes_received,
-            (unsigned long long)s->blob_bytes);
+            (unsigned long long)s->blob_bytes, (unsigned long long)s->memory_estimate);
     fputs("  \"result_pixels\": ", f);
     stats_string(f, s->result_pixels ? s->result_pixels : "none");
     fputs(",\n", f);

@@ -143,6 +143,11 @@
  *                 comm/pixels.h), "float" (EXR or no file), "none" (no
  *                 workers)
  *   blob_bytes    size of the flattened scene
+ *   memory_estimate  bytes the process that owns the image was estimated
+ *                 to hold at its peak before it allocated any
+ *                 (host/memory.h: the image, the encoder, the tiles'
+ *                 bookkeeping, the hit records), what it checked against
+ *                 what it may allocate
  *   workers       [{rank, tiles, items, busy_s, busy_fraction, hits,
  *                 rays{...}}] one per rank that rendered tiles (rank 0
  *                 alone without workers; rank 0 last when every worker
@@ -217,6 +222,7 @@ typedef struct render_stats {
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;
+    uint64_t memory_estimate; /* host/memory.h: render_memory_need's total */
     int worker_count;       /* ranks - 1 (the relays' entries first)  */
     stats_worker *workers;  /* worker_count entries (not owned)      */
 } render_stats;

@@ -152,28 +152,40 @@ cmp -s "$T/good.pov" "$T/part.inc" && [ ! -e "$T/inc.png" ] &&
     ko "an output naming an include wrote something"
 rm -f "$T/inc.pov" "$T/part.inc"
 
-# a stats file that cannot be written fails the render, and leaves no image
+# a stats file that cannot be written fails the render, and leaves no image;
+# a folder that is not there is found before the first tile (it once was
+# after the last, and the finished image was deleted): one line, no journal
 expect 1 "unwritable --stats" "$BIN" render "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 \
     --stats "$T/no-such-folder/s.json"
 [ ! -e "$T/nostats.png" ] && ok "unwritable --stats: no image left" || ko "unwritable --stats left the image"
-# ... but the finished tiles are kept, and the line says so: --resume with
-# a stats path that works writes both without rendering a tile again
+errmsg "^csgtrace: error: cannot write the stats \(--stats\) '$T/no-such-folder/s.json': its folder $T/no-such-folder: No such file or directory$" \
+    "unwritable --stats: refused before the first tile, naming its folder"
+[ ! -e "$T/nostats.png.journal" ] && ok "unwritable --stats: no journal (no tile rendered)" ||
+    ko "unwritable --stats: a journal was made"
+# ... one that fails as it is written (here: over the file-size limit) keeps
+# the finished tiles, and the line says so: --resume with a log path that
+# works writes both without rendering a tile again
+expect 1 "a tile log over the file-size limit" bash -c 'ulimit -f 4 && exec "$@"' _ "$BIN" render \
+    "$T/good.pov" -o "$T/nostats.png" --width 8 --height 6 --tile 1 --tile-log "$T/log.jsonl"
+[ ! -e "$T/nostats.png" ] && ok "a tile log over the limit: no image left" ||
+    ko "a tile log over the limit left the image"
 grep -q "finished tiles are kept in $T/nostats.png.journal" "$T/err" &&
-    ok "unwritable --stats: the journal kept, and named" || ko "unwritable --stats: no journal named"
-expect 0 "unwritable --stats, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
-    --width 8 --height 6 --stats "$T/resumed.json" --resume
+    ok "a tile log over the limit: the journal kept, and named" ||
+    ko "a tile log over the limit: no journal named: $(head -c 300 "$T/err")"
+expect 0 "a tile log over the limit, then --resume" "$BIN" render "$T/good.pov" -o "$T/nostats.png" \
+    --width 8 --height 6 --tile 1 --stats "$T/resumed.json" --tile-log "$T/log.jsonl" --resume
 json "$T/resumed.json" "j['tiles_resumed'] == j['tiles_total'] and j['tiles_rendered'] == 0" &&
-    [ -f "$T/nostats.png" ] && [ ! -e "$T/nostats.png.journal" ] &&
-    ok "--resume after the stats failed: every tile resumed, image written, journal gone" ||
-    ko "--resume after the stats failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
-rm -f "$T/nostats.png" "$T/resumed.json"
+    [ -f "$T/nostats.png" ] && [ -s "$T/log.jsonl" ] && [ ! -e "$T/nostats.png.journal" ] &&
+    ok "--resume after the tile log failed: every tile resumed, image and log written, journal gone" ||
+    ko "--resume after the tile log failed: $(cat "$T/resumed.json" 2>/dev/null | head -c 300)"
+rm -f "$T/nostats.png" "$T/resumed.json" "$T/log.jsonl"
 
 # a render that cannot fit says so before allocating anything (here under a
 # 1 GiB address-space limit: 12000x12000 needs 1.6 GiB), and writes nothing
 expect 1 "render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode serial
-errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 2.01 GiB of memory .*may allocate" \
+errmsg "^csgtrace: error: a 12000x12000 render in serial mode needs about 2.03 GiB of memory .*the tiles' bookkeeping 18.37 MiB\); .*may allocate" \
     "memory estimate message"
 if [ -e "$T/huge.png" ] || ls "$T"/.huge* >/dev/null 2>&1; then ko "memory refusal wrote a file"; else
     ok "memory refusal wrote no file"
@@ -183,8 +195,35 @@ fi
 expect 1 "hetero render beyond the memory it may allocate" \
     bash -c 'ulimit -v 1048576 && exec "$@"' _ "$BIN" render "$T/good.pov" -o "$T/huge.png" \
     --width 12000 --height 12000 --mode hetero
-errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 3.09 GiB of memory \(the image 1.61 GiB, its encoding 411.99 MiB, the hit records of the OpenCL pass 1.08 GiB\)" \
+errmsg "^csgtrace: error: a 12000x12000 render in hetero mode needs about 3.11 GiB of memory \(the image 1.61 GiB, its encoding 411.99 MiB, the hit records of the OpenCL pass 1.08 GiB, the tiles' bookkeeping 21.59 MiB\)" \
     "hetero memory estimate message"
+
+# the tiles' bookkeeping is in the estimate (~100 bytes a tile: --tile 1 at
+# 2000x2000 once peaked at 458 MB against an estimate of 48 MB): the peak
+# of a --tile 1 render is within the estimate (and a little for the
+# process itself), and the estimate counts at least 100 bytes a tile
+python3 - "$BIN" "$T/good.pov" "$T/tiles1.png" "$T/tiles1.json" >"$T/out" 2>"$T/err" <<'EOF'
+import json, resource, subprocess, sys
+binary, scene, out, stats = sys.argv[1:]
+w = h = 500
+subprocess.run([binary, "render", scene, "--width", str(w), "--height", str(h), "--tile", "1",
+                "-o", out, "--stats", stats], check=True, stdout=subprocess.DEVNULL)
+peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024
+est = json.load(open(stats)).get("memory_estimate", 0)
+image = w * h * 3 * 4
+print(f"peak {peak >> 20} MiB, estimate {est >> 20} MiB")
+sys.exit(0 if peak <= est + (32 << 20) and est >= image + w * h * 100 else 1)
+EOF
+[ $? = 0 ] && ok "--tile 1: the peak within the estimate, which counts the tiles ($(cat "$T/out"))" ||
+    ko "--tile 1: the peak beyond the estimate: $(cat "$T/out" "$T/err" | head -c 300)"
+rm -f "$T/tiles1.png" "$T/tiles1.json"
+
+# more tiles than the counts can hold (2^32 at --tile 1, 65536 x 65536): a bad
+# request, exit 2, before any allocation (the tile count overflowed int)
+expect 2 "2^32 tiles" "$BIN" render "$T/good.pov" -o "$T/huge.png" --width 65536 --height 65536 \
+    --tile 1
+errmsg "^csgtrace: error: a 65536x65536 image in tiles of 1x1 pixels is 4294967296 tiles, more than a render may have \(134217727\): use a larger --tile$" \
+    "2^32 tiles: the message"
 
 # --- a failed render never leaves a partial file: existing output untouched ---
 echo "previous" >"$T/keep.png"

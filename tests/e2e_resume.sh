@@ -13,13 +13,18 @@
 #     journal keeps their stand-ins, comm/pixels.h): the resumed PNG is
 #     byte-identical to an uninterrupted one; that journal renamed for an
 #     EXR output is refused (exit 2: the pixel format differs);
+#   - under a file-size limit (ulimit -f) the journal's writes fail with
+#     one warning naming the limit, the image's with an error naming it
+#     (exit 1), a render and its --resume alike; no SIGXFSZ;
 #   - a journal of another render (another --depth) is refused, exit 2,
 #     naming what differs, and left as it was; a file that is not a journal
-#     likewise; a damaged record ends the journal there (the rest is
-#     rendered again, the image still identical); a link at the journal's
-#     name is never followed; --resume without a journal renders it all;
-#     two renders of one output at once: the second is refused; --stats
-#     naming the journal is refused.
+#     likewise; a damaged record is skipped, its tile rendered again, the
+#     valid records after it kept (the image still identical); a link at
+#     the journal's name is never followed; --resume without a journal
+#     renders it all;
+#     two renders of one output at once: the second is refused, also while
+#     the first still reads its scene (the output's lock, OUT.lock, comes
+#     before any file); --stats naming the journal is refused.
 # Every render of a pair runs with another MALLOC_PERTURB_: a byte of the
 # flattened scene left uninitialised would change its hash (the journal's
 # header) and fail the resume.
@@ -149,6 +154,50 @@ else
     ko "kill -9 mpirun to PNG, --resume: exit $rc, stderr: $(head -c 300 "$d/err2")"
 fi
 
+# ---- a file-size limit (ulimit -f) --------------------------------------------------
+# It once killed the render with SIGXFSZ (exit 153, no word) as the journal
+# met it, and --resume the same way: now the journal's write fails with one
+# warning naming the limit, the render goes on, and the image that cannot be
+# written is an error naming it (exit 1), no file left but the journal.
+d=$T/fsize
+mkdir -p "$d"
+limited() { bash -c 'ulimit -f 64 && exec "$@"' _ "$BIN" render "$T/slow.pov" \
+    --width 1000 --height 1000 -o "$d/o.png" "$@" >/dev/null 2>"$d/err"; }
+for flag in "" --resume; do
+    limited $flag
+    rc=$?
+    left=$(ls -A "$d" | grep -v -e '^err$' | tr '\n' ' ')
+    if [ $rc = 1 ] && [ "$(grep -c 'warning: cannot write the journal .*File too large: the file-size limit (ulimit -f) is 65536 bytes' "$d/err")" = 1 ] &&
+        grep -q "error: cannot write $d/o.png: File too large: the file-size limit (ulimit -f) is 65536 bytes" "$d/err" &&
+        [ "$left" = "o.png.journal " ]; then
+        ok "ulimit -f 64 ${flag:-(a fresh render)}: exit 1, the journal's warning and the image's error name the limit, only the journal left"
+    else
+        ko "ulimit -f 64 ${flag:-(a fresh render)}: exit $rc, left: $left, stderr: $(head -c 400 "$d/err")"
+    fi
+done
+"$BIN" render "$T/slow.pov" --width 1000 --height 1000 -o "$d/o.png" --resume \
+    --stats "$d/s.json" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 0 ] && json "$d/s.json" "j['tiles_resumed'] > 0" && [ ! -e "$d/o.png.journal" ] &&
+    ok "... then --resume without the limit: exit 0, from the journal's tiles" ||
+    ko "--resume after the limit: exit $rc, stderr: $(head -c 300 "$d/err")"
+rm -f "$d"/*
+bash -c 'ulimit -f 64 && exec "$@"' _ "$BIN" render "$T/slow.pov" --width 48 --height 48 \
+    --tile 1 -o "$d/small.png" --tile-log "$d/log.jsonl" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 1 ] && grep -q "error: cannot write $d/log.jsonl: File too large: the file-size limit (ulimit -f) is 65536 bytes" "$d/err" &&
+    [ -z "$(ls -A "$d" | grep -v -e '^err$' -e '^small.png.journal$')" ] &&
+    ok "a tile log over the file-size limit: exit 1, said with the limit, no image, log or temporary file left" ||
+    ko "a tile log over the file-size limit: exit $rc, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
+rm -f "$d"/*
+bash -c 'ulimit -f 1 && exec "$@"' _ "$BIN" render "$T/slow.pov" --width 64 --height 64 \
+    -o "$d/small.exr" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 1 ] && grep -q "^csgtrace: error: $d/small.exr: .*(the file met the file-size limit (ulimit -f) of 1024 bytes)$" "$d/err" &&
+    [ -z "$(ls -A "$d" | grep -v -e '^err$')" ] &&
+    ok "an EXR over the file-size limit (the image module): exit 1, said with the limit, no file left" ||
+    ko "an EXR over the file-size limit: exit $rc, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
+
 # ---- journals that do not fit ----------------------------------------------------
 # an interrupted render to resume from, again (serial, SIGTERM)
 interrupted() {
@@ -172,15 +221,27 @@ else
     ko "another --depth: exit $rc, stderr: $(head -c 300 "$d/err")"
 fi
 
-# a damaged record half-way: the journal ends there, the image is still exact
-python3 - "$d/o.exr.journal" <<'EOF'
-import sys
+# damaged records, the first and one half-way: each is skipped (its tile
+# rendered again), every valid record after it kept (a damaged record once
+# ended the journal: every tile after it was rendered again); the image is
+# still exact
+whole=$(python3 - "$d/o.exr.journal" <<'EOF'
+import struct, sys
 p = sys.argv[1]
 data = bytearray(open(p, 'rb').read())
 end = data.find(b'\n.\n') + 3
+size = 4 if b'\npixels float\n' in data[:end] else 1
+at, whole = end, 0  # the whole records, before the damage
+while at + 32 <= len(data):
+    w, h = struct.unpack_from('<II', data, at + 16)
+    at += 32 + w * h * 3 * size + 8
+    whole += at <= len(data)
+data[end + 40] ^= 0x40  # the first record's pixels
 data[end + (len(data) - end) // 2] ^= 0x40
 open(p, 'wb').write(data)
+print(whole)
 EOF
+)
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume --stats "$d/s.json" \
     >/dev/null 2>"$d/err"
 rc=$?
@@ -190,6 +251,9 @@ if [ $rc = 0 ] && same "$T/full.exr" "$d/o.exr" && grep -q "not a whole, valid t
 else
     ko "a damaged record: exit $rc, stderr: $(head -c 300 "$d/err")"
 fi
+json "$d/s.json" "j['tiles_resumed'] == $whole - 2" &&
+    ok "two damaged records (the first, one half-way): the other $((whole - 2)) of $whole tiles resumed" ||
+    ko "two damaged records: $(python3 -c "import json; print(json.load(open('$d/s.json'))['tiles_resumed'])" 2>&1) tiles resumed of $whole records"
 
 echo "not a journal" >"$d/o.exr.journal"
 "$BIN" render "$T/slow.pov" "${SIZE[@]}" -o "$d/o.exr" --resume >/dev/null 2>"$d/err"
@@ -225,6 +289,12 @@ rc=$?
 [ $rc = 2 ] && grep -q "the output's journal" "$d/err" &&
     ok "--stats naming the output's journal: exit 2" ||
     ko "--stats naming the journal: exit $rc, stderr: $(head -c 300 "$d/err")"
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/small.exr" \
+    --tile-log "$d/small.exr.lock" >/dev/null 2>"$d/err"
+rc=$?
+[ $rc = 2 ] && grep -q "the output's lock" "$d/err" &&
+    ok "--tile-log naming the output's lock: exit 2" ||
+    ko "--tile-log naming the lock: exit $rc, stderr: $(head -c 300 "$d/err")"
 
 # two renders of one output at once (the journal is locked from the start,
 # before its first record)
@@ -239,5 +309,29 @@ wait $pid
 [ $rc = 1 ] && grep -q "is in use by another render" "$d/err" &&
     ok "a second render of the same output while the first runs: refused" ||
     ko "a second render of the same output: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+# ... and while the first still reads its scene (no journal yet): the lock
+# (OUT.lock, never renamed) is taken before anything, so the second stops at
+# once naming it; each once made a journal of its own and both ran
+cat >"$d/parse.pov" <<'POV'
+#declare I = 0;
+#while (I < 1000000) #declare I = I + 1; #end
+camera { location <0, 0, -4> look_at 0 }
+light_source { <2, 4, -3> color rgb 1 }
+sphere { 0, 1 pigment { color rgb 1 } }
+POV
+rm -f "$d/p.png" "$d/p.png.journal"
+"$BIN" render "$d/parse.pov" --width 64 --height 64 -o "$d/p.png" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 100); do [ -e "$d/p.png.lock" ] && break; sleep 0.05; done
+"$BIN" render "$T/slow.pov" --width 64 --height 64 -o "$d/p.png" >/dev/null 2>"$d/err"
+rc=$?
+wait $pid
+rc_first=$?
+[ $rc = 1 ] && [ $rc_first = 0 ] && [ "$(wc -l <"$d/err")" = 1 ] &&
+    grep -q "p.png is in use by another render (process $pid holds its lock $d/p.png.lock)" "$d/err" &&
+    [ ! -e "$d/p.png.lock" ] && [ ! -e "$d/p.png.journal" ] &&
+    ok "a second render while the first reads its scene: refused at once, naming the lock; the lock gone after" ||
+    ko "a second render while the first reads its scene: exit $rc (first: $rc_first), stderr: $(head -c 300 "$d/err")"
 
 e2e_finish

@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# e2e_signals.sh — SIGINT and SIGTERM during a render (host/signals.c):
+# e2e_signals.sh — signals during a render (host/signals.c):
 #   - serial: exit 130 (SIGINT) or 143 (SIGTERM), one line on stderr
 #     saying so, no file in the output's folder (image, stats, temporary)
 #     but the journal of the finished tiles (host/output/journal.h), which the
 #     line then names with the way to resume (tests/e2e_resume.sh resumes);
+#     the same for SIGHUP, SIGUSR1 and SIGPIPE (exit 128 + the signal); a
+#     SIGHUP ignored at the start (nohup) stays ignored;
+#   - SIGTERM during a long EXR write (the image module's), SIGKILL 0.3 s
+#     later as mpirun does: stopped at once, the temporary file removed;
 #   - under mpirun (3 ranks): SIGTERM and SIGINT to mpirun (which forwards
 #     SIGTERM to every rank): mpirun exits non-zero, no rank left running,
 #     no file written but the journal (the master's line is printed, but mpirun may end
@@ -20,10 +24,15 @@ slow_scene "$T/slow.pov"
 LONG=(--width 3000 --height 3000)
 
 # nothing_written DIR: DIR holds only the captured stdout and stderr, and
-# the journal (o.png.journal) if any tile was finished
-nothing_written() { [ -z "$(ls -A "$1" | grep -v -e '^out$' -e '^err$' -e '^o\.png\.journal$')" ]; }
+# the journal (o.png.journal, o.exr.journal) if any tile was finished
+nothing_written() { [ -z "$(ls -A "$1" | grep -v -e '^out$' -e '^err$' -e '^o\.\(png\|exr\)\.journal$')" ]; }
 # journal_named DIR: no journal, or the line names it and --resume
-journal_named() { [ ! -e "$1/o.png.journal" ] || grep -q "o.png.journal: the same command with --resume" "$1/err"; }
+journal_named() {
+    local j
+    for j in o.png.journal o.exr.journal; do
+        [ ! -e "$1/$j" ] || grep -q "$j: the same command with --resume" "$1/err" || return 1
+    done
+}
 
 # stopped NAME EXPECTED_STATUS SIGNAL_WORD
 stopped() {
@@ -49,6 +58,51 @@ for sig in INT TERM; do
     wait $pid
     stopped serial-$sig $? $want SIG$sig
 done
+
+# every other signal that would end the process stops it the same way (it
+# once killed it, leaving the streamed image's temporary file); exit 128 +
+# the signal
+for sig in HUP USR1 PIPE; do
+    d=$T/serial-$sig
+    mkdir -p "$d"
+    "$BIN" render "$T/slow.pov" --width 1400 --height 1400 -o "$d/o.png" --stats "$d/o.json" \
+        >"$d/out" 2>"$d/err" &
+    pid=$!
+    sleep 0.5
+    kill -$sig $pid
+    wait $pid
+    stopped serial-$sig $? $((128 + $(kill -l $sig))) SIG$sig
+done
+
+# ... unless it was ignored when the render began (nohup): it stays ignored
+d=$T/nohup
+mkdir -p "$d"
+(
+    trap '' HUP
+    "$BIN" render "$T/slow.pov" --width 600 --height 600 -o "$d/o.png" >/dev/null 2>"$d/err" &
+    pid=$!
+    sleep 0.2
+    kill -HUP $pid
+    wait $pid
+)
+rc=$?
+[ $rc = 0 ] && [ -s "$d/o.png" ] && ok "SIGHUP ignored at the start (nohup): the render goes on, exit 0" ||
+    ko "SIGHUP ignored at the start: exit $rc, stderr: $(head -c 300 "$d/err")"
+
+# a signal during a long write of the image module's (EXR): the render stops
+# at once, its temporary file removed (it once waited for the write to end,
+# and mpirun's SIGKILL a moment after its SIGTERM left the hidden file)
+d=$T/exr
+mkdir -p "$d"
+printf 'camera { location <0, 0, -4> look_at 0 }\nbackground { color rgb <0.2, 0.3, 0.4> }\n' >"$T/empty.pov"
+"$BIN" render "$T/empty.pov" --width 4000 --height 4000 -o "$d/o.exr" >"$d/out" 2>"$d/err" &
+pid=$!
+for _ in $(seq 600); do ls "$d"/.o.exr.*.exr >/dev/null 2>&1 && break; sleep 0.02; done
+kill -TERM $pid
+sleep 0.3
+kill -KILL $pid 2>/dev/null # (as mpirun does to a rank that outlives its SIGTERM)
+wait $pid
+stopped exr $? 143 SIGTERM
 
 for sig in TERM INT; do
     d=$T/mpi-$sig

@@ -4,7 +4,8 @@
  * --resume reads them back (bit for bit for a float output; for an 8-bit
  * one as the same bytes, from records of bytes); nothing is appended before
  * the journal's after_s (JOURNAL_AFTER_S in a render), and a render that
- * finishes first writes no record; a writer with nothing to write
+ * finishes first writes no record; damaged records are skipped, the valid
+ * ones after them kept; a writer with nothing to write
  * sleeps (it once spun on a core from the first second without a new tile
  * until the next one).
  */
@@ -268,6 +269,57 @@ static void test_8bit_records_are_bytes(void **state)
     free(image);
 }
 
+/* Damaged records are skipped, the valid ones after them kept: a flipped
+ * byte in the first record's pixels (its size known from its header), one
+ * in the third's rectangle (its header unsound: the reader looks for the
+ * next valid record), and a torn last record; the other tiles resumed with
+ * their bytes, the torn end cut off.  (A damaged record once ended the
+ * journal: every tile after it was rendered again.) */
+static void test_damaged_records_are_skipped(void **state)
+{
+    fixture *f = *state;
+    float *image = test_image(f);
+    size_t floats = (size_t)f->grid.width * (size_t)f->grid.height * 3;
+    float *back = calloc(floats, sizeof *back);
+    assert_non_null(back);
+    journal *j = NULL;
+    csg_diag d = {{0}, 0};
+    int tiles = tile_count(&f->grid);
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, false, image, 0, &j, &d), 0);
+    for (int t = 0; t < tiles; t++)
+        journal_tile_done(j, t, image); /* (records in tile order: after_s 0, no writer) */
+    journal_close(j, false);
+    char path[160];
+    snprintf(path, sizeof path, "%s%s", f->out, JOURNAL_SUFFIX);
+    FILE *file = fopen(path, "r+b");
+    assert_non_null(file);
+    char data[8192];
+    size_t n = fread(data, 1, sizeof data, file);
+    const size_t rec = 32 + 4 * 4 * 3 + 8; /* the fixed part, 4x4 bytes x 3, the checksum */
+    size_t header = (size_t)(strstr(data, "\n.\n") - data) + 3;
+    assert_int_equal(n, header + (size_t)tiles * rec);
+    data[header + 40] ^= 0x40;          /* record 0: a byte of its pixels */
+    data[header + 2 * rec + 8] ^= 0x01; /* record 2: its x */
+    rewind(file);
+    assert_int_equal(fwrite(data, 1, n - 10, file), n - 10);
+    fclose(file);
+    assert_int_equal(truncate(path, (off_t)(n - 10)), 0); /* record 23: torn */
+    assert_int_equal(journal_open(f->out, f->blob.bytes, &f->grid, true, back, 0, &j, &d), 0);
+    assert_int_equal(journal_tiles_resumed(j), tiles - 3);
+    for (int t = 0; t < tiles; t++)
+        assert_int_equal(journal_resumed(j, t), t != 0 && t != 2 && t != tiles - 1);
+    for (size_t i = 0; i < floats; i++) { /* (tile 1's pixels and the others' are back) */
+        size_t x = i / 3 % (size_t)f->grid.width, y = i / 3 / (size_t)f->grid.width;
+        int t = (int)(y / 4) * 6 + (int)(x / 4);
+        if (journal_resumed(j, t))
+            assert_int_equal(pixels_srgb_byte(back[i]), pixels_srgb_byte(image[i]));
+    }
+    journal_close(j, false);
+    assert_int_equal(journal_size(f->out), (long)(header + (size_t)(tiles - 1) * rec));
+    free(back);
+    free(image);
+}
+
 /* 2.5 s without a tile: the writer looks every millisecond and sleeps in
  * between (measured: ~0.03 s of CPU); spinning, it took a core from the
  * first second on (a second with no new tile left it no time to wait:
@@ -303,6 +355,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_finished_before_after_writes_none, setup, teardown),
         cmocka_unit_test_setup_teardown(test_records_once_after_has_passed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_8bit_records_are_bytes, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_damaged_records_are_skipped, setup, teardown),
         cmocka_unit_test_setup_teardown(test_idle_writer_sleeps, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

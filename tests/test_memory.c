@@ -3,7 +3,8 @@
  * (host/memory.h, memory_prefault_*): the pages become resident, what the
  * master stores meanwhile is kept, small images go without a thread; and
  * the image's memory (memory_image_alloc): a large one aligned to 2 MiB
- * and in huge pages where the kernel grants them on request.
+ * and in huge pages where the kernel grants them on request; the peak's
+ * estimate counts the tiles' bookkeeping (render_memory_need).
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -144,6 +145,23 @@ static void test_image_memory(void **state)
     free(image);
 }
 
+/* The estimate counts the master's bookkeeping of every tile: --tile 1 at
+ * 2000x2000 (4 M tiles) peaked at 458 MB, ~101 bytes a tile beyond the
+ * image, when the estimate was the image's 48 MB and the encoder's. */
+static void test_estimate_counts_the_tiles(void **state)
+{
+    (void)state;
+    render_memory one = render_memory_need(2000, 2000, 1, 1, 4, 0, "x.png");
+    render_memory big = render_memory_need(2000, 2000, 32, 1, 4, 0, "x.png");
+    assert_true(one.tiles >= 4000000ull * 101);
+    assert_int_equal(one.total, one.image + one.writer + one.tiles);
+    assert_int_equal(big.tiles, 63ull * 63 * memory_tile_bytes(false)); /* (2000 / 32: 63 a side) */
+    assert_true(one.total - big.total >= 400ull << 20);
+    render_memory hetero = render_memory_need(2000, 2000, 1, 1, 4, 128, "x.png");
+    assert_true(memory_tile_bytes(true) > memory_tile_bytes(false));
+    assert_int_equal(hetero.tiles, 4000000ull * memory_tile_bytes(true));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -151,6 +169,7 @@ int main(void)
         cmocka_unit_test(test_stores_meanwhile_are_kept),
         cmocka_unit_test(test_small_images_go_without),
         cmocka_unit_test(test_image_memory),
+        cmocka_unit_test(test_estimate_counts_the_tiles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

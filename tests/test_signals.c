@@ -3,7 +3,9 @@
  * the render stops it with "no file written" (exit 143); one during a
  * write waits for its end, then removes the file written; one after the
  * render finished (signals_finished, as when mpirun ends the job after
- * rank 0 wrote its image) says the files are kept, and keeps them.
+ * rank 0 wrote its image) says the files are kept, and keeps them; SIGHUP
+ * stops it too (exit 129), unless ignored at the start (nohup); a
+ * temporary file being written is removed at once.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -21,7 +23,7 @@
 
 #include "../host/signals.h"
 
-enum when { DURING_RENDER, DURING_WRITE, AFTER_FINISH };
+enum when { DURING_RENDER, DURING_WRITE, AFTER_FINISH, OTHER_SIGNAL, TEMPORARY, IGNORED };
 
 /* Runs the case in a child; its stderr into err, its exit status back. */
 static int run_child(enum when when, const char *file, char *err, size_t cap)
@@ -33,7 +35,18 @@ static int run_child(enum when when, const char *file, char *err, size_t cap)
     if (pid == 0) {
         dup2(fds[1], STDERR_FILENO);
         close(fds[0]);
+        if (when == IGNORED)
+            signal(SIGHUP, SIG_IGN); /* (nohup) */
         signals_install();
+        if (when == OTHER_SIGNAL || when == IGNORED) {
+            raise(SIGHUP);
+            _exit(0);
+        }
+        if (when == TEMPORARY) { /* (an image being written: no hold) */
+            signals_temporary(file);
+            raise(SIGUSR1);
+            _exit(0);
+        }
         if (when == DURING_WRITE) {
             signals_hold();
             raise(SIGTERM); /* waits for the release */
@@ -106,12 +119,46 @@ static void test_signal_after_finish_keeps_the_files(void **state)
     unlink(file);
 }
 
+/* Every signal that would end the process is handled like SIGTERM, with
+ * its own words and exit 128 + it (SIGHUP once killed it, leaving the
+ * image's temporary file). */
+static void test_other_signals_stop_the_render(void **state)
+{
+    (void)state;
+    char err[512];
+    assert_int_equal(run_child(OTHER_SIGNAL, NULL, err, sizeof err), 128 + SIGHUP);
+    assert_non_null(strstr(err, "csgtrace: hung up (SIGHUP): the render stopped, no file written"));
+}
+
+/* ... unless it was ignored at the start (nohup): it stays ignored. */
+static void test_ignored_signals_stay_ignored(void **state)
+{
+    (void)state;
+    char err[512];
+    assert_int_equal(run_child(IGNORED, NULL, err, sizeof err), 0);
+    assert_string_equal(err, "");
+}
+
+/* A temporary file being written goes with the signal, at once. */
+static void test_signal_removes_the_temporary_file(void **state)
+{
+    (void)state;
+    char file[34], err[512];
+    temp_file(file);
+    assert_int_equal(run_child(TEMPORARY, file, err, sizeof err), 128 + SIGUSR1);
+    assert_non_null(strstr(err, "(SIGUSR1): the render stopped, no file written"));
+    assert_int_not_equal(access(file, F_OK), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_signal_during_render),
         cmocka_unit_test(test_signal_during_write_removes_the_file),
         cmocka_unit_test(test_signal_after_finish_keeps_the_files),
+        cmocka_unit_test(test_other_signals_stop_the_render),
+        cmocka_unit_test(test_ignored_signals_stay_ignored),
+        cmocka_unit_test(test_signal_removes_the_temporary_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

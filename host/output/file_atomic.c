@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -18,6 +19,17 @@ mode_t file_default_mode(void)
     mode_t mask = umask(077);
     umask(mask);
     return 0666 & ~mask;
+}
+
+const char *file_strerror(int err, char *buf, size_t size)
+{
+    struct rlimit rl;
+    if (err == EFBIG && getrlimit(RLIMIT_FSIZE, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+        snprintf(buf, size, "%s: the file-size limit (ulimit -f) is %llu bytes", strerror(err),
+                 (unsigned long long)rl.rlim_cur);
+    else
+        snprintf(buf, size, "%s", strerror(err));
+    return buf;
 }
 
 bool file_write_atomic_checked(const char *path, file_writer write, void *arg, char *err,
@@ -53,8 +65,11 @@ bool file_write_atomic_checked(const char *path, file_writer write, void *arg, c
     return true;
 
 fail:
-    if (!err[0])
-        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+    if (!err[0]) {
+        char why[160];
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path,
+                 file_strerror(errno, why, sizeof why));
+    }
     if (f)
         fclose(f);
     if (fd >= 0)

@@ -33,6 +33,11 @@ bool file_write_atomic_checked(const char *path, file_writer write, void *arg, c
  * signal may cut a write short); false on an error. */
 bool file_write_all(int fd, const void *p, size_t n);
 
+/* strerror(err) into buf, and for EFBIG the figure: the file-size limit
+ * (RLIMIT_FSIZE, `ulimit -f`) the file met, "File too large: the file-size
+ * limit (ulimit -f) is 204800 bytes".  Returns buf. */
+const char *file_strerror(int err, char *buf, size_t size);
+
 /* What fopen would give a new file: 0666 less the umask (mkstemp's 0600
  * would hide a render from the other users of a shared folder). */
 mode_t file_default_mode(void);

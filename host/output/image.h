@@ -55,6 +55,13 @@ bool img_write_rgb(const char *path, const float *rgb, int width, int height, ch
 /* The module's writer alone (a format of IMG_FORMAT_MODULE). */
 bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                           size_t err_size);
+/* The same; `hold`: signals held (host/signals.h: signals_hold) from just
+ * before the finished file is renamed over `path`, for the caller to
+ * release once its other outputs are in place too (a render's image, its
+ * stats, its tile log).  Until then a signal removes the temporary file at
+ * once. */
+bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
+                      char *err, size_t err_size);
 
 /* Is there a writer for the format of `path` (its extension)?  A render
  * asks before it starts, not after its last tile: for a format of the

@@ -25,13 +25,18 @@
 #include "image.h"
 
 #include <dlfcn.h>
+#include <errno.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "../../comm/pixels.h"
+#include "../signals.h"
+#include "file_atomic.h"
 #include "image_module.h"
 #include "stream.h"
 
@@ -150,11 +155,85 @@ static const img_module *module_or_error(const char *subject, char *err, size_t 
     return loader.mod;
 }
 
+/* A new, empty file beside `path` for the module to write the image into:
+ * DIR/.BASE.XXXXXX.EXT with six random characters, created with O_CREAT |
+ * O_EXCL (mkstemps), so no name can be guessed and planted in advance, and
+ * no link already there is ever followed; the extension stays last, as
+ * OpenImageIO picks the format by it; fopen's mode.  malloc'd, or NULL
+ * with errno set. */
+static char *module_temporary(const char *path)
+{
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    const char *ext = dot ? dot : "";
+    size_t n = strlen(path) + 16;
+    char *tmp = malloc(n);
+    if (!tmp)
+        return NULL;
+    snprintf(tmp, n, "%.*s.%s.XXXXXX%s", (int)(base - path), path, base, ext);
+    int fd = mkstemps(tmp, (int)strlen(ext));
+    if (fd >= 0 && fchmod(fd, file_default_mode()) == 0 && close(fd) == 0)
+        return tmp;
+    int e = errno;
+    if (fd >= 0) {
+        close(fd);
+        unlink(tmp);
+    }
+    free(tmp);
+    errno = e;
+    return NULL;
+}
+
+/* The module's message for a failed write, with the file-size limit when
+ * the file met it (OpenImageIO's formats say only that a write failed). */
+static void module_write_failed(const char *tmp, char *err, size_t err_size)
+{
+    struct stat st;
+    struct rlimit rl;
+    size_t used = strlen(err);
+    if (getrlimit(RLIMIT_FSIZE, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        stat(tmp, &st) == 0 && (rlim_t)st.st_size >= rl.rlim_cur && used < err_size)
+        snprintf(err + used, err_size - used,
+                 " (the file met the file-size limit (ulimit -f) of %llu bytes)",
+                 (unsigned long long)rl.rlim_cur);
+}
+
+bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
+                      char *err, size_t err_size)
+{
+    const img_module *m = module_or_error(path, err, err_size);
+    if (!m)
+        return false;
+    char *tmp = module_temporary(path);
+    if (!tmp) {
+        char why[160];
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path,
+                 file_strerror(errno, why, sizeof why));
+        return false;
+    }
+    signals_temporary(tmp); /* (a signal now removes it, however long the write) */
+    err[0] = '\0';
+    bool ok = m->write_rgb(path, tmp, rgb, width, height, loader.settings.png_level, err,
+                           err_size);
+    if (!ok)
+        module_write_failed(tmp, err, err_size);
+    if (ok && hold)
+        signals_hold(); /* (from the rename on, a signal waits for the caller's release) */
+    if (ok && rename(tmp, path) != 0) {
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+        ok = false;
+    }
+    if (!ok)
+        unlink(tmp);
+    signals_temporary(NULL);
+    free(tmp);
+    return ok;
+}
+
 bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,
                           size_t err_size)
 {
-    const img_module *m = module_or_error(path, err, err_size);
-    return m && m->write_rgb(path, rgb, width, height, loader.settings.png_level, err, err_size);
+    return img_module_write(path, rgb, width, height, false, err, err_size);
 }
 
 bool img_write_rgb(const char *path, const float *rgb, int width, int height, char *err,

@@ -9,9 +9,9 @@
  * 8-bit files are encoded and written a strip of rows at a time
  * (write_display), so the writer never holds a copy of the whole image.
  *
- * Writing goes to a temporary file beside the target (same extension, so
- * OpenImageIO picks the same format) and is renamed over the target only
- * once the file is complete.
+ * Writing goes to the temporary file the loader made beside the target
+ * (same extension, so OpenImageIO picks the same format), which the loader
+ * renames over the target only once the file is complete.
  */
 #include "image_module.h"
 #include "../../comm/pixels.h"
@@ -22,15 +22,12 @@
 #include <OpenImageIO/parallel.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <vector>
 
 using namespace OIIO;
@@ -53,39 +50,6 @@ std::string extension_of(const std::string &path)
     for (char &c : ext)
         c = (char)std::tolower((unsigned char)c);
     return ext;
-}
-
-/* A new, empty file beside `path` for the image to be written into, then
- * renamed over it: DIR/.BASE.XXXXXX.EXT with six random characters,
- * created with O_CREAT | O_EXCL (mkstemps), so no name can be guessed and
- * planted in advance, and no link already there is ever followed; the
- * extension stays last, as OpenImageIO picks the format by it.  false with
- * errno set when it cannot be created. */
-bool create_temp_for(const std::string &path, std::string &tmp)
-{
-    size_t slash = path.find_last_of('/');
-    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    std::string ext = extension_of(path);
-    std::string suffix = ext.empty() ? "" : "." + ext;
-    std::vector<char> name(dir.size() + base.size() + suffix.size() + 16);
-    std::snprintf(name.data(), name.size(), "%s.%s.XXXXXX%s", dir.c_str(), base.c_str(),
-                  suffix.c_str());
-    int fd = mkstemps(name.data(), (int)suffix.size());
-    if (fd < 0)
-        return false;
-    mode_t mask = umask(077); /* the mode fopen would give: 0666 less the umask */
-    umask(mask);
-    if (fchmod(fd, 0666 & ~mask) != 0) {
-        int e = errno;
-        close(fd);
-        unlink(name.data());
-        errno = e;
-        return false;
-    }
-    close(fd);
-    tmp = name.data();
-    return true;
 }
 
 /* Rows an 8-bit file is encoded and handed to OpenImageIO at a time: the
@@ -135,54 +99,54 @@ void set_png_options(ImageSpec &spec, int level)
     spec.attribute("compression", "rle");
 }
 
+/* OpenImageIO's writers that make no file: "null" (discards the pixels:
+ * -o x.null wrote an empty file, exit 0) and "term" (draws on the
+ * terminal). */
+bool writes_no_file(const ImageOutput &out)
+{
+    std::string name = out.format_name();
+    return name == "null" || name == "term";
+}
+
 /* An ImageOutput for path's format, or null with the message in err. */
 std::unique_ptr<ImageOutput> output_for(const std::string &path, char *err, size_t esz)
 {
     auto out = ImageOutput::create(path);
-    if (!out)
+    if (!out) {
         set_error(err, esz,
                   path + ": cannot write this image format ('" + extension_of(path) +
                       "'): " + OIIO::geterror());
+    } else if (writes_no_file(*out)) {
+        set_error(err, esz,
+                  path + ": cannot write this image format ('" + extension_of(path) +
+                      "'): OpenImageIO's '" + out->format_name() + "' writer makes no file");
+        out.reset();
+    }
     return out;
 }
 
-bool write_rgb(const char *path_c, const float *rgb, int width, int height, int png_level,
-               char *err, size_t esz)
+bool write_rgb(const char *path_c, const char *tmp, const float *rgb, int width, int height,
+               int png_level, char *err, size_t esz)
 {
     std::string path(path_c);
     std::string ext = extension_of(path);
-    std::string tmp;
     auto out = output_for(path, err, esz);
     if (!out)
         return false;
     ImageSpec spec(width, height, 3, pixels_format_for(path_c) == PIXELS_FLOAT ? TypeDesc::FLOAT : TypeDesc::UINT8);
     if (ext == "png")
         set_png_options(spec, png_level);
-    if (!create_temp_for(path, tmp)) {
-        set_error(err, esz, path + ": cannot create a temporary file beside it: " +
-                                std::strerror(errno));
-        return false;
-    }
     if (!out->open(tmp, spec)) {
         set_error(err, esz, path + ": " + out->geterror());
-        std::remove(tmp.c_str());
         return false;
     }
     bool ok = pixels_format_for(path_c) == PIXELS_FLOAT ? out->write_image(TypeDesc::FLOAT, rgb)
                                    : write_display(*out, rgb, width, height);
     std::string werr = ok ? "" : out->geterror();
     ok = out->close() && ok;
-    if (!ok) {
+    if (!ok)
         set_error(err, esz, path + ": " + (werr.empty() ? out->geterror() : werr));
-        std::remove(tmp.c_str());
-        return false;
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        set_error(err, esz, path + ": cannot rename the finished image: " + std::strerror(errno));
-        std::remove(tmp.c_str());
-        return false;
-    }
-    return true;
+    return ok;
 }
 
 struct free_deleter {
@@ -265,11 +229,12 @@ template <class F> bool guarded(const char *subject, const char *doing, char *er
     return false;
 }
 
-bool module_write_rgb(const char *path, const float *rgb, int width, int height, int png_level,
-                      char *err, size_t esz)
+bool module_write_rgb(const char *path, const char *tmp, const float *rgb, int width, int height,
+                      int png_level, char *err, size_t esz)
 {
-    return guarded(path, "writing the image", err, esz,
-                   [&] { return write_rgb(path, rgb, width, height, png_level, err, esz); });
+    return guarded(path, "writing the image", err, esz, [&] {
+        return write_rgb(path, tmp, rgb, width, height, png_level, err, esz);
+    });
 }
 
 bool module_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,

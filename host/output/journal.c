@@ -13,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -211,40 +210,104 @@ static size_t journal_pixel_bytes(tile_rect r, int pixels)
     return (size_t)r.width * (size_t)r.height * pixels_bytes(pixels);
 }
 
-/* Reads the records after the header into the image; stops at the first
- * record that is short, damaged or not of this grid.  Returns the offset
- * after the last good one. */
-static off_t journal_read_records(journal *j, off_t at, float *image)
+/* A record's header names a tile of this grid, in this render's pixel
+ * format, with that tile's rectangle: then its size is known (*bytes: its
+ * pixels' bytes). */
+static bool journal_record_fits(const journal *j, const journal_record *rec, size_t *bytes)
 {
-    for (;;) {
-        journal_record rec;
-        uint64_t sum;
-        if (pread(j->fd, &rec, sizeof rec, at) != (ssize_t)sizeof rec ||
-            rec.magic != JOURNAL_TILE_MAGIC || rec.tile >= (uint32_t)j->tiles ||
-            j->resumed[rec.tile])
-            return at;
-        tile_rect r = tile_rect_of(&j->g, (int)rec.tile);
-        bool rgb8 = j->pixels == PIXELS_RGB8;
-        if ((int)rec.pixels != j->pixels)
-            return at;
-        size_t bytes = journal_pixel_bytes(r, (int)rec.pixels);
-        if (rec.x != (uint32_t)r.x || rec.y != (uint32_t)r.y ||
-            rec.width != (uint32_t)r.width || rec.height != (uint32_t)r.height ||
-            pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
-            pread(j->fd, &sum, sizeof sum, at + (off_t)(sizeof rec + bytes)) !=
-                (ssize_t)sizeof sum ||
-            sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
-            return at;
-        if (rgb8)
-            pixels_store_bytes_rect(image, j->g.width, r.x, r.y, r.width, r.height,
-                                    (const uint8_t *)j->buf);
-        else
-            tile_store_rgb(image, j->g.width, r, j->buf);
-        j->resumed[rec.tile] = true;
-        j->hits[rec.tile] = rec.hits;
-        j->resumed_count++;
-        at += (off_t)(sizeof rec + bytes + sizeof sum);
+    if (rec->magic != JOURNAL_TILE_MAGIC || rec->tile >= (uint32_t)j->tiles ||
+        (int)rec->pixels != j->pixels)
+        return false;
+    tile_rect r = tile_rect_of(&j->g, (int)rec->tile);
+    *bytes = journal_pixel_bytes(r, j->pixels);
+    return rec->x == (uint32_t)r.x && rec->y == (uint32_t)r.y &&
+           rec->width == (uint32_t)r.width && rec->height == (uint32_t)r.height;
+}
+
+enum { RECORD_NONE = -1, RECORD_DAMAGED = 0, RECORD_VALID = 1 };
+
+/* The record at `at`, *next after it: RECORD_VALID (its tile into the
+ * image, unless it is there already), RECORD_DAMAGED (whole, its header
+ * sound, so its size is known, but its checksum fails: a flipped byte in
+ * its hits or pixels) or RECORD_NONE (no whole record of this grid starts
+ * here: a damaged header, a torn end). */
+static int journal_read_one(journal *j, off_t at, float *image, off_t *next)
+{
+    journal_record rec;
+    uint64_t sum;
+    size_t bytes;
+    if (pread(j->fd, &rec, sizeof rec, at) != (ssize_t)sizeof rec ||
+        !journal_record_fits(j, &rec, &bytes) ||
+        pread(j->fd, j->buf, bytes, at + (off_t)sizeof rec) != (ssize_t)bytes ||
+        pread(j->fd, &sum, sizeof sum, at + (off_t)(sizeof rec + bytes)) != (ssize_t)sizeof sum)
+        return RECORD_NONE;
+    *next = at + (off_t)(sizeof rec + bytes + sizeof sum);
+    if (sum != fnv1a_words(fnv1a_words(FNV_BASIS, &rec, sizeof rec), j->buf, bytes))
+        return RECORD_DAMAGED;
+    if (j->resumed[rec.tile])
+        return RECORD_VALID; /* (a tile twice: the first kept) */
+    tile_rect r = tile_rect_of(&j->g, (int)rec.tile);
+    if (j->pixels == PIXELS_RGB8)
+        pixels_store_bytes_rect(image, j->g.width, r.x, r.y, r.width, r.height,
+                                (const uint8_t *)j->buf);
+    else
+        tile_store_rgb(image, j->g.width, r, j->buf);
+    j->resumed[rec.tile] = true;
+    j->hits[rec.tile] = rec.hits;
+    j->resumed_count++;
+    return RECORD_VALID;
+}
+
+#define JOURNAL_SCAN_BYTES 65536 /* read at a time looking for a record */
+
+/* The first valid record after a damaged header, from `at` on to `size`:
+ * every place the magic number appears is tried (a valid record's checksum
+ * covers its header too, so pixels that happen to hold the magic are not
+ * taken for one).  Its offset, its tile read (*next after it), or -1. */
+static off_t journal_find_record(journal *j, off_t at, off_t size, float *image, off_t *next)
+{
+    static const uint32_t magic = JOURNAL_TILE_MAGIC;
+    unsigned char buf[JOURNAL_SCAN_BYTES];
+    while (at + (off_t)sizeof(journal_record) <= size) {
+        ssize_t n = pread(j->fd, buf, sizeof buf, at);
+        if (n < (ssize_t)sizeof magic)
+            return -1;
+        for (ssize_t i = 0; i + (ssize_t)sizeof magic <= n; i++)
+            if (memcmp(buf + i, &magic, sizeof magic) == 0 &&
+                journal_read_one(j, at + i, image, next) == RECORD_VALID)
+                return at + i;
+        at += n - (ssize_t)sizeof magic + 1; /* (a magic across the edge: read again) */
     }
+    return -1;
+}
+
+/* Reads the records after the header (at `at`) into the image.  A damaged
+ * record is skipped, its tile rendered again, the valid ones after it kept:
+ * one whose header is sound by its size, one whose header is not by
+ * looking for the next valid record.  Returns the offset after the last
+ * valid record (what follows it is a torn end); *bad: the bytes of the
+ * records skipped before it. */
+static off_t journal_read_records(journal *j, off_t at, float *image, off_t *bad)
+{
+    struct stat st;
+    off_t size = fstat(j->fd, &st) == 0 ? st.st_size : 0, end = at, next = at;
+    *bad = 0;
+    while (at < size) {
+        int got = journal_read_one(j, at, image, &next);
+        if (got == RECORD_NONE) {
+            off_t found = journal_find_record(j, at + 1, size, image, &next);
+            if (found < 0)
+                break;
+            got = RECORD_VALID;
+            at = found;
+        }
+        if (got == RECORD_VALID) {
+            *bad += at - end;
+            end = next;
+        }
+        at = next;
+    }
+    return end;
 }
 
 /* ---- appending -------------------------------------------------------------------- */
@@ -271,9 +334,10 @@ static bool journal_append(journal *j, int tile, const float *image)
     memcpy(j->record, &rec, sizeof rec);
     memcpy(j->record + sizeof rec + bytes, &sum, sizeof sum);
     if (!file_write_all(j->fd, j->record, sizeof rec + bytes + sizeof sum)) {
+        char why[160];
         fprintf(stderr, "csgtrace: warning: cannot write the journal %s (%s): the render goes "
                         "on, but --resume will not find the tiles after this one\n",
-                j->path, strerror(errno));
+                j->path, file_strerror(errno, why, sizeof why));
         atomic_store(&j->broken, true);
         return false;
     }
@@ -398,32 +462,44 @@ void journal_tile_done(journal *j, int tile, const float *image)
 
 /* ---- opening ------------------------------------------------------------------------ */
 
-/* An existing journal, opened without following a link and locked;
- * -1 with errno ENOENT when there is none, else -1 with d filled. */
+/* Why an existing journal may not be resumed from ("" when it may): it is
+ * appended to and cut, so it must be this user's plain file with no other
+ * name (through a hard link a --resume would write into another file). */
+static const char *journal_unfit(const struct stat *st)
+{
+    if (!S_ISREG(st->st_mode))
+        return "is not a regular file";
+    if (st->st_uid != geteuid())
+        return "belongs to another user";
+    if (st->st_nlink != 1)
+        return "has other names (hard links)";
+    return "";
+}
+
+/* --resume: the existing journal, opened without following a link (nor
+ * blocking on a FIFO) and checked (journal_unfit); -1 with errno ENOENT
+ * when there is none, else -1 with d filled. */
 static int journal_open_existing(const char *path, csg_diag *d)
 {
-    int fd = open(path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    int fd = open(path, O_RDWR | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     struct stat st;
     if (fd < 0) {
         if (errno != ENOENT)
             csg_error_plain(d, "cannot open the journal %s: %s", path, strerror(errno));
         return -1;
     }
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        csg_error_plain(d, "%s is not a regular file: refusing to use it as a journal", path);
-    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        csg_error_plain(d, "%s is in use by another render of the same output: wait for it to "
-                        "end (or stop it)", path);
-    } else {
+    const char *unfit = fstat(fd, &st) == 0 ? journal_unfit(&st) : strerror(errno);
+    if (!unfit[0])
         return fd;
-    }
+    csg_error_plain(d, "the journal %s %s: refusing to resume from it", path, unfit);
     close(fd);
     errno = EEXIST;
     return -1;
 }
 
 /* A new journal holding only the header, created exclusively beside the
- * output and renamed into place; its descriptor (locked), or -1. */
+ * output and renamed into place (over an earlier one, whatever its mode:
+ * starting over replaces it); its descriptor, or -1. */
 static int journal_create(const char *path, const journal_field *f, csg_diag *d)
 {
     char header[JOURNAL_HEADER_MAX];
@@ -435,10 +511,11 @@ static int journal_create(const char *path, const journal_field *f, csg_diag *d)
         snprintf(tmp, len, "%s.tmp.XXXXXX", path);
         fd = mkstemp(tmp);
     }
-    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || flock(fd, LOCK_EX | LOCK_NB) != 0 ||
-        !file_write_all(fd, header, n) || rename(tmp, path) != 0) {
+    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || !file_write_all(fd, header, n) ||
+        rename(tmp, path) != 0) {
+        char why[160];
         csg_error_plain(d, "cannot create the journal %s: %s", path,
-                        tmp ? strerror(errno) : "out of memory");
+                        tmp ? file_strerror(errno, why, sizeof why) : "out of memory");
         if (fd >= 0) {
             close(fd);
             unlink(tmp);
@@ -483,12 +560,14 @@ static int journal_resume(journal *j, const journal_field *f, float *image, csg_
     int status = journal_check_header(j->fd, j->path, f, &header, d);
     if (status != EXIT_OK)
         return status;
-    off_t end = journal_read_records(j, (off_t)header, image);
+    off_t bad = 0, end = journal_read_records(j, (off_t)header, image, &bad);
     struct stat st;
     if (fstat(j->fd, &st) == 0 && st.st_size > end)
-        fprintf(stderr, "csgtrace: the journal %s ends in %lld bytes that are not a whole, "
-                        "valid tile: the tiles after the first %d are rendered again\n",
-                j->path, (long long)(st.st_size - end), j->resumed_count);
+        bad += st.st_size - end; /* (a torn end: cut off below) */
+    if (bad > 0)
+        fprintf(stderr, "csgtrace: the journal %s holds %lld bytes that are not a whole, valid "
+                        "tile: their tiles are rendered again, the %d valid ones resumed\n",
+                j->path, (long long)bad, j->resumed_count);
     if (ftruncate(j->fd, end) != 0 || lseek(j->fd, end, SEEK_SET) != end) {
         csg_error_plain(d, "cannot append to the journal %s: %s", j->path, strerror(errno));
         return EXIT_FAILURE_RUN;
@@ -508,23 +587,22 @@ int journal_open(const char *out_path, const void *blob, const tile_grid *g, boo
         return EXIT_FAILURE_RUN;
     }
     journal_fields(out_path, blob, g, f);
-    j->fd = journal_open_existing(j->path, d);
+    /* (without --resume an earlier journal is not opened at all: it is
+     * replaced, even read-only; the output's lock keeps other renders out) */
+    j->fd = resume ? journal_open_existing(j->path, d) : -1;
     int status = EXIT_OK;
-    if (j->fd < 0 && errno != ENOENT) {
+    if (resume && j->fd < 0 && errno != ENOENT) {
         status = EXIT_FAILURE_RUN;
-    } else if (j->fd >= 0 && resume) {
+    } else if (j->fd >= 0) {
         status = journal_resume(j, f, image, d);
     } else {
         if (resume)
             fprintf(stderr, "csgtrace: no journal %s to resume from: the render starts from "
                             "the beginning\n", j->path);
-        int old = j->fd; /* replaced (its lock held until then) */
         signals_hold(); /* a signal now would leave the temporary file */
         j->fd = journal_create(j->path, f, d);
         signals_journal(j->fd >= 0 ? j->path : NULL, 0);
         signals_release(NULL, 0); /* (a signal that came: the journal goes too) */
-        if (old >= 0)
-            close(old);
         status = j->fd < 0 ? EXIT_FAILURE_RUN : EXIT_OK;
     }
     if (status != EXIT_OK) {

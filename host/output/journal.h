@@ -20,8 +20,11 @@
  * JOURNAL_AFTER_S: a render that ends sooner (the SPD frames, the
  * examples) never pays for a journal, and one stopped sooner keeps what it
  * had queued when it stops by itself (an error, a lost rank), but not when
- * a signal or kill -9 ends it.  A record cut short or damaged ends the
- * journal there (the tiles after it are rendered again); a process killed
+ * a signal or kill -9 ends it.  Every record has a size known from its
+ * tile, so a damaged one (a flipped byte) is skipped, its tile rendered
+ * again, and the valid records after it are kept (after a damaged header
+ * the reader looks for the next valid record); a record cut short ends the
+ * journal there (it is cut off before the next append); a process killed
  * after JOURNAL_AFTER_S loses at most the tiles in flight and those of the
  * last millisecond, queued and not yet appended (the count a signal's
  * message gives is of those appended).  Data is forced to the disk
@@ -29,11 +32,16 @@
  * second.
  *
  * The journal is created through an exclusive temporary file renamed into
- * place (never following a link), locked (flock) while its render runs, so
- * two renders never write one journal, and removed once the image and the
- * stats are written.  A render without --resume replaces an earlier
- * journal; with --resume one written for another render (any field of the
- * header differs) is refused, saying what differs.
+ * place (never following a link), and removed once the image and the
+ * stats are written.  Two renders never write one journal: the output's
+ * lock (claim.h), taken before the journal is opened, keeps the second
+ * out (a lock on the journal itself held only the inode its render made:
+ * two renders started together each renamed their own into place).  A
+ * render without --resume replaces an earlier journal (never opening it:
+ * a read-only one too); with --resume one written for another render (any
+ * field of the header differs) is refused, saying what differs, and so is
+ * one that is not this user's plain file with one name (opened
+ * O_NOFOLLOW: never written through a link, symbolic or hard).
  *
  * Resumed tiles are bit-identical to rendered ones: every mode computes the
  * same pixels (render.c), so a journal of a homo render may be resumed in
@@ -65,7 +73,8 @@ void journal_name(const char *out_path, char *buf, size_t size);
  * so).  No record is appended before after_s seconds have passed
  * (JOURNAL_AFTER_S for a render; 0: from the first tile).  Returns 0,
  * EXIT_BAD_INPUT (2: the journal belongs to another render) or 1 (cannot
- * create, or in use), with d filled. */
+ * create; with --resume, not a plain file of this user's with one name),
+ * with d filled. */
 int journal_open(const char *out_path, const void *blob, const tile_grid *g, bool resume,
                  float *image, double after_s, journal **out, csg_diag *d);
 

@@ -78,6 +78,7 @@ struct img_stream {
     int threads;
     int encoded_early;   /* bands encoded before img_stream_finish    */
     bool finishing;
+    bool hold;           /* img_stream_hold_signals: hold at the rename */
     double cpu_s;        /* the encoder threads', summed at their end */
 };
 
@@ -415,8 +416,9 @@ static bool stream_create(img_stream *s, char *err, size_t err_size)
     bool ok = fchmod(s->fd, file_default_mode()) == 0 &&
               (s->kind == STREAM_PNG ? stream_png_head(s) : file_write_all(s->fd, head, (size_t)len));
     if (!ok) {
+        char why[160];
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
-                 strerror(errno));
+                 file_strerror(errno, why, sizeof why));
         signals_temporary(NULL);
         unlink(s->tmp);
     }
@@ -471,6 +473,11 @@ void img_stream_start(img_stream *s)
         stream_add_thread(s); /* (none: img_stream_finish's threads do it all) */
 }
 
+void img_stream_hold_signals(img_stream *s)
+{
+    s->hold = true;
+}
+
 void img_stream_tile(img_stream *s, int tile)
 {
     if (!s || s->kind == STREAM_MODULE)
@@ -500,8 +507,8 @@ bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *e
 {
     memset(r, 0, sizeof *r);
     if (s->kind == STREAM_MODULE) { /* (written whole, as ever) */
-        bool ok = img_module_write_rgb(s->path, s->image, s->grid.width, s->grid.height, err,
-                                       err_size);
+        bool ok = img_module_write(s->path, s->image, s->grid.width, s->grid.height, s->hold, err,
+                                   err_size);
         stream_free(s);
         return ok;
     }
@@ -528,11 +535,15 @@ bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *e
     if (close(s->fd) != 0 && !error)
         error = errno;
     s->fd = -1;
+    if (!error && s->hold)
+        signals_hold(); /* (from the rename on, a signal waits for the caller's release) */
     if (!error && rename(s->tmp, s->path) != 0)
         error = errno;
     ok = !error;
     if (!ok) {
-        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path, strerror(error));
+        char why[160];
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
+                 file_strerror(error, why, sizeof why));
         unlink(s->tmp);
     }
     signals_temporary(NULL);

@@ -53,6 +53,13 @@ void img_stream_start(img_stream *s);
  * thread only (the master's). */
 void img_stream_tile(img_stream *s, int tile);
 
+/* Signals held (host/signals.h: signals_hold) from just before the
+ * finished file is renamed over the output, for the caller to release
+ * once its other outputs are written too (a render's stats and tile log);
+ * until then a signal removes the temporary file at once, however long
+ * the encoding of the tail or the module's write would take. */
+void img_stream_hold_signals(img_stream *s);
+
 /* What a stream did (the render's stats). */
 typedef struct {
     int bands;         /* bands of the image (0: written whole at the end) */
