@@ -208,6 +208,10 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_maps, h->map_count, sizeof(csg_map_color), blob_size))
         return false;
     const csg_shading *sh = blob_at(bytes, h->off_shading);
+    if (sh->output < CSG_OUTPUT_SRGB || sh->output > CSG_OUTPUT_DIRECT ||
+        (sh->output == CSG_OUTPUT_POWER &&
+         (!(sh->output_gamma > R(0.0)) || sh->output_gamma == CSG_R_INF)))
+        return false;
     if (sh->max_rays < 1 || h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
                                                    sh->sky_first > h->material_count - h->sky_count)))
         return false;

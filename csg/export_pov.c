@@ -84,7 +84,19 @@ static void write_globals(const exporter *e)
     const csg_globals *g = &e->s->globals;
     FILE *out = e->out;
     static const double one[3] = {1, 1, 1};
-    fputs("global_settings {\n    assumed_gamma 1\n    max_trace_level ", out);
+    /* the scene's gamma handling (a flat export is always linear: the
+     * cross-check compares linear colours) */
+    fputs("global_settings {\n", out);
+    if (e->flat || g->gamma_kind == CSG_GAMMA_POWER) {
+        fputs("    assumed_gamma ", out);
+        put_num(out, e->flat ? 1.0 : g->assumed_gamma);
+        fputc('\n', out);
+    } else if (g->gamma_kind == CSG_GAMMA_SRGB) {
+        fputs("    assumed_gamma srgb\n", out);
+    } else if (csg_version_v37(e->s)) {
+        fputs("    assumed_gamma 1\n", out);
+    } /* else POV-Ray's legacy mode: no assumed_gamma before 3.7 */
+    fputs("    max_trace_level ", out);
     fprintf(out, "%d", e->flat ? 1 : g->max_trace_level);
     fputs("\n    adc_bailout ", out);
     put_num(out, g->adc_bailout);
@@ -541,8 +553,11 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the
-     * sky's mix before 3.7), never below 3.5 (the camera's fixed order) */
-    double v = s->version < 3.5 ? 3.5 : s->version > 3.7 ? 3.7 : s->version;
+     * sky's mix, the gamma handling and the opacity before 3.7: a scene
+     * that read no #version is POV-Ray's 3.62), never below 3.5 (the
+     * camera's fixed order) */
+    double v = s->version_implied ? 3.62 : s->version;
+    v = v < 3.5 ? 3.5 : v > 3.7 ? 3.7 : v;
     fputs("#version ", out);
     put_num(out, v);
     fputs(";\n\n", out);

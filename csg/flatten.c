@@ -1236,13 +1236,21 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
         lights[i].shadowless = s->lights[i].shadowless;
     }
     csg_shading *sh = (csg_shading *)(b + h->off_shading);
+    bool v37 = csg_version_v37(s);
+    /* POV-Ray 3.7 (no alpha channel) composes the background over black:
+     * its rgb times 1 - transmit; before 3.7 its filter and transmit are
+     * dropped (parse.cpp, BACKGROUND) */
+    double keep = v37 ? 1.0 - s->background[4] : 1.0;
     for (int c = 0; c < 3; c++) {
-        sh->background[c] = (real)s->background[c];
+        sh->background[c] = (real)(keep == 1.0 ? s->background[c] : s->background[c] * keep);
         sh->ambient_light[c] = (real)s->globals.ambient_light[c];
     }
     sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
     sh->sky_first = fb->sky_first;
-    sh->sky_v37 = s->version >= 3.7 - 1e-9;
+    sh->sky_v37 = v37;
+    double gamma;
+    sh->output = csg_output_gamma(s, &gamma);
+    sh->output_gamma = (real)gamma;
     long spp = o->spp > 0 ? o->spp : 1;
     sh->max_rays = o->max_rays > 0 ? o->max_rays
                                    : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */

@@ -6,6 +6,8 @@
  */
 #include "scene.h"
 
+#include "device/flat.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,6 +43,36 @@ int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
     return s->version < 3.5 ? 1 : 2;
 }
 
+int csg_version_int(double v)
+{
+    return (int)(v * 100 + 0.5);
+}
+
+bool csg_version_v37(const csg_scene *s)
+{
+    return !s->version_implied && csg_version_int(s->version) >= 370;
+}
+
+int csg_output_gamma(const csg_scene *s, double *gamma)
+{
+    *gamma = 1.0;
+    switch (s->globals.gamma_kind) {
+    case CSG_GAMMA_SRGB:
+        return CSG_OUTPUT_DIRECT;
+    case CSG_GAMMA_POWER: {
+        /* POV-Ray's PowerLawGammaCurve keeps 1/G as a float and takes a
+         * curve within 1 % of neutral for the neutral one */
+        float enc = 1.0f / (float)s->globals.assumed_gamma;
+        if (fabs(1.0 - (double)enc) <= 0.01)
+            return CSG_OUTPUT_SRGB;
+        *gamma = s->globals.assumed_gamma;
+        return CSG_OUTPUT_POWER;
+    }
+    default:
+        return csg_version_v37(s) ? CSG_OUTPUT_SRGB : CSG_OUTPUT_DIRECT;
+    }
+}
+
 void csg_texture_default(csg_texture *t)
 {
     memset(t, 0, sizeof *t);
@@ -50,6 +82,7 @@ void csg_texture_default(csg_texture *t)
 
 void csg_globals_default(csg_globals *g)
 {
+    g->gamma_kind = CSG_GAMMA_UNSET;
     g->assumed_gamma = 1.0;
     g->max_trace_level = 5;
     g->adc_bailout = 1.0 / 255.0;

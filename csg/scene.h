@@ -222,8 +222,16 @@ typedef struct {
     csg_loc loc;
 } csg_light;
 
+/* How global_settings' assumed_gamma was given (POV-Ray 3.7's working
+ * gamma): not at all, as a number, or as the word srgb. */
+enum csg_gamma_kind { CSG_GAMMA_UNSET = 0, CSG_GAMMA_POWER = 1, CSG_GAMMA_SRGB = 2 };
+
 typedef struct {
-    double assumed_gamma;   /* 1 when not given                       */
+    int gamma_kind;         /* enum csg_gamma_kind: the first assumed_gamma
+                               counts, as in POV-Ray (a later one is
+                               ignored)                               */
+    double assumed_gamma;   /* CSG_GAMMA_POWER's exponent (> 0); 1 when
+                               not given                              */
     int max_trace_level;    /* 5                                      */
     double adc_bailout;     /* 1/255                                  */
     double ambient_light[3]; /* 1                                     */
@@ -254,9 +262,12 @@ typedef struct {
                                direction (a near plane); 0: none          */
     double background[5];   /* rgbft; black when not given            */
     csg_sky sky;            /* sky_sphere (count 0: none)             */
-    double version;         /* #version at the end (3.7 unless set):
-                               POV-Ray's sky before 3.7 mixes the
-                               background in another way              */
+    double version;         /* #version at the end (3.7 unless set)     */
+    bool version_implied;   /* a POV-Ray scene that read no #version (its
+                               own or an include's): POV-Ray's
+                               "effective" version is then 3.62
+                               (csg_version_v37).  False for scenes made
+                               otherwise (NFF, by hand): 3.7's rules */
     csg_globals globals;
     csg_light *lights;
     int light_count;
@@ -271,6 +282,22 @@ typedef struct {
 } csg_scene;
 
 void csg_pigment_default(csg_pigment *p); /* plain black, identity transform */
+/* POV-Ray's integer form of a version: (int)(v * 100 + 0.5) (3.62 -> 362). */
+int csg_version_int(double v);
+/* POV-Ray 3.7's rules apply (its EffectiveLanguageVersion() >= 370): the
+ * last #version read is 3.7 or more; a scene that read none is 3.62.
+ * Before 3.7: no gamma handling unless assumed_gamma is given, a
+ * transparent surface dims by POV-Ray 3.6's formula, the sky and the
+ * background mix as they did. */
+bool csg_version_v37(const csg_scene *s);
+/* What the 8-bit output does with a scene's colours (POV-Ray 3.7's PNG,
+ * its default File_Gamma, the sRGB curve): CSG_OUTPUT_SRGB (a linear
+ * working space: the colour is encoded with the sRGB curve: assumed_gamma
+ * 1, or none in a 3.7 scene), CSG_OUTPUT_POWER (assumed_gamma G: the
+ * colour is decoded by the power G first, *gamma = G), CSG_OUTPUT_DIRECT
+ * (the colour is the byte's fraction: assumed_gamma srgb, or a scene
+ * before 3.7 without assumed_gamma, POV-Ray's legacy mode). */
+int csg_output_gamma(const csg_scene *s, double *gamma);
 /* The noise generator pigment `pig` of scene `s` uses: its own, or the
  * scene's global_settings one, or POV-Ray's default for the scene's
  * #version (1 before 3.5, then 2). */

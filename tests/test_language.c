@@ -22,6 +22,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "../csg/device/flat.h"
 #include "../csg/lang/parser.h"
 
 /* ---- helpers ------------------------------------------------------------- */
@@ -433,6 +434,73 @@ static void test_patterns(void **state)
               "(any but checker)");
 }
 
+/* POV-Ray 3.7's gamma and version rules (parse.cpp, tokenize.cpp): a
+ * scene that reads no #version is 3.62 for them, and without assumed_gamma
+ * it is in the legacy mode (no gamma handling); the first assumed_gamma
+ * counts; srgb colours are decoded into the working gamma and need
+ * assumed_gamma before them. */
+static int output_of(const char *text, double *gamma)
+{
+    csg_scene s;
+    parse_ok(text, &s);
+    int mode = csg_output_gamma(&s, gamma);
+    csg_scene_free(&s);
+    return mode;
+}
+
+static void test_gamma_and_version(void **state)
+{
+    (void)state;
+    double g;
+    assert_int_equal(output_of("sphere { 0, 1 }", &g), CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#version 3.7; sphere { 0, 1 }", &g), CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.6; sphere { 0, 1 }", &g), CSG_OUTPUT_DIRECT);
+    /* the last #version counts, and 3.695 is 370 to POV-Ray */
+    assert_int_equal(output_of("#version 3.7; #version 3.5; sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#version 3.695; sphere { 0, 1 }", &g), CSG_OUTPUT_SRGB);
+    /* reading `version` (3.7 until set) sets nothing */
+    assert_int_equal(output_of("#declare V = version; sphere { 0, V }", &g), CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#declare V = version; #version V; sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("global_settings { assumed_gamma 1 } sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.6; global_settings { assumed_gamma 2.2 }", &g),
+                     CSG_OUTPUT_POWER);
+    assert_near(g, 2.2);
+    /* within 1 % of 1 is POV-Ray's neutral curve */
+    assert_int_equal(output_of("global_settings { assumed_gamma 1.005 }", &g), CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.7; global_settings { assumed_gamma srgb }", &g),
+                     CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("global_settings { assumed_gamma 2.2 } "
+                               "global_settings { assumed_gamma 1 }", &g), CSG_OUTPUT_POWER);
+    csg_scene s;
+    parse_ok("#version 3.7; global_settings { assumed_gamma 1 }\n"
+             "#declare A = srgb <0.5, 0.04, 1>;\n"
+             "#declare B = srgbft <0.5, 0.5, 0.5, 0.25, 0.5>;\n"
+             "sphere { 0, 1 pigment { color A } }\n"
+             "sphere { 0, 1 pigment { color B } }\n", &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_true(fabs(p->rgbft[0] - 0.21404114) < 1e-6);
+    assert_true(fabs(p->rgbft[1] - 0.04 / 12.92) < 1e-7);
+    assert_true(p->rgbft[2] == 1.0);
+    p = &s.textures[s.objects[1]->texture].pigment;
+    assert_near(p->rgbft[3], 0.25); /* filter and transmit as they are */
+    assert_near(p->rgbft[4], 0.5);
+    assert_true(csg_version_v37(&s));
+    csg_scene_free(&s);
+    parse_ok("#version 3.7; global_settings { assumed_gamma 2 }\n"
+             "sphere { 0, 1 pigment { srgb 0.5 } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_true(fabs(p->rgbft[0] - sqrt(0.21404114)) < 1e-6);
+    csg_scene_free(&s);
+    parse_err("#version 3.7; sphere { 0, 1 pigment { srgb 0.5 } }",
+              "t.pov:1:39: error: 'srgb' colors need assumed_gamma set before them "
+              "(in global_settings), as in POV-Ray");
+    parse_err("global_settings { assumed_gamma 0 }",
+              "t.pov:1:33: error: assumed_gamma must be > 0, got 0");
+}
+
 /* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
  * modifiers, the noise generator of the pigment, of global_settings and
  * of #version, and the errors of each keyword at its place. */
@@ -679,6 +747,7 @@ int main(void)
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),
+        cmocka_unit_test(test_gamma_and_version),
         cmocka_unit_test(test_noise_patterns),
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),

@@ -31,6 +31,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "../comm/pixels.h"
 #include "../csg/device/camera.h"
 #include "engine.h"
 #include "frustum.h"
@@ -57,7 +58,14 @@ typedef struct {
     csg_i32 sky_count, sky_v37;
     vec3 sky_emission;
     csg_i32 max_rays;        /* reflected and refracted rays a pixel may trace */
+    csg_i32 output;          /* enum csg_output_gamma: the pixel's way to the file */
+    float output_gamma;
 } shade_ctx;
+
+_Static_assert((int)CSG_OUTPUT_SRGB == (int)PIXELS_GAMMA_SRGB &&
+                   (int)CSG_OUTPUT_POWER == (int)PIXELS_GAMMA_POWER &&
+                   (int)CSG_OUTPUT_DIRECT == (int)PIXELS_GAMMA_DIRECT,
+               "the output gamma modes of flat.h and pixels.h");
 
 /* The rays of one pixel: the tile's counts, and what is left of the
  * pixel's budget (a ray it cannot pay for is not traced: the order of the
@@ -116,6 +124,8 @@ static shade_ctx ctx_of(const void *blob)
     c.sky_v37 = sh->sky_v37;
     c.sky_emission = v3_load(sh->sky_emission);
     c.max_rays = sh->max_rays;
+    c.output = sh->output;
+    c.output_gamma = (float)sh->output_gamma;
     return c;
 }
 
@@ -348,7 +358,11 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     pigment_color pc = PIGMENT_AT(c->mats, m, c->maps, c->view.prims, h.surf, p,
                                   OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * mag);
     vec3 pig = pc.color;
-    real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);
+    /* POV-Ray 3.7 dims a transparent surface by 1 - filter - transmit;
+     * before 3.7 by 1 - (filter * the pigment's largest channel +
+     * transmit), kept for old scenes (trace.cpp, ComputeLightedTexture) */
+    real opacity = c->sky_v37 ? r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit)
+                              : R(1.0) - (pc.filter * max3(pig) + pc.transmit);
 
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
@@ -481,11 +495,16 @@ static float finite_or_zero(real v)
     return (float)v;
 }
 
-static void store_rgb(float *out, vec3 col)
+/* A pixel's colour as the image keeps it: finite, then through the
+ * scene's output gamma (comm/pixels.h: POV-Ray's bytes in an 8-bit file). */
+static void store_rgb(const shade_ctx *c, float *out, vec3 col)
 {
     out[0] = finite_or_zero(col.x);
     out[1] = finite_or_zero(col.y);
     out[2] = finite_or_zero(col.z);
+    if (c->output != CSG_OUTPUT_SRGB)
+        for (int k = 0; k < 3; k++)
+            out[k] = pixels_scene_linear(out[k], c->output, c->output_gamma);
 }
 
 bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met)
@@ -497,7 +516,8 @@ bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *m
 
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
 {
-    store_rgb(rgb, ctx_of(blob).background);
+    shade_ctx c = ctx_of(blob);
+    store_rgb(&c, rgb, c.background);
 }
 
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
@@ -543,7 +563,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);
-            store_rgb(rgb_out + 3 * i, col);
+            store_rgb(&c, rgb_out + 3 * i, col);
             rays->over_budget += tally.refused;
         }
     }

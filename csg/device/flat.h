@@ -197,16 +197,30 @@ typedef struct {
                      view direction (NFF's hither); 0: at location        */
 } csg_camera;
 
+/* What becomes of a pixel's colour on its way to an 8-bit file (POV-Ray
+ * 3.7's gamma handling, csg_shading.output; csg/scene.h,
+ * csg_output_gamma): the workers store the linear value whose sRGB byte
+ * (comm/pixels.h) is POV-Ray's (comm/pixels.h, pixels_scene_linear). */
+enum csg_output_gamma {
+    CSG_OUTPUT_SRGB = 0,  /* the colour is linear: stored as it is        */
+    CSG_OUTPUT_POWER = 1, /* assumed_gamma G: colour^G                    */
+    CSG_OUTPUT_DIRECT = 2 /* the colour is the byte's fraction (POV-Ray's
+                             legacy mode, assumed_gamma srgb)             */
+};
+
 /* The scene-wide shading values (global_settings, background, the
  * sky_sphere): C workers only, like the materials and the lights. */
 typedef struct {
     csg_i32 sky_first;     /* the sky_sphere's pigments: materials
                               sky_first .. + header.sky_count            */
-    csg_i32 sky_v37;       /* POV-Ray 3.7's mix of sky and background (1),
-                              or the one before 3.7 (0)                  */
+    csg_i32 sky_v37;       /* POV-Ray 3.7's rules (1: the scene's last
+                              #version is 3.7 or more): its mix of sky and
+                              background, a transparent surface's
+                              opacity; 0: those before 3.7              */
     csg_i32 max_rays;      /* reflected and refracted rays a pixel may
                               trace (>= 1); the rest are not traced      */
-    csg_i32 pad;
+    csg_i32 output;        /* enum csg_output_gamma                      */
+    real output_gamma;     /* CSG_OUTPUT_POWER's G (1 otherwise)        */
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];

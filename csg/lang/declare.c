@@ -469,7 +469,8 @@ static bool continues_rvalue(const csg_token *t)
            (t->kw == CSG_KW_TEXTURE || t->kw == CSG_KW_RED || t->kw == CSG_KW_GREEN ||
             t->kw == CSG_KW_BLUE || t->kw == CSG_KW_FILTER || t->kw == CSG_KW_TRANSMIT ||
             t->kw == CSG_KW_RGB || t->kw == CSG_KW_RGBF || t->kw == CSG_KW_RGBT ||
-            t->kw == CSG_KW_RGBFT || t->kw == CSG_KW_UNSUPPORTED);
+            t->kw == CSG_KW_RGBFT || t->kw == CSG_KW_SRGB || t->kw == CSG_KW_SRGBF ||
+            t->kw == CSG_KW_SRGBT || t->kw == CSG_KW_SRGBFT || t->kw == CSG_KW_UNSUPPORTED);
 }
 
 /* Whether t may follow a block { } that ends a value: another layer of

@@ -815,6 +815,36 @@ static bool parse_background(parser *p)
     return lang_next(p);
 }
 
+/* assumed_gamma F | srgb: POV-Ray's working gamma.  The first one counts;
+ * POV-Ray ignores a later one (with a warning, as here). */
+static bool parse_assumed_gamma(parser *p, csg_globals *g)
+{
+    csg_loc at = lang_tok(p)->loc;
+    int kind = CSG_GAMMA_SRGB;
+    double f = 1.0;
+    if (lang_is_kw(p, CSG_KW_SRGB)) {
+        if (!lang_next(p))
+            return false;
+    } else {
+        if (!lang_parse_float(p, &f, &at))
+            return false;
+        if (!(f > 0)) {
+            csg_error(p->d, at, "assumed_gamma must be > 0, got %g", f);
+            return false;
+        }
+        kind = CSG_GAMMA_POWER;
+    }
+    if (g->gamma_kind != CSG_GAMMA_UNSET) {
+        if (p->opt.messages)
+            fprintf(p->opt.messages, "%s:%d:%d: warning: a second assumed_gamma is ignored, "
+                                     "as in POV-Ray\n", at.file, at.line, at.col);
+        return true;
+    }
+    g->gamma_kind = kind;
+    g->assumed_gamma = f;
+    return true;
+}
+
 static bool parse_global_settings(parser *p)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -832,7 +862,11 @@ static bool parse_global_settings(parser *p)
             if (!lang_next(p) || !lang_parse_rgb(p, g->ambient_light))
                 return false;
             continue;
-        case CSG_KW_ASSUMED_GAMMA: case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
+        case CSG_KW_ASSUMED_GAMMA:
+            if (!lang_next(p) || !parse_assumed_gamma(p, g))
+                return false;
+            continue;
+        case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
         case CSG_KW_NOISE_GENERATOR:
             if (!lang_next(p) || !lang_parse_float(p, &f, &at))
                 return false;
@@ -846,12 +880,6 @@ static bool parse_global_settings(parser *p)
                 return false;
             }
             g->noise_generator = (int)f;
-        } else if (kw == CSG_KW_ASSUMED_GAMMA) {
-            if (!(f > 0)) {
-                csg_error(p->d, at, "assumed_gamma must be > 0, got %g", f);
-                return false;
-            }
-            g->assumed_gamma = f;
         } else if (kw == CSG_KW_ADC_BAILOUT) {
             if (!(f >= 0 && f <= 1)) {
                 csg_error(p->d, at, "adc_bailout must be between 0 and 1, got %g", f);
@@ -1038,6 +1066,7 @@ static bool parser_init(parser *p, const csg_parse_options *o, csg_scene *s, csg
     p->default_entry = -1;
     csg_texture_default(&p->default_texture);
     csg_scene_init(s);
+    s->version_implied = true; /* until a #version is read (POV-Ray: 3.62) */
     csg_camera_default(&s->camera);
     s->arena = csg_arena_new();
     if (!s->arena)
