@@ -344,15 +344,15 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     const csg_material *m = &c->mats[prim->material];
     vec3 p = v3_add(r.o, v3_scale(r.d, h.t));
     vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
-    /* the side of the geometry decides (a smooth triangle's shading
-     * normal may lean past the ray at a silhouette); the shading normal
-     * is turned to that side */
+    /* the side of the geometry decides where secondary rays start and
+     * whether the ray enters; the shading normal faces the ray by its own
+     * direction, as POV-Ray turns it (a smooth triangle's normals may point
+     * against its winding: ComputeTextureColour flips the interpolated
+     * normal alone) */
     vec3 ng = csg_surface_geometric_normal(c->view.prims, h.surf, p, n);
     int entering = v3_dot(ng, r.d) < R(0.0);
-    vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
+    vec3 nf = v3_dot(n, r.d) > R(0.0) ? v3_neg(n) : n; /* faces the incoming ray */
     vec3 ngf = entering ? ng : v3_neg(ng);
-    if (v3_dot(nf, ngf) < R(0.0))
-        nf = ngf;
     const csg_root *root = &c->view.roots[prim->root];
     real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
     pigment_color pc = PIGMENT_AT(c->mats, m, c->maps, c->view.prims, h.surf, p,
