@@ -31,7 +31,17 @@ void csg_pigment_default(csg_pigment *p)
     p->turb.omega = 0.5;
     p->turb.lambda = 2.0;
     p->agate_turb = 1.0;
+    p->control0 = p->control1 = 1.0;
     csg_xform_identity(&p->xform);
+}
+
+void csg_normal_default(csg_normal *n)
+{
+    memset(n, 0, sizeof *n);
+    n->kind = CSG_NORMAL_PATTERN;
+    csg_pigment_default(&n->pattern);
+    n->amount = 0.5;
+    n->accuracy = 0.02;
 }
 
 int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
@@ -78,6 +88,7 @@ void csg_texture_default(csg_texture *t)
     memset(t, 0, sizeof *t);
     csg_pigment_default(&t->pigment);
     csg_finish_default(&t->finish);
+    csg_normal_default(&t->normal);
 }
 
 void csg_globals_default(csg_globals *g)
@@ -88,6 +99,7 @@ void csg_globals_default(csg_globals *g)
     g->adc_bailout = 1.0 / 255.0;
     g->ambient_light[0] = g->ambient_light[1] = g->ambient_light[2] = 1.0;
     g->noise_generator = 0;
+    g->number_of_waves = 10;
 }
 
 void csg_xform_identity(csg_xform *x)

@@ -126,6 +126,7 @@ typedef struct {
     csg_turb turb;
     double agate_turb;        /* agate: the weight of its turbulence (1)    */
     csg_crackle crackle;
+    double control0, control1; /* quilted: its cubic's controls (1, 1)      */
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */
@@ -157,10 +158,46 @@ typedef struct {
     double reflection[3]; /* 0                                       */
 } csg_finish;
 
+/* POV-Ray's normal { }: a pattern that perturbs the surface normal
+ * (Perturb_Normal): `kind` (device/patterns.h, CSG_NORMALS) says how;
+ * CSG_NORMAL_PATTERN samples the slope of `pattern`'s value, the others
+ * are POV-Ray's normal-only patterns.  `pattern` holds what every pattern
+ * has (its transforms in xform, turbulence, frequency, phase, wave, noise
+ * generator, quilted's controls); no colour map. */
 typedef struct {
+    bool on;             /* a normal was given                           */
+    int kind;            /* enum csg_normal_kind                         */
+    csg_pigment pattern; /* the pattern's fields                         */
+    double amount;       /* bump_size (POV-Ray's default 0.5)            */
+    double accuracy;     /* the pattern slope's sample distance (0.02)   */
+    bool no_bump_scale;  /* the perturbation is not normalised on the way
+                            into and out of pattern space                */
+} csg_normal;
+
+typedef struct csg_texture csg_texture;
+typedef struct csg_texture_entry csg_texture_entry;
+
+/* POV-Ray's texture: a plain texture (pigment, normal, finish), the top of
+ * a list of layers (texture { } texture { }: `under` is the layer below,
+ * the last written on top), or a texture_map (a pattern, in `pigment`'s
+ * pattern fields, choosing between the textures of `tmap`).  The layers
+ * and entries live in the scene's arena, shared, never written: a texture
+ * is copied by value and a change copies what it changes. */
+struct csg_texture {
     csg_pigment pigment;
     csg_finish finish;
-} csg_texture;
+    csg_normal normal;
+    const csg_texture *under; /* the layer below (NULL: none)            */
+    int tmap_count;           /* > 0: a texture_map of so many entries   */
+    const csg_texture_entry *tmap;
+};
+
+/* One entry of a texture_map: from `value` on, the texture (evaluated at
+ * the point of the map's pattern, after its transforms and turbulence). */
+struct csg_texture_entry {
+    double value;
+    csg_texture texture;
+};
 
 typedef struct {
     double ior; /* 1 */
@@ -236,6 +273,7 @@ typedef struct {
     double adc_bailout;     /* 1/255                                  */
     double ambient_light[3]; /* 1                                     */
     int noise_generator;    /* 0 when not given: 2 (1 before #version 3.5) */
+    int number_of_waves;    /* the wave sources of ripples and waves (10) */
 } csg_globals;
 
 /* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the
@@ -303,6 +341,7 @@ int csg_output_gamma(const csg_scene *s, double *gamma);
  * #version (1 before 3.5, then 2). */
 int csg_noise_of(const csg_scene *s, const csg_pigment *pig);
 void csg_finish_default(csg_finish *f);
+void csg_normal_default(csg_normal *n); /* none: on = false, POV-Ray's defaults */
 void csg_texture_default(csg_texture *t);
 void csg_globals_default(csg_globals *g);
 void csg_xform_identity(csg_xform *x);

@@ -434,6 +434,64 @@ static void test_patterns(void **state)
               "(any but checker)");
 }
 
+/* normal { }, layered textures, texture_map, material: POV-Ray's
+ * parse (Parse_Tnormal, Link_Textures, Parse_Texture, Parse_Material). */
+static void test_normals_and_layers(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare A = texture { pigment { rgb x } }\n"
+             "#declare B = texture { pigment { rgbt <0, 1, 0, 0.5> } normal { bumps 0.4 scale 2 } }\n"
+             "#declare L = texture { A } texture { B }\n"
+             "sphere { 0, 1 texture { L } }\n"
+             "sphere { 0, 1 texture { A } texture { B } pigment { rgb z } }\n"
+             "sphere { 0, 1 texture { gradient y texture_map { [0 A] [0.5 L] [1 pigment { rgb 1 }] } } }\n"
+             "sphere { 0, 1 normal { granite bump_size 0.3 accuracy 0.05 } }\n"
+             "sphere { 0, 1 material { texture { A } interior { ior 1.5 } } }\n"
+             "#default { normal { dents, 0.7 } }\n"
+             "sphere { 0, 1 }\n", &s);
+    const csg_texture *t = &s.textures[s.objects[0]->texture];
+    assert_non_null(t->under); /* B over A: the last written on top */
+    assert_near(t->pigment.rgbft[4], 0.5);
+    assert_true(t->normal.on);
+    assert_int_equal(t->normal.kind, CSG_NORMAL_BUMPS);
+    assert_near(t->normal.amount, 0.4);
+    assert_near(t->normal.pattern.xform.m[0][0], 2);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    assert_null(t->under->under);
+    t = &s.textures[s.objects[1]->texture]; /* the pigment edits the top layer */
+    assert_near(t->pigment.rgbft[2], 1);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    t = &s.textures[s.objects[2]->texture];
+    assert_int_equal(t->tmap_count, 3);
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_GRADIENT);
+    assert_non_null(t->tmap[1].texture.under);
+    assert_near(t->tmap[2].texture.pigment.rgbft[1], 1);
+    t = &s.textures[s.objects[3]->texture];
+    assert_int_equal(t->normal.kind, CSG_NORMAL_PATTERN);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_GRANITE);
+    assert_near(t->normal.amount, 0.3);
+    assert_near(t->normal.accuracy, 0.05);
+    assert_near(s.interiors[s.objects[4]->interior].ior, 1.5);
+    assert_near(s.textures[s.objects[4]->texture].pigment.rgbft[0], 1);
+    t = &s.textures[s.objects[5]->texture]; /* the default texture's normal */
+    assert_int_equal(t->normal.kind, CSG_NORMAL_DENTS);
+    assert_near(t->normal.amount, 0.7);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 normal { scale 2 } }",
+              "t.pov:1:15: error: a normal needs a pattern (bumps, dents, ripples, waves, ...)");
+    parse_err("sphere { 0, 1 normal { checker } }",
+              "t.pov:1:24: error: unsupported: 'checker' in a normal is not in csgtrace's "
+              "language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 texture { bozo } }",
+              "t.pov:1:15: error: a patterned texture needs a texture_map");
+    parse_err("#declare M = texture { bozo texture_map { [0 pigment { rgb 1 }] } }\n"
+              "sphere { 0, 1 texture { M } texture { pigment { rgb 1 } } }",
+              "t.pov:2:29: error: cannot layer over a patterned texture (texture_map)");
+    parse_err("sphere { 0, 1 pigment { quilted control0 0.5 } normal { bumps control1 2 } }",
+              "t.pov:1:63: error: 'control1' needs the quilted pattern");
+}
+
 /* POV-Ray 3.7's gamma and version rules (parse.cpp, tokenize.cpp): a
  * scene that reads no #version is 3.62 for them, and without assumed_gamma
  * it is in the legacy mode (no gamma handling); the first assumed_gamma
@@ -617,18 +675,18 @@ static void test_unusable_declarations(void **state)
     (void)state;
     csg_scene s;
     /* declared and never used: no error */
-    parse_ok("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+    parse_ok("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
              "#declare U = texture { T finish { phong 1 } }\n"
              "#declare F = function(x) { x * 2 }\n"
              "#declare N = 5;\n"
              "sphere { 0, N }\n", &s);
     assert_near(s.objects[0]->r0, 5);
     csg_scene_free(&s);
-    parse_err("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+    parse_err("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
               "#declare U = texture { T finish { phong 1 } }\n"
               "sphere { 0, 1 texture { U } }",
-              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'normal' "
-              "(t.pov:1:42), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
+              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'irid' "
+              "(t.pov:1:51), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
 }
 
 /* ---- limits -------------------------------------------------------------------------------------- */
@@ -748,6 +806,7 @@ int main(void)
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),
         cmocka_unit_test(test_gamma_and_version),
+        cmocka_unit_test(test_normals_and_layers),
         cmocka_unit_test(test_noise_patterns),
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),

@@ -272,7 +272,23 @@ typedef struct {
     csg_i32 sub_first;  /* > 0: a pigment map: its entries' pigments are
                            materials sub_first .. + map_count (after this
                            one), the maps entries hold their values; 0: a
-                           colour map                                    */
+                           colour map.  With tmap: the entries' textures */
+    csg_i32 tmap;       /* 1: a texture_map: the pattern above chooses
+                           between the textures sub_first .. + map_count
+                           (each a top layer); its own pigment, finish and
+                           layers are not used                           */
+    csg_i32 under;      /* > 0: a layered texture: the layer below this one
+                           is material under - 1; 0: none               */
+    csg_i32 normal;     /* > 0: this layer's normal is material normal - 1
+                           (its pattern fields and the ones below); 0: none */
+    csg_i32 normal_kind; /* a normal's enum csg_normal_kind (patterns.h) */
+    csg_i32 no_bump_scale; /* a normal: not normalised through its space  */
+    csg_i32 number_of_waves; /* ripples and waves: the wave sources (10)  */
+    real bump_size;     /* a normal's amount                             */
+    real accuracy;      /* a pattern normal's sample distance            */
+    real quilt_control[2]; /* quilted: control0, control1                */
+    real from_pattern[9]; /* pattern -> world, the 3x3 part (row-major):
+                           the inverse of to_pattern's, for a normal       */
 } csg_material;
 
 typedef struct {
@@ -328,6 +344,7 @@ enum csg_feature {
     CSG_FEAT_ALL = 63
 };
 #define CSG_MAX_SPP 1024           /* samples a pixel, at most */
+#define CSG_MAX_WAVES 100000       /* number_of_waves, at most     */
 
 typedef struct {
     csg_u32 magic;
