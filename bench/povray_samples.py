@@ -4,9 +4,11 @@
     povray_samples.py WORK OUT.md MIN_AGREEMENT WIDTH HEIGHT
 
 WORK holds one folder a scene (001, 002, ...) with the files the script
-left there: `scene` (its path), `failed` (the step that failed: check,
-export, povray, render, compare; absent when every step ran), `check.err`
-(csgtrace's message) and `compare.log` (tests/compare_images.py's line).
+left there: `scene` (its path), `failed` (check or render: csgtrace stopped;
+absent when it rendered), `check.err` and `render.log` (csgtrace's
+message), `full_failed` (POV-Ray gave no image, or the comparison failed),
+`compare.log` and `compare_flat.log` (tests/compare_images.py's lines for
+the full and the flat image).
 Everything is read as data.  Writes OUT.md: the counts by status, the
 unsupported constructs by the number of scenes that stop on them first (the
 roadmap), the other errors, and one row a scene.
@@ -43,27 +45,36 @@ def reason(line):
     return re.sub(r" \(in (macro|').*\)$", "", r)
 
 
+def agreement(path):
+    m = AGREE.search(read(path))
+    return float(m.group(1)) if m else None
+
+
 def classify(folder, min_agreement):
-    """(scene, status, construct, detail, agreement or None)."""
+    """(scene, status, construct, detail, full agreement, flat agreement)."""
     scene = read(os.path.join(folder, "scene"))
     failed = read(os.path.join(folder, "failed")).strip()
     if failed == "check":
         line = error_line(read(os.path.join(folder, "check.err")))
         m = NEEDS.search(line)
         if m:
-            return scene, "unsupported", m.group(2), "via '%s'" % m.group(1), None
+            return scene, "unsupported", m.group(2), "via '%s'" % m.group(1), None, None
         m = PLAIN.search(line)
         if m:
-            return scene, "unsupported", m.group(1), "", None
-        return scene, "error", "", reason(line), None
+            return scene, "unsupported", m.group(1), "", None, None
+        return scene, "error", "", reason(line), None, None
+    if failed == "render":
+        line = error_line(read(os.path.join(folder, "render.log")))
+        return scene, "error", "", "render: " + reason(line), None, None
     if failed:
-        return scene, "error", "", "the %s step failed" % failed, None
-    m = AGREE.search(read(os.path.join(folder, "compare.log")))
-    if not m:
-        return scene, "error", "", "no agreement figure", None
-    agreement = float(m.group(1))
-    status = "renders" if agreement >= min_agreement else "differs"
-    return scene, status, "", "", agreement
+        return scene, "error", "", "the %s step failed" % failed, None, None
+    full = agreement(os.path.join(folder, "compare.log"))
+    flat = agreement(os.path.join(folder, "compare_flat.log"))
+    why = read(os.path.join(folder, "full_failed")).strip()
+    if full is None:
+        return scene, "no reference", "", "POV-Ray failed" if why == "povray" else why, None, flat
+    status = "agrees" if full >= min_agreement else "differs"
+    return scene, status, "", "", full, flat
 
 
 def md(text):
@@ -89,23 +100,35 @@ def count_by(rows, key):
     return sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))
 
 
+STATUSES = ("agrees", "differs", "no reference", "unsupported", "error")
+
+
 def write_report(rows, out, min_agreement, width, height):
-    statuses = [("renders", "renders, agreeing with POV-Ray on >= %g %% of the pixels" % min_agreement),
-                ("differs", "renders, agreeing on fewer pixels"),
-                ("unsupported", "stops on a construct csgtrace does not implement"),
-                ("error", "stops on another error")]
+    renders = [r for r in rows if r[1] in ("agrees", "differs", "no reference")]
+    agree = sum(1 for r in rows if r[1] == "agrees")
+    compared = sum(1 for r in rows if r[1] in ("agrees", "differs"))
+    flat_ok = sum(1 for r in renders if r[5] is not None and r[5] >= min_agreement)
     lines = ["# POV-Ray 3.7's sample scenes in csgtrace", "",
              "Written by `bench/povray_samples.sh` (%s, commit %s): every scene of Debian's "
              "`povray-examples` checked with `csgtrace check` at %dx%d (clock 0, POV-Ray's "
-             "include library); each one that parses is exported flat (`csgtrace export "
-             "--flat`: every surface shows its pigment), rendered by POV-Ray 3.7 and by "
-             "csgtrace, and compared pixel by pixel (hit/miss alike, colours within "
-             "2.5/255, as `tests/crosscheck_povray.sh`)."
+             "include library); each one that parses is rendered as written by POV-Ray 3.7 "
+             "and by csgtrace (PNG, no antialiasing, POV-Ray's default gamma handling) and the "
+             "full images are compared pixel by pixel (every channel within 3/255); beside it "
+             "the flat image (`csgtrace export --flat`: every surface shows its pigment; "
+             "hit/miss alike, colours within 2.5/255, as `tests/crosscheck_povray.sh`)."
              % (datetime.date.today().isoformat(), commit(), width, height), "",
-             "## Summary", "", "| status | scenes |", "| --- | ---: |"]
-    for key, text in statuses:
-        lines.append("| %s | %d |" % (text, sum(1 for r in rows if r[1] == key)))
-    lines.append("| total | %d |" % len(rows))
+             "## Summary", "", "| status | scenes |", "| --- | ---: |",
+             "| csgtrace renders the scene | %d |" % len(renders),
+             "| ... its full image agrees with POV-Ray's on >= %g %% of the pixels | %d (%.1f %% of "
+             "those compared) |" % (min_agreement, agree, 100.0 * agree / compared if compared else 0),
+             "| ... agrees on fewer pixels | %d |" % sum(1 for r in rows if r[1] == "differs"),
+             "| ... POV-Ray gave no image to compare | %d |"
+             % sum(1 for r in rows if r[1] == "no reference"),
+             "| ... its flat image agrees on >= %g %% of the pixels | %d |" % (min_agreement, flat_ok),
+             "| stops on a construct csgtrace does not implement | %d |"
+             % sum(1 for r in rows if r[1] == "unsupported"),
+             "| stops on another error | %d |" % sum(1 for r in rows if r[1] == "error"),
+             "| total | %d |" % len(rows)]
     lines += ["", "## What to support next", "",
               "The first unsupported construct each scene stops on (a declaration of an "
               "include file that uses one is named by that construct):", "",
@@ -116,12 +139,14 @@ def write_report(rows, out, min_agreement, width, height):
     for detail, n in count_by([r for r in rows if r[1] == "error"], lambda r: r[3]):
         lines.append("| %s | %d |" % (md(detail[:160]), n))
     lines += ["", "## Every scene", "",
-              "| scene | status | first unsupported construct or error | agreement % |",
-              "| --- | --- | --- | ---: |"]
-    for scene, status, construct, detail, agreement in sorted(rows, key=lambda r: r[0]):
+              "| scene | status | first unsupported construct or error | full agreement % "
+              "| flat agreement % |",
+              "| --- | --- | --- | ---: | ---: |"]
+    pct = lambda v: "%.2f" % v if v is not None else ""
+    for scene, status, construct, detail, full, flat in sorted(rows, key=lambda r: r[0]):
         what = construct + (" (%s)" % detail if detail and construct else detail)
-        lines.append("| %s | %s | %s | %s |" % (md(short(scene)), status, md(what[:160]),
-                                              "%.2f" % agreement if agreement is not None else ""))
+        lines.append("| %s | %s | %s | %s | %s |" % (md(short(scene)), status, md(what[:160]),
+                                                    pct(full), pct(flat)))
     with open(out, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
 
@@ -135,9 +160,11 @@ def main():
                      if os.path.isdir(os.path.join(work, d)))
     rows = [classify(f, min_agreement) for f in folders]
     write_report(rows, out, min_agreement, width, height)
-    counts = {s: sum(1 for r in rows if r[1] == s) for s in ("renders", "differs", "unsupported", "error")}
-    print("%s: %d scenes: %d render, %d differ, %d unsupported, %d errors"
-          % (out, len(rows), counts["renders"], counts["differs"], counts["unsupported"],
+    counts = {s: sum(1 for r in rows if r[1] == s) for s in STATUSES}
+    print("%s: %d scenes: %d render (%d agree, %d differ, %d without a reference), "
+          "%d unsupported, %d errors"
+          % (out, len(rows), counts["agrees"] + counts["differs"] + counts["no reference"],
+             counts["agrees"], counts["differs"], counts["no reference"], counts["unsupported"],
              counts["error"]))
 
 

@@ -9,6 +9,8 @@
  */
 #include "pixels.h"
 
+#include <float.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <string.h>
@@ -167,6 +169,33 @@ static const float linear_of_byte[256] = {
 float pixels_linear_of(uint8_t b)
 {
     return linear_of_byte[b];
+}
+
+/* The sRGB curve's inverse (POV-Ray's SRGBGammaCurve::Decode), in double. */
+static double srgb_decode(double c)
+{
+    return c < 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+float pixels_scene_linear(float v, int gamma_mode, float gamma)
+{
+    double lin;
+    if (gamma_mode == PIXELS_GAMMA_POWER) {
+        float enc = 1.0f / gamma;
+        lin = powf(v > 0.0f ? v : 0.0f, 1.0f / enc);
+    } else if (gamma_mode == PIXELS_GAMMA_DIRECT) {
+        float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+        int byte = (int)floorf(c * 255.0f + 0.5f);
+        if (v < 0.0f || v > 1.0f)
+            lin = srgb_decode((double)v); /* the file's byte is 0 or 255 either way */
+        else {
+            float f = (float)srgb_decode((double)c);
+            return pixels_srgb_byte(f) == byte ? f : pixels_linear_of((uint8_t)byte);
+        }
+    } else {
+        return v;
+    }
+    return lin > (double)FLT_MAX ? FLT_MAX : (float)lin;
 }
 
 /* One row of pixels_store_bytes_rect.  The master's image is far larger

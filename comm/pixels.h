@@ -66,6 +66,23 @@ static inline uint8_t pixels_srgb_byte(float v)
     return (uint8_t)(int)(pixels_srgb_encode(v) * 255.0f + 0.5f);
 }
 
+/* The scene's output gamma (csg/device/flat.h, enum csg_output_gamma,
+ * whose values these are: this header compiles as C++ too). */
+enum { PIXELS_GAMMA_SRGB = 0, PIXELS_GAMMA_POWER = 1, PIXELS_GAMMA_DIRECT = 2 };
+
+/* The linear value a pixel of colour v (a channel, finite) is stored as,
+ * so that pixels_srgb_byte gives POV-Ray 3.7's byte for the scene's gamma
+ * handling (its PNG: the sRGB curve of the working gamma's decoding):
+ *   PIXELS_GAMMA_SRGB   v (assumed_gamma 1): unchanged;
+ *   PIXELS_GAMMA_POWER  POV-Ray's power curve: powf(max(v, 0), 1 / e),
+ *                       e = 1 / gamma in float (PowerLawGammaCurve);
+ *   PIXELS_GAMMA_DIRECT the inverse of the sRGB curve at v (the working
+ *                       gamma is the file's: POV-Ray writes floor(clip(v) *
+ *                       255 + 0.5)), kept within the floats whose byte is
+ *                       that one, so the byte is POV-Ray's exactly.
+ * A float file (EXR) holds this linear value.  Never above FLT_MAX. */
+float pixels_scene_linear(float v, int gamma_mode, float gamma);
+
 /* n linear values converted to bytes (out may not alias rgb): each
  * pixels_srgb_byte's, faster. */
 void pixels_to_rgb8(const float *rgb, size_t n, uint8_t *out);

@@ -72,6 +72,17 @@ static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
         if (m->sub_first < 0 || (m->sub_first > 0 && (m->sub_first <= i || /* acyclic */
                                  m->sub_first > h->material_count - m->map_count)))
             return false;
+        /* layers, normals and texture maps: later materials (acyclic) */
+        if (m->under < 0 || (m->under > 0 && (m->under - 1 <= i || m->under > h->material_count)) ||
+            m->normal < 0 || (m->normal > 0 && (m->normal - 1 <= i || m->normal > h->material_count)))
+            return false;
+        if (m->tmap != 0 && (m->tmap != 1 || m->sub_first <= 0 || m->pattern == CSG_PATTERN_PLAIN))
+            return false;
+        if (m->normal_kind < 0 || m->normal_kind >= CSG_NORMAL_COUNT || m->number_of_waves < 0 ||
+            ((m->pattern == CSG_PATTERN_RIPPLES || m->pattern == CSG_PATTERN_WAVES ||
+              m->normal_kind == CSG_NORMAL_RIPPLES || m->normal_kind == CSG_NORMAL_WAVES) &&
+             (m->number_of_waves < 1 || m->number_of_waves > CSG_MAX_WAVES)))
+            return false;
         if (m->pattern != CSG_PATTERN_PLAIN && /* pigment.c's tables and loops */
             (m->noise_gen < 1 || m->noise_gen > 3 ||
              ((m->turb_on || m->pattern == CSG_PATTERN_AGATE) && (m->octaves < 1 || m->octaves > 10))))
@@ -126,7 +137,7 @@ static bool bvh_valid(const csg_blob_header *h, const csg_bvh_node *bvh)
 /* ---- the feature set (flat.h, enum csg_feature) ---------------------------- */
 
 /* Lets light through: its pigment or any colour of its map. */
-static bool material_transparent(const csg_material *m, const csg_map_color *maps)
+static bool pigment_transparent(const csg_material *m, const csg_map_color *maps)
 {
     if (m->pattern == CSG_PATTERN_PLAIN)
         return m->filter > 0 || m->transmit > 0;
@@ -136,6 +147,37 @@ static bool material_transparent(const csg_material *m, const csg_map_color *map
     return false;
 }
 
+/* Material i (a texture's) lets light through somewhere and reflects
+ * somewhere: its layers (every one must let light through), its
+ * texture_map's entries (any); past a nesting of 16, both (only slower). */
+static void material_bits(const csg_material *mats, int32_t i, const csg_map_color *maps,
+                          int depth, bool *transparent, bool *reflect)
+{
+    *transparent = *reflect = false;
+    if (depth > 16) {
+        *transparent = *reflect = true;
+        return;
+    }
+    const csg_material *m = &mats[i];
+    if (m->tmap) {
+        for (int32_t k = 0; k < m->map_count; k++) {
+            bool t, r;
+            material_bits(mats, m->sub_first + k, maps, depth + 1, &t, &r);
+            *transparent = *transparent || t;
+            *reflect = *reflect || r;
+        }
+        return;
+    }
+    bool all_clear = true;
+    for (int32_t k = i, n = 0; k >= 0 && n <= 16; n++) {
+        const csg_material *l = &mats[k];
+        all_clear = all_clear && pigment_transparent(l, maps);
+        *reflect = *reflect || l->reflection[0] > 0 || l->reflection[1] > 0 || l->reflection[2] > 0;
+        k = l->under - 1;
+    }
+    *transparent = all_clear;
+}
+
 /* The material bits of the materials primitives use (a sky pigment is a
  * material too, but no surface shows it). */
 static uint32_t material_features(const csg_blob_header *h, const csg_prim *prims,
@@ -143,10 +185,11 @@ static uint32_t material_features(const csg_blob_header *h, const csg_prim *prim
 {
     uint32_t f = 0;
     for (int32_t i = 0; i < h->prim_count; i++) {
-        const csg_material *m = &mats[prims[i].material];
-        if (m->reflection[0] > 0 || m->reflection[1] > 0 || m->reflection[2] > 0)
+        bool transparent, reflect;
+        material_bits(mats, prims[i].material, maps, 0, &transparent, &reflect);
+        if (reflect)
             f |= CSG_FEAT_REFLECT;
-        if (material_transparent(m, maps))
+        if (transparent)
             f |= CSG_FEAT_TRANSPARENT;
     }
     return f;
@@ -208,6 +251,10 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_maps, h->map_count, sizeof(csg_map_color), blob_size))
         return false;
     const csg_shading *sh = blob_at(bytes, h->off_shading);
+    if (sh->output < CSG_OUTPUT_SRGB || sh->output > CSG_OUTPUT_DIRECT ||
+        (sh->output == CSG_OUTPUT_POWER &&
+         (!(sh->output_gamma > R(0.0)) || sh->output_gamma == CSG_R_INF)))
+        return false;
     if (sh->max_rays < 1 || h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
                                                    sh->sky_first > h->material_count - h->sky_count)))
         return false;

@@ -84,10 +84,24 @@ static void write_globals(const exporter *e)
     const csg_globals *g = &e->s->globals;
     FILE *out = e->out;
     static const double one[3] = {1, 1, 1};
-    fputs("global_settings {\n    assumed_gamma 1\n    max_trace_level ", out);
+    /* the scene's gamma handling (a flat export is always linear: the
+     * cross-check compares linear colours) */
+    fputs("global_settings {\n", out);
+    if (e->flat || g->gamma_kind == CSG_GAMMA_POWER) {
+        fputs("    assumed_gamma ", out);
+        put_num(out, e->flat ? 1.0 : g->assumed_gamma);
+        fputc('\n', out);
+    } else if (g->gamma_kind == CSG_GAMMA_SRGB) {
+        fputs("    assumed_gamma srgb\n", out);
+    } else if (csg_version_v37(e->s)) {
+        fputs("    assumed_gamma 1\n", out);
+    } /* else POV-Ray's legacy mode: no assumed_gamma before 3.7 */
+    fputs("    max_trace_level ", out);
     fprintf(out, "%d", e->flat ? 1 : g->max_trace_level);
     fputs("\n    adc_bailout ", out);
     put_num(out, g->adc_bailout);
+    if (g->number_of_waves != 10)
+        fprintf(out, "\n    number_of_waves %d", g->number_of_waves);
     fputs("\n    ambient_light rgb ", out);
     put_vec(out, e->flat ? one : g->ambient_light, 3);
     fputs("\n}\n\n", out);
@@ -246,6 +260,12 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
         if (pig->crackle.solid)
             fputs(" solid", out);
     }
+    if (pig->pattern == CSG_PATTERN_QUILTED) {
+        fputs(" control0 ", out);
+        put_num(out, pig->control0);
+        fputs(" control1 ", out);
+        put_num(out, pig->control1);
+    }
     if (pig->turb.on || csg_pattern_reads_noise(pig->pattern))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
     if (pig->wave != CSG_WAVE_RAMP || csg_pattern_wave(pig->pattern) != CSG_WAVE_RAMP)
@@ -304,22 +324,116 @@ static void write_pigment(const exporter *e, const csg_pigment *pig, int depth)
     fputs(pig->pattern == CSG_PATTERN_PLAIN ? " }" : "}", e->out);
 }
 
-static void write_texture(const exporter *e, const csg_texture *t, int depth)
+/* normal { ... }: its kind (a normal-only pattern) or its pattern, the
+ * amount, the pattern's settings and its complete matrix. */
+static void write_normal(const exporter *e, const csg_normal *n, int depth)
 {
     FILE *out = e->out;
+    static const char *const kinds[] = {
+#define EXPORT_NORMAL_NAME(ID, name) [CSG_NORMAL_##ID] = #name,
+        CSG_NORMALS(EXPORT_NORMAL_NAME)
+#undef EXPORT_NORMAL_NAME
+    };
+    const csg_pigment *pig = &n->pattern;
     indent(out, depth);
-    if (e->flat) {
-        fputs("texture { ", out);
-        write_pigment(e, &t->pigment, depth + 1);
-        fputs(" finish { ambient 1 diffuse 0 } }\n", out);
+    fputs("normal { ", out);
+    if (n->kind != CSG_NORMAL_PATTERN) {
+        fputs(kinds[n->kind], out);
+    } else if (pig->pattern == CSG_PATTERN_GRADIENT) {
+        fputs("gradient ", out);
+        put_dvec(out, pig->gradient);
+    } else {
+        fputs(csg_pattern_name(pig->pattern), out);
+    }
+    fputc(' ', out);
+    put_num(out, n->amount);
+    write_noise(e, pig);
+    fputs(" frequency ", out);
+    put_num(out, pig->frequency);
+    fputs(" phase ", out);
+    put_num(out, pig->phase);
+    fputs(" accuracy ", out);
+    put_num(out, n->accuracy);
+    if (n->no_bump_scale)
+        fputs(" no_bump_scale", out);
+    fputc('\n', out);
+    write_matrix(out, &pig->xform, depth + 1);
+    indent(out, depth);
+    fputs("}\n", out);
+}
+
+static void write_texture_body(const exporter *e, const csg_texture *t, int depth);
+
+/* A texture_map texture's body: the pattern, its settings, the entries
+ * (each body relative to the pattern holding the map) and its matrix;
+ * checker as POV-Ray writes it, two textures after the keyword. */
+static void write_texture_map(const exporter *e, const csg_texture *t, int depth)
+{
+    FILE *out = e->out;
+    const csg_pigment *pig = &t->pigment;
+    indent(out, depth);
+    if (pig->pattern == CSG_PATTERN_CHECKER) {
+        fputs("checker\n", out);
+        for (int i = 0; i < t->tmap_count; i++) {
+            indent(out, depth);
+            fputs("texture {\n", out);
+            write_texture_body(e, &t->tmap[i].texture, depth + 1);
+            indent(out, depth);
+            fputs("}\n", out);
+        }
+    } else {
+        if (pig->pattern == CSG_PATTERN_GRADIENT) {
+            fputs("gradient ", out);
+            put_dvec(out, pig->gradient);
+        } else {
+            fputs(csg_pattern_name(pig->pattern), out);
+        }
+        fputc('\n', out);
+        indent(out, depth);
+        fputs("texture_map {\n", out);
+        for (int i = 0; i < t->tmap_count; i++) {
+            indent(out, depth + 1);
+            fputc('[', out);
+            put_num(out, t->tmap[i].value);
+            fputc('\n', out);
+            write_texture_body(e, &t->tmap[i].texture, depth + 2);
+            indent(out, depth + 1);
+            fputs("]\n", out);
+        }
+        indent(out, depth);
+        fputs("}\n", out);
+    }
+    indent(out, depth);
+    write_noise(e, pig);
+    fputs(" frequency ", out);
+    put_num(out, pig->frequency);
+    fputs(" phase ", out);
+    put_num(out, pig->phase);
+    fputc('\n', out);
+    write_matrix(out, &pig->xform, depth);
+}
+
+/* What a texture's braces hold: one plain layer (pigment, normal,
+ * finish) or a texture_map. */
+static void write_texture_body(const exporter *e, const csg_texture *t, int depth)
+{
+    FILE *out = e->out;
+    if (t->tmap_count > 0) {
+        write_texture_map(e, t, depth);
         return;
     }
-    const csg_finish *f = &t->finish;
-    fputs("texture {\n", out);
-    indent(out, depth + 1);
-    write_pigment(e, &t->pigment, depth + 1);
+    indent(out, depth);
+    write_pigment(e, &t->pigment, depth);
     fputs("\n", out);
-    indent(out, depth + 1);
+    if (e->flat) {
+        indent(out, depth);
+        fputs("finish { ambient 1 diffuse 0 }\n", out);
+        return;
+    }
+    if (t->normal.on)
+        write_normal(e, &t->normal, depth);
+    const csg_finish *f = &t->finish;
+    indent(out, depth);
     fputs("finish { ambient rgb ", out);
     put_vec(out, f->ambient, 3);
     fputs(" diffuse ", out);
@@ -339,8 +453,24 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
     fputs(" reflection rgb ", out);
     put_vec(out, f->reflection, 3);
     fputs(" }\n", out);
-    indent(out, depth);
-    fputs("}\n", out);
+}
+
+/* texture { } for each layer, the bottom one first (POV-Ray puts the
+ * last written on top). */
+static void write_texture(const exporter *e, const csg_texture *t, int depth)
+{
+    FILE *out = e->out;
+    const csg_texture *layers[64];
+    int n = 0;
+    for (const csg_texture *l = t; l && n < 64; l = l->under)
+        layers[n++] = l;
+    for (int i = n - 1; i >= 0; i--) {
+        indent(out, depth);
+        fputs("texture {\n", out);
+        write_texture_body(e, layers[i], depth + 1);
+        indent(out, depth);
+        fputs("}\n", out);
+    }
 }
 
 static void write_matrix(FILE *out, const csg_xform *x, int depth)
@@ -541,8 +671,11 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the
-     * sky's mix before 3.7), never below 3.5 (the camera's fixed order) */
-    double v = s->version < 3.5 ? 3.5 : s->version > 3.7 ? 3.7 : s->version;
+     * sky's mix, the gamma handling and the opacity before 3.7: a scene
+     * that read no #version is POV-Ray's 3.62), never below 3.5 (the
+     * camera's fixed order) */
+    double v = s->version_implied ? 3.62 : s->version;
+    v = v < 3.5 ? 3.5 : v > 3.7 ? 3.7 : v;
     fputs("#version ", out);
     put_num(out, v);
     fputs(";\n\n", out);

@@ -69,6 +69,14 @@ typedef struct {
     int count;
 } pending_map;
 
+/* A texture whose layers, normals or texture_map entries wait for their
+ * materials (add_texture_parts). */
+typedef struct {
+    int parent;             /* the material of its top layer              */
+    const csg_texture *t;   /* the texture (the scene's arena: stable)    */
+    double ior;
+} pending_texture;
+
 /* Growable arrays of the output, and what the walk inherits. */
 typedef struct {
     csg_prim *prims;
@@ -93,6 +101,8 @@ typedef struct {
     pending_map *pending;   /* pigment maps whose entries' materials are
                                still to be added (add_pigment_maps)      */
     int pending_count, pending_cap;
+    pending_texture *tparts; /* textures whose parts are still to be added */
+    int tpart_count, tpart_cap;
     int sky_first;          /* the sky_sphere's pigments: materials from here */
     const csg_scene *scene;
     csg_diag *diag;
@@ -341,6 +351,9 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             m->to_pattern[4 * i + j] = (real)inv.m[i][j];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            m->from_pattern[3 * i + j] = (real)full.m[i][j];
     store3(m->gradient, pig->gradient);
     m->frequency = (real)pig->frequency;
     m->phase = (real)pig->phase;
@@ -470,6 +483,61 @@ static void add_sky(flat_builder *fb)
     }
 }
 
+/* One layer of a texture into m: its finish, its pigment (or a
+ * texture_map's pattern, whose map values are its entries'), the ior; its
+ * normal, the layers under it and the map's entries are queued
+ * (add_texture_parts) when it has any. */
+static bool material_layer(flat_builder *fb, const csg_texture *tex, double ior, csg_material *m)
+{
+    for (int i = 0; i < 3; i++) {
+        m->ambient[i] = (real)tex->finish.ambient[i];
+        m->reflection[i] = (real)tex->finish.reflection[i];
+    }
+    m->diffuse = (real)tex->finish.diffuse;
+    m->brilliance = (real)tex->finish.brilliance;
+    m->specular = (real)tex->finish.specular;
+    m->roughness = (real)tex->finish.roughness;
+    m->phong = (real)tex->finish.phong;
+    m->phong_size = (real)tex->finish.phong_size;
+    m->metallic = (real)tex->finish.metallic;
+    m->ior = (real)ior;
+    m->number_of_waves = fb->scene->globals.number_of_waves;
+    if (tex->tmap_count > 0) {
+        csg_pigment pattern = tex->pigment; /* the map's pattern: no colour map */
+        pattern.map_count = 0;
+        pattern.pmap_count = 0;
+        if (!material_pattern(fb, &pattern, NULL, m))
+            return false;
+        if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + tex->tmap_count,
+                  sizeof(csg_map_color))) {
+            fb->oom = true;
+            return false;
+        }
+        m->tmap = 1;
+        m->map_first = fb->map_count;
+        m->map_count = tex->tmap_count;
+        for (int i = 0; i < tex->tmap_count; i++) {
+            csg_map_color *c = &fb->maps[fb->map_count++];
+            memset(c, 0, sizeof *c);
+            c->value = (real)tex->tmap[i].value;
+        }
+    } else if (!material_pattern(fb, &tex->pigment, NULL, m)) {
+        return false;
+    }
+    if (tex->tmap_count > 0 || tex->under || tex->normal.on) {
+        if (!grow((void **)&fb->tparts, &fb->tpart_cap, fb->tpart_count + 1,
+                  sizeof(pending_texture))) {
+            fb->oom = true;
+            return false;
+        }
+        pending_texture *pt = &fb->tparts[fb->tpart_count++];
+        pt->parent = (int)(m - fb->mats);
+        pt->t = tex;
+        pt->ior = ior;
+    }
+    return true;
+}
+
 static int material_for(flat_builder *fb, inherited inh)
 {
     uint64_t key = material_key(inh);
@@ -482,32 +550,102 @@ static int material_for(flat_builder *fb, inherited inh)
     size_t slot = material_find(fb, key);
     if (fb->mat_slots[slot])
         return fb->mat_slots[slot] - 1;
-    csg_texture tex;
-    if (inh.texture >= 0)
-        tex = fb->scene->textures[inh.texture];
-    else
-        csg_texture_default(&tex);
+    csg_texture plain; /* the default texture (no parts: never queued) */
+    const csg_texture *tex;
+    if (inh.texture >= 0) {
+        tex = &fb->scene->textures[inh.texture];
+    } else {
+        csg_texture_default(&plain);
+        tex = &plain;
+    }
     double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
     csg_material *m = &fb->mats[fb->mat_count];
     memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
                                 byte: the blob is hashed (host/output/journal.c) */
-    for (int i = 0; i < 3; i++) {
-        m->ambient[i] = (real)tex.finish.ambient[i];
-        m->reflection[i] = (real)tex.finish.reflection[i];
-    }
-    m->diffuse = (real)tex.finish.diffuse;
-    m->brilliance = (real)tex.finish.brilliance;
-    m->specular = (real)tex.finish.specular;
-    m->roughness = (real)tex.finish.roughness;
-    m->phong = (real)tex.finish.phong;
-    m->phong_size = (real)tex.finish.phong_size;
-    m->metallic = (real)tex.finish.metallic;
-    m->ior = (real)ior;
-    if (!material_pattern(fb, &tex.pigment, NULL, m))
+    if (!material_layer(fb, tex, ior, m))
         return 0;
     fb->mat_keys[fb->mat_count] = key;
     fb->mat_slots[slot] = fb->mat_count + 1;
     return fb->mat_count++;
+}
+
+/* A new material at the end of the table (never a texture's key). */
+static csg_material *material_append(flat_builder *fb)
+{
+    if (!grow((void **)&fb->mats, &fb->mat_cap, fb->mat_count + 1, sizeof(csg_material)) ||
+        !grow((void **)&fb->mat_keys, &fb->mat_key_cap, fb->mat_count + 1, sizeof(uint64_t))) {
+        fb->oom = true;
+        return NULL;
+    }
+    csg_material *m = &fb->mats[fb->mat_count];
+    memset(m, 0, sizeof *m);
+    fb->mat_keys[fb->mat_count++] = UINT64_MAX;
+    return m;
+}
+
+/* A normal { } as a material: its pattern's fields, and what perturbs. */
+static bool material_normal(flat_builder *fb, const csg_normal *n, csg_material *m)
+{
+    csg_pigment pattern = n->pattern;
+    pattern.pmap_count = 0;
+    if (pattern.pattern == CSG_PATTERN_PLAIN) /* the normal-only kinds read no pattern */
+        pattern.pattern = CSG_PATTERN_BOZO;
+    if (pattern.map_count == 0) { /* the validator wants a map on a pattern */
+        static const csg_map_entry gray[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+        pattern.map = gray;
+        pattern.map_count = 2;
+    }
+    if (!material_pattern(fb, &pattern, NULL, m))
+        return false;
+    m->normal_kind = n->kind;
+    m->no_bump_scale = n->no_bump_scale;
+    m->number_of_waves = fb->scene->globals.number_of_waves;
+    m->bump_size = (real)n->amount;
+    m->accuracy = (real)n->accuracy;
+    m->quilt_control[0] = (real)n->pattern.control0;
+    m->quilt_control[1] = (real)n->pattern.control1;
+    return true;
+}
+
+#define CSG_MAX_TEXTURE_PARTS (1 << 20) /* materials of layers, normals and maps */
+
+/* The parts of the textures queued by material_layer, after every
+ * material that uses them (blob.c checks that each points forward): a
+ * layer's normal, the layer under it, a texture_map's entries (each a
+ * texture of its own, queued in turn).  False (d filled) past the limit. */
+static bool add_texture_parts(flat_builder *fb)
+{
+    for (int i = 0; i < fb->tpart_count && !fb->oom; i++) {
+        pending_texture pt = fb->tparts[i];
+        if (fb->mat_count > CSG_MAX_TEXTURE_PARTS) {
+            csg_error_plain(fb->diag, "textures hold more than %d layers, normals and "
+                                      "texture_map entries in all", CSG_MAX_TEXTURE_PARTS);
+            return false;
+        }
+        if (pt.t->normal.on && pt.t->tmap_count == 0) {
+            csg_material *m = material_append(fb);
+            if (!m || !material_normal(fb, &pt.t->normal, m))
+                return true; /* out of memory: reported so */
+            fb->mats[pt.parent].normal = fb->mat_count; /* index + 1 */
+        }
+        if (pt.t->under && pt.t->tmap_count == 0) {
+            csg_material *m = material_append(fb);
+            if (!m || !material_layer(fb, pt.t->under, pt.ior, m))
+                return true;
+            fb->mats[pt.parent].under = fb->mat_count;
+        }
+        if (pt.t->tmap_count > 0) {
+            int first = fb->mat_count;
+            for (int k = 0; k < pt.t->tmap_count; k++)
+                if (!material_append(fb))
+                    return true;
+            fb->mats[pt.parent].sub_first = first;
+            for (int k = 0; k < pt.t->tmap_count; k++)
+                if (!material_layer(fb, &pt.t->tmap[k].texture, pt.ior, &fb->mats[first + k]))
+                    return true;
+        }
+    }
+    return true;
 }
 
 /* ---- one function a shape kind (CSG_OBJECT_KINDS) ----------------------------
@@ -935,10 +1073,46 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
     return ok;
 }
 
+/* A pigment no point of which lets light through. */
+static bool pigment_opaque(const csg_pigment *pig)
+{
+    int left = CLEAR_VISIT_BUDGET;
+    if (pig->pattern == CSG_PATTERN_PLAIN)
+        return !(pig->rgbft[3] > 0 || pig->rgbft[4] > 0);
+    return !pigment_clear(pig, &left);
+}
+
+/* A texture no point of which lets light through: a layer that does not,
+ * or a texture_map whose every entry does not (too deep a nesting counts
+ * as clear: only slower). */
+static bool texture_opaque(const csg_texture *t, int depth)
+{
+    if (depth > 16)
+        return false;
+    if (t->tmap_count > 0) {
+        for (int i = 0; i < t->tmap_count; i++)
+            if (!texture_opaque(&t->tmap[i].texture, depth + 1))
+                return false;
+        return true;
+    }
+    for (; t; t = t->under)
+        if (pigment_opaque(&t->pigment))
+            return true;
+    return false;
+}
+
 /* No point of the material lets light through: neither its pigment nor,
- * when patterned, any colour of its map. */
+ * when patterned, any colour of its map (a texture's material: its
+ * layers and texture_map entries, read from the scene's texture). */
 static bool material_opaque(const flat_builder *fb, const csg_material *m)
 {
+    uint64_t key = fb->mat_keys[m - fb->mats];
+    int texture = key == UINT64_MAX ? -1 : (int)(key >> 32) - 1;
+    if (texture >= 0) {
+        const csg_texture *t = &fb->scene->textures[texture];
+        if (t->tmap_count > 0 || t->under)
+            return texture_opaque(t, 0);
+    }
     if (m->pattern == CSG_PATTERN_PLAIN)
         return m->filter <= 0 && m->transmit <= 0;
     for (int k = 0; k < m->map_count; k++) {
@@ -1236,13 +1410,21 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
         lights[i].shadowless = s->lights[i].shadowless;
     }
     csg_shading *sh = (csg_shading *)(b + h->off_shading);
+    bool v37 = csg_version_v37(s);
+    /* POV-Ray 3.7 (no alpha channel) composes the background over black:
+     * its rgb times 1 - transmit; before 3.7 its filter and transmit are
+     * dropped (parse.cpp, BACKGROUND) */
+    double keep = v37 ? 1.0 - s->background[4] : 1.0;
     for (int c = 0; c < 3; c++) {
-        sh->background[c] = (real)s->background[c];
+        sh->background[c] = (real)(keep == 1.0 ? s->background[c] : s->background[c] * keep);
         sh->ambient_light[c] = (real)s->globals.ambient_light[c];
     }
     sh->adc_bailout = (real)(o->bailout >= 0 ? o->bailout : s->globals.adc_bailout);
     sh->sky_first = fb->sky_first;
-    sh->sky_v37 = s->version >= 3.7 - 1e-9;
+    sh->sky_v37 = v37;
+    double gamma;
+    sh->output = csg_output_gamma(s, &gamma);
+    sh->output_gamma = (real)gamma;
     long spp = o->spp > 0 ? o->spp : 1;
     sh->max_rays = o->max_rays > 0 ? o->max_rays
                                    : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */
@@ -1306,6 +1488,8 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     if (ok && !fb.oom)
         add_sky(&fb);
     if (ok && !fb.oom)
+        ok = add_texture_parts(&fb);
+    if (ok && !fb.oom)
         ok = add_pigment_maps(&fb);
     if (ok && !fb.oom && !build_bvh(&fb))
         fb.oom = true;
@@ -1326,6 +1510,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.split);
     free(fb.maps);
     free(fb.pending);
+    free(fb.tparts);
     if (!ok)
         csg_blob_free(out);
     return ok;

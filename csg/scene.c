@@ -6,6 +6,8 @@
  */
 #include "scene.h"
 
+#include "device/flat.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,7 +31,17 @@ void csg_pigment_default(csg_pigment *p)
     p->turb.omega = 0.5;
     p->turb.lambda = 2.0;
     p->agate_turb = 1.0;
+    p->control0 = p->control1 = 1.0;
     csg_xform_identity(&p->xform);
+}
+
+void csg_normal_default(csg_normal *n)
+{
+    memset(n, 0, sizeof *n);
+    n->kind = CSG_NORMAL_PATTERN;
+    csg_pigment_default(&n->pattern);
+    n->amount = 0.5;
+    n->accuracy = 0.02;
 }
 
 int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
@@ -41,20 +53,53 @@ int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
     return s->version < 3.5 ? 1 : 2;
 }
 
+int csg_version_int(double v)
+{
+    return (int)(v * 100 + 0.5);
+}
+
+bool csg_version_v37(const csg_scene *s)
+{
+    return !s->version_implied && csg_version_int(s->version) >= 370;
+}
+
+int csg_output_gamma(const csg_scene *s, double *gamma)
+{
+    *gamma = 1.0;
+    switch (s->globals.gamma_kind) {
+    case CSG_GAMMA_SRGB:
+        return CSG_OUTPUT_DIRECT;
+    case CSG_GAMMA_POWER: {
+        /* POV-Ray's PowerLawGammaCurve keeps 1/G as a float and takes a
+         * curve within 1 % of neutral for the neutral one */
+        float enc = 1.0f / (float)s->globals.assumed_gamma;
+        if (fabs(1.0 - (double)enc) <= 0.01)
+            return CSG_OUTPUT_SRGB;
+        *gamma = s->globals.assumed_gamma;
+        return CSG_OUTPUT_POWER;
+    }
+    default:
+        return csg_version_v37(s) ? CSG_OUTPUT_SRGB : CSG_OUTPUT_DIRECT;
+    }
+}
+
 void csg_texture_default(csg_texture *t)
 {
     memset(t, 0, sizeof *t);
     csg_pigment_default(&t->pigment);
     csg_finish_default(&t->finish);
+    csg_normal_default(&t->normal);
 }
 
 void csg_globals_default(csg_globals *g)
 {
+    g->gamma_kind = CSG_GAMMA_UNSET;
     g->assumed_gamma = 1.0;
     g->max_trace_level = 5;
     g->adc_bailout = 1.0 / 255.0;
     g->ambient_light[0] = g->ambient_light[1] = g->ambient_light[2] = 1.0;
     g->noise_generator = 0;
+    g->number_of_waves = 10;
 }
 
 void csg_xform_identity(csg_xform *x)

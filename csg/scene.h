@@ -126,6 +126,7 @@ typedef struct {
     csg_turb turb;
     double agate_turb;        /* agate: the weight of its turbulence (1)    */
     csg_crackle crackle;
+    double control0, control1; /* quilted: its cubic's controls (1, 1)      */
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */
@@ -157,10 +158,46 @@ typedef struct {
     double reflection[3]; /* 0                                       */
 } csg_finish;
 
+/* POV-Ray's normal { }: a pattern that perturbs the surface normal
+ * (Perturb_Normal): `kind` (device/patterns.h, CSG_NORMALS) says how;
+ * CSG_NORMAL_PATTERN samples the slope of `pattern`'s value, the others
+ * are POV-Ray's normal-only patterns.  `pattern` holds what every pattern
+ * has (its transforms in xform, turbulence, frequency, phase, wave, noise
+ * generator, quilted's controls); no colour map. */
 typedef struct {
+    bool on;             /* a normal was given                           */
+    int kind;            /* enum csg_normal_kind                         */
+    csg_pigment pattern; /* the pattern's fields                         */
+    double amount;       /* bump_size (POV-Ray's default 0.5)            */
+    double accuracy;     /* the pattern slope's sample distance (0.02)   */
+    bool no_bump_scale;  /* the perturbation is not normalised on the way
+                            into and out of pattern space                */
+} csg_normal;
+
+typedef struct csg_texture csg_texture;
+typedef struct csg_texture_entry csg_texture_entry;
+
+/* POV-Ray's texture: a plain texture (pigment, normal, finish), the top of
+ * a list of layers (texture { } texture { }: `under` is the layer below,
+ * the last written on top), or a texture_map (a pattern, in `pigment`'s
+ * pattern fields, choosing between the textures of `tmap`).  The layers
+ * and entries live in the scene's arena, shared, never written: a texture
+ * is copied by value and a change copies what it changes. */
+struct csg_texture {
     csg_pigment pigment;
     csg_finish finish;
-} csg_texture;
+    csg_normal normal;
+    const csg_texture *under; /* the layer below (NULL: none)            */
+    int tmap_count;           /* > 0: a texture_map of so many entries   */
+    const csg_texture_entry *tmap;
+};
+
+/* One entry of a texture_map: from `value` on, the texture (evaluated at
+ * the point of the map's pattern, after its transforms and turbulence). */
+struct csg_texture_entry {
+    double value;
+    csg_texture texture;
+};
 
 typedef struct {
     double ior; /* 1 */
@@ -222,12 +259,21 @@ typedef struct {
     csg_loc loc;
 } csg_light;
 
+/* How global_settings' assumed_gamma was given (POV-Ray 3.7's working
+ * gamma): not at all, as a number, or as the word srgb. */
+enum csg_gamma_kind { CSG_GAMMA_UNSET = 0, CSG_GAMMA_POWER = 1, CSG_GAMMA_SRGB = 2 };
+
 typedef struct {
-    double assumed_gamma;   /* 1 when not given                       */
+    int gamma_kind;         /* enum csg_gamma_kind: the first assumed_gamma
+                               counts, as in POV-Ray (a later one is
+                               ignored)                               */
+    double assumed_gamma;   /* CSG_GAMMA_POWER's exponent (> 0); 1 when
+                               not given                              */
     int max_trace_level;    /* 5                                      */
     double adc_bailout;     /* 1/255                                  */
     double ambient_light[3]; /* 1                                     */
     int noise_generator;    /* 0 when not given: 2 (1 before #version 3.5) */
+    int number_of_waves;    /* the wave sources of ripples and waves (10) */
 } csg_globals;
 
 /* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the
@@ -254,9 +300,12 @@ typedef struct {
                                direction (a near plane); 0: none          */
     double background[5];   /* rgbft; black when not given            */
     csg_sky sky;            /* sky_sphere (count 0: none)             */
-    double version;         /* #version at the end (3.7 unless set):
-                               POV-Ray's sky before 3.7 mixes the
-                               background in another way              */
+    double version;         /* #version at the end (3.7 unless set)     */
+    bool version_implied;   /* a POV-Ray scene that read no #version (its
+                               own or an include's): POV-Ray's
+                               "effective" version is then 3.62
+                               (csg_version_v37).  False for scenes made
+                               otherwise (NFF, by hand): 3.7's rules */
     csg_globals globals;
     csg_light *lights;
     int light_count;
@@ -271,11 +320,28 @@ typedef struct {
 } csg_scene;
 
 void csg_pigment_default(csg_pigment *p); /* plain black, identity transform */
+/* POV-Ray's integer form of a version: (int)(v * 100 + 0.5) (3.62 -> 362). */
+int csg_version_int(double v);
+/* POV-Ray 3.7's rules apply (its EffectiveLanguageVersion() >= 370): the
+ * last #version read is 3.7 or more; a scene that read none is 3.62.
+ * Before 3.7: no gamma handling unless assumed_gamma is given, a
+ * transparent surface dims by POV-Ray 3.6's formula, the sky and the
+ * background mix as they did. */
+bool csg_version_v37(const csg_scene *s);
+/* What the 8-bit output does with a scene's colours (POV-Ray 3.7's PNG,
+ * its default File_Gamma, the sRGB curve): CSG_OUTPUT_SRGB (a linear
+ * working space: the colour is encoded with the sRGB curve: assumed_gamma
+ * 1, or none in a 3.7 scene), CSG_OUTPUT_POWER (assumed_gamma G: the
+ * colour is decoded by the power G first, *gamma = G), CSG_OUTPUT_DIRECT
+ * (the colour is the byte's fraction: assumed_gamma srgb, or a scene
+ * before 3.7 without assumed_gamma, POV-Ray's legacy mode). */
+int csg_output_gamma(const csg_scene *s, double *gamma);
 /* The noise generator pigment `pig` of scene `s` uses: its own, or the
  * scene's global_settings one, or POV-Ray's default for the scene's
  * #version (1 before 3.5, then 2). */
 int csg_noise_of(const csg_scene *s, const csg_pigment *pig);
 void csg_finish_default(csg_finish *f);
+void csg_normal_default(csg_normal *n); /* none: on = false, POV-Ray's defaults */
 void csg_texture_default(csg_texture *t);
 void csg_globals_default(csg_globals *g);
 void csg_xform_identity(csg_xform *x);

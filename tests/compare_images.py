@@ -17,6 +17,9 @@ so each input's transfer encoding is given with --encoding-a/-b:
   srgb     the sRGB curve           (POV-Ray 3.7's default PNG output)
   gamma2.2 code/255 ** 2.2
 
+With --background none every pixel is compared by its colours alone (two
+full renders, not flat ones).
+
 Prints one line:  NAME: agreement 99.87% (N of M pixels) [details]
 Exit status: 0 when agreement >= --min, 1 below, 2 on bad input.
 """
@@ -101,7 +104,8 @@ def main():
     ap.add_argument("--encoding-a", choices=DECODERS, default="linear")
     ap.add_argument("--encoding-b", choices=DECODERS, default="linear")
     ap.add_argument("--background", default="0,0,0",
-                    help="linear r,g,b of the background (miss) colour")
+                    help="linear r,g,b of the background (miss) colour, or 'none': "
+                         "the colours alone are compared (a full render)")
     ap.add_argument("--tolerance", type=float, default=2.5 / 255,
                     help="largest per-channel difference, linear (default 2.5/255)")
     ap.add_argument("--min", type=float, default=99.5,
@@ -111,9 +115,9 @@ def main():
     args = ap.parse_args()
 
     try:
-        bg = [float(v) for v in args.background.split(",")]
-        if len(bg) != 3:
-            raise ValueError("--background needs r,g,b")
+        bg = None if args.background == "none" else [float(v) for v in args.background.split(",")]
+        if bg is not None and len(bg) != 3:
+            raise ValueError("--background needs r,g,b or none")
         wa, ha, pa = read_image(args.a, DECODERS[args.encoding_a])
         wb, hb, pb = read_image(args.b, DECODERS[args.encoding_b])
     except (ValueError, OSError) as e:
@@ -131,8 +135,8 @@ def main():
     for i in range(total):
         ca = pa[3 * i:3 * i + 3]
         cb = pb[3 * i:3 * i + 3]
-        hit_a = any(abs(ca[k] - bg[k]) > tol for k in range(3))
-        hit_b = any(abs(cb[k] - bg[k]) > tol for k in range(3))
+        hit_a = bg is None or any(abs(ca[k] - bg[k]) > tol for k in range(3))
+        hit_b = bg is None or any(abs(cb[k] - bg[k]) > tol for k in range(3))
         hits_a += hit_a
         hits_b += hit_b
         if hit_a != hit_b:

@@ -13,6 +13,13 @@
 #   4. tests/compare_images.py: a pixel agrees when both call it background or
 #      object alike and the colours agree within 2.5/255; the scene fails below
 #      99.5% agreement.
+# A scene whose first lines say `// crosscheck: full [MIN]` (tests/povray/:
+# shading constructs a flat export cannot show: gamma, normals, fog,
+# lights, layered textures ...) is instead rendered as written by both
+# programs to PNG (POV-Ray's default gamma handling, its folder as the
+# library path) and compared by colour alone: a pixel agrees when every
+# channel is within 3/255; the scene fails below MIN % (default
+# MIN_AGREEMENT).
 # Both renderers sample pixel (x, y) at the pixel centre,
 # x0 = (x + 0.5)/W - 0.5, y0 = 0.5 - (y + 0.5)/H (checked against POV-Ray).
 # The image is 160 pixels wide; its height follows the "Framed for WxH" line
@@ -92,6 +99,29 @@ show_log() {
     tail -n "${2:-8}" "$1" | sed 's/^/    | /'
 }
 
+# The full comparison of one scene (see above): $1 scene, $2 name, $3 its
+# folder of results, $4 height, $5 the least agreement.
+compare_full() {
+    local scene=$1 name=$2 dir=$3 height=$4 min=$5 sdir
+    sdir=$(cd "$(dirname "$scene")" && pwd)
+    cp "$scene" "$dir/scene.pov"
+    if ! (cd "$dir" && "$POVRAY" +Iscene.pov +Opov.png +FN +W"$WIDTH" +H"$height" -D -A \
+            +L"$sdir" -P) >"$dir/povray.log" 2>&1 || [ ! -s "$dir/pov.png" ]; then
+        echo "$name: FAILED (povray)"
+        show_log "$dir/povray.log" 12
+        return 1
+    fi
+    if ! "$CSGTRACE" render "$scene" -o "$dir/ours.png" --mode serial \
+            --width "$WIDTH" --height "$height" "${prec[@]}" >"$dir/render.log" 2>&1; then
+        echo "$name: FAILED (csgtrace render)"
+        show_log "$dir/render.log"
+        return 1
+    fi
+    python3 "$COMPARE" "$dir/pov.png" "$dir/ours.png" --name "$name (full)" \
+        --encoding-a linear --encoding-b linear --background none --tolerance 0.013725490196 \
+        --min "$min" --diff "$dir/diff.ppm"
+}
+
 passed=0
 failed=0
 for scene in "${scenes[@]}"; do
@@ -100,6 +130,18 @@ for scene in "${scenes[@]}"; do
     dir=$work/$name
     mkdir -p "$dir"
     height=$(scene_height "$scene")
+    prec=()
+    [ -n "$PRECISION" ] && prec=(--precision "$PRECISION")
+    full=$(head -n 5 "$scene" | sed -n 's|^// *crosscheck: *full *\([0-9.]*\).*|full \1|p' | head -n 1)
+    if [ -n "$full" ]; then
+        min=${full#full }
+        if compare_full "$scene" "$name" "$dir" "$height" "${min:-$MIN_AGREEMENT}"; then
+            passed=$((passed + 1))
+        else
+            failed=$((failed + 1))
+        fi
+        continue
+    fi
 
     if ! "$CSGTRACE" export "$scene" --flat -o "$dir/flat.pov" >"$dir/export.log" 2>&1; then
         echo "$name: FAILED (csgtrace export)"
@@ -114,8 +156,6 @@ for scene in "${scenes[@]}"; do
         failed=$((failed + 1))
         continue
     fi
-    prec=()
-    [ -n "$PRECISION" ] && prec=(--precision "$PRECISION")
     if ! "$CSGTRACE" render "$dir/flat.pov" -o "$dir/ours.exr" --mode serial \
             --width "$WIDTH" --height "$height" "${prec[@]}" >"$dir/render.log" 2>&1; then
         echo "$name: FAILED (csgtrace render)"

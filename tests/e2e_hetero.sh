@@ -81,6 +81,23 @@ CSGTRACE_CL_SPECIALISE=2 render sp_bad 0 hetero "$T/gen_1.pov" --width 8 --heigh
 grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/sp_bad.err" &&
     ok "a bad CSGTRACE_CL_SPECIALISE is refused" || ko "CSGTRACE_CL_SPECIALISE=2: $(head -c 300 "$T/sp_bad.err")"
 
+# --- the POV-Ray cross-check scenes (tests/povray: the gamma modes, the
+# constructs of POV-Ray's sample scenes): the same image in every mode and
+# both kernels (the linear floats, so every file's bytes too) ---
+for scene in tests/povray/*.pov; do
+    b=$(basename "$scene" .pov)
+    render pv_s_$b 0 serial "$scene" --width 64 --height 48 --tile 16
+    render pv_h_$b 3 homo "$scene" --width 64 --height 48 --tile 16
+    render pv_x_$b 3 hetero "$scene" --width 64 --height 48 --tile 16 --cl-kernel packet
+    render pv_xs_$b 0 hetero "$scene" --width 64 --height 48 --tile 16 --cl-kernel scalar
+    if same "$T/pv_s_$b.exr" "$T/pv_h_$b.exr" && same "$T/pv_s_$b.exr" "$T/pv_x_$b.exr" &&
+        same "$T/pv_s_$b.exr" "$T/pv_xs_$b.exr"; then
+        ok "tests/povray/$b: hetero (packet and scalar kernels) == homo == serial"
+    else
+        ko "tests/povray/$b: the modes' images differ: $(head -c 300 "$T/pv_x_$b.err")"
+    fi
+done
+
 # --- supersampling: every sample traced by the OpenCL pass, same pixels ---
 for spp in 4 8 3; do
     render ss$spp 0 serial "$T/gen_1.pov" --width 96 --height 72 --spp $spp

@@ -22,6 +22,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "../csg/device/flat.h"
 #include "../csg/lang/parser.h"
 
 /* ---- helpers ------------------------------------------------------------- */
@@ -433,6 +434,131 @@ static void test_patterns(void **state)
               "(any but checker)");
 }
 
+/* normal { }, layered textures, texture_map, material: POV-Ray's
+ * parse (Parse_Tnormal, Link_Textures, Parse_Texture, Parse_Material). */
+static void test_normals_and_layers(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare A = texture { pigment { rgb x } }\n"
+             "#declare B = texture { pigment { rgbt <0, 1, 0, 0.5> } normal { bumps 0.4 scale 2 } }\n"
+             "#declare L = texture { A } texture { B }\n"
+             "sphere { 0, 1 texture { L } }\n"
+             "sphere { 0, 1 texture { A } texture { B } pigment { rgb z } }\n"
+             "sphere { 0, 1 texture { gradient y texture_map { [0 A] [0.5 L] [1 pigment { rgb 1 }] } } }\n"
+             "sphere { 0, 1 normal { granite bump_size 0.3 accuracy 0.05 } }\n"
+             "sphere { 0, 1 material { texture { A } interior { ior 1.5 } } }\n"
+             "#default { normal { dents, 0.7 } }\n"
+             "sphere { 0, 1 }\n", &s);
+    const csg_texture *t = &s.textures[s.objects[0]->texture];
+    assert_non_null(t->under); /* B over A: the last written on top */
+    assert_near(t->pigment.rgbft[4], 0.5);
+    assert_true(t->normal.on);
+    assert_int_equal(t->normal.kind, CSG_NORMAL_BUMPS);
+    assert_near(t->normal.amount, 0.4);
+    assert_near(t->normal.pattern.xform.m[0][0], 2);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    assert_null(t->under->under);
+    t = &s.textures[s.objects[1]->texture]; /* the pigment edits the top layer */
+    assert_near(t->pigment.rgbft[2], 1);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    t = &s.textures[s.objects[2]->texture];
+    assert_int_equal(t->tmap_count, 3);
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_GRADIENT);
+    assert_non_null(t->tmap[1].texture.under);
+    assert_near(t->tmap[2].texture.pigment.rgbft[1], 1);
+    t = &s.textures[s.objects[3]->texture];
+    assert_int_equal(t->normal.kind, CSG_NORMAL_PATTERN);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_GRANITE);
+    assert_near(t->normal.amount, 0.3);
+    assert_near(t->normal.accuracy, 0.05);
+    assert_near(s.interiors[s.objects[4]->interior].ior, 1.5);
+    assert_near(s.textures[s.objects[4]->texture].pigment.rgbft[0], 1);
+    t = &s.textures[s.objects[5]->texture]; /* the default texture's normal */
+    assert_int_equal(t->normal.kind, CSG_NORMAL_DENTS);
+    assert_near(t->normal.amount, 0.7);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 normal { scale 2 } }",
+              "t.pov:1:15: error: a normal needs a pattern (bumps, dents, ripples, waves, ...)");
+    parse_err("sphere { 0, 1 normal { checker } }",
+              "t.pov:1:24: error: unsupported: 'checker' in a normal is not in csgtrace's "
+              "language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 texture { bozo } }",
+              "t.pov:1:15: error: a patterned texture needs a texture_map");
+    parse_err("#declare M = texture { bozo texture_map { [0 pigment { rgb 1 }] } }\n"
+              "sphere { 0, 1 texture { M } texture { pigment { rgb 1 } } }",
+              "t.pov:2:29: error: cannot layer over a patterned texture (texture_map)");
+    parse_err("sphere { 0, 1 pigment { quilted control0 0.5 } normal { bumps control1 2 } }",
+              "t.pov:1:63: error: 'control1' needs the quilted pattern");
+}
+
+/* POV-Ray 3.7's gamma and version rules (parse.cpp, tokenize.cpp): a
+ * scene that reads no #version is 3.62 for them, and without assumed_gamma
+ * it is in the legacy mode (no gamma handling); the first assumed_gamma
+ * counts; srgb colours are decoded into the working gamma and need
+ * assumed_gamma before them. */
+static int output_of(const char *text, double *gamma)
+{
+    csg_scene s;
+    parse_ok(text, &s);
+    int mode = csg_output_gamma(&s, gamma);
+    csg_scene_free(&s);
+    return mode;
+}
+
+static void test_gamma_and_version(void **state)
+{
+    (void)state;
+    double g;
+    assert_int_equal(output_of("sphere { 0, 1 }", &g), CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#version 3.7; sphere { 0, 1 }", &g), CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.6; sphere { 0, 1 }", &g), CSG_OUTPUT_DIRECT);
+    /* the last #version counts, and 3.695 is 370 to POV-Ray */
+    assert_int_equal(output_of("#version 3.7; #version 3.5; sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#version 3.695; sphere { 0, 1 }", &g), CSG_OUTPUT_SRGB);
+    /* reading `version` (3.7 until set) sets nothing */
+    assert_int_equal(output_of("#declare V = version; sphere { 0, V }", &g), CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("#declare V = version; #version V; sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("global_settings { assumed_gamma 1 } sphere { 0, 1 }", &g),
+                     CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.6; global_settings { assumed_gamma 2.2 }", &g),
+                     CSG_OUTPUT_POWER);
+    assert_near(g, 2.2);
+    /* within 1 % of 1 is POV-Ray's neutral curve */
+    assert_int_equal(output_of("global_settings { assumed_gamma 1.005 }", &g), CSG_OUTPUT_SRGB);
+    assert_int_equal(output_of("#version 3.7; global_settings { assumed_gamma srgb }", &g),
+                     CSG_OUTPUT_DIRECT);
+    assert_int_equal(output_of("global_settings { assumed_gamma 2.2 } "
+                               "global_settings { assumed_gamma 1 }", &g), CSG_OUTPUT_POWER);
+    csg_scene s;
+    parse_ok("#version 3.7; global_settings { assumed_gamma 1 }\n"
+             "#declare A = srgb <0.5, 0.04, 1>;\n"
+             "#declare B = srgbft <0.5, 0.5, 0.5, 0.25, 0.5>;\n"
+             "sphere { 0, 1 pigment { color A } }\n"
+             "sphere { 0, 1 pigment { color B } }\n", &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_true(fabs(p->rgbft[0] - 0.21404114) < 1e-6);
+    assert_true(fabs(p->rgbft[1] - 0.04 / 12.92) < 1e-7);
+    assert_true(p->rgbft[2] == 1.0);
+    p = &s.textures[s.objects[1]->texture].pigment;
+    assert_near(p->rgbft[3], 0.25); /* filter and transmit as they are */
+    assert_near(p->rgbft[4], 0.5);
+    assert_true(csg_version_v37(&s));
+    csg_scene_free(&s);
+    parse_ok("#version 3.7; global_settings { assumed_gamma 2 }\n"
+             "sphere { 0, 1 pigment { srgb 0.5 } }\n", &s);
+    p = &s.textures[s.objects[0]->texture].pigment;
+    assert_true(fabs(p->rgbft[0] - sqrt(0.21404114)) < 1e-6);
+    csg_scene_free(&s);
+    parse_err("#version 3.7; sphere { 0, 1 pigment { srgb 0.5 } }",
+              "t.pov:1:39: error: 'srgb' colors need assumed_gamma set before them "
+              "(in global_settings), as in POV-Ray");
+    parse_err("global_settings { assumed_gamma 0 }",
+              "t.pov:1:33: error: assumed_gamma must be > 0, got 0");
+}
+
 /* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
  * modifiers, the noise generator of the pigment, of global_settings and
  * of #version, and the errors of each keyword at its place. */
@@ -549,18 +675,18 @@ static void test_unusable_declarations(void **state)
     (void)state;
     csg_scene s;
     /* declared and never used: no error */
-    parse_ok("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+    parse_ok("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
              "#declare U = texture { T finish { phong 1 } }\n"
              "#declare F = function(x) { x * 2 }\n"
              "#declare N = 5;\n"
              "sphere { 0, N }\n", &s);
     assert_near(s.objects[0]->r0, 5);
     csg_scene_free(&s);
-    parse_err("#declare T = texture { pigment { rgb 1 } normal { bumps 0.5 } }\n"
+    parse_err("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
               "#declare U = texture { T finish { phong 1 } }\n"
               "sphere { 0, 1 texture { U } }",
-              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'normal' "
-              "(t.pov:1:42), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
+              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'irid' "
+              "(t.pov:1:51), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
 }
 
 /* ---- limits -------------------------------------------------------------------------------------- */
@@ -679,6 +805,8 @@ int main(void)
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),
+        cmocka_unit_test(test_gamma_and_version),
+        cmocka_unit_test(test_normals_and_layers),
         cmocka_unit_test(test_noise_patterns),
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),

@@ -57,11 +57,20 @@ static void image_free(image *im)
     im->surf = NULL;
 }
 
+/* The scenes are POV-Ray 3.7 scenes (linear output): the version is said
+ * on their first line, which keeps every position. */
 static void parse_ok(const char *text, csg_scene *s)
 {
     csg_diag d = {0};
-    if (!csg_parse_string("stability.pov", text, strlen(text), s, &d))
+    static const char v37[] = "#version 3.7; ";
+    size_t n = strlen(text);
+    char *full = malloc(sizeof v37 + n);
+    assert_non_null(full);
+    memcpy(full, v37, sizeof v37 - 1);
+    memcpy(full + sizeof v37 - 1, text, n + 1);
+    if (!csg_parse_string("stability.pov", full, strlen(full), s, &d))
         fail_msg("parse failed: %s\n%s", d.message, text);
+    free(full);
 }
 
 /* The whole image as one tile. */

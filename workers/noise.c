@@ -376,3 +376,55 @@ double noise_triangle(double v)
     double offset = v >= 0.0 ? v - floor(v) : v + 1.0 + floor(fabs(v));
     return offset >= 0.5 ? 2.0 * (1.0 - offset) : 2.0 * offset;
 }
+
+/* POV-Ray's Initialize_Waves, computed once for the first NOISE_WAVES_CACHED
+ * sources (number_of_waves is 10 unless a scene says otherwise). */
+#define NOISE_WAVES_CACHED 64
+
+typedef struct {
+    pthread_once_t once;
+    double source[NOISE_WAVES_CACHED][3];
+    double frequency[NOISE_WAVES_CACHED];
+} wave_table;
+
+static wave_table waves_cache = {PTHREAD_ONCE_INIT, {{0}}, {0}};
+
+static void wave_compute(int i, double source[3])
+{
+    double p[3] = {(double)i, 0.0, 0.0}, d[3];
+    noise_vector(p, d);
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++)
+        source[k] = d[k] / len;
+}
+
+/* The frequency of source i: POV-Ray's 32-bit generator, stepped i + 1
+ * times from -560851967 (int arithmetic that wraps, as POV-Ray's does). */
+static double wave_frequency(int i)
+{
+    uint32_t next = (uint32_t)-560851967;
+    for (int k = 0; k <= i; k++)
+        next = next * 1812433253u + 12345u;
+    return (double)((next >> 16) & 0x7FFFu) * 0.000030518509476 + 0.01;
+}
+
+static void init_waves(void)
+{
+    for (int i = 0; i < NOISE_WAVES_CACHED; i++) {
+        wave_compute(i, waves_cache.source[i]);
+        waves_cache.frequency[i] = wave_frequency(i);
+    }
+}
+
+void noise_wave(int i, double source[3], double *frequency)
+{
+    if (i < NOISE_WAVES_CACHED) {
+        pthread_once(&waves_cache.once, init_waves);
+        for (int k = 0; k < 3; k++)
+            source[k] = waves_cache.source[i][k];
+        *frequency = waves_cache.frequency[i];
+        return;
+    }
+    wave_compute(i, source);
+    *frequency = wave_frequency(i);
+}

@@ -36,4 +36,8 @@ double noise_cycloidal(double v);
 /* POV-Ray's Triangle_Wave: 0 -> 1 -> 0 over each unit of v. */
 double noise_triangle(double v);
 
+/* POV-Ray's wave source i (Initialize_Waves: the vector noise at (i, 0, 0),
+ * normalised) and its frequency, for ripples and waves. */
+void noise_wave(int i, double source[3], double *frequency);
+
 #endif

@@ -247,6 +247,77 @@ static double pattern_wrinkles(const csg_material *m, const double q[3], double 
     return value / 2.0;
 }
 
+static double pattern_dents(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double n = noise_value(q, m->noise_gen);
+    return n * n * n;
+}
+
+/* q minus wave source i, its length (1 when 0, as POV-Ray), the source's
+ * frequency. */
+static double wave_offset(int i, const double q[3], double d[3], double *frequency)
+{
+    double src[3];
+    noise_wave(i, src, frequency);
+    for (int k = 0; k < 3; k++)
+        d[k] = q[k] - src[k];
+    double length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return length == 0.0 ? 1.0 : length;
+}
+
+/* ripples and waves read the frequency and phase themselves, and
+ * Evaluate_TPat waves the result with them again (wave()), as POV-Ray. */
+static double pattern_ripples(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double scalar = 0.0;
+    for (int i = 0; i < m->number_of_waves; i++) {
+        double d[3], f;
+        double length = wave_offset(i, q, d, &f);
+        scalar += noise_cycloidal(length * (double)m->frequency + (double)m->phase);
+    }
+    return 0.5 * (1.0 + scalar / (double)m->number_of_waves);
+}
+
+static double pattern_waves(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double scalar = 0.0;
+    for (int i = 0; i < m->number_of_waves; i++) {
+        double d[3], f;
+        double length = wave_offset(i, q, d, &f);
+        scalar += noise_cycloidal(length * (double)m->frequency * f + (double)m->phase) / f;
+    }
+    return 0.2 * (2.5 + scalar / (double)m->number_of_waves);
+}
+
+/* POV-Ray's quilt_cubic (INV_SQRT_3_4 = 1 / sqrt(3/4)). */
+static double quilt_cubic(double t, double p1, double p2)
+{
+    double it = 1 - t, itsqrd = it * it, tsqrd = t * t, tcubed = t * tsqrd;
+    return (tcubed + 3.0 * t * itsqrd * p1 + 3.0 * tsqrd * it * p2) * 1.15470053837925152902;
+}
+
+/* The point's offset from its cell's centre, scaled by quilt_cubic. */
+static void quilted_vector(const csg_material *m, const double q[3], double v[3])
+{
+    for (int k = 0; k < 3; k++)
+        v[k] = q[k] - floor(q[k]) - 0.5;
+    double t = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    t = quilt_cubic(t, (double)m->quilt_control[0], (double)m->quilt_control[1]);
+    for (int k = 0; k < 3; k++)
+        v[k] *= t;
+}
+
+static double pattern_quilted(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double v[3];
+    quilted_vector(m, q, v);
+    return (fabs(v[0]) + fabs(v[1]) + fabs(v[2])) / 3.0;
+}
+
 /* POV-Ray's CLIP_DENSITY: 1 - r within [0, 1], 1 below, 0 above. */
 static double clip_density(double r)
 {
@@ -579,4 +650,181 @@ pigment_color PIGMENT_AT(const csg_material *mats, const csg_material *m,
     if (m->pattern != CSG_PATTERN_PLAIN && prims && surf != CSG_SURF_NONE)
         onto_surface(prims, surf, w);
     return evaluate(mats, m, maps, w, (double)err, 0);
+}
+
+void PIGMENT_SURFACE_POINT(const csg_prim *prims, csg_u32 surf, vec3 p, double w[3])
+{
+    w[0] = (double)p.x, w[1] = (double)p.y, w[2] = (double)p.z;
+    if (prims && surf != CSG_SURF_NONE)
+        onto_surface(prims, surf, w);
+}
+
+pigment_color PIGMENT_EVAL(const csg_material *mats, const csg_material *m,
+                           const csg_map_color *maps, const double w[3], double err)
+{
+    return evaluate(mats, m, maps, w, err, 0);
+}
+
+/* Steps 2 and 3: w (err its rounding) into m's pattern space, moved by
+ * its turbulence. */
+static void pattern_point(const csg_material *m, const double w[3], double err, double q[3],
+                          double *q_err)
+{
+    for (int i = 0; i < 3; i++)
+        q[i] = (double)m->to_pattern[4 * i] * w[0] + (double)m->to_pattern[4 * i + 1] * w[1] +
+               (double)m->to_pattern[4 * i + 2] * w[2] + (double)m->to_pattern[4 * i + 3];
+    if (m->turb_on && turbulence_moves(m))
+        turbulence_warp(m, q);
+    *q_err = err * matrix_norm(m->to_pattern);
+}
+
+double PIGMENT_TMAP(const csg_material *m, const csg_map_color *maps, const double w[3],
+                    double err, double q[3], double *q_err, int *prev, int *cur)
+{
+    pattern_point(m, w, err, q, q_err);
+    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + *q_err));
+    return map_search(maps + m->map_first, m->map_count, v, prev, cur);
+}
+
+/* ---- normals: POV-Ray's Perturb_Normal ---------------------------------------
+ * normal_<name> for each row of CSG_NORMALS (device/patterns.h): the
+ * normal material nm at q (its pattern space, after the turbulence) adds
+ * its perturbation to n (pattern space). */
+
+static const double pyramid[4][3] = {{0.942809041, -0.333333333, 0.0},
+                                     {-0.471404521, -0.333333333, 0.816496581},
+                                     {-0.471404521, -0.333333333, -0.816496581},
+                                     {0.0, 1.0, 0.0}};
+
+static void add_scaled(double n[3], double f, const double v[3])
+{
+    for (int k = 0; k < 3; k++)
+        n[k] += f * v[k];
+}
+
+/* Any pattern: its value (through its wave) at four points around q,
+ * each pushing the normal along its direction. */
+static void normal_pattern(const csg_material *nm, const double q[3], double n[3])
+{
+    double delta = (double)nm->accuracy;
+    double amount = (double)nm->bump_size * -5.0;
+    amount *= 0.02 / delta;
+    for (int i = 0; i < 4; i++) {
+        double p1[3];
+        for (int k = 0; k < 3; k++)
+            p1[k] = q[k] + delta * pyramid[i][k];
+        double v = wave(nm, pattern_value(nm, p1, PATTERN_EPSILON));
+        add_scaled(n, v * amount, pyramid[i]);
+    }
+}
+
+static void normal_bumps(const csg_material *nm, const double q[3], double n[3])
+{
+    double d[3];
+    noise_vector(q, d);
+    add_scaled(n, (double)nm->bump_size, d);
+}
+
+static void normal_dents(const csg_material *nm, const double q[3], double n[3])
+{
+    double noise = noise_value(q, nm->noise_gen), d[3];
+    noise = noise * noise * noise * (double)nm->bump_size;
+    noise_vector(q, d);
+    add_scaled(n, noise, d);
+}
+
+static void normal_ripples(const csg_material *nm, const double q[3], double n[3])
+{
+    for (int i = 0; i < nm->number_of_waves; i++) {
+        double d[3], f;
+        double length = wave_offset(i, q, d, &f);
+        double index = length * (double)nm->frequency + (double)nm->phase;
+        double scalar = noise_cycloidal(index) * (double)nm->bump_size;
+        add_scaled(n, scalar / (length * (double)nm->number_of_waves), d);
+    }
+}
+
+static void normal_waves(const csg_material *nm, const double q[3], double n[3])
+{
+    for (int i = 0; i < nm->number_of_waves; i++) {
+        double d[3], f;
+        double length = wave_offset(i, q, d, &f);
+        double index = length * (double)nm->frequency * f + (double)nm->phase;
+        double scalar = noise_cycloidal(index) * (double)nm->bump_size / f;
+        add_scaled(n, scalar / (length * (double)nm->number_of_waves), d);
+    }
+}
+
+static void normal_wrinkles(const csg_material *nm, const double q[3], double n[3])
+{
+    double result[3] = {0.0, 0.0, 0.0}, scale = 1.0;
+    for (int i = 0; i < 10; scale *= 2.0, i++) {
+        double p[3] = {q[0] * scale, q[1] * scale, q[2] * scale}, d[3];
+        noise_vector(p, d);
+        for (int k = 0; k < 3; k++)
+            result[k] += fabs(d[k] / scale);
+    }
+    add_scaled(n, (double)nm->bump_size, result);
+}
+
+static void normal_quilted(const csg_material *nm, const double q[3], double n[3])
+{
+    double v[3];
+    quilted_vector(nm, q, v);
+    add_scaled(n, (double)nm->bump_size, v);
+}
+
+static void normalize3(double v[3])
+{
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 0.0)
+        for (int k = 0; k < 3; k++)
+            v[k] /= len;
+}
+
+void PIGMENT_WARP_NORMAL(const csg_material *m, double n[3], bool scale)
+{
+    if (scale)
+        normalize3(n);
+    const real *a = m->from_pattern; /* n_pattern = A^T n (POV-Ray's MInvTransNormal) */
+    double t[3];
+    for (int j = 0; j < 3; j++)
+        t[j] = (double)a[j] * n[0] + (double)a[3 + j] * n[1] + (double)a[6 + j] * n[2];
+    for (int k = 0; k < 3; k++)
+        n[k] = t[k];
+    if (scale)
+        normalize3(n);
+}
+
+void PIGMENT_UNWARP_NORMAL(const csg_material *m, double n[3], bool scale)
+{
+    if (scale)
+        normalize3(n);
+    const real *b = m->to_pattern; /* n_world = B^T n (MTransNormal: the inverse's transpose) */
+    double t[3];
+    for (int j = 0; j < 3; j++)
+        t[j] = (double)b[j] * n[0] + (double)b[4 + j] * n[1] + (double)b[8 + j] * n[2];
+    for (int k = 0; k < 3; k++)
+        n[k] = t[k];
+    if (scale)
+        normalize3(n);
+}
+
+void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3])
+{
+    bool scale = !nm->no_bump_scale;
+    PIGMENT_WARP_NORMAL(nm, n, scale);
+    double q[3], q_err;
+    pattern_point(nm, w, 0.0, q, &q_err);
+    switch ((enum csg_normal_kind)nm->normal_kind) {
+#define NORMAL_CASE(ID, name)                                                                      \
+    case CSG_NORMAL_##ID:                                                                          \
+        normal_##name(nm, q, n);                                                                   \
+        break;
+        CSG_NORMALS(NORMAL_CASE)
+#undef NORMAL_CASE
+    }
+    PIGMENT_UNWARP_NORMAL(nm, n, scale);
+    if (!scale)
+        normalize3(n);
 }

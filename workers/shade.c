@@ -31,6 +31,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "../comm/pixels.h"
 #include "../csg/device/camera.h"
 #include "engine.h"
 #include "frustum.h"
@@ -57,7 +58,14 @@ typedef struct {
     csg_i32 sky_count, sky_v37;
     vec3 sky_emission;
     csg_i32 max_rays;        /* reflected and refracted rays a pixel may trace */
+    csg_i32 output;          /* enum csg_output_gamma: the pixel's way to the file */
+    float output_gamma;
 } shade_ctx;
+
+_Static_assert((int)CSG_OUTPUT_SRGB == (int)PIXELS_GAMMA_SRGB &&
+                   (int)CSG_OUTPUT_POWER == (int)PIXELS_GAMMA_POWER &&
+                   (int)CSG_OUTPUT_DIRECT == (int)PIXELS_GAMMA_DIRECT,
+               "the output gamma modes of flat.h and pixels.h");
 
 /* The rays of one pixel: the tile's counts, and what is left of the
  * pixel's budget (a ray it cannot pay for is not traced: the order of the
@@ -116,10 +124,46 @@ static shade_ctx ctx_of(const void *blob)
     c.sky_v37 = sh->sky_v37;
     c.sky_emission = v3_load(sh->sky_emission);
     c.max_rays = sh->max_rays;
+    c.output = sh->output;
+    c.output_gamma = (float)sh->output_gamma;
     return c;
 }
 
 /* ---- shadows ------------------------------------------------------------------ */
+
+static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
+
+#define SHADE_MAX_DEPTH 16 /* texture_maps nested, and layers of one texture */
+
+static vec3 grey3(real v) { return v3(v, v, v); }
+
+/* What texture material m lets through at w (a surface point, or a point
+ * of the space of the texture_map holding m): POV-Ray's
+ * ComputeShadowTexture, the product of every layer's filter * pigment +
+ * transmit, or the blend of a texture_map's entries. */
+static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const double w[3],
+                           double err, int depth)
+{
+    if (m->tmap) {
+        double q[3], q_err;
+        int prev, cur;
+        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        if (depth >= SHADE_MAX_DEPTH)
+            return grey3(R(0.0));
+        vec3 a = texture_filter(c, &c->mats[m->sub_first + cur], q, q_err, depth + 1);
+        if (prev == cur)
+            return a;
+        vec3 b = texture_filter(c, &c->mats[m->sub_first + prev], q, q_err, depth + 1);
+        return v3_add(v3_scale(a, (real)f), v3_scale(b, (real)(1.0 - f)));
+    }
+    vec3 pass = grey3(R(1.0));
+    for (int k = 0; m && k < SHADE_MAX_DEPTH; k++) {
+        pigment_color pc = PIGMENT_EVAL(c->mats, m, c->maps, w, err);
+        pass = v3_mul(pass, v3_add(v3_scale(pc.color, pc.filter), grey3(pc.transmit)));
+        m = m->under > 0 ? &c->mats[m->under - 1] : NULL;
+    }
+    return pass;
+}
 
 /* Multiplies *pass by what surface s, met at ts along r, lets through on
  * the way to the light `dist` away (its pigment there); false once nothing
@@ -134,6 +178,15 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
         return true;
     const csg_material *m = &c->mats[prim->material];
     real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts);
+    if (m->tmap || m->under > 0) { /* a texture_map or layers */
+        double w[3];
+        PIGMENT_SURFACE_POINT(c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)), w);
+        vec3 f = texture_filter(c, m, w, (double)err, 0);
+        if (max3(f) <= R(0.0))
+            return false;
+        *pass = v3_mul(*pass, f);
+        return true;
+    }
     pigment_color pc =
         PIGMENT_AT(c->mats, m, c->maps, c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)), err);
     if (pc.filter <= R(0.0) && pc.transmit <= R(0.0))
@@ -276,7 +329,6 @@ static vec3 sky_color(const shade_ctx *c, vec3 d)
 
 /* ---- Whitted ------------------------------------------------------------------- */
 
-static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
 
 /* base^e for a highlight: base in (0, 1].  A whole exponent up to 4096
  * (phong_size, 1 / roughness: usually whole) by squaring, a few roundings
@@ -327,51 +379,69 @@ static vec3 highlight_color(const csg_material *m, vec3 pig, real cosl, vec3 lig
 
 static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
 
-static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
-                      ray_tally *tally)
-{
-    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
-    const csg_material *m = &c->mats[prim->material];
-    vec3 p = v3_add(r.o, v3_scale(r.d, h.t));
-    vec3 n = csg_surface_normal(c->view.prims, h.surf, p);
-    /* the side of the geometry decides (a smooth triangle's shading
-     * normal may lean past the ray at a silhouette); the shading normal
-     * is turned to that side */
-    vec3 ng = csg_surface_geometric_normal(c->view.prims, h.surf, p, n);
-    int entering = v3_dot(ng, r.d) < R(0.0);
-    vec3 nf = entering ? n : v3_neg(n); /* faces the incoming ray */
-    vec3 ngf = entering ? ng : v3_neg(ng);
-    if (v3_dot(nf, ngf) < R(0.0))
-        nf = ngf;
-    const csg_root *root = &c->view.roots[prim->root];
-    real mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
-    pigment_color pc = PIGMENT_AT(c->mats, m, c->maps, c->view.prims, h.surf, p,
-                                  OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * mag);
-    vec3 pig = pc.color;
-    real opacity = r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit);
+/* What every texture shading a hit shares: the ray, the point, its
+ * normals, where secondary rays start, and the light reaching the point
+ * from each light (a shadow ray traced once for all the layers and
+ * texture_map entries). */
+#define SHADE_LIGHT_CACHE 32
+typedef struct {
+    csg_ray r;
+    vec3 p;
+    vec3 nf;       /* the surface normal facing the ray (POV-Ray's rawnormal) */
+    vec3 ngf;      /* the geometric normal on the ray's side                   */
+    int entering;
+    real mag;      /* the offset scale of secondary rays                       */
+    vec3 above;    /* where reflected and shadow rays start                    */
+    double w[3];   /* the point the patterns are evaluated at                  */
+    double err;    /* its rounding bound                                       */
+    int level;
+    csg_u32 light_done; /* bit i: light i's light is in light[i]               */
+    vec3 light[SHADE_LIGHT_CACHE];
+} hit_info;
 
+/* The light of light i reaching the point (its colour through every
+ * surface between), or black. */
+static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real dist,
+                     ray_tally *tally)
+{
+    const csg_flat_light *lt = &c->lights[i];
+    vec3 light = v3_load(lt->color);
+    if (lt->shadowless)
+        return light;
+    if (i < SHADE_LIGHT_CACHE && (hi->light_done & (1u << i)))
+        return hi->light[i];
+    tally->rays->shadow++;
+    light = v3_mul(light, light_transmittance(c, hi->above, l, dist,
+                                              shadow_slot(c, tally, i, hi->level)));
+    if (i < SHADE_LIGHT_CACHE) {
+        hi->light[i] = light;
+        hi->light_done |= 1u << i;
+    }
+    return light;
+}
+
+/* One layer's own light (POV-Ray's ambient, diffuse and highlights of
+ * the layer with pigment pig, normal nl): *surface, dimmed by the opacity
+ * by the caller, and *highlight, which is not. */
+static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m, vec3 pig,
+                        vec3 nl, vec3 refl_dir, ray_tally *tally, vec3 *surface_out,
+                        vec3 *highlight_out)
+{
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
-    vec3 above = offset_point(p, ngf, mag);
-    vec3 refl_dir = v3_sub(r.d, v3_scale(nf, R(2.0) * v3_dot(r.d, nf)));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
         const csg_flat_light *lt = &c->lights[i];
-        vec3 to_light = v3_sub(v3_load(lt->position), above);
+        vec3 to_light = v3_sub(v3_load(lt->position), hi->above);
         real dist = v3_length(to_light);
         if (!(dist > R(0.0)))
             continue;
         vec3 l = v3_scale(to_light, R(1.0) / dist);
-        real cosl = v3_dot(nf, l);
+        real cosl = v3_dot(nl, l);
         if (cosl <= R(0.0))
             continue;
-        vec3 light = v3_load(lt->color);
-        if (!lt->shadowless) {
-            tally->rays->shadow++;
-            light = v3_mul(light, light_transmittance(c, above, l, dist,
-                                                      shadow_slot(c, tally, i, level)));
-            if (max3(light) <= R(0.0))
-                continue;
-        }
+        vec3 light = light_at(c, hi, i, l, dist, tally);
+        if (!lt->shadowless && max3(light) <= R(0.0))
+            continue;
         real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
         surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
         vec3 hl = highlight_color(m, pig, cosl, light);
@@ -381,22 +451,112 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
                 highlight = v3_add(highlight, v3_scale(hl, m->phong * power(cr, m->phong_size)));
         }
         if (m->specular > R(0.0) && m->roughness > R(0.0)) {
-            vec3 half = v3_normalize(v3_sub(l, r.d));
-            real ch = v3_dot(nf, half);
+            vec3 half = v3_normalize(v3_sub(l, hi->r.d));
+            real ch = v3_dot(nl, half);
             if (ch > R(0.0))
                 highlight = v3_add(highlight,
                                    v3_scale(hl, m->specular * power(ch, R(1.0) / m->roughness)));
         }
     }
-    vec3 color = v3_add(v3_scale(surface, opacity), highlight);
-    if (level >= c->hdr->max_depth)
+    *surface_out = surface;
+    *highlight_out = highlight;
+}
+
+/* The layer's normal: the facing normal perturbed by its normal { }
+ * (POV-Ray's Perturb_Normal), through the transforms of the
+ * texture_maps holding it (Warp_Normal, UnWarp_Normal). */
+static vec3 layer_normal(const shade_ctx *c, const hit_info *hi, const csg_material *layer,
+                         const double w[3], const csg_material *const *parents, int np)
+{
+    double n[3] = {(double)hi->nf.x, (double)hi->nf.y, (double)hi->nf.z};
+    for (int i = 0; i < np; i++)
+        PIGMENT_WARP_NORMAL(parents[i], n, true);
+    PIGMENT_NORMAL(&c->mats[layer->normal - 1], w, n);
+    for (int i = np - 1; i >= 0; i--)
+        PIGMENT_UNWARP_NORMAL(parents[i], n, true);
+    return v3((real)n[0], (real)n[1], (real)n[2]);
+}
+
+/* The mirror direction of the ray about nl; a perturbed normal that sends
+ * it below the surface is corrected with the surface's own (POV-Ray's
+ * ComputeReflection). */
+static vec3 reflect_dir(const hit_info *hi, vec3 nl, bool perturbed)
+{
+    vec3 d = v3_sub(hi->r.d, v3_scale(nl, R(2.0) * v3_dot(hi->r.d, nl)));
+    if (!perturbed)
+        return d;
+    real n = v3_dot(d, hi->nf);
+    if (n < R(0.0)) {
+        if (v3_dot(d, nl) < R(0.0))
+            d = v3_sub(hi->r.d, v3_scale(hi->nf, R(2.0) * v3_dot(hi->r.d, hi->nf)));
+        else
+            d = v3_add(d, v3_scale(hi->nf, R(-2.0) * n));
+    }
+    return d;
+}
+
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
+
+/* POV-Ray's ComputeLightedTexture: the layers of texture m, from its top
+ * one, at w (a surface point, or a point of the texture_map holding m):
+ * each adds its own light through the filter of the layers above it,
+ * while enough of them lets light through; then the refracted ray through
+ * all of them, then each layer's reflection. */
+static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material *m,
+                            const double w[3], double err, const csg_material *const *parents,
+                            int np, real weight, ray_tally *tally)
+{
+    struct {
+        const csg_material *m;
+        vec3 refl_dir;
+        real weight;
+    } layers[SHADE_MAX_DEPTH];
+    int count = 0;
+    vec3 color = v3(R(0.0), R(0.0), R(0.0));
+    vec3 fil = grey3(R(1.0)); /* what the layers so far let through */
+    vec3 top_normal = hi->nf;
+    real trans = R(1.0);
+    for (const csg_material *layer = m; layer && count < SHADE_MAX_DEPTH;
+         layer = layer->under > 0 ? &c->mats[layer->under - 1] : NULL) {
+        if (count > 0 && !(trans > c->bailout))
+            break;
+        bool perturbed = layer->normal > 0;
+        vec3 nl = perturbed ? layer_normal(c, hi, layer, w, parents, np) : hi->nf;
+        if (count == 0)
+            top_normal = nl;
+        pigment_color pc = PIGMENT_EVAL(c->mats, layer, c->maps, w, err);
+        vec3 pig = pc.color;
+        /* POV-Ray 3.7 dims a transparent surface by 1 - filter - transmit;
+         * before 3.7 by 1 - (filter * the pigment's largest channel +
+         * transmit), kept for old scenes (trace.cpp, ComputeLightedTexture) */
+        real opacity = c->sky_v37 ? r_fmax(R(0.0), R(1.0) - pc.filter - pc.transmit)
+                                  : R(1.0) - (pc.filter * max3(pig) + pc.transmit);
+        vec3 refl_dir = reflect_dir(hi, nl, perturbed);
+        vec3 surface, highlight;
+        layer_light(c, hi, layer, pig, nl, refl_dir, tally, &surface, &highlight);
+        vec3 own = v3_add(v3_scale(surface, opacity), highlight);
+        vec3 through = v3_add(v3_scale(pig, pc.filter), grey3(pc.transmit));
+        if (count == 0) {
+            color = own;
+            fil = through;
+        } else {
+            color = v3_add(color, v3_mul(own, fil));
+            fil = v3_mul(fil, through);
+        }
+        layers[count].m = layer;
+        layers[count].refl_dir = refl_dir;
+        layers[count].weight = count == 0 ? weight : weight * trans;
+        count++;
+        trans = r_fmin(R(1.0), r_fabs(R(0.297) * fil.x + R(0.589) * fil.y + R(0.114) * fil.z));
+    }
+    if (hi->level >= c->hdr->max_depth)
         return color;
 
     vec3 refl_w = v3_load(m->reflection);
-    vec3 trans_w = v3_add(v3_scale(pig, pc.filter), v3(pc.transmit, pc.transmit, pc.transmit));
+    vec3 trans_w = fil;
     if (max3(trans_w) > R(0.0)) {
-        real eta = entering ? R(1.0) / m->ior : m->ior;
-        real cosi = -v3_dot(r.d, nf);
+        real eta = hi->entering ? R(1.0) / m->ior : m->ior;
+        real cosi = -v3_dot(hi->r.d, top_normal);
         real k = R(1.0) - eta * eta * (R(1.0) - cosi * cosi);
         if (k < R(0.0)) {
             refl_w = v3_add(refl_w, trans_w); /* total internal reflection */
@@ -404,22 +564,79 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
             real tw = weight * max3(trans_w);
             if (tw >= c->bailout && ray_spend(tally)) {
                 csg_ray t;
-                t.d = v3_normalize(v3_add(v3_scale(r.d, eta), v3_scale(nf, eta * cosi - r_sqrt(k))));
-                t.o = offset_point(p, v3_neg(ngf), mag);
+                t.d = v3_normalize(v3_add(v3_scale(hi->r.d, eta),
+                                          v3_scale(top_normal, eta * cosi - r_sqrt(k))));
+                t.o = offset_point(hi->p, v3_neg(hi->ngf), hi->mag);
                 tally->rays->refracted++;
-                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, level + 1, tw, tally)));
+                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, hi->level + 1, tw, tally)));
             }
         }
     }
-    real rw = weight * max3(refl_w);
-    if (max3(refl_w) > R(0.0) && rw >= c->bailout && ray_spend(tally)) {
-        csg_ray s;
-        s.o = above;
-        s.d = v3_normalize(refl_dir);
-        tally->rays->reflected++;
-        color = v3_add(color, v3_mul(refl_w, trace_ray(c, s, level + 1, rw, tally)));
+    for (int i = 0; i < count; i++) {
+        vec3 lw = i == 0 ? refl_w : v3_load(layers[i].m->reflection);
+        real rw = layers[i].weight * max3(lw);
+        if (max3(lw) > R(0.0) && rw >= c->bailout && ray_spend(tally)) {
+            csg_ray s;
+            s.o = hi->above;
+            s.d = v3_normalize(layers[i].refl_dir);
+            tally->rays->reflected++;
+            color = v3_add(color, v3_mul(lw, trace_ray(c, s, hi->level + 1, rw, tally)));
+        }
     }
     return color;
+}
+
+/* POV-Ray's ComputeOneTextureColour: a texture_map blends the colours of
+ * its entries around its pattern's value (each a texture of its own,
+ * evaluated at the point of the map's pattern); a plain texture is lit. */
+static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material *m,
+                           const double w[3], double err, const csg_material **parents, int np,
+                           real weight, ray_tally *tally)
+{
+    if (m->tmap && np < SHADE_MAX_DEPTH) {
+        double q[3], q_err;
+        int prev, cur;
+        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        parents[np] = m;
+        vec3 a = texture_colour(c, hi, &c->mats[m->sub_first + cur], q, q_err, parents, np + 1,
+                                weight, tally);
+        if (prev == cur)
+            return a;
+        vec3 b = texture_colour(c, hi, &c->mats[m->sub_first + prev], q, q_err, parents, np + 1,
+                                weight, tally);
+        return v3_add(v3_scale(a, (real)f), v3_scale(b, (real)(1.0 - f)));
+    }
+    return lighted_texture(c, hi, m, w, err, (const csg_material *const *)parents, np, weight,
+                           tally);
+}
+
+static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
+                      ray_tally *tally)
+{
+    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
+    const csg_material *m = &c->mats[prim->material];
+    hit_info hi;
+    hi.r = r;
+    hi.level = level;
+    hi.light_done = 0;
+    hi.p = v3_add(r.o, v3_scale(r.d, h.t));
+    vec3 n = csg_surface_normal(c->view.prims, h.surf, hi.p);
+    /* the side of the geometry decides where secondary rays start and
+     * whether the ray enters; the shading normal faces the ray by its own
+     * direction, as POV-Ray turns it (a smooth triangle's normals may point
+     * against its winding: ComputeTextureColour flips the interpolated
+     * normal alone) */
+    vec3 ng = csg_surface_geometric_normal(c->view.prims, h.surf, hi.p, n);
+    hi.entering = v3_dot(ng, r.d) < R(0.0);
+    hi.nf = v3_dot(n, r.d) > R(0.0) ? v3_neg(n) : n; /* faces the incoming ray */
+    hi.ngf = hi.entering ? ng : v3_neg(ng);
+    const csg_root *root = &c->view.roots[prim->root];
+    hi.mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
+    hi.above = offset_point(hi.p, hi.ngf, hi.mag);
+    PIGMENT_SURFACE_POINT(c->view.prims, h.surf, hi.p, hi.w);
+    hi.err = (double)(OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * hi.mag);
+    const csg_material *parents[SHADE_MAX_DEPTH];
+    return texture_colour(c, &hi, m, hi.w, hi.err, parents, 0, weight, tally);
 }
 
 static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally)
@@ -481,11 +698,16 @@ static float finite_or_zero(real v)
     return (float)v;
 }
 
-static void store_rgb(float *out, vec3 col)
+/* A pixel's colour as the image keeps it: finite, then through the
+ * scene's output gamma (comm/pixels.h: POV-Ray's bytes in an 8-bit file). */
+static void store_rgb(const shade_ctx *c, float *out, vec3 col)
 {
     out[0] = finite_or_zero(col.x);
     out[1] = finite_or_zero(col.y);
     out[2] = finite_or_zero(col.z);
+    if (c->output != CSG_OUTPUT_SRGB)
+        for (int k = 0; k < 3; k++)
+            out[k] = pixels_scene_linear(out[k], c->output, c->output_gamma);
 }
 
 bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met)
@@ -497,7 +719,8 @@ bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *m
 
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
 {
-    store_rgb(rgb, ctx_of(blob).background);
+    shade_ctx c = ctx_of(blob);
+    store_rgb(&c, rgb, c.background);
 }
 
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
@@ -543,7 +766,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);
-            store_rgb(rgb_out + 3 * i, col);
+            store_rgb(&c, rgb_out + 3 * i, col);
             rays->over_budget += tally.refused;
         }
     }

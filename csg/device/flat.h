@@ -197,16 +197,30 @@ typedef struct {
                      view direction (NFF's hither); 0: at location        */
 } csg_camera;
 
+/* What becomes of a pixel's colour on its way to an 8-bit file (POV-Ray
+ * 3.7's gamma handling, csg_shading.output; csg/scene.h,
+ * csg_output_gamma): the workers store the linear value whose sRGB byte
+ * (comm/pixels.h) is POV-Ray's (comm/pixels.h, pixels_scene_linear). */
+enum csg_output_gamma {
+    CSG_OUTPUT_SRGB = 0,  /* the colour is linear: stored as it is        */
+    CSG_OUTPUT_POWER = 1, /* assumed_gamma G: colour^G                    */
+    CSG_OUTPUT_DIRECT = 2 /* the colour is the byte's fraction (POV-Ray's
+                             legacy mode, assumed_gamma srgb)             */
+};
+
 /* The scene-wide shading values (global_settings, background, the
  * sky_sphere): C workers only, like the materials and the lights. */
 typedef struct {
     csg_i32 sky_first;     /* the sky_sphere's pigments: materials
                               sky_first .. + header.sky_count            */
-    csg_i32 sky_v37;       /* POV-Ray 3.7's mix of sky and background (1),
-                              or the one before 3.7 (0)                  */
+    csg_i32 sky_v37;       /* POV-Ray 3.7's rules (1: the scene's last
+                              #version is 3.7 or more): its mix of sky and
+                              background, a transparent surface's
+                              opacity; 0: those before 3.7              */
     csg_i32 max_rays;      /* reflected and refracted rays a pixel may
                               trace (>= 1); the rest are not traced      */
-    csg_i32 pad;
+    csg_i32 output;        /* enum csg_output_gamma                      */
+    real output_gamma;     /* CSG_OUTPUT_POWER's G (1 otherwise)        */
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];
@@ -258,7 +272,23 @@ typedef struct {
     csg_i32 sub_first;  /* > 0: a pigment map: its entries' pigments are
                            materials sub_first .. + map_count (after this
                            one), the maps entries hold their values; 0: a
-                           colour map                                    */
+                           colour map.  With tmap: the entries' textures */
+    csg_i32 tmap;       /* 1: a texture_map: the pattern above chooses
+                           between the textures sub_first .. + map_count
+                           (each a top layer); its own pigment, finish and
+                           layers are not used                           */
+    csg_i32 under;      /* > 0: a layered texture: the layer below this one
+                           is material under - 1; 0: none               */
+    csg_i32 normal;     /* > 0: this layer's normal is material normal - 1
+                           (its pattern fields and the ones below); 0: none */
+    csg_i32 normal_kind; /* a normal's enum csg_normal_kind (patterns.h) */
+    csg_i32 no_bump_scale; /* a normal: not normalised through its space  */
+    csg_i32 number_of_waves; /* ripples and waves: the wave sources (10)  */
+    real bump_size;     /* a normal's amount                             */
+    real accuracy;      /* a pattern normal's sample distance            */
+    real quilt_control[2]; /* quilted: control0, control1                */
+    real from_pattern[9]; /* pattern -> world, the 3x3 part (row-major):
+                           the inverse of to_pattern's, for a normal       */
 } csg_material;
 
 typedef struct {
@@ -314,6 +344,7 @@ enum csg_feature {
     CSG_FEAT_ALL = 63
 };
 #define CSG_MAX_SPP 1024           /* samples a pixel, at most */
+#define CSG_MAX_WAVES 100000       /* number_of_waves, at most     */
 
 typedef struct {
     csg_u32 magic;

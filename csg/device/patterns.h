@@ -73,7 +73,13 @@ enum csg_wave { CSG_WAVES(CSG_WAVE_ENUM) };
     PATTERN(PLANAR, planar, RAMP, 0, 1)           /* 1 - |y|, 0 beyond 1               */          \
     PATTERN(BOXED, boxed, RAMP, 0, 1)             /* 1 - max |coordinate|, 0 beyond 1  */          \
     PATTERN(CYLINDRICAL, cylindrical, RAMP, 0, 1) /* 1 - distance from y, 0 beyond 1   */          \
-    PATTERN(CRACKLE, crackle, RAMP, 1, 1)         /* Worley's cells                    */
+    PATTERN(CRACKLE, crackle, RAMP, 1, 1)         /* Worley's cells                    */          \
+    PATTERN(DENTS, dents, RAMP, 1, 1)             /* noise cubed                       */          \
+    PATTERN(RIPPLES, ripples, RAMP, 0, 1)         /* cycloids of the distance to POV-Ray's
+                                                     wave sources                      */          \
+    PATTERN(WAVES, waves, RAMP, 0, 1)             /* ripples of their own frequencies  */          \
+    PATTERN(QUILTED, quilted, RAMP, 0, 1)         /* a cubic of the distance from each
+                                                     cell's centre                     */
 
 /* Other keywords of a pattern above, ALIAS(word, ID): POV-Ray's spotted
  * and bumps are bozo's noise under another name (and, as pigments,
@@ -87,5 +93,25 @@ enum csg_wave { CSG_WAVES(CSG_WAVE_ENUM) };
 #define CSG_PATTERN_ONE(ID, name, wave, noise, warp) +1
 enum csg_pattern { CSG_PATTERNS(CSG_PATTERN_ENUM, CSG_PATTERN_ENUM) };
 #define CSG_PATTERN_COUNT (0 CSG_PATTERNS(CSG_PATTERN_ONE, CSG_PATTERN_ONE))
+
+/* The normals, X(ID, name): how a normal { } perturbs the surface normal
+ * (POV-Ray's Perturb_Normal), CSG_NORMAL_<ID>, evaluated by normal_<name>
+ * (workers/pigment.c).  PATTERN is any pattern of the table above, its
+ * slope sampled at four points (POV-Ray's pyramid); the others are
+ * POV-Ray's normal-only patterns, named by the pattern keyword they are
+ * written with (bumps, dents, ripples, waves, wrinkles, quilted). */
+#define CSG_NORMALS(X)                                                                             \
+    X(PATTERN, pattern)   /* the pattern's slope                       */                         \
+    X(BUMPS, bumps)       /* the vector noise (DNoise)                 */                         \
+    X(DENTS, dents)       /* DNoise times noise cubed                  */                         \
+    X(RIPPLES, ripples)   /* cycloids around the wave sources          */                         \
+    X(WAVES, waves)       /* ripples of their own frequencies          */                         \
+    X(WRINKLES, wrinkles) /* ten octaves of |DNoise|                   */                         \
+    X(QUILTED, quilted)   /* a cubic of the distance to the cell centre */
+
+#define CSG_NORMAL_ENUM(ID, name) CSG_NORMAL_##ID,
+#define CSG_NORMAL_ONE(ID, name) +1
+enum csg_normal_kind { CSG_NORMALS(CSG_NORMAL_ENUM) };
+#define CSG_NORMAL_COUNT (0 CSG_NORMALS(CSG_NORMAL_ONE))
 
 #endif

@@ -380,10 +380,26 @@ static bool parse_block_rvalue(parser *p, datum *out)
         out->kind = SYM_TEXTURE;
         if (!lang_parse_texture(p, &out->u.texture))
             return false;
-        const csg_token *t = lang_tok_raw(p); /* another texture: layers */
-        if (t->kind == CSG_TOK_WORD && t->kw == CSG_KW_TEXTURE)
-            return lang_unsupported(p, "a layered texture (texture { } texture { })", t->loc);
-        return true;
+        for (;;) { /* another texture: a layer over those before (POV-Ray) */
+            const csg_token *t = lang_tok_raw(p);
+            if (t->kind != CSG_TOK_WORD || t->kw != CSG_KW_TEXTURE)
+                return true;
+            csg_loc at = t->loc;
+            csg_texture top, under = out->u.texture;
+            if (!lang_parse_texture(p, &top) ||
+                !lang_texture_link(p, &under, &top, &out->u.texture, at))
+                return false;
+        }
+    }
+    case CSG_KW_NORMAL:
+        out->kind = SYM_NORMAL;
+        out->u.normal = p->default_texture.normal;
+        return lang_parse_normal(p, &out->u.normal);
+    case CSG_KW_MATERIAL: {
+        lang_material *m = lang_alloc(p, sizeof *m);
+        out->kind = SYM_MATERIAL;
+        out->u.material = m;
+        return m && lang_parse_material(p, m);
     }
     case CSG_KW_INTERIOR:
         out->kind = SYM_INTERIOR;
@@ -419,7 +435,7 @@ bool lang_parse_rvalue(parser *p, datum *out, bool *needs_semicolon)
     if (t->kind == CSG_TOK_WORD) {
         switch (t->kw) {
         case CSG_KW_PIGMENT: case CSG_KW_FINISH: case CSG_KW_TEXTURE: case CSG_KW_INTERIOR:
-        case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY: case CSG_KW_SKY_SPHERE:
+        case CSG_KW_NORMAL: case CSG_KW_MATERIAL: case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY: case CSG_KW_SKY_SPHERE:
             return parse_block_rvalue(p, out);
         case CSG_KW_LIGHT_SOURCE:
             return lang_unsupported(p, "a declared 'light_source'", t->loc);
@@ -469,7 +485,8 @@ static bool continues_rvalue(const csg_token *t)
            (t->kw == CSG_KW_TEXTURE || t->kw == CSG_KW_RED || t->kw == CSG_KW_GREEN ||
             t->kw == CSG_KW_BLUE || t->kw == CSG_KW_FILTER || t->kw == CSG_KW_TRANSMIT ||
             t->kw == CSG_KW_RGB || t->kw == CSG_KW_RGBF || t->kw == CSG_KW_RGBT ||
-            t->kw == CSG_KW_RGBFT || t->kw == CSG_KW_UNSUPPORTED);
+            t->kw == CSG_KW_RGBFT || t->kw == CSG_KW_SRGB || t->kw == CSG_KW_SRGBF ||
+            t->kw == CSG_KW_SRGBT || t->kw == CSG_KW_SRGBFT || t->kw == CSG_KW_UNSUPPORTED);
 }
 
 /* Whether t may follow a block { } that ends a value: another layer of
@@ -703,6 +720,8 @@ bool lang_default(parser *p, csg_loc at)
             ok = lang_parse_pigment(p, &t->pigment);
         } else if (lang_is_kw(p, CSG_KW_FINISH)) {
             ok = lang_parse_finish(p, &t->finish);
+        } else if (lang_is_kw(p, CSG_KW_NORMAL)) {
+            ok = lang_parse_normal(p, &t->normal);
         } else {
             return lang_expected_close(p, '}', "#default", at);
         }

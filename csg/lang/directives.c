@@ -553,6 +553,7 @@ static bool directive_version(parser *p, const csg_token *d)
     if (!lang_parse_float(p, &v, NULL))
         return false;
     p->version = v;
+    p->s->version_implied = false;
     return lang_expect_semicolon(p, "version", d->loc);
 }
 

@@ -483,6 +483,7 @@ bool lang_is_color_item(parser *p)
         return false;
     switch (t->kw) {
     case CSG_KW_RGB: case CSG_KW_RGBF: case CSG_KW_RGBT: case CSG_KW_RGBFT:
+    case CSG_KW_SRGB: case CSG_KW_SRGBF: case CSG_KW_SRGBT: case CSG_KW_SRGBFT:
     case CSG_KW_RED: case CSG_KW_GREEN: case CSG_KW_BLUE: case CSG_KW_FILTER:
     case CSG_KW_TRANSMIT:
         return true;
@@ -496,13 +497,47 @@ bool lang_is_color_start(parser *p)
     return lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p) || lang_is_expr_start(p);
 }
 
-/* rgb / rgbf / rgbt / rgbft E: a float fills every component it sets. */
+static bool is_rgb_keyword(enum csg_kw kw)
+{
+    return kw == CSG_KW_RGB || kw == CSG_KW_RGBF || kw == CSG_KW_RGBT || kw == CSG_KW_RGBFT ||
+           kw == CSG_KW_SRGB || kw == CSG_KW_SRGBF || kw == CSG_KW_SRGBT || kw == CSG_KW_SRGBFT;
+}
+
+/* POV-Ray's decoding of an srgb component into the working gamma space
+ * (in float, as its colours are): the sRGB curve's inverse, then the
+ * working gamma's encoding (TranscodingGammaCurve::Decode; assumed_gamma
+ * srgb leaves the value as it is). */
+static double srgb_decode(const csg_globals *g, double v)
+{
+    if (g->gamma_kind == CSG_GAMMA_SRGB)
+        return (float)v;
+    float x = (float)v;
+    float lin = x < 0.04045f ? x / 12.92f : powf((x + 0.055f) / 1.055f, 2.4f);
+    float enc = 1.0f / (float)g->assumed_gamma;
+    if (fabs(1.0 - (double)enc) <= 0.01) /* a neutral working gamma */
+        return lin;
+    return powf(lin > 0.0f ? lin : 0.0f, enc);
+}
+
+/* rgb / rgbf / rgbt / rgbft E: a float fills every component it sets; the
+ * srgb forms decode red, green and blue (an error before assumed_gamma is
+ * set, as in POV-Ray). */
 static bool parse_color_vector(parser *p, enum csg_kw kw, double c[5])
 {
     static const int need[] = {3, 4, 4, 5}; /* rgb rgbf rgbt rgbft */
-    int k = kw == CSG_KW_RGB ? 0 : kw == CSG_KW_RGBF ? 1 : kw == CSG_KW_RGBT ? 2 : 3;
+    bool srgb = kw == CSG_KW_SRGB || kw == CSG_KW_SRGBF || kw == CSG_KW_SRGBT ||
+                kw == CSG_KW_SRGBFT;
+    int k = kw == CSG_KW_RGB || kw == CSG_KW_SRGB     ? 0
+            : kw == CSG_KW_RGBF || kw == CSG_KW_SRGBF ? 1
+            : kw == CSG_KW_RGBT || kw == CSG_KW_SRGBT ? 2
+                                                      : 3;
     char name[8];
     snprintf(name, sizeof name, "%.*s", (int)(p->tok.len < 7 ? p->tok.len : 7), p->tok.text);
+    if (srgb && p->s->globals.gamma_kind == CSG_GAMMA_UNSET) {
+        csg_error(p->d, p->tok.loc, "'%s' colors need assumed_gamma set before them "
+                                    "(in global_settings), as in POV-Ray", name);
+        return false;
+    }
     if (!lang_next(p))
         return false;
     csg_loc start = lang_tok(p)->loc;
@@ -528,6 +563,9 @@ static bool parse_color_vector(parser *p, enum csg_kw kw, double c[5])
         c[3] = w[3];
         c[4] = w[4];
     }
+    if (srgb)
+        for (int i = 0; i < 3; i++)
+            c[i] = srgb_decode(&p->s->globals, c[i]);
     return true;
 }
 
@@ -560,7 +598,7 @@ bool lang_parse_color(parser *p, double c[5])
     }
     for (bool first = !started; lang_is_color_item(p); first = false) {
         enum csg_kw kw = p->tok.kw;
-        if (kw == CSG_KW_RGB || kw == CSG_KW_RGBF || kw == CSG_KW_RGBT || kw == CSG_KW_RGBFT) {
+        if (is_rgb_keyword(kw)) {
             if (!first) /* POV-Ray: only as the first item (checker rgb 1 rgb 0) */
                 break;
             if (!parse_color_vector(p, kw, c))

@@ -59,6 +59,8 @@ enum sym_kind {
     SYM_FINISH,
     SYM_TEXTURE,
     SYM_INTERIOR,
+    SYM_NORMAL,
+    SYM_MATERIAL,
     SYM_OBJECT,
     SYM_COLOR_MAP,
     SYM_CAMERA,
@@ -71,6 +73,13 @@ enum sym_kind {
 typedef struct lang_array lang_array;
 typedef struct lang_macro lang_macro;
 typedef struct lang_unusable lang_unusable;
+
+/* material { texture { } interior { } }: what it gives an object. */
+typedef struct {
+    bool has_texture, has_interior;
+    csg_texture texture;
+    csg_interior interior;
+} lang_material;
 
 /* A colour map, in the arena; never written once made. */
 typedef struct {
@@ -88,6 +97,8 @@ typedef struct {
         csg_finish finish;
         csg_texture texture;
         csg_interior interior;
+        csg_normal normal;
+        const lang_material *material; /* arena                              */
         csg_object *object;        /* a tree never in the scene: copied at use */
         lang_color_map cmap;
         csg_camera_src camera;
@@ -369,6 +380,22 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig);
 bool lang_parse_finish(parser *p, csg_finish *f);
 bool lang_parse_texture(parser *p, csg_texture *t);
 bool lang_parse_interior(parser *p, csg_interior *in);
+/* normal { [NORMAL_ID] [PATTERN [,] [AMOUNT]] MODIFIERS }, editing *n (a
+ * normal not given yet starts from the default texture's). */
+bool lang_parse_normal(parser *p, csg_normal *n);
+/* material { [MATERIAL_ID] texture { }... interior { } TRANSFORMS }, starting
+ * from *m (an object's texture and interior, or nothing). */
+bool lang_parse_material(parser *p, lang_material *m);
+/* *out: the layers of `top` over those of `under` (POV-Ray's
+ * Link_Textures: the texture written last is on top); `under` NULL: top
+ * as it is.  An error (at `at`) to layer over or with a texture_map. */
+bool lang_texture_link(parser *p, const csg_texture *under, const csg_texture *top,
+                       csg_texture *out, csg_loc at);
+/* The texture seen through transform x: every layer's pigment and normal,
+ * or a texture_map's pattern (copies of the layers in the arena). */
+bool lang_texture_transform(parser *p, csg_texture *t, const csg_xform *x);
+/* Whether a transform changes anything of t (a pattern somewhere). */
+bool lang_texture_patterned(const csg_texture *t);
 bool lang_parse_color_map(parser *p, lang_color_map *out);
 /* sky_sphere { [SKY_ID] pigment {}... emission COLOR TRANSFORMS }. */
 bool lang_parse_sky_sphere(parser *p, csg_sky *sky);

@@ -46,6 +46,7 @@
 #include <unistd.h>
 
 #include "../camera_setup.h"
+#include "../device/flat.h"
 #include "parse_internal.h"
 
 /* A tree node with the height of its subtree (1 for a primitive). */
@@ -478,20 +479,69 @@ static csg_interior *own_interior(parser *p, csg_object *o, int mark)
     return (csg_interior *)p->interiors.data + o->interior;
 }
 
-/* pigment { }, finish { } or texture { } on o: edits its own texture entry. */
+/* pigment { }, normal { }, finish { } or texture { } on o: edits its own
+ * texture entry.  As in POV-Ray, pigment, normal and finish edit the top
+ * layer (an object with a texture_map gets a new default layer over it,
+ * which is an error there); a texture { } is layered over the object's
+ * texture (Link_Textures), or is its texture when it has none. */
 static bool parse_texture_modifier(parser *p, csg_object *o, int tex_mark)
 {
+    csg_loc at = lang_tok(p)->loc;
+    enum csg_kw kw = lang_tok(p)->kw;
+    bool had = o->texture >= 0;
     csg_texture *own = own_texture(p, o, tex_mark);
     if (!own)
         return false;
     csg_texture t = *own;
-    enum csg_kw kw = lang_tok(p)->kw;
-    bool ok = kw == CSG_KW_PIGMENT  ? lang_parse_pigment(p, &t.pigment)
-              : kw == CSG_KW_FINISH ? lang_parse_finish(p, &t.finish)
-                                    : lang_parse_texture(p, &t);
+    bool ok;
+    if (kw == CSG_KW_TEXTURE) {
+        csg_texture top;
+        ok = lang_parse_texture(p, &top) && lang_texture_link(p, had ? &t : NULL, &top, &t, at);
+    } else if (t.tmap_count > 0) {
+        csg_error(p->d, at, "cannot layer over a patterned texture (texture_map): '%s' on an "
+                            "object whose texture is one", kw == CSG_KW_PIGMENT ? "pigment"
+                                                         : kw == CSG_KW_NORMAL ? "normal"
+                                                                               : "finish");
+        return false;
+    } else {
+        ok = kw == CSG_KW_PIGMENT  ? lang_parse_pigment(p, &t.pigment)
+             : kw == CSG_KW_NORMAL ? lang_parse_normal(p, &t.normal)
+                                   : lang_parse_finish(p, &t.finish);
+    }
     if (!ok)
         return false;
     ((csg_texture *)p->textures.data)[o->texture] = t;
+    return true;
+}
+
+/* material { } on o: its texture layered over o's (the material's own
+ * layers starting from o's texture), its interior replacing o's. */
+static bool parse_material_modifier(parser *p, csg_object *o, int tex_mark, int int_mark)
+{
+    lang_material m;
+    memset(&m, 0, sizeof m);
+    if (o->texture >= 0) {
+        m.has_texture = true;
+        m.texture = ((csg_texture *)p->textures.data)[o->texture];
+    }
+    if (o->interior >= 0) {
+        m.has_interior = true;
+        m.interior = ((csg_interior *)p->interiors.data)[o->interior];
+    }
+    if (!lang_parse_material(p, &m))
+        return false;
+    if (m.has_texture) {
+        csg_texture *own = own_texture(p, o, tex_mark);
+        if (!own)
+            return false;
+        *own = m.texture;
+    }
+    if (m.has_interior) {
+        csg_interior *own = own_interior(p, o, int_mark);
+        if (!own)
+            return false;
+        *own = m.interior;
+    }
     return true;
 }
 
@@ -515,10 +565,10 @@ static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
 {
     if (o->texture >= 0) {
         const csg_texture *t = (csg_texture *)p->textures.data + o->texture;
-        if (t->pigment.pattern != CSG_PATTERN_PLAIN) {
+        if (lang_texture_patterned(t)) {
             csg_texture moved = *t;
-            lang_pigment_transform(&moved.pigment, x);
-            if (!lang_vec_push(p, &p->textures, sizeof moved, &moved))
+            if (!lang_texture_transform(p, &moved, x) ||
+                !lang_vec_push(p, &p->textures, sizeof moved, &moved))
                 return false;
             o->texture = p->textures.count - 1;
         }
@@ -602,8 +652,10 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
         if (lang_is_transform(p))
             ok = parse_object_transform(p, o);
         else if (lang_is_kw(p, CSG_KW_PIGMENT) || lang_is_kw(p, CSG_KW_FINISH) ||
-                 lang_is_kw(p, CSG_KW_TEXTURE))
+                 lang_is_kw(p, CSG_KW_TEXTURE) || lang_is_kw(p, CSG_KW_NORMAL))
             ok = parse_texture_modifier(p, o, tex_mark);
+        else if (lang_is_kw(p, CSG_KW_MATERIAL))
+            ok = parse_material_modifier(p, o, tex_mark, int_mark);
         else if (lang_is_kw(p, CSG_KW_INTERIOR))
             ok = parse_interior_modifier(p, o, int_mark);
         else if (is_flag(p))
@@ -815,6 +867,36 @@ static bool parse_background(parser *p)
     return lang_next(p);
 }
 
+/* assumed_gamma F | srgb: POV-Ray's working gamma.  The first one counts;
+ * POV-Ray ignores a later one (with a warning, as here). */
+static bool parse_assumed_gamma(parser *p, csg_globals *g)
+{
+    csg_loc at = lang_tok(p)->loc;
+    int kind = CSG_GAMMA_SRGB;
+    double f = 1.0;
+    if (lang_is_kw(p, CSG_KW_SRGB)) {
+        if (!lang_next(p))
+            return false;
+    } else {
+        if (!lang_parse_float(p, &f, &at))
+            return false;
+        if (!(f > 0)) {
+            csg_error(p->d, at, "assumed_gamma must be > 0, got %g", f);
+            return false;
+        }
+        kind = CSG_GAMMA_POWER;
+    }
+    if (g->gamma_kind != CSG_GAMMA_UNSET) {
+        if (p->opt.messages)
+            fprintf(p->opt.messages, "%s:%d:%d: warning: a second assumed_gamma is ignored, "
+                                     "as in POV-Ray\n", at.file, at.line, at.col);
+        return true;
+    }
+    g->gamma_kind = kind;
+    g->assumed_gamma = f;
+    return true;
+}
+
 static bool parse_global_settings(parser *p)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -832,26 +914,30 @@ static bool parse_global_settings(parser *p)
             if (!lang_next(p) || !lang_parse_rgb(p, g->ambient_light))
                 return false;
             continue;
-        case CSG_KW_ASSUMED_GAMMA: case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
-        case CSG_KW_NOISE_GENERATOR:
+        case CSG_KW_ASSUMED_GAMMA:
+            if (!lang_next(p) || !parse_assumed_gamma(p, g))
+                return false;
+            continue;
+        case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
+        case CSG_KW_NOISE_GENERATOR: case CSG_KW_NUMBER_OF_WAVES:
             if (!lang_next(p) || !lang_parse_float(p, &f, &at))
                 return false;
             break;
         default:
             return lang_expected_close(p, '}', "global_settings", open);
         }
-        if (kw == CSG_KW_NOISE_GENERATOR) {
+        if (kw == CSG_KW_NUMBER_OF_WAVES) {
+            if (!(f >= 1 && f <= CSG_MAX_WAVES)) { /* POV-Ray: changed to 1 below 1 */
+                csg_error(p->d, at, "number_of_waves must be from 1 to %d, got %g", CSG_MAX_WAVES, f);
+                return false;
+            }
+            g->number_of_waves = (int)f;
+        } else if (kw == CSG_KW_NOISE_GENERATOR) {
             if (!(f == 1 || f == 2 || f == 3)) { /* POV-Ray: 1, 2 or 3 here */
                 csg_error(p->d, at, "noise_generator must be 1, 2 or 3, got %g", f);
                 return false;
             }
             g->noise_generator = (int)f;
-        } else if (kw == CSG_KW_ASSUMED_GAMMA) {
-            if (!(f > 0)) {
-                csg_error(p->d, at, "assumed_gamma must be > 0, got %g", f);
-                return false;
-            }
-            g->assumed_gamma = f;
         } else if (kw == CSG_KW_ADC_BAILOUT) {
             if (!(f >= 0 && f <= 1)) {
                 csg_error(p->d, at, "adc_bailout must be between 0 and 1, got %g", f);
@@ -1038,6 +1124,7 @@ static bool parser_init(parser *p, const csg_parse_options *o, csg_scene *s, csg
     p->default_entry = -1;
     csg_texture_default(&p->default_texture);
     csg_scene_init(s);
+    s->version_implied = true; /* until a #version is read (POV-Ray: 3.62) */
     csg_camera_default(&s->camera);
     s->arena = csg_arena_new();
     if (!s->arena)

@@ -196,6 +196,8 @@ const char *lang_kind_name(const datum *d)
     case SYM_FINISH: return "a finish";
     case SYM_TEXTURE: return "a texture";
     case SYM_INTERIOR: return "an interior";
+    case SYM_NORMAL: return "a normal";
+    case SYM_MATERIAL: return "a material";
     case SYM_OBJECT: return "an object";
     case SYM_COLOR_MAP: return "a color_map";
     case SYM_CAMERA: return "a camera";

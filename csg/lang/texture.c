@@ -332,6 +332,10 @@ static bool parse_bare_pattern(parser *p, csg_pigment *pig, enum csg_pattern pat
         pig->turb.on = true;
         pig->agate_turb = 1.0;
     }
+    if (pig->pattern == CSG_PATTERN_QUILTED) { /* POV-Ray: not waved, controls 1 and 1 */
+        pig->frequency = 0;
+        pig->control0 = pig->control1 = 1.0;
+    }
     if (pig->pattern == CSG_PATTERN_CRACKLE) {
         pig->crackle.form = (dvec3){-1, 1, 0};
         pig->crackle.metric = 2;
@@ -472,6 +476,7 @@ static bool is_noise_modifier(parser *p)
 }
 
 static bool parse_pigment_map(parser *p, csg_pigment *pig);
+static bool parse_quilted_modifier(parser *p, csg_pigment *pig);
 
 /* The modifiers after the pattern, up to `closer` ('}' of a pigment, ']'
  * of a pigment map's entry), which is consumed. */
@@ -506,6 +511,8 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             ok = parse_noise_modifier(p, pig);
         } else if (is_crackle_modifier(p)) {
             ok = parse_crackle_modifier(p, pig);
+        } else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1)) {
+            ok = parse_quilted_modifier(p, pig);
         } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
             double ignored[5]; /* POV-Ray uses it only below quality 6 (+Q5) */
             ok = lang_next(p) && lang_parse_color(p, ignored);
@@ -726,52 +733,427 @@ bool lang_parse_finish(parser *p, csg_finish *f)
     }
 }
 
-/* [TEXTURE_ID] then, as POV-Ray allows, [PIGMENT_ID] [FINISH_ID]. */
-static bool parse_texture_ids(parser *p, csg_texture *t)
+/* ---- normals ---------------------------------------------------------------------- */
+
+/* The keywords of POV-Ray's normal-only patterns (a pattern keyword in a
+ * normal): their normal kind, CSG_NORMAL_PATTERN for any other. */
+static int normal_kind_of(const csg_token *t)
+{
+#define NORMAL_WORD(ID, name)                                                                      \
+    if (CSG_NORMAL_##ID != CSG_NORMAL_PATTERN && t->len == strlen(#name) &&                        \
+        memcmp(t->text, #name, t->len) == 0)                                                       \
+        return CSG_NORMAL_##ID;
+    CSG_NORMALS(NORMAL_WORD)
+#undef NORMAL_WORD
+    return CSG_NORMAL_PATTERN;
+}
+
+/* quilted's control0 F, control1 F. */
+static bool parse_quilted_modifier(parser *p, csg_pigment *pig)
+{
+    csg_loc at = lang_tok(p)->loc;
+    double *c = lang_is_kw(p, CSG_KW_CONTROL0) ? &pig->control0 : &pig->control1;
+    if (pig->pattern != CSG_PATTERN_QUILTED) {
+        csg_error(p->d, at, "'%.*s' needs the quilted pattern", (int)lang_tok(p)->len,
+                  lang_tok(p)->text);
+        return false;
+    }
+    return lang_next(p) && lang_parse_float(p, c, NULL);
+}
+
+/* The pattern of a normal: its keyword (checker, whose entries are
+ * normals in POV-Ray, is not supported there), then the optional amount,
+ * as POV-Ray's Parse_Pattern reads it (`bumps 0.4`, `bumps, 0.4`). */
+static bool parse_normal_pattern(parser *p, csg_normal *n)
+{
+    csg_loc at = lang_tok(p)->loc;
+    int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
+    if (pattern == CSG_PATTERN_CHECKER)
+        return lang_unsupported(p, "'checker' in a normal", at);
+    n->kind = normal_kind_of(lang_tok(p));
+    if (!parse_pattern_keyword(p, &n->pattern))
+        return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    if (lang_is_expr_start(p) && !lang_parse_float(p, &n->amount, NULL))
+        return false;
+    return true;
+}
+
+bool lang_parse_normal(parser *p, csg_normal *n)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "normal"))
+        return false;
+    if (lang_names(p, SYM_NORMAL)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_NORMAL, "a normal", &d))
+            return false;
+        *n = d->u.normal;
+    } else if (!n->on) { /* POV-Ray: a copy of the default texture's, or a new one */
+        *n = p->default_texture.normal;
+        if (!n->on)
+            csg_normal_default(n);
+    }
+    if (lang_is_kw(p, CSG_KW_PATTERN)) {
+        if (!parse_normal_pattern(p, n))
+            return false;
+        n->on = true;
+    }
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            break;
+        bool ok;
+        if (lang_is_transform(p)) {
+            ok = transform_pigment(p, &n->pattern);
+        } else if (lang_is_kw(p, CSG_KW_BUMP_SIZE) || lang_is_kw(p, CSG_KW_ACCURACY)) {
+            double *f = lang_is_kw(p, CSG_KW_BUMP_SIZE) ? &n->amount : &n->accuracy;
+            ok = lang_next(p) && lang_parse_float(p, f, NULL);
+        } else if (lang_is_kw(p, CSG_KW_NO_BUMP_SCALE)) {
+            double f = 1;
+            ok = lang_next(p) && (!lang_is_expr_start(p) || lang_parse_float(p, &f, NULL));
+            n->no_bump_scale = f > 0;
+        } else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
+            double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &n->pattern.frequency : &n->pattern.phase;
+            ok = lang_next(p) && lang_parse_float(p, f, NULL);
+        } else if (lang_is_kw(p, CSG_KW_WAVE)) {
+            ok = parse_wave(p, &n->pattern);
+        } else if (is_noise_modifier(p)) {
+            ok = parse_noise_modifier(p, &n->pattern);
+        } else if (is_crackle_modifier(p)) {
+            ok = parse_crackle_modifier(p, &n->pattern);
+        } else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1)) {
+            ok = parse_quilted_modifier(p, &n->pattern);
+        } else {
+            return lang_expected_close(p, '}', "normal", open);
+        }
+        if (!ok)
+            return false;
+    }
+    if (!n->on) { /* POV-Ray: "No normal type given." */
+        csg_error(p->d, open, "a normal needs a pattern (bumps, dents, ripples, waves, ...)");
+        return false;
+    }
+    return lang_next(p);
+}
+
+/* ---- textures ---------------------------------------------------------------------- */
+
+bool lang_texture_patterned(const csg_texture *t)
+{
+    for (; t; t = t->under)
+        if (t->tmap_count > 0 || t->pigment.pattern != CSG_PATTERN_PLAIN || t->normal.on)
+            return true;
+    return false;
+}
+
+/* t's own layer seen through x (its under layers untouched). */
+static void transform_layer(csg_texture *t, const csg_xform *x)
+{
+    lang_pigment_transform(&t->pigment, x); /* a texture_map's pattern too */
+    if (t->normal.on)
+        lang_pigment_transform(&t->normal.pattern, x);
+}
+
+bool lang_texture_transform(parser *p, csg_texture *t, const csg_xform *x)
+{
+    transform_layer(t, x);
+    csg_texture *layer = t;
+    while (layer->under) { /* the layers below are shared: copied */
+        csg_texture *copy = lang_alloc(p, sizeof *copy);
+        if (!copy)
+            return false;
+        *copy = *layer->under;
+        transform_layer(copy, x);
+        layer->under = copy;
+        layer = copy;
+    }
+    return true;
+}
+
+bool lang_texture_link(parser *p, const csg_texture *under, const csg_texture *top,
+                       csg_texture *out, csg_loc at)
+{
+    if (!under) {
+        *out = *top;
+        return true;
+    }
+    if (under->tmap_count > 0 || (top->tmap_count > 0)) {
+        csg_error(p->d, at, "cannot layer %s", under->tmap_count > 0
+                                                   ? "over a patterned texture (texture_map)"
+                                                   : "a patterned texture (texture_map) over another");
+        return false;
+    }
+    const csg_texture *below = NULL;
+    {
+        csg_texture *u = lang_alloc(p, sizeof *u);
+        if (!u)
+            return false;
+        *u = *under;
+        below = u;
+    }
+    /* the new layers are copied, the last of them now over `under` */
+    *out = *top;
+    csg_texture *layer = out;
+    while (layer->under) {
+        csg_texture *copy = lang_alloc(p, sizeof *copy);
+        if (!copy)
+            return false;
+        *copy = *layer->under;
+        layer->under = copy;
+        layer = copy;
+    }
+    layer->under = below;
+    return true;
+}
+
+/* [TEXTURE_ID] then, for a plain texture, as POV-Ray allows, [PIGMENT_ID]
+ * [NORMAL_ID] [FINISH_ID]; *modified: one of them was given. */
+static bool parse_texture_ids(parser *p, csg_texture *t, bool *modified)
 {
     const datum *d;
     if (lang_names(p, SYM_TEXTURE)) {
         if (!lang_lookup(p, SYM_TEXTURE, "a texture", &d))
             return false;
         *t = d->u.texture;
+        *modified = true;
     }
+    if (t->tmap_count > 0)
+        return true;
     if (lang_names(p, SYM_PIGMENT)) {
         if (!lang_lookup(p, SYM_PIGMENT, "a pigment", &d))
             return false;
         t->pigment = d->u.pigment;
+        *modified = true;
+    }
+    if (lang_names(p, SYM_NORMAL)) {
+        if (!lang_lookup(p, SYM_NORMAL, "a normal", &d))
+            return false;
+        t->normal = d->u.normal;
+        *modified = true;
     }
     if (lang_names(p, SYM_FINISH)) {
         if (!lang_lookup(p, SYM_FINISH, "a finish", &d))
             return false;
         t->finish = d->u.finish;
+        *modified = true;
     }
     return true;
 }
 
-/* texture { [TEXTURE_ID] (pigment {..} | finish {..} | TRANSFORM)* }; starts
- * from the default texture (#default) and replaces *t. */
+static bool parse_texture_body(parser *p, csg_texture *t, int closer, csg_loc open);
+
+/* [F [,] TEXTURE_BODY]: the body starts from the default texture. */
+static bool parse_texture_entry(parser *p, csg_texture_entry *e)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_enter(p, open) || !lang_next(p) || !lang_parse_float(p, &e->value, NULL))
+        return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    e->texture = p->default_texture;
+    if (!parse_texture_body(p, &e->texture, ']', open))
+        return false;
+    lang_leave(p);
+    return true;
+}
+
+/* texture_map { [F TEXTURE_BODY] ... } into t's entries. */
+static bool parse_texture_map(parser *p, csg_texture *t)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (t->pigment.pattern == CSG_PATTERN_CHECKER) {
+        csg_error(p->d, open, "a texture_map needs a pattern that takes one (any but checker)");
+        return false;
+    }
+    if (!lang_enter(p, open) || !lang_next(p) || !lang_expect_open(p, "texture_map"))
+        return false;
+    csg_texture_entry *e = NULL;
+    int n = 0, cap = 0;
+    bool ok = true;
+    while (ok && lang_is_punct(p, '[')) {
+        if (n == CSG_MAP_MAX) {
+            csg_error(p->d, lang_tok(p)->loc, "a texture_map has at most %d entries", CSG_MAP_MAX);
+            ok = false;
+            break;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 8;
+            csg_texture_entry *grown = realloc(e, (size_t)cap * sizeof *grown);
+            if (!grown) {
+                ok = lang_oom(p);
+                break;
+            }
+            e = grown;
+        }
+        ok = parse_texture_entry(p, &e[n++]);
+    }
+    if (ok && n == 0)
+        ok = lang_expected(p, "'[' expected (a texture_map entry)");
+    if (ok && !lang_is_punct(p, '}'))
+        ok = lang_expected_close(p, '}', "texture_map", open);
+    csg_texture_entry *copy = ok ? lang_alloc(p, (size_t)n * sizeof *copy) : NULL;
+    if (copy) {
+        memcpy(copy, e, (size_t)n * sizeof *copy);
+        t->tmap = copy;
+        t->tmap_count = n;
+        lang_leave(p);
+        ok = lang_next(p);
+    } else {
+        ok = false;
+    }
+    free(e);
+    return ok;
+}
+
+/* checker texture {..} [,] [texture {..}]: a texture_map of two entries,
+ * 0 and 1, the one not given the default texture. */
+static bool parse_checker_textures(parser *p, csg_texture *t)
+{
+    csg_texture_entry *e = lang_alloc(p, 2 * sizeof *e);
+    if (!e)
+        return false;
+    for (int i = 0; i < 2; i++) {
+        e[i].value = i;
+        e[i].texture = p->default_texture;
+    }
+    for (int i = 0; i < 2 && lang_is_kw(p, CSG_KW_TEXTURE); i++)
+        if (!lang_parse_texture(p, &e[i].texture) || (lang_is_punct(p, ',') && !lang_next(p)))
+            return false;
+    t->tmap = e;
+    t->tmap_count = 2;
+    return true;
+}
+
+/* A patterned texture: PATTERN, then the pattern's modifiers and its
+ * texture_map (checker: its textures), up to `closer`. */
+static bool parse_texture_pattern(parser *p, csg_texture *t, int closer, csg_loc open)
+{
+    csg_pigment *pig = &t->pigment;
+    csg_pigment_default(pig);
+    csg_normal_default(&t->normal);
+    t->under = NULL;
+    int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
+    if (pattern == CSG_PATTERN_CHECKER) {
+        pig->pattern = CSG_PATTERN_CHECKER;
+        pig->frequency = 0;
+        if (!lang_next(p) || !parse_checker_textures(p, t))
+            return false;
+    } else if (!parse_pattern_keyword(p, pig)) {
+        return false;
+    }
+    for (;;) {
+        if (lang_is_punct(p, closer))
+            break;
+        bool ok;
+        if (lang_is_transform(p))
+            ok = transform_pigment(p, pig);
+        else if (lang_is_kw(p, CSG_KW_TEXTURE_MAP))
+            ok = parse_texture_map(p, t);
+        else if (lang_is_kw(p, CSG_KW_FREQUENCY) || lang_is_kw(p, CSG_KW_PHASE)) {
+            double *f = lang_is_kw(p, CSG_KW_FREQUENCY) ? &pig->frequency : &pig->phase;
+            ok = lang_next(p) && lang_parse_float(p, f, NULL);
+        } else if (lang_is_kw(p, CSG_KW_WAVE))
+            ok = parse_wave(p, pig);
+        else if (is_noise_modifier(p))
+            ok = parse_noise_modifier(p, pig);
+        else if (is_crackle_modifier(p))
+            ok = parse_crackle_modifier(p, pig);
+        else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1))
+            ok = parse_quilted_modifier(p, pig);
+        else
+            return lang_expected_close(p, closer, closer == '}' ? "texture" : "[", open);
+        if (!ok)
+            return false;
+    }
+    if (t->tmap_count == 0) {
+        csg_error(p->d, open, "a patterned texture needs a texture_map");
+        return false;
+    }
+    return lang_next(p);
+}
+
+/* What a texture { } holds, up to `closer` ('}', or ']' of a texture_map
+ * entry), which is consumed; *t starts as the default texture. */
+static bool parse_texture_body(parser *p, csg_texture *t, int closer, csg_loc open)
+{
+    bool modified = false;
+    if (!parse_texture_ids(p, t, &modified))
+        return false;
+    if (!modified && lang_is_kw(p, CSG_KW_PATTERN))
+        return parse_texture_pattern(p, t, closer, open);
+    for (;;) {
+        bool ok;
+        if (lang_is_punct(p, closer))
+            return lang_next(p);
+        if (t->tmap_count > 0 && !lang_is_transform(p))
+            return lang_expected_close(p, closer, closer == '}' ? "texture" : "[", open);
+        if (lang_is_kw(p, CSG_KW_PIGMENT))
+            ok = lang_parse_pigment(p, &t->pigment);
+        else if (lang_is_kw(p, CSG_KW_NORMAL))
+            ok = lang_parse_normal(p, &t->normal);
+        else if (lang_is_kw(p, CSG_KW_FINISH))
+            ok = lang_parse_finish(p, &t->finish);
+        else if (lang_is_transform(p)) {
+            csg_xform x;
+            csg_xform_identity(&x);
+            ok = lang_parse_transform(p, &x) && lang_texture_transform(p, t, &x);
+        } else if (lang_is_kw(p, CSG_KW_PATTERN))
+            return lang_unsupported(p, "a pattern after a texture's pigment, normal or finish", p->tok.loc);
+        else
+            return lang_expected_close(p, closer, closer == '}' ? "texture" : "[", open);
+        if (!ok)
+            return false;
+    }
+}
+
+/* texture { [TEXTURE_ID] (pigment {..} | normal {..} | finish {..} |
+ * TRANSFORM)* } or texture { PATTERN texture_map {..} ... }; starts from
+ * the default texture (#default) and replaces *t. */
 bool lang_parse_texture(parser *p, csg_texture *t)
 {
     csg_loc open = lang_tok(p)->loc;
     if (!lang_next(p) || !lang_expect_open(p, "texture"))
         return false;
     *t = p->default_texture;
-    if (!parse_texture_ids(p, t))
+    return parse_texture_body(p, t, '}', open);
+}
+
+bool lang_parse_material(parser *p, lang_material *m)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_next(p) || !lang_expect_open(p, "material"))
         return false;
+    if (lang_names(p, SYM_MATERIAL)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_MATERIAL, "a material", &d))
+            return false;
+        *m = *d->u.material;
+    }
     for (;;) {
         bool ok;
+        csg_loc at = lang_tok(p)->loc;
         if (lang_is_punct(p, '}'))
             return lang_next(p);
-        if (lang_is_kw(p, CSG_KW_PIGMENT))
-            ok = lang_parse_pigment(p, &t->pigment);
-        else if (lang_is_kw(p, CSG_KW_FINISH))
-            ok = lang_parse_finish(p, &t->finish);
-        else if (lang_is_transform(p))
-            ok = transform_pigment(p, &t->pigment);
-        else if (lang_is_kw(p, CSG_KW_PATTERN))
-            return lang_unsupported(p, "a patterned texture (texture_map)", p->tok.loc);
-        else
-            return lang_expected_close(p, '}', "texture", open);
+        if (lang_is_kw(p, CSG_KW_TEXTURE)) {
+            csg_texture t;
+            ok = lang_parse_texture(p, &t) &&
+                 lang_texture_link(p, m->has_texture ? &m->texture : NULL, &t, &m->texture, at);
+            m->has_texture = true;
+        } else if (lang_is_kw(p, CSG_KW_INTERIOR)) {
+            if (!m->has_interior) {
+                m->interior.ior = 1.0;
+                m->has_interior = true;
+            }
+            ok = lang_parse_interior(p, &m->interior);
+        } else if (lang_is_transform(p)) {
+            csg_xform x;
+            csg_xform_identity(&x);
+            ok = lang_parse_transform(p, &x) &&
+                 (!m->has_texture || lang_texture_transform(p, &m->texture, &x));
+        } else {
+            return lang_expected_close(p, '}', "material", open);
+        }
         if (!ok)
             return false;
     }
