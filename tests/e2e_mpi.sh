@@ -304,7 +304,11 @@ for sched in raster cost static tail; do
         bad_ranks=""
         fill=() # (hetero: the scheduler alone; the batches below run with the fill)
         [ "$mode" = hetero ] && fill=(--fill off)
-        for np in 1 2 3 4 5; do
+        # (hetero: 2, 3 and 5 ranks; 1 and 4 ranks of it run elsewhere in
+        # the suites, and each of its renders opens the device)
+        ranks_list=(1 2 3 4 5)
+        [ "$mode" = hetero ] && ranks_list=(2 3 5)
+        for np in "${ranks_list[@]}"; do
             name=sch-$sched-$mode-$np
             if ! render "$name" "$np" "$first" "${SZ[@]}" --mode "$mode" --tile 8 "${fill[@]}" \
                 --schedule "$sched" --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
@@ -317,7 +321,7 @@ for sched in raster cost static tail; do
             fi
         done
         if [ -z "$bad_ranks" ]; then
-            ok "--schedule $sched, $mode${fill:+ ${fill[*]}}, K=1..5: == serial, tile log and stats consistent"
+            ok "--schedule $sched, $mode${fill:+ ${fill[*]}}, K=${ranks_list[*]}: == serial, tile log and stats consistent"
         else
             bad "--schedule $sched, $mode: K=$bad_ranks"
         fi
@@ -437,8 +441,12 @@ check "the only worker fails (homo K=2): exit 1, no image (got $rc)" \
 ROGUE=$ROOT/build/tests/rogue_worker
 # To EXR the answers are RGB floats (12 bytes a pixel), to PNG the file's
 # bytes (3: comm/pixels.h); each well-sized answer is sized for its format.
+# (The header's fields, index and tag, are checked once: they do not depend
+# on the format.)
 for ext in exr png; do
-    for mode in big short index tag pixels; do
+    rogue_modes=(big short index tag pixels)
+    [ "$ext" = png ] && rogue_modes=(big short pixels)
+    for mode in "${rogue_modes[@]}"; do
         if [ ! -x "$ROGUE" ]; then
             bad "rogue worker ($mode): $ROGUE is not built"
             continue
