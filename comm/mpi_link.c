@@ -199,27 +199,39 @@ void link_fail_job(void)
         kill(getppid(), SIGTERM);
 }
 
+/* /proc/PID/NAME read into buf (NUL-terminated; empty when it cannot be
+ * read); its length. */
+static size_t link_proc_read(const char *pid, const char *name, char *buf, size_t size)
+{
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%s/%s", pid, name);
+    FILE *f = fopen(path, "r");
+    size_t n = f ? fread(buf, 1, size - 1, f) : 0;
+    if (f)
+        fclose(f);
+    buf[n] = '\0';
+    return n;
+}
+
+/* The fields of /proc/PID/stat after the command's name ("pid (comm)
+ * state ppid ..."), in buf; NULL when it cannot be read. */
+static const char *link_proc_stat(const char *pid, char *buf, size_t size)
+{
+    link_proc_read(pid, "stat", buf, size);
+    const char *end = strrchr(buf, ')');
+    return end ? end + 1 : NULL;
+}
+
 /* The MPI rank of process `pid` if it is a child of `parent`, else -1. */
 static int link_sibling_rank(const char *pid, pid_t parent)
 {
-    char path[64], buf[4096];
+    char buf[4096];
     int rank = -1;
-    snprintf(path, sizeof path, "/proc/%s/stat", pid);
-    FILE *f = fopen(path, "r");
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    if (f)
-        fclose(f);
-    buf[n] = '\0';
-    const char *end = strrchr(buf, ')'); /* "pid (comm) state ppid ..." */
+    const char *fields = link_proc_stat(pid, buf, sizeof buf);
     int ppid = -1;
-    if (!end || sscanf(end + 1, " %*c %d", &ppid) != 1 || ppid != (int)parent)
+    if (!fields || sscanf(fields, " %*c %d", &ppid) != 1 || ppid != (int)parent)
         return -1;
-    snprintf(path, sizeof path, "/proc/%s/environ", pid);
-    f = fopen(path, "r");
-    n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    if (f)
-        fclose(f);
-    buf[n] = '\0';
+    size_t n = link_proc_read(pid, "environ", buf, sizeof buf);
     for (size_t i = 0; i < n; i += strlen(buf + i) + 1)
         if (strncmp(buf + i, "OMPI_COMM_WORLD_RANK=", 21) == 0)
             rank = atoi(buf + i + 21);
@@ -410,16 +422,11 @@ static void link_bye(int rank, char why)
  * /proc/PID/stat: 'T' or 't'. */
 static bool link_process_stopped(int pid)
 {
-    char path[64], buf[512];
-    snprintf(path, sizeof path, "/proc/%d/stat", pid);
-    FILE *f = fopen(path, "r");
-    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
-    if (f)
-        fclose(f);
-    buf[n] = '\0';
-    const char *end = strrchr(buf, ')'); /* "pid (comm) state ..." */
+    char id[24], buf[512];
+    snprintf(id, sizeof id, "%d", pid);
+    const char *fields = link_proc_stat(id, buf, sizeof buf);
     char state = 0;
-    return end && sscanf(end + 1, " %c", &state) == 1 && (state == 'T' || state == 't');
+    return fields && sscanf(fields, " %c", &state) == 1 && (state == 'T' || state == 't');
 }
 
 /* A worker written off that is stopped cannot exit by its watchdog, and

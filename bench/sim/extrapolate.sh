@@ -12,6 +12,7 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
 TILE=${TILE:-32}
+SCHEDULE=${SCHEDULE:-raster}
 POINTS=${POINTS:-"ib:64:0:homo ib:64:0:hetero ib:256:16:homo ib:256:16:hetero ib:1024:32:homo ib:1024:32:hetero gige:64:0:hetero gige:64:0:homo"}
 TIMEOUT=${POINT_TIMEOUT:-900}
 work=$(mktemp -d)
@@ -30,7 +31,7 @@ for p in $POINTS; do
     fill=()
     [ "$mode" = hetero ] && fill=(--fill-map "$work/homo.costs")
     if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" --mode "$mode" \
-        --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" --schedule raster \
+        --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" --schedule "$SCHEDULE" \
         --map "$work/$mode.costs" "${fill[@]}" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
         python3 - "$work/p.json" "$net" <<'PY'
 import json, sys

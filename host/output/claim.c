@@ -76,18 +76,6 @@ void claim_lock_name(const char *out_path, char *buf, size_t size)
     snprintf(buf, size, "%s%s", out_path, CLAIM_LOCK_SUFFIX);
 }
 
-/* Why an existing lock file cannot be used ("" when it can). */
-static const char *claim_unfit(const struct stat *st)
-{
-    if (!S_ISREG(st->st_mode))
-        return "is not a regular file";
-    if (st->st_uid != geteuid())
-        return "belongs to another user";
-    if (st->st_nlink != 1)
-        return "has other names (hard links)";
-    return "";
-}
-
 /* The lock is held by another render: says so, naming it (and its
  * process, when it wrote its id already). */
 static void claim_busy(int fd, const char *out_path, const char *path, csg_diag *d)
@@ -122,7 +110,7 @@ static int claim_try(const char *out_path, const char *path, csg_diag *d)
                         strerror(errno));
         return -1;
     }
-    const char *unfit = fstat(fd, &st) == 0 ? claim_unfit(&st) : strerror(errno);
+    const char *unfit = fstat(fd, &st) == 0 ? file_unfit(&st) : strerror(errno);
     if (unfit[0]) {
         csg_error_plain(d, "%s %s: refusing to use it as the lock of %s", path, unfit, out_path);
     } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {

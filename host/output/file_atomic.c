@@ -130,3 +130,14 @@ bool file_write_all(int fd, const void *p, size_t n)
     }
     return true;
 }
+
+const char *file_unfit(const struct stat *st)
+{
+    if (!S_ISREG(st->st_mode))
+        return "is not a regular file";
+    if (st->st_uid != geteuid())
+        return "belongs to another user";
+    if (st->st_nlink != 1)
+        return "has other names (hard links)";
+    return "";
+}

@@ -15,6 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 
 /* print(f, arg) into `path`; false with "csgtrace: error: ..." in err. */
@@ -46,5 +47,10 @@ mode_t file_default_mode(void);
  * else by the resolved folder and the last component (an output not yet
  * written). */
 bool file_same(const char *a, const char *b);
+
+/* Why a file that csgtrace appends to, cuts or locks may not be used (""
+ * when it may): it must be this user's plain file with no other name
+ * (through a hard link a write would land in another file). */
+const char *file_unfit(const struct stat *st);
 
 #endif

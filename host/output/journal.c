@@ -462,22 +462,8 @@ void journal_tile_done(journal *j, int tile, const float *image)
 
 /* ---- opening ------------------------------------------------------------------------ */
 
-/* Why an existing journal may not be resumed from ("" when it may): it is
- * appended to and cut, so it must be this user's plain file with no other
- * name (through a hard link a --resume would write into another file). */
-static const char *journal_unfit(const struct stat *st)
-{
-    if (!S_ISREG(st->st_mode))
-        return "is not a regular file";
-    if (st->st_uid != geteuid())
-        return "belongs to another user";
-    if (st->st_nlink != 1)
-        return "has other names (hard links)";
-    return "";
-}
-
 /* --resume: the existing journal, opened without following a link (nor
- * blocking on a FIFO) and checked (journal_unfit); -1 with errno ENOENT
+ * blocking on a FIFO) and checked (file_unfit); -1 with errno ENOENT
  * when there is none, else -1 with d filled. */
 static int journal_open_existing(const char *path, csg_diag *d)
 {
@@ -488,7 +474,7 @@ static int journal_open_existing(const char *path, csg_diag *d)
             csg_error_plain(d, "cannot open the journal %s: %s", path, strerror(errno));
         return -1;
     }
-    const char *unfit = fstat(fd, &st) == 0 ? journal_unfit(&st) : strerror(errno);
+    const char *unfit = fstat(fd, &st) == 0 ? file_unfit(&st) : strerror(errno);
     if (!unfit[0])
         return fd;
     csg_error_plain(d, "the journal %s %s: refusing to resume from it", path, unfit);
