@@ -7,7 +7,7 @@
 # (bench/simulate.sh: --eager-bytes, --sender-progress defaults).
 # Writes CSV rows to stdout: network, workers, relays, mode, tile, makespan,
 # efficiency, master_busy, tail_s, ramp_s, bytes the master sent/received.
-#   POINTS="ib:64:0:homo ..." bench/sim/extrapolate.sh > out.csv
+#   POINTS="ib:64:0:homo ..." [SCHEDULE=raster|cost|tail] bench/sim/extrapolate.sh > out.csv
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
