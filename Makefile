@@ -69,7 +69,8 @@ LDLIBS = -lOpenCL $(ZLIB_LIBS) -lnettle -lpthread -lm
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
 
-SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+SAN := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
+	-fno-sanitize-recover=undefined,float-cast-overflow
 SAN_HOOKS := $(SAN) -DCSG_TEST_HOOKS
 
 # Sources: every .c of these folders; the engine ones get two objects each.
