@@ -816,6 +816,16 @@ static void test_numbers_finite(void **state)
     parse_ok("#declare A = val(\"2.5\");\nsphere { 0, A }", &s);
     assert_near(s.objects[0]->r0, 2.5);
     csg_scene_free(&s);
+    /* any #version reads; its int form is clamped (the fuzzer's
+     * #version -5555555555 converted out of range) */
+    static const char *const versions[] = {"-5555555555", "1e300", "-1e300", "21474836.47"};
+    for (size_t i = 0; i < sizeof versions / sizeof versions[0]; i++) {
+        char text[128];
+        snprintf(text, sizeof text, "#version %s;\nsphere { 0, 1 }", versions[i]);
+        parse_ok(text, &s);
+        assert_true(csg_version_v37(&s) == (versions[i][0] != '-'));
+        csg_scene_free(&s);
+    }
     parse_ok("#declare A = array[3][2];\n"
              "#if (dimension_size(A, 1e30) != 0 | dimension_size(A, -2147483648) != 0 |\n"
              "     dimension_size(A, -1e300) != 0 | dimension_size(A, 2147483648) != 0 |\n"
