@@ -202,7 +202,8 @@ $(BA)/obj/pic/%.o: %.c
 # build/fuzz/fuzz_pipeline: every stage of a render on each input
 # (tests/fuzz_pipeline.c), with ASan + UBSan; the dictionary is the lexer's
 # own keyword table and the pattern and wave keywords (csg/device/patterns.h),
-# the seeds are the example scenes.  (Warnings are enforced by the gcc
+# the seeds are the example scenes and tests/fuzz_seeds/ (the inputs of
+# past findings).  (Warnings are enforced by the gcc
 # builds; clang's -Wdouble-promotion also flags libm macros, so the fuzz
 # build only reports.)
 F := build/fuzz
@@ -239,7 +240,7 @@ $(F)/pov.dict: csg/lang/lexer.c csg/device/patterns.h
 
 fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 	@mkdir -p $(F)/corpus $(F)/seeds
-	cp scenes/*.pov $(F)/seeds/
+	cp scenes/*.pov tests/fuzz_seeds/*.pov $(F)/seeds/
 	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
 		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
 
