@@ -69,7 +69,8 @@ LDLIBS = -lOpenCL $(ZLIB_LIBS) -lnettle -lpthread -lm
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
 
-SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+SAN := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
+	-fno-sanitize-recover=undefined,float-cast-overflow
 SAN_HOOKS := $(SAN) -DCSG_TEST_HOOKS
 
 # Sources: every .c of these folders; the engine ones get two objects each.
@@ -201,16 +202,19 @@ $(BA)/obj/pic/%.o: %.c
 # build/fuzz/fuzz_pipeline: every stage of a render on each input
 # (tests/fuzz_pipeline.c), with ASan + UBSan; the dictionary is the lexer's
 # own keyword table and the pattern and wave keywords (csg/device/patterns.h),
-# the seeds are the example scenes.  (Warnings are enforced by the gcc
+# the seeds are the example scenes and tests/fuzz_seeds/ (the inputs of
+# past findings).  (Warnings are enforced by the gcc
 # builds; clang's -Wdouble-promotion also flags libm macros, so the fuzz
 # build only reports.)
 F := build/fuzz
 FUZZ_CC ?= clang-15
 FUZZ_SECONDS ?= 60
-FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_SAN := -fsanitize=address,undefined,float-cast-overflow \
+	-fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer
 FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
-	workers/engine_common.c workers/tile.c workers/tile_run.c workers/noise.c
+	workers/engine_common.c workers/tile.c workers/tile_run.c workers/noise.c comm/pixels.c \
+	comm/tiles.c
 FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)
 
@@ -236,7 +240,7 @@ $(F)/pov.dict: csg/lang/lexer.c csg/device/patterns.h
 
 fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 	@mkdir -p $(F)/corpus $(F)/seeds
-	cp scenes/*.pov $(F)/seeds/
+	cp scenes/*.pov tests/fuzz_seeds/*.pov $(F)/seeds/
 	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
 		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
 

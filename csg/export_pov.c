@@ -25,16 +25,27 @@
  */
 #include "export_pov.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "camera_setup.h"
 
 #define EXPORT_MAX_DEPTH 1000 /* deeper trees are refused, not recursed into */
+/* A CSG node this deep in the statement being written is declared before
+ * it (#declare CSG_Export_N = ...) and written as object { CSG_Export_N }:
+ * a leaf's texture adds braces the source may not have had (it inherited
+ * or took the default), and the parser takes at most CSG_PARSE_MAX_NESTING
+ * levels of them in one statement.  The tree's height is unchanged
+ * (object { } copies the declared tree). */
+#define EXPORT_HOIST_DEPTH 48
 
 typedef struct {
     const csg_scene *s;
-    FILE *out;
+    FILE *out;      /* where the current statement goes                  */
+    FILE *top;      /* the file: where declarations go, before it        */
+    int *declared;  /* declarations written so far                       */
+    int base;       /* the current statement's depth in its object tree  */
     bool flat;
     csg_diag *d;
 } exporter;
@@ -473,9 +484,42 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
     }
 }
 
+/* A transform the parser would refuse as `matrix` (its determinant
+ * underflows to 0, as scale 1e-300 makes it) as `scale <2^e..>` and the
+ * matrix with each axis divided by its power of two: both steps exact, so
+ * the parser composes the same doubles back.  False when that does not
+ * help either (then the matrix is written as it is). */
+static bool split_scale(const csg_xform *x, double scale[3], csg_xform *rest)
+{
+    csg_xform inv;
+    if (csg_xform_invert(x, &inv))
+        return false;
+    *rest = *x;
+    for (int col = 0; col < 3; col++) {
+        double big = 0;
+        for (int row = 0; row < 3; row++)
+            big = fmax(big, fabs(x->m[row][col]));
+        int e = 0;
+        if (big > 0 && isfinite(big))
+            frexp(big, &e);
+        scale[col] = ldexp(1.0, e);
+        for (int row = 0; row < 3; row++)
+            rest->m[row][col] = ldexp(x->m[row][col], -e);
+    }
+    return csg_xform_invert(rest, &inv);
+}
+
 static void write_matrix(FILE *out, const csg_xform *x, int depth)
 {
-    double m[12];
+    double m[12], scale[3];
+    csg_xform rest;
+    if (split_scale(x, scale, &rest)) {
+        indent(out, depth);
+        fputs("scale ", out);
+        put_vec(out, scale, 3);
+        fputc('\n', out);
+        x = &rest;
+    }
     for (int col = 0; col < 4; col++)
         for (int row = 0; row < 3; row++)
             m[col * 3 + row] = x->m[row][col];
@@ -595,7 +639,7 @@ static bool check_node(const exporter *e, const csg_object *o, int depth)
         csg_error(e->d, o->loc, "export: unknown object kind %d", (int)o->kind);
         return false;
     }
-    if (depth > EXPORT_MAX_DEPTH) {
+    if (e->base + depth > EXPORT_MAX_DEPTH) {
         csg_error(e->d, o->loc, "export: objects nested deeper than %d levels", EXPORT_MAX_DEPTH);
         return false;
     }
@@ -615,12 +659,61 @@ static bool check_node(const exporter *e, const csg_object *o, int depth)
     return true;
 }
 
+static bool write_object(const exporter *e, const csg_object *o, const csg_texture *texture,
+                         int depth);
+
+/* Does the tree of o reach deeper than `levels` below it? */
+static bool deeper_than(const csg_object *o, int levels)
+{
+    if (csg_object_is_leaf(o->kind) || o->child_count <= 0 || !o->children)
+        return false;
+    if (levels <= 0)
+        return true;
+    for (int i = 0; i < o->child_count; i++)
+        if (deeper_than(o->children[i], levels - 1))
+            return true;
+    return false;
+}
+
+/* The statement of o (at `depth` of e's) written into memory first, the
+ * declarations its deep nodes need going to e->top meanwhile; then, with
+ * `name` NULL, the statement itself to e->top (a top-level object), else
+ * `#declare NAME = ` it and `object { NAME }` in its place. */
+static bool write_buffered(const exporter *e, const csg_object *o, const csg_texture *texture,
+                           int depth, bool declare)
+{
+    char *text = NULL;
+    size_t size = 0;
+    FILE *mem = open_memstream(&text, &size);
+    if (!mem) {
+        csg_error(e->d, o->loc, "export: out of memory");
+        return false;
+    }
+    exporter sub = *e;
+    sub.out = mem;
+    sub.base = e->base + depth;
+    bool ok = write_object(&sub, o, texture, 0);
+    ok = fclose(mem) == 0 && ok;
+    if (ok && declare) {
+        int id = (*e->declared)++;
+        fprintf(e->top, "#declare CSG_Export_%d =\n%s\n", id, text);
+        indent(e->out, depth);
+        fprintf(e->out, "object { CSG_Export_%d }\n", id);
+    } else if (ok) {
+        fputs(text, e->top);
+    }
+    free(text);
+    return ok;
+}
+
 /* `texture`: the inherited texture (NULL: none, POV-Ray's default). */
 static bool write_object(const exporter *e, const csg_object *o, const csg_texture *texture,
                          int depth)
 {
     if (!check_node(e, o, depth))
         return false;
+    if (depth == EXPORT_HOIST_DEPTH && !csg_object_is_leaf(o->kind))
+        return write_buffered(e, o, texture, depth, true);
     FILE *out = e->out;
     if (o->texture >= 0)
         texture = &e->s->textures[o->texture];
@@ -667,7 +760,8 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
 
 bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
 {
-    exporter e = {s, out, flat, d};
+    int declared = 0;
+    exporter e = {s, out, out, &declared, 0, flat, d};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the
@@ -683,7 +777,9 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
     write_camera(&e);
     write_background_and_lights(&e);
     for (int i = 0; i < s->object_count; i++) {
-        if (!write_object(&e, s->objects[i], NULL, 0))
+        const csg_object *o = s->objects[i];
+        bool deep = deeper_than(o, EXPORT_HOIST_DEPTH); /* (else streamed: a mesh may be big) */
+        if (!(deep ? write_buffered(&e, o, NULL, 0, false) : write_object(&e, o, NULL, 0)))
             goto fail;
         fputc('\n', out);
     }

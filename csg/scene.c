@@ -8,6 +8,7 @@
 
 #include "device/flat.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,7 +56,8 @@ int csg_noise_of(const csg_scene *s, const csg_pigment *pig)
 
 int csg_version_int(double v)
 {
-    return (int)(v * 100 + 0.5);
+    double x = v * 100 + 0.5; /* (any #version reads: clamped into int first) */
+    return x >= (double)INT_MAX ? INT_MAX : x > (double)INT_MIN ? (int)x : INT_MIN;
 }
 
 bool csg_version_v37(const csg_scene *s)

@@ -2,8 +2,10 @@
  * test_export.c — csg_export_pov on a scene tree built by hand: the CSG
  * structure, transforms as POV-Ray matrices (transposed, leaves only),
  * texture inheritance, open / inverse / no_shadow, the camera, and the
- * flat version used by the POV-Ray cross-check.
+ * flat version used by the POV-Ray cross-check; and that whatever the
+ * parser accepts exports to SDL it accepts again, the same scene (#39).
  */
+#include <glob.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +17,7 @@
 
 #include "../csg/camera_setup.h"
 #include "../csg/export_pov.h"
+#include "../csg/load.h"
 #include "../csg/scene.h"
 
 /* ---- a small scene ------------------------------------------------------------- */
@@ -284,6 +287,108 @@ static void test_bad_texture_index(void **state)
     csg_scene_free(&s);
 }
 
+/* ---- export always re-parses (#39) ------------------------------------------------ */
+
+/* The export of a parsed scene parses again, and the scene it reads
+ * exports to the same text (but the first line, which names the file):
+ * nothing was lost or changed. */
+static void assert_reparses(const char *name, csg_scene *s)
+{
+    csg_diag d = {0};
+    char *first = export_text(s, false, &d);
+    csg_scene_free(s);
+    if (!first)
+        fail_msg("%s: export: %s", name, d.message);
+    csg_scene again;
+    memset(&d, 0, sizeof d);
+    if (!csg_load_string("exported.pov", first, strlen(first), NULL, &again, &d))
+        fail_msg("%s: the export does not parse: %s", name, d.message);
+    char *second = export_text(&again, false, &d);
+    csg_scene_free(&again);
+    if (!second)
+        fail_msg("%s: second export: %s", name, d.message);
+    const char *a = strchr(first, '\n'), *b = strchr(second, '\n');
+    if (!a || !b || strcmp(a, b) != 0)
+        fail_msg("%s: the re-parsed scene exports otherwise", name);
+    free(first);
+    free(second);
+}
+
+static void reparse_text(const char *name, const char *text)
+{
+    csg_scene s;
+    csg_diag d = {0};
+    if (!csg_load_string("t.pov", text, strlen(text), NULL, &s, &d))
+        fail_msg("%s: %s", name, d.message);
+    assert_reparses(name, &s);
+}
+
+/* CSG as deep as the parser takes it, with the leaves' textures inherited
+ * or default (the export writes them on the leaves: more braces), and
+ * with a declared texture at the top. */
+static void test_reparse_deep(void **state)
+{
+    (void)state;
+    static const char *const heads[] = {"", "union { ", "merge { "};
+    static const char *const tails[] = {"", "pigment { rgb 1 } }", "texture { T } }"};
+    for (int k = 0; k < 3; k++) {
+        size_t size = 64 * 1024, used = 0;
+        char *text = malloc(size);
+        assert_non_null(text);
+        int depth = k == 0 ? 127 : 126;
+        used += (size_t)snprintf(text, size,
+                                 "#declare T = texture { pigment { checker rgb 1 rgb 0 } }\n%s",
+                                 heads[k]);
+        for (int i = 0; i < depth; i++)
+            used += (size_t)snprintf(text + used, size - used, "difference { ");
+        used += (size_t)snprintf(text + used, size - used, "sphere { 0, 1 } ");
+        for (int i = 0; i < depth; i++)
+            used += (size_t)snprintf(text + used, size - used, "sphere { 0, 0.5 } } ");
+        snprintf(text + used, size - used, "%s\n", tails[k]);
+        reparse_text(heads[k][0] ? heads[k] : "127 nested differences", text);
+        free(text);
+    }
+}
+
+/* Transforms whose matrix the parser would call singular (the
+ * determinant underflows) though each step was accepted. */
+static void test_reparse_tiny_scales(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {
+        "sphere { 0, 1 pigment { checker scale 1e-300 } }",
+        "sphere { 0, 1 pigment { bozo scale <1e-300, 1, 1> rotate <10, 20, 30> } }",
+        "sphere { 0, 1 pigment { agate scale 1e-200 translate 3 } }",
+        "sphere { 0, 1 pigment { checker scale 4.9e-324 } }",
+        "sphere { 0, 1 normal { bumps 0.5 scale 1e-300 } }",
+    };
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++)
+        reparse_text(scenes[i], scenes[i]);
+}
+
+/* Every example scene and every scene of the suites. */
+static void test_reparse_examples(void **state)
+{
+    (void)state;
+    static const char *const patterns[] = {"scenes/*.pov", "tests/povray/*.pov",
+                                           "tests/nff/*.nff"};
+    size_t seen = 0;
+    for (size_t p = 0; p < sizeof patterns / sizeof patterns[0]; p++) {
+        glob_t g;
+        if (glob(patterns[p], 0, NULL, &g) != 0)
+            continue;
+        for (size_t i = 0; i < g.gl_pathc; i++, seen++) {
+            csg_scene s;
+            csg_diag d = {0};
+            if (!csg_load_file(g.gl_pathv[i], NULL, &s, &d))
+                fail_msg("%s: %s", g.gl_pathv[i], d.message);
+            assert_reparses(g.gl_pathv[i], &s);
+        }
+        globfree(&g);
+    }
+    assert_true(seen >= 9); /* (run from the checkout's root) */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -293,6 +398,9 @@ int main(void)
         cmocka_unit_test(test_flat),
         cmocka_unit_test(test_numbers_round_trip),
         cmocka_unit_test(test_bad_texture_index),
+        cmocka_unit_test(test_reparse_deep),
+        cmocka_unit_test(test_reparse_tiny_scales),
+        cmocka_unit_test(test_reparse_examples),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

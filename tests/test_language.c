@@ -791,6 +791,50 @@ static void test_reliability(void **state)
     rmdir(dir);
 }
 
+/* Every value is finite and every conversion to int in range (#39): val()
+ * of a text strtod reads as NaN or infinity is an error at the function,
+ * as is any function's result that is not finite; dimension_size of a
+ * dimension far outside int is 0 (UBSan: no cast out of range). */
+static void test_numbers_finite(void **state)
+{
+    (void)state;
+    parse_err("#declare A = val(\"nan\");",
+              "t.pov:1:14: error: val(\"nan\"): not a finite number");
+    parse_err("#declare A = 1 + val(\"inf\");",
+              "t.pov:1:18: error: val(\"inf\"): not a finite number");
+    parse_err("sphere { 0, val(\"-infinity\") }",
+              "t.pov:1:13: error: val(\"-infinity\"): not a finite number");
+    parse_err("light_source { <val(\"NaN\"), 1, 1>, 1 }",
+              "t.pov:1:17: error: val(\"NaN\"): not a finite number");
+    parse_err("#declare A = val(\"1e999\");",
+              "t.pov:1:14: error: val(\"1e999\"): not a finite number");
+    parse_err("#declare V = vcross(<1e200, 0, 0>, <0, 1e200, 0>);",
+              "t.pov:1:14: error: arithmetic overflow: the result is not a finite number");
+    parse_err("#declare V = vlength(<1e200, 1e200, 0>);",
+              "t.pov:1:14: error: arithmetic overflow: the result is not a finite number");
+    csg_scene s;
+    parse_ok("#declare A = val(\"2.5\");\nsphere { 0, A }", &s);
+    assert_near(s.objects[0]->r0, 2.5);
+    csg_scene_free(&s);
+    /* any #version reads; its int form is clamped (the fuzzer's
+     * #version -5555555555 converted out of range) */
+    static const char *const versions[] = {"-5555555555", "1e300", "-1e300", "21474836.47"};
+    for (size_t i = 0; i < sizeof versions / sizeof versions[0]; i++) {
+        char text[128];
+        snprintf(text, sizeof text, "#version %s;\nsphere { 0, 1 }", versions[i]);
+        parse_ok(text, &s);
+        assert_true(csg_version_v37(&s) == (versions[i][0] != '-'));
+        csg_scene_free(&s);
+    }
+    parse_ok("#declare A = array[3][2];\n"
+             "#if (dimension_size(A, 1e30) != 0 | dimension_size(A, -2147483648) != 0 |\n"
+             "     dimension_size(A, -1e300) != 0 | dimension_size(A, 2147483648) != 0 |\n"
+             "     dimension_size(A, 2) != 2 | dimension_size(A, 1.5) != 3)\n"
+             "  #error \"dimension_size\"\n#end\nsphere { 0, 1 }",
+             &s);
+    csg_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -811,6 +855,7 @@ int main(void)
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_reliability),
+        cmocka_unit_test(test_numbers_finite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

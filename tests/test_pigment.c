@@ -285,6 +285,37 @@ static void test_export_round_trip(void **state)
     }
 }
 
+/* Far from the origin (#39): crackle's cubes and the noise's cells are
+ * ints; a point beyond the int range, or at its edge where a neighbour's
+ * cell is past it, converts and adds in range (UBSan: float-cast-overflow,
+ * signed overflow) and the value stays in [0, 1]. */
+static void test_far_from_origin(void **state)
+{
+    (void)state;
+    static const double far[][3] = {
+        {2147483646.5, 0.3, 0.6}, {-2147483647.5, -2147483647.5, 0.2}, {1e30, -1e30, 3},
+        {0.3, 1e300, -1e300},     {2147483647.0, 2147483647.0, 2147483647.0},
+    };
+    static const char *const pigs[] = {"crackle", "crackle solid", "crackle metric 3",
+                                       "crackle solid noise_generator 3", "bozo noise_generator 3",
+                                       "bozo noise_generator 1"};
+    for (size_t i = 0; i < sizeof pigs / sizeof pigs[0]; i++) {
+        csg_blob b = load_pigment(pigs[i]);
+        for (size_t k = 0; k < sizeof far / sizeof far[0]; k++) {
+            double v = value_at(&b, far[k]);
+            if (!(v >= 0.0 && v <= 1.0))
+                fail_msg("pigment { %s } at <%g, %g, %g>: %g", pigs[i], far[k][0], far[k][1],
+                         far[k][2], v);
+        }
+        free(b.bytes);
+    }
+    for (int gen = 1; gen <= 3; gen++)
+        for (size_t k = 0; k < sizeof far / sizeof far[0]; k++) {
+            double v = noise_value(far[k], gen);
+            assert_true(v >= 0.0 && v <= 1.0);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -292,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_noise_properties),
         cmocka_unit_test(test_pigment_map_limit),
         cmocka_unit_test(test_export_round_trip),
+        cmocka_unit_test(test_far_from_origin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

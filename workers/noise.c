@@ -201,7 +201,7 @@ static double scurve(double t)
 static int lattice(double c, double *frac)
 {
     double lim = 2147483000.0;
-    c = c > lim ? lim : c < -lim ? -lim : c;
+    c = c > lim ? lim : c >= -lim ? c : -lim; /* (NaN: -lim) */
     int cell = c >= 0 ? (int)c : (int)(c - (1 - NOISE_EPSILON));
     *frac = c - cell;
     return (int)((unsigned)((long long)cell - NOISE_MIN_CELL) & 0xFFFu);
@@ -246,7 +246,8 @@ static double solid_noise(const noise_tables *tb, const double p[3])
     int b0[3], b1[3];
     double r0[3], r1[3], s[3];
     for (int k = 0; k < 3; k++) {
-        double t = p[k] + SOLID_ROLLOVER;
+        double t = p[k] + SOLID_ROLLOVER, lim = 2147483000.0;
+        t = t > lim ? lim : t >= -lim ? t : -lim; /* (the int range: see lattice) */
         int it = (int)floor(t);
         b0[k] = it & (SOLID_ENTRIES - 1);
         b1[k] = (b0[k] + 1) & (SOLID_ENTRIES - 1);

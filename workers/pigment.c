@@ -389,6 +389,18 @@ static int crackle_cubes(int cubes[81][3])
     return n;
 }
 
+/* POV-Ray's cube of coordinate c, (int)floor(c - EPSILON), with c clamped
+ * first (NaN to the low end) so that the conversion and the neighbours'
+ * cells (+-2) stay inside int: far from the origin C leaves both
+ * undefined. */
+static int crackle_cell(double c)
+{
+    const double lim = 2147483000.0;
+    c -= PATTERN_EPSILON;
+    c = c > lim ? lim : c >= -lim ? c : -lim;
+    return (int)floor(c);
+}
+
 /* The three smallest of the distances s[0..n), in POV-Ray's order of
  * comparisons (which settles ties), into s[0..2]; the index of the
  * smallest. */
@@ -422,8 +434,7 @@ static double pattern_crackle(const csg_material *m, const double q[3], double b
 {
     (void)bias;
     int cubes[81][3], n = crackle_cubes(cubes);
-    int fx = (int)floor(q[0] - PATTERN_EPSILON), fy = (int)floor(q[1] - PATTERN_EPSILON);
-    int fz = (int)floor(q[2] - PATTERN_EPSILON);
+    int fx = crackle_cell(q[0]), fy = crackle_cell(q[1]), fz = crackle_cell(q[2]);
     double metric = (double)m->crackle_metric, s[81], pts[81][3];
     for (int i = 0; i < n; i++) {
         noise_cube_point(fx + cubes[i][0], fy + cubes[i][1], fz + cubes[i][2], pts[i]);

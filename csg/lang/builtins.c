@@ -383,7 +383,7 @@ static bool parse_vector_function(parser *p, enum csg_kw kw, value *out)
 
 static bool parse_string_function(parser *p, enum csg_kw kw, value *out)
 {
-    csg_loc open;
+    csg_loc at = lang_tok(p)->loc, open;
     char *a = NULL, *b = NULL;
     bool ok = open_args(p, &open) && lang_parse_string(p, &a);
     if (ok && kw == CSG_KW_STRCMP)
@@ -395,6 +395,10 @@ static bool parse_string_function(parser *p, enum csg_kw kw, value *out)
                  : kw == CSG_KW_ASC    ? (double)(unsigned char)a[0]
                                          : atof(a); /* CSG_KW_VAL */
         *out = fval(r);
+        if (!isfinite(r)) { /* (strtod reads nan, inf and 1e999 too) */
+            csg_error(p->d, at, "val(\"%.40s\"): not a finite number", a);
+            ok = false;
+        }
     }
     free(a);
     free(b);
@@ -427,14 +431,13 @@ static bool parse_name_function(parser *p, enum csg_kw kw, value *out)
         return false;
     if (kw == CSG_KW_DIMENSION_SIZE && (!skip_comma(p) || !lang_parse_float(p, &n, NULL)))
         return false;
-    int i = (int)n - 1;
-    *out = fval(kw == CSG_KW_DIMENSIONS ? dims : (n >= 1 && i < dims) ? size[i] : 0);
+    int i = n >= 1 && n < dims + 1 ? (int)n - 1 : -1; /* (range first: then the cast) */
+    *out = fval(kw == CSG_KW_DIMENSIONS ? dims : i >= 0 ? size[i] : 0);
     return close_args(p, open);
 }
 
-bool lang_parse_builtin(parser *p, value *out)
+static bool parse_any_builtin(parser *p, enum csg_kw kw, value *out)
 {
-    enum csg_kw kw = lang_tok(p)->kw;
     const builtin *b = find_builtin(kw);
     if (b)
         return parse_float_function(p, b, out);
@@ -446,6 +449,16 @@ bool lang_parse_builtin(parser *p, value *out)
     default:
         return parse_vector_function(p, kw, out);
     }
+}
+
+/* Every function's result obeys the language's rule for values: not
+ * finite is an error (val("nan"), val("inf"), val("1e999"), vcross of
+ * huge vectors), at the function's name. */
+bool lang_parse_builtin(parser *p, value *out)
+{
+    const csg_token *t = lang_tok(p);
+    csg_loc at = t->loc;
+    return parse_any_builtin(p, t->kw, out) && lang_check_finite(p, out, at);
 }
 
 void lang_rand_free(parser *p)
