@@ -711,8 +711,17 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
     }
     if (!e->flat && o->interior >= 0) {
         indent(out, depth + 1);
+        const csg_interior *in = &e->s->interiors[o->interior];
         fputs("interior { ior ", out);
-        put_num(out, e->s->interiors[o->interior].ior);
+        put_num(out, in->ior);
+        if (in->fade_distance != 0 || in->fade_power != 0) {
+            fputs(" fade_distance ", out);
+            put_num(out, in->fade_distance);
+            fputs(" fade_power ", out);
+            put_num(out, in->fade_power);
+            fputs(" fade_color rgb ", out);
+            put_vec(out, in->fade_color, 3);
+        }
         fputs(" }\n", out);
     }
     if (o->inverse) {

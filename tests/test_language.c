@@ -153,8 +153,15 @@ static void test_fog_and_lights(void **state)
               "t.pov:1:21: error: unsupported: 'media_attenuation on' is not in csgtrace's language (see scenes/LANGUAGE.md)");
     parse_ok("light_source { 0, 1 media_attenuation off media_interaction }", &s);
     csg_scene_free(&s);
-    parse_err("sphere { 0, 1 interior { fade_distance 2 } }",
-              "t.pov:1:26: error: unsupported: 'fade_distance' is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_ok("sphere { 0, 1 interior { ior 1.5 fade_distance 2 fade_power 1001 "
+             "fade_colour rgb <0.5, 0.25, 1> } }",
+             &s);
+    const csg_interior *in = &s.interiors[s.objects[0]->interior];
+    assert_near(in->ior, 1.5);
+    assert_near(in->fade_distance, 2);
+    assert_near(in->fade_power, 1001);
+    assert_near(in->fade_color[1], 0.25);
+    csg_scene_free(&s);
 }
 
 /* ---- conditionals -------------------------------------------------------------- */

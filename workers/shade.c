@@ -145,23 +145,6 @@ static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
 
 static vec3 grey3(real v) { return v3(v, v, v); }
 
-/* POV-Ray's distance attenuation inside an interior (fade_distance,
- * fade_power, fade_color) over `depth`: exponential from a fade_power of
- * 1000 on, else 1 / (1 + (depth / fade_distance)^fade_power) towards the
- * fade colour. */
-static vec3 fade(const csg_material *m, real depth)
-{
-    vec3 fc = v3_load(m->fade_color);
-    double d = (double)depth / (double)m->fade_distance;
-    if (m->fade_power >= R(1000.0))
-        return v3((real)exp(-(1.0 - (double)fc.x) * d), (real)exp(-(1.0 - (double)fc.y) * d),
-                  (real)exp(-(1.0 - (double)fc.z) * d));
-    double att = 1.0 + pow(d, (double)m->fade_power);
-    return v3((real)((double)fc.x + (1.0 - (double)fc.x) / att),
-              (real)((double)fc.y + (1.0 - (double)fc.y) / att),
-              (real)((double)fc.z + (1.0 - (double)fc.z) / att));
-}
-
 #define FOG_BOUND_HUGE 2.0e10 /* POV-Ray's BOUND_HUGE: a ray that hits nothing */
 
 /* POV-Ray's ComputeConstantFogColour and ComputeGroundFogColour: the
@@ -255,6 +238,45 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
     return pass;
 }
 
+/* POV-Ray's distance attenuation inside an interior (fade_distance,
+ * fade_power, fade_color) over `depth`: exponential from a fade_power of
+ * 1000 on, else 1 / (1 + (depth / fade_distance)^fade_power) towards the
+ * fade colour. */
+static vec3 fade(const csg_material *m, real depth)
+{
+    vec3 fc = v3_load(m->fade_color);
+    double d = (double)depth / (double)m->fade_distance;
+    if (m->fade_power >= R(1000.0))
+        return v3((real)exp(-(1.0 - (double)fc.x) * d), (real)exp(-(1.0 - (double)fc.y) * d),
+                  (real)exp(-(1.0 - (double)fc.z) * d));
+    double att = 1.0 + pow(d, (double)m->fade_power);
+    return v3((real)((double)fc.x + (1.0 - (double)fc.x) / att),
+              (real)((double)fc.y + (1.0 - (double)fc.y) / att),
+              (real)((double)fc.z + (1.0 - (double)fc.z) / att));
+}
+
+/* Whether interior fading applies to light through m (POV-Ray's
+ * ComputeShadowTexture: fade_power > 0 as well as a fade_distance). */
+static bool fades_shadow(const csg_material *m)
+{
+    return m->fade_power > R(0.0) && r_fabs(m->fade_distance) > R(1e-10);
+}
+
+/* A shadow ray leaving a solid through surface s (NONE: it does not leave
+ * it before the light) after `depth` inside: *pass faded by its interior;
+ * false once nothing passes. */
+static bool shadow_fade(const shade_ctx *c, csg_u32 s, real depth, vec3 *pass)
+{
+    if (s == CSG_SURF_NONE)
+        return true;
+    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(s)];
+    const csg_material *m = &c->mats[prim->material];
+    if ((prim->flags & CSG_PF_NO_SHADOW) || !fades_shadow(m))
+        return true;
+    *pass = v3_mul(*pass, fade(m, depth));
+    return max3(*pass) > R(0.0);
+}
+
 /* Multiplies *pass by what surface s, met at ts along r, lets through on
  * the way to the light `dist` away (its pigment there); false once nothing
  * passes. */
@@ -307,7 +329,8 @@ static bool leaf_transmittance(const shade_ctx *c, csg_i32 leaf, csg_ray r, real
     if (!(start < end))
         return true;
     return surface_transmittance(c, r, e0, start, dist, pass) &&
-           surface_transmittance(c, r, e1, end, dist, pass);
+           surface_transmittance(c, r, e1, end, dist, pass) &&
+           shadow_fade(c, e1, end - start, pass);
 }
 
 /* Multiplies *pass by what root i lets through between the shading point
@@ -338,7 +361,9 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
     for (csg_i32 k = 0; k < spans.n; k++)
         if (!surface_transmittance(c, r, spans.s0[k], spans.t0[k], dist, pass) ||
-            !surface_transmittance(c, r, spans.s1[k], spans.t1[k], dist, pass))
+            !surface_transmittance(c, r, spans.s1[k], spans.t1[k], dist, pass) ||
+            (spans.t1[k] > R(0.0) && spans.t1[k] < dist &&
+             !shadow_fade(c, spans.s1[k], spans.t1[k] - r_fmax(spans.t0[k], R(0.0)), pass)))
             return false;
     for (csg_i32 k = 0; k < spans.ne; k++)
         if (!surface_transmittance(c, r, spans.se[k], spans.te[k], dist, pass))
@@ -880,8 +905,9 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         real eta = hi->entering ? R(1.0) / m->ior : m->ior;
         real cosi = -v3_dot(hi->r.d, top_normal);
         real k = R(1.0) - eta * eta * (R(1.0) - cosi * cosi);
-        if (k < R(0.0)) {
-            refl_w = v3_add(refl_w, trans_w); /* total internal reflection */
+        bool fading = !hi->entering && r_fabs(m->fade_distance) > R(1e-10);
+        if (k < R(0.0)) { /* total internal reflection (faded, as POV-Ray) */
+            refl_w = v3_add(refl_w, fading ? v3_mul(trans_w, fade(m, hi->depth)) : trans_w);
         } else {
             real tw = weight * max3(trans_w);
             if (tw >= c->bailout && ray_spend(tally)) {
@@ -895,8 +921,7 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                 int solid = hi->entering ? hi->solid + hi->prim_solid
                                          : hi->solid - (hi->solid > 0 ? hi->prim_solid : 0);
                 vec3 seen = trace_ray(c, t, hi->level + 1, tw, solid, tally);
-                if (!hi->entering && m->fade_power > R(0.0) &&
-                    r_fabs(m->fade_distance) > R(1e-10))
+                if (fading) /* the light crossed the inside: POV-Ray's attCol */
                     seen = v3_mul(seen, fade(m, hi->depth));
                 color = v3_add(color, v3_mul(trans_w, seen));
             }

@@ -1174,12 +1174,6 @@ bool lang_parse_interior(parser *p, csg_interior *in)
         if (lang_is_punct(p, '}'))
             return lang_next(p);
         csg_loc at;
-        if (lang_is_kw(p, CSG_KW_FADE_COLOR) || lang_is_kw(p, CSG_KW_FADE_DISTANCE) ||
-            lang_is_kw(p, CSG_KW_FADE_POWER)) /* the shadow rays' fade is not done yet */
-            return lang_unsupported(p, lang_is_kw(p, CSG_KW_FADE_COLOR) ? "'fade_color'"
-                                       : lang_is_kw(p, CSG_KW_FADE_DISTANCE) ? "'fade_distance'"
-                                                                             : "'fade_power'",
-                                    lang_tok(p)->loc);
         if (lang_is_kw(p, CSG_KW_FADE_COLOR)) {
             if (!lang_next(p) || !lang_parse_rgb(p, in->fade_color))
                 return false;
