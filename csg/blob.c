@@ -255,6 +255,18 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         (sh->output == CSG_OUTPUT_POWER &&
          (!(sh->output_gamma > R(0.0)) || sh->output_gamma == CSG_R_INF)))
         return false;
+    if (sh->fog_count < 0 || sh->fog_count > CSG_FLAT_FOGS || sh->camera_solid < 0)
+        return false;
+    for (int32_t i = 0; i < sh->fog_count; i++)
+        if ((sh->fogs[i].kind != 1 && sh->fogs[i].kind != 2) || sh->fogs[i].noise_gen < 1 ||
+            sh->fogs[i].noise_gen > 3 || sh->fogs[i].octaves < 1 || sh->fogs[i].octaves > 10)
+            return false;
+    const csg_flat_light *lights = blob_at(bytes, h->off_lights);
+    for (int32_t i = 0; i < h->light_count; i++)
+        if (lights[i].kind < 0 || lights[i].kind > 2 ||
+            (lights[i].area && (lights[i].size1 < 1 || lights[i].size2 < 1 ||
+                                lights[i].size1 > 65536 / lights[i].size2)))
+            return false;
     if (sh->max_rays < 1 || h->sky_count < 0 || (h->sky_count > 0 && (sh->sky_first < 0 ||
                                                    sh->sky_first > h->material_count - h->sky_count)))
         return false;

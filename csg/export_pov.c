@@ -162,6 +162,73 @@ static void write_sky(const exporter *e)
     fputs("}\n\n", out);
 }
 
+/* A light with its kind's items (every transform already applied; a
+ * spotlight's radius and falloff are kept as cosines). */
+static void write_light(FILE *out, const csg_light *l)
+{
+    static const char *const kinds[] = {"", " spotlight", " cylinder"};
+    fputs("light_source { ", out);
+    put_dvec(out, l->position);
+    fputs(" color rgb ", out);
+    put_vec(out, l->color, 3);
+    fputs(kinds[l->kind], out);
+    if (l->parallel)
+        fputs(" parallel", out);
+    if (l->kind != CSG_LIGHT_POINT || l->parallel) {
+        fputs(" point_at ", out);
+        put_dvec(out, l->point_at);
+    }
+    if (l->kind != CSG_LIGHT_POINT) {
+        bool spot = l->kind == CSG_LIGHT_SPOT;
+        fputs(" radius ", out);
+        put_num(out, spot ? acos(l->radius) * 180 / M_PI : l->radius);
+        fputs(" falloff ", out);
+        put_num(out, spot ? acos(l->falloff) * 180 / M_PI : l->falloff);
+        fputs(" tightness ", out);
+        put_num(out, l->tightness);
+    }
+    if (l->fade_distance != 0 || l->fade_power != 0) {
+        fputs(" fade_distance ", out);
+        put_num(out, l->fade_distance);
+        fputs(" fade_power ", out);
+        put_num(out, l->fade_power);
+    }
+    if (l->area) {
+        fputs(" area_light ", out);
+        put_dvec(out, l->axis1);
+        fputs(", ", out);
+        put_dvec(out, l->axis2);
+        fprintf(out, ", %d, %d adaptive %d%s%s", l->size1, l->size2, l->adaptive,
+                l->circular ? " circular" : "", l->orient ? " orient" : "");
+    }
+    fputs(l->shadowless ? " shadowless }\n" : " }\n", out);
+}
+
+static void write_fog(FILE *out, const csg_fog *f)
+{
+    fprintf(out, "fog { fog_type %d distance ", f->kind);
+    put_num(out, f->distance);
+    fputs(" color rgbft ", out);
+    put_vec(out, f->rgbft, 5);
+    if (f->turb.on) {
+        fputs(" turbulence ", out);
+        put_dvec(out, f->turb.amount);
+        fprintf(out, " octaves %d omega ", f->turb.octaves);
+        put_num(out, f->turb.omega);
+        fputs(" lambda ", out);
+        put_num(out, f->turb.lambda);
+    }
+    fputs(" turb_depth ", out);
+    put_num(out, f->turb_depth);
+    fputs(" fog_offset ", out);
+    put_num(out, f->offset);
+    fputs(" fog_alt ", out);
+    put_num(out, f->alt);
+    fputs(" up ", out);
+    put_dvec(out, f->up);
+    fputs(" }\n", out);
+}
+
 static void write_background_and_lights(const exporter *e)
 {
     FILE *out = e->out;
@@ -174,16 +241,13 @@ static void write_background_and_lights(const exporter *e)
     }
     fputs(" }\n\n", out);
     write_sky(e);
-    for (int i = 0; i < e->s->light_count; i++) {
-        const csg_light *l = &e->s->lights[i];
-        fputs("light_source { ", out);
-        put_dvec(out, l->position);
-        fputs(" color rgb ", out);
-        put_vec(out, l->color, 3);
-        fputs(l->shadowless ? " shadowless }\n" : " }\n", out);
-    }
+    for (int i = 0; i < e->s->light_count; i++)
+        write_light(out, &e->s->lights[i]);
     if (e->s->light_count)
         fputc('\n', out);
+    if (!e->flat)
+        for (int i = 0; i < e->s->fog_count; i++)
+            write_fog(out, &e->s->fogs[i]);
 }
 
 /* ---- objects ------------------------------------------------------------------- */
@@ -739,8 +803,17 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
     }
     if (!e->flat && o->interior >= 0) {
         indent(out, depth + 1);
+        const csg_interior *in = &e->s->interiors[o->interior];
         fputs("interior { ior ", out);
-        put_num(out, e->s->interiors[o->interior].ior);
+        put_num(out, in->ior);
+        if (in->fade_distance != 0 || in->fade_power != 0) {
+            fputs(" fade_distance ", out);
+            put_num(out, in->fade_distance);
+            fputs(" fade_power ", out);
+            put_num(out, in->fade_power);
+            fputs(" fade_color rgb ", out);
+            put_vec(out, in->fade_color, 3);
+        }
         fputs(" }\n", out);
     }
     if (o->inverse) {
@@ -750,6 +823,10 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
     if (o->no_shadow) {
         indent(out, depth + 1);
         fputs("no_shadow\n", out);
+    }
+    if (!e->flat && o->hollow) {
+        indent(out, depth + 1);
+        fputs(o->hollow == 1 ? "hollow\n" : "hollow off\n", out);
     }
     indent(out, depth);
     fputs("}\n", out);

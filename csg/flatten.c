@@ -74,7 +74,7 @@ typedef struct {
 typedef struct {
     int parent;             /* the material of its top layer              */
     const csg_texture *t;   /* the texture (the scene's arena: stable)    */
-    double ior;
+    csg_interior in;        /* the object's interior                      */
 } pending_texture;
 
 /* Growable arrays of the output, and what the walk inherits. */
@@ -116,6 +116,7 @@ typedef struct {
     int texture;  /* -1: none yet (the default texture) */
     int interior; /* -1: none yet (ior 1)               */
     bool no_shadow;
+    int hollow;   /* 0 not said, 1 hollow, 2 not (csg_object.hollow) */
 } inherited;
 
 static bool grow(void **arr, int *cap, int need, size_t elem)
@@ -487,8 +488,14 @@ static void add_sky(flat_builder *fb)
  * texture_map's pattern, whose map values are its entries'), the ior; its
  * normal, the layers under it and the map's entries are queued
  * (add_texture_parts) when it has any. */
-static bool material_layer(flat_builder *fb, const csg_texture *tex, double ior, csg_material *m)
+static bool material_layer(flat_builder *fb, const csg_texture *tex, const csg_interior *in,
+                           csg_material *m)
 {
+    double ior = in->ior;
+    m->fade_distance = (real)in->fade_distance;
+    m->fade_power = (real)in->fade_power;
+    for (int i = 0; i < 3; i++)
+        m->fade_color[i] = (real)in->fade_color[i];
     for (int i = 0; i < 3; i++) {
         m->ambient[i] = (real)tex->finish.ambient[i];
         m->reflection[i] = (real)tex->finish.reflection[i];
@@ -533,7 +540,7 @@ static bool material_layer(flat_builder *fb, const csg_texture *tex, double ior,
         pending_texture *pt = &fb->tparts[fb->tpart_count++];
         pt->parent = (int)(m - fb->mats);
         pt->t = tex;
-        pt->ior = ior;
+        pt->in = *in;
     }
     return true;
 }
@@ -558,11 +565,13 @@ static int material_for(flat_builder *fb, inherited inh)
         csg_texture_default(&plain);
         tex = &plain;
     }
-    double ior = inh.interior >= 0 ? fb->scene->interiors[inh.interior].ior : 1.0;
+    csg_interior in = {1.0, 0, 0, {0, 0, 0}};
+    if (inh.interior >= 0)
+        in = fb->scene->interiors[inh.interior];
     csg_material *m = &fb->mats[fb->mat_count];
     memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
                                 byte: the blob is hashed (host/output/journal.c) */
-    if (!material_layer(fb, tex, ior, m))
+    if (!material_layer(fb, tex, &in, m))
         return 0;
     fb->mat_keys[fb->mat_count] = key;
     fb->mat_slots[slot] = fb->mat_count + 1;
@@ -630,7 +639,7 @@ static bool add_texture_parts(flat_builder *fb)
         }
         if (pt.t->under && pt.t->tmap_count == 0) {
             csg_material *m = material_append(fb);
-            if (!m || !material_layer(fb, pt.t->under, pt.ior, m))
+            if (!m || !material_layer(fb, pt.t->under, &pt.in, m))
                 return true;
             fb->mats[pt.parent].under = fb->mat_count;
         }
@@ -641,7 +650,7 @@ static bool add_texture_parts(flat_builder *fb)
                     return true;
             fb->mats[pt.parent].sub_first = first;
             for (int k = 0; k < pt.t->tmap_count; k++)
-                if (!material_layer(fb, &pt.t->tmap[k].texture, pt.ior, &fb->mats[first + k]))
+                if (!material_layer(fb, &pt.t->tmap[k].texture, &pt.in, &fb->mats[first + k]))
                     return true;
         }
     }
@@ -934,7 +943,7 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
     p->material = material_for(fb, inh);
     p->root = root;
     p->flags |= (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
-                (o->open ? CSG_PF_OPEN : 0);
+                (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0);
     if (invert)
         *box = box_infinite();
     return fb->prim_count++;
@@ -951,6 +960,8 @@ static inherited inherit(inherited inh, const csg_object *o)
     if (o->interior >= 0)
         inh.interior = o->interior;
     inh.no_shadow = inh.no_shadow || o->no_shadow;
+    if (o->hollow)
+        inh.hollow = o->hollow;
     return inh;
 }
 
@@ -1397,6 +1408,80 @@ static void copy_array(unsigned char *b, uint64_t off, const void *src, int coun
         memcpy(b + off, src, (size_t)count * elem);
 }
 
+/* Whether world point w is inside object o (POV-Ray's Inside: surfaces
+ * have no inside; depth bounds the walk, as the parser bounds the tree). */
+_Static_assert(CSG_FOG_MAX == CSG_FLAT_FOGS, "the fogs of a scene and of a blob");
+_Static_assert(offsetof(csg_shading, fog_count) == 4 * sizeof(csg_i32),
+               "csg_blob_fog_count reads it there in both precisions");
+
+static bool object_contains(const csg_object *o, dvec3 w, int depth)
+{
+    if (depth > 200)
+        return false;
+    bool in = false;
+    if (csg_object_is_leaf(o->kind)) {
+        csg_xform inv;
+        if (!csg_xform_invert(&o->xform, &inv))
+            return false;
+        dvec3 p = xf_point(&inv, w);
+        switch (o->kind) {
+        case CSG_OBJ_SPHERE: {
+            dvec3 d = {p.x - o->a.x, p.y - o->a.y, p.z - o->a.z};
+            in = d.x * d.x + d.y * d.y + d.z * d.z < o->r0 * o->r0;
+            break;
+        }
+        case CSG_OBJ_BOX:
+            in = p.x > fmin(o->a.x, o->b.x) && p.x < fmax(o->a.x, o->b.x) &&
+                 p.y > fmin(o->a.y, o->b.y) && p.y < fmax(o->a.y, o->b.y) &&
+                 p.z > fmin(o->a.z, o->b.z) && p.z < fmax(o->a.z, o->b.z);
+            break;
+        case CSG_OBJ_CYLINDER: case CSG_OBJ_CONE: {
+            dvec3 ax = {o->b.x - o->a.x, o->b.y - o->a.y, o->b.z - o->a.z};
+            dvec3 d = {p.x - o->a.x, p.y - o->a.y, p.z - o->a.z};
+            double ll = ax.x * ax.x + ax.y * ax.y + ax.z * ax.z;
+            double t = ll > 0 ? (d.x * ax.x + d.y * ax.y + d.z * ax.z) / ll : -1;
+            double r = o->kind == CSG_OBJ_CYLINDER ? o->r0 : o->r0 + t * (o->r1 - o->r0);
+            dvec3 q = {d.x - t * ax.x, d.y - t * ax.y, d.z - t * ax.z};
+            in = t > 0 && t < 1 && q.x * q.x + q.y * q.y + q.z * q.z < r * r;
+            break;
+        }
+        case CSG_OBJ_PLANE:
+            in = o->a.x * p.x + o->a.y * p.y + o->a.z * p.z < o->r0;
+            break;
+        default: /* surfaces */
+            return false;
+        }
+    } else if (o->kind == CSG_OBJ_INTERSECTION) {
+        in = o->child_count > 0;
+        for (int i = 0; i < o->child_count && in; i++)
+            in = object_contains(o->children[i], w, depth + 1);
+    } else if (o->kind == CSG_OBJ_DIFFERENCE) {
+        in = o->child_count > 0 && object_contains(o->children[0], w, depth + 1);
+        for (int i = 1; i < o->child_count && in; i++)
+            in = !object_contains(o->children[i], w, depth + 1);
+    } else { /* union, merge */
+        for (int i = 0; i < o->child_count && !in; i++)
+            in = object_contains(o->children[i], w, depth + 1);
+    }
+    return o->inverse ? !in : in;
+}
+
+/* The objects around the camera that are not hollow (POV-Ray's camera
+ * ray starts inside their interiors: no fog until it leaves them). */
+static int camera_solid(const csg_scene *s)
+{
+    if (s->fog_count == 0)
+        return 0;
+    csg_camera_src cam = s->camera;
+    if (!s->has_camera)
+        csg_camera_default(&cam);
+    int n = 0;
+    for (int i = 0; i < s->object_count; i++)
+        if (s->objects[i]->hollow != 1 && object_contains(s->objects[i], cam.location, 0))
+            n++;
+    return n;
+}
+
 /* Lights, shading values and the camera, from the scene into the blob. */
 static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o,
                                const csg_blob_header *h, unsigned char *b)
@@ -1404,10 +1489,38 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
     const csg_scene *s = fb->scene;
     csg_flat_light *lights = (csg_flat_light *)(b + h->off_lights);
     for (int i = 0; i < s->light_count; i++) {
-        store3(lights[i].position, s->lights[i].position);
+        const csg_light *l = &s->lights[i];
+        csg_flat_light *f = &lights[i];
+        store3(f->position, l->position);
         for (int c = 0; c < 3; c++)
-            lights[i].color[c] = (real)s->lights[i].color[c];
-        lights[i].shadowless = s->lights[i].shadowless;
+            f->color[c] = (real)l->color[c];
+        f->shadowless = l->shadowless;
+        f->kind = l->kind;
+        f->parallel = l->parallel;
+        f->area = l->area;
+        f->size1 = l->size1;
+        f->size2 = l->size2;
+        f->adaptive = l->adaptive;
+        f->jitter = l->jitter;
+        f->circular = l->circular;
+        f->orient = l->orient;
+        f->media_attenuation = l->media_attenuation;
+        /* POV-Ray's Direction: point_at - position, normalised when longer
+         * than EPSILON (else as it is) */
+        dvec3 d = {l->point_at.x - l->position.x, l->point_at.y - l->position.y,
+                   l->point_at.z - l->position.z};
+        double len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+        if (len > 1e-10)
+            d = (dvec3){d.x / len, d.y / len, d.z / len};
+        store3(f->direction, d);
+        store3(f->point_at, l->point_at);
+        f->tightness = (real)l->tightness;
+        f->radius = (real)l->radius;
+        f->falloff = (real)l->falloff;
+        f->fade_distance = (real)l->fade_distance;
+        f->fade_power = (real)l->fade_power;
+        store3(f->axis1, l->axis1);
+        store3(f->axis2, l->axis2);
     }
     csg_shading *sh = (csg_shading *)(b + h->off_shading);
     bool v37 = csg_version_v37(s);
@@ -1425,6 +1538,28 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
     double gamma;
     sh->output = csg_output_gamma(s, &gamma);
     sh->output_gamma = (real)gamma;
+    sh->fog_count = s->fog_count;
+    for (int i = 0; i < s->fog_count; i++) {
+        const csg_fog *f = &s->fogs[i];
+        csg_flat_fog *g = &sh->fogs[i];
+        g->kind = f->kind;
+        g->turb_on = f->turb.on;
+        g->octaves = f->turb.octaves;
+        csg_pigment none;
+        csg_pigment_default(&none);
+        g->noise_gen = csg_noise_of(s, &none);
+        g->distance = (real)f->distance;
+        for (int k = 0; k < 5; k++)
+            g->rgbft[k] = (real)f->rgbft[k];
+        store3(g->up, f->up);
+        g->offset = (real)f->offset;
+        g->alt = (real)f->alt;
+        store3(g->turbulence, f->turb.amount);
+        g->omega = (real)f->turb.omega;
+        g->lambda = (real)f->turb.lambda;
+        g->turb_depth = (real)f->turb_depth;
+    }
+    sh->camera_solid = camera_solid(s);
     long spp = o->spp > 0 ? o->spp : 1;
     sh->max_rays = o->max_rays > 0 ? o->max_rays
                                    : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */
@@ -1482,7 +1617,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
         ok = false;
     }
-    inherited none = {-1, -1, false};
+    inherited none = {-1, -1, false, 0};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none);
     if (ok && !fb.oom)

@@ -11,6 +11,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "device/flat.h"
 #include "diag.h"
@@ -59,6 +60,17 @@ void csg_blob_scan_features_double(const void *bytes, uint32_t *kinds, uint32_t 
 static inline const csg_blob_header *csg_blob_hdr(const void *bytes)
 {
     return (const csg_blob_header *)bytes;
+}
+
+/* The fogs of a blob of either precision (csg_shading keeps its integers
+ * first: fog_count is its fifth, at the same offset in both): a ray that
+ * hits nothing sees the fog's colour, not the background. */
+static inline int32_t csg_blob_fog_count(const void *bytes)
+{
+    int32_t n;
+    memcpy(&n, (const unsigned char *)bytes + csg_blob_hdr(bytes)->off_shading + 4 * sizeof n,
+           sizeof n);
+    return n;
 }
 
 #endif

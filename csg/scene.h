@@ -200,7 +200,10 @@ struct csg_texture_entry {
 };
 
 typedef struct {
-    double ior; /* 1 */
+    double ior;           /* 1                                              */
+    double fade_distance; /* light through the inside fades (0: none)       */
+    double fade_power;
+    double fade_color[3]; /* what is left far inside (0: black)             */
 } csg_interior;
 
 typedef struct csg_object csg_object;
@@ -231,6 +234,9 @@ struct csg_object {
     bool open;            /* cylinder / cone: no caps                        */
     bool inverse;         /* `inverse`: the complement of the solid          */
     bool no_shadow;
+    int hollow;           /* hollow [BOOL]: 1 hollow, 2 `hollow off`; 0 not
+                             said (inherited; not hollow at the top, as
+                             POV-Ray): only fog cares (its inside)            */
     csg_xform xform;      /* object -> world, every transform applied        */
     int texture;          /* index into csg_scene.textures; -1: inherited    */
     int interior;         /* index into csg_scene.interiors; -1: inherited   */
@@ -256,8 +262,35 @@ typedef struct {
     dvec3 position;
     double color[3];
     bool shadowless;
+    int kind;             /* enum csg_light_kind                            */
+    bool parallel;        /* its rays parallel, along point_at - position   */
+    dvec3 point_at;       /* spotlight, cylinder, parallel: <0, 0, 1> by default */
+    double tightness;     /* spot/cylinder: the cosine's exponent (0)       */
+    double radius;        /* spot: cos(radius angle); cylinder: the radius  */
+    double falloff;       /* spot: cos(falloff angle); cylinder: the falloff */
+    double fade_distance, fade_power; /* attenuation with distance (0: none) */
+    bool area;            /* area_light: a grid of size1 x size2 points     */
+    dvec3 axis1, axis2;
+    int size1, size2;
+    int adaptive;         /* area: subdivision levels always taken (100)    */
+    bool jitter, circular, orient;
+    bool media_attenuation; /* fog dims its shadow rays                      */
     csg_loc loc;
 } csg_light;
+
+/* POV-Ray's fog (a constant fog, or a ground fog whose density falls
+ * with the height along `up` above `offset`). */
+enum csg_fog_kind { CSG_FOG_CONSTANT = 1, CSG_FOG_GROUND = 2 };
+#define CSG_FOG_MAX 8 /* fogs of a scene */
+typedef struct {
+    int kind;             /* enum csg_fog_kind                              */
+    double distance;      /* where 1/e of the light is left                 */
+    double rgbft[5];
+    dvec3 up;             /* ground fog: unit vector                        */
+    double offset, alt;   /* ground fog: its height and fall-off            */
+    csg_turb turb;        /* turbulence of its density                      */
+    double turb_depth;    /* 0.5                                            */
+} csg_fog;
 
 /* How global_settings' assumed_gamma was given (POV-Ray 3.7's working
  * gamma): not at all, as a number, or as the word srgb. */
@@ -300,6 +333,8 @@ typedef struct {
                                direction (a near plane); 0: none          */
     double background[5];   /* rgbft; black when not given            */
     csg_sky sky;            /* sky_sphere (count 0: none)             */
+    csg_fog fogs[CSG_FOG_MAX];
+    int fog_count;
     double version;         /* #version at the end (3.7 unless set)     */
     bool version_implied;   /* a POV-Ray scene that read no #version (its
                                own or an include's): POV-Ray's

@@ -29,8 +29,9 @@ void feed_init(feed *f, sched *s, struct journal *j, struct img_stream *stream, 
     f->pass = p;
     f->image = image;
     f->blob = blob;
-    /* (what a missed ray sees would depend on its direction under a sky_sphere) */
-    f->misses_are_background = csg_blob_hdr(blob)->sky_count == 0;
+    /* (what a missed ray sees would depend on its direction under a
+     * sky_sphere, and on the fog's turbulence along it) */
+    f->misses_are_background = csg_blob_hdr(blob)->sky_count == 0 && csg_blob_fog_count(blob) == 0;
     f->cull_met = -1;
     f->fill_max = (int)test_hook_number(TEST_FILL_TILES, 1000000);
     engine_for_blob(blob)->miss_rgb(blob, f->bg);

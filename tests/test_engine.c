@@ -171,7 +171,7 @@ static void red_sphere_pixels(const csg_finish *f, dvec3 light_at, float c[3], f
     if (f)
         s.textures[o->texture].finish = *f;
     add_top(&s, o);
-    csg_light light = {light_at, {1, 1, 1}, false, {"hand.pov", 1, 1}};
+    csg_light light = {.position = light_at, .color = {1, 1, 1}, .loc = {"hand.pov", 1, 1}};
     s.lights = &light;
     s.light_count = 1;
     csg_blob b;
@@ -230,7 +230,7 @@ static void test_tiling_invariance(void **state)
     scene_new(&s);
     add_top(&s, csg(&s, CSG_OBJ_DIFFERENCE, 2, sphere(&s, 0, 0, 0, 1.5), sphere(&s, 0.8, 0.5, -1, 0.9)));
     add_top(&s, sphere(&s, -1.5, -0.5, 1, 0.7));
-    csg_light light = {{3, 4, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}};
+    csg_light light = {.position = {3, 4, -6}, .color = {1, 1, 1}, .loc = {"hand.pov", 1, 1}};
     s.lights = &light;
     s.light_count = 1;
     const engine *engines[2] = {&engine_float, &engine_double};
@@ -609,8 +609,9 @@ static void test_shadow_flags(void **state)
     veil->vert_count = 6;
     veil->no_shadow = true;
     add_top(&s, veil);
-    csg_light lights[2] = {{{3, 6, -6}, {1, 1, 1}, false, {"hand.pov", 1, 1}},
-                           {{-4, 2, -3}, {0.5, 0.4, 0.3}, false, {"hand.pov", 1, 1}}};
+    csg_light lights[2] = {{.position = {3, 6, -6}, .color = {1, 1, 1}, .loc = {"hand.pov", 1, 1}},
+                           {.position = {-4, 2, -3}, .color = {0.5, 0.4, 0.3},
+                            .loc = {"hand.pov", 1, 1}}};
     s.lights = lights;
     s.light_count = 2;
     const engine *engines[2] = {&engine_float, &engine_double};

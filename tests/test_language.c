@@ -88,6 +88,82 @@ static void assert_radii(const char *text, const double *want, int n)
     csg_scene_free(&s);
 }
 
+/* ---- fog and light sources ------------------------------------------------ */
+
+static void test_fog_and_lights(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("fog { fog_type 2 distance 5 color rgbf <1, 0.5, 0.2, 0.3> fog_offset 1 fog_alt 2 "
+             "turbulence 0.5 octaves 20 up <0, 2, 0> rotate 90 * x translate 3 }\n"
+             "fog { 7 rgb 1 }\nsphere { 0, 1 hollow } box { 0, 1 hollow off }",
+             &s);
+    assert_int_equal(s.fog_count, 2);
+    assert_int_equal(s.fogs[0].kind, CSG_FOG_GROUND);
+    assert_near(s.fogs[0].distance, 5);
+    assert_near(s.fogs[0].rgbft[3], 0.3);
+    assert_near(s.fogs[0].offset, 1);
+    assert_near(s.fogs[0].alt, 2);
+    assert_int_equal(s.fogs[0].turb.octaves, 10); /* clamped, as POV-Ray */
+    assert_true(s.fogs[0].turb.on);
+    /* up: unit, turned by the rotation, not moved by the translation */
+    assert_near(s.fogs[0].up.x, 0);
+    assert_near(s.fogs[0].up.y, 0);
+    assert_near(s.fogs[0].up.z, 1);
+    assert_int_equal(s.fogs[1].kind, CSG_FOG_CONSTANT);
+    assert_near(s.fogs[1].distance, 7);
+    assert_int_equal(s.objects[0]->hollow, 1);
+    assert_int_equal(s.objects[1]->hollow, 2);
+    csg_scene_free(&s);
+    parse_ok("light_source { <0, 5, 0>, 1 spotlight point_at <0, 0, 0> radius 60 falloff 90 "
+             "tightness 3 fade_distance 2 fade_power 1 translate x }\n"
+             "light_source { 0, 1 area_light x, z, 3, 4 adaptive 2 circular orient "
+             "looks_like { sphere { 0, 0.1 } } }",
+             &s);
+    assert_int_equal(s.light_count, 2);
+    assert_int_equal(s.lights[0].kind, CSG_LIGHT_SPOT);
+    assert_near(s.lights[0].radius, cos(60 * M_PI / 180)); /* kept as cosines */
+    assert_near(s.lights[0].falloff, cos(90 * M_PI / 180));
+    assert_near(s.lights[0].point_at.x, 1); /* moved with the light */
+    assert_near(s.lights[0].position.x, 1);
+    assert_true(s.lights[1].area);
+    assert_int_equal(s.lights[1].size1, 3);
+    assert_int_equal(s.lights[1].size2, 4);
+    assert_int_equal(s.lights[1].adaptive, 2);
+    assert_int_equal(s.object_count, 1); /* the looks_like object, shadowless */
+    assert_true(s.objects[0]->no_shadow);
+    csg_scene_free(&s);
+    parse_err("fog { fog_type 3 }", "t.pov:1:16: error: fog_type must be 1 (constant) or 2 (ground), got 3");
+    parse_err("fog { fog_type 2 distance 3 }",
+              "t.pov:1:1: error: a ground fog (fog_type 2) needs fog_alt other than 0");
+    parse_err("fog { up 0 }", "t.pov:1:1: error: fog up vector must not be zero");
+    parse_err("fog { distance 1 media }",
+              "t.pov:1:18: error: unsupported: 'media' is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_err("light_source { 0, 1 radius 3 }",
+              "t.pov:1:21: error: 'radius' needs a spotlight or a cylinder light");
+    parse_err("light_source { 0, 1 point_at x }",
+              "t.pov:1:21: error: 'point_at' needs a spotlight, a cylinder or a parallel light");
+    parse_err("light_source { 0, 1 area_light x, z, 2, 2 jitter }",
+              "t.pov:1:43: error: unsupported: 'jitter' is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_err("light_source { 0, 1 area_light x, z, 0, 2 }",
+              "t.pov:1:38: error: area_light sizes must be whole numbers from 1 up, at most 65536 points, got 0 and 2");
+    parse_err("light_source { 0, 1 area_light x, z, 1, 3 circular }",
+              "t.pov:1:1: error: a circular area light must have more than 1 point per axis");
+    parse_err("light_source { 0, 1 media_attenuation }",
+              "t.pov:1:21: error: unsupported: 'media_attenuation on' is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_ok("light_source { 0, 1 media_attenuation off media_interaction }", &s);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 interior { ior 1.5 fade_distance 2 fade_power 1001 "
+             "fade_colour rgb <0.5, 0.25, 1> } }",
+             &s);
+    const csg_interior *in = &s.interiors[s.objects[0]->interior];
+    assert_near(in->ior, 1.5);
+    assert_near(in->fade_distance, 2);
+    assert_near(in->fade_power, 1001);
+    assert_near(in->fade_color[1], 0.25);
+    csg_scene_free(&s);
+}
+
 /* ---- conditionals -------------------------------------------------------------- */
 
 static void test_conditionals(void **state)
@@ -851,6 +927,7 @@ int main(void)
         cmocka_unit_test(test_patterns),
         cmocka_unit_test(test_gamma_and_version),
         cmocka_unit_test(test_normals_and_layers),
+        cmocka_unit_test(test_fog_and_lights),
         cmocka_unit_test(test_noise_patterns),
         cmocka_unit_test(test_unusable_declarations),
         cmocka_unit_test(test_limits),

@@ -29,12 +29,14 @@
  */
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../comm/pixels.h"
 #include "../csg/device/camera.h"
 #include "engine.h"
 #include "frustum.h"
+#include "noise.h"
 #include "offset.h"
 #include "pigment.h"
 
@@ -60,6 +62,9 @@ typedef struct {
     csg_i32 max_rays;        /* reflected and refracted rays a pixel may trace */
     csg_i32 output;          /* enum csg_output_gamma: the pixel's way to the file */
     float output_gamma;
+    const csg_flat_fog *fogs;
+    csg_i32 fog_count;
+    csg_i32 camera_solid;    /* non-hollow objects around the camera        */
 } shade_ctx;
 
 _Static_assert((int)CSG_OUTPUT_SRGB == (int)PIXELS_GAMMA_SRGB &&
@@ -126,6 +131,9 @@ static shade_ctx ctx_of(const void *blob)
     c.max_rays = sh->max_rays;
     c.output = sh->output;
     c.output_gamma = (float)sh->output_gamma;
+    c.fogs = sh->fogs;
+    c.fog_count = sh->fog_count;
+    c.camera_solid = sh->camera_solid;
     return c;
 }
 
@@ -136,6 +144,71 @@ static real max3(vec3 v) { return r_fmax(v.x, r_fmax(v.y, v.z)); }
 #define SHADE_MAX_DEPTH 16 /* texture_maps nested, and layers of one texture */
 
 static vec3 grey3(real v) { return v3(v, v, v); }
+
+#define FOG_BOUND_HUGE 2.0e10 /* POV-Ray's BOUND_HUGE: a ray that hits nothing */
+
+/* POV-Ray's ComputeConstantFogColour and ComputeGroundFogColour: the
+ * fraction of light that crosses `width` of fog f along r. */
+static double fog_attenuation(const csg_flat_fog *f, csg_ray r, double width)
+{
+    double o[3] = {(double)r.o.x, (double)r.o.y, (double)r.o.z};
+    double d[3] = {(double)r.d.x, (double)r.d.y, (double)r.d.z};
+    double distance = (double)f->distance, density = 1.0, mid[3];
+    if (f->kind == 2) {
+        double up[3] = {(double)f->up[0], (double)f->up[1], (double)f->up[2]};
+        double p2[3] = {o[0] + d[0] * width, o[1] + d[1] * width, o[2] + d[2] * width};
+        double y1 = o[0] * up[0] + o[1] * up[1] + o[2] * up[2];
+        double y2 = p2[0] * up[0] + p2[1] * up[1] + p2[2] * up[2];
+        double start = (y1 - (double)f->offset) / (double)f->alt;
+        double end = (y2 - (double)f->offset) / (double)f->alt;
+        if (start <= 0.0)
+            density = end <= 0.0 ? 1.0 : (atan(end) - start) / (end - start);
+        else if (end <= 0.0)
+            density = (atan(start) - end) / (start - end);
+        else if (fabs(start - end) > 1e-10)
+            density = (atan(start) - atan(end)) / (start - end);
+        else
+            density = 1.0 / (start * start + 1.0);
+        for (int k = 0; k < 3; k++)
+            mid[k] = (o[k] + p2[k]) * 0.5;
+    } else {
+        for (int k = 0; k < 3; k++)
+            mid[k] = o[k] + width / 2.0 * d[k];
+    }
+    if (f->turb_on) {
+        for (int k = 0; k < 3; k++)
+            mid[k] *= (double)f->turbulence[k];
+        double kk = exp(-width / distance);
+        noise_turb t = {f->octaves, (double)f->omega, (double)f->lambda};
+        double turb = noise_turbulence(mid, &t, f->noise_gen) * (double)f->turb_depth;
+        width *= 1.0 - kk * (turb < 1.0 ? turb : 1.0);
+    }
+    return exp(-width * density / distance);
+}
+
+/* POV-Ray's ComputeFog: col seen through every fog over `depth` along r
+ * (a shadow ray only loses light, it gains none of the fog's colour). */
+static vec3 apply_fog(const shade_ctx *c, csg_ray r, double depth, vec3 col, bool shadow)
+{
+    double att_sum[3] = {1.0, 1.0, 1.0}, col_sum[3] = {0.0, 0.0, 0.0};
+    for (csg_i32 i = 0; i < c->fog_count; i++) {
+        const csg_flat_fog *f = &c->fogs[i];
+        if (!(fabs((double)f->distance) > 1e-10))
+            continue;
+        double att = fog_attenuation(f, r, depth);
+        double filter = (double)f->rgbft[3], transmit = (double)f->rgbft[4];
+        if (att < transmit)
+            att = transmit;
+        for (int k = 0; k < 3; k++) {
+            att_sum[k] *= att * ((1.0 - filter) + filter * (double)f->rgbft[k]);
+            if (!shadow)
+                col_sum[k] += (1.0 - att) * (double)f->rgbft[k];
+        }
+    }
+    return v3((real)(col_sum[0] + att_sum[0] * (double)col.x),
+              (real)(col_sum[1] + att_sum[1] * (double)col.y),
+              (real)(col_sum[2] + att_sum[2] * (double)col.z));
+}
 
 /* What texture material m lets through at w (a surface point, or a point
  * of the space of the texture_map holding m): POV-Ray's
@@ -163,6 +236,45 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
         m = m->under > 0 ? &c->mats[m->under - 1] : NULL;
     }
     return pass;
+}
+
+/* POV-Ray's distance attenuation inside an interior (fade_distance,
+ * fade_power, fade_color) over `depth`: exponential from a fade_power of
+ * 1000 on, else 1 / (1 + (depth / fade_distance)^fade_power) towards the
+ * fade colour. */
+static vec3 fade(const csg_material *m, real depth)
+{
+    vec3 fc = v3_load(m->fade_color);
+    double d = (double)depth / (double)m->fade_distance;
+    if (m->fade_power >= R(1000.0))
+        return v3((real)exp(-(1.0 - (double)fc.x) * d), (real)exp(-(1.0 - (double)fc.y) * d),
+                  (real)exp(-(1.0 - (double)fc.z) * d));
+    double att = 1.0 + pow(d, (double)m->fade_power);
+    return v3((real)((double)fc.x + (1.0 - (double)fc.x) / att),
+              (real)((double)fc.y + (1.0 - (double)fc.y) / att),
+              (real)((double)fc.z + (1.0 - (double)fc.z) / att));
+}
+
+/* Whether interior fading applies to light through m (POV-Ray's
+ * ComputeShadowTexture: fade_power > 0 as well as a fade_distance). */
+static bool fades_shadow(const csg_material *m)
+{
+    return m->fade_power > R(0.0) && r_fabs(m->fade_distance) > R(1e-10);
+}
+
+/* A shadow ray leaving a solid through surface s (NONE: it does not leave
+ * it before the light) after `depth` inside: *pass faded by its interior;
+ * false once nothing passes. */
+static bool shadow_fade(const shade_ctx *c, csg_u32 s, real depth, vec3 *pass)
+{
+    if (s == CSG_SURF_NONE)
+        return true;
+    const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(s)];
+    const csg_material *m = &c->mats[prim->material];
+    if ((prim->flags & CSG_PF_NO_SHADOW) || !fades_shadow(m))
+        return true;
+    *pass = v3_mul(*pass, fade(m, depth));
+    return max3(*pass) > R(0.0);
 }
 
 /* Multiplies *pass by what surface s, met at ts along r, lets through on
@@ -217,7 +329,8 @@ static bool leaf_transmittance(const shade_ctx *c, csg_i32 leaf, csg_ray r, real
     if (!(start < end))
         return true;
     return surface_transmittance(c, r, e0, start, dist, pass) &&
-           surface_transmittance(c, r, e1, end, dist, pass);
+           surface_transmittance(c, r, e1, end, dist, pass) &&
+           shadow_fade(c, e1, end - start, pass);
 }
 
 /* Multiplies *pass by what root i lets through between the shading point
@@ -248,7 +361,9 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
     csg_root_spans(c->view, i, r, R(0.0), dist, &spans);
     for (csg_i32 k = 0; k < spans.n; k++)
         if (!surface_transmittance(c, r, spans.s0[k], spans.t0[k], dist, pass) ||
-            !surface_transmittance(c, r, spans.s1[k], spans.t1[k], dist, pass))
+            !surface_transmittance(c, r, spans.s1[k], spans.t1[k], dist, pass) ||
+            (spans.t1[k] > R(0.0) && spans.t1[k] < dist &&
+             !shadow_fade(c, spans.s1[k], spans.t1[k] - r_fmax(spans.t0[k], R(0.0)), pass)))
             return false;
     for (csg_i32 k = 0; k < spans.ne; k++)
         if (!surface_transmittance(c, r, spans.se[k], spans.te[k], dist, pass))
@@ -377,7 +492,8 @@ static vec3 highlight_color(const csg_material *m, vec3 pig, real cosl, vec3 lig
     return v3_mul(light, tint);
 }
 
-static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, int solid,
+                      ray_tally *tally);
 
 /* What every texture shading a hit shares: the ray, the point, its
  * normals, where secondary rays start, and the light reaching the point
@@ -395,24 +511,242 @@ typedef struct {
     double w[3];   /* the point the patterns are evaluated at                  */
     double err;    /* its rounding bound                                       */
     int level;
+    int solid;     /* non-hollow objects the ray is inside (no fog there)      */
+    real depth;    /* the hit's distance along the ray                         */
+    int prim_solid; /* 1: the object hit is not hollow                         */
     csg_u32 light_done; /* bit i: light i's light is in light[i]               */
     vec3 light[SHADE_LIGHT_CACHE];
 } hit_info;
 
-/* The light of light i reaching the point (its colour through every
- * surface between), or black. */
-static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real dist,
+/* POV-Ray's cubic_spline: 0 below low, 1 from high, a smooth step between. */
+static double cubic_spline(double low, double high, double pos)
+{
+    if (pos < low)
+        return 0.0;
+    if (pos >= high)
+        return 1.0;
+    pos = (pos - low) / (high - low);
+    return (3 - 2 * pos) * pos * pos;
+}
+
+/* POV-Ray's ComputeOneWhiteLightRay: the unit direction *l from point o to
+ * light lt (its centre moved by `jitter`) and how far the shadow ray goes;
+ * a plain point light is the line to its position. */
+static void light_ray(const csg_flat_light *lt, vec3 o, vec3 jitter, vec3 *l, real *dist)
+{
+    vec3 center = v3_add(v3_load(lt->position), jitter);
+    if (lt->kind == CSG_LIGHT_CYLINDER) {
+        vec3 dir = v3_sub(center, v3_load(lt->point_at));
+        real len = v3_length(dir);
+        *dist = v3_dot(v3_sub(center, o), dir) / len;
+        *l = v3_scale(dir, R(1.0) / len);
+    } else {
+        vec3 to_light = v3_sub(center, o);
+        *dist = v3_length(to_light);
+        *l = v3_scale(to_light, R(1.0) / *dist);
+    }
+    if (lt->parallel) {
+        if (lt->area) {
+            vec3 v1 = v3_normalize(v3_sub(center, v3_load(lt->point_at)));
+            *dist *= v3_dot(v1, *l);
+            *l = v1;
+        } else {
+            vec3 d = v3_load(lt->direction);
+            *dist *= -v3_dot(d, *l);
+            *l = v3_neg(d);
+        }
+    }
+}
+
+/* POV-Ray's Attenuate_Light: a spotlight's cone, a cylinder light's
+ * radius, the fade with distance (dist: the shadow ray's length; o the
+ * point lit). */
+static double light_attenuation(const csg_flat_light *lt, vec3 o, vec3 l, real dist)
+{
+    double att = 1.0;
+    if (lt->kind == CSG_LIGHT_SPOT) {
+        double costheta = (double)v3_dot(l, v3_load(lt->direction));
+        if (dist > R(0.0))
+            costheta = -costheta;
+        if (!(costheta > 0.0))
+            return 0.0;
+        att = pow(costheta, (double)lt->tightness);
+        if (lt->radius > R(0.0) && costheta < (double)lt->radius)
+            att *= cubic_spline((double)lt->falloff, (double)lt->radius, costheta);
+    } else if (lt->kind == CSG_LIGHT_CYLINDER) {
+        vec3 dir = v3_load(lt->direction);
+        vec3 v1 = v3_sub(o, v3_load(lt->position));
+        real k = v3_dot(v1, dir);
+        if (!(k > R(0.0)))
+            return 0.0;
+        double len = (double)v3_length(v3_sub(v1, v3_scale(dir, k)));
+        if (!(len < (double)lt->falloff))
+            return 0.0;
+        double d = 1.0 - len / (double)lt->falloff;
+        att = pow(d, (double)lt->tightness);
+        if (lt->radius > R(0.0) && len > (double)lt->radius)
+            att *= cubic_spline(0.0, 1.0 - (double)lt->radius / (double)lt->falloff, d);
+    }
+    if (att > 0.0 && lt->fade_power > R(0.0) && fabs((double)lt->fade_distance) > 1e-10)
+        att *= 2.0 / (1.0 + pow((double)dist / (double)lt->fade_distance, (double)lt->fade_power));
+    return att;
+}
+
+/* A plain point light: the line to its position, no attenuation (the
+ * arithmetic of csgtrace before spotlights, kept bit for bit). */
+static bool light_plain(const csg_flat_light *lt)
+{
+    return lt->kind == CSG_LIGHT_POINT && !lt->parallel && !lt->area &&
+           !(lt->fade_power > R(0.0) && fabs((double)lt->fade_distance) > 1e-10);
+}
+
+static vec3 grey3(real v);
+static vec3 apply_fog(const shade_ctx *c, csg_ray r, double depth, vec3 col, bool shadow);
+
+/* What light lt lets reach p through the scene from the point of the
+ * area light (i, j) of its grid (POV-Ray's TraceAreaLightSubsetShadowRay
+ * corner): the colour times the transmittance of the shadow ray. */
+static vec3 area_sample(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 a1, vec3 a2,
+                        int u, int v, vec3 color, csg_i32 *blocker)
+{
+    double ju = (double)u, jv = (double)v;
+    vec3 ja, jb;
+    if (lt->circular) {
+        ju = ju / (double)(lt->size1 - 1) - 0.5 + 0.001;
+        jv = jv / (double)(lt->size2 - 1) - 0.5 + 0.001;
+        double sf = fabs(ju) > fabs(jv) ? fabs(ju) : fabs(jv);
+        sf /= sqrt(ju * ju + jv * jv);
+        ju *= sf;
+        jv *= sf;
+        ja = v3_scale(a1, (real)ju);
+        jb = v3_scale(a2, (real)jv);
+    } else {
+        ja = lt->size1 > 1 ? v3_scale(a1, (real)(ju / (double)(lt->size1 - 1) - 0.5)) : grey3(R(0.0));
+        jb = lt->size2 > 1 ? v3_scale(a2, (real)(jv / (double)(lt->size2 - 1) - 0.5)) : grey3(R(0.0));
+    }
+    vec3 l;
+    real dist;
+    light_ray(lt, p, v3_add(ja, jb), &l, &dist);
+    return v3_mul(color, light_transmittance(c, p, l, dist, blocker));
+}
+
+/* The samples of an area light's grid, computed once each (the grid is
+ * at most 65536 points: sampled lazily into `grid`, NULL entries first). */
+typedef struct {
+    vec3 *color;
+    unsigned char *done;
+} area_grid;
+
+static vec3 area_corner(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 a1, vec3 a2,
+                        int u, int v, vec3 color, area_grid *g, csg_i32 *blocker, ray_tally *tally)
+{
+    size_t k = (size_t)u * (size_t)lt->size2 + (size_t)v;
+    if (!g->done[k]) {
+        tally->rays->shadow++;
+        g->color[k] = area_sample(c, lt, p, a1, a2, u, v, color, blocker);
+        g->done[k] = 1;
+    }
+    return g->color[k];
+}
+
+static real colour_distance(vec3 a, vec3 b)
+{
+    return r_fabs(a.x - b.x) + r_fabs(a.y - b.y) + r_fabs(a.z - b.z);
+}
+
+/* POV-Ray's TraceAreaLightSubsetShadowRay: the four corners of the
+ * region (u1, v1) - (u2, v2), subdivided while its level is below
+ * `adaptive` or its corners differ by more than 0.1, averaged. */
+static vec3 area_region(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 a1, vec3 a2,
+                        int u1, int v1, int u2, int v2, int level, vec3 color, area_grid *g,
+                        csg_i32 *blocker, ray_tally *tally)
+{
+    vec3 s[4];
+    const int us[4] = {u1, u2, u1, u2}, vs[4] = {v1, v1, v2, v2};
+    for (int i = 0; i < 4; i++)
+        s[i] = area_corner(c, lt, p, a1, a2, us[i], vs[i], color, g, blocker, tally);
+    if ((u2 - u1 > 1 || v2 - v1 > 1) &&
+        (level < lt->adaptive || colour_distance(s[0], s[1]) > R(0.1) ||
+         colour_distance(s[1], s[3]) > R(0.1) || colour_distance(s[3], s[2]) > R(0.1) ||
+         colour_distance(s[2], s[0]) > R(0.1))) {
+        int um = (u1 + u2) / 2, vm = (v1 + v2) / 2; /* floor; ceil is +1 when odd */
+        int uc = (u1 + u2 + 1) / 2, vc = (v1 + v2 + 1) / 2;
+        s[0] = area_region(c, lt, p, a1, a2, u1, v1, um, vm, level + 1, color, g, blocker, tally);
+        s[1] = area_region(c, lt, p, a1, a2, uc, v1, u2, vm, level + 1, color, g, blocker, tally);
+        s[2] = area_region(c, lt, p, a1, a2, u1, vc, um, v2, level + 1, color, g, blocker, tally);
+        s[3] = area_region(c, lt, p, a1, a2, uc, vc, u2, v2, level + 1, color, g, blocker, tally);
+    }
+    return v3_scale(v3_add(v3_add(s[0], s[1]), v3_add(s[2], s[3])), R(0.25));
+}
+
+/* An area light's shadows (POV-Ray's TraceAreaLightShadowRay, `orient`
+ * turning its axes to face p; jitter is not applied: POV-Ray's is random,
+ * its image changes from run to run). */
+static vec3 area_light(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 color,
+                       csg_i32 *blocker, ray_tally *tally)
+{
+    vec3 a1 = v3_load(lt->axis1), a2 = v3_load(lt->axis2);
+    if (lt->orient) {
+        vec3 l;
+        real dist;
+        light_ray(lt, p, grey3(R(0.0)), &l, &dist);
+        real len1 = v3_length(a1);
+        vec3 t = r_fabs(r_fabs(l.z) - R(1.0)) < R(0.01) ? v3(R(0.0), R(1.0), R(0.0))
+                                                        : v3(R(0.0), R(0.0), R(1.0));
+        a1 = v3_normalize(v3_cross(l, t));
+        a2 = v3_normalize(v3_cross(l, a1));
+        a1 = v3_scale(a1, len1);
+        a2 = v3_scale(a2, len1);
+    }
+    size_t n = (size_t)lt->size1 * (size_t)lt->size2;
+    vec3 small_color[64];
+    unsigned char small_done[64] = {0};
+    area_grid g = {small_color, small_done};
+    if (n > 64) {
+        g.color = malloc(n * sizeof *g.color);
+        g.done = calloc(n, 1);
+        if (!g.color || !g.done) { /* out of memory: the centre's shadow alone */
+            free(g.color);
+            free(g.done);
+            vec3 l;
+            real dist;
+            light_ray(lt, p, grey3(R(0.0)), &l, &dist);
+            return v3_mul(color, light_transmittance(c, p, l, dist, blocker));
+        }
+    }
+    vec3 out = area_region(c, lt, p, a1, a2, 0, 0, lt->size1 - 1, lt->size2 - 1, 0, color, &g,
+                           blocker, tally);
+    if (n > 64) {
+        free(g.color);
+        free(g.done);
+    }
+    return out;
+}
+
+/* The light of light i reaching the point along l, `dist` away (already
+ * attenuated in `light`): through every surface between (an area light:
+ * its grid's average), or black. */
+static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real dist, vec3 light,
                      ray_tally *tally)
 {
     const csg_flat_light *lt = &c->lights[i];
-    vec3 light = v3_load(lt->color);
     if (lt->shadowless)
         return light;
     if (i < SHADE_LIGHT_CACHE && (hi->light_done & (1u << i)))
         return hi->light[i];
-    tally->rays->shadow++;
-    light = v3_mul(light, light_transmittance(c, hi->above, l, dist,
-                                              shadow_slot(c, tally, i, hi->level)));
+    csg_i32 *slot = shadow_slot(c, tally, i, hi->level);
+    if (lt->area) {
+        light = area_light(c, lt, hi->above, light, slot, tally);
+    } else {
+        tally->rays->shadow++;
+        light = v3_mul(light, light_transmittance(c, hi->above, l, dist, slot));
+    }
+    if (lt->media_attenuation && c->fog_count > 0 && hi->solid == 0) {
+        csg_ray sr;
+        sr.o = hi->above;
+        sr.d = l;
+        light = apply_fog(c, sr, (double)dist, light, true);
+    }
     if (i < SHADE_LIGHT_CACHE) {
         hi->light[i] = light;
         hi->light_done |= 1u << i;
@@ -431,15 +765,27 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
     vec3 highlight = v3(R(0.0), R(0.0), R(0.0));
     for (csg_i32 i = 0; i < c->hdr->light_count; i++) {
         const csg_flat_light *lt = &c->lights[i];
-        vec3 to_light = v3_sub(v3_load(lt->position), hi->above);
-        real dist = v3_length(to_light);
-        if (!(dist > R(0.0)))
-            continue;
-        vec3 l = v3_scale(to_light, R(1.0) / dist);
+        vec3 l, light = v3_load(lt->color);
+        real dist;
+        if (light_plain(lt)) {
+            vec3 to_light = v3_sub(v3_load(lt->position), hi->above);
+            dist = v3_length(to_light);
+            if (!(dist > R(0.0)))
+                continue;
+            l = v3_scale(to_light, R(1.0) / dist);
+        } else { /* POV-Ray: no light at all (outside a spotlight's cone) skips it */
+            light_ray(lt, hi->above, grey3(R(0.0)), &l, &dist);
+            if (!(dist > R(0.0)) && !lt->parallel)
+                continue;
+            light = v3_scale(light, (real)light_attenuation(lt, hi->above, l, dist));
+            if (r_fabs(light.x) < R(1e-10) && r_fabs(light.y) < R(1e-10) &&
+                r_fabs(light.z) < R(1e-10))
+                continue;
+        }
         real cosl = v3_dot(nl, l);
         if (cosl <= R(0.0))
             continue;
-        vec3 light = light_at(c, hi, i, l, dist, tally);
+        light = light_at(c, hi, i, l, dist, light, tally);
         if (!lt->shadowless && max3(light) <= R(0.0))
             continue;
         real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
@@ -495,7 +841,8 @@ static vec3 reflect_dir(const hit_info *hi, vec3 nl, bool perturbed)
     return d;
 }
 
-static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally);
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, int solid,
+                      ray_tally *tally);
 
 /* POV-Ray's ComputeLightedTexture: the layers of texture m, from its top
  * one, at w (a surface point, or a point of the texture_map holding m):
@@ -558,8 +905,9 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         real eta = hi->entering ? R(1.0) / m->ior : m->ior;
         real cosi = -v3_dot(hi->r.d, top_normal);
         real k = R(1.0) - eta * eta * (R(1.0) - cosi * cosi);
-        if (k < R(0.0)) {
-            refl_w = v3_add(refl_w, trans_w); /* total internal reflection */
+        bool fading = !hi->entering && r_fabs(m->fade_distance) > R(1e-10);
+        if (k < R(0.0)) { /* total internal reflection (faded, as POV-Ray) */
+            refl_w = v3_add(refl_w, fading ? v3_mul(trans_w, fade(m, hi->depth)) : trans_w);
         } else {
             real tw = weight * max3(trans_w);
             if (tw >= c->bailout && ray_spend(tally)) {
@@ -568,7 +916,14 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                                           v3_scale(top_normal, eta * cosi - r_sqrt(k))));
                 t.o = offset_point(hi->p, v3_neg(hi->ngf), hi->mag);
                 tally->rays->refracted++;
-                color = v3_add(color, v3_mul(trans_w, trace_ray(c, t, hi->level + 1, tw, tally)));
+                /* the ray enters or leaves the object: one non-hollow
+                 * object more or less around it (no fog inside those) */
+                int solid = hi->entering ? hi->solid + hi->prim_solid
+                                         : hi->solid - (hi->solid > 0 ? hi->prim_solid : 0);
+                vec3 seen = trace_ray(c, t, hi->level + 1, tw, solid, tally);
+                if (fading) /* the light crossed the inside: POV-Ray's attCol */
+                    seen = v3_mul(seen, fade(m, hi->depth));
+                color = v3_add(color, v3_mul(trans_w, seen));
             }
         }
     }
@@ -580,7 +935,7 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
             s.o = hi->above;
             s.d = v3_normalize(layers[i].refl_dir);
             tally->rays->reflected++;
-            color = v3_add(color, v3_mul(lw, trace_ray(c, s, hi->level + 1, rw, tally)));
+            color = v3_add(color, v3_mul(lw, trace_ray(c, s, hi->level + 1, rw, hi->solid, tally)));
         }
     }
     return color;
@@ -610,7 +965,7 @@ static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material 
                            tally);
 }
 
-static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight,
+static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight, int solid,
                       ray_tally *tally)
 {
     const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
@@ -618,6 +973,9 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     hit_info hi;
     hi.r = r;
     hi.level = level;
+    hi.solid = solid;
+    hi.prim_solid = !(prim->flags & CSG_PF_HOLLOW) && !CSG_PRIM_IS_SURFACE(prim->kind);
+    hi.depth = h.t;
     hi.light_done = 0;
     hi.p = v3_add(r.o, v3_scale(r.d, h.t));
     vec3 n = csg_surface_normal(c->view.prims, h.surf, hi.p);
@@ -639,12 +997,24 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     return texture_colour(c, &hi, m, hi.w, hi.err, parents, 0, weight, tally);
 }
 
-static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, ray_tally *tally)
+/* The fog between the camera and what a primary ray sees (t < 0: it hit
+ * nothing), unless the camera is inside a non-hollow object. */
+static vec3 primary_fog(const shade_ctx *c, csg_ray r, double t, vec3 col)
+{
+    if (c->fog_count == 0 || c->camera_solid > 0)
+        return col;
+    return apply_fog(c, r, t < 0.0 ? FOG_BOUND_HUGE : t, col, false);
+}
+
+static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, int solid,
+                      ray_tally *tally)
 {
     csg_hit h = csg_trace_nearest(c->view, r, R(0.0), CSG_R_INF);
-    if (h.surf == CSG_SURF_NONE)
-        return sky_color(c, r.d);
-    return shade_hit(c, r, h, level, weight, tally);
+    vec3 col = h.surf == CSG_SURF_NONE ? sky_color(c, r.d)
+                                       : shade_hit(c, r, h, level, weight, solid, tally);
+    if (c->fog_count > 0 && solid == 0)
+        col = apply_fog(c, r, h.surf == CSG_SURF_NONE ? FOG_BOUND_HUGE : (double)h.t, col, false);
+    return col;
 }
 
 /* ---- the engine entry points ----------------------------------------------------- */
@@ -741,7 +1111,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             for (int s = 0; s < spp; s++) {
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
-                if (surf[k] == CSG_SURF_NONE && c.sky_count == 0) {
+                if (surf[k] == CSG_SURF_NONE && c.sky_count == 0 && c.fog_count == 0) {
                     one = c.background; /* sky_color's answer: no ray needed */
                 } else {
                     csg_ray r = csg_sample_ray(c.cam, c.hdr->width, c.hdr->height, rect.x + x,
@@ -752,9 +1122,10 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
                         csg_hit h;
                         h.t = t[k];
                         h.surf = surf[k];
-                        one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, &tally);
+                        one = shade_hit(&c, r, h, 1, R(1.0) / (real)spp, c.camera_solid, &tally);
                         hits++;
                     }
+                    one = primary_fog(&c, r, surf[k] == CSG_SURF_NONE ? -1.0 : (double)t[k], one);
                 }
                 col = spp == 1 ? one : v3_add(col, one);
             }
@@ -762,7 +1133,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
              * master fills the degenerate tiles of the hetero mode (an
              * average of spp equal values need not round back to it);
              * with a sky_sphere no tile is degenerate (render.c). */
-            if (hits == 0 && c.sky_count == 0)
+            if (hits == 0 && c.sky_count == 0 && c.fog_count == 0)
                 col = c.background;
             else if (spp > 1)
                 col = v3_scale(col, R(1.0) / (real)spp);

@@ -97,9 +97,10 @@ enum csg_prim_flags {
     CSG_PF_OPEN = 2,      /* cone/cylinder without caps: caps are invisible  */
     CSG_PF_INVERT = 4,    /* the leaf is complemented (inverse, difference)  */
     CSG_PF_NO_SHADOW = 8, /* casts no shadow                                 */
-    CSG_PF_ONE_SIDED = 16 /* surface kinds: the back is invisible to the rays
+    CSG_PF_ONE_SIDED = 16, /* surface kinds: the back is invisible to the rays
                              that look (primary, reflected, refracted); it
                              still casts shadows (CSG_SURF_HIDDEN)          */
+    CSG_PF_HOLLOW = 32    /* hollow: fog fills its inside (C workers only)  */
 };
 
 /* Surface sub-indices, per kind. */
@@ -208,8 +209,26 @@ enum csg_output_gamma {
                              legacy mode, assumed_gamma srgb)             */
 };
 
+/* One fog of the scene (POV-Ray's FOG): C workers only. */
+typedef struct {
+    csg_i32 kind;          /* 1 constant, 2 ground (csg/scene.h, enum csg_fog_kind) */
+    csg_i32 turb_on;       /* its turbulence given (1) or not (0)       */
+    csg_i32 octaves;
+    csg_i32 noise_gen;     /* the scene's noise generator (1 to 3)      */
+    real distance;
+    real rgbft[5];
+    real up[3];            /* ground fog: unit vector                   */
+    real offset, alt;
+    real turbulence[3];
+    real omega, lambda, turb_depth;
+} csg_flat_fog;
+
+#define CSG_FLAT_FOGS 8 /* fogs of a scene (csg/scene.h: CSG_FOG_MAX) */
+
 /* The scene-wide shading values (global_settings, background, the
- * sky_sphere): C workers only, like the materials and the lights. */
+ * sky_sphere, the fogs): C workers only, like the materials and the
+ * lights.  Integers first: their offsets are the same in both precisions
+ * (host/feed.c reads fog_count from a blob of either). */
 typedef struct {
     csg_i32 sky_first;     /* the sky_sphere's pigments: materials
                               sky_first .. + header.sky_count            */
@@ -220,12 +239,16 @@ typedef struct {
     csg_i32 max_rays;      /* reflected and refracted rays a pixel may
                               trace (>= 1); the rest are not traced      */
     csg_i32 output;        /* enum csg_output_gamma                      */
+    csg_i32 fog_count;     /* fogs[0 .. fog_count) (<= CSG_FLAT_FOGS)   */
+    csg_i32 camera_solid;  /* non-hollow objects around the camera: no fog
+                              on the primary rays while > 0             */
     real output_gamma;     /* CSG_OUTPUT_POWER's G (1 otherwise)        */
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];
     real adc_bailout;      /* rays weighing less are not traced        */
     real sky_emission[3];
+    csg_flat_fog fogs[CSG_FLAT_FOGS];
 } csg_shading;
 
 /* One entry of a colour map (the blob's maps array). */
@@ -289,13 +312,28 @@ typedef struct {
     real quilt_control[2]; /* quilted: control0, control1                */
     real from_pattern[9]; /* pattern -> world, the 3x3 part (row-major):
                            the inverse of to_pattern's, for a normal       */
+    real fade_distance; /* interior: light through the inside fades (0: no) */
+    real fade_power;
+    real fade_color[3];
 } csg_material;
 
+/* A light (POV-Ray's LightSource): C workers only. */
 typedef struct {
     real position[3];
     real color[3];
     csg_i32 shadowless;
+    csg_i32 kind;          /* 0 point, 1 spot, 2 cylinder (csg/scene.h)  */
+    csg_i32 parallel;
+    csg_i32 area;          /* an area light: size1 x size2 points        */
+    csg_i32 size1, size2;
+    csg_i32 adaptive, jitter, circular, orient;
+    csg_i32 media_attenuation; /* fog dims its shadow rays               */
     csg_i32 pad;
+    real direction[3];     /* unit, point_at - position (0: none)        */
+    real point_at[3];
+    real tightness, radius, falloff; /* spot: cosines; cylinder: lengths */
+    real fade_distance, fade_power;
+    real axis1[3], axis2[3];
 } csg_flat_light;
 
 /* A packed surface id: 0 means "no visible surface" (a clipping boundary or

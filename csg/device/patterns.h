@@ -109,6 +109,10 @@ enum csg_pattern { CSG_PATTERNS(CSG_PATTERN_ENUM, CSG_PATTERN_ENUM) };
     X(WRINKLES, wrinkles) /* ten octaves of |DNoise|                   */                         \
     X(QUILTED, quilted)   /* a cubic of the distance to the cell centre */
 
+/* The kinds of light_source (POV-Ray's Light_Type), as the scene and the
+ * blob keep them (csg_light.kind, csg_flat_light.kind). */
+enum csg_light_kind { CSG_LIGHT_POINT = 0, CSG_LIGHT_SPOT = 1, CSG_LIGHT_CYLINDER = 2 };
+
 #define CSG_NORMAL_ENUM(ID, name) CSG_NORMAL_##ID,
 #define CSG_NORMAL_ONE(ID, name) +1
 enum csg_normal_kind { CSG_NORMALS(CSG_NORMAL_ENUM) };

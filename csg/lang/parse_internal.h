@@ -420,5 +420,7 @@ bool lang_is_object_start(parser *p);
 /* Any object; the current token is its keyword. */
 bool lang_parse_object(parser *p, csg_object **out);
 bool lang_parse_camera(parser *p, csg_camera_src *c);
+/* Object o (and its textures) moved by transform x after its own. */
+bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x);
 
 #endif

@@ -469,7 +469,7 @@ static csg_texture *own_texture(parser *p, csg_object *o, int mark)
 static csg_interior *own_interior(parser *p, csg_object *o, int mark)
 {
     if (o->interior < mark) {
-        csg_interior in = {1.0};
+        csg_interior in = {1.0, 0, 0, {0, 0, 0}};
         if (o->interior >= 0)
             in = ((csg_interior *)p->interiors.data)[o->interior];
         if (!lang_vec_push(p, &p->interiors, sizeof in, &in))
@@ -579,6 +579,12 @@ static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
     return true;
 }
 
+bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x)
+{
+    csg_xform_then(&o->xform, x, &o->xform);
+    return transform_textures(p, o, x);
+}
+
 /* A transform modifier on o: its local transform, and its textures. */
 static bool parse_object_transform(parser *p, csg_object *o)
 {
@@ -600,11 +606,14 @@ static bool parse_flag(parser *p, csg_object *o, const char *name)
     case CSG_KW_NO_SHADOW:
         o->no_shadow = true;
         break;
-    case CSG_KW_HOLLOW: { /* only media care: accepted and ignored */
-        double f;
+    case CSG_KW_HOLLOW: { /* fog fills a hollow object's inside (media too, in POV-Ray) */
+        double f = 1;
         if (!lang_next(p))
             return false;
-        return !lang_is_expr_start(p) || lang_parse_float(p, &f, NULL);
+        if (lang_is_expr_start(p) && !lang_parse_float(p, &f, NULL))
+            return false;
+        o->hollow = f > 0 ? 1 : 2;
+        return true;
     }
     default: /* CSG_KW_OPEN */
         if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
@@ -816,11 +825,101 @@ static bool parse_camera_statement(parser *p)
     return true;
 }
 
+static int default_texture_entry(parser *p);
+
+/* One float item of a light (tightness, radius, falloff, fade_distance,
+ * fade_power); the spotlight and cylinder ones need that kind (POV-Ray's
+ * Not_With). */
+static bool parse_light_float(parser *p, csg_light *l)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at = lang_tok(p)->loc;
+    bool shaped = kw == CSG_KW_TIGHTNESS || kw == CSG_KW_RADIUS || kw == CSG_KW_FALLOFF;
+    if (shaped && l->kind == CSG_LIGHT_POINT) {
+        csg_error(p->d, at, "'%.*s' needs a spotlight or a cylinder light", (int)lang_tok(p)->len,
+                  lang_tok(p)->text);
+        return false;
+    }
+    double f;
+    if (!lang_next(p) || !lang_parse_float(p, &f, NULL))
+        return false;
+    switch (kw) {
+    case CSG_KW_TIGHTNESS: l->tightness = f; break;
+    case CSG_KW_RADIUS: l->radius = l->kind == CSG_LIGHT_SPOT ? cos(f * M_PI / 180) : f; break;
+    case CSG_KW_FALLOFF: l->falloff = l->kind == CSG_LIGHT_SPOT ? cos(f * M_PI / 180) : f; break;
+    case CSG_KW_FADE_DISTANCE: l->fade_distance = f; break;
+    default: l->fade_power = f; break;
+    }
+    return true;
+}
+
+/* area_light AXIS1, AXIS2, SIZE1, SIZE2 (sizes truncated, >= 1). */
+static bool parse_area_light(parser *p, csg_light *l)
+{
+    bool ok = true;
+    double s1, s2;
+    csg_loc at1, at2;
+    if (!lang_next(p) || !lang_parse_vector(p, &l->axis1, NULL))
+        return false;
+    skip_comma(p, &ok);
+    if (!ok || !lang_parse_vector(p, &l->axis2, NULL))
+        return false;
+    skip_comma(p, &ok);
+    if (!ok || !lang_parse_float(p, &s1, &at1))
+        return false;
+    skip_comma(p, &ok);
+    if (!ok || !lang_parse_float(p, &s2, &at2))
+        return false;
+    if (!(s1 >= 1 && s1 < 1e6) || !(s2 >= 1 && s2 < 1e6) || (int)s1 * (int)s2 > 65536) {
+        csg_error(p->d, (s1 >= 1 && s1 < 1e6) ? at2 : at1,
+                  "area_light sizes must be whole numbers from 1 up, at most 65536 points, got %g "
+                  "and %g", s1, s2);
+        return false;
+    }
+    l->area = true;
+    l->size1 = (int)s1;
+    l->size2 = (int)s2;
+    return true;
+}
+
+/* looks_like { OBJECT }: an object at the light (translated to it, moved
+ * by the light's later transforms) that casts no shadow. */
+static bool parse_looks_like(parser *p, const csg_light *l, csg_object **out)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (*out) {
+        csg_error(p->d, open, "only one looks_like allowed per light_source");
+        return false;
+    }
+    if (!lang_next(p) || !lang_expect_open(p, "looks_like"))
+        return false;
+    if (!lang_is_object_start(p))
+        return lang_expected(p, "an object expected inside 'looks_like'");
+    csg_object *o;
+    if (!lang_parse_object(p, &o))
+        return false;
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "looks_like", open);
+    csg_xform t;
+    csg_xform_identity(&t);
+    csg_xform_translate(&t, l->position);
+    if (!lang_object_transform(p, o, &t))
+        return false;
+    o->no_shadow = true;
+    *out = o;
+    return lang_next(p);
+}
+
 static bool parse_light(parser *p)
 {
     csg_light l;
     memset(&l, 0, sizeof l);
     l.loc = lang_tok(p)->loc;
+    l.point_at = (dvec3){0, 0, 1};
+    l.axis1 = (dvec3){0, 0, 1};
+    l.axis2 = (dvec3){0, 1, 0};
+    l.adaptive = 100;
+    csg_object *looks = NULL;
     csg_xform x;
     csg_xform_identity(&x);
     bool ok = lang_next(p) && lang_expect_open(p, "light_source") &&
@@ -836,23 +935,205 @@ static bool parse_light(parser *p)
     for (;;) {
         if (lang_is_punct(p, '}'))
             break;
-        if (lang_is_transform(p)) {
-            if (!lang_parse_transform(p, &x))
+        enum csg_kw kw = lang_tok(p)->kw;
+        bool flag = false;
+        if (lang_tok(p)->kind != CSG_TOK_WORD)
+            kw = CSG_KW_NONE;
+        switch (kw) {
+        case CSG_KW_TRANSLATE: case CSG_KW_ROTATE: case CSG_KW_SCALE: case CSG_KW_MATRIX: {
+            csg_xform t;
+            csg_xform_identity(&t);
+            if (!lang_parse_transform(p, &t))
                 return false;
-        } else if (lang_is_kw(p, CSG_KW_SHADOWLESS)) {
-            l.shadowless = true;
-            if (!lang_next(p))
+            csg_xform_then(&x, &t, &x);
+            if (looks && !lang_object_transform(p, looks, &t))
                 return false;
-        } else {
+            continue;
+        }
+        case CSG_KW_SHADOWLESS: l.shadowless = true; flag = true; break;
+        case CSG_KW_SPOTLIGHT: /* POV-Ray's defaults: radius 30, falloff 45 degrees */
+            l.kind = CSG_LIGHT_SPOT;
+            l.radius = cos(30 * M_PI / 180);
+            l.falloff = cos(45 * M_PI / 180);
+            l.tightness = 0;
+            flag = true;
+            break;
+        case CSG_KW_CYLINDER:
+            l.kind = CSG_LIGHT_CYLINDER;
+            l.radius = 0.75;
+            l.falloff = 1;
+            l.tightness = 0;
+            l.parallel = true;
+            flag = true;
+            break;
+        case CSG_KW_PARALLEL: l.parallel = true; flag = true; break;
+        case CSG_KW_JITTER: /* POV-Ray's jitter is random: no image to agree with */
+            return lang_unsupported(p, "'jitter'", lang_tok(p)->loc);
+        case CSG_KW_CIRCULAR: l.circular = true; flag = true; break;
+        case CSG_KW_ORIENT: l.orient = true; flag = true; break;
+        case CSG_KW_POINT_AT:
+            if (l.kind == CSG_LIGHT_POINT && !l.parallel) {
+                csg_error(p->d, lang_tok(p)->loc,
+                          "'point_at' needs a spotlight, a cylinder or a parallel light");
+                return false;
+            }
+            if (!lang_next(p) || !lang_parse_vector(p, &l.point_at, NULL))
+                return false;
+            continue;
+        case CSG_KW_TIGHTNESS: case CSG_KW_RADIUS: case CSG_KW_FALLOFF: case CSG_KW_FADE_DISTANCE:
+        case CSG_KW_FADE_POWER:
+            if (!parse_light_float(p, &l))
+                return false;
+            continue;
+        case CSG_KW_AREA_LIGHT:
+            if (!parse_area_light(p, &l))
+                return false;
+            continue;
+        case CSG_KW_ADAPTIVE: {
+            double f;
+            if (!lang_next(p) || !lang_parse_float(p, &f, NULL))
+                return false;
+            l.adaptive = f < 0 ? 0 : f > 100 ? 100 : (int)f;
+            continue;
+        }
+        case CSG_KW_MEDIA_ATTENUATION: case CSG_KW_MEDIA_INTERACTION: {
+            double f = 1;
+            csg_loc at = lang_tok(p)->loc;
+            if (!lang_next(p) || (lang_is_expr_start(p) && !lang_parse_float(p, &f, NULL)))
+                return false;
+            /* POV-Ray fogs a shadow ray piece by piece between the
+             * transparent surfaces it crosses (the turbulence and the
+             * transmit floor per piece): not done yet */
+            if (kw == CSG_KW_MEDIA_ATTENUATION && f > 0)
+                return lang_unsupported(p, "'media_attenuation on'", at);
+            continue;
+        }
+        case CSG_KW_LOOKS_LIKE:
+            if (!parse_looks_like(p, &l, &looks))
+                return false;
+            continue;
+        default:
             return lang_expected_close(p, '}', "light_source", l.loc);
         }
+        if (flag && !lang_next(p))
+            return false;
     }
-    dvec3 q = l.position;
+    if (l.area && l.circular && (l.size1 <= 1 || l.size2 <= 1)) {
+        csg_error(p->d, l.loc, "a circular area light must have more than 1 point per axis");
+        return false;
+    }
+    dvec3 q = l.position, a = l.point_at;
     l.position = (dvec3){x.m[0][0] * q.x + x.m[0][1] * q.y + x.m[0][2] * q.z + x.m[0][3],
                          x.m[1][0] * q.x + x.m[1][1] * q.y + x.m[1][2] * q.z + x.m[1][3],
                          x.m[2][0] * q.x + x.m[2][1] * q.y + x.m[2][2] * q.z + x.m[2][3]};
+    l.point_at = (dvec3){x.m[0][0] * a.x + x.m[0][1] * a.y + x.m[0][2] * a.z + x.m[0][3],
+                         x.m[1][0] * a.x + x.m[1][1] * a.y + x.m[1][2] * a.z + x.m[1][3],
+                         x.m[2][0] * a.x + x.m[2][1] * a.y + x.m[2][2] * a.z + x.m[2][3]};
+    for (int k = 0; k < 2; k++) {
+        dvec3 *v = k ? &l.axis2 : &l.axis1, d = *v;
+        *v = (dvec3){x.m[0][0] * d.x + x.m[0][1] * d.y + x.m[0][2] * d.z,
+                     x.m[1][0] * d.x + x.m[1][1] * d.y + x.m[1][2] * d.z,
+                     x.m[2][0] * d.x + x.m[2][1] * d.y + x.m[2][2] * d.z};
+    }
+    if (looks) {
+        if (looks->texture < 0 && (looks->texture = default_texture_entry(p)) < 0)
+            return false;
+        if (!lang_vec_push(p, &p->objects, sizeof looks, &looks))
+            return false;
+    }
     return lang_vec_push(p, &p->lights, sizeof l, &l) && lang_next(p);
 }
+
+/* fog { fog_type I distance F COLOR turbulence V octaves I omega F lambda F
+ * turb_depth F fog_offset F fog_alt F up V TRANSFORMS }: POV-Ray's
+ * Parse_Fog (the transforms turn `up`; a translate does nothing). */
+static bool parse_fog(parser *p)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (p->s->fog_count == CSG_FOG_MAX) {
+        csg_error(p->d, open, "a scene has at most %d fogs", CSG_FOG_MAX);
+        return false;
+    }
+    if (!lang_next(p) || !lang_expect_open(p, "fog"))
+        return false;
+    csg_fog f;
+    memset(&f, 0, sizeof f);
+    f.kind = CSG_FOG_CONSTANT;
+    f.up = (dvec3){0, 1, 0};
+    f.turb.octaves = 6;
+    f.turb.omega = 0.5;
+    f.turb.lambda = 2.0;
+    f.turb_depth = 0.5;
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            break;
+        enum csg_kw kw = lang_tok(p)->kind == CSG_TOK_WORD ? lang_tok(p)->kw : CSG_KW_NONE;
+        csg_loc at = lang_tok(p)->loc;
+        double v;
+        bool ok = true;
+        if (lang_is_color_start(p) && (kw == CSG_KW_COLOR || lang_is_color_item(p))) {
+            ok = lang_parse_color(p, f.rgbft);
+        } else if (kw == CSG_KW_UP) {
+            ok = lang_next(p) && lang_parse_vector(p, &f.up, NULL);
+        } else if (kw == CSG_KW_TURBULENCE) {
+            f.turb.on = true;
+            ok = lang_next(p) && lang_parse_vector(p, &f.turb.amount, NULL);
+        } else if (kw == CSG_KW_ROTATE || kw == CSG_KW_SCALE || kw == CSG_KW_MATRIX ||
+                   kw == CSG_KW_TRANSLATE) {
+            csg_xform x;
+            csg_xform_identity(&x);
+            ok = lang_parse_transform(p, &x);
+            dvec3 u = f.up;
+            if (kw != CSG_KW_TRANSLATE)
+                f.up = (dvec3){x.m[0][0] * u.x + x.m[0][1] * u.y + x.m[0][2] * u.z,
+                               x.m[1][0] * u.x + x.m[1][1] * u.y + x.m[1][2] * u.z,
+                               x.m[2][0] * u.x + x.m[2][1] * u.y + x.m[2][2] * u.z};
+        } else if (kw == CSG_KW_FOG_TYPE || kw == CSG_KW_DISTANCE || kw == CSG_KW_OCTAVES ||
+                   kw == CSG_KW_OMEGA || kw == CSG_KW_LAMBDA || kw == CSG_KW_TURB_DEPTH ||
+                   kw == CSG_KW_FOG_OFFSET || kw == CSG_KW_FOG_ALT) {
+            if (!lang_next(p) || !lang_parse_float(p, &v, &at))
+                return false;
+            switch (kw) {
+            case CSG_KW_FOG_TYPE:
+                if (!(v == 1 || v == 2)) {
+                    csg_error(p->d, at, "fog_type must be 1 (constant) or 2 (ground), got %g", v);
+                    return false;
+                }
+                f.kind = (int)v;
+                break;
+            case CSG_KW_DISTANCE: f.distance = v; break;
+            case CSG_KW_OCTAVES:
+                f.turb.on = true;
+                f.turb.octaves = v < 1 ? 1 : v > 10 ? 10 : (int)v; /* POV-Ray clamps */
+                break;
+            case CSG_KW_OMEGA: f.turb.on = true; f.turb.omega = v; break;
+            case CSG_KW_LAMBDA: f.turb.on = true; f.turb.lambda = v; break;
+            case CSG_KW_TURB_DEPTH: f.turb_depth = v; break;
+            case CSG_KW_FOG_OFFSET: f.offset = v; break;
+            default: f.alt = v; break;
+            }
+        } else if (lang_is_expr_start(p)) { /* POV-Ray: a bare float is the distance */
+            ok = lang_parse_float(p, &f.distance, NULL);
+        } else {
+            return lang_expected_close(p, '}', "fog", open);
+        }
+        if (!ok)
+            return false;
+    }
+    double len = sqrt(f.up.x * f.up.x + f.up.y * f.up.y + f.up.z * f.up.z);
+    if (!(len > 0)) {
+        csg_error(p->d, open, "fog up vector must not be zero");
+        return false;
+    }
+    f.up = (dvec3){f.up.x / len, f.up.y / len, f.up.z / len};
+    if (f.kind == CSG_FOG_GROUND && f.alt == 0) {
+        csg_error(p->d, open, "a ground fog (fog_type 2) needs fog_alt other than 0");
+        return false;
+    }
+    p->s->fogs[p->s->fog_count++] = f;
+    return lang_next(p);
+}
+
 static bool parse_background(parser *p)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -988,6 +1269,7 @@ static bool parse_statement(parser *p)
         case CSG_KW_CAMERA: return parse_camera_statement(p);
         case CSG_KW_LIGHT_SOURCE: return parse_light(p);
         case CSG_KW_BACKGROUND: return parse_background(p);
+        case CSG_KW_FOG: return parse_fog(p);
         case CSG_KW_SKY_SPHERE: return lang_parse_sky_sphere(p, &p->s->sky);
         case CSG_KW_GLOBAL_SETTINGS: return parse_global_settings(p);
         default: break;
@@ -1021,7 +1303,7 @@ static bool finish_scene(parser *p)
     for (int i = 0; i < p->objects.count; i++) {
         compose_world(top[i], NULL);
         if (top[i]->interior < 0) {
-            csg_interior in = {1.0};
+            csg_interior in = {1.0, 0, 0, {0, 0, 0}};
             if (!lang_vec_push(p, &p->interiors, sizeof in, &in))
                 return false;
             top[i]->interior = p->interiors.count - 1;

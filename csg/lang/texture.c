@@ -1173,9 +1173,20 @@ bool lang_parse_interior(parser *p, csg_interior *in)
     for (;;) {
         if (lang_is_punct(p, '}'))
             return lang_next(p);
+        csg_loc at;
+        if (lang_is_kw(p, CSG_KW_FADE_COLOR)) {
+            if (!lang_next(p) || !lang_parse_rgb(p, in->fade_color))
+                return false;
+            continue;
+        }
+        if (lang_is_kw(p, CSG_KW_FADE_DISTANCE) || lang_is_kw(p, CSG_KW_FADE_POWER)) {
+            double *f = lang_is_kw(p, CSG_KW_FADE_DISTANCE) ? &in->fade_distance : &in->fade_power;
+            if (!lang_next(p) || !lang_parse_float(p, f, &at))
+                return false;
+            continue;
+        }
         if (!lang_is_kw(p, CSG_KW_IOR))
             return lang_expected_close(p, '}', "interior", open);
-        csg_loc at;
         if (!lang_next(p) || !lang_parse_float(p, &in->ior, &at))
             return false;
         if (!(in->ior > 0)) {
