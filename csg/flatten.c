@@ -1551,7 +1551,8 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
         g->distance = (real)f->distance;
         for (int k = 0; k < 5; k++)
             g->rgbft[k] = (real)f->rgbft[k];
-        store3(g->up, f->up);
+        double len = sqrt(f->up.x * f->up.x + f->up.y * f->up.y + f->up.z * f->up.z);
+        store3(g->up, (dvec3){f->up.x / len, f->up.y / len, f->up.z / len}); /* (parser: > 0) */
         g->offset = (real)f->offset;
         g->alt = (real)f->alt;
         store3(g->turbulence, f->turb.amount);

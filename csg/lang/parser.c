@@ -1125,7 +1125,8 @@ static bool parse_fog(parser *p)
         csg_error(p->d, open, "fog up vector must not be zero");
         return false;
     }
-    f.up = (dvec3){f.up.x / len, f.up.y / len, f.up.z / len};
+    /* (kept as given: the flattener normalises it, so an exported scene,
+     * its up already of length 1, re-parses to the same numbers) */
     if (f.kind == CSG_FOG_GROUND && f.alt == 0) {
         csg_error(p->d, open, "a ground fog (fog_type 2) needs fog_alt other than 0");
         return false;
