@@ -91,15 +91,43 @@ static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
     return true;
 }
 
-/* Every root program is RPN over known nodes within the stack limit. */
-static bool roots_valid(const csg_blob_header *h, const csg_root *roots, const csg_node *nodes)
+/* The run after the CSG_OP_WIDE node at nodes[k] (flat.h) lies inside its
+ * program (end: one past it): pair_count like pairs whose leaves are
+ * their operator's identity when missed. */
+static bool wide_run_valid(const csg_blob_header *h, const csg_wide *wide, const csg_prim *prims,
+                           const csg_node *nodes, int32_t k, int32_t end)
+{
+    if (nodes[k].prim < 0 || nodes[k].prim >= h->wide_count)
+        return false;
+    const csg_wide *w = &wide[nodes[k].prim];
+    if (w->pair_count < 1 || w->pair_count > (end - k - 1) / 2)
+        return false;
+    int32_t op = nodes[k + 2].op;
+    for (int32_t j = 0; j < w->pair_count; j++) {
+        const csg_node *p = &nodes[k + 1 + 2 * j];
+        if (p[0].op != CSG_OP_PRIM || p[1].op != op || p[0].prim < 0 || p[0].prim >= h->prim_count)
+            return false;
+        bool inverted = (prims[p[0].prim].flags & CSG_PF_INVERT) != 0;
+        if (op == CSG_OP_INTERSECT ? !inverted : (op != CSG_OP_UNION || inverted))
+            return false;
+    }
+    return true;
+}
+
+/* Every root program is RPN over known nodes within the stack limit, its
+ * wide runs' marks before wide runs with something to fold into. */
+static bool roots_valid(const csg_blob_header *h, const csg_root *roots, const csg_node *nodes,
+                        const csg_wide *wide, const csg_prim *prims)
 {
     for (int32_t r = 0; r < h->root_count; r++) {
         int32_t first = roots[r].first_node, count = roots[r].node_count, depth = 0;
         if (first < 0 || count < 1 || first > h->node_count - count)
             return false;
         for (int32_t k = first; k < first + count; k++) {
-            if (nodes[k].op == CSG_OP_PRIM) {
+            if (nodes[k].op == CSG_OP_WIDE) {
+                if (depth < 1 || !wide_run_valid(h, wide, prims, nodes, k, first + count))
+                    return false;
+            } else if (nodes[k].op == CSG_OP_PRIM) {
                 if (nodes[k].prim < 0 || nodes[k].prim >= h->prim_count || ++depth > CSG_STACK_MAX)
                     return false;
             } else if ((nodes[k].op != CSG_OP_UNION && nodes[k].op != CSG_OP_INTERSECT) ||
@@ -130,6 +158,34 @@ static bool bvh_valid(const csg_blob_header *h, const csg_bvh_node *bvh)
         } else if (bvh[k].count < -3 || bvh[k].first <= k || bvh[k].first >= h->bvh_count - 1) {
             return false;
         }
+    }
+    return true;
+}
+
+/* Each wide run's tree (flat.h, csg_wide): its nodes inside the shared
+ * array, children after their parent within the run's nodes, leaves over
+ * the run's items, the items pair indices of the run. */
+static bool wide_valid(const csg_blob_header *h, const csg_wide *wide, const csg_bvh_node *bvh,
+                       const int32_t *items)
+{
+    for (int32_t i = 0; i < h->wide_count; i++) {
+        const csg_wide *w = &wide[i];
+        int32_t b0 = w->bvh_first, b1 = w->bvh_first + w->bvh_count;
+        int32_t i0 = w->item_first, i1 = w->item_first + w->pair_count;
+        if (w->bvh_count < 2 || b0 < 0 || b0 > h->wide_bvh_count - w->bvh_count ||
+            w->pair_count < 1 || i0 < 0 || i0 > h->wide_item_count - w->pair_count)
+            return false;
+        for (int32_t k = b0; k < b1; k++) {
+            if (bvh[k].count >= 0) {
+                if (bvh[k].first < i0 || bvh[k].first > i1 - bvh[k].count)
+                    return false;
+            } else if (bvh[k].count < -3 || bvh[k].first <= k || bvh[k].first >= b1 - 1) {
+                return false;
+            }
+        }
+        for (int32_t k = i0; k < i1; k++)
+            if (items[k] < 0 || items[k] >= w->pair_count)
+                return false;
     }
     return true;
 }
@@ -244,6 +300,10 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_nodes, h->node_count, sizeof(csg_node), blob_size) ||
         !array_fits(h->off_roots, h->root_count, sizeof(csg_root), blob_size) ||
         !array_fits(h->off_bvh, h->bvh_count, sizeof(csg_bvh_node), blob_size) ||
+        h->wide_count < 0 || h->wide_bvh_count < 0 || h->wide_item_count < 0 ||
+        !array_fits(h->off_wide, h->wide_count, sizeof(csg_wide), blob_size) ||
+        !array_fits(h->off_wide_bvh, h->wide_bvh_count, sizeof(csg_bvh_node), blob_size) ||
+        !array_fits(h->off_wide_items, h->wide_item_count, sizeof(int32_t), blob_size) ||
         !array_fits(h->off_camera, 1, sizeof(csg_camera), blob_size) ||
         !array_fits(h->off_materials, h->material_count, sizeof(csg_material), blob_size) ||
         !array_fits(h->off_lights, h->light_count, sizeof(csg_flat_light), blob_size) ||
@@ -272,7 +332,10 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         return false;
     return prims_valid(h, blob_at(bytes, h->off_prims)) &&
            materials_valid(h, blob_at(bytes, h->off_materials)) &&
-           roots_valid(h, blob_at(bytes, h->off_roots), blob_at(bytes, h->off_nodes)) &&
+           roots_valid(h, blob_at(bytes, h->off_roots), blob_at(bytes, h->off_nodes),
+                       blob_at(bytes, h->off_wide), blob_at(bytes, h->off_prims)) &&
+           wide_valid(h, blob_at(bytes, h->off_wide), blob_at(bytes, h->off_wide_bvh),
+                      blob_at(bytes, h->off_wide_items)) &&
            bvh_valid(h, blob_at(bytes, h->off_bvh)) && features_valid(bytes);
 }
 

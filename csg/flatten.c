@@ -15,6 +15,9 @@
  *     the number of interval lists they need (Ershov number), largest first,
  *     so a program needs as few lists at once as possible; a program that
  *     still needs more than CSG_STACK_MAX is an error.
+ *     A run of at least CSG_WIDE_MIN leaves folded by one operator, each
+ *     the operator's identity where the ray misses it (a wide CSG node),
+ *     gets a CSG_OP_WIDE mark and a BVH of its own (flat.h, csg_wide).
  *     Surfaces made of several triangles (polygon, mesh) are a union of
  *     their pieces: at the top level each piece is a root of its own (the
  *     BVH then sees every triangle), inside CSG a union in the program.
@@ -88,6 +91,15 @@ typedef struct {
     int root_count, root_cap, root_box_cap;
     csg_bvh_node *bvh;
     int bvh_count, bvh_cap;
+    dbox *prim_boxes;       /* each primitive's world box, uncomplemented
+                               (the wide runs' hierarchies)             */
+    int prim_box_cap;
+    csg_wide *wide;         /* wide runs (flat.h, CSG_OP_WIDE)            */
+    int wide_count, wide_cap;
+    csg_bvh_node *wide_bvh;
+    int wide_bvh_count, wide_bvh_cap;
+    csg_i32 *wide_items;
+    int wide_item_count, wide_item_cap;
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
     csg_material *mats;
     uint64_t *mat_keys;     /* each material's (texture, interior) key   */
@@ -919,7 +931,8 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
                   CSG_MAX_PRIMS);
         return -1;
     }
-    if (!grow((void **)&fb->prims, &fb->prim_cap, fb->prim_count + 1, sizeof(csg_prim))) {
+    if (!grow((void **)&fb->prims, &fb->prim_cap, fb->prim_count + 1, sizeof(csg_prim)) ||
+        !grow((void **)&fb->prim_boxes, &fb->prim_box_cap, fb->prim_count + 1, sizeof(dbox))) {
         fb->oom = true;
         return -1;
     }
@@ -944,6 +957,7 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
     p->root = root;
     p->flags |= (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
                 (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0);
+    fb->prim_boxes[fb->prim_count] = *box;
     if (invert)
         *box = box_infinite();
     return fb->prim_count++;
@@ -988,6 +1002,35 @@ static int lists_needed(const csg_object *o)
     }
     /* largest first, then every other operand on top of one held result */
     return o->child_count == 1 ? best : (best > second + 1 ? best : second + 1);
+}
+
+/* order[0..n) sorted by need[] decreasing, equal needs in their index
+ * order: a stable sort, as qsort of (need, index) keys (a selection sort
+ * was quadratic at 10^5 operands, issue #39).  False when out of memory. */
+typedef struct {
+    int need, index;
+} need_key;
+
+static int by_need(const void *a, const void *b)
+{
+    const need_key *x = a, *y = b;
+    if (x->need != y->need)
+        return x->need > y->need ? -1 : 1;
+    return (x->index > y->index) - (x->index < y->index);
+}
+
+static bool sort_by_need(int *order, const int *need, int n)
+{
+    need_key *keys = malloc((size_t)n * sizeof *keys);
+    if (!keys)
+        return false;
+    for (int i = 0; i < n; i++)
+        keys[i] = (need_key){need[i], i};
+    qsort(keys, (size_t)n, sizeof *keys, by_need);
+    for (int i = 0; i < n; i++)
+        order[i] = keys[i].index;
+    free(keys);
+    return true;
 }
 
 static bool emit(flat_builder *fb, int op, int prim)
@@ -1053,14 +1096,11 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
         order[i] = i;
         need[i] = lists_needed(o->children[i]);
     }
-    for (int i = 0; i < n; i++) {
-        int best = i;
-        for (int j = i + 1; j < n; j++)
-            if (need[order[j]] > need[order[best]])
-                best = j;
-        int pick = order[best];
-        memmove(&order[i + 1], &order[i], (size_t)(best - i) * sizeof *order);
-        order[i] = pick;
+    if (!sort_by_need(order, need, n)) {
+        free(order);
+        free(need);
+        fb->oom = true;
+        return false;
     }
     bool ok = true;
     for (int k = 0; k < n && ok; k++) {
@@ -1134,6 +1174,121 @@ static bool material_opaque(const flat_builder *fb, const csg_material *m)
     return true;
 }
 
+
+/* ---- wide runs (flat.h, CSG_OP_WIDE) ------------------------------------------- */
+
+static bool box_bounded(const dbox *b);
+static void store_bvh_nodes(const bvh_build_node *built, int count, int first_node,
+                            int first_item, csg_bvh_node *out);
+
+/* Node k folds a primitive into the list below it that is OP's identity
+ * when the ray misses the primitive's box: (PRIM p, OP) with p
+ * complemented under INTERSECT, plain under UNION, and bounded. */
+static int wide_pair_op(const flat_builder *fb, const csg_node *nodes, int k, int end)
+{
+    if (k + 1 >= end || nodes[k].op != CSG_OP_PRIM)
+        return -1;
+    int op = nodes[k + 1].op, prim = nodes[k].prim;
+    bool inverted = (fb->prims[prim].flags & CSG_PF_INVERT) != 0;
+    if (!(op == CSG_OP_INTERSECT && inverted) && !(op == CSG_OP_UNION && !inverted))
+        return -1;
+    return box_bounded(&fb->prim_boxes[prim]) ? op : -1;
+}
+
+/* The hierarchy of the run of `pairs` pairs from node `start`, appended to
+ * fb->wide, fb->wide_bvh and fb->wide_items. */
+static bool add_wide(flat_builder *fb, int start, int pairs)
+{
+    dbox *boxes = malloc((size_t)pairs * sizeof *boxes);
+    int *all = malloc((size_t)pairs * sizeof *all);
+    int *order = malloc((size_t)pairs * sizeof *order);
+    bvh_build_node *built = NULL;
+    int count = 0;
+    bool ok = boxes && all && order;
+    for (int j = 0; ok && j < pairs; j++) {
+        boxes[j] = fb->prim_boxes[fb->nodes[start + 2 * j].prim];
+        all[j] = j;
+    }
+    /* (threads only for a big run: one per run would cost more than it saves) */
+    ok = ok && bvh_build(boxes, all, pairs, order, 0, pairs >= 4096 ? 0 : 1, &built, &count);
+    ok = ok &&
+         grow((void **)&fb->wide, &fb->wide_cap, fb->wide_count + 1, sizeof(csg_wide)) &&
+         grow((void **)&fb->wide_bvh, &fb->wide_bvh_cap, fb->wide_bvh_count + count,
+              sizeof(csg_bvh_node)) &&
+         grow((void **)&fb->wide_items, &fb->wide_item_cap, fb->wide_item_count + pairs,
+              sizeof(csg_i32));
+    if (ok) {
+        csg_wide *w = &fb->wide[fb->wide_count++];
+        w->pair_count = pairs;
+        w->bvh_first = fb->wide_bvh_count;
+        w->bvh_count = count;
+        w->item_first = fb->wide_item_count;
+        store_bvh_nodes(built, count, w->bvh_first, w->item_first, fb->wide_bvh + w->bvh_first);
+        for (int j = 0; j < pairs; j++)
+            fb->wide_items[w->item_first + j] = order[j];
+        fb->wide_bvh_count += count;
+        fb->wide_item_count += pairs;
+    }
+    free(boxes);
+    free(all);
+    free(order);
+    free(built);
+    return ok;
+}
+
+/* The length in pairs of the run of like pairs from nodes[k] (0: none). */
+static int wide_run_at(const flat_builder *fb, const csg_node *nodes, int k, int end)
+{
+    int op = wide_pair_op(fb, nodes, k, end), pairs = 0;
+    while (op >= 0 && wide_pair_op(fb, nodes, k + 2 * pairs, end) == op)
+        pairs++;
+    return pairs;
+}
+
+/* Marks the wide runs of the program fb->nodes[first ..): a CSG_OP_WIDE
+ * node before each run of at least CSG_WIDE_MIN pairs.  The hierarchies
+ * are built first, from the program as it is, then the program is
+ * rewritten with the marks. */
+static bool mark_wide_runs(flat_builder *fb, int first)
+{
+    int end = fb->node_count, marks = 0, first_wide = fb->wide_count;
+    for (int k = first; k < end;) {
+        int pairs = wide_run_at(fb, fb->nodes, k, end);
+        if (pairs >= CSG_WIDE_MIN) {
+            if (!add_wide(fb, k, pairs))
+                return false;
+            marks++;
+        }
+        k += pairs > 0 ? 2 * pairs : 1;
+    }
+    if (marks == 0)
+        return true;
+    int n = end - first;
+    csg_node *prog = malloc((size_t)n * sizeof *prog);
+    if (!prog || !grow((void **)&fb->nodes, &fb->node_cap, end + marks, sizeof(csg_node))) {
+        free(prog);
+        return false;
+    }
+    memcpy(prog, fb->nodes + first, (size_t)n * sizeof *prog);
+    int out = first, wide = first_wide;
+    for (int k = 0; k < n;) {
+        int pairs = 0;
+        if (wide < fb->wide_count) /* (the first pass's runs, found again) */
+            pairs = wide_run_at(fb, prog, k, n);
+        if (pairs >= CSG_WIDE_MIN) {
+            fb->nodes[out].op = CSG_OP_WIDE;
+            fb->nodes[out++].prim = wide++;
+        }
+        int step = pairs > 0 ? 2 * pairs : 1;
+        for (int i = 0; i < step; i++)
+            fb->nodes[out++] = prog[k + i];
+        k += step;
+    }
+    free(prog);
+    fb->node_count = out;
+    return true;
+}
+
 /* csg_root_flags of the root whose primitives are first_prim .. the last.
  * A one-sided surface is never opaque here: its hidden back still stops
  * light (a surface event, root_transmittance), which the first visible hit
@@ -1171,6 +1326,10 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     dbox box;
     if (!emit_tree(fb, o, inh, false, root, &box))
         return false;
+    if (!mark_wide_runs(fb, first)) {
+        fb->oom = true;
+        return false;
+    }
     csg_root *r = &fb->roots[fb->root_count++];
     memset(r, 0, sizeof *r);
     r->first_node = first;
@@ -1281,18 +1440,27 @@ static bool lay_out_programs(flat_builder *fb)
  * bounded ones in the BVH's leaf order; nodes and primitives follow their
  * roots (lay_out_programs). */
 /* fb->bvh from bvh_build's nodes, their boxes stored in `real`. */
+/* bvh_build's nodes into out[], their boxes in `real`; a child index is
+ * moved by first_node, a leaf's first item by first_item (a wide run's
+ * tree lies inside a shared array). */
+static void store_bvh_nodes(const bvh_build_node *built, int count, int first_node,
+                            int first_item, csg_bvh_node *out)
+{
+    for (int i = 0; i < count; i++) {
+        csg_bvh_node *node = &out[i];
+        box_store(built[i].box, node->box, node->box + 3);
+        node->first = built[i].first + (built[i].count < 0 ? first_node : first_item);
+        node->count = built[i].count;
+    }
+}
+
 static bool store_bvh(flat_builder *fb, const bvh_build_node *built, int count)
 {
     fb->bvh = malloc((size_t)count * sizeof *fb->bvh);
     if (!fb->bvh)
         return false;
     fb->bvh_count = fb->bvh_cap = count;
-    for (int i = 0; i < count; i++) {
-        csg_bvh_node *node = &fb->bvh[i];
-        box_store(built[i].box, node->box, node->box + 3);
-        node->first = built[i].first;
-        node->count = built[i].count;
-    }
+    store_bvh_nodes(built, count, 0, 0, fb->bvh);
     return true;
 }
 
@@ -1381,6 +1549,9 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.root_count = fb->root_count;
     h.linear_roots = fb->linear_roots;
     h.bvh_count = fb->bvh_count;
+    h.wide_count = fb->wide_count;
+    h.wide_bvh_count = fb->wide_bvh_count;
+    h.wide_item_count = fb->wide_item_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
     h.map_count = fb->map_count;
@@ -1393,6 +1564,9 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.off_nodes = place(&off, fb->node_count, sizeof(csg_node));
     h.off_roots = place(&off, fb->root_count, sizeof(csg_root));
     h.off_bvh = place(&off, fb->bvh_count, sizeof(csg_bvh_node));
+    h.off_wide = place(&off, fb->wide_count, sizeof(csg_wide));
+    h.off_wide_bvh = place(&off, fb->wide_bvh_count, sizeof(csg_bvh_node));
+    h.off_wide_items = place(&off, fb->wide_item_count, sizeof(csg_i32));
     h.off_materials = place(&off, fb->mat_count, sizeof(csg_material));
     h.off_lights = place(&off, s->light_count, sizeof(csg_flat_light));
     h.off_camera = place(&off, 1, sizeof(csg_camera));
@@ -1595,6 +1769,9 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     free_array((void **)&fb->roots);
     copy_array(b, h.off_bvh, fb->bvh, fb->bvh_count, sizeof(csg_bvh_node));
     free_array((void **)&fb->bvh);
+    copy_array(b, h.off_wide, fb->wide, fb->wide_count, sizeof(csg_wide));
+    copy_array(b, h.off_wide_bvh, fb->wide_bvh, fb->wide_bvh_count, sizeof(csg_bvh_node));
+    copy_array(b, h.off_wide_items, fb->wide_items, fb->wide_item_count, sizeof(csg_i32));
     copy_array(b, h.off_materials, fb->mats, fb->mat_count, sizeof(csg_material));
     copy_array(b, h.off_maps, fb->maps, fb->map_count, sizeof(csg_map_color));
     write_scene_values(fb, o, &h, b);
@@ -1640,6 +1817,10 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.roots);
     free(fb.root_boxes);
     free(fb.bvh);
+    free(fb.prim_boxes);
+    free(fb.wide);
+    free(fb.wide_bvh);
+    free(fb.wide_items);
     free(fb.mats);
     free(fb.mat_keys);
     free(fb.mat_slots);

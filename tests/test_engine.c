@@ -398,9 +398,7 @@ static void test_bvh_matches_linear(void **state)
     assert_int_equal(h->linear_roots, 1);
     assert_true(h->bvh_count >= 150);
     const char *bytes = b.bytes;
-    csg_view bvh = {(const csg_prim *)(bytes + h->off_prims), (const csg_node *)(bytes + h->off_nodes),
-                    (const csg_root *)(bytes + h->off_roots),
-                    (const csg_bvh_node *)(bytes + h->off_bvh), h->linear_roots, h->bvh_count};
+    csg_view bvh = csg_blob_view((const csg_u8 *)bytes);
     csg_view linear = bvh;
     linear.root_count = h->root_count;
     linear.bvh_count = 0;
@@ -501,11 +499,7 @@ static void test_bvh_sah_random(void **state)
             csg_blob b;
             const csg_blob_header *h = flatten_ok(&engine_float, &s, 40, 30, &b);
             const char *bytes = b.bytes;
-            csg_view bvh = {(const csg_prim *)(bytes + h->off_prims),
-                            (const csg_node *)(bytes + h->off_nodes),
-                            (const csg_root *)(bytes + h->off_roots),
-                            (const csg_bvh_node *)(bytes + h->off_bvh), h->linear_roots,
-                            h->bvh_count};
+            csg_view bvh = csg_blob_view((const csg_u8 *)bytes);
             assert_int_equal(h->linear_roots, 1);
             assert_true(h->bvh_count >= 2 && h->bvh_count % 2 == 0);
             int *seen = calloc((size_t)h->root_count, sizeof *seen);

@@ -106,10 +106,11 @@ static void test_fog_and_lights(void **state)
     assert_near(s.fogs[0].alt, 2);
     assert_int_equal(s.fogs[0].turb.octaves, 10); /* clamped, as POV-Ray */
     assert_true(s.fogs[0].turb.on);
-    /* up: unit, turned by the rotation, not moved by the translation */
+    /* up: turned by the rotation, not moved by the translation; kept at
+     * its length (the flattener makes it a unit vector) */
     assert_near(s.fogs[0].up.x, 0);
     assert_near(s.fogs[0].up.y, 0);
-    assert_near(s.fogs[0].up.z, 1);
+    assert_near(s.fogs[0].up.z, 2);
     assert_int_equal(s.fogs[1].kind, CSG_FOG_CONSTANT);
     assert_near(s.fogs[1].distance, 7);
     assert_int_equal(s.objects[0]->hollow, 1);

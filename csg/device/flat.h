@@ -133,12 +133,40 @@ typedef struct {
     };
 } csg_prim;
 
-enum csg_op { CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2 };
+/* CSG_OP_WIDE marks a wide run: the nodes after it are pair_count pairs
+ * (PRIM p_j, OP) with one OP, folding p_0, p_1, ... into the list on top
+ * of the stack, each p_j a leaf that is the identity of OP when the ray
+ * misses its box: complemented under INTERSECT (the whole line), plain
+ * under UNION (nothing).  The run's own BVH (csg_wide) finds the leaves a
+ * ray meets; folding only those, in the run's order, gives the very same
+ * list (the other steps copy it unchanged: csg_spans_union and
+ * csg_spans_intersect with an identity operand push the same spans and
+ * events).  The evaluator may also skip the marker and fold the pairs one
+ * by one, as without it (issue #39). */
+enum csg_op { CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2, CSG_OP_WIDE = 3 };
 
 typedef struct {
     csg_i32 op;   /* enum csg_op                                 */
-    csg_i32 prim; /* primitive index, for CSG_OP_PRIM; else -1   */
+    csg_i32 prim; /* primitive index, for CSG_OP_PRIM; the wide run
+                     (csg_wide), for CSG_OP_WIDE; else -1        */
 } csg_node;
+
+/* A wide run's hierarchy: nodes wide_bvh[bvh_first .. + bvh_count) laid
+ * out as the root BVH's (pairs of siblings, children after their parent,
+ * bvh_first and bvh_first + 1 the top pair), their child and leaf indices
+ * absolute; a leaf holds wide_items[first .. + count), each the index j of
+ * a pair of the run (0 .. pair_count - 1), its box that of p_j's
+ * primitive (uncomplemented). */
+typedef struct {
+    csg_i32 pair_count;
+    csg_i32 bvh_first;
+    csg_i32 bvh_count;
+    csg_i32 item_first; /* the run's items: wide_items[item_first .. + pair_count) */
+} csg_wide;
+
+#define CSG_WIDE_MIN 16  /* the flattener marks runs of at least this many pairs */
+#define CSG_WIDE_HITS 128 /* a ray meeting more leaves of a run folds them all,
+                            one by one (the result is the same)              */
 
 /* What shadow rays may skip in a root (csg_root.flags): a root whose
  * primitives are all no_shadow casts no shadow; one whose primitives all
@@ -401,9 +429,14 @@ typedef struct {
     csg_i32 sky_count;     /* sky_sphere pigments: a ray that misses sees
                               a colour of its direction, so no tile is
                               degenerate                                 */
+    csg_i32 wide_count;    /* wide runs (csg_wide), their BVH nodes and */
+    csg_i32 wide_bvh_count; /* items                                    */
+    csg_i32 wide_item_count;
+    csg_i32 pad;
     csg_u32 kinds;         /* the primitive kinds present: bit 1 << kind */
     csg_u32 features;      /* enum csg_feature: what else the scene uses */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
+    csg_u64 off_wide, off_wide_bvh, off_wide_items;              /* device */
     csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
 } csg_blob_header;
@@ -423,16 +456,22 @@ typedef struct {
         F(csg_blob_header, bvh_count) F(csg_blob_header, linear_roots)                     \
         F(csg_blob_header, material_count) F(csg_blob_header, light_count)                 \
         F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
-        F(csg_blob_header, sky_count) F(csg_blob_header, kinds)                            \
+        F(csg_blob_header, sky_count) F(csg_blob_header, wide_count)                       \
+        F(csg_blob_header, wide_bvh_count) F(csg_blob_header, wide_item_count)             \
+        F(csg_blob_header, pad) F(csg_blob_header, kinds)                                  \
         F(csg_blob_header, features) F(csg_blob_header, off_prims)                         \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
+        F(csg_blob_header, off_wide) F(csg_blob_header, off_wide_bvh)                      \
+        F(csg_blob_header, off_wide_items)                                                 \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \
         F(csg_blob_header, off_shading) F(csg_blob_header, off_maps)                       \
         F(csg_blob_header, total_size)                                                     \
     S(csg_prim) F(csg_prim, kind) F(csg_prim, flags) F(csg_prim, material)                 \
         F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
+    S(csg_wide) F(csg_wide, pair_count) F(csg_wide, bvh_first) F(csg_wide, bvh_count)     \
+        F(csg_wide, item_first)                                                            \
     S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \
         F(csg_root, stack_depth) F(csg_root, flags) F(csg_root, lo) F(csg_root, hi)        \
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, box)     \

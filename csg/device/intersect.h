@@ -74,6 +74,9 @@ typedef struct {
     CSG_GLOBAL const csg_node *nodes;
     CSG_GLOBAL const csg_root *roots;
     CSG_GLOBAL const csg_bvh_node *bvh;
+    CSG_GLOBAL const csg_wide *wide;         /* wide runs (flat.h, CSG_OP_WIDE) */
+    CSG_GLOBAL const csg_bvh_node *wide_bvh;
+    CSG_GLOBAL const csg_i32 *wide_items;
     csg_i32 root_count;
     csg_i32 bvh_count;
 } csg_view;
@@ -87,6 +90,9 @@ CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
     v.nodes = (CSG_GLOBAL const csg_node *)(blob + h->off_nodes);
     v.roots = (CSG_GLOBAL const csg_root *)(blob + h->off_roots);
     v.bvh = (CSG_GLOBAL const csg_bvh_node *)(blob + h->off_bvh);
+    v.wide = (CSG_GLOBAL const csg_wide *)(blob + h->off_wide);
+    v.wide_bvh = (CSG_GLOBAL const csg_bvh_node *)(blob + h->off_wide_bvh);
+    v.wide_items = (CSG_GLOBAL const csg_i32 *)(blob + h->off_wide_items);
     v.root_count = h->linear_roots;
     v.bvh_count = h->bvh_count;
     return v;
@@ -433,6 +439,74 @@ CSG_FN int csg_box_overlaps(CSG_GLOBAL const csg_root *root, csg_ray r, real tmi
     return csg_aabb_overlaps(root->lo, root->hi, r, tmin, tmax);
 }
 
+/* ---- wide runs (flat.h, CSG_OP_WIDE) -------------------------------------------- */
+
+/* The pairs of wide run w whose leaf boxes the ray meets on [tmin, tmax],
+ * into hit[] in the run's order; -1 when more than CSG_WIDE_HITS (the
+ * caller then folds every pair).  A depth-first walk: the order of the
+ * visits does not matter, the indices are sorted after. */
+CSG_FN csg_i32 csg_wide_hits(csg_view v, CSG_GLOBAL const csg_wide *w, csg_ray r, real tmin,
+                             real tmax, csg_i32 *hit)
+{
+    csg_box_ray br = csg_box_ray_of(r);
+    csg_i32 stack[CSG_BVH_STACK + 1];
+    csg_i32 top = 0, n = 0;
+    stack[top++] = w->bvh_first;
+    stack[top++] = w->bvh_first + 1;
+    while (top > 0) {
+        CSG_GLOBAL const csg_bvh_node *node = &v.wide_bvh[stack[--top]];
+        real t_enter;
+        if (!csg_node_hit(node, &br, tmin, tmax, &t_enter))
+            continue;
+        if (node->count < 0) {
+            if (top + 2 > CSG_BVH_STACK + 1) /* the flattener keeps the tree shallower */
+                return -1;
+            stack[top++] = node->first;
+            stack[top++] = node->first + 1;
+            continue;
+        }
+        if (n + node->count > CSG_WIDE_HITS)
+            return -1;
+        for (csg_i32 k = 0; k < node->count; k++)
+            hit[n++] = v.wide_items[node->first + k];
+    }
+    for (csg_i32 i = 1; i < n; i++) { /* insertion sort: n is small */
+        csg_i32 x = hit[i], j = i - 1;
+        while (j >= 0 && hit[j] > x) {
+            hit[j + 1] = hit[j];
+            j--;
+        }
+        hit[j + 1] = x;
+    }
+    return n;
+}
+
+/* The run marked by the CSG_OP_WIDE node at nodes[at], folded into *acc
+ * through its hierarchy; returns the nodes it stands for (0: none done,
+ * the caller folds the pairs one by one). */
+CSG_FN csg_i32 csg_wide_fold(csg_view v, csg_i32 at, csg_ray r, real tmin, real tmax,
+                             csg_spans *acc)
+{
+    CSG_GLOBAL const csg_wide *w = &v.wide[v.nodes[at].prim];
+    csg_i32 hit[CSG_WIDE_HITS];
+    if (!(tmin < tmax)) /* a complemented leaf's line is then empty, no identity */
+        return 0;
+    csg_i32 n = csg_wide_hits(v, w, r, tmin, tmax, hit);
+    if (n < 0)
+        return 0;
+    csg_spans leaf, tmp;
+    for (csg_i32 k = 0; k < n; k++) {
+        csg_i32 pair = at + 1 + 2 * hit[k];
+        csg_leaf_spans(v.prims, v.nodes[pair].prim, r, tmin, tmax, &leaf);
+        if (v.nodes[pair + 1].op == CSG_OP_UNION)
+            csg_spans_union(acc, &leaf, &tmp);
+        else
+            csg_spans_intersect(acc, &leaf, &tmp);
+        csg_spans_copy(&tmp, acc);
+    }
+    return 2 * w->pair_count;
+}
+
 /* ---- a root ---------------------------------------------------------------- */
 
 /* The interval list of a whole root on [tmin, tmax], through its program. */
@@ -449,6 +523,11 @@ CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real 
     csg_i32 top = 0;
     for (csg_i32 k = 0; k < rt->node_count; k++) {
         csg_node n = v.nodes[rt->first_node + k];
+        if (n.op == CSG_OP_WIDE) {
+            if (top > 0) /* (the blob validator checks it) */
+                k += csg_wide_fold(v, rt->first_node + k, r, tmin, tmax, &stack[top - 1]);
+            continue;
+        }
         if (n.op == CSG_OP_PRIM) {
             if (top == CSG_STACK_MAX) /* the flattener prevents this */
                 break;
