@@ -65,6 +65,13 @@ static void put_num(FILE *out, double v)
     fputs(buf, out);
 }
 
+/* A keyword (with its spaces) and its number. */
+static void put_field(FILE *out, const char *key, double v)
+{
+    fputs(key, out);
+    put_num(out, v);
+}
+
 static void put_vec(FILE *out, const double *v, int n)
 {
     fputc('<', out);
@@ -99,8 +106,7 @@ static void write_globals(const exporter *e)
      * cross-check compares linear colours) */
     fputs("global_settings {\n", out);
     if (e->flat || g->gamma_kind == CSG_GAMMA_POWER) {
-        fputs("    assumed_gamma ", out);
-        put_num(out, e->flat ? 1.0 : g->assumed_gamma);
+        put_field(out, "    assumed_gamma ", e->flat ? 1.0 : g->assumed_gamma);
         fputc('\n', out);
     } else if (g->gamma_kind == CSG_GAMMA_SRGB) {
         fputs("    assumed_gamma srgb\n", out);
@@ -109,8 +115,7 @@ static void write_globals(const exporter *e)
     } /* else POV-Ray's legacy mode: no assumed_gamma before 3.7 */
     fputs("    max_trace_level ", out);
     fprintf(out, "%d", e->flat ? 1 : g->max_trace_level);
-    fputs("\n    adc_bailout ", out);
-    put_num(out, g->adc_bailout);
+    put_field(out, "\n    adc_bailout ", g->adc_bailout);
     if (g->number_of_waves != 10)
         fprintf(out, "\n    number_of_waves %d", g->number_of_waves);
     fputs("\n    ambient_light rgb ", out);
@@ -180,18 +185,13 @@ static void write_light(FILE *out, const csg_light *l)
     }
     if (l->kind != CSG_LIGHT_POINT) {
         bool spot = l->kind == CSG_LIGHT_SPOT;
-        fputs(" radius ", out);
-        put_num(out, spot ? acos(l->radius) * 180 / M_PI : l->radius);
-        fputs(" falloff ", out);
-        put_num(out, spot ? acos(l->falloff) * 180 / M_PI : l->falloff);
-        fputs(" tightness ", out);
-        put_num(out, l->tightness);
+        put_field(out, " radius ", spot ? acos(l->radius) * 180 / M_PI : l->radius);
+        put_field(out, " falloff ", spot ? acos(l->falloff) * 180 / M_PI : l->falloff);
+        put_field(out, " tightness ", l->tightness);
     }
     if (l->fade_distance != 0 || l->fade_power != 0) {
-        fputs(" fade_distance ", out);
-        put_num(out, l->fade_distance);
-        fputs(" fade_power ", out);
-        put_num(out, l->fade_power);
+        put_field(out, " fade_distance ", l->fade_distance);
+        put_field(out, " fade_power ", l->fade_power);
     }
     if (l->area) {
         fputs(" area_light ", out);
@@ -215,15 +215,11 @@ static void write_fog(FILE *out, const csg_fog *f)
         put_dvec(out, f->turb.amount);
         fprintf(out, " octaves %d omega ", f->turb.octaves);
         put_num(out, f->turb.omega);
-        fputs(" lambda ", out);
-        put_num(out, f->turb.lambda);
+        put_field(out, " lambda ", f->turb.lambda);
     }
-    fputs(" turb_depth ", out);
-    put_num(out, f->turb_depth);
-    fputs(" fog_offset ", out);
-    put_num(out, f->offset);
-    fputs(" fog_alt ", out);
-    put_num(out, f->alt);
+    put_field(out, " turb_depth ", f->turb_depth);
+    put_field(out, " fog_offset ", f->offset);
+    put_field(out, " fog_alt ", f->alt);
     fputs(" up ", out);
     put_dvec(out, f->up);
     fputs(" }\n", out);
@@ -318,28 +314,22 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
         put_dvec(out, pig->turb.amount);
         fprintf(out, " octaves %d omega ", pig->turb.octaves);
         put_num(out, pig->turb.omega);
-        fputs(" lambda ", out);
-        put_num(out, pig->turb.lambda);
+        put_field(out, " lambda ", pig->turb.lambda);
     }
     if (pig->pattern == CSG_PATTERN_AGATE) {
-        fputs(" agate_turb ", out);
-        put_num(out, pig->agate_turb);
+        put_field(out, " agate_turb ", pig->agate_turb);
     }
     if (pig->pattern == CSG_PATTERN_CRACKLE) {
         fputs(" form ", out);
         put_dvec(out, pig->crackle.form);
-        fputs(" metric ", out);
-        put_num(out, pig->crackle.metric);
-        fputs(" offset ", out);
-        put_num(out, pig->crackle.offset);
+        put_field(out, " metric ", pig->crackle.metric);
+        put_field(out, " offset ", pig->crackle.offset);
         if (pig->crackle.solid)
             fputs(" solid", out);
     }
     if (pig->pattern == CSG_PATTERN_QUILTED) {
-        fputs(" control0 ", out);
-        put_num(out, pig->control0);
-        fputs(" control1 ", out);
-        put_num(out, pig->control1);
+        put_field(out, " control0 ", pig->control0);
+        put_field(out, " control1 ", pig->control1);
     }
     if (pig->turb.on || csg_pattern_reads_noise(pig->pattern))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
@@ -361,10 +351,8 @@ static void write_pigment_body(const exporter *e, const csg_pigment *pig, int de
     }
     write_pattern_kind(e, pig, depth);
     write_noise(e, pig);
-    fputs(" frequency ", out);
-    put_num(out, pig->frequency);
-    fputs(" phase ", out);
-    put_num(out, pig->phase);
+    put_field(out, " frequency ", pig->frequency);
+    put_field(out, " phase ", pig->phase);
     fputc('\n', out);
     write_matrix(out, &pig->xform, depth + 1);
     indent(out, depth);
@@ -423,12 +411,9 @@ static void write_normal(const exporter *e, const csg_normal *n, int depth)
     fputc(' ', out);
     put_num(out, n->amount);
     write_noise(e, pig);
-    fputs(" frequency ", out);
-    put_num(out, pig->frequency);
-    fputs(" phase ", out);
-    put_num(out, pig->phase);
-    fputs(" accuracy ", out);
-    put_num(out, n->accuracy);
+    put_field(out, " frequency ", pig->frequency);
+    put_field(out, " phase ", pig->phase);
+    put_field(out, " accuracy ", n->accuracy);
     if (n->no_bump_scale)
         fputs(" no_bump_scale", out);
     fputc('\n', out);
@@ -480,10 +465,8 @@ static void write_texture_map(const exporter *e, const csg_texture *t, int depth
     }
     indent(out, depth);
     write_noise(e, pig);
-    fputs(" frequency ", out);
-    put_num(out, pig->frequency);
-    fputs(" phase ", out);
-    put_num(out, pig->phase);
+    put_field(out, " frequency ", pig->frequency);
+    put_field(out, " phase ", pig->phase);
     fputc('\n', out);
     write_matrix(out, &pig->xform, depth);
 }
@@ -511,20 +494,13 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
     indent(out, depth);
     fputs("finish { ambient rgb ", out);
     put_vec(out, f->ambient, 3);
-    fputs(" diffuse ", out);
-    put_num(out, f->diffuse);
-    fputs(" brilliance ", out);
-    put_num(out, f->brilliance);
-    fputs(" specular ", out);
-    put_num(out, f->specular);
-    fputs(" roughness ", out);
-    put_num(out, f->roughness);
-    fputs(" phong ", out);
-    put_num(out, f->phong);
-    fputs(" phong_size ", out);
-    put_num(out, f->phong_size);
-    fputs(" metallic ", out);
-    put_num(out, f->metallic);
+    put_field(out, " diffuse ", f->diffuse);
+    put_field(out, " brilliance ", f->brilliance);
+    put_field(out, " specular ", f->specular);
+    put_field(out, " roughness ", f->roughness);
+    put_field(out, " phong ", f->phong);
+    put_field(out, " phong_size ", f->phong_size);
+    put_field(out, " metallic ", f->metallic);
     fputs(" reflection rgb ", out);
     put_vec(out, f->reflection, 3);
     fputs(" }\n", out);
@@ -597,8 +573,7 @@ static void write_matrix(FILE *out, const csg_xform *x, int depth)
 static void export_sphere(FILE *out, const csg_object *o)
 {
     put_dvec(out, o->a);
-    fputs(", ", out);
-    put_num(out, o->r0);
+    put_field(out, ", ", o->r0);
 }
 
 static void export_box(FILE *out, const csg_object *o)
@@ -611,8 +586,7 @@ static void export_box(FILE *out, const csg_object *o)
 static void export_cylinder(FILE *out, const csg_object *o)
 {
     export_box(out, o); /* the two end points */
-    fputs(", ", out);
-    put_num(out, o->r0);
+    put_field(out, ", ", o->r0);
     if (o->open)
         fputs(" open", out);
 }
@@ -620,12 +594,10 @@ static void export_cylinder(FILE *out, const csg_object *o)
 static void export_cone(FILE *out, const csg_object *o)
 {
     put_dvec(out, o->a);
-    fputs(", ", out);
-    put_num(out, o->r0);
+    put_field(out, ", ", o->r0);
     fputs(", ", out);
     put_dvec(out, o->b);
-    fputs(", ", out);
-    put_num(out, o->r1);
+    put_field(out, ", ", o->r1);
     if (o->open)
         fputs(" open", out);
 }
@@ -804,13 +776,10 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
     if (!e->flat && o->interior >= 0) {
         indent(out, depth + 1);
         const csg_interior *in = &e->s->interiors[o->interior];
-        fputs("interior { ior ", out);
-        put_num(out, in->ior);
+        put_field(out, "interior { ior ", in->ior);
         if (in->fade_distance != 0 || in->fade_power != 0) {
-            fputs(" fade_distance ", out);
-            put_num(out, in->fade_distance);
-            fputs(" fade_power ", out);
-            put_num(out, in->fade_power);
+            put_field(out, " fade_distance ", in->fade_distance);
+            put_field(out, " fade_power ", in->fade_power);
             fputs(" fade_color rgb ", out);
             put_vec(out, in->fade_color, 3);
         }
@@ -847,8 +816,7 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
      * camera's fixed order) */
     double v = s->version_implied ? 3.62 : s->version;
     v = v < 3.5 ? 3.5 : v > 3.7 ? 3.7 : v;
-    fputs("#version ", out);
-    put_num(out, v);
+    put_field(out, "#version ", v);
     fputs(";\n\n", out);
     write_globals(&e);
     write_camera(&e);
