@@ -1021,6 +1021,8 @@ static int by_need(const void *a, const void *b)
 
 static bool sort_by_need(int *order, const int *need, int n)
 {
+    if (n <= 0)
+        return true;
     need_key *keys = malloc((size_t)n * sizeof *keys);
     if (!keys)
         return false;
