@@ -48,6 +48,7 @@ typedef struct {
     int base;       /* the current statement's depth in its object tree  */
     bool flat;
     csg_diag *d;
+    bool *unexportable; /* a transform the language cannot state was met   */
 } exporter;
 
 /* ---- numbers and vectors ---------------------------------------------------- */
@@ -144,7 +145,7 @@ static void write_camera(const exporter *e)
     fputs("\n}\n\n", out);
 }
 
-static void write_matrix(FILE *out, const csg_xform *x, int depth);
+static void write_matrix(const exporter *e, FILE *out, const csg_xform *x, int depth);
 static void write_pigment(const exporter *e, const csg_pigment *pig, int depth);
 
 /* sky_sphere { pigment {}... emission rgb <> matrix <the sky's> } */
@@ -163,7 +164,7 @@ static void write_sky(const exporter *e)
     fputs("    emission rgb ", out);
     put_vec(out, sky->emission, 3);
     fputc('\n', out);
-    write_matrix(out, &sky->xform, 1);
+    write_matrix(e, out, &sky->xform, 1);
     fputs("}\n\n", out);
 }
 
@@ -354,7 +355,7 @@ static void write_pigment_body(const exporter *e, const csg_pigment *pig, int de
     put_field(out, " frequency ", pig->frequency);
     put_field(out, " phase ", pig->phase);
     fputc('\n', out);
-    write_matrix(out, &pig->xform, depth + 1);
+    write_matrix(e, out, &pig->xform, depth + 1);
     indent(out, depth);
 }
 
@@ -417,7 +418,7 @@ static void write_normal(const exporter *e, const csg_normal *n, int depth)
     if (n->no_bump_scale)
         fputs(" no_bump_scale", out);
     fputc('\n', out);
-    write_matrix(out, &pig->xform, depth + 1);
+    write_matrix(e, out, &pig->xform, depth + 1);
     indent(out, depth);
     fputs("}\n", out);
 }
@@ -468,7 +469,7 @@ static void write_texture_map(const exporter *e, const csg_texture *t, int depth
     put_field(out, " frequency ", pig->frequency);
     put_field(out, " phase ", pig->phase);
     fputc('\n', out);
-    write_matrix(out, &pig->xform, depth);
+    write_matrix(e, out, &pig->xform, depth);
 }
 
 /* What a texture's braces hold: one plain layer (pigment, normal,
@@ -549,16 +550,27 @@ static bool split_scale(const csg_xform *x, double scale[3], csg_xform *rest)
     return csg_xform_invert(rest, &inv);
 }
 
-static void write_matrix(FILE *out, const csg_xform *x, int depth)
+/* A transform that overflowed (an entry not finite) or collapsed an axis
+ * (singular even as split_scale writes it) has no SDL the parser takes
+ * back: the export fails (e->unexportable) rather than write it. */
+static void write_matrix(const exporter *e, FILE *out, const csg_xform *x, int depth)
 {
     double m[12], scale[3];
-    csg_xform rest;
+    csg_xform rest, inv;
+    bool finite = true;
+    for (int row = 0; row < 3; row++)
+        for (int col = 0; col < 4; col++)
+            finite = finite && isfinite(x->m[row][col]);
+    if (!finite)
+        *e->unexportable = true;
     if (split_scale(x, scale, &rest)) {
         indent(out, depth);
         fputs("scale ", out);
         put_vec(out, scale, 3);
         fputc('\n', out);
         x = &rest;
+    } else if (!csg_xform_invert(x, &inv)) {
+        *e->unexportable = true;
     }
     for (int col = 0; col < 4; col++)
         for (int row = 0; row < 3; row++)
@@ -765,7 +777,7 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
         fputc(' ', out);
         write_shape(out, o);
         fputc('\n', out);
-        write_matrix(out, &o->xform, depth + 1);
+        write_matrix(e, out, &o->xform, depth + 1);
         csg_texture def;
         if (!texture) {
             csg_texture_default(&def);
@@ -807,7 +819,8 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
 bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
 {
     int declared = 0;
-    exporter e = {s, out, out, &declared, 0, flat, d};
+    bool unexportable = false;
+    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the
@@ -827,6 +840,12 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
         if (!(deep ? write_buffered(&e, o, NULL, 0, false) : write_object(&e, o, NULL, 0)))
             goto fail;
         fputc('\n', out);
+    }
+    if (unexportable) {
+        csg_error_plain(d, "cannot export the scene: a transformation overflows or collapses an "
+                           "axis (its matrix is not finite, or singular), which POV-Ray's "
+                           "language cannot state");
+        goto fail;
     }
     if (fflush(out) != 0 || ferror(out)) {
         csg_error_plain(d, "cannot write the exported scene");

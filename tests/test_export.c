@@ -366,6 +366,30 @@ static void test_reparse_tiny_scales(void **state)
         reparse_text(scenes[i], scenes[i]);
 }
 
+/* Transforms that overflow or collapse an axis: the parser takes each
+ * step, but no SDL states the result; the export says so and fails
+ * instead of writing what it cannot read back. */
+static void test_unexportable_transforms(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {
+        "sphere { 0, 1 pigment { checker scale 1e300 scale 1e300 } }",
+        "sphere { 0, 1 pigment { checker scale <1e-200, 1, 1> scale <1e-200, 1, 1> } }",
+        "sphere { 0, 1 normal { bumps scale 1e300 scale 1e300 } }",
+    };
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        csg_scene s;
+        csg_diag d = {0};
+        if (!csg_load_string("t.pov", scenes[i], strlen(scenes[i]), NULL, &s, &d))
+            fail_msg("%s: %s", scenes[i], d.message); /* (the parser takes each step) */
+        char *text = export_text(&s, false, &d);
+        csg_scene_free(&s);
+        if (text)
+            fail_msg("%s: exported:\n%s", scenes[i], text);
+        assert_non_null(strstr(d.message, "overflows or collapses an axis"));
+    }
+}
+
 /* Every example scene and every scene of the suites. */
 static void test_reparse_examples(void **state)
 {
@@ -401,6 +425,7 @@ int main(void)
         cmocka_unit_test(test_reparse_deep),
         cmocka_unit_test(test_reparse_tiny_scales),
         cmocka_unit_test(test_reparse_examples),
+        cmocka_unit_test(test_unexportable_transforms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
