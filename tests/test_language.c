@@ -889,6 +889,23 @@ static void test_numbers_finite(void **state)
               "t.pov:1:14: error: arithmetic overflow: the result is not a finite number");
     parse_err("#declare V = vlength(<1e200, 1e200, 0>);",
               "t.pov:1:14: error: arithmetic overflow: the result is not a finite number");
+    /* a pattern's transform whose product overflows or collapses an axis,
+     * at the transform that makes it so (each step alone is accepted) */
+    static const char *const patterns[][2] = {
+        {"sphere { 0, 1 pigment { checker scale 1e300 scale 1e300 } }", "t.pov:1:45"},
+        {"sphere { 0, 1 pigment { checker scale <1e-200, 1, 1> scale <1e-200, 1, 1> } }",
+         "t.pov:1:54"},
+        {"sphere { 0, 1 normal { bumps scale 1e300 scale 1e300 } }", "t.pov:1:42"},
+        {"sphere { 0, 1 pigment { bozo scale 1e300 } scale 1e300 }", "t.pov:1:44"},
+    };
+    for (size_t i = 0; i < sizeof patterns / sizeof patterns[0]; i++) {
+        char want[256];
+        snprintf(want, sizeof want,
+                 "%s: error: the pattern's transformation overflows or collapses an axis here "
+                 "(an entry is not finite, or an axis is scaled to 0)",
+                 patterns[i][1]);
+        parse_err(patterns[i][0], want);
+    }
     csg_scene s;
     parse_ok("#declare A = val(\"2.5\");\nsphere { 0, A }", &s);
     assert_near(s.objects[0]->r0, 2.5);

@@ -217,6 +217,7 @@ struct parser {
     /* directives.c */
     vec conds;          /* cond: open directive blocks                      */
     double version;     /* #version (3.7 until set)                         */
+    csg_loc transform_at; /* texture.c: the last transform keyword read    */
     /* declare.c: an unsupported construct met while declaring */
     bool unsupported;   /* the error in d is about an unsupported construct */
     lang_unusable why; /* ... which one and where                       */
@@ -404,7 +405,9 @@ bool lang_parse_sky_sphere(parser *p, csg_sky *sky);
 bool lang_is_transform(parser *p);
 bool lang_parse_transform(parser *p, csg_xform *x);
 /* The pigment seen through transform x (applied after its own). */
-void lang_pigment_transform(csg_pigment *pig, const csg_xform *x);
+/* pig's pattern moved by x: false (an error at the last transform read)
+ * when that overflows or collapses an axis. */
+bool lang_pigment_transform(parser *p, csg_pigment *pig, const csg_xform *x);
 
 /* ---- parser.c ----------------------------------------------------------------------------------- */
 

@@ -95,6 +95,7 @@ static bool parse_matrix(parser *p, csg_xform *x)
 bool lang_parse_transform(parser *p, csg_xform *x)
 {
     enum csg_kw kw = lang_tok(p)->kw;
+    p->transform_at = lang_tok(p)->loc;
     csg_loc at;
     dvec3 v;
     if (kw == CSG_KW_MATRIX)
@@ -115,9 +116,33 @@ bool lang_parse_transform(parser *p, csg_xform *x)
     return true;
 }
 
-void lang_pigment_transform(csg_pigment *pig, const csg_xform *x)
+/* Can a pattern be evaluated through x: every entry finite, no axis
+ * collapsed to a zero column (each step was accepted, but a product of
+ * them may overflow or underflow to that). */
+static bool xform_usable(const csg_xform *x)
+{
+    for (int col = 0; col < 4; col++) {
+        bool zero = true;
+        for (int row = 0; row < 3; row++) {
+            if (!isfinite(x->m[row][col]))
+                return false;
+            zero = zero && x->m[row][col] == 0;
+        }
+        if (zero && col < 3)
+            return false;
+    }
+    return true;
+}
+
+bool lang_pigment_transform(parser *p, csg_pigment *pig, const csg_xform *x)
 {
     csg_xform_then(&pig->xform, x, &pig->xform);
+    if (xform_usable(&pig->xform))
+        return true;
+    csg_error(p->d, p->transform_at,
+              "the pattern's transformation overflows or collapses an axis here (an entry "
+              "is not finite, or an axis is scaled to 0)");
+    return false;
 }
 
 /* A transform of the current token applied to a pigment. */
@@ -125,10 +150,7 @@ static bool transform_pigment(parser *p, csg_pigment *pig)
 {
     csg_xform x;
     csg_xform_identity(&x);
-    if (!lang_parse_transform(p, &x))
-        return false;
-    lang_pigment_transform(pig, &x);
-    return true;
+    return lang_parse_transform(p, &x) && lang_pigment_transform(p, pig, &x);
 }
 
 /* ---- colour maps ---------------------------------------------------------------- */
@@ -848,23 +870,24 @@ bool lang_texture_patterned(const csg_texture *t)
 }
 
 /* t's own layer seen through x (its under layers untouched). */
-static void transform_layer(csg_texture *t, const csg_xform *x)
+static bool transform_layer(parser *p, csg_texture *t, const csg_xform *x)
 {
-    lang_pigment_transform(&t->pigment, x); /* a texture_map's pattern too */
-    if (t->normal.on)
-        lang_pigment_transform(&t->normal.pattern, x);
+    return lang_pigment_transform(p, &t->pigment, x) && /* a texture_map's pattern too */
+           (!t->normal.on || lang_pigment_transform(p, &t->normal.pattern, x));
 }
 
 bool lang_texture_transform(parser *p, csg_texture *t, const csg_xform *x)
 {
-    transform_layer(t, x);
+    if (!transform_layer(p, t, x))
+        return false;
     csg_texture *layer = t;
     while (layer->under) { /* the layers below are shared: copied */
         csg_texture *copy = lang_alloc(p, sizeof *copy);
         if (!copy)
             return false;
         *copy = *layer->under;
-        transform_layer(copy, x);
+        if (!transform_layer(p, copy, x))
+            return false;
         layer->under = copy;
         layer = copy;
     }
