@@ -8,9 +8,9 @@
 #   - a render to PNG or PPM maps neither csgtrace-image.so nor OpenImageIO
 #     (LD_DEBUG=files) and works without the module; to EXR it needs it, and
 #     says so;
-#   - a PNG that cannot be renamed over its target (a folder): exit 1, the
-#     file named, no temporary file left (the journal kept, as for any
-#     failed write).
+#   - a folder in a PNG's place: refused before the first tile (exit 1,
+#     the output named), nothing made, no journal, no temporary file (a
+#     write that fails at the end: e2e_resume.sh's file-size limit).
 # Usage: tests/e2e_image.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -57,14 +57,14 @@ rc=$?
     [ ! -e "$T/nomod.exr" ] && ok "an EXR render without the module: exit 1, the module named" ||
     ko "EXR without the module: exit $rc, $(head -c 300 "$T/err")"
 
-# --- a write that fails at the end (a folder in the image's place) ---
+# --- a folder in the image's place: refused before any tile ---
 mkdir -p "$T/out/dir.png"
 "$BIN" render "$T/random.pov" "${SZ[@]}" -o "$T/out/dir.png" >/dev/null 2>"$T/err"
 rc=$?
 left=$(ls -A "$T/out" | tr '\n' ' ')
-[ $rc -eq 1 ] && grep -q "^csgtrace: error: cannot write $T/out/dir.png: Is a directory" "$T/err" &&
-    [ "$left" = "dir.png dir.png.journal " ] &&
-    ok "a PNG that cannot replace its target: exit 1, the file named, no temporary file left" ||
-    ko "failed write: exit $rc, $(head -c 300 "$T/err"), left: $left"
+[ $rc -eq 1 ] && grep -q "^csgtrace: error: the output (-o) '$T/out/dir.png' is a folder" "$T/err" &&
+    [ "$left" = "dir.png " ] &&
+    ok "a folder in a PNG's place: exit 1, the output named, nothing made (no journal, no temporary file)" ||
+    ko "a folder in the PNG's place: exit $rc, $(head -c 300 "$T/err"), left: $left"
 
 e2e_finish
