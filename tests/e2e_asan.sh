@@ -18,7 +18,7 @@ source "$(dirname "$0")/lib_e2e.sh"
 mpi_sandbox
 export OMPI_MCA_rmaps_base_oversubscribe=1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:allocator_may_return_null=1:use_sigaltstack=0
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:allocator_may_return_null=1:use_sigaltstack=0:intercept_tls_get_addr=0 # (run.sh says why)
 export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp:print_suppressions=0:exitcode=0"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 ABIN=${CSGTRACE_ASAN_BIN:-build/asan/csgtrace}

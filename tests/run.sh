@@ -12,7 +12,11 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob
 export OMPI_MCA_rmaps_base_oversubscribe=1
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$ROOT/build/pocl-cache}
 export CSGTRACE_CL_CACHE=${CSGTRACE_CL_CACHE:-$ROOT/build/cl-cache}
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:allocator_may_return_null=1}
+# intercept_tls_get_addr=0: LeakSanitizer's scan of the dynamic TLS that
+# OpenImageIO's libraries allocate (test_image loads the module) read a
+# bogus block and crashed its tracer ("Tracer caught signal 11", 3 runs in
+# 25 under load); our code keeps no heap pointer in dynamic TLS.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:allocator_may_return_null=1:intercept_tls_get_addr=0}
 export LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 mkdir -p "$POCL_CACHE_DIR" build/test-out
