@@ -10,8 +10,8 @@
 # Environment: CSGTRACE (build/csgtrace), RANKS (3), WIDTH x HEIGHT
 #   (1280 x 960: at 640 x 480 a frame took 0.14 s here and the hetero
 #   workers were busy 87 %, under the 90 % compare asks before it reports
-#   an advantage; at 1280 x 960 0.6-0.7 s, busy 94-98 %, advantage 13.8 %
-#   on 2 cores), REPEAT (3), OUT (out/), MPIRUN (mpirun).
+#   an advantage; at 1280 x 960 0.6-0.7 s, busy 94-98 %, advantage 7-14 %
+#   in two runs on 2 cores), REPEAT (3), OUT (out/), MPIRUN (mpirun).
 # Writes OUT/NAME-homo.png, OUT/NAME-hetero.png and OUT/NAME-compare.json.
 # Exit status: 0 when both modes rendered the same image, 1 otherwise.
 set -eu
