@@ -205,19 +205,25 @@ static void write_light(FILE *out, const csg_light *l)
     fputs(l->shadowless ? " shadowless }\n" : " }\n", out);
 }
 
+/* A pattern's or a fog's turbulence, when it has one. */
+static void write_turbulence(FILE *out, const csg_turb *t)
+{
+    if (!t->on)
+        return;
+    fputs(" turbulence ", out);
+    put_dvec(out, t->amount);
+    fprintf(out, " octaves %d omega ", t->octaves);
+    put_num(out, t->omega);
+    put_field(out, " lambda ", t->lambda);
+}
+
 static void write_fog(FILE *out, const csg_fog *f)
 {
     fprintf(out, "fog { fog_type %d distance ", f->kind);
     put_num(out, f->distance);
     fputs(" color rgbft ", out);
     put_vec(out, f->rgbft, 5);
-    if (f->turb.on) {
-        fputs(" turbulence ", out);
-        put_dvec(out, f->turb.amount);
-        fprintf(out, " octaves %d omega ", f->turb.octaves);
-        put_num(out, f->turb.omega);
-        put_field(out, " lambda ", f->turb.lambda);
-    }
+    write_turbulence(out, &f->turb);
     put_field(out, " turb_depth ", f->turb_depth);
     put_field(out, " fog_offset ", f->offset);
     put_field(out, " fog_alt ", f->alt);
@@ -310,13 +316,7 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
 static void write_noise(const exporter *e, const csg_pigment *pig)
 {
     FILE *out = e->out;
-    if (pig->turb.on) {
-        fputs(" turbulence ", out);
-        put_dvec(out, pig->turb.amount);
-        fprintf(out, " octaves %d omega ", pig->turb.octaves);
-        put_num(out, pig->turb.omega);
-        put_field(out, " lambda ", pig->turb.lambda);
-    }
+    write_turbulence(out, &pig->turb);
     if (pig->pattern == CSG_PATTERN_AGATE) {
         put_field(out, " agate_turb ", pig->agate_turb);
     }
@@ -557,11 +557,7 @@ static void write_matrix(const exporter *e, FILE *out, const csg_xform *x, int d
 {
     double m[12], scale[3];
     csg_xform rest, inv;
-    bool finite = true;
-    for (int row = 0; row < 3; row++)
-        for (int col = 0; col < 4; col++)
-            finite = finite && isfinite(x->m[row][col]);
-    if (!finite)
+    if (!csg_xform_finite(x))
         *e->unexportable = true;
     if (split_scale(x, scale, &rest)) {
         indent(out, depth);

@@ -226,15 +226,6 @@ static dvec3 xf_point(const csg_xform *x, dvec3 p)
                    m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
 }
 
-static bool xform_finite(const csg_xform *x)
-{
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 4; j++)
-            if (!isfinite(x->m[i][j]))
-                return false;
-    return true;
-}
-
 static void store_inverse(csg_prim *p, const csg_xform *world_to_local)
 {
     for (int i = 0; i < 3; i++)
@@ -943,7 +934,7 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
     bool invertible = csg_xform_invert(&o->xform, &world_to_obj);
     if (!flatten_shape(fb, o, &world_to_obj, piece, p, box))
         return -1;
-    if (!xform_finite(&o->xform)) {
+    if (!csg_xform_finite(&o->xform)) {
         csg_error(fb->diag, o->loc,
                   "the object's transformation overflows: its combined scale or translation "
                   "is beyond the range of numbers");

@@ -124,6 +124,15 @@ void csg_xform_then(const csg_xform *a, const csg_xform *b, csg_xform *out)
     *out = r;
 }
 
+bool csg_xform_finite(const csg_xform *x)
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            if (!isfinite(x->m[i][j]))
+                return false;
+    return true;
+}
+
 bool csg_xform_invert(const csg_xform *x, csg_xform *inv)
 {
     const double(*m)[4] = x->m;

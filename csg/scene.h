@@ -384,6 +384,8 @@ void csg_xform_identity(csg_xform *x);
 void csg_xform_then(const csg_xform *a, const csg_xform *b, csg_xform *out);
 /* The inverse of an affine transform; false when it is singular. */
 bool csg_xform_invert(const csg_xform *x, csg_xform *inv);
+/* Every entry of x finite (a product of accepted steps may overflow). */
+bool csg_xform_finite(const csg_xform *x);
 void csg_xform_translate(csg_xform *x, dvec3 t);
 void csg_xform_scale(csg_xform *x, dvec3 s);
 /* POV-Ray's rotate <a, b, c>: degrees about x, then y, then z. */

@@ -72,8 +72,8 @@ check() {
     fi
 }
 
-# (at 160x120: every code path of a scene runs at any size, and the
-# sanitised renders are ~10x slower than the optimised ones)
+# (at 160x120: every code path of a scene runs at any size, and each
+# sanitised render costs several optimised ones)
 SMALL=(--width 160 --height 120)
 for scene in scenes/*.pov tests/nff/*.nff; do
     n=$(basename "$scene" | tr . _)

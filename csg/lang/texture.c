@@ -121,16 +121,11 @@ bool lang_parse_transform(parser *p, csg_xform *x)
  * them may overflow or underflow to that). */
 static bool xform_usable(const csg_xform *x)
 {
-    for (int col = 0; col < 4; col++) {
-        bool zero = true;
-        for (int row = 0; row < 3; row++) {
-            if (!isfinite(x->m[row][col]))
-                return false;
-            zero = zero && x->m[row][col] == 0;
-        }
-        if (zero && col < 3)
+    if (!csg_xform_finite(x))
+        return false;
+    for (int col = 0; col < 3; col++)
+        if (x->m[0][col] == 0 && x->m[1][col] == 0 && x->m[2][col] == 0)
             return false;
-    }
     return true;
 }
 
