@@ -38,6 +38,9 @@ static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_p
     case IMG_FORMAT_PPM:
         *during = true;
         return rows * width * 3 * (uint64_t)(cpus > 0 ? cpus : 1);
+    case IMG_FORMAT_PFM:
+        *during = true;
+        return rows * row * (uint64_t)(cpus > 0 ? cpus : 1);
     case IMG_FORMAT_MODULE:
         break;
     }

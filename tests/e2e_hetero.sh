@@ -20,14 +20,14 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$(pwd)/build/pocl-cache}
 MPIRUN=(mpirun --oversubscribe --bind-to none)
 
-render() { # render NAME RANKS MODE SCENE EXTRA... -> $T/NAME.exr, $T/NAME.json
+render() { # render NAME RANKS MODE SCENE EXTRA... -> $T/NAME.pfm, $T/NAME.json
     local name=$1 ranks=$2 mode=$3 scene=$4
     shift 4
     [ "$mode" = hetero ] && [[ " $* " != *" --fill "* ]] && set -- "$@" --fill off
     if [ "$ranks" = 0 ]; then
-        "$BIN" render "$scene" -o "$T/$name.exr" --mode "$mode" --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
+        "$BIN" render "$scene" -o "$T/$name.pfm" --mode "$mode" --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
     else
-        "${MPIRUN[@]}" -np "$ranks" "$BIN" render "$scene" -o "$T/$name.exr" --mode "$mode" \
+        "${MPIRUN[@]}" -np "$ranks" "$BIN" render "$scene" -o "$T/$name.pfm" --mode "$mode" \
             --stats "$T/$name.json" "$@" >/dev/null 2>"$T/$name.err"
     fi
 }
@@ -44,8 +44,8 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
     render h_$3 3 homo "$scene" --width 96 --height 72 --tile 16
     render x_$3 3 hetero "$scene" --width 96 --height 72 --tile 16 --cl-kernel packet
     render xs_$3 3 hetero "$scene" --width 96 --height 72 --tile 16 --cl-kernel scalar
-    if same "$T/s_$3.exr" "$T/h_$3.exr" && same "$T/s_$3.exr" "$T/x_$3.exr" &&
-        same "$T/s_$3.exr" "$T/xs_$3.exr"; then
+    if same "$T/s_$3.pfm" "$T/h_$3.pfm" && same "$T/s_$3.pfm" "$T/x_$3.pfm" &&
+        same "$T/s_$3.pfm" "$T/xs_$3.pfm"; then
         ok "random scene ($1 spheres, occupancy $2): hetero (packet and scalar kernels) == homo == serial"
     else
         ko "random scene ($1 spheres, occupancy $2): images differ"
@@ -64,7 +64,7 @@ for scene in scenes/*.pov; do
     render sp_s_$b 0 serial "$scene" --width 64 --height 48 --tile 16
     render sp_x_$b 0 hetero "$scene" --width 64 --height 48 --tile 16
     CSGTRACE_CL_SPECIALISE=0 render sp_g_$b 0 hetero "$scene" --width 64 --height 48 --tile 16
-    if same "$T/sp_s_$b.exr" "$T/sp_x_$b.exr" && same "$T/sp_s_$b.exr" "$T/sp_g_$b.exr"; then
+    if same "$T/sp_s_$b.pfm" "$T/sp_x_$b.pfm" && same "$T/sp_s_$b.pfm" "$T/sp_g_$b.pfm"; then
         ok "$b ($("$BIN" check "$scene" | sed -n 's/^specialised: //p')): specialised hetero == general hetero == serial"
     else
         ko "$b: the specialised program's image differs: $(head -c 300 "$T/sp_x_$b.err")"
@@ -96,8 +96,8 @@ for scene in tests/povray/*.pov; do
         --cl-kernel packet
     CSGTRACE_CL_SPECIALISE=0 render pv_xs_$b 0 hetero "$scene" --width 64 --height 48 --tile 16 \
         --cl-kernel scalar
-    if same "$T/pv_s_$b.exr" "$T/pv_h_$b.exr" && same "$T/pv_s_$b.exr" "$T/pv_x_$b.exr" &&
-        same "$T/pv_s_$b.exr" "$T/pv_xs_$b.exr"; then
+    if same "$T/pv_s_$b.pfm" "$T/pv_h_$b.pfm" && same "$T/pv_s_$b.pfm" "$T/pv_x_$b.pfm" &&
+        same "$T/pv_s_$b.pfm" "$T/pv_xs_$b.pfm"; then
         ok "tests/povray/$b: hetero (packet and scalar kernels, the general program) == homo == serial"
     else
         ko "tests/povray/$b: the modes' images differ: $(head -c 300 "$T/pv_x_$b.err")"
@@ -109,7 +109,7 @@ for spp in 4 8 3; do
     render ss$spp 0 serial "$T/gen_1.pov" --width 96 --height 72 --spp $spp
     render xs$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16
     render xss$spp 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp $spp --tile 16 --cl-kernel scalar
-    if same "$T/ss$spp.exr" "$T/xs$spp.exr" && same "$T/ss$spp.exr" "$T/xss$spp.exr" &&
+    if same "$T/ss$spp.pfm" "$T/xs$spp.pfm" && same "$T/ss$spp.pfm" "$T/xss$spp.pfm" &&
         json "$T/xs$spp.json" "j['spp'] == $spp and j['rays']['primary'] == 96 * 72 * $spp and j['tiles_degenerate'] > 0"; then
         ok "--spp $spp: hetero (both kernels) == serial, $spp primary rays a pixel, degenerate tiles still skipped"
     else
@@ -122,7 +122,7 @@ render kd 0 serial scenes/glass.pov --width 64 --height 48 --depth 2 --threshold
 render kh 3 homo scenes/glass.pov --width 64 --height 48 --depth 2 --threshold 0.05
 render kx 3 hetero scenes/glass.pov --width 64 --height 48 --depth 2 --threshold 0.05
 render k5 0 serial scenes/glass.pov --width 64 --height 48
-if same "$T/kd.exr" "$T/kh.exr" && same "$T/kd.exr" "$T/kx.exr" && ! same "$T/kd.exr" "$T/k5.exr"; then
+if same "$T/kd.pfm" "$T/kh.pfm" && same "$T/kd.pfm" "$T/kx.pfm" && ! same "$T/kd.pfm" "$T/k5.pfm"; then
     ok "--depth 2 --threshold 0.05: serial == homo == hetero (and not the default image)"
 else
     ko "--depth/--threshold: modes differ, or the knobs changed nothing"
@@ -132,7 +132,7 @@ fi
 render sd 0 serial "$T/gen_2.pov" --width 96 --height 72 --precision double
 render xd 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl-kernel packet
 render xds 3 hetero "$T/gen_2.pov" --width 96 --height 72 --precision double --cl-kernel scalar
-same "$T/sd.exr" "$T/xd.exr" && same "$T/sd.exr" "$T/xds.exr" && ok "double: hetero (both kernels) == serial" || ko "double: hetero differs from serial"
+same "$T/sd.pfm" "$T/xd.pfm" && same "$T/sd.pfm" "$T/xds.pfm" && ok "double: hetero (both kernels) == serial" || ko "double: hetero differs from serial"
 
 # --- boxes of zero thickness (sheets, in CSG and under transforms), shaded:
 #     the same image in every mode, in both precisions ---
@@ -142,8 +142,8 @@ for prec in float double; do
     render fbh_$prec 3 homo $fb --width 80 --height 60 --precision $prec
     render fbx_$prec 3 hetero $fb --width 80 --height 60 --precision $prec --cl-kernel packet
     render fbxs_$prec 3 hetero $fb --width 80 --height 60 --precision $prec --cl-kernel scalar
-    if same "$T/fbs_$prec.exr" "$T/fbh_$prec.exr" && same "$T/fbs_$prec.exr" "$T/fbx_$prec.exr" &&
-        same "$T/fbs_$prec.exr" "$T/fbxs_$prec.exr"; then
+    if same "$T/fbs_$prec.pfm" "$T/fbh_$prec.pfm" && same "$T/fbs_$prec.pfm" "$T/fbx_$prec.pfm" &&
+        same "$T/fbs_$prec.pfm" "$T/fbxs_$prec.pfm"; then
         ok "flat boxes ($prec): hetero (both kernels) == homo == serial"
     else
         ko "flat boxes ($prec): images differ"
@@ -151,19 +151,19 @@ for prec in float double; do
 done
 
 # --- the kernel variant from the environment; a bad one refused ---
-CSGTRACE_CL_KERNEL=scalar "${MPIRUN[@]}" -np 3 "$BIN" render scenes/csg_ops.pov -o "$T/env.exr" \
+CSGTRACE_CL_KERNEL=scalar "${MPIRUN[@]}" -np 3 "$BIN" render scenes/csg_ops.pov -o "$T/env.pfm" \
     --mode hetero --width 64 --height 48 --fill off >/dev/null 2>&1
 render envs 0 serial scenes/csg_ops.pov --width 64 --height 48
-same "$T/env.exr" "$T/envs.exr" && ok "\$CSGTRACE_CL_KERNEL=scalar: hetero == serial" || ko "\$CSGTRACE_CL_KERNEL=scalar: hetero differs"
+same "$T/env.pfm" "$T/envs.pfm" && ok "\$CSGTRACE_CL_KERNEL=scalar: hetero == serial" || ko "\$CSGTRACE_CL_KERNEL=scalar: hetero differs"
 if CSGTRACE_CL_KERNEL=wide CSGTRACE_TEST_CL_DELAY_MS=300 "$BIN" render scenes/showcase.pov \
-    -o "$T/bad.exr" --mode hetero --width 8 --height 8 >/dev/null 2>"$T/bad.err"; then
+    -o "$T/bad.pfm" --mode hetero --width 8 --height 8 >/dev/null 2>"$T/bad.err"; then
     ko "a bad \$CSGTRACE_CL_KERNEL was accepted"
 else
-    grep -q "CSGTRACE_CL_KERNEL" "$T/bad.err" && [ ! -e "$T/bad.exr" ] &&
+    grep -q "CSGTRACE_CL_KERNEL" "$T/bad.err" && [ ! -e "$T/bad.pfm" ] &&
         ok "a bad \$CSGTRACE_CL_KERNEL is refused with a message (also when the fill rendered every tile first)" ||
         ko "bad CSGTRACE_CL_KERNEL: $(head -c 300 "$T/bad.err")"
 fi
-"$BIN" render scenes/showcase.pov -o "$T/badk.exr" --cl-kernel wide >/dev/null 2>"$T/badk.err"
+"$BIN" render scenes/showcase.pov -o "$T/badk.pfm" --cl-kernel wide >/dev/null 2>"$T/badk.err"
 [ $? -eq 2 ] && grep -q "cl-kernel" "$T/badk.err" && ok "--cl-kernel wide: a usage error (exit 2)" || ko "--cl-kernel wide: $(head -c 300 "$T/badk.err")"
 
 # --- --precision auto: float for an ordinary scene, double far from the origin,
@@ -174,7 +174,7 @@ render ax 3 hetero "$T/far.pov" --width 48 --height 36 --precision auto
 render ad 0 serial "$T/far.pov" --width 48 --height 36 --precision double
 render an 0 serial scenes/showcase.pov --width 48 --height 36 --precision auto
 if json "$T/af.json" "j['precision'] == 'double' and j['precision_auto'].startswith('double')" &&
-    json "$T/an.json" "j['precision'] == 'float'" && same "$T/af.exr" "$T/ax.exr" && same "$T/af.exr" "$T/ad.exr"; then
+    json "$T/an.json" "j['precision'] == 'float'" && same "$T/af.pfm" "$T/ax.pfm" && same "$T/af.pfm" "$T/ad.pfm"; then
     ok "--precision auto: double far from the origin (in every mode), float for the showcase"
 else
     ko "--precision auto: wrong choice or modes differ"
@@ -189,7 +189,7 @@ else
     ko "empty scene: $(cat "$T/e.json" 2>/dev/null | tr -d '\n' | head -c 300)"
 fi
 render es 0 serial "$T/empty.pov" --width 100 --height 70
-same "$T/e.exr" "$T/es.exr" && ok "empty scene: hetero == serial (background)" || ko "empty scene: background differs"
+same "$T/e.pfm" "$T/es.pfm" && ok "empty scene: hetero == serial (background)" || ko "empty scene: background differs"
 
 # --- a screen-filling object: no tile degenerate ---
 printf 'camera { location <0,0,-5> look_at 0 }\nlight_source { <0, 5, -5> color rgb 1 }\nplane { z, 1 pigment { color rgb 1 } }\n' >"$T/full.pov"
@@ -203,7 +203,7 @@ fi
 # --- a 1x1 image ---
 render o 3 hetero scenes/showcase.pov --width 1 --height 1
 render os 0 serial scenes/showcase.pov --width 1 --height 1
-same "$T/o.exr" "$T/os.exr" && ok "1x1 image: hetero == serial" || ko "1x1 image differs"
+same "$T/o.pfm" "$T/os.pfm" && ok "1x1 image: hetero == serial" || ko "1x1 image differs"
 
 # --- compare: the table, identical images, the JSON of both modes ---
 if "${MPIRUN[@]}" -np 3 "$BIN" compare scenes/csg_ops.pov --width 96 --height 72 --repeat 2 \
@@ -264,7 +264,7 @@ else
     ko "program cache: expected one .clbin in a 0700 folder: $(ls -la "$cache" 2>&1 | head -5)"
 fi
 CSGTRACE_CL_CACHE=$cache render cc_2 0 hetero "$scene" --width 64 --height 48 --tile 16
-same "$T/cc_1.exr" "$T/cc_2.exr" && same "$T/cc_1.exr" "$T/sp_s_showcase.exr" &&
+same "$T/cc_1.pfm" "$T/cc_2.pfm" && same "$T/cc_1.pfm" "$T/sp_s_showcase.pfm" &&
     ok "program cache: the render built from the cached binary == the first == serial" ||
     ko "program cache: images differ"
 bin=${bins[0]}
@@ -281,14 +281,14 @@ printf 'XXXXXXXX' | dd of="$bin" bs=1 seek=200 conv=notrunc 2>/dev/null # payloa
 CSGTRACE_CL_CACHE=$cache render cc_3 0 hetero "$scene" --width 64 --height 48 --tile 16
 if ! valid_bin "$bin"; then
     ko "program cache: the damaged file was not replaced"
-elif same "$T/cc_1.exr" "$T/cc_3.exr"; then
+elif same "$T/cc_1.pfm" "$T/cc_3.pfm"; then
     ok "program cache: a damaged binary is ignored and replaced, same image"
 else
     ko "program cache: damaged binary: $(head -c 300 "$T/cc_3.err")"
 fi
 head -c 100 "$bin" >"$bin.cut" && mv "$bin.cut" "$bin" # torn
 CSGTRACE_CL_CACHE=$cache render cc_4 0 hetero "$scene" --width 64 --height 48 --tile 16
-same "$T/cc_1.exr" "$T/cc_4.exr" && valid_bin "$bin" &&
+same "$T/cc_1.pfm" "$T/cc_4.pfm" && valid_bin "$bin" &&
     ok "program cache: a torn binary is ignored and replaced" || ko "program cache: torn binary"
 # another program's entry under this one's name (a foreign file: its
 # header names its own key), and one whose key is rewritten to this name
@@ -298,7 +298,7 @@ CSGTRACE_CL_CACHE=$cache render cc_b 0 hetero "$T/gen_1.pov" --width 64 --height
 other=$(ls "$cache"/*.clbin | grep -v "$bin")
 cp "$other" "$bin"
 CSGTRACE_CL_CACHE=$cache render cc_f 0 hetero "$scene" --width 64 --height 48 --tile 16
-same "$T/cc_1.exr" "$T/cc_f.exr" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
+same "$T/cc_1.pfm" "$T/cc_f.pfm" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
     ok "program cache: another program's entry under this name is refused and rebuilt" ||
     ko "program cache: foreign entry: $(head -c 300 "$T/cc_f.err")"
 python3 -c "
@@ -306,16 +306,16 @@ import sys
 a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
 open(sys.argv[2], 'wb').write(a[:16] + b[16:48] + a[48:])" "$other" "$bin"
 CSGTRACE_CL_CACHE=$cache render cc_r 0 hetero "$scene" --width 64 --height 48 --tile 16
-same "$T/cc_1.exr" "$T/cc_r.exr" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
+same "$T/cc_1.pfm" "$T/cc_r.pfm" && valid_bin "$bin" && ! cmp -s "$other" "$bin" &&
     ok "program cache: a re-keyed entry (the digest no longer holds) is refused and rebuilt" ||
     ko "program cache: re-keyed entry: $(head -c 300 "$T/cc_r.err")"
 # a FIFO where the entry should be: not opened for reading (it would block
 # for ever), refused, and the render goes on
 rm -f "$bin" && mkfifo "$bin"
-CSGTRACE_CL_CACHE=$cache timeout 60 "$BIN" render "$scene" -o "$T/cc_p.exr" --mode hetero --fill off \
+CSGTRACE_CL_CACHE=$cache timeout 60 "$BIN" render "$scene" -o "$T/cc_p.pfm" --mode hetero --fill off \
     --width 64 --height 48 --tile 16 >/dev/null 2>"$T/cc_p.err"
 rc=$?
-[ $rc = 0 ] && same "$T/cc_1.exr" "$T/cc_p.exr" &&
+[ $rc = 0 ] && same "$T/cc_1.pfm" "$T/cc_p.pfm" &&
     ok "program cache: a FIFO in place of an entry: no hang, the same image" ||
     ko "program cache: FIFO entry: exit $rc (124: it hung), $(head -c 300 "$T/cc_p.err")"
 rm -f "$bin"
@@ -323,20 +323,20 @@ rm -f "$bin"
 chmod 777 "$cache"
 CSGTRACE_CL_CACHE=$cache render cc_w 0 hetero "$scene" --width 64 --height 48 --tile 16
 grep -q "program cache is not used: others may write in $cache" "$T/cc_w.err" &&
-    same "$T/cc_1.exr" "$T/cc_w.exr" && [ ! -e "$bin" ] &&
+    same "$T/cc_1.pfm" "$T/cc_w.pfm" && [ ! -e "$bin" ] &&
     ok "program cache: a folder others may write is not used, with one warning" ||
     ko "program cache: shared folder used, or no warning: $(head -c 300 "$T/cc_w.err")"
 chmod 700 "$cache"
 CSGTRACE_CL_CACHE=off HOME="$T/home-off" XDG_CACHE_HOME= render cc_5 0 hetero "$scene" --width 64 --height 48 --tile 16
-same "$T/cc_1.exr" "$T/cc_5.exr" && [ ! -e "$T/home-off" ] &&
+same "$T/cc_1.pfm" "$T/cc_5.pfm" && [ ! -e "$T/home-off" ] &&
     ok "program cache: CSGTRACE_CL_CACHE=off writes nothing" || ko "program cache: off still wrote $(ls -R "$T/home-off" 2>&1 | head -3)"
 CSGTRACE_CL_CACHE= HOME="$T/home" XDG_CACHE_HOME= render cc_6 0 hetero "$scene" --width 64 --height 48 --tile 16
-ls "$T/home/.cache/csgtrace/"*.clbin >/dev/null 2>&1 && same "$T/cc_1.exr" "$T/cc_6.exr" &&
+ls "$T/home/.cache/csgtrace/"*.clbin >/dev/null 2>&1 && same "$T/cc_1.pfm" "$T/cc_6.pfm" &&
     ok "program cache: defaults to \$HOME/.cache/csgtrace" || ko "program cache: nothing in \$HOME/.cache/csgtrace"
 touch "$T/not-a-folder"
 CSGTRACE_CL_CACHE="$T/not-a-folder/sub" render cc_7 0 hetero "$scene" --width 64 --height 48 --tile 16
 rc=$?
-[ $rc = 0 ] && same "$T/cc_1.exr" "$T/cc_7.exr" && [ ! -s "$T/cc_7.err" ] &&
+[ $rc = 0 ] && same "$T/cc_1.pfm" "$T/cc_7.pfm" && [ ! -s "$T/cc_7.err" ] &&
     ok "program cache: a cache that cannot be written: same image, no message" ||
     ko "program cache: unwritable cache: exit $rc, $(head -c 300 "$T/cc_7.err")"
 
@@ -344,7 +344,7 @@ rc=$?
 #     whole tiles from the bottom up meanwhile; the pass does the rest ---
 fill_check() { # fill_check NAME SERIAL EXPECTED_CLAIMED -> 0 when the image and the counts hold
     # (the fill's claimed tiles: rendered whole, or culled by the master)
-    same "$T/$2.exr" "$T/$1.exr" && json "$T/$1.json" "j['tiles_filled'] + j['tiles_culled'] == $3 and
+    same "$T/$2.pfm" "$T/$1.pfm" && json "$T/$1.json" "j['tiles_filled'] + j['tiles_culled'] == $3 and
         j['tiles_sent'] + j['tiles_degenerate'] == j['tiles_total'] and
         j['pixels_hit'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['pixels_hit'])") and
         j['rays']['primary'] == $(python3 -c "import json; print(json.load(open('$T/$2.json'))['rays']['primary'])")"
@@ -379,7 +379,7 @@ fill_check fc s_2 5 && ok "fill without workers: the master renders 5 tiles itse
 CSGTRACE_TEST_CL_DELAY_MS=1500 render fd 3 hetero "$T/gen_1.pov" --width 96 --height 72 --spp 3 --tile 16 --fill on \
     --pass always
 fill_check fd ss3 30 && ok "fill with --spp 3: == serial, 3 primary rays a pixel" || ko "fill, --spp 3: $(head -c 300 "$T/fd.err")"
-"$BIN" render "$T/gen_1.pov" -o "$T/fe.exr" --mode hetero --fill maybe >/dev/null 2>"$T/fe.err"
+"$BIN" render "$T/gen_1.pov" -o "$T/fe.pfm" --mode hetero --fill maybe >/dev/null 2>"$T/fe.err"
 [ $? -eq 2 ] && grep -q -- "--fill" "$T/fe.err" && ok "--fill maybe: a usage error (exit 2)" || ko "--fill maybe: $(head -c 300 "$T/fe.err")"
 
 # --- the fill's degenerate tiles, without any pass: the master proves a
@@ -392,7 +392,7 @@ render cu_s 0 serial "$T/sparse.pov" --width 160 --height 120 --tile 16
 render cu_x 3 hetero "$T/sparse.pov" --width 160 --height 120 --tile 16 --fill on
 render cu_h 3 homo "$T/sparse.pov" --width 160 --height 120 --tile 16
 render cu_1 0 hetero "$T/sparse.pov" --width 160 --height 120 --tile 16 --fill on
-same "$T/cu_s.exr" "$T/cu_x.exr" && same "$T/cu_s.exr" "$T/cu_h.exr" && same "$T/cu_s.exr" "$T/cu_1.exr" &&
+same "$T/cu_s.pfm" "$T/cu_x.pfm" && same "$T/cu_s.pfm" "$T/cu_h.pfm" && same "$T/cu_s.pfm" "$T/cu_1.pfm" &&
     json "$T/cu_x.json" "j['cl_open'] == 'never' and 10 <= j['tiles_culled'] == j['tiles_degenerate'] and
         0 < j['cull_s'] < j['wall_s'] and
         j['tiles_sent'] + j['tiles_culled'] == j['tiles_total'] == 80 and j['tiles_filled'] == j['tiles_sent']" &&
@@ -404,7 +404,7 @@ same "$T/cu_s.exr" "$T/cu_x.exr" && same "$T/cu_s.exr" "$T/cu_h.exr" && same "$T
 { cat "$T/sparse.pov"; echo 'sky_sphere { pigment { gradient y color_map { [0 color rgb <0.2,0.3,0.9>] [1 color rgb 1] } } }'; } >"$T/sparse_sky.pov"
 render cu_ss 0 serial "$T/sparse_sky.pov" --width 160 --height 120 --tile 16
 render cu_sx 3 hetero "$T/sparse_sky.pov" --width 160 --height 120 --tile 16 --fill on
-same "$T/cu_ss.exr" "$T/cu_sx.exr" && json "$T/cu_sx.json" "j['tiles_culled'] == 0 and j['tiles_degenerate'] == 0" &&
+same "$T/cu_ss.pfm" "$T/cu_sx.pfm" && json "$T/cu_sx.json" "j['tiles_culled'] == 0 and j['tiles_degenerate'] == 0" &&
     ok "fill with a sky_sphere: no tile culled (what a miss sees depends on its direction): == serial" ||
     ko "fill, sky_sphere: $(head -c 300 "$T/cu_sx.err")"
 
@@ -434,12 +434,12 @@ fill_check pd s_2 30 && json "$T/pd.json" "j['cl_open'] == 'never'" &&
     ko "pass auto, never with a cap: $(head -c 300 "$T/pd.err")"
 render pe 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 --fill on --pass always
 render pf 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
-same "$T/s_2.exr" "$T/pe.exr" &&
+same "$T/s_2.pfm" "$T/pe.pfm" &&
     json "$T/pe.json" "j['cl_open'] == 'start' and j['pass_work_s'] == 0 and j['guess_cpu_s'] == 0" &&
     json "$T/pf.json" "j['cl_open'] == 'start'" && json "$T/h_2.json" "j['cl_open'] == 'none'" &&
     ok "--pass always and --fill off open the device at once (cl_open start; homo: none)" ||
     ko "--pass always: $(head -c 300 "$T/pe.err")"
-"$BIN" render "$T/gen_1.pov" -o "$T/pg.exr" --mode hetero --pass sometimes >/dev/null 2>"$T/pg.err"
+"$BIN" render "$T/gen_1.pov" -o "$T/pg.pfm" --mode hetero --pass sometimes >/dev/null 2>"$T/pg.err"
 [ $? -eq 2 ] && grep -q -- "--pass" "$T/pg.err" && ok "--pass sometimes: a usage error (exit 2)" || ko "--pass sometimes: $(head -c 300 "$T/pg.err")"
 
 # --- --pass auto whose device cannot be had (no OpenCL platform: an empty
@@ -452,7 +452,7 @@ mkdir -p "$T/no-icd"
 OCL_ICD_VENDORS=$T/no-icd CSGTRACE_TEST_PASS_PAYS_MS=1 render ph 3 hetero "$T/gen_2.pov" \
     --width 96 --height 72 --tile 16 --fill on
 rc=$?
-[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/ph.exr" &&
+[ $rc -eq 0 ] && same "$T/s_2.pfm" "$T/ph.pfm" &&
     [ "$(grep -c "^csgtrace: warning: OpenCL: no platform found.*the render goes on without the OpenCL pass (--pass auto)" "$T/ph.err")" = 1 ] &&
     json "$T/ph.json" "j['cl_open'] == 'failed' and j['device'] == '' and j['slices'] == 0 and
         j['tiles_filled'] == j['tiles_sent'] == j['tiles_total'] - j['tiles_culled']" &&
@@ -461,19 +461,19 @@ rc=$?
 OCL_ICD_VENDORS=$T/no-icd CSGTRACE_TEST_PASS_PAYS_MS=1 render pi 0 hetero "$T/gen_2.pov" \
     --width 96 --height 72 --tile 16 --fill on
 rc=$?
-[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/pi.exr" && json "$T/pi.json" "j['cl_open'] == 'failed'" &&
+[ $rc -eq 0 ] && same "$T/s_2.pfm" "$T/pi.pfm" && json "$T/pi.json" "j['cl_open'] == 'failed'" &&
     ok "pass auto, no OpenCL platform, one process: the warning, == serial" ||
     ko "pass auto, no platform, one process: exit $rc, $(head -c 300 "$T/pi.err")"
 OCL_ICD_VENDORS=$T/no-icd render pj 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16 \
     --fill on --pass always
 rc=$?
-[ $rc -eq 1 ] && grep -q "^csgtrace: error: OpenCL: no platform found" "$T/pj.err" && [ ! -e "$T/pj.exr" ] &&
+[ $rc -eq 1 ] && grep -q "^csgtrace: error: OpenCL: no platform found" "$T/pj.err" && [ ! -e "$T/pj.pfm" ] &&
     ok "--pass always, no OpenCL platform: exit 1, the error, no image" ||
     ko "--pass always, no platform: exit $rc, $(head -c 300 "$T/pj.err")"
 CSGTRACE_CL_SPECIALISE=bad CSGTRACE_TEST_PASS_PAYS_MS=1 render pk 3 hetero "$T/gen_2.pov" \
     --width 96 --height 72 --tile 16 --fill on
 rc=$?
-[ $rc -eq 1 ] && grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/pk.err" && [ ! -e "$T/pk.exr" ] &&
+[ $rc -eq 1 ] && grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/pk.err" && [ ! -e "$T/pk.pfm" ] &&
     ok "pass auto with a bad OpenCL option: still an error (exit 1)" ||
     ko "pass auto, bad option: exit $rc, $(head -c 300 "$T/pk.err")"
 
@@ -486,7 +486,7 @@ CSGTRACE_TEST_FILL_TILES=5 CSGTRACE_TEST_CL_MAX_ALLOC=1000 CSGTRACE_TEST_PASS_PA
     render pl 3 hetero "$T/gen_2.pov" \
     --width 96 --height 72 --tile 16 --fill on
 rc=$?
-[ $rc -eq 0 ] && same "$T/s_2.exr" "$T/pl.exr" &&
+[ $rc -eq 0 ] && same "$T/s_2.pfm" "$T/pl.pfm" &&
     [ "$(grep -c "^csgtrace: warning: OpenCL: the flattened scene, [0-9]* bytes, is larger than device \".*\"'s largest buffer, 1000 bytes (CL_DEVICE_MAX_MEM_ALLOC_SIZE): the render goes on without the OpenCL pass (--pass auto)" "$T/pl.err")" = 1 ] &&
     json "$T/pl.json" "j['cl_open'] == 'failed' and j['device'] == '' and j['slices'] == 0 and
         j['pass_s'] == 0 and j['tiles_filled'] == j['tiles_sent'] == j['tiles_total'] - j['tiles_culled']" &&
@@ -496,7 +496,7 @@ CSGTRACE_TEST_FILL_TILES=5 CSGTRACE_TEST_CL_MAX_ALLOC=1000 render pm 3 hetero "$
     --fill on --pass always
 rc=$?
 [ $rc -eq 1 ] && grep -q "^csgtrace: error: OpenCL: the flattened scene, [0-9]* bytes, is larger than" "$T/pm.err" &&
-    [ ! -e "$T/pm.exr" ] &&
+    [ ! -e "$T/pm.pfm" ] &&
     ok "--pass always, a scene larger than the device's buffers: exit 1, the error, no image" ||
     ko "--pass always, scene over the device's buffers: exit $rc, $(head -c 300 "$T/pm.err")"
 

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# e2e_image.sh — PNG and PPM written by csgtrace itself, band by band
+# e2e_image.sh — PNG, PPM and PFM written by csgtrace itself, band by band
 # (host/output/stream.c):
 #   - on every example scene and a random one (80x60): the PNG holds the
 #     pixels of the file the image module writes ($CSGTRACE_IMAGE_WRITER=oiio,
 #     idiff), and is a valid PNG to it; the PPM of one scene is the module's
-#     byte for byte (a PPM has no freedom);
-#   - a render to PNG or PPM maps neither csgtrace-image.so nor OpenImageIO
+#     byte for byte (a PPM has no freedom); the PFM (linear floats) of a
+#     random scene holds the EXR's pixels (idiff reads both);
+#   - a render to PNG, PPM or PFM maps neither csgtrace-image.so nor OpenImageIO
 #     (LD_DEBUG=files) and works without the module; to EXR it needs it, and
 #     says so;
 #   - a folder in a PNG's place: refused before the first tile (exit 1,
@@ -35,8 +36,13 @@ done
         -o "$T/showcase-oiio.ppm" >/dev/null 2>&1 && cmp -s "$T/showcase.ppm" "$T/showcase-oiio.ppm" &&
     ok "the PPM is the module's, byte for byte" || ko "direct PPM differs from the module's"
 
-# --- no module for PNG or PPM ---
-for ext in png ppm; do
+"$BIN" render "$T/random.pov" "${SZ[@]}" -o "$T/random.pfm" >/dev/null 2>&1 &&
+    "$BIN" render "$T/random.pov" "${SZ[@]}" -o "$T/random.exr" >/dev/null 2>&1 &&
+    idiff -fail 0 -warn 0 "$T/random.exr" "$T/random.pfm" >/dev/null 2>&1 &&
+    ok "the PFM holds the EXR's float pixels" || ko "the PFM differs from the EXR"
+
+# --- no module for PNG, PPM or PFM ---
+for ext in png ppm pfm; do
     LD_DEBUG=files "$BIN" render "$T/random.pov" "${SZ[@]}" -o "$T/mapped.$ext" \
         >/dev/null 2>"$T/ld.err"
     if [ -s "$T/mapped.$ext" ] && grep -q "file=.*libz" "$T/ld.err" &&

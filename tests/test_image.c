@@ -1,9 +1,10 @@
 /*
- * test_image.c — PNG and PPM written by csgtrace itself
+ * test_image.c — PNG, PPM and PFM written by csgtrace itself
  * (host/output/stream.c): the process never maps the image module, the
  * files hold the module's pixels (its writer forced with
  * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
- * encoding, a streamed file's bytes do not depend on the order its bands
+ * encoding, a PFM holds every float as it is (the module has no PFM
+ * writer: its reader checks it), a streamed file's bytes do not depend on the order its bands
  * are final in nor on its threads, and a failed write names the file and
  * leaves nothing behind.
  */
@@ -112,8 +113,8 @@ static void test_png_and_ppm_need_no_module(void **state)
     scratch *s = *state;
     float rgb[4 * 3 * 3] = {0.0f, 0.5f, 1.0f, 0.25f, 2.0f, -1.0f};
     char err[512] = "";
-    const char *exts[] = {"png", "ppm"};
-    for (int i = 0; i < 2; i++) {
+    const char *exts[] = {"png", "ppm", "pfm"};
+    for (int i = 0; i < 3; i++) {
         name_files(s, exts[i]);
         assert_true(img_can_write(s->a, err, sizeof err));
         assert_true(img_write_rgb(s->a, rgb, 4, 3, err, sizeof err));
@@ -178,6 +179,52 @@ static void test_own_files_have_the_modules_pixels(void **state)
     free(rgb);
 }
 
+/* A little-endian float of the file at p. */
+static float float_le(const unsigned char *p)
+{
+    uint32_t u = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    float v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+/* A PFM of the sweep (every float of [0, 1] and values out of range, none
+ * clamped): PFM's header, the rows bottom up, each float's bits as they
+ * are; and the module's reader sees the same image. */
+static void test_pfm_holds_every_float(void **state)
+{
+    scratch *s = *state;
+    float *rgb = sweep_image();
+    char err[512] = "", head[64];
+    name_files(s, "pfm");
+    assert_int_equal(img_format_of(s->a), IMG_FORMAT_PFM);
+    assert_true(img_write_rgb(s->a, rgb, SWEEP_W, SWEEP_H, err, sizeof err));
+    size_t row = (size_t)SWEEP_W * 3 * 4, hlen;
+    hlen = (size_t)snprintf(head, sizeof head, "PF\n%d %d\n-1.0\n", SWEEP_W, SWEEP_H);
+    FILE *f = fopen(s->a, "rb");
+    assert_non_null(f);
+    unsigned char *bytes = malloc(hlen + row * SWEEP_H + 1);
+    assert_non_null(bytes);
+    assert_int_equal(fread(bytes, 1, hlen + row * SWEEP_H + 1, f), hlen + row * SWEEP_H);
+    fclose(f);
+    assert_memory_equal(bytes, head, hlen);
+    for (size_t y = 0; y < SWEEP_H; y++) /* (file row r is image row H - 1 - r) */
+        for (size_t i = 0; i < (size_t)SWEEP_W * 3; i++) {
+            float want = rgb[y * SWEEP_W * 3 + i];
+            float got = float_le(bytes + hlen + (SWEEP_H - 1 - y) * row + i * 4);
+            assert_memory_equal(&got, &want, sizeof got);
+        }
+    float *back = NULL;
+    int w, h;
+    assert_true(img_read_rgb(s->a, &back, &w, &h, err, sizeof err));
+    assert_int_equal(w, SWEEP_W);
+    assert_int_equal(h, SWEEP_H);
+    assert_memory_equal(back, rgb, (size_t)w * (size_t)h * 3 * sizeof *rgb);
+    free(back);
+    free(bytes);
+    free(rgb);
+}
+
 /* A streamed file does not depend on the order its bands are final in, nor
  * on the threads that encode them: tiles final in a scrambled order, one
  * thread, against in order, every CPU; the same bytes; a stream aborted
@@ -187,8 +234,8 @@ static void test_stream_order_changes_nothing(void **state)
     scratch *s = *state;
     float *rgb = sweep_image();
     char err[512] = "";
-    const char *exts[] = {"png", "ppm"};
-    for (int e = 0; e < 2; e++) {
+    const char *exts[] = {"png", "ppm", "pfm"};
+    for (int e = 0; e < 3; e++) {
         name_files(s, exts[e]);
         tile_grid g = {SWEEP_W, SWEEP_H, 7, 1, sizeof(float), 0};
         int tiles = tile_count(&g);
@@ -255,6 +302,7 @@ static void test_format_of_path(void **state)
         {"a.png", IMG_FORMAT_PNG},    {"dir.png/a.PNG", IMG_FORMAT_PNG}, {"a.ppm", IMG_FORMAT_PPM},
         {"a.Pnm", IMG_FORMAT_PPM},    {"a.pgm", IMG_FORMAT_PPM},         {"a.exr", IMG_FORMAT_MODULE},
         {"a.tif", IMG_FORMAT_MODULE}, {"png", IMG_FORMAT_MODULE},        {"x.png/a", IMG_FORMAT_MODULE},
+        {"a.pfm", IMG_FORMAT_PFM},    {"a.PFM", IMG_FORMAT_PFM},         {"a.pfm.exr", IMG_FORMAT_MODULE},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
         assert_int_equal(img_format_of(cases[i].path), cases[i].want);
@@ -269,6 +317,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_png_and_ppm_need_no_module, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_own_files_have_the_modules_pixels, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_pfm_holds_every_float, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_stream_order_changes_nothing, scratch_setup,
                                         scratch_teardown),

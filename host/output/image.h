@@ -33,8 +33,10 @@ void img_configure(const img_settings *s);
 img_settings img_settings_now(void);
 
 /* Who writes a file of `path`'s extension: csgtrace itself, band by band
- * (PNG, PPM: stream.h), or the OpenImageIO module, whole. */
-typedef enum { IMG_FORMAT_PNG, IMG_FORMAT_PPM, IMG_FORMAT_MODULE } img_format;
+ * (PNG, PPM, PFM: stream.h), or the OpenImageIO module, whole.  PFM (the
+ * Portable Float Map: linear floats, rows bottom up) is csgtrace's own:
+ * OpenImageIO reads it but has no writer for it. */
+typedef enum { IMG_FORMAT_PNG, IMG_FORMAT_PPM, IMG_FORMAT_PFM, IMG_FORMAT_MODULE } img_format;
 img_format img_format_of(const char *path);
 
 /* The rows of a band when a whole image is written at once. */

@@ -61,13 +61,16 @@ img_settings img_settings_now(void)
 
 img_format img_format_of(const char *path)
 {
-    static const char *const png[] = {"png"}, *const netpbm[] = {"ppm", "pnm", "pgm"};
+    static const char *const png[] = {"png"}, *const netpbm[] = {"ppm", "pnm", "pgm"},
+                             *const pfm[] = {"pfm"};
     if (!path || loader.settings.module_writes_all)
         return IMG_FORMAT_MODULE;
     if (pixels_extension_in(path, png, 1))
         return IMG_FORMAT_PNG;
     if (pixels_extension_in(path, netpbm, sizeof netpbm / sizeof netpbm[0]))
         return IMG_FORMAT_PPM;
+    if (pixels_extension_in(path, pfm, 1))
+        return IMG_FORMAT_PFM;
     return IMG_FORMAT_MODULE;
 }
 
@@ -246,7 +249,7 @@ bool img_write_rgb(const char *path, const float *rgb, int width, int height, ch
     }
     if (img_format_of(path) == IMG_FORMAT_MODULE)
         return img_module_write_rgb(path, rgb, width, height, err, err_size);
-    /* (PNG, PPM: a stream of bands of 64 rows, every band final at once,
+    /* (PNG, PPM, PFM: a stream of bands of 64 rows, every band final at once,
      * encoded on every CPU) */
     tile_grid g = {width, height, IMG_STREAM_ROWS, 1, sizeof(float), 0};
     img_stream *s = img_stream_open(path, rgb, &g, err, err_size);

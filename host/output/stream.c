@@ -42,7 +42,9 @@
 #define STREAM_THREADS_MAX 64
 #define STREAM_IDAT_MAX ((size_t)1 << 20) /* bytes of one IDAT chunk, at most */
 
-enum stream_kind { STREAM_PNG, STREAM_PPM, STREAM_MODULE };
+/* PPM and PFM bands have their place in the file (rows of a fixed size):
+ * "placed" kinds, written by any thread as soon as encoded. */
+enum stream_kind { STREAM_PNG, STREAM_PPM, STREAM_PFM, STREAM_MODULE };
 
 /* One band's encoded bytes, until they are written. */
 typedef struct {
@@ -62,7 +64,8 @@ struct img_stream {
     int bands, columns;
     int *tiles_left;     /* [bands]: tiles not final (the master's)   */
     int png_level;       /* -1: Sub/Up, run-length; else every filter */
-    long ppm_header;     /* PPM: bytes before the first row           */
+    long header;         /* PPM, PFM: bytes before the first row      */
+    size_t pixel_bytes;  /* PPM 3, PFM 12: a pixel's bytes in the file */
     pthread_mutex_t lock;
     pthread_cond_t cond; /* a band queued, encoded or written; stop   */
     int *queue, queue_head, queue_tail;
@@ -147,13 +150,26 @@ static bool stream_png_tail(img_stream *s)
            stream_chunk(s->fd, "IEND", NULL, 0);
 }
 
-/* Band b's bytes to the file: a PPM's at its place, by any thread; a
- * PNG's next, by the one writer (stream_write_ready). */
+static bool stream_placed(const img_stream *s)
+{
+    return s->kind == STREAM_PPM || s->kind == STREAM_PFM;
+}
+
+/* The first file row of band b: PPM's rows run top down, PFM's bottom up. */
+static off_t stream_band_file_row(const img_stream *s, int b)
+{
+    int y0 = b * IMG_STREAM_ROWS;
+    int y1 = y0 + IMG_STREAM_ROWS < s->grid.height ? y0 + IMG_STREAM_ROWS : s->grid.height;
+    return s->kind == STREAM_PFM ? (off_t)(s->grid.height - y1) : (off_t)y0;
+}
+
+/* Band b's bytes to the file: a placed kind's at its place, by any
+ * thread; a PNG's next, by the one writer (stream_write_ready). */
 static bool stream_write_band(img_stream *s, int b, const stream_band *band)
 {
-    if (s->kind == STREAM_PPM) {
-        off_t at = (off_t)s->ppm_header +
-                   (off_t)b * IMG_STREAM_ROWS * (off_t)s->grid.width * 3;
+    if (stream_placed(s)) {
+        off_t at = (off_t)s->header + stream_band_file_row(s, b) * (off_t)s->grid.width *
+                                          (off_t)s->pixel_bytes;
         for (size_t done = 0; done < band->len;) {
             ssize_t n = pwrite(s->fd, band->bytes + done, band->len - done, at + (off_t)done);
             if (n < 0 && errno == EINTR)
@@ -228,12 +244,40 @@ static void stream_png_row(const img_stream *s, const unsigned char *x, const un
     }
 }
 
+/* PFM's floats: little-endian (its header's scale is negative), whatever
+ * the machine's order. */
+static void stream_put_float_le(unsigned char *p, float v)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof u);
+    for (int i = 0; i < 4; i++)
+        p[i] = (unsigned char)(u >> (8 * i));
+}
+
+/* A PFM band: its rows bottom up, each pixel's linear floats as they are. */
+static bool stream_encode_pfm(const img_stream *s, int y0, int y1, stream_band *band)
+{
+    size_t n = (size_t)s->grid.width * 3, rows = (size_t)(y1 - y0);
+    band->len = n * rows * 4;
+    band->bytes = malloc(band->len);
+    if (!band->bytes)
+        return false;
+    for (size_t r = 0; r < rows; r++) {
+        const float *row = s->image + ((size_t)y1 - 1 - r) * n;
+        for (size_t i = 0; i < n; i++)
+            stream_put_float_le(band->bytes + (r * n + i) * 4, row[i]);
+    }
+    return true;
+}
+
 /* Band b encoded into *band; false when out of memory. */
 static bool stream_encode(img_stream *s, int b, stream_band *band)
 {
     int y0, y1;
     stream_rows(s, b, &y0, &y1);
     size_t n = (size_t)s->grid.width * 3, rows = (size_t)(y1 - y0);
+    if (s->kind == STREAM_PFM)
+        return stream_encode_pfm(s, y0, y1, band);
     if (s->kind == STREAM_PPM) {
         band->len = n * rows;
         band->bytes = malloc(band->len);
@@ -326,7 +370,7 @@ static void *stream_encoder(void *arg)
         stream_band band = {NULL, 0, 0, 0, false};
         bool ok = stream_encode(s, b, &band);
         int error = ok ? 0 : ENOMEM;
-        if (ok && s->kind == STREAM_PPM) { /* (its place is known: written now) */
+        if (ok && stream_placed(s)) { /* (its place is known: written now) */
             ok = stream_write_band(s, b, &band);
             error = ok ? 0 : errno;
             free(band.bytes);
@@ -336,7 +380,7 @@ static void *stream_encoder(void *arg)
         if (!ok)
             stream_fail(s, error);
         s->encoded_early += !s->finishing;
-        if (s->kind == STREAM_PPM) {
+        if (stream_placed(s)) {
             s->written++;
         } else {
             band.encoded = true;
@@ -373,8 +417,17 @@ static void stream_bands_of(const img_stream *s, int ty, int *b0, int *b1)
 /* The stream's kind for `path` under the image settings. */
 static enum stream_kind stream_kind_of(const char *path)
 {
-    img_format f = img_format_of(path);
-    return f == IMG_FORMAT_PNG ? STREAM_PNG : f == IMG_FORMAT_PPM ? STREAM_PPM : STREAM_MODULE;
+    switch (img_format_of(path)) {
+    case IMG_FORMAT_PNG:
+        return STREAM_PNG;
+    case IMG_FORMAT_PPM:
+        return STREAM_PPM;
+    case IMG_FORMAT_PFM:
+        return STREAM_PFM;
+    case IMG_FORMAT_MODULE:
+        break;
+    }
+    return STREAM_MODULE;
 }
 
 static void stream_free(img_stream *s)
@@ -411,8 +464,11 @@ static bool stream_create(img_stream *s, char *err, size_t err_size)
     }
     signals_temporary(s->tmp); /* (a signal now removes it) */
     char head[64];
-    int len = snprintf(head, sizeof head, "P6\n%d %d\n255\n", s->grid.width, s->grid.height);
-    s->ppm_header = len;
+    int len = s->kind == STREAM_PFM
+                  ? snprintf(head, sizeof head, "PF\n%d %d\n-1.0\n", s->grid.width, s->grid.height)
+                  : snprintf(head, sizeof head, "P6\n%d %d\n255\n", s->grid.width, s->grid.height);
+    s->header = len;
+    s->pixel_bytes = s->kind == STREAM_PFM ? 3 * 4 : 3;
     bool ok = fchmod(s->fd, file_default_mode()) == 0 &&
               (s->kind == STREAM_PNG ? stream_png_head(s) : file_write_all(s->fd, head, (size_t)len));
     if (!ok) {
