@@ -898,6 +898,16 @@ static void test_numbers_finite(void **state)
         {"sphere { 0, 1 normal { bumps scale 1e300 scale 1e300 } }", "t.pov:1:42"},
         {"sphere { 0, 1 pigment { bozo scale 1e300 } scale 1e300 }", "t.pov:1:44"},
     };
+    parse_err("sky_sphere { pigment { gradient y } scale 1e300 rotate 30*x scale 1e300 }",
+              "t.pov:1:61: error: the sky_sphere's transformation overflows or collapses an axis "
+              "here (an entry is not finite, or an axis is scaled to 0)");
+    parse_err("sky_sphere { pigment { bozo } scale <1, 1e-200, 1> scale <1, 1e-200, 1> }",
+              "t.pov:1:52: error: the sky_sphere's transformation overflows or collapses an axis "
+              "here (an entry is not finite, or an axis is scaled to 0)");
+    parse_err("fog { distance 3 rgb 1 scale 1e300 scale 1e300 }",
+              "t.pov:1:36: error: the fog's up vector overflows or collapses to 0 here");
+    parse_err("fog { distance 3 rgb 1 up <1e300, 1e300, 0> }",
+              "t.pov:1:1: error: fog up vector is too long: its length overflows");
     for (size_t i = 0; i < sizeof patterns / sizeof patterns[0]; i++) {
         char want[256];
         snprintf(want, sizeof want,

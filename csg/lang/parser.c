@@ -1044,6 +1044,13 @@ static bool parse_light(parser *p)
     return lang_vec_push(p, &p->lights, sizeof l, &l) && lang_next(p);
 }
 
+/* A fog's up, turned by its transforms: finite and not 0 (a ground fog
+ * measures heights along it). */
+static bool fog_up_usable(dvec3 u)
+{
+    return isfinite(u.x) && isfinite(u.y) && isfinite(u.z) && (u.x != 0 || u.y != 0 || u.z != 0);
+}
+
 /* fog { fog_type I distance F COLOR turbulence V octaves I omega F lambda F
  * turb_depth F fog_offset F fog_alt F up V TRANSFORMS }: POV-Ray's
  * Parse_Fog (the transforms turn `up`; a translate does nothing). */
@@ -1088,6 +1095,10 @@ static bool parse_fog(parser *p)
                 f.up = (dvec3){x.m[0][0] * u.x + x.m[0][1] * u.y + x.m[0][2] * u.z,
                                x.m[1][0] * u.x + x.m[1][1] * u.y + x.m[1][2] * u.z,
                                x.m[2][0] * u.x + x.m[2][1] * u.y + x.m[2][2] * u.z};
+            if (ok && !fog_up_usable(f.up)) {
+                csg_error(p->d, at, "the fog's up vector overflows or collapses to 0 here");
+                return false;
+            }
         } else if (kw == CSG_KW_FOG_TYPE || kw == CSG_KW_DISTANCE || kw == CSG_KW_OCTAVES ||
                    kw == CSG_KW_OMEGA || kw == CSG_KW_LAMBDA || kw == CSG_KW_TURB_DEPTH ||
                    kw == CSG_KW_FOG_OFFSET || kw == CSG_KW_FOG_ALT) {
@@ -1123,6 +1134,10 @@ static bool parse_fog(parser *p)
     double len = sqrt(f.up.x * f.up.x + f.up.y * f.up.y + f.up.z * f.up.z);
     if (!(len > 0)) {
         csg_error(p->d, open, "fog up vector must not be zero");
+        return false;
+    }
+    if (!isfinite(len)) { /* (the flattener divides by it) */
+        csg_error(p->d, open, "fog up vector is too long: its length overflows");
         return false;
     }
     /* (kept as given: the flattener normalises it, so an exported scene,

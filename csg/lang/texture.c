@@ -659,6 +659,12 @@ bool lang_parse_sky_sphere(parser *p, csg_sky *sky)
             ok = lang_next(p) && lang_parse_rgb(p, sky->emission);
         } else if (lang_is_transform(p)) {
             ok = lang_parse_transform(p, &sky->xform);
+            if (ok && !xform_usable(&sky->xform)) {
+                csg_error(p->d, at,
+                          "the sky_sphere's transformation overflows or collapses an axis here (an "
+                          "entry is not finite, or an axis is scaled to 0)");
+                return false;
+            }
         } else {
             return lang_expected_close(p, '}', "sky_sphere", open);
         }
