@@ -310,6 +310,9 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         !array_fits(h->off_shading, 1, sizeof(csg_shading), blob_size) ||
         !array_fits(h->off_maps, h->map_count, sizeof(csg_map_color), blob_size))
         return false;
+    const csg_camera *cam = blob_at(bytes, h->off_camera);
+    if (cam->projection < 0 || cam->projection >= CSG_CAMERA_PROJECTIONS)
+        return false;
     const csg_shading *sh = blob_at(bytes, h->off_shading);
     if (sh->output < CSG_OUTPUT_SRGB || sh->output > CSG_OUTPUT_DIRECT ||
         (sh->output == CSG_OUTPUT_POWER &&

@@ -33,6 +33,14 @@ void csg_camera_default(csg_camera_src *c)
     c->sky = d3(0, 1, 0);
     c->look_at = d3(0, 0, 1);
     c->projection = CSG_PROJ_PERSPECTIVE;
+    c->angle = 90;
+    c->h_angle = 360;
+    c->v_angle = 180;
+}
+
+bool csg_camera_planar(const csg_camera_src *c)
+{
+    return c->projection == CSG_PROJ_PERSPECTIVE || c->projection == CSG_PROJ_ORTHOGRAPHIC;
 }
 
 void csg_camera_mods_init(csg_camera_mods *m)
@@ -116,8 +124,10 @@ void csg_camera_transform(csg_camera_src *c, const csg_xform *x)
 bool csg_camera_apply(csg_camera_src *c, const csg_camera_mods *m, csg_diag *d)
 {
     bool ortho = c->projection == CSG_PROJ_ORTHOGRAPHIC;
-    if (m->has_angle && !(ortho && m->angle == 0) &&
-        !csg_camera_angle(c, m->angle, m->angle_loc, d))
+    if (m->has_angle && !csg_camera_planar(c)) /* (kept: the ray's angles) */
+        c->angle = m->angle;
+    else if (m->has_angle && !(ortho && m->angle == 0) &&
+             !csg_camera_angle(c, m->angle, m->angle_loc, d))
         return false;
     if (m->has_look_at && !csg_camera_look_at(c, m->look_at, m->look_at_loc, d))
         return false;

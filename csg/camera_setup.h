@@ -32,6 +32,10 @@ typedef struct {
  * perspective (POV-Ray's defaults). */
 void csg_camera_default(csg_camera_src *c);
 void csg_camera_mods_init(csg_camera_mods *m);
+/* Perspective or orthographic: a camera whose rays come from a plane of
+ * the image (the others, POV-Ray's cylinder, ultra_wide_angle, panoramic
+ * and spherical cameras, bend them through angles). */
+bool csg_camera_planar(const csg_camera_src *c);
 /* POV-Ray 3.5+: angle, look_at, the orthographic sizing and the transforms
  * of m, in that order; false (and d filled) as the functions below. */
 bool csg_camera_apply(csg_camera_src *c, const csg_camera_mods *m, csg_diag *d);

@@ -132,9 +132,14 @@ static void write_camera(const exporter *e)
     else
         csg_camera_default(&cam);
     FILE *out = e->out;
-    fputs(cam.projection == CSG_PROJ_ORTHOGRAPHIC ? "camera {\n    orthographic\n    location "
-                                                  : "camera {\n    perspective\n    location ",
-          out);
+    static const char *const types[] = {
+        [CSG_PROJ_PERSPECTIVE] = "perspective",   [CSG_PROJ_ORTHOGRAPHIC] = "orthographic",
+        [CSG_PROJ_CYLINDER_1] = "cylinder 1",     [CSG_PROJ_CYLINDER_2] = "cylinder 2",
+        [CSG_PROJ_CYLINDER_3] = "cylinder 3",     [CSG_PROJ_CYLINDER_4] = "cylinder 4",
+        [CSG_PROJ_ULTRA_WIDE_ANGLE] = "ultra_wide_angle", [CSG_PROJ_PANORAMIC] = "panoramic",
+        [CSG_PROJ_SPHERICAL] = "spherical",
+    };
+    fprintf(out, "camera {\n    %s\n    location ", types[cam.projection]);
     put_dvec(out, cam.location);
     fputs("\n    direction ", out);
     put_dvec(out, cam.direction);
@@ -142,6 +147,14 @@ static void write_camera(const exporter *e)
     put_dvec(out, cam.right);
     fputs("\n    up ", out);
     put_dvec(out, cam.up);
+    if (!csg_camera_planar(&cam)) { /* (its angles, as they are: no direction change) */
+        fputs("\n    angle ", out);
+        put_num(out, cam.projection == CSG_PROJ_SPHERICAL ? cam.h_angle : cam.angle);
+        if (cam.projection == CSG_PROJ_SPHERICAL) {
+            fputs(", ", out);
+            put_num(out, cam.v_angle);
+        }
+    }
     fputs("\n}\n\n", out);
 }
 

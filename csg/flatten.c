@@ -1649,6 +1649,59 @@ static int camera_solid(const csg_scene *s)
     return n;
 }
 
+static dvec3 unit3(dvec3 v)
+{
+    double len = sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+    return len > 0 ? (dvec3){v.x / len, v.y / len, v.z / len} : v;
+}
+
+static double length3(dvec3 v)
+{
+    return sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+}
+
+/* The blob's camera: POV-Ray's SetupCamera in double.  The cylinder and
+ * ultra_wide_angle cameras take unit vectors and an aspect ratio from the
+ * lengths (kx, ky: what camera_lanes.h multiplies x0 and y0 by); the
+ * panoramic camera keeps its vectors, the spherical one turns direction
+ * about its right and up. */
+static void flat_camera(csg_camera *c, const csg_camera_src *cam, double hither)
+{
+    _Static_assert((int)CSG_PROJ_SPHERICAL == (int)CSG_CAMERA_SPHERICAL &&
+                       (int)CSG_PROJ_ORTHOGRAPHIC == (int)CSG_CAMERA_ORTHOGRAPHIC &&
+                       (int)CSG_PROJ_CYLINDER_1 == (int)CSG_CAMERA_CYLINDER_1,
+                   "one order of the camera types");
+    double rad = cam->angle * M_PI / 180.0, right = length3(cam->right), up = length3(cam->up);
+    dvec3 d = cam->direction, r = cam->right, u = cam->up;
+    double kx = 0, ky = 0;
+    switch (cam->projection) {
+    case CSG_PROJ_CYLINDER_1: case CSG_PROJ_CYLINDER_3: kx = rad; ky = up; break;
+    case CSG_PROJ_CYLINDER_2: case CSG_PROJ_CYLINDER_4: kx = right; ky = rad; break;
+    case CSG_PROJ_ULTRA_WIDE_ANGLE: kx = rad; ky = rad * (up / right); break;
+    case CSG_PROJ_PANORAMIC: kx = M_PI; ky = M_PI; break;
+    case CSG_PROJ_SPHERICAL:
+        kx = cam->h_angle / 360 * (2 * M_PI);
+        ky = cam->v_angle / 360 * (2 * M_PI);
+        r = unit3(r); /* (the rotations' axes) */
+        u = unit3(u);
+        break;
+    default: break;
+    }
+    if (cam->projection >= CSG_PROJ_CYLINDER_1 && cam->projection <= CSG_PROJ_ULTRA_WIDE_ANGLE) {
+        d = unit3(d);
+        r = unit3(r);
+        u = unit3(u);
+    }
+    c->projection = cam->projection;
+    store3(c->location, cam->location);
+    store3(c->direction, d);
+    store3(c->right, r);
+    store3(c->up, u);
+    c->hither = (real)hither;
+    c->kx = (real)kx;
+    c->ky = (real)ky;
+}
+
 /* Lights, shading values and the camera, from the scene into the blob. */
 static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o,
                                const csg_blob_header *h, unsigned char *b)
@@ -1735,14 +1788,7 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
     csg_camera_src cam = s->camera;
     if (!s->has_camera)
         csg_camera_default(&cam);
-    csg_camera *c = (csg_camera *)(b + h->off_camera);
-    c->projection = cam.projection == CSG_PROJ_ORTHOGRAPHIC ? CSG_CAMERA_ORTHOGRAPHIC
-                                                             : CSG_CAMERA_PERSPECTIVE;
-    store3(c->location, cam.location);
-    store3(c->direction, cam.direction);
-    store3(c->right, cam.right);
-    store3(c->up, cam.up);
-    c->hither = (real)s->hither;
+    flat_camera((csg_camera *)(b + h->off_camera), &cam, s->hither);
 }
 
 static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)

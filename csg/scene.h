@@ -244,10 +244,19 @@ struct csg_object {
     int child_count;
 };
 
-enum csg_projection { CSG_PROJ_PERSPECTIVE, CSG_PROJ_ORTHOGRAPHIC };
+/* POV-Ray's camera types (csg/device/camera_lanes.h traces them). */
+enum csg_projection {
+    CSG_PROJ_PERSPECTIVE, CSG_PROJ_ORTHOGRAPHIC,
+    CSG_PROJ_CYLINDER_1, CSG_PROJ_CYLINDER_2, CSG_PROJ_CYLINDER_3, CSG_PROJ_CYLINDER_4,
+    CSG_PROJ_ULTRA_WIDE_ANGLE, CSG_PROJ_PANORAMIC, CSG_PROJ_SPHERICAL
+};
 
 typedef struct {
     int projection;       /* enum csg_projection                               */
+    double angle;         /* POV-Ray's Angle, degrees (90): the cylinder and
+                             ultra_wide_angle cameras' field (perspective and
+                             orthographic turn it into direction's length) */
+    double h_angle, v_angle; /* spherical: its fields of view (360, 180)     */
     dvec3 location;       /* camera vectors after POV-Ray's rules (camera_setup.c) */
     dvec3 direction;
     dvec3 right;

@@ -985,6 +985,122 @@ static void test_camera_primary(void **state)
     expect_primary(&c, 640, 480, 17, 401);
 }
 
+#ifdef CSG_DOUBLE
+#define TRIG_TOL 4e-16 /* per unit of max(1, |a|): the reduction's error grows with a */
+#define RAY_TOL 1e-12
+#else
+#define TRIG_TOL 2.5e-7
+#define RAY_TOL 4e-6
+#endif
+
+/* csg_sincos (+ - * floor only, the same bits in OpenCL) against libm,
+ * over several turns both ways, and exact at 0. */
+static void test_sincos(void **state)
+{
+    (void)state;
+    double worst = 0;
+    for (int i = -20000; i <= 20000; i++) {
+        real a = (real)(i * 0.001);
+        real s, c;
+        csg_sincos(a, &s, &c);
+        double tol = TRIG_TOL * fmax(1.0, fabs((double)a));
+        NEAR(s, sin((double)a), tol);
+        NEAR(c, cos((double)a), tol);
+        worst = fmax(worst, fabs((double)s - sin((double)a)) / fmax(1.0, fabs((double)a)));
+    }
+    real s, c;
+    csg_sincos(0, &s, &c);
+    assert_true(s == 0 && c == 1);
+    print_message("csg_sincos: worst error %.3g (per unit of |a| beyond 1)\n", worst);
+}
+
+/* One ray of POV-Ray's CreateCameraRay for the bent cameras, in double with
+ * libm, from the blob's camera (unit vectors, kx and ky as flatten.c sets
+ * them): the reference the shared code is held to. */
+static void pov_bent_ray(const csg_camera *c, double x0, double y0, double o[3], double d[3])
+{
+    double R3[3], U[3], D[3], ax = x0 * (double)c->kx, ay = y0 * (double)c->ky, v1[3];
+    for (int i = 0; i < 3; i++) {
+        R3[i] = c->right[i];
+        U[i] = c->up[i];
+        D[i] = c->direction[i];
+        o[i] = c->location[i];
+    }
+    for (int i = 0; i < 3; i++) {
+        switch (c->projection) {
+        case CSG_CAMERA_CYLINDER_1: d[i] = sin(ax) * R3[i] + ay * U[i] + cos(ax) * D[i]; break;
+        case CSG_CAMERA_CYLINDER_2: d[i] = ax * R3[i] + sin(ay) * U[i] + cos(ay) * D[i]; break;
+        case CSG_CAMERA_CYLINDER_3:
+            d[i] = sin(ax) * R3[i] + cos(ax) * D[i];
+            o[i] += ay * U[i];
+            break;
+        case CSG_CAMERA_CYLINDER_4:
+            d[i] = sin(ay) * U[i] + cos(ay) * D[i];
+            o[i] += ax * R3[i];
+            break;
+        case CSG_CAMERA_ULTRA_WIDE_ANGLE:
+            d[i] = sin(ax) * R3[i] + sin(ay) * U[i] + cos(ax) * cos(ay) * D[i];
+            break;
+        case CSG_CAMERA_PANORAMIC: {
+            double px = (1.0 - (x0 + 0.5)) * M_PI;
+            d[i] = cos(px) * R3[i] + tan(ay) * U[i] + sin(px) * D[i];
+            break;
+        }
+        default: break;
+        }
+    }
+    if (c->projection == CSG_CAMERA_SPHERICAL) { /* Rodrigues' formula, about right then up */
+        double a1 = -ay, a2 = ax, k1[3] = {R3[0], R3[1], R3[2]}, k2[3] = {U[0], U[1], U[2]};
+        double kd = k1[0] * D[0] + k1[1] * D[1] + k1[2] * D[2];
+        double kx[3] = {k1[1] * D[2] - k1[2] * D[1], k1[2] * D[0] - k1[0] * D[2],
+                        k1[0] * D[1] - k1[1] * D[0]};
+        for (int i = 0; i < 3; i++) /* (POV-Ray's row-vector matrix: a turn by +angle) */
+            v1[i] = D[i] * cos(a1) + kx[i] * sin(a1) + k1[i] * kd * (1 - cos(a1));
+        kd = k2[0] * v1[0] + k2[1] * v1[1] + k2[2] * v1[2];
+        double kv[3] = {k2[1] * v1[2] - k2[2] * v1[1], k2[2] * v1[0] - k2[0] * v1[2],
+                        k2[0] * v1[1] - k2[1] * v1[0]};
+        for (int i = 0; i < 3; i++)
+            d[i] = v1[i] * cos(a2) + kv[i] * sin(a2) + k2[i] * kd * (1 - cos(a2));
+    }
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int i = 0; i < 3; i++)
+        d[i] /= len;
+}
+
+/* Every bent camera's rays, at the corners, centre and a sweep of an odd
+ * image, against pov_bent_ray; an oblique frame (unit vectors). */
+static void test_bent_cameras(void **state)
+{
+    (void)state;
+    static const int types[] = {CSG_CAMERA_CYLINDER_1,       CSG_CAMERA_CYLINDER_2,
+                                CSG_CAMERA_CYLINDER_3,       CSG_CAMERA_CYLINDER_4,
+                                CSG_CAMERA_ULTRA_WIDE_ANGLE, CSG_CAMERA_PANORAMIC,
+                                CSG_CAMERA_SPHERICAL};
+    double s = sqrt(0.5);
+    real dir[3] = {(real)s, 0, (real)s}, right[3] = {(real)s, 0, (real)-s}, up[3] = {0, 1, 0};
+    for (size_t t = 0; t < sizeof types / sizeof types[0]; t++) {
+        csg_camera c = camera();
+        c.projection = types[t];
+        for (int i = 0; i < 3; i++) {
+            c.direction[i] = dir[i];
+            c.right[i] = right[i];
+            c.up[i] = up[i];
+        }
+        c.kx = types[t] == CSG_CAMERA_CYLINDER_2 || types[t] == CSG_CAMERA_CYLINDER_4 ? R(1.5) : R(2.9);
+        c.ky = types[t] == CSG_CAMERA_CYLINDER_1 || types[t] == CSG_CAMERA_CYLINDER_3 ? R(0.75) : R(2.1);
+        if (types[t] == CSG_CAMERA_PANORAMIC)
+            c.kx = c.ky = (real)M_PI;
+        for (int y = 0; y < 31; y += 3)
+            for (int x = 0; x < 41; x += 4) {
+                csg_ray r = csg_primary_ray(&c, 41, 31, x, y);
+                double o[3], d[3];
+                pov_bent_ray(&c, (x + 0.5) / 41 - 0.5, 0.5 - (y + 0.5) / 31, o, d);
+                NEAR_V(r.d, d[0], d[1], d[2], RAY_TOL);
+                NEAR_V(r.o, o[0], o[1], o[2], RAY_TOL * 4);
+            }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1008,6 +1124,8 @@ int main(void)
         cmocka_unit_test(test_normal_flip),
         cmocka_unit_test(test_surface_pack),
         cmocka_unit_test(test_camera_primary),
+        cmocka_unit_test(test_sincos),
+        cmocka_unit_test(test_bent_cameras),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

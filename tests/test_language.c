@@ -466,6 +466,40 @@ static void test_camera_order(void **state)
     assert_near(a.camera.direction.y, -1);
     assert_near(a.camera.up.z, 1);
     csg_scene_free(&a);
+    /* the bent cameras: the angle is kept as it is (direction's length
+     * unchanged), spherical's vertical angle is half the horizontal one
+     * unless given, POV-Ray's defaults 90 / 360 / 180 */
+    static const struct {
+        const char *text;
+        int projection;
+        double angle, h, v;
+    } bent[] = {
+        {"camera { cylinder 1 angle 100 look_at z }", CSG_PROJ_CYLINDER_1, 100, 360, 180},
+        {"camera { cylinder 4 }", CSG_PROJ_CYLINDER_4, 90, 360, 180},
+        {"camera { ultra_wide_angle angle 170 }", CSG_PROJ_ULTRA_WIDE_ANGLE, 170, 360, 180},
+        {"camera { panoramic }", CSG_PROJ_PANORAMIC, 90, 360, 180},
+        {"camera { spherical angle 300 }", CSG_PROJ_SPHERICAL, 300, 300, 150},
+        {"camera { spherical angle 300, 120 location y }", CSG_PROJ_SPHERICAL, 300, 300, 120},
+        {"camera { spherical angle 200 100 }", CSG_PROJ_SPHERICAL, 200, 200, 100},
+        {"#version 3.1;\ncamera { cylinder 2 angle 30 }", CSG_PROJ_CYLINDER_2, 30, 360, 180},
+    };
+    for (size_t i = 0; i < sizeof bent / sizeof bent[0]; i++) {
+        parse_ok(bent[i].text, &a);
+        assert_int_equal(a.camera.projection, bent[i].projection);
+        assert_near(a.camera.angle, bent[i].angle);
+        assert_near(a.camera.h_angle, bent[i].h);
+        assert_near(a.camera.v_angle, bent[i].v);
+        assert_near(a.camera.direction.z, 1);
+        csg_scene_free(&a);
+    }
+    parse_err("camera { cylinder 5 }",
+              "t.pov:1:19: error: invalid cylinder camera type 5: the types are 1 to 4");
+    parse_err("camera { cylinder 1 angle -3 }",
+              "t.pov:1:27: error: a camera's angle must not be negative, got -3");
+    parse_err("camera { spherical angle 10, -3 }",
+              "t.pov:1:30: error: a camera's vertical angle must not be negative, got -3");
+    parse_err("camera { fisheye }", "t.pov:1:10: error: unsupported: 'fisheye' is not in "
+                                     "csgtrace's language (see scenes/LANGUAGE.md)");
 }
 
 /* ---- patterns ----------------------------------------------------------------------------------- */

@@ -207,8 +207,15 @@ typedef struct {
 
 #define CSG_BVH_STACK 64 /* the flattener keeps the tree shallower than this */
 
-/* The camera's projection (csg_camera.projection). */
-enum csg_camera_projection { CSG_CAMERA_PERSPECTIVE = 0, CSG_CAMERA_ORTHOGRAPHIC = 1 };
+/* The camera's projection (csg_camera.projection): POV-Ray's types, in
+ * the order of csg/scene.h's enum csg_projection. */
+enum csg_camera_projection {
+    CSG_CAMERA_PERSPECTIVE = 0, CSG_CAMERA_ORTHOGRAPHIC = 1,
+    CSG_CAMERA_CYLINDER_1 = 2, CSG_CAMERA_CYLINDER_2 = 3, CSG_CAMERA_CYLINDER_3 = 4,
+    CSG_CAMERA_CYLINDER_4 = 5, CSG_CAMERA_ULTRA_WIDE_ANGLE = 6, CSG_CAMERA_PANORAMIC = 7,
+    CSG_CAMERA_SPHERICAL = 8,
+    CSG_CAMERA_PROJECTIONS = 9
+};
 
 /* The camera after POV-Ray's camera statement was applied (see
  * csg/camera_setup.c): the primary ray of pixel (x, y) of a W x H image is
@@ -224,6 +231,11 @@ typedef struct {
     real up[3];
     real hither;  /* > 0: rays start on the near plane this far along the
                      view direction (NFF's hither); 0: at location        */
+    real kx, ky;  /* the other cameras: what x0 and y0 (-0.5 .. 0.5) are
+                     multiplied by (an angle's radians, or a length);
+                     their direction, right and up are unit vectors but
+                     for the panoramic and spherical cameras' (POV-Ray's
+                     SetupCamera): camera_lanes.h                        */
 } csg_camera;
 
 /* What becomes of a pixel's colour on its way to an 8-bit file (POV-Ray
@@ -476,6 +488,7 @@ typedef struct {
         F(csg_root, stack_depth) F(csg_root, flags) F(csg_root, lo) F(csg_root, hi)        \
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, box)     \
     S(csg_camera) F(csg_camera, projection) F(csg_camera, pad) F(csg_camera, location)     \
-        F(csg_camera, direction) F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither)
+        F(csg_camera, direction) F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither) \
+        F(csg_camera, kx) F(csg_camera, ky)
 
 #endif

@@ -12,7 +12,8 @@
  *
  * The rules that make the two compilations give the same bits lane by lane:
  *   - every arithmetic operation on L_REAL is one IEEE operation applied
- *     per lane (+ - * / and L_SQRT, correctly rounded on both sides), in the
+ *     per lane (+ - * / and L_SQRT, correctly rounded on both sides, and
+ *     L_FLOOR, exact), in the
  *     same order in both compilations because it is the same source;
  *   - no branch on lane data: a branch of the one-ray code becomes a mask
  *     (a comparison: 1/0 for one ray, -1/0 per lane for a packet, both of
@@ -46,6 +47,7 @@
 #define L_ANY(m) CSG_PK_ANY(m)
 #define L_SQRT(x) sqrt(x)
 #define L_FABS(x) fabs(x)
+#define L_FLOOR(x) floor(x)
 #define L_TO_REAL(i) CSG_PK_TO_REAL(i)
 #define L_TO_UINT(i) CSG_PK_I_AS_U(i)
 /* r_next_up lane by lane: the same integer step on the bits */
@@ -59,6 +61,7 @@
 #define L_ANY(m) (m)
 #define L_SQRT(x) r_sqrt(x)
 #define L_FABS(x) r_fabs(x)
+#define L_FLOOR(x) r_floor(x)
 #define L_TO_REAL(i) ((real)(i))
 #define L_TO_UINT(i) ((csg_u32)(i))
 #define L_NEXT_UP(t) r_next_up(t)
@@ -81,6 +84,7 @@
 #undef L_ANY
 #undef L_SQRT
 #undef L_FABS
+#undef L_FLOOR
 #undef L_TO_REAL
 #undef L_TO_UINT
 #undef L_NEXT_UP

@@ -49,9 +49,11 @@ typedef double real;
 #ifdef __OPENCL_VERSION__
 #define r_sqrt(a) sqrt(a)
 #define r_fabs(a) fabs(a)
+#define r_floor(a) floor(a)
 #else
 #define r_sqrt(a) sqrt(a)
 #define r_fabs(a) fabs(a)
+#define r_floor(a) floor(a)
 #endif
 #else
 typedef float real;
@@ -59,9 +61,11 @@ typedef float real;
 #ifdef __OPENCL_VERSION__
 #define r_sqrt(a) sqrt(a)
 #define r_fabs(a) fabs(a)
+#define r_floor(a) floor(a)
 #else
 #define r_sqrt(a) sqrtf(a)
 #define r_fabs(a) fabsf(a)
+#define r_floor(a) floorf(a)
 #endif
 #endif
 

@@ -717,6 +717,66 @@ bool lang_parse_object(parser *p, csg_object **out)
 
 /* ---- the camera ------------------------------------------------------------------ */
 
+/* cylinder N (1 to 4), ultra_wide_angle, panoramic, spherical: POV-Ray's
+ * Parse_Camera. */
+static bool parse_camera_type(parser *p, csg_camera_src *c, enum csg_kw kw)
+{
+    csg_loc at = p->tok.loc;
+    if (!lang_next(p))
+        return false;
+    if (kw == CSG_KW_CYLINDER) {
+        double n;
+        if (!lang_parse_float(p, &n, &at))
+            return false;
+        if (!(n >= 1 && n < 5)) { /* (POV-Ray: (int)n) */
+            csg_error(p->d, at, "invalid cylinder camera type %g: the types are 1 to 4", n);
+            return false;
+        }
+        c->projection = CSG_PROJ_CYLINDER_1 + ((int)n - 1);
+        return true;
+    }
+    c->projection = kw == CSG_KW_ULTRA_WIDE_ANGLE ? CSG_PROJ_ULTRA_WIDE_ANGLE
+                    : kw == CSG_KW_PANORAMIC      ? CSG_PROJ_PANORAMIC
+                                                  : CSG_PROJ_SPHERICAL;
+    return true;
+}
+
+/* angle of a camera that is not planar: A (cylinder, ultra_wide_angle,
+ * panoramic: kept), or H [, V] (spherical: V is H / 2 unless given);
+ * POV-Ray refuses negative angles. */
+static bool parse_camera_angles(parser *p, csg_camera_src *c, csg_camera_mods *m, csg_loc at)
+{
+    double f;
+    csg_loc fat;
+    if (!lang_next(p) || !lang_parse_float(p, &f, &fat))
+        return false;
+    if (!(f >= 0)) {
+        csg_error(p->d, fat, "a camera's angle must not be negative, got %g", f);
+        return false;
+    }
+    m->has_angle = true;
+    m->angle = f;
+    m->angle_loc = at;
+    c->angle = f;
+    if (c->projection != CSG_PROJ_SPHERICAL)
+        return true;
+    c->h_angle = f;
+    c->v_angle = f * 0.5;
+    bool comma = lang_is_punct(p, ',');
+    if (comma && !lang_next(p))
+        return false;
+    if (!comma && lang_tok(p)->kind != CSG_TOK_NUMBER)
+        return true;
+    if (!lang_parse_float(p, &f, &fat))
+        return false;
+    if (!(f >= 0)) {
+        csg_error(p->d, fat, "a camera's vertical angle must not be negative, got %g", f);
+        return false;
+    }
+    c->v_angle = f;
+    return true;
+}
+
 /* One camera item; *m collects what POV-Ray 3.5+ applies at the end, or
  * (old: #version < 3.5) everything is applied at once. */
 static bool parse_camera_item(parser *p, csg_camera_src *c, csg_camera_mods *m, bool old)
@@ -730,6 +790,11 @@ static bool parse_camera_item(parser *p, csg_camera_src *c, csg_camera_mods *m, 
             csg_camera_orthographic_size(c);
         return lang_next(p);
     }
+    if (kw == CSG_KW_CYLINDER || kw == CSG_KW_ULTRA_WIDE_ANGLE || kw == CSG_KW_PANORAMIC ||
+        kw == CSG_KW_SPHERICAL)
+        return parse_camera_type(p, c, kw);
+    if (kw == CSG_KW_ANGLE && !csg_camera_planar(c))
+        return parse_camera_angles(p, c, m, at);
     if (kw == CSG_KW_ANGLE) { /* orthographic: the angle may be left out */
         double f = 0;
         if (!lang_next(p))
@@ -774,9 +839,9 @@ static bool parse_camera_item(parser *p, csg_camera_src *c, csg_camera_mods *m, 
 
 static bool is_camera_item(parser *p)
 {
-    if (lang_is_kw(p, CSG_KW_CYLINDER)) /* POV-Ray's cylindrical cameras */
-        return lang_unsupported(p, "the 'cylinder' camera", p->tok.loc);
     switch (lang_tok(p)->kind == CSG_TOK_WORD ? p->tok.kw : CSG_KW_NONE) {
+    case CSG_KW_CYLINDER: case CSG_KW_ULTRA_WIDE_ANGLE: case CSG_KW_PANORAMIC:
+    case CSG_KW_SPHERICAL:
     case CSG_KW_PERSPECTIVE: case CSG_KW_ORTHOGRAPHIC: case CSG_KW_ANGLE: case CSG_KW_LOCATION:
     case CSG_KW_LOOK_AT: case CSG_KW_DIRECTION: case CSG_KW_UP: case CSG_KW_RIGHT: case CSG_KW_SKY:
         return true;
