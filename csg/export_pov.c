@@ -515,8 +515,21 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
     put_field(out, " phong ", f->phong);
     put_field(out, " phong_size ", f->phong_size);
     put_field(out, " metallic ", f->metallic);
-    fputs(" reflection rgb ", out);
-    put_vec(out, f->reflection, 3);
+    if (f->reflection_variable) {
+        fputs(" reflection { rgb ", out);
+        put_vec(out, f->reflection_min, 3);
+        fputs(", rgb ", out);
+        put_vec(out, f->reflection, 3);
+        put_field(out, " falloff ", f->reflection_falloff);
+        put_field(out, " exponent ", f->reflection_exponent);
+        put_field(out, " metallic ", f->reflection_metallic);
+        fputs(f->reflection_fresnel ? " fresnel on }" : " fresnel off }", out);
+        if (f->conserve_energy)
+            fputs(" conserve_energy", out);
+    } else {
+        fputs(" reflection rgb ", out);
+        put_vec(out, f->reflection, 3);
+    }
     fputs(" }\n", out);
 }
 

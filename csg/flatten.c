@@ -510,6 +510,17 @@ static bool material_layer(flat_builder *fb, const csg_texture *tex, const csg_i
     m->phong = (real)tex->finish.phong;
     m->phong_size = (real)tex->finish.phong_size;
     m->metallic = (real)tex->finish.metallic;
+    const csg_finish *fin = &tex->finish;
+    if (fin->reflection_variable) {
+        m->reflection_variable = 1;
+        m->reflection_fresnel = fin->reflection_fresnel;
+        m->conserve_energy = fin->conserve_energy;
+        for (int i = 0; i < 3; i++)
+            m->reflection_min[i] = (real)fin->reflection_min[i];
+        m->reflection_falloff = (real)fin->reflection_falloff;
+        m->reflection_exponent = (real)fin->reflection_exponent;
+        m->reflection_metallic = (real)fin->reflection_metallic;
+    }
     m->ior = (real)ior;
     m->number_of_waves = fb->scene->globals.number_of_waves;
     if (tex->tmap_count > 0) {

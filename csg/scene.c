@@ -21,6 +21,8 @@ void csg_finish_default(csg_finish *f)
     f->brilliance = 1;
     f->roughness = 0.05;
     f->phong_size = 40;
+    f->reflection_falloff = 1;
+    f->reflection_exponent = 1;
 }
 
 void csg_pigment_default(csg_pigment *p)

@@ -155,7 +155,17 @@ typedef struct {
     double phong;         /* 0                                       */
     double phong_size;    /* 40                                      */
     double metallic;      /* 0: highlights tinted by the pigment     */
-    double reflection[3]; /* 0                                       */
+    double reflection[3]; /* 0; reflection { MIN, MAX }: MAX          */
+    /* POV-Ray's variable reflection (reflection { MIN [, MAX] fresnel
+     * falloff exponent metallic }, reflection_exponent, conserve_energy):
+     * read only when reflection_variable */
+    bool reflection_variable;
+    double reflection_min[3]; /* the reflection facing the ray          */
+    double reflection_falloff; /* (1 - cos)^falloff blends MIN to MAX  */
+    double reflection_exponent; /* the reflected colour ^ (1 / it)       */
+    double reflection_metallic; /* the reflection tinted by the pigment  */
+    bool reflection_fresnel;  /* MIN to MAX by the Fresnel reflectance   */
+    bool conserve_energy;     /* what is reflected is not transmitted    */
 } csg_finish;
 
 /* POV-Ray's normal { }: a pattern that perturbs the surface normal

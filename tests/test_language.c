@@ -973,6 +973,53 @@ static void test_numbers_finite(void **state)
     csg_scene_free(&s);
 }
 
+/* POV-Ray's reflection in a finish: one colour (constant: the workers'
+ * old path), a block MIN [, MAX] with its options, fresnel with MIN = MAX
+ * (MIN becomes 0), the finish-level fresnel refused, exponents > 0. */
+static void test_reflection_block(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("sphere { 0, 1 finish { reflection 0.3 } }\n"
+             "sphere { 0, 1 finish { reflection { rgb <0.1, 0.2, 0.3> } } }\n"
+             "sphere { 0, 1 finish { reflection { 0.1, 0.8 falloff 2 exponent 3 metallic } } }\n"
+             "sphere { 0, 1 finish { reflection { 0.5 fresnel on } conserve_energy } }\n"
+             "sphere { 0, 1 finish { reflection { 0.1 0.6 metallic 0.25 } reflection 0.4 } }\n"
+             "sphere { 0, 1 finish { reflection_exponent 2 } }\n",
+             &s);
+    const csg_finish *f[6];
+    for (int i = 0; i < 6; i++)
+        f[i] = &s.textures[s.objects[i]->texture].finish;
+    assert_false(f[0]->reflection_variable);
+    assert_near(f[0]->reflection[1], 0.3);
+    assert_false(f[1]->reflection_variable);
+    assert_near(f[1]->reflection[2], 0.3);
+    assert_true(f[2]->reflection_variable);
+    assert_near(f[2]->reflection_min[0], 0.1);
+    assert_near(f[2]->reflection[0], 0.8);
+    assert_near(f[2]->reflection_falloff, 2);
+    assert_near(f[2]->reflection_exponent, 3);
+    assert_near(f[2]->reflection_metallic, 1);
+    assert_true(f[3]->reflection_variable && f[3]->reflection_fresnel && f[3]->conserve_energy);
+    assert_near(f[3]->reflection_min[0], 0); /* (POV-Ray: fresnel with MIN = MAX) */
+    assert_near(f[3]->reflection[0], 0.5);
+    assert_true(f[4]->reflection_variable); /* (metallic stays after `reflection 0.4`) */
+    assert_near(f[4]->reflection_min[0], 0.4);
+    assert_near(f[4]->reflection[0], 0.4);
+    assert_true(f[5]->reflection_variable);
+    assert_near(f[5]->reflection_exponent, 2);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 finish { reflection { 0.1, 0.5 exponent 0 } } }",
+              "t.pov:1:55: error: reflection exponent must be > 0, got 0");
+    parse_err("sphere { 0, 1 finish { reflection_exponent -1 } }",
+              "t.pov:1:44: error: reflection_exponent must be > 0, got -1");
+    parse_err("sphere { 0, 1 finish { fresnel } }",
+              "t.pov:1:24: error: unsupported: the finish's 'fresnel' (outside a reflection block) "
+              "is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 finish { reflection { 0.1, 0.5 bogus } } }",
+              "t.pov:1:46: error: '}' expected (to close 'reflection' at 1:24), got 'bogus'");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -995,6 +1042,7 @@ int main(void)
         cmocka_unit_test(test_limits),
         cmocka_unit_test(test_reliability),
         cmocka_unit_test(test_numbers_finite),
+        cmocka_unit_test(test_reflection_block),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

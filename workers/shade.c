@@ -495,6 +495,67 @@ static vec3 highlight_color(const csg_material *m, vec3 pig, real cosl, vec3 lig
 static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, int solid,
                       ray_tally *tally);
 
+/* POV-Ray's FresnelR: the reflectance of unpolarised light at cosine
+ * cos_i, n the relative index of refraction (1: total reflection when no
+ * ray is transmitted). */
+static double fresnel_r(double cos_i, double n)
+{
+    double sqrg = n * n + cos_i * cos_i - 1.0;
+    if (sqrg <= 0.0)
+        return 1.0;
+    double g = sqrt(sqrg), gpc = g + cos_i, gmc = g - cos_i;
+    double r1 = cos_i * gpc - 1.0, r2 = cos_i * gmc + 1.0;
+    return 0.5 * (gmc * gmc) / (gpc * gpc) * (1.0 + (r1 * r1) / (r2 * r2));
+}
+
+/* The reflection of a layer with POV-Ray's variable reflection (its
+ * ComputeReflectivity and ComputeMetallic) at cosine cosi between the ray
+ * and the layer's normal: from MIN facing the ray to MAX at grazing, by
+ * (1 - cos)^falloff or by the Fresnel reflectance (n: the relative index
+ * of refraction), tinted by the pigment with metallic; *wmax: what the
+ * ray's weight is scaled by (the larger of MIN's and MAX's channels, or
+ * the Fresnel reflection's). */
+static vec3 variable_reflection(const csg_material *m, vec3 pig, real cosi, real n, real *wmax)
+{
+    vec3 rmax = v3_load(m->reflection), rmin = v3_load(m->reflection_min), refl;
+    real frac;
+    if (m->reflection_fresnel) {
+        frac = (real)fresnel_r((double)cosi, (double)n);
+        refl = v3_add(v3_scale(rmax, frac), v3_scale(rmin, R(1.0) - frac));
+        *wmax = max3(refl);
+    } else {
+        *wmax = r_fmax(max3(rmax), max3(rmin));
+        real fall = m->reflection_falloff;
+        frac = r_fabs(fall - R(1.0)) > R(1e-10) ? power(R(1.0) - cosi, fall) : R(1.0) - cosi;
+        refl = r_fabs(frac) < R(1e-10)            ? rmin
+               : r_fabs(frac - R(1.0)) < R(1e-10) ? rmax
+                   : v3_add(v3_scale(rmax, frac), v3_scale(rmin, R(1.0) - frac));
+    }
+    if (m->reflection_metallic != R(0.0)) {
+#ifdef CSG_DOUBLE
+        real x = fabs(acos(r_fmin(r_fmax(cosi, R(-1.0)), R(1.0)))) / (R(0.5) * R(M_PI));
+#else
+        real x = fabsf(acosf(r_fmin(r_fmax(cosi, R(-1.0)), R(1.0)))) / (R(0.5) * R(M_PI));
+#endif
+        real f = R(0.014567225) / ((x - R(1.12)) * (x - R(1.12))) - R(0.011612903);
+        real k = m->reflection_metallic * (R(1.0) - r_fmin(R(1.0), r_fmax(R(0.0), f)));
+        refl = v3_mul(refl, v3(R(1.0) + k * (pig.x - R(1.0)), R(1.0) + k * (pig.y - R(1.0)),
+                               R(1.0) + k * (pig.z - R(1.0))));
+    }
+    return refl;
+}
+
+/* A reflected colour to the power 1 / exponent (POV-Ray's
+ * reflection_exponent), channel by channel. */
+static vec3 reflection_power(vec3 col, real exponent)
+{
+    if (exponent == R(1.0))
+        return col;
+    real e = R(1.0) / exponent;
+    return v3(col.x > R(0.0) ? power(col.x, e) : R(0.0), col.y > R(0.0) ? power(col.y, e) : R(0.0),
+              col.z > R(0.0) ? power(col.z, e) : R(0.0));
+}
+
 /* What every texture shading a hit shares: the ray, the point, its
  * normals, where secondary rays start, and the light reaching the point
  * from each light (a shadow ray traced once for all the layers and
@@ -857,6 +918,8 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         const csg_material *m;
         vec3 refl_dir;
         real weight;
+        vec3 refl;    /* what the layer reflects                     */
+        real refl_wt; /* what the ray's weight is scaled by for it   */
     } layers[SHADE_MAX_DEPTH];
     int count = 0;
     vec3 color = v3(R(0.0), R(0.0), R(0.0));
@@ -883,6 +946,16 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         layer_light(c, hi, layer, pig, nl, refl_dir, tally, &surface, &highlight);
         vec3 own = v3_add(v3_scale(surface, opacity), highlight);
         vec3 through = v3_add(v3_scale(pig, pc.filter), grey3(pc.transmit));
+        vec3 refl = v3_load(layer->reflection);
+        real refl_wt = max3(refl);
+        if (layer->reflection_variable) {
+            real n = hi->entering ? m->ior : R(1.0) / m->ior; /* (the relative index) */
+            refl = variable_reflection(layer, pig, -v3_dot(hi->r.d, nl), n, &refl_wt);
+            if (layer->conserve_energy) /* (POV-Ray: 1 - reflection, at most 1) */
+                through = v3_mul(through, v3(r_fmin(R(1.0) - refl.x, R(1.0)),
+                                             r_fmin(R(1.0) - refl.y, R(1.0)),
+                                             r_fmin(R(1.0) - refl.z, R(1.0))));
+        }
         if (count == 0) {
             color = own;
             fil = through;
@@ -893,13 +966,15 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         layers[count].m = layer;
         layers[count].refl_dir = refl_dir;
         layers[count].weight = count == 0 ? weight : weight * trans;
+        layers[count].refl = refl;
+        layers[count].refl_wt = refl_wt;
         count++;
         trans = r_fmin(R(1.0), r_fabs(R(0.297) * fil.x + R(0.589) * fil.y + R(0.114) * fil.z));
     }
     if (hi->level >= c->hdr->max_depth)
         return color;
 
-    vec3 refl_w = v3_load(m->reflection);
+    vec3 refl_w = layers[0].refl;
     vec3 trans_w = fil;
     if (max3(trans_w) > R(0.0)) {
         real eta = hi->entering ? R(1.0) / m->ior : m->ior;
@@ -928,14 +1003,22 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         }
     }
     for (int i = 0; i < count; i++) {
-        vec3 lw = i == 0 ? refl_w : v3_load(layers[i].m->reflection);
-        real rw = layers[i].weight * max3(lw);
+        vec3 lw = i == 0 ? refl_w : layers[i].refl;
+        /* (the weight: the constant reflection's own largest channel, as
+         * ever; POV-Ray's rule for a variable one; TIR adds to layer 0's) */
+        real rw = layers[i].weight *
+                  (layers[i].m->reflection_variable && !(i == 0 && max3(lw) != max3(layers[0].refl))
+                       ? layers[i].refl_wt
+                       : max3(lw));
         if (max3(lw) > R(0.0) && rw >= c->bailout && ray_spend(tally)) {
             csg_ray s;
             s.o = hi->above;
             s.d = v3_normalize(layers[i].refl_dir);
             tally->rays->reflected++;
-            color = v3_add(color, v3_mul(lw, trace_ray(c, s, hi->level + 1, rw, hi->solid, tally)));
+            vec3 seen = trace_ray(c, s, hi->level + 1, rw, hi->solid, tally);
+            if (layers[i].m->reflection_variable)
+                seen = reflection_power(seen, layers[i].m->reflection_exponent);
+            color = v3_add(color, v3_mul(lw, seen));
         }
     }
     return color;

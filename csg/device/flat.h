@@ -355,6 +355,16 @@ typedef struct {
     real fade_distance; /* interior: light through the inside fades (0: no) */
     real fade_power;
     real fade_color[3];
+    /* POV-Ray's variable reflection (csg_finish; workers/shade.c):
+     * reflection is MAX, used alone when reflection_variable is 0 */
+    csg_i32 reflection_variable;
+    csg_i32 reflection_fresnel;
+    csg_i32 conserve_energy;
+    csg_i32 pad2;
+    real reflection_min[3];
+    real reflection_falloff;
+    real reflection_exponent;
+    real reflection_metallic;
 } csg_material;
 
 /* A light (POV-Ray's LightSource): C workers only. */

@@ -680,21 +680,79 @@ bool lang_parse_sky_sphere(parser *p, csg_sky *sky)
 
 /* ---- finish, texture, interior ---------------------------------------------------- */
 
-/* reflection COLOR, or POV-Ray 3.5's block with one colour only,
- * `reflection { COLOR }` (the same); a second colour (variable
- * reflection), fresnel, falloff, exponent and metallic are unsupported. */
+/* One option of a reflection block: fresnel [B], falloff F, exponent F
+ * (> 0), metallic [F]; false with nothing read when the token is none. */
+static bool parse_reflection_option(parser *p, csg_finish *f, bool *ok)
+{
+    enum csg_kw kw = lang_tok(p)->kind == CSG_TOK_WORD ? lang_tok(p)->kw : CSG_KW_NONE;
+    if (kw != CSG_KW_FRESNEL && kw != CSG_KW_FALLOFF && kw != CSG_KW_EXPONENT &&
+        kw != CSG_KW_METALLIC)
+        return false;
+    double v = 1;
+    csg_loc at;
+    bool optional = kw == CSG_KW_FRESNEL || kw == CSG_KW_METALLIC;
+    *ok = lang_next(p) && ((optional && !lang_is_expr_start(p)) || lang_parse_float(p, &v, &at));
+    if (!*ok)
+        return true;
+    if (kw == CSG_KW_EXPONENT && !(v > 0)) { /* (POV-Ray divides by it) */
+        csg_error(p->d, at, "reflection exponent must be > 0, got %g", v);
+        *ok = false;
+    }
+    switch (kw) {
+    case CSG_KW_FRESNEL: f->reflection_fresnel = (int)v != 0; break; /* (POV-Ray's cast) */
+    case CSG_KW_FALLOFF: f->reflection_falloff = v; break;
+    case CSG_KW_EXPONENT: f->reflection_exponent = v; break;
+    default: f->reflection_metallic = v; break;
+    }
+    return true;
+}
+
+/* reflection COLOR (MIN = MAX, falloff 1, no fresnel), or POV-Ray 3.5's
+ * block: reflection { MIN [,] [MAX] OPTIONS } (MAX = MIN when not given);
+ * POV-Ray's Parse_Finish. */
 static bool parse_reflection(parser *p, csg_finish *f)
 {
-    csg_loc at = p->tok.loc;
+    csg_loc open = p->tok.loc;
     if (!lang_next(p))
         return false;
-    if (!lang_is_punct(p, '{'))
-        return lang_parse_rgb(p, f->reflection);
-    if (!lang_next(p) || !lang_parse_rgb(p, f->reflection))
+    if (!lang_is_punct(p, '{')) {
+        if (!lang_parse_rgb(p, f->reflection))
+            return false;
+        memcpy(f->reflection_min, f->reflection, sizeof f->reflection);
+        f->reflection_falloff = 1;
+        f->reflection_fresnel = false;
+        return true;
+    }
+    if (!lang_next(p) || !lang_parse_rgb(p, f->reflection_min))
         return false;
+    if (lang_is_punct(p, ',') && !lang_next(p))
+        return false;
+    if (lang_is_color_start(p) || (lang_is_expr_start(p) && !lang_is_punct(p, '}'))) {
+        if (!lang_parse_rgb(p, f->reflection))
+            return false;
+    } else {
+        memcpy(f->reflection, f->reflection_min, sizeof f->reflection);
+    }
+    for (bool ok = true; parse_reflection_option(p, f, &ok);)
+        if (!ok)
+            return false;
     if (!lang_is_punct(p, '}'))
-        return lang_unsupported(p, "'reflection { }' beyond one colour", at);
+        return lang_expected_close(p, '}', "reflection", open);
     return lang_next(p);
+}
+
+/* At a finish's end: POV-Ray's rule (fresnel with MIN = MAX: MIN is 0),
+ * and whether the reflection is anything but one colour (the workers'
+ * constant path, bit for bit what it always was, is kept for those). */
+static void finish_settle(csg_finish *f)
+{
+    bool same = memcmp(f->reflection, f->reflection_min, sizeof f->reflection) == 0;
+    if (f->reflection_fresnel && same) {
+        memset(f->reflection_min, 0, sizeof f->reflection_min);
+        same = false;
+    }
+    f->reflection_variable = !same || f->reflection_fresnel || f->reflection_metallic != 0 ||
+                             f->reflection_exponent != 1 || f->conserve_energy;
 }
 
 bool lang_parse_finish(parser *p, csg_finish *f)
@@ -709,13 +767,23 @@ bool lang_parse_finish(parser *p, csg_finish *f)
         *f = d->u.finish;
     }
     for (;;) {
-        if (lang_is_punct(p, '}'))
+        if (lang_is_punct(p, '}')) {
+            finish_settle(f);
             return lang_next(p);
+        }
         if (lang_tok(p)->kind != CSG_TOK_WORD)
             return lang_expected_close(p, '}', "finish", open);
         enum csg_kw kw = p->tok.kw;
         double *target = NULL;
         switch (kw) {
+        case CSG_KW_CONSERVE_ENERGY:
+            f->conserve_energy = true;
+            if (!lang_next(p))
+                return false;
+            continue;
+        case CSG_KW_FRESNEL: /* (the finish's: it also dims what is transmitted) */
+            return lang_unsupported(p, "the finish's 'fresnel' (outside a reflection block)",
+                                    p->tok.loc);
         case CSG_KW_AMBIENT:
             if (!lang_next(p) || !lang_parse_rgb(p, f->ambient))
                 return false;
@@ -739,12 +807,17 @@ bool lang_parse_finish(parser *p, csg_finish *f)
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
         case CSG_KW_PHONG: target = &f->phong; break;
         case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
+        case CSG_KW_REFLECTION_EXPONENT: target = &f->reflection_exponent; break;
         default:
             return lang_expected_close(p, '}', "finish", open);
         }
         csg_loc at;
         if (!lang_next(p) || !lang_parse_float(p, target, &at))
             return false;
+        if (kw == CSG_KW_REFLECTION_EXPONENT && !(*target > 0)) {
+            csg_error(p->d, at, "reflection_exponent must be > 0, got %g", *target);
+            return false;
+        }
         if (kw == CSG_KW_ROUGHNESS && !(*target > 0)) {
             csg_error(p->d, at, "roughness must be > 0, got %g", *target);
             return false;
