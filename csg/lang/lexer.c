@@ -533,6 +533,12 @@ static const kw_entry directive_table[] = {
 
 static int word_cmp(const char *a, size_t alen, const char *b)
 {
+    /* the first bytes settle most comparisons of the search: no strlen */
+    if (alen == 0)
+        return b[0] != '\0' ? -1 : 0;
+    int first = (unsigned char)a[0] - (unsigned char)b[0];
+    if (first != 0)
+        return first;
     size_t blen = strlen(b);
     int c = memcmp(a, b, alen < blen ? alen : blen);
     if (c != 0)
