@@ -1035,10 +1035,26 @@ static int by_need(const void *a, const void *b)
     return (x->index > y->index) - (x->index < y->index);
 }
 
+/* Whether need[0..n) is already in the order sort_by_need makes (then
+ * the identity: the operands of a wide run, 10^5 leaves of need 1, skip
+ * the sort). */
+static bool needs_decreasing(const int *need, int n)
+{
+    for (int i = 1; i < n; i++)
+        if (need[i] > need[i - 1])
+            return false;
+    return true;
+}
+
 static bool sort_by_need(int *order, const int *need, int n)
 {
     if (n <= 0)
         return true;
+    if (needs_decreasing(need, n)) {
+        for (int i = 0; i < n; i++)
+            order[i] = i;
+        return true;
+    }
     need_key *keys = malloc((size_t)n * sizeof *keys);
     if (!keys)
         return false;
