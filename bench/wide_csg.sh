@@ -11,6 +11,19 @@
 # sort; tiles 18.4 s, ~6 ms a primary ray).  After: 0.79 s (setup 0.73 s,
 # mostly parsing the 8 MB scene; tiles 0.043 s); hetero (3 ranks,
 # --pass always, the OpenCL pass on PoCL) byte-identical.
+# Setup trimmed (2026-11-28, branch h-parse; the old binary main at
+# 4afc94a): equal sibling textures share one entry and one material, the
+# parser's tables are adopted by the arena, the BVH build at -O3, a leaner
+# lexer.  --runs 20 --base, interleaved, on the shared 2-core machine under
+# load 14-19 (other sessions building): wall 2.44 -> 1.32 s (medians;
+# 1.78-3.86 and 0.94-2.17), user 0.54 -> 0.375 s, system 0.22 -> 0.07 s,
+# setup 2.15 -> 1.13 s, tiles 0.14 -> 0.13 s; images identical.  The same
+# render under callgrind: 2.86 -> 2.12 G instructions (parse 1.63 -> 1.24 G,
+# the wide run's BVH 0.72 -> 0.48 G, both threads); peak RSS 232 -> 93 MB;
+# blob 49.5 -> 16.7 MB (100001 materials -> 2).  Start-up of a serial
+# render maps no image module and opens no OpenCL platform or MPI (strace).
+# On a quiet machine the old binary took 0.62-0.81 s; that load could not
+# be had in this session, so the quiet wall time is still to measure.
 # Usage: bench/wide_csg.sh [--runs R] [--base BIN] [N]
 #        (CSGTRACE_BIN: the measured binary, default build/csgtrace)
 set -eu
@@ -35,7 +48,7 @@ one_run() {
     local start end
     start=$(date +%s.%N)
     /usr/bin/time -f '%U %S' -o "$T/cpu" "$1" render "$T/wide.pov" --width 64 --height 48 \
-        --mode serial -o "$T/wide.png" --stats "$T/wide.json" >/dev/null
+        --mode serial -o "$T/$2.png" --stats "$T/wide.json" >/dev/null
     end=$(date +%s.%N)
     python3 -c "
 import json, sys
@@ -57,6 +70,9 @@ for ((r = 0; r < RUNS; r++)); do
         one_run "$BIN" new
     fi
 done
+if [ -n "$BASE" ]; then
+    cmp -s "$T/base.png" "$T/new.png" && echo "images: identical" || echo "images: DIFFER"
+fi
 python3 - "$T/runs" "$N" "$BIN" "$BASE" <<'EOF'
 import statistics, sys
 runs = [l.split() for l in open(sys.argv[1])]
