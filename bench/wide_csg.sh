@@ -11,7 +11,7 @@
 # sort; tiles 18.4 s, ~6 ms a primary ray).  After: 0.79 s (setup 0.73 s,
 # mostly parsing the 8 MB scene; tiles 0.043 s); hetero (3 ranks,
 # --pass always, the OpenCL pass on PoCL) byte-identical.
-# Setup trimmed (2026-11-28, branch h-parse; the old binary main at
+# Setup trimmed (2026-11-28, measured at 3d75e5b; the old binary main at
 # 4afc94a): equal sibling textures share one entry and one material, the
 # parser's tables are adopted by the arena, the BVH build at -O3, a leaner
 # lexer.  --runs 20 --base, interleaved, on the shared 2-core machine under
