@@ -59,6 +59,9 @@ OPT ?= -O2
 # -O3 where the rest is at -O2: ~8-11% less CPU a ray on the paper scenes
 # (bench/SPEED.md), the same bits (no contraction, no fast-math either way).
 ENGINE_OPT ?= $(OPT:-O2=-O3)
+# The BVH build too (csg/bvh_build.c): its box unions vectorise, ~30% fewer
+# instructions building the hierarchy of 10^5 boxes, the same tree (#39).
+BVH_OPT ?= $(OPT:-O2=-O3)
 CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
 CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
 	$(OIIO_CFLAGS)
@@ -132,6 +135,9 @@ $(BA)/obj/gen/kernel_source.o: $(GEN)/kernel_source.c
 $(B)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(OPT) -c $< -o $@
+$(B)/obj/csg/bvh_build.o: csg/bvh_build.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_COMMON) $(BVH_OPT) -c $< -o $@
 $(B)/obj/float/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_COMMON) $(ENGINE_OPT) -c $< -o $@

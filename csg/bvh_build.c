@@ -194,6 +194,30 @@ static void bvh_sah_bins(bvh_best *best, const bvh_bins *bins, const bvh_axes *a
     }
 }
 
+/* at[0..n): 0..n-1 ordered by bin[], stably.  An insertion sort for a
+ * few items; above BVH_FEW_SORT a counting sort over the BVH_BINS bins
+ * (the insertion sort's quadratic moves were 7 % of a build). */
+#define BVH_FEW_SORT 12
+static void bvh_by_bin(const int *bin, int n, int *at)
+{
+    if (n <= BVH_FEW_SORT) {
+        for (int i = 0; i < n; i++) {
+            int j = i;
+            for (; j > 0 && bin[at[j - 1]] > bin[i]; j--)
+                at[j] = at[j - 1];
+            at[j] = i;
+        }
+        return;
+    }
+    int start[BVH_BINS + 1] = {0};
+    for (int i = 0; i < n; i++)
+        start[bin[i] + 1]++;
+    for (int b = 1; b <= BVH_BINS; b++)
+        start[b] += start[b - 1];
+    for (int i = 0; i < n; i++)
+        at[start[bin[i]]++] = i;
+}
+
 /* The same split as bvh_sah_bins for n <= BVH_FEW items, from the bins
  * they occupy rather than all BVH_BINS of each axis (whose set-up and
  * sweeps cost more than the binning below a few dozen items: half the
@@ -208,13 +232,9 @@ static void bvh_sah_few(bvh_best *best, const bvh_item *items, int n, const bvh_
         if (!ax->used[a])
             continue;
         int bin[BVH_FEW], at[BVH_FEW]; /* at: the items by bin, stably */
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < n; i++)
             bin[i] = bvh_bin(&items[i], a, ax->lo[a], ax->scale[a]);
-            int j = i;
-            for (; j > 0 && bin[at[j - 1]] > bin[i]; j--)
-                at[j] = at[j - 1];
-            at[j] = i;
-        }
+        bvh_by_bin(bin, n, at);
         double right_cost[BVH_FEW];
         dbox acc = box_empty();
         for (int j = n - 1; j > 0; j--) {

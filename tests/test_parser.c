@@ -427,6 +427,41 @@ static void test_csg_inheritance(void **state)
     csg_scene_free(&s);
 }
 
+/* Siblings written with the same texture share one entry (issue #39: a box
+ * minus 10^5 such spheres kept 10^5 entries); a copy's modifier and a
+ * transform still never reach the shared entry. */
+static void test_equal_textures_shared(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare U = union { sphere { 0, 1 pigment { rgb x } } sphere { x, 1 pigment { rgb x } }\n"
+             "  sphere { y, 1 pigment { rgb z } } }\n"
+             "object { U pigment { rgb y } }\n"
+             "object { U }\n"
+             "union { sphere { 0, 1 pigment { checker rgb x rgb z } }\n"
+             "  sphere { x, 1 pigment { checker rgb x rgb z } } translate 2*x }\n"
+             "sphere { 0, 1 pigment { rgb x } }\n"
+             "sphere { x, 1 pigment { rgb x } }\n", &s);
+    assert_int_equal(s.object_count, 5);
+    csg_object **o = s.objects;
+    const csg_object *const *u = (const csg_object *const *)o[1]->children;
+    assert_int_equal(u[0]->texture, u[1]->texture);
+    assert_int_not_equal(u[1]->texture, u[2]->texture);
+    assert_near(tex_of(&s, u[1])->pigment.rgbft[0], 1);
+    assert_near(tex_of(&s, u[2])->pigment.rgbft[2], 1);
+    /* the pigment on the other copy went to that copy's union alone */
+    assert_near(tex_of(&s, o[0])->pigment.rgbft[1], 1);
+    assert_int_equal(o[0]->children[1]->texture, u[1]->texture);
+    assert_near(tex_of(&s, u[0])->pigment.rgbft[1], 0);
+    /* the translate gave each patterned child a moved copy of its own */
+    const csg_object *const *c = (const csg_object *const *)o[2]->children;
+    assert_int_not_equal(c[0]->texture, c[1]->texture);
+    /* top-level objects too */
+    assert_int_equal(o[3]->texture, o[4]->texture);
+    assert_int_not_equal(o[3]->texture, u[0]->texture); /* (not adjacent: not shared) */
+    csg_scene_free(&s);
+}
+
 /* ---- statements ------------------------------------------------------------------ */
 
 static void test_statements(void **state)
@@ -896,6 +931,7 @@ int main(void)
         cmocka_unit_test(test_declared_copies),
         cmocka_unit_test(test_textures),
         cmocka_unit_test(test_csg_inheritance),
+        cmocka_unit_test(test_equal_textures_shared),
         cmocka_unit_test(test_statements),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_nul_byte),

@@ -531,8 +531,10 @@ static bool parse_color_vector(parser *p, enum csg_kw kw, double c[5])
             : kw == CSG_KW_RGBF || kw == CSG_KW_SRGBF ? 1
             : kw == CSG_KW_RGBT || kw == CSG_KW_SRGBT ? 2
                                                       : 3;
-    char name[8];
-    snprintf(name, sizeof name, "%.*s", (int)(p->tok.len < 7 ? p->tok.len : 7), p->tok.text);
+    char name[8]; /* (a word: no NUL inside; a copy, not snprintf, on this hot path) */
+    size_t name_len = p->tok.len < 7 ? p->tok.len : 7;
+    memcpy(name, p->tok.text, name_len);
+    name[name_len] = '\0';
     if (srgb && p->s->globals.gamma_kind == CSG_GAMMA_UNSET) {
         csg_error(p->d, p->tok.loc, "'%s' colors need assumed_gamma set before them "
                                     "(in global_settings), as in POV-Ray", name);

@@ -531,13 +531,17 @@ static const kw_entry directive_table[] = {
 
 #define MAX_NUMBER_CHARS 256
 
+/* a[0..alen) (no NUL in it) against the string b in byte order, a prefix
+ * first: one pass, no strlen (the binary search's inner loop, run for
+ * every word of a scene). */
 static int word_cmp(const char *a, size_t alen, const char *b)
 {
-    size_t blen = strlen(b);
-    int c = memcmp(a, b, alen < blen ? alen : blen);
-    if (c != 0)
-        return c;
-    return alen < blen ? -1 : alen > blen ? 1 : 0;
+    for (size_t i = 0; i < alen; i++) {
+        int d = (unsigned char)a[i] - (unsigned char)b[i];
+        if (d != 0)
+            return d; /* (b ended first: a[i] - '\0' > 0) */
+    }
+    return b[alen] != '\0' ? -1 : 0;
 }
 
 static enum csg_kw table_lookup(const kw_entry *t, size_t n, const char *text, size_t len)
@@ -656,6 +660,32 @@ static bool is_digit(int c) { return c >= '0' && c <= '9'; }
 static bool is_word_start(int c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
 static bool is_word(int c) { return is_word_start(c) || is_digit(c); }
 
+/* The operators' characters (lex_punct). */
+static const bool punct_char[256] = {
+    ['{'] = true, ['}'] = true, ['<'] = true, ['>'] = true, ['('] = true, [')'] = true,
+    ['['] = true, [']'] = true, [','] = true, [';'] = true, ['+'] = true, ['-'] = true,
+    ['*'] = true, ['/'] = true, ['='] = true, ['!'] = true, ['&'] = true, ['|'] = true,
+    ['?'] = true, [':'] = true, ['.'] = true,
+};
+
+/* bump() over the run of word characters (or digits) from pos: none is a
+ * newline, so the column moves by the run's length and the line stays. */
+static void bump_word(csg_lexer *lx)
+{
+    size_t start = lx->pos;
+    while (lx->pos < lx->len && is_word((unsigned char)lx->src[lx->pos]))
+        lx->pos++;
+    lx->col += (int)(lx->pos - start);
+}
+
+static void bump_digits(csg_lexer *lx)
+{
+    size_t start = lx->pos;
+    while (lx->pos < lx->len && is_digit((unsigned char)lx->src[lx->pos]))
+        lx->pos++;
+    lx->col += (int)(lx->pos - start);
+}
+
 /* Skips blanks and comments; false on an unterminated block comment. */
 static bool skip_space(csg_lexer *lx, csg_diag *d)
 {
@@ -692,12 +722,10 @@ static bool skip_space(csg_lexer *lx, csg_diag *d)
 static bool lex_number(csg_lexer *lx, csg_token *t, csg_diag *d)
 {
     size_t start = lx->pos;
-    while (is_digit(peek(lx, 0)))
-        bump(lx);
+    bump_digits(lx);
     if (peek(lx, 0) == '.') {
         bump(lx);
-        while (is_digit(peek(lx, 0)))
-            bump(lx);
+        bump_digits(lx);
     }
     int e = peek(lx, 0);
     if (e == 'e' || e == 'E') {
@@ -706,8 +734,7 @@ static bool lex_number(csg_lexer *lx, csg_token *t, csg_diag *d)
         if (is_digit(peek(lx, k))) {
             for (size_t i = 0; i < k; i++)
                 bump(lx);
-            while (is_digit(peek(lx, 0)))
-                bump(lx);
+            bump_digits(lx);
         } else {
             bump(lx);
             csg_error(d, t->loc, "malformed number '%.*s': digits expected after the exponent",
@@ -789,8 +816,7 @@ static bool lex_directive(csg_lexer *lx, csg_token *t, csg_diag *d, bool *stray)
     if (!skip_space(lx, d))
         return false;
     const char *w = lx->src + lx->pos;
-    while (is_word(peek(lx, 0)))
-        bump(lx);
+    bump_word(lx);
     size_t wlen = (size_t)(lx->src + lx->pos - w);
     if (wlen == 0 && peek(lx, 0) < 0) {
         csg_error(d, t->loc, "a directive name expected after '#'");
@@ -835,14 +861,13 @@ bool csg_lexer_next(csg_lexer *lx, csg_token *t, csg_diag *d)
     if (c == '"')
         return lex_string(lx, t, d);
     if (is_word_start(c)) {
-        while (is_word(peek(lx, 0)))
-            bump(lx);
+        bump_word(lx);
         t->kind = CSG_TOK_WORD;
         t->len = (size_t)(lx->src + lx->pos - t->text);
         t->kw = csg_keyword(t->text, t->len, false);
         return true;
     }
-    if (c != '\0' && strchr("{}<>()[],;+-*/=!&|?:.", c))
+    if (punct_char[c])
         return lex_punct(lx, t, c);
     if (c >= 0x21 && c < 0x7f)
         csg_error(d, t->loc, "unexpected character '%c'", c);

@@ -286,7 +286,7 @@ static bool resolve(parser *p)
     }
 }
 
-const csg_token *lang_tok(parser *p)
+const csg_token *lang_tok_read(parser *p)
 {
     if (p->d->failed || !resolve(p))
         return error_token(p);
