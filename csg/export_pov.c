@@ -669,7 +669,7 @@ static void export_mesh(FILE *out, const csg_object *o)
 static void export_prism(FILE *out, const csg_object *o)
 {
     int total = o->vert_count + o->contour_count;
-    fputs("linear_spline linear_sweep ", out);
+    fputs(o->conic ? "linear_spline conic_sweep " : "linear_spline linear_sweep ", out);
     put_field(out, "", o->r0);
     put_field(out, ", ", o->r1);
     fprintf(out, ", %d", total);

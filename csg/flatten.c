@@ -919,6 +919,55 @@ static bool split_prism(flat_builder *fb, const csg_object *o)
  * is at height y. */
 static double side_x(const double s[3], double y) { return (s[2] - s[1] * y) / s[0]; }
 
+/* Widens a local box by a margin: the box is tested in world space, the
+ * piece in `real` in its own frame, and the rounding of the one must not
+ * cut the other. */
+static void pad_box(double lo[3], double hi[3])
+{
+    for (int i = 0; i < 3; i++) {
+        double pad = 1e-6 * (1 + box_max(fabs(lo[i]), fabs(hi[i])));
+        lo[i] -= pad;
+        hi[i] += pad;
+    }
+}
+
+/* A piece of a conic prism (flat.h's conic_trapezoid): each side
+ * n . (x, y) >= c of the outline at height 1 becomes x >= a y + b z (or <=),
+ * a = -n.y / n.x, b = c / n.x, the same for every piece on that edge; the
+ * frame scaled by 1 / r1 so the top is z = 1. */
+static bool conic_piece(const csg_object *o, const csg_trapezoid *t,
+                        const csg_xform *world_to_obj, csg_prim *p, dbox *box)
+{
+    p->kind = CSG_PRIM_CONIC_TRAPEZOID;
+    for (int k = 0; k < 2; k++) {
+        p->p[2 * k] = (real)(-t->side[k][1] / t->side[k][0]);
+        p->p[2 * k + 1] = (real)(t->side[k][2] / t->side[k][0]);
+    }
+    p->p[4] = (real)t->y_lo;
+    p->p[5] = (real)t->y_hi;
+    p->p[6] = (real)(o->r0 / o->r1);
+    csg_xform to_unit, world_to_local;
+    csg_xform_identity(&to_unit);
+    for (int i = 0; i < 3; i++)
+        to_unit.m[i][i] = 1 / o->r1;
+    csg_xform_then(world_to_obj, &to_unit, &world_to_local);
+    store_inverse(p, &world_to_local);
+    double ys[2] = {t->y_lo, t->y_hi}, hs[2] = {o->r0, o->r1};
+    double lo[3] = {INFINITY, INFINITY, o->r0}, hi[3] = {-INFINITY, -INFINITY, o->r1};
+    for (int k = 0; k < 2; k++)
+        for (int j = 0; j < 2; j++)
+            for (int m = 0; m < 2; m++) {
+                double x = side_x(t->side[k], ys[j]) * hs[m], y = ys[j] * hs[m];
+                lo[0] = box_min(lo[0], x);
+                hi[0] = box_max(hi[0], x);
+                lo[1] = box_min(lo[1], y);
+                hi[1] = box_max(hi[1], y);
+            }
+    pad_box(lo, hi);
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
 /* Piece `piece` of a prism: its trapezoid in the local frame where the
  * extrusion runs from z = 0 to 1 (flat.h). */
 static bool flatten_prism(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
@@ -927,6 +976,8 @@ static bool flatten_prism(flat_builder *fb, const csg_object *o, const csg_xform
     if (!split_prism(fb, o))
         return false;
     const csg_trapezoid *t = &fb->traps[piece];
+    if (o->conic)
+        return conic_piece(o, t, world_to_obj, p, box);
     p->kind = CSG_PRIM_TRAPEZOID;
     for (int k = 0; k < 2; k++)
         for (int i = 0; i < 3; i++)
@@ -947,13 +998,7 @@ static bool flatten_prism(flat_builder *fb, const csg_object *o, const csg_xform
         lo[0] = box_min(lo[0], xs[i]);
         hi[0] = box_max(hi[0], xs[i]);
     }
-    /* the box is tested in world space, the piece in `real` in its frame:
-     * a margin keeps the rounding of the one from cutting the other */
-    for (int i = 0; i < 3; i++) {
-        double pad = 1e-6 * (1 + box_max(fabs(lo[i]), fabs(hi[i])));
-        lo[i] -= pad;
-        hi[i] += pad;
-    }
+    pad_box(lo, hi);
     *box = box_of_corners(&o->xform, lo, hi);
     return true;
 }

@@ -183,6 +183,11 @@ static prec_extent feature_prism(const csg_object *o)
         }
     }
     x.feature = fmin(x.feature, o->r1 - o->r0);
+    if (o->conic) { /* the outline at height 1, scaled by the height */
+        x.lo = (dvec3){fmin(x.lo.x, x.lo.x * o->r1), fmin(x.lo.y, x.lo.y * o->r1), o->r0};
+        x.hi = (dvec3){fmax(x.hi.x, x.hi.x * o->r1), fmax(x.hi.y, x.hi.y * o->r1), o->r1};
+        x.feature *= o->r0 > 0 ? fmin(1, o->r0) : 1;
+    }
     return x;
 }
 

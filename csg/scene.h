@@ -218,7 +218,8 @@ struct csg_object {
      *   cone:     base a, base radius r0, cap b, cap radius r1
      *   plane:    normal a, distance r0
      *   prism:    an outline in the xy plane extruded along z from r0 to
-     *             r1 (r0 < r1): POV-Ray's prism (its xz outline swept
+     *             r1 (r0 < r1), or swept from the apex (`conic`): POV-Ray's
+     *             prism (its xz outline swept
      *             along y is this under the transform that swaps y and z,
      *             kept in xform) and each glyph of its text             */
     dvec3 a, b;
@@ -241,6 +242,8 @@ struct csg_object {
     int vert_count;
     bool one_sided;       /* surfaces: the back is invisible to looking rays */
     bool open;            /* cylinder / cone: no caps                        */
+    bool conic;           /* prism: conic_sweep (the outline scaled by the
+                             height, from the apex at z = 0; r0 >= 0)     */
     bool inverse;         /* `inverse`: the complement of the solid          */
     bool no_shadow;
     int hollow;           /* hollow [BOOL]: 1 hollow, 2 `hollow off`; 0 not

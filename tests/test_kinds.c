@@ -59,12 +59,15 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
 };
 
 /* Statements that reach a primitive kind no sample above reaches: a box
- * of zero thickness is a flat_box (a sheet). */
+ * of zero thickness is a flat_box (a sheet), a conic prism's pieces are
+ * conic trapezoids. */
 static const struct {
     enum csg_object_kind kind;
     const char *text;
 } more_samples[] = {
     {CSG_OBJ_BOX, "box { <-1, -1, 5>, <1, 1, 5> }"},
+    {CSG_OBJ_PRISM, "prism { conic_sweep linear_spline 0.5, 1, 4, <-1, 4>, <1, 4>, <0, 6>, "
+                    "<-1, 4> translate <0, -0.75, 0> }"},
 };
 
 #define CAMERA "camera { location <0, 0, 0> look_at <0, 0, 1> }\n"

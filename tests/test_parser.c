@@ -518,7 +518,9 @@ static void test_errors(void **state)
         {"text { \"timrom.ttf\" \"A\" 1, 0 }", "t.pov:1:8: error: 'ttf' expected inside 'text' (a font file), got '\"timrom.ttf\"'"},
         {"text { ttf \"timrom.ttf\" \" \" 1, 0 }", "t.pov:1:25: error: text with nothing to see: no glyph of the string has an outline"},
         {"prism { 0, 1, 2, <0, 0>, <1, 0> }", "t.pov:1:15: error: prism with linear splines needs at least 3 points (at most 1000000), got 2"},
-        {"prism { conic_sweep 0, 1, 4, <0, 0>, <1, 0>, <1, 1>, <0, 0> }", "t.pov:1:9: error: unsupported: 'conic_sweep' (a prism's conic sweep) is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"prism { conic_sweep -1, 1, 4, <0, 0>, <1, 0>, <1, 1>, <0, 0> }",
+         "t.pov:1:25: error: unsupported: a conic_sweep prism with a height below 0 (its apex "
+         "inside) is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"prism { 0, 1, 4, <0, 0>, <1, 0>, <1, 1>, <0, 0> open }", "t.pov:1:49: error: unsupported: 'open' on a prism is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"prism { bezier_spline 0, 1, 4, <0, 0>, <1, 0>, <1, 1>, <0, 1> }", "t.pov:1:1: error: prism not closed: an outline does not end on its first point"},
         {"prism { cubic_spline 0, 1, 6, <0, 0>, <1, 0>, <1, 1>, <0, 1>, <0, 2>, <3, 3> }", "t.pov:1:1: error: too few points in prism: an outline is not closed or lacks its control points"},

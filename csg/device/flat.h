@@ -42,6 +42,11 @@
  *           The pieces of one outline share the very same side lines and
  *           slab heights, so a ray leaves one where it enters the next at
  *           the same t, and their union merges them exactly
+ *   conic_trapezoid  the same piece of a prism's conic_sweep: the outline
+ *           scaled by the height, the apex at the origin, in a frame
+ *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
+ *           x <= p[2] y + p[3] z, p[4] z <= y <= p[5] z, p[6] <= z <= 1
+ *           (every wall a plane through the apex: a convex piece)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -82,7 +87,8 @@
  *     box test accepts an entry equal to the exit, and its inside test,
  *     closed, holds nothing but the sheet itself. */
 #define CSG_SOLID_KINDS(X)                                                                         \
-    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TRAPEZOID, trapezoid)
+    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TRAPEZOID, trapezoid)      \
+        X(CONIC_TRAPEZOID, conic_trapezoid)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)

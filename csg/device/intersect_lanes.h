@@ -303,6 +303,28 @@ CSG_FN L_INT L_FN(csg_trapezoid_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL 
     return ok & (*t0 < *t1);
 }
 
+/* A piece of a conic prism (flat.h): every bound a half-space
+ * f0 + t fd >= 0 through the apex but the z slab.  Two pieces on the same
+ * edge or height compute the same f0 and fd, or their exact negations. */
+CSG_FN L_INT L_FN(csg_conic_trapezoid_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0,
+                                            L_REAL *t1, L_INT *s0, L_INT *s1)
+{
+    *t0 = L_RS(-CSG_R_INF);
+    *t1 = L_RS(CSG_R_INF);
+    *s0 = L_IS(-1);
+    *s1 = L_IS(-1);
+    L_INT ok = L_FN(csg_slab)(r.o.z, r.d.z, p[6], R(1.0), 2, t0, t1, s0, s1);
+    if (!L_ANY(ok))
+        return ok;
+    ok = ok & L_FN(csg_half)(r.o.y - p[4] * r.o.z, r.d.y - p[4] * r.d.z, 2, t0, t1, s0, s1);
+    ok = ok & L_FN(csg_half)(p[5] * r.o.z - r.o.y, p[5] * r.d.z - r.d.y, 3, t0, t1, s0, s1);
+    L_REAL la = p[0] * r.o.y + p[1] * r.o.z, lb = p[0] * r.d.y + p[1] * r.d.z;
+    ok = ok & L_FN(csg_half)(r.o.x - la, r.d.x - lb, CSG_SURF_TRAP_SIDE_A, t0, t1, s0, s1);
+    L_REAL ra = p[2] * r.o.y + p[3] * r.o.z, rb = p[2] * r.d.y + p[3] * r.d.z;
+    ok = ok & L_FN(csg_half)(ra - r.o.x, rb - r.d.x, CSG_SURF_TRAP_SIDE_B, t0, t1, s0, s1);
+    return ok & (*t0 < *t1);
+}
+
 /* The component of v along axis k (0, 1, 2), k chosen per lane. */
 CSG_FN L_REAL L_FN(csg_axis)(L_VEC3 v, L_INT k)
 {

@@ -50,6 +50,11 @@
 #else
 #define CSG_USE_TRAPEZOID 0
 #endif
+#ifdef CSG_HAS_CONIC_TRAPEZOID
+#define CSG_USE_CONIC_TRAPEZOID 1
+#else
+#define CSG_USE_CONIC_TRAPEZOID 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -71,6 +76,7 @@
 #define CSG_USE_CONE 1
 #define CSG_USE_PLANE 1
 #define CSG_USE_TRAPEZOID 1
+#define CSG_USE_CONIC_TRAPEZOID 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1

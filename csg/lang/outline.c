@@ -13,8 +13,10 @@
  * control point being the tangent's); quadratic and cubic splines
  * interpolate P[i+1] .. P[i+2] from P[i] .. P[i+3]; a Bezier spline takes
  * 4 points a segment.  The outline lies in POV-Ray's xz plane and is swept
- * along y between the heights: the object's transform starts with the swap
- * of y and z (csg_prism_pov_frame).  conic_sweep and `open` are refused.
+ * along y between the heights (conic_sweep: the outline scaled by the
+ * height, from the apex at the origin): the object's transform starts with
+ * the swap of y and z (csg_prism_pov_frame).  `open` is refused, and a
+ * conic sweep below height 0.
  *
  * text: POV-Ray 3.7's placement (TrueType::ProcessNewTTF): one prism a
  * glyph, in units of the em, from z = 0 to the thickness; the first glyph
@@ -230,15 +232,15 @@ bool lang_parse_prism(parser *p, csg_object *o)
         enum csg_kw kw = lang_tok(p)->kw;
         if (lang_tok(p)->kind != CSG_TOK_WORD)
             break;
-        if (kw == CSG_KW_CONIC_SWEEP)
-            return lang_unsupported(p, "'conic_sweep' (a prism's conic sweep)", p->tok.loc);
-        if (kw == CSG_KW_LINEAR_SPLINE || kw == CSG_KW_QUADRATIC_SPLINE ||
+        if (kw == CSG_KW_CONIC_SWEEP || kw == CSG_KW_LINEAR_SWEEP)
+            o->conic = kw == CSG_KW_CONIC_SWEEP;
+        else if (kw == CSG_KW_LINEAR_SPLINE || kw == CSG_KW_QUADRATIC_SPLINE ||
             kw == CSG_KW_CUBIC_SPLINE || kw == CSG_KW_BEZIER_SPLINE)
             kind = kw == CSG_KW_LINEAR_SPLINE      ? SPLINE_LINEAR
                    : kw == CSG_KW_QUADRATIC_SPLINE ? SPLINE_QUADRATIC
                    : kw == CSG_KW_CUBIC_SPLINE     ? SPLINE_CUBIC
                                                    : SPLINE_BEZIER;
-        else if (kw != CSG_KW_LINEAR_SWEEP)
+        else
             break;
         if (!lang_next(p))
             return false;
@@ -253,6 +255,9 @@ bool lang_parse_prism(parser *p, csg_object *o)
         csg_error(p->d, h_at, "prism heights are equal (%g): it has no volume", h1);
         return false;
     }
+    if (ok && o->conic && fmin(h1, h2) < 0)
+        return lang_unsupported(p, "a conic_sweep prism with a height below 0 (its apex "
+                                   "inside)", h_at);
     if (ok && lang_is_punct(p, ','))
         ok = lang_next(p);
     ok = ok && lang_parse_float(p, &count, &at);
