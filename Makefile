@@ -36,7 +36,7 @@
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
 	zlib1g-dev libopenimageio-dev openimageio-tools povray povray-includes \
-	libcmocka-dev gnuplot-nox python3 nettle-dev
+	libcmocka-dev gnuplot-nox python3 nettle-dev libfreetype-dev
 # Only for the benchmarks: their reference programs (bench/embree_primary.c,
 # Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
 BENCH_DEB_PACKAGES := libembree-dev tachyon-bin-nox povray-examples
@@ -62,12 +62,15 @@ ENGINE_OPT ?= $(OPT:-O2=-O3)
 # The BVH build too (csg/bvh_build.c): its box unions vectorise, ~30% fewer
 # instructions building the hierarchy of 10^5 boxes, the same tree (#39).
 BVH_OPT ?= $(OPT:-O2=-O3)
-CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) -g -MMD -MP
+# TrueType fonts (text { ttf ... }: csg/lang/outline.c) through FreeType.
+FT_CFLAGS = $(shell pkg-config --cflags freetype2 2>/dev/null || echo -I/usr/include/freetype2)
+FT_LIBS = $(shell pkg-config --libs freetype2 2>/dev/null || echo -lfreetype)
+CFLAGS_COMMON = -std=c11 $(WARN) $(FPFLAGS) $(DEFS) $(FT_CFLAGS) -g -MMD -MP
 CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibility=hidden \
 	$(OIIO_CFLAGS)
 # PNG is written without the image module, with zlib (host/output/stream.c).
 ZLIB_LIBS = $(shell pkg-config --libs zlib 2>/dev/null || echo -lz)
-LDLIBS = -lOpenCL $(ZLIB_LIBS) -lnettle -lpthread -lm
+LDLIBS = -lOpenCL $(ZLIB_LIBS) $(FT_LIBS) -lnettle -lpthread -lm
 # The image module: everything it needs resolved at link time (-z defs).
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
@@ -217,7 +220,7 @@ FUZZ_CC ?= clang-15
 FUZZ_SECONDS ?= 60
 FUZZ_SAN := -fsanitize=address,undefined,float-cast-overflow \
 	-fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer
-FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) -g -O1 -MMD -MP $(FUZZ_SAN)
+FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) $(FT_CFLAGS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
 	workers/engine_common.c workers/tile.c workers/tile_run.c workers/noise.c comm/pixels.c \
 	comm/tiles.c
@@ -234,7 +237,7 @@ $(F)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DCSG_DOUBLE -c $< -o $@
 $(F)/fuzz_pipeline: $(F)/obj/tests/fuzz_pipeline.o $(FUZZ_OBJS)
-	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ -lm
+	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ $(FT_LIBS) -lm
 $(F)/pov.dict: csg/lang/lexer.c csg/device/patterns.h
 	@mkdir -p $(dir $@)
 	sed -n 's/^ *{"\([a-z_0-9]*\)", CSG_KW_.*/"\1"/p' csg/lang/lexer.c >$@
@@ -297,7 +300,7 @@ $(S)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_DOUBLE $(OPT) -c $< -o $@
 $(S)/csgsim: $(SIM_OBJS)
-	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(ZLIB_LIBS) -lm
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(ZLIB_LIBS) $(FT_LIBS) -lm
 
 deps-sim:
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"

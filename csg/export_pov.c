@@ -689,6 +689,28 @@ static void export_mesh(FILE *out, const csg_object *o)
     }
 }
 
+/* A prism as POV-Ray's linear prism: each polyline closed by its first
+ * point again; its heights along POV-Ray's y (write_object writes the
+ * transform with the swap of y and z first: csg_prism_pov_frame). */
+static void export_prism(FILE *out, const csg_object *o)
+{
+    int total = o->vert_count + o->contour_count;
+    fputs(o->conic ? "linear_spline conic_sweep " : "linear_spline linear_sweep ", out);
+    put_field(out, "", o->r0);
+    put_field(out, ", ", o->r1);
+    fprintf(out, ", %d", total);
+    int start = 0;
+    for (int k = 0; k < o->contour_count; start = o->contour_ends[k], k++) {
+        for (int i = start; i <= o->contour_ends[k]; i++) {
+            dvec3 v = o->verts[i < o->contour_ends[k] ? i : start];
+            fputs(",\n    <", out);
+            put_field(out, "", v.x);
+            put_field(out, ", ", v.y);
+            fputc('>', out);
+        }
+    }
+}
+
 /* The shape's own parameters, after the opening brace. */
 static void write_shape(FILE *out, const csg_object *o)
 {
@@ -799,7 +821,10 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
         fputc(' ', out);
         write_shape(out, o);
         fputc('\n', out);
-        write_matrix(e, out, &o->xform, depth + 1);
+        csg_xform x = o->xform;
+        if (o->kind == CSG_OBJ_PRISM)
+            csg_prism_pov_frame(&x);
+        write_matrix(e, out, &x, depth + 1);
         csg_texture def;
         if (!texture) {
             csg_texture_default(&def);

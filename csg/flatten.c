@@ -52,6 +52,7 @@
 
 #include "bvh_build.h"
 #include "camera_setup.h"
+#include "extrude.h"
 #include "polygon.h"
 
 #ifdef CSG_DOUBLE
@@ -125,6 +126,9 @@ typedef struct {
     const csg_object *split_of; /* the polygon whose split is in split[]  */
     int *split;                 /* its triangles, 3 vertex indices each    */
     int split_count, split_cap;
+    const csg_object *traps_of; /* the prism whose pieces are in traps[]   */
+    csg_trapezoid *traps;
+    int trap_count;
 } flat_builder;
 
 typedef struct {
@@ -920,6 +924,121 @@ static bool flatten_mesh(flat_builder *fb, const csg_object *o, const csg_xform 
     return triangle_prim(fb, o, world_to_obj, o->verts, o->normals, idx, p, box);
 }
 
+/* The pieces of prism o into traps[] (kept for its next piece). */
+static bool split_prism(flat_builder *fb, const csg_object *o)
+{
+    if (fb->traps_of == o)
+        return true;
+    fb->traps_of = NULL;
+    free(fb->traps);
+    fb->traps = NULL;
+    if (o->vert_count > CSG_EXTRUDE_MAX_EDGES) {
+        csg_error(fb->diag, o->loc, "prism outline too detailed: %d edges (limit %d)",
+                  o->vert_count, CSG_EXTRUDE_MAX_EDGES);
+        return false;
+    }
+    fb->trap_count = csg_extrude_split(o->verts, o->contour_ends, o->contour_count, &fb->traps);
+    if (fb->trap_count < 0) {
+        fb->oom = true;
+        return false;
+    }
+    if (fb->trap_count == 0 || !(o->r0 < o->r1)) {
+        csg_error(fb->diag, o->loc, "degenerate prism: its outline encloses no area or its "
+                                    "heights are equal");
+        return false;
+    }
+    fb->traps_of = o;
+    return true;
+}
+
+/* The x where side s = {n.x, n.y, c} (n.x != 0: no side is horizontal)
+ * is at height y. */
+static double side_x(const double s[3], double y) { return (s[2] - s[1] * y) / s[0]; }
+
+/* Widens a local box by a margin: the box is tested in world space, the
+ * piece in `real` in its own frame, and the rounding of the one must not
+ * cut the other. */
+static void pad_box(double lo[3], double hi[3])
+{
+    for (int i = 0; i < 3; i++) {
+        double pad = 1e-6 * (1 + box_max(fabs(lo[i]), fabs(hi[i])));
+        lo[i] -= pad;
+        hi[i] += pad;
+    }
+}
+
+/* A piece of a conic prism (flat.h's conic_trapezoid): each side
+ * n . (x, y) >= c of the outline at height 1 becomes x >= a y + b z (or <=),
+ * a = -n.y / n.x, b = c / n.x, the same for every piece on that edge; the
+ * frame scaled by 1 / r1 so the top is z = 1. */
+static bool conic_piece(const csg_object *o, const csg_trapezoid *t,
+                        const csg_xform *world_to_obj, csg_prim *p, dbox *box)
+{
+    p->kind = CSG_PRIM_CONIC_TRAPEZOID;
+    for (int k = 0; k < 2; k++) {
+        p->p[2 * k] = (real)(-t->side[k][1] / t->side[k][0]);
+        p->p[2 * k + 1] = (real)(t->side[k][2] / t->side[k][0]);
+    }
+    p->p[4] = (real)t->y_lo;
+    p->p[5] = (real)t->y_hi;
+    p->p[6] = (real)(o->r0 / o->r1);
+    csg_xform to_unit, world_to_local;
+    csg_xform_identity(&to_unit);
+    for (int i = 0; i < 3; i++)
+        to_unit.m[i][i] = 1 / o->r1;
+    csg_xform_then(world_to_obj, &to_unit, &world_to_local);
+    store_inverse(p, &world_to_local);
+    double ys[2] = {t->y_lo, t->y_hi}, hs[2] = {o->r0, o->r1};
+    double lo[3] = {INFINITY, INFINITY, o->r0}, hi[3] = {-INFINITY, -INFINITY, o->r1};
+    for (int k = 0; k < 2; k++)
+        for (int j = 0; j < 2; j++)
+            for (int m = 0; m < 2; m++) {
+                double x = side_x(t->side[k], ys[j]) * hs[m], y = ys[j] * hs[m];
+                lo[0] = box_min(lo[0], x);
+                hi[0] = box_max(hi[0], x);
+                lo[1] = box_min(lo[1], y);
+                hi[1] = box_max(hi[1], y);
+            }
+    pad_box(lo, hi);
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
+/* Piece `piece` of a prism: its trapezoid in the local frame where the
+ * extrusion runs from z = 0 to 1 (flat.h). */
+static bool flatten_prism(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          int piece, csg_prim *p, dbox *box)
+{
+    if (!split_prism(fb, o))
+        return false;
+    const csg_trapezoid *t = &fb->traps[piece];
+    if (o->conic)
+        return conic_piece(o, t, world_to_obj, p, box);
+    p->kind = CSG_PRIM_TRAPEZOID;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 3; i++)
+            p->p[3 * k + i] = (real)t->side[k][i];
+    p->p[6] = (real)t->y_lo;
+    p->p[7] = (real)t->y_hi;
+    double h = o->r1 - o->r0;
+    csg_xform to_unit, world_to_local;
+    csg_xform_identity(&to_unit);
+    to_unit.m[2][2] = 1 / h;
+    to_unit.m[2][3] = -o->r0 / h;
+    csg_xform_then(world_to_obj, &to_unit, &world_to_local);
+    store_inverse(p, &world_to_local);
+    double xs[4] = {side_x(t->side[0], t->y_lo), side_x(t->side[0], t->y_hi),
+                    side_x(t->side[1], t->y_lo), side_x(t->side[1], t->y_hi)};
+    double lo[3] = {xs[0], t->y_lo, o->r0}, hi[3] = {xs[0], t->y_hi, o->r1};
+    for (int i = 1; i < 4; i++) {
+        lo[0] = box_min(lo[0], xs[i]);
+        hi[0] = box_max(hi[0], xs[i]);
+    }
+    pad_box(lo, hi);
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
 /* The primitives shape o becomes: several for a polygon (its triangles)
  * or a mesh, else 1; 0 with the error when it cannot be split. */
 static int shape_pieces(flat_builder *fb, const csg_object *o)
@@ -928,6 +1047,8 @@ static int shape_pieces(flat_builder *fb, const csg_object *o)
         return o->vert_count / 3;
     if (o->kind == CSG_OBJ_POLYGON)
         return split_polygon(fb, o) ? fb->split_count : 0;
+    if (o->kind == CSG_OBJ_PRISM)
+        return split_prism(fb, o) ? fb->trap_count : 0;
     return 1;
 }
 
@@ -1006,17 +1127,21 @@ static inherited inherit(inherited inh, const csg_object *o)
     return inh;
 }
 
-/* A shape that may become several primitives (a union of them). */
+/* A surface that may become several primitives (a union of them). */
 static bool is_multi_piece(const csg_object *o)
 {
     return (o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3;
 }
 
+/* A solid made of several pieces (a union of them, which must stay one
+ * root: where two pieces touch, the union has no surface). */
+static bool is_multi_solid(const csg_object *o) { return o->kind == CSG_OBJ_PRISM; }
+
 /* Interval lists the subtree needs at once (its Ershov number). */
 static int lists_needed(const csg_object *o)
 {
     if (is_leaf(o) || o->child_count == 0)
-        return is_multi_piece(o) ? 2 : 1;
+        return is_multi_piece(o) || is_multi_solid(o) ? 2 : 1;
     int best = 0, second = 0;
     for (int i = 0; i < o->child_count; i++) {
         int n = lists_needed(o->children[i]);
@@ -1916,6 +2041,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.mat_keys);
     free(fb.mat_slots);
     free(fb.split);
+    free(fb.traps);
     free(fb.maps);
     free(fb.pending);
     free(fb.tparts);

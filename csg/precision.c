@@ -165,6 +165,32 @@ static prec_extent feature_polygon(const csg_object *o)
     return feature_points(o->verts, o->vert_count);
 }
 /* (not called: a mesh is weighed a triangle at a time, leaf_mesh) */
+/* A prism: its outline's box between its heights; the feature its
+ * shortest edge (the flattened curves' included) or its height. */
+static prec_extent feature_prism(const csg_object *o)
+{
+    prec_extent x = feature_points(o->verts, 0);
+    int start = 0;
+    for (int k = 0; k < o->contour_count; start = o->contour_ends[k], k++) {
+        int n = o->contour_ends[k] - start;
+        for (int i = 0; i < n; i++) {
+            dvec3 v = o->verts[start + i], w = o->verts[start + (i + 1) % n];
+            x.lo = (dvec3){fmin(x.lo.x, v.x), fmin(x.lo.y, v.y), o->r0};
+            x.hi = (dvec3){fmax(x.hi.x, v.x), fmax(x.hi.y, v.y), o->r1};
+            double len = len3(sub3(w, v));
+            if (len > 0)
+                x.feature = fmin(x.feature, len);
+        }
+    }
+    x.feature = fmin(x.feature, o->r1 - o->r0);
+    if (o->conic) { /* the outline at height 1, scaled by the height */
+        x.lo = (dvec3){fmin(x.lo.x, x.lo.x * o->r1), fmin(x.lo.y, x.lo.y * o->r1), o->r0};
+        x.hi = (dvec3){fmax(x.hi.x, x.hi.x * o->r1), fmax(x.hi.y, x.hi.y * o->r1), o->r1};
+        x.feature *= o->r0 > 0 ? fmin(1, o->r0) : 1;
+    }
+    return x;
+}
+
 static prec_extent feature_mesh(const csg_object *o) { return feature_points(o->verts, 0); }
 
 /* A plane: its point nearest the local origin, the camera's distance. */

@@ -205,6 +205,16 @@ static void rotation_about(int axis, double deg, csg_xform *r)
     r->m[j][j] = c;
 }
 
+void csg_prism_pov_frame(csg_xform *x)
+{
+    csg_xform swap;
+    memset(&swap, 0, sizeof swap);
+    swap.m[0][0] = 1;
+    swap.m[1][2] = 1;
+    swap.m[2][1] = 1;
+    csg_xform_then(&swap, x, x);
+}
+
 void csg_xform_rotate(csg_xform *x, dvec3 degrees)
 {
     double d[3] = {degrees.x, degrees.y, degrees.z};

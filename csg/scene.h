@@ -49,6 +49,7 @@ typedef struct {
     LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
     LEAF(POLYGON, polygon)                  \
     LEAF(MESH, mesh)                        \
+    LEAF(PRISM, prism)                      \
     CSG(UNION, union)                       \
     CSG(INTERSECTION, intersection)         \
     CSG(DIFFERENCE, difference) /* first child minus every other child */ \
@@ -225,7 +226,12 @@ struct csg_object {
      *   box:      corners a, b
      *   cylinder: base a, cap b, radius r0
      *   cone:     base a, base radius r0, cap b, cap radius r1
-     *   plane:    normal a, distance r0                                  */
+     *   plane:    normal a, distance r0
+     *   prism:    an outline in the xy plane extruded along z from r0 to
+     *             r1 (r0 < r1), or swept from the apex (`conic`): POV-Ray's
+     *             prism (its xz outline swept
+     *             along y is this under the transform that swaps y and z,
+     *             kept in xform) and each glyph of its text             */
     dvec3 a, b;
     double r0, r1;
     /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]
@@ -237,11 +243,17 @@ struct csg_object {
      * primitives.                                                       */
     dvec3 *verts;
     dvec3 *normals;
+    const int *contour_ends; /* prism: its closed polylines are verts[0 ..
+                                  contour_ends[0]), [contour_ends[0] ..
+                                  contour_ends[1]), ... (x, y; z is 0)    */
+    int contour_count;
     const csg_loc *piece_locs; /* mesh: where each triangle was written (an
                                   NFF file's run of triangles), or NULL: loc */
     int vert_count;
     bool one_sided;       /* surfaces: the back is invisible to looking rays */
     bool open;            /* cylinder / cone: no caps                        */
+    bool conic;           /* prism: conic_sweep (the outline scaled by the
+                             height, from the apex at z = 0; r0 >= 0)     */
     bool inverse;         /* `inverse`: the complement of the solid          */
     bool no_shadow;
     int hollow;           /* hollow [BOOL]: 1 hollow, 2 `hollow off`; 0 not
@@ -409,6 +421,9 @@ void csg_xform_translate(csg_xform *x, dvec3 t);
 void csg_xform_scale(csg_xform *x, dvec3 s);
 /* POV-Ray's rotate <a, b, c>: degrees about x, then y, then z. */
 void csg_xform_rotate(csg_xform *x, dvec3 degrees);
+/* x after the swap of y and z: a prism's frame (scene.h, csg_object)
+ * from POV-Ray's (its outline in xz, swept along y) and back. */
+void csg_prism_pov_frame(csg_xform *x);
 
 /* The arena: every allocation of a scene, freed at once. */
 csg_arena *csg_arena_new(void);

@@ -50,6 +50,8 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
     [CSG_OBJ_MESH] = "mesh { triangle { <-1, -1, 5>, <1, -1, 5>, <0, 1, 5> } "
                      "smooth_triangle { <-1, 1, 6>, <0, 0, -1>, <1, 1, 6>, <0, 0, -1>, "
                      "<0, -1, 6>, <0, 0, -1> } }",
+    [CSG_OBJ_PRISM] = "prism { linear_spline -1, 1, 5, <-1, 4>, <1, 4>, <0.5, 6>, <-0.5, 5>, "
+                      "<-1, 4> }",
     [CSG_OBJ_UNION] = "union { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
     [CSG_OBJ_INTERSECTION] = "intersection { sphere { <0, 0, 5>, 1 } box { <-1, -1, 4>, <1, 1, 6> } }",
     [CSG_OBJ_DIFFERENCE] = "difference { box { <-1, -1, 4>, <1, 1, 6> } sphere { <0, 0, 3>, 1 } }",
@@ -57,12 +59,15 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
 };
 
 /* Statements that reach a primitive kind no sample above reaches: a box
- * of zero thickness is a flat_box (a sheet). */
+ * of zero thickness is a flat_box (a sheet), a conic prism's pieces are
+ * conic trapezoids. */
 static const struct {
     enum csg_object_kind kind;
     const char *text;
 } more_samples[] = {
     {CSG_OBJ_BOX, "box { <-1, -1, 5>, <1, 1, 5> }"},
+    {CSG_OBJ_PRISM, "prism { conic_sweep linear_spline 0.5, 1, 4, <-1, 4>, <1, 4>, <0, 6>, "
+                    "<-1, 4> translate <0, -0.75, 0> }"},
 };
 
 #define CAMERA "camera { location <0, 0, 0> look_at <0, 0, 1> }\n"

@@ -847,6 +847,42 @@ static const char flat_sdl[] =
     "merge { sphere { 0, 0.4 } box { <-0.7, -0.7, 0>, <0.7, 0.7, 0> } translate <-3, 2.2, 1> }\n"
     "union { sphere { 0, 0.3 } box { <-0.6, 0, -0.6>, <0.6, 0, 0.6> } translate <0.5, -1.5, -2> }\n";
 
+/* Prisms and text (trapezoid pieces, CSG_PRIM_TRAPEZOID and
+ * CSG_PRIM_CONIC_TRAPEZOID): glyphs seen from the side and at a slant
+ * (rays along the pieces' shared walls and slab heights), prisms of the
+ * splines and sweeps, a text in a difference; every
+ * record equals C's in both variants, the general and the specialised
+ * program. */
+static void test_extrusions(void **state)
+{
+    fixture *fx = *state;
+    static const char sdl[] =
+        "camera { location <1.2, 1.0, -2.6> look_at <1.1, 0.3, 0> angle 55 }\n"
+        "difference { text { ttf \"cyrvetic.ttf\" \"Bag\" 0.5, <0.05, 0.02, 0> }\n"
+        "  cylinder { <-1, 0.35, 0.25>, <3, 0.35, 0.25>, 0.12 } }\n"
+        "text { ttf \"timrom.ttf\" \"AVo%\" 0.2, 0 scale 0.5 rotate <10, -40, 0>\n"
+        "  translate <1.2, 0.8, 0.3> }\n"
+        "prism { quadratic_spline 0, 0.3, 6, <1, 0>, <0, -1>, <-1, 0>, <0, 1>, <0, -1>, <-1, 0>\n"
+        "  scale 0.3 translate <2.2, 0, -0.5> }\n"
+        "prism { bezier_spline 0, 0.2, 8, <0, 0>, <1, 0>, <1, 1>, <0, 1>, <0, 1>, <-1, 1>,\n"
+        "  <-1, 0>, <0, 0> scale 0.4 translate <0, 0, -0.8> }\n"
+        "prism { conic_sweep linear_spline 0.25, 1, 5, <-1, -1>, <1, -1>, <0.5, 1>, <-0.5, 0.5>,\n"
+        "  <-1, -1> rotate 180*x scale 0.4 translate <0.4, 1.2, -0.5> }\n";
+    csg_blob blob = text_blob("extrusions.pov", sdl, 64, 48, 1);
+    const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+    const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                             h->off_prims);
+    int pieces = 0;
+    for (int i = 0; i < h->prim_count; i++)
+        pieces += prims[i].kind == CSG_PRIM_TRAPEZOID ||
+                  prims[i].kind == CSG_PRIM_CONIC_TRAPEZOID;
+    assert_true(pieces > 100);
+    for (int v = 0; v < VARIANTS; v++)
+        assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 64 * 48 / 10);
+    check_specialised(state, blob.bytes, "prisms and text");
+    csg_blob_free(&blob);
+}
+
 static void test_flat_boxes_flattened(void **state)
 {
     fixture *fx = *state;
@@ -1168,6 +1204,7 @@ int main(void)
         cmocka_unit_test(test_cones),
         cmocka_unit_test(test_flat_boxes),
         cmocka_unit_test(test_flat_boxes_flattened),
+        cmocka_unit_test(test_extrusions),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -33,6 +33,20 @@
  *   cone    local frame: axis +z from z=0 to z=p[2]; p[0] radius at z=0,
  *           p[1] radius at z=p[2]; a cylinder is a cone with p[0] == p[1]
  *   plane   p[0..2] unit normal, p[3] distance: inside is dot(n, x) < d
+ *   trapezoid  one convex piece of an extruded outline (a prism, a glyph
+ *           of text: csg/extrude.h splits the outline): always under
+ *           CSG_PF_XFORM, in a local frame where the extrusion runs from
+ *           z = 0 to z = 1; inside is n_a . (x, y) >= c_a, n_b . (x, y)
+ *           >= c_b (the two sides, unit normals pointing in: p[0..2] and
+ *           p[3..5] = n.x, n.y, c), p[6] <= y <= p[7] and 0 <= z <= 1.
+ *           The pieces of one outline share the very same side lines and
+ *           slab heights, so a ray leaves one where it enters the next at
+ *           the same t, and their union merges them exactly
+ *   conic_trapezoid  the same piece of a prism's conic_sweep: the outline
+ *           scaled by the height, the apex at the origin, in a frame
+ *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
+ *           x <= p[2] y + p[3] z, p[4] z <= y <= p[5] z, p[6] <= z <= 1
+ *           (every wall a plane through the apex: a convex piece)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -72,7 +86,9 @@
  *     A box of zero thickness is such a surface (flat_box): POV-Ray's own
  *     box test accepts an entry equal to the exit, and its inside test,
  *     closed, holds nothing but the sheet itself. */
-#define CSG_SOLID_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
+#define CSG_SOLID_KINDS(X)                                                                         \
+    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TRAPEZOID, trapezoid)      \
+        X(CONIC_TRAPEZOID, conic_trapezoid)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
@@ -111,6 +127,10 @@ enum csg_surface {
     CSG_SURF_CONE_BASE = 1, /* the z = 0 cap                                 */
     CSG_SURF_CONE_TOP = 2,  /* the z = h cap                                 */
     CSG_SURF_PLANE = 0,
+    CSG_SURF_TRAP_SIDE_A = 0, /* trapezoid: its two sides, then 2 + the face
+                                 of the y slab, 4 + the face of the z slab,
+                                 as a box's faces (2 * axis + (1 if +))    */
+    CSG_SURF_TRAP_SIDE_B = 1,
     CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
     CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
     CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that

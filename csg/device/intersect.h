@@ -718,6 +718,29 @@ CSG_FN vec3 csg_box_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     return v3(axis == 0 ? s : R(0.0), axis == 1 ? s : R(0.0), axis == 2 ? s : R(0.0));
 }
 
+/* A trapezoid's sides point out against their inward normals; its slab
+ * faces are a box's (sub 2 .. 5). */
+CSG_FN vec3 csg_trapezoid_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    if (sub == CSG_SURF_TRAP_SIDE_A || sub == CSG_SURF_TRAP_SIDE_B)
+        return v3(-p[3 * sub], -p[3 * sub + 1], R(0.0));
+    return csg_box_normal(p, sub, lp);
+}
+
+/* A conic piece's walls point out against the gradients of its bounds. */
+CSG_FN vec3 csg_conic_trapezoid_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    if (sub == CSG_SURF_TRAP_SIDE_A)
+        return v3(R(-1.0), p[0], p[1]);
+    if (sub == CSG_SURF_TRAP_SIDE_B)
+        return v3(R(1.0), -p[2], -p[3]);
+    if (sub == 2)
+        return v3(R(0.0), R(-1.0), p[4]);
+    if (sub == 3)
+        return v3(R(0.0), R(1.0), -p[5]);
+    return csg_box_normal(p, sub, lp);
+}
+
 /* A sheet's face (csg_flat_box_span picks the one facing the ray). */
 CSG_FN vec3 csg_flat_box_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
 {

@@ -260,6 +260,71 @@ CSG_FN L_INT L_FN(csg_plane_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0,
     return (!flat) | (side > R(0.0));
 }
 
+/* Narrow [*lo, *hi] by the half-line where f0 + t fd >= 0 (sub-surface
+ * `sub` at its end): a line parallel to it (fd == 0) is in or out as a
+ * whole.  Two pieces that share the line compute the same f0 and fd with
+ * opposite signs, hence the same t. */
+CSG_FN L_INT L_FN(csg_half)(L_REAL f0, L_REAL fd, csg_i32 sub, L_REAL *lo, L_REAL *hi,
+                            L_INT *s_lo, L_INT *s_hi)
+{
+    L_INT flat = fd == R(0.0);
+    L_REAL t = -f0 / fd;
+    L_INT up_lo = (!flat) & (fd > R(0.0)) & (t > *lo);
+    L_INT up_hi = (!flat) & (fd < R(0.0)) & (t < *hi);
+    *lo = L_SEL(up_lo, t, *lo);
+    *s_lo = L_SEL(up_lo, L_IS(sub), *s_lo);
+    *hi = L_SEL(up_hi, t, *hi);
+    *s_hi = L_SEL(up_hi, L_IS(sub), *s_hi);
+    return L_SEL(flat, f0 >= R(0.0), *lo <= *hi);
+}
+
+/* A trapezoid piece of an extruded outline (flat.h): the z slab [0, 1],
+ * the y slab [p[6], p[7]] and its two sides, each side the half-plane
+ * n . (x, y) >= c. */
+CSG_FN L_INT L_FN(csg_trapezoid_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                      L_INT *s0, L_INT *s1)
+{
+    *t0 = L_RS(-CSG_R_INF);
+    *t1 = L_RS(CSG_R_INF);
+    *s0 = L_IS(-1);
+    *s1 = L_IS(-1);
+    L_INT ok = L_FN(csg_slab)(r.o.z, r.d.z, R(0.0), R(1.0), 2, t0, t1, s0, s1);
+    if (!L_ANY(ok))
+        return ok;
+    ok = ok & L_FN(csg_slab)(r.o.y, r.d.y, p[6], p[7], 1, t0, t1, s0, s1);
+    if (!L_ANY(ok))
+        return ok;
+    for (csg_i32 k = 0; k < 2; k++) {
+        real nx = p[3 * k], ny = p[3 * k + 1], c = p[3 * k + 2];
+        L_REAL f0 = nx * r.o.x + ny * r.o.y - c;
+        L_REAL fd = nx * r.d.x + ny * r.d.y;
+        ok = ok & L_FN(csg_half)(f0, fd, CSG_SURF_TRAP_SIDE_A + k, t0, t1, s0, s1);
+    }
+    return ok & (*t0 < *t1);
+}
+
+/* A piece of a conic prism (flat.h): every bound a half-space
+ * f0 + t fd >= 0 through the apex but the z slab.  Two pieces on the same
+ * edge or height compute the same f0 and fd, or their exact negations. */
+CSG_FN L_INT L_FN(csg_conic_trapezoid_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0,
+                                            L_REAL *t1, L_INT *s0, L_INT *s1)
+{
+    *t0 = L_RS(-CSG_R_INF);
+    *t1 = L_RS(CSG_R_INF);
+    *s0 = L_IS(-1);
+    *s1 = L_IS(-1);
+    L_INT ok = L_FN(csg_slab)(r.o.z, r.d.z, p[6], R(1.0), 2, t0, t1, s0, s1);
+    if (!L_ANY(ok))
+        return ok;
+    ok = ok & L_FN(csg_half)(r.o.y - p[4] * r.o.z, r.d.y - p[4] * r.d.z, 2, t0, t1, s0, s1);
+    ok = ok & L_FN(csg_half)(p[5] * r.o.z - r.o.y, p[5] * r.d.z - r.d.y, 3, t0, t1, s0, s1);
+    L_REAL la = p[0] * r.o.y + p[1] * r.o.z, lb = p[0] * r.d.y + p[1] * r.d.z;
+    ok = ok & L_FN(csg_half)(r.o.x - la, r.d.x - lb, CSG_SURF_TRAP_SIDE_A, t0, t1, s0, s1);
+    L_REAL ra = p[2] * r.o.y + p[3] * r.o.z, rb = p[2] * r.d.y + p[3] * r.d.z;
+    ok = ok & L_FN(csg_half)(ra - r.o.x, rb - r.d.x, CSG_SURF_TRAP_SIDE_B, t0, t1, s0, s1);
+    return ok & (*t0 < *t1);
+}
+
 /* The component of v along axis k (0, 1, 2), k chosen per lane. */
 CSG_FN L_REAL L_FN(csg_axis)(L_VEC3 v, L_INT k)
 {

@@ -45,6 +45,16 @@
 #else
 #define CSG_USE_PLANE 0
 #endif
+#ifdef CSG_HAS_TRAPEZOID
+#define CSG_USE_TRAPEZOID 1
+#else
+#define CSG_USE_TRAPEZOID 0
+#endif
+#ifdef CSG_HAS_CONIC_TRAPEZOID
+#define CSG_USE_CONIC_TRAPEZOID 1
+#else
+#define CSG_USE_CONIC_TRAPEZOID 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -65,6 +75,8 @@
 #define CSG_USE_BOX 1
 #define CSG_USE_CONE 1
 #define CSG_USE_PLANE 1
+#define CSG_USE_TRAPEZOID 1
+#define CSG_USE_CONIC_TRAPEZOID 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1

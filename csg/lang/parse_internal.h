@@ -433,6 +433,26 @@ bool lang_is_object_start(parser *p);
 /* Any object; the current token is its keyword. */
 bool lang_parse_object(parser *p, csg_object **out);
 bool lang_parse_camera(parser *p, csg_camera_src *c);
+/* A new object of `kind` written at loc (identity transform, inherited
+ * texture and interior); NULL on error. */
+csg_object *lang_new_object(parser *p, enum csg_object_kind kind, csg_loc loc);
+
+/* ---- outline.c ---------------------------------------------------------------------------------- */
+
+/* prism { ... }'s parameters (after the brace) into o. */
+bool lang_parse_prism(parser *p, csg_object *o);
+/* text { ttf ... }'s parameters (after the brace): the glyphs become the
+ * children of the union `text`. */
+bool lang_parse_text(parser *p, csg_object *text);
+
+/* ---- source.c: files --------------------------------------------------------------------------- */
+
+/* Where file `name` is, found as an #include file is (the including
+ * file's folder, the scene's, the library folders: *searched); NULL when
+ * out of memory. */
+char *lang_find_file(parser *p, const char *name, bool *searched);
+bool lang_file_exists(const char *path);
+
 /* Object o (and its textures) moved by transform x after its own. */
 bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x);
 

@@ -150,7 +150,8 @@ static int kind_of_keyword(enum csg_kw kw)
 bool lang_is_object_start(parser *p)
 {
     const csg_token *t = lang_tok(p);
-    return t->kind == CSG_TOK_WORD && (kind_of_keyword(t->kw) >= 0 || t->kw == CSG_KW_OBJECT);
+    return t->kind == CSG_TOK_WORD &&
+           (kind_of_keyword(t->kw) >= 0 || t->kw == CSG_KW_OBJECT || t->kw == CSG_KW_TEXT);
 }
 
 static int height_of(const csg_object *o)
@@ -177,6 +178,12 @@ static pnode *new_node(parser *p, enum csg_object_kind kind, csg_loc loc)
     return n;
 }
 
+csg_object *lang_new_object(parser *p, enum csg_object_kind kind, csg_loc loc)
+{
+    pnode *n = new_node(p, kind, loc);
+    return n ? &n->obj : NULL;
+}
+
 /* A deep copy of a declared tree (its height is bounded, so is the recursion). */
 static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
 {
@@ -201,6 +208,8 @@ static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
 
 static const char *object_name(enum csg_kw kw)
 {
+    if (kw == CSG_KW_TEXT)
+        return "text";
     int kind = kind_of_keyword(kw);
     return kind >= 0 ? csg_object_kind_name(kind) : "object";
 }
@@ -384,6 +393,8 @@ static bool parse_polygon(parser *p, csg_object *o)
         o->vert_count--;
     return true;
 }
+
+static bool parse_prism(parser *p, csg_object *o) { return lang_parse_prism(p, o); }
 
 /* mesh { (triangle { A, B, C } | smooth_triangle { A, NA, B, NB, C, NC })+ ... } */
 static bool parse_mesh(parser *p, csg_object *o)
@@ -747,8 +758,17 @@ bool lang_parse_object(parser *p, csg_object **out)
     if (!lang_enter(p, loc) || !lang_next(p) || !lang_expect_open(p, name))
         return false;
     int kind = kind_of_keyword(kw);
-    pnode *n = kind >= 0 ? new_node(p, (enum csg_object_kind)kind, loc) : parse_object_base(p, loc);
-    bool ok = n && (kind < 0 || parse_body(p, n, name));
+    pnode *n;
+    bool ok;
+    if (kw == CSG_KW_TEXT) { /* the union of its glyphs, each a prism */
+        n = new_node(p, CSG_OBJ_UNION, loc);
+        ok = n && lang_parse_text(p, &n->obj);
+        if (ok)
+            n->height = 2;
+    } else {
+        n = kind >= 0 ? new_node(p, (enum csg_object_kind)kind, loc) : parse_object_base(p, loc);
+        ok = n && (kind < 0 || parse_body(p, n, name));
+    }
     if (!ok || !parse_modifiers(p, &n->obj, name, loc, tex_mark, int_mark))
         return false;
     lang_leave(p);

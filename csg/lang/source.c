@@ -519,6 +519,13 @@ static char *find_include(parser *p, const char *name, bool *searched)
     return first;
 }
 
+char *lang_find_file(parser *p, const char *name, bool *searched)
+{
+    return find_include(p, name, searched);
+}
+
+bool lang_file_exists(const char *path) { return exists(path); }
+
 /* Whether `canon` may be opened by the #include at `at`: not too deep, not
  * a file being read already. */
 static bool may_include(parser *p, csg_loc at, const char *path, const char *canon)
