@@ -492,6 +492,27 @@ static void test_camera_order(void **state)
         assert_near(a.camera.direction.z, 1);
         csg_scene_free(&a);
     }
+    /* a declared camera's copy takes its transforms only: an orthographic
+     * one is not sized a second time (POV-Ray's only_mods) */
+    parse_ok("camera { orthographic angle 15 location <20, 20, -20> right x * 4 / 3 look_at y }",
+             &a);
+    parse_ok("#declare C = camera { orthographic angle 15 location <20, 20, -20> right x * 4 / 3 "
+             "look_at y }\ncamera { C }",
+             &b);
+    parse_ok("#declare C = camera { orthographic angle 15 location <20, 20, -20> right x * 4 / 3 "
+             "look_at y }\ncamera { C translate 2 * x }",
+             &c);
+    for (int i = 0; i < 3; i++) {
+        double *ra = &a.camera.right.x, *rb = &b.camera.right.x, *rc = &c.camera.right.x;
+        double *ua = &a.camera.up.x, *ub = &b.camera.up.x;
+        assert_near(ra[i], rb[i]);
+        assert_near(ra[i], rc[i]);
+        assert_near(ua[i], ub[i]);
+    }
+    assert_near(c.camera.location.x, 22);
+    csg_scene_free(&a);
+    csg_scene_free(&b);
+    csg_scene_free(&c);
     parse_err("camera { cylinder 5 }",
               "t.pov:1:19: error: invalid cylinder camera type 5: the types are 1 to 4");
     parse_err("camera { cylinder 1 angle -3 }",

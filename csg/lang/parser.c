@@ -935,6 +935,12 @@ bool lang_parse_camera(parser *p, csg_camera_src *c)
         if (!parse_camera_item(p, c, &m, old))
             return false;
     }
+    if (from_id) { /* POV-Ray: a declared camera's copy takes its transforms only (its
+                    * look_at, angle and orthographic sizing were applied once already) */
+        if (m.has_xform)
+            csg_camera_transform(c, &m.xform);
+        return lang_next(p);
+    }
     return (old || csg_camera_apply(c, &m, p->d)) && lang_next(p);
 }
 
