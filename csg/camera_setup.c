@@ -74,7 +74,10 @@ bool csg_camera_look_at(csg_camera_src *c, dvec3 target, csg_loc loc, csg_diag *
     }
     up = d3_scale(up, 1.0 / ulen);
     c->direction = d3_scale(dir, dir_len);
-    c->right = d3_scale(right, handedness < 0 ? -right_len : right_len);
+    /* (POV-Ray: "> 0" keeps the right vector, anything else, 0 included when
+     * up is parallel to direction, e.g. `up z` with the default direction,
+     * turns it round) */
+    c->right = d3_scale(right, handedness > 0 ? right_len : -right_len);
     c->up = d3_scale(up, up_len);
     c->look_at = target;
     return true;

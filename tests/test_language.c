@@ -513,6 +513,11 @@ static void test_camera_order(void **state)
     csg_scene_free(&a);
     csg_scene_free(&b);
     csg_scene_free(&c);
+    /* up parallel to direction (handedness 0): POV-Ray turns right round */
+    parse_ok("camera { location <-10, 10, -10> up z look_at 0 }", &a);
+    assert_near(a.camera.right.x, -1.33 * sqrt(0.5));
+    assert_near(a.camera.right.z, 1.33 * sqrt(0.5));
+    csg_scene_free(&a);
     parse_err("camera { cylinder 5 }",
               "t.pov:1:19: error: invalid cylinder camera type 5: the types are 1 to 4");
     parse_err("camera { cylinder 1 angle -3 }",
