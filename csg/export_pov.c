@@ -615,6 +615,12 @@ static void export_plane(FILE *out, const csg_object *o)
     export_sphere(out, o); /* normal, distance */
 }
 
+static void export_torus(FILE *out, const csg_object *o)
+{
+    put_field(out, "", o->r0);
+    put_field(out, ", ", o->r1);
+}
+
 /* Surfaces: vertices (and normals) as POV-Ray writes them. */
 static void put_points(FILE *out, const dvec3 *v, const dvec3 *n, int first, int count)
 {

@@ -784,6 +784,24 @@ static bool flatten_plane(flat_builder *fb, const csg_object *o, const csg_xform
     return true;
 }
 
+/* A torus: piece 0 and piece 1, the first and the second interval of a
+ * line inside it (flat.h), in the object's own frame. */
+static bool flatten_torus(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          int piece, csg_prim *p, dbox *box)
+{
+    if (!(o->r0 > 0) || !(o->r1 > 0))
+        return degenerate(fb, o);
+    p->kind = CSG_PRIM_TORUS;
+    p->p[0] = (real)o->r0;
+    p->p[1] = (real)o->r1;
+    p->p[2] = (real)piece;
+    store_inverse(p, world_to_obj);
+    double s = o->r0 + o->r1;
+    double lo[3] = {-s, -o->r1, -s}, hi[3] = {s, o->r1, s};
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
 /* ---- surfaces: triangles in world space ------------------------------------ */
 
 static dvec3 xf_normal(const csg_xform *world_to_obj, dvec3 n)
@@ -892,6 +910,8 @@ static int shape_pieces(flat_builder *fb, const csg_object *o)
         return o->vert_count / 3;
     if (o->kind == CSG_OBJ_POLYGON)
         return split_polygon(fb, o) ? fb->split_count : 0;
+    if (o->kind == CSG_OBJ_TORUS)
+        return 2;
     return 1;
 }
 
@@ -973,7 +993,8 @@ static inherited inherit(inherited inh, const csg_object *o)
 /* A shape that may become several primitives (a union of them). */
 static bool is_multi_piece(const csg_object *o)
 {
-    return (o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3;
+    return ((o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3) ||
+           o->kind == CSG_OBJ_TORUS;
 }
 
 /* Interval lists the subtree needs at once (its Ershov number). */
@@ -1369,7 +1390,9 @@ static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
 
 static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
 {
-    if (is_multi_piece(o) && !o->inverse)
+    /* (a torus stays one root: its pieces are intervals of one solid, and a
+       piece is never a root alone, flat.h) */
+    if (is_multi_piece(o) && !o->inverse && o->kind != CSG_OBJ_TORUS)
         return add_pieces(fb, o, inh);
     if (o->kind == CSG_OBJ_UNION && !o->inverse) {
         inh = inherit(inh, o);
@@ -1615,6 +1638,11 @@ static bool object_contains(const csg_object *o, dvec3 w, int depth)
         case CSG_OBJ_PLANE:
             in = o->a.x * p.x + o->a.y * p.y + o->a.z * p.z < o->r0;
             break;
+        case CSG_OBJ_TORUS: { /* POV-Ray's Torus::Inside */
+            double ring = sqrt(p.x * p.x + p.z * p.z) - o->r0;
+            in = p.y * p.y + ring * ring <= o->r1 * o->r1;
+            break;
+        }
         default: /* surfaces */
             return false;
         }

@@ -134,6 +134,14 @@ static prec_extent feature_axial(const csg_object *o, double r)
 static prec_extent feature_cylinder(const csg_object *o) { return feature_axial(o, o->r0); }
 static prec_extent feature_cone(const csg_object *o) { return feature_axial(o, fmax(o->r0, o->r1)); }
 
+/* A torus: its box; the feature is the minor radius. */
+static prec_extent feature_torus(const csg_object *o)
+{
+    double s = o->r0 + o->r1;
+    prec_extent x = {true, {-s, -o->r1, -s}, {s, o->r1, s}, o->r1};
+    return x;
+}
+
 static prec_extent feature_plane(const csg_object *o)
 {
     (void)o;

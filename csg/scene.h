@@ -45,6 +45,7 @@ typedef struct {
     LEAF(CYLINDER, cylinder)                \
     LEAF(CONE, cone)                        \
     LEAF(PLANE, plane)                      \
+    LEAF(TORUS, torus)                      \
     LEAF(TRIANGLE, triangle)                \
     LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
     LEAF(POLYGON, polygon)                  \
@@ -215,7 +216,8 @@ struct csg_object {
      *   box:      corners a, b
      *   cylinder: base a, cap b, radius r0
      *   cone:     base a, base radius r0, cap b, cap radius r1
-     *   plane:    normal a, distance r0                                  */
+     *   plane:    normal a, distance r0
+     *   torus:    major radius r0, minor radius r1 (around the y axis)   */
     dvec3 a, b;
     double r0, r1;
     /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]

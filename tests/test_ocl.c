@@ -874,6 +874,32 @@ static void test_flat_boxes_flattened(void **state)
     }
 }
 
+/* Tori (tests/povray/torus.pov: turned, sheared, thin and far, a spindle
+ * one, as CSG operands): the OpenCL records are the C ones, in both
+ * variants (the packet kernel meets a torus only in CSG programs, which
+ * it evaluates through the one-ray code) and in the program specialised
+ * on the scene. */
+static void test_torus_flattened(void **state)
+{
+    fixture *fx = *state;
+    static const int cases[][2] = {{61, 37}, {96, 72}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        csg_blob blob = file_blob("tests/povray/torus.pov", NULL, cases[c][0], cases[c][1]);
+        const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+        const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                                 h->off_prims);
+        int tori = 0;
+        for (int i = 0; i < h->prim_count; i++)
+            tori += prims[i].kind == CSG_PRIM_TORUS;
+        assert_int_equal(tori, 2 * 10); /* two pieces a torus */
+        for (int v = 0; v < VARIANTS; v++)
+            assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
+        if (c == 0)
+            check_specialised(state, blob.bytes, "tori");
+        csg_blob_free(&blob);
+    }
+}
+
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
  * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
  * pixel, an image that cuts packets and slices of a few rows. */
@@ -1168,6 +1194,7 @@ int main(void)
         cmocka_unit_test(test_cones),
         cmocka_unit_test(test_flat_boxes),
         cmocka_unit_test(test_flat_boxes_flattened),
+        cmocka_unit_test(test_torus_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -33,6 +33,11 @@
  *   cone    local frame: axis +z from z=0 to z=p[2]; p[0] radius at z=0,
  *           p[1] radius at z=p[2]; a cylinder is a cone with p[0] == p[1]
  *   plane   p[0..2] unit normal, p[3] distance: inside is dot(n, x) < d
+ *   torus   local frame: the ring in the xz plane around +y (POV-Ray's);
+ *           p[0] major radius R, p[1] minor radius r, p[2] the piece, 0 or
+ *           1: the first or the second interval of the line inside the
+ *           torus (the flattener emits both pieces, joined by union, and
+ *           never a piece alone as a root: see below)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -53,9 +58,15 @@
  * lists (intersect.h), the complement, the shadow test and the flattener's
  * CSG_MAX_SPANS bound all build on it.  A primitive that breaks it must
  * say how it fits:
- *   - non-convex (a torus, a concave polygon): split it into convex
- *     pieces joined by union in the flattener, so each leaf still gives
- *     one interval;
+ *   - non-convex (a torus): split it into pieces joined by union in the
+ *     flattener, each leaf still giving one interval; a torus's piece k
+ *     is the k-th interval of the line inside the whole torus (a line
+ *     meets a torus in at most two), so the union of its pieces is the
+ *     torus and their complements' intersection its complement.  A
+ *     torus root is therefore always a CSG program, which the packet
+ *     kernel evaluates through the one-ray code (packet.h): the torus
+ *     test exists for one ray only (its root solver, poly_solve.h, is
+ *     not lane-generic);
  *   - not a solid (a triangle, a polygon, an open mesh: surfaces with no
  *     inside): it has no interval at all.  Those are CSG_SURFACE_KINDS:
  *     their csg_<name>_span reports a crossing of the surface as t0 == t1
@@ -72,7 +83,8 @@
  *     A box of zero thickness is such a surface (flat_box): POV-Ray's own
  *     box test accepts an entry equal to the exit, and its inside test,
  *     closed, holds nothing but the sheet itself. */
-#define CSG_SOLID_KINDS(X) X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane)
+#define CSG_SOLID_KINDS(X)                                                                         \
+    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TORUS, torus)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
@@ -111,6 +123,7 @@ enum csg_surface {
     CSG_SURF_CONE_BASE = 1, /* the z = 0 cap                                 */
     CSG_SURF_CONE_TOP = 2,  /* the z = h cap                                 */
     CSG_SURF_PLANE = 0,
+    CSG_SURF_TORUS = 0,
     CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
     CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
     CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that

@@ -48,6 +48,7 @@
 #define CSG_INTERSECT_H
 
 #include "flat.h"
+#include "poly_solve.h"
 #include "vec.h"
 
 /* csg_ray, csg_hit, the transforms, the primitive tests and the
@@ -740,6 +741,18 @@ CSG_FN vec3 csg_plane_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     (void)sub;
     (void)lp;
     return v3_load(p);
+}
+
+/* The torus's: from the point towards it off the ring's circle of radius
+ * R (POV-Ray's Torus::Normal; on the axis itself, the point's own). */
+CSG_FN vec3 csg_torus_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    real dist = r_sqrt(lp.x * lp.x + lp.z * lp.z);
+    if (!(dist > R(0.0)))
+        return lp;
+    real k = p[0] / dist;
+    return v3(lp.x - k * lp.x, lp.y, lp.z - k * lp.z);
 }
 
 /* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */

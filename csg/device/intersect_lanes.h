@@ -260,6 +260,104 @@ CSG_FN L_INT L_FN(csg_plane_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0,
     return (!flat) | (side > R(0.0));
 }
 
+#ifdef CSG_LANES_PACKET
+/* A torus is never a root alone (flat.h: the flattener joins its two
+ * pieces by union) and the packet kernel evaluates CSG programs through
+ * the one-ray code (packet.h, pk_try_root): never called. */
+CSG_FN L_INT L_FN(csg_torus_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                  L_INT *s0, L_INT *s1)
+{
+    (void)p;
+    (void)r;
+    (void)t0;
+    (void)t1;
+    (void)s0;
+    (void)s1;
+    return L_IS(0);
+}
+#else
+/* The quartic of the torus (flat.h) along the line, in double precision:
+ * x is the distance from the line's point nearest the centre, in units of
+ * the bounding sphere's radius S = R + r, so every root lies in [-1, 1]
+ * and the coefficients have the size of the torus however far the
+ * origin is (POV-Ray moves the origin towards the torus for the same
+ * reason).  q[i] is the coefficient of x^i; *tc the nearest point's
+ * parameter along the unit direction, *xr the chord's half length (0:
+ * the line misses the sphere). */
+CSG_FN void csg_torus_quartic(CSG_GLOBAL const real *p, const double *o, const double *u,
+                              double *q, double *tc, double *xr)
+{
+    double big = (double)p[0], small = (double)p[1], s = big + small;
+    *tc = -(o[0] * u[0] + o[1] * u[1] + o[2] * u[2]);
+    double c[3] = {o[0] + *tc * u[0], o[1] + *tc * u[1], o[2] + *tc * u[2]};
+    double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    double h2 = s * s - cc;
+    *xr = h2 > 0.0 ? sqrt(h2) / s : 0.0;
+    /* |X|^2 - R^2 - r^2 and X.u along X = c + w u, w = s x (POV-Ray's
+     * Torus::Intersect with the origin at c) */
+    double rr = big * big, k1 = cc - rr - small * small, k2 = c[0] * u[0] + c[1] * u[1] + c[2] * u[2];
+    double w[5];
+    w[4] = 1.0;
+    w[3] = 4.0 * k2;
+    w[2] = 2.0 * (k1 + 2.0 * (k2 * k2 + rr * u[1] * u[1]));
+    w[1] = 4.0 * (k2 * k1 + 2.0 * rr * c[1] * u[1]);
+    w[0] = k1 * k1 + 4.0 * rr * (c[1] * c[1] - small * small);
+    double scale = 1.0;
+    for (csg_i32 i = 4; i >= 0; i--) {
+        q[i] = w[i] * scale; /* w[i] s^i / s^4 */
+        scale = scale / s;
+    }
+}
+
+/* Piece p[2] of the torus: the p[2]-th interval of the line inside it
+ * (the roots cut the chord into runs; a run is inside where the quartic
+ * is negative at its middle; touching inside runs merge, so a grazing
+ * ray's double root splits nothing). */
+CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                              csg_i32 *s0, csg_i32 *s1)
+{
+    double d[3] = {(double)r.d.x, (double)r.d.y, (double)r.d.z};
+    double o[3] = {(double)r.o.x, (double)r.o.y, (double)r.o.z};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 0.0) || !(p[0] > R(0.0)) || !(p[1] > R(0.0)))
+        return 0;
+    double u[3] = {d[0] / len, d[1] / len, d[2] / len};
+    double q[5], tc, xr;
+    csg_torus_quartic(p, o, u, q, &tc, &xr);
+    if (!(xr > 0.0))
+        return 0;
+    xr = xr + 1e-6; /* the chord's ends strictly outside the torus */
+    double cut[6];
+    csg_i32 n = csg_poly_roots(q, 4, -xr, xr, cut + 1);
+    cut[0] = -xr;
+    cut[n + 1] = xr;
+    csg_i32 want = p[2] == R(1.0) ? 1 : 0, runs = 0;
+    double a = 0.0, b = 0.0;
+    int open = 0, found = 0;
+    for (csg_i32 k = 0; k <= n && !found; k++) {
+        int in = csg_poly_eval(q, 4, 0.5 * (cut[k] + cut[k + 1])) < 0.0;
+        if (in && !open) {
+            a = cut[k];
+            open = 1;
+        }
+        if (open && (!in || k == n)) { /* the run ended at cut[k] (or at the chord's end) */
+            b = in ? cut[k + 1] : cut[k];
+            open = 0;
+            found = runs == want;
+            runs++;
+        }
+    }
+    if (!found)
+        return 0;
+    double s = (double)p[0] + (double)p[1];
+    *t0 = (real)((tc + s * a) / len);
+    *t1 = (real)((tc + s * b) / len);
+    *s0 = CSG_SURF_TORUS;
+    *s1 = CSG_SURF_TORUS;
+    return *t0 < *t1;
+}
+#endif
+
 /* The component of v along axis k (0, 1, 2), k chosen per lane. */
 CSG_FN L_REAL L_FN(csg_axis)(L_VEC3 v, L_INT k)
 {

@@ -45,6 +45,11 @@
 #else
 #define CSG_USE_PLANE 0
 #endif
+#ifdef CSG_HAS_TORUS
+#define CSG_USE_TORUS 1
+#else
+#define CSG_USE_TORUS 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -65,6 +70,7 @@
 #define CSG_USE_BOX 1
 #define CSG_USE_CONE 1
 #define CSG_USE_PLANE 1
+#define CSG_USE_TORUS 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1
