@@ -46,6 +46,7 @@ typedef struct {
     LEAF(CONE, cone)                        \
     LEAF(PLANE, plane)                      \
     LEAF(TORUS, torus)                      \
+    LEAF(QUADRIC, quadric)                  \
     LEAF(TRIANGLE, triangle)                \
     LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
     LEAF(POLYGON, polygon)                  \
@@ -217,9 +218,12 @@ struct csg_object {
      *   cylinder: base a, cap b, radius r0
      *   cone:     base a, base radius r0, cap b, cap radius r1
      *   plane:    normal a, distance r0
-     *   torus:    major radius r0, minor radius r1 (around the y axis)   */
+     *   torus:    major radius r0, minor radius r1 (around the y axis)
+     *   quadric:  coef[0..9] = A..J of A x^2 + B y^2 + C z^2 + D xy + E xz
+     *             + F yz + G x + H y + I z + J (inside where <= 0)       */
     dvec3 a, b;
     double r0, r1;
+    double coef[10];
     /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]
      *   polygon:  verts[0 .. vert_count)  (planar, simple, maybe concave)
      *   mesh:     triangle k is verts[3k .. 3k+2], vert_count = 3 * count;

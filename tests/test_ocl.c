@@ -879,25 +879,37 @@ static void test_flat_boxes_flattened(void **state)
  * variants (the packet kernel meets a torus only in CSG programs, which
  * it evaluates through the one-ray code) and in the program specialised
  * on the scene. */
-static void test_torus_flattened(void **state)
+static void check_pieces_file(void **state, const char *path, int kind, int pieces)
 {
     fixture *fx = *state;
     static const int cases[][2] = {{61, 37}, {96, 72}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        csg_blob blob = file_blob("tests/povray/torus.pov", NULL, cases[c][0], cases[c][1]);
+        csg_blob blob = file_blob(path, NULL, cases[c][0], cases[c][1]);
         const csg_blob_header *h = csg_blob_hdr(blob.bytes);
         const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
                                                                  h->off_prims);
-        int tori = 0;
+        int found = 0;
         for (int i = 0; i < h->prim_count; i++)
-            tori += prims[i].kind == CSG_PRIM_TORUS;
-        assert_int_equal(tori, 2 * 10); /* two pieces a torus */
+            found += prims[i].kind == kind;
+        assert_int_equal(found, pieces);
         for (int v = 0; v < VARIANTS; v++)
             assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
         if (c == 0)
-            check_specialised(state, blob.bytes, "tori");
+            check_specialised(state, blob.bytes, path);
         csg_blob_free(&blob);
     }
+}
+
+static void test_torus_flattened(void **state)
+{
+    check_pieces_file(state, "tests/povray/torus.pov", CSG_PRIM_TORUS, 2 * 10); /* 2 a torus */
+}
+
+/* Quadrics (tests/povray/quadric.pov: closed, unbounded, cut, in CSG),
+ * the same way: two pieces each, evaluated by the one-ray code. */
+static void test_quadric_flattened(void **state)
+{
+    check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7);
 }
 
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
@@ -1195,6 +1207,7 @@ int main(void)
         cmocka_unit_test(test_flat_boxes),
         cmocka_unit_test(test_flat_boxes_flattened),
         cmocka_unit_test(test_torus_flattened),
+        cmocka_unit_test(test_quadric_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -949,6 +949,83 @@ static void test_torus_pieces_random(void **state)
     assert_true(checked > 4000 && inside > 1000);
 }
 
+/* Quadrics (world-space coefficients A..J, flat.h) on random lines: the
+ * pieces' intervals are sorted and disjoint, their middles inside (f <=
+ * 0, in double), the gaps' middles outside, unless the point is within
+ * 1e-6 (relative) of the surface; every kind of set a line can meet is
+ * reached (one interval, two half-lines, a half-line, the whole line). */
+static void test_quadric_pieces_random(void **state)
+{
+    (void)state;
+    static const double quads[][10] = {
+        {1, 4, 2, 0, 0, 0, 0, 0, 0, -1},          /* ellipsoid            */
+        {1, -1, 1, 0.4, 0, 0, 0, 0, 0, -0.3},     /* hyperboloid, 1 sheet */
+        {-1, 1, -1, 0, 0.2, 0, 0, 0, 0, -0.3},    /* 2 sheets, inside out */
+        {1, 0, 1, 0, 0, 0, 0, -1, 0, 0},          /* paraboloid           */
+        {0, 0, 0, 0, 0, 0, 0.3, 1, -0.2, 0.5},    /* a plane: linear      */
+    };
+    uint64_t st = 777;
+    int checked = 0, two = 0, unbounded = 0;
+    for (size_t q = 0; q < sizeof quads / sizeof quads[0]; q++)
+        for (int k = 0; k < 400; k++) {
+            float o[3], d[3];
+            for (int i = 0; i < 3; i++) {
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                o[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 6);
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                d[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 2);
+            }
+            float t0[2], t1[2];
+            int n = 0;
+            for (int piece = 0; piece < 2; piece++) {
+                csg_prim pr;
+                memset(&pr, 0, sizeof pr);
+                pr.kind = CSG_PRIM_QUADRIC;
+                for (int i = 0; i < 10; i++)
+                    pr.p[i] = (float)quads[q][i];
+                pr.p[10] = (float)piece;
+                csg_ray r = {v3(o[0], o[1], o[2]), v3(d[0], d[1], d[2])};
+                float a = 0, b = 0;
+                csg_i32 s0, s1;
+                if (csg_prim_span(&pr, r, &a, &b, &s0, &s1)) {
+                    assert_true(a < b && !isnan(a) && !isnan(b));
+                    assert_int_equal(n, piece);
+                    assert_true(n == 0 || t1[0] < a);
+                    unbounded += isinf(a) || isinf(b);
+                    t0[n] = a;
+                    t1[n] = b;
+                    n++;
+                }
+            }
+            two += n == 2;
+            double cuts[6];
+            int m = 0;
+            cuts[m++] = -1e3;
+            for (int i = 0; i < n; i++) {
+                cuts[m++] = fmax((double)t0[i], -1e3);
+                cuts[m++] = fmin((double)t1[i], 1e3);
+            }
+            cuts[m++] = 1e3;
+            for (int i = 0; i + 1 < m; i++) {
+                if (!(cuts[i] < cuts[i + 1]))
+                    continue;
+                double t = 0.5 * (cuts[i] + cuts[i + 1]), p[3];
+                for (int a = 0; a < 3; a++)
+                    p[a] = (double)o[a] + t * (double)d[a];
+                const double *c = quads[q];
+                double f = p[0] * (c[0] * p[0] + c[3] * p[1] + c[6]) +
+                           p[1] * (c[1] * p[1] + c[5] * p[2] + c[7]) +
+                           p[2] * (c[2] * p[2] + c[4] * p[0] + c[8]) + c[9];
+                double scale = 1 + p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+                if (fabs(f) < 1e-6 * scale)
+                    continue;
+                assert_true((f <= 0) == (i % 2 == 1));
+                checked++;
+            }
+        }
+    assert_true(checked > 2000 && two > 50 && unbounded > 50);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -966,6 +1043,7 @@ int main(void)
         cmocka_unit_test(test_poly_roots),
         cmocka_unit_test(test_torus_extremes),
         cmocka_unit_test(test_torus_pieces_random),
+        cmocka_unit_test(test_quadric_pieces_random),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

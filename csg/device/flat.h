@@ -38,6 +38,12 @@
  *           1: the first or the second interval of the line inside the
  *           torus (the flattener emits both pieces, joined by union, and
  *           never a piece alone as a root: see below)
+ *   quadric in world space (never CSG_PF_XFORM: the flattener transforms
+ *           the quadric itself, as POV-Ray does): p[0..9] the coefficients
+ *           A..J of A x^2 + B y^2 + C z^2 + D xy + E xz + F yz + G x + H y
+ *           + I z + J, inside where it is <= 0 (POV-Ray's); p[10] the
+ *           piece, 0 or 1, as the torus's (a line meets it in at most two
+ *           intervals, the outer ones maybe unbounded)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -84,7 +90,8 @@
  *     box test accepts an entry equal to the exit, and its inside test,
  *     closed, holds nothing but the sheet itself. */
 #define CSG_SOLID_KINDS(X)                                                                         \
-    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TORUS, torus)
+    X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TORUS, torus)                  \
+        X(QUADRIC, quadric)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
@@ -124,6 +131,7 @@ enum csg_surface {
     CSG_SURF_CONE_TOP = 2,  /* the z = h cap                                 */
     CSG_SURF_PLANE = 0,
     CSG_SURF_TORUS = 0,
+    CSG_SURF_QUADRIC = 0,
     CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
     CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
     CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that

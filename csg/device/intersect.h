@@ -755,6 +755,17 @@ CSG_FN vec3 csg_torus_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     return v3(lp.x - k * lp.x, lp.y, lp.z - k * lp.z);
 }
 
+/* The quadric's gradient (POV-Ray's Quadric::Normal), in world space. */
+CSG_FN vec3 csg_quadric_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    vec3 n = v3(R(2.0) * p[0] * lp.x + p[3] * lp.y + p[4] * lp.z + p[6],
+                p[3] * lp.x + R(2.0) * p[1] * lp.y + p[5] * lp.z + p[7],
+                p[4] * lp.x + p[5] * lp.y + R(2.0) * p[2] * lp.z + p[8]);
+    /* (a singular point, a cone's apex: POV-Ray's arbitrary direction) */
+    return v3_dot(n, n) > R(0.0) ? n : v3(R(1.0), R(0.0), R(0.0));
+}
+
 /* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */
 CSG_FN vec3 csg_triangle_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
 {

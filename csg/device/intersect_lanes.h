@@ -275,6 +275,13 @@ CSG_FN L_INT L_FN(csg_torus_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0,
     (void)s1;
     return L_IS(0);
 }
+
+/* The same holds for a quadric (flat.h). */
+CSG_FN L_INT L_FN(csg_quadric_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                    L_INT *s0, L_INT *s1)
+{
+    return L_FN(csg_torus_span)(p, r, t0, t1, s0, s1);
+}
 #else
 /* The quartic of the torus (flat.h) along the line, in double precision:
  * x is the distance from the line's point nearest the centre, in units of
@@ -354,6 +361,67 @@ CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, rea
     *t1 = (real)((tc + s * b) / len);
     *s0 = CSG_SURF_TORUS;
     *s1 = CSG_SURF_TORUS;
+    return *t0 < *t1;
+}
+
+/* Piece p[10] of the quadric (flat.h): its set f <= 0 on the line, f(t) =
+ * a t^2 + 2 b t + c in double (POV-Ray's Quadric::Intersect), is one
+ * interval, the line minus one (two half-lines), a half-line, the whole
+ * line or nothing; piece 0 is the first of those intervals, piece 1 the
+ * second.  The roots by the stable form (q = -(b + sign(b) sqrt(disc)),
+ * roots q / a and c / q).  An unbounded end is -inf / +inf, sub -1. */
+CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                                csg_i32 *s0, csg_i32 *s1)
+{
+    double qa = (double)p[0], qb = (double)p[1], qc = (double)p[2], qd = (double)p[3];
+    double qe = (double)p[4], qf = (double)p[5], qg = (double)p[6], qh = (double)p[7];
+    double qi = (double)p[8], qj = (double)p[9];
+    double ox = (double)r.o.x, oy = (double)r.o.y, oz = (double)r.o.z;
+    double dx = (double)r.d.x, dy = (double)r.d.y, dz = (double)r.d.z;
+    double a = dx * (qa * dx + qd * dy + qe * dz) + dy * (qb * dy + qf * dz) + dz * qc * dz;
+    double b = dx * (qa * ox + 0.5 * (qd * oy + qe * oz + qg)) +
+               dy * (qb * oy + 0.5 * (qd * ox + qf * oz + qh)) +
+               dz * (qc * oz + 0.5 * (qe * ox + qf * oy + qi));
+    double c = ox * (qa * ox + qd * oy + qe * oz + qg) + oy * (qb * oy + qf * oz + qh) +
+               oz * (qc * oz + qi) + qj;
+    double inf = (double)CSG_R_INF, lo[2] = {-inf, inf}, hi[2] = {inf, inf};
+    csg_i32 n = 0;
+    if (a == 0.0) { /* linear: 2 b t + c <= 0 */
+        if (b != 0.0) {
+            double t = -0.5 * c / b;
+            lo[0] = b > 0.0 ? -inf : t;
+            hi[0] = b > 0.0 ? t : inf;
+            n = 1;
+        } else {
+            n = c <= 0.0 ? 1 : 0; /* the whole line, or nothing */
+        }
+    } else {
+        double disc = b * b - a * c;
+        if (disc > 0.0) {
+            double root = sqrt(disc);
+            double q = b >= 0.0 ? -(b + root) : -(b - root);
+            double ra = q / a, rb = q != 0.0 ? c / q : ra;
+            double u = ra < rb ? ra : rb, v = ra < rb ? rb : ra;
+            if (a > 0.0) { /* [u, v] */
+                lo[0] = u;
+                hi[0] = v;
+                n = 1;
+            } else { /* (-inf, u] and [v, inf) */
+                hi[0] = u;
+                lo[1] = v;
+                n = 2;
+            }
+        } else {
+            n = a < 0.0 ? 1 : 0; /* f < 0 everywhere, or nowhere below 0 */
+        }
+    }
+    csg_i32 want = p[10] == R(1.0) ? 1 : 0;
+    if (want >= n)
+        return 0;
+    *t0 = (real)lo[want];
+    *t1 = (real)hi[want];
+    *s0 = lo[want] == -inf ? -1 : CSG_SURF_QUADRIC;
+    *s1 = hi[want] == inf ? -1 : CSG_SURF_QUADRIC;
     return *t0 < *t1;
 }
 #endif

@@ -50,6 +50,11 @@
 #else
 #define CSG_USE_TORUS 0
 #endif
+#ifdef CSG_HAS_QUADRIC
+#define CSG_USE_QUADRIC 1
+#else
+#define CSG_USE_QUADRIC 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -71,6 +76,7 @@
 #define CSG_USE_CONE 1
 #define CSG_USE_PLANE 1
 #define CSG_USE_TORUS 1
+#define CSG_USE_QUADRIC 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1

@@ -342,7 +342,7 @@ static const kw_entry kw_table[] = {
     {"projected_through", CSG_KW_UNSUPPORTED},
     {"pwr", CSG_KW_UNSUPPORTED},
     {"quadratic_spline", CSG_KW_UNSUPPORTED},
-    {"quadric", CSG_KW_UNSUPPORTED},
+    {"quadric", CSG_KW_QUADRIC},
     {"quartic", CSG_KW_UNSUPPORTED},
     {"quaternion", CSG_KW_UNSUPPORTED},
     {"quick_color", CSG_KW_QUICK_COLOR},

@@ -320,6 +320,32 @@ static bool parse_torus(parser *p, csg_object *o)
     return !mode || lang_next(p);
 }
 
+/* quadric { <A, B, C>, <D, E, F>, <G, H, I>, J } (POV-Ray's order: the
+ * squares, then xy, xz, yz, then x, y, z, then the constant). */
+static bool parse_quadric(parser *p, csg_object *o)
+{
+    dvec3 v[3];
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; k++) {
+        ok = lang_parse_vector(p, &v[k], NULL);
+        if (ok)
+            skip_comma(p, &ok);
+    }
+    if (!ok || !lang_parse_float(p, &o->coef[9], NULL))
+        return false;
+    for (int k = 0; k < 3; k++) {
+        o->coef[3 * k] = v[k].x;
+        o->coef[3 * k + 1] = v[k].y;
+        o->coef[3 * k + 2] = v[k].z;
+    }
+    for (int k = 0; k < 10; k++)
+        if (!isfinite(o->coef[k])) {
+            csg_error(p->d, o->loc, "quadric coefficients must be finite numbers");
+            return false;
+        }
+    return true;
+}
+
 static bool parse_plane(parser *p, csg_object *o)
 {
     csg_loc at;
