@@ -283,6 +283,7 @@ CSG_FN L_INT L_FN(csg_quadric_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t
     return L_FN(csg_torus_span)(p, r, t0, t1, s0, s1);
 }
 #else
+#if CSG_USE_TORUS
 /* The quartic of the torus (flat.h) along the line, in double precision:
  * x is the distance from the line's point nearest the centre, in units of
  * the bounding sphere's radius S = R + r, so every root lies in [-1, 1]
@@ -363,7 +364,21 @@ CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, rea
     *s1 = CSG_SURF_TORUS;
     return *t0 < *t1;
 }
+#else /* (a program without tori: no double arithmetic, poly_solve.h) */
+CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                              csg_i32 *s0, csg_i32 *s1)
+{
+    (void)p;
+    (void)r;
+    (void)t0;
+    (void)t1;
+    (void)s0;
+    (void)s1;
+    return 0;
+}
+#endif
 
+#if CSG_USE_QUADRIC
 /* Piece p[10] of the quadric (flat.h): its set f <= 0 on the line, f(t) =
  * a t^2 + 2 b t + c in double (POV-Ray's Quadric::Intersect), is one
  * interval, the line minus one (two half-lines), a half-line, the whole
@@ -424,6 +439,13 @@ CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, r
     *s1 = hi[want] == inf ? -1 : CSG_SURF_QUADRIC;
     return *t0 < *t1;
 }
+#else /* (a program without quadrics) */
+CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                                csg_i32 *s0, csg_i32 *s1)
+{
+    return csg_torus_span(p, r, t0, t1, s0, s1);
+}
+#endif
 #endif
 
 /* The component of v along axis k (0, 1, 2), k chosen per lane. */

@@ -32,10 +32,21 @@
 #define CSG_POLY_SOLVE_H
 
 #include "portable.h"
+#include "spec.h"
 
+/* double is needed on the device only by a program that has a torus or a
+ * quadric (spec.h): a float program without them compiles on a device
+ * without cl_khr_fp64, as before. */
+#if !defined(__OPENCL_VERSION__) || defined(CSG_DOUBLE) || CSG_USE_TORUS || CSG_USE_QUADRIC
+#define CSG_POLY_SOLVER 1
 #if defined(__OPENCL_VERSION__) && !defined(CSG_DOUBLE)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
+#else
+#define CSG_POLY_SOLVER 0
+#endif
+
+#if CSG_POLY_SOLVER
 
 #define CSG_POLY_MAX_ORDER 4   /* the highest degree solved (a quartic)      */
 #define CSG_POLY_TOL 1e-12     /* the width a root is bracketed to            */
@@ -214,5 +225,7 @@ CSG_FN csg_i32 csg_poly_roots(const double *c, csg_i32 n, double lo, double hi, 
     }
     return found;
 }
+
+#endif /* CSG_POLY_SOLVER */
 
 #endif
