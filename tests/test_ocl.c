@@ -879,7 +879,11 @@ static void test_flat_boxes_flattened(void **state)
  * variants (the packet kernel meets a torus only in CSG programs, which
  * it evaluates through the one-ray code) and in the program specialised
  * on the scene. */
-static void check_pieces_file(void **state, const char *path, int kind, int pieces)
+/* The records of the scene in `path` (its primitives of `kind`: `pieces`),
+ * both variants, two sizes; also the program specialised on the scene's
+ * kinds when `specialised` (a PoCL build of each variant: seconds). */
+static void check_pieces_file(void **state, const char *path, int kind, int pieces,
+                              bool specialised)
 {
     fixture *fx = *state;
     static const int cases[][2] = {{61, 37}, {96, 72}};
@@ -894,7 +898,7 @@ static void check_pieces_file(void **state, const char *path, int kind, int piec
         assert_int_equal(found, pieces);
         for (int v = 0; v < VARIANTS; v++)
             assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
-        if (c == 0)
+        if (c == 0 && specialised)
             check_specialised(state, blob.bytes, path);
         csg_blob_free(&blob);
     }
@@ -902,14 +906,16 @@ static void check_pieces_file(void **state, const char *path, int kind, int piec
 
 static void test_torus_flattened(void **state)
 {
-    check_pieces_file(state, "tests/povray/torus.pov", CSG_PRIM_TORUS, 2 * 10); /* 2 a torus */
+    /* two pieces a torus; the specialised program is the one with double
+       arithmetic in a float build (poly_solve.h) */
+    check_pieces_file(state, "tests/povray/torus.pov", CSG_PRIM_TORUS, 2 * 10, true);
 }
 
 /* Quadrics (tests/povray/quadric.pov: closed, unbounded, cut, in CSG),
  * the same way: two pieces each, evaluated by the one-ray code. */
 static void test_quadric_flattened(void **state)
 {
-    check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7);
+    check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7, false);
 }
 
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
