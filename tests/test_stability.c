@@ -889,6 +889,16 @@ static void test_torus_extremes(void **state)
             assert_true(fabs((double)t1[k] - want1[k]) <= ulp);
         }
     }
+    /* a spindle torus (R 0.3 < r 0.6), along y at x = 0.05: inside the
+       tube for |y| < sqrt(0.36 - 0.0625), its spindle (|y| < sqrt(0.36 -
+       0.1225)) included, as POV-Ray's default union mode: one interval */
+    {
+        float o[3] = {0.05f, -5, 0}, d[3] = {0, 1, 0}, t0[2], t1[2];
+        int n = torus_spans(0.3, 0.6, o, d, t0, t1);
+        assert_int_equal(n, 1);
+        double half = sqrt(0.36 - (0.3 - (double)o[0]) * (0.3 - (double)o[0]));
+        assert_true(fabs((double)t0[0] - (5 - half)) < 1e-5 && fabs((double)t1[0] - (5 + half)) < 1e-5);
+    }
     /* grazing the top of the tube from 10 away, along x */
     const double heights[] = {1 - 1e-4, 1.0, 1 + 1e-4};
     for (int k = 0; k < 3; k++) {

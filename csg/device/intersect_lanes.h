@@ -290,14 +290,16 @@ CSG_FN L_INT L_FN(csg_quadric_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t
  * and the coefficients have the size of the torus however far the
  * origin is (POV-Ray moves the origin towards the torus for the same
  * reason).  q[i] is the coefficient of x^i; *tc the nearest point's
- * parameter along the unit direction, *xr the chord's half length (0:
- * the line misses the sphere). */
+ * parameter along the unit direction, c[] that point, *xr the chord's
+ * half length (0: the line misses the sphere). */
 CSG_FN void csg_torus_quartic(CSG_GLOBAL const real *p, const double *o, const double *u,
-                              double *q, double *tc, double *xr)
+                              double *q, double *tc, double *c, double *xr)
 {
     double big = (double)p[0], small = (double)p[1], s = big + small;
     *tc = -(o[0] * u[0] + o[1] * u[1] + o[2] * u[2]);
-    double c[3] = {o[0] + *tc * u[0], o[1] + *tc * u[1], o[2] + *tc * u[2]};
+    c[0] = o[0] + *tc * u[0];
+    c[1] = o[1] + *tc * u[1];
+    c[2] = o[2] + *tc * u[2];
     double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
     double h2 = s * s - cc;
     *xr = h2 > 0.0 ? sqrt(h2) / s : 0.0;
@@ -317,10 +319,21 @@ CSG_FN void csg_torus_quartic(CSG_GLOBAL const real *p, const double *o, const d
     }
 }
 
+/* Is the point c + w u inside the tube, (rho - R)^2 + y^2 < r^2?  (The
+ * quartic is that times (rho + R)^2 + y^2 - r^2, which is negative only
+ * in a spindle torus's spindle: POV-Ray's default spindle mode, union,
+ * counts the spindle inside, as this does.) */
+CSG_FN int csg_torus_inside(CSG_GLOBAL const real *p, const double *c, const double *u, double w)
+{
+    double x = c[0] + w * u[0], y = c[1] + w * u[1], z = c[2] + w * u[2];
+    double ring = sqrt(x * x + z * z) - (double)p[0], small = (double)p[1];
+    return ring * ring + y * y < small * small;
+}
+
 /* Piece p[2] of the torus: the p[2]-th interval of the line inside it
- * (the roots cut the chord into runs; a run is inside where the quartic
- * is negative at its middle; touching inside runs merge, so a grazing
- * ray's double root splits nothing). */
+ * (the roots cut the chord into runs; a run is inside where its middle
+ * is, csg_torus_inside; touching inside runs merge, so neither a grazing
+ * ray's double root nor a spindle's surface splits anything). */
 CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
                               csg_i32 *s0, csg_i32 *s1)
 {
@@ -330,8 +343,8 @@ CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, rea
     if (!(len > 0.0) || !(p[0] > R(0.0)) || !(p[1] > R(0.0)))
         return 0;
     double u[3] = {d[0] / len, d[1] / len, d[2] / len};
-    double q[5], tc, xr;
-    csg_torus_quartic(p, o, u, q, &tc, &xr);
+    double q[5], tc, c[3], xr;
+    csg_torus_quartic(p, o, u, q, &tc, c, &xr);
     if (!(xr > 0.0))
         return 0;
     xr = xr + 1e-6; /* the chord's ends strictly outside the torus */
@@ -340,10 +353,10 @@ CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, rea
     cut[0] = -xr;
     cut[n + 1] = xr;
     csg_i32 want = p[2] == R(1.0) ? 1 : 0, runs = 0;
-    double a = 0.0, b = 0.0;
+    double a = 0.0, b = 0.0, s = (double)p[0] + (double)p[1];
     int open = 0, found = 0;
     for (csg_i32 k = 0; k <= n && !found; k++) {
-        int in = csg_poly_eval(q, 4, 0.5 * (cut[k] + cut[k + 1])) < 0.0;
+        int in = csg_torus_inside(p, c, u, s * 0.5 * (cut[k] + cut[k + 1]));
         if (in && !open) {
             a = cut[k];
             open = 1;
@@ -357,7 +370,6 @@ CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, rea
     }
     if (!found)
         return 0;
-    double s = (double)p[0] + (double)p[1];
     *t0 = (real)((tc + s * a) / len);
     *t1 = (real)((tc + s * b) / len);
     *s0 = CSG_SURF_TORUS;

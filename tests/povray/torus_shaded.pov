@@ -1,8 +1,10 @@
-// crosscheck: full 99
+// crosscheck: full 99.9
 // torus_shaded.pov: tori as written (diffuse, phong, reflection, shadows
 // cast on each other and on the floor), compared with POV-Ray 3.7 by
 // colour: the normals (POV-Ray's Torus::Normal) and the shadow rays
-// through the torus's pieces.  Framed for 160x120.
+// through the torus's pieces; a spindle torus cut open (POV-Ray's
+// default union mode: the spindle is inside, the cut face flat).
+// Framed for 160x120.
 #version 3.7;
 global_settings { assumed_gamma 1 }
 camera { location <0, 4, -9> look_at <0, 0.3, 0> angle 50 }
@@ -19,4 +21,11 @@ difference {
     rotate x * -30
     pigment { color rgb <0.5, 1, 0.6> }
     translate <0, 1.7, 2.5>
+}
+intersection {
+    torus { 0.5, 0.8 }
+    box { <-2, -2, 0>, <2, 2, 2> }
+    rotate y * 25 rotate x * -20
+    pigment { color rgb <1, 0.7, 0.7> }
+    translate <-3.3, 2.2, 3>
 }
