@@ -641,6 +641,21 @@ static void export_plane(FILE *out, const csg_object *o)
     export_sphere(out, o); /* normal, distance */
 }
 
+static void export_torus(FILE *out, const csg_object *o)
+{
+    put_field(out, "", o->r0);
+    put_field(out, ", ", o->r1);
+}
+
+static void export_quadric(FILE *out, const csg_object *o)
+{
+    for (int k = 0; k < 3; k++) {
+        put_dvec(out, (dvec3){o->coef[3 * k], o->coef[3 * k + 1], o->coef[3 * k + 2]});
+        fputs(", ", out);
+    }
+    put_field(out, "", o->coef[9]);
+}
+
 /* Surfaces: vertices (and normals) as POV-Ray writes them. */
 static void put_points(FILE *out, const dvec3 *v, const dvec3 *n, int first, int count)
 {

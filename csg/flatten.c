@@ -824,6 +824,63 @@ static bool flatten_plane(flat_builder *fb, const csg_object *o, const csg_xform
     return true;
 }
 
+/* A torus: piece 0 and piece 1, the first and the second interval of a
+ * line inside it (flat.h), in the object's own frame. */
+static bool flatten_torus(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                          int piece, csg_prim *p, dbox *box)
+{
+    if (!(o->r0 > 0) || !(o->r1 > 0))
+        return degenerate(fb, o);
+    p->kind = CSG_PRIM_TORUS;
+    p->p[0] = (real)o->r0;
+    p->p[1] = (real)o->r1;
+    p->p[2] = (real)piece;
+    store_inverse(p, world_to_obj);
+    double s = o->r0 + o->r1;
+    double lo[3] = {-s, -o->r1, -s}, hi[3] = {s, o->r1, s};
+    *box = box_of_corners(&o->xform, lo, hi);
+    return true;
+}
+
+/* A quadric, transformed into world space: with W the world -> object map
+ * in homogeneous form and Q the symmetric matrix of the quadric, the
+ * world quadric is W^T Q W (POV-Ray's Transform_Quadric). */
+static bool flatten_quadric(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                            int piece, csg_prim *p, dbox *box)
+{
+    (void)fb;
+    const double *c = o->coef;
+    double q[4][4] = {{c[0], c[3] / 2, c[4] / 2, c[6] / 2},
+                      {c[3] / 2, c[1], c[5] / 2, c[7] / 2},
+                      {c[4] / 2, c[5] / 2, c[2], c[8] / 2},
+                      {c[6] / 2, c[7] / 2, c[8] / 2, c[9]}};
+    double w[4][4] = {{0}}, qw[4][4], out[4][4];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            w[i][j] = world_to_obj->m[i][j];
+    w[3][3] = 1;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            qw[i][j] = 0;
+            for (int k = 0; k < 4; k++)
+                qw[i][j] += q[i][k] * w[k][j];
+        }
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            out[i][j] = 0;
+            for (int k = 0; k < 4; k++)
+                out[i][j] += w[k][i] * qw[k][j];
+        }
+    double world[10] = {out[0][0], out[1][1], out[2][2], 2 * out[0][1], 2 * out[0][2],
+                        2 * out[1][2], 2 * out[0][3], 2 * out[1][3], 2 * out[2][3], out[3][3]};
+    p->kind = CSG_PRIM_QUADRIC;
+    for (int k = 0; k < 10; k++)
+        p->p[k] = (real)world[k];
+    p->p[10] = (real)piece;
+    *box = box_infinite();
+    return true;
+}
+
 /* ---- surfaces: triangles in world space ------------------------------------ */
 
 static dvec3 xf_normal(const csg_xform *world_to_obj, dvec3 n)
@@ -1049,6 +1106,8 @@ static int shape_pieces(flat_builder *fb, const csg_object *o)
         return split_polygon(fb, o) ? fb->split_count : 0;
     if (o->kind == CSG_OBJ_PRISM)
         return split_prism(fb, o) ? fb->trap_count : 0;
+    if (o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC)
+        return 2;
     return 1;
 }
 
@@ -1130,7 +1189,15 @@ static inherited inherit(inherited inh, const csg_object *o)
 /* A surface that may become several primitives (a union of them). */
 static bool is_multi_piece(const csg_object *o)
 {
-    return (o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3;
+    return ((o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3) ||
+           o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC;
+}
+
+/* A solid made of pieces (each an interval of the line inside it,
+ * flat.h): one root always, never a piece alone. */
+static bool is_solid_of_pieces(const csg_object *o)
+{
+    return o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC;
 }
 
 /* A solid made of several pieces (a union of them, which must stay one
@@ -1546,7 +1613,7 @@ static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
 
 static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
 {
-    if (is_multi_piece(o) && !o->inverse)
+    if (is_multi_piece(o) && !o->inverse && !is_solid_of_pieces(o))
         return add_pieces(fb, o, inh);
     if (o->kind == CSG_OBJ_UNION && !o->inverse) {
         inh = inherit(inh, o);
@@ -1792,6 +1859,18 @@ static bool object_contains(const csg_object *o, dvec3 w, int depth)
         case CSG_OBJ_PLANE:
             in = o->a.x * p.x + o->a.y * p.y + o->a.z * p.z < o->r0;
             break;
+        case CSG_OBJ_QUADRIC: { /* POV-Ray's Quadric::Inside */
+            const double *c = o->coef;
+            in = p.x * (c[0] * p.x + c[3] * p.y + c[6]) + p.y * (c[1] * p.y + c[5] * p.z + c[7]) +
+                     p.z * (c[2] * p.z + c[4] * p.x + c[8]) + c[9] <=
+                 0;
+            break;
+        }
+        case CSG_OBJ_TORUS: { /* POV-Ray's Torus::Inside */
+            double ring = sqrt(p.x * p.x + p.z * p.z) - o->r0;
+            in = p.y * p.y + ring * ring <= o->r1 * o->r1;
+            break;
+        }
         default: /* surfaces */
             return false;
         }

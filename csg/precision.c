@@ -134,6 +134,23 @@ static prec_extent feature_axial(const csg_object *o, double r)
 static prec_extent feature_cylinder(const csg_object *o) { return feature_axial(o, o->r0); }
 static prec_extent feature_cone(const csg_object *o) { return feature_axial(o, fmax(o->r0, o->r1)); }
 
+/* A torus: its box; the feature is the minor radius. */
+static prec_extent feature_torus(const csg_object *o)
+{
+    double s = o->r0 + o->r1;
+    prec_extent x = {true, {-s, -o->r1, -s}, {s, o->r1, s}, o->r1};
+    return x;
+}
+
+/* A quadric: unbounded, no feature (judged as a plane through its
+ * object's origin, at the camera's first-order distance, leaf_plane). */
+static prec_extent feature_quadric(const csg_object *o)
+{
+    (void)o;
+    prec_extent x = {false, {0, 0, 0}, {0, 0, 0}, HUGE_VAL};
+    return x;
+}
+
 static prec_extent feature_plane(const csg_object *o)
 {
     (void)o;
@@ -193,7 +210,21 @@ static prec_extent feature_prism(const csg_object *o)
 
 static prec_extent feature_mesh(const csg_object *o) { return feature_points(o->verts, 0); }
 
-/* A plane: its point nearest the local origin, the camera's distance. */
+/* The distance of point l from quadric c's surface, to first order:
+ * |f(l)| / |grad f(l)| (|f| where the gradient vanishes). */
+static double quadric_distance(const double *c, dvec3 l)
+{
+    double f = l.x * (c[0] * l.x + c[3] * l.y + c[6]) + l.y * (c[1] * l.y + c[5] * l.z + c[7]) +
+               l.z * (c[2] * l.z + c[4] * l.x + c[8]) + c[9];
+    dvec3 g = {2 * c[0] * l.x + c[3] * l.y + c[4] * l.z + c[6],
+               c[3] * l.x + 2 * c[1] * l.y + c[5] * l.z + c[7],
+               c[4] * l.x + c[5] * l.y + 2 * c[2] * l.z + c[8]};
+    double gl = len3(g);
+    return gl > 0 ? fabs(f) / gl : fabs(f);
+}
+
+/* A plane: its point nearest the local origin, the camera's distance (a
+ * quadric: its object's origin, quadric_distance). */
 static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, double *mag,
                        double *dist)
 {
@@ -202,7 +233,8 @@ static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, dou
     if (!csg_xform_invert(&o->xform, &inv))
         return false;
     dvec3 lc = xf_point(&inv, w->cam);
-    double side = o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
+    double side = o->kind == CSG_OBJ_QUADRIC ? quadric_distance(o->coef, lc)
+                                             : o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
     *mag = fmax(*mag, len3(p0));
     *dist = fabs(side) * smin;
     return true;

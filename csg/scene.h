@@ -45,6 +45,8 @@ typedef struct {
     LEAF(CYLINDER, cylinder)                \
     LEAF(CONE, cone)                        \
     LEAF(PLANE, plane)                      \
+    LEAF(TORUS, torus)                      \
+    LEAF(QUADRIC, quadric)                  \
     LEAF(TRIANGLE, triangle)                \
     LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
     LEAF(POLYGON, polygon)                  \
@@ -231,9 +233,13 @@ struct csg_object {
      *             r1 (r0 < r1), or swept from the apex (`conic`): POV-Ray's
      *             prism (its xz outline swept
      *             along y is this under the transform that swaps y and z,
-     *             kept in xform) and each glyph of its text             */
+     *             kept in xform) and each glyph of its text
+     *   torus:    major radius r0, minor radius r1 (around the y axis)
+     *   quadric:  coef[0..9] = A..J of A x^2 + B y^2 + C z^2 + D xy + E xz
+     *             + F yz + G x + H y + I z + J (inside where <= 0)       */
     dvec3 a, b;
     double r0, r1;
+    double coef[10];
     /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]
      *   polygon:  verts[0 .. vert_count)  (planar, simple, maybe concave)
      *   mesh:     triangle k is verts[3k .. 3k+2], vert_count = 3 * count;

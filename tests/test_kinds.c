@@ -42,6 +42,8 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
     [CSG_OBJ_CYLINDER] = "cylinder { <0, -1, 5>, <0, 1, 5>, 1 }",
     [CSG_OBJ_CONE] = "cone { <0, -1, 5>, 1, <0, 1, 5>, 0.5 }",
     [CSG_OBJ_PLANE] = "plane { <0, 0, -1>, -5 }",
+    [CSG_OBJ_TORUS] = "torus { 1, 0.4 sturm translate <0, 0, 5> }",
+    [CSG_OBJ_QUADRIC] = "quadric { <1, 1, 1>, <0, 0, 0>, <0, 0, 0>, -1 translate <0, 0, 5> }",
     [CSG_OBJ_TRIANGLE] = "triangle { <-1, -1, 5>, <1, -1, 5>, <0, 1, 5> }",
     [CSG_OBJ_SMOOTH_TRIANGLE] = "smooth_triangle { <-1, -1, 5>, <0, 0, -1>, <1, -1, 5>, "
                                 "<0.1, 0, -1>, <0, 1, 5>, <0, 0.1, -1> }",

@@ -910,6 +910,50 @@ static void test_flat_boxes_flattened(void **state)
     }
 }
 
+/* Tori (tests/povray/torus.pov: turned, sheared, thin and far, a spindle
+ * one, as CSG operands): the OpenCL records are the C ones, in both
+ * variants (the packet kernel meets a torus only in CSG programs, which
+ * it evaluates through the one-ray code) and in the program specialised
+ * on the scene. */
+/* The records of the scene in `path` (its primitives of `kind`: `pieces`),
+ * both variants, two sizes; also the program specialised on the scene's
+ * kinds when `specialised` (a PoCL build of each variant: seconds). */
+static void check_pieces_file(void **state, const char *path, int kind, int pieces,
+                              bool specialised)
+{
+    fixture *fx = *state;
+    static const int cases[][2] = {{61, 37}, {96, 72}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        csg_blob blob = file_blob(path, NULL, cases[c][0], cases[c][1]);
+        const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+        const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                                 h->off_prims);
+        int found = 0;
+        for (int i = 0; i < h->prim_count; i++)
+            found += prims[i].kind == kind;
+        assert_int_equal(found, pieces);
+        for (int v = 0; v < VARIANTS; v++)
+            assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
+        if (c == 0 && specialised)
+            check_specialised(state, blob.bytes, path);
+        csg_blob_free(&blob);
+    }
+}
+
+static void test_torus_flattened(void **state)
+{
+    /* two pieces a torus; the specialised program is the one with double
+       arithmetic in a float build (poly_solve.h) */
+    check_pieces_file(state, "tests/povray/torus.pov", CSG_PRIM_TORUS, 2 * 10, true);
+}
+
+/* Quadrics (tests/povray/quadric.pov: closed, unbounded, cut, in CSG),
+ * the same way: two pieces each, evaluated by the one-ray code. */
+static void test_quadric_flattened(void **state)
+{
+    check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7, false);
+}
+
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
  * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
  * pixel, an image that cuts packets and slices of a few rows. */
@@ -1205,6 +1249,8 @@ int main(void)
         cmocka_unit_test(test_flat_boxes),
         cmocka_unit_test(test_flat_boxes_flattened),
         cmocka_unit_test(test_extrusions),
+        cmocka_unit_test(test_torus_flattened),
+        cmocka_unit_test(test_quadric_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -789,6 +789,253 @@ static void test_auto_precision(void **state)
     }
 }
 
+
+/* ---- the torus: its root solver and its span at the extremes ---------------- */
+
+/* csg_poly_roots (csg/device/poly_solve.h) on quartics whose roots are
+ * known: close simple roots, a double root (a grazing ray), none. */
+static void test_poly_roots(void **state)
+{
+    (void)state;
+    /* (x - 0.1)(x - 0.1001)(x + 0.5)(x - 0.7), expanded in double:
+       q[i] the coefficient of x^i */
+    double r4[4] = {0.1, 0.1001, -0.5, 0.7}, q[5] = {1, 0, 0, 0, 0};
+    for (int k = 0; k < 4; k++) { /* q *= (x - r4[k]) */
+        for (int i = k + 1; i >= 1; i--)
+            q[i] = q[i - 1] - r4[k] * q[i];
+        q[0] = -r4[k] * q[0];
+    }
+    double got[4];
+    int n = csg_poly_roots(q, 4, -1.0, 1.0, got);
+    assert_int_equal(n, 4);
+    double want[4] = {-0.5, 0.1, 0.1001, 0.7};
+    for (int k = 0; k < 4; k++)
+        assert_true(fabs(got[k] - want[k]) < 1e-8);
+    /* (x - 0.3)^2 (x + 0.2)(x - 0.9) = x^4 - 1.3x^3 + 0.33x^2 + 0.045x - 0.0162 */
+    double d2[5] = {-0.0162, 0.045, 0.33, -1.3, 1};
+    /* the double root is found once, or lost in the rounding of the
+       sequence (a grazing ray: no interval either way); the others stay */
+    n = csg_poly_roots(d2, 4, -1.0, 1.0, got);
+    assert_true(n == 2 || n == 3);
+    assert_true(fabs(got[0] + 0.2) < 1e-9 && fabs(got[n - 1] - 0.9) < 1e-9);
+    if (n == 3)
+        assert_true(fabs(got[1] - 0.3) < 1e-6);
+    double none[5] = {1, 0, 0, 0, 1}; /* x^4 + 1 */
+    assert_int_equal(csg_poly_roots(none, 4, -10.0, 10.0, got), 0);
+    double lin[5] = {-0.25, 1, 0, 0, 0}; /* x - 0.25: the leading zeros drop */
+    n = csg_poly_roots(lin, 4, -1.0, 1.0, got);
+    assert_int_equal(n, 1);
+    assert_true(fabs(got[0] - 0.25) < 1e-12);
+}
+
+/* The two pieces of torus (big, small) on the ray (o, d): their
+ * intervals, n of them (0 to 2). */
+static int torus_spans(double big, double small, const float o[3], const float d[3], float t0[2],
+                       float t1[2])
+{
+    int n = 0;
+    for (int piece = 0; piece < 2; piece++) {
+        csg_prim pr;
+        memset(&pr, 0, sizeof pr);
+        pr.kind = CSG_PRIM_TORUS;
+        pr.p[0] = (float)big;
+        pr.p[1] = (float)small;
+        pr.p[2] = (float)piece;
+        csg_ray r = {v3(o[0], o[1], o[2]), v3(d[0], d[1], d[2])};
+        float a = 0, b = 0;
+        csg_i32 s0, s1;
+        if (csg_prim_span(&pr, r, &a, &b, &s0, &s1)) {
+            assert_true(isfinite(a) && isfinite(b) && a < b);
+            assert_int_equal(n, piece); /* piece 1 only after piece 0 */
+            if (n > 0)
+                assert_true(t1[n - 1] < a);
+            t0[n] = a;
+            t1[n] = b;
+            n++;
+        }
+    }
+    return n;
+}
+
+/* A thin torus (r = 1e-3 R) seen from 1e4 away, along z at distance x0
+ * from its axis and height y0 (a line parallel to the axis plane meets the
+ * tube where its circle of radius w = sqrt(r^2 - y0^2) is: |rho - R| <=
+ * w, rho = sqrt(x0^2 + z^2)): the float parameters are within one unit in
+ * the last place of the exact ones (an interval shorter than that unit
+ * is lost: float's limit at that distance, not the solver's).  Then a ray grazing the top of a
+ * thin tube (y0 just below r: a tiny interval on each side; exactly r:
+ * a double root, nothing of any length; just above: nothing). */
+static void test_torus_extremes(void **state)
+{
+    (void)state;
+    const double big = 1, small = 1e-3, far = 1e4;
+    static const double cases[][3] = {/* x0, y0 / small, intervals */
+                                      {0.5, 0, 2}, {0.5, 0.7, 2}, {1.0, 0, 1}, {0.9995, 0.3, 1},
+                                      {0.2, 0.6, 2}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        double x0 = cases[c][0], y0 = cases[c][1] * small;
+        float o[3] = {(float)x0, (float)y0, (float)-far}, d[3] = {0, 0, 1}, t0[2], t1[2];
+        int n = torus_spans(big, small, o, d, t0, t1);
+        assert_int_equal(n, (int)cases[c][2]);
+        double w = sqrt(small * small - (double)o[1] * (double)o[1]);
+        double zo = sqrt((big + w) * (big + w) - (double)o[0] * (double)o[0]);
+        double ri = big - w, inner = ri > (double)o[0] ? sqrt(ri * ri - (double)o[0] * (double)o[0]) : 0;
+        double want0[2] = {far - zo, far + inner}, want1[2] = {far - inner, far + zo};
+        if (n == 1) /* the line stays in the tube across the axis plane */
+            want1[0] = far + zo;
+        double ulp = 1e4 * 1.2e-7;
+        for (int k = 0; k < n; k++) {
+            assert_true(fabs((double)t0[k] - want0[k]) <= ulp);
+            assert_true(fabs((double)t1[k] - want1[k]) <= ulp);
+        }
+    }
+    /* a spindle torus (R 0.3 < r 0.6), along y at x = 0.05: inside the
+       tube for |y| < sqrt(0.36 - 0.0625), its spindle (|y| < sqrt(0.36 -
+       0.1225)) included, as POV-Ray's default union mode: one interval */
+    {
+        float o[3] = {0.05f, -5, 0}, d[3] = {0, 1, 0}, t0[2], t1[2];
+        int n = torus_spans(0.3, 0.6, o, d, t0, t1);
+        assert_int_equal(n, 1);
+        double half = sqrt(0.36 - (0.3 - (double)o[0]) * (0.3 - (double)o[0]));
+        assert_true(fabs((double)t0[0] - (5 - half)) < 1e-5 && fabs((double)t1[0] - (5 + half)) < 1e-5);
+    }
+    /* grazing the top of the tube from 10 away, along x */
+    const double heights[] = {1 - 1e-4, 1.0, 1 + 1e-4};
+    for (int k = 0; k < 3; k++) {
+        float o[3] = {-10, (float)(heights[k] * small), 0}, d[3] = {1, 0, 0}, t0[2], t1[2];
+        int n = torus_spans(big, small, o, d, t0, t1);
+        if (k == 0) {
+            assert_int_equal(n, 2);
+            assert_true(fabs((double)t0[0] - 9) < 1e-4 && fabs((double)t1[1] - 11) < 1e-4);
+        } else {
+            for (int i = 0; i < n; i++) /* a double root may leave a sliver */
+                assert_true((double)(t1[i] - t0[i]) < 1e-5);
+            if (k == 2)
+                assert_int_equal(n, 0);
+        }
+    }
+}
+
+/* Random lines through a torus and its surroundings: the middle of every
+ * interval is inside (POV-Ray's test, in double) and the middle of every
+ * gap outside, unless the line passes within 1e-5 of the surface there. */
+static void test_torus_pieces_random(void **state)
+{
+    (void)state;
+    const double big = 1, small = 0.35;
+    uint64_t st = 12345;
+    int checked = 0, inside = 0;
+    for (int k = 0; k < 2000; k++) {
+        float o[3], d[3], t0[2], t1[2];
+        static const double aim[3] = {3, 1, 3}; /* towards the torus's box */
+        for (int i = 0; i < 3; i++) {
+            st = st * 6364136223846793005ull + 1442695040888963407ull;
+            o[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 8);
+            st = st * 6364136223846793005ull + 1442695040888963407ull;
+            d[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * aim[i]) - o[i];
+        }
+        int n = torus_spans(big, small, o, d, t0, t1);
+        inside += n;
+        double cuts[6] = {-20};
+        int m = 1;
+        for (int i = 0; i < n; i++) {
+            cuts[m++] = t0[i];
+            cuts[m++] = t1[i];
+        }
+        cuts[m++] = 20;
+        for (int i = 0; i + 1 < m; i++) {
+            double t = 0.5 * (cuts[i] + cuts[i + 1]);
+            double p[3];
+            for (int a = 0; a < 3; a++)
+                p[a] = (double)o[a] + t * (double)d[a];
+            double ring = sqrt(p[0] * p[0] + p[2] * p[2]) - big;
+            double dist = sqrt(p[1] * p[1] + ring * ring) - small;
+            if (fabs(dist) < 1e-5)
+                continue;
+            assert_true((dist < 0) == (i % 2 == 1));
+            checked++;
+        }
+    }
+    assert_true(checked > 4000 && inside > 1000);
+}
+
+/* Quadrics (world-space coefficients A..J, flat.h) on random lines: the
+ * pieces' intervals are sorted and disjoint, their middles inside (f <=
+ * 0, in double), the gaps' middles outside, unless the point is within
+ * 1e-6 (relative) of the surface; every kind of set a line can meet is
+ * reached (one interval, two half-lines, a half-line, the whole line). */
+static void test_quadric_pieces_random(void **state)
+{
+    (void)state;
+    static const double quads[][10] = {
+        {1, 4, 2, 0, 0, 0, 0, 0, 0, -1},          /* ellipsoid            */
+        {1, -1, 1, 0.4, 0, 0, 0, 0, 0, -0.3},     /* hyperboloid, 1 sheet */
+        {-1, 1, -1, 0, 0.2, 0, 0, 0, 0, -0.3},    /* 2 sheets, inside out */
+        {1, 0, 1, 0, 0, 0, 0, -1, 0, 0},          /* paraboloid           */
+        {0, 0, 0, 0, 0, 0, 0.3, 1, -0.2, 0.5},    /* a plane: linear      */
+    };
+    uint64_t st = 777;
+    int checked = 0, two = 0, unbounded = 0;
+    for (size_t q = 0; q < sizeof quads / sizeof quads[0]; q++)
+        for (int k = 0; k < 400; k++) {
+            float o[3], d[3];
+            for (int i = 0; i < 3; i++) {
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                o[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 6);
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                d[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 2);
+            }
+            float t0[2], t1[2];
+            int n = 0;
+            for (int piece = 0; piece < 2; piece++) {
+                csg_prim pr;
+                memset(&pr, 0, sizeof pr);
+                pr.kind = CSG_PRIM_QUADRIC;
+                for (int i = 0; i < 10; i++)
+                    pr.p[i] = (float)quads[q][i];
+                pr.p[10] = (float)piece;
+                csg_ray r = {v3(o[0], o[1], o[2]), v3(d[0], d[1], d[2])};
+                float a = 0, b = 0;
+                csg_i32 s0, s1;
+                if (csg_prim_span(&pr, r, &a, &b, &s0, &s1)) {
+                    assert_true(a < b && !isnan(a) && !isnan(b));
+                    assert_int_equal(n, piece);
+                    assert_true(n == 0 || t1[0] < a);
+                    unbounded += isinf(a) || isinf(b);
+                    t0[n] = a;
+                    t1[n] = b;
+                    n++;
+                }
+            }
+            two += n == 2;
+            double cuts[6];
+            int m = 0;
+            cuts[m++] = -1e3;
+            for (int i = 0; i < n; i++) {
+                cuts[m++] = fmax((double)t0[i], -1e3);
+                cuts[m++] = fmin((double)t1[i], 1e3);
+            }
+            cuts[m++] = 1e3;
+            for (int i = 0; i + 1 < m; i++) {
+                if (!(cuts[i] < cuts[i + 1]))
+                    continue;
+                double t = 0.5 * (cuts[i] + cuts[i + 1]), p[3];
+                for (int a = 0; a < 3; a++)
+                    p[a] = (double)o[a] + t * (double)d[a];
+                const double *c = quads[q];
+                double f = p[0] * (c[0] * p[0] + c[3] * p[1] + c[6]) +
+                           p[1] * (c[1] * p[1] + c[5] * p[2] + c[7]) +
+                           p[2] * (c[2] * p[2] + c[4] * p[0] + c[8]) + c[9];
+                double scale = 1 + p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+                if (fabs(f) < 1e-6 * scale)
+                    continue;
+                assert_true((f <= 0) == (i % 2 == 1));
+                checked++;
+            }
+        }
+    assert_true(checked > 2000 && two > 50 && unbounded > 50);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -803,6 +1050,10 @@ int main(void)
         cmocka_unit_test(test_offset_naive_vs_robust),
         cmocka_unit_test(test_no_nan_or_inf),
         cmocka_unit_test(test_auto_precision),
+        cmocka_unit_test(test_poly_roots),
+        cmocka_unit_test(test_torus_extremes),
+        cmocka_unit_test(test_torus_pieces_random),
+        cmocka_unit_test(test_quadric_pieces_random),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -47,6 +47,17 @@
  *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
  *           x <= p[2] y + p[3] z, p[4] z <= y <= p[5] z, p[6] <= z <= 1
  *           (every wall a plane through the apex: a convex piece)
+ *   torus   local frame: the ring in the xz plane around +y (POV-Ray's);
+ *           p[0] major radius R, p[1] minor radius r, p[2] the piece, 0 or
+ *           1: the first or the second interval of the line inside the
+ *           torus (the flattener emits both pieces, joined by union, and
+ *           never a piece alone as a root: see below)
+ *   quadric in world space (never CSG_PF_XFORM: the flattener transforms
+ *           the quadric itself, as POV-Ray does): p[0..9] the coefficients
+ *           A..J of A x^2 + B y^2 + C z^2 + D xy + E xz + F yz + G x + H y
+ *           + I z + J, inside where it is <= 0 (POV-Ray's); p[10] the
+ *           piece, 0 or 1, as the torus's (a line meets it in at most two
+ *           intervals, the outer ones maybe unbounded)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -67,9 +78,15 @@
  * lists (intersect.h), the complement, the shadow test and the flattener's
  * CSG_MAX_SPANS bound all build on it.  A primitive that breaks it must
  * say how it fits:
- *   - non-convex (a torus, a concave polygon): split it into convex
- *     pieces joined by union in the flattener, so each leaf still gives
- *     one interval;
+ *   - non-convex (a torus): split it into pieces joined by union in the
+ *     flattener, each leaf still giving one interval; a torus's piece k
+ *     is the k-th interval of the line inside the whole torus (a line
+ *     meets a torus in at most two), so the union of its pieces is the
+ *     torus and their complements' intersection its complement.  A
+ *     torus root is therefore always a CSG program, which the packet
+ *     kernel evaluates through the one-ray code (packet.h): the torus
+ *     test exists for one ray only (its root solver, poly_solve.h, is
+ *     not lane-generic);
  *   - not a solid (a triangle, a polygon, an open mesh: surfaces with no
  *     inside): it has no interval at all.  Those are CSG_SURFACE_KINDS:
  *     their csg_<name>_span reports a crossing of the surface as t0 == t1
@@ -88,7 +105,7 @@
  *     closed, holds nothing but the sheet itself. */
 #define CSG_SOLID_KINDS(X)                                                                         \
     X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TRAPEZOID, trapezoid)      \
-        X(CONIC_TRAPEZOID, conic_trapezoid)
+        X(CONIC_TRAPEZOID, conic_trapezoid) X(TORUS, torus) X(QUADRIC, quadric)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
@@ -131,6 +148,8 @@ enum csg_surface {
                                  of the y slab, 4 + the face of the z slab,
                                  as a box's faces (2 * axis + (1 if +))    */
     CSG_SURF_TRAP_SIDE_B = 1,
+    CSG_SURF_TORUS = 0,
+    CSG_SURF_QUADRIC = 0,
     CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
     CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
     CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that

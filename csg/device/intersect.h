@@ -48,6 +48,7 @@
 #define CSG_INTERSECT_H
 
 #include "flat.h"
+#include "poly_solve.h"
 #include "vec.h"
 
 /* csg_ray, csg_hit, the transforms, the primitive tests and the
@@ -763,6 +764,29 @@ CSG_FN vec3 csg_plane_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     (void)sub;
     (void)lp;
     return v3_load(p);
+}
+
+/* The torus's: from the point towards it off the ring's circle of radius
+ * R (POV-Ray's Torus::Normal; on the axis itself, the point's own). */
+CSG_FN vec3 csg_torus_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    real dist = r_sqrt(lp.x * lp.x + lp.z * lp.z);
+    if (!(dist > R(0.0)))
+        return lp;
+    real k = p[0] / dist;
+    return v3(lp.x - k * lp.x, lp.y, lp.z - k * lp.z);
+}
+
+/* The quadric's gradient (POV-Ray's Quadric::Normal), in world space. */
+CSG_FN vec3 csg_quadric_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    vec3 n = v3(R(2.0) * p[0] * lp.x + p[3] * lp.y + p[4] * lp.z + p[6],
+                p[3] * lp.x + R(2.0) * p[1] * lp.y + p[5] * lp.z + p[7],
+                p[4] * lp.x + p[5] * lp.y + R(2.0) * p[2] * lp.z + p[8]);
+    /* (a singular point, a cone's apex: POV-Ray's arbitrary direction) */
+    return v3_dot(n, n) > R(0.0) ? n : v3(R(1.0), R(0.0), R(0.0));
 }
 
 /* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */

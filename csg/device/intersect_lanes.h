@@ -325,6 +325,206 @@ CSG_FN L_INT L_FN(csg_conic_trapezoid_span)(CSG_GLOBAL const real *p, L_RAY r, L
     return ok & (*t0 < *t1);
 }
 
+#ifdef CSG_LANES_PACKET
+/* A torus is never a root alone (flat.h: the flattener joins its two
+ * pieces by union) and the packet kernel evaluates CSG programs through
+ * the one-ray code (packet.h, pk_try_root): never called. */
+CSG_FN L_INT L_FN(csg_torus_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                  L_INT *s0, L_INT *s1)
+{
+    (void)p;
+    (void)r;
+    (void)t0;
+    (void)t1;
+    (void)s0;
+    (void)s1;
+    return L_IS(0);
+}
+
+/* The same holds for a quadric (flat.h). */
+CSG_FN L_INT L_FN(csg_quadric_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                    L_INT *s0, L_INT *s1)
+{
+    return L_FN(csg_torus_span)(p, r, t0, t1, s0, s1);
+}
+#else
+#if CSG_USE_TORUS
+/* The quartic of the torus (flat.h) along the line, in double precision:
+ * x is the distance from the line's point nearest the centre, in units of
+ * the bounding sphere's radius S = R + r, so every root lies in [-1, 1]
+ * and the coefficients have the size of the torus however far the
+ * origin is (POV-Ray moves the origin towards the torus for the same
+ * reason).  q[i] is the coefficient of x^i; *tc the nearest point's
+ * parameter along the unit direction, c[] that point, *xr the chord's
+ * half length (0: the line misses the sphere). */
+CSG_FN void csg_torus_quartic(CSG_GLOBAL const real *p, const double *o, const double *u,
+                              double *q, double *tc, double *c, double *xr)
+{
+    double big = (double)p[0], small = (double)p[1], s = big + small;
+    *tc = -(o[0] * u[0] + o[1] * u[1] + o[2] * u[2]);
+    c[0] = o[0] + *tc * u[0];
+    c[1] = o[1] + *tc * u[1];
+    c[2] = o[2] + *tc * u[2];
+    double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    double h2 = s * s - cc;
+    *xr = h2 > 0.0 ? sqrt(h2) / s : 0.0;
+    /* |X|^2 - R^2 - r^2 and X.u along X = c + w u, w = s x (POV-Ray's
+     * Torus::Intersect with the origin at c) */
+    double rr = big * big, k1 = cc - rr - small * small, k2 = c[0] * u[0] + c[1] * u[1] + c[2] * u[2];
+    double w[5];
+    w[4] = 1.0;
+    w[3] = 4.0 * k2;
+    w[2] = 2.0 * (k1 + 2.0 * (k2 * k2 + rr * u[1] * u[1]));
+    w[1] = 4.0 * (k2 * k1 + 2.0 * rr * c[1] * u[1]);
+    w[0] = k1 * k1 + 4.0 * rr * (c[1] * c[1] - small * small);
+    double scale = 1.0;
+    for (csg_i32 i = 4; i >= 0; i--) {
+        q[i] = w[i] * scale; /* w[i] s^i / s^4 */
+        scale = scale / s;
+    }
+}
+
+/* Is the point c + w u inside the tube, (rho - R)^2 + y^2 < r^2?  (The
+ * quartic is that times (rho + R)^2 + y^2 - r^2, which is negative only
+ * in a spindle torus's spindle: POV-Ray's default spindle mode, union,
+ * counts the spindle inside, as this does.) */
+CSG_FN int csg_torus_inside(CSG_GLOBAL const real *p, const double *c, const double *u, double w)
+{
+    double x = c[0] + w * u[0], y = c[1] + w * u[1], z = c[2] + w * u[2];
+    double ring = sqrt(x * x + z * z) - (double)p[0], small = (double)p[1];
+    return ring * ring + y * y < small * small;
+}
+
+/* Piece p[2] of the torus: the p[2]-th interval of the line inside it
+ * (the roots cut the chord into runs; a run is inside where its middle
+ * is, csg_torus_inside; touching inside runs merge, so neither a grazing
+ * ray's double root nor a spindle's surface splits anything). */
+CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                              csg_i32 *s0, csg_i32 *s1)
+{
+    double d[3] = {(double)r.d.x, (double)r.d.y, (double)r.d.z};
+    double o[3] = {(double)r.o.x, (double)r.o.y, (double)r.o.z};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 0.0) || !(p[0] > R(0.0)) || !(p[1] > R(0.0)))
+        return 0;
+    double u[3] = {d[0] / len, d[1] / len, d[2] / len};
+    double q[5], tc, c[3], xr;
+    csg_torus_quartic(p, o, u, q, &tc, c, &xr);
+    if (!(xr > 0.0))
+        return 0;
+    xr = xr + 1e-6; /* the chord's ends strictly outside the torus */
+    double cut[6];
+    csg_i32 n = csg_poly_roots(q, 4, -xr, xr, cut + 1);
+    cut[0] = -xr;
+    cut[n + 1] = xr;
+    csg_i32 want = p[2] == R(1.0) ? 1 : 0, runs = 0;
+    double a = 0.0, b = 0.0, s = (double)p[0] + (double)p[1];
+    int open = 0, found = 0;
+    for (csg_i32 k = 0; k <= n && !found; k++) {
+        int in = csg_torus_inside(p, c, u, s * 0.5 * (cut[k] + cut[k + 1]));
+        if (in && !open) {
+            a = cut[k];
+            open = 1;
+        }
+        if (open && (!in || k == n)) { /* the run ended at cut[k] (or at the chord's end) */
+            b = in ? cut[k + 1] : cut[k];
+            open = 0;
+            found = runs == want;
+            runs++;
+        }
+    }
+    if (!found)
+        return 0;
+    *t0 = (real)((tc + s * a) / len);
+    *t1 = (real)((tc + s * b) / len);
+    *s0 = CSG_SURF_TORUS;
+    *s1 = CSG_SURF_TORUS;
+    return *t0 < *t1;
+}
+#else /* (a program without tori: no double arithmetic, poly_solve.h) */
+CSG_FN csg_i32 csg_torus_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                              csg_i32 *s0, csg_i32 *s1)
+{
+    (void)p;
+    (void)r;
+    (void)t0;
+    (void)t1;
+    (void)s0;
+    (void)s1;
+    return 0;
+}
+#endif
+
+#if CSG_USE_QUADRIC
+/* Piece p[10] of the quadric (flat.h): its set f <= 0 on the line, f(t) =
+ * a t^2 + 2 b t + c in double (POV-Ray's Quadric::Intersect), is one
+ * interval, the line minus one (two half-lines), a half-line, the whole
+ * line or nothing; piece 0 is the first of those intervals, piece 1 the
+ * second.  The roots by the stable form (q = -(b + sign(b) sqrt(disc)),
+ * roots q / a and c / q).  An unbounded end is -inf / +inf, sub -1. */
+CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                                csg_i32 *s0, csg_i32 *s1)
+{
+    double qa = (double)p[0], qb = (double)p[1], qc = (double)p[2], qd = (double)p[3];
+    double qe = (double)p[4], qf = (double)p[5], qg = (double)p[6], qh = (double)p[7];
+    double qi = (double)p[8], qj = (double)p[9];
+    double ox = (double)r.o.x, oy = (double)r.o.y, oz = (double)r.o.z;
+    double dx = (double)r.d.x, dy = (double)r.d.y, dz = (double)r.d.z;
+    double a = dx * (qa * dx + qd * dy + qe * dz) + dy * (qb * dy + qf * dz) + dz * qc * dz;
+    double b = dx * (qa * ox + 0.5 * (qd * oy + qe * oz + qg)) +
+               dy * (qb * oy + 0.5 * (qd * ox + qf * oz + qh)) +
+               dz * (qc * oz + 0.5 * (qe * ox + qf * oy + qi));
+    double c = ox * (qa * ox + qd * oy + qe * oz + qg) + oy * (qb * oy + qf * oz + qh) +
+               oz * (qc * oz + qi) + qj;
+    double inf = (double)CSG_R_INF, lo[2] = {-inf, inf}, hi[2] = {inf, inf};
+    csg_i32 n = 0;
+    if (a == 0.0) { /* linear: 2 b t + c <= 0 */
+        if (b != 0.0) {
+            double t = -0.5 * c / b;
+            lo[0] = b > 0.0 ? -inf : t;
+            hi[0] = b > 0.0 ? t : inf;
+            n = 1;
+        } else {
+            n = c <= 0.0 ? 1 : 0; /* the whole line, or nothing */
+        }
+    } else {
+        double disc = b * b - a * c;
+        if (disc > 0.0) {
+            double root = sqrt(disc);
+            double q = b >= 0.0 ? -(b + root) : -(b - root);
+            double ra = q / a, rb = q != 0.0 ? c / q : ra;
+            double u = ra < rb ? ra : rb, v = ra < rb ? rb : ra;
+            if (a > 0.0) { /* [u, v] */
+                lo[0] = u;
+                hi[0] = v;
+                n = 1;
+            } else { /* (-inf, u] and [v, inf) */
+                hi[0] = u;
+                lo[1] = v;
+                n = 2;
+            }
+        } else {
+            n = a < 0.0 ? 1 : 0; /* f < 0 everywhere, or nowhere below 0 */
+        }
+    }
+    csg_i32 want = p[10] == R(1.0) ? 1 : 0;
+    if (want >= n)
+        return 0;
+    *t0 = (real)lo[want];
+    *t1 = (real)hi[want];
+    *s0 = lo[want] == -inf ? -1 : CSG_SURF_QUADRIC;
+    *s1 = hi[want] == inf ? -1 : CSG_SURF_QUADRIC;
+    return *t0 < *t1;
+}
+#else /* (a program without quadrics) */
+CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                                csg_i32 *s0, csg_i32 *s1)
+{
+    return csg_torus_span(p, r, t0, t1, s0, s1);
+}
+#endif
+#endif
+
 /* The component of v along axis k (0, 1, 2), k chosen per lane. */
 CSG_FN L_REAL L_FN(csg_axis)(L_VEC3 v, L_INT k)
 {

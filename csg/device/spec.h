@@ -55,6 +55,16 @@
 #else
 #define CSG_USE_CONIC_TRAPEZOID 0
 #endif
+#ifdef CSG_HAS_TORUS
+#define CSG_USE_TORUS 1
+#else
+#define CSG_USE_TORUS 0
+#endif
+#ifdef CSG_HAS_QUADRIC
+#define CSG_USE_QUADRIC 1
+#else
+#define CSG_USE_QUADRIC 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -77,6 +87,8 @@
 #define CSG_USE_PLANE 1
 #define CSG_USE_TRAPEZOID 1
 #define CSG_USE_CONIC_TRAPEZOID 1
+#define CSG_USE_TORUS 1
+#define CSG_USE_QUADRIC 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1

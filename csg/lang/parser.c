@@ -311,6 +311,68 @@ static bool parse_cone(parser *p, csg_object *o)
     return true;
 }
 
+/* torus { R, r [union | merge | difference | intersection] }: POV-Ray's
+ * rules.  A negative radius stands for its magnitude and inverts the
+ * torus (POV-Ray warns and does the same).  The spindle modes matter only
+ * where R < r (a spindle torus): there only union, the default, is
+ * implemented (the quartic's own solid); intersection makes any torus a
+ * spindle one in POV-Ray and is refused. */
+static bool parse_torus(parser *p, csg_object *o)
+{
+    csg_loc at0, at1;
+    bool ok = lang_parse_float(p, &o->r0, &at0);
+    if (ok)
+        skip_comma(p, &ok);
+    if (!ok || !lang_parse_float(p, &o->r1, &at1))
+        return false;
+    if (o->r0 < 0 || o->r1 < 0) {
+        o->inverse = (o->r0 < 0) != (o->r1 < 0);
+        o->r0 = fabs(o->r0);
+        o->r1 = fabs(o->r1);
+    }
+    if (!(o->r0 > 0) || !(o->r1 > 0) || !isfinite(o->r0) || !isfinite(o->r1)) {
+        csg_error(p->d, !(o->r0 > 0) || !isfinite(o->r0) ? at0 : at1,
+                  "torus radii must be non-zero finite numbers, got %g and %g", o->r0, o->r1);
+        return false;
+    }
+    const csg_token *t = lang_tok(p);
+    bool mode = lang_is_kw(p, CSG_KW_UNION) || lang_is_kw(p, CSG_KW_MERGE) ||
+                lang_is_kw(p, CSG_KW_DIFFERENCE) || lang_is_kw(p, CSG_KW_INTERSECTION);
+    if (mode && (lang_is_kw(p, CSG_KW_INTERSECTION) ||
+                 (o->r0 < o->r1 && !lang_is_kw(p, CSG_KW_UNION)))) {
+        csg_error(p->d, t->loc, "the spindle torus mode '%.*s' is not supported (only union, "
+                                "the default)", (int)t->len, t->text);
+        return false;
+    }
+    return !mode || lang_next(p);
+}
+
+/* quadric { <A, B, C>, <D, E, F>, <G, H, I>, J } (POV-Ray's order: the
+ * squares, then xy, xz, yz, then x, y, z, then the constant). */
+static bool parse_quadric(parser *p, csg_object *o)
+{
+    dvec3 v[3];
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; k++) {
+        ok = lang_parse_vector(p, &v[k], NULL);
+        if (ok)
+            skip_comma(p, &ok);
+    }
+    if (!ok || !lang_parse_float(p, &o->coef[9], NULL))
+        return false;
+    for (int k = 0; k < 3; k++) {
+        o->coef[3 * k] = v[k].x;
+        o->coef[3 * k + 1] = v[k].y;
+        o->coef[3 * k + 2] = v[k].z;
+    }
+    for (int k = 0; k < 10; k++)
+        if (!isfinite(o->coef[k])) {
+            csg_error(p->d, o->loc, "quadric coefficients must be finite numbers");
+            return false;
+        }
+    return true;
+}
+
 static bool parse_plane(parser *p, csg_object *o)
 {
     csg_loc at;
@@ -667,6 +729,17 @@ static bool parse_flag(parser *p, csg_object *o, const char *name)
         o->hollow = f > 0 ? 1 : 2;
         return true;
     }
+    case CSG_KW_STURM: { /* sturm [BOOL]: the torus's roots always come from a Sturm
+                            sequence (csg/device/poly_solve.h) */
+        double f = 1;
+        if (o->kind != CSG_OBJ_TORUS) {
+            csg_error(p->d, p->tok.loc, "'sturm' applies only to torus, not to '%s'", name);
+            return false;
+        }
+        if (!lang_next(p))
+            return false;
+        return !lang_is_expr_start(p) || lang_parse_float(p, &f, NULL);
+    }
     default: /* CSG_KW_OPEN */
         if (o->kind != CSG_OBJ_CYLINDER && o->kind != CSG_OBJ_CONE) {
             csg_error(p->d, p->tok.loc, "'open' applies only to cylinder and cone, not to '%s'",
@@ -682,7 +755,8 @@ static bool parse_flag(parser *p, csg_object *o, const char *name)
 static bool is_flag(parser *p)
 {
     return lang_is_kw(p, CSG_KW_INVERSE) || lang_is_kw(p, CSG_KW_NO_SHADOW) ||
-           lang_is_kw(p, CSG_KW_OPEN) || lang_is_kw(p, CSG_KW_HOLLOW);
+           lang_is_kw(p, CSG_KW_OPEN) || lang_is_kw(p, CSG_KW_HOLLOW) ||
+           lang_is_kw(p, CSG_KW_STURM);
 }
 
 /* bounded_by { OBJECT... }: POV-Ray's manual bound, a speed hint whose
