@@ -151,7 +151,7 @@ static bool master_peer_gone(const master_session *m, int r)
     return false;
 }
 
-void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob)
+void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
 {
     if (m->workers == 0 || m->shared)
         return;
@@ -174,8 +174,19 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
         m->greeted = m->stopped = true; /* the workers exit at once */
         return;
     }
-    link_bcast(blob->bytes, blob->size);
+    link_scene_send(&m->scene, blob->bytes, blob->size, csg_blob_valid);
     m->bytes_sent += (uint64_t)m->workers * blob->size;
+    if (m->scene.shared) { /* the node's copy is the master's from now on */
+        free(blob->bytes);
+        blob->bytes = m->scene.bytes;
+    }
+}
+
+void master_release_scene(master_session *m, csg_blob *blob)
+{
+    if (m->scene.shared)
+        blob->bytes = NULL;
+    link_scene_free(&m->scene);
 }
 
 /* ---- receiving ------------------------------------------------------------ */
@@ -237,8 +248,10 @@ static int master_greeters_lost(master_session *m, const bool *greeted)
 static void master_greeting(master_session *m, const link_msg *msg, csg_diag *d)
 {
     m->bytes_received += (uint64_t)msg->len;
-    if (msg->tag == PROTO_TAG_READY)
+    if (msg->tag == PROTO_TAG_READY) {
+        m->scene_shared += proto_ready_scene_shared(msg->data, msg->len);
         return;
+    }
     m->setup_failed = true;
     if (msg->tag == PROTO_TAG_FAIL)
         master_report_fail(m, msg, d);

@@ -25,7 +25,12 @@
 #     1 to 5 ranks: the same image as serial, and a tile log that covers
 #     every tile exactly once (whole or as pieces), agrees with the stats
 #     and with the schedule (static: the k-th tile on worker k mod W, or
-#     under relays on a worker of relay k mod K).
+#     under relays on a worker of relay k mod K);
+#   - one copy of the scene per node (comm/mpi_link.h: link_scene): homo,
+#     hetero and under a relay every rank reads the master's copy in place
+#     (the stats' scene_shared_ranks, which a worker counts only once it
+#     has mapped that copy), with CSGTRACE_NODE_SCENE=off every rank holds
+#     its own; the same image as serial either way.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
@@ -549,6 +554,31 @@ for np in 3; do
             "$TMP/runaway.pov" --width 16 --height 12 --mode hetero --max-rays-per-pixel 64
     fi
 done
+
+# ---- one copy of the scene per node --------------------------------------------
+# scene_ranks NAME SHARED PRIVATE: the stats' counts of ranks reading the
+# node's one copy and of ranks holding their own.
+scene_ranks() {
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1]));
+sys.exit(0 if (j['scene_shared_ranks'], j['scene_private_ranks']) == (int(sys.argv[2]), int(sys.argv[3])) else 1)" \
+        "$TMP/$1.json" "$2" "$3"
+}
+render_same "one scene a node: homo K=4 == serial" "$R" shm-h4 4 "$first" "${SZ[@]}" \
+    --mode homo --tile 8 --stats "$TMP/shm-h4.json"
+check "one scene a node: homo K=4, all 4 ranks read the master's copy" scene_ranks shm-h4 4 0
+CSGTRACE_NODE_SCENE=off render_same "CSGTRACE_NODE_SCENE=off: homo K=3 == serial" "$R" shm-off 3 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-off.json"
+check "CSGTRACE_NODE_SCENE=off: each of the 3 ranks holds its own copy" scene_ranks shm-off 0 3
+render_same "one scene a node: homo K=5 --relays 1 == serial" "$R" shm-r1 5 "$first" "${SZ[@]}" \
+    --mode homo --tile 8 --relays 1 --stats "$TMP/shm-r1.json"
+check "one scene a node: the relay and its group read the master's copy" scene_ranks shm-r1 5 0
+if [ $have_cl = 1 ]; then
+    render_same "one scene a node: hetero K=3 == serial" "$R" shm-x3 3 "$first" "${SZ[@]}" \
+        --mode hetero --tile 8 --stats "$TMP/shm-x3.json"
+    check "one scene a node: hetero K=3, all 3 ranks read the master's copy" scene_ranks shm-x3 3 0
+fi
+render shm-s 0 "$first" "${SZ[@]}" --mode serial --stats "$TMP/shm-s.json"
+check "serial: one rank, its own copy" scene_ranks shm-s 0 1
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
