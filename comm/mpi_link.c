@@ -75,6 +75,7 @@
 #include <unistd.h>
 
 #include "deadline.h"
+#include "test_hooks.h"
 
 #define LINK_SPINS 200
 #define LINK_NAP_MIN_NS 1000L
@@ -1288,8 +1289,13 @@ static void link_node_start(void)
     int node_rank = 0, node_size = 1, leader_count = 0, ok = 1;
     if (link_threads || (setting && strcmp(setting, "off") == 0))
         return; /* (the same for every rank: the environment is the job's) */
-    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, link_w.rank, MPI_INFO_NULL,
-                            &node) != MPI_SUCCESS ||
+    /* (tests: nodes of N consecutive ranks pretended, so that leaders
+     * other than rank 0 and a rank alone on its node happen on one machine) */
+    long long pretend = test_hook_number(TEST_NODE_RANKS, 1 << 20);
+    if ((pretend > 0 ? MPI_Comm_split(MPI_COMM_WORLD, (int)(link_w.rank / pretend), link_w.rank,
+                                      &node)
+                     : MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, link_w.rank,
+                                           MPI_INFO_NULL, &node)) != MPI_SUCCESS ||
         MPI_Comm_rank(node, &node_rank) != MPI_SUCCESS ||
         MPI_Comm_size(node, &node_size) != MPI_SUCCESS)
         ok = 0;

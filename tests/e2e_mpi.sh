@@ -26,11 +26,13 @@
 #     every tile exactly once (whole or as pieces), agrees with the stats
 #     and with the schedule (static: the k-th tile on worker k mod W, or
 #     under relays on a worker of relay k mod K);
-#   - one copy of the scene per node (comm/mpi_link.h: link_scene): homo,
-#     hetero and under a relay every rank reads the master's copy in place
-#     (the stats' scene_shared_ranks, which a worker counts only once it
-#     has mapped that copy), with CSGTRACE_NODE_SCENE=off every rank holds
-#     its own; the same image as serial either way.
+#   - one copy of the scene per node (comm/mpi_link.h: link_scene): homo
+#     and under a relay every rank reads the master's copy in place (the
+#     stats' scene_shared_ranks, which a worker counts only once it has
+#     mapped that copy); nodes of 2 ranks pretended (homo, and hetero under
+#     --enable-recovery): the other leaders' nodes read their leader's copy,
+#     a rank alone on its node its own; with CSGTRACE_NODE_SCENE=off every
+#     rank holds its own; the same image as serial every time.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
@@ -572,10 +574,20 @@ check "CSGTRACE_NODE_SCENE=off: each of the 3 ranks holds its own copy" scene_ra
 render_same "one scene a node: homo K=5 --relays 1 == serial" "$R" shm-r1 5 "$first" "${SZ[@]}" \
     --mode homo --tile 8 --relays 1 --stats "$TMP/shm-r1.json"
 check "one scene a node: the relay and its group read the master's copy" scene_ranks shm-r1 5 0
+# Nodes of 2 ranks pretended (CSGTRACE_TEST_NODE_RANKS): ranks 2 and 4
+# lead their nodes, receive the scene over the leaders' communicator (or,
+# under --enable-recovery, sent one by one), check it and tell rank 3,
+# which maps rank 2's copy; rank 4 is alone on its node (its own copy).
+CSGTRACE_TEST_NODE_RANKS=2 render_same "nodes of 2 ranks: homo K=5 == serial" "$R" shm-n2 5 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-n2.json"
+check "nodes of 2 ranks: 4 ranks read their leader's copy, rank 4 (alone) its own" \
+    scene_ranks shm-n2 4 1
 if [ $have_cl = 1 ]; then
-    render_same "one scene a node: hetero K=3 == serial" "$R" shm-x3 3 "$first" "${SZ[@]}" \
-        --mode hetero --tile 8 --stats "$TMP/shm-x3.json"
-    check "one scene a node: hetero K=3, all 3 ranks read the master's copy" scene_ranks shm-x3 3 0
+    CSGTRACE_TEST_NODE_RANKS=2 MPIX="--enable-recovery" render_same \
+        "nodes of 2 ranks, --enable-recovery: hetero K=5 == serial" "$R" shm-n2x 5 "$first" \
+        "${SZ[@]}" --mode hetero --tile 8 --stats "$TMP/shm-n2x.json"
+    check "nodes of 2 ranks, --enable-recovery: 4 ranks read their leader's copy, rank 4 its own" \
+        scene_ranks shm-n2x 4 1
 fi
 render shm-s 0 "$first" "${SZ[@]}" --mode serial --stats "$TMP/shm-s.json"
 check "serial: one rank, its own copy" scene_ranks shm-s 0 1
