@@ -139,8 +139,9 @@ static struct {
     int *node_ranks;      /* their MPI_COMM_WORLD ranks, leader first    */
     int *leader_ranks;    /* a leader: every leader's MPI_COMM_WORLD rank */
     int leader_count;     /* (the master's first)                         */
+    int *leader_of;       /* [r]: rank r's node leader (every rank's)     */
 } link_w = {0, 1, NULL, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL, false, MPI_COMM_NULL, 0, 1,
-            NULL, NULL, 0};
+            NULL, NULL, 0, NULL};
 
 static int link_listen(link_watch_addr *a)
 {
@@ -1314,6 +1315,15 @@ static void link_node_start(void)
                 MPI_SUCCESS)
             ok = 0;
     }
+    int my_leader = ok ? ranks[0] : link_w.rank;
+    int *leader_of = malloc((size_t)link_w.size * sizeof *leader_of);
+    if (!leader_of) { /* (a few bytes a rank: the collective cannot be skipped) */
+        fprintf(stderr, "csgtrace: error: rank %d: out of memory at start\n", link_w.rank);
+        link_abort(1);
+    }
+    if (MPI_Allgather(&my_leader, 1, MPI_INT, leader_of, 1, MPI_INT, MPI_COMM_WORLD) !=
+        MPI_SUCCESS)
+        ok = 0;
     if (MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS)
         ok = 0; /* (every rank shares, or none) */
     if (node != MPI_COMM_NULL)
@@ -1321,6 +1331,7 @@ static void link_node_start(void)
     if (!ok) {
         free(ranks);
         free(leader_ranks);
+        free(leader_of);
         if (leaders != MPI_COMM_NULL)
             MPI_Comm_free(&leaders);
         return;
@@ -1334,6 +1345,12 @@ static void link_node_start(void)
     link_w.node_ranks = ranks;
     link_w.leader_ranks = leader_ranks;
     link_w.leader_count = leader_count;
+    link_w.leader_of = leader_of;
+}
+
+int link_node_leader(int rank)
+{
+    return link_w.leader_of && rank >= 0 && rank < link_w.size ? link_w.leader_of[rank] : rank;
 }
 
 static void link_scene_clear(link_scene *s, size_t size)

@@ -215,6 +215,11 @@ link_status link_scene_send(link_scene *s, const void *bytes, size_t size,
 link_status link_scene_receive(link_scene *s, size_t size, link_scene_check check);
 /* This rank's view of the scene gone (no call into MPI). */
 void link_scene_free(link_scene *s);
+/* The rank whose copy of the scene rank `rank` reads: its node's leader,
+ * or itself (a leader, or no sharing).  For the master's handshake: a
+ * rank whose leader died before telling it waits for ever, so it is
+ * written off with it (host/master.c). */
+int link_node_leader(int rank);
 
 /* Where a worker computes (link_bind_worker).  With more ranks on a node
  * than CPUs, launched unbound (`mpirun --bind-to none`, which rank 0

@@ -231,13 +231,34 @@ static void master_report_fail(const master_session *m, const link_msg *msg, csg
         csg_error_plain(d, "worker %d failed: %s", msg->source, text);
 }
 
-/* The workers that died before their handshake; how many. */
+/* Rank r (a relay: or one of its group) waits for the scene from its
+ * node's leader, which is gone: it would wait for ever (comm/mpi_link.h:
+ * link_node_leader).  That leader, or 0. */
+static int master_leader_gone(const master_session *m, int r)
+{
+    for (int k = -1; k < master_group_size(m, r); k++) {
+        int who = k < 0 ? r : proto_member(r, k, m->relays);
+        int leader = link_node_leader(who);
+        if (leader != who && leader > 0 && link_peer_lost(leader))
+            return leader;
+    }
+    return 0;
+}
+
+/* The workers that died before their handshake, or whose node's leader
+ * did; how many. */
 static int master_greeters_lost(master_session *m, const bool *greeted)
 {
     int n = 0;
     for (int r = 1; r <= m->children; r++) {
-        if (!greeted[r] && master_peer_gone(m, r)) {
+        int leader = 0;
+        if (greeted[r] || (m->lost && m->lost[r]))
+            continue;
+        if (master_peer_gone(m, r)) {
             master_mark_lost(m, r, 0, "its process is gone");
+            n++;
+        } else if ((leader = master_leader_gone(m, r)) > 0) {
+            master_mark_lost(m, r, 0, "its node's leader, rank %d, is gone: no scene", leader);
             n++;
         }
     }

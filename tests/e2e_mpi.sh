@@ -31,7 +31,8 @@
 #     stats' scene_shared_ranks, which a worker counts only once it has
 #     mapped that copy); nodes of 2 ranks pretended (homo, and hetero under
 #     --enable-recovery): the other leaders' nodes read their leader's copy,
-#     a rank alone on its node its own; with CSGTRACE_NODE_SCENE=off every
+#     a rank alone on its node its own, and a leader killed before the
+#     scene takes the rank waiting on it with it; with CSGTRACE_NODE_SCENE=off every
 #     rank holds its own; the same image as serial every time.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
@@ -589,6 +590,19 @@ if [ $have_cl = 1 ]; then
     check "nodes of 2 ranks, --enable-recovery: 4 ranks read their leader's copy, rank 4 its own" \
         scene_ranks shm-n2x 4 1
 fi
+# Rank 2, a leader, dies before the scene (--enable-recovery): rank 3
+# would wait for its word for ever; the master writes it off with it.
+CSGTRACE_TEST_NODE_RANKS=2 CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=scene \
+    CSGTRACE_TEST_KILL_AFTER=0 MPIX="--enable-recovery" render_same \
+    "nodes of 2 ranks, leader 2 killed before the scene: homo K=5 == serial" "$R" shm-kill 5 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-kill.json"
+leader_lost() {
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(0 if j['workers_lost'] == 2 else 1)" \
+        "$TMP/shm-kill.json" && grep -q "worker 3 lost (its node's leader, rank 2, is gone" \
+        "$TMP/shm-kill.err"
+}
+check "nodes of 2 ranks, leader 2 killed: rank 3 written off with it (workers_lost 2, one line)" \
+    leader_lost
 render shm-s 0 "$first" "${SZ[@]}" --mode serial --stats "$TMP/shm-s.json"
 check "serial: one rank, its own copy" scene_ranks shm-s 0 1
 
