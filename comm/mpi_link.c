@@ -1437,6 +1437,7 @@ link_status link_scene_send(link_scene *s, const void *bytes, size_t size,
     link_scene_clear(s, size);
     s->valid = check(bytes, size);
     s->bytes = (void *)bytes; /* (the caller's, until a shared copy is made) */
+    s->copies_sent = link_w.node_share ? link_w.leader_count - 1 : link_w.size - 1;
     if (!link_w.node_share)
         return link_bcast(s->bytes, size);
     if (link_w.node_size > 1 && link_scene_map_new(s))

@@ -197,6 +197,8 @@ typedef struct {
     bool owned;    /* bytes is this rank's own malloc'd copy             */
     int fd;        /* the copy's memfd (the leader keeps it open for the
                       render, so its node's ranks can open it), or -1   */
+    int copies_sent; /* the master: copies of the bytes it sent over MPI
+                        (one a node leader, or one a worker when off)  */
     struct {
         int32_t valid, pid, fd, pad;
         uint64_t size;

@@ -175,7 +175,7 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
         return;
     }
     link_scene_send(&m->scene, blob->bytes, blob->size, csg_blob_valid);
-    m->bytes_sent += (uint64_t)m->workers * blob->size;
+    m->bytes_sent += (uint64_t)m->scene.copies_sent * blob->size; /* (once a node) */
     if (m->scene.shared) { /* the node's copy is the master's from now on */
         free(blob->bytes);
         blob->bytes = m->scene.bytes;

@@ -135,8 +135,10 @@
  *   pixels_over_budget  pixels that met it: their deepest reflections
  *                 and refractions were not traced (0 in any usual scene)
  *   rays          {primary, shadow, reflected, refracted, total}
- *   bytes_sent    bytes the master sent to workers (the scene broadcast
- *                 counted once per worker + the tile messages)
+ *   bytes_sent    bytes the master sent to workers (the scene counted once
+ *                 per copy sent: once per node leader other than rank 0,
+ *                 or, without one copy a node, once per worker; + the
+ *                 tile messages)
  *   bytes_received bytes the master received from workers
  *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
  *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
