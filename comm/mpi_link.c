@@ -64,6 +64,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/random.h>
 #include <sys/resource.h>
@@ -73,6 +75,7 @@
 #include <unistd.h>
 
 #include "deadline.h"
+#include "test_hooks.h"
 
 #define LINK_SPINS 200
 #define LINK_NAP_MIN_NS 1000L
@@ -126,7 +129,19 @@ static struct {
     MPI_Comm bcast_comm;  /* the scene's chunks sent as messages (under
                              --enable-recovery: link_bcast) apart from
                              the protocol's, which are matched eagerly  */
-} link_w = {0, 1, NULL, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL};
+    /* One copy of the scene per node (link_scene_*): */
+    bool node_share;      /* on: the ranks of a node are found and their
+                             leaders have a communicator of their own   */
+    MPI_Comm leaders;     /* the node leaders (a node's lowest rank; rank
+                             0 is the first), MPI_COMM_NULL elsewhere   */
+    int node_rank;        /* this rank's place on its node (0: leader)  */
+    int node_size;        /* ranks on this node                          */
+    int *node_ranks;      /* their MPI_COMM_WORLD ranks, leader first    */
+    int *leader_ranks;    /* a leader: every leader's MPI_COMM_WORLD rank */
+    int leader_count;     /* (the master's first)                         */
+    int *leader_of;       /* [r]: rank r's node leader (every rank's)     */
+} link_w = {0, 1, NULL, NULL, NULL, false, -1, 0, 0, MPI_COMM_NULL, false, MPI_COMM_NULL, 0, 1,
+            NULL, NULL, 0, NULL};
 
 static int link_listen(link_watch_addr *a)
 {
@@ -483,6 +498,8 @@ void link_finish(void)
         link_fail_job();
 }
 
+static void link_node_start(void); /* (the scene's sharing: below) */
+
 bool link_start(int *rank, int *size)
 {
     int initialized = 0;
@@ -505,6 +522,7 @@ bool link_start(int *rank, int *size)
          * started later (PoCL's) inherit it. */
         prctl(PR_SET_TIMERSLACK, (unsigned long)LINK_NAP_MIN_NS);
         link_watch_start();
+        link_node_start();
         if (link_w.rank == 0)
             link_parent_watch_start();
     }
@@ -1163,22 +1181,26 @@ static bool link_bcast_direct(void)
     return link_w.watched && rec && strcmp(rec, "1") == 0;
 }
 
-static link_status link_bcast_send(const void *data, size_t size)
+/* The chunks to ranks to[0 .. n-1] (to NULL: every worker). */
+static link_status link_bcast_send(const void *data, size_t size, const int *to, int n_to)
 {
-    link_req *req = calloc((size_t)link_w.size, sizeof *req);
+    int n_dest = to ? n_to : link_w.size - 1;
+    link_req *req = calloc((size_t)n_dest + 1, sizeof *req);
     if (!req)
         return LINK_ERROR;
     link_status status = LINK_OK;
     for (size_t off = 0; off < size || off == 0; off += LINK_BCAST_CHUNK) {
         size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
-        for (int r = 1; r < link_w.size; r++)
+        for (int i = 0; i < n_dest; i++) {
+            int r = to ? to[i] : i + 1;
             if (!link_peer_lost(r) && link_isend_on(link_w.bcast_comm, r, LINK_TAG_BCAST,
                                                     (const char *)data + off, n,
-                                                    &req[r]) != LINK_OK)
+                                                    &req[i]) != LINK_OK)
                 status = LINK_ERROR;
-        for (int r = 1; r < link_w.size; r++)
-            if (req[r].active)
-                link_req_wait(&req[r]); /* (LINK_LOST: that worker is skipped from now) */
+        }
+        for (int i = 0; i < n_dest; i++)
+            if (req[i].active)
+                link_req_wait(&req[i]); /* (LINK_LOST: that worker is skipped from now) */
         if (size == 0)
             break;
     }
@@ -1203,19 +1225,26 @@ static link_status link_bcast_receive(void *data, size_t size)
     return status;
 }
 
-link_status link_bcast(void *data, size_t size)
+/* MPI_Bcast in chunks over `comm`, whose rank 0 is the master. */
+static link_status link_bcast_on(MPI_Comm comm, void *data, size_t size)
 {
-    if (link_bcast_direct())
-        return link_w.rank == 0 ? link_bcast_send(data, size) : link_bcast_receive(data, size);
     char sink[LINK_BCAST_CHUNK]; /* where a rank without memory receives */
     link_status status = LINK_OK;
     for (size_t off = 0; off < size; off += LINK_BCAST_CHUNK) {
         size_t n = size - off < LINK_BCAST_CHUNK ? size - off : LINK_BCAST_CHUNK;
-        if (MPI_Bcast(data ? (char *)data + off : sink, (int)n, MPI_BYTE, LINK_MASTER,
-                      MPI_COMM_WORLD) != MPI_SUCCESS)
+        if (MPI_Bcast(data ? (char *)data + off : sink, (int)n, MPI_BYTE, LINK_MASTER, comm) !=
+            MPI_SUCCESS)
             status = LINK_ERROR; /* every chunk still goes: the others wait for it */
     }
     return status;
+}
+
+link_status link_bcast(void *data, size_t size)
+{
+    if (link_bcast_direct())
+        return link_w.rank == 0 ? link_bcast_send(data, size, NULL, 0)
+                                : link_bcast_receive(data, size);
+    return link_bcast_on(MPI_COMM_WORLD, data, size);
 }
 
 link_status link_bcast_idle(void *data, size_t size)
@@ -1228,6 +1257,227 @@ link_status link_bcast_idle(void *data, size_t size)
         return LINK_ERROR;
     req.active = true;
     return link_req_wait(&req);
+}
+
+/* ---- the scene: one copy per node ---------------------------------------------
+ *
+ * Why a memfd rather than MPI_Win_allocate_shared: a window is freed by a
+ * collective call (MPI_Win_free) over the node's ranks, which would wait
+ * for ever on a worker that died or was stopped (the job must survive
+ * both: e2e_survive.sh, e2e_signals.sh).  A memfd needs no one's help to
+ * go: each rank unmaps its own view, and the kernel frees the pages with
+ * the last mapping, however the ranks end.  It has no name to leak either
+ * (a killed leader leaves nothing in /dev/shm).  The other ranks of the
+ * node open it through the leader's /proc/PID/fd/N, which the leader keeps
+ * open until its render ends: by then every live rank of the node has
+ * greeted the master, so has mapped the copy.  The copy's pages are
+ * reserved (fallocate) before a byte is written: short of memory, the
+ * leader learns it there, not from a SIGBUS later.
+ *
+ * The MPI side: MPI_Comm_split_type(MPI_COMM_TYPE_SHARED) once at start
+ * (every rank alive then), the node's ranks gathered, and a communicator
+ * of the leaders, over which the scene is broadcast (or, under
+ * --enable-recovery, sent to each leader: link_bcast_direct).  A leader
+ * tells its node with one small message each (eager: the send completes
+ * without the receiver, so a dead rank holds nobody up). */
+#define LINK_TAG_SCENE 32001 /* (above protocol.h's tags) */
+
+/* Every rank, once after MPI_Init (collective). */
+static void link_node_start(void)
+{
+    const char *setting = getenv("CSGTRACE_NODE_SCENE");
+    MPI_Comm node = MPI_COMM_NULL, leaders = MPI_COMM_NULL;
+    int node_rank = 0, node_size = 1, leader_count = 0, ok = 1;
+    if (link_threads || (setting && strcmp(setting, "off") == 0))
+        return; /* (the same for every rank: the environment is the job's) */
+    /* (tests: nodes of N consecutive ranks pretended, so that leaders
+     * other than rank 0 and a rank alone on its node happen on one machine) */
+    long long pretend = test_hook_number(TEST_NODE_RANKS, 1 << 20);
+    if ((pretend > 0 ? MPI_Comm_split(MPI_COMM_WORLD, (int)(link_w.rank / pretend), link_w.rank,
+                                      &node)
+                     : MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, link_w.rank,
+                                           MPI_INFO_NULL, &node)) != MPI_SUCCESS ||
+        MPI_Comm_rank(node, &node_rank) != MPI_SUCCESS ||
+        MPI_Comm_size(node, &node_size) != MPI_SUCCESS)
+        ok = 0;
+    int *ranks = ok ? malloc((size_t)node_size * sizeof *ranks) : NULL;
+    if (!ranks || MPI_Allgather(&link_w.rank, 1, MPI_INT, ranks, 1, MPI_INT, node) != MPI_SUCCESS)
+        ok = 0;
+    /* the leaders: each node's lowest rank (the key), so the master leads its own */
+    if (MPI_Comm_split(MPI_COMM_WORLD, ok && node_rank == 0 ? 0 : MPI_UNDEFINED, link_w.rank,
+                       &leaders) != MPI_SUCCESS)
+        ok = 0;
+    int *leader_ranks = NULL;
+    if (leaders != MPI_COMM_NULL) {
+        if (MPI_Comm_size(leaders, &leader_count) != MPI_SUCCESS ||
+            !(leader_ranks = malloc((size_t)leader_count * sizeof *leader_ranks)) ||
+            MPI_Allgather(&link_w.rank, 1, MPI_INT, leader_ranks, 1, MPI_INT, leaders) !=
+                MPI_SUCCESS)
+            ok = 0;
+    }
+    int my_leader = ok ? ranks[0] : link_w.rank;
+    int *leader_of = malloc((size_t)link_w.size * sizeof *leader_of);
+    if (!leader_of) { /* (a few bytes a rank: the collective cannot be skipped) */
+        fprintf(stderr, "csgtrace: error: rank %d: out of memory at start\n", link_w.rank);
+        link_abort(1);
+    }
+    if (MPI_Allgather(&my_leader, 1, MPI_INT, leader_of, 1, MPI_INT, MPI_COMM_WORLD) !=
+        MPI_SUCCESS)
+        ok = 0;
+    if (MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD) != MPI_SUCCESS)
+        ok = 0; /* (every rank shares, or none) */
+    if (node != MPI_COMM_NULL)
+        MPI_Comm_free(&node);
+    if (!ok) {
+        free(ranks);
+        free(leader_ranks);
+        free(leader_of);
+        if (leaders != MPI_COMM_NULL)
+            MPI_Comm_free(&leaders);
+        return;
+    }
+    MPI_Comm_set_errhandler(leaders == MPI_COMM_NULL ? MPI_COMM_WORLD : leaders,
+                            MPI_ERRORS_RETURN);
+    link_w.node_share = true;
+    link_w.leaders = leaders;
+    link_w.node_rank = node_rank;
+    link_w.node_size = node_size;
+    link_w.node_ranks = ranks;
+    link_w.leader_ranks = leader_ranks;
+    link_w.leader_count = leader_count;
+    link_w.leader_of = leader_of;
+}
+
+int link_node_leader(int rank)
+{
+    return link_w.leader_of && rank >= 0 && rank < link_w.size ? link_w.leader_of[rank] : rank;
+}
+
+static void link_scene_clear(link_scene *s, size_t size)
+{
+    memset(s, 0, sizeof *s);
+    s->size = size;
+    s->fd = -1;
+}
+
+/* A new shared copy of `size` bytes, writable (the leader's). */
+static bool link_scene_map_new(link_scene *s)
+{
+    size_t len = s->size ? s->size : 1;
+    int fd = memfd_create("csgtrace-scene", MFD_CLOEXEC);
+    void *p = MAP_FAILED;
+    if (fd >= 0 && fallocate(fd, 0, 0, (off_t)len) == 0)
+        p = mmap(NULL, len, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) {
+        if (fd >= 0)
+            close(fd);
+        return false;
+    }
+    s->bytes = p;
+    s->fd = fd;
+    s->shared = true;
+    return true;
+}
+
+/* The scene's bytes from the master to every node leader. */
+static link_status link_bcast_leaders(void *data, size_t size)
+{
+    if (link_bcast_direct())
+        return link_w.rank == 0 ? link_bcast_send(data, size, link_w.leader_ranks + 1,
+                                                  link_w.leader_count - 1)
+                                : link_bcast_receive(data, size);
+    return link_bcast_on(link_w.leaders, data, size);
+}
+
+/* A leader: the copy checked, read-only from now on; its node told where
+ * it is (or that it has none: pid 0) and whether it passed. */
+static void link_scene_tell_node(link_scene *s)
+{
+    if (s->shared)
+        mprotect(s->bytes, s->size ? s->size : 1, PROT_READ);
+    s->notice.valid = s->valid;
+    s->notice.pid = s->shared ? (int32_t)getpid() : 0;
+    s->notice.fd = s->fd;
+    s->notice.size = s->size;
+    for (int i = 1; i < link_w.node_size; i++) {
+        link_req req;
+        if (link_isend_on(link_w.bcast_comm, link_w.node_ranks[i], LINK_TAG_SCENE, &s->notice,
+                          sizeof s->notice, &req) == LINK_OK)
+            link_req_abandon(&req); /* (eager: it completes by itself) */
+    }
+}
+
+/* Not a leader: the leader's word, then its copy mapped read-only. */
+static link_status link_scene_map_leaders(link_scene *s)
+{
+    link_status status = link_recv_on(link_w.bcast_comm, (char *)&s->notice, sizeof s->notice,
+                                      link_w.node_ranks[0], LINK_TAG_SCENE);
+    if (status != LINK_OK)
+        return status;
+    if (s->notice.pid <= 0 || s->notice.size != s->size)
+        return LINK_ERROR; /* (the leader has no copy) */
+    char path[64];
+    snprintf(path, sizeof path, "/proc/%d/fd/%d", (int)s->notice.pid, (int)s->notice.fd);
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return LINK_ERROR;
+    void *p = mmap(NULL, s->size ? s->size : 1, PROT_READ, MAP_SHARED, fd, 0);
+    close(fd); /* (the mapping keeps the copy) */
+    if (p == MAP_FAILED)
+        return LINK_ERROR;
+    s->bytes = p;
+    s->shared = true;
+    s->valid = s->notice.valid != 0;
+    return LINK_OK;
+}
+
+link_status link_scene_send(link_scene *s, const void *bytes, size_t size,
+                            link_scene_check check)
+{
+    link_scene_clear(s, size);
+    s->valid = check(bytes, size);
+    s->bytes = (void *)bytes; /* (the caller's, until a shared copy is made) */
+    s->copies_sent = link_w.node_share ? link_w.leader_count - 1 : link_w.size - 1;
+    if (!link_w.node_share)
+        return link_bcast(s->bytes, size);
+    if (link_w.node_size > 1 && link_scene_map_new(s))
+        memcpy(s->bytes, bytes, size);
+    else
+        s->bytes = (void *)bytes;
+    link_status status = link_bcast_leaders((void *)bytes, size);
+    link_scene_tell_node(s);
+    return status;
+}
+
+link_status link_scene_receive(link_scene *s, size_t size, link_scene_check check)
+{
+    link_scene_clear(s, size);
+    if (link_w.node_share && link_w.node_rank > 0)
+        return link_scene_map_leaders(s);
+    link_status status;
+    if (link_w.node_share) { /* a node's leader */
+        if (link_w.node_size == 1 || !link_scene_map_new(s))
+            s->owned = (s->bytes = malloc(size ? size : 1)) != NULL;
+        status = link_bcast_leaders(s->bytes, size);
+    } else {
+        s->owned = (s->bytes = malloc(size ? size : 1)) != NULL;
+        status = link_bcast(s->bytes, size);
+    }
+    s->valid = status == LINK_OK && s->bytes && check(s->bytes, size);
+    if (link_w.node_share)
+        link_scene_tell_node(s);
+    return status;
+}
+
+void link_scene_free(link_scene *s)
+{
+    if (s->shared)
+        munmap(s->bytes, s->size ? s->size : 1);
+    else if (s->owned)
+        free(s->bytes);
+    if (s->shared && s->fd >= 0)
+        close(s->fd);
+    link_scene_clear(s, 0);
 }
 
 void link_abort(int code)

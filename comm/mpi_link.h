@@ -173,6 +173,56 @@ link_status link_bcast(void *data, size_t size);
  * broadcast's tree may then cost a nap (LINK_NAP_MAX_NS at most). */
 link_status link_bcast_idle(void *data, size_t size);
 
+/* ---- the scene: one copy per node ---------------------------------------------
+ *
+ * The ranks of a node (MPI_Comm_split_type, MPI_COMM_TYPE_SHARED) read
+ * one copy of the scene's bytes in place.  The master sends the bytes once
+ * per node, to the node leaders (each node's lowest rank; the master leads
+ * its own); a leader receives them into a shared mapping (a memfd), checks
+ * them once (`check`, the blob's validation) and tells the other ranks of
+ * its node where the copy is and whether it passed; they map it
+ * read-only.  The master's own node reads the master's copy, moved into
+ * its mapping.  Teardown is no collective call: each rank unmaps its view
+ * (link_scene_free) and the kernel frees the copy with its last mapping,
+ * so a dead or stopped rank holds nobody up (mpi_link.c).
+ * Off (every rank its own copy, through link_bcast): without mpirun, when
+ * the ranks are threads (the simulated build), with one rank a node, or
+ * with CSGTRACE_NODE_SCENE=off. */
+typedef struct {
+    void *bytes;   /* the scene (NULL: no memory for it); read-only once
+                      link_scene_* returned, unless private             */
+    size_t size;
+    bool shared;   /* bytes is the node's one copy, mapped              */
+    bool valid;    /* `check` passed, here or on the node's leader      */
+    bool owned;    /* bytes is this rank's own malloc'd copy             */
+    int fd;        /* the copy's memfd (the leader keeps it open for the
+                      render, so its node's ranks can open it), or -1   */
+    int copies_sent; /* the master: copies of the bytes it sent over MPI
+                        (one a node leader, or one a worker when off)  */
+    struct {
+        int32_t valid, pid, fd, pad;
+        uint64_t size;
+    } notice;      /* what a leader tells its node (kept until freed:
+                      it is sent in the background)                     */
+} link_scene;
+
+typedef bool (*link_scene_check)(const void *bytes, size_t size);
+
+/* Master: sends the scene's `size` bytes; *s is its copy from now on (the
+ * node's shared copy when one is made: the caller may then free its own).
+ * s->valid: `check` passed (the workers of the master's node trust it). */
+link_status link_scene_send(link_scene *s, const void *bytes, size_t size,
+                            link_scene_check check);
+/* Every other rank: the scene of `size` bytes (the setup's), checked. */
+link_status link_scene_receive(link_scene *s, size_t size, link_scene_check check);
+/* This rank's view of the scene gone (no call into MPI). */
+void link_scene_free(link_scene *s);
+/* The rank whose copy of the scene rank `rank` reads: its node's leader,
+ * or itself (a leader, or no sharing).  For the master's handshake: a
+ * rank whose leader died before telling it waits for ever, so it is
+ * written off with it (host/master.c). */
+int link_node_leader(int rank);
+
 /* Where a worker computes (link_bind_worker).  With more ranks on a node
  * than CPUs, launched unbound (`mpirun --bind-to none`, which rank 0
  * needs so that the OpenCL pass may use every core), Linux often leaves

@@ -15,9 +15,12 @@
  *                                        every rank exits with it (2: the
  *                                        scene is bad, 1: other failure)
  *      blob bytes                        only when status == 0: blob_size
- *                                        bytes (link_bcast, in chunks)
- *    A worker validates the bytes (csg_blob_valid), picks engine_for_blob
- *    and allocates its tile buffers (workers/tile.h: tile_runner).
+ *                                        bytes, once per node: to the node
+ *                                        leaders, whose ranks then map
+ *                                        the leader's copy (link_scene)
+ *    The node's leader validates the bytes (csg_blob_valid) for its node;
+ *    a worker picks engine_for_blob and allocates its tile buffers
+ *    (workers/tile.h: tile_runner).
  * 2. Handshake: every worker sends the master exactly one message,
  *      PROTO_TAG_READY (proto_ready)  or  PROTO_TAG_FAIL (proto_fail).
  * 3. Work (demand-driven: each worker is kept PROTO_IN_FLIGHT messages
@@ -114,9 +117,21 @@ typedef struct {
 #define PROTO_BATCH_BYTES ((size_t)2 << 20)
 
 typedef struct {
-    int32_t status; /* 0 */
-    int32_t pad;
+    int32_t status;       /* 0 */
+    int32_t scene_shared; /* ranks behind this READY (a worker: itself; a
+                             relay: itself and its group) that read their
+                             node's one copy of the scene in place
+                             (comm/mpi_link.h: link_scene)              */
 } proto_ready;
+
+/* proto_ready.scene_shared of a READY's bytes (0 when it is short). */
+static inline int proto_ready_scene_shared(const char *data, size_t len)
+{
+    proto_ready r = {0, 0};
+    if (len >= sizeof r)
+        memcpy(&r, data, sizeof r);
+    return r.scene_shared;
+}
 
 /* Work items a worker holds at most: the one it computes and the next. */
 #define PROTO_IN_FLIGHT 2

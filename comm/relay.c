@@ -86,6 +86,8 @@ typedef struct {
     int live;                  /* of them, not written off              */
     double busy_s;             /* their items' seconds so far           */
     long items;
+    int scene_shared;          /* workers of the group that read their
+                                  node's one copy of the scene (READY)  */
 } relay_state;
 
 /* ---- rank 0's TILEs ------------------------------------------------------- */
@@ -384,6 +386,8 @@ static void relay_greet(relay_state *s, link_msg *msg, char *why, size_t size)
                          s->rank);
             return; /* (rank 0 sees the lost worker) */
         }
+        if (msg->tag == PROTO_TAG_READY)
+            s->scene_shared += proto_ready_scene_shared(msg->data, msg->len);
         if (msg->tag == PROTO_TAG_FAIL && !why[0]) {
             relay_fail_text(msg, why, size);
         } else if (msg->tag != PROTO_TAG_READY && !why[0]) {
@@ -513,9 +517,9 @@ static void relay_free(relay_state *s)
     free(s->w);
 }
 
-int relay_run(int rank, const proto_setup *setup, const void *blob, size_t blob_size,
-              const char *failure)
+int relay_run(int rank, const proto_setup *setup, const link_scene *scene, const char *failure)
 {
+    const void *blob = scene->bytes;
     relay_state s;
     memset(&s, 0, sizeof s);
     s.rank = rank;
@@ -530,7 +534,7 @@ int relay_run(int rank, const proto_setup *setup, const void *blob, size_t blob_
     char why[PROTO_FAIL_TEXT] = "";
     if (failure && failure[0])
         snprintf(why, sizeof why, "%s", failure);
-    else if (!blob || !csg_blob_valid(blob, blob_size))
+    else if (!blob || !scene->valid) /* (checked once: link_scene_receive) */
         snprintf(why, sizeof why, "relay %d: received an invalid scene blob", rank);
     else if (setup->tile <= 0 || setup->batch < 1 || setup->batch > PROTO_BATCH_MAX)
         snprintf(why, sizeof why, "relay %d: no valid tile or batch size received", rank);
@@ -548,7 +552,7 @@ int relay_run(int rank, const proto_setup *setup, const void *blob, size_t blob_
         snprintf(f.text, sizeof f.text, "%s", why);
         link_send(LINK_MASTER, PROTO_TAG_FAIL, &f, sizeof f);
     } else {
-        proto_ready ready = {0, 0};
+        proto_ready ready = {0, s.scene_shared + scene->shared};
         link_send(LINK_MASTER, PROTO_TAG_READY, &ready, sizeof ready);
     }
     /* A failed relay still answers: every TILE with FAIL, until STOP. */

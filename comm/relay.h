@@ -24,13 +24,13 @@
 
 #include <stddef.h>
 
+#include "mpi_link.h"
 #include "protocol.h"
 
 /* Rank `rank` (1 .. setup->relays), once the setup and its blob were
- * received (blob NULL or `failure` non-empty: it cannot work): greets its
- * group, then relays until rank 0's STOP, whose status it returns after
- * passing it on. */
-int relay_run(int rank, const proto_setup *setup, const void *blob, size_t blob_size,
-              const char *failure);
+ * received and checked (scene->bytes NULL, scene->valid false or `failure`
+ * non-empty: it cannot work): greets its group, then relays until rank
+ * 0's STOP, whose status it returns after passing it on. */
+int relay_run(int rank, const proto_setup *setup, const link_scene *scene, const char *failure);
 
 #endif

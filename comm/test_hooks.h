@@ -34,7 +34,9 @@
     X(TEST_FILL_TILES, "CSGTRACE_TEST_FILL_TILES",                                             \
       "the fill claims at most so many tiles while a pass may come")                           \
     X(TEST_PASS_PAYS_MS, "CSGTRACE_TEST_PASS_PAYS_MS",                                         \
-      "--pass auto's threshold, in ms of guessed primary-ray work")
+      "--pass auto's threshold, in ms of guessed primary-ray work")                           \
+    X(TEST_NODE_RANKS, "CSGTRACE_TEST_NODE_RANKS",                                             \
+      "one machine pretends nodes of N consecutive ranks (the scene's copy a node)")
 
 enum test_hook {
 #define TEST_HOOK_ID(id, name, what) id,

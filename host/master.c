@@ -151,7 +151,7 @@ static bool master_peer_gone(const master_session *m, int r)
     return false;
 }
 
-void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob)
+void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
 {
     if (m->workers == 0 || m->shared)
         return;
@@ -174,8 +174,19 @@ void master_share_scene(master_session *m, int status, int tile, const csg_blob 
         m->greeted = m->stopped = true; /* the workers exit at once */
         return;
     }
-    link_bcast(blob->bytes, blob->size);
-    m->bytes_sent += (uint64_t)m->workers * blob->size;
+    link_scene_send(&m->scene, blob->bytes, blob->size, csg_blob_valid);
+    m->bytes_sent += (uint64_t)m->scene.copies_sent * blob->size; /* (once a node) */
+    if (m->scene.shared) { /* the node's copy is the master's from now on */
+        free(blob->bytes);
+        blob->bytes = m->scene.bytes;
+    }
+}
+
+void master_release_scene(master_session *m, csg_blob *blob)
+{
+    if (m->scene.shared)
+        blob->bytes = NULL;
+    link_scene_free(&m->scene);
 }
 
 /* ---- receiving ------------------------------------------------------------ */
@@ -220,13 +231,34 @@ static void master_report_fail(const master_session *m, const link_msg *msg, csg
         csg_error_plain(d, "worker %d failed: %s", msg->source, text);
 }
 
-/* The workers that died before their handshake; how many. */
+/* Rank r (a relay: or one of its group) waits for the scene from its
+ * node's leader, which is gone: it would wait for ever (comm/mpi_link.h:
+ * link_node_leader).  That leader, or 0. */
+static int master_leader_gone(const master_session *m, int r)
+{
+    for (int k = -1; k < master_group_size(m, r); k++) {
+        int who = k < 0 ? r : proto_member(r, k, m->relays);
+        int leader = link_node_leader(who);
+        if (leader != who && leader > 0 && link_peer_lost(leader))
+            return leader;
+    }
+    return 0;
+}
+
+/* The workers that died before their handshake, or whose node's leader
+ * did; how many. */
 static int master_greeters_lost(master_session *m, const bool *greeted)
 {
     int n = 0;
     for (int r = 1; r <= m->children; r++) {
-        if (!greeted[r] && master_peer_gone(m, r)) {
+        int leader = 0;
+        if (greeted[r] || (m->lost && m->lost[r]))
+            continue;
+        if (master_peer_gone(m, r)) {
             master_mark_lost(m, r, 0, "its process is gone");
+            n++;
+        } else if ((leader = master_leader_gone(m, r)) > 0) {
+            master_mark_lost(m, r, 0, "its node's leader, rank %d, is gone: no scene", leader);
             n++;
         }
     }
@@ -237,8 +269,10 @@ static int master_greeters_lost(master_session *m, const bool *greeted)
 static void master_greeting(master_session *m, const link_msg *msg, csg_diag *d)
 {
     m->bytes_received += (uint64_t)msg->len;
-    if (msg->tag == PROTO_TAG_READY)
+    if (msg->tag == PROTO_TAG_READY) {
+        m->scene_shared += proto_ready_scene_shared(msg->data, msg->len);
         return;
+    }
     m->setup_failed = true;
     if (msg->tag == PROTO_TAG_FAIL)
         master_report_fail(m, msg, d);

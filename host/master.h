@@ -63,6 +63,10 @@ typedef struct {
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
     const master_costs *costs; /* the simulated build's (NULL: none)      */
+    link_scene scene;         /* the master's view of the scene once shared:
+                                 its node's one copy when one was made    */
+    int scene_shared;         /* worker and relay ranks that said (READY)
+                                 they read their node's one copy in place */
 } master_session;
 
 /* One tile phase: what to do and where the results go. */
@@ -111,8 +115,13 @@ bool master_idle_init(link_idle *idle);
 
 /* Broadcasts the status, the batch limit (m->batch resolved with
  * sched_batch_limit) and the results' pixel format (m->pixels), then
- * (status 0) the blob. */
-void master_share_scene(master_session *m, int status, int tile, const csg_blob *blob);
+ * (status 0) the blob, once per node (comm/mpi_link.h: link_scene).  When
+ * the master's node got one shared copy, blob->bytes is that copy from
+ * now on (read-only; the malloc'd one freed): master_release_scene. */
+void master_share_scene(master_session *m, int status, int tile, csg_blob *blob);
+/* The master's view of the shared scene gone, blob->bytes NULL then (the
+ * caller frees a blob that was not shared, as before). */
+void master_release_scene(master_session *m, csg_blob *blob);
 
 /* Handshake, then every item of job->sched through the workers, feeding
  * the scheduler as the tiles become ready; false with d filled (one

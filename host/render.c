@@ -705,6 +705,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
     st.workers_lost = ms.workers_lost;
+    st.scene_shared_ranks = ms.scene_shared + (ms.scene.shared ? 1 : 0);
+    st.scene_private_ranks = ms.workers + 1 - st.scene_shared_ranks;
 
     if (status == EXIT_OK) {
         signals_hold();
@@ -739,6 +741,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
         render_report(&d);
     }
     master_end(&ms, status);
+    master_release_scene(&ms, &rs.blob);
     render_free(&rs);
     return status;
 }

@@ -176,6 +176,8 @@ void stats_print_json(FILE *f, const render_stats *s)
                "  \"memory_estimate\": %llu,\n",
             (unsigned long long)s->bytes_sent, (unsigned long long)s->bytes_received,
             (unsigned long long)s->blob_bytes, (unsigned long long)s->memory_estimate);
+    fprintf(f, "  \"scene_shared_ranks\": %d,\n  \"scene_private_ranks\": %d,\n",
+            s->scene_shared_ranks, s->scene_private_ranks);
     fputs("  \"result_pixels\": ", f);
     stats_string(f, s->result_pixels ? s->result_pixels : "none");
     fputs(",\n", f);

@@ -135,14 +135,22 @@
  *   pixels_over_budget  pixels that met it: their deepest reflections
  *                 and refractions were not traced (0 in any usual scene)
  *   rays          {primary, shadow, reflected, refracted, total}
- *   bytes_sent    bytes the master sent to workers (the scene broadcast
- *                 counted once per worker + the tile messages)
+ *   bytes_sent    bytes the master sent to workers (the scene counted once
+ *                 per copy sent: once per node leader other than rank 0,
+ *                 or, without one copy a node, once per worker; + the
+ *                 tile messages)
  *   bytes_received bytes the master received from workers
  *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
  *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
  *                 comm/pixels.h), "float" (EXR or no file), "none" (no
  *                 workers)
  *   blob_bytes    size of the flattened scene
+ *   scene_shared_ranks   ranks (the master included) that read their
+ *                 node's one copy of the blob in place (comm/mpi_link.h:
+ *                 link_scene): a node then holds it once
+ *   scene_private_ranks  ranks that hold a copy of their own (the rest:
+ *                 serial, the simulated build, CSGTRACE_NODE_SCENE=off, a
+ *                 rank alone on its node); each holds blob_bytes
  *   memory_estimate  bytes the process that owns the image was estimated
  *                 to hold at its peak before it allocated any
  *                 (host/memory.h: the image, the encoder, the tiles'
@@ -222,6 +230,7 @@ typedef struct render_stats {
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;
+    int scene_shared_ranks, scene_private_ranks; /* (see above) */
     uint64_t memory_estimate; /* host/memory.h: render_memory_need's total */
     int worker_count;       /* ranks - 1 (the relays' entries first)  */
     stats_worker *workers;  /* worker_count entries (not owned)      */

@@ -300,7 +300,7 @@ static const master_costs sim_master_charges = {sim_charge_master_message,
                                                 sim_charge_master_part, sim_master_store_drain};
 
 /* The master's whole job: broadcast, tiles, STOP; false on a failure. */
-static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, int ranks,
+static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int ranks,
                        sim_result *out)
 {
     master_session m;
@@ -339,6 +339,7 @@ static bool sim_master(const sim_args *a, sim_run *run, const csg_blob *blob, in
         run->pass_t0 = stats_clock() + sim_env_number("CSGSIM_PASS_DELAY_S", 0);
         ok = master_run_tiles(&m, &job, &d);
         master_end(&m, ok ? 0 : 1);
+        master_release_scene(&m, blob); /* (threads: never shared, the blob stays) */
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
                             run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
                             0, 0, 0};

@@ -25,7 +25,15 @@
 #     1 to 5 ranks: the same image as serial, and a tile log that covers
 #     every tile exactly once (whole or as pieces), agrees with the stats
 #     and with the schedule (static: the k-th tile on worker k mod W, or
-#     under relays on a worker of relay k mod K).
+#     under relays on a worker of relay k mod K);
+#   - one copy of the scene per node (comm/mpi_link.h: link_scene): homo
+#     and under a relay every rank reads the master's copy in place (the
+#     stats' scene_shared_ranks, which a worker counts only once it has
+#     mapped that copy); nodes of 2 ranks pretended (homo, and hetero under
+#     --enable-recovery): the other leaders' nodes read their leader's copy,
+#     a rank alone on its node its own, and a leader killed before the
+#     scene takes the rank waiting on it with it; with CSGTRACE_NODE_SCENE=off every
+#     rank holds its own; the same image as serial every time.
 # Prints one line per check and "N passed, N failed"; exits 1 on failure.
 # Usage: tests/e2e_mpi.sh [path/to/csgtrace]   (default build/csgtrace)
 set -u
@@ -555,6 +563,54 @@ for np in 3; do
             "$TMP/runaway.pov" --width 16 --height 12 --mode hetero --max-rays-per-pixel 64
     fi
 done
+
+# ---- one copy of the scene per node --------------------------------------------
+# scene_ranks NAME SHARED PRIVATE: the stats' counts of ranks reading the
+# node's one copy and of ranks holding their own.
+scene_ranks() {
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1]));
+sys.exit(0 if (j['scene_shared_ranks'], j['scene_private_ranks']) == (int(sys.argv[2]), int(sys.argv[3])) else 1)" \
+        "$TMP/$1.json" "$2" "$3"
+}
+render_same "one scene a node: homo K=4 == serial" "$R" shm-h4 4 "$first" "${SZ[@]}" \
+    --mode homo --tile 8 --stats "$TMP/shm-h4.json"
+check "one scene a node: homo K=4, all 4 ranks read the master's copy" scene_ranks shm-h4 4 0
+CSGTRACE_NODE_SCENE=off render_same "CSGTRACE_NODE_SCENE=off: homo K=3 == serial" "$R" shm-off 3 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-off.json"
+check "CSGTRACE_NODE_SCENE=off: each of the 3 ranks holds its own copy" scene_ranks shm-off 0 3
+render_same "one scene a node: homo K=5 --relays 1 == serial" "$R" shm-r1 5 "$first" "${SZ[@]}" \
+    --mode homo --tile 8 --relays 1 --stats "$TMP/shm-r1.json"
+check "one scene a node: the relay and its group read the master's copy" scene_ranks shm-r1 5 0
+# Nodes of 2 ranks pretended (CSGTRACE_TEST_NODE_RANKS): ranks 2 and 4
+# lead their nodes, receive the scene over the leaders' communicator (or,
+# under --enable-recovery, sent one by one), check it and tell rank 3,
+# which maps rank 2's copy; rank 4 is alone on its node (its own copy).
+CSGTRACE_TEST_NODE_RANKS=2 render_same "nodes of 2 ranks: homo K=5 == serial" "$R" shm-n2 5 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-n2.json"
+check "nodes of 2 ranks: 4 ranks read their leader's copy, rank 4 (alone) its own" \
+    scene_ranks shm-n2 4 1
+if [ $have_cl = 1 ]; then
+    CSGTRACE_TEST_NODE_RANKS=2 MPIX="--enable-recovery" render_same \
+        "nodes of 2 ranks, --enable-recovery: hetero K=5 == serial" "$R" shm-n2x 5 "$first" \
+        "${SZ[@]}" --mode hetero --tile 8 --stats "$TMP/shm-n2x.json"
+    check "nodes of 2 ranks, --enable-recovery: 4 ranks read their leader's copy, rank 4 its own" \
+        scene_ranks shm-n2x 4 1
+fi
+# Rank 2, a leader, dies before the scene (--enable-recovery): rank 3
+# would wait for its word for ever; the master writes it off with it.
+CSGTRACE_TEST_NODE_RANKS=2 CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AT=scene \
+    CSGTRACE_TEST_KILL_AFTER=0 MPIX="--enable-recovery" render_same \
+    "nodes of 2 ranks, leader 2 killed before the scene: homo K=5 == serial" "$R" shm-kill 5 \
+    "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/shm-kill.json"
+leader_lost() {
+    python3 -c "import json,sys; j=json.load(open(sys.argv[1])); sys.exit(0 if j['workers_lost'] == 2 else 1)" \
+        "$TMP/shm-kill.json" && grep -q "worker 3 lost (its node's leader, rank 2, is gone" \
+        "$TMP/shm-kill.err"
+}
+check "nodes of 2 ranks, leader 2 killed: rank 3 written off with it (workers_lost 2, one line)" \
+    leader_lost
+render shm-s 0 "$first" "${SZ[@]}" --mode serial --stats "$TMP/shm-s.json"
+check "serial: one rank, its own copy" scene_ranks shm-s 0 1
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -95,6 +95,14 @@ static void rogue_reply(const char *mode, const link_msg *in, int pixels, int pa
     free(msg);
 }
 
+/* The scene's check: a rogue takes whatever comes. */
+static bool rogue_accept(const void *bytes, size_t size)
+{
+    (void)bytes;
+    (void)size;
+    return true;
+}
+
 int main(int argc, char **argv)
 {
     int rank, size;
@@ -104,9 +112,9 @@ int main(int argc, char **argv)
     link_bcast_idle(&setup, sizeof setup);
     if (setup.status != 0)
         return 0;
-    void *blob = malloc(setup.blob_size ? setup.blob_size : 1);
-    link_bcast(blob, setup.blob_size);
-    free(blob);
+    link_scene scene; /* (taken as a worker takes it; never read) */
+    link_scene_receive(&scene, setup.blob_size, rogue_accept);
+    link_scene_free(&scene);
     int parent = proto_parent(rank, setup.relays);
     proto_ready ready = {0, 0};
     link_send(parent, PROTO_TAG_READY, &ready, sizeof ready);

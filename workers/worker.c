@@ -1,7 +1,8 @@
 /*
  * worker.c — a worker rank of the tile protocol (comm/protocol.h).
  *
- * Algorithm: take part in the setup broadcast; validate the blob and set
+ * Algorithm: take part in the setup broadcast; take the blob (this node's one
+ * copy, validated once: comm/mpi_link.h, link_scene) and set
  * up a tile runner for it (workers/tile.h); send READY (or FAIL with the
  * reason); then answer every TILE with one RESULT (tile_run_rect over the
  * rectangle of each of its parts, the parts' answers in one message) or
@@ -52,8 +53,8 @@ typedef struct {
     int parent;           /* the rank TILEs come from: 0 or a relay   */
     int tiles_done;
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
-    void *blob;
-    size_t blob_size;
+    link_scene scene;     /* the blob: this rank's, or its node's one
+                             copy, mapped (comm/mpi_link.h)            */
     tile_runner runner;   /* set up once the blob is valid            */
     link_msg queue[WORKER_QUEUE]; /* messages from the master, in order */
     bool stop_queued;             /* the STOP is in the queue: what comes
@@ -84,15 +85,16 @@ static void worker_set_failure(worker_state *w, const char *fmt, ...)
     va_end(ap);
 }
 
-/* The blob; received into a sink when out of memory. */
+/* The blob, validated here or by this node's leader; received into a
+ * sink when out of memory. */
 static void worker_receive_blob(worker_state *w, size_t size)
 {
-    w->blob = malloc(size ? size : 1);
-    w->blob_size = size;
-    if (link_bcast(w->blob, size) != LINK_OK)
+    if (link_scene_receive(&w->scene, size, csg_blob_valid) != LINK_OK)
         worker_set_failure(w, "the scene broadcast failed");
-    if (!w->blob)
+    if (!w->scene.bytes)
         worker_set_failure(w, "out of memory for the scene (%zu bytes)", size);
+    else if (!w->scene.valid)
+        worker_set_failure(w, "received an invalid scene blob (%zu bytes)", size);
 }
 
 /* tile_runner.progress: between bands of an item, this rank's transfers
@@ -108,10 +110,6 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
 {
     if (w->failure[0])
         return;
-    if (!csg_blob_valid(w->blob, w->blob_size)) {
-        worker_set_failure(w, "received an invalid scene blob (%zu bytes)", w->blob_size);
-        return;
-    }
     if (setup->tile <= 0) {
         worker_set_failure(w, "no valid tile size for the scene received");
         return;
@@ -120,7 +118,7 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
         worker_set_failure(w, "no valid batch size received (%d)", (int)setup->batch);
         return;
     }
-    bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
+    bool ok = tile_runner_init(&w->runner, w->scene.bytes, setup->tile);
     w->runner.progress = worker_progress; /* (its answers move on meanwhile) */
     const tile_grid *g = &w->runner.grid;
     if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
@@ -260,7 +258,7 @@ static void worker_flush(worker_state *w)
 
 static void worker_free(worker_state *w)
 {
-    free(w->blob);
+    link_scene_free(&w->scene);
     free(w->rgb);
     tile_runner_free(&w->runner);
     for (int i = 0; i < WORKER_QUEUE; i++)
@@ -334,8 +332,8 @@ int worker_run(int rank, const char *bind)
     test_hook_kill(rank, "scene", 0);
     worker_receive_blob(&w, (size_t)setup.blob_size);
     if (rank <= setup.relays) { /* a relay: the master of a group */
-        int status = relay_run(rank, &setup, w.blob, w.blob_size, w.failure);
-        free(w.blob);
+        int status = relay_run(rank, &setup, &w.scene, w.failure);
+        link_scene_free(&w.scene);
         return status;
     }
     w.parent = proto_parent(rank, setup.relays);
@@ -344,7 +342,7 @@ int worker_run(int rank, const char *bind)
     if (w.failure[0]) {
         worker_send_fail(&w, -1, w.failure);
     } else {
-        proto_ready ready = {0, 0};
+        proto_ready ready = {0, w.scene.shared};
         test_hook_kill(rank, "ready", 0);
         link_send(w.parent, PROTO_TAG_READY, &ready, sizeof ready);
     }
