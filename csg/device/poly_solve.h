@@ -150,6 +150,21 @@ CSG_FN csg_i32 csg_sturm_changes(const csg_sturm *s, double x)
     return changes;
 }
 
+/* The bracket (a, b] (va, vb: V there) cut at m to the half that holds
+ * the first root after a. */
+CSG_FN void csg_sturm_halve(const csg_sturm *s, double m, double *a, double *b, csg_i32 *va,
+                            csg_i32 *vb)
+{
+    csg_i32 vm = csg_sturm_changes(s, m);
+    if (*va - vm >= 1) {
+        *b = m;
+        *vb = vm;
+    } else {
+        *a = m;
+        *va = vm;
+    }
+}
+
 /* The one distinct root in (a, b] (va, vb: V there), refined to the
  * tolerance: by the sign of p when it changes over the bracket, else by
  * the Sturm count. */
@@ -174,14 +189,7 @@ CSG_FN double csg_sturm_refine(const csg_sturm *s, double a, double b, csg_i32 v
                 b = m;
             }
         } else {
-            csg_i32 vm = csg_sturm_changes(s, m);
-            if (va - vm >= 1) {
-                b = m;
-                vb = vm;
-            } else {
-                a = m;
-                va = vm;
-            }
+            csg_sturm_halve(s, m, &a, &b, &va, &vb);
         }
     }
     (void)vb;
@@ -210,14 +218,7 @@ CSG_FN csg_i32 csg_poly_roots(const double *c, csg_i32 n, double lo, double hi, 
             double m = 0.5 * (a + b);
             if (!(m > a && m < b))
                 break;
-            csg_i32 vm = csg_sturm_changes(&s, m);
-            if (va - vm >= 1) {
-                b = m;
-                vb = vm;
-            } else {
-                a = m;
-                va = vm;
-            }
+            csg_sturm_halve(&s, m, &a, &b, &va, &vb);
         }
         roots[found++] = va - vb == 1 ? csg_sturm_refine(&s, a, b, va, vb) : 0.5 * (a + b);
         a = b;
