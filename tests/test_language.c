@@ -1046,6 +1046,29 @@ static void test_reflection_block(void **state)
               "t.pov:1:46: error: '}' expected (to close 'reflection' at 1:24), got 'bogus'");
 }
 
+/* A fog's colour may be any colour expression (POV-Ray's CASE_COLOUR: an
+ * identifier, a sum); a bare float stays its distance; `spherical` (a
+ * camera's word, and a pattern csgtrace does not have) in a pigment is
+ * unsupported, not a syntax error. */
+static void test_fog_colour_expression(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare Blue = rgb <0, 0, 1>;\n#declare Grey = rgb 0.5;\n"
+             "fog { Blue + Grey distance 700 }\nfog { 30 rgb 1 }",
+             &s);
+    assert_int_equal(s.fog_count, 2);
+    assert_near(s.fogs[0].rgbft[0], 0.5);
+    assert_near(s.fogs[0].rgbft[2], 1.5);
+    assert_near(s.fogs[0].distance, 700);
+    assert_near(s.fogs[1].distance, 30);
+    csg_scene_free(&s);
+    parse_err("fog { <1, 2> }", "t.pov:1:7: error: a fog's distance or colour expected, got a 2-component vector");
+    parse_err("sphere { 0, 1 pigment { spherical } }",
+              "t.pov:1:25: error: unsupported: 'spherical' is not in csgtrace's language (see "
+              "scenes/LANGUAGE.md)");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1069,6 +1092,7 @@ int main(void)
         cmocka_unit_test(test_reliability),
         cmocka_unit_test(test_numbers_finite),
         cmocka_unit_test(test_reflection_block),
+        cmocka_unit_test(test_fog_colour_expression),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

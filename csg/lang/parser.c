@@ -1329,8 +1329,20 @@ static bool parse_fog(parser *p)
             case CSG_KW_FOG_OFFSET: f.offset = v; break;
             default: f.alt = v; break;
             }
-        } else if (lang_is_expr_start(p)) { /* POV-Ray: a bare float is the distance */
-            ok = lang_parse_float(p, &f.distance, NULL);
+        } else if (lang_is_expr_start(p)) { /* POV-Ray: a bare float is the distance,
+                                               * a colour (Blue + Gray70) the colour */
+            value e;
+            ok = lang_parse_expr(p, &e);
+            if (ok && e.dim == 1) {
+                f.distance = e.v[0];
+            } else if (ok && e.dim >= 3) {
+                for (int i = 0; i < 5; i++)
+                    f.rgbft[i] = e.v[i];
+            } else if (ok) {
+                csg_error(p->d, at, "a fog's distance or colour expected, got %s",
+                          lang_dim_name(e.dim));
+                return false;
+            }
         } else {
             return lang_expected_close(p, '}', "fog", open);
         }

@@ -533,6 +533,8 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
         } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
             double ignored[5]; /* POV-Ray uses it only below quality 6 (+Q5) */
             ok = lang_next(p) && lang_parse_color(p, ignored);
+        } else if (lang_is_kw(p, CSG_KW_SPHERICAL)) { /* (a camera's word too) */
+            return lang_unsupported(p, "'spherical'", p->tok.loc);
         } else {
             return lang_expected_close(p, closer, closer == '}' ? "pigment" : "[", open);
         }
@@ -920,6 +922,8 @@ bool lang_parse_normal(parser *p, csg_normal *n)
             ok = parse_crackle_modifier(p, &n->pattern);
         } else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1)) {
             ok = parse_quilted_modifier(p, &n->pattern);
+        } else if (lang_is_kw(p, CSG_KW_SPHERICAL)) { /* (a camera's word too) */
+            return lang_unsupported(p, "'spherical'", p->tok.loc);
         } else {
             return lang_expected_close(p, '}', "normal", open);
         }
