@@ -8,10 +8,13 @@ classify it the same way (background or object: equal to the background
 colour within the tolerance, or not) and its colours agree within the
 tolerance in every channel.
 
-Reads images with OpenImageIO's Python bindings when they are installed
-(Debian: python3-openimageio), else converts them to 8-bit binary PPM with
-`oiiotool` (openimageio-tools) and reads that; only the standard library is
-needed.  oiiotool copies pixel values as they are (no colour conversion),
+Reads 8-bit RGB/RGBA PNGs (POV-Ray's) and PFMs (csgtrace's float files,
+each value turned into its 8-bit code as oiiotool's conversion does) itself,
+with the standard library (zlib, struct); any other image with OpenImageIO's
+Python bindings when they are installed (Debian: python3-openimageio), else
+converted to 8-bit binary PPM with `oiiotool` (openimageio-tools).  (Starting
+oiiotool costs ~0.3 s of loading OpenImageIO's libraries a file: most of a
+cross-check's time.)  oiiotool copies pixel values as they are (no colour conversion),
 so each input's transfer encoding is given with --encoding-a/-b:
   linear   code/255                 (POV-Ray with File_Gamma=1.0; EXR)
   srgb     the sRGB curve           (POV-Ray 3.7's default PNG output)
@@ -24,9 +27,12 @@ Prints one line:  NAME: agreement 99.87% (N of M pixels) [details]
 Exit status: 0 when agreement >= --min, 1 below, 2 on bad input.
 """
 import argparse
+import array
 import math
 import os
+import struct
 import subprocess
+import zlib
 import sys
 import tempfile
 
@@ -69,8 +75,94 @@ def read_ppm(path):
     return w, h, pix
 
 
+def paeth(a, b, c):
+    p = a + b - c
+    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+    return a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+
+
+def read_png8(path):
+    """(width, height, RGB bytes) of an 8-bit RGB or RGBA, non-interlaced
+    PNG; None for any other PNG (or not a PNG)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        return None
+    pos, idat, head = 8, [], None
+    while pos + 8 <= len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            head = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            break
+        pos += 12 + n
+    if head is None:
+        return None
+    w, h, depth, ctype, _, _, interlace = head
+    if depth != 8 or ctype not in (2, 6) or interlace != 0:
+        return None
+    bpp = 3 if ctype == 2 else 4
+    raw = zlib.decompress(b"".join(idat))
+    stride = w * bpp
+    out = bytearray()
+    prev = bytearray(stride)
+    for y in range(h):
+        at = y * (stride + 1)
+        ftype, line = raw[at], bytearray(raw[at + 1:at + 1 + stride])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            c = prev[i - bpp] if i >= bpp else 0
+            b = prev[i]
+            pred = (0, a, b, (a + b) // 2, paeth(a, b, c))[ftype] if ftype <= 4 else None
+            if pred is None:
+                raise ValueError(f"{path}: bad PNG filter {ftype}")
+            line[i] = (line[i] + pred) & 255
+        out += line if bpp == 3 else bytes(v for k, v in enumerate(line) if k % 4 != 3)
+        prev = line
+    return w, h, bytes(out)
+
+
+def read_pfm(path):
+    """(width, height, RGB codes) of a colour PFM, top row first, each float
+    v turned into OpenImageIO's 8-bit code: (int)(clamp(v) * 255 + 0.5)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    fields, pos = [], 0
+    while len(fields) < 4:
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    pos += 1
+    if fields[0] != b"PF":
+        raise ValueError(f"{path}: not a colour PFM")
+    w, h, scale = int(fields[1]), int(fields[2]), float(fields[3])
+    order = "<" if scale < 0 else ">"
+    n = 3 * w * h
+    vals = struct.unpack(f"{order}{n}f", data[pos:pos + 4 * n])
+    # in single precision, as OpenImageIO computes it (0.7f * 255 is 178.5f)
+    scaled = array.array("f", (min(max(v, 0.0), 1.0) * 255.0 for v in vals))
+    codes = [int(x) for x in array.array("f", (x + 0.5 for x in scaled))]
+    rows = [codes[r * 3 * w:(r + 1) * 3 * w] for r in range(h)]
+    return w, h, [c for row in reversed(rows) for c in row]  # (PFM: bottom row first)
+
+
 def read_image(path, decode):
     """(width, height, [linear floats, 3 a pixel]) of any image file."""
+    table = [decode(c / 255.0) for c in range(256)]
+    if path.lower().endswith(".pfm"):
+        w, h, codes = read_pfm(path)
+        return w, h, [table[c] for c in codes]
+    png = read_png8(path) if path.lower().endswith(".png") else None
+    if png is not None:
+        w, h, pix = png
+        return w, h, [table[c] for c in pix]
     try:
         import OpenImageIO as oiio  # type: ignore
     except ImportError:

@@ -98,14 +98,14 @@ for c in "${cases[@]}"; do
         failed=$((failed + 1))
         continue
     fi
-    if ! "$CSGTRACE" render "$dir/scene.pov" -o "$dir/ours.exr" --mode serial --width $W \
+    if ! "$CSGTRACE" render "$dir/scene.pov" -o "$dir/ours.pfm" --mode serial --width $W \
             --height $H >"$dir/render.log" 2>&1; then
         echo "$name: FAILED (csgtrace render)"
         sed 's/^/    | /' "$dir/render.log"
         failed=$((failed + 1))
         continue
     fi
-    if python3 "$ROOT/tests/compare_images.py" "$dir/pov.png" "$dir/ours.exr" --name "$name" \
+    if python3 "$ROOT/tests/compare_images.py" "$dir/pov.png" "$dir/ours.pfm" --name "$name" \
             --encoding-a linear --encoding-b linear --background 0.1,0.1,0.2 \
             --min "$MIN_AGREEMENT" --diff "$dir/diff.ppm"; then
         passed=$((passed + 1))

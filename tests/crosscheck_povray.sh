@@ -156,14 +156,14 @@ for scene in "${scenes[@]}"; do
         failed=$((failed + 1))
         continue
     fi
-    if ! "$CSGTRACE" render "$dir/flat.pov" -o "$dir/ours.exr" --mode serial \
+    if ! "$CSGTRACE" render "$dir/flat.pov" -o "$dir/ours.pfm" --mode serial \
             --width "$WIDTH" --height "$height" "${prec[@]}" >"$dir/render.log" 2>&1; then
         echo "$name: FAILED (csgtrace render)"
         show_log "$dir/render.log"
         failed=$((failed + 1))
         continue
     fi
-    if python3 "$COMPARE" "$dir/pov.png" "$dir/ours.exr" --name "$name" \
+    if python3 "$COMPARE" "$dir/pov.png" "$dir/ours.pfm" --name "$name" \
             --encoding-a linear --encoding-b linear \
             --background "$(flat_background "$dir/flat.pov")" \
             --min "$MIN_AGREEMENT" --diff "$dir/diff.ppm"; then
