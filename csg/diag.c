@@ -5,7 +5,9 @@
  * error: " then takes the room left.  A file name too long for that room
  * keeps its head and its tail around "...", so neither the position nor
  * the reason is ever cut (a reason longer than the whole buffer, which no
- * stage writes, is the only thing that can be).
+ * stage writes, is the only thing that can be).  A control character in
+ * either (a scene's string quoted in the reason: `#include "a\nb"`) is
+ * written as an escape, so a message is always one line.
  */
 #include "diag.h"
 
@@ -27,6 +29,23 @@ static void diag_short_name(const char *name, char *out, size_t room)
     snprintf(out, room, "%.*s...%s", (int)head, name, name + len - tail);
 }
 
+/* text into out (size bytes), its control characters escaped (\n, \r,
+ * \t, else \xNN): a message stays one line, whatever it quotes. */
+static void diag_escape(const char *text, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)text; *c && n + 5 < size; c++) {
+        if (*c >= 0x20 && *c != 0x7f) {
+            out[n++] = (char)*c;
+            continue;
+        }
+        char e = *c == '\n' ? 'n' : *c == '\r' ? 'r' : *c == '\t' ? 't' : 0;
+        n += (size_t)(e ? snprintf(out + n, size - n, "\\%c", e)
+                        : snprintf(out + n, size - n, "\\x%02x", *c));
+    }
+    out[n] = '\0';
+}
+
 /* Appends text to d->message at *n, cut at the buffer's end. */
 static void diag_append(csg_diag *d, size_t *n, const char *text)
 {
@@ -45,8 +64,13 @@ static void diag_vformat(csg_diag *d, const char *file, const csg_loc *loc, cons
 {
     if (d->failed)
         return; /* the first error is the one the user needs */
-    char reason[CSG_DIAG_MAX];
-    vsnprintf(reason, sizeof reason, fmt, ap);
+    char raw[CSG_DIAG_MAX], reason[CSG_DIAG_MAX], file_esc[CSG_DIAG_MAX];
+    vsnprintf(raw, sizeof raw, fmt, ap);
+    diag_escape(raw, reason, sizeof reason);
+    if (file) {
+        diag_escape(file, file_esc, sizeof file_esc);
+        file = file_esc;
+    }
     size_t n = 0;
     d->message[0] = '\0';
     if (!loc) {

@@ -1063,6 +1063,11 @@ static void test_fog_colour_expression(void **state)
     assert_near(s.fogs[0].distance, 700);
     assert_near(s.fogs[1].distance, 30);
     csg_scene_free(&s);
+    /* a message is one line whatever it quotes: a control character in a
+     * scene's string (here a file name) is escaped (fuzz finding) */
+    parse_err("#include \"no\\nsuch\ttab.inc\"",
+              "t.pov:1:1: error: cannot read include file 'no\\nsuch\\ttab.inc': No such file or "
+              "directory");
     parse_err("fog { <1, 2> }", "t.pov:1:7: error: a fog's distance or colour expected, got a 2-component vector");
     parse_err("sphere { 0, 1 pigment { spherical } }",
               "t.pov:1:25: error: unsupported: 'spherical' is not in csgtrace's language (see "

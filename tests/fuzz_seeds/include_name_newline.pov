@@ -1,0 +1,2 @@
+// ppti
+#include "c\\\\\\\\\\\\\\\nor"cc}
