@@ -495,13 +495,23 @@ static bool is_noise_modifier(parser *p)
 static bool parse_pigment_map(parser *p, csg_pigment *pig);
 static bool parse_quilted_modifier(parser *p, csg_pigment *pig);
 
+/* POV-Ray's Parse_Pattern: an average pigment averages its pigment_map,
+ * so it must have one (its end at `at`). */
+static bool average_has_map(parser *p, const csg_pigment *pig, csg_loc at)
+{
+    if (pig->pattern != CSG_PATTERN_AVERAGE || pig->pmap_count > 0)
+        return true;
+    csg_error(p->d, at, "average needs a pigment_map");
+    return false;
+}
+
 /* The modifiers after the pattern, up to `closer` ('}' of a pigment, ']'
  * of a pigment map's entry), which is consumed. */
 static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg_loc open)
 {
     for (;;) {
         if (lang_is_punct(p, closer))
-            return lang_next(p);
+            return average_has_map(p, pig, lang_tok(p)->loc) && lang_next(p);
         bool ok;
         csg_loc at = lang_tok(p)->loc;
         if (lang_is_transform(p)) {
@@ -511,6 +521,10 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
                 csg_error(p->d, at, "a color_map needs a pattern that takes one "
                                     "(any but checker)");
+                return false;
+            }
+            if (pig->pattern == CSG_PATTERN_AVERAGE) { /* (POV-Ray's rule) */
+                csg_error(p->d, at, "average takes a pigment_map, not a color_map");
                 return false;
             }
             ok = lang_parse_color_map(p, &m);
@@ -809,6 +823,7 @@ bool lang_parse_finish(parser *p, csg_finish *f)
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
         case CSG_KW_PHONG: target = &f->phong; break;
         case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
+        case CSG_KW_CRAND: target = &f->crand; break;
         case CSG_KW_REFLECTION_EXPONENT: target = &f->reflection_exponent; break;
         default:
             return lang_expected_close(p, '}', "finish", open);
@@ -868,6 +883,8 @@ static bool parse_normal_pattern(parser *p, csg_normal *n)
     int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
     if (pattern == CSG_PATTERN_CHECKER)
         return lang_unsupported(p, "'checker' in a normal", at);
+    if (pattern == CSG_PATTERN_AVERAGE) /* (it averages a normal_map) */
+        return lang_unsupported(p, "'average' in a normal", at);
     n->kind = normal_kind_of(lang_tok(p));
     if (!parse_pattern_keyword(p, &n->pattern))
         return false;
