@@ -1079,6 +1079,27 @@ static void test_crand_and_average(void **state)
     assert_int_equal(t->pigment.pattern, CSG_PATTERN_AVERAGE);
     assert_int_equal(t->tmap_count, 2);
     csg_scene_free(&s);
+    /* in an average's map the weight may be left out: 1 (POV-Ray's
+     * Allow_Float(1.0)); the entry then starts with its pigment */
+    parse_ok("#declare W = 3; #declare P = pigment { rgb y }\n"
+             "sphere { 0, 1 pigment { average pigment_map { [gradient y] [W rgb 1] [P] "
+             "[rgb x] } } }\n"
+             "sphere { 0, 1 texture { average texture_map { [pigment { P }] [2, P] } } }",
+             &s);
+    pig = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(pig->pmap_count, 4);
+    assert_near(pig->pmap[0].value, 1);
+    assert_int_equal(pig->pmap[0].pigment.pattern, CSG_PATTERN_GRADIENT);
+    assert_near(pig->pmap[1].value, 3);
+    assert_near(pig->pmap[2].value, 1);
+    assert_near(pig->pmap[2].pigment.rgbft[1], 1);
+    assert_near(pig->pmap[3].value, 1);
+    t = &s.textures[s.objects[1]->texture];
+    assert_near(t->tmap[0].value, 1);
+    assert_near(t->tmap[1].value, 2);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { [rgb 1] } } }",
+              "t.pov:1:45: error: an expression expected, got 'rgb'");
     parse_err("sphere { 0, 1 pigment { average } }",
               "t.pov:1:33: error: average needs a pigment_map");
     parse_err("sphere { 0, 1 pigment { average color_map { [0 rgb 1] } } }",
