@@ -212,8 +212,9 @@ static void write_light(FILE *out, const csg_light *l)
         put_dvec(out, l->axis1);
         fputs(", ", out);
         put_dvec(out, l->axis2);
-        fprintf(out, ", %d, %d adaptive %d%s%s", l->size1, l->size2, l->adaptive,
-                l->circular ? " circular" : "", l->orient ? " orient" : "");
+        fprintf(out, ", %d, %d adaptive %d%s%s%s", l->size1, l->size2, l->adaptive,
+                l->circular ? " circular" : "", l->orient ? " orient" : "",
+                l->jitter ? " jitter" : "");
     }
     fputs(l->shadowless ? " shadowless }\n" : " }\n", out);
 }
@@ -515,6 +516,8 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
     put_field(out, " phong ", f->phong);
     put_field(out, " phong_size ", f->phong_size);
     put_field(out, " metallic ", f->metallic);
+    if (f->crand != 0)
+        put_field(out, " crand ", f->crand);
     if (f->reflection_variable) {
         fputs(" reflection { rgb ", out);
         put_vec(out, f->reflection_min, 3);

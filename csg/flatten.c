@@ -517,6 +517,7 @@ static bool material_layer(flat_builder *fb, const csg_texture *tex, const csg_i
     m->phong = (real)tex->finish.phong;
     m->phong_size = (real)tex->finish.phong_size;
     m->metallic = (real)tex->finish.metallic;
+    m->crand = (real)tex->finish.crand;
     const csg_finish *fin = &tex->finish;
     if (fin->reflection_variable) {
         m->reflection_variable = 1;

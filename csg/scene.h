@@ -158,6 +158,8 @@ typedef struct {
     double phong;         /* 0                                       */
     double phong_size;    /* 40                                      */
     double metallic;      /* 0: highlights tinted by the pigment     */
+    double crand;         /* 0: POV-Ray's graininess: each light's diffuse
+                             term less a random fraction of it      */
     double reflection[3]; /* 0; reflection { MIN, MAX }: MAX          */
     /* POV-Ray's variable reflection (reflection { MIN [, MAX] fresnel
      * falloff exponent metallic }, reflection_exponent, conserve_energy):

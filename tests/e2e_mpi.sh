@@ -156,6 +156,30 @@ for s in "${scenes[@]}"; do
     fi
 done
 
+# ---- randomness: area_light jitter and crand draw from a hash of the pixel ----
+# (workers/shade.c), so every mode, tile size and rank count gives the same
+# bytes (the scene's kinds are those of scenes/shadows.pov: no new OpenCL
+# program to build)
+cat >"$TMP/random.pov" <<'EOF'
+camera { location <0, 2, -5> look_at <0, 0.5, 0> }
+light_source { <2, 5, -3> color rgb 1 area_light <2, 0, 0>, <0, 0, 2>, 4, 4 adaptive 1 jitter }
+plane { y, 0 pigment { rgb 0.8 } finish { crand 0.2 } }
+sphere { <0, 1, 0>, 1 pigment { rgb <0.9, 0.5, 0.3> } finish { crand 0.1 } }
+box { <1.2, 0, -0.5>, <2, 0.8, 0.3> pigment { rgb <0.4, 0.6, 0.9> } rotate y * 20 }
+cylinder { <-2, 0, 1>, <-2, 1.5, 1>, 0.3 pigment { rgb 0.6 } }
+EOF
+if render rnd-ref 0 "$TMP/random.pov" "${SZ[@]}" --mode serial --spp 2; then
+    ok "jitter + crand: serial render"
+    render_same "jitter + crand: serial tile 5 == serial" rnd-ref rnd-s5 0 "$TMP/random.pov" \
+        "${SZ[@]}" --mode serial --spp 2 --tile 5
+    render_same "jitter + crand: homo K=3 tile 7 == serial" rnd-ref rnd-h3 3 "$TMP/random.pov" \
+        "${SZ[@]}" --mode homo --spp 2 --tile 7
+    [ $have_cl = 1 ] && render_same "jitter + crand: hetero K=2 tile 9 == serial" rnd-ref rnd-x2 2 \
+        "$TMP/random.pov" "${SZ[@]}" --mode hetero --spp 2 --tile 9
+else
+    bad "jitter + crand: serial render ($(grep -m1 ': error: ' "$TMP/rnd-ref.err"))"
+fi
+
 # ---- the first scene: tiles, ranks, odd sizes, precision, transport ------------
 n=$(basename "$first" .pov)
 R=$n-ref

@@ -348,7 +348,9 @@ static void test_pattern_pipeline(void **state)
             snprintf(body, sizeof body, "rgb <1, 0.5, 0>");
         else
             snprintf(body, sizeof body, "%s%s", csg_pattern_name(k),
-                     k == CSG_PATTERN_GRADIENT ? " y" : "");
+                     k == CSG_PATTERN_GRADIENT  ? " y"
+                     : k == CSG_PATTERN_AVERAGE ? " pigment_map { [1 rgb 1] }"
+                                                : "");
         csg_scene s;
         parse_pigment(body, &s);
         assert_int_equal(pigment_of(&s)->pattern, k);

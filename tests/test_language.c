@@ -144,8 +144,9 @@ static void test_fog_and_lights(void **state)
               "t.pov:1:21: error: 'radius' needs a spotlight or a cylinder light");
     parse_err("light_source { 0, 1 point_at x }",
               "t.pov:1:21: error: 'point_at' needs a spotlight, a cylinder or a parallel light");
-    parse_err("light_source { 0, 1 area_light x, z, 2, 2 jitter }",
-              "t.pov:1:43: error: unsupported: 'jitter' is not in csgtrace's language (see scenes/LANGUAGE.md)");
+    parse_ok("light_source { 0, 1 area_light x, z, 2, 2 jitter }", &s);
+    assert_true(s.lights[0].jitter);
+    csg_scene_free(&s);
     parse_err("light_source { 0, 1 area_light x, z, 0, 2 }",
               "t.pov:1:38: error: area_light sizes must be whole numbers from 1 up, at most 65536 points, got 0 and 2");
     parse_err("light_source { 0, 1 area_light x, z, 1, 3 circular }",
@@ -1050,6 +1051,68 @@ static void test_reflection_block(void **state)
  * identifier, a sum); a bare float stays its distance; `spherical` (a
  * camera's word, and a pattern csgtrace does not have) in a pigment is
  * unsupported, not a syntax error. */
+/* crand in a finish (0 by default); average with its pigment_map or
+ * texture_map (POV-Ray's rules: a map it must have, no color_map, not in
+ * a normal, which would need normal_map). */
+static void test_crand_and_average(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("sphere { 0, 1 }\nsphere { 0, 1 finish { crand 0.25 } }", &s);
+    assert_near(s.textures[s.objects[0]->texture].finish.crand, 0);
+    assert_near(s.textures[s.objects[1]->texture].finish.crand, 0.25);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 pigment { average turbulence 0.5 pigment_map { [1 rgb x] "
+             "[3 gradient y] } scale 2 } }",
+             &s);
+    const csg_pigment *pig = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(pig->pattern, CSG_PATTERN_AVERAGE);
+    assert_int_equal(pig->pmap_count, 2);
+    assert_near(pig->pmap[1].value, 3);
+    assert_int_equal(pig->pmap[1].pigment.pattern, CSG_PATTERN_GRADIENT);
+    assert_true(pig->turb.on);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 texture { average texture_map { [1 pigment { rgb 1 }] "
+             "[2 pigment { rgb x }] } } }",
+             &s);
+    const csg_texture *t = &s.textures[s.objects[0]->texture];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_AVERAGE);
+    assert_int_equal(t->tmap_count, 2);
+    csg_scene_free(&s);
+    /* in an average's map the weight may be left out: 1 (POV-Ray's
+     * Allow_Float(1.0)); the entry then starts with its pigment */
+    parse_ok("#declare W = 3; #declare P = pigment { rgb y }\n"
+             "sphere { 0, 1 pigment { average pigment_map { [gradient y] [W rgb 1] [P] "
+             "[rgb x] } } }\n"
+             "sphere { 0, 1 texture { average texture_map { [pigment { P }] [2, P] } } }",
+             &s);
+    pig = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(pig->pmap_count, 4);
+    assert_near(pig->pmap[0].value, 1);
+    assert_int_equal(pig->pmap[0].pigment.pattern, CSG_PATTERN_GRADIENT);
+    assert_near(pig->pmap[1].value, 3);
+    assert_near(pig->pmap[2].value, 1);
+    assert_near(pig->pmap[2].pigment.rgbft[1], 1);
+    assert_near(pig->pmap[3].value, 1);
+    t = &s.textures[s.objects[1]->texture];
+    assert_near(t->tmap[0].value, 1);
+    assert_near(t->tmap[1].value, 2);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo pigment_map { [rgb 1] } } }",
+              "t.pov:1:45: error: an expression expected, got 'rgb'");
+    parse_err("sphere { 0, 1 pigment { average } }",
+              "t.pov:1:33: error: average needs a pigment_map");
+    parse_err("sphere { 0, 1 pigment { average color_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: average takes a pigment_map, not a color_map");
+    parse_err("sphere { 0, 1 normal { average } }",
+              "t.pov:1:24: error: unsupported: 'average' in a normal is not in csgtrace's "
+              "language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 texture { average } }",
+              "t.pov:1:15: error: a patterned texture needs a texture_map");
+    parse_err("sphere { 0, 1 finish { crand } }",
+              "t.pov:1:30: error: an expression expected, got '}'");
+}
+
 static void test_fog_colour_expression(void **state)
 {
     (void)state;
@@ -1098,6 +1161,7 @@ int main(void)
         cmocka_unit_test(test_numbers_finite),
         cmocka_unit_test(test_reflection_block),
         cmocka_unit_test(test_fog_colour_expression),
+        cmocka_unit_test(test_crand_and_average),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -461,6 +461,14 @@ static double pattern_crackle(const csg_material *m, const double q[3], double b
     return v < 1.0 ? (v > 0.0 ? v : 0.0) : 1.0;
 }
 
+/* average has no value of its own (POV-Ray's AveragePattern: 0); its
+ * pigment map is averaged instead (average_color). */
+static double pattern_average(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)q, (void)bias;
+    return 0.0;
+}
+
 /* Step 4: the value of m's pattern.  The cases are the table's rows, each
  * its pattern_<name> (a row without one does not compile); there is no
  * default, so -Wswitch names a pattern left out.  Plain never gets here
@@ -628,6 +636,27 @@ static pigment_color pigment_map_color(const csg_material *mats, const csg_mater
     return color_of(c);
 }
 
+/* POV-Ray's average pigment (PigmentBlendMap::ComputeAverage): the
+ * entries' pigments at the pattern's point q, each weighted by its map
+ * value, over the sum of the values (all 0: black, where POV-Ray divides
+ * by zero). */
+static pigment_color average_color(const csg_material *mats, const csg_material *m,
+                                   const csg_map_color *maps, const double q[3], double err,
+                                   int depth)
+{
+    double sum[5] = {0, 0, 0, 0, 0}, total = 0.0;
+    for (int i = 0; i < m->map_count; i++) {
+        double weight = (double)maps[m->map_first + i].value, c[5];
+        load_color(evaluate(mats, &mats[m->sub_first + i], maps, q, err, depth + 1), c);
+        for (int k = 0; k < 5; k++)
+            sum[k] += weight * c[k];
+        total += weight;
+    }
+    for (int k = 0; k < 5; k++)
+        sum[k] = total != 0.0 ? sum[k] / total : 0.0;
+    return color_of(sum);
+}
+
 /* Steps 2 to 6 at the point w (world space, or the space of the pattern
  * whose pigment map holds m), err its rounding bound. */
 static pigment_color evaluate(const csg_material *mats, const csg_material *m,
@@ -647,6 +676,10 @@ static pigment_color evaluate(const csg_material *mats, const csg_material *m,
     if (m->turb_on && turbulence_moves(m))
         turbulence_warp(m, q);
     double q_err = err * matrix_norm(m->to_pattern);
+    if (m->pattern == CSG_PATTERN_AVERAGE)
+        return depth < PIGMENT_MAX_DEPTH && m->sub_first > 0
+                   ? average_color(mats, m, maps, q, q_err, depth)
+                   : color_of((const double[5]){0, 0, 0, 0, 0});
     double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + q_err));
     if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
         return pigment_map_color(mats, m, maps, q, q_err, v, depth);

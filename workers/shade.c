@@ -29,6 +29,7 @@
  */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -80,7 +81,40 @@ typedef struct {
     csg_i32 left;
     bool refused; /* a ray was not traced for want of budget */
     csg_i32 *blockers; /* the shadow cache of the tile (shadow_slot) */
+    uint64_t rng_key;   /* the pixel's sample: its random stream (pixel_random) */
+    uint64_t rng_drawn; /* numbers drawn from it so far                          */
 } ray_tally;
+
+/* ---- randomness ----------------------------------------------------------------
+ * POV-Ray draws crand's grain and an area light's jitter from a generator
+ * per render thread, so its images change from run to run.  Ours are a
+ * function of the image alone: each primary sample (pixel x, y, sample s)
+ * owns a stream, the n-th number of which is a hash of (x, y, s, n), and
+ * the ray tree of a sample is walked in a fixed order.  So every mode,
+ * tile size, rank count, batch and resume draws the same numbers for the
+ * same pixel: the images stay byte-identical. */
+
+/* splitmix64's finaliser: a bijection of 64 bits that mixes every bit. */
+static uint64_t mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
+    z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
+    return z ^ (z >> 31);
+}
+
+/* The stream of sample s of pixel (x, y) (image coordinates). */
+static uint64_t sample_stream(int x, int y, int s)
+{
+    uint64_t k = ((uint64_t)(uint32_t)y << 32) | (uint32_t)x;
+    return mix64(mix64(k) ^ ((uint64_t)(uint32_t)s * UINT64_C(0x9e3779b97f4a7c15)));
+}
+
+/* The next number of the sample's stream, uniform in [0, 1) (53 bits). */
+static double pixel_random(ray_tally *t)
+{
+    uint64_t h = mix64(t->rng_key + ++t->rng_drawn * UINT64_C(0x9e3779b97f4a7c15));
+    return (double)(h >> 11) * (1.0 / 9007199254740992.0);
+}
 
 /* The shadow cache (POV-Ray's light buffer idea): for each light and
  * trace level, the last root found to block that light, tried first by
@@ -217,6 +251,19 @@ static vec3 apply_fog(const shade_ctx *c, csg_ray r, double depth, vec3 col, boo
 static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const double w[3],
                            double err, int depth)
 {
+    if (m->tmap && m->pattern == CSG_PATTERN_AVERAGE) {
+        double q[3], q_err, total = 0.0;
+        int prev, cur;
+        PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        vec3 sum = grey3(R(0.0));
+        for (int i = 0; depth < SHADE_MAX_DEPTH && i < m->map_count; i++) {
+            real weight = c->maps[m->map_first + i].value;
+            vec3 one = texture_filter(c, &c->mats[m->sub_first + i], q, q_err, depth + 1);
+            sum = v3_add(sum, v3_scale(one, weight));
+            total += (double)weight;
+        }
+        return total != 0.0 ? v3_scale(sum, (real)(1.0 / total)) : grey3(R(0.0));
+    }
     if (m->tmap) {
         double q[3], q_err;
         int prev, cur;
@@ -668,9 +715,13 @@ static vec3 apply_fog(const shade_ctx *c, csg_ray r, double depth, vec3 col, boo
  * area light (i, j) of its grid (POV-Ray's TraceAreaLightSubsetShadowRay
  * corner): the colour times the transmittance of the shadow ray. */
 static vec3 area_sample(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 a1, vec3 a2,
-                        int u, int v, vec3 color, csg_i32 *blocker)
+                        int u, int v, vec3 color, csg_i32 *blocker, ray_tally *tally)
 {
     double ju = (double)u, jv = (double)v;
+    if (lt->jitter) { /* anywhere in the point's cell (POV-Ray: +-0.5 of a step) */
+        ju += pixel_random(tally) - 0.5;
+        jv += pixel_random(tally) - 0.5;
+    }
     vec3 ja, jb;
     if (lt->circular) {
         ju = ju / (double)(lt->size1 - 1) - 0.5 + 0.001;
@@ -704,7 +755,7 @@ static vec3 area_corner(const shade_ctx *c, const csg_flat_light *lt, vec3 p, ve
     size_t k = (size_t)u * (size_t)lt->size2 + (size_t)v;
     if (!g->done[k]) {
         tally->rays->shadow++;
-        g->color[k] = area_sample(c, lt, p, a1, a2, u, v, color, blocker);
+        g->color[k] = area_sample(c, lt, p, a1, a2, u, v, color, blocker, tally);
         g->done[k] = 1;
     }
     return g->color[k];
@@ -741,8 +792,8 @@ static vec3 area_region(const shade_ctx *c, const csg_flat_light *lt, vec3 p, ve
 }
 
 /* An area light's shadows (POV-Ray's TraceAreaLightShadowRay, `orient`
- * turning its axes to face p; jitter is not applied: POV-Ray's is random,
- * its image changes from run to run). */
+ * turning its axes to face p; `jitter` moves each point of the grid
+ * within its cell by the sample's random stream: pixel_random). */
 static vec3 area_light(const shade_ctx *c, const csg_flat_light *lt, vec3 p, vec3 color,
                        csg_i32 *blocker, ray_tally *tally)
 {
@@ -817,7 +868,7 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
 
 /* One layer's own light (POV-Ray's ambient, diffuse and highlights of
  * the layer with pigment pig, normal nl): *surface, dimmed by the opacity
- * by the caller, and *highlight, which is not. */
+ * by the caller, and *highlight, which is not (crand's grain with it). */
 static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m, vec3 pig,
                         vec3 nl, vec3 refl_dir, ray_tally *tally, vec3 *surface_out,
                         vec3 *highlight_out)
@@ -851,6 +902,10 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
             continue;
         real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
         surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
+        if (m->crand > R(0.0) && m->diffuse > R(0.0)) /* POV-Ray's ComputeDiffuseColour:
+            the grain leaves the diffuse intensity after its opacity: not dimmed */
+            highlight = v3_sub(highlight, v3_scale(v3_mul(pig, light),
+                                                   (real)pixel_random(tally) * m->crand));
         vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(refl_dir, l);
@@ -1024,6 +1079,29 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
     return color;
 }
 
+static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material *m,
+                           const double w[3], double err, const csg_material **parents, int np,
+                           real weight, ray_tally *tally);
+
+/* POV-Ray's ComputeAverageTextureColours: an average texture's entries,
+ * each lit at the map's point q and weighted by its map value, over the
+ * sum of the values (all 0: black, where POV-Ray divides by zero). */
+static vec3 average_texture(const shade_ctx *c, hit_info *hi, const csg_material *m,
+                            const double q[3], double q_err, const csg_material **parents,
+                            int np, real weight, ray_tally *tally)
+{
+    vec3 sum = grey3(R(0.0));
+    double total = 0.0;
+    for (int i = 0; i < m->map_count; i++) {
+        real value = c->maps[m->map_first + i].value;
+        vec3 one = texture_colour(c, hi, &c->mats[m->sub_first + i], q, q_err, parents, np,
+                                  weight, tally);
+        sum = v3_add(sum, v3_scale(one, value));
+        total += (double)value;
+    }
+    return total != 0.0 ? v3_scale(sum, (real)(1.0 / total)) : grey3(R(0.0));
+}
+
 /* POV-Ray's ComputeOneTextureColour: a texture_map blends the colours of
  * its entries around its pattern's value (each a texture of its own,
  * evaluated at the point of the map's pattern); a plain texture is lit. */
@@ -1036,6 +1114,8 @@ static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material 
         int prev, cur;
         double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
         parents[np] = m;
+        if (m->pattern == CSG_PATTERN_AVERAGE)
+            return average_texture(c, hi, m, q, q_err, parents, np + 1, weight, tally);
         vec3 a = texture_colour(c, hi, &c->mats[m->sub_first + cur], q, q_err, parents, np + 1,
                                 weight, tally);
         if (prev == cur)
@@ -1190,8 +1270,10 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
-            ray_tally tally = {rays, c.max_rays, false, blockers};
+            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0};
             for (int s = 0; s < spp; s++) {
+                tally.rng_key = sample_stream(rect.x + x, rect.y + y, s);
+                tally.rng_drawn = 0;
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
                 vec3 one;
                 if (surf[k] == CSG_SURF_NONE && c.sky_count == 0 && c.fog_count == 0) {

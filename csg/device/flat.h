@@ -404,6 +404,7 @@ typedef struct {
     real reflection_falloff;
     real reflection_exponent;
     real reflection_metallic;
+    real crand;         /* POV-Ray's graininess (0: none; shade.c)       */
 } csg_material;
 
 /* A light (POV-Ray's LightSource): C workers only. */

@@ -79,7 +79,9 @@ enum csg_wave { CSG_WAVES(CSG_WAVE_ENUM) };
                                                      wave sources                      */          \
     PATTERN(WAVES, waves, RAMP, 0, 1)             /* ripples of their own frequencies  */          \
     PATTERN(QUILTED, quilted, RAMP, 0, 1)         /* a cubic of the distance from each
-                                                     cell's centre                     */
+                                                     cell's centre                     */          \
+    PATTERN(AVERAGE, average, RAMP, 0, 1)         /* no value (0): the pigment_map's
+                                                     entries weighted by their values  */
 
 /* Other keywords of a pattern above, ALIAS(word, ID): POV-Ray's spotted
  * and bumps are bozo's noise under another name (and, as pigments,

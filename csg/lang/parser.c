@@ -1173,8 +1173,7 @@ static bool parse_light(parser *p)
             flag = true;
             break;
         case CSG_KW_PARALLEL: l.parallel = true; flag = true; break;
-        case CSG_KW_JITTER: /* POV-Ray's jitter is random: no image to agree with */
-            return lang_unsupported(p, "'jitter'", lang_tok(p)->loc);
+        case CSG_KW_JITTER: l.jitter = true; flag = true; break;
         case CSG_KW_CIRCULAR: l.circular = true; flag = true; break;
         case CSG_KW_ORIENT: l.orient = true; flag = true; break;
         case CSG_KW_POINT_AT:

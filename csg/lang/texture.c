@@ -495,13 +495,23 @@ static bool is_noise_modifier(parser *p)
 static bool parse_pigment_map(parser *p, csg_pigment *pig);
 static bool parse_quilted_modifier(parser *p, csg_pigment *pig);
 
+/* POV-Ray's Parse_Pattern: an average pigment averages its pigment_map,
+ * so it must have one (its end at `at`). */
+static bool average_has_map(parser *p, const csg_pigment *pig, csg_loc at)
+{
+    if (pig->pattern != CSG_PATTERN_AVERAGE || pig->pmap_count > 0)
+        return true;
+    csg_error(p->d, at, "average needs a pigment_map");
+    return false;
+}
+
 /* The modifiers after the pattern, up to `closer` ('}' of a pigment, ']'
  * of a pigment map's entry), which is consumed. */
 static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg_loc open)
 {
     for (;;) {
         if (lang_is_punct(p, closer))
-            return lang_next(p);
+            return average_has_map(p, pig, lang_tok(p)->loc) && lang_next(p);
         bool ok;
         csg_loc at = lang_tok(p)->loc;
         if (lang_is_transform(p)) {
@@ -511,6 +521,10 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
                 csg_error(p->d, at, "a color_map needs a pattern that takes one "
                                     "(any but checker)");
+                return false;
+            }
+            if (pig->pattern == CSG_PATTERN_AVERAGE) { /* (POV-Ray's rule) */
+                csg_error(p->d, at, "average takes a pigment_map, not a color_map");
                 return false;
             }
             ok = lang_parse_color_map(p, &m);
@@ -543,12 +557,27 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
     }
 }
 
+/* A map entry's value; in the map of an average, its weight, which may be
+ * left out: 1 (POV-Ray's Parse_Blend_Map, Allow_Float(1.0)).  There the
+ * entry's body may start at once: with a pattern or colour keyword, or
+ * with the name of a pigment, texture, normal, finish or material. */
+static bool parse_map_value(parser *p, bool average, double *out)
+{
+    if (average && (!lang_is_expr_start(p) || lang_names(p, SYM_PIGMENT) ||
+                    lang_names(p, SYM_TEXTURE) || lang_names(p, SYM_NORMAL) ||
+                    lang_names(p, SYM_FINISH) || lang_names(p, SYM_MATERIAL))) {
+        *out = 1.0;
+        return true;
+    }
+    return lang_parse_float(p, out, NULL);
+}
+
 /* [F [,] PIGMENT_BODY]: the body starts from the default pigment, as in
- * POV-Ray (#default), and ends at ']'. */
-static bool parse_pigment_entry(parser *p, csg_pigment_entry *e)
+ * POV-Ray (#default), and ends at ']' (F optional in an average's map). */
+static bool parse_pigment_entry(parser *p, csg_pigment_entry *e, bool average)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (!lang_next(p) || !lang_parse_float(p, &e->value, NULL))
+    if (!lang_next(p) || !parse_map_value(p, average, &e->value))
         return false;
     if (lang_is_punct(p, ',') && !lang_next(p))
         return false;
@@ -564,7 +593,7 @@ static bool parse_pigment_entry(parser *p, csg_pigment_entry *e)
 
 /* The entries of a pigment map up to its '}' into *out (malloc'd, *n of
  * them); false on an error (*out still to be freed). */
-static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n)
+static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n, bool average)
 {
     int cap = 0;
     while (lang_is_punct(p, '[')) {
@@ -579,7 +608,7 @@ static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n)
                 return lang_oom(p);
             *out = grown;
         }
-        if (!parse_pigment_entry(p, &(*out)[(*n)++]))
+        if (!parse_pigment_entry(p, &(*out)[(*n)++], average))
             return false;
     }
     return *n > 0 || lang_expected(p, "'[' expected (a pigment_map entry)");
@@ -598,7 +627,7 @@ static bool parse_pigment_map(parser *p, csg_pigment *pig)
         return false;
     csg_pigment_entry *e = NULL, *copy = NULL;
     int n = 0;
-    bool ok = parse_pigment_entries(p, &e, &n);
+    bool ok = parse_pigment_entries(p, &e, &n, pig->pattern == CSG_PATTERN_AVERAGE);
     if (ok && !lang_is_punct(p, '}'))
         ok = lang_expected_close(p, '}', "pigment_map", open);
     if (ok && (copy = lang_alloc(p, (size_t)n * sizeof *copy)) == NULL)
@@ -809,6 +838,7 @@ bool lang_parse_finish(parser *p, csg_finish *f)
         case CSG_KW_ROUGHNESS: target = &f->roughness; break;
         case CSG_KW_PHONG: target = &f->phong; break;
         case CSG_KW_PHONG_SIZE: target = &f->phong_size; break;
+        case CSG_KW_CRAND: target = &f->crand; break;
         case CSG_KW_REFLECTION_EXPONENT: target = &f->reflection_exponent; break;
         default:
             return lang_expected_close(p, '}', "finish", open);
@@ -868,6 +898,8 @@ static bool parse_normal_pattern(parser *p, csg_normal *n)
     int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
     if (pattern == CSG_PATTERN_CHECKER)
         return lang_unsupported(p, "'checker' in a normal", at);
+    if (pattern == CSG_PATTERN_AVERAGE) /* (it averages a normal_map) */
+        return lang_unsupported(p, "'average' in a normal", at);
     n->kind = normal_kind_of(lang_tok(p));
     if (!parse_pattern_keyword(p, &n->pattern))
         return false;
@@ -1045,10 +1077,10 @@ static bool parse_texture_ids(parser *p, csg_texture *t, bool *modified)
 static bool parse_texture_body(parser *p, csg_texture *t, int closer, csg_loc open);
 
 /* [F [,] TEXTURE_BODY]: the body starts from the default texture. */
-static bool parse_texture_entry(parser *p, csg_texture_entry *e)
+static bool parse_texture_entry(parser *p, csg_texture_entry *e, bool average)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (!lang_enter(p, open) || !lang_next(p) || !lang_parse_float(p, &e->value, NULL))
+    if (!lang_enter(p, open) || !lang_next(p) || !parse_map_value(p, average, &e->value))
         return false;
     if (lang_is_punct(p, ',') && !lang_next(p))
         return false;
@@ -1087,7 +1119,7 @@ static bool parse_texture_map(parser *p, csg_texture *t)
             }
             e = grown;
         }
-        ok = parse_texture_entry(p, &e[n++]);
+        ok = parse_texture_entry(p, &e[n++], t->pigment.pattern == CSG_PATTERN_AVERAGE);
     }
     if (ok && n == 0)
         ok = lang_expected(p, "'[' expected (a texture_map entry)");
