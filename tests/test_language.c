@@ -391,6 +391,33 @@ static void test_bounded_by(void **state)
     csg_scene_free(&s);
 }
 
+/* A declared object's bare name stands for a copy wherever an object may
+ * (POV-Ray's Parse_Object takes an OBJECT_ID): a statement, a CSG child,
+ * an array element, looks_like; any other name there is still an error. */
+static void test_bare_object_names(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare A = sphere { 0, 2 }\n"
+             "#declare Arr = array[2] { A, sphere { 0, 3 } }\n"
+             "A\n"
+             "Arr[1]\n"
+             "union { A Arr[1] translate x }\n"
+             "light_source { 0, 1 looks_like { A } }\n", &s);
+    assert_int_equal(s.object_count, 4);
+    assert_near(s.objects[0]->r0, 2);
+    assert_near(s.objects[1]->r0, 3);
+    assert_int_equal(s.objects[2]->child_count, 2);
+    assert_near(s.objects[2]->children[0]->r0, 2);
+    assert_near(s.objects[2]->xform.m[0][3], 1);
+    assert_true(s.objects[3]->no_shadow); /* looks_like's copy of A */
+    assert_near(s.objects[3]->r0, 2);
+    csg_scene_free(&s);
+    parse_err("#declare F = 3;\nunion { sphere { 0, 1 } F }\n",
+              "t.pov:2:25: error: '}' expected (to close 'union' at 2:1), got 'F'");
+    parse_err("#declare F = 3;\nF\n", "t.pov:2:1: error: an object or a statement expected, got 'F'");
+}
+
 /* ---- #default, #undef, #version, #debug, #error -------------------------------------------- */
 
 static void test_default_and_messages(void **state)
@@ -1148,6 +1175,7 @@ int main(void)
         cmocka_unit_test(test_functions),
         cmocka_unit_test(test_image_and_clock),
         cmocka_unit_test(test_bounded_by),
+        cmocka_unit_test(test_bare_object_names),
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),

@@ -430,6 +430,8 @@ bool lang_vec_push(parser *p, vec *v, size_t elem, const void *item);
 /* Statements up to the end of the main file. */
 bool lang_parse_statements(parser *p);
 bool lang_is_object_start(parser *p);
+/* ... or a declared object's name (an element of an array of them). */
+bool lang_is_object(parser *p);
 /* Any object; the current token is its keyword. */
 bool lang_parse_object(parser *p, csg_object **out);
 bool lang_parse_camera(parser *p, csg_camera_src *c);

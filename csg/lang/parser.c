@@ -516,7 +516,7 @@ static void share_equal_texture(parser *p, csg_object *o, int mark)
 static bool parse_children(parser *p, pnode *n, const char *name)
 {
     int base = p->stack.count;
-    while (lang_is_object_start(p)) {
+    while (lang_is_object(p)) {
         csg_object *child;
         int mark = p->textures.count;
         if (!lang_parse_object(p, &child) || !lang_vec_push(p, &p->stack, sizeof child, &child))
@@ -822,8 +822,31 @@ static bool parse_body(parser *p, pnode *n, const char *name)
 }
 
 /* Any object statement; the current token is its keyword. */
+/* A declared object's bare name where an object stands: a fresh copy, as
+ * `object { NAME }` without modifiers (POV-Ray's Parse_Object takes an
+ * OBJECT_ID there: a statement, a CSG child, looks_like). */
+static bool parse_object_name(parser *p, csg_object **out)
+{
+    csg_loc loc = lang_tok(p)->loc;
+    const datum *d;
+    if (!lang_lookup(p, SYM_OBJECT, "an object", &d))
+        return false;
+    pnode *n = copy_tree(p, d->u.object, loc);
+    if (!n)
+        return false;
+    *out = &n->obj;
+    return true;
+}
+
+bool lang_is_object(parser *p)
+{
+    return lang_is_object_start(p) || lang_names(p, SYM_OBJECT);
+}
+
 bool lang_parse_object(parser *p, csg_object **out)
 {
+    if (lang_is_ident(p))
+        return parse_object_name(p, out);
     const csg_token *t = lang_tok(p);
     csg_loc loc = t->loc;
     enum csg_kw kw = t->kw;
@@ -1099,7 +1122,7 @@ static bool parse_looks_like(parser *p, const csg_light *l, csg_object **out)
     }
     if (!lang_next(p) || !lang_expect_open(p, "looks_like"))
         return false;
-    if (!lang_is_object_start(p))
+    if (!lang_is_object(p))
         return lang_expected(p, "an object expected inside 'looks_like'");
     csg_object *o;
     if (!lang_parse_object(p, &o))
@@ -1496,7 +1519,7 @@ static bool parse_top_object(parser *p)
 
 static bool parse_statement(parser *p)
 {
-    if (lang_is_object_start(p))
+    if (lang_is_object(p))
         return parse_top_object(p);
     if (p->tok.kind == CSG_TOK_WORD) {
         switch (p->tok.kw) {
