@@ -418,6 +418,34 @@ static void test_bare_object_names(void **state)
     parse_err("#declare F = 3;\nF\n", "t.pov:2:1: error: an object or a statement expected, got 'F'");
 }
 
+/* transform { ... [inverse] } and transform NAME, as POV-Ray's
+ * Parse_Transform: steps compose in order, inverse inverts the block. */
+static void test_transform_blocks(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare T = transform { translate <1, 2, 3> rotate 90 * y }\n"
+             "#declare U = transform { T inverse }\n"
+             "#declare V = transform T\n"
+             "sphere { 0, 1 transform T transform U }\n"
+             "sphere { 0, 1 transform { V translate x } }\n"
+             "sphere { 0, 1 transform { inverse translate <0, 0, 5> } }\n", &s);
+    assert_int_equal(s.object_count, 3);
+    for (int i = 0; i < 3; i++) /* T then its inverse: the identity */
+        for (int j = 0; j < 4; j++)
+            assert_true(fabs(s.objects[0]->xform.m[i][j] - (i == j)) < 1e-15);
+    /* <0,0,0> -> translate <1,2,3> -> rotate 90 y: <3, 2, -1> -> + x */
+    assert_true(fabs(s.objects[1]->xform.m[0][3] - 4) < 1e-15);
+    assert_true(fabs(s.objects[1]->xform.m[1][3] - 2) < 1e-15);
+    assert_true(fabs(s.objects[1]->xform.m[2][3] + 1) < 1e-15);
+    assert_near(s.objects[2]->xform.m[2][3], -5);
+    csg_scene_free(&s);
+    parse_err("#declare F = 3;\nsphere { 0, 1 transform F }\n",
+              "t.pov:2:25: error: 'F' is a float, not a transform");
+    parse_err("sphere { 0, 1 transform { translate x sphere { 0, 1 } } }\n",
+              "t.pov:1:39: error: '}' expected (to close 'transform' at 1:25), got 'sphere'");
+}
+
 /* ---- #default, #undef, #version, #debug, #error -------------------------------------------- */
 
 static void test_default_and_messages(void **state)
@@ -1176,6 +1204,7 @@ int main(void)
         cmocka_unit_test(test_image_and_clock),
         cmocka_unit_test(test_bounded_by),
         cmocka_unit_test(test_bare_object_names),
+        cmocka_unit_test(test_transform_blocks),
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),

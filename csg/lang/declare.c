@@ -437,6 +437,10 @@ bool lang_parse_rvalue(parser *p, datum *out, bool *needs_semicolon)
         case CSG_KW_PIGMENT: case CSG_KW_FINISH: case CSG_KW_TEXTURE: case CSG_KW_INTERIOR:
         case CSG_KW_NORMAL: case CSG_KW_MATERIAL: case CSG_KW_COLOR_MAP: case CSG_KW_CAMERA: case CSG_KW_ARRAY: case CSG_KW_SKY_SPHERE:
             return parse_block_rvalue(p, out);
+        case CSG_KW_TRANSFORM:
+            out->kind = SYM_TRANSFORM;
+            csg_xform_identity(&out->u.transform);
+            return lang_parse_transform(p, &out->u.transform);
         case CSG_KW_LIGHT_SOURCE:
             return lang_unsupported(p, "a declared 'light_source'", t->loc);
         default:

@@ -445,7 +445,7 @@ static const kw_entry kw_table[] = {
     {"toroidal", CSG_KW_UNSUPPORTED},
     {"torus", CSG_KW_TORUS},
     {"trace", CSG_KW_UNSUPPORTED},
-    {"transform", CSG_KW_UNSUPPORTED},
+    {"transform", CSG_KW_TRANSFORM},
     {"translate", CSG_KW_TRANSLATE},
     {"translucency", CSG_KW_UNSUPPORTED},
     {"transmit", CSG_KW_TRANSMIT},

@@ -65,6 +65,7 @@ enum sym_kind {
     SYM_COLOR_MAP,
     SYM_CAMERA,
     SYM_SKY,
+    SYM_TRANSFORM,
     SYM_ARRAY,
     SYM_MACRO,
     SYM_UNSUPPORTED /* a declaration that used an unsupported construct */
@@ -103,6 +104,7 @@ typedef struct {
         lang_color_map cmap;
         csg_camera_src camera;
         const csg_sky *sky;        /* arena                                  */
+        csg_xform transform;       /* object -> world, as a step composes it */
         lang_array *array;         /* malloc'd, owned                        */
         const lang_macro *macro;   /* arena                                  */
         const lang_unusable *why; /* arena                                */

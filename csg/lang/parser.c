@@ -1169,7 +1169,8 @@ static bool parse_light(parser *p)
         if (lang_tok(p)->kind != CSG_TOK_WORD)
             kw = CSG_KW_NONE;
         switch (kw) {
-        case CSG_KW_TRANSLATE: case CSG_KW_ROTATE: case CSG_KW_SCALE: case CSG_KW_MATRIX: {
+        case CSG_KW_TRANSLATE: case CSG_KW_ROTATE: case CSG_KW_SCALE: case CSG_KW_MATRIX:
+        case CSG_KW_TRANSFORM: {
             csg_xform t;
             csg_xform_identity(&t);
             if (!lang_parse_transform(p, &t))
@@ -1314,7 +1315,7 @@ static bool parse_fog(parser *p)
             f.turb.on = true;
             ok = lang_next(p) && lang_parse_vector(p, &f.turb.amount, NULL);
         } else if (kw == CSG_KW_ROTATE || kw == CSG_KW_SCALE || kw == CSG_KW_MATRIX ||
-                   kw == CSG_KW_TRANSLATE) {
+                   kw == CSG_KW_TRANSLATE || kw == CSG_KW_TRANSFORM) {
             csg_xform x;
             csg_xform_identity(&x);
             ok = lang_parse_transform(p, &x);

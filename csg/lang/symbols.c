@@ -202,6 +202,7 @@ const char *lang_kind_name(const datum *d)
     case SYM_COLOR_MAP: return "a color_map";
     case SYM_CAMERA: return "a camera";
     case SYM_SKY: return "a sky_sphere";
+    case SYM_TRANSFORM: return "a transform";
     case SYM_ARRAY: return "an array";
     case SYM_MACRO: return "a macro";
     case SYM_UNSUPPORTED: return "an unsupported declaration";

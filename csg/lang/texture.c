@@ -46,7 +46,8 @@
 bool lang_is_transform(parser *p)
 {
     return lang_is_kw(p, CSG_KW_TRANSLATE) || lang_is_kw(p, CSG_KW_ROTATE) ||
-           lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX);
+           lang_is_kw(p, CSG_KW_SCALE) || lang_is_kw(p, CSG_KW_MATRIX) ||
+           lang_is_kw(p, CSG_KW_TRANSFORM);
 }
 
 /* matrix <m00, m01, m02, m10, ..., m32>: POV-Ray's row-vector form,
@@ -92,6 +93,61 @@ static bool parse_matrix(parser *p, csg_xform *x)
     return lang_next(p);
 }
 
+/* transform { [inverse] STEP | TRANSFORM_ID | transform ... } as POV-Ray's
+ * Parse_Transform_Block: the steps compose in order; inverse, anywhere in
+ * the block, inverts the whole of it. */
+static bool parse_transform_block(parser *p, csg_xform *block)
+{
+    csg_loc open = lang_tok(p)->loc;
+    if (!lang_expect_open(p, "transform"))
+        return false;
+    bool inverse = false;
+    for (;;) {
+        if (lang_is_kw(p, CSG_KW_INVERSE)) {
+            inverse = true;
+            if (!lang_next(p))
+                return false;
+        } else if (lang_is_transform(p) || lang_names(p, SYM_TRANSFORM)) {
+            if (!lang_parse_transform(p, block))
+                return false;
+        } else {
+            break;
+        }
+    }
+    if (!lang_is_punct(p, '}'))
+        return lang_expected_close(p, '}', "transform", open);
+    if (inverse) {
+        csg_xform inv;
+        if (!csg_xform_invert(block, &inv)) {
+            csg_error(p->d, open, "transform: the inverse of a singular transform");
+            return false;
+        }
+        *block = inv;
+    }
+    return lang_next(p);
+}
+
+/* transform TRANSFORM_ID | transform { ... }, or a declared transform's
+ * bare name inside a transform block: composed after *x. */
+static bool parse_transform_value(parser *p, csg_xform *x)
+{
+    csg_xform t;
+    if (lang_is_kw(p, CSG_KW_TRANSFORM) && !lang_next(p))
+        return false;
+    if (lang_is_ident(p)) {
+        const datum *d;
+        if (!lang_lookup(p, SYM_TRANSFORM, "a transform", &d))
+            return false;
+        t = d->u.transform;
+    } else {
+        csg_xform_identity(&t);
+        if (!parse_transform_block(p, &t))
+            return false;
+    }
+    csg_xform_then(x, &t, x);
+    return true;
+}
+
 bool lang_parse_transform(parser *p, csg_xform *x)
 {
     enum csg_kw kw = lang_tok(p)->kw;
@@ -100,6 +156,8 @@ bool lang_parse_transform(parser *p, csg_xform *x)
     dvec3 v;
     if (kw == CSG_KW_MATRIX)
         return parse_matrix(p, x);
+    if (kw == CSG_KW_TRANSFORM || kw == CSG_KW_NONE)
+        return parse_transform_value(p, x);
     if (!lang_next(p) || !lang_parse_vector(p, &v, &at))
         return false;
     if (kw == CSG_KW_TRANSLATE) {
