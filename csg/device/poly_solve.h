@@ -34,10 +34,11 @@
 #include "portable.h"
 #include "spec.h"
 
-/* double is needed on the device only by a program that has a torus or a
- * quadric (spec.h): a float program without them compiles on a device
+/* double is needed on the device only by a program that has a torus, a
+ * quadric or a poly (spec.h): a float program without them compiles on a device
  * without cl_khr_fp64, as before. */
-#if !defined(__OPENCL_VERSION__) || defined(CSG_DOUBLE) || CSG_USE_TORUS || CSG_USE_QUADRIC
+#if !defined(__OPENCL_VERSION__) || defined(CSG_DOUBLE) || CSG_USE_TORUS || CSG_USE_QUADRIC ||     \
+    CSG_USE_POLY
 #define CSG_POLY_SOLVER 1
 #if defined(__OPENCL_VERSION__) && !defined(CSG_DOUBLE)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -48,7 +49,8 @@
 
 #if CSG_POLY_SOLVER
 
-#define CSG_POLY_MAX_ORDER 4   /* the highest degree solved (a quartic)      */
+#define CSG_POLY_MAX_ORDER 7   /* the highest degree solved (a poly of order 7,
+                                  flat.h's CSG_POLY_ORDER_MAX)             */
 #define CSG_POLY_TOL 1e-12     /* the width a root is bracketed to            */
 #define CSG_POLY_ZERO 1e-15    /* a remainder coefficient below this, times its
                                   dividend's largest, is 0                    */
