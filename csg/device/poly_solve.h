@@ -20,9 +20,11 @@
  *
  * Conditioning.  The caller scales the variable so that the roots it wants
  * lie in [-1, 1] or so (the torus: its bounding sphere's chord, in units
- * of the sphere's radius), so the tolerances below are absolute on an O(1)
- * variable: CSG_POLY_TOL on a root, CSG_POLY_ZERO on a remainder's
- * coefficient relative to its dividend's largest (POV-Ray's SMALL_ENOUGH,
+ * of the sphere's radius; a poly: its own units, its roots up to 1e7
+ * away, a bracket then narrowed to the doubles' spacing), so the
+ * tolerances below are absolute on an O(1) variable: CSG_POLY_TOL on a
+ * root, CSG_POLY_ZERO on a remainder's coefficient relative to its
+ * dividend's largest (POV-Ray's SMALL_ENOUGH,
  * 1e-10, on a monic sequence).
  *
  * Only + - * / and comparisons on double: the same bits in C and OpenCL C
