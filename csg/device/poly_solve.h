@@ -51,8 +51,14 @@
 
 #if CSG_POLY_SOLVER
 
-#define CSG_POLY_MAX_ORDER 7   /* the highest degree solved (a poly of order 7,
-                                  flat.h's CSG_POLY_ORDER_MAX)             */
+/* The highest degree solved: a poly's (flat.h's CSG_POLY_ORDER_MAX), or a
+ * quartic in a program without polys (a torus's: its Sturm sequence
+ * takes private memory by this square, on the device too). */
+#if CSG_USE_POLY
+#define CSG_POLY_MAX_ORDER CSG_POLY_ORDER_MAX /* (flat.h: intersect.h includes it first) */
+#else
+#define CSG_POLY_MAX_ORDER 4
+#endif
 #define CSG_POLY_TOL 1e-12     /* the width a root is bracketed to            */
 #define CSG_POLY_ZERO 1e-15    /* a remainder coefficient below this, times its
                                   dividend's largest, is 0                    */
