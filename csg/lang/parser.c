@@ -387,8 +387,8 @@ static int poly_terms(int order)
 /* poly { ORDER, <c0, c1, ...> }, quartic { <35 coefficients> }, cubic {
  * <20 coefficients> } (POV-Ray's Parse_Poly and Parse_Coeffs: the order
  * from 2 on, the coefficients in angle brackets, each a float, the commas
- * optional).  Orders beyond CSG_POLY_ORDER_MAX are refused (POV-Ray's
- * samples use 3 to 5). */
+ * optional).  Orders beyond CSG_POLY_ORDER_MAX are refused (POV-Ray 3.7
+ * takes up to 35; its samples use 3 to 5). */
 static bool parse_poly(parser *p, csg_object *o)
 {
     if (o->poly_order == 0) {
