@@ -14,6 +14,8 @@
  */
 #include "flatten.h"
 
+#include <stddef.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 #ifdef CSG_DOUBLE
@@ -38,12 +40,39 @@ static bool array_fits(uint64_t off, int32_t count, uint64_t elem, uint64_t tota
     return (uint64_t)count <= (total - off) / elem;
 }
 
+/* A whole number in [0, hi] (real: refused before any conversion). */
+static bool whole_in(real v, real hi)
+{
+    return v >= R(0.0) && v <= hi && v == (real)(int64_t)v;
+}
+
+/* A poly's order, piece and coefficients (flat.h): its offset, p[2] *
+ * CSG_POLY_OFFSET_UNIT + p[3] reals on from its payload, lands on a real
+ * of the coefficient table with all its terms inside. */
+static bool poly_valid(const csg_blob_header *h, const csg_prim *p, int32_t i)
+{
+    if (!whole_in(p->p[0], (real)CSG_POLY_ORDER_MAX) || p->p[0] < R(2.0) ||
+        !whole_in(p->p[1], (real)((int)p->p[0] / 2)) || !whole_in(p->p[2], R(16777215.0)) ||
+        !whole_in(p->p[3], (real)(CSG_POLY_OFFSET_UNIT - 1)))
+        return false;
+    int64_t order = (int64_t)p->p[0];
+    int64_t terms = (order + 1) * (order + 2) * (order + 3) / 6;
+    uint64_t rel = (uint64_t)p->p[2] * CSG_POLY_OFFSET_UNIT + (uint64_t)p->p[3];
+    uint64_t at = h->off_prims + (uint64_t)i * sizeof(csg_prim) + offsetof(csg_prim, p) +
+                  rel * sizeof(real);
+    if (at < h->off_coefs || (at - h->off_coefs) % sizeof(real) != 0)
+        return false;
+    uint64_t first = (at - h->off_coefs) / sizeof(real);
+    return first <= (uint64_t)h->coef_count && (uint64_t)terms <= (uint64_t)h->coef_count - first;
+}
+
 static bool prims_valid(const csg_blob_header *h, const csg_prim *prims)
 {
     for (int32_t i = 0; i < h->prim_count; i++)
         if (prims[i].kind < 0 || prims[i].kind >= CSG_PRIM_KIND_COUNT || prims[i].material < 0 ||
             prims[i].material >= h->material_count || prims[i].root < 0 ||
-            prims[i].root >= h->root_count)
+            prims[i].root >= h->root_count ||
+            (prims[i].kind == CSG_PRIM_POLY && !poly_valid(h, &prims[i], i)))
             return false;
     return true;
 }
@@ -297,6 +326,7 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         h->max_stack < 0 || h->max_stack > CSG_STACK_MAX)
         return false;
     if (!array_fits(h->off_prims, h->prim_count, sizeof(csg_prim), blob_size) ||
+        !array_fits(h->off_coefs, h->coef_count, sizeof(real), blob_size) ||
         !array_fits(h->off_nodes, h->node_count, sizeof(csg_node), blob_size) ||
         !array_fits(h->off_roots, h->root_count, sizeof(csg_root), blob_size) ||
         !array_fits(h->off_bvh, h->bvh_count, sizeof(csg_bvh_node), blob_size) ||

@@ -659,6 +659,16 @@ static void export_quadric(FILE *out, const csg_object *o)
     put_field(out, "", o->coef[9]);
 }
 
+/* poly { ORDER, <coefficients> } (a quartic or a cubic too). */
+static void export_poly(FILE *out, const csg_object *o)
+{
+    int terms = (o->poly_order + 1) * (o->poly_order + 2) * (o->poly_order + 3) / 6;
+    fprintf(out, "%d, <", o->poly_order);
+    for (int k = 0; k < terms; k++)
+        put_field(out, k ? ", " : "", o->poly_coef[k]);
+    fputc('>', out);
+}
+
 /* Surfaces: vertices (and normals) as POV-Ray writes them. */
 static void put_points(FILE *out, const dvec3 *v, const dvec3 *n, int first, int count)
 {

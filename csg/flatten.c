@@ -46,6 +46,7 @@
 #include "flatten.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,6 +102,10 @@ typedef struct {
     int wide_bvh_count, wide_bvh_cap;
     csg_i32 *wide_items;
     int wide_item_count, wide_item_cap;
+    real *coefs;            /* the polys' coefficient table (flat.h)       */
+    int coef_count, coef_cap;
+    const csg_object *coefs_of; /* the poly whose coefficients start at   */
+    int coefs_at;               /* coefs[coefs_at] (its pieces share them) */
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
     csg_material *mats;
     uint64_t *mat_keys;     /* each material's (texture, interior) key   */
@@ -882,6 +887,48 @@ static bool flatten_quadric(flat_builder *fb, const csg_object *o, const csg_xfo
     return true;
 }
 
+/* A poly's coefficients in the table: once an object, its pieces sharing
+ * them; the index, or -1 (out of memory, or a table beyond int). */
+static int poly_coefs_index(flat_builder *fb, const csg_object *o)
+{
+    if (fb->coefs_of == o)
+        return fb->coefs_at;
+    int order = o->poly_order;
+    int terms = (order + 1) * (order + 2) * (order + 3) / 6;
+    if (fb->coef_count > INT_MAX / 2 - terms ||
+        !grow((void **)&fb->coefs, &fb->coef_cap, fb->coef_count + terms, sizeof(real))) {
+        fb->oom = true;
+        return -1;
+    }
+    for (int k = 0; k < terms; k++)
+        fb->coefs[fb->coef_count + k] = (real)o->poly_coef[k];
+    fb->coefs_of = o;
+    fb->coefs_at = fb->coef_count;
+    fb->coef_count += terms;
+    return fb->coefs_at;
+}
+
+/* A poly (quartic, cubic): piece k of order / 2 + 1, the k-th interval of
+ * the line where it is negative (flat.h), in its own frame; unbounded, as
+ * in POV-Ray (its bounding box is infinite: Poly::Compute_BBox).  p[2]
+ * and p[3] hold the coefficients' index in the table here; write_blob
+ * turns it into the offset from the primitive (poly_offsets). */
+static bool flatten_poly(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
+                         int piece, csg_prim *p, dbox *box)
+{
+    int at = poly_coefs_index(fb, o);
+    if (at < 0)
+        return false;
+    p->kind = CSG_PRIM_POLY;
+    p->p[0] = (real)o->poly_order;
+    p->p[1] = (real)piece;
+    p->p[2] = (real)(at / CSG_POLY_OFFSET_UNIT);
+    p->p[3] = (real)(at % CSG_POLY_OFFSET_UNIT);
+    store_inverse(p, world_to_obj);
+    *box = box_infinite();
+    return true;
+}
+
 /* ---- surfaces: triangles in world space ------------------------------------ */
 
 static dvec3 xf_normal(const csg_xform *world_to_obj, dvec3 n)
@@ -1109,6 +1156,8 @@ static int shape_pieces(flat_builder *fb, const csg_object *o)
         return split_prism(fb, o) ? fb->trap_count : 0;
     if (o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC)
         return 2;
+    if (o->kind == CSG_OBJ_POLY)
+        return o->poly_order / 2 + 1;
     return 1;
 }
 
@@ -1191,14 +1240,14 @@ static inherited inherit(inherited inh, const csg_object *o)
 static bool is_multi_piece(const csg_object *o)
 {
     return ((o->kind == CSG_OBJ_POLYGON || o->kind == CSG_OBJ_MESH) && o->vert_count > 3) ||
-           o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC;
+           o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC || o->kind == CSG_OBJ_POLY;
 }
 
 /* A solid made of pieces (each an interval of the line inside it,
  * flat.h): one root always, never a piece alone. */
 static bool is_solid_of_pieces(const csg_object *o)
 {
-    return o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC;
+    return o->kind == CSG_OBJ_TORUS || o->kind == CSG_OBJ_QUADRIC || o->kind == CSG_OBJ_POLY;
 }
 
 /* A solid made of several pieces (a union of them, which must stay one
@@ -1790,6 +1839,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.wide_count = fb->wide_count;
     h.wide_bvh_count = fb->wide_bvh_count;
     h.wide_item_count = fb->wide_item_count;
+    h.coef_count = fb->coef_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
     h.map_count = fb->map_count;
@@ -1799,6 +1849,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
             h.max_stack = fb->roots[i].stack_depth;
     uint64_t off = align64(sizeof h);
     h.off_prims = place(&off, fb->prim_count, sizeof(csg_prim));
+    h.off_coefs = place(&off, fb->coef_count, sizeof(real)); /* right after (flat.h) */
     h.off_nodes = place(&off, fb->node_count, sizeof(csg_node));
     h.off_roots = place(&off, fb->root_count, sizeof(csg_root));
     h.off_bvh = place(&off, fb->bvh_count, sizeof(csg_bvh_node));
@@ -1859,6 +1910,9 @@ static bool object_contains(const csg_object *o, dvec3 w, int depth)
         }
         case CSG_OBJ_PLANE:
             in = o->a.x * p.x + o->a.y * p.y + o->a.z * p.z < o->r0;
+            break;
+        case CSG_OBJ_POLY: /* POV-Ray's Poly::Inside (its INSIDE_TOLERANCE) */
+            in = csg_poly_value(o->poly_order, o->poly_coef, p, NULL) < 1e-4;
             break;
         case CSG_OBJ_QUADRIC: { /* POV-Ray's Quadric::Inside */
             const double *c = o->coef;
@@ -2048,6 +2102,21 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
     flat_camera((csg_camera *)(b + h->off_camera), &cam, s->hither);
 }
 
+/* Each poly's coefficient index (flatten_poly) becomes the offset, in
+ * reals, from its payload to its coefficients in the blob (flat.h). */
+static void poly_offsets(const csg_blob_header *h, csg_prim *prims)
+{
+    for (int i = 0; i < h->prim_count; i++) {
+        if (prims[i].kind != CSG_PRIM_POLY)
+            continue;
+        int64_t index = (int64_t)prims[i].p[2] * CSG_POLY_OFFSET_UNIT + (int64_t)prims[i].p[3];
+        uint64_t payload = h->off_prims + (uint64_t)i * sizeof(csg_prim) + offsetof(csg_prim, p);
+        int64_t rel = (int64_t)((h->off_coefs - payload) / sizeof(real)) + index;
+        prims[i].p[2] = (real)(rel / CSG_POLY_OFFSET_UNIT);
+        prims[i].p[3] = (real)(rel % CSG_POLY_OFFSET_UNIT);
+    }
+}
+
 static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *out)
 {
     csg_blob_header h = blob_header(fb, o);
@@ -2058,6 +2127,8 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
     /* each big array freed once in the blob, whose pages are touched (made
      * resident) only as they are written: the two are never whole at once */
     copy_array(b, h.off_prims, fb->prims, fb->prim_count, sizeof(csg_prim));
+    copy_array(b, h.off_coefs, fb->coefs, fb->coef_count, sizeof(real));
+    poly_offsets(&h, (csg_prim *)(void *)(b + h.off_prims));
     free_array((void **)&fb->prims);
     copy_array(b, h.off_nodes, fb->nodes, fb->node_count, sizeof(csg_node));
     free_array((void **)&fb->nodes);
@@ -2117,6 +2188,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.wide);
     free(fb.wide_bvh);
     free(fb.wide_items);
+    free(fb.coefs);
     free(fb.mats);
     free(fb.mat_keys);
     free(fb.mat_slots);

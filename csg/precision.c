@@ -151,6 +151,9 @@ static prec_extent feature_quadric(const csg_object *o)
     return x;
 }
 
+/* A poly: the same as a quadric (poly_distance). */
+static prec_extent feature_poly(const csg_object *o) { return feature_quadric(o); }
+
 static prec_extent feature_plane(const csg_object *o)
 {
     (void)o;
@@ -223,8 +226,17 @@ static double quadric_distance(const double *c, dvec3 l)
     return gl > 0 ? fabs(f) / gl : fabs(f);
 }
 
+/* The same for a poly: |f(l)| / |grad f(l)|. */
+static double poly_distance(const csg_object *o, dvec3 l)
+{
+    dvec3 g;
+    double f = csg_poly_value(o->poly_order, o->poly_coef, l, &g);
+    double gl = len3(g);
+    return gl > 0 ? fabs(f) / gl : fabs(f);
+}
+
 /* A plane: its point nearest the local origin, the camera's distance (a
- * quadric: its object's origin, quadric_distance). */
+ * quadric, a poly: its object's origin, quadric_distance, poly_distance). */
 static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, double *mag,
                        double *dist)
 {
@@ -234,6 +246,7 @@ static bool leaf_plane(const prec_walk *w, const csg_object *o, double smin, dou
         return false;
     dvec3 lc = xf_point(&inv, w->cam);
     double side = o->kind == CSG_OBJ_QUADRIC ? quadric_distance(o->coef, lc)
+                  : o->kind == CSG_OBJ_POLY  ? poly_distance(o, lc)
                                              : o->a.x * lc.x + o->a.y * lc.y + o->a.z * lc.z - o->r0;
     *mag = fmax(*mag, len3(p0));
     *dist = fabs(side) * smin;

@@ -323,6 +323,34 @@ const char *csg_object_kind_name(int kind)
     return kind >= 0 && kind < CSG_OBJ_KIND_COUNT ? object_kind_names[kind] : NULL;
 }
 
+double csg_poly_value(int order, const double *coef, dvec3 p, dvec3 *grad)
+{
+    double px[CSG_POLY_ORDER_MAX + 1] = {1}, py[CSG_POLY_ORDER_MAX + 1] = {1},
+           pz[CSG_POLY_ORDER_MAX + 1] = {1};
+    if (order > CSG_POLY_ORDER_MAX)
+        order = CSG_POLY_ORDER_MAX;
+    for (int e = 1; e <= order; e++) {
+        px[e] = px[e - 1] * p.x;
+        py[e] = py[e - 1] * p.y;
+        pz[e] = pz[e - 1] * p.z;
+    }
+    double v = 0;
+    dvec3 g = {0, 0, 0};
+    int term = 0;
+    for (int i = order; i >= 0; i--)
+        for (int j = order - i; j >= 0; j--)
+            for (int k = order - i - j; k >= 0; k--) {
+                double a = coef[term++];
+                v += a * px[i] * py[j] * pz[k];
+                g.x += i > 0 ? i * a * px[i - 1] * py[j] * pz[k] : 0;
+                g.y += j > 0 ? j * a * px[i] * py[j - 1] * pz[k] : 0;
+                g.z += k > 0 ? k * a * px[i] * py[j] * pz[k - 1] : 0;
+            }
+    if (grad)
+        *grad = g;
+    return v;
+}
+
 bool csg_object_is_leaf(int kind)
 {
     switch (kind) {

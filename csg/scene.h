@@ -47,6 +47,7 @@ typedef struct {
     LEAF(PLANE, plane)                      \
     LEAF(TORUS, torus)                      \
     LEAF(QUADRIC, quadric)                  \
+    LEAF(POLY, poly)                        \
     LEAF(TRIANGLE, triangle)                \
     LEAF(SMOOTH_TRIANGLE, smooth_triangle)  \
     LEAF(POLYGON, polygon)                  \
@@ -65,6 +66,9 @@ enum csg_object_kind { CSG_OBJECT_KINDS(CSG_KIND_ENUM, CSG_KIND_ENUM) CSG_OBJ_KI
 
 /* The keyword of a kind ("sphere", "union", ...); NULL out of range. */
 const char *csg_object_kind_name(int kind);
+/* The value at p of a poly of the given order and coefficients (csg_object:
+ * POV-Ray's term order), and, unless grad is NULL, its gradient. */
+double csg_poly_value(int order, const double *coef, dvec3 p, dvec3 *grad);
 /* A shape (true) or an operator (false); false out of range. */
 bool csg_object_is_leaf(int kind);
 
@@ -238,10 +242,17 @@ struct csg_object {
      *             kept in xform) and each glyph of its text
      *   torus:    major radius r0, minor radius r1 (around the y axis)
      *   quadric:  coef[0..9] = A..J of A x^2 + B y^2 + C z^2 + D xy + E xz
-     *             + F yz + G x + H y + I z + J (inside where <= 0)       */
+     *             + F yz + G x + H y + I z + J (inside where <= 0)
+     *   poly:     (quartic, cubic) poly_coef[0 .. terms) the coefficients
+     *             of a polynomial of order poly_order in POV-Ray's term
+     *             order (x^n, x^(n-1) y, x^(n-1) z, x^(n-1), x^(n-2) y^2,
+     *             ..., the constant last), terms = (n+1)(n+2)(n+3)/6;
+     *             inside where it is < 0                                 */
     dvec3 a, b;
     double r0, r1;
     double coef[10];
+    const double *poly_coef;
+    int poly_order;
     /*   triangle: verts[0..2]; smooth_triangle: verts[0..2], normals[0..2]
      *   polygon:  verts[0 .. vert_count)  (planar, simple, maybe concave)
      *   mesh:     triangle k is verts[3k .. 3k+2], vert_count = 3 * count;

@@ -479,6 +479,57 @@ static void test_blob_validation(void **state)
     csg_scene_free(&s);
 }
 
+/* A poly's coefficients: once an object in the blob's table (its pieces
+ * share them), reached by an offset from the primitive that the validator
+ * holds to the table; an order, a piece or an offset out of range, or not
+ * a whole number, is refused. */
+static void test_poly_blob_validation(void **state)
+{
+    (void)state;
+    static const double sphere4[35] = {1, 0, 0, 0, 2, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                       0, 0, 1, 0, 0, 2, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, -1};
+    csg_scene s;
+    scene_new(&s);
+    csg_object *o = obj_new(&s, CSG_OBJ_POLY);
+    o->poly_order = 4;
+    o->poly_coef = sphere4;
+    add_top(&s, o);
+    add_top(&s, sphere(&s, 3, 0, 0, 1));
+    csg_blob b;
+    const csg_blob_header *h = flatten_ok(&engine_float, &s, 8, 8, &b);
+    assert_int_equal(h->coef_count, 35);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    csg_prim *prims = (csg_prim *)(void *)((char *)b.bytes + h->off_prims);
+    int polys = 0;
+    for (int i = 0; i < h->prim_count; i++) {
+        if (prims[i].kind != CSG_PRIM_POLY)
+            continue;
+        polys++;
+        const float *c = prims[i].p + (int)prims[i].p[2] * CSG_POLY_OFFSET_UNIT + (int)prims[i].p[3];
+        assert_true(c[0] == 1.0f && c[4] == 2.0f && c[34] == -1.0f); /* the table's */
+        static const struct {
+            int k;
+            float v;
+        } bad[] = {{0, 8.0f}, {0, 1.0f}, {0, 4.5f}, {1, 3.0f}, {1, -1.0f}, {2, -1.0f},
+                   {3, 4096.0f}, {3, 0.5f}, {3, 1e30f}};
+        for (size_t j = 0; j < sizeof bad / sizeof bad[0]; j++) {
+            float keep = prims[i].p[bad[j].k];
+            prims[i].p[bad[j].k] = bad[j].v;
+            assert_false(csg_blob_valid(b.bytes, b.size));
+            prims[i].p[bad[j].k] = keep;
+        }
+        prims[i].p[3] += 1.0f; /* the last term past the table */
+        assert_false(csg_blob_valid(b.bytes, b.size));
+        prims[i].p[3] -= 2.0f; /* before it: the primitives' bytes */
+        assert_false(csg_blob_valid(b.bytes, b.size));
+        prims[i].p[3] += 1.0f;
+        assert_true(csg_blob_valid(b.bytes, b.size));
+    }
+    assert_int_equal(polys, 3);
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
 /* The BVH finds exactly the hits a plain loop over every root finds: 300
  * spheres and a plane, every pixel's record compared bit for bit. */
 static void test_bvh_matches_linear(void **state)
@@ -822,6 +873,7 @@ int main(void)
         cmocka_unit_test(test_flatten_stack_limit),
         cmocka_unit_test(test_flatten_degenerate),
         cmocka_unit_test(test_blob_validation),
+        cmocka_unit_test(test_poly_blob_validation),
         cmocka_unit_test(test_bvh_matches_linear),
         cmocka_unit_test(test_bvh_sah_random),
         cmocka_unit_test(test_shadow_flags),

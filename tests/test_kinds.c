@@ -44,6 +44,9 @@ static const char *const samples[CSG_OBJ_KIND_COUNT] = {
     [CSG_OBJ_PLANE] = "plane { <0, 0, -1>, -5 }",
     [CSG_OBJ_TORUS] = "torus { 1, 0.4 sturm translate <0, 0, 5> }",
     [CSG_OBJ_QUADRIC] = "quadric { <1, 1, 1>, <0, 0, 0>, <0, 0, 0>, -1 translate <0, 0, 5> }",
+    /* (x^2 + y^2 + z^2)^2 - 1: the unit sphere as a quartic */
+    [CSG_OBJ_POLY] = "poly { 4, <1, 0, 0, 0, 2, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, "
+                     "0, 0, 2, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, -1> sturm translate <0, 0, 5> }",
     [CSG_OBJ_TRIANGLE] = "triangle { <-1, -1, 5>, <1, -1, 5>, <0, 1, 5> }",
     [CSG_OBJ_SMOOTH_TRIANGLE] = "smooth_triangle { <-1, -1, 5>, <0, 0, -1>, <1, -1, 5>, "
                                 "<0.1, 0, -1>, <0, 1, 5>, <0, 0.1, -1> }",
@@ -68,6 +71,9 @@ static const struct {
     const char *text;
 } more_samples[] = {
     {CSG_OBJ_BOX, "box { <-1, -1, 5>, <1, 1, 5> }"},
+    /* the unit sphere as a cubic (no cubic term: its degree drops) */
+    {CSG_OBJ_POLY, "cubic { <0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -1> "
+                   "translate <0, 0, 5> }"},
     {CSG_OBJ_PRISM, "prism { conic_sweep linear_spline 0.5, 1, 4, <-1, 4>, <1, 4>, <0, 6>, "
                     "<-1, 4> translate <0, -0.75, 0> }"},
 };

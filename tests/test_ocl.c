@@ -954,6 +954,17 @@ static void test_quadric_flattened(void **state)
     check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7, false);
 }
 
+/* Polys (tests/povray/poly.pov: orders 2 to 5, bounded and unbounded,
+ * cut by boxes, inverse, in CSG): order / 2 + 1 pieces each, their
+ * coefficients in the blob's table, through the general program only (a
+ * specialised build costs make test a PoCL compile a precision: ~4 s of
+ * CPU each, measured; the torus's test builds the specialised program
+ * whose double arithmetic a float build enables the same way). */
+static void test_poly_flattened(void **state)
+{
+    check_pieces_file(state, "tests/povray/poly.pov", CSG_PRIM_POLY, 3 + 2 + 3 + 3 + 2 + 3, false);
+}
+
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
  * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
  * pixel, an image that cuts packets and slices of a few rows. */
@@ -1251,6 +1262,7 @@ int main(void)
         cmocka_unit_test(test_extrusions),
         cmocka_unit_test(test_torus_flattened),
         cmocka_unit_test(test_quadric_flattened),
+        cmocka_unit_test(test_poly_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -1036,6 +1036,125 @@ static void test_quadric_pieces_random(void **state)
     assert_true(checked > 2000 && two > 50 && unbounded > 50);
 }
 
+/* A poly primitive with its coefficients right after it: p[2], p[3] the
+ * offset from its payload to them (flat.h), as the flattener writes it. */
+typedef struct {
+    csg_prim prim;
+    float coefs[120];
+} poly_prim;
+
+static void poly_prim_make(poly_prim *pp, int order, int piece, const double *coef)
+{
+    memset(pp, 0, sizeof *pp);
+    pp->prim.kind = CSG_PRIM_POLY;
+    pp->prim.p[0] = (float)order;
+    pp->prim.p[1] = (float)piece;
+    size_t rel = (offsetof(poly_prim, coefs) - offsetof(poly_prim, prim) - offsetof(csg_prim, p)) /
+                 sizeof(float);
+    pp->prim.p[2] = (float)(rel / CSG_POLY_OFFSET_UNIT);
+    pp->prim.p[3] = (float)(rel % CSG_POLY_OFFSET_UNIT);
+    int terms = (order + 1) * (order + 2) * (order + 3) / 6;
+    for (int k = 0; k < terms; k++)
+        pp->coefs[k] = (float)coef[k];
+}
+
+/* Polys of orders 2 to 7 (bounded, unbounded, odd) on random lines: the
+ * pieces' intervals are sorted and disjoint, their middles inside (the
+ * poly < 0, in double: csg_poly_value), the gaps' middles outside, unless
+ * the point is within 1e-6 (relative) of the surface; the quartic torus
+ * gives the torus primitive's intervals (within 1e-4). */
+static void test_poly_pieces_random(void **state)
+{
+    (void)state;
+    static const double torus4[35] = {1, 0, 0, 0, 2, 0, 0, 2, 0, -2.32, 0, 0, 0, 0, 0, 0, 0, 0,
+                                      0, 0, 1, 0, 0, 2, 0, 1.68, 0, 0, 0, 0, 1, 0, -2.32, 0, 0.7056};
+    static const double saddle3[20] = {1, 0, 0, 0, -3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, -1, 0};
+    static const double sphere2[10] = {1, 0, 0, 0, 1, 0, 0, 1, 0, -1};
+    static const double bowl4[35] = {[0] = 1, [29] = -1, [30] = 1};  /* x^4 + z^4 - y */
+    static const double cyl4[35] = {[0] = 1, [20] = 1, [34] = -0.1}; /* x^4 + y^4 - 0.1 */
+    double p5[56] = {0}, p7[120] = {0};
+    p5[0] = 1, p5[37] = 1, p5[51] = 1, p5[55] = -0.5; /* x^5 + y^4 + z^4 - 0.5 */
+    p7[0] = 1, p7[85] = -1, p7[119] = -1; /* x^7 - y^6 z - 1 */
+    struct {
+        int order;
+        const double *c;
+    } polys[] = {{4, torus4}, {3, saddle3}, {2, sphere2}, {4, bowl4}, {4, cyl4}, {5, p5}, {7, p7}};
+    uint64_t st = 4242;
+    int checked = 0, several = 0, unbounded = 0, same_as_torus = 0;
+    for (size_t q = 0; q < sizeof polys / sizeof polys[0]; q++)
+        for (int k = 0; k < 300; k++) {
+            float o[3], d[3];
+            for (int i = 0; i < 3; i++) {
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                o[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 4);
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                d[i] = (float)(((double)(st >> 11) / 9007199254740992.0 - 0.5) * 2);
+            }
+            int order = polys[q].order, n = 0;
+            float t0[4], t1[4];
+            csg_ray r = {v3(o[0], o[1], o[2]), v3(d[0], d[1], d[2])};
+            for (int piece = 0; piece <= order / 2; piece++) {
+                poly_prim pp;
+                poly_prim_make(&pp, order, piece, polys[q].c);
+                float a = 0, b = 0;
+                csg_i32 s0, s1;
+                if (csg_prim_span(&pp.prim, r, &a, &b, &s0, &s1)) {
+                    assert_true(a < b && !isnan(a) && !isnan(b));
+                    assert_int_equal(n, piece);
+                    assert_true(n == 0 || t1[n - 1] < a);
+                    unbounded += isinf(a) || isinf(b);
+                    t0[n] = a;
+                    t1[n] = b;
+                    n++;
+                }
+            }
+            several += n >= 2;
+            if (q == 0) { /* the torus primitive (R 1, r 0.4) agrees */
+                for (int piece = 0; piece < 2; piece++) {
+                    csg_prim pr;
+                    memset(&pr, 0, sizeof pr);
+                    pr.kind = CSG_PRIM_TORUS;
+                    pr.p[0] = 1.0f;
+                    pr.p[1] = 0.4f;
+                    pr.p[2] = (float)piece;
+                    float a = 0, b = 0;
+                    csg_i32 s0, s1;
+                    int hit = csg_prim_span(&pr, r, &a, &b, &s0, &s1);
+                    assert_int_equal(hit, piece < n);
+                    if (hit) {
+                        assert_true(fabsf(a - t0[piece]) < 1e-4f && fabsf(b - t1[piece]) < 1e-4f);
+                        same_as_torus++;
+                    }
+                }
+                assert_true(n <= 2);
+            }
+            double cuts[10];
+            int m = 0;
+            cuts[m++] = -1e3;
+            for (int i = 0; i < n; i++) {
+                cuts[m++] = fmax((double)t0[i], -1e3);
+                cuts[m++] = fmin((double)t1[i], 1e3);
+            }
+            cuts[m++] = 1e3;
+            for (int i = 0; i + 1 < m; i++) {
+                if (!(cuts[i] < cuts[i + 1]))
+                    continue;
+                double t = 0.5 * (cuts[i] + cuts[i + 1]);
+                dvec3 p = {(double)o[0] + t * (double)d[0], (double)o[1] + t * (double)d[1],
+                           (double)o[2] + t * (double)d[2]};
+                double f = csg_poly_value(order, polys[q].c, p, NULL);
+                double scale = pow(1 + p.x * p.x + p.y * p.y + p.z * p.z, 0.5 * order);
+                if (fabs(f) < 1e-6 * scale)
+                    continue;
+                if ((f < 0) != (i % 2 == 1))
+                    print_message("poly %d line %d: f %g at t %g, run %d of %d\n", (int)q, k, f, t, i, m);
+                assert_true((f < 0) == (i % 2 == 1));
+                checked++;
+            }
+        }
+    assert_true(checked > 2500 && several > 100 && unbounded > 100 && same_as_torus > 50);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1054,6 +1173,7 @@ int main(void)
         cmocka_unit_test(test_torus_extremes),
         cmocka_unit_test(test_torus_pieces_random),
         cmocka_unit_test(test_quadric_pieces_random),
+        cmocka_unit_test(test_poly_pieces_random),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -58,6 +58,17 @@
  *           + I z + J, inside where it is <= 0 (POV-Ray's); p[10] the
  *           piece, 0 or 1, as the torus's (a line meets it in at most two
  *           intervals, the outer ones maybe unbounded)
+ *   poly    POV-Ray's poly (quartic, cubic): a polynomial of order p[0]
+ *           (2 .. CSG_POLY_ORDER_MAX) in x, y, z in its local frame
+ *           (CSG_PF_XFORM when transformed), inside where it is < 0; p[1]
+ *           the piece, 0 .. p[0] / 2 (a line meets it in at most p[0] / 2
+ *           + 1 intervals, the outer ones maybe unbounded); its
+ *           coefficients are (p[0] + 1)(p[0] + 2)(p[0] + 3) / 6 reals in
+ *           the blob's coefficient table, POV-Ray's term order (x^n, x^(n-1)
+ *           y, x^(n-1) z, x^(n-1), ..., the constant last): p[2] * 4096 +
+ *           p[3] reals on from p itself (csg_poly_coefs; the flattener
+ *           writes that offset, the blob validator checks that it lands in
+ *           the table, flat.h's blob section below)
  *   triangle         p[0..2], p[3..5], p[6..8] the vertices v0, v1, v2 in
  *                    world space (never CSG_PF_XFORM); its front is the
  *                    side (v1 - v0) x (v2 - v0) points to
@@ -105,7 +116,8 @@
  *     closed, holds nothing but the sheet itself. */
 #define CSG_SOLID_KINDS(X)                                                                         \
     X(SPHERE, sphere) X(BOX, box) X(CONE, cone) X(PLANE, plane) X(TRAPEZOID, trapezoid)      \
-        X(CONIC_TRAPEZOID, conic_trapezoid) X(TORUS, torus) X(QUADRIC, quadric)
+        X(CONIC_TRAPEZOID, conic_trapezoid) X(TORUS, torus) X(QUADRIC, quadric)    \
+        X(POLY, poly)
 #define CSG_SURFACE_KINDS(X)                                                                       \
     X(TRIANGLE, triangle) X(SMOOTH_TRIANGLE, smooth_triangle) X(FLAT_BOX, flat_box)
 #define CSG_PRIM_KINDS(X) CSG_SOLID_KINDS(X) CSG_SURFACE_KINDS(X)
@@ -150,6 +162,7 @@ enum csg_surface {
     CSG_SURF_TRAP_SIDE_B = 1,
     CSG_SURF_TORUS = 0,
     CSG_SURF_QUADRIC = 0,
+    CSG_SURF_POLY = 0,
     CSG_SURF_TRI_FRONT = 0, /* triangles: the ray meets the front side       */
     CSG_SURF_TRI_BACK = 1,  /* ... the back side                             */
     CSG_SURF_HIDDEN = 7     /* any kind: a surface that blocks light but that
@@ -157,6 +170,10 @@ enum csg_surface {
 };
 
 #define CSG_PRIM_REALS 20 /* the payload of a primitive */
+#define CSG_POLY_ORDER_MAX 7 /* a poly's order, at most (POV-Ray's samples: 3 to 5) */
+#define CSG_POLY_OFFSET_UNIT 4096 /* a poly's offset to its coefficients is
+                                     p[2] * this + p[3]: two reals, each an
+                                     integer exact in float            */
 
 typedef struct {
     csg_i32 kind;     /* enum csg_prim_kind                               */
@@ -494,11 +511,14 @@ typedef struct {
     csg_i32 wide_count;    /* wide runs (csg_wide), their BVH nodes and */
     csg_i32 wide_bvh_count; /* items                                    */
     csg_i32 wide_item_count;
-    csg_i32 pad;
+    csg_i32 coef_count;    /* reals in the coefficient table (polys)    */
     csg_u32 kinds;         /* the primitive kinds present: bit 1 << kind */
     csg_u32 features;      /* enum csg_feature: what else the scene uses */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
     csg_u64 off_wide, off_wide_bvh, off_wide_items;              /* device */
+    csg_u64 off_coefs;     /* device: the coefficient table, reals, right
+                              after the primitives (a poly reaches its
+                              coefficients from its own payload, flat.h) */
     csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
 } csg_blob_header;
@@ -520,12 +540,12 @@ typedef struct {
         F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
         F(csg_blob_header, sky_count) F(csg_blob_header, wide_count)                       \
         F(csg_blob_header, wide_bvh_count) F(csg_blob_header, wide_item_count)             \
-        F(csg_blob_header, pad) F(csg_blob_header, kinds)                                  \
+        F(csg_blob_header, coef_count) F(csg_blob_header, kinds)                                  \
         F(csg_blob_header, features) F(csg_blob_header, off_prims)                         \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
         F(csg_blob_header, off_wide) F(csg_blob_header, off_wide_bvh)                      \
-        F(csg_blob_header, off_wide_items)                                                 \
+        F(csg_blob_header, off_wide_items) F(csg_blob_header, off_coefs)                   \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \
         F(csg_blob_header, off_shading) F(csg_blob_header, off_maps)                       \
         F(csg_blob_header, total_size)                                                     \

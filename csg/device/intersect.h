@@ -789,6 +789,38 @@ CSG_FN vec3 csg_quadric_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     return v3_dot(n, n) > R(0.0) ? n : v3(R(1.0), R(0.0), R(0.0));
 }
 
+/* The poly's gradient (POV-Ray's Poly::Normal), in its local frame; where
+ * it vanishes, POV-Ray's arbitrary direction. */
+CSG_FN vec3 csg_poly_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)sub;
+    csg_i32 n = (csg_i32)p[0];
+    if (n < 1 || n > CSG_POLY_ORDER_MAX)
+        return v3(R(1.0), R(0.0), R(0.0));
+    real px[CSG_POLY_ORDER_MAX + 1], py[CSG_POLY_ORDER_MAX + 1], pz[CSG_POLY_ORDER_MAX + 1];
+    px[0] = py[0] = pz[0] = R(1.0);
+    for (csg_i32 e = 1; e <= n; e++) {
+        px[e] = px[e - 1] * lp.x;
+        py[e] = py[e - 1] * lp.y;
+        pz[e] = pz[e - 1] * lp.z;
+    }
+    CSG_GLOBAL const real *coef = csg_poly_coefs(p);
+    vec3 g = v3(R(0.0), R(0.0), R(0.0));
+    csg_i32 term = 0;
+    for (csg_i32 i = n; i >= 0; i--)
+        for (csg_i32 j = n - i; j >= 0; j--)
+            for (csg_i32 k = n - i - j; k >= 0; k--) {
+                real a = coef[term++];
+                if (i >= 1)
+                    g.x = g.x + (real)i * a * px[i - 1] * py[j] * pz[k];
+                if (j >= 1)
+                    g.y = g.y + (real)j * a * px[i] * py[j - 1] * pz[k];
+                if (k >= 1)
+                    g.z = g.z + (real)k * a * px[i] * py[j] * pz[k - 1];
+            }
+    return v3_dot(g, g) > R(0.0) ? g : v3(R(1.0), R(0.0), R(0.0));
+}
+
 /* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */
 CSG_FN vec3 csg_triangle_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
 {

@@ -347,6 +347,13 @@ CSG_FN L_INT L_FN(csg_quadric_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t
 {
     return L_FN(csg_torus_span)(p, r, t0, t1, s0, s1);
 }
+
+/* And for a poly (flat.h). */
+CSG_FN L_INT L_FN(csg_poly_span)(CSG_GLOBAL const real *p, L_RAY r, L_REAL *t0, L_REAL *t1,
+                                 L_INT *s0, L_INT *s1)
+{
+    return L_FN(csg_torus_span)(p, r, t0, t1, s0, s1);
+}
 #else
 #if CSG_USE_TORUS
 /* The quartic of the torus (flat.h) along the line, in double precision:
@@ -519,6 +526,128 @@ CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, r
 #else /* (a program without quadrics) */
 CSG_FN csg_i32 csg_quadric_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
                                 csg_i32 *s0, csg_i32 *s1)
+{
+    return csg_torus_span(p, r, t0, t1, s0, s1);
+}
+#endif
+
+/* The coefficients of poly p (flat.h): the table's entries p[2] *
+ * CSG_POLY_OFFSET_UNIT + p[3] reals on from p (the blob validator checks
+ * that they lie in the table). */
+CSG_FN CSG_GLOBAL const real *csg_poly_coefs(CSG_GLOBAL const real *p)
+{
+    return p + (csg_i32)p[2] * CSG_POLY_OFFSET_UNIT + (csg_i32)p[3];
+}
+
+#if CSG_USE_POLY
+#define CSG_POLY_FAR 1e7 /* roots farther along the line (local units) are
+                            not sought: POV-Ray's MAX_DISTANCE */
+
+/* The poly of order n along the line X(w) = c + w u, in double: q[h] the
+ * coefficient of w^h (POV-Ray's Poly::intersect, about c).  pw[a][e] is
+ * (c_a + u_a w)^e; term x^i y^j z^k adds its coefficient times the
+ * product of the three. */
+CSG_FN void csg_poly_on_line(CSG_GLOBAL const real *p, csg_i32 n, const double *c,
+                             const double *u, double *q)
+{
+    double pw[3][CSG_POLY_MAX_ORDER + 1][CSG_POLY_MAX_ORDER + 1];
+    for (csg_i32 a = 0; a < 3; a++) {
+        pw[a][0][0] = 1.0;
+        for (csg_i32 e = 1; e <= n; e++)
+            for (csg_i32 h = 0; h <= e; h++)
+                pw[a][e][h] = (h < e ? pw[a][e - 1][h] * c[a] : 0.0) +
+                              (h > 0 ? pw[a][e - 1][h - 1] * u[a] : 0.0);
+    }
+    for (csg_i32 h = 0; h <= n; h++)
+        q[h] = 0.0;
+    CSG_GLOBAL const real *coef = csg_poly_coefs(p);
+    csg_i32 term = 0;
+    for (csg_i32 i = n; i >= 0; i--)
+        for (csg_i32 j = n - i; j >= 0; j--)
+            for (csg_i32 k = n - i - j; k >= 0; k--) {
+                double a = (double)coef[term++];
+                if (a == 0.0)
+                    continue;
+                double xy[CSG_POLY_MAX_ORDER + 1];
+                for (csg_i32 h = 0; h <= i + j; h++)
+                    xy[h] = 0.0;
+                for (csg_i32 h1 = 0; h1 <= i; h1++)
+                    for (csg_i32 h2 = 0; h2 <= j; h2++)
+                        xy[h1 + h2] = xy[h1 + h2] + pw[0][i][h1] * pw[1][j][h2];
+                for (csg_i32 h1 = 0; h1 <= i + j; h1++)
+                    for (csg_i32 h3 = 0; h3 <= k; h3++)
+                        q[h1 + h3] = q[h1 + h3] + a * xy[h1] * pw[2][k][h3];
+            }
+}
+
+/* Piece p[1] of the poly (flat.h): the p[1]-th interval of the line where
+ * the poly is < 0.  The line is written from its point c nearest the
+ * local origin, w the distance along it in local units (as POV-Ray's
+ * Poly::intersect: a poly's own units are the ones its coefficients are
+ * written for; scaling w by a root bound would crush the near roots of a
+ * line whose leading coefficient almost vanishes); its roots lie within
+ * Cauchy's bound B = 1 + max |q_i / q_n| of c, sought up to CSG_POLY_FAR.
+ * The roots cut the line into runs; a run is inside where the poly is
+ * negative at its middle; touching inside runs merge (a double root
+ * splits nothing); a run that reaches past B is unbounded there (-inf /
+ * +inf, sub -1). */
+CSG_FN csg_i32 csg_poly_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                             csg_i32 *s0, csg_i32 *s1)
+{
+    csg_i32 n = (csg_i32)p[0];
+    double d[3] = {(double)r.d.x, (double)r.d.y, (double)r.d.z};
+    double o[3] = {(double)r.o.x, (double)r.o.y, (double)r.o.z};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 0.0) || n < 1 || n > CSG_POLY_MAX_ORDER)
+        return 0;
+    double u[3] = {d[0] / len, d[1] / len, d[2] / len};
+    double tc = -(o[0] * u[0] + o[1] * u[1] + o[2] * u[2]);
+    double c[3] = {o[0] + tc * u[0], o[1] + tc * u[1], o[2] + tc * u[2]};
+    double q[CSG_POLY_MAX_ORDER + 1];
+    csg_poly_on_line(p, n, c, u, q);
+    while (n > 0 && q[n] == 0.0)
+        n--;
+    double bound = 0.0;
+    for (csg_i32 i = 0; i < n; i++) {
+        double m = q[i] / q[n];
+        m = m < 0.0 ? -m : m;
+        bound = m > bound ? m : bound;
+    }
+    bound = bound + 1.0;
+    if (!(bound < CSG_POLY_FAR))
+        bound = CSG_POLY_FAR;
+    double cut[CSG_POLY_MAX_ORDER + 2];
+    csg_i32 m = n > 0 ? csg_poly_roots(q, n, -bound, bound, cut + 1) : 0;
+    cut[0] = -bound;
+    cut[m + 1] = bound;
+    csg_i32 want = (csg_i32)p[1], runs = 0;
+    csg_i32 ka = 0, kb = 0;
+    int open = 0, found = 0;
+    for (csg_i32 k = 0; k <= m && !found; k++) {
+        int in = csg_poly_eval(q, n, 0.5 * (cut[k] + cut[k + 1])) < 0.0;
+        if (in && !open) {
+            ka = k;
+            open = 1;
+        }
+        if (open && (!in || k == m)) { /* the run ended at cut[k] (or at the line's end) */
+            kb = in ? k + 1 : k;
+            open = 0;
+            found = runs == want;
+            runs++;
+        }
+    }
+    if (!found)
+        return 0;
+    double inf = (double)CSG_R_INF;
+    *t0 = ka == 0 ? (real)-inf : (real)((tc + cut[ka]) / len);
+    *t1 = kb == m + 1 ? (real)inf : (real)((tc + cut[kb]) / len);
+    *s0 = ka == 0 ? -1 : CSG_SURF_POLY;
+    *s1 = kb == m + 1 ? -1 : CSG_SURF_POLY;
+    return *t0 < *t1;
+}
+#else /* (a program without polys) */
+CSG_FN csg_i32 csg_poly_span(CSG_GLOBAL const real *p, csg_ray r, real *t0, real *t1,
+                             csg_i32 *s0, csg_i32 *s1)
 {
     return csg_torus_span(p, r, t0, t1, s0, s1);
 }

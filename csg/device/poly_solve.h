@@ -20,9 +20,11 @@
  *
  * Conditioning.  The caller scales the variable so that the roots it wants
  * lie in [-1, 1] or so (the torus: its bounding sphere's chord, in units
- * of the sphere's radius), so the tolerances below are absolute on an O(1)
- * variable: CSG_POLY_TOL on a root, CSG_POLY_ZERO on a remainder's
- * coefficient relative to its dividend's largest (POV-Ray's SMALL_ENOUGH,
+ * of the sphere's radius; a poly: its own units, its roots up to 1e7
+ * away, a bracket then narrowed to the doubles' spacing), so the
+ * tolerances below are absolute on an O(1) variable: CSG_POLY_TOL on a
+ * root, CSG_POLY_ZERO on a remainder's coefficient relative to its
+ * dividend's largest (POV-Ray's SMALL_ENOUGH,
  * 1e-10, on a monic sequence).
  *
  * Only + - * / and comparisons on double: the same bits in C and OpenCL C
@@ -34,10 +36,11 @@
 #include "portable.h"
 #include "spec.h"
 
-/* double is needed on the device only by a program that has a torus or a
- * quadric (spec.h): a float program without them compiles on a device
+/* double is needed on the device only by a program that has a torus, a
+ * quadric or a poly (spec.h): a float program without them compiles on a device
  * without cl_khr_fp64, as before. */
-#if !defined(__OPENCL_VERSION__) || defined(CSG_DOUBLE) || CSG_USE_TORUS || CSG_USE_QUADRIC
+#if !defined(__OPENCL_VERSION__) || defined(CSG_DOUBLE) || CSG_USE_TORUS || CSG_USE_QUADRIC ||     \
+    CSG_USE_POLY
 #define CSG_POLY_SOLVER 1
 #if defined(__OPENCL_VERSION__) && !defined(CSG_DOUBLE)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -48,7 +51,14 @@
 
 #if CSG_POLY_SOLVER
 
-#define CSG_POLY_MAX_ORDER 4   /* the highest degree solved (a quartic)      */
+/* The highest degree solved: a poly's (flat.h's CSG_POLY_ORDER_MAX), or a
+ * quartic in a program without polys (a torus's: its Sturm sequence
+ * takes private memory by this square, on the device too). */
+#if CSG_USE_POLY
+#define CSG_POLY_MAX_ORDER CSG_POLY_ORDER_MAX /* (flat.h: intersect.h includes it first) */
+#else
+#define CSG_POLY_MAX_ORDER 4
+#endif
 #define CSG_POLY_TOL 1e-12     /* the width a root is bracketed to            */
 #define CSG_POLY_ZERO 1e-15    /* a remainder coefficient below this, times its
                                   dividend's largest, is 0                    */

@@ -65,6 +65,11 @@
 #else
 #define CSG_USE_QUADRIC 0
 #endif
+#ifdef CSG_HAS_POLY
+#define CSG_USE_POLY 1
+#else
+#define CSG_USE_POLY 0
+#endif
 #ifdef CSG_HAS_TRIANGLE
 #define CSG_USE_TRIANGLE 1
 #else
@@ -89,6 +94,7 @@
 #define CSG_USE_CONIC_TRAPEZOID 1
 #define CSG_USE_TORUS 1
 #define CSG_USE_QUADRIC 1
+#define CSG_USE_POLY 1
 #define CSG_USE_TRIANGLE 1
 #define CSG_USE_SMOOTH_TRIANGLE 1
 #define CSG_USE_FLAT_BOX 1

@@ -36,7 +36,7 @@ enum csg_kw {
     CSG_KW_UNSUPPORTED, /* a POV-Ray word csgtrace does not implement     */
     /* objects */
     CSG_KW_SPHERE, CSG_KW_BOX, CSG_KW_CYLINDER, CSG_KW_CONE, CSG_KW_PLANE, CSG_KW_TORUS,
-    CSG_KW_QUADRIC,
+    CSG_KW_QUADRIC, CSG_KW_POLY, CSG_KW_QUARTIC, CSG_KW_CUBIC,
     CSG_KW_TRIANGLE, CSG_KW_SMOOTH_TRIANGLE, CSG_KW_POLYGON, CSG_KW_MESH, CSG_KW_PRISM,
     CSG_KW_TEXT,
     /* prism and text items */

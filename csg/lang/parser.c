@@ -142,6 +142,9 @@ static int kind_of_keyword(enum csg_kw kw)
     case CSG_KW_##ID:                                                                              \
         return CSG_OBJ_##ID;
         CSG_OBJECT_KINDS(PARSE_KIND_OF, PARSE_KIND_OF)
+    case CSG_KW_QUARTIC: /* poly of order 4 and 3 (POV-Ray's Parse_Poly) */
+    case CSG_KW_CUBIC:
+        return CSG_OBJ_POLY;
     default:
         return -1;
     }
@@ -210,6 +213,8 @@ static const char *object_name(enum csg_kw kw)
 {
     if (kw == CSG_KW_TEXT)
         return "text";
+    if (kw == CSG_KW_QUARTIC || kw == CSG_KW_CUBIC)
+        return kw == CSG_KW_QUARTIC ? "quartic" : "cubic";
     int kind = kind_of_keyword(kw);
     return kind >= 0 ? csg_object_kind_name(kind) : "object";
 }
@@ -371,6 +376,71 @@ static bool parse_quadric(parser *p, csg_object *o)
             return false;
         }
     return true;
+}
+
+/* The terms of a poly of order n: (n + 1)(n + 2)(n + 3) / 6. */
+static int poly_terms(int order)
+{
+    return (order + 1) * (order + 2) * (order + 3) / 6;
+}
+
+/* poly { ORDER, <c0, c1, ...> }, quartic { <35 coefficients> }, cubic {
+ * <20 coefficients> } (POV-Ray's Parse_Poly and Parse_Coeffs: the order
+ * from 2 on, the coefficients in angle brackets, each a float, the commas
+ * optional).  Orders beyond CSG_POLY_ORDER_MAX are refused (POV-Ray 3.7
+ * takes up to 35; its samples use 3 to 5). */
+static bool parse_poly(parser *p, csg_object *o)
+{
+    if (o->poly_order == 0) {
+        double order;
+        csg_loc at;
+        bool ok = lang_parse_float(p, &order, &at);
+        if (ok)
+            skip_comma(p, &ok);
+        if (!ok)
+            return false;
+        if (!(order >= 2 && order < CSG_POLY_ORDER_MAX + 1)) { /* (POV-Ray: (int)order) */
+            csg_error(p->d, at, "the order of a poly must be 2 to %d, got %g", CSG_POLY_ORDER_MAX,
+                      order);
+            return false;
+        }
+        o->poly_order = (int)order;
+    }
+    int terms = poly_terms(o->poly_order);
+    double *c = lang_alloc(p, (size_t)terms * sizeof *c);
+    csg_loc open = lang_tok(p)->loc;
+    if (!c)
+        return false;
+    if (!lang_is_punct(p, '<')) {
+        csg_error(p->d, open, "'<' expected (the %d coefficients of a poly of order %d)", terms,
+                  o->poly_order);
+        return false;
+    }
+    if (!lang_enter(p, open) || !lang_next(p))
+        return false;
+    for (int k = 0; k < terms; k++) {
+        bool ok = true;
+        if (k > 0)
+            skip_comma(p, &ok);
+        csg_loc at = lang_tok(p)->loc;
+        if (!ok || (k > 0 && lang_is_punct(p, '>'))) {
+            if (ok)
+                csg_error(p->d, at, "a poly of order %d has %d coefficients, got %d",
+                          o->poly_order, terms, k);
+            return false;
+        }
+        if (!lang_parse_float(p, &c[k], &at))
+            return false;
+        if (!isfinite(c[k])) {
+            csg_error(p->d, at, "poly coefficients must be finite numbers");
+            return false;
+        }
+    }
+    if (!lang_is_punct(p, '>'))
+        return lang_expected_close(p, '>', "<", open);
+    lang_leave(p);
+    o->poly_coef = c;
+    return lang_next(p);
 }
 
 static bool parse_plane(parser *p, csg_object *o)
@@ -729,11 +799,12 @@ static bool parse_flag(parser *p, csg_object *o, const char *name)
         o->hollow = f > 0 ? 1 : 2;
         return true;
     }
-    case CSG_KW_STURM: { /* sturm [BOOL]: the torus's roots always come from a Sturm
-                            sequence (csg/device/poly_solve.h) */
+    case CSG_KW_STURM: { /* sturm [BOOL]: the roots of a torus or a poly always come
+                            from a Sturm sequence (csg/device/poly_solve.h) */
         double f = 1;
-        if (o->kind != CSG_OBJ_TORUS) {
-            csg_error(p->d, p->tok.loc, "'sturm' applies only to torus, not to '%s'", name);
+        if (o->kind != CSG_OBJ_TORUS && o->kind != CSG_OBJ_POLY) {
+            csg_error(p->d, p->tok.loc,
+                      "'sturm' applies only to torus, poly, quartic and cubic, not to '%s'", name);
             return false;
         }
         if (!lang_next(p))
@@ -864,6 +935,8 @@ bool lang_parse_object(parser *p, csg_object **out)
             n->height = 2;
     } else {
         n = kind >= 0 ? new_node(p, (enum csg_object_kind)kind, loc) : parse_object_base(p, loc);
+        if (n && kind == CSG_OBJ_POLY) /* poly reads its order */
+            n->obj.poly_order = kw == CSG_KW_QUARTIC ? 4 : kw == CSG_KW_CUBIC ? 3 : 0;
         ok = n && (kind < 0 || parse_body(p, n, name));
     }
     if (!ok || !parse_modifiers(p, &n->obj, name, loc, tex_mark, int_mark))
