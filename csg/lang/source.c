@@ -359,7 +359,7 @@ static const char *file_type(mode_t m)
 }
 
 /* Reads fd (a regular file of `size` bytes) into malloc'd memory. */
-static char *read_fd(int fd, off_t size, size_t *len, char *why, size_t why_size)
+static char *read_fd(int fd, off_t size, long max, size_t *len, char *why, size_t why_size)
 {
     size_t cap = (size_t)size + 1, n = 0;
     char *buf = malloc(cap + 1);
@@ -380,13 +380,28 @@ static char *read_fd(int fd, off_t size, size_t *len, char *why, size_t why_size
             break;
         n += (size_t)got;
         if (n == cap) { /* it grew while being read */
-            snprintf(why, why_size, "larger than %ld bytes", CSG_PARSE_MAX_FILE);
+            snprintf(why, why_size, "larger than %ld bytes", max);
             free(buf);
             return NULL;
         }
     }
     *len = n;
     return buf;
+}
+
+char *lang_read_fd(int fd, long max, size_t *len, char *why, size_t why_size)
+{
+    struct stat st;
+    char *text = NULL;
+    if (fstat(fd, &st) != 0)
+        snprintf(why, why_size, "%s", strerror(errno));
+    else if (!S_ISREG(st.st_mode))
+        snprintf(why, why_size, "not a regular file (%s)", file_type(st.st_mode));
+    else if (st.st_size > max)
+        snprintf(why, why_size, "larger than %ld bytes", max);
+    else
+        text = read_fd(fd, st.st_size, max, len, why, why_size);
+    return text;
 }
 
 char *lang_read_file(const char *path, size_t *len, char *why, size_t why_size)
@@ -397,16 +412,7 @@ char *lang_read_file(const char *path, size_t *len, char *why, size_t why_size)
         snprintf(why, why_size, "%s", strerror(errno));
         return NULL;
     }
-    struct stat st;
-    char *text = NULL;
-    if (fstat(fd, &st) != 0)
-        snprintf(why, why_size, "%s", strerror(errno));
-    else if (!S_ISREG(st.st_mode))
-        snprintf(why, why_size, "not a regular file (%s)", file_type(st.st_mode));
-    else if (st.st_size > CSG_PARSE_MAX_FILE)
-        snprintf(why, why_size, "larger than %ld bytes", CSG_PARSE_MAX_FILE);
-    else
-        text = read_fd(fd, st.st_size, len, why, why_size);
+    char *text = lang_read_fd(fd, CSG_PARSE_MAX_FILE, len, why, why_size);
     close(fd);
     return text;
 }
