@@ -1094,7 +1094,7 @@ static void test_file_io(void **state)
      * POV-Ray 3.7's (%g, "<%g,...> "), kept in memory, in the scene */
     parse_ok("#fopen F \"d.txt\" write\n"
              "#write (F, \"\\\"a\\\\\\\"b\\\",\", 1.5, \",\", <1,2,3>, \",\" -2e-7 \",\" 1/3, \",\",\n"
-             "        rgb <0.25, 0.5, 1>, \"\\n\")\n"
+             "        <0.25, 0.5, 1, 0, 0>, \"\\n\")\n"
              "#fclose F\n"
              "#fopen G \"./d.txt\" read\n"
              "#read (G, S, A, V, B, C, Col)\n"

@@ -634,7 +634,7 @@ static bool write_value(parser *p, lang_user_file *f, const value *v, csg_loc at
     return write_bytes(p, f, buf, n, at);
 }
 
-/* One ITEM of #write: a string, or a float, vector or colour expression. */
+/* One ITEM of #write: a string, or a float or vector expression. */
 static bool write_item(parser *p, lang_user_file *f)
 {
     csg_loc at = lang_tok(p)->loc;
@@ -644,11 +644,7 @@ static bool write_item(parser *p, lang_user_file *f)
         free(s);
         return ok;
     }
-    value v;
-    if (lang_is_kw(p, CSG_KW_COLOR) || lang_is_color_item(p)) {
-        v.dim = 5;
-        return lang_parse_color(p, v.v) && write_value(p, f, &v, at);
-    }
+    value v; /* (a colour keyword is no ITEM: POV-Ray 3.7 expects a string there) */
     if (!lang_is_expr_start(p))
         return lang_expected(p, "a string, an expression or ')' expected in '#write'");
     return lang_parse_full_expr(p, &v) && write_value(p, f, &v, at);
