@@ -1147,6 +1147,24 @@ static void test_file_io(void **state)
     assert_int_equal(s.object_count, 1);
     csg_scene_free(&s);
 
+    /* #include of a file the scene wrote reads that text (makestacks.inc) */
+    assert_radii("#fopen F \"gen.inc\" write\n"
+                 "#write (F, \"#declare R = 2.5;\\nsphere { 0, R }\\n\") #fclose F\n"
+                 "#include \"gen.inc\" #include \"./gen.inc\" sphere { 0, R * 2 }",
+                 (const double[]){2.5, 2.5, 5}, 3);
+    parse_err("#fopen F \"g.inc\" write #write (F, \"#include \\\"g.inc\\\"\") #fclose F\n"
+              "#include \"g.inc\"",
+              "g.inc:1:1: error: #include cycle: 'g.inc' is already being read (in 'g.inc' "
+              "included at t.pov:2:1)");
+    /* the files open for reading hold at most CSG_PARSE_MAX_DATA bytes */
+    char want_read[256];
+    snprintf(want_read, sizeof want_read, "t.pov:3:34: error: #fopen: the files open for reading "
+             "would hold more than %ld bytes together", CSG_PARSE_MAX_DATA);
+    parse_err("#declare S = \"0123456789abcdef\"; #for (I, 1, 16) #declare S = concat(S, S); #end\n"
+              "#fopen F \"big.txt\" write #for (I, 1, 40) #write (F, S) #end #fclose F\n"
+              "#fopen A \"big.txt\" read #fopen B \"big.txt\" read",
+              want_read);
+
     /* errors: names that leave the folder, files not open, wrong modes */
     parse_err("#fopen F \"../x.txt\" write",
               "t.pov:1:10: error: '../x.txt' leaves the scene's folder: a scene reads and writes "

@@ -14,10 +14,12 @@
  * MPI job write nothing; the scene carries them (csg_scene.written) and a
  * render writes them beside its output once the scene is read
  * (host/output/user_files.c).  A read looks in the written files first (a
- * file written can be read back), then in the scene file's folder, opened
+ * file written can be read back, by #fopen or by #include, as POV-Ray's
+ * makestacks.inc and meshmaker.inc do), then in the scene file's folder, opened
  * component by component without following a symbolic link (O_NOFOLLOW),
- * a regular file of at most CSG_PARSE_MAX_DATA bytes (O_NONBLOCK: a FIFO
- * never blocks the open).
+ * a regular file (O_NONBLOCK: a FIFO never blocks the open); the files
+ * open for reading hold at most CSG_PARSE_MAX_DATA bytes together (each
+ * reader has its own copy of a written file).
  *
  * The data format (POV-Ray's): values separated by commas, and comments;
  * POV-Ray 3.7 drops the token after a value whatever it is, so a value
@@ -68,6 +70,7 @@ typedef struct {
     char *name;         /* the name, normalised (malloc'd)               */
     char *shown;        /* reading: where it was read from, for messages */
     char *text;         /* reading: the whole file (malloc'd)            */
+    size_t len;         /* reading: its bytes                            */
     csg_lexer lx;       /* reading: the next value                       */
     int out;            /* writing: its entry of p->written              */
 } lang_user_file;
@@ -216,6 +219,8 @@ static void file_close(parser *p, lang_user_file *f, const char *name, size_t le
     free(f->shown);
     free(f->text);
     f->name = f->shown = f->text = NULL;
+    p->reading_bytes -= f->reading ? f->len : 0;
+    f->len = 0;
     f->open = false;
     f->gen++;
 }
@@ -276,6 +281,13 @@ static bool file_open_read(parser *p, lang_user_file *f, const char *name, csg_l
         memcpy(f->shown, p->main_dir, dir);
         strcpy(f->shown + dir, name);
     }
+    if (len > (size_t)CSG_PARSE_MAX_DATA - p->reading_bytes) {
+        csg_error(p->d, at, "#fopen: the files open for reading would hold more than %ld bytes "
+                  "together", CSG_PARSE_MAX_DATA);
+        return false;
+    }
+    p->reading_bytes += len;
+    f->len = len;
     f->text[len] = '\0';
     csg_lexer_init(&f->lx, f->shown, f->text, len);
     f->reading = true;
@@ -668,6 +680,28 @@ bool lang_write(parser *p, csg_loc at)
         ok = lang_is_punct(p, ',') ? lang_next(p) : write_item(p, f);
     f->busy = false;
     return ok && lang_next(p);
+}
+
+/* ---- #include of a written file ---------------------------------------------------------- */
+
+bool lang_written_find(parser *p, const char *given, const char **name, const char **data,
+                       size_t *len)
+{
+    if (given[0] == '/' || strstr(given, "..")) /* (the include rules apply) */
+        return false;
+    for (int i = 0; i < p->written.count; i++) {
+        const lang_written *w = (const lang_written *)p->written.data + i;
+        const char *a = given, *b = w->name;
+        while (a[0] == '.' && a[1] == '/') /* ("./x.inc" is "x.inc") */
+            a += 2;
+        if (strcmp(a, b) == 0) {
+            *name = w->name;
+            *data = w->data ? w->data : "";
+            *len = w->len;
+            return true;
+        }
+    }
+    return false;
 }
 
 /* ---- file_exists ------------------------------------------------------------------------ */

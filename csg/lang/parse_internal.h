@@ -251,6 +251,8 @@ struct parser {
                            entry is reused)                                 */
     vec written;        /* lang_written: the files the scene wrote          */
     size_t written_bytes; /* their bytes, <= CSG_PARSE_MAX_WRITTEN          */
+    size_t reading_bytes; /* the texts of the files open for reading,
+                           <= CSG_PARSE_MAX_DATA                            */
 };
 
 /* ---- source.c: tokens -------------------------------------------------------------- */
@@ -470,6 +472,10 @@ bool lang_read(parser *p, csg_loc at);
 bool lang_write(parser *p, csg_loc at);
 /* file_exists(STRING): the current token is the keyword. */
 bool lang_parse_file_exists(parser *p, double *out);
+/* The file the scene wrote under the #include name `given` (relative,
+ * no '..'): its normalised *name and its current text; false: none. */
+bool lang_written_find(parser *p, const char *given, const char **name, const char **data,
+                       size_t *len);
 /* The written files into the scene (finish_scene); false: out of memory. */
 bool lang_files_to_scene(parser *p);
 void lang_files_free(parser *p);

@@ -51,8 +51,8 @@
 #define CSG_PARSE_MAX_ARRAY (1L << 22)
 #define CSG_PARSE_MAX_STRING (1L << 20)
 /* Bytes of the files a scene writes (#write: kept in memory until the
- * parse ends), all together; bytes of a data file #fopen reads; files
- * open at once. */
+ * parse ends), all together; bytes of the files open for reading (#fopen
+ * ... read: each a copy), all together; files open at once. */
 #define CSG_PARSE_MAX_WRITTEN (64L << 20)
 #define CSG_PARSE_MAX_DATA (64L << 20)
 #define CSG_PARSE_MAX_OPEN_FILES 256
