@@ -1118,12 +1118,13 @@ static void test_file_io(void **state)
     assert_near(s.objects[5]->r0, 0.999999);
     csg_scene_free(&s);
     /* #while (defined(F)): every value once; a comma after the last one
-     * makes one more #read find nothing (POV-Ray's rule, kept) */
+     * makes one more #read find nothing (POV-Ray's rule, kept); an empty
+     * string first (fuzz finding: UBSan, an offset to a null pointer) */
     assert_radii("#fopen F \"n.txt\" write #write (F, \"1, 2,\\n3\\n\") #fclose F\n"
                  "#fopen F \"n.txt\" read\n"
                  "#while (defined(F)) #read (F, V) sphere { 0, V } #end",
                  (const double[]){1, 2, 3}, 3);
-    assert_radii("#fopen F \"n.txt\" write #write (F, 1, \",\", 2, \",\") #fclose F\n"
+    assert_radii("#fopen F \"n.txt\" write #write (F, \"\", 1, \",\", 2, \",\") #fclose F\n"
                  "#fopen F \"n.txt\" read\n"
                  "#while (defined(F)) #read (F, V) sphere { 0, V } #end",
                  (const double[]){1, 2, 2}, 3);

@@ -610,6 +610,8 @@ bool lang_read(parser *p, csg_loc at)
 static bool write_bytes(parser *p, lang_user_file *f, const char *s, size_t n, csg_loc at)
 {
     lang_written *w = (lang_written *)p->written.data + f->out;
+    if (n == 0) /* (an empty string: nothing, and no data yet perhaps) */
+        return true;
     if (n > (size_t)CSG_PARSE_MAX_WRITTEN - p->written_bytes) {
         csg_error(p->d, at, "#write: the files this scene writes would hold more than %ld bytes "
                   "together (csgtrace keeps them in memory while it reads the scene)",
