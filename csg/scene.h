@@ -375,6 +375,16 @@ typedef struct {
 
 typedef struct csg_arena csg_arena;
 
+/* A file the scene wrote (#fopen NAME "name" write|append ... #write):
+ * kept in memory by the parse; a render writes it beside its output. */
+typedef struct {
+    const char *name;       /* relative, no '..', no empty component   */
+    const char *data;       /* len bytes (the arena)                   */
+    size_t len;
+    bool append;            /* first opened with append: added to the end
+                               of a file already there, not replacing it */
+} csg_written_file;
+
 typedef struct {
     csg_camera_src camera;
     bool has_camera;
@@ -401,6 +411,9 @@ typedef struct {
     csg_interior *interiors;
     int interior_count;
     const char *path;       /* the scene file as given                 */
+    const csg_written_file *written; /* the files the scene wrote, in the
+                               order first opened                      */
+    int written_count;
     csg_arena *arena;       /* owns everything above                   */
 } csg_scene;
 

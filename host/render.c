@@ -56,6 +56,7 @@
 #include "output/image.h"
 #include "output/journal.h"
 #include "output/stream.h"
+#include "output/user_files.h"
 #include "pass/cl_cache.h"
 #include "pass/pass.h"
 #include "progress.h"
@@ -142,12 +143,68 @@ static const engine *render_engine(const render_request *req, const csg_scene *s
 typedef struct {
     const render_request *req;
     csg_diag clash; /* the first output that names an include */
+    char **paths;   /* every include read (malloc'd): no file the scene
+                       writes may replace one (render_write_user_files) */
+    int count, cap;
 } render_includes;
+
+/* Keeps the include's path; an out-of-memory is a clash (the render stops). */
+static void render_keep_include(render_includes *ri, const char *path)
+{
+    if (ri->count == ri->cap) {
+        int cap = ri->cap ? 2 * ri->cap : 16;
+        char **grown = realloc(ri->paths, (size_t)cap * sizeof *grown);
+        if (!grown) {
+            csg_error_plain(&ri->clash, "out of memory for the names of the includes");
+            return;
+        }
+        ri->paths = grown;
+        ri->cap = cap;
+    }
+    if ((ri->paths[ri->count] = strdup(path)) != NULL)
+        ri->count++;
+    else
+        csg_error_plain(&ri->clash, "out of memory for the names of the includes");
+}
+
+static void render_includes_free(render_includes *ri)
+{
+    for (int i = 0; i < ri->count; i++)
+        free(ri->paths[i]);
+    free(ri->paths);
+}
+
+/* The files the scene wrote (#write), beside the output once the scene
+ * is read (none without an output): 0, or 2 / 1 with d filled. */
+static int render_write_user_files(const render_request *req, const csg_scene *s,
+                                   const render_includes *ri, csg_diag *d)
+{
+    if (!req->out_path || s->written_count == 0)
+        return EXIT_OK;
+    char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX];
+    char lock_path[PATH_MAX + sizeof CLAIM_LOCK_SUFFIX];
+    journal_name(req->out_path, journal_path, sizeof journal_path);
+    claim_lock_name(req->out_path, lock_path, sizeof lock_path);
+    const char **taken = malloc((size_t)(ri->count + 6) * sizeof *taken);
+    if (!taken) {
+        csg_error_plain(d, "out of memory for the scene's files");
+        return EXIT_FAILURE_RUN;
+    }
+    const char *outputs[] = {req->scene_path, req->out_path, req->stats_path, req->tile_log_path,
+                             journal_path, lock_path};
+    memcpy(taken, outputs, sizeof outputs);
+    for (int i = 0; i < ri->count; i++)
+        taken[6 + i] = ri->paths[i];
+    int status = user_files_write(s, req->out_path, taken, ri->count + 6, d);
+    free(taken);
+    return status;
+}
 
 static void render_check_include(void *arg, const char *path)
 {
     render_includes *ri = arg;
     const render_request *req = ri->req;
+    render_keep_include(ri, path);
     const char *names[] = {"the output (-o)", "the stats (--stats)", "the tile log (--tile-log)",
                            "the output's journal", "the output's lock"};
     char journal_path[PATH_MAX + sizeof JOURNAL_SUFFIX] = "";
@@ -208,7 +265,7 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
         po = *req->parse;
     else
         csg_parse_options_default(&po);
-    render_includes ri = {req, {{0}, 0}};
+    render_includes ri = {req, {{0}, 0}, NULL, 0, 0};
     po.on_include = render_check_include;
     po.on_include_arg = &ri;
     /* What the scene sees; a POV-Ray scene has no size of its own */
@@ -219,7 +276,14 @@ static int render_load(const render_request *req, csg_blob *blob, render_stats *
     if (ok && ri.clash.failed) {
         *d = ri.clash;
         csg_scene_free(&s);
+        render_includes_free(&ri);
         return EXIT_BAD_INPUT;
+    }
+    status = ok ? render_write_user_files(req, &s, &ri, d) : 0;
+    render_includes_free(&ri);
+    if (status != EXIT_OK) {
+        csg_scene_free(&s);
+        return status;
     }
     if (ok) { /* the size asked for, else the scene's (NFF's resolution) */
         csg_image_size(&s, req->width, req->height, &st->width, &st->height);

@@ -12,7 +12,13 @@
 #     other name's file untouched (it was appended to and cut); as root,
 #     so is a journal of another user's;
 #   - a read-only journal does not block a fresh render: it is replaced
-#     (run as an unprivileged user when root: root may write it anyway).
+#     (run as an unprivileged user when root: root may write it anyway);
+#   - the files a scene writes (#fopen ... write|append, #write): `check`
+#     writes none, a render writes them beside its output (an appended one
+#     grows by one render's text each time); a scene that writes the
+#     output's name is refused, exit 2; a symbolic link at a written file's
+#     name is refused, exit 1, and kept; a name that leaves the folder is an
+#     error at the name, exit 2.
 # Usage: tests/e2e_files.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -138,5 +144,54 @@ elif [ $rc = 0 ] && [ -s "$d/o.png" ] && only o.png; then
 else
     ko "a read-only journal, a fresh render: exit $rc, stderr: $(head -c 300 "$d/err"), files: $(ls -A "$d" | tr '\n' ' ')"
 fi
+
+# ---- the files a scene writes ---------------------------------------------------------
+sd=$T/scene_dir
+rd=$T/render_dir
+mkdir -p "$sd" "$rd"
+cat >"$sd/w.pov" <<'POV'
+#fopen F "data.txt" write
+#write (F, "\"s\",", 1.5, ",", <1,2,3>, "\n")
+#fclose F
+#fopen F "data.txt" read
+#read (F, S, R, V)
+#fopen L "log.txt" append
+#write (L, S, R, "\n")
+#fclose L
+sphere { V, R pigment { rgb 1 } }
+POV
+abs_bin=$(realpath "$BIN")
+(cd "$sd" && "$abs_bin" check w.pov >/dev/null 2>"$rd/err")
+rc=$?
+[ $rc = 0 ] && [ "$(ls -A "$sd")" = w.pov ] && [ "$(ls -A "$rd")" = err ] &&
+    ok "check of a scene that writes files: exit 0, no file written" ||
+    ko "check of a scene that writes files: exit $rc, files: $(ls -A "$sd" "$rd" | tr '\n' ' ')"
+for run in 1 2; do
+    "$BIN" render "$sd/w.pov" "${SMALL[@]}" -o "$rd/o.png" >/dev/null 2>"$rd/err"
+    rc=$?
+done
+[ $rc = 0 ] && [ "$(printf '"s",1.5,<1,2,3> \n')" = "$(cat "$rd/data.txt")" ] &&
+    [ "$(printf 's1.5\ns1.5')" = "$(cat "$rd/log.txt")" ] && [ "$(ls -A "$sd")" = w.pov ] &&
+    ok "render: the scene's files beside the output, POV-Ray's text, the appended one twice" ||
+    ko "render of a scene that writes files: exit $rc, stderr: $(head -c 300 "$rd/err"), files: $(ls -A "$rd" | tr '\n' ' ')"
+printf '#fopen F "o.png" write #write (F, 1) #fclose F sphere { 0, 1 }\n' >"$sd/clash.pov"
+"$BIN" render "$sd/clash.pov" "${SMALL[@]}" -o "$rd/o.png" >/dev/null 2>"$rd/err"
+rc=$?
+[ $rc = 2 ] && grep -q "the scene writes 'o.png', which would replace $rd/o.png: refusing" "$rd/err" &&
+    [ -s "$rd/o.png" ] && ok "a scene that writes the output's name: exit 2, refused" ||
+    ko "a scene that writes the output's name: exit $rc, stderr: $(head -c 300 "$rd/err")"
+rm -f "$rd/data.txt"
+ln -s "$T/elsewhere.txt" "$rd/data.txt"
+"$BIN" render "$sd/w.pov" "${SMALL[@]}" -o "$rd/o.png" >/dev/null 2>"$rd/err"
+rc=$?
+[ $rc = 1 ] && grep -q "is a symbolic link" "$rd/err" && [ -L "$rd/data.txt" ] &&
+    [ ! -e "$T/elsewhere.txt" ] && ok "a symbolic link at a written file's name: exit 1, kept" ||
+    ko "a symbolic link at a written file's name: exit $rc, stderr: $(head -c 300 "$rd/err")"
+printf 'sphere { 0, 1 }\n#fopen F "../up.txt" write\n' >"$sd/up.pov"
+"$BIN" render "$sd/up.pov" "${SMALL[@]}" -o "$rd/o.png" >/dev/null 2>"$rd/err"
+rc=$?
+[ $rc = 2 ] && grep -q "^$sd/up.pov:2:10: error: '../up.txt' leaves the scene's folder" "$rd/err" &&
+    [ ! -e "$T/up.txt" ] && ok "a written name with '..': exit 2, an error at the name" ||
+    ko "a written name with '..': exit $rc, stderr: $(head -c 300 "$rd/err")"
 
 e2e_finish

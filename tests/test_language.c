@@ -1192,6 +1192,185 @@ static void test_fog_colour_expression(void **state)
               "scenes/LANGUAGE.md)");
 }
 
+/* ---- data files: #fopen #read #write #fclose, file_exists ---------------------------------- */
+
+/* A scene parsed as `dir`/t.pov (its folder: where #fopen reads). */
+static bool parse_in(const char *dir, const char *text, csg_scene *s, csg_diag *d)
+{
+    char name[256];
+    csg_parse_options o = quiet();
+    snprintf(name, sizeof name, "%s/t.pov", dir);
+    memset(d, 0, sizeof *d);
+    return csg_parse_string_opts(name, text, strlen(text), &o, s, d);
+}
+
+static void test_file_io(void **state)
+{
+    (void)state;
+    csg_scene s;
+    /* written, then read back: every kind of value round-trips; the text is
+     * POV-Ray 3.7's (%g, "<%g,...> "), kept in memory, in the scene */
+    parse_ok("#fopen F \"d.txt\" write\n"
+             "#write (F, \"\\\"a\\\\\\\"b\\\",\", 1.5, \",\", <1,2,3>, \",\" -2e-7 \",\" 1/3, \",\",\n"
+             "        <0.25, 0.5, 1, 0, 0>, \"\\n\")\n"
+             "#fclose F\n"
+             "#fopen G \"./d.txt\" read\n"
+             "#read (G, S, A, V, B, C, Col)\n"
+             "#if (defined(G)) #error \"not closed at its end\" #end\n"
+             "#fclose G\n" /* (closed already: accepted, as POV-Ray does) */
+             "sphere { 0, strlen(S) } sphere { 0, asc(substr(S, 2, 1)) } sphere { 0, A }\n"
+             "sphere { V, V.z } sphere { 0, -B * 1e7 } sphere { 0, C * 3 }\n",
+             &s);
+    assert_int_equal(s.written_count, 1);
+    assert_string_equal(s.written[0].name, "d.txt");
+    assert_false(s.written[0].append);
+    const char *want = "\"a\\\"b\",1.5,<1,2,3> ,-2e-07,0.333333,<0.25,0.5,1,0,0> \n";
+    assert_int_equal(s.written[0].len, strlen(want));
+    assert_memory_equal(s.written[0].data, want, strlen(want));
+    assert_int_equal(s.object_count, 6);
+    assert_near(s.objects[0]->r0, 3);   /* a"b: 3 characters */
+    assert_near(s.objects[1]->r0, '"'); /* the escape read back */
+    assert_near(s.objects[2]->r0, 1.5);
+    assert_near(s.objects[3]->r0, 3);
+    assert_near(s.objects[4]->r0, 2);
+    assert_near(s.objects[5]->r0, 0.999999);
+    csg_scene_free(&s);
+    /* #while (defined(F)): every value once; a comma after the last one
+     * makes one more #read find nothing (POV-Ray's rule, kept); an empty
+     * string first (fuzz finding: UBSan, an offset to a null pointer) */
+    assert_radii("#fopen F \"n.txt\" write #write (F, \"1, 2,\\n3\\n\") #fclose F\n"
+                 "#fopen F \"n.txt\" read\n"
+                 "#while (defined(F)) #read (F, V) sphere { 0, V } #end",
+                 (const double[]){1, 2, 3}, 3);
+    assert_radii("#fopen F \"n.txt\" write #write (F, \"\", 1, \",\", 2, \",\") #fclose F\n"
+                 "#fopen F \"n.txt\" read\n"
+                 "#while (defined(F)) #read (F, V) sphere { 0, V } #end",
+                 (const double[]){1, 2, 2}, 3);
+    /* POV-Ray 3.7 drops the token after a value that no comma follows */
+    assert_radii("#fopen F \"n.txt\" write #write (F, \"+-4 5 6, 7\") #fclose F\n"
+                 "#fopen F \"n.txt\" read #read (F, A, B, C)\n"
+                 "sphere { 0, -A } sphere { 0, B } sphere { 0, C }",
+                 (const double[]){4, 6, 7}, 3);
+    /* append adds to what the scene wrote; a name first opened with append
+     * is appended to the file beside the output */
+    parse_ok("#fopen F \"a.txt\" write #write (F, \"x\") #fclose F\n"
+             "#fopen F \"a.txt\" append #write (F, \"y\") #fclose F\n"
+             "#fopen F \"log.txt\" append #write (F, 7) #fclose F\n"
+             "#if (file_exists(\"a.txt\") & !file_exists(\"none.txt\")) sphere { 0, 1 } #end",
+             &s);
+    assert_int_equal(s.written_count, 2);
+    assert_int_equal(s.written[0].len, 2);
+    assert_memory_equal(s.written[0].data, "xy", 2);
+    assert_false(s.written[0].append);
+    assert_true(s.written[1].append);
+    assert_int_equal(s.object_count, 1);
+    csg_scene_free(&s);
+
+    /* #include of a file the scene wrote reads that text (makestacks.inc) */
+    assert_radii("#fopen F \"gen.inc\" write\n"
+                 "#write (F, \"#declare R = 2.5;\\nsphere { 0, R }\\n\") #fclose F\n"
+                 "#include \"gen.inc\" #include \"./gen.inc\" sphere { 0, R * 2 }",
+                 (const double[]){2.5, 2.5, 5}, 3);
+    parse_err("#fopen F \"g.inc\" write #write (F, \"#include \\\"g.inc\\\"\") #fclose F\n"
+              "#include \"g.inc\"",
+              "g.inc:1:1: error: #include cycle: 'g.inc' is already being read (in 'g.inc' "
+              "included at t.pov:2:1)");
+    /* the files open for reading hold at most CSG_PARSE_MAX_DATA bytes */
+    char want_read[256];
+    snprintf(want_read, sizeof want_read, "t.pov:3:34: error: #fopen: the files open for reading "
+             "would hold more than %ld bytes together", CSG_PARSE_MAX_DATA);
+    parse_err("#declare S = \"0123456789abcdef\"; #for (I, 1, 16) #declare S = concat(S, S); #end\n"
+              "#fopen F \"big.txt\" write #for (I, 1, 40) #write (F, S) #end #fclose F\n"
+              "#fopen A \"big.txt\" read #fopen B \"big.txt\" read",
+              want_read);
+
+    /* errors: names that leave the folder, files not open, wrong modes */
+    parse_err("#fopen F \"../x.txt\" write",
+              "t.pov:1:10: error: '../x.txt' leaves the scene's folder: a scene reads and writes "
+              "files only inside it (a relative name without '..')");
+    parse_err("#fopen F \"/etc/passwd\" read",
+              "t.pov:1:10: error: '/etc/passwd' leaves the scene's folder: a scene reads and "
+              "writes files only inside it (a relative name without '..')");
+    parse_err("#if (file_exists(\"a/../../b\")) #end",
+              "t.pov:1:18: error: 'a/../../b' leaves the scene's folder: a scene reads and writes "
+              "files only inside it (a relative name without '..')");
+    parse_err("#read (F, X)", "t.pov:1:8: error: 'F' is not an open file (#fopen opens one; "
+                              "#fclose, or a #read at its end, closes it)");
+    parse_err("#fopen F \"x.txt\" write #fclose F\n#write (F, 1)",
+              "t.pov:2:9: error: 'F' is not an open file (#fopen opens one; #fclose, or a #read "
+              "at its end, closes it)");
+    parse_err("#fopen F \"x.txt\" write #read (F, X)",
+              "t.pov:1:31: error: 'F' is open for writing: #read needs a file opened with 'read'");
+    parse_err("#fopen F \"x.txt\" write #fopen F \"y.txt\" write",
+              "t.pov:1:31: error: 'F' is already a file: #fopen needs a name not in use (#fclose "
+              "or #undef it first)");
+    parse_err("#fopen F \"x.txt\" wrote", "t.pov:1:18: error: 'read', 'write' or 'append' "
+                                          "expected after the file name of '#fopen', got 'wrote'");
+    parse_err("#fopen F \"x.txt\" write #write (F, 1) #fclose F\n"
+              "#fopen F \"x.txt\" read #write (F, 1)",
+              "t.pov:2:31: error: 'F' is open for reading: #write needs a file opened with "
+              "'write' or 'append'");
+    parse_err("#fopen F \"x.txt\" write #write (F, \"1, <2>\") #fclose F\n"
+              "#fopen F \"x.txt\" read #read (F, A, B)",
+              "x.txt:1:6: error: a number expected (a vector has 2 to 5 components) in the data "
+              "file, got '>'");
+    parse_err("#declare P = pigment { rgb 1 }\n"
+              "#fopen F \"x.txt\" write #write (F, 1) #fclose F\n"
+              "#fopen F \"x.txt\" read #read (F, P)",
+              "t.pov:3:33: error: 'P' is a pigment: #read sets a new name, a float, a 3-vector or "
+              "a string (as POV-Ray 3.7)");
+    parse_err("#fopen F \"x.txt\" read", "t.pov:1:10: error: #fopen: cannot read 'x.txt' in the "
+                                         "scene's folder: No such file or directory");
+    /* a directive nested in a #write may not close its file */
+    parse_err("#macro Shut() #fclose F 1 #end\n#fopen F \"x.txt\" write #write (F, Shut())",
+              "t.pov:1:23: error: 'F': a directive inside a #read or #write of a file may not "
+              "close that file (in macro 'Shut' called at t.pov:2:35)");
+    /* a scene that writes without end stops at the limit, with its figure */
+    char want_limit[256];
+    snprintf(want_limit, sizeof want_limit, "t.pov:2:48: error: #write: the files this scene "
+             "writes would hold more than %ld bytes together (csgtrace keeps them in memory "
+             "while it reads the scene)", CSG_PARSE_MAX_WRITTEN);
+    parse_err("#declare S = \"0123456789abcdef\"; #for (I, 1, 16) #declare S = concat(S, S); #end\n"
+              "#fopen F \"big.txt\" write #while (1) #write (F, S) #end",
+              want_limit);
+
+    /* from the scene's folder: regular files only, no link followed, and
+     * nothing is ever written there by a parse */
+    char dir[] = "/tmp/csg_fio_XXXXXX", path[256], text[512];
+    csg_diag d;
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/in.txt", dir);
+    write_text(path, "// a comment\n\"s\", 2, <1, 2, 3, 4, 5>\n");
+    assert_true(parse_in(dir, "#fopen F \"in.txt\" read #read (F, S, R, C)\n"
+                              "#fopen W \"out.txt\" write #write (W, S, R) #fclose W\n"
+                              "sphere { 0, R + C.transmit }", &s, &d));
+    assert_near(s.objects[0]->r0, 7);
+    assert_int_equal(s.written_count, 1);
+    csg_scene_free(&s);
+    snprintf(path, sizeof path, "%s/out.txt", dir);
+    assert_int_equal(access(path, F_OK), -1); /* (kept in memory: check writes nothing) */
+    snprintf(path, sizeof path, "%s/link.txt", dir);
+    assert_int_equal(symlink("/etc/passwd", path), 0);
+    assert_false(parse_in(dir, "#fopen F \"link.txt\" read", &s, &d));
+    snprintf(text, sizeof text, "%s/t.pov:1:10: error: #fopen: cannot read 'link.txt' in the "
+             "scene's folder: a symbolic link on its path (a scene's files are read through "
+             "none), or no folder", dir);
+    assert_string_equal(d.message, text);
+    assert_false(parse_in(dir, "#if (file_exists(\"link.txt\")) #error \"seen\" #end", &s, &d) &&
+                 (csg_scene_free(&s), false));
+    unlink(path);
+    snprintf(path, sizeof path, "%s/pipe.txt", dir);
+    assert_int_equal(mkfifo(path, 0600), 0);
+    assert_false(parse_in(dir, "#fopen F \"pipe.txt\" read", &s, &d));
+    snprintf(text, sizeof text, "%s/t.pov:1:10: error: #fopen: cannot read 'pipe.txt' in the "
+             "scene's folder: not a regular file (a FIFO)", dir);
+    assert_string_equal(d.message, text);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/in.txt", dir);
+    unlink(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1219,6 +1398,7 @@ int main(void)
         cmocka_unit_test(test_reflection_block),
         cmocka_unit_test(test_fog_colour_expression),
         cmocka_unit_test(test_crand_and_average),
+        cmocka_unit_test(test_file_io),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

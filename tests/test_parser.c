@@ -540,8 +540,8 @@ static void test_errors(void **state)
          "t.pov:4:3: error: '}' expected (to close 'union' at 1:1), got 'sphere'"},
         {"sphere { 0, 1 no_reflection }",
          "t.pov:1:15: error: unsupported: 'no_reflection' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
-        {"#fopen F \"x.txt\" read",
-         "t.pov:1:1: error: unsupported: '#fopen' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"#render \"x\"",
+         "t.pov:1:1: error: unsupported: '#render' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"camera { fisheye }",
          "t.pov:1:10: error: unsupported: 'fisheye' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, -1 }", "t.pov:1:13: error: sphere radius must be > 0, got -1"},
@@ -896,7 +896,8 @@ static void test_keywords(void **state)
     assert_int_equal(csg_keyword("warp", 4, false), CSG_KW_UNSUPPORTED);
     assert_int_equal(csg_keyword("Sphere", 6, false), CSG_KW_NONE);
     assert_int_equal(csg_keyword("declare", 7, true), CSG_KW_DECLARE);
-    assert_int_equal(csg_keyword("fopen", 5, true), CSG_KW_UNSUPPORTED);
+    assert_int_equal(csg_keyword("fopen", 5, true), CSG_KW_FOPEN);
+    assert_int_equal(csg_keyword("statistics", 10, true), CSG_KW_UNSUPPORTED);
     assert_int_equal(csg_keyword("declare", 7, false), CSG_KW_NONE);
     assert_int_equal(csg_keyword("default", 7, false), CSG_KW_DEFAULT);
     assert_int_equal(csg_keyword("defined", 7, false), CSG_KW_DEFINED);

@@ -64,7 +64,7 @@ bool lang_is_builtin(int kw)
     case CSG_KW_VDOT: case CSG_KW_VLENGTH: case CSG_KW_VCROSS: case CSG_KW_VNORMALIZE:
     case CSG_KW_VROTATE: case CSG_KW_VAXIS_ROTATE: case CSG_KW_STRLEN: case CSG_KW_STRCMP:
     case CSG_KW_VAL: case CSG_KW_ASC: case CSG_KW_DEFINED: case CSG_KW_DIMENSIONS:
-    case CSG_KW_DIMENSION_SIZE:
+    case CSG_KW_DIMENSION_SIZE: case CSG_KW_FILE_EXISTS:
         return true;
     default:
         return find_builtin(kw) != NULL;
@@ -446,6 +446,11 @@ static bool parse_any_builtin(parser *p, enum csg_kw kw, value *out)
         return parse_string_function(p, kw, out);
     case CSG_KW_DEFINED: case CSG_KW_DIMENSIONS: case CSG_KW_DIMENSION_SIZE:
         return parse_name_function(p, kw, out);
+    case CSG_KW_FILE_EXISTS: {
+        double found = 0;
+        *out = fval(0);
+        return lang_parse_file_exists(p, &found) && (*out = fval(found), true);
+    }
     default:
         return parse_vector_function(p, kw, out);
     }

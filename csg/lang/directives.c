@@ -9,6 +9,7 @@
  *   #macro NAME(P1, ...) ... #end        NAME(ARG1, ...)   (a call)
  *   #declare #local #undef #default #include #version
  *   #debug STRING  #warning STRING  #error STRING
+ *   #fopen #fclose #read #write (fileio.c)
  *
  * Blocks being run are kept on p->conds (a COND_IF branch, a loop body, the
  * cases of a switch after the first match); a part not run is skipped by
@@ -587,6 +588,10 @@ bool lang_run_directive(parser *p, const csg_token *d)
     case CSG_KW_INCLUDE: return lang_include(p, d->loc);
     case CSG_KW_VERSION: return directive_version(p, d);
     case CSG_KW_DEBUG: case CSG_KW_WARNING: case CSG_KW_ERROR: return directive_message(p, d);
+    case CSG_KW_FOPEN: return lang_fopen(p, d->loc);
+    case CSG_KW_FCLOSE: return lang_fclose(p, d->loc);
+    case CSG_KW_READ: return lang_read(p, d->loc);
+    case CSG_KW_WRITE: return lang_write(p, d->loc);
     case CSG_KW_IF: case CSG_KW_IFDEF: case CSG_KW_IFNDEF: case CSG_KW_ELSE: case CSG_KW_ELSEIF:
     case CSG_KW_WHILE: case CSG_KW_FOR: case CSG_KW_SWITCH: case CSG_KW_CASE: case CSG_KW_RANGE:
     case CSG_KW_BREAK: case CSG_KW_END: case CSG_KW_MACRO:

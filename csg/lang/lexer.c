@@ -176,7 +176,7 @@ static const kw_entry kw_table[] = {
     {"falloff", CSG_KW_FALLOFF},
     {"falloff_angle", CSG_KW_UNSUPPORTED},
     {"false", CSG_KW_FALSE},
-    {"file_exists", CSG_KW_UNSUPPORTED},
+    {"file_exists", CSG_KW_FILE_EXISTS},
     {"filter", CSG_KW_FILTER},
     {"finish", CSG_KW_FINISH},
     {"fisheye", CSG_KW_UNSUPPORTED},
@@ -507,8 +507,8 @@ static const kw_entry directive_table[] = {
     {"elseif", CSG_KW_ELSEIF},
     {"end", CSG_KW_END},
     {"error", CSG_KW_ERROR},
-    {"fclose", CSG_KW_UNSUPPORTED},
-    {"fopen", CSG_KW_UNSUPPORTED},
+    {"fclose", CSG_KW_FCLOSE},
+    {"fopen", CSG_KW_FOPEN},
     {"for", CSG_KW_FOR},
     {"if", CSG_KW_IF},
     {"ifdef", CSG_KW_IFDEF},
@@ -517,7 +517,7 @@ static const kw_entry directive_table[] = {
     {"local", CSG_KW_LOCAL},
     {"macro", CSG_KW_MACRO},
     {"range", CSG_KW_RANGE},
-    {"read", CSG_KW_UNSUPPORTED},
+    {"read", CSG_KW_READ},
     {"render", CSG_KW_UNSUPPORTED},
     {"statistics", CSG_KW_UNSUPPORTED},
     {"switch", CSG_KW_SWITCH},
@@ -525,7 +525,7 @@ static const kw_entry directive_table[] = {
     {"version", CSG_KW_VERSION},
     {"warning", CSG_KW_WARNING},
     {"while", CSG_KW_WHILE},
-    {"write", CSG_KW_UNSUPPORTED},
+    {"write", CSG_KW_WRITE},
 };
 
 #define MAX_NUMBER_CHARS 256

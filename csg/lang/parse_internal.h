@@ -14,6 +14,8 @@
  *   expr.c        numeric expressions (expr.h), builtins.c its functions,
  *                 strings.c string expressions
  *   texture.c     pigment, colour map, finish, texture, interior
+ *   fileio.c      #fopen #fclose #read #write, file_exists(): the scene's
+ *                 data files (read from its folder, written in memory)
  *   parser.c      the statement and object grammar, the parse's memory, the
  *                 end of the parse and the entry points csg_parse_*
  *
@@ -68,6 +70,7 @@ enum sym_kind {
     SYM_TRANSFORM,
     SYM_ARRAY,
     SYM_MACRO,
+    SYM_FILE,       /* a file #fopen opened (fileio.c)                 */
     SYM_UNSUPPORTED /* a declaration that used an unsupported construct */
 };
 
@@ -108,6 +111,11 @@ typedef struct {
         lang_array *array;         /* malloc'd, owned                        */
         const lang_macro *macro;   /* arena                                  */
         const lang_unusable *why; /* arena                                */
+        struct {
+            int slot;              /* its entry of p->user_files             */
+            unsigned gen;          /* the entry's generation when opened: an
+                                      older one names a file closed since   */
+        } file;
     } u;
 } datum;
 
@@ -240,6 +248,13 @@ struct parser {
     long nodes;         /* tree nodes created, <= CSG_PARSE_MAX_OBJECTS    */
     int default_entry;  /* the textures entry of the default texture last
                            given to a top-level object (-1: none)           */
+    /* fileio.c */
+    vec user_files;     /* lang_user_file: files #fopen opened (a closed
+                           entry is reused)                                 */
+    vec written;        /* lang_written: the files the scene wrote          */
+    size_t written_bytes; /* their bytes, <= CSG_PARSE_MAX_WRITTEN          */
+    size_t reading_bytes; /* the texts of the files open for reading,
+                           <= CSG_PARSE_MAX_DATA                            */
 };
 
 /* ---- source.c: tokens -------------------------------------------------------------- */
@@ -318,6 +333,8 @@ void lang_describe(parser *p, char *buf, size_t size);
 /* Reads a whole regular file of at most CSG_PARSE_MAX_FILE bytes into
  * malloc'd memory; NULL with *why set otherwise (errno text or a reason). */
 char *lang_read_file(const char *path, size_t *len, char *why, size_t why_size);
+/* The same for an open descriptor (not closed), at most `max` bytes. */
+char *lang_read_fd(int fd, long max, size_t *len, char *why, size_t why_size);
 /* Reads the top file: its name `path` and its `text` are in the arena. */
 bool lang_parse_main(parser *p, const char *path, const char *text, size_t len);
 /* #include STRING; the directive was consumed. */
@@ -448,6 +465,29 @@ bool lang_parse_prism(parser *p, csg_object *o);
 /* text { ttf ... }'s parameters (after the brace): the glyphs become the
  * children of the union `text`. */
 bool lang_parse_text(parser *p, csg_object *text);
+
+/* ---- fileio.c --------------------------------------------------------------------------------- */
+
+/* #fopen NAME STRING read|write|append, #fclose NAME, #read (NAME, ...),
+ * #write (NAME, ...); the directive was consumed. */
+bool lang_fopen(parser *p, csg_loc at);
+bool lang_fclose(parser *p, csg_loc at);
+bool lang_read(parser *p, csg_loc at);
+bool lang_write(parser *p, csg_loc at);
+/* file_exists(STRING): the current token is the keyword. */
+bool lang_parse_file_exists(parser *p, double *out);
+/* The file the scene wrote under the #include name `given` (relative,
+ * no '..'): its normalised *name and its current text; false: none. */
+bool lang_written_find(parser *p, const char *given, const char **name, const char **data,
+                       size_t *len);
+/* The written files into the scene (finish_scene); false: out of memory. */
+bool lang_files_to_scene(parser *p);
+void lang_files_free(parser *p);
+
+/* ---- strings.c: literals -------------------------------------------------------------------- */
+
+/* A string literal's text, its escapes replaced (malloc'd). */
+char *lang_string_literal(parser *p, const csg_token *t);
 
 /* ---- source.c: files --------------------------------------------------------------------------- */
 

@@ -1653,7 +1653,7 @@ static bool finish_scene(parser *p)
     s->textures = vec_to_arena(p, &p->textures, sizeof(csg_texture));
     s->interiors = vec_to_arena(p, &p->interiors, sizeof(csg_interior));
     s->lights = vec_to_arena(p, &p->lights, sizeof(csg_light));
-    return s->objects && s->textures && s->interiors && s->lights;
+    return s->objects && s->textures && s->interiors && s->lights && lang_files_to_scene(p);
 }
 
 /* ---- the failed parse's message ------------------------------------------------- */
@@ -1708,6 +1708,7 @@ static void parser_free(parser *p)
 {
     lang_symbols_free(p);
     lang_rand_free(p);
+    lang_files_free(p);
     free(p->frames.data);
     free(p->conds.data);
     free(p->textures.data);

@@ -50,6 +50,12 @@
 /* Elements of one array, and bytes of one string. */
 #define CSG_PARSE_MAX_ARRAY (1L << 22)
 #define CSG_PARSE_MAX_STRING (1L << 20)
+/* Bytes of the files a scene writes (#write: kept in memory until the
+ * parse ends), all together; bytes of the files open for reading (#fopen
+ * ... read: each a copy), all together; files open at once. */
+#define CSG_PARSE_MAX_WRITTEN (64L << 20)
+#define CSG_PARSE_MAX_DATA (64L << 20)
+#define CSG_PARSE_MAX_OPEN_FILES 256
 
 /* What the scene can see of the render, and where #include looks. */
 typedef struct {

@@ -20,7 +20,8 @@
  * #include: the name (a string expression) is looked for relative to the
  * including file's folder, then to the scene file's, then in each library
  * folder (csg_parse_options, $CSGTRACE_LIBRARY_PATH, POV-Ray's include
- * folder).  "colors.inc" found nowhere is built in (colors.c).  A file whose
+ * folder); a file the scene wrote (#fopen ... write) comes before them all
+ * (fileio.c keeps it in memory).  "colors.inc" found nowhere is built in (colors.c).  A file whose
  * name has no scene extension (.pov .inc .mcr .map) is `hidden`: an error
  * inside it never quotes its content (csg_parse_string rewrites it).
  *
@@ -359,7 +360,7 @@ static const char *file_type(mode_t m)
 }
 
 /* Reads fd (a regular file of `size` bytes) into malloc'd memory. */
-static char *read_fd(int fd, off_t size, size_t *len, char *why, size_t why_size)
+static char *read_fd(int fd, off_t size, long max, size_t *len, char *why, size_t why_size)
 {
     size_t cap = (size_t)size + 1, n = 0;
     char *buf = malloc(cap + 1);
@@ -380,13 +381,28 @@ static char *read_fd(int fd, off_t size, size_t *len, char *why, size_t why_size
             break;
         n += (size_t)got;
         if (n == cap) { /* it grew while being read */
-            snprintf(why, why_size, "larger than %ld bytes", CSG_PARSE_MAX_FILE);
+            snprintf(why, why_size, "larger than %ld bytes", max);
             free(buf);
             return NULL;
         }
     }
     *len = n;
     return buf;
+}
+
+char *lang_read_fd(int fd, long max, size_t *len, char *why, size_t why_size)
+{
+    struct stat st;
+    char *text = NULL;
+    if (fstat(fd, &st) != 0)
+        snprintf(why, why_size, "%s", strerror(errno));
+    else if (!S_ISREG(st.st_mode))
+        snprintf(why, why_size, "not a regular file (%s)", file_type(st.st_mode));
+    else if (st.st_size > max)
+        snprintf(why, why_size, "larger than %ld bytes", max);
+    else
+        text = read_fd(fd, st.st_size, max, len, why, why_size);
+    return text;
 }
 
 char *lang_read_file(const char *path, size_t *len, char *why, size_t why_size)
@@ -397,16 +413,7 @@ char *lang_read_file(const char *path, size_t *len, char *why, size_t why_size)
         snprintf(why, why_size, "%s", strerror(errno));
         return NULL;
     }
-    struct stat st;
-    char *text = NULL;
-    if (fstat(fd, &st) != 0)
-        snprintf(why, why_size, "%s", strerror(errno));
-    else if (!S_ISREG(st.st_mode))
-        snprintf(why, why_size, "not a regular file (%s)", file_type(st.st_mode));
-    else if (st.st_size > CSG_PARSE_MAX_FILE)
-        snprintf(why, why_size, "larger than %ld bytes", CSG_PARSE_MAX_FILE);
-    else
-        text = read_fd(fd, st.st_size, len, why, why_size);
+    char *text = lang_read_fd(fd, CSG_PARSE_MAX_FILE, len, why, why_size);
     close(fd);
     return text;
 }
@@ -564,6 +571,24 @@ static bool is_colors_inc(const char *name)
     return strcmp(name, "colors.inc") == 0;
 }
 
+/* #include of a file the scene wrote (fileio.c): its text as it is now,
+ * named by its name, never a cycle with a file on disk. */
+static bool include_written(parser *p, csg_loc at, const char *name, const char *data,
+                            size_t len)
+{
+    size_t n = strlen(name);
+    char *path = lang_strndup(p, name, n);
+    char *canon = lang_alloc(p, n + sizeof "<written>/");
+    char *text = lang_strndup(p, data, len);
+    if (!path || !canon || !text)
+        return false;
+    memcpy(canon, "<written>/", sizeof "<written>/" - 1);
+    memcpy(canon + sizeof "<written>/" - 1, name, n + 1);
+    bool ok = may_include(p, at, path, canon) && push_file(p, path, canon, text, len, at);
+    p->include_depth += ok;
+    return ok;
+}
+
 bool lang_include(parser *p, csg_loc at)
 {
     char *name = NULL;
@@ -573,8 +598,12 @@ bool lang_include(parser *p, csg_loc at)
         return false;
     bool ok = false, searched = false;
     char *path = NULL;
+    const char *written, *data;
+    size_t written_len;
     if (name[0] == '\0') {
         csg_error(p->d, at, "#include: invalid file name");
+    } else if (lang_written_find(p, name, &written, &data, &written_len)) {
+        ok = include_written(p, at, written, data, written_len);
     } else if ((path = find_include(p, name, &searched)) != NULL) {
         if (is_colors_inc(name) && !exists(path)) {
             ok = lang_declare_builtin_colors(p);

@@ -60,7 +60,7 @@ static char *dup_bytes(parser *p, const char *s, size_t n, csg_loc at)
 }
 
 /* The literal's text with its escapes replaced. */
-static char *unescape(parser *p, const csg_token *t)
+char *lang_string_literal(parser *p, const csg_token *t)
 {
     char *r = dup_bytes(p, t->text, t->len, t->loc);
     if (!r)
@@ -249,7 +249,7 @@ bool lang_parse_string(parser *p, char **out)
     csg_loc at = t->loc;
     *out = NULL;
     if (t->kind == CSG_TOK_STRING) {
-        *out = unescape(p, t);
+        *out = lang_string_literal(p, t);
         return *out && lang_next(p);
     }
     if (t->kind == CSG_TOK_WORD && t->kw == CSG_KW_NONE) {

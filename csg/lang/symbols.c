@@ -205,6 +205,7 @@ const char *lang_kind_name(const datum *d)
     case SYM_TRANSFORM: return "a transform";
     case SYM_ARRAY: return "an array";
     case SYM_MACRO: return "a macro";
+    case SYM_FILE: return "a file";
     case SYM_UNSUPPORTED: return "an unsupported declaration";
     }
     return "?";
