@@ -377,6 +377,11 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
  * order (fixed for a given ray); it stops at the first opaque blocker. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, csg_i32 *blocker)
 {
+    /* POV-Ray's SHADOW_TOLERANCE (trace.cpp, TracePointLightShadowRay): a
+     * surface closer than 1e-3 to the light casts no shadow, so a light on
+     * a surface (lights/laser.pov: a spotlight on a cylinder's cap) is not
+     * hidden by it where rounding puts the cap before the light. */
+    dist -= R(1.0e-3);
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
     const vec3 none = v3(R(0.0), R(0.0), R(0.0));
     csg_ray r;
