@@ -821,10 +821,11 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
 }
 
 /* One layer's own light (POV-Ray's ambient, diffuse and highlights of
- * the layer with pigment pig, normal nl): *surface, dimmed by the opacity
- * by the caller, and *highlight, which is not. */
+ * the layer with pigment pig, normal nl; phong_dir: the eye reflected
+ * about nl): *surface, dimmed by the opacity by the caller, and
+ * *highlight, which is not. */
 static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m, vec3 pig,
-                        vec3 nl, vec3 refl_dir, ray_tally *tally, vec3 *surface_out,
+                        vec3 nl, vec3 phong_dir, ray_tally *tally, vec3 *surface_out,
                         vec3 *highlight_out)
 {
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
@@ -858,7 +859,7 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
         surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
         vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
-            real cr = v3_dot(refl_dir, l);
+            real cr = v3_dot(phong_dir, l);
             if (cr > R(0.0))
                 highlight = v3_add(highlight, v3_scale(hl, m->phong * power(cr, m->phong_size)));
         }
@@ -948,7 +949,11 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                                   : R(1.0) - (pc.filter * max3(pig) + pc.transmit);
         vec3 refl_dir = reflect_dir(hi, nl, perturbed);
         vec3 surface, highlight;
-        layer_light(c, hi, layer, pig, nl, refl_dir, tally, &surface, &highlight);
+        /* phong reflects the eye about the layer's normal as it is (POV-Ray's
+         * ComputePhongColour): not the reflected ray's direction, which a
+         * perturbed normal may have turned back above the surface */
+        layer_light(c, hi, layer, pig, nl, perturbed ? reflect_dir(hi, nl, false) : refl_dir,
+                    tally, &surface, &highlight);
         vec3 own = v3_add(v3_scale(surface, opacity), highlight);
         vec3 through = v3_add(v3_scale(pig, pc.filter), grey3(pc.transmit));
         vec3 refl = v3_load(layer->reflection);
