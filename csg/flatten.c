@@ -359,6 +359,8 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->crackle_metric = (real)pig->crackle.metric;
     m->crackle_offset = (real)pig->crackle.offset;
     m->crackle_solid = pig->crackle.solid;
+    m->quilt_control[0] = (real)pig->control0; /* a quilted pigment's, as a normal's */
+    m->quilt_control[1] = (real)pig->control1;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);
@@ -660,8 +662,6 @@ static bool material_normal(flat_builder *fb, const csg_normal *n, csg_material 
     m->number_of_waves = fb->scene->globals.number_of_waves;
     m->bump_size = (real)n->amount;
     m->accuracy = (real)n->accuracy;
-    m->quilt_control[0] = (real)n->pattern.control0;
-    m->quilt_control[1] = (real)n->pattern.control1;
     return true;
 }
 

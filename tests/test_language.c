@@ -243,6 +243,31 @@ static void test_macros(void **state)
               "t.pov:2:16: error: macro 'M' expects 2 arguments, got 1");
 }
 
+/* An argument that is one identifier alone is passed by reference (POV-Ray
+ * 3.7's Parse_RValue): #declare, #local or an element's #declare of the
+ * parameter changes the caller's variable; an expression is a copy.  A
+ * declaration that ends a macro's body binds in the macro's scope (the
+ * look for an optional ';' closed it first: languages/macros/macro2.pov). */
+static void test_macro_reference(void **state)
+{
+    (void)state;
+    static const double a[] = {3, 7, 7, 7, 2};
+    assert_radii("#declare C = 1;\n"
+                 "#macro Inc(V) #declare V = V + 1; #end\n"
+                 "Inc(C) Inc(C) Inc(C + 0) sphere { 0, C }\n"
+                 "#declare X = 5;\n"
+                 "#macro Shadow(X) #local X = X + 2; X #end\n"
+                 "sphere { 0, Shadow(X) } sphere { 0, X }\n"
+                 "#declare A = array[2] {1, 2}\n"
+                 "#macro SetA(B) #declare B[1] = 7; #end\n"
+                 "SetA(A) sphere { 0, A[1] }\n"
+                 "#declare T = sphere { 0, 1 }\n"
+                 "#macro Grow(S) #declare S = sphere { 0, 2 } #end\n"
+                 "Grow(T) object { T }\n", a, 5);
+    parse_err("#macro M() #local Q = sphere { 0, 1 } #end M()\nobject { Q }",
+              "t.pov:2:10: error: undeclared identifier 'Q'");
+}
+
 /* ---- arrays ------------------------------------------------------------------------------ */
 
 static void test_arrays(void **state)
@@ -1377,6 +1402,7 @@ int main(void)
         cmocka_unit_test(test_conditionals),
         cmocka_unit_test(test_loops),
         cmocka_unit_test(test_macros),
+        cmocka_unit_test(test_macro_reference),
         cmocka_unit_test(test_arrays),
         cmocka_unit_test(test_strings),
         cmocka_unit_test(test_functions),

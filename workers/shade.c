@@ -424,6 +424,11 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
  * order (fixed for a given ray); it stops at the first opaque blocker. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, csg_i32 *blocker)
 {
+    /* POV-Ray's SHADOW_TOLERANCE (trace.cpp, TracePointLightShadowRay): a
+     * surface closer than 1e-3 to the light casts no shadow, so a light on
+     * a surface (lights/laser.pov: a spotlight on a cylinder's cap) is not
+     * hidden by it where rounding puts the cap before the light. */
+    dist -= R(1.0e-3);
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
     const vec3 none = v3(R(0.0), R(0.0), R(0.0));
     csg_ray r;
@@ -867,10 +872,11 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
 }
 
 /* One layer's own light (POV-Ray's ambient, diffuse and highlights of
- * the layer with pigment pig, normal nl): *surface, dimmed by the opacity
- * by the caller, and *highlight, which is not (crand's grain with it). */
+ * the layer with pigment pig, normal nl; phong_dir: the eye reflected
+ * about nl): *surface, dimmed by the opacity by the caller, and
+ * *highlight, which is not (crand's grain with it). */
 static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m, vec3 pig,
-                        vec3 nl, vec3 refl_dir, ray_tally *tally, vec3 *surface_out,
+                        vec3 nl, vec3 phong_dir, ray_tally *tally, vec3 *surface_out,
                         vec3 *highlight_out)
 {
     vec3 surface = v3_mul(v3_mul(v3_load(m->ambient), pig), c->ambient_light);
@@ -908,7 +914,7 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
                                                    (real)pixel_random(tally) * m->crand));
         vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
-            real cr = v3_dot(refl_dir, l);
+            real cr = v3_dot(phong_dir, l);
             if (cr > R(0.0))
                 highlight = v3_add(highlight, v3_scale(hl, m->phong * power(cr, m->phong_size)));
         }
@@ -998,7 +1004,11 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                                   : R(1.0) - (pc.filter * max3(pig) + pc.transmit);
         vec3 refl_dir = reflect_dir(hi, nl, perturbed);
         vec3 surface, highlight;
-        layer_light(c, hi, layer, pig, nl, refl_dir, tally, &surface, &highlight);
+        /* phong reflects the eye about the layer's normal as it is (POV-Ray's
+         * ComputePhongColour): not the reflected ray's direction, which a
+         * perturbed normal may have turned back above the surface */
+        layer_light(c, hi, layer, pig, nl, perturbed ? reflect_dir(hi, nl, false) : refl_dir,
+                    tally, &surface, &highlight);
         vec3 own = v3_add(v3_scale(surface, opacity), highlight);
         vec3 through = v3_add(v3_scale(pig, pc.filter), grey3(pc.transmit));
         vec3 refl = v3_load(layer->reflection);

@@ -687,12 +687,14 @@ bool lang_declare(parser *p, bool local, csg_loc at)
         lang_datum_free(&d);
         return !element && can_recover(p, &c) && recover(p, &c, &name, at, local);
     }
-    bool ok = semi ? lang_expect_semicolon(p, directive, at) : optional_semicolon(p);
-    if (!ok) {
+    if (semi && !lang_expect_semicolon(p, directive, at)) {
         lang_datum_free(&d);
         return false;
     }
-    return bind_value(p, &name, local, element, subs, &d, at);
+    /* Bound before looking for an optional ';': that look may read past the
+     * end of a macro's body or an include file and close its scope (a
+     * parameter or a #local of it then went to the outer scope). */
+    return bind_value(p, &name, local, element, subs, &d, at) && (semi || optional_semicolon(p));
 }
 
 bool lang_undef(parser *p, csg_loc at)

@@ -478,9 +478,24 @@ static bool directive_macro(parser *p, const csg_token *d)
     return true;
 }
 
+/* The binding the current token names when it may be passed by reference
+ * (POV-Ray's Parse_RValue: any declared identifier but a macro or a
+ * function; csgtrace has no function identifiers), else NULL. */
+static symbol *referable_name(parser *p)
+{
+    const csg_token *t = lang_tok(p);
+    if (t->kind != CSG_TOK_WORD || t->kw != CSG_KW_NONE)
+        return NULL;
+    symbol *sym = lang_sym_find(p, t->text, t->len);
+    return sym && sym->d.kind != SYM_MACRO && sym->d.kind != SYM_UNSUPPORTED ? sym : NULL;
+}
+
 /* The arguments of a call: rvalues separated by commas, in the caller's
- * scope. */
-static bool parse_arguments(parser *p, const lang_macro *m, datum *args, csg_loc open)
+ * scope.  An argument that is one identifier alone is also passed by
+ * reference (refs[i]: its binding): POV-Ray then lets the macro's
+ * #declare of the parameter change the caller's variable. */
+static bool parse_arguments(parser *p, const lang_macro *m, datum *args, symbol **refs,
+                            csg_loc open)
 {
     for (int i = 0; i < m->param_count; i++) {
         bool semi;
@@ -489,8 +504,11 @@ static bool parse_arguments(parser *p, const lang_macro *m, datum *args, csg_loc
                       m->param_count, i);
             return false;
         }
-        if (!lang_parse_rvalue(p, &args[i], &semi))
+        symbol *named = referable_name(p);
+        long first_token = p->tokens; /* the name's, read */
+        if (!lang_parse_rvalue(p, &args[i], &semi) || !lang_tok(p))
             return false;
+        refs[i] = named && p->tokens == first_token + 1 ? named : NULL; /* read: name, ',' */
         if (lang_is_punct(p, ',') && !lang_next(p))
             return false;
     }
@@ -508,11 +526,13 @@ bool lang_call_macro(parser *p, const lang_macro *m, csg_loc at)
         return lang_expected(p, what);
     }
     datum *args = calloc((size_t)m->param_count + 1, sizeof *args); /* kind 0: nothing owned */
-    bool ok = args ? lang_enter(p, open) && lang_next(p) && parse_arguments(p, m, args, open) &&
-                         lang_next(p) && lang_scope_push(p)
-                   : lang_oom(p);
+    symbol **refs = calloc((size_t)m->param_count + 1, sizeof *refs);
+    bool ok = args && refs ? lang_enter(p, open) && lang_next(p) &&
+                                 parse_arguments(p, m, args, refs, open) && lang_next(p) &&
+                                 lang_scope_push(p)
+                           : lang_oom(p);
     for (int i = 0; ok && i < m->param_count; i++) {
-        symbol *sym = lang_sym_local(p, m->params[i], strlen(m->params[i]), at);
+        symbol *sym = lang_sym_param(p, m->params[i], strlen(m->params[i]), at, refs[i]);
         ok = sym != NULL;
         if (ok) {
             lang_sym_assign(sym, &args[i]);
@@ -522,6 +542,7 @@ bool lang_call_macro(parser *p, const lang_macro *m, csg_loc at)
     for (int i = 0; args && i < m->param_count; i++)
         lang_datum_free(&args[i]);
     free(args);
+    free(refs);
     if (!ok)
         return false;
     lang_leave(p);

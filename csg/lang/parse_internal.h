@@ -166,6 +166,11 @@ struct symbol {
     symbol *shadowed;        /* the binding of the same name it hides      */
     symbol *next_in_scope;   /* the symbols of its scope, newest first     */
     csg_loc declared_at;
+    symbol *ref;             /* a macro parameter given a lone identifier:
+                                the caller's binding it stands for (POV-Ray
+                                passes it by reference: the lookups and the
+                                assignments of the name reach that one);
+                                NULL: a value of its own                    */
 };
 
 /* ---- the input: frames and conditionals ---------------------------------------- */
@@ -377,12 +382,16 @@ void lang_datum_free(datum *d);
 
 /* ---- symbols.c ---------------------------------------------------------------------------- */
 
-/* The innermost binding of `name`, or NULL. */
+/* The innermost binding of `name`, or NULL (a parameter passed by
+ * reference: the binding it stands for, here and below). */
 symbol *lang_sym_find(parser *p, const char *name, size_t len);
 /* #declare: the innermost binding of name, else a new global one. */
 symbol *lang_sym_declare(parser *p, const char *name, size_t len, csg_loc at);
-/* #local (and parameters): the binding in the innermost scope, new if needed. */
+/* #local (and #for): the binding in the innermost scope, new if needed. */
 symbol *lang_sym_local(parser *p, const char *name, size_t len, csg_loc at);
+/* A macro parameter: its own binding in the innermost scope, standing for
+ * `ref` (the caller's binding; NULL: passed by value). */
+symbol *lang_sym_param(parser *p, const char *name, size_t len, csg_loc at, symbol *ref);
 /* Removes the innermost binding of name (#undef); false when there is none. */
 bool lang_sym_undef(parser *p, const char *name, size_t len);
 bool lang_scope_push(parser *p);

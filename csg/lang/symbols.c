@@ -94,10 +94,17 @@ static struct lang_name *name_get(parser *p, const char *name, size_t len)
     return n;
 }
 
+/* The binding sym stands for: itself, or the caller's binding a parameter
+ * passed by reference names (never a parameter itself: see lang_sym_param). */
+static symbol *resolved(symbol *sym)
+{
+    return sym && sym->ref ? sym->ref : sym;
+}
+
 symbol *lang_sym_find(parser *p, const char *name, size_t len)
 {
     struct lang_name *n = name_find(p, name, len);
-    return n ? n->top : NULL;
+    return n ? resolved(n->top) : NULL;
 }
 
 /* A new binding of n in `scope`, hiding n's current one (which is in an
@@ -128,7 +135,7 @@ symbol *lang_sym_declare(parser *p, const char *name, size_t len, csg_loc at)
     struct lang_name *n = name_get(p, name, len);
     if (!n)
         return NULL;
-    return n->top ? n->top : bind(p, n, 0, at);
+    return n->top ? resolved(n->top) : bind(p, n, 0, at);
 }
 
 symbol *lang_sym_local(parser *p, const char *name, size_t len, csg_loc at)
@@ -137,7 +144,29 @@ symbol *lang_sym_local(parser *p, const char *name, size_t len, csg_loc at)
     if (!n)
         return NULL;
     int scope = p->scopes.count - 1;
-    return n->top && n->top->scope == scope ? n->top : bind(p, n, scope, at);
+    return n->top && n->top->scope == scope ? resolved(n->top) : bind(p, n, scope, at);
+}
+
+symbol *lang_sym_param(parser *p, const char *name, size_t len, csg_loc at, symbol *ref)
+{
+    struct lang_name *n = name_get(p, name, len);
+    if (!n)
+        return NULL;
+    int scope = p->scopes.count - 1;
+    symbol *sym = n->top && n->top->scope == scope ? n->top : bind(p, n, scope, at);
+    if (sym)
+        sym->ref = resolved(ref);
+    return sym;
+}
+
+/* sym is going: the parameters of the scopes inside its own that stand for
+ * it keep the copy they were given (POV-Ray would read freed memory). */
+static void forget_references_to(parser *p, const symbol *sym)
+{
+    for (int k = sym->scope + 1; k < p->scopes.count; k++)
+        for (symbol *s = ((symbol **)p->scopes.data)[k]; s; s = s->next_in_scope)
+            if (s->ref == sym)
+                s->ref = NULL;
 }
 
 static void sym_free(symbol *sym)
@@ -157,6 +186,7 @@ bool lang_sym_undef(parser *p, const char *name, size_t len)
         link = &(*link)->next_in_scope;
     *link = sym->next_in_scope;
     n->top = sym->shadowed;
+    forget_references_to(p, sym);
     sym_free(sym);
     return true;
 }
