@@ -181,6 +181,32 @@ static void write_sky(const exporter *e)
     fputs("}\n\n", out);
 }
 
+/* The angle in degrees whose cosine, as the parser computes it, is c: the
+ * shortest decimal that gives c back, else the neighbour of acos's value
+ * that does (acos(cos(a)) is not always a, and a re-parsed export must
+ * hold the very cosine), else acos's value. */
+static double spot_degrees(double c)
+{
+    double a = acos(c) * 180 / M_PI;
+    for (int digits = 1; digits <= 17; digits++) {
+        char text[40];
+        snprintf(text, sizeof text, "%.*g", digits, a);
+        double d = strtod(text, NULL);
+        if (cos(d * M_PI / 180) == c)
+            return d;
+    }
+    double up = a, down = a;
+    for (int step = 0; step < 64; step++) {
+        up = nextafter(up, INFINITY);
+        down = nextafter(down, -INFINITY);
+        if (cos(up * M_PI / 180) == c)
+            return up;
+        if (cos(down * M_PI / 180) == c)
+            return down;
+    }
+    return a;
+}
+
 /* A light with its kind's items (every transform already applied; a
  * spotlight's radius and falloff are kept as cosines). */
 static void write_light(FILE *out, const csg_light *l)
@@ -199,8 +225,8 @@ static void write_light(FILE *out, const csg_light *l)
     }
     if (l->kind != CSG_LIGHT_POINT) {
         bool spot = l->kind == CSG_LIGHT_SPOT;
-        put_field(out, " radius ", spot ? acos(l->radius) * 180 / M_PI : l->radius);
-        put_field(out, " falloff ", spot ? acos(l->falloff) * 180 / M_PI : l->falloff);
+        put_field(out, " radius ", spot ? spot_degrees(l->radius) : l->radius);
+        put_field(out, " falloff ", spot ? spot_degrees(l->falloff) : l->falloff);
         put_field(out, " tightness ", l->tightness);
     }
     if (l->fade_distance != 0 || l->fade_power != 0) {
