@@ -136,6 +136,7 @@ typedef struct {
     int interior; /* -1: none yet (ior 1)               */
     bool no_shadow;
     int hollow;   /* 0 not said, 1 hollow, 2 not (csg_object.hollow) */
+    bool clip;    /* inside a clipped_by: its primitives get CSG_PF_CLIP */
 } inherited;
 
 static bool grow(void **arr, int *cap, int need, size_t elem)
@@ -1163,7 +1164,8 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
     p->material = material_for(fb, inh);
     p->root = root;
     p->flags |= (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
-                (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0);
+                (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0) |
+                (inh.clip ? CSG_PF_CLIP : 0);
     fb->prim_boxes[fb->prim_count] = *box;
     if (invert)
         *box = box_infinite();
@@ -1204,8 +1206,21 @@ static bool is_solid_of_pieces(const csg_object *o)
  * root: where two pieces touch, the union has no surface). */
 static bool is_multi_solid(const csg_object *o) { return o->kind == CSG_OBJ_PRISM; }
 
-/* Interval lists the subtree needs at once (its Ershov number). */
+static int lists_needed_body(const csg_object *o);
+
+/* Interval lists the subtree needs at once (its Ershov number): its body,
+ * then each clip on top of the held result (emit_tree). */
 static int lists_needed(const csg_object *o)
+{
+    int need = lists_needed_body(o);
+    for (int i = 0; i < o->clip_count; i++) {
+        int c = lists_needed(o->clips[i]) + 1;
+        need = c > need ? c : need;
+    }
+    return need;
+}
+
+static int lists_needed_body(const csg_object *o)
 {
     if (is_leaf(o) || o->child_count == 0)
         return is_multi_piece(o) || is_multi_solid(o) ? 2 : 1;
@@ -1302,12 +1317,14 @@ static bool emit_leaf(flat_builder *fb, const csg_object *o, inherited inh, bool
     return true;
 }
 
-/* Emits the RPN of `o` (complemented when `neg`); returns false on error
- * and sets *box to the subtree's world bounding box. */
 static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box);
+
+/* The RPN of o itself, its clips aside (complemented when `neg`); inh
+ * already has o's own. */
+static bool emit_body(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
                       dbox *box)
 {
-    inh = inherit(inh, o);
     neg = neg != o->inverse;
     if (is_leaf(o))
         return emit_leaf(fb, o, inh, neg, root, box);
@@ -1359,6 +1376,42 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
     free(order);
     free(need);
     return ok;
+}
+
+/* Emits the RPN of `o` (complemented when `neg`); returns false on error
+ * and sets *box to the subtree's world bounding box.
+ *
+ * clipped_by, as POV-Ray 3.7 defines it: an intersection of the object
+ * survives only where it is inside every clip (Point_In_Clip), and the
+ * object's inside is its own inside and every clip's (Inside_Object,
+ * which CSG parents use).  So the clipped object is the solid O ∩ C1 ∩
+ * C2 ..., the clips' surfaces never being intersections: the ray passes
+ * through them, and looks into an open object (a sphere clipped by a
+ * plane shows its inside).  That is the interval intersection with the
+ * clips' primitives flagged CSG_PF_CLIP: their boundaries carry no
+ * surface (CSG_SURF_NONE, intersect.h), so no ray, looking or shadow,
+ * ever stops on them, while the sets combine as any CSG.  A complement
+ * (`inverse`, or being subtracted: POV-Ray's Invert, which flips the
+ * object's INVERTED_FLAG and recursively its children's) complements the
+ * object's own inside only, never a clip: Inside_Object tests the clips
+ * as they are, so X = O' ∩ C1 ∩ C2 ... with O' = ¬O when `neg`, and the
+ * clips are always intersected, uncomplemented. */
+static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box)
+{
+    inh = inherit(inh, o);
+    if (!emit_body(fb, o, inh, neg, root, box))
+        return false;
+    inherited clip_inh = inh;
+    clip_inh.clip = true;
+    for (int i = 0; i < o->clip_count; i++) {
+        dbox cb;
+        if (!emit_tree(fb, o->clips[i], clip_inh, false, root, &cb) ||
+            !emit(fb, CSG_OP_INTERSECT, -1))
+            return false;
+        *box = box_intersect(*box, cb);
+    }
+    return true;
 }
 
 /* A pigment no point of which lets light through. */
@@ -1535,6 +1588,8 @@ static int root_shadow_flags(const flat_builder *fb, int first_prim)
     bool none = true, opaque = true;
     for (int i = first_prim; i < fb->prim_count; i++) {
         const csg_prim *p = &fb->prims[i];
+        if (p->flags & CSG_PF_CLIP) /* (no surface: neither casts nor lets through) */
+            continue;
         bool casts = !(p->flags & CSG_PF_NO_SHADOW);
         none = none && !casts;
         opaque = opaque && casts && !(p->flags & CSG_PF_ONE_SIDED) &&
@@ -1613,6 +1668,8 @@ static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
 
 static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
 {
+    if (o->clip_count > 0) /* one root: the clips cut all of it (POV-Ray links it whole) */
+        return add_root(fb, o, inh);
     if (is_multi_piece(o) && !o->inverse && !is_solid_of_pieces(o))
         return add_pieces(fb, o, inh);
     if (o->kind == CSG_OBJ_UNION && !o->inverse) {
@@ -1886,7 +1943,10 @@ static bool object_contains(const csg_object *o, dvec3 w, int depth)
         for (int i = 0; i < o->child_count && !in; i++)
             in = object_contains(o->children[i], w, depth + 1);
     }
-    return o->inverse ? !in : in;
+    in = o->inverse ? !in : in;
+    for (int i = 0; i < o->clip_count && in; i++) /* (POV-Ray's Inside_Object) */
+        in = object_contains(o->clips[i], w, depth + 1);
+    return in;
 }
 
 /* The objects around the camera that are not hollow (POV-Ray's camera
@@ -2090,7 +2150,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
         ok = false;
     }
-    inherited none = {-1, -1, false, 0};
+    inherited none = {-1, -1, false, 0, false};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none);
     if (ok && !fb.oom)

@@ -133,7 +133,11 @@ enum csg_prim_flags {
     CSG_PF_ONE_SIDED = 16, /* surface kinds: the back is invisible to the rays
                              that look (primary, reflected, refracted); it
                              still casts shadows (CSG_SURF_HIDDEN)          */
-    CSG_PF_HOLLOW = 32    /* hollow: fog fills its inside (C workers only)  */
+    CSG_PF_HOLLOW = 32,   /* hollow: fog fills its inside (C workers only)  */
+    CSG_PF_CLIP = 64      /* a clipped_by object's: its solid cuts the
+                             object, its surfaces are never intersections
+                             (CSG_SURF_NONE: no ray sees them or stops on
+                             them; csg/flatten.c, emit_tree)            */
 };
 
 /* Surface sub-indices, per kind. */

@@ -218,7 +218,7 @@ CSG_FN void csg_surface_leaf_spans(CSG_GLOBAL const csg_prim *p, csg_i32 i, csg_
     int hit = csg_prim_span(p, r, &t0, &t1, &s0, &s1);
     if (p->flags & CSG_PF_INVERT)
         csg_spans_push(out, tmin, CSG_SURF_NONE, tmax, CSG_SURF_NONE);
-    if (hit && t0 > tmin && t0 <= tmax)
+    if (hit && t0 > tmin && t0 <= tmax && !(p->flags & CSG_PF_CLIP)) /* (a clip's: none) */
         csg_events_push(out, t0, csg_surf_of(i, s0, 0u, p->flags));
 }
 
