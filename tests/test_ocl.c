@@ -954,6 +954,27 @@ static void test_quadric_flattened(void **state)
     check_pieces_file(state, "tests/povray/quadric.pov", CSG_PRIM_QUADRIC, 2 * 7, false);
 }
 
+/* clipped_by (tests/povray/clipped_by.pov: clips of every role, in CSG,
+ * complemented objects, linked bounds): the clips' primitives (flagged
+ * CSG_PF_CLIP, surfaces that are never hits) give the C records on both
+ * variants, and so does the program specialised on the scene. */
+static void test_clipped_flattened(void **state)
+{
+    fixture *fx = *state;
+    csg_blob blob = file_blob("tests/povray/clipped_by.pov", NULL, 61, 37);
+    const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+    const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                             h->off_prims);
+    int clips = 0;
+    for (int i = 0; i < h->prim_count; i++)
+        clips += (prims[i].flags & CSG_PF_CLIP) != 0;
+    assert_int_equal(clips, 11);
+    for (int v = 0; v < VARIANTS; v++)
+        assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
+    check_specialised(state, blob.bytes, "tests/povray/clipped_by.pov");
+    csg_blob_free(&blob);
+}
+
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
  * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
  * pixel, an image that cuts packets and slices of a few rows. */
@@ -1251,6 +1272,7 @@ int main(void)
         cmocka_unit_test(test_extrusions),
         cmocka_unit_test(test_torus_flattened),
         cmocka_unit_test(test_quadric_flattened),
+        cmocka_unit_test(test_clipped_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -720,9 +720,20 @@ static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
     return true;
 }
 
+/* x applied to o's clips and bounds too (POV-Ray's Transform_Object):
+ * they share o's frame, its parent's (compose_world). */
+static void transform_clips(csg_object *o, const csg_xform *x)
+{
+    for (int i = 0; i < o->clip_count; i++)
+        csg_xform_then(&o->clips[i]->xform, x, &o->clips[i]->xform);
+    for (int i = 0; i < o->bound_count && !o->bound_is_clip; i++)
+        csg_xform_then(&o->bounds[i]->xform, x, &o->bounds[i]->xform);
+}
+
 bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x)
 {
     csg_xform_then(&o->xform, x, &o->xform);
+    transform_clips(o, x);
     return transform_textures(p, o, x);
 }
 
@@ -734,6 +745,7 @@ static bool parse_object_transform(parser *p, csg_object *o)
     if (!lang_parse_transform(p, &x))
         return false;
     csg_xform_then(&o->xform, &x, &o->xform);
+    transform_clips(o, &x);
     return transform_textures(p, o, &x);
 }
 
@@ -800,10 +812,9 @@ static bool has_texture(const csg_object *o)
 
 /* The objects of clipped_by { } or bounded_by { } (POV-Ray's
  * Parse_Bound_Clip): at least one, none textured, then transforms that
- * apply to all of them; each is put into o's own space (its xform then
- * the inverse of o's so far), so that o's later transforms and its
- * parents' move it with o, as POV-Ray's Transform_Object does.  The list
- * is appended to *list. */
+ * apply to all of them; each in o's frame (its parent's: o's transforms so
+ * far do not move it, its later ones do, transform_clips).  The list is
+ * appended to *list. */
 static bool parse_bound_clip(parser *p, csg_object *o, const char *name, csg_loc at,
                              csg_object ***list, int *count)
 {
@@ -834,20 +845,13 @@ static bool parse_bound_clip(parser *p, csg_object *o, const char *name, csg_loc
     }
     if (!lang_is_punct(p, '}'))
         return lang_expected_close(p, '}', name, at);
-    csg_xform to_obj;
-    if (!csg_xform_invert(&o->xform, &to_obj)) {
-        csg_error(p->d, at, "'%s' after a singular transform (a zero scale?)", name);
-        return false;
-    }
     csg_object **all = lang_alloc(p, (size_t)(*count + n) * sizeof *all);
     if (!all)
         return false;
     if (*count > 0)
         memcpy(all, *list, (size_t)*count * sizeof *all);
-    for (int i = 0; i < n; i++) {
-        csg_xform_then(&objs[i]->xform, &to_obj, &objs[i]->xform);
+    for (int i = 0; i < n; i++)
         all[*count + i] = objs[i];
-    }
     p->stack.count = base;
     *list = all;
     *count += n;
@@ -1652,10 +1656,11 @@ static void compose_world(csg_object *o, const csg_xform *parent)
         csg_xform_then(&o->xform, parent, &o->xform);
     for (int i = 0; i < o->child_count; i++)
         compose_world(o->children[i], &o->xform);
+    /* clips and bounds are in o's frame, its parent's (transform_clips) */
     for (int i = 0; i < o->clip_count; i++)
-        compose_world(o->clips[i], &o->xform);
+        compose_world(o->clips[i], parent);
     for (int i = 0; i < o->bound_count && !o->bound_is_clip; i++)
-        compose_world(o->bounds[i], &o->xform);
+        compose_world(o->bounds[i], parent);
 }
 
 static bool finish_scene(parser *p)
