@@ -958,21 +958,33 @@ static void test_quadric_flattened(void **state)
  * complemented objects, linked bounds): the clips' primitives (flagged
  * CSG_PF_CLIP, surfaces that are never hits) give the C records on both
  * variants, and so does the program specialised on the scene. */
-static void test_clipped_flattened(void **state)
+static void check_modifier_file(void **state, const char *path, int flag, int flagged)
 {
     fixture *fx = *state;
-    csg_blob blob = file_blob("tests/povray/clipped_by.pov", NULL, 61, 37);
+    csg_blob blob = file_blob(path, NULL, 61, 37);
     const csg_blob_header *h = csg_blob_hdr(blob.bytes);
     const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
                                                              h->off_prims);
-    int clips = 0;
+    int found = 0;
     for (int i = 0; i < h->prim_count; i++)
-        clips += (prims[i].flags & CSG_PF_CLIP) != 0;
-    assert_int_equal(clips, 11);
+        found += (prims[i].flags & flag) != 0;
+    assert_int_equal(found, flagged);
     for (int v = 0; v < VARIANTS; v++)
         assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
-    check_specialised(state, blob.bytes, "tests/povray/clipped_by.pov");
+    check_specialised(state, blob.bytes, path);
     csg_blob_free(&blob);
+}
+
+static void test_clipped_flattened(void **state)
+{
+    check_modifier_file(state, "tests/povray/clipped_by.pov", CSG_PF_CLIP, 11);
+}
+
+/* bounded_by (tests/povray/bounded_by.pov: bounds that do not enclose
+ * their objects, CSG_OP_BOUND gates, a removed bound's box): the same. */
+static void test_bounded_flattened(void **state)
+{
+    check_modifier_file(state, "tests/povray/bounded_by.pov", CSG_PF_BOUND, 9);
 }
 
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
@@ -1273,6 +1285,7 @@ int main(void)
         cmocka_unit_test(test_torus_flattened),
         cmocka_unit_test(test_quadric_flattened),
         cmocka_unit_test(test_clipped_flattened),
+        cmocka_unit_test(test_bounded_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

@@ -229,6 +229,8 @@ CSG_FN void csg_leaf_spans(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray 
     CSG_GLOBAL const csg_prim *p = &prims[i];
     real t0, t1;
     csg_i32 s0, s1;
+    if (p->flags & CSG_PF_BOUND) /* a bound is met anywhere along the ray (CSG_OP_BOUND) */
+        tmax = CSG_R_INF;
     csg_spans_clear(out, tmax);
     if (CSG_USE_SURFACES && CSG_PRIM_IS_SURFACE(p->kind)) {
         csg_surface_leaf_spans(p, i, r, tmin, tmax, out);
@@ -298,6 +300,20 @@ CSG_FN void csg_spans_intersect(const csg_spans *a, const csg_spans *b, csg_span
     }
     if (a->ne > 0 || b->ne > 0)
         csg_events_combine(a, b, 1, out);
+}
+
+/* POV-Ray's Ray_In_Bound (flat.h, CSG_OP_BOUND): a keeps its surfaces
+ * only when the bound's list holds something on [tmin, inf), the ray
+ * meeting the bound or starting inside it; its solid stays as it is. */
+CSG_FN void csg_spans_gate(csg_spans *a, const csg_spans *bound)
+{
+    if (bound->n > 0 || bound->ne > 0)
+        return;
+    for (csg_i32 k = 0; k < a->n; k++) {
+        a->s0[k] = CSG_SURF_NONE;
+        a->s1[k] = CSG_SURF_NONE;
+    }
+    a->ne = 0;
 }
 
 CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
@@ -538,6 +554,11 @@ CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real 
         }
         if (top < 2)
             break;
+        if (n.op == CSG_OP_BOUND) {
+            csg_spans_gate(&stack[top - 2], &stack[top - 1]);
+            top--;
+            continue;
+        }
         if (n.op == CSG_OP_UNION)
             csg_spans_union(&stack[top - 2], &stack[top - 1], &tmp);
         else
