@@ -374,7 +374,7 @@ static void test_image_and_clock(void **state)
     csg_scene_free(&s);
 }
 
-/* bounded_by: parsed (its objects, nested CSG too) and dropped */
+/* bounded_by: parsed (its objects, nested CSG too) and kept beside the object */
 static void test_bounded_by(void **state)
 {
     (void)state;

@@ -14,7 +14,9 @@
  * interval list of one primitive, OP_UNION / OP_INTERSECT pop two and push
  * their combination.  Differences and `inverse` were pushed down to the
  * leaves by the flattener (A - B = A ∩ ¬B, De Morgan), so a primitive may be
- * complemented (CSG_PF_INVERT) but no other operator exists.
+ * complemented (CSG_PF_INVERT) but no other set operator exists.  POV-Ray's
+ * clipped_by is an intersection whose clip primitives have no surface
+ * (CSG_PF_CLIP); its bounded_by gates a list's surfaces (CSG_OP_BOUND).
  */
 #ifndef CSG_FLAT_H
 #define CSG_FLAT_H
