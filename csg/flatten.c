@@ -1437,8 +1437,7 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
      * does not clip: a bound smaller than the object hides the object
      * from the rays that miss the bound, and only them.  The root's box
      * stays the object's (a bound's box could cull a visible hit). */
-    inherited bound_inh = inh;
-    bound_inh.clip = true;
+    inherited bound_inh = inh; /* (its surfaces tell csg_spans_met it is met) */
     bound_inh.bound = true;
     for (int i = 0; i < o->bound_count; i++) {
         dbox bb;
@@ -1654,7 +1653,6 @@ static bool emit_box_gate(flat_builder *fb, const csg_object *o, inherited inh, 
     if (o != fb->bound_removed || !fb->bound_box_kept)
         return true;
     int nodes = fb->node_count, prims = fb->prim_count;
-    inh.clip = true;
     inh.bound = true;
     dbox bounds = box_infinite();
     for (int i = 0; i < o->bound_count; i++) {

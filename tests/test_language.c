@@ -407,8 +407,13 @@ static void test_clipped_by(void **state)
              "object { C translate 3 * z }\n"
              "box { -1, 1 clipped_by { sphere { 0, 1.2 } } bounded_by { clipped_by } }\n"
              "box { -1, 1 bounded_by { sphere { 0, 1.2 } } clipped_by { bounded_by } }\n"
-             "box { -1, 1 bounded_by { sphere { 0, 3 } } }\n", &s);
-    assert_int_equal(s.object_count, 5);
+             "box { -1, 1 bounded_by { sphere { 0, 3 } } }\n"
+             "sphere { 0, 1 bounded_by { sphere { 0, 2 clipped_by { plane { y, 0 } } } scale 2 }\n"
+             "         translate x }\n", &s);
+    assert_int_equal(s.object_count, 6);
+    /* a bound's own clip moves with it: inside the braces and after */
+    assert_near(s.objects[5]->bounds[0]->clips[0]->xform.m[0][0], 2);
+    assert_near(s.objects[5]->bounds[0]->clips[0]->xform.m[0][3], 1);
     const csg_object *o = s.objects[0]->children[0];
     assert_int_equal(o->clip_count, 3);
     assert_int_equal(o->clips[0]->kind, CSG_OBJ_BOX);

@@ -194,8 +194,9 @@ typedef struct {
  * Ray_In_Bound for an object with bounded_by: A keeps its solid, and its
  * surfaces only when the ray meets the bound or starts inside it, i.e.
  * when B, evaluated on [tmin, inf) whatever the query's tmax (its
- * primitives carry CSG_PF_BOUND), holds an interval or an event; else
- * every boundary of A becomes CSG_SURF_NONE (intersect.h, csg_spans_gate). */
+ * primitives carry CSG_PF_BOUND), has a surface (the cut of the bound's
+ * own clip is none) or starts at tmin; else every boundary of A becomes
+ * CSG_SURF_NONE (intersect.h, csg_spans_met, csg_spans_gate). */
 enum csg_op {
     CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2, CSG_OP_WIDE = 3, CSG_OP_BOUND = 4
 };

@@ -302,12 +302,26 @@ CSG_FN void csg_spans_intersect(const csg_spans *a, const csg_spans *b, csg_span
         csg_events_combine(a, b, 1, out);
 }
 
-/* POV-Ray's Ray_In_Bound (flat.h, CSG_OP_BOUND): a keeps its surfaces
- * only when the bound's list holds something on [tmin, inf), the ray
- * meeting the bound or starting inside it; its solid stays as it is. */
-CSG_FN void csg_spans_gate(csg_spans *a, const csg_spans *bound)
+/* Does the ray meet the bound whose list (on [tmin, inf)) is b, or start
+ * inside it?  POV-Ray's Ray_In_Bound: an intersection of the bound (a
+ * surface, not the cut of its own clip) or the origin inside it (a list
+ * that starts at tmin). */
+CSG_FN int csg_spans_met(const csg_spans *b, real tmin)
 {
-    if (bound->n > 0 || bound->ne > 0)
+    if (b->ne > 0)
+        return 1;
+    for (csg_i32 k = 0; k < b->n; k++)
+        if (!(b->t0[k] > tmin) || b->s0[k] != CSG_SURF_NONE || b->s1[k] != CSG_SURF_NONE)
+            return 1;
+    return 0;
+}
+
+/* POV-Ray's Ray_In_Bound (flat.h, CSG_OP_BOUND): a keeps its surfaces
+ * only when the ray meets the bound (csg_spans_met); its solid stays as
+ * it is. */
+CSG_FN void csg_spans_gate(csg_spans *a, const csg_spans *bound, real tmin)
+{
+    if (csg_spans_met(bound, tmin))
         return;
     for (csg_i32 k = 0; k < a->n; k++) {
         a->s0[k] = CSG_SURF_NONE;
@@ -555,7 +569,7 @@ CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real 
         if (top < 2)
             break;
         if (n.op == CSG_OP_BOUND) {
-            csg_spans_gate(&stack[top - 2], &stack[top - 1]);
+            csg_spans_gate(&stack[top - 2], &stack[top - 1], tmin);
             top--;
             continue;
         }

@@ -720,14 +720,24 @@ static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
     return true;
 }
 
-/* x applied to o's clips and bounds too (POV-Ray's Transform_Object):
- * they share o's frame, its parent's (compose_world). */
+static void transform_clips(csg_object *o, const csg_xform *x);
+
+/* c, a clip or bound, moved by x with its own clips and bounds. */
+static void transform_in_frame(csg_object *c, const csg_xform *x)
+{
+    csg_xform_then(&c->xform, x, &c->xform);
+    transform_clips(c, x);
+}
+
+/* x applied to o's clips and bounds too (POV-Ray's Transform_Object), and
+ * to theirs: they share o's frame, its parent's (compose_world).  (The
+ * depth is the parser's nesting bound.) */
 static void transform_clips(csg_object *o, const csg_xform *x)
 {
     for (int i = 0; i < o->clip_count; i++)
-        csg_xform_then(&o->clips[i]->xform, x, &o->clips[i]->xform);
+        transform_in_frame(o->clips[i], x);
     for (int i = 0; i < o->bound_count && !o->bound_is_clip; i++)
-        csg_xform_then(&o->bounds[i]->xform, x, &o->bounds[i]->xform);
+        transform_in_frame(o->bounds[i], x);
 }
 
 bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x)
@@ -841,7 +851,7 @@ static bool parse_bound_clip(parser *p, csg_object *o, const char *name, csg_loc
         if (!lang_parse_transform(p, &x))
             return false;
         for (int i = 0; i < n; i++)
-            csg_xform_then(&objs[i]->xform, &x, &objs[i]->xform);
+            transform_in_frame(objs[i], &x);
     }
     if (!lang_is_punct(p, '}'))
         return lang_expected_close(p, '}', name, at);

@@ -39,3 +39,9 @@ union {
     box { -0.8, 0.8 } cone { -1.5 * y, 1, 1.5 * y, 0 }
     bounded_by { difference { sphere { 0, 1.2 } box { <0, -2, -2>, <2, 0, 2> } } }
     rotate y * 20 translate <2, 2.7, 3> pigment { color rgb <1, 0.7, 0.2> } }
+// a bound met only through its own clip's cut is not met (Ray_In_Bound
+// finds no intersection of the bound: the cut is no surface): hidden
+union {
+    sphere { 0, 0.5 } sphere { <0.4, 0, 0>, 0.4 }
+    bounded_by { sphere { 0, 4 clipped_by { box { <-5, -5, -0.3>, <5, 5, 0.3> } } } }
+    translate <0, -1.8, -4> pigment { color rgb <0.8, 0.8, 0.8> } }

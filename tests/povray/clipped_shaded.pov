@@ -17,7 +17,7 @@ plane { y, -1 pigment { checker color rgb 0.9, color rgb <0.3, 0.5, 0.3> } }
 sphere { 0, 1.3 clipped_by { plane { y, 0.3 } } translate <-2.5, 0, 0>
          pigment { color rgb <1, 0.4, 0.2> } finish { phong 0.5 } }
 // a tube: a cylinder cut by an inverse thinner one and a slanted plane
-cylinder { -y, 1.2 * y, 0.9 clipped_by { cylinder { -2 * y, 2 * y, 0.7 inverse } plane { <0.3, 1, 0>, 0.6 } }
+cylinder { -y, 1.2 * y, 0.9 clipped_by { cylinder { -2 * y, 2 * y, 0.7 inverse } plane { y, 0.6 rotate z * -17 } }
            pigment { color rgb <0.3, 0.6, 1> } }
 // a gated union: only the rays through its slab-shaped bound see it (and
 // the shadow rays that meet the slab are blocked)
