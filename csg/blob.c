@@ -159,7 +159,8 @@ static bool roots_valid(const csg_blob_header *h, const csg_root *roots, const c
             } else if (nodes[k].op == CSG_OP_PRIM) {
                 if (nodes[k].prim < 0 || nodes[k].prim >= h->prim_count || ++depth > CSG_STACK_MAX)
                     return false;
-            } else if ((nodes[k].op != CSG_OP_UNION && nodes[k].op != CSG_OP_INTERSECT) ||
+            } else if ((nodes[k].op != CSG_OP_UNION && nodes[k].op != CSG_OP_INTERSECT &&
+                        nodes[k].op != CSG_OP_BOUND) ||
                        --depth < 1) {
                 return false;
             }

@@ -49,6 +49,8 @@ typedef struct {
     bool flat;
     csg_diag *d;
     bool *unexportable; /* a transform the language cannot state was met   */
+    bool in_clip;   /* writing a clipped_by / bounded_by object: no texture
+                       nor interior (POV-Ray refuses a textured one)      */
 } exporter;
 
 /* ---- numbers and vectors ---------------------------------------------------- */
@@ -852,6 +854,39 @@ static bool write_buffered(const exporter *e, const csg_object *o, const csg_tex
     return ok;
 }
 
+/* `KEYWORD { OBJECT... }` of a clip or bound list, each object in world
+ * space: written after the object's own matrix, nothing transforms it
+ * again. */
+static bool write_list(const exporter *e, const char *keyword, csg_object *const *list,
+                       int count, int depth)
+{
+    exporter sub = *e;
+    sub.in_clip = true;
+    indent(e->out, depth + 1);
+    fprintf(e->out, "%s {\n", keyword);
+    for (int i = 0; i < count; i++)
+        if (!write_object(&sub, list[i], NULL, depth + 2))
+            return false;
+    indent(e->out, depth + 1);
+    fputs("}\n", e->out);
+    return true;
+}
+
+/* clipped_by { } and bounded_by { } (or bounded_by { clipped_by }). */
+static bool write_bounds_and_clips(const exporter *e, const csg_object *o, int depth)
+{
+    if (o->clip_count > 0 && !write_list(e, "clipped_by", o->clips, o->clip_count, depth))
+        return false;
+    if (o->bound_is_clip) {
+        indent(e->out, depth + 1);
+        fputs("bounded_by { clipped_by }\n", e->out);
+    } else if (o->bound_count > 0 &&
+               !write_list(e, "bounded_by", o->bounds, o->bound_count, depth)) {
+        return false;
+    }
+    return true;
+}
+
 /* `texture`: the inherited texture (NULL: none, POV-Ray's default). */
 static bool write_object(const exporter *e, const csg_object *o, const csg_texture *texture,
                          int depth)
@@ -884,9 +919,12 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
             csg_texture_default(&def);
             texture = &def;
         }
-        write_texture(e, texture, depth + 1);
+        if (!e->in_clip)
+            write_texture(e, texture, depth + 1);
     }
-    if (!e->flat && o->interior >= 0) {
+    if (!write_bounds_and_clips(e, o, depth))
+        return false;
+    if (!e->flat && !e->in_clip && o->interior >= 0) {
         indent(out, depth + 1);
         const csg_interior *in = &e->s->interiors[o->interior];
         put_field(out, "interior { ior ", in->ior);
@@ -921,7 +959,7 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
 {
     int declared = 0;
     bool unexportable = false;
-    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable};
+    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable, false};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the

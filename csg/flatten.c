@@ -134,6 +134,9 @@ typedef struct {
     const csg_object *traps_of; /* the prism whose pieces are in traps[]   */
     csg_trapezoid *traps;
     int trap_count;
+    const csg_object *bound_removed; /* the top-level object whose bounded_by
+                                        POV-Ray removes (add_top)          */
+    bool bound_box_kept;             /* and whose box it keeps (emit_box_gate) */
 } flat_builder;
 
 typedef struct {
@@ -141,6 +144,8 @@ typedef struct {
     int interior; /* -1: none yet (ior 1)               */
     bool no_shadow;
     int hollow;   /* 0 not said, 1 hollow, 2 not (csg_object.hollow) */
+    bool clip;    /* inside a clipped_by: its primitives get CSG_PF_CLIP */
+    bool bound;   /* inside a kept bounded_by: CSG_PF_BOUND                */
 } inherited;
 
 static bool grow(void **arr, int *cap, int need, size_t elem)
@@ -1213,7 +1218,8 @@ static int add_prim(flat_builder *fb, const csg_object *o, int piece, inherited 
     p->material = material_for(fb, inh);
     p->root = root;
     p->flags |= (invert ? CSG_PF_INVERT : 0) | (inh.no_shadow ? CSG_PF_NO_SHADOW : 0) |
-                (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0);
+                (o->open ? CSG_PF_OPEN : 0) | (inh.hollow == 1 ? CSG_PF_HOLLOW : 0) |
+                (inh.clip ? CSG_PF_CLIP : 0) | (inh.bound ? CSG_PF_BOUND : 0);
     fb->prim_boxes[fb->prim_count] = *box;
     if (invert)
         *box = box_infinite();
@@ -1254,8 +1260,36 @@ static bool is_solid_of_pieces(const csg_object *o)
  * root: where two pieces touch, the union has no surface). */
 static bool is_multi_solid(const csg_object *o) { return o->kind == CSG_OBJ_PRISM; }
 
-/* Interval lists the subtree needs at once (its Ershov number). */
-static int lists_needed(const csg_object *o)
+static int lists_needed_body(const csg_object *o);
+
+/* A bounded_by that gates o (CSG_OP_BOUND): one of its own, not the clips
+ * (linked, the clip alone is exact: a visible point of o lies in the
+ * clip, so the ray meets the clip), and not removed by POV-Ray. */
+static bool has_gate(const flat_builder *fb, const csg_object *o)
+{
+    return o->bound_count > 0 && !o->bound_is_clip && o != fb->bound_removed;
+}
+
+/* Interval lists the subtree needs at once (its Ershov number): its body,
+ * then each clip and each bound on top of the held result (emit_tree);
+ * the bounds only when `gated`. */
+static int lists_needed_mods(const csg_object *o, bool gated)
+{
+    int need = lists_needed_body(o);
+    for (int i = 0; i < o->clip_count; i++) {
+        int c = lists_needed_mods(o->clips[i], true) + 1;
+        need = c > need ? c : need;
+    }
+    for (int i = 0; gated && !o->bound_is_clip && i < o->bound_count; i++) {
+        int c = lists_needed_mods(o->bounds[i], true) + 1;
+        need = c > need ? c : need;
+    }
+    return need;
+}
+
+static int lists_needed(const csg_object *o) { return lists_needed_mods(o, true); }
+
+static int lists_needed_body(const csg_object *o)
 {
     if (is_leaf(o) || o->child_count == 0)
         return is_multi_piece(o) || is_multi_solid(o) ? 2 : 1;
@@ -1352,12 +1386,14 @@ static bool emit_leaf(flat_builder *fb, const csg_object *o, inherited inh, bool
     return true;
 }
 
-/* Emits the RPN of `o` (complemented when `neg`); returns false on error
- * and sets *box to the subtree's world bounding box. */
 static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box);
+
+/* The RPN of o itself, its clips aside (complemented when `neg`); inh
+ * already has o's own. */
+static bool emit_body(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
                       dbox *box)
 {
-    inh = inherit(inh, o);
     neg = neg != o->inverse;
     if (is_leaf(o))
         return emit_leaf(fb, o, inh, neg, root, box);
@@ -1409,6 +1445,57 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
     free(order);
     free(need);
     return ok;
+}
+
+/* Emits the RPN of `o` (complemented when `neg`); returns false on error
+ * and sets *box to the subtree's world bounding box.
+ *
+ * clipped_by, as POV-Ray 3.7 defines it: an intersection of the object
+ * survives only where it is inside every clip (Point_In_Clip), and the
+ * object's inside is its own inside and every clip's (Inside_Object,
+ * which CSG parents use).  So the clipped object is the solid O ∩ C1 ∩
+ * C2 ..., the clips' surfaces never being intersections: the ray passes
+ * through them, and looks into an open object (a sphere clipped by a
+ * plane shows its inside).  That is the interval intersection with the
+ * clips' primitives flagged CSG_PF_CLIP: their boundaries carry no
+ * surface (CSG_SURF_NONE, intersect.h), so no ray, looking or shadow,
+ * ever stops on them, while the sets combine as any CSG.  A complement
+ * (`inverse`, or being subtracted: POV-Ray's Invert, which flips the
+ * object's INVERTED_FLAG and recursively its children's) complements the
+ * object's own inside only, never a clip: Inside_Object tests the clips
+ * as they are, so X = O' ∩ C1 ∩ C2 ... with O' = ¬O when `neg`, and the
+ * clips are always intersected, uncomplemented. */
+static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool neg, int root,
+                      dbox *box)
+{
+    inh = inherit(inh, o);
+    if (!emit_body(fb, o, inh, neg, root, box))
+        return false;
+    inherited clip_inh = inh;
+    clip_inh.clip = true;
+    for (int i = 0; i < o->clip_count; i++) {
+        dbox cb;
+        if (!emit_tree(fb, o->clips[i], clip_inh, false, root, &cb) ||
+            !emit(fb, CSG_OP_INTERSECT, -1))
+            return false;
+        *box = box_intersect(*box, cb);
+    }
+    if (!has_gate(fb, o))
+        return true;
+    /* bounded_by: POV-Ray's Ray_In_Bound before the object's (or a CSG
+     * child's) intersections, every bound to be met (CSG_OP_BOUND).  It
+     * does not clip: a bound smaller than the object hides the object
+     * from the rays that miss the bound, and only them.  The root's box
+     * stays the object's (a bound's box could cull a visible hit). */
+    inherited bound_inh = inh; /* (its surfaces tell csg_spans_met it is met) */
+    bound_inh.bound = true;
+    for (int i = 0; i < o->bound_count; i++) {
+        dbox bb;
+        if (!emit_tree(fb, o->bounds[i], bound_inh, false, root, &bb) ||
+            !emit(fb, CSG_OP_BOUND, -1))
+            return false;
+    }
+    return true;
 }
 
 /* A pigment no point of which lets light through. */
@@ -1477,6 +1564,8 @@ static int wide_pair_op(const flat_builder *fb, const csg_node *nodes, int k, in
         return -1;
     int op = nodes[k + 1].op, prim = nodes[k].prim;
     bool inverted = (fb->prims[prim].flags & CSG_PF_INVERT) != 0;
+    if (fb->prims[prim].flags & CSG_PF_BOUND) /* (met beyond tmax too: no box cull) */
+        return -1;
     if (!(op == CSG_OP_INTERSECT && inverted) && !(op == CSG_OP_UNION && !inverted))
         return -1;
     return box_bounded(&fb->prim_boxes[prim]) ? op : -1;
@@ -1585,6 +1674,8 @@ static int root_shadow_flags(const flat_builder *fb, int first_prim)
     bool none = true, opaque = true;
     for (int i = first_prim; i < fb->prim_count; i++) {
         const csg_prim *p = &fb->prims[i];
+        if (p->flags & (CSG_PF_CLIP | CSG_PF_BOUND)) /* (no surface: neither casts nor lets through) */
+            continue;
         bool casts = !(p->flags & CSG_PF_NO_SHADOW);
         none = none && !casts;
         opaque = opaque && casts && !(p->flags & CSG_PF_ONE_SIDED) &&
@@ -1593,9 +1684,56 @@ static int root_shadow_flags(const flat_builder *fb, int first_prim)
     return (none ? CSG_ROOT_NO_SHADOW : 0) | (opaque ? CSG_ROOT_OPAQUE : 0);
 }
 
+static double box_volume(dbox b)
+{
+    return (b.hi[0] - b.lo[0]) * (b.hi[1] - b.lo[1]) * (b.hi[2] - b.lo[2]);
+}
+
+/* POV-Ray gives an object the box of its bounds when that is smaller than
+ * its own (the end of Parse_Object_Mods, "[DB 9/94]"), and keeps it when
+ * Link_To_Frame then removes the bound itself (pov_removes_bound): a ray
+ * meets such a top-level object only where it meets that box, at any
+ * depth (Find_Intersection's Intersect_BBox).  So the removed bound still
+ * gates, as its box: a world box primitive flagged CSG_PF_BOUND, under
+ * CSG_OP_BOUND.  The bounds' box is that of their RPN, emitted and taken
+ * back. */
+static bool emit_box_gate(flat_builder *fb, const csg_object *o, inherited inh, int root,
+                          dbox own)
+{
+    if (o != fb->bound_removed || !fb->bound_box_kept)
+        return true;
+    int nodes = fb->node_count, prims = fb->prim_count;
+    inh.bound = true;
+    dbox bounds = box_infinite();
+    for (int i = 0; i < o->bound_count; i++) {
+        dbox b;
+        if (!emit_tree(fb, o->bounds[i], inh, false, root, &b))
+            return false;
+        bounds = box_intersect(bounds, b);
+    }
+    fb->node_count = nodes;
+    fb->prim_count = prims;
+    if (!(box_volume(bounds) < box_volume(own)) || !box_bounded(&bounds))
+        return true;
+    csg_object gate;
+    memset(&gate, 0, sizeof gate);
+    gate.kind = CSG_OBJ_BOX;
+    gate.loc = o->bounds[0]->loc;
+    gate.a = (dvec3){bounds.lo[0], bounds.lo[1], bounds.lo[2]};
+    gate.b = (dvec3){bounds.hi[0], bounds.hi[1], bounds.hi[2]};
+    csg_xform_identity(&gate.xform);
+    gate.texture = -1;
+    gate.interior = -1;
+    dbox gb;
+    int prim = add_prim(fb, &gate, 0, inh, false, root, &gb);
+    return prim >= 0 && emit(fb, CSG_OP_PRIM, prim) && emit(fb, CSG_OP_BOUND, -1);
+}
+
 static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
 {
-    int depth = lists_needed(o);
+    int depth = lists_needed_mods(o, has_gate(fb, o));
+    if (o == fb->bound_removed && fb->bound_box_kept && depth < 2) /* (emit_box_gate's box) */
+        depth = 2;
     if (depth > CSG_STACK_MAX) {
         csg_error(fb->diag, o->loc,
                   "CSG tree too complex: evaluating it needs %d interval lists at once (limit %d); "
@@ -1611,7 +1749,8 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     int root = fb->root_count;
     int first = fb->node_count, first_prim = fb->prim_count;
     dbox box;
-    if (!emit_tree(fb, o, inh, false, root, &box))
+    if (!emit_tree(fb, o, inh, false, root, &box) ||
+        !emit_box_gate(fb, o, inherit(inh, o), root, box))
         return false;
     if (!mark_wide_runs(fb, first)) {
         fb->oom = true;
@@ -1661,14 +1800,50 @@ static bool add_pieces(flat_builder *fb, const csg_object *o, inherited inh)
     return true;
 }
 
-static bool add_top(flat_builder *fb, const csg_object *o, inherited inh)
+/* POV-Ray's Link_To_Frame removes the bounded_by of a top-level object
+ * (and of a split union's child) that is cheap to intersect ("Unnecessary
+ * bounding object removed"): all but CSG, poly, text (here a union) and a
+ * quadric whose box its clip did not shrink (Automatic_Bounds; here: a
+ * clipped quadric loses its bound). */
+static bool pov_removes_bound(const csg_object *o)
 {
+    if (o->bound_count == 0 || o->bound_is_clip)
+        return false;
+    switch (o->kind) {
+    case CSG_OBJ_UNION: case CSG_OBJ_INTERSECTION: case CSG_OBJ_DIFFERENCE: case CSG_OBJ_MERGE:
+        return false;
+    case CSG_OBJ_QUADRIC:
+        return o->clip_count > 0;
+    default:
+        return true;
+    }
+}
+
+static bool is_identity(const csg_xform *x)
+{
+    csg_xform id;
+    csg_xform_identity(&id);
+    return memcmp(x, &id, sizeof id) == 0;
+}
+
+/* A top-level object, or the child of a union split at the top (POV-Ray's
+ * Link_To_Frame); `moved`: a split union above it was transformed, which
+ * recomputed the child's box from its shape (the bounds' box is gone). */
+static bool add_top(flat_builder *fb, const csg_object *o, inherited inh, bool moved)
+{
+    fb->bound_removed = pov_removes_bound(o) ? o : NULL;
+    fb->bound_box_kept = !moved;
+    /* one root: the clips cut all of it, a bound gates all of it (POV-Ray
+       links a clipped or bounded union whole: split_unions is off) */
+    if (o->clip_count > 0 || has_gate(fb, o) || (fb->bound_removed && !moved))
+        return add_root(fb, o, inh);
     if (is_multi_piece(o) && !o->inverse && !is_solid_of_pieces(o))
         return add_pieces(fb, o, inh);
     if (o->kind == CSG_OBJ_UNION && !o->inverse) {
         inh = inherit(inh, o);
+        moved = moved || !is_identity(&o->xform);
         for (int i = 0; i < o->child_count; i++)
-            if (!add_top(fb, o->children[i], inh))
+            if (!add_top(fb, o->children[i], inh, moved))
                 return false;
         return true;
     }
@@ -1941,7 +2116,10 @@ static bool object_contains(const csg_object *o, dvec3 w, int depth)
         for (int i = 0; i < o->child_count && !in; i++)
             in = object_contains(o->children[i], w, depth + 1);
     }
-    return o->inverse ? !in : in;
+    in = o->inverse ? !in : in;
+    for (int i = 0; i < o->clip_count && in; i++) /* (POV-Ray's Inside_Object) */
+        in = object_contains(o->clips[i], w, depth + 1);
+    return in;
 }
 
 /* The objects around the camera that are not hollow (POV-Ray's camera
@@ -2162,9 +2340,9 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
         ok = false;
     }
-    inherited none = {-1, -1, false, 0};
+    inherited none = {-1, -1, false, 0, false, false};
     for (int i = 0; ok && i < s->object_count; i++)
-        ok = add_top(&fb, s->objects[i], none);
+        ok = add_top(&fb, s->objects[i], none, false);
     if (ok && !fb.oom)
         add_sky(&fb);
     if (ok && !fb.oom)

@@ -283,6 +283,19 @@ struct csg_object {
     int interior;         /* index into csg_scene.interiors; -1: inherited   */
     csg_object **children; /* CSG operands, in source order                  */
     int child_count;
+    /* POV-Ray's object modifiers clipped_by and bounded_by, their objects
+     * under the object's transform like children (xform: their own then
+     * the object's).  clipped_by: the object is what of it lies inside
+     * every clip (POV-Ray's Point_In_Clip; also its inside, Inside_Object),
+     * and the clips' own surfaces are never seen nor cast shadows.
+     * bounded_by: a speed hint (Ray_In_Bound), kept for the exporter;
+     * bound_is_clip: bounded_by { clipped_by } or clipped_by { bounded_by }
+     * (POV-Ray's Bound == Clip): bounds is then clips itself.          */
+    csg_object **clips;
+    int clip_count;
+    csg_object **bounds;
+    int bound_count;
+    bool bound_is_clip;
 };
 
 /* POV-Ray's camera types (csg/device/camera_lanes.h traces them). */

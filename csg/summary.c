@@ -15,6 +15,7 @@ typedef struct {
     long by_kind[CSG_OBJ_KIND_COUNT];
     long inverted, open, no_shadow;
     long mesh_triangles;
+    long clipped, bounded, linked; /* objects with clipped_by, bounded_by, both one list */
     int max_depth;
     bool *texture_used;  /* texture_count entries, or NULL */
     bool *interior_used; /* interior_count entries, or NULL */
@@ -26,6 +27,9 @@ static void walk(const csg_scene *s, const csg_object *o, int depth, tally *t)
     t->inverted += o->inverse;
     t->open += o->open;
     t->no_shadow += o->no_shadow;
+    t->clipped += o->clip_count > 0;
+    t->bounded += o->bound_count > 0;
+    t->linked += o->bound_is_clip;
     if (o->kind == CSG_OBJ_MESH)
         t->mesh_triangles += o->vert_count / 3;
     if (depth > t->max_depth)
@@ -53,7 +57,7 @@ static void print_vec(FILE *out, const char *label, dvec3 v)
 
 void csg_print_summary(const csg_scene *s, FILE *out)
 {
-    tally t = {{0}, 0, 0, 0, 0, 0, NULL, NULL};
+    tally t = {{0}, 0, 0, 0, 0, 0, 0, 0, 0, NULL, NULL};
     t.texture_used = s->texture_count > 0 ? calloc((size_t)s->texture_count, sizeof(bool)) : NULL;
     t.interior_used =
         s->interior_count > 0 ? calloc((size_t)s->interior_count, sizeof(bool)) : NULL;
@@ -77,6 +81,9 @@ void csg_print_summary(const csg_scene *s, FILE *out)
     fprintf(out, "%s\n", prims + csg ? "" : " (none)");
     if (t.inverted || t.open || t.no_shadow)
         fprintf(out, "  inverse %ld, open %ld, no_shadow %ld\n", t.inverted, t.open, t.no_shadow);
+    if (t.clipped || t.bounded) /* (their objects are not counted above) */
+        fprintf(out, "  clipped_by on %ld, bounded_by on %ld (%ld linked to the clip)\n", t.clipped,
+                t.bounded, t.linked);
     int shadowless = 0;
     for (int i = 0; i < s->light_count; i++)
         shadowless += s->lights[i].shadowless;

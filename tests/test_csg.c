@@ -66,6 +66,7 @@ static int add_plane(scene *s, int flags, real nx, real ny, real nz, real d)
 /* Program items: a primitive index >= 0, or one of these. */
 #define U (-1)
 #define I (-2)
+#define B (-3) /* CSG_OP_BOUND */
 #define END (-100)
 
 /* Appends a root whose program is the list `prog` (ended by END), with an
@@ -84,7 +85,7 @@ static int add_root_prog(scene *s, const int *prog)
             s->prims[prog[k]].root = s->nr;
             depth++;
         } else {
-            n->op = prog[k] == U ? CSG_OP_UNION : CSG_OP_INTERSECT;
+            n->op = prog[k] == U ? CSG_OP_UNION : prog[k] == B ? CSG_OP_BOUND : CSG_OP_INTERSECT;
             n->prim = -1;
             depth--;
         }
@@ -211,6 +212,38 @@ static void test_intersection(void **state)
     r = ray(-5, 0, R(0.9), 1, 0, 0);
     assert_int_equal(nearest(&s, r).surf, CSG_SURF_NONE);
     assert_true(isinf(nearest(&s, r).t));
+}
+
+/* clipped_by: a sphere ∩ a clip half-space z < 0 (CSG_PF_CLIP): from the
+ * front, the sphere's front; from behind, the ray passes the clip's plane
+ * (no surface) and meets the sphere's back, inside the open hemisphere.
+ * bounded_by: a sphere gated by a small box (CSG_OP_BOUND over a
+ * CSG_PF_BOUND leaf): seen whole through the box, not at all beside it,
+ * and the box counts beyond the query's tmax. */
+static void test_clip_and_bound(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    add_sphere(&s, 0, 0, 0, 0, 1);
+    add_plane(&s, CSG_PF_CLIP, 0, 0, 1, 0);
+    ROOT(&s, 0, 1, I);
+    csg_hit h = nearest(&s, ray(0, 0, -5, 0, 0, 1));
+    NEAR(h.t, 4, 0);
+    assert_int_equal(h.surf, S(0, 0));
+    h = nearest(&s, ray(0, 0, 5, 0, 0, -1));
+    NEAR(h.t, 6, 0);
+    assert_int_equal(h.surf, S(0, 0));
+    assert_int_equal(nearest(&s, ray(0, 0, 5, 1, 0, 0)).surf, CSG_SURF_NONE); /* (the plane: no hit) */
+    add_sphere(&s, 0, 10, 0, 0, 1);
+    add_box(&s, CSG_PF_BOUND, R(9.9), R(-0.1), R(-0.1), R(10.1), R(0.1), R(0.1));
+    ROOT(&s, 2, 3, B);
+    h = nearest(&s, ray(10, 0, -5, 0, 0, 1));
+    NEAR(h.t, 4, 0);
+    assert_int_equal(h.surf, S(2, 0));
+    assert_int_equal(nearest(&s, ray(R(10.5), 0, -5, 0, 0, 1)).surf, CSG_SURF_NONE);
+    h = csg_trace_nearest(view(&s), ray(10, 0, -5, 0, 0, 1), 0, R(4.5));
+    NEAR(h.t, 4, 0);
 }
 
 /* A - B = A ∩ ¬B: the subtracted surface is B's, with its normal reversed
@@ -1119,6 +1152,7 @@ int main(void)
         cmocka_unit_test(test_leaf_fast_path),
         cmocka_unit_test(test_flat_box_sides),
         cmocka_unit_test(test_flat_box_csg),
+        cmocka_unit_test(test_clip_and_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

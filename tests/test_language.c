@@ -400,7 +400,7 @@ static void test_image_and_clock(void **state)
     csg_scene_free(&s);
 }
 
-/* bounded_by: parsed (its objects, nested CSG too) and dropped */
+/* bounded_by: parsed (its objects, nested CSG too) and kept beside the object */
 static void test_bounded_by(void **state)
 {
     (void)state;
@@ -469,6 +469,60 @@ static void test_transform_blocks(void **state)
               "t.pov:2:25: error: 'F' is a float, not a transform");
     parse_err("sphere { 0, 1 transform { translate x sphere { 0, 1 } } }\n",
               "t.pov:1:39: error: '}' expected (to close 'transform' at 1:25), got 'sphere'");
+}
+
+/* clipped_by: its objects in the object's frame (transforms before it do
+ * not move them, later ones and the parents' do: POV-Ray's
+ * Transform_Object), several lists append, the transforms inside the
+ * braces apply to every object of the list, a declared object's copy
+ * copies its clips, and the linked forms share one list. */
+static void test_clipped_by(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare C = sphere { 0, 1 translate y clipped_by { plane { y, 0 } } }\n"
+             "union { sphere { 0, 1 translate 5 * x\n"
+             "                 clipped_by { box { -1, 1 } sphere { 0, 2 } scale 2 }\n"
+             "                 clipped_by { plane { x, 0 } } translate z }\n"
+             "        translate y }\n"
+             "object { C translate 3 * z }\n"
+             "box { -1, 1 clipped_by { sphere { 0, 1.2 } } bounded_by { clipped_by } }\n"
+             "box { -1, 1 bounded_by { sphere { 0, 1.2 } } clipped_by { bounded_by } }\n"
+             "box { -1, 1 bounded_by { sphere { 0, 3 } } }\n"
+             "sphere { 0, 1 bounded_by { sphere { 0, 2 clipped_by { plane { y, 0 } } } scale 2 }\n"
+             "         translate x }\n", &s);
+    assert_int_equal(s.object_count, 6);
+    /* a bound's own clip moves with it: inside the braces and after */
+    assert_near(s.objects[5]->bounds[0]->clips[0]->xform.m[0][0], 2);
+    assert_near(s.objects[5]->bounds[0]->clips[0]->xform.m[0][3], 1);
+    const csg_object *o = s.objects[0]->children[0];
+    assert_int_equal(o->clip_count, 3);
+    assert_int_equal(o->clips[0]->kind, CSG_OBJ_BOX);
+    assert_int_equal(o->clips[1]->kind, CSG_OBJ_SPHERE);
+    assert_int_equal(o->clips[2]->kind, CSG_OBJ_PLANE);
+    assert_near(o->xform.m[0][3], 5);                 /* the sphere: 5 x + z + y */
+    assert_near(o->clips[0]->xform.m[0][0], 2);       /* scale 2 inside the braces */
+    assert_near(o->clips[1]->xform.m[0][0], 2);
+    assert_near(o->clips[2]->xform.m[0][0], 1);
+    for (int i = 0; i < 3; i++) {                     /* translate z, then the union's y */
+        assert_near(o->clips[i]->xform.m[0][3], 0);
+        assert_near(o->clips[i]->xform.m[1][3], 1);
+        assert_near(o->clips[i]->xform.m[2][3], 1);
+    }
+    o = s.objects[1]; /* the declared copy: its clip copied, moved by 3 z */
+    assert_int_equal(o->clip_count, 1);
+    assert_near(o->xform.m[1][3], 1);
+    assert_near(o->clips[0]->xform.m[1][3], 0);
+    assert_near(o->clips[0]->xform.m[2][3], 3);
+    for (int i = 2; i <= 3; i++) { /* linked either way: one list */
+        assert_true(s.objects[i]->bound_is_clip);
+        assert_int_equal(s.objects[i]->clip_count, 1);
+        assert_ptr_equal(s.objects[i]->bounds, s.objects[i]->clips);
+    }
+    assert_int_equal(s.objects[4]->clip_count, 0); /* a bound alone clips nothing */
+    assert_int_equal(s.objects[4]->bound_count, 1);
+    assert_false(s.objects[4]->bound_is_clip);
+    csg_scene_free(&s);
 }
 
 /* ---- #default, #undef, #version, #debug, #error -------------------------------------------- */
@@ -1410,6 +1464,7 @@ int main(void)
         cmocka_unit_test(test_bounded_by),
         cmocka_unit_test(test_bare_object_names),
         cmocka_unit_test(test_transform_blocks),
+        cmocka_unit_test(test_clipped_by),
         cmocka_unit_test(test_default_and_messages),
         cmocka_unit_test(test_camera_order),
         cmocka_unit_test(test_patterns),

@@ -965,6 +965,39 @@ static void test_poly_flattened(void **state)
     check_pieces_file(state, "tests/povray/poly.pov", CSG_PRIM_POLY, 3 + 2 + 3 + 3 + 2 + 3, false);
 }
 
+/* clipped_by (tests/povray/clipped_by.pov: clips of every role, in CSG,
+ * complemented objects, linked bounds): the clips' primitives (flagged
+ * CSG_PF_CLIP, surfaces that are never hits) give the C records on both
+ * variants.  (Not the specialised program: a specialisation removes no
+ * code of the clip's or the bound's, and each costs seconds of PoCL.) */
+static void check_modifier_file(void **state, const char *path, int flag, int flagged)
+{
+    fixture *fx = *state;
+    csg_blob blob = file_blob(path, NULL, 61, 37);
+    const csg_blob_header *h = csg_blob_hdr(blob.bytes);
+    const csg_prim *prims = (const csg_prim *)(const void *)((const char *)blob.bytes +
+                                                             h->off_prims);
+    int found = 0;
+    for (int i = 0; i < h->prim_count; i++)
+        found += (prims[i].flags & flag) != 0;
+    assert_int_equal(found, flagged);
+    for (int v = 0; v < VARIANTS; v++)
+        assert_true(check_blob(fx->ctx[v], &prec, blob.bytes, 8) > 0);
+    csg_blob_free(&blob);
+}
+
+static void test_clipped_flattened(void **state)
+{
+    check_modifier_file(state, "tests/povray/clipped_by.pov", CSG_PF_CLIP, 11);
+}
+
+/* bounded_by (tests/povray/bounded_by.pov: bounds that do not enclose
+ * their objects, CSG_OP_BOUND gates, a removed bound's box): the same. */
+static void test_bounded_flattened(void **state)
+{
+    check_modifier_file(state, "tests/povray/bounded_by.pov", CSG_PF_BOUND, 11);
+}
+
 /* Every packet width a device may ask for ($CSGTRACE_CL_PACKET: 2 x 1,
  * 2 x 2, 4 x 2, 4 x 4 records), on a random scene with several samples a
  * pixel, an image that cuts packets and slices of a few rows. */
@@ -1263,6 +1296,8 @@ int main(void)
         cmocka_unit_test(test_torus_flattened),
         cmocka_unit_test(test_quadric_flattened),
         cmocka_unit_test(test_poly_flattened),
+        cmocka_unit_test(test_clipped_flattened),
+        cmocka_unit_test(test_bounded_flattened),
         cmocka_unit_test(test_planes),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_random_spheres),

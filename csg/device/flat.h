@@ -14,7 +14,9 @@
  * interval list of one primitive, OP_UNION / OP_INTERSECT pop two and push
  * their combination.  Differences and `inverse` were pushed down to the
  * leaves by the flattener (A - B = A ∩ ¬B, De Morgan), so a primitive may be
- * complemented (CSG_PF_INVERT) but no other operator exists.
+ * complemented (CSG_PF_INVERT) but no other set operator exists.  POV-Ray's
+ * clipped_by is an intersection whose clip primitives have no surface
+ * (CSG_PF_CLIP); its bounded_by gates a list's surfaces (CSG_OP_BOUND).
  */
 #ifndef CSG_FLAT_H
 #define CSG_FLAT_H
@@ -145,7 +147,13 @@ enum csg_prim_flags {
     CSG_PF_ONE_SIDED = 16, /* surface kinds: the back is invisible to the rays
                              that look (primary, reflected, refracted); it
                              still casts shadows (CSG_SURF_HIDDEN)          */
-    CSG_PF_HOLLOW = 32    /* hollow: fog fills its inside (C workers only)  */
+    CSG_PF_HOLLOW = 32,   /* hollow: fog fills its inside (C workers only)  */
+    CSG_PF_CLIP = 64,     /* a clipped_by object's: its solid cuts the
+                             object, its surfaces are never intersections
+                             (CSG_SURF_NONE: no ray sees them or stops on
+                             them; csg/flatten.c, emit_tree)            */
+    CSG_PF_BOUND = 128    /* a bounded_by object's (CSG_OP_BOUND): its list
+                             is evaluated on [tmin, inf)                 */
 };
 
 /* Surface sub-indices, per kind. */
@@ -199,7 +207,16 @@ typedef struct {
  * csg_spans_intersect with an identity operand push the same spans and
  * events).  The evaluator may also skip the marker and fold the pairs one
  * by one, as without it (issue #39). */
-enum csg_op { CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2, CSG_OP_WIDE = 3 };
+/* CSG_OP_BOUND pops a bound's list B and gates the list A below it, POV-Ray's
+ * Ray_In_Bound for an object with bounded_by: A keeps its solid, and its
+ * surfaces only when the ray meets the bound or starts inside it, i.e.
+ * when B, evaluated on [tmin, inf) whatever the query's tmax (its
+ * primitives carry CSG_PF_BOUND), has a surface (the cut of the bound's
+ * own clip is none) or starts at tmin; else every boundary of A becomes
+ * CSG_SURF_NONE (intersect.h, csg_spans_met, csg_spans_gate). */
+enum csg_op {
+    CSG_OP_PRIM = 0, CSG_OP_UNION = 1, CSG_OP_INTERSECT = 2, CSG_OP_WIDE = 3, CSG_OP_BOUND = 4
+};
 
 typedef struct {
     csg_i32 op;   /* enum csg_op                                 */

@@ -218,7 +218,7 @@ CSG_FN void csg_surface_leaf_spans(CSG_GLOBAL const csg_prim *p, csg_i32 i, csg_
     int hit = csg_prim_span(p, r, &t0, &t1, &s0, &s1);
     if (p->flags & CSG_PF_INVERT)
         csg_spans_push(out, tmin, CSG_SURF_NONE, tmax, CSG_SURF_NONE);
-    if (hit && t0 > tmin && t0 <= tmax)
+    if (hit && t0 > tmin && t0 <= tmax && !(p->flags & CSG_PF_CLIP)) /* (a clip's: none) */
         csg_events_push(out, t0, csg_surf_of(i, s0, 0u, p->flags));
 }
 
@@ -229,6 +229,8 @@ CSG_FN void csg_leaf_spans(CSG_GLOBAL const csg_prim *prims, csg_i32 i, csg_ray 
     CSG_GLOBAL const csg_prim *p = &prims[i];
     real t0, t1;
     csg_i32 s0, s1;
+    if (p->flags & CSG_PF_BOUND) /* a bound is met anywhere along the ray (CSG_OP_BOUND) */
+        tmax = CSG_R_INF;
     csg_spans_clear(out, tmax);
     if (CSG_USE_SURFACES && CSG_PRIM_IS_SURFACE(p->kind)) {
         csg_surface_leaf_spans(p, i, r, tmin, tmax, out);
@@ -298,6 +300,34 @@ CSG_FN void csg_spans_intersect(const csg_spans *a, const csg_spans *b, csg_span
     }
     if (a->ne > 0 || b->ne > 0)
         csg_events_combine(a, b, 1, out);
+}
+
+/* Does the ray meet the bound whose list (on [tmin, inf)) is b, or start
+ * inside it?  POV-Ray's Ray_In_Bound: an intersection of the bound (a
+ * surface, not the cut of its own clip) or the origin inside it (a list
+ * that starts at tmin). */
+CSG_FN int csg_spans_met(const csg_spans *b, real tmin)
+{
+    if (b->ne > 0)
+        return 1;
+    for (csg_i32 k = 0; k < b->n; k++)
+        if (!(b->t0[k] > tmin) || b->s0[k] != CSG_SURF_NONE || b->s1[k] != CSG_SURF_NONE)
+            return 1;
+    return 0;
+}
+
+/* POV-Ray's Ray_In_Bound (flat.h, CSG_OP_BOUND): a keeps its surfaces
+ * only when the ray meets the bound (csg_spans_met); its solid stays as
+ * it is. */
+CSG_FN void csg_spans_gate(csg_spans *a, const csg_spans *bound, real tmin)
+{
+    if (csg_spans_met(bound, tmin))
+        return;
+    for (csg_i32 k = 0; k < a->n; k++) {
+        a->s0[k] = CSG_SURF_NONE;
+        a->s1[k] = CSG_SURF_NONE;
+    }
+    a->ne = 0;
 }
 
 CSG_FN void csg_spans_copy(const csg_spans *src, csg_spans *dst)
@@ -538,6 +568,11 @@ CSG_FN void csg_root_spans(csg_view v, csg_i32 root, csg_ray r, real tmin, real 
         }
         if (top < 2)
             break;
+        if (n.op == CSG_OP_BOUND) {
+            csg_spans_gate(&stack[top - 2], &stack[top - 1], tmin);
+            top--;
+            continue;
+        }
         if (n.op == CSG_OP_UNION)
             csg_spans_union(&stack[top - 2], &stack[top - 1], &tmp);
         else

@@ -733,10 +733,13 @@ CSG_FN L_INT L_FN(csg_prim_span)(CSG_GLOBAL const csg_prim *p, L_RAY world, L_RE
 /* ---- the hit of one primitive -------------------------------------------- */
 
 /* The packed surface id of sub-surface `sub` of primitive `prim`;
- * CSG_SURF_NONE for no sub-surface (sub < 0) and an open cone's caps; the
+ * CSG_SURF_NONE for no sub-surface (sub < 0), an open cone's caps and a
+ * clip's surfaces (CSG_PF_CLIP); the
  * back of a one-sided surface is CSG_SURF_HIDDEN. */
 CSG_FN L_UINT L_FN(csg_surf_of)(csg_i32 prim, L_INT sub, csg_u32 flip, csg_i32 flags)
 {
+    if (flags & CSG_PF_CLIP)
+        return L_US(CSG_SURF_NONE);
     L_INT none = sub < 0;
     if (flags & CSG_PF_OPEN)
         none = none | (sub != CSG_SURF_CONE_SIDE);

@@ -105,7 +105,7 @@ static const kw_entry kw_table[] = {
     {"charset", CSG_KW_UNSUPPORTED},
     {"chr", CSG_KW_CHR},
     {"circular", CSG_KW_CIRCULAR},
-    {"clipped_by", CSG_KW_UNSUPPORTED},
+    {"clipped_by", CSG_KW_CLIPPED_BY},
     {"clock", CSG_KW_CLOCK},
     {"clock_on", CSG_KW_CLOCK_ON},
     {"collect", CSG_KW_UNSUPPORTED},

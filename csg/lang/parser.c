@@ -187,6 +187,9 @@ csg_object *lang_new_object(parser *p, enum csg_object_kind kind, csg_loc loc)
     return n ? &n->obj : NULL;
 }
 
+static bool copy_list(parser *p, csg_object *const *src, int count, csg_loc loc,
+                      csg_object ***out);
+
 /* A deep copy of a declared tree (its height is bounded, so is the recursion). */
 static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
 {
@@ -206,7 +209,31 @@ static pnode *copy_tree(parser *p, const csg_object *src, csg_loc loc)
             n->obj.children[i] = &c->obj;
         }
     }
+    if (!copy_list(p, src->clips, src->clip_count, loc, &n->obj.clips))
+        return NULL;
+    if (src->bound_is_clip)
+        n->obj.bounds = n->obj.clips;
+    else if (!copy_list(p, src->bounds, src->bound_count, loc, &n->obj.bounds))
+        return NULL;
     return n;
+}
+
+/* A deep copy of a clip or bound list. */
+static bool copy_list(parser *p, csg_object *const *src, int count, csg_loc loc,
+                      csg_object ***out)
+{
+    if (count <= 0)
+        return true;
+    *out = lang_alloc(p, (size_t)count * sizeof **out);
+    if (!*out)
+        return false;
+    for (int i = 0; i < count; i++) {
+        pnode *c = copy_tree(p, src[i], loc);
+        if (!c)
+            return false;
+        (*out)[i] = &c->obj;
+    }
+    return true;
 }
 
 static const char *object_name(enum csg_kw kw)
@@ -763,9 +790,30 @@ static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
     return true;
 }
 
+static void transform_clips(csg_object *o, const csg_xform *x);
+
+/* c, a clip or bound, moved by x with its own clips and bounds. */
+static void transform_in_frame(csg_object *c, const csg_xform *x)
+{
+    csg_xform_then(&c->xform, x, &c->xform);
+    transform_clips(c, x);
+}
+
+/* x applied to o's clips and bounds too (POV-Ray's Transform_Object), and
+ * to theirs: they share o's frame, its parent's (compose_world).  (The
+ * depth is the parser's nesting bound.) */
+static void transform_clips(csg_object *o, const csg_xform *x)
+{
+    for (int i = 0; i < o->clip_count; i++)
+        transform_in_frame(o->clips[i], x);
+    for (int i = 0; i < o->bound_count && !o->bound_is_clip; i++)
+        transform_in_frame(o->bounds[i], x);
+}
+
 bool lang_object_transform(parser *p, csg_object *o, const csg_xform *x)
 {
     csg_xform_then(&o->xform, x, &o->xform);
+    transform_clips(o, x);
     return transform_textures(p, o, x);
 }
 
@@ -777,6 +825,7 @@ static bool parse_object_transform(parser *p, csg_object *o)
     if (!lang_parse_transform(p, &x))
         return false;
     csg_xform_then(&o->xform, &x, &o->xform);
+    transform_clips(o, &x);
     return transform_textures(p, o, &x);
 }
 
@@ -830,21 +879,108 @@ static bool is_flag(parser *p)
            lang_is_kw(p, CSG_KW_STURM);
 }
 
-/* bounded_by { OBJECT... }: POV-Ray's manual bound, a speed hint whose
- * objects must enclose the object; parsed and dropped. */
-static bool parse_bounded_by(parser *p)
+/* Does o's tree carry a texture (POV-Ray's TEXTURED_OBJECT, "possibly in
+ * children")? */
+static bool has_texture(const csg_object *o)
 {
-    csg_loc at = p->tok.loc;
-    if (!lang_next(p) || !lang_expect_open(p, "bounded_by"))
-        return false;
-    while (lang_is_object_start(p)) {
-        csg_object *bound;
-        if (!lang_parse_object(p, &bound))
+    if (o->texture >= 0)
+        return true;
+    for (int i = 0; i < o->child_count; i++)
+        if (has_texture(o->children[i]))
+            return true;
+    return false;
+}
+
+/* The objects of clipped_by { } or bounded_by { } (POV-Ray's
+ * Parse_Bound_Clip): at least one, none textured, then transforms that
+ * apply to all of them; each in o's frame (its parent's: o's transforms so
+ * far do not move it, its later ones do, transform_clips).  The list is
+ * appended to *list. */
+static bool parse_bound_clip(parser *p, csg_object *o, const char *name, csg_loc at,
+                             csg_object ***list, int *count)
+{
+    int base = p->stack.count;
+    while (lang_is_object(p)) {
+        csg_object *c;
+        csg_loc c_at = p->tok.loc;
+        if (!lang_parse_object(p, &c) || !lang_vec_push(p, &p->stack, sizeof c, &c))
             return false;
+        if (has_texture(c)) {
+            csg_error(p->d, c_at, "illegal texture in '%s' (its objects have no surface)", name);
+            return false;
+        }
+        if (height_of(c) + 1 > ((pnode *)(void *)o)->height)
+            ((pnode *)(void *)o)->height = height_of(c) + 1;
+    }
+    int n = p->stack.count - base;
+    if (n == 0)
+        return lang_expected(p, "an object expected");
+    csg_object **objs = (csg_object **)p->stack.data + base;
+    while (lang_is_transform(p)) {
+        csg_xform x;
+        csg_xform_identity(&x);
+        if (!lang_parse_transform(p, &x))
+            return false;
+        for (int i = 0; i < n; i++)
+            transform_in_frame(objs[i], &x);
     }
     if (!lang_is_punct(p, '}'))
-        return lang_expected_close(p, '}', "bounded_by", at);
+        return lang_expected_close(p, '}', name, at);
+    csg_object **all = lang_alloc(p, (size_t)(*count + n) * sizeof *all);
+    if (!all)
+        return false;
+    if (*count > 0)
+        memcpy(all, *list, (size_t)*count * sizeof *all);
+    for (int i = 0; i < n; i++)
+        all[*count + i] = objs[i];
+    p->stack.count = base;
+    *list = all;
+    *count += n;
+    if (((pnode *)(void *)o)->height > CSG_PARSE_MAX_NESTING) {
+        csg_error(p->d, o->loc, "CSG tree deeper than %d levels", CSG_PARSE_MAX_NESTING);
+        return false;
+    }
     return lang_next(p);
+}
+
+/* bounded_by { OBJECT... } or bounded_by { clipped_by }, and clipped_by
+ * { OBJECT... } or clipped_by { bounded_by }: POV-Ray's Parse_Object_Mods,
+ * its errors included.  Linked, the bound is the clip (bound_is_clip). */
+static bool parse_bound_or_clip(parser *p, csg_object *o)
+{
+    bool clip = lang_is_kw(p, CSG_KW_CLIPPED_BY);
+    const char *name = clip ? "clipped_by" : "bounded_by";
+    csg_loc at = p->tok.loc;
+    if (!lang_next(p) || !lang_expect_open(p, name))
+        return false;
+    int own = clip ? o->clip_count : o->bound_count;
+    if (own > 0 && o->bound_is_clip) {
+        csg_error(p->d, at, clip ? "cannot add clips after linking bounds and clips"
+                                 : "cannot add bounds after linking bounds and clips");
+        return false;
+    }
+    if (lang_is_kw(p, clip ? CSG_KW_BOUNDED_BY : CSG_KW_CLIPPED_BY)) {
+        if (own > 0) {
+            csg_error(p->d, at, clip ? "cannot link bounds with previous clips"
+                                     : "cannot link clips with previous bounds");
+            return false;
+        }
+        if (clip) {
+            o->clips = o->bounds;
+            o->clip_count = o->bound_count;
+        } else {
+            o->bounds = o->clips;
+            o->bound_count = o->clip_count;
+        }
+        o->bound_is_clip = o->clip_count > 0; /* (linking nothing is nothing) */
+        if (!lang_next(p))
+            return false;
+        if (!lang_is_punct(p, '}'))
+            return lang_expected_close(p, '}', name, at);
+        return lang_next(p);
+    }
+    return clip ? parse_bound_clip(p, o, name, at, &o->clips, &o->clip_count)
+                : parse_bound_clip(p, o, name, at, &o->bounds, &o->bound_count);
 }
 
 /* Modifiers up to and including the closing brace. */
@@ -866,8 +1002,8 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
             ok = parse_interior_modifier(p, o, int_mark);
         else if (is_flag(p))
             ok = parse_flag(p, o, name);
-        else if (lang_is_kw(p, CSG_KW_BOUNDED_BY))
-            ok = parse_bounded_by(p);
+        else if (lang_is_kw(p, CSG_KW_BOUNDED_BY) || lang_is_kw(p, CSG_KW_CLIPPED_BY))
+            ok = parse_bound_or_clip(p, o);
         else
             return lang_expected_close(p, '}', name, open);
         if (!ok)
@@ -1626,6 +1762,11 @@ static void compose_world(csg_object *o, const csg_xform *parent)
         csg_xform_then(&o->xform, parent, &o->xform);
     for (int i = 0; i < o->child_count; i++)
         compose_world(o->children[i], &o->xform);
+    /* clips and bounds are in o's frame, its parent's (transform_clips) */
+    for (int i = 0; i < o->clip_count; i++)
+        compose_world(o->clips[i], parent);
+    for (int i = 0; i < o->bound_count && !o->bound_is_clip; i++)
+        compose_world(o->bounds[i], parent);
 }
 
 static bool finish_scene(parser *p)
