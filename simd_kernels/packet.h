@@ -14,7 +14,11 @@
  * W / C rows, lane k at (k % C, k / C), so its rays are coherent.
  *
  * Algorithm (pk_trace_nearest), for every lane at once:
- *   - the linear roots, then the BVH with an explicit stack of nodes: a
+ *   - the linear roots, then the candidate roots of the packet's cell when
+ *     it has a list (host/pass/ocl.c: the roots whose boxes the cell's
+ *     pyramid of rays may meet, found on the host as workers/frustum.h
+ *     finds a C worker's tile's), each behind its own box; else
+ *   - the BVH with an explicit stack of nodes: a
  *     node is entered when its box meets any live lane's range
  *     [0, hit limit of that lane]; its roots are tried for the lanes that
  *     met the box (a leaf of one root: the root's box is the leaf's, not
@@ -301,15 +305,25 @@ CSG_PK_FN void pk_walk_bvh(csg_view v, const pk_packet *pk, csg_hit_pk *best)
 
 /* ---- the packet's nearest hits ---------------------------------------------------- */
 
-/* Lane by lane, csg_trace_nearest(v, ray, 0, inf). */
-CSG_PK_FN csg_hit_pk pk_trace_nearest(csg_view v, const pk_packet *pk)
+/* Lane by lane, csg_trace_nearest(v, ray, 0, inf).  With a candidate list
+ * (n >= 0: cands[0 .. n - 1], the bounded roots the packet's frustum may
+ * meet, host/pass/ocl.c's cells) those are tried, each behind its own box,
+ * instead of the BVH walk: workers/frustum.h's culling, exact for the same
+ * reason (a root no ray of the packet can meet is all it leaves out, and
+ * the nearest-hit rule does not depend on the order). */
+CSG_PK_FN csg_hit_pk pk_trace_nearest(csg_view v, const pk_packet *pk,
+                                      CSG_GLOBAL const csg_i32 *cands, csg_i32 n)
 {
     csg_hit_pk best;
     best.t = (realv)(CSG_R_INF);
     best.surf = (uintv)(CSG_SURF_NONE);
     for (csg_i32 i = 0; i < v.root_count; i++)
         pk_try_root(v, i, pk, pk->live, 1, &best);
-    pk_walk_bvh(v, pk, &best);
+    if (n >= 0)
+        for (csg_i32 k = 0; k < n; k++)
+            pk_try_root(v, cands[k], pk, pk->live, 1, &best);
+    else
+        pk_walk_bvh(v, pk, &best);
     best.t = select(best.t, (realv)(CSG_R_INF), best.surf == CSG_SURF_NONE);
     return best;
 }

@@ -37,8 +37,12 @@
 #ifndef CSG_PACKET
 /* One work-item a record (a sample of a pixel): the variant for GPUs. */
 __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global real *t_out,
-                          __global uint *surf_out)
+                          __global uint *surf_out, __global const int *cells, int cell,
+                          int cell_cap)
 {
+    (void)cells; /* (the packet variant's culling) */
+    (void)cell;
+    (void)cell_cap;
     __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
     int width = h->width, spp = h->spp;
     int col = (int)get_global_id(0); /* one work-item a sample: width * spp a row */
@@ -56,11 +60,38 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
 #else
 #include "packet.h"
 
+/* The candidate list of the packet whose first record is column c0 of
+ * slice row r0, in *n (-1: none, walk the BVH): the cell of `cell` x
+ * `cell` pixels that holds every pixel of the packet, when one does
+ * (cells: per cell, row by row over the image, its count then cell_cap
+ * roots; cell 0: no cells). */
+static __global const int *pk_cell_list(__global const int *cells, int cell, int cell_cap,
+                                        int width, int spp, int cols, int y0, int rows, int c0,
+                                        int r0, int *n)
+{
+    *n = -1;
+    if (cell <= 0)
+        return cells;
+    int px0 = c0 / spp, px1 = (min(c0 + CSG_PACKET_COLS, cols) - 1) / spp;
+    int py0 = y0 + r0, py1 = y0 + min(r0 + CSG_PACKET_ROWS, rows) - 1;
+    if (px0 / cell != px1 / cell || py0 / cell != py1 / cell)
+        return cells;
+    int cells_x = (width + cell - 1) / cell;
+    __global const int *list =
+        cells + ((size_t)(py0 / cell) * (size_t)cells_x + (size_t)(px0 / cell)) *
+                    (size_t)(1 + cell_cap);
+    *n = list[0];
+    return list + 1;
+}
+
 /* One work-item a packet of CSG_PACKET records, CSG_PACKET_COLS of a row
  * by CSG_PACKET_ROWS rows (packet.h): the variant for CPUs.  Lanes beyond
- * the image trace a finite ray off the image and write nothing. */
+ * the image trace a finite ray off the image and write nothing.  The
+ * packet tries its cell's candidate roots (pk_cell_list), or walks the
+ * BVH. */
 __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global real *t_out,
-                          __global uint *surf_out)
+                          __global uint *surf_out, __global const int *cells, int cell,
+                          int cell_cap)
 {
     __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
     int width = h->width, spp = h->spp, cols = width * spp;
@@ -89,7 +120,10 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     pk_packet pk;
     pk_packet_init(&pk, csg_camera_ray_pk(csg_blob_camera(blob), width, h->height, x, y0 + row,
                                           ox, oy), live);
-    csg_hit_pk hit = pk_trace_nearest(csg_blob_view(blob), &pk);
+    int n;
+    __global const int *cands =
+        pk_cell_list(cells, cell, cell_cap, width, spp, cols, y0, rows, c0, r0, &n);
+    csg_hit_pk hit = pk_trace_nearest(csg_blob_view(blob), &pk, cands, n);
 
     real t[CSG_PACKET];
     lane_uint surf[CSG_PACKET];

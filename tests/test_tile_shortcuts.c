@@ -3,7 +3,10 @@
  * tile changes no bit of the result:
  *   - the primary culling (workers/frustum.h): the hit records of
  *     engine->trace_primary equal csg_trace_nearest's, ray by ray, and a
- *     rectangle engine->rect_misses calls empty has no ray that hits;
+ *     rectangle engine->rect_misses calls empty has no ray that hits; the
+ *     candidate lists of engine->rect_candidates (the OpenCL packet
+ *     pass's cells), found by a walk or among an enclosing rectangle's,
+ *     keep every root a ray hits;
  *   - the shadow cache (workers/shade.c): a tile shaded as one rectangle,
  *     the cache carried from pixel to pixel, equals the same pixels shaded
  *     one by one, each with a fresh cache.
@@ -87,6 +90,61 @@ static void assert_rect_met(csg_view v, const frustum_roots *fr, bool misses, in
     for (int k = 0; k < fr->n; k++)
         found = found || fr->roots[k] == met;
     assert_true(found);
+}
+
+/* The OpenCL packet pass's cells (host/pass/ocl.c): engine->rect_candidates
+ * of r by a walk is frustum_roots_of's list when that one has it; each
+ * quadrant's list taken among r's keeps every root a ray of the quadrant
+ * hits (the unbounded roots and those candidates, each behind its box, give
+ * csg_trace_nearest's record).  Returns how many quadrants' lists are
+ * shorter than r's (0: the filter culled nothing here). */
+static int assert_candidates_in(const void *blob, int w, int h, int spp, tile_rect r)
+{
+    const unsigned char *bytes = blob;
+    csg_view v = csg_blob_view(bytes);
+    const csg_camera *cam = csg_blob_camera(bytes);
+    int32_t all[ENGINE_CANDIDATES_MAX], sub[ENGINE_CANDIDATES_MAX];
+    int32_t n = ENGINE->rect_candidates(blob, r, NULL, 0, all, ENGINE_CANDIDATES_MAX);
+    frustum_roots fr;
+    frustum_roots_of(v, cam, w, h, r, &fr);
+    if (fr.culled) {
+        assert_int_equal(n, fr.n);
+        assert_memory_equal(all, fr.roots, (size_t)n * sizeof *all);
+    }
+    if (n < 0)
+        return 0;
+    int shorter = 0, hw = (r.width + 1) / 2, hh = (r.height + 1) / 2;
+    tile_rect quads[4] = {{r.x, r.y, hw, hh},
+                          {r.x + hw, r.y, r.width - hw, hh},
+                          {r.x, r.y + hh, hw, r.height - hh},
+                          {r.x + hw, r.y + hh, r.width - hw, r.height - hh}};
+    for (int q = 0; q < 4; q++) {
+        tile_rect c = quads[q];
+        if (c.width <= 0 || c.height <= 0)
+            continue;
+        int32_t m = ENGINE->rect_candidates(blob, c, all, n, sub, ENGINE_CANDIDATES_MAX);
+        assert_true(m >= 0 && m <= n);
+        shorter += m < n;
+        for (int y = c.y; y < c.y + c.height; y++)
+            for (int x = c.x; x < c.x + c.width; x++)
+                for (int k = 0; k < spp; k++) {
+                    csg_ray ray = csg_sample_ray(cam, w, h, x, y, spp, k);
+                    csg_box_ray br = csg_box_ray_of(ray);
+                    csg_hit best;
+                    best.t = CSG_R_INF;
+                    best.surf = CSG_SURF_NONE;
+                    for (csg_i32 i = 0; i < v.root_count; i++)
+                        csg_try_root(v, i, ray, &br, 1, R(0.0), &best);
+                    for (int32_t j = 0; j < m; j++)
+                        csg_try_root(v, sub[j], ray, &br, 1, R(0.0), &best);
+                    if (best.surf == CSG_SURF_NONE)
+                        best.t = CSG_R_INF;
+                    csg_hit hit = csg_trace_nearest(v, ray, R(0.0), CSG_R_INF);
+                    assert_int_equal(best.surf, hit.surf);
+                    assert_memory_equal(&best.t, &hit.t, sizeof hit.t);
+                }
+    }
+    return shorter;
 }
 
 /* Every rectangle of a tiling of `tile` pixels: the engine's records equal
@@ -179,6 +237,14 @@ static void check_scene_near(const char *camera, const char *extra, int w, int h
         } else {
             assert_int_equal(culled, 0);
         }
+        int shorter = 0; /* the packet pass's cells: 16-pixel ones in 64-pixel blocks */
+        for (int ty = 0; ty < h; ty += 64)
+            for (int tx = 0; tx < w; tx += 64) {
+                tile_rect r = {tx, ty, 64 < w - tx ? 64 : w - tx, 64 < h - ty ? 64 : h - ty};
+                shorter += assert_candidates_in(b.bytes, w, h, spp, r);
+            }
+        if (expect_culled)
+            assert_true(shorter > 0);
         int tiles[] = {1, 5, 16, 64}, kept = 0;
         for (size_t i = 0; i < sizeof tiles / sizeof tiles[0]; i++)
             kept += assert_primary_records(b.bytes, w, h, spp, tiles[i]);

@@ -20,6 +20,9 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t,
                               const uint32_t *surf, float *rgb_out, ray_counts *rays);
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3]);
 bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met);
+int32_t ENGINE_SYM(engine_rect_candidates)(const void *blob, tile_rect rect,
+                                           const int32_t *from, int32_t from_n, int32_t *roots,
+                                           int32_t cap);
 int ENGINE_SYM(engine_surface_classes)(const void *blob, uint8_t *class_out);
 
 const engine ENGINE_SYM(engine) = {
@@ -30,5 +33,6 @@ const engine ENGINE_SYM(engine) = {
     .shade = ENGINE_SYM(engine_shade),
     .miss_rgb = ENGINE_SYM(engine_miss_rgb),
     .rect_misses = ENGINE_SYM(engine_rect_misses),
+    .rect_candidates = ENGINE_SYM(engine_rect_candidates),
     .surface_classes = ENGINE_SYM(engine_surface_classes),
 };

@@ -48,6 +48,9 @@ static inline uint64_t ray_counts_total(const ray_counts *r)
     return r->primary + r->shadow + r->reflected + r->refracted;
 }
 
+/* The longest list engine->rect_candidates gives. */
+#define ENGINE_CANDIDATES_MAX 256
+
 typedef struct {
     const char *name;  /* "float" or "double" */
     size_t real_size;  /* sizeof(real) of this build */
@@ -70,6 +73,16 @@ typedef struct {
      * rectangle's; the answer is the same, found sooner); on return the
      * object this rectangle may meet (-1: none). */
     bool (*rect_misses)(const void *blob, tile_rect rect, int32_t *met);
+    /* The bounded roots the primary rays of `rect` may hit (the frustum
+     * culling of trace_primary, workers/frustum.h) into roots[0 .. cap - 1]
+     * (cap <= ENGINE_CANDIDATES_MAX): found by a walk of the BVH, nearest
+     * box first (from NULL), or among from[0 .. from_n - 1] in its order,
+     * a list that holds them all (an enclosing rectangle's).  Returns their
+     * number, or -1 when no list applies (another camera, more than cap).
+     * The unbounded roots (the blob's first root_count) are never listed:
+     * every ray tries them.  The OpenCL packet pass's cells. */
+    int32_t (*rect_candidates)(const void *blob, tile_rect rect, const int32_t *from,
+                               int32_t from_n, int32_t *roots, int32_t cap);
     /* For the cost estimate of a tile (host/pass/estimate.h): the ENGINE_CLASS_*
      * bits of every primitive's material into class_out[prim_count]; returns
      * the number of lights that cast shadows (a shadow ray each a hit). */

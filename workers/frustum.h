@@ -155,18 +155,20 @@ static inline double frustum_depth(const frustum *f, const real lo[3], const rea
     return frustum_dot(f->axis, c);
 }
 
-/* Adds root i at its place in the depth order; false when the list is full. */
-static inline bool frustum_add(frustum_roots *fr, double *depth, csg_i32 i, double di)
+/* Adds root i at its place in the depth order of roots[0 .. *n - 1]
+ * (depth[k]: root k's); false when the list already holds cap. */
+static inline bool frustum_add(csg_i32 *roots, double *depth, csg_i32 *n, csg_i32 cap,
+                               csg_i32 i, double di)
 {
-    if (fr->n == FRUSTUM_MAX_ROOTS)
+    if (*n >= cap)
         return false;
-    csg_i32 k = fr->n++;
+    csg_i32 k = (*n)++;
     while (k > 0 && depth[k - 1] > di) {
-        fr->roots[k] = fr->roots[k - 1];
+        roots[k] = roots[k - 1];
         depth[k] = depth[k - 1];
         k--;
     }
-    fr->roots[k] = i;
+    roots[k] = i;
     depth[k] = di;
     return true;
 }
@@ -210,33 +212,73 @@ static inline bool frustum_walk(csg_view v, const frustum *f,
     return true;
 }
 
+/* The longest candidate list any caller asks for (the OpenCL packet
+ * pass's cells and their blocks: host/pass/ocl.c). */
+#define FRUSTUM_LIST_MAX ENGINE_CANDIDATES_MAX
+
 typedef struct {
     const frustum *f;
     csg_view v;
-    frustum_roots *fr;
-    double depth[FRUSTUM_MAX_ROOTS];
+    csg_i32 *roots, n, cap;
+    double depth[FRUSTUM_LIST_MAX];
 } frustum_gather;
 
 static inline bool frustum_take_candidate(void *arg, csg_i32 i)
 {
     frustum_gather *g = arg;
     const csg_root *rt = &g->v.roots[i];
-    return frustum_add(g->fr, g->depth, i, frustum_depth(g->f, rt->lo, rt->hi));
+    return frustum_add(g->roots, g->depth, &g->n, g->cap, i,
+                       frustum_depth(g->f, rt->lo, rt->hi));
 }
 
-/* The candidate roots of rect's primary rays: the BVH's roots whose boxes
- * the pyramid may meet.  fr->culled is false when there is no list to use
- * (the camera is not a plain perspective one, or too many candidates). */
+/* The candidate roots of rect's primary rays into roots[0 .. cap - 1]
+ * (cap <= FRUSTUM_LIST_MAX), nearest box first: the BVH's roots whose
+ * boxes the pyramid may meet.  Returns their number, or -1 when there is
+ * no list to use (the camera is not a plain perspective one, or more than
+ * cap candidates). */
+static inline csg_i32 frustum_candidates(csg_view v, const csg_camera *cam, int width,
+                                         int height, tile_rect rect, csg_i32 *roots,
+                                         csg_i32 cap)
+{
+    frustum f;
+    if (cap > FRUSTUM_LIST_MAX || !frustum_of(cam, width, height, rect, &f))
+        return -1;
+    frustum_gather g = {&f, v, roots, 0, cap, {0}};
+    return frustum_walk(v, &f, frustum_take_candidate, &g) ? g.n : -1;
+}
+
+/* The candidate roots of rect's primary rays among from[0 .. from_n - 1],
+ * a list that holds every candidate of rect (an enclosing rectangle's: a
+ * pyramid inside another culls no less), in that list's order, into
+ * roots[0 .. cap - 1]: frustum_candidates for the price of from_n box
+ * tests instead of a walk of the BVH.  -1 as frustum_candidates. */
+static inline csg_i32 frustum_candidates_in(csg_view v, const csg_camera *cam, int width,
+                                            int height, tile_rect rect, const csg_i32 *from,
+                                            csg_i32 from_n, csg_i32 *roots, csg_i32 cap)
+{
+    frustum f;
+    if (!frustum_of(cam, width, height, rect, &f))
+        return -1;
+    csg_i32 n = 0;
+    for (csg_i32 k = 0; k < from_n; k++) {
+        if (!frustum_may_meet(&f, v, from[k]))
+            continue;
+        if (n == cap)
+            return -1;
+        roots[n++] = from[k];
+    }
+    return n;
+}
+
+/* The candidate roots of rect's primary rays (frustum_candidates):
+ * fr->culled is false when there is no list to use. */
 static inline void frustum_roots_of(csg_view v, const csg_camera *cam, int width, int height,
                                     tile_rect rect, frustum_roots *fr)
 {
-    frustum f;
-    fr->culled = false;
-    fr->n = 0;
-    if (!frustum_of(cam, width, height, rect, &f))
-        return;
-    frustum_gather g = {&f, v, fr, {0}};
-    fr->culled = frustum_walk(v, &f, frustum_take_candidate, &g);
+    fr->n = frustum_candidates(v, cam, width, height, rect, fr->roots, FRUSTUM_MAX_ROOTS);
+    fr->culled = fr->n >= 0;
+    if (!fr->culled)
+        fr->n = 0;
 }
 
 static inline bool frustum_take_first(void *arg, csg_i32 i)

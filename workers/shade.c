@@ -1264,6 +1264,19 @@ bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *m
                                c.hdr->root_count, met);
 }
 
+int32_t ENGINE_SYM(engine_rect_candidates)(const void *blob, tile_rect rect,
+                                           const int32_t *from, int32_t from_n, int32_t *roots,
+                                           int32_t cap)
+{
+    const csg_blob_header *h = blob; /* (no shading: any blob the pass takes) */
+    csg_view v = csg_blob_view(blob);
+    const csg_camera *cam = csg_blob_camera(blob);
+    if (from)
+        return frustum_candidates_in(v, cam, h->width, h->height, rect, from, from_n, roots,
+                                     cap);
+    return frustum_candidates(v, cam, h->width, h->height, rect, roots, cap);
+}
+
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
 {
     shade_ctx c = ctx_of(blob);

@@ -27,8 +27,10 @@
  * what the device allows (max allocation, a share of the global memory,
  * and opt->max_slice_bytes or else 256 MiB).  A slice is a whole number of
  * tile rows whenever one tile row fits; otherwise it is a run of pixel
- * rows inside a tile row.  Per slice: csg_primary (a work-item a record, or a
- * packet of records),
+ * rows inside a tile row.  Per slice: the packet kernel's culling cells
+ * it needs (ocl_cells_upto: the candidate roots of each 16 x 16 pixels,
+ * found on the host as a C worker finds a tile's, written ahead of the
+ * kernel), csg_primary (a work-item a record, or a packet of records),
  * csg_tile_hits (a work-item a tile touched by the slice), then
  * non-blocking reads of the records straight into the caller's arrays at
  * the slice's first row and of the slice's tile counts into a host array
@@ -60,6 +62,7 @@
 
 #include "../../csg/device/flat.h"
 #include "../../csg/flatten.h"
+#include "../../workers/engine.h"
 #include "cl_cache.h"
 #include "../../comm/test_hooks.h"
 
@@ -726,12 +729,12 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, 
 }
 
 typedef struct {
-    cl_mem blob, t, surf, hits;
+    cl_mem blob, t, surf, hits, cells;
 } ocl_pass_buffers;
 
 static void ocl_release_buffers(ocl_pass_buffers *b)
 {
-    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits};
+    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits, &b->cells};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (*all[i])
             clReleaseMemObject(*all[i]);
@@ -749,12 +752,119 @@ static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void 
     return false;
 }
 
+/* ---- the packet kernel's culling cells ----------------------------------------------
+ * The packet kernel culls as the C worker does (workers/frustum.h): the
+ * image in square cells of `edge` pixels, each with the bounded roots the
+ * primary rays of its pixels may meet (engine->rect_candidates, nearest
+ * box first), stored as its count (-1: no list, walk the BVH) then `cap`
+ * slots; a packet inside one cell tries its cell's roots instead of
+ * walking the BVH (primary.cl: pk_cell_list).  The cell rows are computed
+ * on the host as the slices that need them are enqueued, and written to
+ * the device ahead of those slices on the in-order queue.  Edge 0: no
+ * cells (the one-ray kernel walks the BVH).  The host's cost is one BVH
+ * walk a block of OCL_CELL_BLOCK x OCL_CELL_BLOCK cells, then a box test
+ * a cell and block candidate.  Edges 8, 16, 32 with caps 16, 32, 64 were
+ * measured within the noise of this shared machine at N = 10 .. 10^4
+ * random spheres (bench/results/primary_pass); 16 and 32 sit in the
+ * middle. */
+#define OCL_CELL_EDGE 16
+#define OCL_CELL_CAP 32
+#define OCL_CELL_BLOCK 4 /* cells a block's side: one BVH walk a block */
+#define OCL_CELL_MAX_BYTES ((size_t)32 << 20) /* larger images: larger cells */
+
+typedef struct {
+    cl_int edge, cap;
+    int cols, rows, rows_done; /* the grid; rows computed and enqueued */
+    int32_t *host;             /* cols * rows * (1 + cap) entries      */
+} ocl_cells;
+
+static size_t ocl_cell_ints(const ocl_cells *cl) { return (size_t)(1 + cl->cap); }
+
+/* The grid of an image of width x height for the kernel variant kind
+ * (host array only; false: out of memory). */
+static bool ocl_cells_alloc(ocl_cells *cl, enum ocl_kernel kind, int width, int height)
+{
+    memset(cl, 0, sizeof *cl);
+    if (kind != OCL_KERNEL_PACKET)
+        return (cl->host = calloc(1, sizeof *cl->host)) != NULL; /* (a buffer to bind) */
+    cl->cap = OCL_CELL_CAP;
+    for (cl->edge = OCL_CELL_EDGE;; cl->edge *= 2) {
+        cl->cols = (width + cl->edge - 1) / cl->edge;
+        cl->rows = (height + cl->edge - 1) / cl->edge;
+        if ((size_t)cl->cols * (size_t)cl->rows * ocl_cell_ints(cl) * sizeof(int32_t) <=
+            OCL_CELL_MAX_BYTES)
+            break;
+    }
+    cl->host = malloc((size_t)cl->cols * (size_t)cl->rows * ocl_cell_ints(cl) * sizeof(int32_t));
+    return cl->host != NULL;
+}
+
+static size_t ocl_cells_bytes(const ocl_cells *cl)
+{
+    return cl->edge ? (size_t)cl->cols * (size_t)cl->rows * ocl_cell_ints(cl) * sizeof(int32_t)
+                    : sizeof(int32_t);
+}
+
+/* The pixels of cell (cx, cy) .. (cx + n - 1, cy + n - 1), inside the image. */
+static tile_rect ocl_cells_rect(const ocl_cells *cl, const csg_blob_header *h, int cx, int cy,
+                                int n)
+{
+    int x = cx * cl->edge, y = cy * cl->edge, e = n * cl->edge;
+    tile_rect r = {x, y, h->width - x < e ? h->width - x : e, h->height - y < e ? h->height - y : e};
+    return r;
+}
+
+/* The cells of block (bx, by), OCL_CELL_BLOCK cells square: the block's
+ * candidates found once by a walk of the BVH, then each cell's among them
+ * (a cell's pyramid lies in its block's), or each cell's own walk when
+ * the block has too many. */
+static void ocl_cells_block(ocl_cells *cl, const csg_blob_header *h, const void *blob,
+                            const engine *e, int bx, int by)
+{
+    int32_t block[ENGINE_CANDIDATES_MAX];
+    int cx0 = bx * OCL_CELL_BLOCK, cy0 = by * OCL_CELL_BLOCK;
+    int32_t nb = e->rect_candidates(blob, ocl_cells_rect(cl, h, cx0, cy0, OCL_CELL_BLOCK), NULL,
+                                    0, block, ENGINE_CANDIDATES_MAX);
+    for (int cy = cy0; cy < cy0 + OCL_CELL_BLOCK && cy < cl->rows; cy++)
+        for (int cx = cx0; cx < cx0 + OCL_CELL_BLOCK && cx < cl->cols; cx++) {
+            int32_t *entry = cl->host + ((size_t)cy * (size_t)cl->cols + (size_t)cx) *
+                                            ocl_cell_ints(cl);
+            tile_rect r = ocl_cells_rect(cl, h, cx, cy, 1);
+            entry[0] = e->rect_candidates(blob, r, nb >= 0 ? block : NULL, nb, entry + 1,
+                                          cl->cap);
+        }
+}
+
+/* The cells of image rows up to y_last computed (whole blocks) and written
+ * to the device (non-blocking: cl->host lives until the pass ends). */
+static bool ocl_cells_upto(ocl_ctx *c, ocl_cells *cl, cl_mem buf, const void *blob,
+                           int y_last, csg_diag *d)
+{
+    if (!cl->edge)
+        return true;
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    int first = cl->rows_done, by_last = y_last / cl->edge / OCL_CELL_BLOCK;
+    if (by_last * OCL_CELL_BLOCK < first)
+        return true;
+    const engine *e = engine_for_blob(blob);
+    for (int by = first / OCL_CELL_BLOCK; by <= by_last; by++)
+        for (int bx = 0; bx * OCL_CELL_BLOCK < cl->cols; bx++)
+            ocl_cells_block(cl, h, blob, e, bx, by);
+    int last = (by_last + 1) * OCL_CELL_BLOCK;
+    cl->rows_done = last < cl->rows ? last : cl->rows;
+    size_t row_ints = (size_t)cl->cols * ocl_cell_ints(cl);
+    size_t off = (size_t)first * row_ints, n = (size_t)(cl->rows_done - first) * row_ints;
+    cl_int err = clEnqueueWriteBuffer(c->queue, buf, CL_FALSE, off * sizeof(int32_t),
+                                      n * sizeof(int32_t), cl->host + off, 0, NULL, NULL);
+    return err == CL_SUCCESS || ocl_fail(d, "clEnqueueWriteBuffer(cells)", err);
+}
+
 /* One slice: rows y0 .. y0 + rows - 1 enqueued, records read into the
  * caller's arrays, its tile counts into hits_out; *done: the event of its
  * last read. */
 static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
-                          ocl_pass_buffers *b, void *t_out, uint32_t *surf_out,
-                          uint32_t *hits_out, cl_event *done, csg_diag *d)
+                          ocl_pass_buffers *b, const ocl_cells *cells, void *t_out,
+                          uint32_t *surf_out, uint32_t *hits_out, cl_event *done, csg_diag *d)
 {
     cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
     cl_int tiles_x = (h->width + tile - 1) / tile;
@@ -766,6 +876,9 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
               ocl_arg(c->k_primary, kp, 2, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_primary, kp, 3, sizeof(cl_mem), &b->t, d) &&
               ocl_arg(c->k_primary, kp, 4, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_primary, kp, 5, sizeof(cl_mem), &b->cells, d) &&
+              ocl_arg(c->k_primary, kp, 6, sizeof(cl_int), &cells->edge, d) &&
+              ocl_arg(c->k_primary, kp, 7, sizeof(cl_int), &cells->cap, d) &&
               ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->blob, d) &&
               ocl_arg(c->k_tiles, kt, 1, sizeof(cl_mem), &b->surf, d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
@@ -816,6 +929,7 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
 struct ocl_pass {
     ocl_ctx *c;
     const csg_blob_header *h;
+    const void *blob;         /* the scene (h is its header)              */
     int tile, rows, slices;   /* rows a slice (the last may be shorter)   */
     int enqueued, done;       /* slices enqueued; complete and counted    */
     int needed;               /* slices the caller needs (ocl_pass_limit)  */
@@ -823,6 +937,7 @@ struct ocl_pass {
     uint32_t *surf_out;
     size_t tiles_x, stride;   /* counts a slice may hold                  */
     ocl_pass_buffers b;
+    ocl_cells cells;          /* the packet kernel's culling cells        */
     uint32_t *host_hits;      /* slice k's counts at k * stride           */
     uint32_t *tile_hits;      /* the caller's                             */
     cl_event *events;         /* the last read of each slice              */
@@ -860,7 +975,7 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
     size_t npix = (size_t)h->width * (size_t)h->spp * (size_t)p->rows; /* records a slice */
     p->host_hits = malloc((size_t)p->slices * p->stride * sizeof(uint32_t));
     p->events = calloc((size_t)p->slices, sizeof *p->events);
-    if (!p->host_hits || !p->events) {
+    if (!p->host_hits || !p->events || !ocl_cells_alloc(&p->cells, c->kernel, h->width, h->height)) {
         csg_error_plain(d, "out of memory");
         return false;
     }
@@ -870,14 +985,17 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
            ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &p->b.surf,
                              "surf", d) &&
            ocl_create_buffer(c, CL_MEM_WRITE_ONLY, p->stride * sizeof(uint32_t), NULL, &p->b.hits,
-                             "tile hits", d);
+                             "tile hits", d) &&
+           ocl_create_buffer(c, CL_MEM_READ_ONLY, ocl_cells_bytes(&p->cells), NULL, &p->b.cells,
+                             "cells", d);
 }
 
 /* Slice k on the queue with its completion callback. */
 static bool ocl_pass_enqueue_slice(ocl_pass *p, int k, csg_diag *d)
 {
     int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
-    if (!ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, p->t_out, p->surf_out,
+    if (!ocl_cells_upto(p->c, &p->cells, p->b.cells, p->blob, y0 + n - 1, d) ||
+        !ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, &p->cells, p->t_out, p->surf_out,
                        p->host_hits + (size_t)k * p->stride, &p->events[k], d))
         return false;
     p->enqueued++;
@@ -927,6 +1045,7 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     }
     p->c = c;
     p->h = h;
+    p->blob = blob;
     p->tile = tile;
     p->tile_hits = tile_hits;
     p->notify = notify;
@@ -1015,6 +1134,7 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
     for (int k = 0; k < p->enqueued; k++)
         clReleaseEvent(p->events[k]);
     ocl_release_buffers(&p->b);
+    free(p->cells.host);
     free(p->host_hits);
     free(p->events);
     free(p);
