@@ -828,6 +828,20 @@ static void test_poly_roots(void **state)
     assert_true(fabs(got[0] - 0.25) < 1e-12);
 }
 
+/* The ends of n spans [t0, t1) within [-1e3, 1e3], between the two ends
+ * of that window: the points that cut the line into runs of one sign. */
+static int span_cuts(const float *t0, const float *t1, int n, double *cuts)
+{
+    int m = 0;
+    cuts[m++] = -1e3;
+    for (int i = 0; i < n; i++) {
+        cuts[m++] = fmax((double)t0[i], -1e3);
+        cuts[m++] = fmin((double)t1[i], 1e3);
+    }
+    cuts[m++] = 1e3;
+    return m;
+}
+
 /* The two pieces of torus (big, small) on the ray (o, d): their
  * intervals, n of them (0 to 2). */
 static int torus_spans(double big, double small, const float o[3], const float d[3], float t0[2],
@@ -1009,13 +1023,7 @@ static void test_quadric_pieces_random(void **state)
             }
             two += n == 2;
             double cuts[6];
-            int m = 0;
-            cuts[m++] = -1e3;
-            for (int i = 0; i < n; i++) {
-                cuts[m++] = fmax((double)t0[i], -1e3);
-                cuts[m++] = fmin((double)t1[i], 1e3);
-            }
-            cuts[m++] = 1e3;
+            int m = span_cuts(t0, t1, n, cuts);
             for (int i = 0; i + 1 < m; i++) {
                 if (!(cuts[i] < cuts[i + 1]))
                     continue;
@@ -1129,13 +1137,7 @@ static void test_poly_pieces_random(void **state)
                 assert_true(n <= 2);
             }
             double cuts[10];
-            int m = 0;
-            cuts[m++] = -1e3;
-            for (int i = 0; i < n; i++) {
-                cuts[m++] = fmax((double)t0[i], -1e3);
-                cuts[m++] = fmin((double)t1[i], 1e3);
-            }
-            cuts[m++] = 1e3;
+            int m = span_cuts(t0, t1, n, cuts);
             for (int i = 0; i + 1 < m; i++) {
                 if (!(cuts[i] < cuts[i + 1]))
                     continue;
