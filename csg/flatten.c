@@ -893,13 +893,22 @@ static bool flatten_quadric(flat_builder *fb, const csg_object *o, const csg_xfo
 }
 
 /* A poly's coefficients in the table: once an object, its pieces sharing
- * them; the index, or -1 (out of memory, or a table beyond int). */
+ * them; the index, or -1 (out of memory, a table beyond int, or a
+ * coefficient beyond the range of `real`: an error; --precision auto
+ * takes double for such a poly, csg/precision.c). */
 static int poly_coefs_index(flat_builder *fb, const csg_object *o)
 {
     if (fb->coefs_of == o)
         return fb->coefs_at;
     int order = o->poly_order;
     int terms = (order + 1) * (order + 2) * (order + 3) / 6;
+    for (int k = 0; k < terms; k++)
+        if (!((real)fabs(o->poly_coef[k]) < CSG_R_INF)) {
+            csg_error(fb->diag, o->loc,
+                      "the poly's coefficient %d (%g) is beyond the range of single precision "
+                      "(--precision double renders it)", k + 1, o->poly_coef[k]);
+            return -1;
+        }
     if (fb->coef_count > INT_MAX / 2 - terms ||
         !grow((void **)&fb->coefs, &fb->coef_cap, fb->coef_count + terms, sizeof(real))) {
         fb->oom = true;

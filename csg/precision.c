@@ -226,6 +226,18 @@ static double quadric_distance(const double *c, dvec3 l)
     return gl > 0 ? fabs(f) / gl : fabs(f);
 }
 
+/* Whether every coefficient of o (when a poly) is finite in float. */
+static bool poly_fits_float(const csg_object *o)
+{
+    if (o->kind != CSG_OBJ_POLY)
+        return true;
+    int n = o->poly_order, terms = (n + 1) * (n + 2) * (n + 3) / 6;
+    for (int k = 0; k < terms; k++)
+        if (!(fabs(o->poly_coef[k]) <= (double)FLT_MAX))
+            return false;
+    return true;
+}
+
 /* The same for a poly: |f(l)| / |grad f(l)|. */
 static double poly_distance(const csg_object *o, dvec3 l)
 {
@@ -294,8 +306,9 @@ static void leaf_extent(prec_walk *w, const csg_object *o, const prec_extent *xp
     double allow_feat = CSG_PREC_FEATURE_FRACTION * feat;
     double allow = fmin(allow_px, allow_feat);
     double ratio = allow > 0.0 ? err / allow : HUGE_VAL;
-    /* squares of coordinates or features outside float's range */
-    if (mag > CSG_PREC_MAX_MAG || feat < CSG_PREC_MIN_FEATURE)
+    /* squares of coordinates or features outside float's range, or a
+     * poly's coefficient beyond it (the flattener refuses it in float) */
+    if (mag > CSG_PREC_MAX_MAG || feat < CSG_PREC_MIN_FEATURE || !poly_fits_float(o))
         ratio = HUGE_VAL;
     if (w->at == NULL || ratio > w->worst) {
         w->worst = ratio;

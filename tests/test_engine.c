@@ -17,6 +17,7 @@
 #include "../csg/device/camera.h"
 #include "../csg/device/flat.h"
 #include "../csg/flatten.h"
+#include "../csg/precision.h"
 #include "../workers/engine.h"
 #include "../workers/tile.h"
 
@@ -530,6 +531,32 @@ static void test_poly_blob_validation(void **state)
     csg_scene_free(&s);
 }
 
+/* A poly coefficient beyond float's range (the fuzzer's 4.4e51): the
+ * float flattener refuses it with a message that names it, --precision
+ * auto takes double for it, and the double build flattens it. */
+static void test_poly_coefficient_range(void **state)
+{
+    (void)state;
+    static const double huge2[10] = {1, 0, 0, 0, 1, 0, 0, 1, 0, -4.4e51};
+    csg_scene s;
+    scene_new(&s);
+    csg_object *o = obj_new(&s, CSG_OBJ_POLY);
+    o->poly_order = 2;
+    o->poly_coef = huge2;
+    add_top(&s, o);
+    csg_flatten_opts fo = {8, 8, 0, -1, 1, 0};
+    csg_diag d = {0};
+    csg_blob b;
+    assert_false(engine_float.flatten(&s, &fo, &b, &d));
+    assert_non_null(strstr(d.message, "the poly's coefficient 10 (-4.4e+51) is beyond the range "
+                                      "of single precision"));
+    char why[512];
+    assert_true(csg_needs_double(&s, 8, 8, why, sizeof why));
+    flatten_ok(&engine_double, &s, 8, 8, &b);
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+}
+
 /* The BVH finds exactly the hits a plain loop over every root finds: 300
  * spheres and a plane, every pixel's record compared bit for bit. */
 static void test_bvh_matches_linear(void **state)
@@ -874,6 +901,7 @@ int main(void)
         cmocka_unit_test(test_flatten_degenerate),
         cmocka_unit_test(test_blob_validation),
         cmocka_unit_test(test_poly_blob_validation),
+        cmocka_unit_test(test_poly_coefficient_range),
         cmocka_unit_test(test_bvh_matches_linear),
         cmocka_unit_test(test_bvh_sah_random),
         cmocka_unit_test(test_shadow_flags),

@@ -1066,6 +1066,28 @@ static void poly_prim_make(poly_prim *pp, int order, int piece, const double *co
         pp->coefs[k] = (float)coef[k];
 }
 
+/* A poly's normal where its float gradient overflows: f = 1e38 (x^2 -
+ * y^2 + z) at (10, 5, -75) has the gradient 1e38 (20, -10, 1), beyond
+ * float (the fuzzer's NaN normal: inf * 0 after the normalisation); the
+ * normal is computed over the coefficients divided by the largest, so it
+ * is finite and points along (20, -10, 1). */
+static void test_poly_normal_range(void **state)
+{
+    (void)state;
+    /* order 2, POV-Ray's term order: x^2 xy xz x y^2 yz y z^2 z 1 */
+    const double coef[10] = {1e38, 0, 0, 0, -1e38, 0, 0, 0, 1e38, 0};
+    poly_prim pp;
+    poly_prim_make(&pp, 2, 0, coef);
+    vec3 n = csg_poly_normal(pp.prim.p, 0, v3(10.0f, 5.0f, -75.0f));
+    assert_true(isfinite(n.x) && isfinite(n.y) && isfinite(n.z));
+    double nx = (double)n.x, ny = (double)n.y, nz = (double)n.z;
+    double len = sqrt(nx * nx + ny * ny + nz * nz);
+    double want_len = sqrt(20.0 * 20 + 10 * 10 + 1);
+    assert_true(fabs(nx / len - 20 / want_len) < 1e-6);
+    assert_true(fabs(ny / len + 10 / want_len) < 1e-6);
+    assert_true(fabs(nz / len - 1 / want_len) < 1e-6);
+}
+
 /* Polys of orders 2 to 7 (bounded, unbounded, odd) on random lines: the
  * pieces' intervals are sorted and disjoint, their middles inside (the
  * poly < 0, in double: csg_poly_value), the gaps' middles outside, unless
@@ -1176,6 +1198,7 @@ int main(void)
         cmocka_unit_test(test_torus_pieces_random),
         cmocka_unit_test(test_quadric_pieces_random),
         cmocka_unit_test(test_poly_pieces_random),
+        cmocka_unit_test(test_poly_normal_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -824,37 +824,67 @@ CSG_FN vec3 csg_quadric_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
     return v3_dot(n, n) > R(0.0) ? n : v3(R(1.0), R(0.0), R(0.0));
 }
 
-/* The poly's gradient (POV-Ray's Poly::Normal), in its local frame; where
- * it vanishes, POV-Ray's arbitrary direction. */
+#if CSG_POLY_SOLVER
+/* The poly's gradient (POV-Ray's Poly::Normal), in its local frame, in
+ * double over the coefficients divided by the largest magnitude (the same
+ * direction; no term overflows where a root was found, |lp| <= 10^7), then
+ * divided by its largest component, so that it is finite in `real` too;
+ * where it vanishes or is not finite, POV-Ray's arbitrary direction.
+ * (The fuzzer found a float gradient of inf * 0: a NaN normal.)  Only
+ * + - * / and comparisons on double, as poly_solve.h. */
 CSG_FN vec3 csg_poly_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
 {
     (void)sub;
+    const vec3 arbitrary = v3(R(1.0), R(0.0), R(0.0));
     csg_i32 n = (csg_i32)p[0];
     if (n < 1 || n > CSG_POLY_ORDER_MAX)
-        return v3(R(1.0), R(0.0), R(0.0));
-    real px[CSG_POLY_ORDER_MAX + 1], py[CSG_POLY_ORDER_MAX + 1], pz[CSG_POLY_ORDER_MAX + 1];
-    px[0] = py[0] = pz[0] = R(1.0);
-    for (csg_i32 e = 1; e <= n; e++) {
-        px[e] = px[e - 1] * lp.x;
-        py[e] = py[e - 1] * lp.y;
-        pz[e] = pz[e - 1] * lp.z;
-    }
+        return arbitrary;
     CSG_GLOBAL const real *coef = csg_poly_coefs(p);
-    vec3 g = v3(R(0.0), R(0.0), R(0.0));
+    csg_i32 terms = (n + 1) * (n + 2) * (n + 3) / 6;
+    double big = 0.0;
+    for (csg_i32 t = 0; t < terms; t++) {
+        double c = (double)coef[t];
+        c = c < 0.0 ? -c : c;
+        big = c > big ? c : big;
+    }
+    if (!(big > 0.0 && big - big == 0.0)) /* (x - x is 0 only when x is finite) */
+        return arbitrary;
+    double px[CSG_POLY_ORDER_MAX + 1], py[CSG_POLY_ORDER_MAX + 1], pz[CSG_POLY_ORDER_MAX + 1];
+    px[0] = py[0] = pz[0] = 1.0;
+    for (csg_i32 e = 1; e <= n; e++) {
+        px[e] = px[e - 1] * (double)lp.x;
+        py[e] = py[e - 1] * (double)lp.y;
+        pz[e] = pz[e - 1] * (double)lp.z;
+    }
+    double gx = 0.0, gy = 0.0, gz = 0.0;
     csg_i32 term = 0;
     for (csg_i32 i = n; i >= 0; i--)
         for (csg_i32 j = n - i; j >= 0; j--)
             for (csg_i32 k = n - i - j; k >= 0; k--) {
-                real a = coef[term++];
+                double a = (double)coef[term++] / big;
                 if (i >= 1)
-                    g.x = g.x + (real)i * a * px[i - 1] * py[j] * pz[k];
+                    gx = gx + (double)i * a * px[i - 1] * py[j] * pz[k];
                 if (j >= 1)
-                    g.y = g.y + (real)j * a * px[i] * py[j - 1] * pz[k];
+                    gy = gy + (double)j * a * px[i] * py[j - 1] * pz[k];
                 if (k >= 1)
-                    g.z = g.z + (real)k * a * px[i] * py[j] * pz[k - 1];
+                    gz = gz + (double)k * a * px[i] * py[j] * pz[k - 1];
             }
-    return v3_dot(g, g) > R(0.0) ? g : v3(R(1.0), R(0.0), R(0.0));
+    double ax = gx < 0.0 ? -gx : gx, ay = gy < 0.0 ? -gy : gy, az = gz < 0.0 ? -gz : gz;
+    double m = ax > ay ? ax : ay;
+    m = az > m ? az : m;
+    if (!(m > 0.0 && m - m == 0.0))
+        return arbitrary;
+    return v3((real)(gx / m), (real)(gy / m), (real)(gz / m));
 }
+#else /* (a program without polys, nor the solver's double) */
+CSG_FN vec3 csg_poly_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
+{
+    (void)p;
+    (void)sub;
+    (void)lp;
+    return v3(R(1.0), R(0.0), R(0.0));
+}
+#endif
 
 /* A triangle's normal is its front's: (v1 - v0) x (v2 - v0), on either side. */
 CSG_FN vec3 csg_triangle_normal(CSG_GLOBAL const real *p, csg_i32 sub, vec3 lp)
