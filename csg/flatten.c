@@ -1456,6 +1456,22 @@ static bool emit_body(flat_builder *fb, const csg_object *o, inherited inh, bool
     return ok;
 }
 
+/* The n objects of a clip or bound list, each emitted with inh and folded
+ * into the program by op; with narrow, the box narrowed to each one's (a
+ * clip's: the object lies inside its clips). */
+static bool emit_list(flat_builder *fb, csg_object *const *list, int n, inherited inh, int op,
+                      int root, dbox *narrow)
+{
+    for (int i = 0; i < n; i++) {
+        dbox b;
+        if (!emit_tree(fb, list[i], inh, false, root, &b) || !emit(fb, op, -1))
+            return false;
+        if (narrow)
+            *narrow = box_intersect(*narrow, b);
+    }
+    return true;
+}
+
 /* Emits the RPN of `o` (complemented when `neg`); returns false on error
  * and sets *box to the subtree's world bounding box.
  *
@@ -1482,13 +1498,8 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
         return false;
     inherited clip_inh = inh;
     clip_inh.clip = true;
-    for (int i = 0; i < o->clip_count; i++) {
-        dbox cb;
-        if (!emit_tree(fb, o->clips[i], clip_inh, false, root, &cb) ||
-            !emit(fb, CSG_OP_INTERSECT, -1))
-            return false;
-        *box = box_intersect(*box, cb);
-    }
+    if (!emit_list(fb, o->clips, o->clip_count, clip_inh, CSG_OP_INTERSECT, root, box))
+        return false;
     if (!has_gate(fb, o))
         return true;
     /* bounded_by: POV-Ray's Ray_In_Bound before the object's (or a CSG
@@ -1498,13 +1509,7 @@ static bool emit_tree(flat_builder *fb, const csg_object *o, inherited inh, bool
      * stays the object's (a bound's box could cull a visible hit). */
     inherited bound_inh = inh; /* (its surfaces tell csg_spans_met it is met) */
     bound_inh.bound = true;
-    for (int i = 0; i < o->bound_count; i++) {
-        dbox bb;
-        if (!emit_tree(fb, o->bounds[i], bound_inh, false, root, &bb) ||
-            !emit(fb, CSG_OP_BOUND, -1))
-            return false;
-    }
-    return true;
+    return emit_list(fb, o->bounds, o->bound_count, bound_inh, CSG_OP_BOUND, root, NULL);
 }
 
 /* A pigment no point of which lets light through. */
