@@ -1488,3 +1488,96 @@ void link_abort(int code)
     link_fail_job();
     MPI_Abort(MPI_COMM_WORLD, code);
 }
+
+/* ---- pages of the scene (workers/pager.h) ---------------------------------------
+ *
+ * A worker below its scene budget asks rank 0 for pages: an ASK (the page
+ * numbers) and the answer (their bytes, packed), on the broadcast's
+ * communicator, apart from the protocol's messages, which the workers
+ * match eagerly by source (a page's bytes must not be taken for a TILE).
+ * The worker waits for the answer (its ray needs it); rank 0 answers in its
+ * loop (link_page_serve) with background sends that it gives up on when
+ * the worker is lost. */
+#define LINK_TAG_PAGE_ASK 32001
+#define LINK_TAG_PAGE 32002
+#define LINK_PAGE_SENDS 64 /* answers in flight at once (one a worker at most) */
+
+static struct {
+    link_req req[LINK_PAGE_SENDS];
+    unsigned char *data[LINK_PAGE_SENDS];
+    int32_t *ask;
+    int ask_cap;
+} link_pages;
+
+bool link_page_fetch(const int32_t *pages, int n, void *out, size_t bytes)
+{
+    if (bytes > INT_MAX || n <= 0 ||
+        MPI_Send(pages, n * (int)sizeof *pages, MPI_BYTE, LINK_MASTER, LINK_TAG_PAGE_ASK,
+                 link_w.bcast_comm) != MPI_SUCCESS)
+        return false;
+    return link_recv_on(link_w.bcast_comm, out, (int)bytes, LINK_MASTER, LINK_TAG_PAGE) == LINK_OK;
+}
+
+/* The sends done (or given up on: the worker is lost) freed; a free slot,
+ * or -1. */
+static int link_page_slot(void)
+{
+    int free_slot = -1;
+    for (int i = 0; i < LINK_PAGE_SENDS; i++) {
+        link_req *r = &link_pages.req[i];
+        if (r->active) {
+            if (link_req_done(r)) {
+                free(link_pages.data[i]);
+            } else if (link_peer_lost(r->peer)) {
+                link_req_abandon(r); /* (MPI may still read its bytes: left to it) */
+            } else {
+                continue;
+            }
+            link_pages.data[i] = NULL;
+        }
+        if (free_slot < 0)
+            free_slot = i;
+    }
+    return free_slot;
+}
+
+int link_page_serve(link_page_pack pack, void *arg)
+{
+    int served = 0;
+    for (;;) {
+        int flag = 0, len = 0;
+        MPI_Status st;
+        if (MPI_Iprobe(MPI_ANY_SOURCE, LINK_TAG_PAGE_ASK, link_w.bcast_comm, &flag, &st) !=
+                MPI_SUCCESS ||
+            !flag || MPI_Get_count(&st, MPI_BYTE, &len) != MPI_SUCCESS)
+            return served;
+        int slot = link_page_slot();
+        if (slot < 0)
+            return served; /* (the next call: once a send is done) */
+        int n = len / (int)sizeof(int32_t);
+        if (n > link_pages.ask_cap) {
+            int32_t *grown = realloc(link_pages.ask, (size_t)n * sizeof *grown);
+            if (!grown)
+                return served;
+            link_pages.ask = grown;
+            link_pages.ask_cap = n;
+        }
+        if (MPI_Recv(link_pages.ask, len, MPI_BYTE, st.MPI_SOURCE, LINK_TAG_PAGE_ASK,
+                     link_w.bcast_comm, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+            return served;
+        unsigned char *bytes = NULL;
+        size_t size = n > 0 && len == n * (int)sizeof(int32_t)
+                          ? pack(arg, link_pages.ask, n, &bytes)
+                          : 0;
+        /* (an ask that cannot be answered gets an empty answer: the
+         * worker's receive fails on its length and its item fails) */
+        link_pages.data[slot] = bytes;
+        if (link_isend_on(link_w.bcast_comm, st.MPI_SOURCE, LINK_TAG_PAGE,
+                          bytes ? bytes : (void *)"", bytes ? size : 0,
+                          &link_pages.req[slot]) != LINK_OK) {
+            free(bytes);
+            link_pages.data[slot] = NULL;
+        }
+        served++;
+    }
+}

@@ -278,4 +278,13 @@ void link_finish(void);
 /* Ends every rank of the job with `code` (a rank that cannot go on). */
 void link_abort(int code);
 
+/* Pages of the scene (workers/pager.h).  A worker: pages[0 .. n) from
+ * rank 0, their bytes packed into out (`bytes` in all); false when the
+ * answer did not come whole.  Rank 0: every ASK waiting answered, its
+ * bytes packed by `pack` (malloc'd into *out; their size, 0 when it
+ * cannot), sent in the background; returns how many were answered. */
+bool link_page_fetch(const int32_t *pages, int n, void *out, size_t bytes);
+typedef size_t (*link_page_pack)(void *arg, const int32_t *pages, int n, unsigned char **out);
+int link_page_serve(link_page_pack pack, void *arg);
+
 #endif

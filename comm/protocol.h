@@ -109,6 +109,13 @@ typedef struct {
                            the output is an 8-bit file                 */
     int32_t relays;     /* ranks 1 .. relays are relays (0: none)      */
     int32_t ranks;      /* of the job, rank 0 included                 */
+    uint64_t scene_memory; /* > 0: each worker holds the scene within
+                              this many bytes (workers/pager.h): the
+                              broadcast is the resident part and the
+                              page plan, blob_size bytes of it          */
+    int32_t page_policy;   /* enum pager_policy                         */
+    int32_t page_prefetch; /* 1: a hetero item's hit records name their
+                              pages first, fetched in one request       */
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may
@@ -188,6 +195,7 @@ typedef struct {
     int32_t pixels;         /* enum pixels_format of the pixels after  */
     int32_t rank;           /* the worker that computed it (a relay's
                                answer; a worker sends 0: itself)       */
+    page_counts paging;     /* its scene paging during the part        */
 } proto_result;
 
 #define PROTO_FAIL_TEXT 240

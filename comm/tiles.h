@@ -27,6 +27,35 @@ typedef struct {
     int width, height; /* edge tiles are smaller */
 } tile_rect;
 
+/* A worker's scene paging during work items (workers/pager.h; all 0
+ * without --scene-memory): sums over items, but for the two maxima. */
+typedef struct {
+    uint64_t touches;     /* pages named, once an item                  */
+    uint64_t faults;      /* of them, not there: fetched on demand      */
+    uint64_t requests;    /* fetches (a prefetch of several pages: one) */
+    uint64_t pages;       /* pages fetched                              */
+    uint64_t prefetched;  /* of them, fetched for the hit records       */
+    uint64_t evictions;
+    uint64_t bytes;       /* bytes fetched                              */
+    uint64_t peak_bytes;  /* the most scene memory held (a maximum)     */
+    uint64_t over_bytes;  /* the most an item went over the budget (a maximum) */
+    double wait_s;        /* seconds waiting for pages                  */
+} page_counts;
+
+static inline void page_counts_add(page_counts *sum, const page_counts *c)
+{
+    sum->touches += c->touches;
+    sum->faults += c->faults;
+    sum->requests += c->requests;
+    sum->pages += c->pages;
+    sum->prefetched += c->prefetched;
+    sum->evictions += c->evictions;
+    sum->bytes += c->bytes;
+    sum->peak_bytes = c->peak_bytes > sum->peak_bytes ? c->peak_bytes : sum->peak_bytes;
+    sum->over_bytes = c->over_bytes > sum->over_bytes ? c->over_bytes : sum->over_bytes;
+    sum->wait_s += c->wait_s;
+}
+
 /* The tiles of one image of one scene. */
 typedef struct {
     int width, height;  /* the image                                   */

@@ -68,6 +68,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "exit_status.h"
 #include "output/journal.h"
 #include "output/stream.h"
 #include "../comm/mpi_link.h"
@@ -151,6 +152,36 @@ static bool master_peer_gone(const master_session *m, int r)
     return false;
 }
 
+/* Every page request waiting, answered (link_page_serve's packer). */
+static size_t master_pack_pages(void *arg, const int32_t *pages, int n, unsigned char **out)
+{
+    const master_session *m = arg;
+    uint64_t bytes = 0;
+    for (int i = 0; i < n; i++) {
+        if (pages[i] < 0 || pages[i] >= m->plan.page_count)
+            return 0;
+        bytes += m->plan.pages[pages[i]].bytes;
+    }
+    *out = malloc(bytes ? bytes : 1);
+    if (!*out)
+        return 0;
+    unsigned char *at = *out;
+    for (int i = 0; i < n; i++) {
+        pager_pack_page(m->page_blob, &m->plan.pages[pages[i]], at);
+        at += m->plan.pages[pages[i]].bytes;
+    }
+    return bytes;
+}
+
+static bool master_serve_pages(master_session *m)
+{
+    if (!m->page_blob)
+        return false;
+    int served = link_page_serve(master_pack_pages, m);
+    m->page_asks += (uint64_t)served;
+    return served > 0;
+}
+
 void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
 {
     if (m->workers == 0 || m->shared)
@@ -165,13 +196,31 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
                    : sched_batch_limit(m->batch, m->workers, PROTO_BATCH_MAX);
     if (status == 0) /* (a batch's RESULT within PROTO_BATCH_BYTES) */
         m->batch = proto_batch_fit(m->batch, tile_grid_of(blob->bytes, tile).pixels_max);
+    size_t packed_size = 0;
+    void *packed = NULL;
+    if (status == 0 && m->scene_memory > 0) { /* (the plan: render.c's, checked) */
+        packed = pager_pack_resident(blob->bytes, &m->plan, &packed_size);
+        if (!packed)
+            status = EXIT_FAILURE_RUN; /* (the workers exit at once) */
+    }
     proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels,
-                         m->relays, m->workers + 1};
+                         m->relays, m->workers + 1, 0, m->page_policy, m->page_prefetch};
+    if (packed) {
+        setup.blob_size = packed_size;
+        setup.scene_memory = m->scene_memory;
+    }
     link_bcast_idle(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
     m->shared = true;
     if (status != 0) {
         m->greeted = m->stopped = true; /* the workers exit at once */
+        return;
+    }
+    if (packed) { /* each worker: the resident part; pages on demand */
+        link_bcast(packed, packed_size);
+        m->bytes_sent += (uint64_t)m->workers * packed_size;
+        free(packed);
+        m->page_blob = blob->bytes;
         return;
     }
     link_scene_send(&m->scene, blob->bytes, blob->size, csg_blob_valid);
@@ -184,6 +233,8 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
 
 void master_release_scene(master_session *m, csg_blob *blob)
 {
+    pager_plan_free(&m->plan);
+    m->page_blob = NULL;
     if (m->scene.shared)
         blob->bytes = NULL;
     link_scene_free(&m->scene);
@@ -633,7 +684,7 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
         pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
                                 (const uint8_t *)pixels); /* (no thread, or its ring full) */
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
-                       h.busy_s, h.cpu_s};
+                       h.busy_s, h.cpu_s, h.paging, false};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
     if (m->costs) /* (the simulated build: what a real master took) */
         m->costs->part(n, h.pixels == PIXELS_RGB8);
@@ -789,6 +840,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
     size_t limit = proto_master_limit(L->job->grid.pixels_max, L->m->batch);
     while (!master_done(L)) {
         bool worked = master_feed(L, d);
+        worked |= master_serve_pages(L->m); /* (a worker's ray waits for it) */
         worked |= master_dispatch(L, d);
         worked |= master_receive(L, &msg, limit, d);
         master_tiles_stored(L->job, false);
@@ -860,6 +912,10 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     it->busy_s = res->busy_s;
     it->cpu_s = res->cpu_s;
     it->hits = res->hits;
+    it->page_faults = (uint32_t)res->paging.faults;
+    it->page_wait_s = res->paging.wait_s;
+    page_counts_add(&w->paging, &res->paging);
+    page_counts_add(&job->paging, &res->paging);
     w->items++;
     w->hits += res->hits;
     w->busy_s += res->busy_s;

@@ -21,6 +21,7 @@
 #include "../csg/flatten.h"
 #include "../workers/tile.h"
 #include "../comm/mpi_link.h"
+#include "../workers/pager.h"
 #include "progress.h"
 #include "schedule.h"
 #include "stats.h"
@@ -67,11 +68,23 @@ typedef struct {
                                  its node's one copy when one was made    */
     int scene_shared;         /* worker and relay ranks that said (READY)
                                  they read their node's one copy in place */
+    /* --scene-memory (workers/pager.h), set before master_share_scene: */
+    uint64_t scene_memory;    /* > 0: each worker's scene budget, bytes   */
+    int page_policy;          /* enum pager_policy                        */
+    bool page_prefetch;       /* hetero items fetch their hits' pages first */
+    pager_plan plan;          /* the pages, once shared; served from blob  */
+    const void *page_blob;    /* the scene the pages are served from      */
+    uint64_t page_asks;       /* page requests answered                   */
 } master_session;
 
 /* One tile phase: what to do and where the results go. */
 typedef struct master_job {
     const void *blob;         /* flattened scene (already validated)      */
+    const void *local_blob;   /* what rank 0 renders from when it renders
+                                 tiles itself: blob, or a pager's address
+                                 space (serial --scene-memory)           */
+    bool page_prefetch;       /* local_blob paged: hetero items fetch their
+                                 hits' pages first                        */
     tile_grid grid;           /* the image's tiles                        */
     const void *t;            /* hetero: whole-image records (the blob's  */
     const uint32_t *surf;     /*   real, uint32); t NULL: homo            */
@@ -100,6 +113,7 @@ typedef struct master_job {
     stats_worker *workers;    /* [r - 1] is rank r (master_run_tiles)     */
     uint64_t pixels_hit;
     ray_counts rays;
+    page_counts paging;       /* the workers' scene paging, all items     */
     double busy_s;            /* seconds of every item, all workers       */
     double results_s;         /* the master's seconds taking results in   */
     int items_done;

@@ -88,6 +88,9 @@ typedef struct {
     int store_threads;     /* threads to store the workers' 8-bit results
                               (--store-threads; 0: none wanted)         */
     store *store;          /* they (store.h; NULL: none)                 */
+    csg_pager pager;       /* --scene-memory without workers: rank 0's
+                              own tiles read the scene through it       */
+    bool paged_local;
 } render_state;
 
 /* The marks that cut a render into its phases (stats.h). */
@@ -346,7 +349,9 @@ static bool render_pass_config(const render_request *req, pass_config *cfg, csg_
 static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
 {
     tile_runner tr;
-    bool ready = tile_runner_init(&tr, job->blob, job->grid.tile);
+    bool ready = tile_runner_init(&tr, job->local_blob ? job->local_blob : job->blob,
+                                  job->grid.tile);
+    tr.page_prefetch = job->page_prefetch;
     void *records = job->t ? malloc(tile_records_bytes(&job->grid, job->grid.pixels_max)) : NULL;
     float *rgb = malloc(job->grid.pixels_max * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
@@ -602,6 +607,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
     memset(&job, 0, sizeof job);
     mk->cl_ready = mk->loaded;
     int status = render_prepare(req, ms, rs, st, mk, &job, d);
+    job.local_blob = rs->paged_local ? rs->pager.base : NULL;
+    job.page_prefetch = !req->no_page_prefetch;
     pass_report pr;
     memset(&pr, 0, sizeof pr);
     if (status != EXIT_OK)
@@ -638,6 +645,7 @@ static int render_image(const render_request *req, master_session *ms, render_st
     }
     st->pixels_hit = job.pixels_hit;
     st->rays = job.rays;
+    st->paging = job.paging;
     st->workers = rs->workers;
     pass_drop_records(rs->pass); /* (the writer's peak does not hold them) */
     job.t = NULL;
@@ -714,6 +722,75 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
     return EXIT_FAILURE_RUN;
 }
 
+/* pager_fetch without workers: the pages from the whole scene, here. */
+static bool render_fetch_local(void *arg, const int32_t *pages, int n, unsigned char *out,
+                               size_t bytes)
+{
+    const master_session *ms = arg;
+    size_t at = 0;
+    for (int i = 0; i < n; i++) {
+        const pager_page *pg = &ms->plan.pages[pages[i]];
+        if (pg->bytes > bytes - at)
+            return false;
+        pager_pack_page(ms->page_blob, pg, out + at);
+        at += pg->bytes;
+    }
+    return at == bytes;
+}
+
+/* --scene-memory: the page plan (rank 0 validated the blob when it loaded
+ * it), checked against the budget; without workers, rank 0's own pager
+ * over it.  0, or the failure with d filled. */
+static int render_plan_pages(const render_request *req, master_session *ms, render_state *rs,
+                             render_stats *st, csg_diag *d)
+{
+    uint64_t budget = (uint64_t)(req->scene_memory_mb * 1e6);
+    bool local = ms->workers == 0 || req->mode == MODE_SERIAL;
+    const char *why = NULL;
+    if (!local && req->relays > 0) {
+        csg_error_plain(d, "--scene-memory does not apply with --relays (the relays would "
+                           "need the whole scene)");
+        return EXIT_BAD_INPUT;
+    }
+    if (!pager_plan_make(rs->blob.bytes, pager_page_bytes_for(budget), &ms->plan, &why)) {
+        csg_error_plain(d, "--scene-memory: %s", why);
+        return EXIT_FAILURE_RUN;
+    }
+    if (ms->plan.resident_bytes > budget) {
+        char need[32], have[32];
+        csg_error_plain(d, "--scene-memory %s is below the scene's resident part, %s (its "
+                           "header, the top of its BVH, materials and lights)",
+                        memory_format(budget, have, sizeof have),
+                        memory_format(ms->plan.resident_bytes, need, sizeof need));
+        return EXIT_BAD_INPUT;
+    }
+    ms->scene_memory = budget;
+    ms->page_policy = req->page_policy;
+    ms->page_prefetch = !req->no_page_prefetch;
+    ms->page_blob = rs->blob.bytes;
+    st->scene_memory = budget;
+    st->page_bytes = ms->plan.page_bytes;
+    st->page_count = ms->plan.page_count;
+    st->resident_bytes = ms->plan.resident_bytes;
+    st->page_policy = req->page_policy == PAGER_FIFO ? "fifo" : "lru";
+    st->page_prefetch = ms->page_prefetch;
+    if (!local)
+        return EXIT_OK;
+    size_t size = 0;
+    void *packed = pager_pack_resident(rs->blob.bytes, &ms->plan, &size);
+    bool opened = packed && pager_open(&rs->pager, packed, size, budget,
+                                       (enum pager_policy)req->page_policy, render_fetch_local,
+                                       ms, &why);
+    free(packed);
+    if (!opened) {
+        csg_error_plain(d, "--scene-memory: %s", packed ? why : "out of memory");
+        return EXIT_FAILURE_RUN;
+    }
+    rs->paged_local = true;
+    ms->scene_memory = 0; /* (no workers to tell) */
+    return EXIT_OK;
+}
+
 /* The whole render on the process that owns the image; `p`: hetero's
  * pass, its device being opened (NULL otherwise), taken over. */
 static int render_job(const render_request *req, int ranks, pass *p)
@@ -755,6 +832,13 @@ static int render_job(const render_request *req, int ranks, pass *p)
         reported = true;
         render_report(&d);
     }
+    if (status == EXIT_OK && req->scene_memory_mb > 0) {
+        status = render_plan_pages(req, &ms, &rs, &st, &d);
+        if (status != EXIT_OK) {
+            reported = true;
+            render_report(&d);
+        }
+    }
     ms.batch = req->batch;
     ms.relays = req->mode == MODE_SERIAL ? 0 : req->relays;
     ms.pixels = pixels_format_for(req->out_path); /* 8-bit files: bytes back */
@@ -770,6 +854,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
     st.bytes_received = ms.bytes_received;
     st.workers_lost = ms.workers_lost;
     st.scene_shared_ranks = ms.scene_shared + (ms.scene.shared ? 1 : 0);
+    st.page_asks = ms.page_asks;
     st.scene_private_ranks = ms.workers + 1 - st.scene_shared_ranks;
 
     if (status == EXIT_OK) {
@@ -805,6 +890,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
         render_report(&d);
     }
     master_end(&ms, status);
+    if (rs.paged_local)
+        pager_close(&rs.pager);
     master_release_scene(&ms, &rs.blob);
     render_free(&rs);
     return status;

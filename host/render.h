@@ -60,6 +60,10 @@ typedef struct {
     int relays;               /* --relays: ranks 1 .. relays are relays,
                                  masters of groups of workers
                                  (comm/relay.h); 0: none               */
+    double scene_memory_mb;   /* --scene-memory: each worker's scene within
+                                 this many MB (workers/pager.h); 0: whole */
+    int page_policy;          /* --page-policy: enum pager_policy        */
+    bool no_page_prefetch;    /* --page-prefetch off                     */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */

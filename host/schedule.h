@@ -88,6 +88,8 @@ typedef struct {
     double busy_s;     /* the worker's seconds on it                     */
     double cpu_s;      /* of them, the CPU time of the worker's thread   */
     uint32_t hits;     /* primary samples that hit                       */
+    uint32_t page_faults; /* pages of the scene it waited for (--scene-memory) */
+    double page_wait_s;   /* and the seconds it waited                  */
 } sched_item;
 
 /* The estimated cost of a rectangle whose records are final. */

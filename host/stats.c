@@ -94,6 +94,23 @@ static void stats_field(FILE *f, const char *key, double v)
     fputs(",\n", f);
 }
 
+/* A page_counts as a JSON object, on one line. */
+static void stats_paging(FILE *f, const page_counts *c)
+{
+    fprintf(f, "{\"touches\": %llu, \"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
+               "\"prefetched\": %llu, \"evictions\": %llu, \"bytes\": %llu, "
+               "\"peak_bytes\": %llu, \"over_budget_bytes\": %llu, \"hit_rate\": ",
+            (unsigned long long)c->touches, (unsigned long long)c->faults,
+            (unsigned long long)c->requests, (unsigned long long)c->pages,
+            (unsigned long long)c->prefetched, (unsigned long long)c->evictions,
+            (unsigned long long)c->bytes, (unsigned long long)c->peak_bytes,
+            (unsigned long long)c->over_bytes);
+    stats_number(f, c->touches > 0 ? 1.0 - (double)c->pages / (double)c->touches : 1.0);
+    fputs(", \"wait_s\": ", f);
+    stats_number(f, c->wait_s);
+    fputc('}', f);
+}
+
 static void stats_workers(FILE *f, const render_stats *s)
 {
     fputs("  \"workers\": [", f);
@@ -108,6 +125,10 @@ static void stats_workers(FILE *f, const render_stats *s)
         stats_number(f, s->tile_phase_s > 0 ? w->busy_s / s->tile_phase_s : 0.0);
         fputs(", \"rays\": ", f);
         stats_rays(f, &w->rays);
+        if (s->scene_memory > 0) {
+            fputs(", \"paging\": ", f);
+            stats_paging(f, &w->paging);
+        }
         fputc('}', f);
     }
     fputs(s->worker_count > s->relays ? "\n  ]\n" : "]\n", f);
@@ -178,6 +199,17 @@ void stats_print_json(FILE *f, const render_stats *s)
             (unsigned long long)s->blob_bytes, (unsigned long long)s->memory_estimate);
     fprintf(f, "  \"scene_shared_ranks\": %d,\n  \"scene_private_ranks\": %d,\n",
             s->scene_shared_ranks, s->scene_private_ranks);
+    if (s->scene_memory > 0) {
+        fprintf(f, "  \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
+                   "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
+                   "\"prefetch\": %s, \"asks_answered\": %llu},\n  \"paging\": ",
+                (unsigned long long)s->scene_memory, (unsigned long long)s->page_bytes,
+                s->page_count, (unsigned long long)s->resident_bytes,
+                s->page_policy ? s->page_policy : "lru", s->page_prefetch ? "true" : "false",
+                (unsigned long long)s->page_asks);
+        stats_paging(f, &s->paging);
+        fputs(",\n", f);
+    }
     fputs("  \"result_pixels\": ", f);
     stats_string(f, s->result_pixels ? s->result_pixels : "none");
     fputs(",\n", f);
@@ -233,6 +265,8 @@ static void stats_log_item(FILE *f, const sched_item *it, double t0)
     stats_number(f, it->busy_s);
     fputs(", \"cpu_s\": ", f);
     stats_number(f, it->cpu_s);
+    fprintf(f, ", \"page_faults\": %u, \"page_wait_s\": ", (unsigned)it->page_faults);
+    stats_number(f, it->page_wait_s);
     fputs("}\n", f);
 }
 

@@ -195,6 +195,7 @@ typedef struct {
     ray_counts rays;
     double busy_s;   /* time spent rendering its tiles             */
     uint64_t items;  /* work items it computed (pieces included)  */
+    page_counts paging; /* its scene paging (--scene-memory)       */
 } stats_worker;
 
 typedef struct render_stats {
@@ -231,6 +232,14 @@ typedef struct render_stats {
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;
     int scene_shared_ranks, scene_private_ranks; /* (see above) */
+    /* --scene-memory (workers/pager.h): the budget, the plan, the
+     * workers' paging summed (paging.peak_bytes: the largest worker's) */
+    uint64_t scene_memory, page_bytes, resident_bytes;
+    int page_count;
+    const char *page_policy;
+    bool page_prefetch;
+    uint64_t page_asks;       /* requests rank 0 answered               */
+    page_counts paging;
     uint64_t memory_estimate; /* host/memory.h: render_memory_need's total */
     int worker_count;       /* ranks - 1 (the relays' entries first)  */
     stats_worker *workers;  /* worker_count entries (not owned)      */

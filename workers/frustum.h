@@ -179,6 +179,7 @@ static inline bool frustum_add(csg_i32 *roots, double *depth, csg_i32 *n, csg_i3
  * may meet passes too (rounding is monotone in each operand). */
 static inline bool frustum_may_meet(const frustum *f, csg_view v, csg_i32 i)
 {
+    CSG_PAGE_ROOT(v, i); /* (a list's root: from a walk of this item, or the pass's) */
     const csg_root *rt = &v.roots[i];
     return !frustum_culls(f, rt->lo, rt->hi) && !frustum_culls_triangle(f, v, rt);
 }
@@ -198,6 +199,7 @@ static inline bool frustum_walk(csg_view v, const frustum *f,
         const csg_bvh_node *node = &v.bvh[stack[--top]];
         if (frustum_culls(f, node->box, node->box + 3))
             continue;
+        CSG_PAGE_ENTER(v, stack[top]); /* (its children or its roots are read next) */
         if (node->count < 0) {
             if (top + 2 > CSG_BVH_STACK + 2) /* the flattener prevents this */
                 return false;

@@ -39,6 +39,7 @@
 #include "frustum.h"
 #include "noise.h"
 #include "offset.h"
+#include "pager.h"
 #include "pigment.h"
 
 #ifdef CSG_DOUBLE
@@ -150,6 +151,7 @@ static shade_ctx ctx_of(const void *blob)
     shade_ctx c;
     c.hdr = blob;
     c.view = csg_blob_view(b);
+    c.view.pager = pager_for(blob);
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
     c.maps = (const csg_map_color *)(b + c.hdr->off_maps);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);
@@ -441,6 +443,7 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, c
     csg_box_ray br = csg_box_ray_of(r);
     if (blocker && *blocker >= 0) { /* the shadow cache: its root behind its box */
         vec3 ignored = pass;
+        CSG_PAGE_ROOT(c->view, *blocker);
         if (!root_transmittance(c, *blocker, r, &br, 1, dist, &ignored))
             return none;
         *blocker = -1; /* stale: not tried again until a walk finds a blocker */
@@ -452,7 +455,7 @@ static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, c
     csg_bvh_walk w;
     csg_bvh_walk_start(&w, c->view);
     csg_i32 k;
-    while (found < 0 && (k = csg_bvh_next_leaf(c->view.bvh, &br, R(0.0), dist, &w)) >= 0) {
+    while (found < 0 && (k = csg_bvh_next_leaf(c->view, &br, R(0.0), dist, &w)) >= 0) {
         const csg_bvh_node *n = &c->view.bvh[k];
         for (csg_i32 i = n->first; i < n->first + n->count && found < 0; i++)
             if (!root_transmittance(c, i, r, &br, n->count > 1, dist, &pass))
@@ -1145,6 +1148,7 @@ static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material 
 static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real weight, int solid,
                       ray_tally *tally)
 {
+    CSG_PAGE_PRIM(c->view, CSG_SURF_PRIM(h.surf)); /* (a record's hit: named here) */
     const csg_prim *prim = &c->view.prims[CSG_SURF_PRIM(h.surf)];
     const csg_material *m = &c->mats[prim->material];
     hit_info hi;

@@ -28,6 +28,8 @@ typedef struct {
      * each depends on its record alone (tile_run.c). */
     void (*progress)(void *arg);
     void *progress_arg;
+    bool page_prefetch; /* paged (workers/pager.h): a hetero item's hit
+                           records fetch their pages first, in one go  */
 } tile_runner;
 
 /* Pixels of a band of rows, about (tile_runner.progress): whole rows of
@@ -54,6 +56,9 @@ typedef struct {
     double busy_s;   /* seconds the work took (tile_time_stop)           */
     double cpu_s;    /* of them, the CPU time of its thread: the work    *
                       * without the time a shared core was elsewhere     */
+    page_counts paging; /* its scene paging (workers/pager.h)            */
+    bool page_failed;   /* a page could not be fetched: the pixels are
+                           not to be trusted                             */
 } tile_result;
 
 /* The clocks of a piece of work on one thread: tile_time_stop puts the

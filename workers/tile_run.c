@@ -15,6 +15,8 @@
  */
 #include "tile.h"
 
+#include "pager.h"
+
 #include <string.h>
 #include <time.h>
 
@@ -57,12 +59,32 @@ static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool t
                    rgb + (size_t)y0 * (size_t)r.width * 3, &res->rays);
 }
 
+/* The pager's counts since `before`, the maxima as they are now. */
+static page_counts tile_paging(const pager_stats *before, const pager_stats *now)
+{
+    page_counts c = {now->touches - before->touches, now->faults - before->faults,
+                     now->requests - before->requests, now->pages_fetched - before->pages_fetched,
+                     now->prefetched - before->prefetched, now->evictions - before->evictions,
+                     now->bytes_fetched - before->bytes_fetched, now->peak_bytes,
+                     now->over_budget_bytes, now->wait_s - before->wait_s};
+    return c;
+}
+
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
     bool trace = !records;
     memset(res, 0, sizeof *res);
+    csg_pager *pager = pager_for(tr->blob);
+    pager_stats before;
+    if (pager) {
+        before = pager->stats;
+        if (!trace && tr->page_prefetch) /* (the records' hits: their pages in one request) */
+            pager_prefetch_hits(pager, (const uint32_t *)(const void *)((const char *)records +
+                                                                        n * tr->grid.real_size),
+                                n);
+    }
     if (trace)
         records = tr->records;
     int rows = tile_band_rows(tr, r);
@@ -76,4 +98,9 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
         (const uint32_t *)(const void *)((const char *)records + n * tr->grid.real_size);
     for (size_t i = 0; i < n; i++)
         res->hits += surf[i] != CSG_SURF_NONE;
+    if (pager) {
+        pager_item_end(pager);
+        res->paging = tile_paging(&before, &pager->stats);
+        res->page_failed = pager->failed;
+    }
 }

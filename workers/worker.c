@@ -43,6 +43,7 @@
 #include "../comm/protocol.h"
 #include "../comm/relay.h"
 #include "../comm/test_hooks.h"
+#include "pager.h"
 #include "tile.h"
 
 /* Messages taken and not yet answered: the items in flight and a STOP. */
@@ -55,6 +56,11 @@ typedef struct {
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
     link_scene scene;     /* the blob: this rank's, or its node's one
                              copy, mapped (comm/mpi_link.h)            */
+    csg_pager pager;      /* --scene-memory: the scene in pages, its
+                             resident part from the broadcast          */
+    bool paged;
+    const void *blob;     /* what the runner reads: the scene's bytes or
+                             the pager's address space                 */
     tile_runner runner;   /* set up once the blob is valid            */
     link_msg queue[WORKER_QUEUE]; /* messages from the master, in order */
     bool stop_queued;             /* the STOP is in the queue: what comes
@@ -97,6 +103,34 @@ static void worker_receive_blob(worker_state *w, size_t size)
         worker_set_failure(w, "received an invalid scene blob (%zu bytes)", size);
 }
 
+/* pager_fetch: pages from rank 0 (comm/mpi_link.h). */
+static bool worker_fetch(void *arg, const int32_t *pages, int n, unsigned char *out, size_t bytes)
+{
+    (void)arg;
+    return link_page_fetch(pages, n, out, bytes);
+}
+
+/* --scene-memory: the resident part and the page plan (the setup's
+ * blob_size bytes), broadcast by rank 0, which validated the whole blob. */
+static void worker_receive_pages(worker_state *w, const proto_setup *setup)
+{
+    size_t size = (size_t)setup->blob_size;
+    void *packed = malloc(size ? size : 1);
+    link_status got = link_bcast(packed, size); /* (a NULL buffer takes part: a sink) */
+    const char *why = "the scene broadcast failed";
+    if (got == LINK_OK && !packed)
+        why = "out of memory for the scene's resident part";
+    if (got == LINK_OK && packed &&
+        pager_open(&w->pager, packed, size, setup->scene_memory,
+                   (enum pager_policy)setup->page_policy, worker_fetch, NULL, &why)) {
+        w->paged = true;
+        w->blob = w->pager.base;
+    } else {
+        worker_set_failure(w, "%s", why);
+    }
+    free(packed);
+}
+
 /* tile_runner.progress: between bands of an item, this rank's transfers
  * moved on: its last answer, over MPI's eager limit, goes to the master
  * while the next item is computed, not after it (comm/mpi_link.h). */
@@ -118,8 +152,9 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
         worker_set_failure(w, "no valid batch size received (%d)", (int)setup->batch);
         return;
     }
-    bool ok = tile_runner_init(&w->runner, w->scene.bytes, setup->tile);
+    bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     w->runner.progress = worker_progress; /* (its answers move on meanwhile) */
+    w->runner.page_prefetch = setup->page_prefetch != 0;
     const tile_grid *g = &w->runner.grid;
     if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
         worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
@@ -177,7 +212,8 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
                          .over_budget = res.rays.over_budget,
                          .busy_s = res.busy_s,
                          .cpu_s = res.cpu_s,
-                         .pixels = w->pixels};
+                         .pixels = w->pixels,
+                         .paging = res.paging};
     memcpy(out, &head, sizeof head);
     return proto_result_part(n, w->pixels);
 }
@@ -210,6 +246,10 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
         memset(w->out[slot] + len, 0, start - len); /* the padding between parts */
         len = start + worker_do_part(w, in, at, h, w->out[slot] + start);
         w->tiles_done++;
+        if (w->paged && w->pager.failed) {
+            *why = "a page of the scene could not be fetched from rank 0";
+            return 0;
+        }
         if (end == in->len)
             return len;
         at = proto_align(end);
@@ -259,6 +299,8 @@ static void worker_flush(worker_state *w)
 static void worker_free(worker_state *w)
 {
     link_scene_free(&w->scene);
+    if (w->paged)
+        pager_close(&w->pager);
     free(w->rgb);
     tile_runner_free(&w->runner);
     for (int i = 0; i < WORKER_QUEUE; i++)
@@ -330,8 +372,13 @@ int worker_run(int rank, const char *bind)
     if (setup.status != 0)
         return setup.status; /* the master reported why */
     test_hook_kill(rank, "scene", 0);
-    worker_receive_blob(&w, (size_t)setup.blob_size);
-    if (rank <= setup.relays) { /* a relay: the master of a group */
+    if (setup.scene_memory > 0) {
+        worker_receive_pages(&w, &setup);
+    } else {
+        worker_receive_blob(&w, (size_t)setup.blob_size);
+        w.blob = w.scene.bytes;
+    }
+    if (rank <= setup.relays && !w.paged) { /* a relay: the master of a group */
         int status = relay_run(rank, &setup, &w.scene, w.failure);
         link_scene_free(&w.scene);
         return status;

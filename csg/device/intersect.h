@@ -80,7 +80,30 @@ typedef struct {
     CSG_GLOBAL const csg_i32 *wide_items;
     csg_i32 root_count;
     csg_i32 bvh_count;
+#ifndef __OPENCL_VERSION__
+    struct csg_pager *pager; /* a worker's scene below its memory budget
+                                (workers/pager.h); NULL: the whole blob */
+#endif
 } csg_view;
+
+/* Paging (C only: workers/pager.h).  A walk names each BVH node it enters
+ * (its children or its roots are read next), and code that reaches a root
+ * or a primitive by its index names it, so that the page holding them is
+ * there before a byte of it is read.  Without a pager (the kernels, the
+ * master, an in-memory worker) they do nothing. */
+#ifdef __OPENCL_VERSION__
+#define CSG_PAGE_ENTER(v, k) ((void)0)
+#define CSG_PAGE_ROOT(v, i) ((void)0)
+#define CSG_PAGE_PRIM(v, j) ((void)0)
+#else
+struct csg_pager;
+void csg_page_enter(struct csg_pager *p, csg_i32 node);
+void csg_page_root(struct csg_pager *p, csg_i32 root);
+void csg_page_prim(struct csg_pager *p, csg_i32 prim);
+#define CSG_PAGE_ENTER(v, k) ((v).pager ? csg_page_enter((v).pager, (k)) : (void)0)
+#define CSG_PAGE_ROOT(v, i) ((v).pager ? csg_page_root((v).pager, (i)) : (void)0)
+#define CSG_PAGE_PRIM(v, j) ((v).pager ? csg_page_prim((v).pager, (j)) : (void)0)
+#endif
 
 /* The view of a blob (flat.h), its arrays found through its header. */
 CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
@@ -96,6 +119,9 @@ CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
     v.wide_items = (CSG_GLOBAL const csg_i32 *)(blob + h->off_wide_items);
     v.root_count = h->linear_roots;
     v.bvh_count = h->bvh_count;
+#ifndef __OPENCL_VERSION__
+    v.pager = 0;
+#endif
     return v;
 }
 
@@ -691,9 +717,10 @@ CSG_FN csg_i32 csg_bvh_open_pair(CSG_GLOBAL const csg_bvh_node *bvh, csg_i32 c,
 
 /* The next leaf whose box the ray meets on [tmin, tmax], nearest first as
  * far as the boxes tell; -1 when the walk is over. */
-CSG_FN csg_i32 csg_bvh_next_leaf(CSG_GLOBAL const csg_bvh_node *bvh, const csg_box_ray *br,
-                                 real tmin, real tmax, csg_bvh_walk *w)
+CSG_FN csg_i32 csg_bvh_next_leaf(csg_view v, const csg_box_ray *br, real tmin, real tmax,
+                                 csg_bvh_walk *w)
 {
+    CSG_GLOBAL const csg_bvh_node *bvh = v.bvh;
     for (;;) {
         csg_i32 k = w->pair >= 0 ? csg_bvh_open_pair(bvh, w->pair, br, tmin, tmax, w) : -1;
         w->pair = -1;
@@ -704,6 +731,7 @@ CSG_FN csg_i32 csg_bvh_next_leaf(CSG_GLOBAL const csg_bvh_node *bvh, const csg_b
         }
         if (k < 0)
             return -1;
+        CSG_PAGE_ENTER(v, k); /* (its children or its roots are read next) */
         if (bvh[k].count >= 0)
             return k;
         w->pair = bvh[k].first;
@@ -725,7 +753,7 @@ CSG_FN csg_hit csg_trace_nearest(csg_view v, csg_ray r, real tmin, real tmax)
     csg_bvh_walk w;
     csg_bvh_walk_start(&w, v);
     csg_i32 k;
-    while ((k = csg_bvh_next_leaf(v.bvh, &br, tmin, csg_hit_limit(&best), &w)) >= 0) {
+    while ((k = csg_bvh_next_leaf(v, &br, tmin, csg_hit_limit(&best), &w)) >= 0) {
         CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
         for (csg_i32 i = n->first; i < n->first + n->count; i++)
             csg_try_root(v, i, r, &br, n->count > 1, tmin, &best);

@@ -1,0 +1,774 @@
+/*
+ * pager.c — the plan of a blob's pages (rank 0) and a worker's cache of
+ * them (pager.h).
+ *
+ * The plan reads the blob's integers only (a BVH node's first and count, a
+ * root's program, a program node's primitive: the first fields of their
+ * structs in both precisions), the arrays' strides from the header's
+ * real_size, so this file is compiled once for both precisions.
+ */
+#include "pager.h"
+
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#define PAGER_MAGIC 0x50475231u /* "PGR1" */
+#define OS_PAGE ((uint64_t)4096)
+
+/* ---- the blob's arrays, by stride ------------------------------------------------ */
+
+typedef struct {
+    const unsigned char *b;
+    const csg_blob_header *h;
+    uint64_t bvh_size, root_size, node_size, prim_size;
+} blob_arrays;
+
+static blob_arrays arrays_of(const void *blob)
+{
+    blob_arrays a;
+    a.b = blob;
+    a.h = blob;
+    uint64_t r = a.h->real_size;
+    a.bvh_size = 8 + 6 * r;   /* csg_bvh_node: first, count, box[6]        */
+    a.root_size = 16 + 6 * r; /* csg_root: four integers, lo[3], hi[3]      */
+    a.node_size = 8;          /* csg_node: op, prim                        */
+    a.prim_size = 16 + CSG_PRIM_REALS * r; /* csg_prim: four integers, p[] */
+    return a;
+}
+
+static int32_t int_at(const unsigned char *p, int field)
+{
+    int32_t v;
+    memcpy(&v, p + 4 * field, sizeof v);
+    return v;
+}
+
+static int32_t bvh_first(const blob_arrays *a, int32_t k)
+{
+    return int_at(a->b + a->h->off_bvh + (uint64_t)k * a->bvh_size, 0);
+}
+
+static int32_t bvh_count(const blob_arrays *a, int32_t k)
+{
+    return int_at(a->b + a->h->off_bvh + (uint64_t)k * a->bvh_size, 1);
+}
+
+static int32_t root_first_node(const blob_arrays *a, int32_t i)
+{
+    return int_at(a->b + a->h->off_roots + (uint64_t)i * a->root_size, 0);
+}
+
+static int32_t root_node_count(const blob_arrays *a, int32_t i)
+{
+    return int_at(a->b + a->h->off_roots + (uint64_t)i * a->root_size, 1);
+}
+
+/* ---- the plan --------------------------------------------------------------------- */
+
+/* What a subtree holds: its nodes below its top (first .. end), its
+ * leaves' roots (root_lo .. root_hi), and their bytes with their programs
+ * and primitives. */
+typedef struct {
+    int32_t end, root_lo, root_hi, below;
+    uint64_t bytes;
+} subtree;
+
+/* The primitives of roots lo .. hi - 1: prim_lo[lo] .. prim_hi[hi - 1]
+ * (a root's primitives are the PRIM nodes of its program, laid out in
+ * the roots' order by the flattener). */
+static bool root_prims(const blob_arrays *a, int32_t *prim_lo, int32_t *prim_hi)
+{
+    const csg_blob_header *h = a->h;
+    int32_t next = 0;
+    for (int32_t i = 0; i < h->root_count; i++) {
+        int32_t first = root_first_node(a, i), count = root_node_count(a, i);
+        prim_lo[i] = next;
+        for (int32_t k = first; k < first + count; k++) {
+            const unsigned char *node = a->b + h->off_nodes + (uint64_t)k * a->node_size;
+            if (int_at(node, 0) != CSG_OP_PRIM)
+                continue;
+            if (int_at(node, 1) != next)
+                return false; /* (not in the roots' order) */
+            next++;
+        }
+        prim_hi[i] = next;
+    }
+    return next == h->prim_count;
+}
+
+static uint64_t roots_bytes(const blob_arrays *a, const int32_t *prim_lo, const int32_t *prim_hi,
+                            int32_t lo, int32_t hi)
+{
+    if (hi <= lo)
+        return 0;
+    int32_t n0 = root_first_node(a, lo), n1 = root_first_node(a, hi - 1) + root_node_count(a, hi - 1);
+    return (uint64_t)(hi - lo) * a->root_size + (uint64_t)(n1 - n0) * a->node_size +
+           (uint64_t)(prim_hi[hi - 1] - prim_lo[lo]) * a->prim_size;
+}
+
+/* Each node's subtree, children before parents (they come after them in
+ * the array); false when the layout is not the depth-first one pager.h
+ * relies on. */
+static bool subtrees(const blob_arrays *a, const int32_t *prim_lo, const int32_t *prim_hi,
+                     subtree *s)
+{
+    int32_t n = a->h->bvh_count;
+    for (int32_t k = n - 1; k >= 0; k--) {
+        int32_t first = bvh_first(a, k), count = bvh_count(a, k);
+        if (count >= 0) { /* a leaf */
+            s[k] = (subtree){first, count > 0 ? first : 0, count > 0 ? first + count : 0, 0, 0};
+            s[k].end = first; /* (no nodes below: an empty range) */
+            s[k].bytes = roots_bytes(a, prim_lo, prim_hi, s[k].root_lo, s[k].root_hi);
+            continue;
+        }
+        if (first <= k || first + 1 >= n)
+            return false;
+        const subtree *l = &s[first], *r = &s[first + 1];
+        subtree t;
+        t.below = 2 + l->below + r->below;
+        t.end = first + 2;
+        if (l->below > 0) {
+            if (first + 2 != l->end - l->below)
+                return false;
+            t.end = l->end;
+        }
+        if (r->below > 0) {
+            if (t.end != r->end - r->below)
+                return false;
+            t.end = r->end;
+        }
+        bool l_empty = l->root_hi <= l->root_lo, r_empty = r->root_hi <= r->root_lo;
+        if (!l_empty && !r_empty && l->root_hi != r->root_lo)
+            return false;
+        t.root_lo = l_empty ? r->root_lo : l->root_lo;
+        t.root_hi = r_empty ? l->root_hi : r->root_hi;
+        t.bytes = (uint64_t)t.below * a->bvh_size +
+                  roots_bytes(a, prim_lo, prim_hi, t.root_lo, t.root_hi);
+        s[k] = t;
+    }
+    return true;
+}
+
+static pager_page page_of_subtree(const blob_arrays *a, const int32_t *prim_lo,
+                                  const int32_t *prim_hi, int32_t k, const subtree *t)
+{
+    const csg_blob_header *h = a->h;
+    pager_page pg;
+    memset(&pg, 0, sizeof pg);
+    pg.node = k;
+    pg.root_first = t->root_lo;
+    pg.root_count = t->root_hi - t->root_lo;
+    int32_t first = bvh_first(a, k);
+    if (t->below > 0)
+        pg.range[0] = (pager_range){h->off_bvh + (uint64_t)first * a->bvh_size,
+                                    (uint64_t)t->below * a->bvh_size};
+    if (pg.root_count > 0) {
+        int32_t lo = t->root_lo, hi = t->root_hi;
+        int32_t n0 = root_first_node(a, lo), n1 = root_first_node(a, hi - 1) + root_node_count(a, hi - 1);
+        pg.prim_first = prim_lo[lo];
+        pg.prim_count = prim_hi[hi - 1] - prim_lo[lo];
+        pg.range[1] = (pager_range){h->off_roots + (uint64_t)lo * a->root_size,
+                                    (uint64_t)(hi - lo) * a->root_size};
+        pg.range[2] = (pager_range){h->off_nodes + (uint64_t)n0 * a->node_size,
+                                    (uint64_t)(n1 - n0) * a->node_size};
+        pg.range[3] = (pager_range){h->off_prims + (uint64_t)pg.prim_first * a->prim_size,
+                                    (uint64_t)pg.prim_count * a->prim_size};
+    }
+    for (int i = 0; i < PAGER_RANGES; i++)
+        pg.bytes += pg.range[i].len;
+    return pg;
+}
+
+/* The pages: the largest subtrees within page_bytes (a leaf beyond it is
+ * a page of its own), top down, first child first: the depth-first order. */
+static bool choose_pages(const blob_arrays *a, const int32_t *prim_lo, const int32_t *prim_hi,
+                         const subtree *s, uint64_t page_bytes, pager_plan *plan)
+{
+    int32_t n = a->h->bvh_count, cap = 64, top = 0;
+    int32_t *stack = malloc((size_t)(CSG_BVH_STACK + 2) * 2 * sizeof *stack);
+    plan->pages = malloc((size_t)cap * sizeof *plan->pages);
+    if (!stack || !plan->pages) {
+        free(stack);
+        return false;
+    }
+    if (n > 0) {
+        stack[top++] = 1;
+        stack[top++] = 0;
+    }
+    while (top > 0) {
+        int32_t k = stack[--top];
+        const subtree *t = &s[k];
+        if (t->bytes == 0)
+            continue; /* (the empty leaf) */
+        if (t->bytes > page_bytes && bvh_count(a, k) < 0) {
+            int32_t first = bvh_first(a, k);
+            if (top + 2 > 2 * (CSG_BVH_STACK + 2))
+                break;
+            stack[top++] = first + 1;
+            stack[top++] = first;
+            continue;
+        }
+        if (plan->page_count == cap) {
+            cap *= 2;
+            pager_page *grown = realloc(plan->pages, (size_t)cap * sizeof *grown);
+            if (!grown) {
+                free(stack);
+                return false;
+            }
+            plan->pages = grown;
+        }
+        plan->pages[plan->page_count++] = page_of_subtree(a, prim_lo, prim_hi, k, t);
+    }
+    free(stack);
+    return top == 0;
+}
+
+uint64_t pager_page_bytes_for(uint64_t budget)
+{
+    uint64_t b = budget / 64;
+    return b < 16384 ? 16384 : b > (1u << 20) ? (1u << 20) : b;
+}
+
+bool pager_plan_make(const void *blob, uint64_t page_bytes, pager_plan *plan, const char **why)
+{
+    blob_arrays a = arrays_of(blob);
+    const csg_blob_header *h = a.h;
+    memset(plan, 0, sizeof *plan);
+    plan->total_size = h->total_size;
+    plan->page_bytes = page_bytes;
+    plan->bvh_count = h->bvh_count;
+    size_t roots = (size_t)h->root_count + 1, nodes = (size_t)h->bvh_count + 1;
+    int32_t *prim_lo = malloc(roots * sizeof *prim_lo), *prim_hi = malloc(roots * sizeof *prim_hi);
+    subtree *s = malloc(nodes * sizeof *s);
+    bool ok = prim_lo && prim_hi && s;
+    *why = "out of memory for the scene's page plan";
+    if (ok && !(root_prims(&a, prim_lo, prim_hi) && subtrees(&a, prim_lo, prim_hi, s))) {
+        ok = false;
+        *why = "the scene's layout cannot be paged (not in the BVH's depth-first order)";
+    }
+    if (ok) {
+        ok = choose_pages(&a, prim_lo, prim_hi, s, page_bytes, plan);
+        *why = "out of memory for the scene's page plan";
+    }
+    free(prim_lo);
+    free(prim_hi);
+    free(s);
+    if (!ok) {
+        pager_plan_free(plan);
+        return false;
+    }
+    uint64_t paged = 0;
+    for (int32_t i = 0; i < plan->page_count; i++)
+        paged += plan->pages[i].bytes;
+    plan->resident_bytes = plan->total_size - paged;
+    return true;
+}
+
+void pager_plan_free(pager_plan *plan)
+{
+    free(plan->pages);
+    free(plan->by_node);
+    plan->pages = NULL;
+    plan->by_node = NULL;
+    plan->page_count = 0;
+}
+
+/* ---- the resident part, packed ------------------------------------------------------ */
+
+typedef struct {
+    uint32_t magic;
+    int32_t page_count;
+    int32_t bvh_count;
+    int32_t range_count;
+    uint64_t total_size, page_bytes, resident_bytes;
+} pager_wire;
+
+static int range_order(const void *x, const void *y)
+{
+    const pager_range *a = x, *b = y;
+    return a->off < b->off ? -1 : a->off > b->off;
+}
+
+/* The resident ranges: what no page holds, in order (malloc'd; *n). */
+static pager_range *resident_ranges(const pager_plan *plan, int32_t *n)
+{
+    size_t cap = (size_t)plan->page_count * PAGER_RANGES + 1;
+    pager_range *paged = malloc(cap * sizeof *paged), *out = malloc((cap + 1) * sizeof *out);
+    if (!paged || !out) {
+        free(paged);
+        free(out);
+        return NULL;
+    }
+    size_t m = 0;
+    for (int32_t i = 0; i < plan->page_count; i++)
+        for (int r = 0; r < PAGER_RANGES; r++)
+            if (plan->pages[i].range[r].len > 0)
+                paged[m++] = plan->pages[i].range[r];
+    qsort(paged, m, sizeof *paged, range_order);
+    uint64_t at = 0;
+    int32_t k = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (paged[i].off > at)
+            out[k++] = (pager_range){at, paged[i].off - at};
+        at = paged[i].off + paged[i].len;
+    }
+    if (plan->total_size > at)
+        out[k++] = (pager_range){at, plan->total_size - at};
+    free(paged);
+    *n = k;
+    return out;
+}
+
+void *pager_pack_resident(const void *blob, const pager_plan *plan, size_t *len)
+{
+    int32_t n = 0;
+    pager_range *res = resident_ranges(plan, &n);
+    if (!res)
+        return NULL;
+    size_t head = sizeof(pager_wire) + (size_t)plan->page_count * sizeof(pager_page) +
+                  (size_t)n * sizeof(pager_range);
+    *len = head + plan->resident_bytes;
+    unsigned char *out = malloc(*len);
+    if (out) {
+        pager_wire w = {PAGER_MAGIC, plan->page_count, plan->bvh_count, n, plan->total_size,
+                        plan->page_bytes, plan->resident_bytes};
+        memcpy(out, &w, sizeof w);
+        memcpy(out + sizeof w, plan->pages, (size_t)plan->page_count * sizeof(pager_page));
+        memcpy(out + head - (size_t)n * sizeof(pager_range), res, (size_t)n * sizeof *res);
+        size_t at = head;
+        for (int32_t i = 0; i < n; i++) {
+            memcpy(out + at, (const unsigned char *)blob + res[i].off, res[i].len);
+            at += res[i].len;
+        }
+    }
+    free(res);
+    return out;
+}
+
+void pager_pack_page(const void *blob, const pager_page *page, unsigned char *out)
+{
+    for (int r = 0; r < PAGER_RANGES; r++) {
+        memcpy(out, (const unsigned char *)blob + page->range[r].off, page->range[r].len);
+        out += page->range[r].len;
+    }
+}
+
+/* ---- the worker's cache ------------------------------------------------------------- */
+
+static csg_pager *pager_active;
+
+static double pager_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Is the packed plan one this worker can use? */
+static bool wire_valid(const pager_wire *w, const pager_page *pages, const pager_range *res,
+                       size_t bytes_left)
+{
+    uint64_t paged = 0, resident = 0;
+    for (int32_t i = 0; i < w->page_count; i++) {
+        const pager_page *pg = &pages[i];
+        if (pg->node < 0 || pg->node >= w->bvh_count ||
+            (i > 0 && (pg->root_first < pages[i - 1].root_first + pages[i - 1].root_count ||
+                       pg->prim_first < pages[i - 1].prim_first + pages[i - 1].prim_count)))
+            return false; /* (roots and primitives ascend: page_search) */
+        uint64_t sum = 0;
+        for (int r = 0; r < PAGER_RANGES; r++) {
+            if (pg->range[r].off > w->total_size || pg->range[r].len > w->total_size - pg->range[r].off)
+                return false;
+            sum += pg->range[r].len;
+        }
+        if (sum != pg->bytes)
+            return false;
+        paged += sum;
+    }
+    for (int32_t i = 0; i < w->range_count; i++) {
+        if (res[i].off > w->total_size || res[i].len > w->total_size - res[i].off)
+            return false;
+        resident += res[i].len;
+    }
+    return resident == w->resident_bytes && paged + resident == w->total_size &&
+           bytes_left == resident;
+}
+
+static void refs_add(csg_pager *p, const pager_range *r, int delta)
+{
+    if (r->len == 0)
+        return;
+    uint64_t first = r->off / OS_PAGE, last = (r->off + r->len - 1) / OS_PAGE;
+    uint64_t run = 0, run_len = 0; /* a run of memory pages to give back */
+    for (uint64_t k = first; k <= last; k++) {
+        p->refs[k] = (uint16_t)(p->refs[k] + delta);
+        if (delta < 0 && p->refs[k] == 0) {
+            if (run_len == 0)
+                run = k;
+            run_len++;
+            continue;
+        }
+        if (run_len > 0)
+            madvise(p->base + run * OS_PAGE, run_len * OS_PAGE, MADV_DONTNEED);
+        run_len = 0;
+    }
+    if (run_len > 0)
+        madvise(p->base + run * OS_PAGE, run_len * OS_PAGE, MADV_DONTNEED);
+}
+
+static bool pager_alloc(csg_pager *p, int32_t pages, int32_t bvh_count)
+{
+    size_t n = pages > 0 ? (size_t)pages : 1;
+    size_t os_pages = (p->map_bytes + OS_PAGE - 1) / OS_PAGE;
+    p->stamp = calloc(n, sizeof *p->stamp);
+    p->here = calloc(n, sizeof *p->here);
+    p->prev = malloc(n * sizeof *p->prev);
+    p->next = malloc(n * sizeof *p->next);
+    p->is_page_node = calloc(((size_t)bvh_count + 64) / 64, sizeof *p->is_page_node);
+    p->refs = calloc(os_pages ? os_pages : 1, sizeof *p->refs);
+    p->plan.pages = malloc(n * sizeof *p->plan.pages);
+    p->plan.by_node = malloc(n * sizeof *p->plan.by_node);
+    return p->plan.by_node && p->stamp && p->here && p->prev && p->next && p->is_page_node && p->refs &&
+           p->plan.pages;
+}
+
+static const pager_page *by_node_pages; /* (qsort's comparison has no argument) */
+
+static int by_node_order(const void *x, const void *y)
+{
+    int32_t a = by_node_pages[*(const int32_t *)x].node, b = by_node_pages[*(const int32_t *)y].node;
+    return a < b ? -1 : a > b;
+}
+
+bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
+                enum pager_policy policy, pager_fetch fetch, void *fetch_arg, const char **why)
+{
+    memset(p, 0, sizeof *p);
+    p->head = p->tail = -1;
+    pager_wire w;
+    *why = "a malformed scene plan was received";
+    if (len < sizeof w)
+        return false;
+    memcpy(&w, packed, sizeof w);
+    size_t head = sizeof w;
+    if (w.magic != PAGER_MAGIC || w.page_count < 0 || w.range_count < 0 || w.bvh_count < 0 ||
+        (size_t)w.page_count > (len - head) / sizeof(pager_page))
+        return false;
+    head += (size_t)w.page_count * sizeof(pager_page);
+    if ((size_t)w.range_count > (len - head) / sizeof(pager_range))
+        return false;
+    const unsigned char *bytes = packed;
+    const pager_range *res = (const pager_range *)(const void *)(bytes + head);
+    head += (size_t)w.range_count * sizeof(pager_range);
+    p->map_bytes = w.total_size;
+    *why = "out of memory for the scene's page tables";
+    if (!pager_alloc(p, w.page_count, w.bvh_count)) {
+        pager_close(p);
+        return false;
+    }
+    memcpy(p->plan.pages, bytes + sizeof w, (size_t)w.page_count * sizeof(pager_page));
+    p->plan.page_count = w.page_count;
+    p->plan.bvh_count = w.bvh_count;
+    p->plan.total_size = w.total_size;
+    p->plan.page_bytes = w.page_bytes;
+    p->plan.resident_bytes = w.resident_bytes;
+    *why = "a malformed scene plan was received";
+    if (!wire_valid(&w, p->plan.pages, res, len - head)) {
+        pager_close(p);
+        return false;
+    }
+    *why = "--scene-memory is below the scene's resident part";
+    if (budget < w.resident_bytes) {
+        pager_close(p);
+        return false;
+    }
+    void *map = mmap(NULL, p->map_bytes ? p->map_bytes : 1, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    *why = "no address space for the scene";
+    if (map == MAP_FAILED) {
+        pager_close(p);
+        return false;
+    }
+    p->base = map;
+    size_t at = head;
+    for (int32_t i = 0; i < w.range_count; i++) {
+        memcpy(p->base + res[i].off, bytes + at, res[i].len);
+        at += res[i].len;
+        if (res[i].len > 0) /* (the resident part: one user, for ever) */
+            for (uint64_t k = res[i].off / OS_PAGE; k <= (res[i].off + res[i].len - 1) / OS_PAGE; k++)
+                p->refs[k] = 1;
+    }
+    for (int32_t i = 0; i < w.page_count; i++) {
+        uint32_t k = (uint32_t)p->plan.pages[i].node;
+        p->is_page_node[k >> 6] |= (uint64_t)1 << (k & 63u);
+        p->plan.by_node[i] = i;
+    }
+    by_node_pages = p->plan.pages;
+    qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
+    p->budget = budget;
+    p->used = p->stats.peak_bytes = w.resident_bytes;
+    p->policy = policy;
+    p->fetch = fetch;
+    p->fetch_arg = fetch_arg;
+    p->epoch = 1;
+    pager_active = p;
+    return true;
+}
+
+void pager_close(csg_pager *p)
+{
+    if (pager_active == p)
+        pager_active = NULL;
+    if (p->base)
+        munmap(p->base, p->map_bytes ? p->map_bytes : 1);
+    free(p->stamp);
+    free(p->here);
+    free(p->prev);
+    free(p->next);
+    free(p->is_page_node);
+    free(p->refs);
+    free(p->buffer);
+    pager_plan_free(&p->plan);
+    memset(p, 0, sizeof *p);
+}
+
+csg_pager *pager_for(const void *blob)
+{
+    return pager_active && blob == pager_active->base ? pager_active : NULL;
+}
+
+/* ---- the cache's order --------------------------------------------------------------- */
+
+static void order_unlink(csg_pager *p, int32_t i)
+{
+    if (p->prev[i] >= 0)
+        p->next[p->prev[i]] = p->next[i];
+    else
+        p->head = p->next[i];
+    if (p->next[i] >= 0)
+        p->prev[p->next[i]] = p->prev[i];
+    else
+        p->tail = p->prev[i];
+}
+
+static void order_append(csg_pager *p, int32_t i)
+{
+    p->prev[i] = p->tail;
+    p->next[i] = -1;
+    if (p->tail >= 0)
+        p->next[p->tail] = i;
+    else
+        p->head = i;
+    p->tail = i;
+}
+
+static void evict(csg_pager *p, int32_t i)
+{
+    order_unlink(p, i);
+    p->here[i] = 0;
+    p->used -= p->plan.pages[i].bytes;
+    p->stats.evictions++;
+    for (int r = 0; r < PAGER_RANGES; r++)
+        refs_add(p, &p->plan.pages[i].range[r], -1);
+}
+
+/* Room for `bytes` more within the budget, the oldest unpinned pages
+ * evicted first; pinned pages stay (the item goes over the budget). */
+static void make_room(csg_pager *p, uint64_t bytes)
+{
+    int32_t i = p->head;
+    while (i >= 0 && p->used + bytes > p->budget) {
+        int32_t next = p->next[i];
+        if (p->stamp[i] != p->epoch)
+            evict(p, i);
+        else if (p->policy == PAGER_LRU)
+            break; /* (LRU: the pinned are the newest, all behind) */
+        i = next;
+    }
+}
+
+/* pages[0 .. n), none here, fetched in one request. */
+static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
+{
+    uint64_t bytes = 0;
+    for (int k = 0; k < n; k++)
+        bytes += p->plan.pages[pages[k]].bytes;
+    make_room(p, bytes);
+    if (bytes > p->buffer_cap) {
+        unsigned char *grown = realloc(p->buffer, bytes);
+        if (!grown) {
+            p->failed = true;
+            return;
+        }
+        p->buffer = grown;
+        p->buffer_cap = bytes;
+    }
+    double t0 = pager_clock();
+    bool ok = p->fetch(p->fetch_arg, pages, n, p->buffer, bytes);
+    p->stats.wait_s += pager_clock() - t0;
+    if (!ok) {
+        p->failed = true;
+        return;
+    }
+    p->stats.requests++;
+    p->stats.pages_fetched += (uint64_t)n;
+    p->stats.bytes_fetched += bytes;
+    const unsigned char *at = p->buffer;
+    for (int k = 0; k < n; k++) {
+        const pager_page *pg = &p->plan.pages[pages[k]];
+        for (int r = 0; r < PAGER_RANGES; r++) {
+            memcpy(p->base + pg->range[r].off, at, pg->range[r].len);
+            at += pg->range[r].len;
+            refs_add(p, &pg->range[r], +1);
+        }
+        p->here[pages[k]] = 1;
+        order_append(p, pages[k]);
+        p->used += pg->bytes;
+    }
+    if (p->used > p->stats.peak_bytes)
+        p->stats.peak_bytes = p->used;
+    if (p->used > p->budget && p->used - p->budget > p->stats.over_budget_bytes)
+        p->stats.over_budget_bytes = p->used - p->budget;
+}
+
+/* Page i named in this item: true when it must be fetched. */
+static bool named(csg_pager *p, int32_t i)
+{
+    if (p->stamp[i] == p->epoch)
+        return false;
+    p->stamp[i] = p->epoch;
+    p->stats.touches++;
+    if (!p->here[i])
+        return true;
+    if (p->policy == PAGER_LRU) { /* the newest from now on */
+        order_unlink(p, i);
+        order_append(p, i);
+    }
+    return false;
+}
+
+void pager_need_page(csg_pager *p, int32_t page)
+{
+    if (page < 0 || page >= p->plan.page_count || !named(p, page))
+        return;
+    p->stats.faults++;
+    fetch_pages(p, &page, 1);
+}
+
+/* The last page whose field at `offset` (root_first, prim_first, node) is
+ * <= v, or -1; pages ascend in each. */
+static int32_t page_search(const csg_pager *p, size_t offset, int32_t v)
+{
+    int32_t lo = 0, hi = p->plan.page_count - 1, found = -1;
+    while (lo <= hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        int32_t key;
+        memcpy(&key, (const char *)&p->plan.pages[mid] + offset, sizeof key);
+        if (key <= v) {
+            found = mid;
+            lo = mid + 1;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    return found;
+}
+
+void pager_need_node(csg_pager *p, int32_t k)
+{
+    const int32_t *by = p->plan.by_node;
+    int32_t lo = 0, hi = p->plan.page_count - 1;
+    while (lo <= hi) { /* (the tops' node numbers do not follow the pages' order) */
+        int32_t mid = lo + (hi - lo) / 2, node = p->plan.pages[by[mid]].node;
+        if (node == k) {
+            pager_need_page(p, by[mid]);
+            return;
+        }
+        if (node < k)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+}
+
+static int32_t page_of_root(const csg_pager *p, int32_t root)
+{
+    int32_t i = page_search(p, offsetof(pager_page, root_first), root);
+    return i >= 0 && root < p->plan.pages[i].root_first + p->plan.pages[i].root_count ? i : -1;
+}
+
+static int32_t page_of_prim(const csg_pager *p, int32_t prim)
+{
+    int32_t i = page_search(p, offsetof(pager_page, prim_first), prim);
+    return i >= 0 && prim < p->plan.pages[i].prim_first + p->plan.pages[i].prim_count ? i : -1;
+}
+
+void pager_need_root(csg_pager *p, int32_t root)
+{
+    int32_t i = page_of_root(p, root);
+    if (i >= 0)
+        pager_need_page(p, i);
+}
+
+void pager_need_prim(csg_pager *p, int32_t prim)
+{
+    int32_t i = page_of_prim(p, prim);
+    if (i >= 0)
+        pager_need_page(p, i);
+}
+
+void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n)
+{
+    int32_t *list = NULL;
+    int count = 0, cap = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t i = surf[k] != CSG_SURF_NONE ? page_of_prim(p, CSG_SURF_PRIM(surf[k])) : -1;
+        if (i < 0 || p->stamp[i] == p->epoch)
+            continue;
+        if (count == cap) {
+            int32_t *grown = realloc(list, (size_t)(cap ? 2 * cap : 16) * sizeof *grown);
+            if (!grown)
+                break; /* (the rest are fetched on demand) */
+            list = grown;
+            cap = cap ? 2 * cap : 16;
+        }
+        if (named(p, i))
+            list[count++] = i;
+    }
+    if (count > 0) {
+        p->stats.prefetched += (uint64_t)count;
+        fetch_pages(p, list, count);
+    }
+    free(list);
+}
+
+void pager_item_end(csg_pager *p)
+{
+    p->epoch++;
+    if (p->epoch == 0) { /* (wrapped: every stamp is old) */
+        memset(p->stamp, 0, (size_t)(p->plan.page_count > 0 ? p->plan.page_count : 1) *
+                                sizeof *p->stamp);
+        p->epoch = 1;
+    }
+    make_room(p, 0);
+}
+
+/* ---- the engine's calls (csg/device/intersect.h) -------------------------------------- */
+
+void csg_page_enter(struct csg_pager *p, csg_i32 node)
+{
+    pager_enter_node(p, node);
+}
+
+void csg_page_root(struct csg_pager *p, csg_i32 root)
+{
+    pager_need_root(p, root);
+}
+
+void csg_page_prim(struct csg_pager *p, csg_i32 prim)
+{
+    pager_need_prim(p, prim);
+}

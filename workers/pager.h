@@ -1,0 +1,175 @@
+/*
+ * pager.h — a worker's scene below a memory budget: VM_pRAY's object
+ * paging (Badouel and Priol), on the flat blob (csg/device/flat.h).
+ *
+ * The blob's BVH is cut into pages: a page is a subtree of the BVH that
+ * fits the page size, with everything only it reaches — its nodes below
+ * its top, the roots of its leaves, their CSG programs and primitives.
+ * The flattener lays all four out in the BVH's depth-first order (a
+ * subtree's nodes, its leaves' roots, their programs and primitives are
+ * each one run of their array), so a page is four byte ranges of the
+ * blob.  The rest — the header, the BVH above the pages, the unbounded
+ * roots, materials, lights, wide runs, the coefficient table — is the
+ * resident part, which every worker holds.
+ *
+ * A worker maps the whole blob's size as virtual memory (no byte of it
+ * used until written), writes the resident part at its offsets, and
+ * writes a page at its own offsets when a ray first needs it: the engine's
+ * code indexes the arrays as always and never learns what is paged.  What
+ * it must do is say where it is going: the BVH walks name each node they
+ * enter (csg_view.pager, CSG_PAGE_ENTER in intersect.h), and code that
+ * reaches a root or a primitive by its index (a record's hit, the shadow
+ * cache) names that.  A page not here is fetched (the fetch callback:
+ * from rank 0 over MPI, or from a full copy in this process) before the
+ * walk goes on.
+ *
+ * Pages live in an LRU cache (or FIFO: --page-policy) within the budget.
+ * A page used during the current work item (an epoch) is pinned: a hit's
+ * primitive stays where the shading will read it.  So the budget holds
+ * between items; within one, an item whose pages do not fit goes over it
+ * (counted: over_budget_bytes), and its end evicts down to the budget.
+ * Evicted bytes go back to the kernel (madvise MADV_DONTNEED) whole 4 KiB
+ * pages at a time: a memory page shared by two cache pages is freed with
+ * the second.
+ *
+ * Exact by construction: a page's bytes are the blob's, so an image is the
+ * in-memory render's bit for bit at every budget.  The plan is computed
+ * by rank 0 from its whole blob (pager_plan_make) and travels with the
+ * resident part (pager_pack_resident); the workers trust rank 0's
+ * validation of the whole blob.
+ */
+#ifndef WORKERS_PAGER_H
+#define WORKERS_PAGER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../csg/device/flat.h"
+
+/* The four byte ranges of a page: BVH nodes, roots, program nodes,
+ * primitives. */
+enum { PAGER_RANGES = 4 };
+
+typedef struct {
+    uint64_t off, len;
+} pager_range;
+
+typedef struct {
+    int32_t node;       /* the BVH node whose subtree this is: entering it
+                           needs the page                               */
+    int32_t root_first; /* its roots: root_first .. + root_count       */
+    int32_t root_count;
+    int32_t prim_first; /* its primitives: prim_first .. + prim_count  */
+    int32_t prim_count;
+    int32_t pad;
+    pager_range range[PAGER_RANGES];
+    uint64_t bytes;     /* the ranges' total                          */
+} pager_page;
+
+/* The plan: the pages (in the BVH's depth-first order: their roots and
+ * primitives ascend) and what stays resident. */
+typedef struct {
+    uint64_t total_size;   /* the blob's bytes                           */
+    uint64_t page_bytes;   /* the page size aimed at                     */
+    uint64_t resident_bytes; /* the resident part's bytes                */
+    int32_t page_count;
+    int32_t bvh_count;     /* the blob's BVH nodes                       */
+    pager_page *pages;
+    int32_t *by_node;      /* a worker's: page indices ordered by their
+                              node (not the pages' order: a pair's second
+                              node comes before the first one's subtree) */
+} pager_plan;
+
+/* The plan of a valid blob with pages of about page_bytes; false with the
+ * reason in why when the blob's layout does not allow paging or memory
+ * is short. */
+bool pager_plan_make(const void *blob, uint64_t page_bytes, pager_plan *plan, const char **why);
+void pager_plan_free(pager_plan *plan);
+
+/* The page size for a budget: a 64th of it, within 16 KiB .. 1 MiB. */
+uint64_t pager_page_bytes_for(uint64_t budget);
+
+/* The resident part and the plan in one buffer (malloc'd, *len bytes), as
+ * rank 0 sends it; NULL when out of memory. */
+void *pager_pack_resident(const void *blob, const pager_plan *plan, size_t *len);
+
+/* A page's bytes packed (its ranges one after the other) into out. */
+void pager_pack_page(const void *blob, const pager_page *page, unsigned char *out);
+
+/* Where pages come from: the pages `pages[0 .. n)` packed one after the
+ * other into out (bytes: their total); false when it failed. */
+typedef bool (*pager_fetch)(void *arg, const int32_t *pages, int n, unsigned char *out,
+                            size_t bytes);
+
+enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
+
+typedef struct {
+    uint64_t touches;      /* pages named by the engine, once an item    */
+    uint64_t faults;       /* pages it named that were not here          */
+    uint64_t requests;     /* fetches (a prefetch of several: one)       */
+    uint64_t pages_fetched;
+    uint64_t bytes_fetched;
+    uint64_t prefetched;   /* pages fetched before a ray needed them     */
+    uint64_t evictions;
+    uint64_t peak_bytes;   /* the resident part and the cache, at most   */
+    uint64_t over_budget_bytes; /* the most an item went over the budget */
+    double wait_s;         /* seconds spent fetching                      */
+} pager_stats;
+
+typedef struct csg_pager {
+    unsigned char *base;   /* the blob's address space: what the engine reads */
+    size_t map_bytes;
+    pager_plan plan;
+    uint64_t budget;       /* bytes: the resident part and the cache      */
+    uint64_t used;         /* the resident part and the cached pages'     */
+    enum pager_policy policy;
+    pager_fetch fetch;
+    void *fetch_arg;
+    uint32_t epoch;        /* the current item's number                   */
+    uint32_t *stamp;       /* a page's last item (pinned when = epoch)     */
+    uint8_t *here;         /* a page is cached                            */
+    int32_t *prev, *next;  /* the cache's order, oldest first: head, tail  */
+    int32_t head, tail;
+    uint64_t *is_page_node; /* a bit a BVH node: entering it needs a page */
+    uint16_t *refs;        /* a 4 KiB memory page's users (the resident
+                              part counts once, for ever)                */
+    unsigned char *buffer; /* a fetch's bytes                             */
+    size_t buffer_cap;
+    bool failed;           /* a fetch failed: the image cannot be trusted */
+    pager_stats stats;
+} csg_pager;
+
+/* The worker's side, from the packed resident part: false (with why) when
+ * it is malformed, the budget is below the resident part, or memory is
+ * short.  The pager is the process's active one until pager_close. */
+bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
+                enum pager_policy policy, pager_fetch fetch, void *fetch_arg, const char **why);
+void pager_close(csg_pager *p);
+
+/* The active pager when `blob` is its address space, else NULL. */
+csg_pager *pager_for(const void *blob);
+
+/* A work item ends: the pages it used, pinned until now, may go; the
+ * cache evicted down to the budget. */
+void pager_item_end(csg_pager *p);
+
+/* The page of BVH node k (a page's top), of root i, of primitive j, here
+ * (fetched if it was not).  The node form is the walks' (the bit test
+ * inline: most nodes are no page's top). */
+void pager_need_page(csg_pager *p, int32_t page);
+void pager_need_node(csg_pager *p, int32_t k);
+static inline void pager_enter_node(csg_pager *p, int32_t k)
+{
+    if (p->is_page_node[(uint32_t)k >> 6] & ((uint64_t)1 << ((uint32_t)k & 63u)))
+        pager_need_node(p, k);
+}
+void pager_need_root(csg_pager *p, int32_t root);
+void pager_need_prim(csg_pager *p, int32_t prim);
+
+/* The pages of the primitives of surfaces surf[0 .. n) (a hetero item's
+ * hit records: the primary pass as the prefetcher) fetched in one
+ * request; CSG_SURF_NONE skipped. */
+void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n);
+
+#endif
