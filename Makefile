@@ -222,7 +222,8 @@ FUZZ_SAN := -fsanitize=address,undefined,float-cast-overflow \
 	-fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer
 FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) $(FT_CFLAGS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
-	workers/engine_common.c workers/tile.c workers/tile_run.c workers/noise.c comm/pixels.c \
+	workers/engine_common.c workers/tile.c workers/tile_run.c workers/pager.c workers/noise.c \
+	comm/pixels.c \
 	comm/tiles.c
 FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)

@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# e2e_paging.sh — a worker's scene below a memory budget (--scene-memory,
+# workers/pager.h): pages of the BVH fetched from rank 0 on demand, an LRU
+# or FIFO cache, hetero items fetching their hit records' pages first.
+#   - at a budget that holds the resident part and two pages (so that
+#     nearly every item evicts), the image is the in-memory render's bit
+#     for bit: serial, homo and hetero (2 workers), float and double, LRU
+#     and FIFO, the prefetch on and off; and the stats show the paging
+#     happened (faults, evictions, the pages' bytes) and stayed within the
+#     budget between items (the most over it is the peak's excess);
+#   - hetero with the pass's records prefetches pages (prefetched > 0),
+#     without the prefetch none;
+#   - the tile log has each item's page faults and wait;
+#   - a budget below the resident part, and --scene-memory with --relays,
+#     are refused with a message (exit 2), no image written.
+# Usage: tests/e2e_paging.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
+set -u
+source "$(dirname "$0")/lib_e2e.sh"
+
+mpi_sandbox
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$PWD/build/pocl-cache}
+MPI=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 3)
+SZ=(--width 64 --height 48 --tile 8)
+SCENE=$T/spheres.pov
+"$BIN" gen spheres --count 1000 --occupancy 0.6 --seed 11 --width 64 --height 48 \
+    --materials opaque,reflective,transparent -o "$SCENE" >/dev/null || ko "gen"
+
+# The in-memory images, and the budget: the resident part and two pages.
+for prec in float double; do
+    "$BIN" render "$SCENE" "${SZ[@]}" --precision $prec -o "$T/full-$prec.pfm" >/dev/null 2>&1 ||
+        ko "in-memory render ($prec)"
+done
+# (a probe at 1 MB: pages of 16 KiB, the smallest, whatever the precision)
+declare -A BUDGET_MB RESIDENT
+for prec in float double; do
+    "$BIN" render "$SCENE" "${SZ[@]}" --precision $prec -o "$T/probe.pfm" --scene-memory 1 \
+        --stats "$T/probe-$prec.json" >/dev/null 2>&1 || ko "probe render ($prec)"
+    read -r resident page pages < <(python3 -c "import json,sys; m=json.load(open(sys.argv[1]))['scene_memory']; print(m['resident_bytes'], m['page_bytes'], m['pages'])" "$T/probe-$prec.json")
+    [ "${pages:-0}" -ge 8 ] && ok "$prec: the scene has $pages pages of $page bytes" ||
+        ko "$prec: the scene has too few pages to page (${pages:-none})"
+    RESIDENT[$prec]=${resident:-0}
+    BUDGET_MB[$prec]=$(python3 -c "print((${resident:-0} + 2 * 16384 + 4096) / 1e6)")
+done
+
+# paged NAME PREC RANKS-PREFIX... -- ARGS: renders with the budget, checks
+# the image and the stats.
+paged() {
+    local name=$1 prec=$2
+    shift 2
+    local out=$T/$name.pfm
+    "$@" "$BIN" render "$SCENE" "${SZ[@]}" --precision $prec --scene-memory "${BUDGET_MB[$prec]}" \
+        -o "$out" --stats "$out.json" --tile-log "$out.log" "${EXTRA[@]}" >/dev/null 2>"$out.err" ||
+        { ko "$name: render failed: $(head -c 300 "$out.err")"; return; }
+    same "$T/full-$prec.pfm" "$out" && ok "$name: the in-memory image, bit for bit" ||
+        ko "$name: the image differs from the in-memory render"
+    json "$out.json" "j['paging']['faults'] > 0 and j['paging']['evictions'] > 0 and j['paging']['bytes'] >= j['paging']['pages'] * 1" &&
+        ok "$name: pages were faulted in and evicted" || ko "$name: no paging happened"
+    json "$out.json" "j['paging']['over_budget_bytes'] == max(0, j['paging']['peak_bytes'] - j['scene_memory']['budget_bytes'])" &&
+        ok "$name: within the budget between items (peak $(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['paging']['peak_bytes'])" "$out.json"))" ||
+        ko "$name: the budget's accounting does not add up"
+}
+
+EXTRA=()
+paged serial-float float
+paged serial-double double
+EXTRA=(--mode homo)
+paged homo-float float "${MPI[@]}"
+paged homo-double double "${MPI[@]}"
+EXTRA=(--mode homo --page-policy fifo)
+paged homo-fifo float "${MPI[@]}"
+EXTRA=(--mode hetero --pass always --fill off)
+paged hetero-float float "${MPI[@]}"
+json "$T/hetero-float.pfm.json" "j['paging']['prefetched'] > 0 and j['scene_memory']['asks_answered'] > 0" &&
+    ok "hetero: the hit records' pages were prefetched" || ko "hetero: nothing prefetched"
+EXTRA=(--mode hetero --pass always --fill off --page-prefetch off)
+paged hetero-noprefetch float "${MPI[@]}"
+json "$T/hetero-noprefetch.pfm.json" "j['paging']['prefetched'] == 0" &&
+    ok "hetero, --page-prefetch off: nothing prefetched" || ko "hetero: prefetched though off"
+EXTRA=(--mode hetero --pass always --fill off)
+paged hetero-double double "${MPI[@]}"
+python3 -c "
+import json, sys
+items = [json.loads(l) for l in open(sys.argv[1])]
+sys.exit(0 if items and all('page_faults' in i and 'page_wait_s' in i for i in items)
+         and sum(i['page_faults'] for i in items) > 0 else 1)" "$T/homo-float.pfm.log" &&
+    ok "the tile log has each item's page faults" || ko "the tile log lacks page faults"
+
+# Refusals.
+low=$(python3 -c "print((${RESIDENT[float]} - 1000) / 1e6)")
+"$BIN" render "$SCENE" "${SZ[@]}" --scene-memory "$low" -o "$T/low.pfm" >/dev/null 2>"$T/low.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "below the scene's resident part" "$T/low.err" && [ ! -e "$T/low.pfm" ] &&
+    ok "a budget below the resident part: refused (exit 2)" ||
+    ko "a budget below the resident part: rc $rc, $(head -c 200 "$T/low.err")"
+timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 5 "$BIN" render "$SCENE" "${SZ[@]}" \
+    --mode homo --relays 2 --scene-memory 1000 -o "$T/relays.pfm" >/dev/null 2>"$T/relays.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "does not apply with --relays" "$T/relays.err" && [ ! -e "$T/relays.pfm" ] &&
+    ok "--scene-memory with --relays: refused (exit 2)" ||
+    ko "--scene-memory with --relays: rc $rc, $(head -c 200 "$T/relays.err")"
+
+e2e_finish

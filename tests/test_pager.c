@@ -1,0 +1,287 @@
+/*
+ * test_pager.c — a worker's scene in pages (workers/pager.h), in process,
+ * the pages fetched from the whole blob by a counting callback:
+ *   - the plan: pages cover the BVH's subtrees with their roots, programs
+ *     and primitives; their ranges and the resident part never overlap
+ *     and add up to the blob; roots and primitives ascend page by page;
+ *   - the pager's address space holds the resident part, and a page's
+ *     bytes once it is needed (by node, root or primitive), equal to the
+ *     blob's;
+ *   - LRU keeps the pages used last and evicts the oldest between items;
+ *     a page used in the current item is pinned, the budget then exceeded
+ *     (and counted); FIFO evicts in fetch order;
+ *   - an image rendered through the pager at a budget of the resident part
+ *     and two pages is the in-memory one, bit for bit;
+ *   - a malformed plan and a budget below the resident part are refused.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "../csg/flatten.h"
+#include "../csg/lang/parser.h"
+#include "../workers/engine.h"
+#include "../workers/pager.h"
+#include "../workers/tile.h"
+
+typedef struct {
+    const void *blob;
+    const pager_plan *plan;
+    int calls;
+} source;
+
+static bool fetch_from(void *arg, const int32_t *pages, int n, unsigned char *out, size_t bytes)
+{
+    source *s = arg;
+    size_t at = 0;
+    s->calls++;
+    for (int i = 0; i < n; i++) {
+        pager_pack_page(s->blob, &s->plan->pages[pages[i]], out + at);
+        at += s->plan->pages[pages[i]].bytes;
+    }
+    return at == bytes;
+}
+
+/* A grid of n x n small spheres of one texture: many roots, few materials. */
+static void grid_blob(int n, csg_blob *b)
+{
+    size_t cap = 256 + (size_t)n * n * 64;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t len = (size_t)snprintf(text, cap,
+                                  "camera { location <0, 0, -30> look_at <0, 0, 0> }\n"
+                                  "light_source { <10, 20, -30> rgb 1 }\n"
+                                  "#declare T = texture { pigment { rgb <1, 0.5, 0.2> } }\n");
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            len += (size_t)snprintf(text + len, cap - len,
+                                    "sphere { <%d, %d, 0>, 0.45 texture { T } }\n", i - n / 2,
+                                    j - n / 2);
+    csg_scene s;
+    csg_diag d = {0};
+    if (!csg_parse_string("grid.pov", text, len, &s, &d))
+        fail_msg("parse: %s", d.message);
+    csg_flatten_opts o = {48, 40, 0, -1, 1, 0};
+    if (!engine_float.flatten(&s, &o, b, &d))
+        fail_msg("flatten: %s", d.message);
+    csg_scene_free(&s);
+    free(text);
+}
+
+static int range_order(const void *x, const void *y)
+{
+    const pager_range *a = x, *b = y;
+    return a->off < b->off ? -1 : a->off > b->off;
+}
+
+static void test_plan(void **state)
+{
+    (void)state;
+    csg_blob b;
+    grid_blob(32, &b);
+    pager_plan plan;
+    const char *why = NULL;
+    assert_true(pager_plan_make(b.bytes, 16384, &plan, &why));
+    assert_true(plan.page_count >= 12);
+    const csg_blob_header *h = (const csg_blob_header *)b.bytes;
+    pager_range *all = malloc((size_t)plan.page_count * PAGER_RANGES * sizeof *all);
+    size_t n = 0;
+    uint64_t paged = 0;
+    int32_t roots = 0, prims = 0;
+    for (int32_t i = 0; i < plan.page_count; i++) {
+        const pager_page *pg = &plan.pages[i];
+        assert_int_equal(pg->root_first, roots); /* (the roots, in order, none missed) */
+        assert_int_equal(pg->prim_first, prims);
+        roots += pg->root_count;
+        prims += pg->prim_count;
+        paged += pg->bytes;
+        for (int r = 0; r < PAGER_RANGES; r++)
+            if (pg->range[r].len > 0)
+                all[n++] = pg->range[r];
+    }
+    assert_int_equal(roots, h->root_count - h->linear_roots);
+    assert_int_equal(prims, h->prim_count);
+    qsort(all, n, sizeof *all, range_order);
+    for (size_t i = 1; i < n; i++) /* disjoint */
+        assert_true(all[i - 1].off + all[i - 1].len <= all[i].off);
+    assert_int_equal(plan.resident_bytes + paged, h->total_size);
+    assert_true(plan.resident_bytes < h->total_size / 2);
+    free(all);
+    pager_plan_free(&plan);
+    csg_blob_free(&b);
+}
+
+/* A pager over b at `budget`, fetching from b (s's counter). */
+static void open_pager(const csg_blob *b, pager_plan *plan, uint64_t budget,
+                       enum pager_policy policy, source *s, csg_pager *p)
+{
+    const char *why = NULL;
+    assert_true(pager_plan_make(b->bytes, 16384, plan, &why));
+    size_t len = 0;
+    void *packed = pager_pack_resident(b->bytes, plan, &len);
+    assert_non_null(packed);
+    *s = (source){b->bytes, plan, 0};
+    assert_true(pager_open(p, packed, len, budget, policy, fetch_from, s, &why));
+    free(packed);
+}
+
+static bool page_bytes_equal(const csg_pager *p, const csg_blob *b, int32_t i)
+{
+    for (int r = 0; r < PAGER_RANGES; r++) {
+        const pager_range *rg = &p->plan.pages[i].range[r];
+        if (memcmp(p->base + rg->off, (const unsigned char *)b->bytes + rg->off, rg->len) != 0)
+            return false;
+    }
+    return true;
+}
+
+static void test_lru_and_pinning(void **state)
+{
+    (void)state;
+    csg_blob b;
+    grid_blob(32, &b);
+    pager_plan plan;
+    source s;
+    csg_pager p;
+    uint64_t page_max = 0;
+    {
+        const char *why = NULL;
+        pager_plan probe;
+        assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
+        for (int32_t i = 0; i < probe.page_count; i++)
+            page_max = probe.pages[i].bytes > page_max ? probe.pages[i].bytes : page_max;
+        open_pager(&b, &plan, probe.resident_bytes + 3 * page_max, PAGER_LRU, &s, &p);
+        pager_plan_free(&probe);
+    }
+    assert_int_equal(memcmp(p.base, b.bytes, sizeof(csg_blob_header)), 0);
+    /* items of one page each: 0, 1, 2, then 0 again (kept: LRU), then 3 */
+    int32_t order[] = {0, 1, 2, 0, 3};
+    for (int k = 0; k < 5; k++) {
+        pager_need_page(&p, order[k]);
+        assert_true(p.here[order[k]]);
+        assert_true(page_bytes_equal(&p, &b, order[k]));
+        pager_item_end(&p);
+    }
+    assert_int_equal(s.calls, 4); /* 0 came back from the cache */
+    assert_false(p.here[1]);      /* the least recently used went */
+    assert_true(p.here[0] && p.here[2] && p.here[3]);
+    assert_true(p.used <= p.budget);
+    /* a root's and a primitive's pages, by their indices */
+    const pager_page *last = &p.plan.pages[p.plan.page_count - 1];
+    pager_need_root(&p, last->root_first + last->root_count - 1);
+    pager_need_prim(&p, last->prim_first);
+    assert_true(p.here[p.plan.page_count - 1]);
+    pager_item_end(&p);
+    /* one item naming five pages: all pinned, the budget exceeded */
+    for (int32_t i = 4; i < 9; i++)
+        pager_need_page(&p, i);
+    for (int32_t i = 4; i < 9; i++)
+        assert_true(p.here[i]);
+    assert_true(p.used > p.budget);
+    assert_true(p.stats.over_budget_bytes > 0);
+    pager_item_end(&p); /* evicted down to the budget */
+    assert_true(p.used <= p.budget);
+    assert_true(p.stats.evictions > 0);
+    pager_close(&p);
+    pager_plan_free(&plan);
+
+    const char *why = NULL;
+    pager_plan probe;
+    assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
+    open_pager(&b, &plan, probe.resident_bytes + 3 * page_max, PAGER_FIFO, &s, &p);
+    pager_plan_free(&probe);
+    for (int k = 0; k < 5; k++) { /* the same uses: FIFO drops 0, fetched first */
+        pager_need_page(&p, order[k]);
+        pager_item_end(&p);
+    }
+    assert_false(p.here[0]);
+    assert_true(p.here[1] && p.here[2] && p.here[3]);
+    pager_close(&p);
+    pager_plan_free(&plan);
+    csg_blob_free(&b);
+}
+
+/* Every pixel through tile_run_rect, reading the blob at `blob`. */
+static float *render(const void *blob, int w, int h)
+{
+    tile_runner tr;
+    assert_true(tile_runner_init(&tr, blob, 8));
+    float *rgb = malloc((size_t)w * h * 3 * sizeof *rgb), *part = malloc(8 * 8 * 3 * sizeof *part);
+    for (int ty = 0; ty < h; ty += 8)
+        for (int tx = 0; tx < w; tx += 8) {
+            tile_rect r = {tx, ty, w - tx < 8 ? w - tx : 8, h - ty < 8 ? h - ty : 8};
+            tile_result res;
+            tile_run_rect(&tr, r, NULL, part, &res);
+            for (int y = 0; y < r.height; y++)
+                memcpy(rgb + ((size_t)(ty + y) * w + tx) * 3, part + (size_t)y * r.width * 3,
+                       (size_t)r.width * 3 * sizeof *rgb);
+        }
+    free(part);
+    tile_runner_free(&tr);
+    return rgb;
+}
+
+static void test_image(void **state)
+{
+    (void)state;
+    csg_blob b;
+    grid_blob(32, &b);
+    pager_plan plan;
+    source s;
+    csg_pager p;
+    const char *why = NULL;
+    pager_plan probe;
+    assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
+    open_pager(&b, &plan, probe.resident_bytes + 2 * 16384, PAGER_LRU, &s, &p);
+    pager_plan_free(&probe);
+    float *whole = render(b.bytes, 48, 40), *paged = render(p.base, 48, 40);
+    assert_memory_equal(whole, paged, (size_t)48 * 40 * 3 * sizeof *whole);
+    assert_true(p.stats.faults > 0 && p.stats.evictions > 0);
+    assert_false(p.failed);
+    free(whole);
+    free(paged);
+    pager_close(&p);
+    pager_plan_free(&plan);
+    csg_blob_free(&b);
+}
+
+static void test_refusals(void **state)
+{
+    (void)state;
+    csg_blob b;
+    grid_blob(16, &b);
+    pager_plan plan;
+    const char *why = NULL;
+    assert_true(pager_plan_make(b.bytes, 16384, &plan, &why));
+    size_t len = 0;
+    unsigned char *packed = pager_pack_resident(b.bytes, &plan, &len);
+    source s = {b.bytes, &plan, 0};
+    csg_pager p;
+    assert_false(pager_open(&p, packed, len, plan.resident_bytes - 1, PAGER_LRU, fetch_from, &s,
+                            &why));
+    assert_non_null(strstr(why, "below the scene's resident part"));
+    assert_false(pager_open(&p, packed, len - 1, plan.resident_bytes, PAGER_LRU, fetch_from, &s,
+                            &why)); /* one byte short */
+    packed[0] ^= 1u; /* not a plan */
+    assert_false(pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fetch_from, &s, &why));
+    assert_non_null(strstr(why, "malformed"));
+    free(packed);
+    pager_plan_free(&plan);
+    csg_blob_free(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_plan),
+        cmocka_unit_test(test_lru_and_pinning),
+        cmocka_unit_test(test_image),
+        cmocka_unit_test(test_refusals),
+    };
+    return cmocka_run_group_tests_name("pager", tests, NULL, NULL);
+}
