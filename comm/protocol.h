@@ -114,8 +114,8 @@ typedef struct {
                               broadcast is the resident part and the
                               page plan, blob_size bytes of it          */
     int32_t page_policy;   /* enum pager_policy                         */
-    int32_t page_prefetch; /* 1: a hetero item's hit records name their
-                              pages first, fetched in one request       */
+    int32_t page_prefetch; /* 1: an item's pages fetched in one request
+                              before its rays (workers/pager.h)         */
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may

@@ -71,7 +71,7 @@ typedef struct {
     /* --scene-memory (workers/pager.h), set before master_share_scene: */
     uint64_t scene_memory;    /* > 0: each worker's scene budget, bytes   */
     int page_policy;          /* enum pager_policy                        */
-    bool page_prefetch;       /* hetero items fetch their hits' pages first */
+    bool page_prefetch;       /* an item's pages fetched before its rays  */
     pager_plan plan;          /* the pages, once shared; served from blob  */
     const void *page_blob;    /* the scene the pages are served from      */
     uint64_t page_asks;       /* page requests answered                   */
@@ -83,8 +83,6 @@ typedef struct master_job {
     const void *local_blob;   /* what rank 0 renders from when it renders
                                  tiles itself: blob, or a pager's address
                                  space (serial --scene-memory)           */
-    bool page_prefetch;       /* local_blob paged: hetero items fetch their
-                                 hits' pages first                        */
     tile_grid grid;           /* the image's tiles                        */
     const void *t;            /* hetero: whole-image records (the blob's  */
     const uint32_t *surf;     /*   real, uint32); t NULL: homo            */

@@ -78,11 +78,13 @@ enum cli_kind {
     X("--scene-memory", NULL, "MB", CLI_REAL, req.scene_memory_mb, 0.001, 1e9, NULL,         \
       CLI_ON_RENDERS, "each worker holds the scene within MB, paged from rank 0 "             \
                       "(default: the whole scene)")                                            \
+    X("--page-size", NULL, "KB|auto", CLI_INT_AUTO, req.page_kb, 4, 65536, NULL,               \
+      CLI_ON_RENDERS, "--scene-memory: the size a page aims at, KiB (default auto)")         \
     X("--page-policy", NULL, "lru|fifo", CLI_CHOICE, req.page_policy, 0, 0, cli_page_policies, \
       CLI_ON_RENDERS, "--scene-memory: the page evicted first (default lru)")                \
     X("--page-prefetch", NULL, "on|off", CLI_SWITCH, req.no_page_prefetch, 0, 0, cli_fill,     \
-      CLI_ON_RENDERS, "--scene-memory, hetero: a work item's hit records fetch their "        \
-                      "pages first (default on)")                                              \
+      CLI_ON_RENDERS, "--scene-memory: an item's pages fetched in one request before its "    \
+                      "rays (default on)")                                                     \
     X("--store-threads", NULL, "N", CLI_INT, req.store_threads, 1, STORE_THREADS_MAX, NULL,    \
       CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default 1)")                    \
     X("--stats", NULL, "FILE.json", CLI_PATH, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \

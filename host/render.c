@@ -351,7 +351,6 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
     tile_runner tr;
     bool ready = tile_runner_init(&tr, job->local_blob ? job->local_blob : job->blob,
                                   job->grid.tile);
-    tr.page_prefetch = job->page_prefetch;
     void *records = job->t ? malloc(tile_records_bytes(&job->grid, job->grid.pixels_max)) : NULL;
     float *rgb = malloc(job->grid.pixels_max * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
@@ -608,7 +607,6 @@ static int render_image(const render_request *req, master_session *ms, render_st
     mk->cl_ready = mk->loaded;
     int status = render_prepare(req, ms, rs, st, mk, &job, d);
     job.local_blob = rs->paged_local ? rs->pager.base : NULL;
-    job.page_prefetch = !req->no_page_prefetch;
     pass_report pr;
     memset(&pr, 0, sizeof pr);
     if (status != EXIT_OK)
@@ -752,7 +750,8 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
                            "need the whole scene)");
         return EXIT_BAD_INPUT;
     }
-    if (!pager_plan_make(rs->blob.bytes, pager_page_bytes_for(budget), &ms->plan, &why)) {
+    uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : pager_page_bytes_for(budget);
+    if (!pager_plan_make(rs->blob.bytes, page, &ms->plan, &why)) {
         csg_error_plain(d, "--scene-memory: %s", why);
         return EXIT_FAILURE_RUN;
     }
@@ -787,6 +786,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
         return EXIT_FAILURE_RUN;
     }
     rs->paged_local = true;
+    rs->pager.prefetch = !req->no_page_prefetch;
     ms->scene_memory = 0; /* (no workers to tell) */
     return EXIT_OK;
 }

@@ -11,7 +11,8 @@
  *     a page used in the current item is pinned, the budget then exceeded
  *     (and counted); FIFO evicts in fetch order;
  *   - an image rendered through the pager at a budget of the resident part
- *     and two pages is the in-memory one, bit for bit;
+ *     and two pages is the in-memory one, bit for bit, with the primary
+ *     rays' pages prefetched and on demand only;
  *   - a malformed plan and a budget below the resident part are refused.
  */
 #include <setjmp.h>
@@ -241,10 +242,16 @@ static void test_image(void **state)
     pager_plan_free(&probe);
     float *whole = render(b.bytes, 48, 40), *paged = render(p.base, 48, 40);
     assert_memory_equal(whole, paged, (size_t)48 * 40 * 3 * sizeof *whole);
-    assert_true(p.stats.faults > 0 && p.stats.evictions > 0);
+    assert_true(p.stats.prefetched > 0 && p.stats.evictions > 0); /* (the primary rays') */
+    uint64_t faults = p.stats.faults;
+    p.prefetch = false; /* on demand only: the same image */
+    float *demand = render(p.base, 48, 40);
+    assert_memory_equal(whole, demand, (size_t)48 * 40 * 3 * sizeof *whole);
+    assert_true(p.stats.faults > faults);
     assert_false(p.failed);
     free(whole);
     free(paged);
+    free(demand);
     pager_close(&p);
     pager_plan_free(&plan);
     csg_blob_free(&b);

@@ -41,6 +41,7 @@
 
 #include "../csg/device/intersect.h"
 #include "engine.h"
+#include "pager.h"
 
 #define FRUSTUM_MAX_ROOTS 16 /* more candidates than this: walk the BVH  */
 
@@ -212,6 +213,41 @@ static inline bool frustum_walk(csg_view v, const frustum *f,
                 return false;
     }
     return true;
+}
+
+/* Paged (workers/pager.h): the pages a walk with rect's pyramid would
+ * enter, fetched in one request before it.  The BVH above the pages and
+ * the pages' top boxes are resident, so which pages the pyramid meets is
+ * known without them: the walk stops at each page's top. */
+static inline void frustum_prefetch_pages(csg_view v, const csg_camera *cam, int width,
+                                          int height, tile_rect rect)
+{
+    enum { TOPS = 1024 };
+    csg_i32 stack[CSG_BVH_STACK + 2], top = 0, tops[TOPS];
+    size_t n = 0;
+    frustum f;
+    if (!v.pager || !v.pager->prefetch || v.bvh_count == 0 ||
+        !frustum_of(cam, width, height, rect, &f))
+        return;
+    stack[top++] = 0;
+    stack[top++] = 1;
+    while (top > 0) {
+        csg_i32 k = stack[--top];
+        const csg_bvh_node *node = &v.bvh[k];
+        if (frustum_culls(&f, node->box, node->box + 3))
+            continue;
+        if (pager_is_page_top(v.pager, k)) {
+            tops[n++] = k;
+            if (n == TOPS) {
+                pager_prefetch_nodes(v.pager, tops, n);
+                n = 0;
+            }
+        } else if (node->count < 0 && top + 2 <= CSG_BVH_STACK + 2) {
+            stack[top++] = node->first;
+            stack[top++] = node->first + 1;
+        }
+    }
+    pager_prefetch_nodes(v.pager, tops, n);
 }
 
 /* The longest candidate list any caller asks for (the OpenCL packet

@@ -514,6 +514,7 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     p->fetch = fetch;
     p->fetch_arg = fetch_arg;
     p->epoch = 1;
+    p->prefetch = true;
     pager_active = p;
     return true;
 }
@@ -677,21 +678,27 @@ static int32_t page_search(const csg_pager *p, size_t offset, int32_t v)
     return found;
 }
 
-void pager_need_node(csg_pager *p, int32_t k)
+static int32_t page_of_node(const csg_pager *p, int32_t k)
 {
     const int32_t *by = p->plan.by_node;
     int32_t lo = 0, hi = p->plan.page_count - 1;
     while (lo <= hi) { /* (the tops' node numbers do not follow the pages' order) */
         int32_t mid = lo + (hi - lo) / 2, node = p->plan.pages[by[mid]].node;
-        if (node == k) {
-            pager_need_page(p, by[mid]);
-            return;
-        }
+        if (node == k)
+            return by[mid];
         if (node < k)
             lo = mid + 1;
         else
             hi = mid - 1;
     }
+    return -1;
+}
+
+void pager_need_node(csg_pager *p, int32_t k)
+{
+    int32_t i = page_of_node(p, k);
+    if (i >= 0)
+        pager_need_page(p, i);
 }
 
 static int32_t page_of_root(const csg_pager *p, int32_t root)
@@ -720,28 +727,47 @@ void pager_need_prim(csg_pager *p, int32_t prim)
         pager_need_page(p, i);
 }
 
-void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n)
+/* Pages list[0 .. n) fetched in one request, those named already in
+ * this item left out; counted as prefetched. */
+static void prefetch(csg_pager *p, int32_t *list, int n)
 {
-    int32_t *list = NULL;
-    int count = 0, cap = 0;
-    for (size_t k = 0; k < n; k++) {
-        int32_t i = surf[k] != CSG_SURF_NONE ? page_of_prim(p, CSG_SURF_PRIM(surf[k])) : -1;
-        if (i < 0 || p->stamp[i] == p->epoch)
-            continue;
-        if (count == cap) {
-            int32_t *grown = realloc(list, (size_t)(cap ? 2 * cap : 16) * sizeof *grown);
-            if (!grown)
-                break; /* (the rest are fetched on demand) */
-            list = grown;
-            cap = cap ? 2 * cap : 16;
-        }
-        if (named(p, i))
-            list[count++] = i;
-    }
+    int count = 0;
+    for (int k = 0; k < n; k++)
+        if (named(p, list[k]))
+            list[count++] = list[k];
     if (count > 0) {
         p->stats.prefetched += (uint64_t)count;
         fetch_pages(p, list, count);
     }
+}
+
+void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n)
+{
+    int32_t *list = malloc((n ? n : 1) * sizeof *list);
+    if (!list)
+        return; /* (fetched on demand) */
+    int count = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t i = page_of_node(p, nodes[k]);
+        if (i >= 0 && p->stamp[i] != p->epoch)
+            list[count++] = i;
+    }
+    prefetch(p, list, count);
+    free(list);
+}
+
+void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n)
+{
+    int32_t *list = malloc((n ? n : 1) * sizeof *list);
+    if (!list)
+        return; /* (fetched on demand) */
+    int count = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t i = surf[k] != CSG_SURF_NONE ? page_of_prim(p, CSG_SURF_PRIM(surf[k])) : -1;
+        if (i >= 0 && p->stamp[i] != p->epoch && (count == 0 || list[count - 1] != i))
+            list[count++] = i;
+    }
+    prefetch(p, list, count);
     free(list);
 }
 

@@ -137,6 +137,10 @@ typedef struct csg_pager {
     unsigned char *buffer; /* a fetch's bytes                             */
     size_t buffer_cap;
     bool failed;           /* a fetch failed: the image cannot be trusted */
+    bool prefetch;         /* an item's pages named before its rays need
+                              them, fetched in one request: a homo item's
+                              primary rays' (frustum.h), a hetero item's
+                              hit records' (tile_run.c); off: on demand  */
     pager_stats stats;
 } csg_pager;
 
@@ -159,9 +163,13 @@ void pager_item_end(csg_pager *p);
  * inline: most nodes are no page's top). */
 void pager_need_page(csg_pager *p, int32_t page);
 void pager_need_node(csg_pager *p, int32_t k);
+static inline bool pager_is_page_top(const csg_pager *p, int32_t k)
+{
+    return (p->is_page_node[(uint32_t)k >> 6] & ((uint64_t)1 << ((uint32_t)k & 63u))) != 0;
+}
 static inline void pager_enter_node(csg_pager *p, int32_t k)
 {
-    if (p->is_page_node[(uint32_t)k >> 6] & ((uint64_t)1 << ((uint32_t)k & 63u)))
+    if (pager_is_page_top(p, k))
         pager_need_node(p, k);
 }
 void pager_need_root(csg_pager *p, int32_t root);
@@ -171,5 +179,8 @@ void pager_need_prim(csg_pager *p, int32_t prim);
  * hit records: the primary pass as the prefetcher) fetched in one
  * request; CSG_SURF_NONE skipped. */
 void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n);
+/* The pages whose tops are BVH nodes nodes[0 .. n), fetched in one
+ * request (a homo item's primary rays: workers/frustum.h). */
+void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n);
 
 #endif

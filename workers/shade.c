@@ -1207,6 +1207,7 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
     real *t = t_out;
     int spp = c.hdr->spp;
     frustum_roots fr; /* the roots the rectangle's rays may hit (frustum.h) */
+    frustum_prefetch_pages(c.view, c.cam, c.hdr->width, c.hdr->height, rect);
     frustum_roots_of(c.view, c.cam, c.hdr->width, c.hdr->height, rect, &fr);
     if (frustum_all_miss(c.view, &fr)) {
         size_t n = (size_t)rect.width * (size_t)rect.height * (size_t)spp;

@@ -17,7 +17,6 @@ bool tile_runner_init(tile_runner *tr, const void *blob, int tile)
     tr->records = malloc(tile_records_bytes(&tr->grid, tr->grid.pixels_max));
     tr->progress = NULL;
     tr->progress_arg = NULL;
-    tr->page_prefetch = true;
     return tr->records != NULL;
 }
 

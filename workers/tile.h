@@ -28,8 +28,6 @@ typedef struct {
      * each depends on its record alone (tile_run.c). */
     void (*progress)(void *arg);
     void *progress_arg;
-    bool page_prefetch; /* paged (workers/pager.h): a hetero item's hit
-                           records fetch their pages first, in one go  */
 } tile_runner;
 
 /* Pixels of a band of rows, about (tile_runner.progress): whole rows of

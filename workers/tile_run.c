@@ -80,7 +80,7 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     pager_stats before;
     if (pager) {
         before = pager->stats;
-        if (!trace && tr->page_prefetch) /* (the records' hits: their pages in one request) */
+        if (!trace && pager->prefetch) /* (the records' hits: their pages in one request) */
             pager_prefetch_hits(pager, (const uint32_t *)(const void *)((const char *)records +
                                                                         n * tr->grid.real_size),
                                 n);

@@ -125,6 +125,7 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
                    (enum pager_policy)setup->page_policy, worker_fetch, NULL, &why)) {
         w->paged = true;
         w->blob = w->pager.base;
+        w->pager.prefetch = setup->page_prefetch != 0;
     } else {
         worker_set_failure(w, "%s", why);
     }
@@ -154,7 +155,6 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     }
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     w->runner.progress = worker_progress; /* (its answers move on meanwhile) */
-    w->runner.page_prefetch = setup->page_prefetch != 0;
     const tile_grid *g = &w->runner.grid;
     if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
         worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
