@@ -111,7 +111,7 @@ TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: sim bench-scale deps-sim
-.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary golden fuzz \
+.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary bench-paging golden fuzz \
 	bench-node \
 	clean install uninstall
 all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker \
@@ -365,6 +365,12 @@ bench-node: deps
 bench-primary: deps
 	$(MAKE) $(B)/csgtrace $(B)/bench/primary_pass
 	bench/primary_pass.sh
+
+# A worker's scene below a memory budget (--scene-memory): the budget swept
+# from the whole scene to 1/64 of it on the SPD's tetra9 (bench/PAGING.md).
+bench-paging: deps
+	$(MAKE) $(B)/csgtrace
+	bench/paging.sh
 
 # Speed versus accuracy (issue 6): every knob against a reference render.
 bench-accuracy: deps
