@@ -117,18 +117,44 @@ static void test_plan(void **state)
     csg_blob_free(&b);
 }
 
-/* A pager over b at `budget`, fetching from b (s's counter). */
-static void open_pager(const csg_blob *b, pager_plan *plan, uint64_t budget,
-                       enum pager_policy policy, source *s, csg_pager *p)
+/* A pager over b whose budget holds the resident part and `room` of its
+ * largest pages, fetching from b (s's counter). */
+static void open_pager(const csg_blob *b, pager_plan *plan, int room, enum pager_policy policy,
+                       source *s, csg_pager *p)
 {
     const char *why = NULL;
     assert_true(pager_plan_make(b->bytes, 16384, plan, &why));
+    uint64_t largest = 0;
+    for (int32_t i = 0; i < plan->page_count; i++)
+        largest = plan->pages[i].bytes > largest ? plan->pages[i].bytes : largest;
     size_t len = 0;
     void *packed = pager_pack_resident(b->bytes, plan, &len);
     assert_non_null(packed);
     *s = (source){b->bytes, plan, 0};
-    assert_true(pager_open(p, packed, len, budget, policy, fetch_from, s, &why));
+    assert_true(pager_open(p, packed, len, plan->resident_bytes + (uint64_t)room * largest, policy,
+                           fetch_from, s, &why));
     free(packed);
+}
+
+/* A 32 x 32 grid's blob and a pager over it (open_pager). */
+typedef struct {
+    csg_blob b;
+    pager_plan plan;
+    source s;
+    csg_pager p;
+} paged_grid;
+
+static void paged_grid_open(paged_grid *g, int room, enum pager_policy policy)
+{
+    grid_blob(32, &g->b);
+    open_pager(&g->b, &g->plan, room, policy, &g->s, &g->p);
+}
+
+static void paged_grid_close(paged_grid *g)
+{
+    pager_close(&g->p);
+    pager_plan_free(&g->plan);
+    csg_blob_free(&g->b);
 }
 
 static bool page_bytes_equal(const csg_pager *p, const csg_blob *b, int32_t i)
@@ -144,67 +170,48 @@ static bool page_bytes_equal(const csg_pager *p, const csg_blob *b, int32_t i)
 static void test_lru_and_pinning(void **state)
 {
     (void)state;
-    csg_blob b;
-    grid_blob(32, &b);
-    pager_plan plan;
-    source s;
-    csg_pager p;
-    uint64_t page_max = 0;
-    {
-        const char *why = NULL;
-        pager_plan probe;
-        assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
-        for (int32_t i = 0; i < probe.page_count; i++)
-            page_max = probe.pages[i].bytes > page_max ? probe.pages[i].bytes : page_max;
-        open_pager(&b, &plan, probe.resident_bytes + 3 * page_max, PAGER_LRU, &s, &p);
-        pager_plan_free(&probe);
-    }
-    assert_int_equal(memcmp(p.base, b.bytes, sizeof(csg_blob_header)), 0);
+    paged_grid g;
+    csg_pager *p = &g.p;
+    paged_grid_open(&g, 3, PAGER_LRU);
+    assert_int_equal(memcmp(p->base, g.b.bytes, sizeof(csg_blob_header)), 0);
     /* items of one page each: 0, 1, 2, then 0 again (kept: LRU), then 3 */
     int32_t order[] = {0, 1, 2, 0, 3};
     for (int k = 0; k < 5; k++) {
-        pager_need_page(&p, order[k]);
-        assert_true(p.here[order[k]]);
-        assert_true(page_bytes_equal(&p, &b, order[k]));
-        pager_item_end(&p);
+        pager_need_page(p, order[k]);
+        assert_true(p->here[order[k]]);
+        assert_true(page_bytes_equal(p, &g.b, order[k]));
+        pager_item_end(p);
     }
-    assert_int_equal(s.calls, 4); /* 0 came back from the cache */
-    assert_false(p.here[1]);      /* the least recently used went */
-    assert_true(p.here[0] && p.here[2] && p.here[3]);
-    assert_true(p.used <= p.budget);
+    assert_int_equal(g.s.calls, 4); /* 0 came back from the cache */
+    assert_false(p->here[1]);       /* the least recently used went */
+    assert_true(p->here[0] && p->here[2] && p->here[3]);
+    assert_true(p->used <= p->budget);
     /* a root's and a primitive's pages, by their indices */
-    const pager_page *last = &p.plan.pages[p.plan.page_count - 1];
-    pager_need_root(&p, last->root_first + last->root_count - 1);
-    pager_need_prim(&p, last->prim_first);
-    assert_true(p.here[p.plan.page_count - 1]);
-    pager_item_end(&p);
+    const pager_page *last = &p->plan.pages[p->plan.page_count - 1];
+    pager_need_root(p, last->root_first + last->root_count - 1);
+    pager_need_prim(p, last->prim_first);
+    assert_true(p->here[p->plan.page_count - 1]);
+    pager_item_end(p);
     /* one item naming five pages: all pinned, the budget exceeded */
     for (int32_t i = 4; i < 9; i++)
-        pager_need_page(&p, i);
+        pager_need_page(p, i);
     for (int32_t i = 4; i < 9; i++)
-        assert_true(p.here[i]);
-    assert_true(p.used > p.budget);
-    assert_true(p.stats.over_budget_bytes > 0);
-    pager_item_end(&p); /* evicted down to the budget */
-    assert_true(p.used <= p.budget);
-    assert_true(p.stats.evictions > 0);
-    pager_close(&p);
-    pager_plan_free(&plan);
+        assert_true(p->here[i]);
+    assert_true(p->used > p->budget);
+    assert_true(p->stats.over_budget_bytes > 0);
+    pager_item_end(p); /* evicted down to the budget */
+    assert_true(p->used <= p->budget);
+    assert_true(p->stats.evictions > 0);
+    paged_grid_close(&g);
 
-    const char *why = NULL;
-    pager_plan probe;
-    assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
-    open_pager(&b, &plan, probe.resident_bytes + 3 * page_max, PAGER_FIFO, &s, &p);
-    pager_plan_free(&probe);
+    paged_grid_open(&g, 3, PAGER_FIFO);
     for (int k = 0; k < 5; k++) { /* the same uses: FIFO drops 0, fetched first */
-        pager_need_page(&p, order[k]);
-        pager_item_end(&p);
+        pager_need_page(p, order[k]);
+        pager_item_end(p);
     }
-    assert_false(p.here[0]);
-    assert_true(p.here[1] && p.here[2] && p.here[3]);
-    pager_close(&p);
-    pager_plan_free(&plan);
-    csg_blob_free(&b);
+    assert_false(p->here[0]);
+    assert_true(p->here[1] && p->here[2] && p->here[3]);
+    paged_grid_close(&g);
 }
 
 /* Every pixel through tile_run_rect, reading the blob at `blob`. */
@@ -230,31 +237,21 @@ static float *render(const void *blob, int w, int h)
 static void test_image(void **state)
 {
     (void)state;
-    csg_blob b;
-    grid_blob(32, &b);
-    pager_plan plan;
-    source s;
-    csg_pager p;
-    const char *why = NULL;
-    pager_plan probe;
-    assert_true(pager_plan_make(b.bytes, 16384, &probe, &why));
-    open_pager(&b, &plan, probe.resident_bytes + 2 * 16384, PAGER_LRU, &s, &p);
-    pager_plan_free(&probe);
-    float *whole = render(b.bytes, 48, 40), *paged = render(p.base, 48, 40);
+    paged_grid g;
+    paged_grid_open(&g, 2, PAGER_LRU);
+    float *whole = render(g.b.bytes, 48, 40), *paged = render(g.p.base, 48, 40);
     assert_memory_equal(whole, paged, (size_t)48 * 40 * 3 * sizeof *whole);
-    assert_true(p.stats.prefetched > 0 && p.stats.evictions > 0); /* (the primary rays') */
-    uint64_t faults = p.stats.faults;
-    p.prefetch = false; /* on demand only: the same image */
-    float *demand = render(p.base, 48, 40);
+    assert_true(g.p.stats.prefetched > 0 && g.p.stats.evictions > 0); /* (the primary rays') */
+    uint64_t faults = g.p.stats.faults;
+    g.p.prefetch = false; /* on demand only: the same image */
+    float *demand = render(g.p.base, 48, 40);
     assert_memory_equal(whole, demand, (size_t)48 * 40 * 3 * sizeof *whole);
-    assert_true(p.stats.faults > faults);
-    assert_false(p.failed);
+    assert_true(g.p.stats.faults > faults);
+    assert_false(g.p.failed);
     free(whole);
     free(paged);
     free(demand);
-    pager_close(&p);
-    pager_plan_free(&plan);
-    csg_blob_free(&b);
+    paged_grid_close(&g);
 }
 
 static void test_refusals(void **state)

@@ -727,48 +727,47 @@ void pager_need_prim(csg_pager *p, int32_t prim)
         pager_need_page(p, i);
 }
 
-/* Pages list[0 .. n) fetched in one request, those named already in
- * this item left out; counted as prefetched. */
-static void prefetch(csg_pager *p, int32_t *list, int n)
+/* The pages of items[0 .. n) (page_at: an item's page, or -1) fetched in
+ * one request, those named already in this item left out; counted as
+ * prefetched.  Out of memory for the list: fetched on demand. */
+static void prefetch(csg_pager *p, const void *items, size_t n,
+                     int32_t (*page_at)(const csg_pager *p, const void *items, size_t k))
 {
+    int32_t *list = malloc((n ? n : 1) * sizeof *list);
+    if (!list)
+        return;
     int count = 0;
-    for (int k = 0; k < n; k++)
-        if (named(p, list[k]))
-            list[count++] = list[k];
+    for (size_t k = 0; k < n; k++) {
+        int32_t i = page_at(p, items, k);
+        if (i >= 0 && named(p, i))
+            list[count++] = i;
+    }
     if (count > 0) {
         p->stats.prefetched += (uint64_t)count;
         fetch_pages(p, list, count);
     }
+    free(list);
+}
+
+static int32_t page_at_node(const csg_pager *p, const void *nodes, size_t k)
+{
+    return page_of_node(p, ((const int32_t *)nodes)[k]);
+}
+
+static int32_t page_at_hit(const csg_pager *p, const void *surf, size_t k)
+{
+    uint32_t s = ((const uint32_t *)surf)[k];
+    return s != CSG_SURF_NONE ? page_of_prim(p, CSG_SURF_PRIM(s)) : -1;
 }
 
 void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n)
 {
-    int32_t *list = malloc((n ? n : 1) * sizeof *list);
-    if (!list)
-        return; /* (fetched on demand) */
-    int count = 0;
-    for (size_t k = 0; k < n; k++) {
-        int32_t i = page_of_node(p, nodes[k]);
-        if (i >= 0 && p->stamp[i] != p->epoch)
-            list[count++] = i;
-    }
-    prefetch(p, list, count);
-    free(list);
+    prefetch(p, nodes, n, page_at_node);
 }
 
 void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n)
 {
-    int32_t *list = malloc((n ? n : 1) * sizeof *list);
-    if (!list)
-        return; /* (fetched on demand) */
-    int count = 0;
-    for (size_t k = 0; k < n; k++) {
-        int32_t i = surf[k] != CSG_SURF_NONE ? page_of_prim(p, CSG_SURF_PRIM(surf[k])) : -1;
-        if (i >= 0 && p->stamp[i] != p->epoch && (count == 0 || list[count - 1] != i))
-            list[count++] = i;
-    }
-    prefetch(p, list, count);
-    free(list);
+    prefetch(p, surf, n, page_at_hit);
 }
 
 void pager_item_end(csg_pager *p)
