@@ -41,7 +41,8 @@ trap 'rm -rf "$WORK"' EXIT
 if [ -z "$SCENE" ]; then
     NFF=${SPD_NFF:-../shared/nff}
     [ -f "$NFF/tetra8.nff" ] || { echo "paging.sh: $NFF/tetra8.nff not found (--scene FILE)" >&2; exit 2; }
-    SCENE=$OUT/tetra9.nff
+    mkdir -p build/bench
+    SCENE=build/bench/tetra9.nff
     [ -f "$SCENE" ] || python3 bench/spd_subdivide.py "$NFF/tetra8.nff" 1 "$SCENE" ||
         { echo "paging.sh: cannot make tetra9" >&2; exit 2; }
 fi
@@ -56,7 +57,8 @@ BLOB=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['blob_byt
 # The configurations: NAME MODE FRACTION (0: in memory) EXTRA...
 configs=("memory-homo homo 0" "memory-hetero hetero 0")
 for f in $FRACTIONS; do
-    configs+=("homo-1/$f homo $f" "hetero-1/$f hetero $f" "hetero-noprefetch-1/$f hetero $f --page-prefetch off")
+    configs+=("homo-1/$f homo $f" "homo-noprefetch-1/$f homo $f --page-prefetch off"
+        "hetero-1/$f hetero $f" "hetero-noprefetch-1/$f hetero $f --page-prefetch off")
 done
 configs+=("homo-fifo-1/8 homo 8 --page-policy fifo" "hetero-fifo-1/8 hetero 8 --page-policy fifo")
 

@@ -986,7 +986,9 @@ static link_status link_in_next(int source, link_msg *m)
  * dies in the middle of a large message never completes it, on TCP);
  * LINK_LOST when the peer is gone first: the request stays MPI's.  For the
  * scene's chunks (link_bcast), which nothing else receives meanwhile. */
-static link_status link_recv_on(MPI_Comm comm, char *data, int count, int source, int tag)
+/* link_recv_on, its naps at most nap_max_ns. */
+static link_status link_recv_within(MPI_Comm comm, char *data, int count, int source, int tag,
+                                    long nap_max_ns)
 {
     MPI_Request rq;
     MPI_Status st;
@@ -994,7 +996,7 @@ static link_status link_recv_on(MPI_Comm comm, char *data, int count, int source
     link_status status = LINK_OK;
     if (MPI_Irecv(data, count, MPI_BYTE, source, tag, comm, &rq) != MPI_SUCCESS)
         return LINK_ERROR;
-    link_idle_init(&w, LINK_NAP_MAX_NS, LINK_SPINS);
+    link_idle_init(&w, nap_max_ns, LINK_SPINS);
     for (;;) {
         int flag = 0, got = -1;
         if (MPI_Test(&rq, &flag, &st) != MPI_SUCCESS)
@@ -1011,6 +1013,11 @@ static link_status link_recv_on(MPI_Comm comm, char *data, int count, int source
     }
     link_idle_free(&w);
     return status;
+}
+
+static link_status link_recv_on(MPI_Comm comm, char *data, int count, int source, int tag)
+{
+    return link_recv_within(comm, data, count, source, tag, LINK_NAP_MAX_NS);
 }
 
 static int link_source(int source)
@@ -1500,6 +1507,7 @@ void link_abort(int code)
  * the worker is lost. */
 #define LINK_TAG_PAGE_ASK 32001
 #define LINK_TAG_PAGE 32002
+#define LINK_PAGE_NAP_NS 10000L /* a worker waiting for a page naps at most this */
 #define LINK_PAGE_SENDS 64 /* answers in flight at once (one a worker at most) */
 
 static struct {
@@ -1515,7 +1523,10 @@ bool link_page_fetch(const int32_t *pages, int n, void *out, size_t bytes)
         MPI_Send(pages, n * (int)sizeof *pages, MPI_BYTE, LINK_MASTER, LINK_TAG_PAGE_ASK,
                  link_w.bcast_comm) != MPI_SUCCESS)
         return false;
-    return link_recv_on(link_w.bcast_comm, out, (int)bytes, LINK_MASTER, LINK_TAG_PAGE) == LINK_OK;
+    /* (short naps: the answer is tens of microseconds away, and the ray
+     * cannot go on without it) */
+    return link_recv_within(link_w.bcast_comm, out, (int)bytes, LINK_MASTER, LINK_TAG_PAGE,
+                            LINK_PAGE_NAP_NS) == LINK_OK;
 }
 
 /* The sends done (or given up on: the worker is lost) freed; a free slot,

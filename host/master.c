@@ -78,6 +78,7 @@
 
 #define MASTER_NAP_FIRST_NS 50000L  /* before any item came back            */
 #define MASTER_NAP_MIN_NS 2000L
+#define MASTER_PAGE_NAP_NS 10000L /* paging: an ASK waits half a nap on average */
 #define MASTER_SPINS 50
 
 void master_begin(master_session *m, int ranks)
@@ -855,6 +856,8 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
                 break; /* every worker lost: the caller does the rest */
         }
         idle->nap_max_ns = master_nap_cap(L->job);
+        if (L->m->page_blob && idle->nap_max_ns > MASTER_PAGE_NAP_NS)
+            idle->nap_max_ns = MASTER_PAGE_NAP_NS; /* (a worker's ray waits on each ASK) */
         link_idle_step(idle);
     }
     link_msg_free(&msg);

@@ -79,7 +79,7 @@ enum cli_kind {
       CLI_ON_RENDERS, "each worker holds the scene within MB, paged from rank 0 "             \
                       "(default: the whole scene)")                                            \
     X("--page-size", NULL, "KB|auto", CLI_INT_AUTO, req.page_kb, 4, 65536, NULL,               \
-      CLI_ON_RENDERS, "--scene-memory: the size a page aims at, KiB (default auto)")         \
+      CLI_ON_RENDERS, "--scene-memory: the size a page aims at, KiB (default auto: a 512th of the budget, 16 to 128)")         \
     X("--page-policy", NULL, "lru|fifo", CLI_CHOICE, req.page_policy, 0, 0, cli_page_policies, \
       CLI_ON_RENDERS, "--scene-memory: the page evicted first (default lru)")                \
     X("--page-prefetch", NULL, "on|off", CLI_SWITCH, req.no_page_prefetch, 0, 0, cli_fill,     \

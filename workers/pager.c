@@ -228,8 +228,8 @@ static bool choose_pages(const blob_arrays *a, const int32_t *prim_lo, const int
 
 uint64_t pager_page_bytes_for(uint64_t budget)
 {
-    uint64_t b = budget / 64;
-    return b < 16384 ? 16384 : b > (1u << 20) ? (1u << 20) : b;
+    uint64_t b = budget / 512;
+    return b < 16384 ? 16384 : b > (128u << 10) ? (128u << 10) : b;
 }
 
 bool pager_plan_make(const void *blob, uint64_t page_bytes, pager_plan *plan, const char **why)

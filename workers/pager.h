@@ -87,7 +87,8 @@ typedef struct {
 bool pager_plan_make(const void *blob, uint64_t page_bytes, pager_plan *plan, const char **why);
 void pager_plan_free(pager_plan *plan);
 
-/* The page size for a budget: a 64th of it, within 16 KiB .. 1 MiB. */
+/* The page size for a budget: a 512th of it, within 16 .. 128 KiB
+ * (bench/PAGING.md: larger pages move more bytes than they save faults). */
 uint64_t pager_page_bytes_for(uint64_t budget);
 
 /* The resident part and the plan in one buffer (malloc'd, *len bytes), as
