@@ -63,7 +63,7 @@ done
 configs+=("homo-fifo-1/8 homo 8 --page-policy fifo" "hetero-fifo-1/8 hetero 8 --page-policy fifo")
 
 CSV=$OUT/paging.csv
-echo "config,mode,fraction,round,wall_s,tile_phase_s,faults,requests,pages,prefetched,touches,hit_rate,wait_s,bytes,peak_bytes,over_budget_bytes,identical" >"$CSV"
+echo "config,mode,fraction,round,wall_s,tile_phase_s,faults,requests,pages,prefetched,touches,hit_rate,wait_s,bytes,peak_bytes,over_budget_bytes,memory_peak_bytes,identical" >"$CSV"
 for ((round = 1; round <= RUNS; round++)); do
     for c in "${configs[@]}"; do
         read -r name mode frac extra <<<"$c"
@@ -92,7 +92,7 @@ g = lambda k: p.get(k, 0)
 print(",".join(str(x) for x in [sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], j["wall_s"],
       j["tile_phase_s"], g("faults"), g("requests"), g("pages"), g("prefetched"), g("touches"),
       g("hit_rate") if p else 1, g("wait_s"), g("bytes"), g("peak_bytes"),
-      g("over_budget_bytes"), sys.argv[6]]))
+      g("over_budget_bytes"), g("memory_peak_bytes"), sys.argv[6]]))
 EOF
     done
 done
@@ -109,18 +109,19 @@ def med(rs, k):
     return statistics.median(v), v[0], v[-1]
 base = {m: med(by["memory-" + m], "tile_phase_s")[0] for m in ("homo", "hetero") if "memory-" + m in by}
 print("blob: %.1f MB" % (blob / 1e6))
-print("| config | budget | tile phase (median, min-max) | vs in memory | frame | faults | pages fetched | prefetched | hit rate | wait s | peak MB | over budget MB | identical |")
-print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+print("| config | budget | tile phase (median, min-max) | vs in memory | frame | faults | requests | pages fetched | prefetched | hit rate | wait s | peak MB (cache) | memory MB | identical |")
+print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
 for name, rs in by.items():
     t, lo, hi = med(rs, "tile_phase_s")
     w = med(rs, "wall_s")[0]
     f = rs[0]["fraction"]
     speed = base[rs[0]["mode"]] / t if t > 0 else 0
-    print("| %s | %s | %.3f s (%.3f-%.3f) | %.0f %% | %.3f s | %d | %d | %d | %.3f | %.3f | %.1f | %.2f | %s |" % (
+    print("| %s | %s | %.3f s (%.3f-%.3f) | %.0f %% | %.3f s | %d | %d | %d | %d | %.3f | %.3f | %.1f | %.1f | %s |" % (
         name, "whole" if f == "0" else "%.2f MB" % (blob / float(f) / 1e6), t, lo, hi, 100 * speed, w,
-        statistics.median(int(r["faults"]) for r in rs), statistics.median(int(r["pages"]) for r in rs),
+        statistics.median(int(r["faults"]) for r in rs), statistics.median(int(r["requests"]) for r in rs),
+        statistics.median(int(r["pages"]) for r in rs),
         statistics.median(int(r["prefetched"]) for r in rs),
         statistics.median(float(r["hit_rate"]) for r in rs), med(rs, "wait_s")[0],
-        max(int(r["peak_bytes"]) for r in rs) / 1e6, max(int(r["over_budget_bytes"]) for r in rs) / 1e6,
+        max(int(r["peak_bytes"]) for r in rs) / 1e6, max(int(r["memory_peak_bytes"]) for r in rs) / 1e6,
         "yes" if all(r["identical"] == "true" for r in rs) else "NO"))
 EOF

@@ -39,6 +39,7 @@ typedef struct {
     uint64_t bytes;       /* bytes fetched                              */
     uint64_t peak_bytes;  /* the most scene memory held (a maximum)     */
     uint64_t over_bytes;  /* the most an item went over the budget (a maximum) */
+    uint64_t memory_bytes; /* the most memory pages held (a maximum)   */
     double wait_s;        /* seconds waiting for pages                  */
 } page_counts;
 
@@ -53,6 +54,7 @@ static inline void page_counts_add(page_counts *sum, const page_counts *c)
     sum->bytes += c->bytes;
     sum->peak_bytes = c->peak_bytes > sum->peak_bytes ? c->peak_bytes : sum->peak_bytes;
     sum->over_bytes = c->over_bytes > sum->over_bytes ? c->over_bytes : sum->over_bytes;
+    sum->memory_bytes = c->memory_bytes > sum->memory_bytes ? c->memory_bytes : sum->memory_bytes;
     sum->wait_s += c->wait_s;
 }
 

@@ -751,7 +751,12 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
         return EXIT_BAD_INPUT;
     }
     uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : pager_page_bytes_for(budget);
-    if (!pager_plan_make(rs->blob.bytes, page, &ms->plan, &why)) {
+    bool laid_out = pager_relayout(rs->blob.bytes, page, &why);
+    if (laid_out && !csg_blob_valid(rs->blob.bytes, rs->blob.size)) {
+        laid_out = false; /* (a bug: the same tree, renumbered) */
+        why = "the BVH laid out for paging is not valid";
+    }
+    if (!laid_out || !pager_plan_make(rs->blob.bytes, page, &ms->plan, &why)) {
         csg_error_plain(d, "--scene-memory: %s", why);
         return EXIT_FAILURE_RUN;
     }

@@ -99,12 +99,13 @@ static void stats_paging(FILE *f, const page_counts *c)
 {
     fprintf(f, "{\"touches\": %llu, \"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
                "\"prefetched\": %llu, \"evictions\": %llu, \"bytes\": %llu, "
-               "\"peak_bytes\": %llu, \"over_budget_bytes\": %llu, \"hit_rate\": ",
+               "\"peak_bytes\": %llu, \"over_budget_bytes\": %llu, \"memory_peak_bytes\": %llu, "
+               "\"hit_rate\": ",
             (unsigned long long)c->touches, (unsigned long long)c->faults,
             (unsigned long long)c->requests, (unsigned long long)c->pages,
             (unsigned long long)c->prefetched, (unsigned long long)c->evictions,
             (unsigned long long)c->bytes, (unsigned long long)c->peak_bytes,
-            (unsigned long long)c->over_bytes);
+            (unsigned long long)c->over_bytes, (unsigned long long)c->memory_bytes);
     stats_number(f, c->touches > 0 ? 1.0 - (double)c->pages / (double)c->touches : 1.0);
     fputs(", \"wait_s\": ", f);
     stats_number(f, c->wait_s);

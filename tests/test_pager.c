@@ -254,6 +254,51 @@ static void test_image(void **state)
     paged_grid_close(&g);
 }
 
+/* Memory pages a pager over b holds for the resident part alone. */
+static uint64_t resident_memory(const csg_blob *b)
+{
+    pager_plan plan;
+    const char *why = NULL;
+    assert_true(pager_plan_make(b->bytes, 16384, &plan, &why));
+    size_t len = 0;
+    void *packed = pager_pack_resident(b->bytes, &plan, &len);
+    source s = {b->bytes, &plan, 0};
+    csg_pager p;
+    assert_true(pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fetch_from, &s, &why));
+    uint64_t bytes = p.mapped * 4096;
+    free(packed);
+    pager_close(&p);
+    pager_plan_free(&plan);
+    return bytes;
+}
+
+/* The BVH laid out for paging: still a valid blob, the same image bit for
+ * bit, and its resident nodes one run, so that the resident part holds
+ * a few memory pages more than its bytes (each array's first and last),
+ * not one a pair of pages as in the flattener's layout. */
+static void test_relayout(void **state)
+{
+    (void)state;
+    csg_blob b;
+    grid_blob(64, &b);
+    float *before = render(b.bytes, 48, 40);
+    uint64_t scattered = resident_memory(&b);
+    const char *why = NULL;
+    assert_true(pager_relayout(b.bytes, 16384, &why));
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    float *after = render(b.bytes, 48, 40);
+    assert_memory_equal(before, after, (size_t)48 * 40 * 3 * sizeof *before);
+    pager_plan plan;
+    assert_true(pager_plan_make(b.bytes, 16384, &plan, &why));
+    uint64_t laid_out = resident_memory(&b);
+    assert_true(laid_out < plan.resident_bytes + 24 * 4096);
+    assert_true(laid_out < scattered);
+    pager_plan_free(&plan);
+    free(before);
+    free(after);
+    csg_blob_free(&b);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -285,6 +330,7 @@ int main(void)
         cmocka_unit_test(test_plan),
         cmocka_unit_test(test_lru_and_pinning),
         cmocka_unit_test(test_image),
+        cmocka_unit_test(test_relayout),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests_name("pager", tests, NULL, NULL);

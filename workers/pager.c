@@ -68,12 +68,13 @@ static int32_t root_node_count(const blob_arrays *a, int32_t i)
 
 /* ---- the plan --------------------------------------------------------------------- */
 
-/* What a subtree holds: its nodes below its top (first .. end), its
- * leaves' roots (root_lo .. root_hi), and their bytes with their programs
- * and primitives. */
+/* What a subtree holds: its nodes below its top (end - below .. end when
+ * `whole`: one run of the array), its leaves' roots (root_lo .. root_hi),
+ * and their bytes with their programs and primitives. */
 typedef struct {
     int32_t end, root_lo, root_hi, below;
     uint64_t bytes;
+    bool whole;
 } subtree;
 
 /* The primitives of roots lo .. hi - 1: prim_lo[lo] .. prim_hi[hi - 1]
@@ -110,17 +111,17 @@ static uint64_t roots_bytes(const blob_arrays *a, const int32_t *prim_lo, const 
 }
 
 /* Each node's subtree, children before parents (they come after them in
- * the array); false when the layout is not the depth-first one pager.h
- * relies on. */
+ * the array); false when the tree or its leaves' roots are not in the
+ * order pager.h relies on.  A subtree whose nodes are not one run (above
+ * the pages once pager_relayout moved them) is not `whole`: no page. */
 static bool subtrees(const blob_arrays *a, const int32_t *prim_lo, const int32_t *prim_hi,
                      subtree *s)
 {
     int32_t n = a->h->bvh_count;
     for (int32_t k = n - 1; k >= 0; k--) {
         int32_t first = bvh_first(a, k), count = bvh_count(a, k);
-        if (count >= 0) { /* a leaf */
-            s[k] = (subtree){first, count > 0 ? first : 0, count > 0 ? first + count : 0, 0, 0};
-            s[k].end = first; /* (no nodes below: an empty range) */
+        if (count >= 0) { /* a leaf: no nodes below */
+            s[k] = (subtree){0, count > 0 ? first : 0, count > 0 ? first + count : 0, 0, 0, true};
             s[k].bytes = roots_bytes(a, prim_lo, prim_hi, s[k].root_lo, s[k].root_hi);
             continue;
         }
@@ -130,14 +131,13 @@ static bool subtrees(const blob_arrays *a, const int32_t *prim_lo, const int32_t
         subtree t;
         t.below = 2 + l->below + r->below;
         t.end = first + 2;
+        t.whole = l->whole && r->whole;
         if (l->below > 0) {
-            if (first + 2 != l->end - l->below)
-                return false;
+            t.whole = t.whole && first + 2 == l->end - l->below;
             t.end = l->end;
         }
         if (r->below > 0) {
-            if (t.end != r->end - r->below)
-                return false;
+            t.whole = t.whole && t.end == r->end - r->below;
             t.end = r->end;
         }
         bool l_empty = l->root_hi <= l->root_lo, r_empty = r->root_hi <= r->root_lo;
@@ -203,7 +203,7 @@ static bool choose_pages(const blob_arrays *a, const int32_t *prim_lo, const int
         const subtree *t = &s[k];
         if (t->bytes == 0)
             continue; /* (the empty leaf) */
-        if (t->bytes > page_bytes && bvh_count(a, k) < 0) {
+        if ((t->bytes > page_bytes || !t->whole) && bvh_count(a, k) < 0) {
             int32_t first = bvh_first(a, k);
             if (top + 2 > 2 * (CSG_BVH_STACK + 2))
                 break;
@@ -224,6 +224,97 @@ static bool choose_pages(const blob_arrays *a, const int32_t *prim_lo, const int
     }
     free(stack);
     return top == 0;
+}
+
+/* ---- the BVH laid out for paging ----------------------------------------------------
+ * The flattener stores the BVH depth first, a pair's subtrees after it, so
+ * the pairs above the pages lie between the pages' subtrees: each would
+ * hold a memory page of the resident part among pages that come and go
+ * (a 16 KiB-page plan of tetra10: 1 MB of resident nodes on 16 MB of
+ * memory pages).  pager_relayout moves them first: the pairs above the
+ * pages, in their order, then each page's subtree, in the pages' order,
+ * the children indices renumbered.  Pairs stay pairs, in their order, and
+ * every box and leaf is the same, so a walk visits the same nodes in the
+ * same order: the images do not change. */
+
+static void bvh_set_first(const blob_arrays *a, unsigned char *bvh, int32_t k, int32_t first)
+{
+    memcpy(bvh + (uint64_t)k * a->bvh_size, &first, sizeof first);
+}
+
+/* The new index of every node (map), the pairs above the pages first. */
+static bool relayout_map(const blob_arrays *a, const subtree *s, const pager_plan *plan,
+                         int32_t *map)
+{
+    int32_t n = a->h->bvh_count, next = 0;
+    unsigned char *below = calloc((size_t)n, 1); /* a node inside a page's subtree */
+    if (!below)
+        return false;
+    for (int32_t i = 0; i < plan->page_count; i++) {
+        int32_t k = plan->pages[i].node;
+        for (int32_t j = s[k].end - s[k].below; j < s[k].end; j++)
+            below[j] = 1;
+    }
+    unsigned char *pair = calloc((size_t)n, 1); /* a pair starts here */
+    if (!pair) {
+        free(below);
+        return false;
+    }
+    pair[0] = 1;
+    for (int32_t k = 0; k < n; k++)
+        if (bvh_count(a, k) < 0)
+            pair[bvh_first(a, k)] = 1;
+    for (int32_t k = 0; k < n; k++) /* the pairs above the pages, in order */
+        if (pair[k] && !below[k]) {
+            map[k] = next++;
+            map[k + 1] = next++;
+        }
+    free(pair);
+    for (int32_t i = 0; i < plan->page_count; i++) { /* each page's subtree, whole */
+        int32_t k = plan->pages[i].node;
+        for (int32_t j = s[k].end - s[k].below; j < s[k].end; j++)
+            map[j] = next++;
+    }
+    free(below);
+    return next == n;
+}
+
+bool pager_relayout(void *blob, uint64_t page_bytes, const char **why)
+{
+    blob_arrays a = arrays_of(blob);
+    int32_t n = a.h->bvh_count;
+    pager_plan plan;
+    if (n == 0)
+        return true;
+    if (!pager_plan_make(blob, page_bytes, &plan, why))
+        return false;
+    size_t roots = (size_t)a.h->root_count + 1;
+    int32_t *prim_lo = malloc(roots * sizeof *prim_lo), *prim_hi = malloc(roots * sizeof *prim_hi);
+    int32_t *map = malloc((size_t)n * sizeof *map);
+    subtree *s = malloc((size_t)n * sizeof *s);
+    unsigned char *old = malloc((size_t)n * a.bvh_size);
+    bool ok = prim_lo && prim_hi && map && s && old && root_prims(&a, prim_lo, prim_hi) &&
+              subtrees(&a, prim_lo, prim_hi, s) && relayout_map(&a, s, &plan, map);
+    *why = "out of memory to lay out the scene's BVH for paging";
+    if (ok) {
+        unsigned char *bvh = (unsigned char *)blob + a.h->off_bvh;
+        memcpy(old, bvh, (size_t)n * a.bvh_size);
+        for (int32_t k = 0; k < n; k++) {
+            memcpy(bvh + (uint64_t)map[k] * a.bvh_size, old + (uint64_t)k * a.bvh_size, a.bvh_size);
+            int32_t first, count;
+            memcpy(&first, old + (uint64_t)k * a.bvh_size, sizeof first);
+            memcpy(&count, old + (uint64_t)k * a.bvh_size + 4, sizeof count);
+            if (count < 0)
+                bvh_set_first(&a, bvh, map[k], map[first]);
+        }
+    }
+    free(prim_lo);
+    free(prim_hi);
+    free(map);
+    free(s);
+    free(old);
+    pager_plan_free(&plan);
+    return ok;
 }
 
 uint64_t pager_page_bytes_for(uint64_t budget)
@@ -404,6 +495,7 @@ static void refs_add(csg_pager *p, const pager_range *r, int delta)
     uint64_t first = r->off / OS_PAGE, last = (r->off + r->len - 1) / OS_PAGE;
     uint64_t run = 0, run_len = 0; /* a run of memory pages to give back */
     for (uint64_t k = first; k <= last; k++) {
+        p->mapped += (p->refs[k] == 0) - (p->refs[k] + delta == 0);
         p->refs[k] = (uint16_t)(p->refs[k] + delta);
         if (delta < 0 && p->refs[k] == 0) {
             if (run_len == 0)
@@ -498,8 +590,10 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
         memcpy(p->base + res[i].off, bytes + at, res[i].len);
         at += res[i].len;
         if (res[i].len > 0) /* (the resident part: one user, for ever) */
-            for (uint64_t k = res[i].off / OS_PAGE; k <= (res[i].off + res[i].len - 1) / OS_PAGE; k++)
+            for (uint64_t k = res[i].off / OS_PAGE; k <= (res[i].off + res[i].len - 1) / OS_PAGE; k++) {
+                p->mapped += p->refs[k] == 0;
                 p->refs[k] = 1;
+            }
     }
     for (int32_t i = 0; i < w.page_count; i++) {
         uint32_t k = (uint32_t)p->plan.pages[i].node;
@@ -510,6 +604,7 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
     p->budget = budget;
     p->used = p->stats.peak_bytes = w.resident_bytes;
+    p->stats.peak_memory_bytes = p->mapped * OS_PAGE;
     p->policy = policy;
     p->fetch = fetch;
     p->fetch_arg = fetch_arg;
@@ -631,6 +726,8 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
     }
     if (p->used > p->stats.peak_bytes)
         p->stats.peak_bytes = p->used;
+    if (p->mapped * OS_PAGE > p->stats.peak_memory_bytes)
+        p->stats.peak_memory_bytes = p->mapped * OS_PAGE;
     if (p->used > p->budget && p->used - p->budget > p->stats.over_budget_bytes)
         p->stats.over_budget_bytes = p->used - p->budget;
 }

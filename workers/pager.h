@@ -87,6 +87,12 @@ typedef struct {
 bool pager_plan_make(const void *blob, uint64_t page_bytes, pager_plan *plan, const char **why);
 void pager_plan_free(pager_plan *plan);
 
+/* The blob's BVH laid out for pages of about page_bytes (rank 0, before
+ * pager_plan_make with the same size): the nodes above the pages first,
+ * then each page's subtree, so that the resident part is one run of the
+ * array; the same tree, the same images.  False (why) as the plan. */
+bool pager_relayout(void *blob, uint64_t page_bytes, const char **why);
+
 /* The page size for a budget: a 512th of it, within 16 .. 128 KiB
  * (bench/PAGING.md: larger pages move more bytes than they save faults). */
 uint64_t pager_page_bytes_for(uint64_t budget);
@@ -115,6 +121,8 @@ typedef struct {
     uint64_t evictions;
     uint64_t peak_bytes;   /* the resident part and the cache, at most   */
     uint64_t over_budget_bytes; /* the most an item went over the budget */
+    uint64_t peak_memory_bytes; /* the most memory pages (4 KiB) in use:
+                                   what the process really held          */
     double wait_s;         /* seconds spent fetching                      */
 } pager_stats;
 
@@ -135,6 +143,7 @@ typedef struct csg_pager {
     uint64_t *is_page_node; /* a bit a BVH node: entering it needs a page */
     uint16_t *refs;        /* a 4 KiB memory page's users (the resident
                               part counts once, for ever)                */
+    uint64_t mapped;       /* memory pages in use (refs > 0)             */
     unsigned char *buffer; /* a fetch's bytes                             */
     size_t buffer_cap;
     bool failed;           /* a fetch failed: the image cannot be trusted */

@@ -66,7 +66,7 @@ static page_counts tile_paging(const pager_stats *before, const pager_stats *now
                      now->requests - before->requests, now->pages_fetched - before->pages_fetched,
                      now->prefetched - before->prefetched, now->evictions - before->evictions,
                      now->bytes_fetched - before->bytes_fetched, now->peak_bytes,
-                     now->over_budget_bytes, now->wait_s - before->wait_s};
+                     now->over_budget_bytes, now->peak_memory_bytes, now->wait_s - before->wait_s};
     return c;
 }
 
