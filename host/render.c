@@ -720,17 +720,19 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
     return EXIT_FAILURE_RUN;
 }
 
-/* pager_fetch without workers: the pages from the whole scene, here. */
+/* pager_fetch without workers: the pages from the whole scene, here (its
+ * bytes where they are now: under mpirun a serial render's scene moves
+ * into the node's shared copy once the workers are told). */
 static bool render_fetch_local(void *arg, const int32_t *pages, int n, unsigned char *out,
                                size_t bytes)
 {
-    const master_session *ms = arg;
+    const render_state *rs = arg;
     size_t at = 0;
     for (int i = 0; i < n; i++) {
-        const pager_page *pg = &ms->plan.pages[pages[i]];
+        const pager_page *pg = &rs->pager.plan.pages[pages[i]];
         if (pg->bytes > bytes - at)
             return false;
-        pager_pack_page(ms->page_blob, pg, out + at);
+        pager_pack_page(rs->blob.bytes, pg, out + at);
         at += pg->bytes;
     }
     return at == bytes;
@@ -771,7 +773,6 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     ms->scene_memory = budget;
     ms->page_policy = req->page_policy;
     ms->page_prefetch = !req->no_page_prefetch;
-    ms->page_blob = rs->blob.bytes;
     st->scene_memory = budget;
     st->page_bytes = ms->plan.page_bytes;
     st->page_count = ms->plan.page_count;
@@ -784,7 +785,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     void *packed = pager_pack_resident(rs->blob.bytes, &ms->plan, &size);
     bool opened = packed && pager_open(&rs->pager, packed, size, budget,
                                        (enum pager_policy)req->page_policy, render_fetch_local,
-                                       ms, &why);
+                                       rs, &why);
     free(packed);
     if (!opened) {
         csg_error_plain(d, "--scene-memory: %s", packed ? why : "out of memory");

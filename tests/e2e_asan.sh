@@ -114,6 +114,19 @@ check tail showcase_full "$scene homo --schedule tail --tile 8, 3 workers"
 sanitised double 3 hetero "$scene" --precision double --fill off
 check double showcase_d "$scene hetero in double precision"
 
+# --scene-memory (workers/pager.h): the scene in pages of 16 KiB below a
+# budget of its resident part and a few pages, the pages fetched from rank
+# 0 (and, serially under mpirun, from rank 0's copy once it moved into the
+# node's shared mapping)
+"$BIN" gen spheres --count 1000 --occupancy 0.6 --seed 11 --width 64 --height 48 \
+    --materials opaque,reflective,transparent -o "$T/paged.pov" >/dev/null 2>&1
+"$BIN" render "$T/paged.pov" -o "$T/paged_ref.png" --width 64 --height 48 --tile 8 >/dev/null 2>&1
+for mode in serial homo hetero; do
+    sanitised "paged_$mode" 3 $mode "$T/paged.pov" --width 64 --height 48 --tile 8 \
+        --scene-memory 0.44 --page-size 16 --pass always --fill off
+    check "paged_$mode" paged_ref "--scene-memory 0.44 (a 0.58 MB scene, 0.37 MB resident), $mode under mpirun"
+done
+
 # failing NAME ERRORS TEXT WHAT: the run NAME failed as it should (exit
 # 1) with ERRORS error lines, one holding TEXT, no image, no sanitizer
 # report of ours.
