@@ -3,10 +3,12 @@
  *
  * Algorithm (demand-driven self-scheduling, as in Tachyon and the classic
  * examples, kept PROTO_IN_FLIGHT deep):
- *   1. broadcast the status, then the blob;
+ *   1. broadcast the status, then the blob (with --scene-memory: the
+ *      blob's resident part and its page plan, workers/pager.h);
  *   2. receive one handshake (READY or FAIL) from every worker;
  *   3. an event loop until every item is answered: feed the scheduler
  *      (the tiles of the OpenCL slices completed since the last turn),
+ *      answer every page a paged worker asks for (its ray waits on it),
  *      fill every live worker up to PROTO_IN_FLIGHT messages (first one
  *      each, then the second, so the items at the head of the order go to
  *      idle workers; a message carries the items of sched_next_batch: one

@@ -20,6 +20,12 @@
  * item and between the parts of a batch (link_progress: worker_progress,
  * workers/tile.h); the master has it while the next item is computed.
  *
+ * With --scene-memory (the setup's scene_memory) the broadcast is the
+ * scene's resident part and its page plan, not the blob: the worker reads
+ * the scene through its pager (workers/pager.h), which asks rank 0 for a
+ * page when a ray needs one and waits for it (comm/mpi_link.h,
+ * link_page_fetch); a fetch that fails fails the item.
+ *
  * The master's death ends the worker at once (mpi_link.h: its watchdog), so
  * no worker outlives it.
  *
