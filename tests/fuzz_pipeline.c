@@ -8,6 +8,10 @@
  *         -> export -> parse again (an exported scene always reads back)
  *         -> flatten in float and in double -> blob validation
  *         -> every tile through tile_run (trace + shade) -> finite pixels
+ *         -> the same blob laid out for paging, every leaf a page and a
+ *            budget of the resident part alone (workers/pager.h): every
+ *            tile's pixels the in-memory ones, bit for bit (a place the
+ *            engine reads a page without naming it shows here)
  *
  * The trace depth is capped at 3: depth is a knob of the render, not of
  * the input's validity, and an uncapped mirror-in-glass scene would make
@@ -22,6 +26,7 @@
 #include "../csg/export_pov.h"
 #include "../csg/flatten.h"
 #include "../csg/lang/parser.h"
+#include "../workers/pager.h"
 #include "../workers/tile.h"
 
 enum { FUZZ_W = 8, FUZZ_H = 6, FUZZ_TILE = 4, FUZZ_DEPTH = 3 };
@@ -42,6 +47,63 @@ static void check_error(const csg_diag *d)
     fuzz_require(strchr(d->message, '\n') == NULL, "a message of more than one line");
 }
 
+typedef struct {
+    const void *blob;
+    const pager_plan *plan;
+} fuzz_pages;
+
+static bool fuzz_fetch(void *arg, const int32_t *pages, int n, unsigned char *out, size_t bytes)
+{
+    const fuzz_pages *fp = arg;
+    size_t at = 0;
+    for (int i = 0; i < n; i++) {
+        pager_pack_page(fp->blob, &fp->plan->pages[pages[i]], out + at);
+        at += fp->plan->pages[pages[i]].bytes;
+    }
+    return at == bytes;
+}
+
+/* The tiles of blob b rendered through a pager of pages of one leaf each
+ * and a budget of the resident part alone (prefetch on or off), equal to
+ * `pixels` (the in-memory render's, tile after tile). */
+static void render_paged(const csg_blob *b, const float *pixels, bool prefetch)
+{
+    csg_blob copy = {malloc(b->size ? b->size : 1), b->size};
+    fuzz_require(copy.bytes != NULL, "out of memory");
+    memcpy(copy.bytes, b->bytes, b->size);
+    const char *why = NULL;
+    pager_plan plan;
+    fuzz_require(pager_relayout(copy.bytes, 1, &why), "the BVH could not be laid out for paging");
+    fuzz_require(csg_blob_valid(copy.bytes, copy.size), "the BVH laid out for paging is invalid");
+    fuzz_require(pager_plan_make(copy.bytes, 1, &plan, &why), "no page plan");
+    size_t len = 0;
+    void *packed = pager_pack_resident(copy.bytes, &plan, &len);
+    fuzz_pages fp = {copy.bytes, &plan};
+    csg_pager p;
+    fuzz_require(packed && pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fuzz_fetch,
+                                      &fp, &why),
+                 "the pager did not open");
+    p.prefetch = prefetch;
+    tile_runner tr;
+    fuzz_require(tile_runner_init(&tr, p.base, FUZZ_TILE), "out of memory");
+    float rgb[FUZZ_TILE * FUZZ_TILE * 3];
+    size_t at = 0;
+    for (int i = 0; i < tile_count(&tr.grid); i++) {
+        tile_result res;
+        tile_run(&tr, i, NULL, rgb, &res);
+        tile_rect r = tile_rect_of(&tr.grid, i);
+        size_t n = (size_t)r.width * (size_t)r.height * 3;
+        fuzz_require(memcmp(rgb, pixels + at, n * sizeof *rgb) == 0,
+                     "a paged tile differs from the in-memory one");
+        at += n;
+    }
+    tile_runner_free(&tr);
+    pager_close(&p);
+    free(packed);
+    pager_plan_free(&plan);
+    csg_blob_free(&copy);
+}
+
 static void render_all(const engine *e, const csg_scene *s)
 {
     csg_flatten_opts o = {FUZZ_W, FUZZ_H, FUZZ_DEPTH, -1, 1, 0};
@@ -54,15 +116,19 @@ static void render_all(const engine *e, const csg_scene *s)
     fuzz_require(csg_blob_valid(b.bytes, b.size), "the flattener wrote an invalid blob");
     tile_runner tr;
     fuzz_require(tile_runner_init(&tr, b.bytes, FUZZ_TILE), "out of memory");
-    float rgb[FUZZ_TILE * FUZZ_TILE * 3];
+    float pixels[FUZZ_W * FUZZ_H * 3]; /* the tiles' pixels, one after the other */
+    size_t at = 0;
     for (int i = 0; i < tile_count(&tr.grid); i++) {
         tile_result res;
-        tile_run(&tr, i, NULL, rgb, &res);
+        tile_run(&tr, i, NULL, pixels + at, &res);
         tile_rect r = tile_rect_of(&tr.grid, i);
         for (int k = 0; k < r.width * r.height * 3; k++)
-            fuzz_require(rgb[k] == rgb[k] && rgb[k] - rgb[k] == 0, "a pixel is not finite");
+            fuzz_require(pixels[at + k] == pixels[at + k] && pixels[at + k] - pixels[at + k] == 0,
+                         "a pixel is not finite");
+        at += (size_t)r.width * (size_t)r.height * 3;
     }
     tile_runner_free(&tr);
+    render_paged(&b, pixels, e == &engine_float);
     csg_blob_free(&b);
 }
 
