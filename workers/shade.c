@@ -7,7 +7,8 @@
  * (scenes/LANGUAGE.md lists the differences):
  *   colour = opacity * (ambient * pigment * ambient_light
  *                       + sum over lights: diffuse * cos * pigment * light)
- *          + highlights (phong, Blinn specular) * light
+ *          + highlights (phong, Blinn specular) * light (none from a
+ *            shadowless light, as in POV-Ray)
  *          + reflection * trace(reflected ray)
  *          + (filter * pigment + transmit) * trace(refracted ray)
  * where opacity = 1 - filter - transmit, the light reaching a point is
@@ -916,6 +917,9 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
             the grain leaves the diffuse intensity after its opacity: not dimmed */
             highlight = v3_sub(highlight, v3_scale(v3_mul(pig, light),
                                                    (real)pixel_random(tally) * m->crand));
+        if (lt->shadowless) /* POV-Ray gives a fill light (shadowless) no
+            highlights (ComputeOneLightRay: Light_Type != FILL_LIGHT_SOURCE) */
+            continue;
         vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(phong_dir, l);
