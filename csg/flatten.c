@@ -1844,6 +1844,7 @@ static bool pov_removes_bound(const csg_object *o)
         return false;
     switch (o->kind) {
     case CSG_OBJ_UNION: case CSG_OBJ_INTERSECTION: case CSG_OBJ_DIFFERENCE: case CSG_OBJ_MERGE:
+    case CSG_OBJ_POLY: /* (poly, cubic, quartic: POV-Ray's Poly) */
         return false;
     case CSG_OBJ_QUADRIC:
         return o->clip_count > 0;
