@@ -1060,15 +1060,20 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
             real tw = weight * max3(trans_w);
             if (tw >= c->bailout && ray_spend(tally)) {
                 csg_ray t;
-                t.d = v3_normalize(v3_add(v3_scale(hi->r.d, eta),
-                                          v3_scale(top_normal, eta * cosi - r_sqrt(k))));
+                /* the same ior on both sides: POV-Ray's continued ray, its
+                 * direction as it was and its trace level not raised (a
+                 * chain of such surfaces costs one level, not one each) */
+                bool continued = r_fabs(eta - R(1.0)) < R(1e-10);
+                t.d = continued ? hi->r.d
+                                : v3_normalize(v3_add(v3_scale(hi->r.d, eta),
+                                                      v3_scale(top_normal, eta * cosi - r_sqrt(k))));
                 t.o = offset_point(hi->p, v3_neg(hi->ngf), hi->mag);
                 tally->rays->refracted++;
                 /* the ray enters or leaves the object: one non-hollow
                  * object more or less around it (no fog inside those) */
                 int solid = hi->entering ? hi->solid + hi->prim_solid
                                          : hi->solid - (hi->solid > 0 ? hi->prim_solid : 0);
-                vec3 seen = trace_ray(c, t, hi->level + 1, tw, solid, tally);
+                vec3 seen = trace_ray(c, t, continued ? hi->level : hi->level + 1, tw, solid, tally);
                 if (fading) /* the light crossed the inside: POV-Ray's attCol */
                     seen = v3_mul(seen, fade(m, hi->depth));
                 color = v3_add(color, v3_mul(trans_w, seen));
