@@ -84,7 +84,13 @@ typedef struct {
     csg_i32 *blockers; /* the shadow cache of the tile (shadow_slot) */
     uint64_t rng_key;   /* the pixel's sample: its random stream (pixel_random) */
     uint64_t rng_drawn; /* numbers drawn from it so far                          */
+    int continued;      /* continued rays (same ior) now nested: at
+                           SHADE_MAX_CONTINUED the next one takes a level  */
 } ray_tally;
+
+/* Continued rays nested at most (each a C stack frame of trace_ray; past
+ * it a ray through a same-ior surface takes a trace level again). */
+#define SHADE_MAX_CONTINUED 256
 
 /* ---- randomness ----------------------------------------------------------------
  * POV-Ray draws crand's grain and an area light's jitter from a generator
@@ -1063,7 +1069,8 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                 /* the same ior on both sides: POV-Ray's continued ray, its
                  * direction as it was and its trace level not raised (a
                  * chain of such surfaces costs one level, not one each) */
-                bool continued = r_fabs(eta - R(1.0)) < R(1e-10);
+                bool continued = r_fabs(eta - R(1.0)) < R(1e-10) &&
+                                 tally->continued < SHADE_MAX_CONTINUED;
                 t.d = continued ? hi->r.d
                                 : v3_normalize(v3_add(v3_scale(hi->r.d, eta),
                                                       v3_scale(top_normal, eta * cosi - r_sqrt(k))));
@@ -1073,7 +1080,9 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
                  * object more or less around it (no fog inside those) */
                 int solid = hi->entering ? hi->solid + hi->prim_solid
                                          : hi->solid - (hi->solid > 0 ? hi->prim_solid : 0);
+                tally->continued += continued;
                 vec3 seen = trace_ray(c, t, continued ? hi->level : hi->level + 1, tw, solid, tally);
+                tally->continued -= continued;
                 if (fading) /* the light crossed the inside: POV-Ray's attCol */
                     seen = v3_mul(seen, fade(m, hi->depth));
                 color = v3_add(color, v3_mul(trans_w, seen));
@@ -1306,7 +1315,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
-            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0};
+            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0, 0};
             for (int s = 0; s < spp; s++) {
                 tally.rng_key = sample_stream(rect.x + x, rect.y + y, s);
                 tally.rng_drawn = 0;
