@@ -7,7 +7,9 @@ global_settings { assumed_gamma 1 }
 camera { location <0, 3, -7> look_at <0, 0.8, 0> }
 light_source { <-6, 8, -6>, rgb <0.5, 0.5, 0.45> }
 light_source { <5, 6, -8>, rgb <0.8, 0.8, 0.9> shadowless }
-plane { y, 0 pigment { checker rgb 0.6, rgb 0.3 } finish { phong 0.8 phong_size 5 } }
+// (a plain floor: a checker to the horizon is float-limited at grazing
+// incidence, bench/POVRAY_DIFFERENCES.md, checker boundaries)
+plane { y, 0 pigment { rgb 0.5 } finish { phong 0.8 phong_size 5 } }
 sphere { <-1.4, 1, 0>, 1
   pigment { rgb <0.8, 0.3, 0.2> } finish { phong 1 phong_size 8 } }
 sphere { <1.4, 1, 0>, 1
