@@ -83,6 +83,9 @@ typedef struct {
 } pending_texture;
 
 /* Growable arrays of the output, and what the walk inherits. */
+#define FLAT_CARRIED_MAX 8 /* clipped unions nested in one another that are
+                              split (deeper ones stay whole) */
+
 typedef struct {
     csg_prim *prims;
     int prim_count, prim_cap;
@@ -137,6 +140,10 @@ typedef struct {
     const csg_object *bound_removed; /* the top-level object whose bounded_by
                                         POV-Ray removes (add_top)          */
     bool bound_box_kept;             /* and whose box it keeps (emit_box_gate) */
+    const csg_object *carried[FLAT_CARRIED_MAX]; /* the clipped unions above the
+                                        root being added, whose clips cut it
+                                        too (add_clipped_union)            */
+    int carried_count;
 } flat_builder;
 
 typedef struct {
@@ -1748,6 +1755,11 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     int depth = lists_needed_mods(o, has_gate(fb, o));
     if (o == fb->bound_removed && fb->bound_box_kept && depth < 2) /* (emit_box_gate's box) */
         depth = 2;
+    for (int u = 0; u < fb->carried_count; u++)
+        for (int i = 0; i < fb->carried[u]->clip_count; i++) {
+            int c = lists_needed(fb->carried[u]->clips[i]) + 1;
+            depth = c > depth ? c : depth;
+        }
     if (depth > CSG_STACK_MAX) {
         csg_error(fb->diag, o->loc,
                   "CSG tree too complex: evaluating it needs %d interval lists at once (limit %d); "
@@ -1763,8 +1775,15 @@ static bool add_root(flat_builder *fb, const csg_object *o, inherited inh)
     int root = fb->root_count;
     int first = fb->node_count, first_prim = fb->prim_count;
     dbox box;
-    if (!emit_tree(fb, o, inh, false, root, &box) ||
-        !emit_box_gate(fb, o, inherit(inh, o), root, box))
+    if (!emit_tree(fb, o, inh, false, root, &box))
+        return false;
+    inherited clip_inh = inh;
+    clip_inh.clip = true;
+    for (int u = 0; u < fb->carried_count; u++)
+        if (!emit_list(fb, fb->carried[u]->clips, fb->carried[u]->clip_count, clip_inh,
+                       CSG_OP_INTERSECT, root, &box))
+            return false;
+    if (!emit_box_gate(fb, o, inherit(inh, o), root, box))
         return false;
     if (!mark_wide_runs(fb, first)) {
         fb->oom = true;
@@ -1825,6 +1844,7 @@ static bool pov_removes_bound(const csg_object *o)
         return false;
     switch (o->kind) {
     case CSG_OBJ_UNION: case CSG_OBJ_INTERSECTION: case CSG_OBJ_DIFFERENCE: case CSG_OBJ_MERGE:
+    case CSG_OBJ_POLY: /* (poly, cubic, quartic: POV-Ray's Poly) */
         return false;
     case CSG_OBJ_QUADRIC:
         return o->clip_count > 0;
@@ -1840,6 +1860,39 @@ static bool is_identity(const csg_xform *x)
     return memcmp(x, &id, sizeof id) == 0;
 }
 
+/* A union split into one root a child inside a clipped union: not
+ * inverted, no bound of its own gating it. */
+static bool splits_in_clip(const flat_builder *fb, const csg_object *o)
+{
+    return o->kind == CSG_OBJ_UNION && !o->inverse && !has_gate(fb, o) &&
+           fb->carried_count < FLAT_CARRIED_MAX;
+}
+
+/* A clipped union (or a union inside one): POV-Ray links it whole
+ * (split_unions is off), and its intersections are every child's that
+ * lies inside the clips (CSG union's Intersect, then Point_In_Clip): a
+ * child's surface inside another child shows, as in any union.  One
+ * solid root, (A u B) n C, would hide those surfaces; a root a child,
+ * A n C and B n C, shows them all.  The children keep their bounds
+ * (POV-Ray removes none inside a linked union). */
+static bool add_clipped_union(flat_builder *fb, const csg_object *o, inherited inh)
+{
+    inh = inherit(inh, o);
+    bool pushed = o->clip_count > 0;
+    if (pushed)
+        fb->carried[fb->carried_count++] = o;
+    bool ok = true;
+    for (int i = 0; i < o->child_count && ok; i++) {
+        const csg_object *child = o->children[i];
+        fb->bound_removed = NULL;
+        ok = splits_in_clip(fb, child) ? add_clipped_union(fb, child, inh)
+                                       : add_root(fb, child, inh);
+    }
+    if (pushed)
+        fb->carried_count--;
+    return ok;
+}
+
 /* A top-level object, or the child of a union split at the top (POV-Ray's
  * Link_To_Frame); `moved`: a split union above it was transformed, which
  * recomputed the child's box from its shape (the bounds' box is gone). */
@@ -1847,6 +1900,8 @@ static bool add_top(flat_builder *fb, const csg_object *o, inherited inh, bool m
 {
     fb->bound_removed = pov_removes_bound(o) ? o : NULL;
     fb->bound_box_kept = !moved;
+    if (o->clip_count > 0 && splits_in_clip(fb, o))
+        return add_clipped_union(fb, o, inh);
     /* one root: the clips cut all of it, a bound gates all of it (POV-Ray
        links a clipped or bounded union whole: split_unions is off) */
     if (o->clip_count > 0 || has_gate(fb, o) || (fb->bound_removed && !moved))

@@ -988,7 +988,9 @@ static void check_modifier_file(void **state, const char *path, int flag, int fl
 
 static void test_clipped_flattened(void **state)
 {
-    check_modifier_file(state, "tests/povray/clipped_by.pov", CSG_PF_CLIP, 11);
+    /* (12: the clipped union's plane cuts each of its two children, one
+       root each) */
+    check_modifier_file(state, "tests/povray/clipped_by.pov", CSG_PF_CLIP, 12);
 }
 
 /* bounded_by (tests/povray/bounded_by.pov: bounds that do not enclose

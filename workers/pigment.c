@@ -14,11 +14,14 @@
  *      wood and marble, which use it themselves, the point moves by the
  *      vector turbulence (noise.c) times the amount;
  *   4. the pattern's value: checker, the parity of floor(x + 1e-10) +
- *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), where the bias also
- *      covers the rounding of the point (the caller's bound, through the
- *      matrix): POV-Ray finds the points on a boundary in double and puts
- *      them in the upper cell, and so do we for a point whose rounding
- *      could have crossed it; gradient, dot(q, g), taken modulo 1 above 1;
+ *      floor(y + 1e-10) + floor(z + 1e-10) (0 or 1), POV-Ray's bias alone:
+ *      a bias as wide as the point's rounding (tried before) put every
+ *      point within it below a boundary in the upper cell, a band of wrong
+ *      cells wherever a far, aliased checker's samples fall near its
+ *      boundaries (the metals sample scenes: 98.8 % agreement, 99.75 %
+ *      without), while the points POV-Ray finds exactly on a boundary are
+ *      mostly on a flat face, which step 1 puts there exactly;
+ *      gradient, dot(q, g), taken modulo 1 above 1;
  *      bozo (and spotted), POV-Ray's noise; granite, six octaves of
  *      |1 - 2 noise| (at most 0.5 each) at 4q; marble, x + turbulence;
  *      wood, the distance from the z axis of (x, y) moved by cycloids of
@@ -680,7 +683,7 @@ static pigment_color evaluate(const csg_material *mats, const csg_material *m,
         return depth < PIGMENT_MAX_DEPTH && m->sub_first > 0
                    ? average_color(mats, m, maps, q, q_err, depth)
                    : color_of((const double[5]){0, 0, 0, 0, 0});
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + q_err));
+    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
     if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
         return pigment_map_color(mats, m, maps, q, q_err, v, depth);
     return map_color(maps + m->map_first, m->map_count, v);
@@ -726,7 +729,7 @@ double PIGMENT_TMAP(const csg_material *m, const csg_map_color *maps, const doub
                     double err, double q[3], double *q_err, int *prev, int *cur)
 {
     pattern_point(m, w, err, q, q_err);
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON + *q_err));
+    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
     return map_search(maps + m->map_first, m->map_count, v, prev, cur);
 }
 

@@ -41,9 +41,9 @@ typedef struct {
  * surf CSG_SURF_NONE: a point on no surface, a sky direction): the plain
  * colour, or the pattern through the colour map or the pigment map (maps:
  * the blob's map entries; a pigment map's pigments are materials of mats).
- * err bounds the rounding of p (0 for an exact point): a checker boundary
- * within it counts as crossed, as POV-Ray's exact point on the boundary
- * does. */
+ * err bounds the rounding of p (0 for an exact point), carried through the
+ * maps to their pattern spaces; no pattern reads it now (checker's cells
+ * take POV-Ray's own bias alone: pigment.c, step 4). */
 pigment_color PIGMENT_AT(const csg_material *mats, const csg_material *m,
                          const csg_map_color *maps, const csg_prim *prims, csg_u32 surf, vec3 p,
                          real err);

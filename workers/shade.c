@@ -7,7 +7,8 @@
  * (scenes/LANGUAGE.md lists the differences):
  *   colour = opacity * (ambient * pigment * ambient_light
  *                       + sum over lights: diffuse * cos * pigment * light)
- *          + highlights (phong, Blinn specular) * light
+ *          + highlights (phong, Blinn specular) * light (none from a
+ *            shadowless light, as in POV-Ray)
  *          + reflection * trace(reflected ray)
  *          + (filter * pigment + transmit) * trace(refracted ray)
  * where opacity = 1 - filter - transmit, the light reaching a point is
@@ -17,8 +18,8 @@
  * is traced only while the trace level is below max_depth and its weight
  * in the pixel is at least adc_bailout.  A ray that leaves the scene sees
  * the background, or the sky_sphere's pigments at its direction.  Patterned
- * pigments are evaluated at the hit point (pigment.c).  Total internal reflection sends
- * the transmitted weight along the reflected direction.
+ * pigments are evaluated at the hit point (pigment.c).  Total internal reflection traces
+ * the reflected ray instead, faded but not filtered (POV-Ray's TraceRefractionRay).
  *
  * Secondary rays start at the hit point moved off the surface by a few
  * units in the last place along the normal (Wächter and Binder, "A Fast and
@@ -84,7 +85,13 @@ typedef struct {
     csg_i32 *blockers; /* the shadow cache of the tile (shadow_slot) */
     uint64_t rng_key;   /* the pixel's sample: its random stream (pixel_random) */
     uint64_t rng_drawn; /* numbers drawn from it so far                          */
+    int continued;      /* continued rays (same ior) now nested: at
+                           SHADE_MAX_CONTINUED the next one takes a level  */
 } ray_tally;
+
+/* Continued rays nested at most (each a C stack frame of trace_ray; past
+ * it a ray through a same-ior surface takes a trace level again). */
+#define SHADE_MAX_CONTINUED 256
 
 /* ---- randomness ----------------------------------------------------------------
  * POV-Ray draws crand's grain and an area light's jitter from a generator
@@ -919,6 +926,9 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
             the grain leaves the diffuse intensity after its opacity: not dimmed */
             highlight = v3_sub(highlight, v3_scale(v3_mul(pig, light),
                                                    (real)pixel_random(tally) * m->crand));
+        if (lt->shadowless) /* POV-Ray gives a fill light (shadowless) no
+            highlights (ComputeOneLightRay: Light_Type != FILL_LIGHT_SOURCE) */
+            continue;
         vec3 hl = highlight_color(m, pig, cosl, light);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(phong_dir, l);
@@ -973,17 +983,26 @@ static vec3 reflect_dir(const hit_info *hi, vec3 nl, bool perturbed)
 static vec3 trace_ray(const shade_ctx *c, csg_ray r, int level, real weight, int solid,
                       ray_tally *tally);
 
+/* Two normals alike within POV-Ray's EPSILON in every component. */
+static bool same_normal(vec3 a, vec3 b)
+{
+    return r_fabs(a.x - b.x) <= R(1e-10) && r_fabs(a.y - b.y) <= R(1e-10) &&
+           r_fabs(a.z - b.z) <= R(1e-10);
+}
+
 /* POV-Ray's ComputeLightedTexture: the layers of texture m, from its top
  * one, at w (a surface point, or a point of the texture_map holding m):
  * each adds its own light through the filter of the layers above it,
  * while enough of them lets light through; then the refracted ray through
- * all of them, then each layer's reflection. */
+ * all of them (or, on total internal reflection, the ray reflected in its
+ * stead), then each layer's reflection. */
 static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material *m,
                             const double w[3], double err, const csg_material *const *parents,
                             int np, real weight, ray_tally *tally)
 {
     struct {
         const csg_material *m;
+        vec3 normal;  /* the layer's normal (nl)                     */
         vec3 refl_dir;
         real weight;
         vec3 refl;    /* what the layer reflects                     */
@@ -1036,6 +1055,7 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
             fil = v3_mul(fil, through);
         }
         layers[count].m = layer;
+        layers[count].normal = nl;
         layers[count].refl_dir = refl_dir;
         layers[count].weight = count == 0 ? weight : weight * trans;
         layers[count].refl = refl;
@@ -1046,28 +1066,48 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
     if (hi->level >= c->hdr->max_depth)
         return color;
 
-    vec3 refl_w = layers[0].refl;
     vec3 trans_w = fil;
+    bool tir = false;
     if (max3(trans_w) > R(0.0)) {
         real eta = hi->entering ? R(1.0) / m->ior : m->ior;
         real cosi = -v3_dot(hi->r.d, top_normal);
         real k = R(1.0) - eta * eta * (R(1.0) - cosi * cosi);
         bool fading = !hi->entering && r_fabs(m->fade_distance) > R(1e-10);
-        if (k < R(0.0)) { /* total internal reflection (faded, as POV-Ray) */
-            refl_w = v3_add(refl_w, fading ? v3_mul(trans_w, fade(m, hi->depth)) : trans_w);
+        if (k < R(0.0)) { /* total internal reflection, as POV-Ray's
+            TraceRefractionRay: the ray reflected about the top normal, its
+            light not filtered, only faded (attCol), and no reflection about
+            that normal besides (below) */
+            tir = true;
+            real tw = weight * max3(trans_w);
+            if (tw >= c->bailout && ray_spend(tally)) {
+                csg_ray s;
+                s.o = hi->above;
+                s.d = v3_normalize(layers[0].refl_dir);
+                tally->rays->reflected++;
+                vec3 seen = trace_ray(c, s, hi->level + 1, tw, hi->solid, tally);
+                color = v3_add(color, fading ? v3_mul(seen, fade(m, hi->depth)) : seen);
+            }
         } else {
             real tw = weight * max3(trans_w);
             if (tw >= c->bailout && ray_spend(tally)) {
                 csg_ray t;
-                t.d = v3_normalize(v3_add(v3_scale(hi->r.d, eta),
-                                          v3_scale(top_normal, eta * cosi - r_sqrt(k))));
+                /* the same ior on both sides: POV-Ray's continued ray, its
+                 * direction as it was and its trace level not raised (a
+                 * chain of such surfaces costs one level, not one each) */
+                bool continued = r_fabs(eta - R(1.0)) < R(1e-10) &&
+                                 tally->continued < SHADE_MAX_CONTINUED;
+                t.d = continued ? hi->r.d
+                                : v3_normalize(v3_add(v3_scale(hi->r.d, eta),
+                                                      v3_scale(top_normal, eta * cosi - r_sqrt(k))));
                 t.o = offset_point(hi->p, v3_neg(hi->ngf), hi->mag);
                 tally->rays->refracted++;
                 /* the ray enters or leaves the object: one non-hollow
                  * object more or less around it (no fog inside those) */
                 int solid = hi->entering ? hi->solid + hi->prim_solid
                                          : hi->solid - (hi->solid > 0 ? hi->prim_solid : 0);
-                vec3 seen = trace_ray(c, t, hi->level + 1, tw, solid, tally);
+                tally->continued += continued;
+                vec3 seen = trace_ray(c, t, continued ? hi->level : hi->level + 1, tw, solid, tally);
+                tally->continued -= continued;
                 if (fading) /* the light crossed the inside: POV-Ray's attCol */
                     seen = v3_mul(seen, fade(m, hi->depth));
                 color = v3_add(color, v3_mul(trans_w, seen));
@@ -1075,13 +1115,13 @@ static vec3 lighted_texture(const shade_ctx *c, hit_info *hi, const csg_material
         }
     }
     for (int i = 0; i < count; i++) {
-        vec3 lw = i == 0 ? refl_w : layers[i].refl;
+        if (tir && same_normal(layers[i].normal, top_normal))
+            continue; /* (POV-Ray: within EPSILON, each component) */
+        vec3 lw = layers[i].refl;
         /* (the weight: the constant reflection's own largest channel, as
-         * ever; POV-Ray's rule for a variable one; TIR adds to layer 0's) */
+         * ever; POV-Ray's rule for a variable one) */
         real rw = layers[i].weight *
-                  (layers[i].m->reflection_variable && !(i == 0 && max3(lw) != max3(layers[0].refl))
-                       ? layers[i].refl_wt
-                       : max3(lw));
+                  (layers[i].m->reflection_variable ? layers[i].refl_wt : max3(lw));
         if (max3(lw) > R(0.0) && rw >= c->bailout && ray_spend(tally)) {
             csg_ray s;
             s.o = hi->above;
@@ -1302,7 +1342,7 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
-            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0};
+            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0, 0};
             for (int s = 0; s < spp; s++) {
                 tally.rng_key = sample_stream(rect.x + x, rect.y + y, s);
                 tally.rng_drawn = 0;
