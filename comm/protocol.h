@@ -182,6 +182,7 @@ typedef struct {
     uint32_t hits;          /* primary samples that hit                */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     uint64_t over_budget;   /* pixels that met their ray budget        */
+    uint64_t shadow_answered; /* shadow rays answered by the records   */
     double busy_s;          /* seconds the worker spent on the part:
                                tracing it and converting its pixels    */
     double cpu_s;           /* of them, its thread's CPU time          */

@@ -632,7 +632,8 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     else if (!job->store || !store_queue(job->store, r, (const uint8_t *)pixels))
         pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
                                 (const uint8_t *)pixels); /* (no thread, or its ring full) */
-    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
+    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget,
+                                 h.shadow_answered},
                        h.busy_s, h.cpu_s};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
     if (m->costs) /* (the simulated build: what a real master took) */

@@ -33,6 +33,7 @@
  * two slices).  The result is deterministic.
  */
 #include "camera.h"
+#include "shadow.h"
 
 #ifndef CSG_PACKET
 /* One work-item a record (a sample of a pixel): the variant for GPUs. */
@@ -150,6 +151,35 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     }
 }
 #endif
+
+/* The shadow answers of the primary hits (#36 item 3): one work-item a
+ * record of rows y0 .. y0 + rows - 1 (t, surf: the slice's records, as
+ * csg_primary left them, in either variant), bit i of known[] and lit[]
+ * light i's answer (csg_shadow_masks, the code the C worker shades with:
+ * csg/device/shadow.h).  Lights are read from the blob's light array. */
+__kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
+                          __global const real *t_in, __global const uint *surf_in,
+                          __global uint *known_out, __global uint *lit_out)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp;
+    int col = (int)get_global_id(0);
+    int row = (int)get_global_id(1);
+    if (col >= width * spp || row >= rows) /* the grid is padded to whole work-groups */
+        return;
+    size_t i = (size_t)row * (size_t)width * (size_t)spp + (size_t)col;
+    csg_u32 known = 0u, lit = 0u;
+    if (surf_in[i] != CSG_SURF_NONE) {
+        int x = col / spp, s = col % spp;
+        csg_ray r = csg_sample_ray(csg_blob_camera(blob), width, h->height, x, y0 + row, spp, s);
+        __global const csg_flat_light *lights =
+            (__global const csg_flat_light *)(blob + h->off_lights);
+        csg_shadow_masks(csg_blob_view(blob), lights, h->light_count, r, t_in[i], surf_in[i],
+                         &known, &lit);
+    }
+    known_out[i] = known;
+    lit_out[i] = lit;
+}
 
 /* hits[k * tiles_x + tx]: samples with surf != 0 in tile (tx, y0 / tile + k),
  * restricted to the slice's rows y0 .. y0 + rows - 1; a row holds

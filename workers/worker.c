@@ -175,6 +175,7 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
                          .reflected = res.rays.reflected,
                          .refracted = res.rays.refracted,
                          .over_budget = res.rays.over_budget,
+                         .shadow_answered = res.rays.shadow_answered,
                          .busy_s = res.busy_s,
                          .cpu_s = res.cpu_s,
                          .pixels = w->pixels};

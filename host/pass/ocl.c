@@ -91,6 +91,7 @@ struct ocl_ctx {
     cl_kernel k_primary;    /* csg_primary: a record a pixel        */
     cl_kernel k_tiles;      /* csg_tile_hits: a count a tile        */
     cl_kernel k_layout;     /* csg_layout: the layout probe         */
+    cl_kernel k_shadows;    /* csg_shadows: a record's shadow answers */
     size_t group_primary;   /* work-group width (dim 0) of csg_primary   */
     enum ocl_kernel kernel; /* SCALAR or PACKET: the variant built       */
     int packet, packet_cols; /* PACKET: rays a work-item, and the
@@ -510,7 +511,7 @@ static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
 
 static void ocl_release_program(ocl_ctx *c)
 {
-    cl_kernel *ks[] = {&c->k_primary, &c->k_tiles, &c->k_layout};
+    cl_kernel *ks[] = {&c->k_primary, &c->k_tiles, &c->k_layout, &c->k_shadows};
     for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++) {
         if (*ks[i])
             clReleaseKernel(*ks[i]);
@@ -604,7 +605,8 @@ static bool ocl_create_kernels(ocl_ctx *c, csg_diag *d)
         const char *name;
     } kernels[] = {{&c->k_primary, "csg_primary"},
                    {&c->k_tiles, "csg_tile_hits"},
-                   {&c->k_layout, "csg_layout"}};
+                   {&c->k_layout, "csg_layout"},
+                   {&c->k_shadows, "csg_shadows"}};
     cl_int err;
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++) {
         *kernels[i].k = clCreateKernel(c->program, kernels[i].name, &err);
@@ -1314,5 +1316,68 @@ bool ocl_probe_layout(ocl_ctx *c, int32_t *out, int cap, int *count, csg_diag *d
 fail:
     if (buf)
         clReleaseMemObject(buf);
+    return ok;
+}
+
+/* ---- the shadow answers ----------------------------------------------------------- */
+
+/* The buffers of ocl_shadow_answers. */
+typedef struct {
+    cl_mem blob, t, surf, known, lit;
+} ocl_shadow_buffers;
+
+static void ocl_shadow_release(ocl_shadow_buffers *b)
+{
+    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->known, &b->lit};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (*all[i])
+            clReleaseMemObject(*all[i]);
+}
+
+bool ocl_shadow_answers(ocl_ctx *c, const void *blob, const void *t_image,
+                        const uint32_t *surf_image, uint32_t *known_out, uint32_t *lit_out,
+                        double *seconds, csg_diag *d)
+{
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    size_t n = (size_t)h->width * (size_t)h->spp * (size_t)h->height;
+    ocl_shadow_buffers b = {NULL, NULL, NULL, NULL, NULL};
+    cl_int y0 = 0, rows = h->height;
+    const char *k = "csg_shadows";
+    size_t group = 1;
+    double t0 = ocl_now();
+    bool ok =
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
+                          (void *)blob, &b.blob, "scene", d) &&
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * h->real_size,
+                          (void *)t_image, &b.t, "t", d) &&
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(uint32_t),
+                          (void *)surf_image, &b.surf, "surf", d) &&
+        ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.known, "known", d) &&
+        ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.lit, "lit", d) &&
+        ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &b.blob, d) &&
+        ocl_arg(c->k_shadows, k, 1, sizeof(cl_int), &y0, d) &&
+        ocl_arg(c->k_shadows, k, 2, sizeof(cl_int), &rows, d) &&
+        ocl_arg(c->k_shadows, k, 3, sizeof(cl_mem), &b.t, d) &&
+        ocl_arg(c->k_shadows, k, 4, sizeof(cl_mem), &b.surf, d) &&
+        ocl_arg(c->k_shadows, k, 5, sizeof(cl_mem), &b.known, d) &&
+        ocl_arg(c->k_shadows, k, 6, sizeof(cl_mem), &b.lit, d);
+    cl_int err = CL_SUCCESS;
+    if (ok && (err = ocl_group_width(c->k_shadows, c->device, &group)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clGetKernelWorkGroupInfo(csg_shadows)", err);
+    size_t cols = (size_t)h->width * (size_t)h->spp;
+    size_t grid[2] = {(cols + group - 1) / group * group, (size_t)h->height};
+    size_t local[2] = {group, 1};
+    if (ok && (err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
+                                            NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
+    if (ok && (err = clEnqueueReadBuffer(c->queue, b.known, CL_TRUE, 0, n * sizeof(uint32_t),
+                                         known_out, 0, NULL, NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueReadBuffer(known)", err);
+    if (ok && (err = clEnqueueReadBuffer(c->queue, b.lit, CL_TRUE, 0, n * sizeof(uint32_t),
+                                         lit_out, 0, NULL, NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueReadBuffer(lit)", err);
+    if (seconds)
+        *seconds = ocl_now() - t0;
+    ocl_shadow_release(&b);
     return ok;
 }

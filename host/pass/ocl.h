@@ -123,6 +123,16 @@ int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d);
 void ocl_pass_limit(ocl_pass *p, int rows);
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d);
 
+/* The shadow answers of a whole image's primary records (t_image, surf_image:
+ * what ocl_primary_pass gives, width * spp records a row) into known_out[]
+ * and lit_out[] (a word each a record: csg/device/shadow.h,
+ * csg_shadow_masks; engine->shade_answered takes them), in one launch of
+ * csg_shadows (a work-item a record, whichever csg_primary variant the
+ * program has).  *seconds (may be NULL): buffers, kernel, download. */
+bool ocl_shadow_answers(ocl_ctx *ctx, const void *blob, const void *t_image,
+                        const uint32_t *surf_image, uint32_t *known_out, uint32_t *lit_out,
+                        double *seconds, csg_diag *d);
+
 void ocl_close(ocl_ctx *ctx);
 
 /* The layout probe (kernel csg_layout): out[0 .. *count) receives the
