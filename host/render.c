@@ -706,9 +706,12 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
     uint64_t avail;
     tile_grid grid = tile_grid_of(blob->bytes, st->tile);
     int slice_rows = req->mode == MODE_HETERO ? pass_slice_rows(&grid) : 0;
+    /* (--simd shadows: a record carries its shadow answers too, two more
+     * words beside its t: counted with it) */
+    size_t record_extra = req->mode == MODE_HETERO && req->simd_shadows ? 2 * sizeof(uint32_t) : 0;
     render_memory need = render_memory_need(st->width, st->height, st->tile, st->spp,
-                                            csg_blob_hdr(blob->bytes)->real_size, slice_rows,
-                                            req->out_path);
+                                            csg_blob_hdr(blob->bytes)->real_size + record_extra,
+                                            slice_rows, req->out_path);
     st->memory_estimate = need.total;
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;
