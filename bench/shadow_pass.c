@@ -91,8 +91,14 @@ static double masks_c(const void *blob, const void *t, const uint32_t *surf,
             csg_ray r = csg_sample_ray(csg_blob_camera(blob), h->width, h->height, x, y, 1, 0);
             csg_u32 k, l;
             csg_shadow_masks(v, lights, h->light_count, r, tr[i], surf[i], &k, &l);
-            if (k != known[i] || l != lit[i])
+            if (k != known[i] || l != lit[i]) {
+                static int told;
+                if (told++ < 5)
+                    fprintf(stderr, "shadow_pass: record (%d, %d): C known %08x lit %08x, "
+                                    "OpenCL %08x %08x\n",
+                            x, y, (unsigned)k, (unsigned)l, (unsigned)known[i], (unsigned)lit[i]);
                 *same = false;
+            }
         }
     return bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - c0;
 }
@@ -205,7 +211,11 @@ int main(int argc, char **argv)
         memset(&ra, 0, sizeof ra);
         double p = shade_tiles(e, blob.bytes, t, surf, NULL, NULL, rgb_plain, &rp);
         double a = shade_tiles(e, blob.bytes, t, surf, known, lit, rgb_answered, &ra);
-        identical = identical && memcmp(rgb_plain, rgb_answered, n * 12) == 0;
+        if (memcmp(rgb_plain, rgb_answered, n * 12) != 0) {
+            if (identical)
+                fprintf(stderr, "shadow_pass: the pixels with the answers differ\n");
+            identical = false;
+        }
         double m = args.dbl ? 0.0 : masks_c(blob.bytes, t, surf, known, lit, &identical);
         if (r < 0)
             continue;

@@ -865,6 +865,21 @@ static bool ocl_cells_upto(ocl_ctx *c, ocl_cells *cl, cl_mem buf, const void *bl
     return err == CL_SUCCESS || ocl_fail(d, "clEnqueueWriteBuffer(cells)", err);
 }
 
+/* The NDRange of csg_shadows over `rows` rows of record_width records: a
+ * work-item a record, or a packet (the packet program: csg_primary's
+ * grid), padded to whole work-groups of c->group_shadows. */
+static void ocl_shadow_grid(const ocl_ctx *c, cl_int record_width, cl_int rows, size_t grid[2])
+{
+    size_t x = (size_t)record_width, y = (size_t)rows, g = c->group_shadows;
+    if (c->kernel == OCL_KERNEL_PACKET) {
+        size_t pc = (size_t)c->packet_cols, pr = (size_t)(c->packet / c->packet_cols);
+        x = (x + pc - 1) / pc;
+        y = (y + pr - 1) / pr;
+    }
+    grid[0] = (x + g - 1) / g * g;
+    grid[1] = y;
+}
+
 /* The shadow answers of a slice's records (csg_shadows after csg_primary on
  * the in-order queue), read into known_out and lit_out. */
 static bool ocl_run_shadows(ocl_ctx *c, ocl_pass_buffers *b, cl_int y0, cl_int rows,
@@ -882,7 +897,8 @@ static bool ocl_run_shadows(ocl_ctx *c, ocl_pass_buffers *b, cl_int y0, cl_int r
     if (!ok)
         return false;
     size_t g = c->group_shadows;
-    size_t grid[2] = {((size_t)record_width + g - 1) / g * g, (size_t)rows};
+    size_t grid[2];
+    ocl_shadow_grid(c, record_width, rows, grid);
     size_t local[2] = {g, 1};
     size_t bytes = (size_t)record_width * (size_t)rows * sizeof(uint32_t);
     cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
@@ -1410,10 +1426,9 @@ bool ocl_shadow_answers(ocl_ctx *c, const void *blob, const void *t_image,
         ocl_arg(c->k_shadows, k, 5, sizeof(cl_mem), &b.known, d) &&
         ocl_arg(c->k_shadows, k, 6, sizeof(cl_mem), &b.lit, d);
     cl_int err = CL_SUCCESS;
-    if (ok && (err = ocl_group_width(c->k_shadows, c->device, &group)) != CL_SUCCESS)
-        ok = ocl_fail(d, "clGetKernelWorkGroupInfo(csg_shadows)", err);
-    size_t cols = (size_t)h->width * (size_t)h->spp;
-    size_t grid[2] = {(cols + group - 1) / group * group, (size_t)h->height};
+    group = c->group_shadows;
+    size_t grid[2];
+    ocl_shadow_grid(c, (cl_int)((size_t)h->width * (size_t)h->spp), rows, grid);
     size_t local[2] = {group, 1};
     if (ok && (err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
                                             NULL)) != CL_SUCCESS)

@@ -130,8 +130,9 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d);
  * what ocl_primary_pass gives, width * spp records a row) into known_out[]
  * and lit_out[] (a word each a record: csg/device/shadow.h,
  * csg_shadow_masks; engine->shade_answered takes them), in one launch of
- * csg_shadows (a work-item a record, whichever csg_primary variant the
- * program has).  *seconds (may be NULL): buffers, kernel, download. */
+ * csg_shadows (a work-item a record in the one-ray program, a packet in
+ * the packet program: the walk in OpenCL vectors, packet.h).  *seconds
+ * (may be NULL): buffers, kernel, download. */
 bool ocl_shadow_answers(ocl_ctx *ctx, const void *blob, const void *t_image,
                         const uint32_t *surf_image, uint32_t *known_out, uint32_t *lit_out,
                         double *seconds, csg_diag *d);
