@@ -262,6 +262,9 @@ $(B)/bench/primary_rays: $(B)/obj/bench/primary_rays.o $(LIB_OBJS) | $(B)/$(MODU
 $(B)/bench/primary_pass: $(B)/obj/bench/primary_pass.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
+$(B)/bench/shadow_pass: $(B)/obj/bench/shadow_pass.o $(LIB_OBJS) | $(B)/$(MODULE)
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(LDLIBS)
 # The PNG writer's compression settings against the module's (bench/png_write.c).
 $(B)/bench/png_write: $(B)/obj/bench/png_write.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
@@ -363,8 +366,9 @@ bench-node: deps
 # The primary pass in Mrays/s per core: packet and scalar kernels against the
 # C worker's primary rays, N = 10 .. 10^4 spheres (bench/results/primary_pass).
 bench-primary: deps
-	$(MAKE) $(B)/csgtrace $(B)/bench/primary_pass
+	$(MAKE) $(B)/csgtrace $(B)/bench/primary_pass $(B)/bench/shadow_pass
 	bench/primary_pass.sh
+	bench/shadow_pass.sh
 
 # A worker's scene below a memory budget (--scene-memory): the budget swept
 # from the whole scene to 1/64 of it on the SPD's tetra9 (bench/PAGING.md).

@@ -31,7 +31,9 @@
  *                          proto_tile: a rectangle inside tile `index`
  *                          (the whole tile, or a piece of it)
  *                          [PROTO_WORK_SHADE: the rectangle's packed hit
- *                           records, tiles.h (tile_pack_records)]
+ *                           records, tiles.h (tile_pack_records);
+ *                           PROTO_WORK_SHADE_ANSWERED: then their shadow
+ *                           answers (tile_pack_answers)]
  *      worker -> master  PROTO_TAG_RESULT  k parts, in the TILE's order,
  *                                          each proto_result + the n
  *                                          pixels in proto_result.pixels:
@@ -97,7 +99,9 @@ enum proto_tag {
 /* What a TILE asks for. */
 enum proto_work {
     PROTO_WORK_RENDER = 0, /* homo: trace the primary rays and shade   */
-    PROTO_WORK_SHADE = 1   /* hetero: shade from the records sent       */
+    PROTO_WORK_SHADE = 1,  /* hetero: shade from the records sent       */
+    PROTO_WORK_SHADE_ANSWERED = 2 /* hetero --simd shadows: the records,
+                              then their shadow answers (tile_pack_answers) */
 };
 
 typedef struct {
@@ -189,6 +193,7 @@ typedef struct {
     uint32_t hits;          /* primary samples that hit                */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     uint64_t over_budget;   /* pixels that met their ray budget        */
+    uint64_t shadow_answered; /* shadow rays answered by the records   */
     double busy_s;          /* seconds the worker spent on the part:
                                tracing it and converting its pixels    */
     double cpu_s;           /* of them, its thread's CPU time          */
@@ -223,9 +228,10 @@ static inline size_t proto_batch_bytes(size_t part, int batch)
 }
 
 /* One TILE part: header, and the records (shade) of n pixels. */
-static inline size_t proto_tile_part(const tile_grid *g, bool shade, size_t n)
+static inline size_t proto_tile_part(const tile_grid *g, int work, size_t n)
 {
-    return sizeof(proto_tile) + (shade ? tile_records_bytes(g, n) : 0);
+    return sizeof(proto_tile) + (work != PROTO_WORK_RENDER ? tile_records_bytes(g, n) : 0) +
+           (work == PROTO_WORK_SHADE_ANSWERED ? tile_answers_bytes(g, n) : 0);
 }
 
 /* The TILE part of `data` (len bytes) at offset `at`: its header into h,
@@ -244,9 +250,13 @@ static inline size_t proto_tile_part_at(const tile_grid *g, const char *data, si
         *why = "tile outside the image";
         return 0;
     }
-    size_t part = proto_tile_part(g, h->work == PROTO_WORK_SHADE,
-                                  (size_t)r.width * (size_t)r.height);
-    if ((h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER) || len - at < part) {
+    if (h->work != PROTO_WORK_SHADE && h->work != PROTO_WORK_RENDER &&
+        h->work != PROTO_WORK_SHADE_ANSWERED) {
+        *why = "malformed tile message";
+        return 0;
+    }
+    size_t part = proto_tile_part(g, h->work, (size_t)r.width * (size_t)r.height);
+    if (len - at < part) {
         *why = "malformed tile message";
         return 0;
     }
@@ -273,7 +283,7 @@ static inline int proto_batch_fit(int batch, size_t pixels_max)
  * the records of the largest tile (a STOP is smaller). */
 static inline size_t proto_worker_limit(const tile_grid *g, int batch)
 {
-    return proto_batch_bytes(proto_tile_part(g, true, g->pixels_max), batch);
+    return proto_batch_bytes(proto_tile_part(g, PROTO_WORK_SHADE_ANSWERED, g->pixels_max), batch);
 }
 
 /* The largest message the master can be sent: the RESULT of `batch` of

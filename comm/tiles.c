@@ -57,6 +57,23 @@ size_t tile_records_bytes(const tile_grid *g, size_t pixels)
     return pixels * (size_t)g->spp * (g->real_size + sizeof(uint32_t));
 }
 
+size_t tile_answers_bytes(const tile_grid *g, size_t pixels)
+{
+    return pixels * (size_t)g->spp * 2 * sizeof(uint32_t);
+}
+
+void tile_pack_answers(const tile_grid *g, const uint32_t *known_image,
+                       const uint32_t *lit_image, tile_rect r, void *out)
+{
+    size_t spp = (size_t)g->spp, line = (size_t)r.width * spp, n = line * (size_t)r.height;
+    uint32_t *known = out, *lit = known + n;
+    for (int row = 0; row < r.height; row++) {
+        size_t src = ((size_t)(r.y + row) * (size_t)g->width + (size_t)r.x) * spp;
+        memcpy(known + (size_t)row * line, known_image + src, line * sizeof *known);
+        memcpy(lit + (size_t)row * line, lit_image + src, line * sizeof *lit);
+    }
+}
+
 void tile_pack_records(const tile_grid *g, const void *t_image, const uint32_t *surf_image,
                        tile_rect r, void *out)
 {

@@ -91,6 +91,15 @@ bool tile_rect_in_tile(const tile_grid *g, int index, tile_rect r);
 /* Bytes of the packed hit records of a tile of `pixels` pixels. */
 size_t tile_records_bytes(const tile_grid *g, size_t pixels);
 
+/* Bytes of the shadow answers that may follow them (--simd shadows): a
+ * known and a lit mask a record (csg/device/shadow.h). */
+size_t tile_answers_bytes(const tile_grid *g, size_t pixels);
+
+/* The shadow answers of tile `r` out of whole-image arrays (as the records)
+ * into `out`: the known masks of its records, then their lit masks. */
+void tile_pack_answers(const tile_grid *g, const uint32_t *known_image,
+                       const uint32_t *lit_image, tile_rect r, void *out);
+
 /* The records of tile `r` out of whole-image arrays (t_image: the blob's
  * real; width * spp records a row) into `out`, packed tile-wise. */
 void tile_pack_records(const tile_grid *g, const void *t_image, const uint32_t *surf_image,

@@ -30,6 +30,7 @@ static const char *const cli_kernels[] = {"auto", "scalar", "packet", NULL}; /* 
 static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"        */
 static const char *const cli_page_policies[] = {"lru", "fifo", NULL}; /* enum pager_policy */
 static const char *const cli_pass[] = {"auto", "always", NULL}; /* pass_always: "always" */
+static const char *const cli_simd[] = {"primary", "shadows", NULL}; /* simd_shadows: "shadows" */
 static const char *const cli_materials[] = {"opaque", "reflective", "transparent", NULL};
 
 typedef struct {

@@ -414,6 +414,13 @@ bool master_shades(const master_job *job, int item)
     return job->t && !job->sched->items[item].fill;
 }
 
+int master_work(const master_job *job, int item)
+{
+    if (!master_shades(job, item))
+        return PROTO_WORK_RENDER;
+    return job->known ? PROTO_WORK_SHADE_ANSWERED : PROTO_WORK_SHADE;
+}
+
 /* One part of a TILE: item `item`'s header (and records) at `out`; its
  * bytes. */
 static size_t master_pack_item(const master_job *job, int item, char *out)
@@ -421,13 +428,16 @@ static size_t master_pack_item(const master_job *job, int item, char *out)
     const tile_grid *g = &job->grid;
     const sched_item *it = &job->sched->items[item];
     tile_rect rect = it->rect;
-    bool shade = master_shades(job, item);
-    proto_tile h = {it->tile, shade ? PROTO_WORK_SHADE : PROTO_WORK_RENDER, rect.x, rect.y,
-                    rect.width, rect.height};
+    int work = master_work(job, item);
+    size_t n = (size_t)rect.width * (size_t)rect.height;
+    proto_tile h = {it->tile, work, rect.x, rect.y, rect.width, rect.height};
     memcpy(out, &h, sizeof h);
-    if (shade)
+    if (work != PROTO_WORK_RENDER)
         tile_pack_records(g, job->t, job->surf, rect, out + sizeof h);
-    return proto_tile_part(g, shade, (size_t)rect.width * (size_t)rect.height);
+    if (work == PROTO_WORK_SHADE_ANSWERED)
+        tile_pack_answers(g, job->known, job->lit, rect,
+                          out + sizeof h + tile_records_bytes(g, n));
+    return proto_tile_part(g, work, n);
 }
 
 /* The bytes of the TILE for items[0 .. k - 1]. */
@@ -436,7 +446,7 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
     size_t len = 0;
     for (int i = 0; i < k; i++) {
         tile_rect r = job->sched->items[items[i]].rect;
-        len = proto_align(len) + proto_tile_part(&job->grid, master_shades(job, items[i]),
+        len = proto_align(len) + proto_tile_part(&job->grid, master_work(job, items[i]),
                                                  (size_t)r.width * (size_t)r.height);
     }
     return len;
@@ -686,7 +696,8 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     else if (!job->store || !store_queue(job->store, r, (const uint8_t *)pixels))
         pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
                                 (const uint8_t *)pixels); /* (no thread, or its ring full) */
-    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget},
+    tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget,
+                                 h.shadow_answered},
                        h.busy_s, h.cpu_s, h.paging, false};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
     if (m->costs) /* (the simulated build: what a real master took) */

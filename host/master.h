@@ -86,6 +86,9 @@ typedef struct master_job {
     tile_grid grid;           /* the image's tiles                        */
     const void *t;            /* hetero: whole-image records (the blob's  */
     const uint32_t *surf;     /*   real, uint32); t NULL: homo            */
+    const uint32_t *known;    /* hetero --simd shadows: the records' shadow
+                                 answers (csg/device/shadow.h); NULL: none */
+    const uint32_t *lit;
     sched *sched;             /* the work items, in the order to send     */
     /* While sched is not closed: makes the newly ready tiles known to it
      * (sched_add / sched_skip, sched_close after the last); with `wait`,
@@ -152,6 +155,8 @@ void master_relay_floor(const master_session *m, sched *s);
 /* Is item `item` shaded from the pass's records (hetero, not a fill
  * tile), or rendered whole (its primary rays traced too)? */
 bool master_shades(const master_job *job, int item);
+/* What item `item` asks of a worker: enum proto_work (comm/protocol.h). */
+int master_work(const master_job *job, int item);
 
 /* Item `item` came back from rank `rank` (0: the master's local path)
  * with `res`, at stats_clock() `now`: added to the item, the job, the

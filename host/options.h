@@ -96,6 +96,9 @@ enum cli_kind {
       "else the first)")                                                                       \
     X("--cl-kernel", NULL, "auto|scalar|packet", CLI_CHOICE, req.cl_kernel, 0, 0, cli_kernels, \
       CLI_ON_RENDERS, "the primary kernel (auto: packet on a CPU, scalar elsewhere)")          \
+    X("--simd", NULL, "primary|shadows", CLI_SWITCH, req.simd_shadows, 0, 0, cli_simd,         \
+      CLI_ON_RENDERS, "hetero: the pass traces the primary rays, or their shadow rays too "   \
+                      "(default primary)")                                                     \
     X("--fill", NULL, "on|off", CLI_SWITCH, req.no_fill, 0, 0, cli_fill, CLI_ON_RENDERS,       \
       "hetero: workers render whole tiles while the pass is not ready (default on)")          \
     X("--pass", NULL, "auto|always", CLI_SWITCH, req.pass_always, 0, 0, cli_pass,              \

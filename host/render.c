@@ -333,6 +333,7 @@ static bool render_pass_config(const render_request *req, pass_config *cfg, csg_
     cfg->device = req->cl_device ? req->cl_device : env->cl_device;
     cfg->kernel = (enum ocl_kernel)req->cl_kernel;
     cfg->fill = !req->no_fill;
+    cfg->shadows = req->simd_shadows;
     cfg->automatic = pass_is_automatic(fill_used, req->pass_always, cfg->device, req->cl_keep);
     cfg->keep = req->cl_keep;
     if (!cl_cache_dir(env->cl_cache, env->xdg_cache_home, env->home, cfg->cache_dir,
@@ -351,7 +352,10 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
     tile_runner tr;
     bool ready = tile_runner_init(&tr, job->local_blob ? job->local_blob : job->blob,
                                   job->grid.tile);
-    void *records = job->t ? malloc(tile_records_bytes(&job->grid, job->grid.pixels_max)) : NULL;
+    size_t answers_at = tile_records_bytes(&job->grid, job->grid.pixels_max);
+    void *records = job->t ? malloc(answers_at + tile_answers_bytes(&job->grid,
+                                                                    job->grid.pixels_max))
+                           : NULL;
     float *rgb = malloc(job->grid.pixels_max * 3 * sizeof *rgb);
     int status = EXIT_FAILURE_RUN;
     if (!ready || !rgb || (job->t && !records)) {
@@ -376,13 +380,19 @@ static int render_local_tiles(master_job *job, stats_worker *self, csg_diag *d)
         if (job->t_first == 0)
             job->t_first = now;
         tile_rect r = job->sched->items[item].rect;
-        bool shade = master_shades(job, item);
+        int work = master_work(job, item);
         tile_result res;
         tile_timer timer;
-        if (shade)
+        void *answers = NULL;
+        if (work != PROTO_WORK_RENDER)
             tile_pack_records(&job->grid, job->t, job->surf, r, records);
+        if (work == PROTO_WORK_SHADE_ANSWERED) {
+            answers = (char *)records + answers_at;
+            tile_pack_answers(&job->grid, job->known, job->lit, r, answers);
+        }
         tile_time_start(&timer);
-        tile_run_rect(&tr, r, shade ? records : NULL, rgb, &res);
+        tile_run_rect_answered(&tr, r, work != PROTO_WORK_RENDER ? records : NULL, answers, rgb,
+                               &res);
         tile_time_stop(&timer, &res);
         tile_store_rgb(job->image, job->grid.width, r, rgb);
         master_job_count(job, self, 0, item, &res, stats_clock());
@@ -581,6 +591,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     int status = pass_prepare(rs->pass, &grid, use_workers ? &rs->idle : NULL, d);
     job->t = pass_t(rs->pass);
     job->surf = pass_surf(rs->pass);
+    job->known = pass_known(rs->pass);
+    job->lit = pass_lit(rs->pass);
     return status;
 }
 
@@ -648,6 +660,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
     pass_drop_records(rs->pass); /* (the writer's peak does not hold them) */
     job.t = NULL;
     job.surf = NULL;
+    job.known = NULL;
+    job.lit = NULL;
     if (status == EXIT_OK)
         status = render_write(req, rs, st, d);
     mk->written = stats_clock();
@@ -698,9 +712,12 @@ static int render_memory_check(const render_request *req, const csg_blob *blob,
     uint64_t avail;
     tile_grid grid = tile_grid_of(blob->bytes, st->tile);
     int slice_rows = req->mode == MODE_HETERO ? pass_slice_rows(&grid) : 0;
+    /* (--simd shadows: a record carries its shadow answers too, two more
+     * words beside its t: counted with it) */
+    size_t record_extra = req->mode == MODE_HETERO && req->simd_shadows ? 2 * sizeof(uint32_t) : 0;
     render_memory need = render_memory_need(st->width, st->height, st->tile, st->spp,
-                                            csg_blob_hdr(blob->bytes)->real_size, slice_rows,
-                                            req->out_path);
+                                            csg_blob_hdr(blob->bytes)->real_size + record_extra,
+                                            slice_rows, req->out_path);
     st->memory_estimate = need.total;
     if (!memory_available(&avail) || need.total <= avail)
         return EXIT_OK;

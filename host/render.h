@@ -41,6 +41,8 @@ typedef struct {
     enum progress_mode progress; /* the bar on stderr                */
     bool resume;              /* go on from out_path's journal (host/
                                  journal.h); else a new one replaces it */
+    bool simd_shadows;        /* --simd shadows: the hetero pass answers
+                                 the primary hits' shadow rays too    */
     int cl_kernel;            /* enum ocl_kernel (host/pass/ocl.h): 0 auto,
                                  1 scalar, 2 packet                    */
     int schedule;             /* enum sched_policy (host/schedule.h);

@@ -52,6 +52,7 @@ void stats_add_rays(ray_counts *a, const ray_counts *b)
     a->reflected += b->reflected;
     a->refracted += b->refracted;
     a->over_budget += b->over_budget;
+    a->shadow_answered += b->shadow_answered;
 }
 
 static void stats_string(FILE *f, const char *s)
@@ -80,10 +81,10 @@ static void stats_rays(FILE *f, const ray_counts *r)
 {
     fprintf(f,
             "{\"primary\": %llu, \"shadow\": %llu, \"reflected\": %llu, \"refracted\": %llu, "
-            "\"total\": %llu}",
+            "\"total\": %llu, \"shadow_answered\": %llu}",
             (unsigned long long)r->primary, (unsigned long long)r->shadow,
             (unsigned long long)r->reflected, (unsigned long long)r->refracted,
-            (unsigned long long)ray_counts_total(r));
+            (unsigned long long)ray_counts_total(r), (unsigned long long)r->shadow_answered);
 }
 
 /* "  "key": value,\n" for a double. */

@@ -122,3 +122,11 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
         smpi_execute_flops(cost.seconds * band / r.height * SIM_HOST_FLOPS);
     }
 }
+
+/* (the simulated costs do not tell the shadow answers apart) */
+void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
+                            const void *answers, float *rgb, tile_result *res)
+{
+    (void)answers;
+    tile_run_rect(tr, r, records, rgb, res);
+}

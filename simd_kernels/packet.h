@@ -303,6 +303,108 @@ CSG_PK_FN void pk_walk_bvh(csg_view v, const pk_packet *pk, csg_hit_pk *best)
     }
 }
 
+/* ---- shadow rays: the any-hit walk of shadow.h, a packet at a time ------------------
+ * Lane by lane the same decisions as csg_shadow_answer: a root is met when
+ * the walk reaches its leaf and (in a leaf of several roots, or unbounded)
+ * its own box passes on [0, tmax]; a met opaque root blocks when its first
+ * visible boundary lies before tmax (csg_shadow_opaque_blocks); a met root
+ * that may filter the light makes the lane unknown.  The answer of a lane
+ * does not depend on the order the roots are met in (blocked if any met
+ * opaque root blocks, else unknown if any filtering root is met, else lit),
+ * so the packet's walk may visit them in its own order. */
+
+/* Root i blocks the lanes of m: csg_shadow_opaque_blocks by the one-ray
+ * code, lane by lane (CSG programs and complemented leaves). */
+CSG_PK_COLD intv pk_shadow_lanes(csg_view v, csg_i32 i, csg_ray_pk ray, realv tmax, intv m)
+{
+    lane_int mk[CSG_PACKET], out[CSG_PACKET];
+    real tm[CSG_PACKET], ro[3][CSG_PACKET], rd[3][CSG_PACKET];
+    CSG_PK_STORE(m, mk);
+    CSG_PK_STORE(tmax, tm);
+    CSG_PK_STORE(ray.o.x, ro[0]);
+    CSG_PK_STORE(ray.o.y, ro[1]);
+    CSG_PK_STORE(ray.o.z, ro[2]);
+    CSG_PK_STORE(ray.d.x, rd[0]);
+    CSG_PK_STORE(ray.d.y, rd[1]);
+    CSG_PK_STORE(ray.d.z, rd[2]);
+    for (int k = 0; k < CSG_PACKET; k++) {
+        out[k] = 0;
+        if (!mk[k])
+            continue;
+        csg_ray r;
+        r.o = v3(ro[0][k], ro[1][k], ro[2][k]);
+        r.d = v3(rd[0][k], rd[1][k], rd[2][k]);
+        out[k] = csg_shadow_opaque_blocks(v, i, r, tm[k]) ? -1 : 0;
+    }
+    return CSG_PK_LOAD(out);
+}
+
+/* Root i for the lanes of m (its box tested first when test_box). */
+CSG_PK_FN void pk_shadow_root(csg_view v, csg_i32 i, const pk_packet *pk, realv tmax, intv m,
+                              int test_box, intv *blocked, intv *touched)
+{
+    CSG_GLOBAL const csg_root *rt = &v.roots[i];
+    if (rt->flags & CSG_ROOT_NO_SHADOW)
+        return;
+    if (test_box)
+        m = m & pk_box_cull(rt->lo, rt->hi, pk, tmax);
+    if (!CSG_PK_ANY(m))
+        return;
+    if (!(rt->flags & CSG_ROOT_OPAQUE)) {
+        *touched = *touched | m;
+        return;
+    }
+    csg_i32 leaf = v.nodes[rt->first_node].prim;
+    if (CSG_USE_CSG && (rt->node_count != 1 || (v.prims[leaf].flags & CSG_PF_INVERT))) {
+        *blocked = *blocked | pk_shadow_lanes(v, i, pk->ray, tmax, m);
+        return;
+    }
+    csg_hit_pk h = csg_leaf_first_hit_pk(v.prims, leaf, pk->ray, (realv)(R(0.0)), tmax);
+    *blocked = *blocked | (m & (h.surf != (uintv)(CSG_SURF_NONE)) & (h.t < tmax));
+}
+
+/* The shadow walk of the packet's live lanes to tmax (per lane): the
+ * unbounded roots, then the BVH, a node tested for the lanes whose walk
+ * reached its parent (the one-ray walk opens a node's children only after
+ * its own box passed) and are not blocked yet. */
+CSG_PK_FN void pk_shadow_walk(csg_view v, const pk_packet *pk, realv tmax, intv *blocked,
+                              intv *touched)
+{
+    *blocked = (intv)(0);
+    *touched = (intv)(0);
+    for (csg_i32 i = 0; i < v.root_count; i++)
+        pk_shadow_root(v, i, pk, tmax, pk->live & ~*blocked, 1, blocked, touched);
+    csg_i32 stack[2 * CSG_BVH_STACK];
+    intv reached[2 * CSG_BVH_STACK]; /* the lanes that passed the parent */
+    csg_i32 top = 0;
+    if (v.bvh_count > 0) { /* the top pair, nodes 0 and 1 */
+        stack[top] = 1;
+        reached[top++] = pk->live;
+        stack[top] = 0;
+        reached[top++] = pk->live;
+    }
+    while (top > 0) {
+        top--;
+        csg_i32 k = stack[top];
+        CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
+        intv m = reached[top] & ~*blocked & pk_box_cull(n->box, n->box + 3, pk, tmax);
+        if (!CSG_PK_ANY(m))
+            continue;
+        if (pk_bvh_is_leaf(n)) {
+            for (csg_i32 i = n->first; i < n->first + n->count; i++)
+                pk_shadow_root(v, i, pk, tmax, m & ~*blocked, n->count > 1, blocked, touched);
+            continue;
+        }
+        if (top + 2 > 2 * CSG_BVH_STACK) /* the flattener prevents this */
+            break;
+        int back = pk->back[-1 - n->count]; /* count = -1 - split axis */
+        stack[top] = back ? n->first : n->first + 1;
+        reached[top++] = m;
+        stack[top] = back ? n->first + 1 : n->first;
+        reached[top++] = m;
+    }
+}
+
 /* ---- the packet's nearest hits ---------------------------------------------------- */
 
 /* Lane by lane, csg_trace_nearest(v, ray, 0, inf).  With a candidate list

@@ -33,6 +33,7 @@
  * two slices).  The result is deterministic.
  */
 #include "camera.h"
+#include "shadow.h"
 
 #ifndef CSG_PACKET
 /* One work-item a record (a sample of a pixel): the variant for GPUs. */
@@ -56,6 +57,36 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     size_t i = (size_t)row * (size_t)width * (size_t)spp + (size_t)col;
     t_out[i] = hit.t;
     surf_out[i] = hit.surf;
+}
+
+/* The shadow answers of the primary hits (#36 item 3): one work-item a
+ * record of rows y0 .. y0 + rows - 1 (t, surf: the slice's records, as
+ * csg_primary left them), bit i of known[] and lit[] light i's answer
+ * (csg_shadow_masks, the code the C worker shades with:
+ * csg/device/shadow.h).  Lights are read from the blob's light array.
+ * The packet variant below gives the same answers a packet at a time. */
+__kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
+                          __global const real *t_in, __global const uint *surf_in,
+                          __global uint *known_out, __global uint *lit_out)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp;
+    int col = (int)get_global_id(0);
+    int row = (int)get_global_id(1);
+    if (col >= width * spp || row >= rows) /* the grid is padded to whole work-groups */
+        return;
+    size_t i = (size_t)row * (size_t)width * (size_t)spp + (size_t)col;
+    csg_u32 known = 0u, lit = 0u;
+    if (surf_in[i] != CSG_SURF_NONE) {
+        int x = col / spp, s = col % spp;
+        csg_ray r = csg_sample_ray(csg_blob_camera(blob), width, h->height, x, y0 + row, spp, s);
+        __global const csg_flat_light *lights =
+            (__global const csg_flat_light *)(blob + h->off_lights);
+        csg_shadow_masks(csg_blob_view(blob), lights, h->light_count, r, t_in[i], surf_in[i],
+                         &known, &lit);
+    }
+    known_out[i] = known;
+    lit_out[i] = lit;
 }
 #else
 #include "packet.h"
@@ -147,6 +178,107 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
                    (size_t)(c0 + k % CSG_PACKET_COLS);
         t_out[i] = t[k];
         surf_out[i] = (uint)surf[k];
+    }
+}
+
+/* The shadow answers of a packet of records (the grid of csg_primary's
+ * packet variant): each lane's frame and line to the light by the one-ray
+ * code (shadow.h), then, light by light, the walk of the lanes that need
+ * it as a packet (pk_shadow_walk); the same answers as csg_shadow_masks. */
+__kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
+                          __global const real *t_in, __global const uint *surf_in,
+                          __global uint *known_out, __global uint *lit_out)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp, cols = width * spp;
+    int c0 = (int)get_global_id(0) * CSG_PACKET_COLS;
+    int r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
+    if (c0 >= cols || r0 >= rows) /* the grid is padded to whole work-groups */
+        return;
+    csg_view v = csg_blob_view(blob);
+    __global const csg_flat_light *lights = (__global const csg_flat_light *)(blob + h->off_lights);
+    real ax[CSG_PACKET], ay[CSG_PACKET], az[CSG_PACKET];
+    real nx[CSG_PACKET], ny[CSG_PACKET], nz[CSG_PACKET];
+    int hit[CSG_PACKET];
+    uint known[CSG_PACKET], lit[CSG_PACKET];
+    size_t at[CSG_PACKET];
+    for (int k = 0; k < CSG_PACKET; k++) {
+        int col = c0 + k % CSG_PACKET_COLS, row = r0 + k / CSG_PACKET_COLS;
+        known[k] = 0u;
+        lit[k] = 0u;
+        ax[k] = ay[k] = az[k] = nx[k] = ny[k] = nz[k] = R(0.0); /* lanes without a hit */
+        hit[k] = col < cols && row < rows;
+        if (!hit[k])
+            continue;
+        at[k] = (size_t)row * (size_t)cols + (size_t)col;
+        hit[k] = surf_in[at[k]] != CSG_SURF_NONE;
+        if (!hit[k])
+            continue;
+        csg_ray r = csg_sample_ray(csg_blob_camera(blob), width, h->height, col / spp, y0 + row,
+                                   spp, col % spp);
+        csg_hit_frame f = csg_hit_frame_of(v, r, t_in[at[k]], surf_in[at[k]]);
+        vec3 nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n;
+        ax[k] = f.above.x;
+        ay[k] = f.above.y;
+        az[k] = f.above.z;
+        nx[k] = nf.x;
+        ny[k] = nf.y;
+        nz[k] = nf.z;
+    }
+    int n = h->light_count < CSG_SHADOW_LIGHTS ? h->light_count : CSG_SHADOW_LIGHTS;
+    for (int i = 0; i < n; i++) {
+        __global const csg_flat_light *lt = &lights[i];
+        if (!csg_shadow_answerable(lt))
+            continue;
+        real lx[CSG_PACKET], ly[CSG_PACKET], lz[CSG_PACKET], reach[CSG_PACKET];
+        lane_int ok[CSG_PACKET], blocked[CSG_PACKET], touched[CSG_PACKET];
+        int any = 0;
+        for (int k = 0; k < CSG_PACKET; k++) {
+            vec3 l = v3(R(0.0), R(0.0), R(1.0));
+            real dist = R(1.0);
+            ok[k] = hit[k] && csg_light_line(lt, v3(ax[k], ay[k], az[k]), &l, &dist) &&
+                    v3_dot(v3(nx[k], ny[k], nz[k]), l) > R(0.0);
+            if (!ok[k]) { /* a finite ray that takes no part */
+                l = v3(R(0.0), R(0.0), R(1.0));
+                dist = R(1.0);
+            }
+            ok[k] = ok[k] ? -1 : 0;
+            any |= ok[k];
+            lx[k] = l.x;
+            ly[k] = l.y;
+            lz[k] = l.z;
+            reach[k] = csg_shadow_reach(dist);
+        }
+        if (!any)
+            continue;
+        csg_ray_pk r;
+        r.o.x = CSG_PK_LOAD(ax);
+        r.o.y = CSG_PK_LOAD(ay);
+        r.o.z = CSG_PK_LOAD(az);
+        r.d.x = CSG_PK_LOAD(lx);
+        r.d.y = CSG_PK_LOAD(ly);
+        r.d.z = CSG_PK_LOAD(lz);
+        pk_packet pk;
+        pk_packet_init(&pk, r, CSG_PK_LOAD(ok));
+        intv b, t;
+        pk_shadow_walk(v, &pk, CSG_PK_LOAD(reach), &b, &t);
+        CSG_PK_STORE(b, blocked);
+        CSG_PK_STORE(t, touched);
+        for (int k = 0; k < CSG_PACKET; k++) {
+            if (!ok[k] || (!blocked[k] && touched[k]))
+                continue;
+            known[k] |= 1u << i;
+            if (!blocked[k])
+                lit[k] |= 1u << i;
+        }
+    }
+    for (int k = 0; k < CSG_PACKET; k++) {
+        int col = c0 + k % CSG_PACKET_COLS, row = r0 + k / CSG_PACKET_COLS;
+        if (col >= cols || row >= rows)
+            continue;
+        size_t i = (size_t)row * (size_t)cols + (size_t)col;
+        known_out[i] = known[k];
+        lit_out[i] = lit[k];
     }
 }
 #endif

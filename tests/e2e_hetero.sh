@@ -9,7 +9,8 @@
 # against the general one; the fill (workers render whole tiles while the
 # OpenCL program builds) with a delayed build: every tile filled, or a
 # fixed number and the pass the rest; --pass auto without an OpenCL
-# platform renders with a warning.
+# platform renders with a warning; --simd shadows (the pass answers the
+# primary hits' shadow rays) gives the same images.
 # Every hetero render here runs --fill off unless it says otherwise: with
 # the fill on, a small image may be rendered before the pass has begun,
 # and the comparisons of the pass's records would prove nothing.
@@ -54,6 +55,49 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
         ok "random scene $3: tiles sent + skipped = total"
     else
         ko "random scene $3: tile bookkeeping"
+    fi
+done
+
+# --- --simd shadows: the pass answers the primary hits' shadow rays (a
+# transparent blocker, a spotlight, an area light, a shadowless light and
+# 36 lights: the unknown paths too); hetero --simd shadows == serial with
+# both kernels in both precisions (== homo, == --simd primary in float),
+# the answers taken and the rest traced ---
+{
+    echo 'camera { location <0, 3, -8> look_at <0, 0.5, 0> }'
+    echo 'plane { y, 0 pigment { color rgb 1 } finish { reflection 0.2 } }'
+    echo 'sphere { <-1.5, 1, 0>, 1 pigment { color rgb <1, 0.2, 0.2> } }'
+    echo 'sphere { <1.5, 1, 0>, 1 pigment { color rgbf <0.5, 0.5, 1, 0.8> } }'
+    echo 'difference { box { <-0.5, 0, -2.5>, <0.5, 2, -2> } sphere { <0, 1, -2.5>, 0.4 } pigment { color rgb 1 } }'
+    echo 'light_source { <-5, 8, -5> color rgb 0.5 }'
+    echo 'light_source { <5, 8, -5> color rgb 0.5 spotlight point_at <0, 0, 0> radius 15 falloff 25 }'
+    echo 'light_source { <0, 8, -6> color rgb 0.3 area_light <1, 0, 0>, <0, 0, 1>, 2, 2 }'
+    echo 'light_source { <-3, 5, 2> color rgb 0.3 shadowless }'
+    for i in $(seq 0 31); do echo "light_source { <$((i % 8 - 4)), 6, $((i / 8 - 2))> color rgb 0.02 }"; done
+} >"$T/shadow_answers.pov"
+for prec in float double; do
+    sa=(--width 48 --height 36 --tile 16 --precision $prec)
+    render sa_s_$prec 0 serial "$T/shadow_answers.pov" "${sa[@]}"
+    all=1
+    runs="scalar_shadows packet_shadows"
+    if [ $prec = float ]; then
+        runs="$runs packet_primary"
+        render sa_h_$prec 3 homo "$T/shadow_answers.pov" "${sa[@]}"
+        same "$T/sa_s_$prec.pfm" "$T/sa_h_$prec.pfm" || all=0
+    fi
+    for run in $runs; do
+        render sa_x_${prec}_$run 3 hetero "$T/shadow_answers.pov" "${sa[@]}" --cl-kernel ${run%_*} --simd ${run#*_}
+        same "$T/sa_s_$prec.pfm" "$T/sa_x_${prec}_$run.pfm" || all=0
+        if [ ${run#*_} = shadows ]; then
+            json "$T/sa_x_${prec}_$run.json" "j['rays']['shadow_answered'] > 0 and j['rays']['shadow'] > 0" || all=0
+        else
+            json "$T/sa_x_${prec}_$run.json" "j['rays']['shadow_answered'] == 0" || all=0
+        fi
+    done
+    if [ $all = 1 ]; then
+        ok "$prec: hetero --simd shadows ($runs) == serial (float: == homo), answers taken and some traced"
+    else
+        ko "$prec: --simd shadows: images differ or no answer taken"
     fi
 done
 

@@ -30,9 +30,11 @@
 #include <cmocka.h>
 
 #include "../csg/device/camera.h"
+#include "../csg/device/shadow.h"
 #include "../csg/flatten.h"
 #include "../csg/lang/parser.h"
 #include "../host/pass/ocl.h"
+#include "../workers/engine.h"
 
 /* ---- precision-neutral scene description ----------------------------------- */
 
@@ -1170,6 +1172,200 @@ static void test_device_selectors(void **state)
 
 /* The variant: explicit, from $CSGTRACE_CL_KERNEL, by device type (PoCL's
  * is a CPU: packet); a bad value is refused with a message naming it. */
+/* ---- the shadow answers (#36 item 3) ---------------------------------------------- */
+
+/* A scene for every path of the shadow answers: opaque blockers (a CSG
+ * union too), a transparent one and a no_shadow one; a point light (0), a
+ * spotlight (1), a cylinder light (2), a parallel light (3), an area light
+ * (4), a shadowless light (5), a point light that fades (6), and 30 dim point
+ * lights, so lights 32 .. 36 lie beyond the records' masks. */
+static char *shadow_sdl(void)
+{
+    sdl_buf b = {NULL, 0, 0};
+    sdl(&b, "camera { location <0, 3, -8> look_at <0, 0.5, 0> }\n"
+            "plane { y, 0 pigment { color rgb 1 } }\n"
+            "sphere { <-1.5, 1, 0>, 1 pigment { color rgb <1, 0.2, 0.2> } }\n"
+            "sphere { <1.5, 1, 0>, 1 pigment { color rgbf <0.5, 0.5, 1, 0.8> } }\n"
+            "box { <-0.5, 0, -2.5>, <0.5, 2, -2> pigment { color rgb 1 } no_shadow }\n"
+            "union { sphere { <0, 2.5, 1>, 0.5 } sphere { <0.6, 2.5, 1>, 0.5 }\n"
+            "        pigment { color rgb <0, 1, 0> } }\n"
+            "light_source { <-5, 8, -5> color rgb 0.5 }\n"
+            "light_source { <5, 8, -5> color rgb 0.5 spotlight point_at <0, 0, 0>\n"
+            "               radius 15 falloff 25 }\n"
+            "light_source { <0, 10, 0> color rgb 0.3 cylinder point_at <0, 0, 0>\n"
+            "               radius 2 falloff 4 }\n"
+            "light_source { <3, 6, 5> color rgb 0.3 parallel point_at <0, 0, 0> }\n"
+            "light_source { <0, 8, -6> color rgb 0.3 area_light <1, 0, 0>, <0, 0, 1>, 2, 2 }\n"
+            "light_source { <-3, 5, 2> color rgb 0.3 shadowless }\n"
+            "light_source { <2, 4, -3> color rgb 0.3 fade_distance 3 fade_power 2 }\n");
+    for (int i = 0; i < 30; i++)
+        sdl(&b, "light_source { <%d, 6, %d> color rgb 0.02 }\n", i % 6 - 3, i / 6 - 2);
+    return b.text;
+}
+
+/* Per light: records answered lit, answered blocked. */
+typedef struct {
+    size_t lit[CSG_SHADOW_LIGHTS], blocked[CSG_SHADOW_LIGHTS];
+} shadow_tally;
+
+static void shadow_count(const uint32_t *known, const uint32_t *lit, size_t n, shadow_tally *st)
+{
+    memset(st, 0, sizeof *st);
+    for (size_t i = 0; i < n; i++)
+        for (int l = 0; l < CSG_SHADOW_LIGHTS; l++)
+            if ((known[i] >> l) & 1u) {
+                if ((lit[i] >> l) & 1u)
+                    st->lit[l]++;
+                else
+                    st->blocked[l]++;
+            }
+}
+
+/* The device's answers for the records of each kernel variant equal the C
+ * answers (the same shadow.h) bit for bit, and the worker's pixels with
+ * them equal its pixels without them, bit for bit, with every answer taken
+ * in place of a shadow ray; answers turned over change the pixels (they
+ * are used); the lights the device must not answer are left unknown. */
+static void test_shadow_answers(void **state)
+{
+    fixture *fx = *state;
+    char *text = shadow_sdl();
+    csg_blob blob = text_blob("shadow scene", text, 48, 36, 2);
+    free(text);
+    const csg_blob_header *bh = (const csg_blob_header *)blob.bytes;
+    const engine *eng = engine_for_blob(blob.bytes);
+    size_t n = (size_t)bh->width * (size_t)bh->height * (size_t)bh->spp, rs = prec.real_size;
+    void *t = malloc(n * rs);
+    uint32_t *surf = malloc(n * 4), *known = malloc(n * 4), *lit = malloc(n * 4);
+    uint32_t *hits = malloc((size_t)bh->width * (size_t)bh->height * 4);
+    float *rgb_plain = malloc((size_t)bh->width * (size_t)bh->height * 12);
+    float *rgb_answered = malloc((size_t)bh->width * (size_t)bh->height * 12);
+    assert_true(t && surf && known && lit && hits && rgb_plain && rgb_answered);
+    tile_rect all = {0, 0, bh->width, bh->height};
+    const csg_flat_light *lights = (const csg_flat_light *)(const void *)(blob.bytes + bh->off_lights);
+    csg_view v = csg_blob_view(blob.bytes);
+    for (int var = 0; var < VARIANTS; var++) {
+        ocl_timing timing = {0};
+        csg_diag d = {0};
+        if (!ocl_primary_pass(fx->ctx[var], blob.bytes, 8, t, surf, hits, &timing, &d) ||
+            !ocl_shadow_answers(fx->ctx[var], blob.bytes, t, surf, known, lit, NULL, &d))
+            fail_msg("%s: %s", prec.name, d.message);
+        size_t bad = 0, hit = 0;
+        for (size_t i = 0; i < n; i++) {
+            int cols = bh->width * bh->spp, col = (int)(i % (size_t)cols), row = (int)(i / (size_t)cols);
+            csg_ray r = csg_sample_ray(csg_blob_camera(blob.bytes), bh->width, bh->height,
+                                       col / bh->spp, row, bh->spp, col % bh->spp);
+            real ti;
+            memcpy(&ti, (char *)t + i * rs, rs);
+            csg_u32 k_ref, l_ref;
+            csg_shadow_masks(v, lights, bh->light_count, r, ti, surf[i], &k_ref, &l_ref);
+            hit += surf[i] != CSG_SURF_NONE;
+            if ((k_ref != known[i] || l_ref != lit[i]) && bad++ < 5)
+                print_error("%s record %zu: C known %08x lit %08x, OpenCL %08x %08x\n", prec.name,
+                            i, (unsigned)k_ref, (unsigned)l_ref, (unsigned)known[i],
+                            (unsigned)lit[i]);
+        }
+        assert_int_equal(bad, 0);
+        assert_true(hit > n / 2);
+
+        shadow_tally st;
+        shadow_count(known, lit, n, &st);
+        for (int l = 0; l < 7; l++) /* point, spot, cylinder, parallel, faded: both
+                                       answers; area, shadowless: never */
+            if (l == 4 || l == 5)
+                assert_true(st.lit[l] == 0 && st.blocked[l] == 0);
+            else
+                assert_true(st.lit[l] > 0 && st.blocked[l] > 0);
+        /* the transparent sphere: floor points behind it for light 0 are
+         * left unknown, so light 0 is answered on fewer records than hit */
+        assert_true(st.lit[0] + st.blocked[0] < hit);
+
+        ray_counts plain = {0}, answered = {0};
+        eng->shade(blob.bytes, all, t, surf, rgb_plain, &plain);
+        eng->shade_answered(blob.bytes, all, t, surf, known, lit, rgb_answered, &answered);
+        assert_memory_equal(rgb_plain, rgb_answered, (size_t)bh->width * (size_t)bh->height * 12);
+        assert_true(answered.shadow_answered > 0);
+        assert_int_equal(plain.shadow_answered, 0);
+        assert_int_equal(plain.shadow, answered.shadow + answered.shadow_answered);
+        print_message("# %s %s: %llu of %llu shadow rays answered by the device\n", prec.name,
+                      var ? "packet" : "scalar", (unsigned long long)answered.shadow_answered,
+                      (unsigned long long)plain.shadow);
+
+        for (size_t i = 0; i < n; i++) /* every answer turned over */
+            lit[i] ^= known[i];
+        ray_counts wrong = {0};
+        eng->shade_answered(blob.bytes, all, t, surf, known, lit, rgb_answered, &wrong);
+        assert_true(memcmp(rgb_plain, rgb_answered, (size_t)bh->width * (size_t)bh->height * 12) != 0);
+    }
+    free(t);
+    free(surf);
+    free(known);
+    free(lit);
+    free(hits);
+    free(rgb_plain);
+    free(rgb_answered);
+    csg_blob_free(&blob);
+}
+
+/* The device's shadow answers on ctx for blob's records equal the C
+ * answers record by record; returns the answers given (known bits). */
+static size_t check_shadow_masks(ocl_ctx *ctx, const csg_blob *blob, const char *what)
+{
+    const csg_blob_header *bh = (const csg_blob_header *)blob->bytes;
+    size_t n = (size_t)bh->width * (size_t)bh->height * (size_t)bh->spp, rs = prec.real_size;
+    void *t = malloc(n * rs);
+    uint32_t *surf = malloc(n * 4), *known = malloc(n * 4), *lit = malloc(n * 4);
+    uint32_t *hits = malloc(n * 4);
+    assert_true(t && surf && known && lit && hits);
+    ocl_timing timing = {0};
+    csg_diag d = {0};
+    if (!ocl_primary_pass(ctx, blob->bytes, 8, t, surf, hits, &timing, &d) ||
+        !ocl_shadow_answers(ctx, blob->bytes, t, surf, known, lit, NULL, &d))
+        fail_msg("%s %s: %s", prec.name, what, d.message);
+    const csg_flat_light *lights =
+        (const csg_flat_light *)(const void *)(blob->bytes + bh->off_lights);
+    csg_view v = csg_blob_view(blob->bytes);
+    size_t bad = 0, answers = 0;
+    int cols = bh->width * bh->spp;
+    for (size_t i = 0; i < n; i++) {
+        int col = (int)(i % (size_t)cols), row = (int)(i / (size_t)cols);
+        csg_ray r = csg_sample_ray(csg_blob_camera(blob->bytes), bh->width, bh->height,
+                                   col / bh->spp, row, bh->spp, col % bh->spp);
+        real ti;
+        memcpy(&ti, (char *)t + i * rs, rs);
+        csg_u32 k_ref, l_ref;
+        csg_shadow_masks(v, lights, bh->light_count, r, ti, surf[i], &k_ref, &l_ref);
+        answers += (size_t)__builtin_popcount(known[i]);
+        if ((k_ref != known[i] || l_ref != lit[i]) && bad++ < 5)
+            print_error("%s %s (%s) record (%d, %d): C known %08x lit %08x, OpenCL %08x %08x\n",
+                        prec.name, what, timing.kernel, col, row, (unsigned)k_ref,
+                        (unsigned)l_ref, (unsigned)known[i], (unsigned)lit[i]);
+    }
+    free(t);
+    free(surf);
+    free(known);
+    free(lit);
+    free(hits);
+    assert_int_equal(bad, 0);
+    return answers;
+}
+
+/* Random scenes of many opaque objects (CSG, planes, a deep BVH): the
+ * packet walk of the shadow rays must reach exactly the roots the one-ray
+ * walk reaches (a child's box may pass where its parent's did not: a
+ * packet that opened the node for other lanes must not test it for this
+ * one), so the answers equal C's in both variants. */
+static void test_shadow_answers_random(void **state)
+{
+    fixture *fx = *state;
+    for (uint64_t seed = 1; seed <= 2; seed++) {
+        csg_blob blob = random_blob(seed, 400, 64, 48, 1);
+        for (int var = 0; var < VARIANTS; var++)
+            assert_true(check_shadow_masks(fx->ctx[var], &blob, "random scene") > 0);
+        csg_blob_free(&blob);
+    }
+}
+
 static void test_kernel_choice(void **state)
 {
     (void)state;
@@ -1312,6 +1508,8 @@ int main(void)
         cmocka_unit_test(test_forced_slices),
         cmocka_unit_test(test_empty_scene),
         cmocka_unit_test(test_bad_blob),
+        cmocka_unit_test(test_shadow_answers),
+        cmocka_unit_test(test_shadow_answers_random),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

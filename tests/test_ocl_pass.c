@@ -96,7 +96,7 @@ static void test_background_equals_whole(void **state)
         atomic_init(&calls, 0);
         ocl_pass *p = NULL;
         memset(bg, 0xff, sizeof *bg);
-        assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, slice, bg->t, bg->surf,
+        assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, slice, bg->t, bg->surf, NULL, NULL,
                                    bg->hits, on_slice, &calls, &p, &d));
         int rows = 0, columns = (W + TILE - 1) / TILE;
         while (rows < H) {
@@ -129,7 +129,7 @@ static void test_end_early(void **state)
     atomic_int calls;
     atomic_init(&calls, 0);
     ocl_pass *p = NULL;
-    assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, TILE, r->t, r->surf, r->hits,
+    assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, TILE, r->t, r->surf, NULL, NULL, r->hits,
                                on_slice, &calls, &p, &d));
     ocl_pass_end(p, NULL, &d); /* not asked how far it got */
     int after = atomic_load(&calls);
@@ -154,7 +154,7 @@ static void test_limit(void **state)
         for (int late = 0; late < 2; late++) {
             ocl_pass *p = NULL;
             memset(part, 0xff, sizeof *part);
-            assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, TILE, part->t, part->surf,
+            assert_true(ocl_pass_begin(fx->ctx, fx->blob.bytes, TILE, TILE, part->t, part->surf, NULL, NULL,
                                        part->hits, NULL, NULL, &p, &d));
             int rows = late ? ocl_pass_rows(p, true, &d) : 0; /* a slice or more in first */
             int done = rows / TILE; /* (slices of TILE rows) */

@@ -16,7 +16,7 @@
  *   - the robust formulations against naive ones written here: the
  *     textbook quadratic loses a tiny far sphere that csg_sphere_span
  *     finds; a fixed-epsilon ray offset self-shadows where the ulp-scaled
- *     offset of workers/offset.h does not;
+ *     offset of csg/device/offset.h does not;
  *     (STABILITY_DUMP=dir writes the renders as PPM for a look)
  *   - NaN and infinity never reach a pixel (degenerate directions, rays
  *     parallel to faces, zero-thickness CSG, coordinates of 1e30, a camera
@@ -39,7 +39,7 @@
 #include "../csg/lang/parser.h"
 #include "../csg/precision.h"
 #include "../workers/engine.h"
-#include "../workers/offset.h"
+#include "../csg/device/offset.h"
 
 /* ---- rendering a scene string ------------------------------------------------ */
 

@@ -231,12 +231,12 @@ static int setup(void **state)
     s->pixels = 3072;
     s->pixels_hit = 768;
     s->max_rays = 4096;
-    s->rays = (ray_counts){ 3072, 500, 40, 3, 2 };
+    s->rays = (ray_counts){ 3072, 500, 40, 3, 2, 0 };
     s->bytes_sent = 123456;
     s->bytes_received = 654321;
     s->blob_bytes = 4096;
-    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1, 0 }, 0.5, 6, {0} };
-    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2, 2 }, 0.75, 4, {0} };
+    fx->w[0] = (stats_worker){ 1, 4, 400, { 0, 300, 30, 1, 0, 0 }, 0.5, 6, {0} };
+    fx->w[1] = (stats_worker){ 2, 3, 368, { 0, 200, 10, 2, 2, 0 }, 0.75, 4, {0} };
     s->worker_count = 2;
     s->workers = fx->w;
     *state = fx;

@@ -89,7 +89,7 @@ static void test_bands_are_the_rectangle(void **state)
             size_t m = (size_t)rects[i].width * rects[i].height * (size_t)spp;
             engine_float.trace_primary(blob.bytes, rects[i], records,
                                        (uint32_t *)(void *)((char *)records + m * sizeof(float)),
-                                       &(ray_counts){0, 0, 0, 0, 0});
+                                       &(ray_counts){0, 0, 0, 0, 0, 0});
             check_rect(&tr, rects[i], records);
             free(records);
         }

@@ -18,6 +18,9 @@ void ENGINE_SYM(engine_trace_primary)(const void *blob, tile_rect rect, void *t_
                                       uint32_t *surf_out, ray_counts *rays);
 void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t,
                               const uint32_t *surf, float *rgb_out, ray_counts *rays);
+void ENGINE_SYM(engine_shade_answered)(const void *blob, tile_rect rect, const void *t,
+                                       const uint32_t *surf, const uint32_t *known,
+                                       const uint32_t *lit, float *rgb_out, ray_counts *rays);
 void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3]);
 bool ENGINE_SYM(engine_rect_misses)(const void *blob, tile_rect rect, int32_t *met);
 int32_t ENGINE_SYM(engine_rect_candidates)(const void *blob, tile_rect rect,
@@ -31,6 +34,7 @@ const engine ENGINE_SYM(engine) = {
     .flatten = ENGINE_SYM(csg_flatten),
     .trace_primary = ENGINE_SYM(engine_trace_primary),
     .shade = ENGINE_SYM(engine_shade),
+    .shade_answered = ENGINE_SYM(engine_shade_answered),
     .miss_rgb = ENGINE_SYM(engine_miss_rgb),
     .rect_misses = ENGINE_SYM(engine_rect_misses),
     .rect_candidates = ENGINE_SYM(engine_rect_candidates),

@@ -40,6 +40,8 @@
 typedef struct {
     uint64_t primary, shadow, reflected, refracted;
     uint64_t over_budget; /* pixels that met their ray budget (shade.c) */
+    uint64_t shadow_answered; /* shadow rays not traced: their answer came in
+                                 the records (shade_answered)              */
 } ray_counts;
 
 /* Rays of every kind. */
@@ -62,6 +64,13 @@ typedef struct {
      * records; adds the secondary rays it traced to *rays. */
     void (*shade)(const void *blob, tile_rect rect, const void *t, const uint32_t *surf,
                   float *rgb_out, ray_counts *rays);
+    /* shade, with the device's shadow answers of every record (known[],
+     * lit[]: csg/device/shadow.h, csg_shadow_masks; NULL: none): a known
+     * answer replaces the primary hit's shadow ray, which it equals, so
+     * the pixels are shade's bit for bit (counted in shadow_answered). */
+    void (*shade_answered)(const void *blob, tile_rect rect, const void *t, const uint32_t *surf,
+                           const uint32_t *known, const uint32_t *lit, float *rgb_out,
+                           ray_counts *rays);
     /* The pixel shade gives when no primary sample hit (the background):
      * what the hetero master fills degenerate tiles with. */
     void (*miss_rgb)(const void *blob, float rgb[3]);

@@ -25,7 +25,7 @@
  * units in the last place along the normal (Wächter and Binder, "A Fast and
  * Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6),
  * towards the side the new ray leaves to, and at least by the rounding the
- * ray that found the point carried (workers/offset.h), so no fixed epsilon
+ * ray that found the point carried (csg/device/offset.h), so no fixed epsilon
  * is needed at any scale.
  */
 #include <float.h>
@@ -36,10 +36,11 @@
 
 #include "../comm/pixels.h"
 #include "../csg/device/camera.h"
+#include "../csg/device/shadow.h"
 #include "engine.h"
 #include "frustum.h"
 #include "noise.h"
-#include "offset.h"
+#include "../csg/device/offset.h"
 #include "pager.h"
 #include "pigment.h"
 
@@ -85,6 +86,8 @@ typedef struct {
     csg_i32 *blockers; /* the shadow cache of the tile (shadow_slot) */
     uint64_t rng_key;   /* the pixel's sample: its random stream (pixel_random) */
     uint64_t rng_drawn; /* numbers drawn from it so far                          */
+    csg_u32 shadow_known; /* the primary hit's shadow answers from its record   */
+    csg_u32 shadow_lit;   /* (csg/device/shadow.h: csg_shadow_masks); 0: none   */
     int continued;      /* continued rays (same ior) now nested: at
                            SHADE_MAX_CONTINUED the next one takes a level  */
 } ray_tally;
@@ -403,10 +406,8 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
         return true;
     if (test_box && !csg_box_hit(rt->lo, rt->hi, br, R(0.0), dist, &t_enter))
         return true;
-    if (rt->flags & CSG_ROOT_OPAQUE) { /* any visible boundary blocks: the first will do */
-        csg_hit h = csg_root_first_hit(c->view, i, r, R(0.0), dist);
-        return !(h.surf != CSG_SURF_NONE && h.t < dist);
-    }
+    if (rt->flags & CSG_ROOT_OPAQUE) /* any visible boundary blocks: the first will do */
+        return !csg_shadow_opaque_blocks(c->view, i, r, dist);
     if (rt->node_count == 1) {
         csg_i32 leaf = c->view.nodes[rt->first_node].prim;
         const csg_prim *p = &c->view.prims[leaf];
@@ -433,15 +434,7 @@ static bool root_transmittance(const shade_ctx *c, csg_i32 i, csg_ray r, const c
  * order (fixed for a given ray); it stops at the first opaque blocker. */
 static vec3 light_transmittance(const shade_ctx *c, vec3 p, vec3 l, real dist, csg_i32 *blocker)
 {
-    /* POV-Ray's SHADOW_TOLERANCE (trace.cpp, TracePointLightShadowRay): a
-     * surface closer than 1e-3 to the light casts no shadow, so a light on
-     * a surface (lights/laser.pov: a spotlight on a cylinder's cap) is not
-     * hidden by it where rounding puts the cap before the light.  Below a
-     * distance of 1 it shrinks with the distance (1e-3 of it), so a scene
-     * drawn at 10^-4 of its size keeps its shadows (POV-Ray's absolute
-     * tolerance would remove them all; tests/test_stability's scale
-     * invariance); from 1 on it is POV-Ray's. */
-    dist -= r_fmin(R(1.0e-3), R(1.0e-3) * dist);
+    dist = csg_shadow_reach(dist); /* POV-Ray's SHADOW_TOLERANCE (shadow.h) */
     vec3 pass = v3(R(1.0), R(1.0), R(1.0));
     const vec3 none = v3(R(0.0), R(0.0), R(0.0));
     csg_ray r;
@@ -661,28 +654,7 @@ static double cubic_spline(double low, double high, double pos)
  * a plain point light is the line to its position. */
 static void light_ray(const csg_flat_light *lt, vec3 o, vec3 jitter, vec3 *l, real *dist)
 {
-    vec3 center = v3_add(v3_load(lt->position), jitter);
-    if (lt->kind == CSG_LIGHT_CYLINDER) {
-        vec3 dir = v3_sub(center, v3_load(lt->point_at));
-        real len = v3_length(dir);
-        *dist = v3_dot(v3_sub(center, o), dir) / len;
-        *l = v3_scale(dir, R(1.0) / len);
-    } else {
-        vec3 to_light = v3_sub(center, o);
-        *dist = v3_length(to_light);
-        *l = v3_scale(to_light, R(1.0) / *dist);
-    }
-    if (lt->parallel) {
-        if (lt->area) {
-            vec3 v1 = v3_normalize(v3_sub(center, v3_load(lt->point_at)));
-            *dist *= v3_dot(v1, *l);
-            *l = v1;
-        } else {
-            vec3 d = v3_load(lt->direction);
-            *dist *= -v3_dot(d, *l);
-            *l = v3_neg(d);
-        }
-    }
+    csg_light_ray(lt, o, v3_add(v3_load(lt->position), jitter), l, dist);
 }
 
 /* POV-Ray's Attenuate_Light: a spotlight's cone, a cylinder light's
@@ -719,8 +691,8 @@ static double light_attenuation(const csg_flat_light *lt, vec3 o, vec3 l, real d
     return att;
 }
 
-/* A plain point light: the line to its position, no attenuation (the
- * arithmetic of csgtrace before spotlights, kept bit for bit). */
+/* A plain point light: no attenuation (the arithmetic of csgtrace before
+ * spotlights, kept bit for bit). */
 static bool light_plain(const csg_flat_light *lt)
 {
     return lt->kind == CSG_LIGHT_POINT && !lt->parallel && !lt->area &&
@@ -868,6 +840,11 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
     csg_i32 *slot = shadow_slot(c, tally, i, hi->level);
     if (lt->area) {
         light = area_light(c, lt, hi->above, light, slot, tally);
+    } else if (hi->level == 1 && i < CSG_SHADOW_LIGHTS && ((tally->shadow_known >> i) & 1u)) {
+        /* the record's answer (shadow.h): what light_transmittance finds */
+        tally->rays->shadow_answered++;
+        vec3 pass = grey3(((tally->shadow_lit >> i) & 1u) ? R(1.0) : R(0.0));
+        light = v3_mul(light, pass);
     } else {
         tally->rays->shadow++;
         light = v3_mul(light, light_transmittance(c, hi->above, l, dist, slot));
@@ -899,16 +876,9 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
         const csg_flat_light *lt = &c->lights[i];
         vec3 l, light = v3_load(lt->color);
         real dist;
-        if (light_plain(lt)) {
-            vec3 to_light = v3_sub(v3_load(lt->position), hi->above);
-            dist = v3_length(to_light);
-            if (!(dist > R(0.0)))
-                continue;
-            l = v3_scale(to_light, R(1.0) / dist);
-        } else { /* POV-Ray: no light at all (outside a spotlight's cone) skips it */
-            light_ray(lt, hi->above, grey3(R(0.0)), &l, &dist);
-            if (!(dist > R(0.0)) && !lt->parallel)
-                continue;
+        if (!csg_light_line(lt, hi->above, &l, &dist)) /* the line the device uses too */
+            continue;
+        if (!light_plain(lt)) { /* POV-Ray: no light at all (outside a spotlight's cone) skips it */
             light = v3_scale(light, (real)light_attenuation(lt, hi->above, l, dist));
             if (r_fabs(light.x) < R(1e-10) && r_fabs(light.y) < R(1e-10) &&
                 r_fabs(light.z) < R(1e-10))
@@ -1198,20 +1168,17 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
     hi.prim_solid = !(prim->flags & CSG_PF_HOLLOW) && !CSG_PRIM_IS_SURFACE(prim->kind);
     hi.depth = h.t;
     hi.light_done = 0;
-    hi.p = v3_add(r.o, v3_scale(r.d, h.t));
-    vec3 n = csg_surface_normal(c->view.prims, h.surf, hi.p);
-    /* the side of the geometry decides where secondary rays start and
-     * whether the ray enters; the shading normal faces the ray by its own
-     * direction, as POV-Ray turns it (a smooth triangle's normals may point
-     * against its winding: ComputeTextureColour flips the interpolated
-     * normal alone) */
-    vec3 ng = csg_surface_geometric_normal(c->view.prims, h.surf, hi.p, n);
-    hi.entering = v3_dot(ng, r.d) < R(0.0);
-    hi.nf = v3_dot(n, r.d) > R(0.0) ? v3_neg(n) : n; /* faces the incoming ray */
-    hi.ngf = hi.entering ? ng : v3_neg(ng);
-    const csg_root *root = &c->view.roots[prim->root];
-    hi.mag = r_fmax(offset_magnitude(r.o, r.d, h.t), offset_box_magnitude(root->lo, root->hi));
-    hi.above = offset_point(hi.p, hi.ngf, hi.mag);
+    /* the point, its normals and where secondary rays start: the code the
+     * device's shadow kernel runs (shadow.h); the shading normal faces the
+     * ray by its own direction, as POV-Ray turns it (ComputeTextureColour
+     * flips a smooth triangle's interpolated normal alone) */
+    csg_hit_frame f = csg_hit_frame_of(c->view, r, h.t, h.surf);
+    hi.p = f.p;
+    hi.entering = f.entering;
+    hi.nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n; /* faces the incoming ray */
+    hi.ngf = f.ngf;
+    hi.mag = f.mag;
+    hi.above = f.above;
     PIGMENT_SURFACE_POINT(c->view.prims, h.surf, hi.p, hi.w);
     hi.err = (double)(OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * hi.mag);
     const csg_material *parents[SHADE_MAX_DEPTH];
@@ -1328,8 +1295,9 @@ void ENGINE_SYM(engine_miss_rgb)(const void *blob, float rgb[3])
     store_rgb(&c, rgb, c.background);
 }
 
-void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
-                              const uint32_t *surf, float *rgb_out, ray_counts *rays)
+void ENGINE_SYM(engine_shade_answered)(const void *blob, tile_rect rect, const void *t_in,
+                                       const uint32_t *surf, const uint32_t *known,
+                                       const uint32_t *lit, float *rgb_out, ray_counts *rays)
 {
     shade_ctx c = ctx_of(blob);
     const real *t = t_in;
@@ -1342,11 +1310,13 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             int i = y * rect.width + x;
             vec3 col = v3(R(0.0), R(0.0), R(0.0));
             int hits = 0;
-            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0, 0};
+            ray_tally tally = {rays, c.max_rays, false, blockers, 0, 0, 0u, 0u, 0};
             for (int s = 0; s < spp; s++) {
                 tally.rng_key = sample_stream(rect.x + x, rect.y + y, s);
                 tally.rng_drawn = 0;
                 size_t k = (size_t)i * (size_t)spp + (size_t)s;
+                tally.shadow_known = known ? known[k] : 0u;
+                tally.shadow_lit = known ? lit[k] : 0u;
                 vec3 one;
                 if (surf[k] == CSG_SURF_NONE && c.sky_count == 0 && c.fog_count == 0) {
                     one = c.background; /* sky_color's answer: no ray needed */
@@ -1378,4 +1348,10 @@ void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in
             rays->over_budget += tally.refused;
         }
     }
+}
+
+void ENGINE_SYM(engine_shade)(const void *blob, tile_rect rect, const void *t_in,
+                              const uint32_t *surf, float *rgb_out, ray_counts *rays)
+{
+    ENGINE_SYM(engine_shade_answered)(blob, rect, t_in, surf, NULL, NULL, rgb_out, rays);
 }

@@ -77,6 +77,11 @@ void tile_time_stop(const tile_timer *t, tile_result *res);
  * first (homo, serial). */
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res);
+/* tile_run_rect with the records' shadow answers (tiles.h:
+ * tile_pack_answers; NULL: none), which shading takes instead of tracing
+ * the primary hits' shadow rays (engine->shade_answered): the same pixels. */
+void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
+                            const void *answers, float *rgb, tile_result *res);
 /* tile_run_rect over the whole of tile `index`. */
 void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res);
 

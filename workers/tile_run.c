@@ -45,7 +45,8 @@ void tile_time_stop(const tile_timer *t, tile_result *res)
  * `records` then is), then shaded from `records` into the rectangle's
  * pixels at that row. */
 static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool trace,
-                          const void *records, float *rgb, tile_result *res)
+                          const void *records, const void *answers, float *rgb,
+                          tile_result *res)
 {
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp, rs = tr->grid.real_size;
     size_t first = (size_t)y0 * (size_t)r.width * (size_t)tr->grid.spp; /* its first record */
@@ -55,8 +56,10 @@ static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool t
                                (uint32_t *)(void *)((char *)tr->records + n * rs) + first,
                                &res->rays);
     const uint32_t *surf = (const uint32_t *)(const void *)((const char *)records + n * rs);
-    tr->eng->shade(tr->blob, band, (const char *)records + first * rs, surf + first,
-                   rgb + (size_t)y0 * (size_t)r.width * 3, &res->rays);
+    const uint32_t *known = answers, *lit = known ? known + n : NULL;
+    tr->eng->shade_answered(tr->blob, band, (const char *)records + first * rs, surf + first,
+                            known ? known + first : NULL, lit ? lit + first : NULL,
+                            rgb + (size_t)y0 * (size_t)r.width * 3, &res->rays);
 }
 
 /* The pager's counts since `before`, the maxima as they are now. */
@@ -72,6 +75,12 @@ static page_counts tile_paging(const pager_stats *before, const pager_stats *now
 
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
+{
+    tile_run_rect_answered(tr, r, records, NULL, rgb, res);
+}
+
+void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
+                            const void *answers, float *rgb, tile_result *res)
 {
     size_t n = (size_t)r.width * (size_t)r.height * (size_t)tr->grid.spp; /* records */
     bool trace = !records;
@@ -91,8 +100,8 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     for (int y0 = 0; y0 < r.height; y0 += rows) {
         if (y0 > 0)
             tr->progress(tr->progress_arg);
-        tile_run_band(tr, r, y0, r.height - y0 < rows ? r.height - y0 : rows, trace, records, rgb,
-                      res);
+        tile_run_band(tr, r, y0, r.height - y0 < rows ? r.height - y0 : rows, trace, records,
+                      answers, rgb, res);
     }
     const uint32_t *surf =
         (const uint32_t *)(const void *)((const char *)records + n * tr->grid.real_size);

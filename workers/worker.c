@@ -200,12 +200,16 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     tile_rect r = {h->x, h->y, h->width, h->height};
     size_t n = (size_t)r.width * (size_t)r.height;
     /* hetero: the records follow the header (8-byte aligned) */
-    const void *payload = h->work == PROTO_WORK_SHADE ? in->data + at + sizeof *h : NULL;
+    const void *payload = h->work != PROTO_WORK_RENDER ? in->data + at + sizeof *h : NULL;
+    const void *answers = h->work == PROTO_WORK_SHADE_ANSWERED /* (after the records) */
+                              ? (const char *)payload + tile_records_bytes(&w->runner.grid, n)
+                              : NULL;
     float *floats = (float *)(void *)(out + sizeof(proto_result));
     tile_result res;
     tile_timer timer; /* (the part's whole work: the map of bench/sim/costmap.py) */
     tile_time_start(&timer);
-    tile_run_rect(&w->runner, r, payload, w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
+    tile_run_rect_answered(&w->runner, r, payload, answers,
+                           w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
     if (w->pixels == PIXELS_RGB8)
         pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats);
     tile_time_stop(&timer, &res);
@@ -216,6 +220,7 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
                          .reflected = res.rays.reflected,
                          .refracted = res.rays.refracted,
                          .over_budget = res.rays.over_budget,
+                         .shadow_answered = res.rays.shadow_answered,
                          .busy_s = res.busy_s,
                          .cpu_s = res.cpu_s,
                          .pixels = w->pixels,

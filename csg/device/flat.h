@@ -441,7 +441,9 @@ typedef struct {
     real crand;         /* POV-Ray's graininess (0: none; shade.c)       */
 } csg_material;
 
-/* A light (POV-Ray's LightSource): C workers only. */
+/* A light (POV-Ray's LightSource): the C workers, and the device's shadow
+ * answers (csg/device/shadow.h: position, kind, the flags, direction,
+ * point_at). */
 typedef struct {
     real position[3];
     real color[3];
@@ -576,6 +578,11 @@ typedef struct {
     S(csg_bvh_node) F(csg_bvh_node, first) F(csg_bvh_node, count) F(csg_bvh_node, box)     \
     S(csg_camera) F(csg_camera, projection) F(csg_camera, pad) F(csg_camera, location)     \
         F(csg_camera, direction) F(csg_camera, right) F(csg_camera, up) F(csg_camera, hither) \
-        F(csg_camera, kx) F(csg_camera, ky)
+        F(csg_camera, kx) F(csg_camera, ky)                                               \
+    S(csg_flat_light) F(csg_flat_light, position) F(csg_flat_light, color)                 \
+        F(csg_flat_light, shadowless) F(csg_flat_light, kind) F(csg_flat_light, parallel)  \
+        F(csg_flat_light, area) F(csg_flat_light, media_attenuation)                       \
+        F(csg_flat_light, direction) F(csg_flat_light, point_at)                           \
+        F(csg_flat_light, fade_power) F(csg_flat_light, axis2)
 
 #endif

@@ -91,12 +91,14 @@ struct ocl_ctx {
     cl_kernel k_primary;    /* csg_primary: a record a pixel        */
     cl_kernel k_tiles;      /* csg_tile_hits: a count a tile        */
     cl_kernel k_layout;     /* csg_layout: the layout probe         */
+    cl_kernel k_shadows;    /* csg_shadows: a record's shadow answers */
     size_t group_primary;   /* work-group width (dim 0) of csg_primary   */
     enum ocl_kernel kernel; /* SCALAR or PACKET: the variant built       */
     int packet, packet_cols; /* PACKET: rays a work-item, and the
                                 packet's width in records (the rest are
                                 rows): the grid of csg_primary          */
     size_t group_tiles;     /* and of csg_tile_hits                      */
+    size_t group_shadows;   /* and of csg_shadows                        */
     int use_double;         /* the program was built with CSG_DOUBLE */
     csg_features features;  /* what the program handles (spec.h): the
                                scene's kinds and CSG bit, or all       */
@@ -510,7 +512,7 @@ static cl_int ocl_group_width(cl_kernel k, cl_device_id dev, size_t *out)
 
 static void ocl_release_program(ocl_ctx *c)
 {
-    cl_kernel *ks[] = {&c->k_primary, &c->k_tiles, &c->k_layout};
+    cl_kernel *ks[] = {&c->k_primary, &c->k_tiles, &c->k_layout, &c->k_shadows};
     for (size_t i = 0; i < sizeof ks / sizeof ks[0]; i++) {
         if (*ks[i])
             clReleaseKernel(*ks[i]);
@@ -604,7 +606,8 @@ static bool ocl_create_kernels(ocl_ctx *c, csg_diag *d)
         const char *name;
     } kernels[] = {{&c->k_primary, "csg_primary"},
                    {&c->k_tiles, "csg_tile_hits"},
-                   {&c->k_layout, "csg_layout"}};
+                   {&c->k_layout, "csg_layout"},
+                   {&c->k_shadows, "csg_shadows"}};
     cl_int err;
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++) {
         *kernels[i].k = clCreateKernel(c->program, kernels[i].name, &err);
@@ -617,6 +620,8 @@ static bool ocl_create_kernels(ocl_ctx *c, csg_diag *d)
     err = ocl_group_width(c->k_primary, c->device, &c->group_primary);
     if (err == CL_SUCCESS)
         err = ocl_group_width(c->k_tiles, c->device, &c->group_tiles);
+    if (err == CL_SUCCESS)
+        err = ocl_group_width(c->k_shadows, c->device, &c->group_shadows);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clGetKernelWorkGroupInfo(CL_KERNEL_WORK_GROUP_SIZE)", err);
     return true;
@@ -730,11 +735,12 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, 
 
 typedef struct {
     cl_mem blob, t, surf, hits, cells;
+    cl_mem known, lit; /* the shadow answers (NULL: none asked) */
 } ocl_pass_buffers;
 
 static void ocl_release_buffers(ocl_pass_buffers *b)
 {
-    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits, &b->cells};
+    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits, &b->cells, &b->known, &b->lit};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (*all[i])
             clReleaseMemObject(*all[i]);
@@ -859,12 +865,59 @@ static bool ocl_cells_upto(ocl_ctx *c, ocl_cells *cl, cl_mem buf, const void *bl
     return err == CL_SUCCESS || ocl_fail(d, "clEnqueueWriteBuffer(cells)", err);
 }
 
+/* The NDRange of csg_shadows over `rows` rows of record_width records: a
+ * work-item a record, or a packet (the packet program: csg_primary's
+ * grid), padded to whole work-groups of c->group_shadows. */
+static void ocl_shadow_grid(const ocl_ctx *c, cl_int record_width, cl_int rows, size_t grid[2])
+{
+    size_t x = (size_t)record_width, y = (size_t)rows, g = c->group_shadows;
+    if (c->kernel == OCL_KERNEL_PACKET) {
+        size_t pc = (size_t)c->packet_cols, pr = (size_t)(c->packet / c->packet_cols);
+        x = (x + pc - 1) / pc;
+        y = (y + pr - 1) / pr;
+    }
+    grid[0] = (x + g - 1) / g * g;
+    grid[1] = y;
+}
+
+/* The shadow answers of a slice's records (csg_shadows after csg_primary on
+ * the in-order queue), read into known_out and lit_out. */
+static bool ocl_run_shadows(ocl_ctx *c, ocl_pass_buffers *b, cl_int y0, cl_int rows,
+                            cl_int record_width, uint32_t *known_out, uint32_t *lit_out,
+                            csg_diag *d)
+{
+    const char *k = "csg_shadows";
+    bool ok = ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &b->blob, d) &&
+              ocl_arg(c->k_shadows, k, 1, sizeof(cl_int), &y0, d) &&
+              ocl_arg(c->k_shadows, k, 2, sizeof(cl_int), &rows, d) &&
+              ocl_arg(c->k_shadows, k, 3, sizeof(cl_mem), &b->t, d) &&
+              ocl_arg(c->k_shadows, k, 4, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_shadows, k, 5, sizeof(cl_mem), &b->known, d) &&
+              ocl_arg(c->k_shadows, k, 6, sizeof(cl_mem), &b->lit, d);
+    if (!ok)
+        return false;
+    size_t g = c->group_shadows;
+    size_t grid[2];
+    ocl_shadow_grid(c, record_width, rows, grid);
+    size_t local[2] = {g, 1};
+    size_t bytes = (size_t)record_width * (size_t)rows * sizeof(uint32_t);
+    cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
+                                        NULL);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
+    err = clEnqueueReadBuffer(c->queue, b->known, CL_FALSE, 0, bytes, known_out, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clEnqueueReadBuffer(c->queue, b->lit, CL_FALSE, 0, bytes, lit_out, 0, NULL, NULL);
+    return err == CL_SUCCESS || ocl_fail(d, "clEnqueueReadBuffer(shadow answers)", err);
+}
+
 /* One slice: rows y0 .. y0 + rows - 1 enqueued, records read into the
  * caller's arrays, its tile counts into hits_out; *done: the event of its
  * last read. */
 static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
                           ocl_pass_buffers *b, const ocl_cells *cells, void *t_out,
-                          uint32_t *surf_out, uint32_t *hits_out, cl_event *done, csg_diag *d)
+                          uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
+                          uint32_t *hits_out, cl_event *done, csg_diag *d)
 {
     cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
     cl_int tiles_x = (h->width + tile - 1) / tile;
@@ -907,6 +960,9 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
     size_t npix = (size_t)record_width * (size_t)rows, first = (size_t)record_width * (size_t)y0;
+    if (known_out && !ocl_run_shadows(c, b, cy0, crows, record_width, known_out + first,
+                                      lit_out + first, d))
+        return false;
     size_t rs = h->real_size;
     err = clEnqueueReadBuffer(c->queue, b->t, CL_FALSE, 0, npix * rs,
                               (char *)t_out + first * rs, 0, NULL, NULL);
@@ -935,6 +991,7 @@ struct ocl_pass {
     int needed;               /* slices the caller needs (ocl_pass_limit)  */
     void *t_out;              /* the caller's arrays the slices fill       */
     uint32_t *surf_out;
+    uint32_t *known_out, *lit_out; /* the shadow answers (NULL: none)      */
     size_t tiles_x, stride;   /* counts a slice may hold                  */
     ocl_pass_buffers b;
     ocl_cells cells;          /* the packet kernel's culling cells        */
@@ -981,7 +1038,12 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
     }
     return ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
                              (void *)blob, &p->b.blob, "scene", d) &&
-           ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * h->real_size, NULL, &p->b.t, "t", d) &&
+           ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * h->real_size, NULL, &p->b.t, "t", d) &&
+           (!p->known_out ||
+            (ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * sizeof(uint32_t), NULL, &p->b.known,
+                               "known", d) &&
+             ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * sizeof(uint32_t), NULL, &p->b.lit,
+                               "lit", d))) &&
            ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &p->b.surf,
                              "surf", d) &&
            ocl_create_buffer(c, CL_MEM_WRITE_ONLY, p->stride * sizeof(uint32_t), NULL, &p->b.hits,
@@ -996,7 +1058,7 @@ static bool ocl_pass_enqueue_slice(ocl_pass *p, int k, csg_diag *d)
     int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
     if (!ocl_cells_upto(p->c, &p->cells, p->b.cells, p->blob, y0 + n - 1, d) ||
         !ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, &p->cells, p->t_out, p->surf_out,
-                       p->host_hits + (size_t)k * p->stride, &p->events[k], d))
+                       p->known_out, p->lit_out, p->host_hits + (size_t)k * p->stride, &p->events[k], d))
         return false;
     p->enqueued++;
     atomic_fetch_add(&p->callbacks, 1);
@@ -1026,8 +1088,9 @@ static bool ocl_pass_enqueue(ocl_pass *p, bool all, csg_diag *d)
 }
 
 bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void *t_out,
-                    uint32_t *surf_out, uint32_t *tile_hits, void (*notify)(void *),
-                    void *notify_arg, ocl_pass **out, csg_diag *d)
+                    uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
+                    uint32_t *tile_hits, void (*notify)(void *), void *notify_arg,
+                    ocl_pass **out, csg_diag *d)
 {
     const csg_blob_header *h = csg_blob_hdr(blob);
     *out = NULL;
@@ -1052,6 +1115,8 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     p->notify_arg = notify_arg;
     p->t_out = t_out;
     p->surf_out = surf_out;
+    p->known_out = known_out;
+    p->lit_out = lit_out;
     atomic_init(&p->callbacks, 0);
     p->t0 = ocl_now();
     bool ok = ocl_pass_alloc(p, blob, slice_rows, d);
@@ -1145,7 +1210,8 @@ bool ocl_primary_pass(ocl_ctx *c, const void *blob, int tile, void *t_out, uint3
                       uint32_t *tile_hits, ocl_timing *timing, csg_diag *d)
 {
     ocl_pass *p;
-    bool ok = ocl_pass_begin(c, blob, tile, 0, t_out, surf_out, tile_hits, NULL, NULL, &p, d) &&
+    bool ok = ocl_pass_begin(c, blob, tile, 0, t_out, surf_out, NULL, NULL, tile_hits, NULL, NULL, &p,
+                             d) &&
               ocl_pass_enqueue(p, true, d); /* (nothing to stop it for) */
     int height = csg_blob_hdr(blob)->height, rows = 0;
     while (ok && rows < height)
@@ -1314,5 +1380,67 @@ bool ocl_probe_layout(ocl_ctx *c, int32_t *out, int cap, int *count, csg_diag *d
 fail:
     if (buf)
         clReleaseMemObject(buf);
+    return ok;
+}
+
+/* ---- the shadow answers ----------------------------------------------------------- */
+
+/* The buffers of ocl_shadow_answers. */
+typedef struct {
+    cl_mem blob, t, surf, known, lit;
+} ocl_shadow_buffers;
+
+static void ocl_shadow_release(ocl_shadow_buffers *b)
+{
+    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->known, &b->lit};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (*all[i])
+            clReleaseMemObject(*all[i]);
+}
+
+bool ocl_shadow_answers(ocl_ctx *c, const void *blob, const void *t_image,
+                        const uint32_t *surf_image, uint32_t *known_out, uint32_t *lit_out,
+                        double *seconds, csg_diag *d)
+{
+    const csg_blob_header *h = csg_blob_hdr(blob);
+    size_t n = (size_t)h->width * (size_t)h->spp * (size_t)h->height;
+    ocl_shadow_buffers b = {NULL, NULL, NULL, NULL, NULL};
+    cl_int y0 = 0, rows = h->height;
+    const char *k = "csg_shadows";
+    size_t group = 1;
+    double t0 = ocl_now();
+    bool ok =
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
+                          (void *)blob, &b.blob, "scene", d) &&
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * h->real_size,
+                          (void *)t_image, &b.t, "t", d) &&
+        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(uint32_t),
+                          (void *)surf_image, &b.surf, "surf", d) &&
+        ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.known, "known", d) &&
+        ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.lit, "lit", d) &&
+        ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &b.blob, d) &&
+        ocl_arg(c->k_shadows, k, 1, sizeof(cl_int), &y0, d) &&
+        ocl_arg(c->k_shadows, k, 2, sizeof(cl_int), &rows, d) &&
+        ocl_arg(c->k_shadows, k, 3, sizeof(cl_mem), &b.t, d) &&
+        ocl_arg(c->k_shadows, k, 4, sizeof(cl_mem), &b.surf, d) &&
+        ocl_arg(c->k_shadows, k, 5, sizeof(cl_mem), &b.known, d) &&
+        ocl_arg(c->k_shadows, k, 6, sizeof(cl_mem), &b.lit, d);
+    cl_int err = CL_SUCCESS;
+    group = c->group_shadows;
+    size_t grid[2];
+    ocl_shadow_grid(c, (cl_int)((size_t)h->width * (size_t)h->spp), rows, grid);
+    size_t local[2] = {group, 1};
+    if (ok && (err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
+                                            NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
+    if (ok && (err = clEnqueueReadBuffer(c->queue, b.known, CL_TRUE, 0, n * sizeof(uint32_t),
+                                         known_out, 0, NULL, NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueReadBuffer(known)", err);
+    if (ok && (err = clEnqueueReadBuffer(c->queue, b.lit, CL_TRUE, 0, n * sizeof(uint32_t),
+                                         lit_out, 0, NULL, NULL)) != CL_SUCCESS)
+        ok = ocl_fail(d, "clEnqueueReadBuffer(lit)", err);
+    if (seconds)
+        *seconds = ocl_now() - t0;
+    ocl_shadow_release(&b);
     return ok;
 }

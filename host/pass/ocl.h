@@ -111,17 +111,31 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
  * enqueued, fills timing (primary_s, slices, device_name) and frees the
  * pass; it must be called once ocl_pass_begin set *out (even when it
  * failed) and before the output arrays are freed; it returns whether
- * every needed slice completed (ocl_pass_limit). */
+ * every needed slice completed (ocl_pass_limit).  known_out and lit_out
+ * (both or neither; NULL: none): each slice's shadow answers too (the
+ * csg_shadows kernel, as ocl_shadow_answers), in the records' order. */
 typedef struct ocl_pass ocl_pass;
 bool ocl_pass_begin(ocl_ctx *ctx, const void *blob, int tile, int slice_rows, void *t_out,
-                    uint32_t *surf_out, uint32_t *tile_hits, void (*notify)(void *),
-                    void *notify_arg, ocl_pass **out, csg_diag *d);
+                    uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
+                    uint32_t *tile_hits, void (*notify)(void *), void *notify_arg,
+                    ocl_pass **out, csg_diag *d);
 int ocl_pass_rows(ocl_pass *p, bool wait, csg_diag *d);
 /* Only the top `rows` rows are needed (the rest was rendered otherwise:
  * render.c's fill): no slice below them goes on the queue any more, and
  * the pass is whole once they are complete.  Only ever lowers. */
 void ocl_pass_limit(ocl_pass *p, int rows);
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d);
+
+/* The shadow answers of a whole image's primary records (t_image, surf_image:
+ * what ocl_primary_pass gives, width * spp records a row) into known_out[]
+ * and lit_out[] (a word each a record: csg/device/shadow.h,
+ * csg_shadow_masks; engine->shade_answered takes them), in one launch of
+ * csg_shadows (a work-item a record in the one-ray program, a packet in
+ * the packet program: the walk in OpenCL vectors, packet.h).  *seconds
+ * (may be NULL): buffers, kernel, download. */
+bool ocl_shadow_answers(ocl_ctx *ctx, const void *blob, const void *t_image,
+                        const uint32_t *surf_image, uint32_t *known_out, uint32_t *lit_out,
+                        double *seconds, csg_diag *d);
 
 void ocl_close(ocl_ctx *ctx);
 

@@ -115,6 +115,7 @@ struct pass {
     ocl_pass *run;         /* the pass, until ended                     */
     void *t;               /* the records of the whole image            */
     uint32_t *surf;
+    uint32_t *known, *lit; /* their shadow answers (--simd shadows; NULL) */
     uint32_t *tile_hits;   /* hits per tile                             */
     estimator est;         /* the items' estimated costs (from surf)    */
     bool est_ready;
@@ -495,7 +496,7 @@ static int pass_begin(pass *p, csg_diag *d)
         return EXIT_FAILURE_RUN;
     }
     if (!ocl_pass_begin(p->ctx, p->blob, p->grid.tile, pass_slice_rows(&p->grid), p->t,
-                        p->surf, p->tile_hits, p->wake ? pass_wake : NULL, p->wake, &p->run,
+                        p->surf, p->known, p->lit, p->tile_hits, p->wake ? pass_wake : NULL, p->wake, &p->run,
                         d)) {
         if (!d->failed)
             csg_error_plain(d, "the OpenCL primary pass failed");
@@ -568,8 +569,12 @@ int pass_prepare(pass *p, const tile_grid *g, link_idle *wake, csg_diag *d)
     p->wake = wake;
     p->t = malloc(n * g->real_size);
     p->surf = malloc(n * sizeof *p->surf);
+    if (p->cfg.shadows) {
+        p->known = malloc(n * sizeof *p->known);
+        p->lit = malloc(n * sizeof *p->lit);
+    }
     p->tile_hits = calloc((size_t)tile_count(g), sizeof *p->tile_hits);
-    if (!p->t || !p->surf || !p->tile_hits) {
+    if (!p->t || !p->surf || !p->tile_hits || (p->cfg.shadows && (!p->known || !p->lit))) {
         csg_error_plain(d, "out of memory for the hit records of %zu pixels", n);
         return EXIT_FAILURE_RUN;
     }
@@ -637,6 +642,16 @@ const uint32_t *pass_surf(const pass *p)
     return p ? p->surf : NULL;
 }
 
+const uint32_t *pass_known(const pass *p)
+{
+    return p ? p->known : NULL;
+}
+
+const uint32_t *pass_lit(const pass *p)
+{
+    return p ? p->lit : NULL;
+}
+
 const uint32_t *pass_tile_hits(const pass *p)
 {
     return p ? p->tile_hits : NULL;
@@ -694,8 +709,12 @@ void pass_drop_records(pass *p)
     p->est_ready = false;
     free(p->t);
     free(p->surf);
+    free(p->known);
+    free(p->lit);
     p->t = NULL;
     p->surf = NULL;
+    p->known = NULL;
+    p->lit = NULL;
 }
 
 void pass_free(pass *p)

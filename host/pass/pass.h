@@ -50,6 +50,8 @@ typedef struct {
     struct ocl_ctx **keep;  /* compare: reuse *keep, or open it and leave
                                it there (the caller closes it); NULL: the
                                pass owns its context                     */
+    bool shadows;           /* --simd shadows: the pass answers the primary
+                               hits' shadow rays too (csg_shadows)      */
     int packet;             /* the packet kernel's width ($CSGTRACE_CL_
                                PACKET; 0: the device's)                  */
     char cache_dir[4096];   /* compiled programs kept here ("": none;
@@ -107,6 +109,9 @@ bool pass_quiet(const pass *p);
  * without a pass): final for the rows pass_rows said. */
 const void *pass_t(const pass *p);
 const uint32_t *pass_surf(const pass *p);
+/* Their shadow answers (csg/device/shadow.h), with cfg.shadows; else NULL. */
+const uint32_t *pass_known(const pass *p);
+const uint32_t *pass_lit(const pass *p);
 const uint32_t *pass_tile_hits(const pass *p);
 
 /* The scheduler's estimate of rectangle r's cost (host/schedule.h), from

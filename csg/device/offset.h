@@ -2,9 +2,11 @@
  * offset.h — where a secondary ray starts: the hit point moved off the
  * surface, far enough that the new ray cannot find the surface it leaves
  * again (self-intersection: shadow acne, speckled reflections), near
- * enough that contact shadows and thin objects survive.  Host C only
- * (workers/shade.c and the stability tests), in the `real` of the
- * including file (-DCSG_DOUBLE: double).
+ * enough that contact shadows and thin objects survive.  Shared by the
+ * C workers (workers/shade.c), the stability tests and the OpenCL shadow
+ * kernel (simd_kernels/primary.cl, through shadow.h), so a shadow ray
+ * starts at the same bits on both sides; in the `real` of the including
+ * file (-DCSG_DOUBLE: double).
  *
  * Two bounds, the farther one wins, per component:
  *   1. Wächter and Binder, "A Fast and Robust Method for Avoiding
@@ -26,20 +28,34 @@
  * For the usual scene (size about 1, camera a few units away) bound 1
  * dominates and the offsets are exactly Wächter and Binder's.
  */
-#ifndef WORKERS_OFFSET_H
-#define WORKERS_OFFSET_H
+#ifndef CSG_OFFSET_H
+#define CSG_OFFSET_H
 
+#include "vec.h"
+#ifndef __OPENCL_VERSION__
 #include <string.h>
-
-#include "../csg/device/vec.h"
+#endif
 
 #ifdef CSG_DOUBLE
+#ifdef __OPENCL_VERSION__
+typedef long offset_bits;
+#define OFFSET_AS_BITS(p) as_long(p)
+#define OFFSET_AS_REAL(b) as_double(b)
+#endif
+#ifndef __OPENCL_VERSION__
 typedef int64_t offset_bits;
+#endif
 #define OFFSET_FLOAT_SCALE (R(1.0) / R(1099511627776.0)) /* 2^-40 */
 #define OFFSET_INT_SCALE (R(256.0) * R(2097152.0))       /* 2^29 ulps */
 #define OFFSET_UNIT_ROUNDOFF (R(1.0) / R(9007199254740992.0)) /* 2^-53 */
 #else
+#ifdef __OPENCL_VERSION__
+typedef int offset_bits;
+#define OFFSET_AS_BITS(p) as_int(p)
+#define OFFSET_AS_REAL(b) as_float(b)
+#else
 typedef int32_t offset_bits;
+#endif
 #define OFFSET_FLOAT_SCALE (R(1.0) / R(65536.0)) /* 2^-16 */
 #define OFFSET_INT_SCALE R(256.0)                /* 256 ulps */
 #define OFFSET_UNIT_ROUNDOFF (R(1.0) / R(16777216.0)) /* 2^-24 */
@@ -48,7 +64,7 @@ typedef int32_t offset_bits;
 #define OFFSET_ERR_ULPS R(16.0)
 
 /* The magnitude of the computation that produced o + t d. */
-static inline real offset_magnitude(vec3 o, vec3 d, real t)
+CSG_FN real offset_magnitude(vec3 o, vec3 d, real t)
 {
     real om = r_fmax(r_fabs(o.x), r_fmax(r_fabs(o.y), r_fabs(o.z)));
     real dm = r_fmax(r_fabs(d.x), r_fmax(r_fabs(d.y), r_fabs(d.z)));
@@ -59,7 +75,7 @@ static inline real offset_magnitude(vec3 o, vec3 d, real t)
 /* The magnitude of the object's coordinates, from its world bounding box
  * (infinite bounds skipped): a point on a sphere of radius 1e4 is found
  * with errors of ulps of 1e4, however near the ray's origin it lies. */
-static inline real offset_box_magnitude(const real lo[3], const real hi[3])
+CSG_FN real offset_box_magnitude(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi)
 {
     real m = R(0.0);
     for (int i = 0; i < 3; i++) {
@@ -72,20 +88,26 @@ static inline real offset_box_magnitude(const real lo[3], const real hi[3])
 }
 
 /* Wächter and Binder's offset of one component, near-zero band scaled. */
-static inline real offset_wb(real p, real n, real scale)
+CSG_FN real offset_wb(real p, real n, real scale)
 {
     if (r_fabs(p) < OFFSET_ORIGIN * scale)
         return p + OFFSET_FLOAT_SCALE * scale * n;
     offset_bits step = (offset_bits)(OFFSET_INT_SCALE * n);
+#ifdef __OPENCL_VERSION__
+    offset_bits bits = OFFSET_AS_BITS(p);
+    bits += p < R(0.0) ? -step : step;
+    return OFFSET_AS_REAL(bits);
+#else
     offset_bits bits;
     memcpy(&bits, &p, sizeof p);
     bits += p < R(0.0) ? -step : step;
     real q;
     memcpy(&q, &bits, sizeof q);
     return q;
+#endif
 }
 
-static inline real offset_component(real p, real n, real m)
+CSG_FN real offset_component(real p, real n, real m)
 {
     real wb = offset_wb(p, n, r_fmin(R(1.0), m));
     real ab = p + OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * m * n;
@@ -94,7 +116,7 @@ static inline real offset_component(real p, real n, real m)
 
 /* p moved off the surface along n (unit, pointing to the side the new ray
  * leaves to); m from offset_magnitude of the ray that found p. */
-static inline vec3 offset_point(vec3 p, vec3 n, real m)
+CSG_FN vec3 offset_point(vec3 p, vec3 n, real m)
 {
     return v3(offset_component(p.x, n.x, m), offset_component(p.y, n.y, m),
               offset_component(p.z, n.z, m));

@@ -1,0 +1,207 @@
+/*
+ * shadow.h — the shadow rays of a hit, shared by the C workers
+ * (workers/shade.c) and the OpenCL shadow kernel (simd_kernels/primary.cl:
+ * csg_shadows): where secondary rays start (the hit point moved off the
+ * surface, offset.h), the line to a light, the tolerance at the light,
+ * and the yes/no answer the device gives for a light whose shadow ray
+ * meets only opaque objects (#36 item 3).
+ *
+ * The device's answer is exact: it is what the worker's own walk
+ * (light_transmittance in shade.c) finds, whatever the worker's shadow
+ * cache holds:
+ *   - BLOCKED: an opaque root has a visible boundary on the segment.  The
+ *     worker's walk visits that root too (the same BVH walk over the same
+ *     segment, the same box test, csg_shadow_opaque_blocks), unless another
+ *     root blocks first: either way the light is black.
+ *   - LIT: no root but opaque or no_shadow ones is met and none blocks,
+ *     so the worker's transmittance stays exactly (1, 1, 1).
+ *   - UNKNOWN: a root that may filter the light is met (its pigment, its
+ *     interior: the worker's business), or the light is not one the device
+ *     answers (csg_shadow_answerable), or is beyond CSG_SHADOW_LIGHTS.
+ */
+#ifndef CSG_SHADOW_H
+#define CSG_SHADOW_H
+
+#include "intersect.h"
+#include "offset.h"
+#include "patterns.h"
+
+#define CSG_SHADOW_LIGHTS 32 /* lights a record answers (bits of a mask) */
+
+enum csg_shadow_answer { CSG_SHADOW_UNKNOWN = 0, CSG_SHADOW_LIT = 1, CSG_SHADOW_BLOCKED = 2 };
+
+/* Where a hit is and how secondary rays leave it. */
+typedef struct {
+    vec3 p;     /* o + t d                                                   */
+    vec3 n;     /* the unit outward normal of the solid there                */
+    vec3 ng;    /* the geometry's own normal (a smooth triangle's flat one)  */
+    vec3 ngf;   /* ng on the ray's side                                      */
+    int entering;
+    real mag;   /* the offset scale of secondary rays                        */
+    vec3 above; /* where reflected and shadow rays start                     */
+} csg_hit_frame;
+
+CSG_FN csg_hit_frame csg_hit_frame_of(csg_view v, csg_ray r, real t, csg_u32 surf)
+{
+    csg_hit_frame f;
+    f.p = v3_add(r.o, v3_scale(r.d, t));
+    f.n = csg_surface_normal(v.prims, surf, f.p);
+    /* the side of the geometry decides where secondary rays start and
+     * whether the ray enters (a smooth triangle's normals may point
+     * against its winding) */
+    f.ng = csg_surface_geometric_normal(v.prims, surf, f.p, f.n);
+    f.entering = v3_dot(f.ng, r.d) < R(0.0);
+    f.ngf = f.entering ? f.ng : v3_neg(f.ng);
+    CSG_GLOBAL const csg_root *root = &v.roots[v.prims[CSG_SURF_PRIM(surf)].root];
+    f.mag = r_fmax(offset_magnitude(r.o, r.d, t), offset_box_magnitude(root->lo, root->hi));
+    f.above = offset_point(f.p, f.ngf, f.mag);
+    return f;
+}
+
+/* POV-Ray's ComputeOneWhiteLightRay: the unit direction *l from point o to
+ * light lt whose centre is `center` (its position, or a point of an area
+ * light's grid) and how far the shadow ray goes. */
+CSG_FN void csg_light_ray(CSG_GLOBAL const csg_flat_light *lt, vec3 o, vec3 center, vec3 *l,
+                          real *dist)
+{
+    if (lt->kind == CSG_LIGHT_CYLINDER) {
+        vec3 dir = v3_sub(center, v3_load(lt->point_at));
+        real len = v3_length(dir);
+        *dist = v3_dot(v3_sub(center, o), dir) / len;
+        *l = v3_scale(dir, R(1.0) / len);
+    } else {
+        vec3 to_light = v3_sub(center, o);
+        *dist = v3_length(to_light);
+        *l = v3_scale(to_light, R(1.0) / *dist);
+    }
+    if (lt->parallel) {
+        if (lt->area) {
+            vec3 v1 = v3_normalize(v3_sub(center, v3_load(lt->point_at)));
+            *dist *= v3_dot(v1, *l);
+            *l = v1;
+        } else {
+            vec3 d = v3_load(lt->direction);
+            *dist *= -v3_dot(d, *l);
+            *l = v3_neg(d);
+        }
+    }
+}
+
+/* The line from o to light lt's position that shading and its shadow ray
+ * follow; 0 when the light is skipped (o at the light). */
+CSG_FN int csg_light_line(CSG_GLOBAL const csg_flat_light *lt, vec3 o, vec3 *l, real *dist)
+{
+    csg_light_ray(lt, o, v3_load(lt->position), l, dist);
+    return *dist > R(0.0) || lt->parallel;
+}
+
+/* POV-Ray's SHADOW_TOLERANCE (trace.cpp, TracePointLightShadowRay): a
+ * surface closer than 1e-3 to the light casts no shadow, so a light on
+ * a surface (lights/laser.pov: a spotlight on a cylinder's cap) is not
+ * hidden by it where rounding puts the cap before the light.  Below a
+ * distance of 1 it shrinks with the distance (1e-3 of it), so a scene
+ * drawn at 10^-4 of its size keeps its shadows (POV-Ray's absolute
+ * tolerance would remove them all; tests/test_stability's scale
+ * invariance); from 1 on it is POV-Ray's.  The segment's end. */
+CSG_FN real csg_shadow_reach(real dist)
+{
+    return dist - r_fmin(R(1.0e-3), R(1.0e-3) * dist);
+}
+
+/* Whether opaque root i has a visible boundary on (0, dist) of r. */
+CSG_FN int csg_shadow_opaque_blocks(csg_view v, csg_i32 i, csg_ray r, real dist)
+{
+    csg_hit h = csg_root_first_hit(v, i, r, R(0.0), dist);
+    return h.surf != CSG_SURF_NONE && h.t < dist;
+}
+
+/* A light whose shadow is a plain yes/no: not shadowless, not an area
+ * light (a grid of rays), not dimmed by fog on the way. */
+CSG_FN int csg_shadow_answerable(CSG_GLOBAL const csg_flat_light *lt)
+{
+    return !lt->shadowless && !lt->area && !lt->media_attenuation;
+}
+
+/* Root i on the shadow segment (the box already tested when !test_box, as
+ * the worker's walk does): BLOCKED, LIT (passes untouched) or UNKNOWN (it
+ * may filter the light). */
+CSG_FN int csg_shadow_root(csg_view v, csg_i32 i, csg_ray r, const csg_box_ray *br, int test_box,
+                           real dist)
+{
+    CSG_GLOBAL const csg_root *rt = &v.roots[i];
+    real t_enter;
+    if (rt->flags & CSG_ROOT_NO_SHADOW)
+        return CSG_SHADOW_LIT;
+    if (test_box && !csg_box_hit(rt->lo, rt->hi, br, R(0.0), dist, &t_enter))
+        return CSG_SHADOW_LIT;
+    if (!(rt->flags & CSG_ROOT_OPAQUE))
+        return CSG_SHADOW_UNKNOWN;
+    return csg_shadow_opaque_blocks(v, i, r, dist) ? CSG_SHADOW_BLOCKED : CSG_SHADOW_LIT;
+}
+
+/* The answer for the shadow ray from p (already offset) along unit l to a
+ * light `dist` away: the worker's walk (unbounded roots, then the BVH's
+ * leaves in its order), stopped at the first blocker. */
+CSG_FN int csg_shadow_answer(csg_view v, vec3 p, vec3 l, real dist)
+{
+    dist = csg_shadow_reach(dist);
+    csg_ray r;
+    r.o = p;
+    r.d = l;
+    csg_box_ray br = csg_box_ray_of(r);
+    int answer = CSG_SHADOW_LIT;
+    for (csg_i32 i = 0; i < v.root_count; i++) {
+        int a = csg_shadow_root(v, i, r, &br, 1, dist);
+        if (a == CSG_SHADOW_BLOCKED)
+            return a;
+        if (a == CSG_SHADOW_UNKNOWN)
+            answer = a;
+    }
+    csg_bvh_walk w;
+    csg_bvh_walk_start(&w, v);
+    csg_i32 k;
+    while ((k = csg_bvh_next_leaf(v, &br, R(0.0), dist, &w)) >= 0) {
+        CSG_GLOBAL const csg_bvh_node *n = &v.bvh[k];
+        for (csg_i32 i = n->first; i < n->first + n->count; i++) {
+            int a = csg_shadow_root(v, i, r, &br, n->count > 1, dist);
+            if (a == CSG_SHADOW_BLOCKED)
+                return a;
+            if (a == CSG_SHADOW_UNKNOWN)
+                answer = a;
+        }
+    }
+    return answer;
+}
+
+/* The answers for the lights of a primary hit (t, surf) of ray r: bit i
+ * of *known says light i is answered, bit i of *lit that its light
+ * arrives (else it is blocked).  A light the hit faces away from (by the
+ * unperturbed normal) is left unknown: shading most likely skips it. */
+CSG_FN void csg_shadow_masks(csg_view v, CSG_GLOBAL const csg_flat_light *lights,
+                             csg_i32 light_count, csg_ray r, real t, csg_u32 surf,
+                             csg_u32 *known, csg_u32 *lit)
+{
+    *known = 0u;
+    *lit = 0u;
+    if (surf == CSG_SURF_NONE)
+        return;
+    csg_hit_frame f = csg_hit_frame_of(v, r, t, surf);
+    vec3 nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n;
+    csg_i32 n = light_count < CSG_SHADOW_LIGHTS ? light_count : CSG_SHADOW_LIGHTS;
+    for (csg_i32 i = 0; i < n; i++) {
+        CSG_GLOBAL const csg_flat_light *lt = &lights[i];
+        vec3 l;
+        real dist;
+        if (!csg_shadow_answerable(lt) || !csg_light_line(lt, f.above, &l, &dist) ||
+            !(v3_dot(nf, l) > R(0.0)))
+            continue;
+        int a = csg_shadow_answer(v, f.above, l, dist);
+        if (a == CSG_SHADOW_UNKNOWN)
+            continue;
+        *known |= 1u << i;
+        if (a == CSG_SHADOW_LIT)
+            *lit |= 1u << i;
+    }
+}
+
+#endif
