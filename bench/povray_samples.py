@@ -128,7 +128,10 @@ def write_report(rows, out, min_agreement, width, height):
              "| stops on a construct csgtrace does not implement | %d |"
              % sum(1 for r in rows if r[1] == "unsupported"),
              "| stops on another error | %d |" % sum(1 for r in rows if r[1] == "error"),
-             "| total | %d |" % len(rows)]
+             "| total | %d |" % len(rows), "",
+             "Every scene that differs is explained one by one in "
+             "[POVRAY_DIFFERENCES.md](POVRAY_DIFFERENCES.md): what was fixed, POV-Ray's own "
+             "run-to-run randomness (area-light jitter, crand), the approximations."]
     lines += ["", "## What to support next", "",
               "The first unsupported construct each scene stops on (a declaration of an "
               "include file that uses one is named by that construct):", "",
