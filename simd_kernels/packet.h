@@ -208,6 +208,18 @@ CSG_PK_FN intv pk_box_cull(CSG_GLOBAL const real *lo, CSG_GLOBAL const real *hi,
 
 /* ---- one root ------------------------------------------------------------------- */
 
+/* The packet's rays into one-ray arrays, lane by lane (the cold paths'
+ * fallback to the one-ray code). */
+CSG_PK_FN void pk_ray_store(csg_ray_pk ray, real ro[3][CSG_PACKET], real rd[3][CSG_PACKET])
+{
+    CSG_PK_STORE(ray.o.x, ro[0]);
+    CSG_PK_STORE(ray.o.y, ro[1]);
+    CSG_PK_STORE(ray.o.z, ro[2]);
+    CSG_PK_STORE(ray.d.x, rd[0]);
+    CSG_PK_STORE(ray.d.y, rd[1]);
+    CSG_PK_STORE(ray.d.z, rd[2]);
+}
+
 /* Root i for the lanes of m by the one-ray code (csg_try_root), lane by
  * lane: CSG programs and complemented leaves.  Returns the new best. */
 CSG_PK_COLD csg_hit_pk pk_try_root_lanes(csg_view v, csg_i32 i, csg_ray_pk ray, real tmin,
@@ -219,12 +231,7 @@ CSG_PK_COLD csg_hit_pk pk_try_root_lanes(csg_view v, csg_i32 i, csg_ray_pk ray, 
     CSG_PK_STORE(m, mk);
     CSG_PK_STORE(best.t, bt);
     CSG_PK_STORE(best.surf, bs);
-    CSG_PK_STORE(ray.o.x, ro[0]);
-    CSG_PK_STORE(ray.o.y, ro[1]);
-    CSG_PK_STORE(ray.o.z, ro[2]);
-    CSG_PK_STORE(ray.d.x, rd[0]);
-    CSG_PK_STORE(ray.d.y, rd[1]);
-    CSG_PK_STORE(ray.d.z, rd[2]);
+    pk_ray_store(ray, ro, rd);
     for (int k = 0; k < CSG_PACKET; k++) {
         if (!mk[k])
             continue;
@@ -321,12 +328,7 @@ CSG_PK_COLD intv pk_shadow_lanes(csg_view v, csg_i32 i, csg_ray_pk ray, realv tm
     real tm[CSG_PACKET], ro[3][CSG_PACKET], rd[3][CSG_PACKET];
     CSG_PK_STORE(m, mk);
     CSG_PK_STORE(tmax, tm);
-    CSG_PK_STORE(ray.o.x, ro[0]);
-    CSG_PK_STORE(ray.o.y, ro[1]);
-    CSG_PK_STORE(ray.o.z, ro[2]);
-    CSG_PK_STORE(ray.d.x, rd[0]);
-    CSG_PK_STORE(ray.d.y, rd[1]);
-    CSG_PK_STORE(ray.d.z, rd[2]);
+    pk_ray_store(ray, ro, rd);
     for (int k = 0; k < CSG_PACKET; k++) {
         out[k] = 0;
         if (!mk[k])
