@@ -198,7 +198,7 @@ static void test_lru_and_pinning(void **state)
     for (int32_t i = 4; i < 9; i++)
         assert_true(p->here[i]);
     assert_true(p->used > p->budget);
-    assert_true(p->stats.over_budget_bytes > 0);
+    assert_true(p->stats.over_bytes > 0);
     pager_item_end(p); /* evicted down to the budget */
     assert_true(p->used <= p->budget);
     assert_true(p->stats.evictions > 0);

@@ -604,7 +604,7 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
     p->budget = budget;
     p->used = p->stats.peak_bytes = w.resident_bytes;
-    p->stats.peak_memory_bytes = p->mapped * OS_PAGE;
+    p->stats.memory_bytes = p->mapped * OS_PAGE;
     p->policy = policy;
     p->fetch = fetch;
     p->fetch_arg = fetch_arg;
@@ -710,8 +710,8 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
         return;
     }
     p->stats.requests++;
-    p->stats.pages_fetched += (uint64_t)n;
-    p->stats.bytes_fetched += bytes;
+    p->stats.pages += (uint64_t)n;
+    p->stats.bytes += bytes;
     const unsigned char *at = p->buffer;
     for (int k = 0; k < n; k++) {
         const pager_page *pg = &p->plan.pages[pages[k]];
@@ -726,10 +726,10 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
     }
     if (p->used > p->stats.peak_bytes)
         p->stats.peak_bytes = p->used;
-    if (p->mapped * OS_PAGE > p->stats.peak_memory_bytes)
-        p->stats.peak_memory_bytes = p->mapped * OS_PAGE;
-    if (p->used > p->budget && p->used - p->budget > p->stats.over_budget_bytes)
-        p->stats.over_budget_bytes = p->used - p->budget;
+    if (p->mapped * OS_PAGE > p->stats.memory_bytes)
+        p->stats.memory_bytes = p->mapped * OS_PAGE;
+    if (p->used > p->budget && p->used - p->budget > p->stats.over_bytes)
+        p->stats.over_bytes = p->used - p->budget;
 }
 
 /* Page i named in this item: true when it must be fetched. */

@@ -27,7 +27,7 @@
  * A page used during the current work item (an epoch) is pinned: a hit's
  * primitive stays where the shading will read it.  So the budget holds
  * between items; within one, an item whose pages do not fit goes over it
- * (counted: over_budget_bytes), and its end evicts down to the budget.
+ * (counted: over_bytes), and its end evicts down to the budget.
  * Evicted bytes go back to the kernel (madvise MADV_DONTNEED) whole 4 KiB
  * pages at a time: a memory page shared by two cache pages is freed with
  * the second.
@@ -45,6 +45,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../comm/tiles.h"
 #include "../csg/device/flat.h"
 
 /* The four byte ranges of a page: BVH nodes, roots, program nodes,
@@ -111,20 +112,9 @@ typedef bool (*pager_fetch)(void *arg, const int32_t *pages, int n, unsigned cha
 
 enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
 
-typedef struct {
-    uint64_t touches;      /* pages named by the engine, once an item    */
-    uint64_t faults;       /* pages it named that were not here          */
-    uint64_t requests;     /* fetches (a prefetch of several: one)       */
-    uint64_t pages_fetched;
-    uint64_t bytes_fetched;
-    uint64_t prefetched;   /* pages fetched before a ray needed them     */
-    uint64_t evictions;
-    uint64_t peak_bytes;   /* the resident part and the cache, at most   */
-    uint64_t over_budget_bytes; /* the most an item went over the budget */
-    uint64_t peak_memory_bytes; /* the most memory pages (4 KiB) in use:
-                                   what the process really held          */
-    double wait_s;         /* seconds spent fetching                      */
-} pager_stats;
+/* The pager's counts since it opened: the very counts a work item's
+ * result carries (comm/tiles.h), the sums then taken over items. */
+typedef page_counts pager_stats;
 
 typedef struct csg_pager {
     unsigned char *base;   /* the blob's address space: what the engine reads */

@@ -65,11 +65,15 @@ static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool t
 /* The pager's counts since `before`, the maxima as they are now. */
 static page_counts tile_paging(const pager_stats *before, const pager_stats *now)
 {
-    page_counts c = {now->touches - before->touches, now->faults - before->faults,
-                     now->requests - before->requests, now->pages_fetched - before->pages_fetched,
-                     now->prefetched - before->prefetched, now->evictions - before->evictions,
-                     now->bytes_fetched - before->bytes_fetched, now->peak_bytes,
-                     now->over_budget_bytes, now->peak_memory_bytes, now->wait_s - before->wait_s};
+    page_counts c = *now;
+    c.touches -= before->touches;
+    c.faults -= before->faults;
+    c.requests -= before->requests;
+    c.pages -= before->pages;
+    c.prefetched -= before->prefetched;
+    c.evictions -= before->evictions;
+    c.bytes -= before->bytes;
+    c.wait_s -= before->wait_s;
     return c;
 }
 
