@@ -83,7 +83,7 @@ SAN_HOOKS := $(SAN) -DCSG_TEST_HOOKS
 ENGINE_SRCS := csg/flatten.c csg/blob.c workers/shade.c workers/pigment.c workers/engine.c \
 	workers/cost.c
 ALL_C := $(wildcard csg/*.c csg/lang/*.c comm/*.c workers/*.c host/*.c host/pass/*.c \
-	host/output/*.c) sim/tile_sim.c
+	host/output/*.c) sim/tile_sim.c sim/page_trace.c
 PLAIN_SRCS := $(filter-out $(ENGINE_SRCS) host/main.c,$(ALL_C))
 MODULE_SRCS := host/output/image_oiio.cpp
 TEST_SRCS := $(wildcard tests/test_*.c)

@@ -6,7 +6,9 @@
 #       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
 #       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
-#       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy] --stats F.json
+#       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy]
+#       [--scene-memory MB --page-trace FILE[:FILE...] [--page-size KB] [--page-policy lru|fifo]
+#        [--page-prefetch on|off] [--page-install-ns I] [--master-page-ns P]] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -62,6 +64,14 @@
 # --runtime legacy: the runtime before 2026-11-28 (a message received whole
 # before the next, no progress while a worker computes), to check the
 # model against the node's runs of that code (bench/sim/node_validate.sh).
+# --scene-memory MB: each worker holds the scene within MB megabytes, in
+# pages served by rank 0 (csgtrace --scene-memory; --page-size, --page-policy,
+# --page-prefetch as there); every item names the pages its real one named
+# in the --page-trace files (a real render of the same scene, size, tile
+# and page size with $CSGTRACE_PAGE_TRACE set: bench/sim/paging.sh records
+# them).  --page-install-ns I: a worker's nanoseconds a fetched byte (its
+# copies into place, the kernel's faults); --master-page-ns P: rank 0's a
+# byte it packs; both measured by bench/sim/paging.sh (default 0).
 # bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
@@ -81,6 +91,7 @@ die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
+SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -111,6 +122,13 @@ while [ $# -gt 0 ]; do
     --pass-delay) PASS_DELAY=$2 ;;
     --sender-progress) SENDER_PROGRESS=$2 ;;
     --runtime) RUNTIME=$2 ;;
+    --scene-memory) SCENE_MEMORY=$2 ;;
+    --page-trace) PAGE_TRACE=$2 ;;
+    --page-size) PAGE_SIZE=$2 ;;
+    --page-policy) PAGE_POLICY=$2 ;;
+    --page-prefetch) PAGE_PREFETCH=$2 ;;
+    --page-install-ns) PAGE_INSTALL_NS=$2 ;;
+    --master-page-ns) MASTER_PAGE_NS=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -147,6 +165,20 @@ esac
 [[ "$EAGER" =~ ^[1-9][0-9]{0,8}$ ]] || die "--eager-bytes: 1..999999999"
 [[ "$SENDER_PROGRESS" =~ ^(yes|no)$ ]] || die "--sender-progress: yes or no"
 [[ "$RUNTIME" =~ ^(current|legacy)$ ]] || die "--runtime: current or legacy"
+[ -z "$SCENE_MEMORY" ] || [[ "$SCENE_MEMORY" =~ ^(0|[1-9][0-9]{0,6})(\.[0-9]{1,6})?$ && "$SCENE_MEMORY" =~ [1-9] ]] || die "--scene-memory: megabytes, a positive decimal number"
+[[ "$PAGE_SIZE" =~ ^(0|[1-9][0-9]{0,5})$ ]] || die "--page-size: KiB, 0 (auto) .. 999999"
+[[ "$PAGE_POLICY" =~ ^(lru|fifo)$ ]] || die "--page-policy: lru or fifo"
+[[ "$PAGE_PREFETCH" =~ ^(on|off)$ ]] || die "--page-prefetch: on or off"
+[[ "$PAGE_INSTALL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--page-install-ns: nanoseconds, 0..9999.9999"
+[[ "$MASTER_PAGE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--master-page-ns: nanoseconds, 0..9999.9999"
+paging=()
+if [ -n "$SCENE_MEMORY" ]; then
+    [ -n "$PAGE_TRACE" ] || die "--scene-memory needs --page-trace"
+    IFS=: read -ra traces <<<"$PAGE_TRACE"
+    for f in "${traces[@]}"; do [ -f "$f" ] || die "--page-trace: no file '$f'"; done
+    paging=(--scene-memory "$SCENE_MEMORY" --page-policy "$PAGE_POLICY" --page-prefetch "$PAGE_PREFETCH")
+    [ "$PAGE_SIZE" = 0 ] || paging+=(--page-size "$PAGE_SIZE")
+fi
 [ -n "$STATS" ] || die "--stats FILE.json is required"
 [ -x "$CSGSIM" ] || die "$CSGSIM missing: make sim"
 
@@ -226,11 +258,13 @@ CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
 CSGSIM_EAGER_BYTES=$([ "$SENDER_PROGRESS" = yes ] && echo "$EAGER" || echo 0) \
+CSGSIM_PAGES=$PAGE_TRACE CSGSIM_PAGE_INSTALL_S=$(echo "$PAGE_INSTALL_NS / 1000000000" | bc -l) \
+CSGSIM_MASTER_PAGE_S=$(echo "$MASTER_PAGE_NS / 1000000000" | bc -l) \
 CSGSIM_PASS_DELAY_S=$PASS_DELAY CSGSIM_LEGACY_RUNTIME=$([ "$RUNTIME" = legacy ] && echo 1 || echo 0) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" "${paging[@]}" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" \
     "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" "$EAGER" "$SENDER_PROGRESS" "$RUNTIME" <<'PY'

@@ -43,6 +43,21 @@ typedef struct {
     double wait_s;        /* seconds waiting for pages                  */
 } page_counts;
 
+/* The counts since `before`, the maxima as they are now (an item's). */
+static inline page_counts page_counts_since(const page_counts *before, const page_counts *now)
+{
+    page_counts c = *now;
+    c.touches -= before->touches;
+    c.faults -= before->faults;
+    c.requests -= before->requests;
+    c.pages -= before->pages;
+    c.prefetched -= before->prefetched;
+    c.evictions -= before->evictions;
+    c.bytes -= before->bytes;
+    c.wait_s -= before->wait_s;
+    return c;
+}
+
 static inline void page_counts_add(page_counts *sum, const page_counts *c)
 {
     sum->touches += c->touches;

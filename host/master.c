@@ -71,6 +71,7 @@
 #include <string.h>
 
 #include "exit_status.h"
+#include "memory.h"
 #include "output/journal.h"
 #include "output/stream.h"
 #include "../comm/mpi_link.h"
@@ -173,6 +174,8 @@ static size_t master_pack_pages(void *arg, const int32_t *pages, int n, unsigned
         pager_pack_page(m->page_blob, &m->plan.pages[pages[i]], at);
         at += m->plan.pages[pages[i]].bytes;
     }
+    if (m->costs)
+        m->costs->pages(bytes);
     return bytes;
 }
 
@@ -183,6 +186,34 @@ static bool master_serve_pages(master_session *m)
     int served = link_page_serve(master_pack_pages, m);
     m->page_asks += (uint64_t)served;
     return served > 0;
+}
+
+int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
+                      uint64_t page_bytes, int policy, bool prefetch, csg_diag *d)
+{
+    const char *why = NULL;
+    uint64_t page = page_bytes > 0 ? page_bytes : pager_page_bytes_for(budget);
+    bool laid_out = pager_relayout(blob, page, &why);
+    if (laid_out && !csg_blob_valid(blob, size)) {
+        laid_out = false; /* (a bug: the same tree, renumbered) */
+        why = "the BVH laid out for paging is not valid";
+    }
+    if (!laid_out || !pager_plan_make(blob, page, &m->plan, &why)) {
+        csg_error_plain(d, "--scene-memory: %s", why);
+        return EXIT_FAILURE_RUN;
+    }
+    if (m->plan.resident_bytes > budget) {
+        char need[32], have[32];
+        csg_error_plain(d, "--scene-memory %s is below the scene's resident part, %s (its "
+                           "header, the top of its BVH, materials and lights)",
+                        memory_format(budget, have, sizeof have),
+                        memory_format(m->plan.resident_bytes, need, sizeof need));
+        return EXIT_BAD_INPUT;
+    }
+    m->scene_memory = budget;
+    m->page_policy = policy;
+    m->page_prefetch = prefetch;
+    return EXIT_OK;
 }
 
 void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)

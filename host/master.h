@@ -34,6 +34,7 @@ typedef struct {
     void (*part)(size_t pixels, bool rgb8); /* one of its parts stored     */
     void (*drain)(void);                  /* the tile phase's end: the
                                              store threads' backlog       */
+    void (*pages)(uint64_t bytes);        /* pages packed for a worker    */
 } master_costs;
 
 typedef struct {
@@ -134,6 +135,13 @@ bool master_idle_init(link_idle *idle);
  * the master's node got one shared copy, blob->bytes is that copy from
  * now on (read-only; the malloc'd one freed): master_release_scene. */
 void master_share_scene(master_session *m, int status, int tile, csg_blob *blob);
+/* --scene-memory, before master_share_scene: the blob (valid, `size`
+ * bytes) laid out for pages of page_bytes (0: pager_page_bytes_for the
+ * budget), its plan in m->plan, the budget checked against the resident
+ * part, the session told to share it (policy: enum pager_policy).  0, or
+ * the exit status with d filled. */
+int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
+                      uint64_t page_bytes, int policy, bool prefetch, csg_diag *d);
 /* The master's view of the shared scene gone, blob->bytes NULL then (the
  * caller frees a blob that was not shared, as before). */
 void master_release_scene(master_session *m, csg_blob *blob);

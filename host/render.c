@@ -769,27 +769,11 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
                            "need the whole scene)");
         return EXIT_BAD_INPUT;
     }
-    uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : pager_page_bytes_for(budget);
-    bool laid_out = pager_relayout(rs->blob.bytes, page, &why);
-    if (laid_out && !csg_blob_valid(rs->blob.bytes, rs->blob.size)) {
-        laid_out = false; /* (a bug: the same tree, renumbered) */
-        why = "the BVH laid out for paging is not valid";
-    }
-    if (!laid_out || !pager_plan_make(rs->blob.bytes, page, &ms->plan, &why)) {
-        csg_error_plain(d, "--scene-memory: %s", why);
-        return EXIT_FAILURE_RUN;
-    }
-    if (ms->plan.resident_bytes > budget) {
-        char need[32], have[32];
-        csg_error_plain(d, "--scene-memory %s is below the scene's resident part, %s (its "
-                           "header, the top of its BVH, materials and lights)",
-                        memory_format(budget, have, sizeof have),
-                        memory_format(ms->plan.resident_bytes, need, sizeof need));
-        return EXIT_BAD_INPUT;
-    }
-    ms->scene_memory = budget;
-    ms->page_policy = req->page_policy;
-    ms->page_prefetch = !req->no_page_prefetch;
+    uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : 0;
+    int status = master_plan_pages(ms, rs->blob.bytes, rs->blob.size, budget, page,
+                                   req->page_policy, !req->no_page_prefetch, d);
+    if (status != EXIT_OK)
+        return status;
     st->scene_memory = budget;
     st->page_bytes = ms->plan.page_bytes;
     st->page_count = ms->plan.page_count;
@@ -810,6 +794,10 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     }
     rs->paged_local = true;
     rs->pager.prefetch = !req->no_page_prefetch;
+    if (!pager_trace_env(&rs->pager, 0)) {
+        csg_error_plain(d, "--scene-memory: cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
+        return EXIT_FAILURE_RUN;
+    }
     ms->scene_memory = 0; /* (no workers to tell) */
     return EXIT_OK;
 }

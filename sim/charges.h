@@ -8,6 +8,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 /* The master's own work on the results, executed on its simulated host
  * as measured on a real master (bench/simulate.sh --master-message-us,
@@ -26,5 +27,8 @@ void sim_charge_master_part(size_t pixels, bool rgb8);
 /* The end of the tile phase: waits until the store thread has stored
  * everything queued (master_run_tiles). */
 void sim_master_store_drain(void);
+/* Pages packed for a worker's request (--scene-memory): bytes x
+ * $CSGSIM_MASTER_PAGE_S (seconds a byte; 0 when unset). */
+void sim_charge_master_pages(uint64_t bytes);
 
 #endif

@@ -38,8 +38,20 @@
  * $CSGSIM_PASS_RATE (Mrays/s, one primary ray a pixel) replaces it by a
  * measured device rate: pass_s = width x height / rate (bench/GPU.md).
  *
+ * --scene-memory MB (and --page-size KB, --page-policy lru|fifo,
+ * --page-prefetch on|off, as csgtrace's): each worker holds the scene in
+ * pages within MB megabytes, rank 0 serves the pages (the real plan, the
+ * real requests and answers); each item names the pages its real one
+ * named, from the page traces in $CSGSIM_PAGES (sim/page_trace.h:
+ * recorded by a real render of the same scene, size and page size with
+ * $CSGTRACE_PAGE_TRACE), through the worker's real cache.  What a real
+ * worker spends installing a fetched page (copies, the kernel's faults)
+ * is $CSGSIM_PAGE_INSTALL_S seconds a byte on its host; rank 0's packing,
+ * $CSGSIM_MASTER_PAGE_S (bench/sim/paging.sh measures both).
+ *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
  *          --schedule raster|cost|static|tail [--batch N] [--pixels rgb8|float]
+ *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]]
  *          --stats FILE.json
  * --pixels: what the workers' RESULTs carry a pixel (comm/pixels.h): rgb8
  * (default: what a render to an 8-bit file such as PNG sends) or float
@@ -64,6 +76,7 @@
 #include "../host/master.h"
 #include "../comm/protocol.h"
 #include "charges.h"
+#include "page_trace.h"
 #include "stubs.h"
 
 typedef struct {
@@ -74,6 +87,10 @@ typedef struct {
     int relays;              /* --relays: ranks 1 .. relays relay (0)    */
     int pixels;              /* --pixels: enum pixels_format             */
     bool fill;               /* --fill on|off (hetero)                    */
+    double scene_memory_mb;  /* --scene-memory (0: the whole scene)       */
+    int page_kb;             /* --page-size (0: auto)                     */
+    int page_policy;         /* --page-policy: enum pager_policy          */
+    bool page_prefetch;      /* --page-prefetch on|off                    */
 } sim_args;
 
 typedef struct {
@@ -133,6 +150,21 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         a->fill = strcmp(v, "on") == 0;
         return a->fill || strcmp(v, "off") == 0;
     }
+    if (strcmp(key, "--scene-memory") == 0) {
+        char *end;
+        a->scene_memory_mb = strtod(v, &end);
+        return end != v && !*end && a->scene_memory_mb >= 0.001 && a->scene_memory_mb <= 1e9;
+    }
+    if (strcmp(key, "--page-size") == 0)
+        return sim_int(v, 1, 1 << 20, &a->page_kb);
+    if (strcmp(key, "--page-policy") == 0) {
+        a->page_policy = strcmp(v, "fifo") == 0 ? PAGER_FIFO : PAGER_LRU;
+        return strcmp(v, "fifo") == 0 || strcmp(v, "lru") == 0;
+    }
+    if (strcmp(key, "--page-prefetch") == 0) {
+        a->page_prefetch = strcmp(v, "on") == 0;
+        return a->page_prefetch || strcmp(v, "off") == 0;
+    }
     if (strcmp(key, "--stats") == 0) {
         a->stats = v;
         return true;
@@ -142,7 +174,8 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true};
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true,
+                    0, 0, PAGER_LRU, true};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -241,6 +274,10 @@ typedef struct {
     double work_s;           /* the workers' seconds on their items       */
     double ramp_s;           /* until the last worker had its first item  */
     double tail_s;           /* from the first worker's last result on    */
+    page_counts paging;      /* the workers' paging, all items            */
+    uint64_t page_asks;      /* page requests rank 0 answered             */
+    int32_t page_count;      /* the plan's pages (0: not paged)           */
+    uint64_t page_bytes, resident_bytes, budget;
 } sim_result;
 
 /* Where the workers' time went: their items' seconds, how long the last
@@ -271,6 +308,28 @@ static void sim_timeline(const sched *s, int workers, double t0, double end, sim
     free(last);
 }
 
+/* The grid's tiles (hetero: those with hits) the page trace has no item
+ * of the mode's kind for (their pages are then the union of the items
+ * they overlap: another tile size; none: a trace of another render). */
+static int sim_trace_missing(const sim_args *a, const sim_run *run)
+{
+    const page_trace *t = page_trace_shared();
+    int missing = 0;
+    for (int y = 0; t && y < a->height; y += a->tile)
+        for (int x = 0; x < a->width; x += a->tile) {
+            int w = a->width - x < a->tile ? a->width - x : a->tile;
+            int h = a->height - y < a->tile ? a->height - y : a->tile;
+            if (run->hetero && sim_rect_cost(run, (tile_rect){x, y, w, h}).hits < 0.5)
+                continue; /* (skipped: no item) */
+            int32_t *pages;
+            bool exact;
+            page_trace_pages(t, run->hetero ? 'S' : 'T', x, y, w, h, &pages, &exact);
+            free(pages);
+            missing += !exact;
+        }
+    return missing;
+}
+
 static bool sim_write(const sim_args *a, const sim_run *run, int workers, const sim_result *r)
 {
     FILE *f = fopen(a->stats, "w");
@@ -283,7 +342,7 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
                "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
                "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
-               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f}\n",
+               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
@@ -292,12 +351,56 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
             a->fill && run->hetero ? "true" : "false",
             r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
             serial / ((workers + a->relays) * r->makespan_s));
+    if (r->page_count > 0) {
+        const page_counts *p = &r->paging;
+        int missing = sim_trace_missing(a, run);
+        fprintf(f, ", \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
+                   "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
+                   "\"prefetch\": %s, \"asks_answered\": %llu, \"trace_tiles_missing\": %d}, "
+                   "\"paging\": {\"touches\": %llu, "
+                   "\"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
+                   "\"prefetched\": %llu, \"evictions\": %llu, \"bytes\": %llu, "
+                   "\"peak_bytes\": %llu, \"wait_s\": %.9g}",
+                (unsigned long long)r->budget, (unsigned long long)r->page_bytes, r->page_count,
+                (unsigned long long)r->resident_bytes, a->page_policy == PAGER_FIFO ? "fifo" : "lru",
+                a->page_prefetch ? "true" : "false", (unsigned long long)r->page_asks,
+                missing,
+                (unsigned long long)p->touches, (unsigned long long)p->faults,
+                (unsigned long long)p->requests, (unsigned long long)p->pages,
+                (unsigned long long)p->prefetched, (unsigned long long)p->evictions,
+                (unsigned long long)p->bytes, (unsigned long long)p->peak_bytes, p->wait_s);
+    }
+    fputs("}\n", f);
     return fclose(f) == 0;
 }
 
 /* The master's own work, charged to its simulated host (charges.h). */
 static const master_costs sim_master_charges = {sim_charge_master_message,
-                                                sim_charge_master_part, sim_master_store_drain};
+                                                sim_charge_master_part, sim_master_store_drain,
+                                                sim_charge_master_pages};
+
+/* --scene-memory: the real plan (master_plan_pages), and the page trace
+ * the items replay, which must be of it.  0, or the exit status with d
+ * filled. */
+static int sim_plan_pages(const sim_args *a, master_session *m, csg_blob *blob, csg_diag *d)
+{
+    if (a->scene_memory_mb <= 0)
+        return 0;
+    int status = master_plan_pages(m, blob->bytes, blob->size,
+                                   (uint64_t)(a->scene_memory_mb * 1e6),
+                                   (uint64_t)a->page_kb << 10, a->page_policy, a->page_prefetch, d);
+    const page_trace *t = page_trace_shared();
+    if (status == 0 && !t) {
+        csg_error_plain(d, "csgsim: --scene-memory needs the page traces ($CSGSIM_PAGES)");
+        status = 2;
+    } else if (status == 0 && t->page_max >= m->plan.page_count) {
+        csg_error_plain(d, "csgsim: the page trace names page %d of a plan of %d pages: it "
+                           "was recorded with another scene, size or page size",
+                        (int)t->page_max, (int)m->plan.page_count);
+        status = 2;
+    }
+    return status;
+}
 
 /* The master's whole job: broadcast, tiles, STOP; false on a failure. */
 static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int ranks,
@@ -334,15 +437,18 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
         m.batch = a->batch;
         m.relays = a->relays;
         m.pixels = a->pixels;
-        master_share_scene(&m, 0, a->tile, blob);
+        int status = sim_plan_pages(a, &m, blob, &d);
+        master_share_scene(&m, status, a->tile, blob);
         master_relay_floor(&m, &run->s);
         run->pass_t0 = stats_clock() + sim_env_number("CSGSIM_PASS_DELAY_S", 0);
-        ok = master_run_tiles(&m, &job, &d);
+        ok = status == 0 && master_run_tiles(&m, &job, &d);
+        pager_plan plan = m.plan; /* (its sizes: master_end frees the pages) */
         master_end(&m, ok ? 0 : 1);
         master_release_scene(&m, blob); /* (threads: never shared, the blob stays) */
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
                             run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
-                            0, 0, 0};
+                            0, 0, 0, job.paging, m.page_asks, plan.page_count,
+                            plan.page_bytes, plan.resident_bytes, m.scene_memory};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         link_idle_free(&idle);
         sched_free(&run->s);

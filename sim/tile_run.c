@@ -5,8 +5,12 @@
  * tile_run_rect executes the rectangle's measured seconds on the
  * simulated host (smpi_execute_flops at SIM_HOST_FLOPS), band by band as
  * the traced one runs, progress between bands included; its pixels are
- * black, its hits come from the map.  And the master's own costs
- * (charges.h), charged where a real master spends them.
+ * black, its hits come from the map.  With --scene-memory, the pages the
+ * real item named (the trace, page_trace.h) are named through the
+ * worker's own pager as it goes: fetched from rank 0 by the real
+ * requests when not cached, each byte installed at the measured cost.
+ * And the master's own costs (charges.h), charged where a real master
+ * spends them.
  */
 #include <string.h>
 
@@ -15,12 +19,14 @@
 #include <smpi/smpi.h>
 
 #include "../host/store.h"
+#include "../workers/pager.h"
 #include "../workers/tile.h"
 #include "charges.h"
+#include "page_trace.h"
 #include "tile_sim.h"
 
 typedef struct {
-    double message_s, part_s, pixel_s, store_s;
+    double message_s, part_s, pixel_s, store_s, page_s;
     int store_threads;
     /* simulated time each store thread is busy until */
     double store_until[STORE_THREADS_MAX];
@@ -37,6 +43,7 @@ static sim_master_costs *sim_master(void)
         m.part_s = sim_env_number("CSGSIM_MASTER_PART_S", 0);
         m.pixel_s = sim_env_number("CSGSIM_MASTER_PIXEL_S", 0);
         m.store_s = sim_env_number("CSGSIM_MASTER_STORE_S", 0);
+        m.page_s = sim_env_number("CSGSIM_MASTER_PAGE_S", 0);
         double threads = sim_env_number("CSGSIM_MASTER_STORE_THREADS", 1);
         m.store_threads = threads > STORE_THREADS_MAX ? STORE_THREADS_MAX : (int)threads;
     }
@@ -73,6 +80,13 @@ void sim_charge_master_part(size_t pixels, bool rgb8)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
 }
 
+void sim_charge_master_pages(uint64_t bytes)
+{
+    double s = (double)bytes * sim_master()->page_s;
+    if (s > 0)
+        smpi_execute_flops(s * SIM_HOST_FLOPS);
+}
+
 void sim_master_store_drain(void)
 {
     const sim_master_costs *m = sim_master();
@@ -99,11 +113,114 @@ void tile_time_stop(const tile_timer *t, tile_result *res)
     (void)res;
 }
 
+/* An item's replay of the pages its real one named: the prefetched ones
+ * (the prefetch on) in one request before its seconds, the others named
+ * one by one, evenly over its seconds, the first at its start. */
+typedef struct {
+    csg_pager *pager;
+    int32_t *pages;     /* the trace's, -1 - page a prefetch's         */
+    int32_t count;
+    int32_t *demand;    /* those named on demand, in order              */
+    int32_t demand_count, next;
+    double install_s;   /* a byte's install, $CSGSIM_PAGE_INSTALL_S     */
+} sim_pages;
+
+/* The install of the bytes the pager fetched since `bytes_before`. */
+static void sim_install(const sim_pages *sp, uint64_t bytes_before)
+{
+    double s = (double)(sp->pager->stats.bytes - bytes_before) * sp->install_s;
+    if (s > 0)
+        smpi_execute_flops(s * SIM_HOST_FLOPS);
+}
+
+/* The item's pages looked up and its prefetch done; false when none. */
+static bool sim_pages_begin(sim_pages *sp, tile_runner *tr, tile_rect r, bool traced)
+{
+    memset(sp, 0, sizeof *sp);
+    const page_trace *t = page_trace_shared();
+    sp->pager = pager_for(tr->blob);
+    if (!sp->pager || !t)
+        return false;
+    bool exact; /* (sim/main.c counts the tiles the trace has) */
+    sp->count = page_trace_pages(t, traced ? 'T' : 'S', r.x, r.y, r.width, r.height, &sp->pages,
+                                 &exact);
+    if (sp->count < 0) {
+        sp->pager->failed = true; /* (out of memory: the run's result void) */
+        sp->count = 0;
+    }
+    sp->install_s = sim_env_number("CSGSIM_PAGE_INSTALL_S", 0);
+    sp->demand = malloc((size_t)(sp->count ? sp->count : 1) * sizeof *sp->demand);
+    int32_t *ahead = malloc((size_t)(sp->count ? sp->count : 1) * sizeof *ahead);
+    int32_t ahead_count = 0;
+    if (!sp->demand || !ahead) {
+        sp->pager->failed = true;
+        free(ahead);
+        return true;
+    }
+    for (int32_t k = 0; k < sp->count; k++) {
+        int32_t p = sp->pages[k];
+        if (p < 0 && sp->pager->prefetch)
+            ahead[ahead_count++] = -1 - p;
+        else
+            sp->demand[sp->demand_count++] = p < 0 ? -1 - p : p;
+    }
+    uint64_t before = sp->pager->stats.bytes;
+    if (ahead_count > 0)
+        pager_prefetch_pages(sp->pager, ahead, (size_t)ahead_count);
+    sim_install(sp, before);
+    free(ahead);
+    return true;
+}
+
+/* The demand pages due by `at` of the item's `total` seconds, named. */
+static void sim_pages_due(sim_pages *sp, double at, double total)
+{
+    while (sp->next < sp->demand_count &&
+           (total <= 0 || total * sp->next / sp->demand_count <= at)) {
+        uint64_t before = sp->pager->stats.bytes;
+        pager_need_page(sp->pager, sp->demand[sp->next++]);
+        sim_install(sp, before);
+    }
+}
+
+static void sim_pages_end(sim_pages *sp, tile_rect r, bool traced, tile_result *res,
+                          const pager_stats *before)
+{
+    if (!sp->pager)
+        return;
+    pager_trace_item(sp->pager, traced ? 'T' : 'S', r.x, r.y, r.width, r.height);
+    pager_item_end(sp->pager);
+    res->paging = page_counts_since(before, &sp->pager->stats);
+    res->page_failed = sp->pager->failed;
+    free(sp->pages);
+    free(sp->demand);
+}
+
+/* `seconds` of compute from `from` on, the demand pages due on the way
+ * named where they fall. */
+static void sim_compute(sim_pages *sp, double from, double seconds, double total)
+{
+    double at = from, end = from + seconds;
+    while (sp->pager && sp->next < sp->demand_count) {
+        double due = total * sp->next / sp->demand_count;
+        if (due > end)
+            break;
+        if (due > at) {
+            smpi_execute_flops((due - at) * SIM_HOST_FLOPS);
+            at = due;
+        }
+        sim_pages_due(sp, at, total);
+    }
+    if (end > at)
+        smpi_execute_flops((end - at) * SIM_HOST_FLOPS);
+}
+
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
     /* shaded from records (hetero), or rendered whole (homo; hetero's fill) */
-    const sim_costs *c = records ? sim_costs_shared() : sim_costs_render();
+    bool traced = !records;
+    const sim_costs *c = traced ? sim_costs_render() : sim_costs_shared();
     sim_cost cost = {0, 0, 0};
     if (c)
         cost = sim_costs_rect(c, tr->grid.width, tr->grid.height, r);
@@ -112,6 +229,11 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     res->hits = (uint32_t)(cost.hits + 0.5);
     res->busy_s = cost.seconds;
     res->cpu_s = cost.seconds;
+    sim_pages sp;
+    pager_stats before = {0};
+    if (pager_for(tr->blob))
+        before = pager_for(tr->blob)->stats;
+    sim_pages_begin(&sp, tr, r, traced);
     /* in the bands of workers/tile_run.c, this rank's transfers moved on
      * between them as there (tile_runner.progress) */
     int rows = tile_band_rows(tr, r);
@@ -119,8 +241,12 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
         int band = r.height - y0 < rows ? r.height - y0 : rows;
         if (y0 > 0)
             tr->progress(tr->progress_arg);
-        smpi_execute_flops(cost.seconds * band / r.height * SIM_HOST_FLOPS);
+        sim_compute(&sp, cost.seconds * y0 / r.height, cost.seconds * band / r.height,
+                    cost.seconds);
     }
+    if (sp.pager)
+        sim_pages_due(&sp, cost.seconds, cost.seconds); /* (any left: a 0 s item) */
+    sim_pages_end(&sp, r, traced, res, &before);
 }
 
 /* (the simulated costs do not tell the shadow answers apart) */

@@ -85,6 +85,41 @@ sys.exit(0 if items and all('page_faults' in i and 'page_wait_s' in i for i in i
          and sum(i['page_faults'] for i in items) > 0 else 1)" "$T/homo-float.pfm.log" &&
     ok "the tile log has each item's page faults" || ko "the tile log lacks page faults"
 
+# The page trace ($CSGTRACE_PAGE_TRACE: the simulator's input): one line an
+# item in each worker's file, every tile once, the pages the stats count.
+# trace_check NAME KIND FILES...: the grid's 48 tiles of kind KIND, as many
+# pages named as the stats' touches, at least the prefetched ones marked.
+trace_check() {
+    local name=$1 kind=$2
+    shift 2
+    python3 - "$T/$name.pfm.json" "$kind" "$@" <<'PY' && ok "$name: the page trace has every item's pages" || ko "$name: the page trace does not match the render"
+import json, sys
+stats = json.load(open(sys.argv[1]))["paging"]
+kind, rects, named, marked = sys.argv[2], set(), 0, 0
+for path in sys.argv[3:]:
+    for line in open(path):
+        f = line.split()
+        k, x, y, w, h, n = f[0], *map(int, f[1:6])
+        pages = list(map(int, f[6:]))
+        assert k == kind and len(pages) == n and (x, y) not in rects, line
+        assert len(set(p if p >= 0 else -1 - p for p in pages)) == n, line
+        rects.add((x, y))
+        named += n
+        marked += sum(p < 0 for p in pages)
+assert rects == {(x, y) for x in range(0, 64, 8) for y in range(0, 48, 8)}, len(rects)
+assert named == stats["touches"] and marked >= stats["prefetched"] > 0, (named, marked, stats)
+PY
+}
+EXTRA=(--mode homo)
+paged homo-traced float env CSGTRACE_PAGE_TRACE="$T/homo.trace" "${MPI[@]}"
+trace_check homo-traced T "$T/homo.trace.1" "$T/homo.trace.2"
+EXTRA=(--mode hetero --pass always --fill off)
+paged hetero-traced float env CSGTRACE_PAGE_TRACE="$T/hetero.trace" "${MPI[@]}"
+trace_check hetero-traced S "$T/hetero.trace.1" "$T/hetero.trace.2"
+EXTRA=()
+paged serial-traced float env CSGTRACE_PAGE_TRACE="$T/serial.trace"
+trace_check serial-traced T "$T/serial.trace.0"
+
 # Refusals.
 low=$(python3 -c "print((${RESIDENT[float]} - 1000) / 1e6)")
 "$BIN" render "$SCENE" "${SZ[@]}" --scene-memory "$low" -o "$T/low.pfm" >/dev/null 2>"$T/low.err"

@@ -7,7 +7,12 @@
  *   - an image twice the size costs four times as much in total (a pixel
  *     costs what the recorded pixel under it cost), a rectangle of it what
  *     the recorded area under it cost, times four;
- *   - malformed files are refused.
+ *   - malformed files are refused;
+ *   - page traces (sim/page_trace.c): an item's pages read back in their
+ *     order, a prefetch's marks kept; a rectangle no item had gets the
+ *     union of the items it overlaps, each page once, prefetched if any
+ *     item prefetched it; several files; malformed lines refused with
+ *     their file:line.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -17,7 +22,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "../sim/page_trace.h"
 #include "../sim/tile_sim.h"
 
 /* `text` in a new temporary file; its path (valid until the next call). */
@@ -96,12 +103,74 @@ static void test_refused(void **state)
     assert_false(sim_costs_load("/nonexistent/map", &c));
 }
 
+static void test_trace_pages(void **state)
+{
+    (void)state;
+    page_trace t;
+    char err[256];
+    char a[64], b[64];
+    snprintf(a, sizeof a, "%s", write_map("T 0 0 8 8 3 5 -3 7\nT 8 0 8 8 2 7 -6\n"));
+    snprintf(b, sizeof b, "%s", write_map("S 0 0 8 8 1 -10\nT 0 8 8 8 0\n"));
+    char both[160];
+    snprintf(both, sizeof both, "%s:%s", a, b);
+    assert_true(page_trace_load(&t, both, err, sizeof err));
+    assert_int_equal(t.item_count, 4);
+    assert_int_equal(t.page_max, 9);
+    int32_t *pages;
+    bool exact;
+    assert_int_equal(page_trace_pages(&t, 'T', 0, 0, 8, 8, &pages, &exact), 3);
+    assert_true(exact);
+    assert_int_equal(pages[0], 5);
+    assert_int_equal(pages[1], -3); /* page 2, prefetched */
+    assert_int_equal(pages[2], 7);
+    free(pages);
+    assert_int_equal(page_trace_pages(&t, 'S', 0, 0, 8, 8, &pages, &exact), 1);
+    assert_int_equal(pages[0], -10);
+    free(pages);
+    /* half of each of the two first tiles: pages 2, 5 and 7 once each; 5,
+     * named on demand by one and prefetched by the other, prefetched */
+    assert_int_equal(page_trace_pages(&t, 'T', 4, 0, 8, 4, &pages, &exact), 3);
+    assert_false(exact);
+    assert_int_equal(pages[0], -3);
+    assert_int_equal(pages[1], -6);
+    assert_int_equal(pages[2], 7);
+    free(pages);
+    assert_int_equal(page_trace_pages(&t, 'T', 0, 8, 8, 8, &pages, &exact), 0);
+    assert_true(exact);
+    assert_int_equal(page_trace_pages(&t, 'T', 100, 100, 8, 8, &pages, &exact), 0);
+    assert_false(exact);
+    page_trace_free(&t);
+    remove(a);
+    remove(b);
+}
+
+static void test_trace_refused(void **state)
+{
+    (void)state;
+    const char *bad[] = {"T 0 0 8 8 2 1\n", "T 0 0 8 8 1 1 2\n", "X 0 0 8 8 0\n",
+                         "T 0 0 0 8 0\n", "T -1 0 8 8 0\n", "T 0 0 8 8 1 z\n", "T\n"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        page_trace t;
+        char err[256];
+        char path[64];
+        snprintf(path, sizeof path, "%s", write_map(bad[i]));
+        assert_false(page_trace_load(&t, path, err, sizeof err));
+        assert_non_null(strstr(err, ":1: "));
+        remove(path);
+    }
+    page_trace t;
+    char err[256];
+    assert_false(page_trace_load(&t, "/nonexistent/trace", err, sizeof err));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cells_back),
         cmocka_unit_test(test_scaled),
         cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_trace_pages),
+        cmocka_unit_test(test_trace_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -10,6 +10,7 @@
 #include "pager.h"
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -449,7 +450,7 @@ void pager_pack_page(const void *blob, const pager_page *page, unsigned char *ou
 
 /* ---- the worker's cache ------------------------------------------------------------- */
 
-static csg_pager *pager_active;
+static csg_pager *pagers_open; /* (a list: the simulated ranks share a process) */
 
 static double pager_clock(void)
 {
@@ -610,14 +611,21 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     p->fetch_arg = fetch_arg;
     p->epoch = 1;
     p->prefetch = true;
-    pager_active = p;
+    p->next_open = pagers_open;
+    pagers_open = p;
     return true;
 }
 
 void pager_close(csg_pager *p)
 {
-    if (pager_active == p)
-        pager_active = NULL;
+    for (csg_pager **at = &pagers_open; *at; at = &(*at)->next_open)
+        if (*at == p) {
+            *at = p->next_open;
+            break;
+        }
+    if (p->trace.file)
+        fclose(p->trace.file);
+    free(p->trace.named);
     if (p->base)
         munmap(p->base, p->map_bytes ? p->map_bytes : 1);
     free(p->stamp);
@@ -633,7 +641,10 @@ void pager_close(csg_pager *p)
 
 csg_pager *pager_for(const void *blob)
 {
-    return pager_active && blob == pager_active->base ? pager_active : NULL;
+    for (csg_pager *p = pagers_open; p; p = p->next_open)
+        if (blob == p->base)
+            return p;
+    return NULL;
 }
 
 /* ---- the cache's order --------------------------------------------------------------- */
@@ -732,6 +743,25 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
         p->stats.over_bytes = p->used - p->budget;
 }
 
+/* Page i, first named in this item, in the trace's list; out of memory:
+ * the trace stops (closed short). */
+static void trace_named(csg_pager *p, int32_t i)
+{
+    pager_trace *t = &p->trace;
+    if (t->count == t->cap) {
+        int cap = t->cap ? 2 * t->cap : 256;
+        int32_t *grown = realloc(t->named, (size_t)cap * sizeof *grown);
+        if (!grown) {
+            fclose(t->file);
+            t->file = NULL;
+            return;
+        }
+        t->named = grown;
+        t->cap = cap;
+    }
+    t->named[t->count++] = p->prefetching ? -1 - i : i;
+}
+
 /* Page i named in this item: true when it must be fetched. */
 static bool named(csg_pager *p, int32_t i)
 {
@@ -739,6 +769,8 @@ static bool named(csg_pager *p, int32_t i)
         return false;
     p->stamp[i] = p->epoch;
     p->stats.touches++;
+    if (p->trace.file)
+        trace_named(p, i);
     if (!p->here[i])
         return true;
     if (p->policy == PAGER_LRU) { /* the newest from now on */
@@ -834,11 +866,13 @@ static void prefetch(csg_pager *p, const void *items, size_t n,
     if (!list)
         return;
     int count = 0;
+    p->prefetching = true;
     for (size_t k = 0; k < n; k++) {
         int32_t i = page_at(p, items, k);
-        if (i >= 0 && named(p, i))
+        if (i >= 0 && i < p->plan.page_count && named(p, i))
             list[count++] = i;
     }
+    p->prefetching = false;
     if (count > 0) {
         p->stats.prefetched += (uint64_t)count;
         fetch_pages(p, list, count);
@@ -865,6 +899,47 @@ void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n)
 void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n)
 {
     prefetch(p, surf, n, page_at_hit);
+}
+
+static int32_t page_at_index(const csg_pager *p, const void *pages, size_t k)
+{
+    (void)p;
+    return ((const int32_t *)pages)[k];
+}
+
+void pager_prefetch_pages(csg_pager *p, const int32_t *pages, size_t n)
+{
+    prefetch(p, pages, n, page_at_index);
+}
+
+bool pager_trace_env(csg_pager *p, int rank)
+{
+    const char *name = getenv("CSGTRACE_PAGE_TRACE");
+    if (!name || !*name)
+        return true;
+    char path[4096];
+    int len = snprintf(path, sizeof path, "%s.%d", name, rank);
+    if (p->trace.file)
+        fclose(p->trace.file);
+    p->trace.file = len > 0 && (size_t)len < sizeof path ? fopen(path, "w") : NULL;
+    p->trace.count = 0;
+    return p->trace.file != NULL;
+}
+
+void pager_trace_item(csg_pager *p, char kind, int x, int y, int w, int h)
+{
+    pager_trace *t = &p->trace;
+    if (!t->file)
+        return;
+    bool ok = fprintf(t->file, "%c %d %d %d %d %d", kind, x, y, w, h, t->count) > 0;
+    for (int k = 0; ok && k < t->count; k++)
+        ok = fprintf(t->file, " %d", (int)t->named[k]) > 0;
+    ok = ok && fputc('\n', t->file) != EOF;
+    t->count = 0;
+    if (!ok) {
+        fclose(t->file);
+        t->file = NULL;
+    }
 }
 
 void pager_item_end(csg_pager *p)

@@ -44,6 +44,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "../comm/tiles.h"
 #include "../csg/device/flat.h"
@@ -116,6 +117,17 @@ enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
  * result carries (comm/tiles.h), the sums then taken over items. */
 typedef page_counts pager_stats;
 
+/* The page trace: the pages each item named, in the order it first named
+ * them, written one line an item (pager_trace_item) — what the simulated
+ * build replays (sim/page_trace.h) to model the page traffic of any
+ * number of workers.  The list of the current item: a page a prefetch
+ * named is stored as -1 - page. */
+typedef struct {
+    FILE *file;
+    int32_t *named;
+    int count, cap;
+} pager_trace;
+
 typedef struct csg_pager {
     unsigned char *base;   /* the blob's address space: what the engine reads */
     size_t map_bytes;
@@ -141,17 +153,21 @@ typedef struct csg_pager {
                               them, fetched in one request: a homo item's
                               primary rays' (frustum.h), a hetero item's
                               hit records' (tile_run.c); off: on demand  */
+    bool prefetching;      /* pages named now are a prefetch's           */
+    pager_trace trace;     /* file NULL: not traced                      */
+    struct csg_pager *next_open; /* the process's open pagers (pager_for) */
     pager_stats stats;
 } csg_pager;
 
 /* The worker's side, from the packed resident part: false (with why) when
  * it is malformed, the budget is below the resident part, or memory is
- * short.  The pager is the process's active one until pager_close. */
+ * short.  Open until pager_close (pager_for finds it: a process may hold
+ * several, the simulated build's ranks). */
 bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
                 enum pager_policy policy, pager_fetch fetch, void *fetch_arg, const char **why);
 void pager_close(csg_pager *p);
 
-/* The active pager when `blob` is its address space, else NULL. */
+/* The open pager whose address space `blob` is, else NULL. */
 csg_pager *pager_for(const void *blob);
 
 /* A work item ends: the pages it used, pinned until now, may go; the
@@ -182,5 +198,18 @@ void pager_prefetch_hits(csg_pager *p, const uint32_t *surf, size_t n);
 /* The pages whose tops are BVH nodes nodes[0 .. n), fetched in one
  * request (a homo item's primary rays: workers/frustum.h). */
 void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n);
+/* Pages pages[0 .. n) by their index, fetched in one request (a traced
+ * prefetch replayed: sim/tile_run.c). */
+void pager_prefetch_pages(csg_pager *p, const int32_t *pages, size_t n);
+
+/* When $CSGTRACE_PAGE_TRACE names a file, the trace written to that name
+ * with ".RANK" appended (a serial render's: rank 0); false when it is set
+ * and the file cannot be created. */
+bool pager_trace_env(csg_pager *p, int rank);
+/* The current item's line (before pager_item_end): its kind ('T' traced
+ * whole, 'S' shaded from records), its rectangle, the pages it named:
+ *   KIND X Y W H N PAGE...   (a prefetched page as -1 - page)
+ * A write that fails closes the trace (the file ends short). */
+void pager_trace_item(csg_pager *p, char kind, int x, int y, int w, int h);
 
 #endif

@@ -62,21 +62,6 @@ static void tile_run_band(tile_runner *tr, tile_rect r, int y0, int rows, bool t
                             rgb + (size_t)y0 * (size_t)r.width * 3, &res->rays);
 }
 
-/* The pager's counts since `before`, the maxima as they are now. */
-static page_counts tile_paging(const pager_stats *before, const pager_stats *now)
-{
-    page_counts c = *now;
-    c.touches -= before->touches;
-    c.faults -= before->faults;
-    c.requests -= before->requests;
-    c.pages -= before->pages;
-    c.prefetched -= before->prefetched;
-    c.evictions -= before->evictions;
-    c.bytes -= before->bytes;
-    c.wait_s -= before->wait_s;
-    return c;
-}
-
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
@@ -112,8 +97,9 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
     for (size_t i = 0; i < n; i++)
         res->hits += surf[i] != CSG_SURF_NONE;
     if (pager) {
+        pager_trace_item(pager, trace ? 'T' : 'S', r.x, r.y, r.width, r.height);
         pager_item_end(pager);
-        res->paging = tile_paging(&before, &pager->stats);
+        res->paging = page_counts_since(&before, &pager->stats);
         res->page_failed = pager->failed;
     }
 }

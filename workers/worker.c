@@ -132,6 +132,8 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
         w->paged = true;
         w->blob = w->pager.base;
         w->pager.prefetch = setup->page_prefetch != 0;
+        if (!pager_trace_env(&w->pager, w->rank))
+            worker_set_failure(w, "cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
     } else {
         worker_set_failure(w, "%s", why);
     }
