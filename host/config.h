@@ -26,7 +26,9 @@
     X(image_module, "CSGTRACE_IMAGE_MODULE", "the OpenImageIO module's path")                  \
     X(image_writer, "CSGTRACE_IMAGE_WRITER", "oiio: OpenImageIO writes PNG and PPM too")       \
     X(png_level, "CSGTRACE_PNG_LEVEL", "0 to 9: PNG at that zlib level, every filter")         \
-    X(worker_bind, "CSGTRACE_WORKER_BIND", "off: workers never bind themselves to a CPU")
+    X(worker_bind, "CSGTRACE_WORKER_BIND", "off: workers never bind themselves to a CPU")      \
+    X(page_trace, "CSGTRACE_PAGE_TRACE", "with --scene-memory: each rank writes the pages "    \
+                                         "its items named to this file name + .RANK")
 
 typedef struct {
 #define CONFIG_FIELD(field, name, what) const char *field;

@@ -794,7 +794,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     }
     rs->paged_local = true;
     rs->pager.prefetch = !req->no_page_prefetch;
-    if (!pager_trace_env(&rs->pager, 0)) {
+    if (!pager_trace_open(&rs->pager, render_env(req)->page_trace, 0)) {
         csg_error_plain(d, "--scene-memory: cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
         return EXIT_FAILURE_RUN;
     }
@@ -918,7 +918,7 @@ int render_run(const render_request *req)
         return EXIT_FAILURE_RUN;
     }
     if (rank != 0)
-        return worker_run(rank, render_env(req)->worker_bind);
+        return worker_run(rank, render_env(req)->worker_bind, render_env(req)->page_trace);
     pass *p = NULL;
     pass_config cfg;
     csg_diag ignored = {{0}, 0}; /* (a bad setting: reported by render_prepare) */

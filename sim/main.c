@@ -499,7 +499,7 @@ int main(int argc, char **argv)
     link_model_protocol((size_t)sim_env_number("CSGSIM_EAGER_BYTES", 0),
                         sim_env_number("CSGSIM_LEGACY_RUNTIME", 0) > 0);
     if (rank != 0) {
-        int status = worker_run(rank, NULL);
+        int status = worker_run(rank, NULL, NULL);
         link_finish();
         return status;
     }

@@ -912,9 +912,8 @@ void pager_prefetch_pages(csg_pager *p, const int32_t *pages, size_t n)
     prefetch(p, pages, n, page_at_index);
 }
 
-bool pager_trace_env(csg_pager *p, int rank)
+bool pager_trace_open(csg_pager *p, const char *name, int rank)
 {
-    const char *name = getenv("CSGTRACE_PAGE_TRACE");
     if (!name || !*name)
         return true;
     char path[4096];

@@ -202,10 +202,10 @@ void pager_prefetch_nodes(csg_pager *p, const int32_t *nodes, size_t n);
  * prefetch replayed: sim/tile_run.c). */
 void pager_prefetch_pages(csg_pager *p, const int32_t *pages, size_t n);
 
-/* When $CSGTRACE_PAGE_TRACE names a file, the trace written to that name
- * with ".RANK" appended (a serial render's: rank 0); false when it is set
- * and the file cannot be created. */
-bool pager_trace_env(csg_pager *p, int rank);
+/* The trace written to `name` with ".RANK" appended ($CSGTRACE_PAGE_TRACE,
+ * host/config.h; a serial render's: rank 0); NULL name: none.  False when
+ * the file cannot be created. */
+bool pager_trace_open(csg_pager *p, const char *name, int rank);
 /* The current item's line (before pager_item_end): its kind ('T' traced
  * whole, 'S' shaded from records), its rectangle, the pages it named:
  *   KIND X Y W H N PAGE...   (a prefetched page as -1 - page)

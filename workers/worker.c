@@ -57,6 +57,7 @@
 
 typedef struct {
     int rank;
+    const char *page_trace; /* $CSGTRACE_PAGE_TRACE (pager.h), or NULL */
     int parent;           /* the rank TILEs come from: 0 or a relay   */
     int tiles_done;
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
@@ -132,7 +133,7 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
         w->paged = true;
         w->blob = w->pager.base;
         w->pager.prefetch = setup->page_prefetch != 0;
-        if (!pager_trace_env(&w->pager, w->rank))
+        if (!pager_trace_open(&w->pager, w->page_trace, w->rank))
             worker_set_failure(w, "cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
     } else {
         worker_set_failure(w, "%s", why);
@@ -372,11 +373,12 @@ static int worker_serve(worker_state *w)
     }
 }
 
-int worker_run(int rank, const char *bind)
+int worker_run(int rank, const char *bind, const char *page_trace)
 {
     worker_state w;
     memset(&w, 0, sizeof w);
     w.rank = rank;
+    w.page_trace = page_trace;
     link_ending(-1); /* (a job of several renders: a new one) */
 
     proto_setup setup;

@@ -8,10 +8,11 @@
 
 /* Runs the worker loop of rank `rank` (MPI already started) until the
  * master's STOP; returns the exit status the master decided (0, 1, 2).
- * `bind`: $CSGTRACE_WORKER_BIND (comm/mpi_link.h: link_bind_worker).
+ * `bind`: $CSGTRACE_WORKER_BIND (comm/mpi_link.h: link_bind_worker);
+ * `page_trace`: $CSGTRACE_PAGE_TRACE (pager.h: pager_trace_open), or NULL.
  *
  * Test hook (comm/test_hooks.h): CSGTRACE_TEST_FAIL_WORKER=<rank> makes
  * that worker answer its first tile with a FAIL ("injected failure"). */
-int worker_run(int rank, const char *bind);
+int worker_run(int rank, const char *bind, const char *page_trace);
 
 #endif

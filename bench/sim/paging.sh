@@ -14,13 +14,16 @@
 #    ($CSGTRACE_PAGE_TRACE), a hetero render (-np 2, --pass always, --fill
 #    off) the hetero one.  From them, a fetched byte's costs: rank 0's
 #    packing (the serial fetch is that copy: wait_s / bytes) and the
-#    worker's install (the rest of the paged tile phase's excess over the
-#    in-memory one: (paged - memory - wait_s) / bytes), medians over the
-#    rounds, per budget.
+#    worker's install (the rest of the paged items' excess CPU seconds over
+#    the in-memory ones, the tile log's cpu_s summed, user and system: the
+#    kernel's page faults count; (paged - memory - wait_s) / bytes),
+#    medians over the rounds, per budget.  CPU seconds, not the tile
+#    phase's wall clock: other processes on a shared machine stretch that.
 # 2. The check: the simulated single worker, homo, at each budget, must
 #    fault, fetch and evict exactly as the real serial render did (the
 #    same items in the same order through the same cache); its makespan
-#    beside the real tile phase.
+#    beside the real tile phase, and in memory beside the real one (the
+#    cost map's scaling from 384x384: bench/simulate.sh).
 # 3. The points: bench/simulate.sh at each worker count, homo and hetero
 #    (the pass at --pass-rate Mrays/s, default 300: bench/GPU.md's H100
 #    figure for spheres, a hypothesis for this scene), in memory and at each
@@ -30,7 +33,7 @@
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
-SCENE="" SIZE=2048 TILE=32 FRACTIONS="8 32" WORKERS="1 16 64 256" NETWORK=ib RUNS=3
+SCENE="" SIZE=4096 TILE=32 FRACTIONS="8 32" WORKERS="1 16 64 256" NETWORK=ib RUNS=5
 PASS_RATE=300 OUT=bench/results-paging/sim
 die() { echo "bench/sim/paging.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -84,7 +87,7 @@ BLOB=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['blob_byt
 budget_mb() { python3 -c "print($BLOB / $1 / 1e6)"; }
 smallest=$(for f in $FRACTIONS; do echo "$f"; done | sort -n | tail -1)
 CAL=$OUT/calibration.csv
-echo "config,fraction,round,tile_phase_s,bytes,wait_s,faults,pages,evictions,identical" >"$CAL"
+echo "config,fraction,round,tile_phase_s,items_cpu_s,bytes,wait_s,faults,pages,evictions,identical" >"$CAL"
 for ((round = 1; round <= RUNS; round++)); do
     for f in 0 $FRACTIONS; do
         args=() env=()
@@ -94,14 +97,16 @@ for ((round = 1; round <= RUNS; round++)); do
         fi
         out=$WORK/serial-$f-$round
         env "${env[@]}" "$BIN" render "$SCENE" "${COMMON[@]}" "${args[@]}" -o "$out.png" \
-            --stats "$out.json" >/dev/null 2>"$out.err" || die "serial 1/$f failed: $(head -c 200 "$out.err")"
+            --stats "$out.json" --tile-log "$out.log" >/dev/null 2>"$out.err" ||
+            die "serial 1/$f failed: $(head -c 200 "$out.err")"
         same=false
         cmp -s "$WORK/ref.png" "$out.png" && same=true
-        python3 - "$out.json" "$f" "$round" "$same" >>"$CAL" <<'EOF'
+        python3 - "$out.json" "$f" "$round" "$same" "$out.log" >>"$CAL" <<'EOF'
 import json, sys
 j = json.load(open(sys.argv[1]))
 p = j.get("paging", {})
-print(",".join(str(x) for x in ["serial", sys.argv[2], sys.argv[3], j["tile_phase_s"],
+cpu = sum(json.loads(l)["cpu_s"] for l in open(sys.argv[5]) if l.strip())
+print(",".join(str(x) for x in ["serial", sys.argv[2], sys.argv[3], j["tile_phase_s"], cpu,
       p.get("bytes", 0), p.get("wait_s", 0), p.get("faults", 0), p.get("pages", 0),
       p.get("evictions", 0), sys.argv[4]]))
 EOF
@@ -121,11 +126,11 @@ HETERO_TRACE=$OUT/hetero.trace.1
 python3 - "$CAL" >"$WORK/costs" <<'EOF'
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-memory = statistics.median(float(r["tile_phase_s"]) for r in rows if r["fraction"] == "0")
+memory = statistics.median(float(r["items_cpu_s"]) for r in rows if r["fraction"] == "0")
 for f in sorted({r["fraction"] for r in rows if r["fraction"] != "0"}, key=int):
     rs = [r for r in rows if r["fraction"] == f]
     pack = statistics.median(float(r["wait_s"]) / float(r["bytes"]) for r in rs) * 1e9
-    install = statistics.median((float(r["tile_phase_s"]) - memory - float(r["wait_s"])) /
+    install = statistics.median((float(r["items_cpu_s"]) - memory - float(r["wait_s"])) /
                                 float(r["bytes"]) for r in rs) * 1e9
     print(f, "%.4f" % pack, "%.4f" % max(install, 0))
 EOF
@@ -160,7 +165,13 @@ EOF
 
 # 2. the check: one simulated worker against the serial renders
 CHECK=$OUT/check.csv
+point check-0 1 homo 0 --network local
+echo "0,$(python3 -c "
+import csv, statistics, sys
+print(statistics.median(float(r['tile_phase_s']) for r in csv.DictReader(open(sys.argv[1])) if r['fraction'] == '0'))" "$CAL"),$(python3 -c "
+import json, sys; print('%.6f' % json.load(open(sys.argv[1]))['makespan_s'])" "$WORK/check-0.json"),0,0,0,0,0,0,0,0,True" >"$WORK/check0"
 echo "fraction,real_tile_phase_s,sim_makespan_s,real_faults,sim_faults,real_pages,sim_pages,real_evictions,sim_evictions,real_bytes,sim_bytes,same_counts" >"$CHECK"
+cat "$WORK/check0" >>"$CHECK"
 for f in $FRACTIONS; do
     point check-$f 1 homo "$f" --network local
     python3 - "$CAL" "$f" "$WORK/check-$f.json" >>"$CHECK" <<'EOF'
@@ -200,28 +211,34 @@ cal, check, points = (list(csv.DictReader(open(p))) for p in sys.argv[1:4])
 blob = int(sys.argv[4])
 costs = {l.split()[0]: l.split()[1:] for l in open(sys.argv[5])}
 print("blob: %.1f MB" % (blob / 1e6))
-print("\n| budget | real serial tile phase (median, min-max) | rank 0 packs (ns/byte) | a worker installs (ns/byte) | images identical |")
-print("|---|---:|---:|---:|---|")
+print("\n| budget | real serial tile phase (median, min-max) | items' CPU s (median, min-max) | MB fetched | rank 0 packs (ns/byte) | a worker installs (ns/byte) | images identical |")
+print("|---|---:|---:|---:|---:|---:|---|")
 for f in sorted({r["fraction"] for r in cal}, key=int):
     rs = [r for r in cal if r["fraction"] == f]
     t = sorted(float(r["tile_phase_s"]) for r in rs)
+    u = sorted(float(r["items_cpu_s"]) for r in rs)
     c = costs.get(f, ["-", "-"])
-    print("| %s | %.3f s (%.3f-%.3f) | %s | %s | %s |" % ("whole" if f == "0" else "1/" + f,
-          statistics.median(t), t[0], t[-1], c[0], c[1],
+    print("| %s | %.3f s (%.3f-%.3f) | %.3f s (%.3f-%.3f) | %.1f | %s | %s | %s |" % (
+          "whole" if f == "0" else "1/" + f, statistics.median(t), t[0], t[-1],
+          statistics.median(u), u[0], u[-1], int(rs[0]["bytes"]) / 1e6, c[0], c[1],
           "yes" if all(r["identical"] == "True" or r["identical"] == "true" for r in rs) else "NO"))
 print("\n| budget | real tile phase | simulated, 1 worker | faults real / sim | pages | evictions | bytes | same counts |")
 print("|---|---:|---:|---:|---:|---:|---:|---|")
 for r in check:
-    print("| 1/%s | %.3f s | %.3f s | %s / %s | %s / %s | %s / %s | %s / %s | %s |" % (
-          r["fraction"], float(r["real_tile_phase_s"]), float(r["sim_makespan_s"]), r["real_faults"],
+    print("| %s | %.3f s | %.3f s | %s / %s | %s / %s | %s / %s | %s / %s | %s |" % (
+          "whole" if r["fraction"] == "0" else "1/" + r["fraction"], float(r["real_tile_phase_s"]),
+          float(r["sim_makespan_s"]), r["real_faults"],
           r["sim_faults"], r["real_pages"], r["sim_pages"], r["real_evictions"], r["sim_evictions"],
           r["real_bytes"], r["sim_bytes"], r["same_counts"]))
-print("\n| workers | mode | budget | prefetch | makespan | efficiency | master busy | faults | requests | pages | MB fetched | wait s (all workers) | tiles not traced |")
-print("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+print("\n| workers | mode | budget | prefetch | makespan | efficiency | vs in memory | master busy | faults | requests | pages | MB fetched | wait s (all workers) | tiles not traced |")
+print("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+memory = {(r["workers"], r["mode"]): float(r["makespan_s"]) for r in points if r["fraction"] == "0"}
 for r in points:
-    print("| %s | %s | %s | %s | %.4f s | %.1f %% | %.1f %% | %s | %s | %s | %.1f | %.3f | %s |" % (
+    base = memory.get((r["workers"], r["mode"]))
+    print("| %s | %s | %s | %s | %.4f s | %.1f %% | %s | %.1f %% | %s | %s | %s | %.1f | %.3f | %s |" % (
           r["workers"], r["mode"], "whole" if r["fraction"] == "0" else "1/" + r["fraction"],
           r["prefetch"] or "-", float(r["makespan_s"]), 100 * float(r["efficiency"]),
+          "%.0f %%" % (100 * base / float(r["makespan_s"])) if base else "-",
           100 * float(r["master_busy"]), r["faults"], r["requests"], r["pages"],
           int(r["bytes"]) / 1e6, float(r["wait_s"]), r["trace_tiles_missing"]))
 EOF
