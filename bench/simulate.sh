@@ -137,7 +137,7 @@ done
 [[ "$WORKERS" =~ ^[1-9][0-9]{0,3}$ ]] && [ "$WORKERS" -le 1024 ] || die "--workers: 1..1024"
 [[ "$MODE" =~ ^(homo|hetero)$ ]] || die "--mode: homo or hetero"
 [ -n "$SCHEDULE" ] || { [ "$MODE" = hetero ] && SCHEDULE=cost || SCHEDULE=raster; }
-[[ "$SCHEDULE" =~ ^(raster|cost|static|tail)$ ]] || die "--schedule: raster, cost, static or tail"
+[[ "$SCHEDULE" =~ ^(raster|cost|static|tail|region)$ ]] || die "--schedule: raster, cost, static, tail or region"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
 [[ "$NETWORK" =~ ^(gige|ib|local|node)$ ]] || die "--network: gige, ib, local or node"
 [ -z "$GIVEN_MAP" ] || [ -f "$GIVEN_MAP" ] || die "--map: no file '$GIVEN_MAP'"

@@ -25,7 +25,7 @@
 /* The words of the choices (options.h), in the order of their enums. */
 static const char *const cli_modes[] = {"serial", "homo", "hetero", NULL};
 static const char *const cli_precisions[] = {"float", "double", "auto", NULL};
-static const char *const cli_schedules[] = {"raster", "cost", "static", "tail", NULL};
+static const char *const cli_schedules[] = {"raster", "cost", "static", "tail", "region", NULL};
 static const char *const cli_kernels[] = {"auto", "scalar", "packet", NULL}; /* enum ocl_kernel */
 static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"        */
 static const char *const cli_page_policies[] = {"lru", "fifo", NULL}; /* enum pager_policy */

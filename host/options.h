@@ -69,7 +69,7 @@ enum cli_kind {
                             "(default 4096 a sample)")                                          \
     X("--precision", NULL, "float|double|auto", CLI_CHOICE, req.precision, 0, 0,               \
       cli_precisions, CLI_ON_RENDERS, "the kernel's and the workers' real (default float)")    \
-    X("--schedule", NULL, "raster|cost|static|tail", CLI_CHOICE, req.schedule, 0, 0,           \
+    X("--schedule", NULL, "raster|cost|static|tail|region", CLI_CHOICE, req.schedule, 0, 0,           \
       cli_schedules, CLI_ON_RENDERS, "which tile goes next (default raster; hetero cost)")     \
     X("--batch", NULL, "N|auto", CLI_INT_AUTO, req.batch, 1, PROTO_BATCH_MAX, NULL,            \
       CLI_ON_RENDERS, "work items a message may carry (default auto: 8 from 32 workers)")      \

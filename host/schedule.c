@@ -23,7 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const sched_names[SCHED_POLICIES] = {"raster", "cost", "static", "tail"};
+static const char *const sched_names[SCHED_POLICIES] = {"raster", "cost", "static", "tail",
+                                                        "region"};
 
 const char *sched_policy_name(enum sched_policy p)
 {
@@ -51,9 +52,10 @@ bool sched_init(sched *s, enum sched_policy p, int workers, int in_flight, int t
     s->tile_left = calloc(n, sizeof *s->tile_left);
     s->first = malloc(w * sizeof *s->first);
     s->last = malloc(w * sizeof *s->last);
+    s->queued = calloc(w, sizeof *s->queued);
     s->released = calloc(w, sizeof *s->released);
     if (!s->items || !s->fifo || !s->heap || !s->next_of || !s->tile_left || !s->first ||
-        !s->last || !s->released)
+        !s->last || !s->queued || !s->released)
         return false;
     for (size_t i = 0; i < w; i++)
         s->first[i] = s->last[i] = -1;
@@ -69,6 +71,7 @@ void sched_free(sched *s)
     free(s->tile_left);
     free(s->first);
     free(s->last);
+    free(s->queued);
     free(s->again);
     free(s->released);
     memset(s, 0, sizeof *s);
@@ -159,20 +162,37 @@ static bool sched_by_cost(const sched *s)
     return (s->policy == SCHED_COST || s->policy == SCHED_TAIL) && s->estimate;
 }
 
+/* Each worker has its own queue of tiles (static, region). */
+static bool sched_queues(const sched *s)
+{
+    return s->policy == SCHED_STATIC || s->policy == SCHED_REGION;
+}
+
+/* The worker whose queue tile `tile` joins: static, the k-th tile added
+ * to worker k mod W; region, the band of the image it lies in. */
+static int sched_owner(const sched *s, int tile)
+{
+    if (s->policy == SCHED_STATIC)
+        return s->added % s->workers;
+    int w = s->tiles > 0 ? (int)((long long)tile * s->workers / s->tiles) : 0;
+    return w < 0 ? 0 : w >= s->workers ? s->workers - 1 : w;
+}
+
 bool sched_add(sched *s, int tile, tile_rect r)
 {
     int item = sched_new_item(s, tile, r, 0, false, true);
     if (item < 0)
         return false;
     s->tile_left[tile] = 1;
-    if (s->policy == SCHED_STATIC) {
-        int w = s->added % s->workers;
+    if (sched_queues(s)) {
+        int w = sched_owner(s, tile);
         s->next_of[item] = -1;
         if (s->last[w] >= 0)
             s->next_of[s->last[w]] = item;
         else
             s->first[w] = item;
         s->last[w] = item;
+        s->queued[w]++;
     } else if (sched_by_cost(s)) {
         sched_heap_push(s, item);
     } else {
@@ -212,8 +232,11 @@ void sched_close(sched *s)
 static int sched_waiting(const sched *s)
 {
     int again = s->again_n - s->again_head;
-    if (s->policy == SCHED_STATIC)
-        return again + s->added - s->popped;
+    if (sched_queues(s)) { /* (the queues: `added` also counts the fill's items) */
+        for (int w = 0; w < s->workers; w++)
+            again += s->queued[w];
+        return again;
+    }
     return again + s->heap_n + (s->fifo_n - s->fifo_head);
 }
 
@@ -258,8 +281,33 @@ static int sched_pop_static(sched *s, int w)
         s->first[w] = s->next_of[item];
         if (s->first[w] < 0)
             s->last[w] = -1;
+        s->queued[w]--;
         s->popped++;
     }
+    return item;
+}
+
+/* Region: the last tile of the longest queue other than w's (the far end
+ * of the band whose owner will reach it last), or -1. */
+static int sched_steal(sched *s, int w)
+{
+    int victim = -1;
+    for (int v = 0; v < s->workers; v++)
+        if (v != w && s->queued[v] > 0 && (victim < 0 || s->queued[v] > s->queued[victim]))
+            victim = v;
+    if (victim < 0)
+        return -1;
+    int item = s->last[victim], before = -1;
+    for (int i = s->first[victim]; i != item; i = s->next_of[i])
+        before = i;
+    if (before < 0)
+        s->first[victim] = -1;
+    else
+        s->next_of[before] = -1;
+    s->last[victim] = before;
+    s->queued[victim]--;
+    s->popped++;
+    s->stolen++;
     return item;
 }
 
@@ -278,6 +326,10 @@ static int sched_pop(sched *s, int w)
 {
     if (s->policy == SCHED_STATIC)
         return sched_pop_static_any(s, w);
+    if (s->policy == SCHED_REGION) {
+        int item = sched_pop_static(s, w);
+        return item >= 0 ? item : sched_steal(s, w);
+    }
     if (s->heap_n > 0)
         return sched_heap_pop(s);
     if (s->fifo_head == s->fifo_n)
@@ -365,7 +417,7 @@ int sched_batch_limit(int requested, int workers, int max)
  * their cost (sched_next_batch), not their count. */
 static bool sched_budgeted(const sched *s)
 {
-    return s->estimate && s->policy != SCHED_STATIC;
+    return s->estimate && !sched_queues(s);
 }
 
 /* Messages in one spread of what is left over every worker: with
@@ -446,8 +498,8 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
 {
     int want = sched_batch(s, limit), k = 0, floor = sched_floor(s, sched_items_left(s));
     bool fresh = s->again_head == s->again_n;
-    if (want > 1 && fresh && !sched_by_cost(s) && s->policy != SCHED_STATIC)
-        sched_spread(s, want);
+    if (want > 1 && fresh && !sched_by_cost(s) && !sched_queues(s))
+        sched_spread(s, want); /* (region: a run of neighbours, on purpose) */
     /* cost: a batch costs at most its share of the estimate left, or the
      * largest tile's when that is more (a worker takes that long on one
      * tile anyway), so the costliest tiles go alone */

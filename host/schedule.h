@@ -13,6 +13,14 @@
  *           default; without estimates (homo) it is raster;
  *   static  the k-th tile added goes to worker k mod W, whoever is idle:
  *           the interleaved static assignment, for contrast;
+ *   region  each worker owns a band of the image, tile t of T going to
+ *           worker t x W / T, and takes its own tiles in raster order; a
+ *           worker whose band is empty takes the last tile of the band
+ *           with the most left (work stealing from a static start, at the
+ *           far end of the victim's band).  Neighbouring tiles go to the
+ *           same worker, so the pages of the scene one tile fetched serve
+ *           the next (--scene-memory: a cache of pages per worker);
+ *           batches are runs of neighbours, cut by count.
  *   tail    cost (or raster) order, but once every tile is known and at
  *           most SCHED_TAIL_TILES_PER_SLOT x (workers x in-flight) whole
  *           tiles are left, each tile sent is split into its four
@@ -63,7 +71,14 @@
 
 #include "../workers/tile.h"
 
-enum sched_policy { SCHED_RASTER, SCHED_COST, SCHED_STATIC, SCHED_TAIL, SCHED_POLICIES };
+enum sched_policy {
+    SCHED_RASTER,
+    SCHED_COST,
+    SCHED_STATIC,
+    SCHED_TAIL,
+    SCHED_REGION,
+    SCHED_POLICIES
+};
 
 #define SCHED_TAIL_TILES_PER_SLOT 2
 #define SCHED_BATCH_WORKERS 32 /* auto: batches from this many workers on  */
@@ -111,8 +126,10 @@ typedef struct {
     int known;          /* tiles added or skipped so far                  */
     double added_estimate; /* the estimates of every tile added          */
     double max_estimate;   /* the largest of them                        */
-    int *next_of;       /* static: the next item of the same worker      */
-    int *first, *last;  /* static: each worker's queue (-1: empty)        */
+    int *next_of;       /* static, region: the next item of the same worker */
+    int *first, *last;  /* static, region: each worker's queue (-1: empty) */
+    int *queued;        /* static, region: each worker's queue's length   */
+    int stolen;         /* region: tiles taken from another's band       */
     int added;          /* tiles added (not skipped), for static         */
     int front[4];       /* tail: the pieces of the tile being split       */
     int front_head, front_n;
@@ -121,7 +138,7 @@ typedef struct {
     int *again;         /* requeued items, again_head .. again_n          */
     int again_head, again_n, again_cap;
     int requeued;       /* items handed back by lost workers             */
-    int popped;         /* static: whole tiles taken from the queues     */
+    int popped;         /* static, region: whole tiles taken from the queues */
     bool *released;     /* static: [w] lost, its queue open to all       */
     bool closed;        /* every tile was added or skipped                */
     bool fill;          /* the fill is on (sched_fill_enable)             */

@@ -50,7 +50,7 @@
  * $CSGSIM_MASTER_PAGE_S (bench/sim/paging.sh measures both).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
- *          --schedule raster|cost|static|tail [--batch N] [--pixels rgb8|float]
+ *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|float]
  *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]]
  *          --stats FILE.json
  * --pixels: what the workers' RESULTs carry a pixel (comm/pixels.h): rgb8

@@ -21,7 +21,7 @@
 #     every schedule, items computed by workers only, parts dealt several a
 #     message, over TCP; too few ranks is exit 2; a failing or rogue worker
 #     under a relay ends the render with one message naming it;
-#   - every --schedule (raster, cost, static, tail), homo and hetero, on
+#   - every --schedule (raster, cost, static, tail, region), homo and hetero, on
 #     1 to 5 ranks: the same image as serial, and a tile log that covers
 #     every tile exactly once (whole or as pieces), agrees with the stats
 #     and with the schedule (static: the k-th tile on worker k mod W, or
@@ -306,6 +306,18 @@ if schedule == "static" and s["ranks"] > 2:
     whole = sorted(sent, key=lambda i: i["tile"])
     children = K if K else s["ranks"] - 1
     assert all(dealt_to(i["worker"]) == k % children + 1 for k, i in enumerate(whole)), "static"
+if schedule == "region" and s["ranks"] > 2 and K == 0:
+    # each worker takes the tiles of its own band (tile t of T: worker t x W / T)
+    # in raster order, in homo the first of them first (hetero's bands
+    # become ready as the pass goes down: a worker below steals meanwhile)
+    W = s["ranks"] - 1
+    owner = lambda t: t * W // s["tiles_total"] + 1
+    for w in range(1, s["ranks"]):
+        mine = sorted((i for i in sent if i["worker"] == w and not i["fill"]),
+                      key=lambda i: i["order"])  # (the fill's tiles go bottom up)
+        own = [i["tile"] for i in mine if owner(i["tile"]) == w]
+        assert own == sorted(own), ("region: own band out of order", w, own)
+        assert s["mode"] != "homo" or not mine or owner(mine[0]["tile"]) == w, ("region: first tile", w)
 if schedule == "tail" and s["tiles_sent"] > 2 * 2 * max(s["ranks"] - 1, 1) and s["tiles_filled"] == 0:
     assert any(i["piece"] > 0 for i in sent), "tail: no piece"  # (the fill may take the last tiles whole)
 elif schedule != "tail":
@@ -337,7 +349,7 @@ check "one summary line on stdout" test "$(wc -l <"$TMP/st-h3.out")" = 1
 # ---- schedules: every one, both modes, 1 to 5 ranks ---------------------------------
 modes=(homo)
 [ $have_cl = 1 ] && modes+=(hetero)
-for sched in raster cost static tail; do
+for sched in raster cost static tail region; do
     for mode in "${modes[@]}"; do
         bad_ranks=""
         fill=() # (hetero: the scheduler alone; the batches below run with the fill)
@@ -372,7 +384,7 @@ batched() {
     python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
 sys.exit(0 if j['batch'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] else 1)" "$@"
 }
-for sched in raster cost static tail; do
+for sched in raster cost static tail region; do
     for mode in "${modes[@]}"; do
         name=bat-$sched-$mode
         if ! render "$name" 3 "$first" "${SZ[@]}" --mode "$mode" --tile 7 --batch 4 \

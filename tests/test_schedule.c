@@ -2,7 +2,8 @@
  * test_schedule.c — the work-item schedulers (host/schedule.c), the tile
  * cost estimate and Spearman's rank correlation (host/pass/estimate.c):
  *   - raster hands out tiles in the order they became ready, cost by
- *     decreasing estimate (ties: the lower tile), static the k-th tile to
+ *     decreasing estimate (ties: the lower tile), region each worker's
+ *     band in order then the far end of the longest band, static the k-th tile to
  *     worker k mod W and nothing of another worker's;
  *   - tail splits the last tiles into quarters that partition each tile
  *     exactly, and tells when a tile's last piece is done;
@@ -132,6 +133,56 @@ static void test_static_assignment(void **state)
     assert_int_equal(drain(&s, 0, got, 8), 3); /* 0, 3, 6 */
     assert_int_equal(s.items[got[2]].tile, 6);
     assert_int_equal(drain(&s, 2, got, 8), 2);
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+}
+
+/* Region: worker w owns tiles [w T / W, (w + 1) T / W) and takes them in
+ * order; with its band empty it takes the last tile of the longest other
+ * band; every tile once; batches are runs of neighbours; the fill is on. */
+static void test_region(void **state)
+{
+    (void)state;
+    sched s;
+    int got[16];
+    filled(&s, SCHED_REGION, 3, 10, NULL, NULL); /* bands 0-3, 4-6, 7-9 */
+    assert_int_equal(drain(&s, 1, got, 2), 2);
+    assert_int_equal(s.items[got[0]].tile, 4);
+    assert_int_equal(s.items[got[1]].tile, 5);
+    assert_int_equal(drain(&s, 1, got, 1), 1);
+    assert_int_equal(s.items[got[0]].tile, 6);
+    /* band 1 empty: the last of band 0 (4 left, band 2 has 3) */
+    assert_int_equal(drain(&s, 1, got, 1), 1);
+    assert_int_equal(s.items[got[0]].tile, 3);
+    assert_int_equal(s.stolen, 1);
+    /* bands 0 (0-2) and 2 (7-9) tie at 3: the first one's last */
+    assert_int_equal(drain(&s, 1, got, 1), 1);
+    assert_int_equal(s.items[got[0]].tile, 2);
+    assert_int_equal(drain(&s, 0, got, 3), 3); /* 0, 1, then band 2's last: 9 */
+    assert_int_equal(s.items[got[0]].tile, 0);
+    assert_int_equal(s.items[got[1]].tile, 1);
+    assert_int_equal(s.items[got[2]].tile, 9);
+    assert_int_equal(drain(&s, 2, got, 16), 2); /* 7, 8 */
+    assert_int_equal(s.items[got[0]].tile, 7);
+    assert_int_equal(s.items[got[1]].tile, 8);
+    assert_true(sched_finished(&s));
+    sched_free(&s);
+    /* a batch: a run of neighbours from the worker's own band */
+    filled(&s, SCHED_REGION, 2, 40, NULL, NULL);
+    int k = sched_next_batch(&s, 1, 0.0, 4, got);
+    assert_true(k > 1);
+    for (int i = 0; i < k; i++)
+        assert_int_equal(s.items[got[i]].tile, 20 + i);
+    sched_free(&s);
+    /* with the fill: its items are never queued, and the end still comes */
+    assert_true(sched_init(&s, SCHED_REGION, 2, 2, 8, NULL, NULL));
+    sched_fill_enable(&s);
+    assert_int_equal(sched_fill_claim(&s, 0), 7);
+    assert_true(sched_next_fill(&s, 0.0, 7, rect_of(7)) >= 0);
+    for (int i = 0; i < 7; i++)
+        assert_true(sched_add(&s, i, rect_of(i)));
+    sched_close(&s);
+    assert_int_equal(drain(&s, 0, got, 16), 7);
     assert_true(sched_finished(&s));
     sched_free(&s);
 }
@@ -621,6 +672,7 @@ int main(void)
         cmocka_unit_test(test_cost_order),
         cmocka_unit_test(test_cost_without_estimates),
         cmocka_unit_test(test_static_assignment),
+        cmocka_unit_test(test_region),
         cmocka_unit_test(test_requeue),
         cmocka_unit_test(test_fill),
         cmocka_unit_test(test_static_release),
