@@ -41,6 +41,9 @@ typedef struct {
     uint64_t over_bytes;  /* the most an item went over the budget (a maximum) */
     uint64_t memory_bytes; /* the most memory pages held (a maximum)   */
     double wait_s;        /* seconds waiting for pages                  */
+    double install_s;     /* seconds making room and copying pages into
+                             place (the kernel's faults on fresh memory
+                             pages included)                            */
 } page_counts;
 
 /* The counts since `before`, the maxima as they are now (an item's). */
@@ -55,6 +58,7 @@ static inline page_counts page_counts_since(const page_counts *before, const pag
     c.evictions -= before->evictions;
     c.bytes -= before->bytes;
     c.wait_s -= before->wait_s;
+    c.install_s -= before->install_s;
     return c;
 }
 
@@ -71,6 +75,7 @@ static inline void page_counts_add(page_counts *sum, const page_counts *c)
     sum->over_bytes = c->over_bytes > sum->over_bytes ? c->over_bytes : sum->over_bytes;
     sum->memory_bytes = c->memory_bytes > sum->memory_bytes ? c->memory_bytes : sum->memory_bytes;
     sum->wait_s += c->wait_s;
+    sum->install_s += c->install_s;
 }
 
 /* The tiles of one image of one scene. */

@@ -110,6 +110,8 @@ static void stats_paging(FILE *f, const page_counts *c)
     stats_number(f, c->touches > 0 ? 1.0 - (double)c->pages / (double)c->touches : 1.0);
     fputs(", \"wait_s\": ", f);
     stats_number(f, c->wait_s);
+    fputs(", \"install_s\": ", f);
+    stats_number(f, c->install_s);
     fputc('}', f);
 }
 

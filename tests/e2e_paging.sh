@@ -53,7 +53,7 @@ paged() {
         { ko "$name: render failed: $(head -c 300 "$out.err")"; return; }
     same "$T/full-$prec.pfm" "$out" && ok "$name: the in-memory image, bit for bit" ||
         ko "$name: the image differs from the in-memory render"
-    json "$out.json" "j['paging']['faults'] > 0 and j['paging']['evictions'] > 0 and j['paging']['bytes'] > 0" &&
+    json "$out.json" "j['paging']['faults'] > 0 and j['paging']['evictions'] > 0 and j['paging']['bytes'] > 0 and j['paging']['install_s'] > 0" &&
         ok "$name: pages were faulted in and evicted" || ko "$name: no paging happened"
     json "$out.json" "j['paging']['over_budget_bytes'] == max(0, j['paging']['peak_bytes'] - j['scene_memory']['budget_bytes'])" &&
         ok "$name: within the budget between items (peak $(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['paging']['peak_bytes'])" "$out.json"))" ||

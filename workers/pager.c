@@ -687,6 +687,9 @@ static void evict(csg_pager *p, int32_t i)
 static void make_room(csg_pager *p, uint64_t bytes)
 {
     int32_t i = p->head;
+    if (i < 0 || p->used + bytes <= p->budget)
+        return;
+    double t0 = pager_clock();
     while (i >= 0 && p->used + bytes > p->budget) {
         int32_t next = p->next[i];
         if (p->stamp[i] != p->epoch)
@@ -695,6 +698,7 @@ static void make_room(csg_pager *p, uint64_t bytes)
             break; /* (LRU: the pinned are the newest, all behind) */
         i = next;
     }
+    p->stats.install_s += pager_clock() - t0;
 }
 
 /* pages[0 .. n), none here, fetched in one request. */
@@ -723,6 +727,7 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
     p->stats.requests++;
     p->stats.pages += (uint64_t)n;
     p->stats.bytes += bytes;
+    t0 = pager_clock();
     const unsigned char *at = p->buffer;
     for (int k = 0; k < n; k++) {
         const pager_page *pg = &p->plan.pages[pages[k]];
@@ -735,6 +740,7 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
         order_append(p, pages[k]);
         p->used += pg->bytes;
     }
+    p->stats.install_s += pager_clock() - t0;
     if (p->used > p->stats.peak_bytes)
         p->stats.peak_bytes = p->used;
     if (p->mapped * OS_PAGE > p->stats.memory_bytes)

@@ -75,7 +75,7 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
     bool trace = !records;
     memset(res, 0, sizeof *res);
     csg_pager *pager = pager_for(tr->blob);
-    pager_stats before;
+    pager_stats before = {0};
     if (pager) {
         before = pager->stats;
         if (!trace && pager->prefetch) /* (the records' hits: their pages in one request) */

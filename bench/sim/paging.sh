@@ -14,11 +14,17 @@
 #    ($CSGTRACE_PAGE_TRACE), a hetero render (-np 2, --pass always, --fill
 #    off) the hetero one.  From them, a fetched byte's costs: rank 0's
 #    packing (the serial fetch is that copy: wait_s / bytes) and the
-#    worker's install (the rest of the paged items' excess CPU seconds over
-#    the in-memory ones, the tile log's cpu_s summed, user and system: the
-#    kernel's page faults count; (paged - memory - wait_s) / bytes),
-#    medians over the rounds, per budget.  CPU seconds, not the tile
-#    phase's wall clock: other processes on a shared machine stretch that.
+#    worker's install (the pager's install_s / bytes: making room, copying
+#    into place, the kernel's faults on fresh memory pages), medians over
+#    the rounds, per budget; beside them the items' CPU seconds (the tile
+#    log's cpu_s summed, user and system), paged against in memory: on a
+#    shared machine the tile phase's wall clock is stretched by others.
+#    The cost maps the simulation reads come from these renders too, at
+#    this size and tile (bench/sim/costmap.py, each tile's least CPU
+#    seconds over the rounds), and for hetero from one more render in
+#    memory (-np 2, --pass always, --fill off): not bench/simulate.sh's
+#    384x384 maps scaled up, which cost a pixel of tetra9 at 4096x4096
+#    1.9 times what it costs (fewer coherent rays a tile at 384x384).
 # 2. The check: the simulated single worker, homo, at each budget, must
 #    fault, fetch and evict exactly as the real serial render did (the
 #    same items in the same order through the same cache); its makespan
@@ -87,7 +93,8 @@ BLOB=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['blob_byt
 budget_mb() { python3 -c "print($BLOB / $1 / 1e6)"; }
 smallest=$(for f in $FRACTIONS; do echo "$f"; done | sort -n | tail -1)
 CAL=$OUT/calibration.csv
-echo "config,fraction,round,tile_phase_s,items_cpu_s,bytes,wait_s,faults,pages,evictions,identical" >"$CAL"
+maps=()
+echo "config,fraction,round,tile_phase_s,items_cpu_s,bytes,wait_s,install_s,faults,pages,evictions,identical" >"$CAL"
 for ((round = 1; round <= RUNS; round++)); do
     for f in 0 $FRACTIONS; do
         args=() env=()
@@ -96,6 +103,7 @@ for ((round = 1; round <= RUNS; round++)); do
             [ "$round" = 1 ] && env=(CSGTRACE_PAGE_TRACE="$OUT/homo-1_$f.trace")
         fi
         out=$WORK/serial-$f-$round
+        [ "$f" = 0 ] && maps+=("$out.json" "$out.log")
         env "${env[@]}" "$BIN" render "$SCENE" "${COMMON[@]}" "${args[@]}" -o "$out.png" \
             --stats "$out.json" --tile-log "$out.log" >/dev/null 2>"$out.err" ||
             die "serial 1/$f failed: $(head -c 200 "$out.err")"
@@ -107,11 +115,19 @@ j = json.load(open(sys.argv[1]))
 p = j.get("paging", {})
 cpu = sum(json.loads(l)["cpu_s"] for l in open(sys.argv[5]) if l.strip())
 print(",".join(str(x) for x in ["serial", sys.argv[2], sys.argv[3], j["tile_phase_s"], cpu,
-      p.get("bytes", 0), p.get("wait_s", 0), p.get("faults", 0), p.get("pages", 0),
+      p.get("bytes", 0), p.get("wait_s", 0), p.get("install_s", 0), p.get("faults", 0), p.get("pages", 0),
       p.get("evictions", 0), sys.argv[4]]))
 EOF
     done
 done
+python3 bench/sim/costmap.py "$WORK/homo.costs" "${maps[@]}" || die "the homo cost map failed"
+mpirun --bind-to none --oversubscribe -np 2 "$BIN" render "$SCENE" "${COMMON[@]}" --mode hetero \
+    --pass always --fill off -o "$WORK/hetero-map.png" --stats "$WORK/hetero-map.json" \
+    --tile-log "$WORK/hetero-map.log" >/dev/null 2>"$WORK/hetero-map.err" ||
+    die "the hetero map's render failed: $(head -c 200 "$WORK/hetero-map.err")"
+python3 bench/sim/costmap.py "$WORK/hetero.costs" "$WORK/hetero-map.json" "$WORK/hetero-map.log" ||
+    die "the hetero cost map failed"
+cp "$WORK/homo.costs" "$WORK/hetero.costs" "$OUT/"
 # (the trace is the same at every budget: the items name pages, whatever is cached)
 HOMO_TRACE=$OUT/homo-1_$smallest.trace.0
 mpirun --bind-to none --oversubscribe -np 2 env CSGTRACE_PAGE_TRACE="$OUT/hetero.trace" \
@@ -126,12 +142,10 @@ HETERO_TRACE=$OUT/hetero.trace.1
 python3 - "$CAL" >"$WORK/costs" <<'EOF'
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-memory = statistics.median(float(r["items_cpu_s"]) for r in rows if r["fraction"] == "0")
 for f in sorted({r["fraction"] for r in rows if r["fraction"] != "0"}, key=int):
     rs = [r for r in rows if r["fraction"] == f]
     pack = statistics.median(float(r["wait_s"]) / float(r["bytes"]) for r in rs) * 1e9
-    install = statistics.median((float(r["items_cpu_s"]) - memory - float(r["wait_s"])) /
-                                float(r["bytes"]) for r in rs) * 1e9
+    install = statistics.median(float(r["install_s"]) / float(r["bytes"]) for r in rs) * 1e9
     print(f, "%.4f" % pack, "%.4f" % max(install, 0))
 EOF
 declare -A PACK INSTALL
@@ -143,7 +157,8 @@ point() {
     shift 4
     local args=(--workers "$workers" --mode "$mode" --network "$NETWORK" --size "${SIZE}x$SIZE"
         --tile "$TILE" --stats "$WORK/$name.json")
-    [ "$mode" = hetero ] && args+=(--pass-rate "$PASS_RATE")
+    args+=(--map "$WORK/$mode.costs")
+    [ "$mode" = hetero ] && args+=(--pass-rate "$PASS_RATE" --fill-map "$WORK/homo.costs")
     [ "$f" = 0 ] || args+=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB
         --page-trace "$HOMO_TRACE:$HETERO_TRACE" --page-install-ns "${INSTALL[$f]}"
         --master-page-ns "${PACK[$f]}")
@@ -211,16 +226,18 @@ cal, check, points = (list(csv.DictReader(open(p))) for p in sys.argv[1:4])
 blob = int(sys.argv[4])
 costs = {l.split()[0]: l.split()[1:] for l in open(sys.argv[5])}
 print("blob: %.1f MB" % (blob / 1e6))
-print("\n| budget | real serial tile phase (median, min-max) | items' CPU s (median, min-max) | MB fetched | rank 0 packs (ns/byte) | a worker installs (ns/byte) | images identical |")
-print("|---|---:|---:|---:|---:|---:|---|")
+print("\n| budget | real serial tile phase (median, min-max) | items' CPU s (median, min-max) | vs in memory (CPU) | MB fetched | rank 0 packs (ns/byte) | a worker installs (ns/byte) | images identical |")
+print("|---|---:|---:|---:|---:|---:|---:|---|")
+cpu0 = statistics.median(float(r["items_cpu_s"]) for r in cal if r["fraction"] == "0")
 for f in sorted({r["fraction"] for r in cal}, key=int):
     rs = [r for r in cal if r["fraction"] == f]
     t = sorted(float(r["tile_phase_s"]) for r in rs)
     u = sorted(float(r["items_cpu_s"]) for r in rs)
     c = costs.get(f, ["-", "-"])
-    print("| %s | %.3f s (%.3f-%.3f) | %.3f s (%.3f-%.3f) | %.1f | %s | %s | %s |" % (
+    print("| %s | %.3f s (%.3f-%.3f) | %.3f s (%.3f-%.3f) | %.0f %% | %.1f | %s | %s | %s |" % (
           "whole" if f == "0" else "1/" + f, statistics.median(t), t[0], t[-1],
-          statistics.median(u), u[0], u[-1], int(rs[0]["bytes"]) / 1e6, c[0], c[1],
+          statistics.median(u), u[0], u[-1], 100 * cpu0 / statistics.median(u),
+          int(rs[0]["bytes"]) / 1e6, c[0], c[1],
           "yes" if all(r["identical"] == "True" or r["identical"] == "true" for r in rs) else "NO"))
 print("\n| budget | real tile phase | simulated, 1 worker | faults real / sim | pages | evictions | bytes | same counts |")
 print("|---|---:|---:|---:|---:|---:|---:|---|")
