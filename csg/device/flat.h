@@ -43,12 +43,16 @@
  *           p[3..5] = n.x, n.y, c), p[6] <= y <= p[7] and 0 <= z <= 1.
  *           The pieces of one outline share the very same side lines and
  *           slab heights, so a ray leaves one where it enters the next at
- *           the same t, and their union merges them exactly
+ *           the same t, and their union merges them exactly.  A piece whose
+ *           sides are chords of a prism's spline keeps the spline in the
+ *           curve table (csg_curve, CSG_PRIM_CURVE: its flags), for its
+ *           shading normal
  *   conic_trapezoid  the same piece of a prism's conic_sweep: the outline
  *           scaled by the height, the apex at the origin, in a frame
  *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
  *           x <= p[2] y + p[3] z, p[4] z <= y <= p[5] z, p[6] <= z <= 1
- *           (every wall a plane through the apex: a convex piece)
+ *           (every wall a plane through the apex: a convex piece); its
+ *           curve as a trapezoid's
  *   torus   local frame: the ring in the xz plane around +y (POV-Ray's);
  *           p[0] major radius R, p[1] minor radius r, p[2] the piece, 0 or
  *           1: the first or the second interval of the line inside the

@@ -5,7 +5,8 @@
  * closed polylines in the xy plane between two heights along z; the
  * curves are flattened here, within CSG_CURVE_TOLERANCE of the outline's
  * size (an em for a glyph), so every later stage (flattening, export)
- * sees polylines only.
+ * sees polylines only; a prism's edges on a curve keep its spline segment
+ * (edge_curves), for the normals of the walls (POV-Ray's Prism::Normal).
  *
  * prism: POV-Ray 3.7's rules (its Parse_Prism and Compute_Prism): the
  * points are read as 2D vectors; a sub-outline closes where a segment ends
