@@ -1132,10 +1132,10 @@ static bool conic_piece(const csg_object *o, const csg_trapezoid *t,
     return true;
 }
 
-/* The sides of piece t of prism o that are chords of its spline, as the
- * curve of prim p (flat.h, csg_curve); none when both are straight, or
- * when the table is full (the chords' normals then: a scene of millions
- * of curved pieces). */
+/* The sides of piece t of prism (or glyph) o that are chords of its
+ * curve, as the curve of prim p (flat.h, csg_curve); none when both are
+ * straight, or when the table is full (the chords' normals then: a scene
+ * of millions of curved pieces). */
 static bool attach_curve(flat_builder *fb, const csg_object *o, const csg_trapezoid *t,
                          csg_prim *p)
 {

@@ -225,11 +225,12 @@ typedef struct {
     double fade_color[3]; /* what is left far inside (0: black)             */
 } csg_interior;
 
-/* An edge of a prism's outline as a piece of its spline: the chord from
- * parameter u0 to u1 of POV-Ray's segment ((A u + B) u + C) u + D
- * (Compute_Prism's coefficients, x then y of the outline's plane), so
- * that the side's normal can be the spline's (Prism::Normal); u0 == u1:
- * a straight edge (a linear spline's, a glyph's), whose chord is exact. */
+/* An edge of a prism's outline as a piece of its curve: the chord from
+ * parameter u0 to u1 of the segment ((A u + B) u + C) u + D (a spline's:
+ * POV-Ray's Compute_Prism coefficients; a glyph's Bezier, in the text's
+ * units; x then y of the outline's plane), so that the side's normal can
+ * be the curve's (Prism::Normal, TrueType's); u0 == u1: a straight edge
+ * (a linear spline's, a glyph's line), whose chord is exact. */
 typedef struct {
     double a[2], b[2], c[2], d[2];
     double u0, u1;

@@ -78,7 +78,10 @@ static void segment(int cubic, const double (*P)[2], int i, double c[2][4])
     }
 }
 
-static double poly_at(const double c[4], double u) { return ((c[0] * u + c[1]) * u + c[2]) * u + c[3]; }
+static double poly_at(const double c[4], double u)
+{
+    return ((c[0] * u + c[1]) * u + c[2]) * u + c[3];
+}
 static double slope_at(const double c[4], double u) { return (3 * c[0] * u + 2 * c[1]) * u + c[2]; }
 
 typedef struct {
@@ -243,15 +246,16 @@ static int curve_count(const char *text)
     return n;
 }
 
-/* Only the pieces on a curve carry one: a linear spline's prism and a
- * text (its glyphs' walls stay chords) have none, so they render as
- * before; a curved prism's pieces all do. */
+/* Only the pieces on a curve carry one: a linear spline's prism has
+ * none, so it renders as before; a curved prism's pieces and a text's
+ * (its glyphs' quadratic curves: POV-Ray's TrueType normal is the curve's
+ * too) do. */
 static void test_which_pieces(void **state)
 {
     (void)state;
     assert_int_equal(curve_count("prism { linear_spline 0, 1, 4, <0, 0>, <1, 0>, <0, 1>, <0, 0> }"),
                      0);
-    assert_int_equal(curve_count("text { ttf \"timrom.ttf\" \"So\" 0.2, 0 }"), 0);
+    assert_true(curve_count("text { ttf \"timrom.ttf\" \"So\" 0.2, 0 }") > 10);
     csg_blob b = load(CUBIC_PRISM);
     const csg_blob_header *h = csg_blob_hdr(b.bytes);
     csg_view v = csg_blob_view(b.bytes);
@@ -259,6 +263,57 @@ static void test_which_pieces(void **state)
     for (int i = 0; i < h->prim_count; i++)
         assert_true(CSG_PRIM_CURVE(&v.prims[i]) >= 0);
     csg_blob_free(&b);
+}
+
+/* Each curved edge of an outline is the chord of its curve: the curve at
+ * u0 and u1 is the edge's two ends (a glyph's in the text's units, with
+ * its place; a prism's), so the normal belongs to that chord. */
+static void check_chords(const csg_object *o, int *curved)
+{
+    for (int k = 0; k < o->child_count; k++)
+        check_chords(o->children[k], curved);
+    if (o->kind != CSG_OBJ_PRISM || !o->edge_curves)
+        return;
+    for (int c = 0, start = 0; c < o->contour_count; start = o->contour_ends[c], c++)
+        for (int i = start; i < o->contour_ends[c]; i++) {
+            const csg_outline_curve *e = &o->edge_curves[i];
+            if (!(e->u0 < e->u1))
+                continue;
+            int next = i + 1 < o->contour_ends[c] ? i + 1 : start;
+            const dvec3 ends[2] = {o->verts[i], o->verts[next]};
+            const double us[2] = {e->u0, e->u1};
+            for (int j = 0; j < 2; j++) {
+                double x = ((e->a[0] * us[j] + e->b[0]) * us[j] + e->c[0]) * us[j] + e->d[0];
+                double y = ((e->a[1] * us[j] + e->b[1]) * us[j] + e->c[1]) * us[j] + e->d[1];
+                if (fabs(x - ends[j].x) > 1e-9 || fabs(y - ends[j].y) > 1e-9)
+                    fail_msg("edge %d: the curve at %g is (%.12g, %.12g), the edge's end "
+                             "(%.12g, %.12g)", i, us[j], x, y, ends[j].x, ends[j].y);
+            }
+            (*curved)++;
+        }
+}
+
+static void test_chords(void **state)
+{
+    (void)state;
+    static const char *const texts[] = {
+        "text { ttf \"timrom.ttf\" \"Sog&\" 0.2, <0.1, 0.05, 0> }",
+        "text { ttf \"cyrvetic.ttf\" \"@Q\" 1, 0 }",
+        CUBIC_PRISM, CONIC_PRISM,
+        "prism { bezier_spline 0, 1, 8, <0, 0>, <1, 0>, <1, 1>, <0, 1>, <0, 1>, <-1, 1>, "
+        "<-1, 0>, <0, 0> }",
+    };
+    for (size_t t = 0; t < sizeof texts / sizeof texts[0]; t++) {
+        csg_scene s;
+        csg_diag d = {0};
+        if (!csg_load_string("t.pov", texts[t], strlen(texts[t]), NULL, &s, &d))
+            fail_msg("parse: %s", d.message);
+        int curved = 0;
+        for (int k = 0; k < s.object_count; k++)
+            check_chords(s.objects[k], &curved);
+        assert_true(curved > 10);
+        csg_scene_free(&s);
+    }
 }
 
 /* The validator refuses a curve index beyond the table, and one on a
@@ -294,6 +349,7 @@ int main(void)
         cmocka_unit_test(test_linear_sweep_normals),
         cmocka_unit_test(test_conic_sweep_normals),
         cmocka_unit_test(test_which_pieces),
+        cmocka_unit_test(test_chords),
         cmocka_unit_test(test_validation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -44,9 +44,9 @@
  *           The pieces of one outline share the very same side lines and
  *           slab heights, so a ray leaves one where it enters the next at
  *           the same t, and their union merges them exactly.  A piece whose
- *           sides are chords of a prism's spline keeps the spline in the
- *           curve table (csg_curve, CSG_PRIM_CURVE: its flags), for its
- *           shading normal
+ *           sides are chords of a curve (a prism's spline, a glyph's
+ *           Bezier) keeps the curve in the curve table (csg_curve,
+ *           CSG_PRIM_CURVE: its flags), for its shading normal
  *   conic_trapezoid  the same piece of a prism's conic_sweep: the outline
  *           scaled by the height, the apex at the origin, in a frame
  *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
@@ -208,14 +208,15 @@ typedef struct {
     };
 } csg_prim;
 
-/* One side of a trapezoid piece as a piece of its prism's spline: the
- * side's chord runs from parameter u0 to u1 of POV-Ray's segment ((A u +
- * B) u + C) u + D (Compute_Prism's coefficients; x then y of the
+/* One side of a trapezoid piece as a piece of its curve (a prism's
+ * spline, a glyph's Bezier): the side's chord runs from parameter u0 to
+ * u1 of the segment ((A u + B) u + C) u + D (POV-Ray's Compute_Prism
+ * coefficients, a glyph's Bezier in the power basis; x then y of the
  * outline's plane, the piece's local x and y).  The piece's surface is the
  * chord's plane (so hits and the CSG are those of the chords), but its
- * shading normal is the spline's where the ray meets the spline, as
- * POV-Ray's Prism::Normal (intersect.h: csg_curve_normal).  u0 == u1: a
- * straight side, the chord's own normal. */
+ * shading normal is the curve's where the ray meets the curve, as
+ * POV-Ray's Prism::Normal (intersect.h: csg_surface_shading_normal).
+ * u0 == u1: a straight side, the chord's own normal. */
 typedef struct {
     real a[2], b[2], c[2], d[2];
     real u0, u1;

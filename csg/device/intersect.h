@@ -986,7 +986,7 @@ CSG_FN vec3 csg_surface_geometric_normal(CSG_GLOBAL const csg_prim *prims, csg_u
 }
 
 /* ---- the curved sides of an extruded outline -------------------------------
- * A trapezoid piece's side is a chord of its prism's spline (flat.h,
+ * A trapezoid piece's side is a chord of its outline's curve (flat.h,
  * csg_curve): rays meet the chord, but POV-Ray's Prism::Normal is the
  * spline's at the parameter u where the ray meets the spline, from its
  * tangent T = (3 A u + 2 B) u + C: N = (T.y, -T.x) in the outline's plane

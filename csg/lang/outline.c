@@ -5,8 +5,9 @@
  * closed polylines in the xy plane between two heights along z; the
  * curves are flattened here, within CSG_CURVE_TOLERANCE of the outline's
  * size (an em for a glyph), so every later stage (flattening, export)
- * sees polylines only; a prism's edges on a curve keep its spline segment
- * (edge_curves), for the normals of the walls (POV-Ray's Prism::Normal).
+ * sees polylines only; the edges on a curve (a prism's spline, a glyph's
+ * Bezier) keep its segment (edge_curves), for the normals of the walls
+ * (POV-Ray's Prism::Normal, and its TrueType normal: the same rule).
  *
  * prism: POV-Ray 3.7's rules (its Parse_Prism and Compute_Prism): the
  * points are read as 2D vectors; a sub-outline closes where a segment ends
@@ -378,16 +379,38 @@ static int walk_line(const FT_Vector *to, void *user)
 }
 
 /* A Bezier curve from the pen: the points after its start, its end
- * included (the power basis as the prism's segments). */
+ * included (the power basis as the prism's segments), each edge with its
+ * piece of the curve (in the outline's units: POV-Ray's TrueType normal is
+ * the curve's where the ray meets it, as a prism's), the edge from the
+ * pen, already in the outline, too. */
 static int walk_curve(glyph_walk *w, const double A[2], const double B[2], const double C[2],
                       const double D[2], double end_x, double end_y)
 {
     double m0 = 2 * hypot(B[0], B[1]), m1 = hypot(6 * A[0] + 2 * B[0], 6 * A[1] + 2 * B[1]);
     int n = csg_curve_segments(m0 > m1 ? m0 : m1, w->tol);
+    double shift[2] = {w->dx, w->dy};
+    csg_outline_curve piece;
+    for (int k = 0; k < 2; k++) {
+        piece.a[k] = A[k] * w->scale;
+        piece.b[k] = B[k] * w->scale;
+        piece.c[k] = C[k] * w->scale;
+        piece.d[k] = (D[k] + shift[k]) * w->scale;
+    }
+    bool straight = A[0] == 0 && A[1] == 0 && B[0] == 0 && B[1] == 0;
+    if (!straight && w->ol->curves.count > 0) {
+        piece.u0 = 0;
+        piece.u1 = 1.0 / n;
+        ((csg_outline_curve *)w->ol->curves.data)[w->ol->curves.count - 1] = piece;
+        w->ol->curved = true;
+    }
     for (int k = 1; w->ok && k < n; k++) {
         double t = (double)k / n;
-        w->ok = walk_point(w, ((A[0] * t + B[0]) * t + C[0]) * t + D[0],
-                           ((A[1] * t + B[1]) * t + C[1]) * t + D[1]);
+        piece.u0 = t;
+        piece.u1 = (double)(k + 1) / n;
+        double x = ((A[0] * t + B[0]) * t + C[0]) * t + D[0];
+        double y = ((A[1] * t + B[1]) * t + C[1]) * t + D[1];
+        w->ok = outline_point(w->p, w->ol, (x + w->dx) * w->scale, (y + w->dy) * w->scale,
+                              straight ? NULL : &piece);
     }
     w->x = end_x;
     w->y = end_y;
