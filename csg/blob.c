@@ -66,12 +66,23 @@ static bool poly_valid(const csg_blob_header *h, const csg_prim *p, int32_t i)
     return first <= (uint64_t)h->coef_count && (uint64_t)terms <= (uint64_t)h->coef_count - first;
 }
 
+/* A primitive's curve (flat.h: CSG_PRIM_CURVE): none, or one of the
+ * table's, on a trapezoid piece. */
+static bool curve_valid(const csg_blob_header *h, const csg_prim *p)
+{
+    if (p->flags < 0)
+        return false;
+    int32_t k = CSG_PRIM_CURVE(p);
+    return k < 0 || (k < h->curve_count && (p->kind == CSG_PRIM_TRAPEZOID ||
+                                            p->kind == CSG_PRIM_CONIC_TRAPEZOID));
+}
+
 static bool prims_valid(const csg_blob_header *h, const csg_prim *prims)
 {
     for (int32_t i = 0; i < h->prim_count; i++)
         if (prims[i].kind < 0 || prims[i].kind >= CSG_PRIM_KIND_COUNT || prims[i].material < 0 ||
             prims[i].material >= h->material_count || prims[i].root < 0 ||
-            prims[i].root >= h->root_count ||
+            prims[i].root >= h->root_count || !curve_valid(h, &prims[i]) ||
             (prims[i].kind == CSG_PRIM_POLY && !poly_valid(h, &prims[i], i)))
             return false;
     return true;
@@ -328,6 +339,8 @@ bool BLOB_VALID(const void *bytes, size_t blob_size)
         return false;
     if (!array_fits(h->off_prims, h->prim_count, sizeof(csg_prim), blob_size) ||
         !array_fits(h->off_coefs, h->coef_count, sizeof(real), blob_size) ||
+        h->curve_count > CSG_CURVE_MAX ||
+        !array_fits(h->off_curves, h->curve_count, sizeof(csg_curve), blob_size) ||
         !array_fits(h->off_nodes, h->node_count, sizeof(csg_node), blob_size) ||
         !array_fits(h->off_roots, h->root_count, sizeof(csg_root), blob_size) ||
         !array_fits(h->off_bvh, h->bvh_count, sizeof(csg_bvh_node), blob_size) ||

@@ -29,6 +29,7 @@
 typedef struct {
     double x0, y0, x1, y1;
     double n[3]; /* its line: n . (x, y) = c, n pointing to +x (inside of a left side) */
+    int from;    /* the outline's point it starts from (csg_trapezoid.edge) */
 } edge;
 
 typedef struct {
@@ -50,14 +51,14 @@ static int by_x(const void *a, const void *b)
     return (p->e > q->e) - (p->e < q->e);
 }
 
-static edge make_edge(dvec3 a, dvec3 b)
+static edge make_edge(dvec3 a, dvec3 b, int from)
 {
     if (a.y > b.y) {
         dvec3 t = a;
         a = b;
         b = t;
     }
-    edge e = {a.x, a.y, b.x, b.y, {0, 0, 0}};
+    edge e = {a.x, a.y, b.x, b.y, {0, 0, 0}, from};
     double dx = b.x - a.x, dy = b.y - a.y, len = sqrt(dx * dx + dy * dy);
     e.n[0] = dy / len;
     e.n[1] = -dx / len;
@@ -78,7 +79,7 @@ static int collect_edges(const dvec3 *pts, const int *ends, int contours, edge *
         for (int i = 0; count >= 3 && i < count; i++) {
             dvec3 a = pts[start + i], b = pts[start + (i + 1) % count];
             if (a.y != b.y)
-                es[n++] = make_edge(a, b);
+                es[n++] = make_edge(a, b, start + i);
         }
     }
     *out = es;
@@ -109,6 +110,8 @@ static csg_trapezoid piece_of(const edge *left, const edge *right, double y_lo, 
     }
     t.y_lo = y_lo;
     t.y_hi = y_hi;
+    t.edge[0] = left->from;
+    t.edge[1] = right->from;
     return t;
 }
 

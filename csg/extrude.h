@@ -15,6 +15,8 @@
 typedef struct {
     double side[2][3];
     double y_lo, y_hi;
+    int edge[2]; /* the outline's edge of each side: the index of the point
+                    it starts from (to the next point of its polyline) */
 } csg_trapezoid;
 
 /* The pieces of the closed polylines pts[0 .. ends[0]), pts[ends[0] ..

@@ -109,6 +109,8 @@ typedef struct {
     int coef_count, coef_cap;
     const csg_object *coefs_of; /* the poly whose coefficients start at   */
     int coefs_at;               /* coefs[coefs_at] (its pieces share them) */
+    csg_curve *curves;      /* the curved sides of prisms' pieces (flat.h) */
+    int curve_count, curve_cap;
     int linear_roots;       /* unbounded roots, tested one by one (first)  */
     csg_material *mats;
     uint64_t *mat_keys;     /* each material's (texture, interior) key   */
@@ -1130,14 +1132,51 @@ static bool conic_piece(const csg_object *o, const csg_trapezoid *t,
     return true;
 }
 
+/* The sides of piece t of prism (or glyph) o that are chords of its
+ * curve, as the curve of prim p (flat.h, csg_curve); none when both are
+ * straight, or when the table is full (the chords' normals then: a scene
+ * of millions of curved pieces). */
+static bool attach_curve(flat_builder *fb, const csg_object *o, const csg_trapezoid *t,
+                         csg_prim *p)
+{
+    if (!o->edge_curves)
+        return true;
+    const csg_outline_curve *e[2] = {&o->edge_curves[t->edge[0]], &o->edge_curves[t->edge[1]]};
+    if (!(e[0]->u0 < e[0]->u1) && !(e[1]->u0 < e[1]->u1))
+        return true;
+    if (fb->curve_count >= CSG_CURVE_MAX)
+        return true;
+    if (!grow((void **)&fb->curves, &fb->curve_cap, fb->curve_count + 1, sizeof(csg_curve))) {
+        fb->oom = true;
+        return false;
+    }
+    csg_curve *c = &fb->curves[fb->curve_count];
+    for (int k = 0; k < 2; k++) {
+        csg_curve_side *side = &c->side[k];
+        for (int i = 0; i < 2; i++) {
+            side->a[i] = (real)e[k]->a[i];
+            side->b[i] = (real)e[k]->b[i];
+            side->c[i] = (real)e[k]->c[i];
+            side->d[i] = (real)e[k]->d[i];
+        }
+        side->u0 = (real)e[k]->u0;
+        side->u1 = (real)e[k]->u1;
+    }
+    p->flags |= (fb->curve_count + 1) << CSG_PF_CURVE_SHIFT;
+    fb->curve_count++;
+    return true;
+}
+
 /* Piece `piece` of a prism: its trapezoid in the local frame where the
- * extrusion runs from z = 0 to 1 (flat.h). */
+ * extrusion runs from z = 0 to 1 (flat.h), and its curve. */
 static bool flatten_prism(flat_builder *fb, const csg_object *o, const csg_xform *world_to_obj,
                           int piece, csg_prim *p, dbox *box)
 {
     if (!split_prism(fb, o))
         return false;
     const csg_trapezoid *t = &fb->traps[piece];
+    if (!attach_curve(fb, o, t, p))
+        return false;
     if (o->conic)
         return conic_piece(o, t, world_to_obj, p, box);
     p->kind = CSG_PRIM_TRAPEZOID;
@@ -2084,6 +2123,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     h.wide_bvh_count = fb->wide_bvh_count;
     h.wide_item_count = fb->wide_item_count;
     h.coef_count = fb->coef_count;
+    h.curve_count = fb->curve_count;
     h.material_count = fb->mat_count;
     h.light_count = s->light_count;
     h.map_count = fb->map_count;
@@ -2094,6 +2134,7 @@ static csg_blob_header blob_header(const flat_builder *fb, const csg_flatten_opt
     uint64_t off = align64(sizeof h);
     h.off_prims = place(&off, fb->prim_count, sizeof(csg_prim));
     h.off_coefs = place(&off, fb->coef_count, sizeof(real)); /* right after (flat.h) */
+    h.off_curves = place(&off, fb->curve_count, sizeof(csg_curve));
     h.off_nodes = place(&off, fb->node_count, sizeof(csg_node));
     h.off_roots = place(&off, fb->root_count, sizeof(csg_root));
     h.off_bvh = place(&off, fb->bvh_count, sizeof(csg_bvh_node));
@@ -2375,6 +2416,7 @@ static bool write_blob(flat_builder *fb, const csg_flatten_opts *o, csg_blob *ou
      * resident) only as they are written: the two are never whole at once */
     copy_array(b, h.off_prims, fb->prims, fb->prim_count, sizeof(csg_prim));
     copy_array(b, h.off_coefs, fb->coefs, fb->coef_count, sizeof(real));
+    copy_array(b, h.off_curves, fb->curves, fb->curve_count, sizeof(csg_curve));
     poly_offsets(&h, (csg_prim *)(void *)(b + h.off_prims));
     free_array((void **)&fb->prims);
     copy_array(b, h.off_nodes, fb->nodes, fb->node_count, sizeof(csg_node));
@@ -2436,6 +2478,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
     free(fb.wide_bvh);
     free(fb.wide_items);
     free(fb.coefs);
+    free(fb.curves);
     free(fb.mats);
     free(fb.mat_keys);
     free(fb.mat_slots);

@@ -225,6 +225,17 @@ typedef struct {
     double fade_color[3]; /* what is left far inside (0: black)             */
 } csg_interior;
 
+/* An edge of a prism's outline as a piece of its curve: the chord from
+ * parameter u0 to u1 of the segment ((A u + B) u + C) u + D (a spline's:
+ * POV-Ray's Compute_Prism coefficients; a glyph's Bezier, in the text's
+ * units; x then y of the outline's plane), so that the side's normal can
+ * be the curve's (Prism::Normal, TrueType's); u0 == u1: a straight edge
+ * (a linear spline's, a glyph's line), whose chord is exact. */
+typedef struct {
+    double a[2], b[2], c[2], d[2];
+    double u0, u1;
+} csg_outline_curve;
+
 typedef struct csg_object csg_object;
 struct csg_object {
     enum csg_object_kind kind;
@@ -266,6 +277,10 @@ struct csg_object {
                                   contour_ends[0]), [contour_ends[0] ..
                                   contour_ends[1]), ... (x, y; z is 0)    */
     int contour_count;
+    const csg_outline_curve *edge_curves; /* prism: edge_curves[i] is the
+                                  edge from verts[i] to the next vertex of
+                                  its polyline (the first after the last);
+                                  NULL: every edge is straight            */
     const csg_loc *piece_locs; /* mesh: where each triangle was written (an
                                   NFF file's run of triangles), or NULL: loc */
     int vert_count;

@@ -1350,6 +1350,33 @@ static size_t check_shadow_masks(ocl_ctx *ctx, const csg_blob *blob, const char 
     return answers;
 }
 
+/* Prisms with curved sides (flat.h, csg_curve): the device's shadow
+ * answers, which turn each hit's frame to the light by the shading normal
+ * (the spline's, csg_surface_shading_normal), equal C's in both variants,
+ * and so do the records. */
+static void test_curved_shadows(void **state)
+{
+    fixture *fx = *state;
+    static const char sdl[] =
+        "camera { location <0.5, 2.5, -4> look_at <0.5, 0.3, 0> }\n"
+        "plane { y, 0 pigment { color rgb 1 } }\n"
+        "light_source { <-4, 5, -3> color rgb 1 }\n"
+        "light_source { <5, 1, -1> color rgb 0.5 }\n"
+        "prism { cubic_spline 0, 1, 7, <0, -1>, <1, 0>, <0, 1>, <-1, 0>, <0, -1>, <1, 0>,\n"
+        "  <0, 1> scale 0.6 translate <-0.6, 0, 0> }\n"
+        "prism { quadratic_spline conic_sweep 0.5, 1, 6, <0, -1>, <1, 0>, <0, 1>, <-1, 0>,\n"
+        "  <0, -1>, <1, 0> rotate 180*x scale 0.8 translate <1.2, 0.8, 0> }\n"
+        "prism { bezier_spline 0, 0.4, 8, <0, 0>, <1, 0>, <1, 1>, <0, 1>, <0, 1>, <-1, 1>,\n"
+        "  <-1, 0>, <0, 0> scale 0.5 translate <0.4, 0, -1.2> }\n";
+    csg_blob blob = text_blob("curved.pov", sdl, 64, 48, 1);
+    assert_true(csg_blob_hdr(blob.bytes)->curve_count > 100);
+    for (int var = 0; var < VARIANTS; var++) {
+        assert_true(check_blob(fx->ctx[var], &prec, blob.bytes, 8) > 64 * 48 / 4);
+        assert_true(check_shadow_masks(fx->ctx[var], &blob, "curved prisms") > 64 * 48 / 4);
+    }
+    csg_blob_free(&blob);
+}
+
 /* Random scenes of many opaque objects (CSG, planes, a deep BVH): the
  * packet walk of the shadow rays must reach exactly the roots the one-ray
  * walk reaches (a child's box may pass where its parent's did not: a
@@ -1510,6 +1537,7 @@ int main(void)
         cmocka_unit_test(test_bad_blob),
         cmocka_unit_test(test_shadow_answers),
         cmocka_unit_test(test_shadow_answers_random),
+        cmocka_unit_test(test_curved_shadows),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

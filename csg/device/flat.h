@@ -43,12 +43,16 @@
  *           p[3..5] = n.x, n.y, c), p[6] <= y <= p[7] and 0 <= z <= 1.
  *           The pieces of one outline share the very same side lines and
  *           slab heights, so a ray leaves one where it enters the next at
- *           the same t, and their union merges them exactly
+ *           the same t, and their union merges them exactly.  A piece whose
+ *           sides are chords of a curve (a prism's spline, a glyph's
+ *           Bezier) keeps the curve in the curve table (csg_curve,
+ *           CSG_PRIM_CURVE: its flags), for its shading normal
  *   conic_trapezoid  the same piece of a prism's conic_sweep: the outline
  *           scaled by the height, the apex at the origin, in a frame
  *           scaled so the top is z = 1: inside is x >= p[0] y + p[1] z,
  *           x <= p[2] y + p[3] z, p[4] z <= y <= p[5] z, p[6] <= z <= 1
- *           (every wall a plane through the apex: a convex piece)
+ *           (every wall a plane through the apex: a convex piece); its
+ *           curve as a trapezoid's
  *   torus   local frame: the ring in the xz plane around +y (POV-Ray's);
  *           p[0] major radius R, p[1] minor radius r, p[2] the piece, 0 or
  *           1: the first or the second interval of the line inside the
@@ -156,6 +160,13 @@ enum csg_prim_flags {
                              is evaluated on [tmin, inf)                 */
 };
 
+/* The bits of csg_prim.flags above the flags: a trapezoid piece whose
+ * sides are chords of a prism's spline (csg_curve) keeps 1 + the index
+ * of its curve in the blob's curve table there; 0: no curve. */
+#define CSG_PF_CURVE_SHIFT 8
+#define CSG_CURVE_MAX ((1 << 23) - 1) /* curves a blob may have (flags stay >= 0) */
+#define CSG_PRIM_CURVE(p) ((csg_i32)((p)->flags >> CSG_PF_CURVE_SHIFT) - 1)
+
 /* Surface sub-indices, per kind. */
 enum csg_surface {
     CSG_SURF_SPHERE = 0,
@@ -196,6 +207,26 @@ typedef struct {
         };
     };
 } csg_prim;
+
+/* One side of a trapezoid piece as a piece of its curve (a prism's
+ * spline, a glyph's Bezier): the side's chord runs from parameter u0 to
+ * u1 of the segment ((A u + B) u + C) u + D (POV-Ray's Compute_Prism
+ * coefficients, a glyph's Bezier in the power basis; x then y of the
+ * outline's plane, the piece's local x and y).  The piece's surface is the
+ * chord's plane (so hits and the CSG are those of the chords), but its
+ * shading normal is the curve's where the ray meets the curve, as
+ * POV-Ray's Prism::Normal (intersect.h: csg_surface_shading_normal).
+ * u0 == u1: a straight side, the chord's own normal. */
+typedef struct {
+    real a[2], b[2], c[2], d[2];
+    real u0, u1;
+} csg_curve_side;
+
+/* The curve of a trapezoid piece (CSG_PRIM_CURVE): its two sides, as the
+ * piece's (CSG_SURF_TRAP_SIDE_A, _B). */
+typedef struct {
+    csg_curve_side side[2];
+} csg_curve;
 
 /* CSG_OP_WIDE marks a wide run: the nodes after it are pair_count pairs
  * (PRIM p_j, OP) with one OP, folding p_0, p_1, ... into the list on top
@@ -531,6 +562,8 @@ typedef struct {
     csg_i32 wide_bvh_count; /* items                                    */
     csg_i32 wide_item_count;
     csg_i32 coef_count;    /* reals in the coefficient table (polys)    */
+    csg_i32 curve_count;   /* curves of trapezoid pieces (csg_curve)    */
+    csg_i32 pad_count;
     csg_u32 kinds;         /* the primitive kinds present: bit 1 << kind */
     csg_u32 features;      /* enum csg_feature: what else the scene uses */
     csg_u64 off_prims, off_nodes, off_roots, off_bvh, off_camera; /* device */
@@ -538,6 +571,7 @@ typedef struct {
     csg_u64 off_coefs;     /* device: the coefficient table, reals, right
                               after the primitives (a poly reaches its
                               coefficients from its own payload, flat.h) */
+    csg_u64 off_curves;    /* device: the curve table (csg_curve)       */
     csg_u64 off_materials, off_lights, off_shading, off_maps;    /* workers */
     csg_u64 total_size;    /* bytes of the whole blob                    */
 } csg_blob_header;
@@ -559,18 +593,23 @@ typedef struct {
         F(csg_blob_header, max_stack) F(csg_blob_header, map_count)                        \
         F(csg_blob_header, sky_count) F(csg_blob_header, wide_count)                       \
         F(csg_blob_header, wide_bvh_count) F(csg_blob_header, wide_item_count)             \
-        F(csg_blob_header, coef_count) F(csg_blob_header, kinds)                                  \
+        F(csg_blob_header, coef_count) F(csg_blob_header, curve_count)                     \
+        F(csg_blob_header, pad_count) F(csg_blob_header, kinds)                            \
         F(csg_blob_header, features) F(csg_blob_header, off_prims)                         \
         F(csg_blob_header, off_nodes) F(csg_blob_header, off_roots)                        \
         F(csg_blob_header, off_bvh) F(csg_blob_header, off_camera)                         \
         F(csg_blob_header, off_wide) F(csg_blob_header, off_wide_bvh)                      \
         F(csg_blob_header, off_wide_items) F(csg_blob_header, off_coefs)                   \
+        F(csg_blob_header, off_curves)                                                     \
         F(csg_blob_header, off_materials) F(csg_blob_header, off_lights)                   \
         F(csg_blob_header, off_shading) F(csg_blob_header, off_maps)                       \
         F(csg_blob_header, total_size)                                                     \
     S(csg_prim) F(csg_prim, kind) F(csg_prim, flags) F(csg_prim, material)                 \
         F(csg_prim, root) F(csg_prim, p) F(csg_prim, inv)                                  \
     S(csg_node) F(csg_node, op) F(csg_node, prim)                                          \
+    S(csg_curve_side) F(csg_curve_side, a) F(csg_curve_side, b) F(csg_curve_side, c)       \
+        F(csg_curve_side, d) F(csg_curve_side, u0) F(csg_curve_side, u1)                   \
+    S(csg_curve) F(csg_curve, side)                                                        \
     S(csg_wide) F(csg_wide, pair_count) F(csg_wide, bvh_first) F(csg_wide, bvh_count)     \
         F(csg_wide, item_first)                                                            \
     S(csg_root) F(csg_root, first_node) F(csg_root, node_count)                            \

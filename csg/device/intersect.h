@@ -78,8 +78,10 @@ typedef struct {
     CSG_GLOBAL const csg_wide *wide;         /* wide runs (flat.h, CSG_OP_WIDE) */
     CSG_GLOBAL const csg_bvh_node *wide_bvh;
     CSG_GLOBAL const csg_i32 *wide_items;
+    CSG_GLOBAL const csg_curve *curves;      /* curved trapezoid sides (flat.h) */
     csg_i32 root_count;
     csg_i32 bvh_count;
+    csg_i32 curve_count;
 #ifndef __OPENCL_VERSION__
     struct csg_pager *pager; /* a worker's scene below its memory budget
                                 (workers/pager.h); NULL: the whole blob */
@@ -117,8 +119,10 @@ CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
     v.wide = (CSG_GLOBAL const csg_wide *)(blob + h->off_wide);
     v.wide_bvh = (CSG_GLOBAL const csg_bvh_node *)(blob + h->off_wide_bvh);
     v.wide_items = (CSG_GLOBAL const csg_i32 *)(blob + h->off_wide_items);
+    v.curves = (CSG_GLOBAL const csg_curve *)(blob + h->off_curves);
     v.root_count = h->linear_roots;
     v.bvh_count = h->bvh_count;
+    v.curve_count = h->curve_count;
 #ifndef __OPENCL_VERSION__
     v.pager = 0;
 #endif
@@ -979,6 +983,114 @@ CSG_FN vec3 csg_surface_geometric_normal(CSG_GLOBAL const csg_prim *prims, csg_u
         return n;
     vec3 g = v3_normalize(csg_triangle_normal(p->p, CSG_SURF_SUB(s), wp));
     return CSG_SURF_FLIP(s) ? v3_neg(g) : g;
+}
+
+/* ---- the curved sides of an extruded outline -------------------------------
+ * A trapezoid piece's side is a chord of its outline's curve (flat.h,
+ * csg_curve): rays meet the chord, but POV-Ray's Prism::Normal is the
+ * spline's at the parameter u where the ray meets the spline, from its
+ * tangent T = (3 A u + 2 B) u + C: N = (T.y, -T.x) in the outline's plane
+ * (linear_sweep); under conic_sweep, where the side is the cone from the
+ * apex over the spline, N with the height's component
+ * -(P.x N.x + P.y N.y) / P.z at POV-Ray's hit P (the local frame: the
+ * outline at height z scaled by z), which lies on the spline's cone:
+ * P / P.z = (x(u), y(u)), so the component is -(x(u) N.x + y(u) N.y).
+ * The ray meets the spline where f(u) = m.x x(u) + m.y y(u) + m.z
+ * vanishes, m the plane through the ray that holds the sweep's lines:
+ * m = (D.y, -D.x, D.x P.y - D.y P.x) for the vertical walls of a linear
+ * sweep, m = P x D through the apex for a conic one (POV-Ray's equations,
+ * whose roots it finds).  The root is found by Newton's method from the
+ * hit's place along the chord: the chord is within 10^-4 of the outline's
+ * size of the spline, so a few steps reach it (6e-7 rad of POV-Ray's
+ * normal in float, 1e-15 in double: tests/test_curved_sides.c). */
+
+#define CSG_CURVE_NEWTON_STEPS 4
+
+/* The spline of side c at u: its point (x, y) and tangent (tx, ty). */
+CSG_FN void csg_curve_eval(CSG_GLOBAL const csg_curve_side *c, real u, real *x, real *y, real *tx,
+                           real *ty)
+{
+    *x = ((c->a[0] * u + c->b[0]) * u + c->c[0]) * u + c->d[0];
+    *y = ((c->a[1] * u + c->b[1]) * u + c->c[1]) * u + c->d[1];
+    *tx = (R(3.0) * c->a[0] * u + R(2.0) * c->b[0]) * u + c->c[0];
+    *ty = (R(3.0) * c->a[1] * u + R(2.0) * c->b[1]) * u + c->c[1];
+}
+
+/* Where along the chord of side c (from u0 to u1) the outline's point
+ * (qx, qy) lies, as a parameter of the spline between u0 and u1. */
+CSG_FN real csg_curve_chord_param(CSG_GLOBAL const csg_curve_side *c, real qx, real qy)
+{
+    real x0, y0, x1, y1, tx, ty;
+    csg_curve_eval(c, c->u0, &x0, &y0, &tx, &ty);
+    csg_curve_eval(c, c->u1, &x1, &y1, &tx, &ty);
+    real ex = x1 - x0, ey = y1 - y0, ee = ex * ex + ey * ey;
+    real s = ee > R(0.0) ? ((qx - x0) * ex + (qy - y0) * ey) / ee : R(0.5);
+    s = r_fmin(r_fmax(s, R(0.0)), R(1.0));
+    return c->u0 + s * (c->u1 - c->u0);
+}
+
+/* The root of m.x x(u) + m.y y(u) + m.z near u, kept within a chord's
+ * length of parameter around [u0, u1]: a ray that meets the chord near
+ * its end may meet the spline just beyond it (a neighbouring chord's, or
+ * across the segment's end, where the spline is smooth: its polynomial
+ * carries on). */
+CSG_FN real csg_curve_meet(CSG_GLOBAL const csg_curve_side *c, vec3 m, real u)
+{
+    real h = c->u1 - c->u0, lo = c->u0 - h, hi = c->u1 + h;
+    for (int i = 0; i < CSG_CURVE_NEWTON_STEPS; i++) {
+        real x, y, tx, ty;
+        csg_curve_eval(c, u, &x, &y, &tx, &ty);
+        real f = m.x * x + m.y * y + m.z, df = m.x * tx + m.y * ty;
+        if (df != R(0.0))
+            u = u - f / df;
+        u = r_fmin(r_fmax(u, lo), hi); /* (a NaN step: hi) */
+    }
+    return u;
+}
+
+/* The spline's normal (not normalised, either way round) of side c of
+ * trapezoid piece p where the ray along ld (local) meets it near the hit
+ * lp (local, on the chord); a zero vector where it has none. */
+CSG_FN vec3 csg_curve_local_normal(CSG_GLOBAL const csg_prim *p,
+                                   CSG_GLOBAL const csg_curve_side *c, vec3 lp, vec3 ld)
+{
+    int conic = p->kind == CSG_PRIM_CONIC_TRAPEZOID;
+    if (conic && !(lp.z > R(0.0)))
+        return v3(R(0.0), R(0.0), R(0.0));
+    vec3 m = conic ? v3_cross(lp, ld) : v3(ld.y, -ld.x, ld.x * lp.y - ld.y * lp.x);
+    real qx = conic ? lp.x / lp.z : lp.x, qy = conic ? lp.y / lp.z : lp.y;
+    real u = csg_curve_meet(c, m, csg_curve_chord_param(c, qx, qy));
+    real x, y, tx, ty;
+    csg_curve_eval(c, u, &x, &y, &tx, &ty);
+    /* (POV-Ray's hit P is on the spline's cone: P / P.z = (x(u), y(u))) */
+    real nz = conic ? -(x * ty - y * tx) : R(0.0);
+    return v3(ty, -tx, nz);
+}
+
+/* The shading normal at world point wp of surface s, met by a ray along
+ * d, given n = csg_surface_normal there: n, but on a curved side of a
+ * trapezoid piece the spline's (POV-Ray's Prism::Normal), outward as n
+ * is; where the spline has no normal there (a cusp), n. */
+CSG_FN vec3 csg_surface_shading_normal(csg_view v, csg_u32 s, vec3 wp, vec3 d, vec3 n)
+{
+    CSG_GLOBAL const csg_prim *p = &v.prims[CSG_SURF_PRIM(s)];
+    csg_i32 sub = CSG_SURF_SUB(s), k = CSG_PRIM_CURVE(p);
+    if (k < 0 || k >= v.curve_count || sub > CSG_SURF_TRAP_SIDE_B ||
+        (p->kind != CSG_PRIM_TRAPEZOID && p->kind != CSG_PRIM_CONIC_TRAPEZOID))
+        return n;
+    CSG_GLOBAL const csg_curve_side *c = &v.curves[k].side[sub];
+    if (!(c->u0 < c->u1))
+        return n;
+    vec3 lp = csg_xform_point(p->inv, wp);
+    vec3 ln = csg_curve_local_normal(p, c, lp, csg_xform_vector(p->inv, d));
+    vec3 chord = csg_local_normal(p, sub, lp);
+    real along = v3_dot(ln, chord);
+    if (!(along > R(0.0) || along < R(0.0))) /* (zero, or not a number) */
+        return n;
+    vec3 w = v3_normalize(csg_xform_normal(p->inv, along < R(0.0) ? v3_neg(ln) : ln));
+    if (!(v3_dot(w, w) > R(0.0)))
+        return n;
+    return CSG_SURF_FLIP(s) ? v3_neg(w) : w;
 }
 
 #endif

@@ -50,6 +50,9 @@ CSG_FN csg_hit_frame csg_hit_frame_of(csg_view v, csg_ray r, real t, csg_u32 sur
      * whether the ray enters (a smooth triangle's normals may point
      * against its winding) */
     f.ng = csg_surface_geometric_normal(v.prims, surf, f.p, f.n);
+    /* (a curved side's shading normal is its spline's; the ray met the
+     * chord, whose normal ng stays) */
+    f.n = csg_surface_shading_normal(v, surf, f.p, r.d, f.n);
     f.entering = v3_dot(f.ng, r.d) < R(0.0);
     f.ngf = f.entering ? f.ng : v3_neg(f.ng);
     CSG_GLOBAL const csg_root *root = &v.roots[v.prims[CSG_SURF_PRIM(surf)].root];

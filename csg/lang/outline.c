@@ -5,7 +5,9 @@
  * closed polylines in the xy plane between two heights along z; the
  * curves are flattened here, within CSG_CURVE_TOLERANCE of the outline's
  * size (an em for a glyph), so every later stage (flattening, export)
- * sees polylines only.
+ * sees polylines only; the edges on a curve (a prism's spline, a glyph's
+ * Bezier) keep its segment (edge_curves), for the normals of the walls
+ * (POV-Ray's Prism::Normal, and its TrueType normal: the same rule).
  *
  * prism: POV-Ray 3.7's rules (its Parse_Prism and Compute_Prism): the
  * points are read as 2D vectors; a sub-outline closes where a segment ends
@@ -41,24 +43,33 @@
 
 /* The closed polylines of an outline being built. */
 typedef struct {
-    vec pts;  /* dvec3, z 0 */
-    vec ends; /* int: where each closed polyline ends in pts */
+    vec pts;    /* dvec3, z 0 */
+    vec curves; /* csg_outline_curve: the edge from each point to the next */
+    vec ends;   /* int: where each closed polyline ends in pts */
+    bool curved; /* some edge is a piece of a curve (not a linear spline's) */
 } outline;
 
 static void outline_free(outline *o)
 {
     free(o->pts.data);
+    free(o->curves.data);
     free(o->ends.data);
 }
 
-static bool outline_point(parser *p, outline *o, double x, double y)
+/* A point, and the curve its edge to the next point follows (NULL: a
+ * straight edge). */
+static bool outline_point(parser *p, outline *o, double x, double y, const csg_outline_curve *c)
 {
     dvec3 v = {x, y, 0};
-    return lang_vec_push(p, &o->pts, sizeof v, &v);
+    csg_outline_curve straight = {{0, 0}, {0, 0}, {0, 0}, {0, 0}, 0, 0};
+    o->curved = o->curved || c;
+    return lang_vec_push(p, &o->pts, sizeof v, &v) &&
+           lang_vec_push(p, &o->curves, sizeof straight, c ? c : &straight);
 }
 
 /* Closes the polyline being built (dropping a last point equal to its
- * first); one of fewer than 3 points is dropped. */
+ * first: the edge before it then ends on the first point, where it
+ * ended); one of fewer than 3 points is dropped. */
 static bool outline_close(parser *p, outline *o)
 {
     int start = o->ends.count ? ((int *)o->ends.data)[o->ends.count - 1] : 0;
@@ -66,27 +77,33 @@ static bool outline_close(parser *p, outline *o)
     if (o->pts.count - start > 1 && v[o->pts.count - 1].x == v[start].x &&
         v[o->pts.count - 1].y == v[start].y)
         o->pts.count--;
-    if (o->pts.count - start < 3) {
+    if (o->pts.count - start < 3)
         o->pts.count = start;
+    o->curves.count = o->pts.count;
+    if (o->pts.count == start)
         return true;
-    }
     int end = o->pts.count;
     return lang_vec_push(p, &o->ends, sizeof end, &end);
 }
 
 /* A segment ((A t + B) t + C) t + D, t in [0, 1): its points before the
- * end, as many as keep it within tol (|B''| <= max(|2B|, |6A + 2B|)). */
+ * end, as many as keep it within tol (|B''| <= max(|2B|, |6A + 2B|)),
+ * each edge with its piece of the curve unless the segment is straight
+ * (a linear spline's: A = B = 0). */
 static bool outline_segment(parser *p, outline *o, const double a[2], const double b[2],
                             const double c[2], const double d[2], double tol)
 {
     double m0 = 2 * hypot(b[0], b[1]);
     double m1 = hypot(6 * a[0] + 2 * b[0], 6 * a[1] + 2 * b[1]);
     int n = csg_curve_segments(m0 > m1 ? m0 : m1, tol);
+    bool straight = a[0] == 0 && a[1] == 0 && b[0] == 0 && b[1] == 0;
     bool ok = true;
     for (int k = 0; ok && k < n; k++) {
         double t = (double)k / n;
+        csg_outline_curve piece = {{a[0], a[1]}, {b[0], b[1]}, {c[0], c[1]}, {d[0], d[1]},
+                                   t, (double)(k + 1) / n};
         ok = outline_point(p, o, ((a[0] * t + b[0]) * t + c[0]) * t + d[0],
-                           ((a[1] * t + b[1]) * t + c[1]) * t + d[1]);
+                           ((a[1] * t + b[1]) * t + c[1]) * t + d[1], straight ? NULL : &piece);
     }
     return ok;
 }
@@ -105,6 +122,15 @@ static bool outline_to_object(parser *p, outline *ol, csg_object *o)
     if (ol->ends.count)
         memcpy(ends, ol->ends.data, (size_t)ol->ends.count * sizeof(int));
     o->contour_ends = ends;
+    o->edge_curves = NULL;
+    if (ol->curved && ol->pts.count) {
+        size_t bytes = (size_t)ol->pts.count * sizeof(csg_outline_curve);
+        csg_outline_curve *curves = lang_alloc(p, bytes);
+        if (!curves)
+            return false;
+        memcpy(curves, ol->curves.data, bytes);
+        o->edge_curves = curves;
+    }
     return true;
 }
 
@@ -301,7 +327,7 @@ bool lang_parse_prism(parser *p, csg_object *o)
     }
     if (ok && lang_is_kw(p, CSG_KW_STURM)) /* a root solver's choice: the pieces are exact */
         ok = lang_next(p);
-    outline ol = {{0}, {0}};
+    outline ol = {{0}, {0}, {0}, false};
     ok = ok && prism_outline(p, kind, (const double(*)[2])P, n, &ol, o->loc) &&
          outline_to_object(p, &ol, o);
     free(P);
@@ -328,7 +354,7 @@ typedef struct {
 
 static bool walk_point(glyph_walk *w, double x, double y)
 {
-    return outline_point(w->p, w->ol, (x + w->dx) * w->scale, (y + w->dy) * w->scale);
+    return outline_point(w->p, w->ol, (x + w->dx) * w->scale, (y + w->dy) * w->scale, NULL);
 }
 
 static int walk_move(const FT_Vector *to, void *user)
@@ -353,16 +379,38 @@ static int walk_line(const FT_Vector *to, void *user)
 }
 
 /* A Bezier curve from the pen: the points after its start, its end
- * included (the power basis as the prism's segments). */
+ * included (the power basis as the prism's segments), each edge with its
+ * piece of the curve (in the outline's units: POV-Ray's TrueType normal is
+ * the curve's where the ray meets it, as a prism's), the edge from the
+ * pen, already in the outline, too. */
 static int walk_curve(glyph_walk *w, const double A[2], const double B[2], const double C[2],
                       const double D[2], double end_x, double end_y)
 {
     double m0 = 2 * hypot(B[0], B[1]), m1 = hypot(6 * A[0] + 2 * B[0], 6 * A[1] + 2 * B[1]);
     int n = csg_curve_segments(m0 > m1 ? m0 : m1, w->tol);
+    double shift[2] = {w->dx, w->dy};
+    csg_outline_curve piece;
+    for (int k = 0; k < 2; k++) {
+        piece.a[k] = A[k] * w->scale;
+        piece.b[k] = B[k] * w->scale;
+        piece.c[k] = C[k] * w->scale;
+        piece.d[k] = (D[k] + shift[k]) * w->scale;
+    }
+    bool straight = A[0] == 0 && A[1] == 0 && B[0] == 0 && B[1] == 0;
+    if (!straight && w->ol->curves.count > 0) {
+        piece.u0 = 0;
+        piece.u1 = 1.0 / n;
+        ((csg_outline_curve *)w->ol->curves.data)[w->ol->curves.count - 1] = piece;
+        w->ol->curved = true;
+    }
     for (int k = 1; w->ok && k < n; k++) {
         double t = (double)k / n;
-        w->ok = walk_point(w, ((A[0] * t + B[0]) * t + C[0]) * t + D[0],
-                           ((A[1] * t + B[1]) * t + C[1]) * t + D[1]);
+        piece.u0 = t;
+        piece.u1 = (double)(k + 1) / n;
+        double x = ((A[0] * t + B[0]) * t + C[0]) * t + D[0];
+        double y = ((A[1] * t + B[1]) * t + C[1]) * t + D[1];
+        w->ok = outline_point(w->p, w->ol, (x + w->dx) * w->scale, (y + w->dy) * w->scale,
+                              straight ? NULL : &piece);
     }
     w->x = end_x;
     w->y = end_y;
@@ -430,7 +478,7 @@ static bool add_glyph(parser *p, FT_Face face, FT_UInt gi, double dx, double dy,
     FT_Outline *fo = &face->glyph->outline;
     if (fo->n_contours <= 0)
         return true; /* a space: nothing to see */
-    outline ol = {{0}, {0}};
+    outline ol = {{0}, {0}, {0}, false};
     glyph_walk w = {p, &ol, 1.0 / face->units_per_EM, dx, dy,
                     CSG_CURVE_TOLERANCE * face->units_per_EM, 0, 0, false, true};
     FT_Outline_Funcs funcs = {walk_move, walk_line, walk_conic, walk_cubic, 0, 0};
