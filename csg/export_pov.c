@@ -320,32 +320,37 @@ static void write_map(const exporter *e, const csg_pigment *pig)
     fputs(" }", e->out);
 }
 
+/* A pattern's keyword and what it takes before its modifiers: gradient's
+ * vector, the spirals' number of arms. */
+static void write_pattern_name(FILE *out, const csg_pigment *pig)
+{
+    fputs(csg_pattern_name(pig->pattern), out);
+    if (pig->pattern == CSG_PATTERN_GRADIENT) {
+        fputc(' ', out);
+        put_dvec(out, pig->gradient);
+    }
+    if (pig->pattern == CSG_PATTERN_SPIRAL1 || pig->pattern == CSG_PATTERN_SPIRAL2)
+        fprintf(out, " %d", pig->arms);
+}
+
 /* The pattern keyword, its name in the table (device/patterns.h; spotted
- * and bumps are written as bozo with their map), with checker's colours
- * or pigments and gradient's vector. */
+ * and bumps are written as bozo with their map), with the block patterns'
+ * colours or pigments (checker, brick, hexagon) and gradient's vector. */
 static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int depth)
 {
-    if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
-        fputs("checker", e->out);
+    if (csg_pattern_blocks(pig->pattern) > 0) {
+        fputs(csg_pattern_name(pig->pattern), e->out);
         for (int i = 0; i < pig->pmap_count; i++) {
             fputc(' ', e->out);
             write_pigment(e, &pig->pmap[i].pigment, depth + 1);
         }
+        for (int i = 0; i < pig->map_count && pig->pmap_count == 0; i++) {
+            fputs(i ? ", " : " ", e->out);
+            put_color(e, pig->map[i].rgbft);
+        }
         return;
     }
-    if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker ", e->out);
-        put_color(e, pig->map[0].rgbft);
-        fputs(", ", e->out);
-        put_color(e, pig->map[1].rgbft);
-        return;
-    }
-    if (pig->pattern == CSG_PATTERN_GRADIENT) {
-        fputs("gradient ", e->out);
-        put_dvec(e->out, pig->gradient);
-    } else {
-        fputs(csg_pattern_name(pig->pattern), e->out);
-    }
+    write_pattern_name(e->out, pig);
     if (pig->pmap_count > 0)
         write_pigment_map(e, pig, depth);
     else
@@ -373,6 +378,12 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
     if (pig->pattern == CSG_PATTERN_QUILTED) {
         put_field(out, " control0 ", pig->control0);
         put_field(out, " control1 ", pig->control1);
+    }
+    if (pig->pattern == CSG_PATTERN_BRICK) { /* (the mortar as given: POV-Ray takes
+                                                2e-10 off again) */
+        fputs(" brick_size ", out);
+        put_dvec(out, pig->brick_size);
+        put_field(out, " mortar ", pig->mortar + 2e-10);
     }
     if (pig->turb.on || csg_pattern_reads_noise(pig->pattern))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
@@ -443,14 +454,10 @@ static void write_normal(const exporter *e, const csg_normal *n, int depth)
     const csg_pigment *pig = &n->pattern;
     indent(out, depth);
     fputs("normal { ", out);
-    if (n->kind != CSG_NORMAL_PATTERN) {
+    if (n->kind != CSG_NORMAL_PATTERN)
         fputs(kinds[n->kind], out);
-    } else if (pig->pattern == CSG_PATTERN_GRADIENT) {
-        fputs("gradient ", out);
-        put_dvec(out, pig->gradient);
-    } else {
-        fputs(csg_pattern_name(pig->pattern), out);
-    }
+    else
+        write_pattern_name(out, pig);
     fputc(' ', out);
     put_num(out, n->amount);
     write_noise(e, pig);
@@ -469,14 +476,14 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
 
 /* A texture_map texture's body: the pattern, its settings, the entries
  * (each body relative to the pattern holding the map) and its matrix;
- * checker as POV-Ray writes it, two textures after the keyword. */
+ * a block pattern as POV-Ray writes it, its textures after the keyword. */
 static void write_texture_map(const exporter *e, const csg_texture *t, int depth)
 {
     FILE *out = e->out;
     const csg_pigment *pig = &t->pigment;
     indent(out, depth);
-    if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker\n", out);
+    if (csg_pattern_blocks(pig->pattern) > 0) {
+        fprintf(out, "%s\n", csg_pattern_name(pig->pattern));
         for (int i = 0; i < t->tmap_count; i++) {
             indent(out, depth);
             fputs("texture {\n", out);
@@ -485,12 +492,7 @@ static void write_texture_map(const exporter *e, const csg_texture *t, int depth
             fputs("}\n", out);
         }
     } else {
-        if (pig->pattern == CSG_PATTERN_GRADIENT) {
-            fputs("gradient ", out);
-            put_dvec(out, pig->gradient);
-        } else {
-            fputs(csg_pattern_name(pig->pattern), out);
-        }
+        write_pattern_name(out, pig);
         fputc('\n', out);
         indent(out, depth);
         fputs("texture_map {\n", out);

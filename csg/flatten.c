@@ -373,6 +373,9 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->crackle_solid = pig->crackle.solid;
     m->quilt_control[0] = (real)pig->control0; /* a quilted pigment's, as a normal's */
     m->quilt_control[1] = (real)pig->control1;
+    m->spiral_arms = pig->arms;
+    store3(m->brick_size, pig->brick_size);
+    m->mortar = (real)pig->mortar;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);

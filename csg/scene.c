@@ -398,3 +398,10 @@ bool csg_pattern_reads_noise(enum csg_pattern pattern)
 {
     return (int)pattern >= 0 && pattern < CSG_PATTERN_COUNT && pattern_noise[pattern];
 }
+
+int csg_pattern_blocks(int pattern)
+{
+    if (pattern == CSG_PATTERN_CHECKER || pattern == CSG_PATTERN_BRICK)
+        return 2;
+    return pattern == CSG_PATTERN_HEXAGON ? 3 : 0;
+}

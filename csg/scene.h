@@ -87,6 +87,10 @@ const char *csg_wave_name(int wave);
 enum csg_wave csg_pattern_wave(enum csg_pattern pattern);
 /* The pattern's value depends on the noise generator (false out of range). */
 bool csg_pattern_reads_noise(enum csg_pattern pattern);
+/* The entries a block pattern lists after its keyword, whose values are
+ * their indices (POV-Ray's Parse_Blend_List: checker and brick 2, hexagon
+ * 3); 0 for every other pattern. */
+int csg_pattern_blocks(int pattern);
 
 /* crackle's settings (POV-Ray's defaults: form <-1, 1, 0>, metric 2,
  * offset 0, not solid). */
@@ -134,6 +138,10 @@ typedef struct {
     double agate_turb;        /* agate: the weight of its turbulence (1)    */
     csg_crackle crackle;
     double control0, control1; /* quilted: its cubic's controls (1, 1)      */
+    dvec3 brick_size;         /* brick: a brick and its mortar (<8, 3, 4.5>) */
+    double mortar;            /* brick: the mortar's width, POV-Ray's float
+                                 of the given less 2e-10 (0.5f)             */
+    int arms;                 /* spiral1, spiral2: the number of arms       */
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */

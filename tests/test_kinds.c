@@ -342,7 +342,8 @@ static void assert_export_keeps(const csg_scene *s)
     csg_scene_free(&back);
 }
 
-/* Each pattern by its keyword (gradient needs its vector): parsed to its
+/* Each pattern by its keyword (gradient needs its vector, the spirals
+ * their arms): parsed to its
  * row with the table's default wave, flattened to the same id, exported
  * back; each wave likewise. */
 static void test_pattern_pipeline(void **state)
@@ -356,6 +357,7 @@ static void test_pattern_pipeline(void **state)
             snprintf(body, sizeof body, "%s%s", csg_pattern_name(k),
                      k == CSG_PATTERN_GRADIENT  ? " y"
                      : k == CSG_PATTERN_AVERAGE ? " pigment_map { [1 rgb 1] }"
+                     : k == CSG_PATTERN_SPIRAL1 || k == CSG_PATTERN_SPIRAL2 ? " 3"
                                                 : "");
         csg_scene s;
         parse_pigment(body, &s);

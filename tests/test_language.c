@@ -703,7 +703,7 @@ static void test_patterns(void **state)
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 pigment { checker color_map { [0 rgb 1] } } }",
               "t.pov:1:33: error: a color_map needs a pattern that takes one "
-              "(any but checker)");
+              "(any but checker, brick and hexagon)");
 }
 
 /* normal { }, layered textures, texture_map, material: POV-Ray's
@@ -752,9 +752,9 @@ static void test_normals_and_layers(void **state)
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 normal { scale 2 } }",
               "t.pov:1:15: error: a normal needs a pattern (bumps, dents, ripples, waves, ...)");
-    parse_err("sphere { 0, 1 normal { checker } }",
-              "t.pov:1:24: error: unsupported: 'checker' in a normal is not in csgtrace's "
-              "language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 normal { checker normal { bumps } } }",
+              "t.pov:1:24: error: unsupported: a list of normals after checker, brick or hexagon "
+              "is not in csgtrace's language (see scenes/LANGUAGE.md)");
     parse_err("sphere { 0, 1 texture { bozo } }",
               "t.pov:1:15: error: a patterned texture needs a texture_map");
     parse_err("#declare M = texture { bozo texture_map { [0 pigment { rgb 1 }] } }\n"
@@ -834,6 +834,79 @@ static void test_gamma_and_version(void **state)
 /* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
  * modifiers, the noise generator of the pigment, of global_settings and
  * of #version, and the errors of each keyword at its place. */
+/* brick, hexagon, spiral1 and spiral2 (POV-Ray's Parse_Pattern and
+ * Parse_Blend_List): the block patterns' lists of colours, pigments or
+ * textures at values 0, 1, 2, their defaults, unwaved; brick's size and
+ * mortar (a float, less 2e-10), kept by a brick identifier; the spirals'
+ * arms and triangle wave; and their errors. */
+static void test_block_and_spiral_patterns(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare B = pigment { brick brick_size <1, 2, 3> mortar 0.3 }\n"
+             "sphere { 0, 1 pigment { brick } }\n"
+             "sphere { 0, 1 pigment { B brick rgb 1 } }\n"
+             "sphere { 0, 1 pigment { hexagon rgb 0.1, rgb 0.2 } }\n"
+             "sphere { 0, 1 pigment { hexagon pigment { rgb 1 } pigment { bozo } } }\n"
+             "sphere { 0, 1 pigment { spiral1 5.9 } normal { spiral2 -3, 0.7 } }\n"
+             "sphere { 0, 1 texture { brick texture { pigment { rgb 1 } } } }\n",
+             &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_BRICK);
+    assert_near(p->frequency, 0); /* POV-Ray: a block pattern is not waved */
+    assert_near(p->brick_size.x, 8), assert_near(p->brick_size.y, 3);
+    assert_near(p->brick_size.z, 4.5);
+    assert_near(p->mortar, 0.5); /* (float)(0.5 - 2e-10) */
+    assert_int_equal(p->map_count, 2);
+    assert_near(p->map[0].rgbft[0], 0.5), assert_near(p->map[1].rgbft[1], 0.15);
+    p = &s.textures[s.objects[1]->texture].pigment; /* B's size and mortar kept */
+    assert_near(p->brick_size.z, 3);
+    assert_near(p->mortar, (double)(float)(0.3 - 2e-10));
+    assert_near(p->map[0].rgbft[0], 1), assert_near(p->map[1].rgbft[0], 0.6);
+    p = &s.textures[s.objects[2]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_HEXAGON);
+    assert_int_equal(p->map_count, 3);
+    assert_near(p->map[1].rgbft[0], 0.2), assert_near(p->map[2].value, 2);
+    assert_near(p->map[2].rgbft[0], 1); /* POV-Ray's third: red */
+    p = &s.textures[s.objects[3]->texture].pigment;
+    assert_int_equal(p->pmap_count, 3);
+    assert_int_equal(p->pmap[1].pigment.pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pmap[2].value, 2);
+    const csg_texture *t = &s.textures[s.objects[4]->texture];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_SPIRAL1);
+    assert_int_equal(t->pigment.arms, 5); /* truncated, as POV-Ray's short */
+    assert_int_equal(t->pigment.wave, CSG_WAVE_TRIANGLE);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_SPIRAL2);
+    assert_int_equal(t->normal.pattern.arms, -3);
+    assert_near(t->normal.amount, 0.7);
+    t = &s.textures[s.objects[5]->texture];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_BRICK);
+    assert_int_equal(t->tmap_count, 2);
+    assert_near(t->tmap[1].value, 1);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 normal { hexagon 1.6 scale 2 } }", &s);
+    const csg_normal *n = &s.textures[s.objects[0]->texture].normal;
+    assert_int_equal(n->pattern.pattern, CSG_PATTERN_HEXAGON);
+    assert_near(n->amount, 1.6);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo mortar 0.2 } }",
+              "t.pov:1:30: error: 'mortar' needs the brick pattern");
+    parse_err("sphere { 0, 1 normal { hexagon brick_size 2 } }",
+              "t.pov:1:32: error: 'brick_size' needs the brick pattern");
+    parse_err("sphere { 0, 1 pigment { brick mortar 1e300 } }",
+              "t.pov:1:38: error: mortar out of range, got 1e+300");
+    parse_err("sphere { 0, 1 pigment { spiral1 } }",
+              "t.pov:1:33: error: an expression expected, got '}'");
+    parse_err("sphere { 0, 1 pigment { spiral2 40000 } }",
+              "t.pov:1:33: error: the number of arms must be from -32768 to 32767, got 40000");
+    parse_err("sphere { 0, 1 pigment { hexagon color_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: a color_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
+    parse_err("sphere { 0, 1 texture { brick texture_map { [0 pigment { rgb 1 }] } } }",
+              "t.pov:1:31: error: a texture_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
+}
+
 static void test_noise_patterns(void **state)
 {
     (void)state;
@@ -931,7 +1004,8 @@ static void test_noise_patterns(void **state)
     parse_err("sphere { 0, 1 pigment { crackle metric 0 } }",
               "t.pov:1:40: error: metric must be > 0, got 0");
     parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
-              "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
+              "t.pov:1:33: error: a pigment_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",
               "t.pov:1:44: error: '[' expected (a pigment_map entry), got '}'");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { [0 rgb 1 } } }",
@@ -1480,6 +1554,7 @@ int main(void)
         cmocka_unit_test(test_fog_colour_expression),
         cmocka_unit_test(test_crand_and_average),
         cmocka_unit_test(test_file_io),
+        cmocka_unit_test(test_block_and_spiral_patterns),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -472,6 +472,112 @@ static double pattern_average(const csg_material *m, const double q[3], double b
     return 0.0;
 }
 
+/* x's fraction as POV-Ray's brick takes it, x - (int)x moved into
+ * [0, 1): trunc in place of the int cast, equal wherever the cast is
+ * defined. */
+static double brick_fraction(double x)
+{
+    double f = x - trunc(x);
+    return f < 0.0 ? f + 1.0 : f;
+}
+
+/* POV-Ray's brick_pattern: 0 in the mortar, 1 in a brick.  The layers of
+ * mortar between the rows (y), then the ends of the bricks (x, every
+ * other row shifted by half a brick), then the faces along z the same;
+ * the point is moved by the mortar (plus EPSILON) first. */
+static double pattern_brick(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double mortar = (double)m->mortar, fudge = PATTERN_EPSILON + mortar;
+    double x = q[0] + fudge, y = q[1] + fudge, z = q[2] + fudge;
+    double width = (double)m->brick_size[0], height = (double)m->brick_size[1],
+           depth = (double)m->brick_size[2];
+    if (brick_fraction(y / height) <= mortar / height)
+        return 0.0;
+    bool odd_row = brick_fraction((y / height) * 0.5) <= 0.5;
+    double ends = brick_fraction(odd_row ? x / width : x / width + 0.5);
+    if (ends <= mortar / width)
+        return 0.0;
+    double faces = brick_fraction(odd_row ? z / depth + 0.5 : z / depth);
+    return faces <= mortar / depth ? 0.0 : 1.0;
+}
+
+/* The hexagon's colour (0, 1 or 2) of a cell (xm, zm) of POV-Ray's 6 x 6
+ * grid wholly inside one hexagon (xm 0, 2, 3 or 5). */
+static int hexagon_square(int xm, int zm)
+{
+    static const int edge[6] = {0, 1, 1, 2, 2, 0};   /* xm 0 and 5 */
+    static const int middle[6] = {2, 2, 0, 0, 1, 1}; /* xm 2 and 3 */
+    return xm == 0 || xm == 5 ? edge[zm] : middle[zm];
+}
+
+/* POV-Ray's hexagon_pattern: three hexagons tiling the xz plane, 0, 1 or
+ * 2.  The point is folded (|x|; z < 0 moved up by the grid's height, not
+ * mirrored), scaled into a 6 x 6 grid of half triangles; cells with
+ * xm 1 or 4 are split by a diagonal (the slope read against 1). */
+static double pattern_hexagon(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)bias;
+    double x = fabs(q[0]), z = q[2];
+    z = z < 0.0 ? 5.196152424 - fabs(z) : z;
+    double xs = x / 0.5, zs = z / 0.866025404;
+    xs -= floor(xs / 6.0) * 6.0;
+    zs -= floor(zs / 6.0) * 6.0;
+    /* in [0, 6) but where the rounding of a far point says otherwise (POV-Ray's
+       int cast of such a point is undefined: cell 0 here) */
+    int xm = xs >= 0.0 && xs < 6.0 ? (int)floor(xs) % 6 : 0;
+    int zm = zs >= 0.0 && zs < 6.0 ? (int)floor(zs) % 6 : 0;
+    if (xm != 1 && xm != 4)
+        return hexagon_square(xm, zm);
+    double xl = xs - xm, zl = zs - zm;
+    if ((xm + zm) % 2 == 1)
+        xl = 1.0 - xl;
+    if (xl == 0.0)
+        xl = 0.0001; /* POV-Ray's */
+    static const int below[6] = {0, 2, 1, 0, 2, 1}; /* zl / xl < 1, by zm */
+    static const int above[6] = {2, 1, 0, 2, 1, 0};
+    return zl / xl < 1.0 ? below[zm] : above[zm];
+}
+
+/* POV-Ray's spiral angle: the turn of (x, y) about the z axis in
+ * [0, 2 pi), from -y; and the distance from the axis. */
+static double spiral_turn(const double q[3], double *rad)
+{
+    double x = q[0], y = q[1];
+    *rad = sqrt(x * x + y * y);
+    if (*rad == 0.0)
+        return 0.0;
+    return x < 0.0 ? 3.0 * 1.57079632679489661923 - asin(y / *rad)
+                   : 1.57079632679489661923 + asin(y / *rad);
+}
+
+/* spiral1 and spiral2 add their turbulence themselves (POV-Ray's
+ * Search_For_Turb: the classic one's x amount times the noise's
+ * turbulence), after the classic warp has moved the point. */
+static double spiral_turbulence(const csg_material *m, const double q[3])
+{
+    if (!m->turb_on)
+        return 0.0;
+    noise_turb t = turb_of(m);
+    return (double)m->turbulence[0] * noise_turbulence(q, &t, m->noise_gen);
+}
+
+static double pattern_spiral1(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double turb = spiral_turbulence(m, q), rad, phi = spiral_turn(q, &rad);
+    return q[2] + rad + (double)m->spiral_arms * phi / 6.283185307179586476925286766560 + turb;
+}
+
+static double pattern_spiral2(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double turb = spiral_turbulence(m, q), rad, phi = spiral_turn(q, &rad);
+    turb = noise_triangle(q[2] + rad +
+                          (double)m->spiral_arms * phi / 6.283185307179586476925286766560 + turb);
+    return noise_triangle(rad) + turb;
+}
+
 /* Step 4: the value of m's pattern.  The cases are the table's rows, each
  * its pattern_<name> (a row without one does not compile); there is no
  * default, so -Wswitch names a pattern left out.  Plain never gets here

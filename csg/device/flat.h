@@ -439,6 +439,10 @@ typedef struct {
     real reflection_exponent;
     real reflection_metallic;
     real crand;         /* POV-Ray's graininess (0: none; shade.c)       */
+    csg_i32 spiral_arms; /* spiral1, spiral2: the number of arms         */
+    csg_i32 pad3;
+    real brick_size[3]; /* brick: a brick's size along x, y, z           */
+    real mortar;        /* brick: the mortar's width                     */
 } csg_material;
 
 /* A light (POV-Ray's LightSource): the C workers, and the device's shadow
