@@ -121,6 +121,13 @@ static void write_globals(const exporter *e)
     put_field(out, "\n    adc_bailout ", g->adc_bailout);
     if (g->number_of_waves != 10)
         fprintf(out, "\n    number_of_waves %d", g->number_of_waves);
+    if (g->noise_generator != 0) /* (irid's turbulence reads it) */
+        fprintf(out, "\n    noise_generator %d", g->noise_generator);
+    if (g->irid_wavelength[0] != (double)0.70f || g->irid_wavelength[1] != (double)0.52f ||
+        g->irid_wavelength[2] != (double)0.48f) {
+        fputs("\n    irid_wavelength rgb ", out);
+        put_vec(out, g->irid_wavelength, 3);
+    }
     fputs("\n    ambient_light rgb ", out);
     put_vec(out, e->flat ? one : g->ambient_light, 3);
     fputs("\n}\n\n", out);
@@ -548,6 +555,12 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
     put_field(out, " metallic ", f->metallic);
     if (f->crand != 0)
         put_field(out, " crand ", f->crand);
+    if (f->irid != 0) {
+        put_field(out, " irid { ", f->irid);
+        put_field(out, " thickness ", f->irid_thickness);
+        put_field(out, " turbulence ", f->irid_turbulence);
+        fputs(" }", out);
+    }
     if (f->reflection_variable) {
         fputs(" reflection { rgb ", out);
         put_vec(out, f->reflection_min, 3);

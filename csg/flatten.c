@@ -540,6 +540,9 @@ static bool material_layer(flat_builder *fb, const csg_texture *tex, const csg_i
     m->phong_size = (real)tex->finish.phong_size;
     m->metallic = (real)tex->finish.metallic;
     m->crand = (real)tex->finish.crand;
+    m->irid = (real)tex->finish.irid;
+    m->irid_thickness = (real)tex->finish.irid_thickness;
+    m->irid_turbulence = (real)tex->finish.irid_turbulence;
     const csg_finish *fin = &tex->finish;
     if (fin->reflection_variable) {
         m->reflection_variable = 1;
@@ -2342,6 +2345,12 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
         g->turb_depth = (real)f->turb_depth;
     }
     sh->camera_solid = camera_solid(s);
+    csg_pigment scene_noise;
+    csg_pigment_default(&scene_noise); /* (its generator 0: the scene's) */
+    sh->noise_gen = csg_noise_of(s, &scene_noise);
+    store3(sh->irid_wavelength, (dvec3){s->globals.irid_wavelength[0],
+                                        s->globals.irid_wavelength[1],
+                                        s->globals.irid_wavelength[2]});
     long spp = o->spp > 0 ? o->spp : 1;
     sh->max_rays = o->max_rays > 0 ? o->max_rays
                                    : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */

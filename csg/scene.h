@@ -183,6 +183,13 @@ typedef struct {
     double reflection_metallic; /* the reflection tinted by the pigment  */
     bool reflection_fresnel;  /* MIN to MAX by the Fresnel reflectance   */
     bool conserve_energy;     /* what is reflected is not transmitted    */
+    /* POV-Ray's iridescence, irid { amount thickness F turbulence V }: each
+     * light's diffuse and highlights times 1 + amount cos(the film's phase
+     * / the wavelength), colour by colour; single-precision values, as
+     * POV-Ray keeps them (0: none) */
+    double irid;
+    double irid_thickness;
+    double irid_turbulence;   /* V's x: the film's thickness varies by it */
 } csg_finish;
 
 /* POV-Ray's normal { }: a pattern that perturbs the surface normal
@@ -378,6 +385,8 @@ typedef struct {
     double ambient_light[3]; /* 1                                     */
     int noise_generator;    /* 0 when not given: 2 (1 before #version 3.5) */
     int number_of_waves;    /* the wave sources of ripples and waves (10) */
+    double irid_wavelength[3]; /* irid's wavelengths (<0.70, 0.52, 0.48>),
+                                  single precision as POV-Ray's colours */
 } csg_globals;
 
 /* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the

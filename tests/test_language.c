@@ -907,6 +907,38 @@ static void test_block_and_spiral_patterns(void **state)
               "(any but checker, brick and hexagon)");
 }
 
+/* finish { irid { } } and global_settings { irid_wavelength }: POV-Ray's
+ * values in single precision, defaults, the turbulence vector's x; flattened
+ * into the material and the shading; errors. */
+static void test_irid(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("global_settings { irid_wavelength rgb <0.25, 0.18, 0.14> noise_generator 3 }\n"
+             "sphere { 0, 1 finish { irid { 0.3 thickness 0.7 turbulence <0.6, 2, 3> } } }\n"
+             "sphere { 0, 1 finish { irid { 0.5 } } }\n", &s);
+    assert_near(s.globals.irid_wavelength[0], (double)0.25f);
+    assert_near(s.globals.irid_wavelength[2], (double)0.14f);
+    const csg_finish *f = &s.textures[s.objects[0]->texture].finish;
+    assert_near(f->irid, (double)0.3f);
+    assert_near(f->irid_thickness, (double)0.7f);
+    assert_near(f->irid_turbulence, (double)0.6f);
+    f = &s.textures[s.objects[1]->texture].finish;
+    assert_near(f->irid, 0.5);
+    assert_near(f->irid_thickness, 0), assert_near(f->irid_turbulence, 0);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 }", &s); /* POV-Ray's default wavelengths */
+    assert_near(s.globals.irid_wavelength[1], (double)0.52f);
+    assert_near(s.textures[s.objects[0]->texture].finish.irid, 0);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 finish { irid { 0.3 phong 1 } } }",
+              "t.pov:1:35: error: '}' expected (to close 'irid' at 1:24), got 'phong'");
+    parse_err("sphere { 0, 1 finish { irid { 1e39 } } }",
+              "t.pov:1:31: error: irid out of range, got 1e+39");
+    parse_err("sphere { 0, 1 finish { irid 0.3 } }",
+              "t.pov:1:29: error: '{' expected after 'irid', got '0.3'");
+}
+
 static void test_noise_patterns(void **state)
 {
     (void)state;
@@ -1021,17 +1053,17 @@ static void test_unusable_declarations(void **state)
     (void)state;
     csg_scene s;
     /* declared and never used: no error */
-    parse_ok("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
+    parse_ok("#declare T = texture { pigment { rgb 1 } finish { emission 0.3 } }\n"
              "#declare U = texture { T finish { phong 1 } }\n"
              "#declare F = function(x) { x * 2 }\n"
              "#declare N = 5;\n"
              "sphere { 0, N }\n", &s);
     assert_near(s.objects[0]->r0, 5);
     csg_scene_free(&s);
-    parse_err("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
+    parse_err("#declare T = texture { pigment { rgb 1 } finish { emission 0.3 } }\n"
               "#declare U = texture { T finish { phong 1 } }\n"
               "sphere { 0, 1 texture { U } }",
-              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'irid' "
+              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'emission' "
               "(t.pov:1:51), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
 }
 
@@ -1555,6 +1587,7 @@ int main(void)
         cmocka_unit_test(test_crand_and_average),
         cmocka_unit_test(test_file_io),
         cmocka_unit_test(test_block_and_spiral_patterns),
+        cmocka_unit_test(test_irid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

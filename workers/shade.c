@@ -40,6 +40,7 @@
 #include "engine.h"
 #include "frustum.h"
 #include "noise.h"
+#include "noise.h"
 #include "../csg/device/offset.h"
 #include "pager.h"
 #include "pigment.h"
@@ -69,6 +70,8 @@ typedef struct {
     const csg_flat_fog *fogs;
     csg_i32 fog_count;
     csg_i32 camera_solid;    /* non-hollow objects around the camera        */
+    csg_i32 noise_gen;       /* the scene's noise generator (irid's)        */
+    double irid_wavelength[3];
 } shade_ctx;
 
 _Static_assert((int)CSG_OUTPUT_SRGB == (int)PIXELS_GAMMA_SRGB &&
@@ -180,6 +183,9 @@ static shade_ctx ctx_of(const void *blob)
     c.fogs = sh->fogs;
     c.fog_count = sh->fog_count;
     c.camera_solid = sh->camera_solid;
+    c.noise_gen = sh->noise_gen;
+    for (int i = 0; i < 3; i++)
+        c.irid_wavelength[i] = (double)sh->irid_wavelength[i];
     return c;
 }
 
@@ -862,6 +868,31 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
     return light;
 }
 
+/* POV-Ray's ComputeIridColour: what a thin film (irid) makes of one
+ * light's diffuse and highlights, colour by colour 1 + irid cos(phase /
+ * wavelength), the phase 2 pi thickness (|cos| to the light + |cos| to the
+ * eye); the thickness varies by turbulence (five octaves of the scene's
+ * noise at the hit point p, into 1 +- turbulence). */
+static vec3 irid_factor(const shade_ctx *c, const csg_material *m, vec3 l, vec3 eye, vec3 nl,
+                        vec3 p)
+{
+    double thickness = (double)m->irid_thickness;
+    if (m->irid_turbulence != R(0.0)) {
+        noise_turb turb = {5, 0.5, 2.0};
+        double q[3] = {(double)p.x, (double)p.y, (double)p.z};
+        double noise = 2.0 * noise_turbulence(q, &turb, c->noise_gen) - 1.0;
+        thickness *= 1.0 + noise * (double)m->irid_turbulence;
+    }
+    double n[3] = {(double)nl.x, (double)nl.y, (double)nl.z};
+    double cos_light = fabs(n[0] * (double)l.x + n[1] * (double)l.y + n[2] * (double)l.z);
+    double cos_eye = fabs(n[0] * (double)eye.x + n[1] * (double)eye.y + n[2] * (double)eye.z);
+    double interference = 2.0 * M_PI * thickness * (cos_light + cos_eye);
+    double irid = (double)m->irid, f[3];
+    for (int i = 0; i < 3; i++)
+        f[i] = 1.0 + irid * cos(interference / c->irid_wavelength[i]);
+    return v3((real)f[0], (real)f[1], (real)f[2]);
+}
+
 /* One layer's own light (POV-Ray's ambient, diffuse and highlights of
  * the layer with pigment pig, normal nl; phong_dir: the eye reflected
  * about nl): *surface, dimmed by the opacity by the caller, and
@@ -890,16 +921,19 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
         light = light_at(c, hi, i, l, dist, light, tally);
         if (!lt->shadowless && max3(light) <= R(0.0))
             continue;
+        /* irid scales every term of this light (1 without irid: the same bits) */
+        vec3 irid = m->irid > R(0.0) ? irid_factor(c, m, l, hi->r.d, nl, hi->p) : grey3(R(1.0));
         real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
-        surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
+        surface = v3_add(surface, v3_mul(v3_scale(v3_mul(pig, light), m->diffuse * lambert), irid));
         if (m->crand > R(0.0) && m->diffuse > R(0.0)) /* POV-Ray's ComputeDiffuseColour:
             the grain leaves the diffuse intensity after its opacity: not dimmed */
-            highlight = v3_sub(highlight, v3_scale(v3_mul(pig, light),
-                                                   (real)pixel_random(tally) * m->crand));
+            highlight = v3_sub(highlight, v3_mul(v3_scale(v3_mul(pig, light),
+                                                          (real)pixel_random(tally) * m->crand),
+                                                 irid));
         if (lt->shadowless) /* POV-Ray gives a fill light (shadowless) no
             highlights (ComputeOneLightRay: Light_Type != FILL_LIGHT_SOURCE) */
             continue;
-        vec3 hl = highlight_color(m, pig, cosl, light);
+        vec3 hl = v3_mul(highlight_color(m, pig, cosl, light), irid);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(phong_dir, l);
             if (cr > R(0.0))

@@ -355,12 +355,15 @@ typedef struct {
     csg_i32 fog_count;     /* fogs[0 .. fog_count) (<= CSG_FLAT_FOGS)   */
     csg_i32 camera_solid;  /* non-hollow objects around the camera: no fog
                               on the primary rays while > 0             */
+    csg_i32 noise_gen;     /* the scene's noise generator (irid's)     */
+    csg_i32 pad;
     real output_gamma;     /* CSG_OUTPUT_POWER's G (1 otherwise)        */
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];
     real adc_bailout;      /* rays weighing less are not traced        */
     real sky_emission[3];
+    real irid_wavelength[3]; /* irid's wavelengths, red, green, blue     */
     csg_flat_fog fogs[CSG_FLAT_FOGS];
 } csg_shading;
 
@@ -443,6 +446,9 @@ typedef struct {
     csg_i32 pad3;
     real brick_size[3]; /* brick: a brick's size along x, y, z           */
     real mortar;        /* brick: the mortar's width                     */
+    real irid;          /* iridescence (csg_finish; 0: none)             */
+    real irid_thickness;
+    real irid_turbulence;
 } csg_material;
 
 /* A light (POV-Ray's LightSource): the C workers, and the device's shadow

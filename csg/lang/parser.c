@@ -1665,6 +1665,15 @@ static bool parse_global_settings(parser *p)
             if (!lang_next(p) || !parse_assumed_gamma(p, g))
                 return false;
             continue;
+        case CSG_KW_IRID_WAVELENGTH: /* a colour, kept in floats as POV-Ray's */
+            at = lang_tok(p)->loc;
+            if (!lang_next(p) || !lang_parse_rgb(p, g->irid_wavelength))
+                return false;
+            for (int i = 0; i < 3; i++)
+                if (!lang_single_float(p, g->irid_wavelength[i], at, "irid_wavelength",
+                                       &g->irid_wavelength[i]))
+                    return false;
+            continue;
         case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
         case CSG_KW_NOISE_GENERATOR: case CSG_KW_NUMBER_OF_WAVES:
             if (!lang_next(p) || !lang_parse_float(p, &f, &at))

@@ -328,17 +328,21 @@ static bool is_block_pattern(int pattern)
     return csg_pattern_blocks(pattern) > 0;
 }
 
-/* brick's mortar as POV-Ray keeps it: the width less 2 EPSILON, in a
- * float (SNGL); false when no float holds it. */
-static bool brick_mortar(parser *p, double width, csg_loc at, double *mortar)
+bool lang_single_float(parser *p, double v, csg_loc at, const char *what, double *out)
 {
-    double m = width - 2e-10;
-    if (!(fabs(m) <= (double)FLT_MAX)) {
-        csg_error(p->d, at, "mortar out of range, got %g", width);
+    if (!(fabs(v) <= (double)FLT_MAX)) {
+        csg_error(p->d, at, "%s out of range, got %g", what, v);
         return false;
     }
-    *mortar = (double)(float)m;
+    *out = (double)(float)v;
     return true;
+}
+
+/* brick's mortar as POV-Ray keeps it: the width less 2 EPSILON, in a
+ * float (SNGL). */
+static bool brick_mortar(parser *p, double width, csg_loc at, double *mortar)
+{
+    return lang_single_float(p, width - 2e-10, at, "mortar", mortar);
 }
 
 /* The keyword of a block pattern (the current token) read: its pattern,
@@ -953,6 +957,33 @@ static void finish_settle(csg_finish *f)
                              f->reflection_exponent != 1 || f->conserve_energy;
 }
 
+/* irid { AMOUNT { thickness F | turbulence VECTOR } } (POV-Ray's
+ * Parse_Finish: the vector's x is the turbulence), in floats as POV-Ray. */
+static bool parse_irid(parser *p, csg_finish *f)
+{
+    csg_loc open = lang_tok(p)->loc, at;
+    double v;
+    if (!lang_next(p) || !lang_expect_open(p, "irid") || !lang_parse_float(p, &v, &at) ||
+        !lang_single_float(p, v, at, "irid", &f->irid))
+        return false;
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (lang_is_kw(p, CSG_KW_THICKNESS)) {
+            if (!lang_next(p) || !lang_parse_float(p, &v, &at) ||
+                !lang_single_float(p, v, at, "thickness", &f->irid_thickness))
+                return false;
+        } else if (lang_is_kw(p, CSG_KW_TURBULENCE)) {
+            dvec3 t;
+            if (!lang_next(p) || !lang_parse_vector(p, &t, &at) ||
+                !lang_single_float(p, t.x, at, "turbulence", &f->irid_turbulence))
+                return false;
+        } else {
+            return lang_expected_close(p, '}', "irid", open);
+        }
+    }
+}
+
 bool lang_parse_finish(parser *p, csg_finish *f)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -988,6 +1019,10 @@ bool lang_parse_finish(parser *p, csg_finish *f)
             continue;
         case CSG_KW_REFLECTION:
             if (!parse_reflection(p, f))
+                return false;
+            continue;
+        case CSG_KW_IRID:
+            if (!parse_irid(p, f))
                 return false;
             continue;
         case CSG_KW_METALLIC: /* the amount is optional: 1 */
