@@ -327,11 +327,19 @@ static void write_map(const exporter *e, const csg_pigment *pig)
     fputs(" }", e->out);
 }
 
+static void write_pigment_body(const exporter *e, const csg_pigment *pig, int depth);
+
 /* A pattern's keyword and what it takes before its modifiers: gradient's
- * vector, the spirals' number of arms. */
-static void write_pattern_name(FILE *out, const csg_pigment *pig)
+ * vector, the spirals' number of arms, pigment_pattern's pigment. */
+static void write_pattern_name(const exporter *e, const csg_pigment *pig, int depth)
 {
+    FILE *out = e->out;
     fputs(csg_pattern_name(pig->pattern), out);
+    if (pig->pattern == CSG_PATTERN_PIGMENT_PATTERN) {
+        fputs(" { ", out);
+        write_pigment_body(e, pig->pattern_pigment, depth + 1);
+        fputs(pig->pattern_pigment->pattern == CSG_PATTERN_PLAIN ? " }" : "}", out);
+    }
     if (pig->pattern == CSG_PATTERN_GRADIENT) {
         fputc(' ', out);
         put_dvec(out, pig->gradient);
@@ -357,7 +365,7 @@ static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int de
         }
         return;
     }
-    write_pattern_name(e->out, pig);
+    write_pattern_name(e, pig, depth);
     if (pig->pmap_count > 0)
         write_pigment_map(e, pig, depth);
     else
@@ -464,7 +472,7 @@ static void write_normal(const exporter *e, const csg_normal *n, int depth)
     if (n->kind != CSG_NORMAL_PATTERN)
         fputs(kinds[n->kind], out);
     else
-        write_pattern_name(out, pig);
+        write_pattern_name(e, pig, depth);
     fputc(' ', out);
     put_num(out, n->amount);
     write_noise(e, pig);
@@ -499,7 +507,7 @@ static void write_texture_map(const exporter *e, const csg_texture *t, int depth
             fputs("}\n", out);
         }
     } else {
-        write_pattern_name(out, pig);
+        write_pattern_name(e, pig, depth);
         fputc('\n', out);
         indent(out, depth);
         fputs("texture_map {\n", out);

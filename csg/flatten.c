@@ -66,12 +66,16 @@
 
 #define CSG_MAX_MAP_PIGMENTS (1 << 20) /* materials of pigment map entries */
 
-/* A material whose pigment map's entries wait for their materials. */
+/* A material whose pigment map's entries, or whose pigment_pattern's
+ * pigment, wait for their materials. */
 typedef struct {
     int parent;                        /* the material holding the map   */
     const csg_pigment_entry *entries;  /* its entries (the scene's arena:
                                           the pigment may be a copy)     */
     int count;
+    const csg_pigment *pattern;        /* not NULL: the pigment of the
+                                          parent's pigment_pattern (count 1,
+                                          no entries)                    */
 } pending_map;
 
 /* A texture whose layers, normals or texture_map entries wait for their
@@ -343,6 +347,7 @@ static void store3(real dst[3], dvec3 v)
 }
 
 static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m);
+static bool pattern_pigment_queue(flat_builder *fb, const csg_pigment *pig, csg_material *m);
 
 /* A patterned pigment: its kind, world -> pattern matrix (pig's own
  * transform, then `then` when not NULL), wave and colour map (appended to
@@ -390,6 +395,8 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     store3(m->gradient, pig->gradient);
     m->frequency = (real)pig->frequency;
     m->phase = (real)pig->phase;
+    if (pig->pattern == CSG_PATTERN_PIGMENT_PATTERN && !pattern_pigment_queue(fb, pig, m))
+        return false;
     if (pig->pmap_count > 0)
         return pigment_map_values(fb, pig, m);
     if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
@@ -458,6 +465,24 @@ static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_mat
     pm->parent = (int)(m - fb->mats);
     pm->entries = pig->pmap;
     pm->count = pig->pmap_count;
+    pm->pattern = NULL;
+    return true;
+}
+
+/* A pigment_pattern: its pigment queued for add_pigment_maps, which puts
+ * its material after every other one (m->pattern_pigment). */
+static bool pattern_pigment_queue(flat_builder *fb, const csg_pigment *pig, csg_material *m)
+{
+    if (!grow((void **)&fb->pending, &fb->pending_cap, fb->pending_count + 1,
+              sizeof(pending_map))) {
+        fb->oom = true;
+        return false;
+    }
+    pending_map *pm = &fb->pending[fb->pending_count++];
+    pm->parent = (int)(m - fb->mats);
+    pm->entries = NULL;
+    pm->count = 1;
+    pm->pattern = pig->pattern_pigment;
     return true;
 }
 
@@ -483,11 +508,14 @@ static bool add_pigment_maps(flat_builder *fb)
             fb->oom = true;
             return true; /* reported as out of memory */
         }
-        fb->mats[pm.parent].sub_first = fb->mat_count;
+        if (pm.pattern)
+            fb->mats[pm.parent].pattern_pigment = fb->mat_count;
+        else
+            fb->mats[pm.parent].sub_first = fb->mat_count;
         for (int k = 0; k < n; k++) {
             csg_material *m = &fb->mats[fb->mat_count];
             memset(m, 0, sizeof *m);
-            if (!material_pattern(fb, &pm.entries[k].pigment, NULL, m))
+            if (!material_pattern(fb, pm.pattern ? pm.pattern : &pm.entries[k].pigment, NULL, m))
                 return true; /* out of memory: fb->oom, reported so */
             fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's */
         }

@@ -126,7 +126,7 @@ typedef struct csg_pigment_entry csg_pigment_entry;
 
 /* POV-Ray's pigment: red, green, blue, filter, transmit, or a pattern
  * with its colour map or its pigment map. */
-typedef struct {
+typedef struct csg_pigment {
     double rgbft[5];          /* the colour of a plain pigment              */
     enum csg_pattern pattern; /* device/patterns.h                          */
     dvec3 gradient;           /* gradient: its unit vector                  */
@@ -142,6 +142,8 @@ typedef struct {
     double mortar;            /* brick: the mortar's width, POV-Ray's float
                                  of the given less 2e-10 (0.5f)             */
     int arms;                 /* spiral1, spiral2: the number of arms       */
+    const struct csg_pigment *pattern_pigment; /* pigment_pattern: the pigment
+                                 whose grey is the value (the scene's arena) */
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */

@@ -270,3 +270,21 @@ global_settings { assumed_gamma 1 }
 #debug concat("V ", str(F44(12.5, -8.25, 0.6).red, 0, 12), "\n")
 #debug concat("V ", str(F44(-0.7, -0.2, -0.45).red, 0, 12), "\n")
 #debug concat("V ", str(F44(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F45 = function { pigment { pigment_pattern { bozo color_map { [0 rgb <1, 0.2, 0>] [1 rgb <0, 0.5, 1>] } scale 0.5 } color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F45(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F45(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F45(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F45(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F45(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F46 = function { pigment { pigment_pattern { gradient x pigment_map { [0 rgb <0.3, 0.9, 0.1>] [1 wood color_map { [0 rgb 1] [1 rgb <0, 0, 1>] }] } scale 3 } turbulence 0.2 sine_wave color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F46(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F46(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F46(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F46(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F46(100.3, 20.1, -55.7).red, 0, 12), "\n")
+#declare F47 = function { pigment { pigment_pattern { hexagon rgb <1, 0, 0>, rgb <0, 1, 0>, rgb <0, 0, 1> scale 0.6 } color_map { [0 rgb 0] [1 rgb 1] } } }
+#debug concat("V ", str(F47(0.3, 1.7, -2.2).red, 0, 12), "\n")
+#debug concat("V ", str(F47(-3.41, 0.05, 7.9).red, 0, 12), "\n")
+#debug concat("V ", str(F47(12.5, -8.25, 0.6).red, 0, 12), "\n")
+#debug concat("V ", str(F47(-0.7, -0.2, -0.45).red, 0, 12), "\n")
+#debug concat("V ", str(F47(100.3, 20.1, -55.7).red, 0, 12), "\n")

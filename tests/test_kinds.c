@@ -343,7 +343,7 @@ static void assert_export_keeps(const csg_scene *s)
 }
 
 /* Each pattern by its keyword (gradient needs its vector, the spirals
- * their arms): parsed to its
+ * their arms, pigment_pattern its pigment): parsed to its
  * row with the table's default wave, flattened to the same id, exported
  * back; each wave likewise. */
 static void test_pattern_pipeline(void **state)
@@ -358,6 +358,7 @@ static void test_pattern_pipeline(void **state)
                      k == CSG_PATTERN_GRADIENT  ? " y"
                      : k == CSG_PATTERN_AVERAGE ? " pigment_map { [1 rgb 1] }"
                      : k == CSG_PATTERN_SPIRAL1 || k == CSG_PATTERN_SPIRAL2 ? " 3"
+                     : k == CSG_PATTERN_PIGMENT_PATTERN ? " { bozo }"
                                                 : "");
         csg_scene s;
         parse_pigment(body, &s);
@@ -397,7 +398,8 @@ static void test_blob_refuses_unknown(void **state)
         m->pattern = bad_patterns[i];
         assert_false(csg_blob_valid(b.bytes, b.size));
     }
-    m->pattern = CSG_PATTERN_COUNT - 1; /* the last row is known */
+    m->pattern = CSG_PATTERN_COUNT - 2; /* the last rows are known (the last,
+                                           pigment_pattern: below) */
     assert_true(csg_blob_valid(b.bytes, b.size));
     m->pattern = CSG_PATTERN_BOZO;
     const int bad_waves[] = {-1, CSG_WAVE_COUNT, 1000};
@@ -407,6 +409,24 @@ static void test_blob_refuses_unknown(void **state)
     }
     m->wave = CSG_WAVE_COUNT - 1;
     assert_true(csg_blob_valid(b.bytes, b.size));
+    m->pattern_pigment = 1; /* only a pigment_pattern has a pigment */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+    /* a pigment_pattern's pigment: a later material, inside the table */
+    parse_pigment("pigment_pattern { bozo }", &s);
+    assert_true(engine_float.flatten(&s, &o, &b, &d));
+    m = &blob_materials(&b)[0];
+    assert_int_equal(m->pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_int_equal(blob_materials(&b)[m->pattern_pigment].pattern, CSG_PATTERN_BOZO);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    const int bad_pigments[] = {0, -1, csg_blob_hdr(b.bytes)->material_count};
+    for (size_t i = 0; i < sizeof bad_pigments / sizeof bad_pigments[0]; i++) {
+        int keep = m->pattern_pigment;
+        m->pattern_pigment = bad_pigments[i];
+        assert_false(csg_blob_valid(b.bytes, b.size));
+        m->pattern_pigment = keep;
+    }
     csg_blob_free(&b);
     csg_scene_free(&s);
 }

@@ -907,6 +907,37 @@ static void test_block_and_spiral_patterns(void **state)
               "(any but checker, brick and hexagon)");
 }
 
+/* pigment_pattern { PIGMENT_BODY }: the pigment (black to start with, as
+ * POV-Ray's Create_Pigment, or an identifier's) kept apart; the
+ * black-to-white map; in a normal with its amount; errors. */
+static void test_pigment_pattern(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#default { pigment { rgb 1 } }\n"
+             "#declare P = pigment { bozo scale 2 }\n"
+             "sphere { 0, 1 pigment { pigment_pattern { P translate x }\n"
+             "                        color_map { [0 rgb 1] [1 rgb 0] } } }\n"
+             "sphere { 0, 1 pigment { pigment_pattern { } } normal { pigment_pattern { P } 3 } }\n",
+             &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_int_equal(p->pattern_pigment->pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pattern_pigment->xform.m[0][3], 1);
+    assert_near(p->map[0].rgbft[0], 1);
+    const csg_texture *t = &s.textures[s.objects[1]->texture];
+    assert_int_equal(t->pigment.pattern_pigment->pattern, CSG_PATTERN_PLAIN);
+    assert_near(t->pigment.pattern_pigment->rgbft[0], 0); /* black, not the default */
+    assert_near(t->pigment.map[1].rgbft[0], 1);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_near(t->normal.amount, 3);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { pigment_pattern bozo } }",
+              "t.pov:1:41: error: '{' expected after 'pigment_pattern', got 'bozo'");
+    parse_err("sphere { 0, 1 pigment { pigment_pattern { bozo phong 1 } } }",
+              "t.pov:1:48: error: '}' expected (to close 'pigment' at 1:25), got 'phong'");
+}
+
 /* finish { irid { } } and global_settings { irid_wavelength }: POV-Ray's
  * values in single precision, defaults, the turbulence vector's x; flattened
  * into the material and the shading; errors. */
@@ -1588,6 +1619,7 @@ int main(void)
         cmocka_unit_test(test_file_io),
         cmocka_unit_test(test_block_and_spiral_patterns),
         cmocka_unit_test(test_irid),
+        cmocka_unit_test(test_pigment_pattern),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

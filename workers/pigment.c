@@ -578,6 +578,14 @@ static double pattern_spiral2(const csg_material *m, const double q[3], double b
     return noise_triangle(rad) + turb;
 }
 
+/* pigment_pattern's value needs the other materials: pattern_at gives it
+ * (its pigment's grey), this is the table's row. */
+static double pattern_pigment_pattern(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)q, (void)bias;
+    return 0.0;
+}
+
 /* Step 4: the value of m's pattern.  The cases are the table's rows, each
  * its pattern_<name> (a row without one does not compile); there is no
  * default, so -Wswitch names a pattern left out.  Plain never gets here
@@ -729,6 +737,22 @@ static double matrix_norm(const real *m)
 static pigment_color evaluate(const csg_material *mats, const csg_material *m,
                               const csg_map_color *maps, const double w[3], double err, int depth);
 
+/* Step 4 with the other materials at hand: a pigment_pattern's value is
+ * the grey of its pigment at q (POV-Ray's pigment_pattern: the colour in
+ * floats, 0.297 r + 0.589 g + 0.114 b, rounded to a float); every other
+ * pattern's is pattern_value's. */
+static double pattern_at(const csg_material *mats, const csg_material *m,
+                         const csg_map_color *maps, const double q[3], double err, int depth)
+{
+    if (m->pattern != CSG_PATTERN_PIGMENT_PATTERN)
+        return pattern_value(m, q, PATTERN_EPSILON);
+    if (depth >= PIGMENT_MAX_DEPTH)
+        return 0.0;
+    pigment_color c = evaluate(mats, &mats[m->pattern_pigment], maps, q, err, depth + 1);
+    float r = (float)c.color.x, g = (float)c.color.y, b = (float)c.color.z;
+    return (double)(float)(0.297 * (double)r + 0.589 * (double)g + 0.114 * (double)b);
+}
+
 /* Step 6 with a pigment map: the entries' pigments at the pattern's
  * point q (POV-Ray's Compute_Pigment hands them the warped point). */
 static pigment_color pigment_map_color(const csg_material *mats, const csg_material *m,
@@ -789,7 +813,7 @@ static pigment_color evaluate(const csg_material *mats, const csg_material *m,
         return depth < PIGMENT_MAX_DEPTH && m->sub_first > 0
                    ? average_color(mats, m, maps, q, q_err, depth)
                    : color_of((const double[5]){0, 0, 0, 0, 0});
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
+    double v = wave(m, pattern_at(mats, m, maps, q, q_err, depth));
     if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
         return pigment_map_color(mats, m, maps, q, q_err, v, depth);
     return map_color(maps + m->map_first, m->map_count, v);
@@ -831,11 +855,12 @@ static void pattern_point(const csg_material *m, const double w[3], double err, 
     *q_err = err * matrix_norm(m->to_pattern);
 }
 
-double PIGMENT_TMAP(const csg_material *m, const csg_map_color *maps, const double w[3],
-                    double err, double q[3], double *q_err, int *prev, int *cur)
+double PIGMENT_TMAP(const csg_material *mats, const csg_material *m, const csg_map_color *maps,
+                    const double w[3], double err, double q[3], double *q_err, int *prev,
+                    int *cur)
 {
     pattern_point(m, w, err, q, q_err);
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
+    double v = wave(m, pattern_at(mats, m, maps, q, *q_err, 0));
     return map_search(maps + m->map_first, m->map_count, v, prev, cur);
 }
 
@@ -857,7 +882,8 @@ static void add_scaled(double n[3], double f, const double v[3])
 
 /* Any pattern: its value (through its wave) at four points around q,
  * each pushing the normal along its direction. */
-static void normal_pattern(const csg_material *nm, const double q[3], double n[3])
+static void normal_pattern(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
     double delta = (double)nm->accuracy;
     double amount = (double)nm->bump_size * -5.0;
@@ -866,28 +892,34 @@ static void normal_pattern(const csg_material *nm, const double q[3], double n[3
         double p1[3];
         for (int k = 0; k < 3; k++)
             p1[k] = q[k] + delta * pyramid[i][k];
-        double v = wave(nm, pattern_value(nm, p1, PATTERN_EPSILON));
+        double v = wave(nm, pattern_at(mats, nm, maps, p1, 0.0, 0));
         add_scaled(n, v * amount, pyramid[i]);
     }
 }
 
-static void normal_bumps(const csg_material *nm, const double q[3], double n[3])
+static void normal_bumps(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double d[3];
     noise_vector(q, d);
     add_scaled(n, (double)nm->bump_size, d);
 }
 
-static void normal_dents(const csg_material *nm, const double q[3], double n[3])
+static void normal_dents(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double noise = noise_value(q, nm->noise_gen), d[3];
     noise = noise * noise * noise * (double)nm->bump_size;
     noise_vector(q, d);
     add_scaled(n, noise, d);
 }
 
-static void normal_ripples(const csg_material *nm, const double q[3], double n[3])
+static void normal_ripples(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     for (int i = 0; i < nm->number_of_waves; i++) {
         double d[3], f;
         double length = wave_offset(i, q, d, &f);
@@ -897,8 +929,10 @@ static void normal_ripples(const csg_material *nm, const double q[3], double n[3
     }
 }
 
-static void normal_waves(const csg_material *nm, const double q[3], double n[3])
+static void normal_waves(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     for (int i = 0; i < nm->number_of_waves; i++) {
         double d[3], f;
         double length = wave_offset(i, q, d, &f);
@@ -908,8 +942,10 @@ static void normal_waves(const csg_material *nm, const double q[3], double n[3])
     }
 }
 
-static void normal_wrinkles(const csg_material *nm, const double q[3], double n[3])
+static void normal_wrinkles(const csg_material *mats, const csg_map_color *maps,
+                            const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double result[3] = {0.0, 0.0, 0.0}, scale = 1.0;
     for (int i = 0; i < 10; scale *= 2.0, i++) {
         double p[3] = {q[0] * scale, q[1] * scale, q[2] * scale}, d[3];
@@ -920,8 +956,10 @@ static void normal_wrinkles(const csg_material *nm, const double q[3], double n[
     add_scaled(n, (double)nm->bump_size, result);
 }
 
-static void normal_quilted(const csg_material *nm, const double q[3], double n[3])
+static void normal_quilted(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double v[3];
     quilted_vector(nm, q, v);
     add_scaled(n, (double)nm->bump_size, v);
@@ -963,7 +1001,8 @@ void PIGMENT_UNWARP_NORMAL(const csg_material *m, double n[3], bool scale)
         normalize3(n);
 }
 
-void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3])
+void PIGMENT_NORMAL(const csg_material *mats, const csg_map_color *maps, const csg_material *nm,
+                    const double w[3], double n[3])
 {
     bool scale = !nm->no_bump_scale;
     PIGMENT_WARP_NORMAL(nm, n, scale);
@@ -972,7 +1011,7 @@ void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3])
     switch ((enum csg_normal_kind)nm->normal_kind) {
 #define NORMAL_CASE(ID, name)                                                                      \
     case CSG_NORMAL_##ID:                                                                          \
-        normal_##name(nm, q, n);                                                                   \
+        normal_##name(mats, maps, nm, q, n);                                                       \
         break;
         CSG_NORMALS(NORMAL_CASE)
 #undef NORMAL_CASE

@@ -272,7 +272,7 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
     if (m->tmap && m->pattern == CSG_PATTERN_AVERAGE) {
         double q[3], q_err, total = 0.0;
         int prev, cur;
-        PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         vec3 sum = grey3(R(0.0));
         for (int i = 0; depth < SHADE_MAX_DEPTH && i < m->map_count; i++) {
             real weight = c->maps[m->map_first + i].value;
@@ -285,7 +285,7 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
     if (m->tmap) {
         double q[3], q_err;
         int prev, cur;
-        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        double f = PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         if (depth >= SHADE_MAX_DEPTH)
             return grey3(R(0.0));
         vec3 a = texture_filter(c, &c->mats[m->sub_first + cur], q, q_err, depth + 1);
@@ -960,7 +960,7 @@ static vec3 layer_normal(const shade_ctx *c, const hit_info *hi, const csg_mater
     double n[3] = {(double)hi->nf.x, (double)hi->nf.y, (double)hi->nf.z};
     for (int i = 0; i < np; i++)
         PIGMENT_WARP_NORMAL(parents[i], n, true);
-    PIGMENT_NORMAL(&c->mats[layer->normal - 1], w, n);
+    PIGMENT_NORMAL(c->mats, c->maps, &c->mats[layer->normal - 1], w, n);
     for (int i = np - 1; i >= 0; i--)
         PIGMENT_UNWARP_NORMAL(parents[i], n, true);
     return v3((real)n[0], (real)n[1], (real)n[2]);
@@ -1173,7 +1173,7 @@ static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material 
     if (m->tmap && np < SHADE_MAX_DEPTH) {
         double q[3], q_err;
         int prev, cur;
-        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        double f = PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         parents[np] = m;
         if (m->pattern == CSG_PATTERN_AVERAGE)
             return average_texture(c, hi, m, q, q_err, parents, np + 1, weight, tally);

@@ -443,7 +443,8 @@ typedef struct {
     real reflection_metallic;
     real crand;         /* POV-Ray's graininess (0: none; shade.c)       */
     csg_i32 spiral_arms; /* spiral1, spiral2: the number of arms         */
-    csg_i32 pad3;
+    csg_i32 pattern_pigment; /* pigment_pattern: the material of its pigment
+                           (after this one); 0: none                     */
     real brick_size[3]; /* brick: a brick's size along x, y, z           */
     real mortar;        /* brick: the mortar's width                     */
     real irid;          /* iridescence (csg_finish; 0: none)             */

@@ -319,7 +319,6 @@ static const kw_entry kw_table[] = {
     {"pi", CSG_KW_PI},
     {"pigment", CSG_KW_PIGMENT},
     {"pigment_map", CSG_KW_PIGMENT_MAP},
-    {"pigment_pattern", CSG_KW_UNSUPPORTED},
     {"plane", CSG_KW_PLANE},
     {"png", CSG_KW_UNSUPPORTED},
     {"point_at", CSG_KW_POINT_AT},

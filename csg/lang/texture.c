@@ -506,6 +506,27 @@ static bool parse_bare_pattern(parser *p, csg_pigment *pig, enum csg_pattern pat
     return lang_next(p);
 }
 
+static bool parse_pigment_block(parser *p, csg_pigment *pig, const char *name);
+
+/* pigment_pattern { PIGMENT_BODY }: the value is the grey of the pigment
+ * (POV-Ray's Create_Pigment: it starts black, not from the default
+ * pigment), evaluated at the pattern's point; the black-to-white map. */
+static bool parse_pigment_pattern(parser *p, csg_pigment *pig)
+{
+    static const csg_map_entry gray[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+    csg_pigment *inner = lang_alloc(p, sizeof *inner);
+    if (!inner)
+        return false;
+    csg_pigment_default(inner);
+    if (!parse_pigment_block(p, inner, "pigment_pattern"))
+        return false;
+    pig->pattern = CSG_PATTERN_PIGMENT_PATTERN;
+    pig->pattern_pigment = inner;
+    pig->map = gray;
+    pig->map_count = 2;
+    return true;
+}
+
 /* A pattern keyword (CSG_KW_PATTERN: the lexer found it in the table, so
  * csg_pattern_keyword names a pattern of it) and what follows it. */
 static bool parse_pattern_keyword(parser *p, csg_pigment *pig)
@@ -518,6 +539,8 @@ static bool parse_pattern_keyword(parser *p, csg_pigment *pig)
         return parse_spiral(p, pig, pattern);
     if (pattern == CSG_PATTERN_GRADIENT)
         return parse_gradient(p, pig);
+    if (pattern == CSG_PATTERN_PIGMENT_PATTERN)
+        return parse_pigment_pattern(p, pig);
     return parse_bare_pattern(p, pig, (enum csg_pattern)pattern, alias);
 }
 
@@ -814,11 +837,12 @@ static bool parse_pigment_map(parser *p, csg_pigment *pig)
     return ok;
 }
 
-/* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
-bool lang_parse_pigment(parser *p, csg_pigment *pig)
+/* NAME { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig (the
+ * current token is NAME: pigment, or pigment_pattern). */
+static bool parse_pigment_block(parser *p, csg_pigment *pig, const char *name)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (!lang_next(p) || !lang_expect_open(p, "pigment"))
+    if (!lang_next(p) || !lang_expect_open(p, name))
         return false;
     if (lang_names(p, SYM_PIGMENT)) {
         const datum *d;
@@ -827,6 +851,12 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig)
         *pig = d->u.pigment;
     }
     return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, '}', open);
+}
+
+/* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
+bool lang_parse_pigment(parser *p, csg_pigment *pig)
+{
+    return parse_pigment_block(p, pig, "pigment");
 }
 
 /* ---- sky_sphere ------------------------------------------------------------------- */
