@@ -51,6 +51,8 @@ typedef struct {
     bool *unexportable; /* a transform the language cannot state was met   */
     bool in_clip;   /* writing a clipped_by / bounded_by object: no texture
                        nor interior (POV-Ray refuses a textured one)      */
+    int inside;     /* the inherited interior_texture (1 + its index; 0:
+                       none), written at the leaves with their texture    */
 } exporter;
 
 /* ---- numbers and vectors ---------------------------------------------------- */
@@ -589,7 +591,8 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
 
 /* texture { } for each layer, the bottom one first (POV-Ray puts the
  * last written on top). */
-static void write_texture(const exporter *e, const csg_texture *t, int depth)
+static void write_texture_as(const exporter *e, const csg_texture *t, int depth,
+                             const char *keyword)
 {
     FILE *out = e->out;
     const csg_texture *layers[64];
@@ -598,11 +601,16 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
         layers[n++] = l;
     for (int i = n - 1; i >= 0; i--) {
         indent(out, depth);
-        fputs("texture {\n", out);
+        fprintf(out, "%s {\n", keyword);
         write_texture_body(e, layers[i], depth + 1);
         indent(out, depth);
         fputs("}\n", out);
     }
+}
+
+static void write_texture(const exporter *e, const csg_texture *t, int depth)
+{
+    write_texture_as(e, t, depth, "texture");
 }
 
 /* A transform the parser would refuse as `matrix` (its determinant
@@ -822,6 +830,11 @@ static bool check_node(const exporter *e, const csg_object *o, int depth)
         csg_error(e->d, o->loc, "export: interior index %d out of range", o->interior);
         return false;
     }
+    if (o->interior_texture < 0 || o->interior_texture > e->s->texture_count) {
+        csg_error(e->d, o->loc, "export: interior_texture index %d out of range",
+                  o->interior_texture - 1);
+        return false;
+    }
     if (!csg_object_is_leaf(o->kind) &&
         (o->child_count < 0 || (o->child_count > 0 && !o->children))) {
         csg_error(e->d, o->loc, "export: malformed %s", csg_object_kind_name(o->kind));
@@ -916,6 +929,11 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
 {
     if (!check_node(e, o, depth))
         return false;
+    if (o->interior_texture > 0 && e->inside != o->interior_texture) { /* (inherited below) */
+        exporter inner = *e;
+        inner.inside = o->interior_texture;
+        return write_object(&inner, o, texture, depth);
+    }
     if (depth == EXPORT_HOIST_DEPTH && !csg_object_is_leaf(o->kind))
         return write_buffered(e, o, texture, depth, true);
     FILE *out = e->out;
@@ -944,6 +962,8 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
         }
         if (!e->in_clip)
             write_texture(e, texture, depth + 1);
+        if (!e->in_clip && e->inside > 0)
+            write_texture_as(e, &e->s->textures[e->inside - 1], depth + 1, "interior_texture");
     }
     if (!write_bounds_and_clips(e, o, depth))
         return false;
@@ -982,7 +1002,7 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
 {
     int declared = 0;
     bool unexportable = false;
-    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable, false};
+    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable, false, 0};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the

@@ -157,6 +157,7 @@ typedef struct {
     int hollow;   /* 0 not said, 1 hollow, 2 not (csg_object.hollow) */
     bool clip;    /* inside a clipped_by: its primitives get CSG_PF_CLIP */
     bool bound;   /* inside a kept bounded_by: CSG_PF_BOUND                */
+    int inside;   /* 1 + the interior_texture's index; 0: none          */
 } inherited;
 
 static bool grow(void **arr, int *cap, int need, size_t elem)
@@ -635,7 +636,10 @@ static bool same_as_last_material(const flat_builder *fb, inherited inh, const c
            memcmp(in, &fb->last_interior, sizeof *in) == 0;
 }
 
-static int material_for(flat_builder *fb, inherited inh)
+/* The material of inh's (texture, interior), interned (one per pair), or
+ * when !intern a new one of its own (its key kept, for material_opaque,
+ * but not in the hash table: never found for another primitive). */
+static int material_make(flat_builder *fb, inherited inh, bool intern)
 {
     uint64_t key = material_key(inh);
     if (!material_reserve(fb) ||
@@ -644,8 +648,8 @@ static int material_for(flat_builder *fb, inherited inh)
         fb->oom = true;
         return 0;
     }
-    size_t slot = material_find(fb, key);
-    if (fb->mat_slots[slot])
+    size_t slot = intern ? material_find(fb, key) : 0;
+    if (intern && fb->mat_slots[slot])
         return fb->mat_slots[slot] - 1;
     csg_texture plain; /* the default texture (no parts: never queued) */
     const csg_texture *tex;
@@ -658,7 +662,7 @@ static int material_for(flat_builder *fb, inherited inh)
     csg_interior in = {1.0, 0, 0, {0, 0, 0}};
     if (inh.interior >= 0)
         in = fb->scene->interiors[inh.interior];
-    if (same_as_last_material(fb, inh, tex, &in))
+    if (intern && same_as_last_material(fb, inh, tex, &in))
         return fb->last_material;
     csg_material *m = &fb->mats[fb->mat_count];
     memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
@@ -666,6 +670,8 @@ static int material_for(flat_builder *fb, inherited inh)
     if (!material_layer(fb, tex, &in, m))
         return 0;
     fb->mat_keys[fb->mat_count] = key;
+    if (!intern)
+        return fb->mat_count++;
     fb->mat_slots[slot] = fb->mat_count + 1;
     if (inh.texture >= 0) {
         fb->last_texture = tex;
@@ -673,6 +679,27 @@ static int material_for(flat_builder *fb, inherited inh)
         fb->last_material = fb->mat_count;
     }
     return fb->mat_count++;
+}
+
+/* The material of a primitive: its (texture, interior) pair's; with an
+ * interior_texture, a material of its own (the pair's may serve primitives
+ * without one) whose `inside` is the (interior texture, interior) pair's,
+ * which shade.c uses where a ray meets the surface from inside. */
+static int material_for(flat_builder *fb, inherited inh)
+{
+    if (inh.inside <= 0)
+        return material_make(fb, inh, true);
+    inherited in = inh;
+    in.texture = inh.inside - 1;
+    in.inside = 0;
+    int inside = material_make(fb, in, true);
+    if (fb->oom)
+        return 0;
+    int outer = material_make(fb, inh, false);
+    if (fb->oom)
+        return 0;
+    fb->mats[outer].inside = inside + 1;
+    return outer;
 }
 
 /* A new material at the end of the table (never a texture's key). */
@@ -1286,6 +1313,8 @@ static inherited inherit(inherited inh, const csg_object *o)
         inh.texture = o->texture;
     if (o->interior >= 0)
         inh.interior = o->interior;
+    if (o->interior_texture > 0)
+        inh.inside = o->interior_texture;
     inh.no_shadow = inh.no_shadow || o->no_shadow;
     if (o->hollow)
         inh.hollow = o->hollow;
@@ -1586,6 +1615,8 @@ static bool texture_opaque(const csg_texture *t, int depth)
  * layers and texture_map entries, read from the scene's texture). */
 static bool material_opaque(const flat_builder *fb, const csg_material *m)
 {
+    if (m->inside > 0 && !material_opaque(fb, &fb->mats[m->inside - 1])) /* (its inside has none) */
+        return false;
     uint64_t key = fb->mat_keys[m - fb->mats];
     int texture = key == UINT64_MAX ? -1 : (int)(key >> 32) - 1;
     if (texture >= 0) {
@@ -2449,7 +2480,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
         ok = false;
     }
-    inherited none = {-1, -1, false, 0, false, false};
+    inherited none = {-1, -1, false, 0, false, false, 0};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none, false);
     if (ok && !fb.oom)

@@ -298,6 +298,10 @@ struct csg_object {
     csg_xform xform;      /* object -> world, every transform applied        */
     int texture;          /* index into csg_scene.textures; -1: inherited    */
     int interior;         /* index into csg_scene.interiors; -1: inherited   */
+    int interior_texture; /* 1 + index into csg_scene.textures: what a ray
+                             meeting the surface from inside sees (POV-Ray's
+                             interior_texture); 0: inherited, or none (so
+                             that a zeroed object has none)               */
     csg_object **children; /* CSG operands, in source order                  */
     int child_count;
     /* POV-Ray's object modifiers clipped_by and bounded_by, their objects

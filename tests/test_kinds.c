@@ -413,6 +413,29 @@ static void test_blob_refuses_unknown(void **state)
     assert_false(csg_blob_valid(b.bytes, b.size));
     csg_blob_free(&b);
     csg_scene_free(&s);
+    /* an interior_texture: the primitive's own material, whose inside is
+       the (interior texture, interior) one, which has none */
+    parse_ok(CAMERA "sphere { 0, 1 pigment { rgb 1 } interior_texture { pigment { rgb 0 } } }\n"
+                    "sphere { x, 1 pigment { rgb 1 } }\n",
+             &s);
+    assert_true(engine_float.flatten(&s, &o, &b, &d));
+    csg_material *mats = blob_materials(&b);
+    const csg_prim *prims =
+        (const csg_prim *)(void *)((char *)b.bytes + csg_blob_hdr(b.bytes)->off_prims);
+    m = &mats[prims[0].material];
+    assert_true(m->inside > 0);
+    assert_int_equal(mats[m->inside - 1].inside, 0);
+    assert_true(prims[1].material != prims[0].material); /* (the same texture, no inside) */
+    assert_int_equal(mats[prims[1].material].inside, 0);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    int inside = m->inside;
+    m->inside = prims[0].material + 1; /* a chain (itself) */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    m->inside = csg_blob_hdr(b.bytes)->material_count + 1;
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    m->inside = inside;
+    csg_blob_free(&b);
+    csg_scene_free(&s);
     /* a pigment_pattern's pigment: a later material, inside the table */
     parse_pigment("pigment_pattern { bozo }", &s);
     assert_true(engine_float.flatten(&s, &o, &b, &d));

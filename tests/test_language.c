@@ -907,6 +907,37 @@ static void test_block_and_spiral_patterns(void **state)
               "(any but checker, brick and hexagon)");
 }
 
+/* interior_texture { }: an entry of its own (1 + its index), layered by a
+ * second one, moved by the transforms after it with its object, on a
+ * declared object's copy; POV-Ray's rule: the object needs a texture. */
+static void test_interior_texture(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare O = sphere { 0, 1 texture { pigment { rgb 1 } }\n"
+             "                       interior_texture { pigment { rgb <1, 0, 0> } } }\n"
+             "object { O interior_texture { pigment { bozo } } translate x }\n"
+             "union { sphere { 0, 1 } sphere { x, 1 } pigment { rgb 0.5 }\n"
+             "        interior_texture { finish { phong 1 } } }\n",
+             &s);
+    const csg_object *o = s.objects[0];
+    assert_true(o->interior_texture > 0);
+    const csg_texture *t = &s.textures[o->interior_texture - 1];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_BOZO); /* the top layer */
+    assert_near(t->pigment.xform.m[0][3], 1);               /* moved with the object */
+    assert_non_null(t->under);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    o = s.objects[1];
+    assert_true(o->interior_texture > 0);
+    assert_near(s.textures[o->interior_texture - 1].finish.phong, 1);
+    assert_int_equal(o->children[0]->interior_texture, 0); /* inherited (flatten.c) */
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 interior_texture { pigment { rgb 1 } } }",
+              "t.pov:1:1: error: interior_texture needs a texture on the sphere itself");
+    parse_err("sphere { 0, 1 pigment { rgb 1 } interior_texture pigment { rgb 1 } }",
+              "t.pov:1:50: error: '{' expected after 'texture', got 'pigment'");
+}
+
 /* pigment_pattern { PIGMENT_BODY }: the pigment (black to start with, as
  * POV-Ray's Create_Pigment, or an identifier's) kept apart; the
  * black-to-white map; in a normal with its amount; errors. */
@@ -1620,6 +1651,7 @@ int main(void)
         cmocka_unit_test(test_block_and_spiral_patterns),
         cmocka_unit_test(test_irid),
         cmocka_unit_test(test_pigment_pattern),
+        cmocka_unit_test(test_interior_texture),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

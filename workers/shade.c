@@ -342,6 +342,15 @@ static bool shadow_fade(const shade_ctx *c, csg_u32 s, real depth, vec3 *pass)
     return max3(*pass) > R(0.0);
 }
 
+/* POV-Ray's interior_texture (Trace's normaldirection): where a ray of
+ * direction d meets the surface whose outward normal is n (the solid's:
+ * a complemented primitive's reversed, as POV-Ray reverses an inverted
+ * object's) from inside, material m's inside material; else m. */
+static const csg_material *seen_material(const shade_ctx *c, const csg_material *m, vec3 n, vec3 d)
+{
+    return m->inside > 0 && v3_dot(n, d) > R(0.0) ? &c->mats[m->inside - 1] : m;
+}
+
 /* Multiplies *pass by what surface s, met at ts along r, lets through on
  * the way to the light `dist` away (its pigment there); false once nothing
  * passes. */
@@ -354,6 +363,10 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
     if (prim->flags & CSG_PF_NO_SHADOW)
         return true;
     const csg_material *m = &c->mats[prim->material];
+    if (m->inside > 0) {
+        vec3 n = csg_surface_normal(c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)));
+        m = seen_material(c, m, n, r.d);
+    }
     real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts);
     if (m->tmap || m->under > 0) { /* a texture_map or layers */
         double w[3];
@@ -1207,6 +1220,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
      * ray by its own direction, as POV-Ray turns it (ComputeTextureColour
      * flips a smooth triangle's interpolated normal alone) */
     csg_hit_frame f = csg_hit_frame_of(c->view, r, h.t, h.surf);
+    m = seen_material(c, m, f.n, r.d);
     hi.p = f.p;
     hi.entering = f.entering;
     hi.nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n; /* faces the incoming ray */

@@ -450,6 +450,11 @@ typedef struct {
     real irid;          /* iridescence (csg_finish; 0: none)             */
     real irid_thickness;
     real irid_turbulence;
+    csg_i32 inside;     /* > 0: where a ray meets the surface from inside
+                           (its primitive's own normal against the ray),
+                           material inside - 1 is seen (POV-Ray's
+                           interior_texture); 0: none                    */
+    csg_i32 pad3;
 } csg_material;
 
 /* A light (POV-Ray's LightSource): the C workers, and the device's shadow

@@ -215,7 +215,7 @@ static const kw_entry kw_table[] = {
     {"inside_vector", CSG_KW_UNSUPPORTED},
     {"int", CSG_KW_INT},
     {"interior", CSG_KW_INTERIOR},
-    {"interior_texture", CSG_KW_UNSUPPORTED},
+    {"interior_texture", CSG_KW_INTERIOR_TEXTURE},
     {"internal", CSG_KW_UNSUPPORTED},
     {"interpolate", CSG_KW_UNSUPPORTED},
     {"intersection", CSG_KW_INTERSECTION},
