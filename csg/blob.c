@@ -118,6 +118,13 @@ static bool materials_valid(const csg_blob_header *h, const csg_material *mats)
             return false;
         if (m->tmap != 0 && (m->tmap != 1 || m->sub_first <= 0 || m->pattern == CSG_PATTERN_PLAIN))
             return false;
+        if (m->inside < 0 || m->inside > h->material_count || /* one step: no chain */
+            (m->inside > 0 && mats[m->inside - 1].inside != 0))
+            return false;
+        if (m->pattern == CSG_PATTERN_PIGMENT_PATTERN /* its pigment: a later material */
+                ? m->pattern_pigment <= i || m->pattern_pigment >= h->material_count
+                : m->pattern_pigment != 0)
+            return false;
         if (m->normal_kind < 0 || m->normal_kind >= CSG_NORMAL_COUNT || m->number_of_waves < 0 ||
             ((m->pattern == CSG_PATTERN_RIPPLES || m->pattern == CSG_PATTERN_WAVES ||
               m->normal_kind == CSG_NORMAL_RIPPLES || m->normal_kind == CSG_NORMAL_WAVES) &&

@@ -51,6 +51,8 @@ typedef struct {
     bool *unexportable; /* a transform the language cannot state was met   */
     bool in_clip;   /* writing a clipped_by / bounded_by object: no texture
                        nor interior (POV-Ray refuses a textured one)      */
+    int inside;     /* the inherited interior_texture (1 + its index; 0:
+                       none), written at the leaves with their texture    */
 } exporter;
 
 /* ---- numbers and vectors ---------------------------------------------------- */
@@ -121,6 +123,13 @@ static void write_globals(const exporter *e)
     put_field(out, "\n    adc_bailout ", g->adc_bailout);
     if (g->number_of_waves != 10)
         fprintf(out, "\n    number_of_waves %d", g->number_of_waves);
+    if (g->noise_generator != 0) /* (irid's turbulence reads it) */
+        fprintf(out, "\n    noise_generator %d", g->noise_generator);
+    if (g->irid_wavelength[0] != (double)0.70f || g->irid_wavelength[1] != (double)0.52f ||
+        g->irid_wavelength[2] != (double)0.48f) {
+        fputs("\n    irid_wavelength rgb ", out);
+        put_vec(out, g->irid_wavelength, 3);
+    }
     fputs("\n    ambient_light rgb ", out);
     put_vec(out, e->flat ? one : g->ambient_light, 3);
     fputs("\n}\n\n", out);
@@ -320,32 +329,45 @@ static void write_map(const exporter *e, const csg_pigment *pig)
     fputs(" }", e->out);
 }
 
+static void write_pigment_body(const exporter *e, const csg_pigment *pig, int depth);
+
+/* A pattern's keyword and what it takes before its modifiers: gradient's
+ * vector, the spirals' number of arms, pigment_pattern's pigment. */
+static void write_pattern_name(const exporter *e, const csg_pigment *pig, int depth)
+{
+    FILE *out = e->out;
+    fputs(csg_pattern_name(pig->pattern), out);
+    if (pig->pattern == CSG_PATTERN_PIGMENT_PATTERN) {
+        fputs(" { ", out);
+        write_pigment_body(e, pig->pattern_pigment, depth + 1);
+        fputs(pig->pattern_pigment->pattern == CSG_PATTERN_PLAIN ? " }" : "}", out);
+    }
+    if (pig->pattern == CSG_PATTERN_GRADIENT) {
+        fputc(' ', out);
+        put_dvec(out, pig->gradient);
+    }
+    if (pig->pattern == CSG_PATTERN_SPIRAL1 || pig->pattern == CSG_PATTERN_SPIRAL2)
+        fprintf(out, " %d", pig->arms);
+}
+
 /* The pattern keyword, its name in the table (device/patterns.h; spotted
- * and bumps are written as bozo with their map), with checker's colours
- * or pigments and gradient's vector. */
+ * and bumps are written as bozo with their map), with the block patterns'
+ * colours or pigments (checker, brick, hexagon) and gradient's vector. */
 static void write_pattern_kind(const exporter *e, const csg_pigment *pig, int depth)
 {
-    if (pig->pattern == CSG_PATTERN_CHECKER && pig->pmap_count > 0) {
-        fputs("checker", e->out);
+    if (csg_pattern_blocks(pig->pattern) > 0) {
+        fputs(csg_pattern_name(pig->pattern), e->out);
         for (int i = 0; i < pig->pmap_count; i++) {
             fputc(' ', e->out);
             write_pigment(e, &pig->pmap[i].pigment, depth + 1);
         }
+        for (int i = 0; i < pig->map_count && pig->pmap_count == 0; i++) {
+            fputs(i ? ", " : " ", e->out);
+            put_color(e, pig->map[i].rgbft);
+        }
         return;
     }
-    if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker ", e->out);
-        put_color(e, pig->map[0].rgbft);
-        fputs(", ", e->out);
-        put_color(e, pig->map[1].rgbft);
-        return;
-    }
-    if (pig->pattern == CSG_PATTERN_GRADIENT) {
-        fputs("gradient ", e->out);
-        put_dvec(e->out, pig->gradient);
-    } else {
-        fputs(csg_pattern_name(pig->pattern), e->out);
-    }
+    write_pattern_name(e, pig, depth);
     if (pig->pmap_count > 0)
         write_pigment_map(e, pig, depth);
     else
@@ -373,6 +395,12 @@ static void write_noise(const exporter *e, const csg_pigment *pig)
     if (pig->pattern == CSG_PATTERN_QUILTED) {
         put_field(out, " control0 ", pig->control0);
         put_field(out, " control1 ", pig->control1);
+    }
+    if (pig->pattern == CSG_PATTERN_BRICK) { /* (the mortar as given: POV-Ray takes
+                                                2e-10 off again) */
+        fputs(" brick_size ", out);
+        put_dvec(out, pig->brick_size);
+        put_field(out, " mortar ", pig->mortar + 2e-10);
     }
     if (pig->turb.on || csg_pattern_reads_noise(pig->pattern))
         fprintf(out, " noise_generator %d", csg_noise_of(e->s, pig));
@@ -443,14 +471,10 @@ static void write_normal(const exporter *e, const csg_normal *n, int depth)
     const csg_pigment *pig = &n->pattern;
     indent(out, depth);
     fputs("normal { ", out);
-    if (n->kind != CSG_NORMAL_PATTERN) {
+    if (n->kind != CSG_NORMAL_PATTERN)
         fputs(kinds[n->kind], out);
-    } else if (pig->pattern == CSG_PATTERN_GRADIENT) {
-        fputs("gradient ", out);
-        put_dvec(out, pig->gradient);
-    } else {
-        fputs(csg_pattern_name(pig->pattern), out);
-    }
+    else
+        write_pattern_name(e, pig, depth);
     fputc(' ', out);
     put_num(out, n->amount);
     write_noise(e, pig);
@@ -469,14 +493,14 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
 
 /* A texture_map texture's body: the pattern, its settings, the entries
  * (each body relative to the pattern holding the map) and its matrix;
- * checker as POV-Ray writes it, two textures after the keyword. */
+ * a block pattern as POV-Ray writes it, its textures after the keyword. */
 static void write_texture_map(const exporter *e, const csg_texture *t, int depth)
 {
     FILE *out = e->out;
     const csg_pigment *pig = &t->pigment;
     indent(out, depth);
-    if (pig->pattern == CSG_PATTERN_CHECKER) {
-        fputs("checker\n", out);
+    if (csg_pattern_blocks(pig->pattern) > 0) {
+        fprintf(out, "%s\n", csg_pattern_name(pig->pattern));
         for (int i = 0; i < t->tmap_count; i++) {
             indent(out, depth);
             fputs("texture {\n", out);
@@ -485,12 +509,7 @@ static void write_texture_map(const exporter *e, const csg_texture *t, int depth
             fputs("}\n", out);
         }
     } else {
-        if (pig->pattern == CSG_PATTERN_GRADIENT) {
-            fputs("gradient ", out);
-            put_dvec(out, pig->gradient);
-        } else {
-            fputs(csg_pattern_name(pig->pattern), out);
-        }
+        write_pattern_name(e, pig, depth);
         fputc('\n', out);
         indent(out, depth);
         fputs("texture_map {\n", out);
@@ -546,6 +565,12 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
     put_field(out, " metallic ", f->metallic);
     if (f->crand != 0)
         put_field(out, " crand ", f->crand);
+    if (f->irid != 0) {
+        put_field(out, " irid { ", f->irid);
+        put_field(out, " thickness ", f->irid_thickness);
+        put_field(out, " turbulence ", f->irid_turbulence);
+        fputs(" }", out);
+    }
     if (f->reflection_variable) {
         fputs(" reflection { rgb ", out);
         put_vec(out, f->reflection_min, 3);
@@ -566,7 +591,8 @@ static void write_texture_body(const exporter *e, const csg_texture *t, int dept
 
 /* texture { } for each layer, the bottom one first (POV-Ray puts the
  * last written on top). */
-static void write_texture(const exporter *e, const csg_texture *t, int depth)
+static void write_texture_as(const exporter *e, const csg_texture *t, int depth,
+                             const char *keyword)
 {
     FILE *out = e->out;
     const csg_texture *layers[64];
@@ -575,11 +601,16 @@ static void write_texture(const exporter *e, const csg_texture *t, int depth)
         layers[n++] = l;
     for (int i = n - 1; i >= 0; i--) {
         indent(out, depth);
-        fputs("texture {\n", out);
+        fprintf(out, "%s {\n", keyword);
         write_texture_body(e, layers[i], depth + 1);
         indent(out, depth);
         fputs("}\n", out);
     }
+}
+
+static void write_texture(const exporter *e, const csg_texture *t, int depth)
+{
+    write_texture_as(e, t, depth, "texture");
 }
 
 /* A transform the parser would refuse as `matrix` (its determinant
@@ -799,6 +830,11 @@ static bool check_node(const exporter *e, const csg_object *o, int depth)
         csg_error(e->d, o->loc, "export: interior index %d out of range", o->interior);
         return false;
     }
+    if (o->interior_texture < 0 || o->interior_texture > e->s->texture_count) {
+        csg_error(e->d, o->loc, "export: interior_texture index %d out of range",
+                  o->interior_texture - 1);
+        return false;
+    }
     if (!csg_object_is_leaf(o->kind) &&
         (o->child_count < 0 || (o->child_count > 0 && !o->children))) {
         csg_error(e->d, o->loc, "export: malformed %s", csg_object_kind_name(o->kind));
@@ -893,6 +929,11 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
 {
     if (!check_node(e, o, depth))
         return false;
+    if (o->interior_texture > 0 && e->inside != o->interior_texture) { /* (inherited below) */
+        exporter inner = *e;
+        inner.inside = o->interior_texture;
+        return write_object(&inner, o, texture, depth);
+    }
     if (depth == EXPORT_HOIST_DEPTH && !csg_object_is_leaf(o->kind))
         return write_buffered(e, o, texture, depth, true);
     FILE *out = e->out;
@@ -921,6 +962,8 @@ static bool write_object(const exporter *e, const csg_object *o, const csg_textu
         }
         if (!e->in_clip)
             write_texture(e, texture, depth + 1);
+        if (!e->in_clip && e->inside > 0)
+            write_texture_as(e, &e->s->textures[e->inside - 1], depth + 1, "interior_texture");
     }
     if (!write_bounds_and_clips(e, o, depth))
         return false;
@@ -959,7 +1002,7 @@ bool csg_export_pov(const csg_scene *s, FILE *out, bool flat, csg_diag *d)
 {
     int declared = 0;
     bool unexportable = false;
-    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable, false};
+    exporter e = {s, out, out, &declared, 0, flat, d, &unexportable, false, 0};
     fprintf(out, "// %s exported by csgtrace%s\n", s->path ? s->path : "scene",
             flat ? " (flat: object colours only, for the geometry cross-check)" : "");
     /* the scene's version where it changes what the export means (the

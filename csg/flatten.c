@@ -66,12 +66,16 @@
 
 #define CSG_MAX_MAP_PIGMENTS (1 << 20) /* materials of pigment map entries */
 
-/* A material whose pigment map's entries wait for their materials. */
+/* A material whose pigment map's entries, or whose pigment_pattern's
+ * pigment, wait for their materials. */
 typedef struct {
     int parent;                        /* the material holding the map   */
     const csg_pigment_entry *entries;  /* its entries (the scene's arena:
                                           the pigment may be a copy)     */
     int count;
+    const csg_pigment *pattern;        /* not NULL: the pigment of the
+                                          parent's pigment_pattern (count 1,
+                                          no entries)                    */
 } pending_map;
 
 /* A texture whose layers, normals or texture_map entries wait for their
@@ -155,6 +159,7 @@ typedef struct {
     int hollow;   /* 0 not said, 1 hollow, 2 not (csg_object.hollow) */
     bool clip;    /* inside a clipped_by: its primitives get CSG_PF_CLIP */
     bool bound;   /* inside a kept bounded_by: CSG_PF_BOUND                */
+    int inside;   /* 1 + the interior_texture's index; 0: none          */
 } inherited;
 
 static bool grow(void **arr, int *cap, int need, size_t elem)
@@ -345,6 +350,7 @@ static void store3(real dst[3], dvec3 v)
 }
 
 static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_material *m);
+static bool pattern_pigment_queue(flat_builder *fb, const csg_pigment *pig, csg_material *m);
 
 /* A patterned pigment: its kind, world -> pattern matrix (pig's own
  * transform, then `then` when not NULL), wave and colour map (appended to
@@ -375,6 +381,9 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->crackle_solid = pig->crackle.solid;
     m->quilt_control[0] = (real)pig->control0; /* a quilted pigment's, as a normal's */
     m->quilt_control[1] = (real)pig->control1;
+    m->spiral_arms = pig->arms;
+    store3(m->brick_size, pig->brick_size);
+    m->mortar = (real)pig->mortar;
     csg_xform inv, full = pig->xform;
     if (then)
         csg_xform_then(&full, then, &full);
@@ -389,6 +398,8 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     store3(m->gradient, pig->gradient);
     m->frequency = (real)pig->frequency;
     m->phase = (real)pig->phase;
+    if (pig->pattern == CSG_PATTERN_PIGMENT_PATTERN && !pattern_pigment_queue(fb, pig, m))
+        return false;
     if (pig->pmap_count > 0)
         return pigment_map_values(fb, pig, m);
     if (!grow((void **)&fb->maps, &fb->map_cap, fb->map_count + pig->map_count,
@@ -457,6 +468,24 @@ static bool pigment_map_values(flat_builder *fb, const csg_pigment *pig, csg_mat
     pm->parent = (int)(m - fb->mats);
     pm->entries = pig->pmap;
     pm->count = pig->pmap_count;
+    pm->pattern = NULL;
+    return true;
+}
+
+/* A pigment_pattern: its pigment queued for add_pigment_maps, which puts
+ * its material after every other one (m->pattern_pigment). */
+static bool pattern_pigment_queue(flat_builder *fb, const csg_pigment *pig, csg_material *m)
+{
+    if (!grow((void **)&fb->pending, &fb->pending_cap, fb->pending_count + 1,
+              sizeof(pending_map))) {
+        fb->oom = true;
+        return false;
+    }
+    pending_map *pm = &fb->pending[fb->pending_count++];
+    pm->parent = (int)(m - fb->mats);
+    pm->entries = NULL;
+    pm->count = 1;
+    pm->pattern = pig->pattern_pigment;
     return true;
 }
 
@@ -482,11 +511,14 @@ static bool add_pigment_maps(flat_builder *fb)
             fb->oom = true;
             return true; /* reported as out of memory */
         }
-        fb->mats[pm.parent].sub_first = fb->mat_count;
+        if (pm.pattern)
+            fb->mats[pm.parent].pattern_pigment = fb->mat_count;
+        else
+            fb->mats[pm.parent].sub_first = fb->mat_count;
         for (int k = 0; k < n; k++) {
             csg_material *m = &fb->mats[fb->mat_count];
             memset(m, 0, sizeof *m);
-            if (!material_pattern(fb, &pm.entries[k].pigment, NULL, m))
+            if (!material_pattern(fb, pm.pattern ? pm.pattern : &pm.entries[k].pigment, NULL, m))
                 return true; /* out of memory: fb->oom, reported so */
             fb->mat_keys[fb->mat_count++] = UINT64_MAX; /* never a texture's */
         }
@@ -539,6 +571,9 @@ static bool material_layer(flat_builder *fb, const csg_texture *tex, const csg_i
     m->phong_size = (real)tex->finish.phong_size;
     m->metallic = (real)tex->finish.metallic;
     m->crand = (real)tex->finish.crand;
+    m->irid = (real)tex->finish.irid;
+    m->irid_thickness = (real)tex->finish.irid_thickness;
+    m->irid_turbulence = (real)tex->finish.irid_turbulence;
     const csg_finish *fin = &tex->finish;
     if (fin->reflection_variable) {
         m->reflection_variable = 1;
@@ -603,7 +638,10 @@ static bool same_as_last_material(const flat_builder *fb, inherited inh, const c
            memcmp(in, &fb->last_interior, sizeof *in) == 0;
 }
 
-static int material_for(flat_builder *fb, inherited inh)
+/* The material of inh's (texture, interior), interned (one per pair), or
+ * when !intern a new one of its own (its key kept, for material_opaque,
+ * but not in the hash table: never found for another primitive). */
+static int material_make(flat_builder *fb, inherited inh, bool intern)
 {
     uint64_t key = material_key(inh);
     if (!material_reserve(fb) ||
@@ -612,8 +650,8 @@ static int material_for(flat_builder *fb, inherited inh)
         fb->oom = true;
         return 0;
     }
-    size_t slot = material_find(fb, key);
-    if (fb->mat_slots[slot])
+    size_t slot = intern ? material_find(fb, key) : 0;
+    if (intern && fb->mat_slots[slot])
         return fb->mat_slots[slot] - 1;
     csg_texture plain; /* the default texture (no parts: never queued) */
     const csg_texture *tex;
@@ -626,7 +664,7 @@ static int material_for(flat_builder *fb, inherited inh)
     csg_interior in = {1.0, 0, 0, {0, 0, 0}};
     if (inh.interior >= 0)
         in = fb->scene->interiors[inh.interior];
-    if (same_as_last_material(fb, inh, tex, &in))
+    if (intern && same_as_last_material(fb, inh, tex, &in))
         return fb->last_material;
     csg_material *m = &fb->mats[fb->mat_count];
     memset(m, 0, sizeof *m); /* pattern fields 0 for a plain pigment, and no stray
@@ -634,6 +672,8 @@ static int material_for(flat_builder *fb, inherited inh)
     if (!material_layer(fb, tex, &in, m))
         return 0;
     fb->mat_keys[fb->mat_count] = key;
+    if (!intern)
+        return fb->mat_count++;
     fb->mat_slots[slot] = fb->mat_count + 1;
     if (inh.texture >= 0) {
         fb->last_texture = tex;
@@ -641,6 +681,27 @@ static int material_for(flat_builder *fb, inherited inh)
         fb->last_material = fb->mat_count;
     }
     return fb->mat_count++;
+}
+
+/* The material of a primitive: its (texture, interior) pair's; with an
+ * interior_texture, a material of its own (the pair's may serve primitives
+ * without one) whose `inside` is the (interior texture, interior) pair's,
+ * which shade.c uses where a ray meets the surface from inside. */
+static int material_for(flat_builder *fb, inherited inh)
+{
+    if (inh.inside <= 0)
+        return material_make(fb, inh, true);
+    inherited in = inh;
+    in.texture = inh.inside - 1;
+    in.inside = 0;
+    int inside = material_make(fb, in, true);
+    if (fb->oom)
+        return 0;
+    int outer = material_make(fb, inh, false);
+    if (fb->oom)
+        return 0;
+    fb->mats[outer].inside = inside + 1;
+    return outer;
 }
 
 /* A new material at the end of the table (never a texture's key). */
@@ -1291,6 +1352,8 @@ static inherited inherit(inherited inh, const csg_object *o)
         inh.texture = o->texture;
     if (o->interior >= 0)
         inh.interior = o->interior;
+    if (o->interior_texture > 0)
+        inh.inside = o->interior_texture;
     inh.no_shadow = inh.no_shadow || o->no_shadow;
     if (o->hollow)
         inh.hollow = o->hollow;
@@ -1591,6 +1654,8 @@ static bool texture_opaque(const csg_texture *t, int depth)
  * layers and texture_map entries, read from the scene's texture). */
 static bool material_opaque(const flat_builder *fb, const csg_material *m)
 {
+    if (m->inside > 0 && !material_opaque(fb, &fb->mats[m->inside - 1])) /* (its inside has none) */
+        return false;
     uint64_t key = fb->mat_keys[m - fb->mats];
     int texture = key == UINT64_MAX ? -1 : (int)(key >> 32) - 1;
     if (texture >= 0) {
@@ -2380,6 +2445,12 @@ static void write_scene_values(const flat_builder *fb, const csg_flatten_opts *o
         g->turb_depth = (real)f->turb_depth;
     }
     sh->camera_solid = camera_solid(s);
+    csg_pigment scene_noise;
+    csg_pigment_default(&scene_noise); /* (its generator 0: the scene's) */
+    sh->noise_gen = csg_noise_of(s, &scene_noise);
+    store3(sh->irid_wavelength, (dvec3){s->globals.irid_wavelength[0],
+                                        s->globals.irid_wavelength[1],
+                                        s->globals.irid_wavelength[2]});
     long spp = o->spp > 0 ? o->spp : 1;
     sh->max_rays = o->max_rays > 0 ? o->max_rays
                                    : (csg_i32)(spp * CSG_RAYS_PER_SAMPLE); /* spp <= 1024 */
@@ -2451,7 +2522,7 @@ bool FLATTEN_FN(const csg_scene *s, const csg_flatten_opts *o, csg_blob *out, cs
         csg_error_plain(d, "image size must be positive, got %dx%d", o->width, o->height);
         ok = false;
     }
-    inherited none = {-1, -1, false, 0, false, false};
+    inherited none = {-1, -1, false, 0, false, false, 0};
     for (int i = 0; ok && i < s->object_count; i++)
         ok = add_top(&fb, s->objects[i], none, false);
     if (ok && !fb.oom)

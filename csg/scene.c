@@ -104,6 +104,9 @@ void csg_globals_default(csg_globals *g)
     g->ambient_light[0] = g->ambient_light[1] = g->ambient_light[2] = 1.0;
     g->noise_generator = 0;
     g->number_of_waves = 10;
+    g->irid_wavelength[0] = (double)0.70f; /* POV-Ray's RGBColour(0.70, 0.52, 0.48) */
+    g->irid_wavelength[1] = (double)0.52f;
+    g->irid_wavelength[2] = (double)0.48f;
 }
 
 void csg_xform_identity(csg_xform *x)
@@ -397,4 +400,11 @@ enum csg_wave csg_pattern_wave(enum csg_pattern pattern)
 bool csg_pattern_reads_noise(enum csg_pattern pattern)
 {
     return (int)pattern >= 0 && pattern < CSG_PATTERN_COUNT && pattern_noise[pattern];
+}
+
+int csg_pattern_blocks(int pattern)
+{
+    if (pattern == CSG_PATTERN_CHECKER || pattern == CSG_PATTERN_BRICK)
+        return 2;
+    return pattern == CSG_PATTERN_HEXAGON ? 3 : 0;
 }

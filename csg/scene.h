@@ -87,6 +87,10 @@ const char *csg_wave_name(int wave);
 enum csg_wave csg_pattern_wave(enum csg_pattern pattern);
 /* The pattern's value depends on the noise generator (false out of range). */
 bool csg_pattern_reads_noise(enum csg_pattern pattern);
+/* The entries a block pattern lists after its keyword, whose values are
+ * their indices (POV-Ray's Parse_Blend_List: checker and brick 2, hexagon
+ * 3); 0 for every other pattern. */
+int csg_pattern_blocks(int pattern);
 
 /* crackle's settings (POV-Ray's defaults: form <-1, 1, 0>, metric 2,
  * offset 0, not solid). */
@@ -122,7 +126,7 @@ typedef struct csg_pigment_entry csg_pigment_entry;
 
 /* POV-Ray's pigment: red, green, blue, filter, transmit, or a pattern
  * with its colour map or its pigment map. */
-typedef struct {
+typedef struct csg_pigment {
     double rgbft[5];          /* the colour of a plain pigment              */
     enum csg_pattern pattern; /* device/patterns.h                          */
     dvec3 gradient;           /* gradient: its unit vector                  */
@@ -134,6 +138,12 @@ typedef struct {
     double agate_turb;        /* agate: the weight of its turbulence (1)    */
     csg_crackle crackle;
     double control0, control1; /* quilted: its cubic's controls (1, 1)      */
+    dvec3 brick_size;         /* brick: a brick and its mortar (<8, 3, 4.5>) */
+    double mortar;            /* brick: the mortar's width, POV-Ray's float
+                                 of the given less 2e-10 (0.5f)             */
+    int arms;                 /* spiral1, spiral2: the number of arms       */
+    const struct csg_pigment *pattern_pigment; /* pigment_pattern: the pigment
+                                 whose grey is the value (the scene's arena) */
     csg_xform xform;          /* pattern space -> world (the pigment's own
                                  transforms, then those of the object after
                                  the pigment was given)                     */
@@ -175,6 +185,13 @@ typedef struct {
     double reflection_metallic; /* the reflection tinted by the pigment  */
     bool reflection_fresnel;  /* MIN to MAX by the Fresnel reflectance   */
     bool conserve_energy;     /* what is reflected is not transmitted    */
+    /* POV-Ray's iridescence, irid { amount thickness F turbulence V }: each
+     * light's diffuse and highlights times 1 + amount cos(the film's phase
+     * / the wavelength), colour by colour; single-precision values, as
+     * POV-Ray keeps them (0: none) */
+    double irid;
+    double irid_thickness;
+    double irid_turbulence;   /* V's x: the film's thickness varies by it */
 } csg_finish;
 
 /* POV-Ray's normal { }: a pattern that perturbs the surface normal
@@ -296,6 +313,10 @@ struct csg_object {
     csg_xform xform;      /* object -> world, every transform applied        */
     int texture;          /* index into csg_scene.textures; -1: inherited    */
     int interior;         /* index into csg_scene.interiors; -1: inherited   */
+    int interior_texture; /* 1 + index into csg_scene.textures: what a ray
+                             meeting the surface from inside sees (POV-Ray's
+                             interior_texture); 0: inherited, or none (so
+                             that a zeroed object has none)               */
     csg_object **children; /* CSG operands, in source order                  */
     int child_count;
     /* POV-Ray's object modifiers clipped_by and bounded_by, their objects
@@ -385,6 +406,8 @@ typedef struct {
     double ambient_light[3]; /* 1                                     */
     int noise_generator;    /* 0 when not given: 2 (1 before #version 3.5) */
     int number_of_waves;    /* the wave sources of ripples and waves (10) */
+    double irid_wavelength[3]; /* irid's wavelengths (<0.70, 0.52, 0.48>),
+                                  single precision as POV-Ray's colours */
 } csg_globals;
 
 /* POV-Ray's sky_sphere: what a ray that leaves the scene sees, the

@@ -342,7 +342,8 @@ static void assert_export_keeps(const csg_scene *s)
     csg_scene_free(&back);
 }
 
-/* Each pattern by its keyword (gradient needs its vector): parsed to its
+/* Each pattern by its keyword (gradient needs its vector, the spirals
+ * their arms, pigment_pattern its pigment): parsed to its
  * row with the table's default wave, flattened to the same id, exported
  * back; each wave likewise. */
 static void test_pattern_pipeline(void **state)
@@ -356,6 +357,8 @@ static void test_pattern_pipeline(void **state)
             snprintf(body, sizeof body, "%s%s", csg_pattern_name(k),
                      k == CSG_PATTERN_GRADIENT  ? " y"
                      : k == CSG_PATTERN_AVERAGE ? " pigment_map { [1 rgb 1] }"
+                     : k == CSG_PATTERN_SPIRAL1 || k == CSG_PATTERN_SPIRAL2 ? " 3"
+                     : k == CSG_PATTERN_PIGMENT_PATTERN ? " { bozo }"
                                                 : "");
         csg_scene s;
         parse_pigment(body, &s);
@@ -395,7 +398,8 @@ static void test_blob_refuses_unknown(void **state)
         m->pattern = bad_patterns[i];
         assert_false(csg_blob_valid(b.bytes, b.size));
     }
-    m->pattern = CSG_PATTERN_COUNT - 1; /* the last row is known */
+    m->pattern = CSG_PATTERN_COUNT - 2; /* the last rows are known (the last,
+                                           pigment_pattern: below) */
     assert_true(csg_blob_valid(b.bytes, b.size));
     m->pattern = CSG_PATTERN_BOZO;
     const int bad_waves[] = {-1, CSG_WAVE_COUNT, 1000};
@@ -405,6 +409,47 @@ static void test_blob_refuses_unknown(void **state)
     }
     m->wave = CSG_WAVE_COUNT - 1;
     assert_true(csg_blob_valid(b.bytes, b.size));
+    m->pattern_pigment = 1; /* only a pigment_pattern has a pigment */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+    /* an interior_texture: the primitive's own material, whose inside is
+       the (interior texture, interior) one, which has none */
+    parse_ok(CAMERA "sphere { 0, 1 pigment { rgb 1 } interior_texture { pigment { rgb 0 } } }\n"
+                    "sphere { x, 1 pigment { rgb 1 } }\n",
+             &s);
+    assert_true(engine_float.flatten(&s, &o, &b, &d));
+    csg_material *mats = blob_materials(&b);
+    const csg_prim *prims =
+        (const csg_prim *)(void *)((char *)b.bytes + csg_blob_hdr(b.bytes)->off_prims);
+    m = &mats[prims[0].material];
+    assert_true(m->inside > 0);
+    assert_int_equal(mats[m->inside - 1].inside, 0);
+    assert_true(prims[1].material != prims[0].material); /* (the same texture, no inside) */
+    assert_int_equal(mats[prims[1].material].inside, 0);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    int inside = m->inside;
+    m->inside = prims[0].material + 1; /* a chain (itself) */
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    m->inside = csg_blob_hdr(b.bytes)->material_count + 1;
+    assert_false(csg_blob_valid(b.bytes, b.size));
+    m->inside = inside;
+    csg_blob_free(&b);
+    csg_scene_free(&s);
+    /* a pigment_pattern's pigment: a later material, inside the table */
+    parse_pigment("pigment_pattern { bozo }", &s);
+    assert_true(engine_float.flatten(&s, &o, &b, &d));
+    m = &blob_materials(&b)[0];
+    assert_int_equal(m->pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_int_equal(blob_materials(&b)[m->pattern_pigment].pattern, CSG_PATTERN_BOZO);
+    assert_true(csg_blob_valid(b.bytes, b.size));
+    const int bad_pigments[] = {0, -1, csg_blob_hdr(b.bytes)->material_count};
+    for (size_t i = 0; i < sizeof bad_pigments / sizeof bad_pigments[0]; i++) {
+        int keep = m->pattern_pigment;
+        m->pattern_pigment = bad_pigments[i];
+        assert_false(csg_blob_valid(b.bytes, b.size));
+        m->pattern_pigment = keep;
+    }
     csg_blob_free(&b);
     csg_scene_free(&s);
 }

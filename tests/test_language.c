@@ -703,7 +703,7 @@ static void test_patterns(void **state)
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 pigment { checker color_map { [0 rgb 1] } } }",
               "t.pov:1:33: error: a color_map needs a pattern that takes one "
-              "(any but checker)");
+              "(any but checker, brick and hexagon)");
 }
 
 /* normal { }, layered textures, texture_map, material: POV-Ray's
@@ -752,9 +752,9 @@ static void test_normals_and_layers(void **state)
     csg_scene_free(&s);
     parse_err("sphere { 0, 1 normal { scale 2 } }",
               "t.pov:1:15: error: a normal needs a pattern (bumps, dents, ripples, waves, ...)");
-    parse_err("sphere { 0, 1 normal { checker } }",
-              "t.pov:1:24: error: unsupported: 'checker' in a normal is not in csgtrace's "
-              "language (see scenes/LANGUAGE.md)");
+    parse_err("sphere { 0, 1 normal { checker normal { bumps } } }",
+              "t.pov:1:24: error: unsupported: a list of normals after checker, brick or hexagon "
+              "is not in csgtrace's language (see scenes/LANGUAGE.md)");
     parse_err("sphere { 0, 1 texture { bozo } }",
               "t.pov:1:15: error: a patterned texture needs a texture_map");
     parse_err("#declare M = texture { bozo texture_map { [0 pigment { rgb 1 }] } }\n"
@@ -834,6 +834,173 @@ static void test_gamma_and_version(void **state)
 /* The noise patterns: POV-Ray's defaults (maps, waves, turbulence), the
  * modifiers, the noise generator of the pigment, of global_settings and
  * of #version, and the errors of each keyword at its place. */
+/* brick, hexagon, spiral1 and spiral2 (POV-Ray's Parse_Pattern and
+ * Parse_Blend_List): the block patterns' lists of colours, pigments or
+ * textures at values 0, 1, 2, their defaults, unwaved; brick's size and
+ * mortar (a float, less 2e-10), kept by a brick identifier; the spirals'
+ * arms and triangle wave; and their errors. */
+static void test_block_and_spiral_patterns(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare B = pigment { brick brick_size <1, 2, 3> mortar 0.3 }\n"
+             "sphere { 0, 1 pigment { brick } }\n"
+             "sphere { 0, 1 pigment { B brick rgb 1 } }\n"
+             "sphere { 0, 1 pigment { hexagon rgb 0.1, rgb 0.2 } }\n"
+             "sphere { 0, 1 pigment { hexagon pigment { rgb 1 } pigment { bozo } } }\n"
+             "sphere { 0, 1 pigment { spiral1 5.9 } normal { spiral2 -3, 0.7 } }\n"
+             "sphere { 0, 1 texture { brick texture { pigment { rgb 1 } } } }\n",
+             &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_BRICK);
+    assert_near(p->frequency, 0); /* POV-Ray: a block pattern is not waved */
+    assert_near(p->brick_size.x, 8), assert_near(p->brick_size.y, 3);
+    assert_near(p->brick_size.z, 4.5);
+    assert_near(p->mortar, 0.5); /* (float)(0.5 - 2e-10) */
+    assert_int_equal(p->map_count, 2);
+    assert_near(p->map[0].rgbft[0], 0.5), assert_near(p->map[1].rgbft[1], 0.15);
+    p = &s.textures[s.objects[1]->texture].pigment; /* B's size and mortar kept */
+    assert_near(p->brick_size.z, 3);
+    assert_near(p->mortar, (double)(float)(0.3 - 2e-10));
+    assert_near(p->map[0].rgbft[0], 1), assert_near(p->map[1].rgbft[0], 0.6);
+    p = &s.textures[s.objects[2]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_HEXAGON);
+    assert_int_equal(p->map_count, 3);
+    assert_near(p->map[1].rgbft[0], 0.2), assert_near(p->map[2].value, 2);
+    assert_near(p->map[2].rgbft[0], 1); /* POV-Ray's third: red */
+    p = &s.textures[s.objects[3]->texture].pigment;
+    assert_int_equal(p->pmap_count, 3);
+    assert_int_equal(p->pmap[1].pigment.pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pmap[2].value, 2);
+    const csg_texture *t = &s.textures[s.objects[4]->texture];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_SPIRAL1);
+    assert_int_equal(t->pigment.arms, 5); /* truncated, as POV-Ray's short */
+    assert_int_equal(t->pigment.wave, CSG_WAVE_TRIANGLE);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_SPIRAL2);
+    assert_int_equal(t->normal.pattern.arms, -3);
+    assert_near(t->normal.amount, 0.7);
+    t = &s.textures[s.objects[5]->texture];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_BRICK);
+    assert_int_equal(t->tmap_count, 2);
+    assert_near(t->tmap[1].value, 1);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 normal { hexagon 1.6 scale 2 } }", &s);
+    const csg_normal *n = &s.textures[s.objects[0]->texture].normal;
+    assert_int_equal(n->pattern.pattern, CSG_PATTERN_HEXAGON);
+    assert_near(n->amount, 1.6);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { bozo mortar 0.2 } }",
+              "t.pov:1:30: error: 'mortar' needs the brick pattern");
+    parse_err("sphere { 0, 1 normal { hexagon brick_size 2 } }",
+              "t.pov:1:32: error: 'brick_size' needs the brick pattern");
+    parse_err("sphere { 0, 1 pigment { brick mortar 1e300 } }",
+              "t.pov:1:38: error: mortar out of range, got 1e+300");
+    parse_err("sphere { 0, 1 pigment { spiral1 } }",
+              "t.pov:1:33: error: an expression expected, got '}'");
+    parse_err("sphere { 0, 1 pigment { spiral2 40000 } }",
+              "t.pov:1:33: error: the number of arms must be from -32768 to 32767, got 40000");
+    parse_err("sphere { 0, 1 pigment { hexagon color_map { [0 rgb 1] } } }",
+              "t.pov:1:33: error: a color_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
+    parse_err("sphere { 0, 1 texture { brick texture_map { [0 pigment { rgb 1 }] } } }",
+              "t.pov:1:31: error: a texture_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
+}
+
+/* interior_texture { }: an entry of its own (1 + its index), layered by a
+ * second one, moved by the transforms after it with its object, on a
+ * declared object's copy; POV-Ray's rule: the object needs a texture. */
+static void test_interior_texture(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#declare O = sphere { 0, 1 texture { pigment { rgb 1 } }\n"
+             "                       interior_texture { pigment { rgb <1, 0, 0> } } }\n"
+             "object { O interior_texture { pigment { bozo } } translate x }\n"
+             "union { sphere { 0, 1 } sphere { x, 1 } pigment { rgb 0.5 }\n"
+             "        interior_texture { finish { phong 1 } } }\n",
+             &s);
+    const csg_object *o = s.objects[0];
+    assert_true(o->interior_texture > 0);
+    const csg_texture *t = &s.textures[o->interior_texture - 1];
+    assert_int_equal(t->pigment.pattern, CSG_PATTERN_BOZO); /* the top layer */
+    assert_near(t->pigment.xform.m[0][3], 1);               /* moved with the object */
+    assert_non_null(t->under);
+    assert_near(t->under->pigment.rgbft[0], 1);
+    o = s.objects[1];
+    assert_true(o->interior_texture > 0);
+    assert_near(s.textures[o->interior_texture - 1].finish.phong, 1);
+    assert_int_equal(o->children[0]->interior_texture, 0); /* inherited (flatten.c) */
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 interior_texture { pigment { rgb 1 } } }",
+              "t.pov:1:1: error: interior_texture needs a texture on the sphere itself");
+    parse_err("sphere { 0, 1 pigment { rgb 1 } interior_texture pigment { rgb 1 } }",
+              "t.pov:1:50: error: '{' expected after 'texture', got 'pigment'");
+}
+
+/* pigment_pattern { PIGMENT_BODY }: the pigment (black to start with, as
+ * POV-Ray's Create_Pigment, or an identifier's) kept apart; the
+ * black-to-white map; in a normal with its amount; errors. */
+static void test_pigment_pattern(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("#default { pigment { rgb 1 } }\n"
+             "#declare P = pigment { bozo scale 2 }\n"
+             "sphere { 0, 1 pigment { pigment_pattern { P translate x }\n"
+             "                        color_map { [0 rgb 1] [1 rgb 0] } } }\n"
+             "sphere { 0, 1 pigment { pigment_pattern { } } normal { pigment_pattern { P } 3 } }\n",
+             &s);
+    const csg_pigment *p = &s.textures[s.objects[0]->texture].pigment;
+    assert_int_equal(p->pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_int_equal(p->pattern_pigment->pattern, CSG_PATTERN_BOZO);
+    assert_near(p->pattern_pigment->xform.m[0][3], 1);
+    assert_near(p->map[0].rgbft[0], 1);
+    const csg_texture *t = &s.textures[s.objects[1]->texture];
+    assert_int_equal(t->pigment.pattern_pigment->pattern, CSG_PATTERN_PLAIN);
+    assert_near(t->pigment.pattern_pigment->rgbft[0], 0); /* black, not the default */
+    assert_near(t->pigment.map[1].rgbft[0], 1);
+    assert_int_equal(t->normal.pattern.pattern, CSG_PATTERN_PIGMENT_PATTERN);
+    assert_near(t->normal.amount, 3);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 pigment { pigment_pattern bozo } }",
+              "t.pov:1:41: error: '{' expected after 'pigment_pattern', got 'bozo'");
+    parse_err("sphere { 0, 1 pigment { pigment_pattern { bozo phong 1 } } }",
+              "t.pov:1:48: error: '}' expected (to close 'pigment' at 1:25), got 'phong'");
+}
+
+/* finish { irid { } } and global_settings { irid_wavelength }: POV-Ray's
+ * values in single precision, defaults, the turbulence vector's x; flattened
+ * into the material and the shading; errors. */
+static void test_irid(void **state)
+{
+    (void)state;
+    csg_scene s;
+    parse_ok("global_settings { irid_wavelength rgb <0.25, 0.18, 0.14> noise_generator 3 }\n"
+             "sphere { 0, 1 finish { irid { 0.3 thickness 0.7 turbulence <0.6, 2, 3> } } }\n"
+             "sphere { 0, 1 finish { irid { 0.5 } } }\n", &s);
+    assert_near(s.globals.irid_wavelength[0], (double)0.25f);
+    assert_near(s.globals.irid_wavelength[2], (double)0.14f);
+    const csg_finish *f = &s.textures[s.objects[0]->texture].finish;
+    assert_near(f->irid, (double)0.3f);
+    assert_near(f->irid_thickness, (double)0.7f);
+    assert_near(f->irid_turbulence, (double)0.6f);
+    f = &s.textures[s.objects[1]->texture].finish;
+    assert_near(f->irid, 0.5);
+    assert_near(f->irid_thickness, 0), assert_near(f->irid_turbulence, 0);
+    csg_scene_free(&s);
+    parse_ok("sphere { 0, 1 }", &s); /* POV-Ray's default wavelengths */
+    assert_near(s.globals.irid_wavelength[1], (double)0.52f);
+    assert_near(s.textures[s.objects[0]->texture].finish.irid, 0);
+    csg_scene_free(&s);
+    parse_err("sphere { 0, 1 finish { irid { 0.3 phong 1 } } }",
+              "t.pov:1:35: error: '}' expected (to close 'irid' at 1:24), got 'phong'");
+    parse_err("sphere { 0, 1 finish { irid { 1e39 } } }",
+              "t.pov:1:31: error: irid out of range, got 1e+39");
+    parse_err("sphere { 0, 1 finish { irid 0.3 } }",
+              "t.pov:1:29: error: '{' expected after 'irid', got '0.3'");
+}
+
 static void test_noise_patterns(void **state)
 {
     (void)state;
@@ -931,7 +1098,8 @@ static void test_noise_patterns(void **state)
     parse_err("sphere { 0, 1 pigment { crackle metric 0 } }",
               "t.pov:1:40: error: metric must be > 0, got 0");
     parse_err("sphere { 0, 1 pigment { checker pigment_map { [0 rgb 1] } } }",
-              "t.pov:1:33: error: a pigment_map needs a pattern that takes one (any but checker)");
+              "t.pov:1:33: error: a pigment_map needs a pattern that takes one "
+              "(any but checker, brick and hexagon)");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { } } }",
               "t.pov:1:44: error: '[' expected (a pigment_map entry), got '}'");
     parse_err("sphere { 0, 1 pigment { bozo pigment_map { [0 rgb 1 } } }",
@@ -947,17 +1115,17 @@ static void test_unusable_declarations(void **state)
     (void)state;
     csg_scene s;
     /* declared and never used: no error */
-    parse_ok("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
+    parse_ok("#declare T = texture { pigment { rgb 1 } finish { emission 0.3 } }\n"
              "#declare U = texture { T finish { phong 1 } }\n"
              "#declare F = function(x) { x * 2 }\n"
              "#declare N = 5;\n"
              "sphere { 0, N }\n", &s);
     assert_near(s.objects[0]->r0, 5);
     csg_scene_free(&s);
-    parse_err("#declare T = texture { pigment { rgb 1 } finish { irid { 0.3 } } }\n"
+    parse_err("#declare T = texture { pigment { rgb 1 } finish { emission 0.3 } }\n"
               "#declare U = texture { T finish { phong 1 } }\n"
               "sphere { 0, 1 texture { U } }",
-              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'irid' "
+              "t.pov:3:25: error: unsupported: 'U' (declared at t.pov:2:1) needs 'emission' "
               "(t.pov:1:51), which is not in csgtrace's language (see scenes/LANGUAGE.md)");
 }
 
@@ -1480,6 +1648,10 @@ int main(void)
         cmocka_unit_test(test_fog_colour_expression),
         cmocka_unit_test(test_crand_and_average),
         cmocka_unit_test(test_file_io),
+        cmocka_unit_test(test_block_and_spiral_patterns),
+        cmocka_unit_test(test_irid),
+        cmocka_unit_test(test_pigment_pattern),
+        cmocka_unit_test(test_interior_texture),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -690,8 +690,8 @@ static void test_errors(void **state)
          "t.pov:1:44: error: cannot link bounds with previous clips"},
         {"sphere { 0, 1 clipped_by { bounded_by box } }",
          "t.pov:1:39: error: '}' expected (to close 'clipped_by' at 1:15), got 'box'"},
-        {"sphere { 0, 1 finish { metallic 0.5 irid { 0.3 } } }",
-         "t.pov:1:37: error: unsupported: 'irid' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 finish { metallic 0.5 emission 0.3 } }",
+         "t.pov:1:37: error: unsupported: 'emission' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, 1 finish { phong 1 ; } }",
          "t.pov:1:32: error: '}' expected (to close 'finish' at 1:15), got ';'"},
         {"sphere { 0, 1 interior { ior 0 } }", "t.pov:1:30: error: ior must be > 0, got 0"},
@@ -699,8 +699,8 @@ static void test_errors(void **state)
          "t.pov:1:25: error: unsupported: 'tiles' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, 1 pigment { rgb 1 rgb 2 x } }",
          "t.pov:1:31: error: '}' expected (to close 'pigment' at 1:15), got 'rgb'"},
-        {"sphere { 0, 1 pigment { hexagon } }",
-         "t.pov:1:25: error: unsupported: 'hexagon' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
+        {"sphere { 0, 1 pigment { tiling 3 } }",
+         "t.pov:1:25: error: unsupported: 'tiling' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, now }",
          "t.pov:1:13: error: unsupported: 'now' is not in csgtrace's language (see scenes/LANGUAGE.md)"},
         {"sphere { 0, 1 transform { scale 0 } }", "t.pov:1:33: error: scale by zero"},
@@ -906,7 +906,8 @@ static void test_keywords(void **state)
     assert_int_equal(csg_keyword("colour", 6, false), CSG_KW_COLOR);
     assert_int_equal(csg_keyword("no", 2, false), CSG_KW_FALSE);
     assert_int_equal(csg_keyword("no_shadow", 9, false), CSG_KW_NO_SHADOW);
-    assert_int_equal(csg_keyword("hexagon", 7, false), CSG_KW_UNSUPPORTED);
+    assert_int_equal(csg_keyword("hexagon", 7, false), CSG_KW_PATTERN);
+    assert_int_equal(csg_keyword("tiling", 6, false), CSG_KW_UNSUPPORTED);
     assert_int_equal(csg_keyword("ambient", 7, false), CSG_KW_AMBIENT);
     assert_int_equal(csg_keyword("ambient_light", 13, false), CSG_KW_AMBIENT_LIGHT);
     assert_int_equal(csg_keyword("z", 1, false), CSG_KW_Z);

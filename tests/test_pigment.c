@@ -1,8 +1,9 @@
 /*
- * test_pigment.c — the noise patterns against POV-Ray 3.7 itself: each
- * pigment below, with the colour map [0 rgb 0] [1 rgb 1] (so red is the
- * pattern's value after its wave), evaluated at five fixed points by
- * workers/pigment.c (double build) and by POV-Ray 3.7.0.10, whose values
+ * test_pigment.c — the patterns (noise, shapes, blocks, spirals) against
+ * POV-Ray 3.7 itself: each pigment below, with the colour map [0 rgb 0]
+ * [1 rgb 1] (so red is the pattern's value after its wave; brick and
+ * hexagon list their colours instead: 0 and 1, 0, 0.5 and 1), evaluated
+ * at five fixed points by workers/pigment.c (double build) and by POV-Ray 3.7.0.10, whose values
  * are written here.  They were printed by POV-Ray from
  * tests/pigment_reference.pov (`povray +Itests/pigment_reference.pov -D
  * +W8 +H8 +GD`; its pigment functions evaluate exactly the pigment at the
@@ -116,6 +117,38 @@ static const struct {
      {0.523133575916, 0.599838018417, 0.709638297558, 0.785753667355, 0.801226437092}},
     {"crackle solid noise_generator 1 scale 0.3 offset 0.5",
      {0.281486570835, 0.461489737034, 0.302077710629, 0.545371532440, 0.527392625809}},
+    {"spiral1 5",
+     {0.225484132767, 0.097098268569, 0.725344598293, 0.498869627714, 0.002182263415}},
+    {"spiral2 3 scale 0.7",
+     {0.905007898808, 0.114835344255, 0.685568928719, 0.960084617138, 0.168379858136}},
+    {"spiral1 -2 turbulence 0.3 octaves 3 sine_wave frequency 2 phase 0.2",
+     {0.996748268604, 0.999238729477, 0.169951826334, 0.856558024883, 0.057894591242}},
+    {"spiral2 7 turbulence <0.4, 0.2, 0.1> noise_generator 1 rotate <10, 20, 30>",
+     {0.634373664856, 0.190073817968, 0.463649123907, 0.505114197731, 0.244078308344}},
+    {"brick rgb 0, rgb 1 brick_size <0.5, 0.3, 0.4> mortar 0.1",
+     {0.000000000000, 1.000000000000, 1.000000000000, 0.000000000000, 0.000000000000}},
+    {"brick rgb 0, rgb 1 scale 0.05 turbulence 0.2",
+     {1.000000000000, 1.000000000000, 1.000000000000, 1.000000000000, 0.000000000000}},
+    {"hexagon rgb 0, rgb 0.5, rgb 1 scale 0.4 rotate 30 * y",
+     {0.000000000000, 0.000000000000, 0.500000000000, 0.000000000000, 0.500000000000}},
+    {"hexagon rgb 0, rgb 0.5, rgb 1 rotate <20, 40, 60> turbulence 0.3",
+     {0.000000000000, 1.000000000000, 0.500000000000, 0.000000000000, 0.500000000000}},
+    {"hexagon rgb 0, rgb 0.5, rgb 1 scale 0.13",
+     {1.000000000000, 1.000000000000, 0.000000000000, 0.500000000000, 1.000000000000}},
+    {"hexagon rgb 0, rgb 0.5, rgb 1 scale 0.021 rotate 7 * y",
+     {0.500000000000, 0.000000000000, 0.500000000000, 0.000000000000, 0.500000000000}},
+    {"hexagon rgb 0, rgb 0.5, rgb 1 scale 0.0517",
+     {1.000000000000, 0.500000000000, 1.000000000000, 1.000000000000, 1.000000000000}},
+    {"brick rgb 0, rgb 1 scale 0.0831 rotate <30, 60, 10>",
+     {0.000000000000, 1.000000000000, 1.000000000000, 1.000000000000, 0.000000000000}},
+    {"pigment_pattern { bozo color_map { [0 rgb <1, 0.2, 0>] [1 rgb <0, 0.5, 1>] } "
+     "scale 0.5 }",
+     {0.411178946495, 0.410006582737, 0.411937236786, 0.409927189350, 0.411115705967}},
+    {"pigment_pattern { gradient x pigment_map { [0 rgb <0.3, 0.9, 0.1>] [1 wood "
+     "color_map { [0 rgb 1] [1 rgb <0, 0, 1>] }] } scale 3 } turbulence 0.2 sine_wave",
+     {0.223235055804, 0.050255510956, 0.024439185858, 0.189993575215, 0.008261550218}},
+    {"pigment_pattern { hexagon rgb <1, 0, 0>, rgb <0, 1, 0>, rgb <0, 0, 1> scale 0.6 }",
+     {0.588999986649, 0.114000000060, 0.588999986649, 0.588999986649, 0.114000000060}},
 };
 
 /* The flat scene (double precision) of scene text; the scene itself too
@@ -138,10 +171,13 @@ static csg_blob load_text(const char *text, csg_scene *keep)
 }
 
 /* The text of a plane with pigment `pig` (and the grey map unless it has
- * a pigment map), under #version `version`. */
+ * a pigment map or, a block pattern, its colours), under #version
+ * `version`. */
 static void pigment_scene(char *text, size_t size, const char *pig, const char *version)
 {
-    const char *map = strstr(pig, "pigment_map") ? "" : " color_map { [0 rgb 0] [1 rgb 1] }";
+    bool listed = strncmp(pig, "brick", 5) == 0 || strncmp(pig, "hexagon", 7) == 0;
+    const char *map =
+        strstr(pig, "pigment_map") || listed ? "" : " color_map { [0 rgb 0] [1 rgb 1] }";
     snprintf(text, size, "#version %s;\nplane { y, 0 pigment { %s%s } }\n", version, pig, map);
 }
 

@@ -472,6 +472,120 @@ static double pattern_average(const csg_material *m, const double q[3], double b
     return 0.0;
 }
 
+/* x's fraction as POV-Ray's brick takes it, x - (int)x moved into
+ * [0, 1): trunc in place of the int cast, equal wherever the cast is
+ * defined. */
+static double brick_fraction(double x)
+{
+    double f = x - trunc(x);
+    return f < 0.0 ? f + 1.0 : f;
+}
+
+/* POV-Ray's brick_pattern: 0 in the mortar, 1 in a brick.  The layers of
+ * mortar between the rows (y), then the ends of the bricks (x, every
+ * other row shifted by half a brick), then the faces along z the same;
+ * the point is moved by the mortar (plus EPSILON) first. */
+static double pattern_brick(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double mortar = (double)m->mortar, fudge = PATTERN_EPSILON + mortar;
+    double x = q[0] + fudge, y = q[1] + fudge, z = q[2] + fudge;
+    double width = (double)m->brick_size[0], height = (double)m->brick_size[1],
+           depth = (double)m->brick_size[2];
+    if (brick_fraction(y / height) <= mortar / height)
+        return 0.0;
+    bool odd_row = brick_fraction((y / height) * 0.5) <= 0.5;
+    double ends = brick_fraction(odd_row ? x / width : x / width + 0.5);
+    if (ends <= mortar / width)
+        return 0.0;
+    double faces = brick_fraction(odd_row ? z / depth + 0.5 : z / depth);
+    return faces <= mortar / depth ? 0.0 : 1.0;
+}
+
+/* The hexagon's colour (0, 1 or 2) of a cell (xm, zm) of POV-Ray's 6 x 6
+ * grid wholly inside one hexagon (xm 0, 2, 3 or 5). */
+static int hexagon_square(int xm, int zm)
+{
+    static const int edge[6] = {0, 1, 1, 2, 2, 0};   /* xm 0 and 5 */
+    static const int middle[6] = {2, 2, 0, 0, 1, 1}; /* xm 2 and 3 */
+    return xm == 0 || xm == 5 ? edge[zm] : middle[zm];
+}
+
+/* POV-Ray's hexagon_pattern: three hexagons tiling the xz plane, 0, 1 or
+ * 2.  The point is folded (|x|; z < 0 moved up by the grid's height, not
+ * mirrored), scaled into a 6 x 6 grid of half triangles; cells with
+ * xm 1 or 4 are split by a diagonal (the slope read against 1). */
+static double pattern_hexagon(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)bias;
+    double x = fabs(q[0]), z = q[2];
+    z = z < 0.0 ? 5.196152424 - fabs(z) : z;
+    double xs = x / 0.5, zs = z / 0.866025404;
+    xs -= floor(xs / 6.0) * 6.0;
+    zs -= floor(zs / 6.0) * 6.0;
+    /* in [0, 6) but where the rounding of a far point says otherwise (POV-Ray's
+       int cast of such a point is undefined: cell 0 here) */
+    int xm = xs >= 0.0 && xs < 6.0 ? (int)floor(xs) % 6 : 0;
+    int zm = zs >= 0.0 && zs < 6.0 ? (int)floor(zs) % 6 : 0;
+    if (xm != 1 && xm != 4)
+        return hexagon_square(xm, zm);
+    double xl = xs - xm, zl = zs - zm;
+    if ((xm + zm) % 2 == 1)
+        xl = 1.0 - xl;
+    if (xl == 0.0)
+        xl = 0.0001; /* POV-Ray's */
+    static const int below[6] = {0, 2, 1, 0, 2, 1}; /* zl / xl < 1, by zm */
+    static const int above[6] = {2, 1, 0, 2, 1, 0};
+    return zl / xl < 1.0 ? below[zm] : above[zm];
+}
+
+/* POV-Ray's spiral angle: the turn of (x, y) about the z axis in
+ * [0, 2 pi), from -y; and the distance from the axis. */
+static double spiral_turn(const double q[3], double *rad)
+{
+    double x = q[0], y = q[1];
+    *rad = sqrt(x * x + y * y);
+    if (*rad == 0.0)
+        return 0.0;
+    return x < 0.0 ? 3.0 * 1.57079632679489661923 - asin(y / *rad)
+                   : 1.57079632679489661923 + asin(y / *rad);
+}
+
+/* spiral1 and spiral2 add their turbulence themselves (POV-Ray's
+ * Search_For_Turb: the classic one's x amount times the noise's
+ * turbulence), after the classic warp has moved the point. */
+static double spiral_turbulence(const csg_material *m, const double q[3])
+{
+    if (!m->turb_on)
+        return 0.0;
+    noise_turb t = turb_of(m);
+    return (double)m->turbulence[0] * noise_turbulence(q, &t, m->noise_gen);
+}
+
+static double pattern_spiral1(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double turb = spiral_turbulence(m, q), rad, phi = spiral_turn(q, &rad);
+    return q[2] + rad + (double)m->spiral_arms * phi / 6.283185307179586476925286766560 + turb;
+}
+
+static double pattern_spiral2(const csg_material *m, const double q[3], double bias)
+{
+    (void)bias;
+    double turb = spiral_turbulence(m, q), rad, phi = spiral_turn(q, &rad);
+    turb = noise_triangle(q[2] + rad +
+                          (double)m->spiral_arms * phi / 6.283185307179586476925286766560 + turb);
+    return noise_triangle(rad) + turb;
+}
+
+/* pigment_pattern's value needs the other materials: pattern_at gives it
+ * (its pigment's grey), this is the table's row. */
+static double pattern_pigment_pattern(const csg_material *m, const double q[3], double bias)
+{
+    (void)m, (void)q, (void)bias;
+    return 0.0;
+}
+
 /* Step 4: the value of m's pattern.  The cases are the table's rows, each
  * its pattern_<name> (a row without one does not compile); there is no
  * default, so -Wswitch names a pattern left out.  Plain never gets here
@@ -623,6 +737,22 @@ static double matrix_norm(const real *m)
 static pigment_color evaluate(const csg_material *mats, const csg_material *m,
                               const csg_map_color *maps, const double w[3], double err, int depth);
 
+/* Step 4 with the other materials at hand: a pigment_pattern's value is
+ * the grey of its pigment at q (POV-Ray's pigment_pattern: the colour in
+ * floats, 0.297 r + 0.589 g + 0.114 b, rounded to a float); every other
+ * pattern's is pattern_value's. */
+static double pattern_at(const csg_material *mats, const csg_material *m,
+                         const csg_map_color *maps, const double q[3], double err, int depth)
+{
+    if (m->pattern != CSG_PATTERN_PIGMENT_PATTERN)
+        return pattern_value(m, q, PATTERN_EPSILON);
+    if (depth >= PIGMENT_MAX_DEPTH)
+        return 0.0;
+    pigment_color c = evaluate(mats, &mats[m->pattern_pigment], maps, q, err, depth + 1);
+    float r = (float)c.color.x, g = (float)c.color.y, b = (float)c.color.z;
+    return (double)(float)(0.297 * (double)r + 0.589 * (double)g + 0.114 * (double)b);
+}
+
 /* Step 6 with a pigment map: the entries' pigments at the pattern's
  * point q (POV-Ray's Compute_Pigment hands them the warped point). */
 static pigment_color pigment_map_color(const csg_material *mats, const csg_material *m,
@@ -683,7 +813,7 @@ static pigment_color evaluate(const csg_material *mats, const csg_material *m,
         return depth < PIGMENT_MAX_DEPTH && m->sub_first > 0
                    ? average_color(mats, m, maps, q, q_err, depth)
                    : color_of((const double[5]){0, 0, 0, 0, 0});
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
+    double v = wave(m, pattern_at(mats, m, maps, q, q_err, depth));
     if (m->sub_first > 0 && depth < PIGMENT_MAX_DEPTH)
         return pigment_map_color(mats, m, maps, q, q_err, v, depth);
     return map_color(maps + m->map_first, m->map_count, v);
@@ -725,11 +855,12 @@ static void pattern_point(const csg_material *m, const double w[3], double err, 
     *q_err = err * matrix_norm(m->to_pattern);
 }
 
-double PIGMENT_TMAP(const csg_material *m, const csg_map_color *maps, const double w[3],
-                    double err, double q[3], double *q_err, int *prev, int *cur)
+double PIGMENT_TMAP(const csg_material *mats, const csg_material *m, const csg_map_color *maps,
+                    const double w[3], double err, double q[3], double *q_err, int *prev,
+                    int *cur)
 {
     pattern_point(m, w, err, q, q_err);
-    double v = wave(m, pattern_value(m, q, PATTERN_EPSILON));
+    double v = wave(m, pattern_at(mats, m, maps, q, *q_err, 0));
     return map_search(maps + m->map_first, m->map_count, v, prev, cur);
 }
 
@@ -751,7 +882,8 @@ static void add_scaled(double n[3], double f, const double v[3])
 
 /* Any pattern: its value (through its wave) at four points around q,
  * each pushing the normal along its direction. */
-static void normal_pattern(const csg_material *nm, const double q[3], double n[3])
+static void normal_pattern(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
     double delta = (double)nm->accuracy;
     double amount = (double)nm->bump_size * -5.0;
@@ -760,28 +892,34 @@ static void normal_pattern(const csg_material *nm, const double q[3], double n[3
         double p1[3];
         for (int k = 0; k < 3; k++)
             p1[k] = q[k] + delta * pyramid[i][k];
-        double v = wave(nm, pattern_value(nm, p1, PATTERN_EPSILON));
+        double v = wave(nm, pattern_at(mats, nm, maps, p1, 0.0, 0));
         add_scaled(n, v * amount, pyramid[i]);
     }
 }
 
-static void normal_bumps(const csg_material *nm, const double q[3], double n[3])
+static void normal_bumps(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double d[3];
     noise_vector(q, d);
     add_scaled(n, (double)nm->bump_size, d);
 }
 
-static void normal_dents(const csg_material *nm, const double q[3], double n[3])
+static void normal_dents(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double noise = noise_value(q, nm->noise_gen), d[3];
     noise = noise * noise * noise * (double)nm->bump_size;
     noise_vector(q, d);
     add_scaled(n, noise, d);
 }
 
-static void normal_ripples(const csg_material *nm, const double q[3], double n[3])
+static void normal_ripples(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     for (int i = 0; i < nm->number_of_waves; i++) {
         double d[3], f;
         double length = wave_offset(i, q, d, &f);
@@ -791,8 +929,10 @@ static void normal_ripples(const csg_material *nm, const double q[3], double n[3
     }
 }
 
-static void normal_waves(const csg_material *nm, const double q[3], double n[3])
+static void normal_waves(const csg_material *mats, const csg_map_color *maps,
+                         const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     for (int i = 0; i < nm->number_of_waves; i++) {
         double d[3], f;
         double length = wave_offset(i, q, d, &f);
@@ -802,8 +942,10 @@ static void normal_waves(const csg_material *nm, const double q[3], double n[3])
     }
 }
 
-static void normal_wrinkles(const csg_material *nm, const double q[3], double n[3])
+static void normal_wrinkles(const csg_material *mats, const csg_map_color *maps,
+                            const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double result[3] = {0.0, 0.0, 0.0}, scale = 1.0;
     for (int i = 0; i < 10; scale *= 2.0, i++) {
         double p[3] = {q[0] * scale, q[1] * scale, q[2] * scale}, d[3];
@@ -814,8 +956,10 @@ static void normal_wrinkles(const csg_material *nm, const double q[3], double n[
     add_scaled(n, (double)nm->bump_size, result);
 }
 
-static void normal_quilted(const csg_material *nm, const double q[3], double n[3])
+static void normal_quilted(const csg_material *mats, const csg_map_color *maps,
+                           const csg_material *nm, const double q[3], double n[3])
 {
+    (void)mats, (void)maps;
     double v[3];
     quilted_vector(nm, q, v);
     add_scaled(n, (double)nm->bump_size, v);
@@ -857,7 +1001,8 @@ void PIGMENT_UNWARP_NORMAL(const csg_material *m, double n[3], bool scale)
         normalize3(n);
 }
 
-void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3])
+void PIGMENT_NORMAL(const csg_material *mats, const csg_map_color *maps, const csg_material *nm,
+                    const double w[3], double n[3])
 {
     bool scale = !nm->no_bump_scale;
     PIGMENT_WARP_NORMAL(nm, n, scale);
@@ -866,7 +1011,7 @@ void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3])
     switch ((enum csg_normal_kind)nm->normal_kind) {
 #define NORMAL_CASE(ID, name)                                                                      \
     case CSG_NORMAL_##ID:                                                                          \
-        normal_##name(nm, q, n);                                                                   \
+        normal_##name(mats, maps, nm, q, n);                                                       \
         break;
         CSG_NORMALS(NORMAL_CASE)
 #undef NORMAL_CASE

@@ -60,12 +60,15 @@ pigment_color PIGMENT_EVAL(const csg_material *mats, const csg_material *m,
  * its rounding q_err) where its entries are evaluated, the entries *prev
  * and *cur around its pattern's value, and the fraction of the way from
  * prev to cur (POV-Ray's Search_Blend_Map). */
-double PIGMENT_TMAP(const csg_material *m, const csg_map_color *maps, const double w[3],
-                    double err, double q[3], double *q_err, int *prev, int *cur);
+double PIGMENT_TMAP(const csg_material *mats, const csg_material *m, const csg_map_color *maps,
+                    const double w[3], double err, double q[3], double *q_err, int *prev,
+                    int *cur);
 /* POV-Ray's Perturb_Normal: the unit normal n (world, or the space of the
  * texture_map holding the normal's texture), perturbed by the normal
- * material nm at w, back into that space (unit length). */
-void PIGMENT_NORMAL(const csg_material *nm, const double w[3], double n[3]);
+ * material nm (of the blob's mats and maps) at w, back into that space
+ * (unit length). */
+void PIGMENT_NORMAL(const csg_material *mats, const csg_map_color *maps, const csg_material *nm,
+                    const double w[3], double n[3]);
 /* POV-Ray's Warp_Normal and UnWarp_Normal through pattern material m's
  * transform (normalised before and after when scale). */
 void PIGMENT_WARP_NORMAL(const csg_material *m, double n[3], bool scale);

@@ -40,6 +40,7 @@
 #include "engine.h"
 #include "frustum.h"
 #include "noise.h"
+#include "noise.h"
 #include "../csg/device/offset.h"
 #include "pager.h"
 #include "pigment.h"
@@ -69,6 +70,8 @@ typedef struct {
     const csg_flat_fog *fogs;
     csg_i32 fog_count;
     csg_i32 camera_solid;    /* non-hollow objects around the camera        */
+    csg_i32 noise_gen;       /* the scene's noise generator (irid's)        */
+    double irid_wavelength[3];
 } shade_ctx;
 
 _Static_assert((int)CSG_OUTPUT_SRGB == (int)PIXELS_GAMMA_SRGB &&
@@ -180,6 +183,9 @@ static shade_ctx ctx_of(const void *blob)
     c.fogs = sh->fogs;
     c.fog_count = sh->fog_count;
     c.camera_solid = sh->camera_solid;
+    c.noise_gen = sh->noise_gen;
+    for (int i = 0; i < 3; i++)
+        c.irid_wavelength[i] = (double)sh->irid_wavelength[i];
     return c;
 }
 
@@ -266,7 +272,7 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
     if (m->tmap && m->pattern == CSG_PATTERN_AVERAGE) {
         double q[3], q_err, total = 0.0;
         int prev, cur;
-        PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         vec3 sum = grey3(R(0.0));
         for (int i = 0; depth < SHADE_MAX_DEPTH && i < m->map_count; i++) {
             real weight = c->maps[m->map_first + i].value;
@@ -279,7 +285,7 @@ static vec3 texture_filter(const shade_ctx *c, const csg_material *m, const doub
     if (m->tmap) {
         double q[3], q_err;
         int prev, cur;
-        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        double f = PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         if (depth >= SHADE_MAX_DEPTH)
             return grey3(R(0.0));
         vec3 a = texture_filter(c, &c->mats[m->sub_first + cur], q, q_err, depth + 1);
@@ -336,6 +342,15 @@ static bool shadow_fade(const shade_ctx *c, csg_u32 s, real depth, vec3 *pass)
     return max3(*pass) > R(0.0);
 }
 
+/* POV-Ray's interior_texture (Trace's normaldirection): where a ray of
+ * direction d meets the surface whose outward normal is n (the solid's:
+ * a complemented primitive's reversed, as POV-Ray reverses an inverted
+ * object's) from inside, material m's inside material; else m. */
+static const csg_material *seen_material(const shade_ctx *c, const csg_material *m, vec3 n, vec3 d)
+{
+    return m->inside > 0 && v3_dot(n, d) > R(0.0) ? &c->mats[m->inside - 1] : m;
+}
+
 /* Multiplies *pass by what surface s, met at ts along r, lets through on
  * the way to the light `dist` away (its pigment there); false once nothing
  * passes. */
@@ -348,6 +363,10 @@ static bool surface_transmittance(const shade_ctx *c, csg_ray r, csg_u32 s, real
     if (prim->flags & CSG_PF_NO_SHADOW)
         return true;
     const csg_material *m = &c->mats[prim->material];
+    if (m->inside > 0) {
+        vec3 n = csg_surface_normal(c->view.prims, s, v3_add(r.o, v3_scale(r.d, ts)));
+        m = seen_material(c, m, n, r.d);
+    }
     real err = OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * offset_magnitude(r.o, r.d, ts);
     if (m->tmap || m->under > 0) { /* a texture_map or layers */
         double w[3];
@@ -862,6 +881,31 @@ static vec3 light_at(const shade_ctx *c, hit_info *hi, csg_i32 i, vec3 l, real d
     return light;
 }
 
+/* POV-Ray's ComputeIridColour: what a thin film (irid) makes of one
+ * light's diffuse and highlights, colour by colour 1 + irid cos(phase /
+ * wavelength), the phase 2 pi thickness (|cos| to the light + |cos| to the
+ * eye); the thickness varies by turbulence (five octaves of the scene's
+ * noise at the hit point p, into 1 +- turbulence). */
+static vec3 irid_factor(const shade_ctx *c, const csg_material *m, vec3 l, vec3 eye, vec3 nl,
+                        vec3 p)
+{
+    double thickness = (double)m->irid_thickness;
+    if (m->irid_turbulence != R(0.0)) {
+        noise_turb turb = {5, 0.5, 2.0};
+        double q[3] = {(double)p.x, (double)p.y, (double)p.z};
+        double noise = 2.0 * noise_turbulence(q, &turb, c->noise_gen) - 1.0;
+        thickness *= 1.0 + noise * (double)m->irid_turbulence;
+    }
+    double n[3] = {(double)nl.x, (double)nl.y, (double)nl.z};
+    double cos_light = fabs(n[0] * (double)l.x + n[1] * (double)l.y + n[2] * (double)l.z);
+    double cos_eye = fabs(n[0] * (double)eye.x + n[1] * (double)eye.y + n[2] * (double)eye.z);
+    double interference = 2.0 * M_PI * thickness * (cos_light + cos_eye);
+    double irid = (double)m->irid, f[3];
+    for (int i = 0; i < 3; i++)
+        f[i] = 1.0 + irid * cos(interference / c->irid_wavelength[i]);
+    return v3((real)f[0], (real)f[1], (real)f[2]);
+}
+
 /* One layer's own light (POV-Ray's ambient, diffuse and highlights of
  * the layer with pigment pig, normal nl; phong_dir: the eye reflected
  * about nl): *surface, dimmed by the opacity by the caller, and
@@ -890,16 +934,19 @@ static void layer_light(const shade_ctx *c, hit_info *hi, const csg_material *m,
         light = light_at(c, hi, i, l, dist, light, tally);
         if (!lt->shadowless && max3(light) <= R(0.0))
             continue;
+        /* irid scales every term of this light (1 without irid: the same bits) */
+        vec3 irid = m->irid > R(0.0) ? irid_factor(c, m, l, hi->r.d, nl, hi->p) : grey3(R(1.0));
         real lambert = m->brilliance == R(1.0) ? cosl : power(cosl, m->brilliance);
-        surface = v3_add(surface, v3_scale(v3_mul(pig, light), m->diffuse * lambert));
+        surface = v3_add(surface, v3_mul(v3_scale(v3_mul(pig, light), m->diffuse * lambert), irid));
         if (m->crand > R(0.0) && m->diffuse > R(0.0)) /* POV-Ray's ComputeDiffuseColour:
             the grain leaves the diffuse intensity after its opacity: not dimmed */
-            highlight = v3_sub(highlight, v3_scale(v3_mul(pig, light),
-                                                   (real)pixel_random(tally) * m->crand));
+            highlight = v3_sub(highlight, v3_mul(v3_scale(v3_mul(pig, light),
+                                                          (real)pixel_random(tally) * m->crand),
+                                                 irid));
         if (lt->shadowless) /* POV-Ray gives a fill light (shadowless) no
             highlights (ComputeOneLightRay: Light_Type != FILL_LIGHT_SOURCE) */
             continue;
-        vec3 hl = highlight_color(m, pig, cosl, light);
+        vec3 hl = v3_mul(highlight_color(m, pig, cosl, light), irid);
         if (m->phong > R(0.0)) {
             real cr = v3_dot(phong_dir, l);
             if (cr > R(0.0))
@@ -926,7 +973,7 @@ static vec3 layer_normal(const shade_ctx *c, const hit_info *hi, const csg_mater
     double n[3] = {(double)hi->nf.x, (double)hi->nf.y, (double)hi->nf.z};
     for (int i = 0; i < np; i++)
         PIGMENT_WARP_NORMAL(parents[i], n, true);
-    PIGMENT_NORMAL(&c->mats[layer->normal - 1], w, n);
+    PIGMENT_NORMAL(c->mats, c->maps, &c->mats[layer->normal - 1], w, n);
     for (int i = np - 1; i >= 0; i--)
         PIGMENT_UNWARP_NORMAL(parents[i], n, true);
     return v3((real)n[0], (real)n[1], (real)n[2]);
@@ -1139,7 +1186,7 @@ static vec3 texture_colour(const shade_ctx *c, hit_info *hi, const csg_material 
     if (m->tmap && np < SHADE_MAX_DEPTH) {
         double q[3], q_err;
         int prev, cur;
-        double f = PIGMENT_TMAP(m, c->maps, w, err, q, &q_err, &prev, &cur);
+        double f = PIGMENT_TMAP(c->mats, m, c->maps, w, err, q, &q_err, &prev, &cur);
         parents[np] = m;
         if (m->pattern == CSG_PATTERN_AVERAGE)
             return average_texture(c, hi, m, q, q_err, parents, np + 1, weight, tally);
@@ -1173,6 +1220,7 @@ static vec3 shade_hit(const shade_ctx *c, csg_ray r, csg_hit h, int level, real 
      * ray by its own direction, as POV-Ray turns it (ComputeTextureColour
      * flips a smooth triangle's interpolated normal alone) */
     csg_hit_frame f = csg_hit_frame_of(c->view, r, h.t, h.surf);
+    m = seen_material(c, m, f.n, r.d);
     hi.p = f.p;
     hi.entering = f.entering;
     hi.nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n; /* faces the incoming ray */

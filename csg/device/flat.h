@@ -386,12 +386,15 @@ typedef struct {
     csg_i32 fog_count;     /* fogs[0 .. fog_count) (<= CSG_FLAT_FOGS)   */
     csg_i32 camera_solid;  /* non-hollow objects around the camera: no fog
                               on the primary rays while > 0             */
+    csg_i32 noise_gen;     /* the scene's noise generator (irid's)     */
+    csg_i32 pad;
     real output_gamma;     /* CSG_OUTPUT_POWER's G (1 otherwise)        */
     real background[3];    /* what a ray that hits nothing sees (with the
                               sky: behind it)                            */
     real ambient_light[3];
     real adc_bailout;      /* rays weighing less are not traced        */
     real sky_emission[3];
+    real irid_wavelength[3]; /* irid's wavelengths, red, green, blue     */
     csg_flat_fog fogs[CSG_FLAT_FOGS];
 } csg_shading;
 
@@ -470,6 +473,19 @@ typedef struct {
     real reflection_exponent;
     real reflection_metallic;
     real crand;         /* POV-Ray's graininess (0: none; shade.c)       */
+    csg_i32 spiral_arms; /* spiral1, spiral2: the number of arms         */
+    csg_i32 pattern_pigment; /* pigment_pattern: the material of its pigment
+                           (after this one); 0: none                     */
+    real brick_size[3]; /* brick: a brick's size along x, y, z           */
+    real mortar;        /* brick: the mortar's width                     */
+    real irid;          /* iridescence (csg_finish; 0: none)             */
+    real irid_thickness;
+    real irid_turbulence;
+    csg_i32 inside;     /* > 0: where a ray meets the surface from inside
+                           (its primitive's own normal against the ray),
+                           material inside - 1 is seen (POV-Ray's
+                           interior_texture); 0: none                    */
+    csg_i32 pad3;
 } csg_material;
 
 /* A light (POV-Ray's LightSource): the C workers, and the device's shadow

@@ -81,7 +81,13 @@ enum csg_wave { CSG_WAVES(CSG_WAVE_ENUM) };
     PATTERN(QUILTED, quilted, RAMP, 0, 1)         /* a cubic of the distance from each
                                                      cell's centre                     */          \
     PATTERN(AVERAGE, average, RAMP, 0, 1)         /* no value (0): the pigment_map's
-                                                     entries weighted by their values  */
+                                                     entries weighted by their values  */          \
+    PATTERN(BRICK, brick, RAMP, 0, 1)             /* 0 in the mortar, 1 in a brick     */          \
+    PATTERN(HEXAGON, hexagon, RAMP, 0, 1)         /* 0, 1 or 2: three hexagons in xz   */          \
+    PATTERN(SPIRAL1, spiral1, TRIANGLE, 0, 1)     /* z + distance from z + arms * turn */          \
+    PATTERN(SPIRAL2, spiral2, TRIANGLE, 0, 1)     /* spiral1's, triangled, plus the
+                                                     distance's triangle               */          \
+    PATTERN(PIGMENT_PATTERN, pigment_pattern, RAMP, 0, 1) /* its pigment's grey            */
 
 /* Other keywords of a pattern above, ALIAS(word, ID): POV-Ray's spotted
  * and bumps are bozo's noise under another name (and, as pigments,

@@ -417,6 +417,10 @@ bool lang_parse_string(parser *p, char **out);
 
 bool lang_parse_pigment(parser *p, csg_pigment *pig);
 bool lang_parse_finish(parser *p, csg_finish *f);
+/* v as POV-Ray keeps a single-precision (SNGL, COLC) setting: rounded to
+ * a float into *out; false (an error at `at` naming `what`) when no float
+ * holds it. */
+bool lang_single_float(parser *p, double v, csg_loc at, const char *what, double *out);
 bool lang_parse_texture(parser *p, csg_texture *t);
 bool lang_parse_interior(parser *p, csg_interior *in);
 /* normal { [NORMAL_ID] [PATTERN [,] [AMOUNT]] MODIFIERS }, editing *n (a

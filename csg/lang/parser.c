@@ -756,6 +756,24 @@ static bool parse_material_modifier(parser *p, csg_object *o, int tex_mark, int 
     return true;
 }
 
+/* interior_texture { TEXTURE_BODY } on o: a new entry of its own, layered
+ * over the one o had (POV-Ray's Link_Textures, as for texture { }). */
+static bool parse_interior_texture(parser *p, csg_object *o)
+{
+    csg_loc at = lang_tok(p)->loc;
+    csg_texture top, t;
+    const csg_texture *had =
+        o->interior_texture > 0 ? (csg_texture *)p->textures.data + o->interior_texture - 1 : NULL;
+    csg_texture under;
+    if (had)
+        under = *had; /* (the vector may move on the push below) */
+    if (!lang_parse_texture(p, &top) || !lang_texture_link(p, had ? &under : NULL, &top, &t, at) ||
+        !lang_vec_push(p, &p->textures, sizeof t, &t))
+        return false;
+    o->interior_texture = p->textures.count; /* (1 + its index) */
+    return true;
+}
+
 /* interior { } on o: edits its own interior entry. */
 static bool parse_interior_modifier(parser *p, csg_object *o, int int_mark)
 {
@@ -774,6 +792,16 @@ static bool parse_interior_modifier(parser *p, csg_object *o, int int_mark)
  * with a declared object or its other copies). */
 static bool transform_textures(parser *p, csg_object *o, const csg_xform *x)
 {
+    if (o->interior_texture > 0) {
+        const csg_texture *t = (csg_texture *)p->textures.data + o->interior_texture - 1;
+        if (lang_texture_patterned(t)) {
+            csg_texture moved = *t;
+            if (!lang_texture_transform(p, &moved, x) ||
+                !lang_vec_push(p, &p->textures, sizeof moved, &moved))
+                return false;
+            o->interior_texture = p->textures.count;
+        }
+    }
     if (o->texture >= 0) {
         const csg_texture *t = (csg_texture *)p->textures.data + o->texture;
         if (lang_texture_patterned(t)) {
@@ -988,8 +1016,13 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
                             int int_mark)
 {
     for (;;) {
-        if (lang_is_punct(p, '}'))
+        if (lang_is_punct(p, '}')) {
+            if (o->interior_texture > 0 && o->texture < 0) { /* (POV-Ray's rule) */
+                csg_error(p->d, open, "interior_texture needs a texture on the %s itself", name);
+                return false;
+            }
             return lang_next(p);
+        }
         bool ok;
         if (lang_is_transform(p))
             ok = parse_object_transform(p, o);
@@ -1000,6 +1033,8 @@ static bool parse_modifiers(parser *p, csg_object *o, const char *name, csg_loc 
             ok = parse_material_modifier(p, o, tex_mark, int_mark);
         else if (lang_is_kw(p, CSG_KW_INTERIOR))
             ok = parse_interior_modifier(p, o, int_mark);
+        else if (lang_is_kw(p, CSG_KW_INTERIOR_TEXTURE))
+            ok = parse_interior_texture(p, o);
         else if (is_flag(p))
             ok = parse_flag(p, o, name);
         else if (lang_is_kw(p, CSG_KW_BOUNDED_BY) || lang_is_kw(p, CSG_KW_CLIPPED_BY))
@@ -1664,6 +1699,15 @@ static bool parse_global_settings(parser *p)
         case CSG_KW_ASSUMED_GAMMA:
             if (!lang_next(p) || !parse_assumed_gamma(p, g))
                 return false;
+            continue;
+        case CSG_KW_IRID_WAVELENGTH: /* a colour, kept in floats as POV-Ray's */
+            at = lang_tok(p)->loc;
+            if (!lang_next(p) || !lang_parse_rgb(p, g->irid_wavelength))
+                return false;
+            for (int i = 0; i < 3; i++)
+                if (!lang_single_float(p, g->irid_wavelength[i], at, "irid_wavelength",
+                                       &g->irid_wavelength[i]))
+                    return false;
             continue;
         case CSG_KW_MAX_TRACE_LEVEL: case CSG_KW_ADC_BAILOUT:
         case CSG_KW_NOISE_GENERATOR: case CSG_KW_NUMBER_OF_WAVES:

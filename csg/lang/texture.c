@@ -35,6 +35,7 @@
  * (and of a texture, and of the objects it is given to afterwards,
  * parser.c) compose into its xform, pattern space -> world.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -297,46 +298,131 @@ bool lang_parse_color_map(parser *p, lang_color_map *out)
 
 /* ---- pigments --------------------------------------------------------------------- */
 
-/* checker pigment {..} [,] [pigment {..}]: a pigment map of two entries,
- * 0 and 1, the one not given the default pigment (POV-Ray's
- * Parse_Blend_List). */
-static bool parse_checker_pigments(parser *p, csg_pigment *pig)
+/* ---- the block patterns ---------------------------------------------------------
+ * checker, brick and hexagon (POV-Ray's Parse_Blend_List): a list of
+ * colours, pigments or textures after the keyword, entry i at value i
+ * (the pattern's values are these integers), those not given POV-Ray's
+ * default colours (pigment.cpp's Check_, Brick_ and Hex_Default_Map) or
+ * the default pigment or texture; not waved (frequency 0). */
+
+static const csg_map_entry checker_colors[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
+static const csg_map_entry brick_colors[2] = {{0, {0.5, 0.5, 0.5, 0, 0}},
+                                              {1, {0.6, 0.15, 0.15, 0, 0}}};
+static const csg_map_entry hexagon_colors[3] = {
+    {0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}, {2, {1, 0, 0, 0, 0}}};
+
+/* The default colours of a block pattern, count of them (its list's
+ * length); NULL for the other patterns. */
+static const csg_map_entry *block_colors(int pattern, int *count)
 {
-    csg_pigment_entry *e = lang_alloc(p, 2 * sizeof *e);
-    if (!e)
+    *count = csg_pattern_blocks(pattern);
+    if (pattern == CSG_PATTERN_CHECKER)
+        return checker_colors;
+    if (pattern == CSG_PATTERN_BRICK)
+        return brick_colors;
+    return pattern == CSG_PATTERN_HEXAGON ? hexagon_colors : NULL;
+}
+
+static bool is_block_pattern(int pattern)
+{
+    return csg_pattern_blocks(pattern) > 0;
+}
+
+bool lang_single_float(parser *p, double v, csg_loc at, const char *what, double *out)
+{
+    if (!(fabs(v) <= (double)FLT_MAX)) {
+        csg_error(p->d, at, "%s out of range, got %g", what, v);
         return false;
-    for (int i = 0; i < 2; i++) {
-        e[i].value = i;
-        e[i].pigment = p->default_texture.pigment;
     }
-    for (int i = 0; i < 2 && lang_is_kw(p, CSG_KW_PIGMENT); i++)
-        if (!lang_parse_pigment(p, &e[i].pigment) || (lang_is_punct(p, ',') && !lang_next(p)))
-            return false;
-    pig->pmap = e;
-    pig->pmap_count = 2;
+    *out = (double)(float)v;
     return true;
 }
 
-/* checker [COLOR [,] [COLOR]]: POV-Ray's default colours blue and green;
- * or checker of two pigments. */
-static bool parse_checker(parser *p, csg_pigment *pig)
+/* brick's mortar as POV-Ray keeps it: the width less 2 EPSILON, in a
+ * float (SNGL). */
+static bool brick_mortar(parser *p, double width, csg_loc at, double *mortar)
 {
-    csg_map_entry e[2] = {{0, {0, 0, 1, 0, 0}}, {1, {0, 1, 0, 0, 0}}};
-    if (!lang_next(p))
-        return false;
+    return lang_single_float(p, width - 2e-10, at, "mortar", mortar);
+}
+
+/* The keyword of a block pattern (the current token) read: its pattern,
+ * not waved, and brick's size and mortar unless the pigment was a brick
+ * already (POV-Ray keeps a brick identifier's); its default colours. */
+static bool block_pattern_start(parser *p, csg_pigment *pig, int pattern)
+{
+    int count;
+    const csg_map_entry *colors = block_colors(pattern, &count);
+    if (pattern == CSG_PATTERN_BRICK && pig->pattern != CSG_PATTERN_BRICK) {
+        pig->brick_size = (dvec3){8.0, 3.0, 4.5};
+        if (!brick_mortar(p, 0.5, lang_tok(p)->loc, &pig->mortar))
+            return false;
+    }
+    pig->pattern = (enum csg_pattern)pattern;
+    pig->frequency = 0;
+    pig->map = colors;
+    pig->map_count = count;
     pig->pmap_count = 0;
-    if (lang_is_kw(p, CSG_KW_PIGMENT) && !parse_checker_pigments(p, pig))
+    return lang_next(p);
+}
+
+/* PATTERN pigment {..} [,] [pigment {..}] ...: a pigment map of `count`
+ * entries, 0, 1, .., those not given the default pigment. */
+static bool parse_block_pigments(parser *p, csg_pigment *pig, int count)
+{
+    csg_pigment_entry *e = lang_alloc(p, (size_t)count * sizeof *e);
+    if (!e)
         return false;
-    for (int i = 0; i < 2 && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
+    for (int i = 0; i < count; i++) {
+        e[i].value = i;
+        e[i].pigment = p->default_texture.pigment;
+    }
+    for (int i = 0; i < count && lang_is_kw(p, CSG_KW_PIGMENT); i++)
+        if (!lang_parse_pigment(p, &e[i].pigment) || (lang_is_punct(p, ',') && !lang_next(p)))
+            return false;
+    pig->pmap = e;
+    pig->pmap_count = count;
+    return true;
+}
+
+/* checker, brick or hexagon in a pigment: [COLOR [,] COLOR ..] or
+ * pigment {..} [,] [pigment {..}] ... */
+static bool parse_block_pattern(parser *p, csg_pigment *pig, int pattern)
+{
+    if (!block_pattern_start(p, pig, pattern))
+        return false;
+    csg_map_entry e[3];
+    int count = pig->map_count;
+    memcpy(e, pig->map, (size_t)count * sizeof e[0]);
+    if (lang_is_kw(p, CSG_KW_PIGMENT) && !parse_block_pigments(p, pig, count))
+        return false;
+    for (int i = 0; i < count && lang_is_color_start(p) && !lang_names(p, SYM_PIGMENT); i++)
         if (!lang_parse_color(p, e[i].rgbft) || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
     lang_color_map m;
-    if (!save_map(p, e, 2, &m))
+    if (!save_map(p, e, count, &m))
         return false;
-    pig->pattern = CSG_PATTERN_CHECKER;
-    pig->frequency = 0; /* POV-Ray: the checker's value is not waved */
-    pig->map_count = 2;
     pig->map = m.entries;
+    return true;
+}
+
+/* spiral1 N, spiral2 N: the number of arms (POV-Ray's short, truncated),
+ * the triangle wave, the black-to-white map. */
+static bool parse_spiral(parser *p, csg_pigment *pig, int pattern)
+{
+    static const csg_map_entry gray[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+    double arms;
+    csg_loc at;
+    if (!lang_next(p) || !lang_parse_float(p, &arms, &at))
+        return false;
+    if (!(arms > -32769.0 && arms < 32768.0)) {
+        csg_error(p->d, at, "the number of arms must be from -32768 to 32767, got %g", arms);
+        return false;
+    }
+    pig->pattern = (enum csg_pattern)pattern;
+    pig->arms = (int)arms;
+    pig->wave = CSG_WAVE_TRIANGLE;
+    pig->map = gray;
+    pig->map_count = 2;
     return true;
 }
 
@@ -420,16 +506,41 @@ static bool parse_bare_pattern(parser *p, csg_pigment *pig, enum csg_pattern pat
     return lang_next(p);
 }
 
+static bool parse_pigment_block(parser *p, csg_pigment *pig, const char *name);
+
+/* pigment_pattern { PIGMENT_BODY }: the value is the grey of the pigment
+ * (POV-Ray's Create_Pigment: it starts black, not from the default
+ * pigment), evaluated at the pattern's point; the black-to-white map. */
+static bool parse_pigment_pattern(parser *p, csg_pigment *pig)
+{
+    static const csg_map_entry gray[2] = {{0, {0, 0, 0, 0, 0}}, {1, {1, 1, 1, 0, 0}}};
+    csg_pigment *inner = lang_alloc(p, sizeof *inner);
+    if (!inner)
+        return false;
+    csg_pigment_default(inner);
+    if (!parse_pigment_block(p, inner, "pigment_pattern"))
+        return false;
+    pig->pattern = CSG_PATTERN_PIGMENT_PATTERN;
+    pig->pattern_pigment = inner;
+    pig->map = gray;
+    pig->map_count = 2;
+    return true;
+}
+
 /* A pattern keyword (CSG_KW_PATTERN: the lexer found it in the table, so
  * csg_pattern_keyword names a pattern of it) and what follows it. */
 static bool parse_pattern_keyword(parser *p, csg_pigment *pig)
 {
     bool alias = false;
     int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, &alias);
-    if (pattern == CSG_PATTERN_CHECKER)
-        return parse_checker(p, pig);
+    if (is_block_pattern(pattern))
+        return parse_block_pattern(p, pig, pattern);
+    if (pattern == CSG_PATTERN_SPIRAL1 || pattern == CSG_PATTERN_SPIRAL2)
+        return parse_spiral(p, pig, pattern);
     if (pattern == CSG_PATTERN_GRADIENT)
         return parse_gradient(p, pig);
+    if (pattern == CSG_PATTERN_PIGMENT_PATTERN)
+        return parse_pigment_pattern(p, pig);
     return parse_bare_pattern(p, pig, (enum csg_pattern)pattern, alias);
 }
 
@@ -543,6 +654,29 @@ static bool is_crackle_modifier(parser *p)
            lang_is_kw(p, CSG_KW_OFFSET) || lang_is_kw(p, CSG_KW_SOLID);
 }
 
+/* brick's modifiers: brick_size VECTOR, mortar F. */
+static bool parse_brick_modifier(parser *p, csg_pigment *pig)
+{
+    enum csg_kw kw = lang_tok(p)->kw;
+    csg_loc at = lang_tok(p)->loc;
+    if (pig->pattern != CSG_PATTERN_BRICK) {
+        csg_error(p->d, at, "'%.*s' needs the brick pattern", (int)lang_tok(p)->len,
+                  lang_tok(p)->text);
+        return false;
+    }
+    if (!lang_next(p))
+        return false;
+    if (kw == CSG_KW_BRICK_SIZE)
+        return lang_parse_vector(p, &pig->brick_size, NULL);
+    double width;
+    return lang_parse_float(p, &width, &at) && brick_mortar(p, width, at, &pig->mortar);
+}
+
+static bool is_brick_modifier(parser *p)
+{
+    return lang_is_kw(p, CSG_KW_BRICK_SIZE) || lang_is_kw(p, CSG_KW_MORTAR);
+}
+
 static bool is_noise_modifier(parser *p)
 {
     return lang_is_kw(p, CSG_KW_TURBULENCE) || lang_is_kw(p, CSG_KW_OCTAVES) ||
@@ -576,9 +710,9 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             ok = transform_pigment(p, pig);
         } else if (lang_is_kw(p, CSG_KW_COLOR_MAP)) {
             lang_color_map m;
-            if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+            if (pig->pattern == CSG_PATTERN_PLAIN || is_block_pattern(pig->pattern)) {
                 csg_error(p->d, at, "a color_map needs a pattern that takes one "
-                                    "(any but checker)");
+                                    "(any but checker, brick and hexagon)");
                 return false;
             }
             if (pig->pattern == CSG_PATTERN_AVERAGE) { /* (POV-Ray's rule) */
@@ -600,6 +734,8 @@ static bool parse_pigment_modifiers(parser *p, csg_pigment *pig, int closer, csg
             ok = parse_noise_modifier(p, pig);
         } else if (is_crackle_modifier(p)) {
             ok = parse_crackle_modifier(p, pig);
+        } else if (is_brick_modifier(p)) {
+            ok = parse_brick_modifier(p, pig);
         } else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1)) {
             ok = parse_quilted_modifier(p, pig);
         } else if (lang_is_kw(p, CSG_KW_QUICK_COLOR)) {
@@ -676,9 +812,9 @@ static bool parse_pigment_entries(parser *p, csg_pigment_entry **out, int *n, bo
 static bool parse_pigment_map(parser *p, csg_pigment *pig)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (pig->pattern == CSG_PATTERN_PLAIN || pig->pattern == CSG_PATTERN_CHECKER) {
+    if (pig->pattern == CSG_PATTERN_PLAIN || is_block_pattern(pig->pattern)) {
         csg_error(p->d, open, "a pigment_map needs a pattern that takes one "
-                              "(any but checker)");
+                              "(any but checker, brick and hexagon)");
         return false;
     }
     if (!lang_enter(p, open) || !lang_next(p) || !lang_expect_open(p, "pigment_map"))
@@ -701,11 +837,12 @@ static bool parse_pigment_map(parser *p, csg_pigment *pig)
     return ok;
 }
 
-/* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
-bool lang_parse_pigment(parser *p, csg_pigment *pig)
+/* NAME { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig (the
+ * current token is NAME: pigment, or pigment_pattern). */
+static bool parse_pigment_block(parser *p, csg_pigment *pig, const char *name)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (!lang_next(p) || !lang_expect_open(p, "pigment"))
+    if (!lang_next(p) || !lang_expect_open(p, name))
         return false;
     if (lang_names(p, SYM_PIGMENT)) {
         const datum *d;
@@ -714,6 +851,12 @@ bool lang_parse_pigment(parser *p, csg_pigment *pig)
         *pig = d->u.pigment;
     }
     return parse_pattern(p, pig) && parse_pigment_modifiers(p, pig, '}', open);
+}
+
+/* pigment { [PIGMENT_ID] [PATTERN | COLOR] MODIFIERS }, editing *pig. */
+bool lang_parse_pigment(parser *p, csg_pigment *pig)
+{
+    return parse_pigment_block(p, pig, "pigment");
 }
 
 /* ---- sky_sphere ------------------------------------------------------------------- */
@@ -844,6 +987,33 @@ static void finish_settle(csg_finish *f)
                              f->reflection_exponent != 1 || f->conserve_energy;
 }
 
+/* irid { AMOUNT { thickness F | turbulence VECTOR } } (POV-Ray's
+ * Parse_Finish: the vector's x is the turbulence), in floats as POV-Ray. */
+static bool parse_irid(parser *p, csg_finish *f)
+{
+    csg_loc open = lang_tok(p)->loc, at;
+    double v;
+    if (!lang_next(p) || !lang_expect_open(p, "irid") || !lang_parse_float(p, &v, &at) ||
+        !lang_single_float(p, v, at, "irid", &f->irid))
+        return false;
+    for (;;) {
+        if (lang_is_punct(p, '}'))
+            return lang_next(p);
+        if (lang_is_kw(p, CSG_KW_THICKNESS)) {
+            if (!lang_next(p) || !lang_parse_float(p, &v, &at) ||
+                !lang_single_float(p, v, at, "thickness", &f->irid_thickness))
+                return false;
+        } else if (lang_is_kw(p, CSG_KW_TURBULENCE)) {
+            dvec3 t;
+            if (!lang_next(p) || !lang_parse_vector(p, &t, &at) ||
+                !lang_single_float(p, t.x, at, "turbulence", &f->irid_turbulence))
+                return false;
+        } else {
+            return lang_expected_close(p, '}', "irid", open);
+        }
+    }
+}
+
 bool lang_parse_finish(parser *p, csg_finish *f)
 {
     csg_loc open = lang_tok(p)->loc;
@@ -879,6 +1049,10 @@ bool lang_parse_finish(parser *p, csg_finish *f)
             continue;
         case CSG_KW_REFLECTION:
             if (!parse_reflection(p, f))
+                return false;
+            continue;
+        case CSG_KW_IRID:
+            if (!parse_irid(p, f))
                 return false;
             continue;
         case CSG_KW_METALLIC: /* the amount is optional: 1 */
@@ -947,19 +1121,30 @@ static bool parse_quilted_modifier(parser *p, csg_pigment *pig)
     return lang_next(p) && lang_parse_float(p, c, NULL);
 }
 
-/* The pattern of a normal: its keyword (checker, whose entries are
- * normals in POV-Ray, is not supported there), then the optional amount,
- * as POV-Ray's Parse_Pattern reads it (`bumps 0.4`, `bumps, 0.4`). */
+/* A block pattern in a normal: its values' slope (POV-Ray's
+ * Parse_Blend_List finds no list of normals after it; such a list, whose
+ * entries are normals, is not supported). */
+static bool parse_normal_block(parser *p, csg_normal *n, int pattern)
+{
+    csg_loc at = lang_tok(p)->loc;
+    if (!block_pattern_start(p, &n->pattern, pattern))
+        return false;
+    if (lang_is_kw(p, CSG_KW_NORMAL))
+        return lang_unsupported(p, "a list of normals after checker, brick or hexagon", at);
+    return true;
+}
+
+/* The pattern of a normal: its keyword, then the optional amount, as
+ * POV-Ray's Parse_Pattern reads it (`bumps 0.4`, `bumps, 0.4`). */
 static bool parse_normal_pattern(parser *p, csg_normal *n)
 {
     csg_loc at = lang_tok(p)->loc;
     int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
-    if (pattern == CSG_PATTERN_CHECKER)
-        return lang_unsupported(p, "'checker' in a normal", at);
     if (pattern == CSG_PATTERN_AVERAGE) /* (it averages a normal_map) */
         return lang_unsupported(p, "'average' in a normal", at);
     n->kind = normal_kind_of(lang_tok(p));
-    if (!parse_pattern_keyword(p, &n->pattern))
+    if (is_block_pattern(pattern) ? !parse_normal_block(p, n, pattern)
+                                  : !parse_pattern_keyword(p, &n->pattern))
         return false;
     if (lang_is_punct(p, ',') && !lang_next(p))
         return false;
@@ -1010,6 +1195,8 @@ bool lang_parse_normal(parser *p, csg_normal *n)
             ok = parse_noise_modifier(p, &n->pattern);
         } else if (is_crackle_modifier(p)) {
             ok = parse_crackle_modifier(p, &n->pattern);
+        } else if (is_brick_modifier(p)) {
+            ok = parse_brick_modifier(p, &n->pattern);
         } else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1)) {
             ok = parse_quilted_modifier(p, &n->pattern);
         } else if (lang_is_kw(p, CSG_KW_SPHERICAL)) { /* (a camera's word too) */
@@ -1153,8 +1340,9 @@ static bool parse_texture_entry(parser *p, csg_texture_entry *e, bool average)
 static bool parse_texture_map(parser *p, csg_texture *t)
 {
     csg_loc open = lang_tok(p)->loc;
-    if (t->pigment.pattern == CSG_PATTERN_CHECKER) {
-        csg_error(p->d, open, "a texture_map needs a pattern that takes one (any but checker)");
+    if (is_block_pattern(t->pigment.pattern)) {
+        csg_error(p->d, open, "a texture_map needs a pattern that takes one "
+                              "(any but checker, brick and hexagon)");
         return false;
     }
     if (!lang_enter(p, open) || !lang_next(p) || !lang_expect_open(p, "texture_map"))
@@ -1197,27 +1385,28 @@ static bool parse_texture_map(parser *p, csg_texture *t)
     return ok;
 }
 
-/* checker texture {..} [,] [texture {..}]: a texture_map of two entries,
- * 0 and 1, the one not given the default texture. */
-static bool parse_checker_textures(parser *p, csg_texture *t)
+/* A block pattern's textures, PATTERN texture {..} [,] [texture {..}] ..:
+ * a texture_map of `count` entries, 0, 1, .., those not given the default
+ * texture. */
+static bool parse_block_textures(parser *p, csg_texture *t, int count)
 {
-    csg_texture_entry *e = lang_alloc(p, 2 * sizeof *e);
+    csg_texture_entry *e = lang_alloc(p, (size_t)count * sizeof *e);
     if (!e)
         return false;
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < count; i++) {
         e[i].value = i;
         e[i].texture = p->default_texture;
     }
-    for (int i = 0; i < 2 && lang_is_kw(p, CSG_KW_TEXTURE); i++)
+    for (int i = 0; i < count && lang_is_kw(p, CSG_KW_TEXTURE); i++)
         if (!lang_parse_texture(p, &e[i].texture) || (lang_is_punct(p, ',') && !lang_next(p)))
             return false;
     t->tmap = e;
-    t->tmap_count = 2;
+    t->tmap_count = count;
     return true;
 }
 
 /* A patterned texture: PATTERN, then the pattern's modifiers and its
- * texture_map (checker: its textures), up to `closer`. */
+ * texture_map (checker, brick, hexagon: their textures), up to `closer`. */
 static bool parse_texture_pattern(parser *p, csg_texture *t, int closer, csg_loc open)
 {
     csg_pigment *pig = &t->pigment;
@@ -1225,10 +1414,8 @@ static bool parse_texture_pattern(parser *p, csg_texture *t, int closer, csg_loc
     csg_normal_default(&t->normal);
     t->under = NULL;
     int pattern = csg_pattern_keyword(lang_tok(p)->text, lang_tok(p)->len, NULL);
-    if (pattern == CSG_PATTERN_CHECKER) {
-        pig->pattern = CSG_PATTERN_CHECKER;
-        pig->frequency = 0;
-        if (!lang_next(p) || !parse_checker_textures(p, t))
+    if (is_block_pattern(pattern)) { /* (its colours: the pattern's count) */
+        if (!block_pattern_start(p, pig, pattern) || !parse_block_textures(p, t, pig->map_count))
             return false;
     } else if (!parse_pattern_keyword(p, pig)) {
         return false;
@@ -1250,6 +1437,8 @@ static bool parse_texture_pattern(parser *p, csg_texture *t, int closer, csg_loc
             ok = parse_noise_modifier(p, pig);
         else if (is_crackle_modifier(p))
             ok = parse_crackle_modifier(p, pig);
+        else if (is_brick_modifier(p))
+            ok = parse_brick_modifier(p, pig);
         else if (lang_is_kw(p, CSG_KW_CONTROL0) || lang_is_kw(p, CSG_KW_CONTROL1))
             ok = parse_quilted_modifier(p, pig);
         else
