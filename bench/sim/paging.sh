@@ -6,7 +6,7 @@
 #
 #   bench/sim/paging.sh [--scene FILE] [--size N] [--tile T] [--fractions "8 32"]
 #                       [--workers "1 16 64 256"] [--network ib] [--runs R]
-#                       [--pass-rate M] [--out DIR]
+#                       [--pass-rate M] [--schedule S] [--reuse] [--out DIR]
 #
 # 1. Real renders on this machine (R rounds, interleaved): serial in
 #    memory, and serial at each budget (the blob / fraction) with pages of
@@ -34,16 +34,19 @@
 #    (the pass at --pass-rate Mrays/s, default 300: bench/GPU.md's H100
 #    figure for spheres, a hypothesis for this scene), in memory and at each
 #    budget (the prefetch on; off too at 64 workers).
+# --schedule S: the points with csgtrace's --schedule S (default: raster
+# in homo, cost in hetero), into DIR/points-S.csv; --reuse: steps 1 and 2
+# taken from an earlier run into DIR (its calibration, traces and maps).
 # Writes DIR/calibration.csv, DIR/check.csv, DIR/points.csv and prints the
 # tables (bench/PAGING.md holds them and their reading).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
 SCENE="" SIZE=4096 TILE=32 FRACTIONS="8 32" WORKERS="1 16 64 256" NETWORK=ib RUNS=5
-PASS_RATE=300 OUT=bench/results-paging/sim
+PASS_RATE=300 OUT=bench/results-paging/sim SCHEDULE="" REUSE=no
 die() { echo "bench/sim/paging.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
-    [ $# -ge 2 ] || die "$1 needs a value"
+    [ "$1" = --reuse ] || [ $# -ge 2 ] || die "$1 needs a value"
     case $1 in
     --scene) SCENE=$2 ;;
     --size) SIZE=$2 ;;
@@ -54,10 +57,13 @@ while [ $# -gt 0 ]; do
     --runs) RUNS=$2 ;;
     --pass-rate) PASS_RATE=$2 ;;
     --out) OUT=$2 ;;
+    --schedule) SCHEDULE=$2 ;;
+    --reuse) REUSE=yes; shift; continue ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
 done
+[[ "$SCHEDULE" =~ ^(|raster|cost|static|tail|region)$ ]] || die "--schedule: raster, cost, static, tail or region"
 [[ "$SIZE" =~ ^[1-9][0-9]{1,4}$ ]] || die "--size: 10..99999"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
 [[ "$FRACTIONS" =~ ^[0-9\ ]+$ ]] || die "--fractions: numbers"
@@ -93,6 +99,14 @@ BLOB=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['blob_byt
 budget_mb() { python3 -c "print($BLOB / $1 / 1e6)"; }
 smallest=$(for f in $FRACTIONS; do echo "$f"; done | sort -n | tail -1)
 CAL=$OUT/calibration.csv
+HOMO_TRACE=$OUT/homo-1_$smallest.trace.0
+HETERO_TRACE=$OUT/hetero.trace.1
+if [ "$REUSE" = yes ]; then
+    for f in "$CAL" "$HOMO_TRACE" "$HETERO_TRACE" "$OUT/homo.costs" "$OUT/hetero.costs"; do
+        [ -f "$f" ] || die "--reuse: no $f"
+    done
+    cp "$OUT/homo.costs" "$OUT/hetero.costs" "$WORK/"
+else
 maps=()
 echo "config,fraction,round,tile_phase_s,items_cpu_s,bytes,wait_s,install_s,faults,pages,evictions,identical" >"$CAL"
 for ((round = 1; round <= RUNS; round++)); do
@@ -129,14 +143,13 @@ python3 bench/sim/costmap.py "$WORK/hetero.costs" "$WORK/hetero-map.json" "$WORK
     die "the hetero cost map failed"
 cp "$WORK/homo.costs" "$WORK/hetero.costs" "$OUT/"
 # (the trace is the same at every budget: the items name pages, whatever is cached)
-HOMO_TRACE=$OUT/homo-1_$smallest.trace.0
 mpirun --bind-to none --oversubscribe -np 2 env CSGTRACE_PAGE_TRACE="$OUT/hetero.trace" \
     "$BIN" render "$SCENE" "${COMMON[@]}" --mode hetero --pass always --fill off \
     --scene-memory "$(budget_mb "$smallest")" --page-size $PAGE_KB -o "$WORK/hetero.png" \
     --stats "$WORK/hetero.json" >/dev/null 2>"$WORK/hetero.err" ||
     die "the hetero trace's render failed: $(head -c 200 "$WORK/hetero.err")"
 cmp -s "$WORK/ref.png" "$WORK/hetero.png" || die "the hetero render's image differs from the serial one"
-HETERO_TRACE=$OUT/hetero.trace.1
+fi
 
 # A byte's costs per budget: "FRACTION PACK_NS INSTALL_NS" lines.
 python3 - "$CAL" >"$WORK/costs" <<'EOF'
@@ -159,6 +172,7 @@ point() {
         --tile "$TILE" --stats "$WORK/$name.json")
     args+=(--map "$WORK/$mode.costs")
     [ "$mode" = hetero ] && args+=(--pass-rate "$PASS_RATE" --fill-map "$WORK/homo.costs")
+    [ -n "$SCHEDULE" ] && args+=(--schedule "$SCHEDULE")
     [ "$f" = 0 ] || args+=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB
         --page-trace "$HOMO_TRACE:$HETERO_TRACE" --page-install-ns "${INSTALL[$f]}"
         --master-page-ns "${PACK[$f]}")
@@ -180,6 +194,7 @@ EOF
 
 # 2. the check: one simulated worker against the serial renders
 CHECK=$OUT/check.csv
+if [ "$REUSE" = no ]; then
 point check-0 1 homo 0 --network local
 echo "0,$(python3 -c "
 import csv, statistics, sys
@@ -203,8 +218,10 @@ print(",".join(str(x) for x in [f, statistics.median(float(r["tile_phase_s"]) fo
 EOF
 done
 
+fi
+
 # 3. the points
-POINTS=$OUT/points.csv
+POINTS=$OUT/points${SCHEDULE:+-$SCHEDULE}.csv
 echo "name,workers,mode,fraction,prefetch,makespan_s,efficiency,master_busy,faults,requests,pages,prefetched,touches,bytes,wait_s,asks,trace_tiles_missing" >"$POINTS"
 for w in $WORKERS; do
     [ "$w" = 1 ] && continue
