@@ -66,6 +66,8 @@ paged serial-double double
 EXTRA=(--mode homo)
 paged homo-float float "${MPI[@]}"
 paged homo-double double "${MPI[@]}"
+json "$T/homo-float.pfm.json" "j['schedule'] == 'region'" &&
+    ok "homo with --scene-memory: the region schedule by default" || ko "homo paged: not the region schedule"
 EXTRA=(--mode homo --page-policy fifo)
 paged homo-fifo float "${MPI[@]}"
 EXTRA=(--mode hetero --pass always --fill off)
