@@ -28,22 +28,8 @@
 #include "../csg/flatten.h"
 #include "../csg/load.h"
 #include "../workers/engine.h"
+#include "flat_scene.h"
 
-static const engine *eng(void) { return sizeof(real) == 8 ? &engine_double : &engine_float; }
-
-static csg_blob load(const char *text)
-{
-    csg_scene s;
-    csg_diag d = {0};
-    if (!csg_load_string("t.pov", text, strlen(text), NULL, &s, &d))
-        fail_msg("parse: %s", d.message);
-    csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
-    csg_blob b;
-    if (!eng()->flatten(&s, &o, &b, &d))
-        fail_msg("flatten: %s", d.message);
-    csg_scene_free(&s);
-    return b;
-}
 
 /* A closed Catmull-Rom loop through (1, 0), (0, 1), (-1, 0), (0, -1)
  * (POV-Ray's cubic_spline: the first and the last two points are the
@@ -165,7 +151,7 @@ typedef struct {
 static void compare_normals(const char *text, int cubic, int conic, double h0, double h1,
                             tally *out)
 {
-    csg_blob b = load(text);
+    csg_blob b = flat_scene("t.pov", text);
     csg_view v = csg_blob_view(b.bytes);
     const double(*P)[2] = cubic ? loop_cubic : loop_quadratic;
     memset(out, 0, sizeof *out);
@@ -240,7 +226,7 @@ static void test_conic_sweep_normals(void **state)
 
 static int curve_count(const char *text)
 {
-    csg_blob b = load(text);
+    csg_blob b = flat_scene("t.pov", text);
     int n = csg_blob_hdr(b.bytes)->curve_count;
     csg_blob_free(&b);
     return n;
@@ -256,7 +242,7 @@ static void test_which_pieces(void **state)
     assert_int_equal(curve_count("prism { linear_spline 0, 1, 4, <0, 0>, <1, 0>, <0, 1>, <0, 0> }"),
                      0);
     assert_true(curve_count("text { ttf \"timrom.ttf\" \"So\" 0.2, 0 }") > 10);
-    csg_blob b = load(CUBIC_PRISM);
+    csg_blob b = flat_scene("t.pov", CUBIC_PRISM);
     const csg_blob_header *h = csg_blob_hdr(b.bytes);
     csg_view v = csg_blob_view(b.bytes);
     assert_true(h->curve_count > 10);
@@ -321,7 +307,7 @@ static void test_chords(void **state)
 static void test_validation(void **state)
 {
     (void)state;
-    csg_blob b = load(CUBIC_PRISM "sphere { <0, 3, 0>, 1 }");
+    csg_blob b = flat_scene("t.pov", CUBIC_PRISM "sphere { <0, 3, 0>, 1 }");
     assert_true(csg_blob_valid(b.bytes, b.size));
     const csg_blob_header *h = csg_blob_hdr(b.bytes);
     csg_prim *prims = (csg_prim *)(void *)((unsigned char *)b.bytes + h->off_prims);

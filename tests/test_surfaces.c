@@ -25,23 +25,8 @@
 #include "../csg/load.h"
 #include "../csg/polygon.h"
 #include "../workers/engine.h"
+#include "flat_scene.h"
 
-static const engine *eng(void) { return sizeof(real) == 8 ? &engine_double : &engine_float; }
-
-/* The flat scene of `text` (name picks the format). */
-static csg_blob load(const char *name, const char *text)
-{
-    csg_scene s;
-    csg_diag d = {0};
-    if (!csg_load_string(name, text, strlen(text), NULL, &s, &d))
-        fail_msg("parse: %s", d.message);
-    csg_flatten_opts o = {4, 4, 0, -1, 1, 0};
-    csg_blob b;
-    if (!eng()->flatten(&s, &o, &b, &d))
-        fail_msg("flatten: %s", d.message);
-    csg_scene_free(&s);
-    return b;
-}
 
 static csg_ray ray(double ox, double oy, double oz, double tx, double ty, double tz)
 {
@@ -95,7 +80,7 @@ static void test_watertight(void **state)
                                  i + 1, j + 1, z[3], i, j + 1, z[2]);
         }
     sprintf(text + n, "}\n");
-    csg_blob b = load("grid.pov", text);
+    csg_blob b = flat_scene("grid.pov", text);
     free(text);
     int misses = 0, rays = 0;
     /* aimed at lattice points (vertices), edge points and interiors */
@@ -126,7 +111,7 @@ static void test_one_sided(void **state)
 {
     (void)state;
     /* counter-clockwise seen from -z: its front faces the camera at z = -5 */
-    csg_blob b = load("t.nff", NFF_VIEW "f 1 1 1 1 0 0 0 0\np 3\n-1 -1 0\n0 1 0\n1 -1 0\n");
+    csg_blob b = flat_scene("t.nff", NFF_VIEW "f 1 1 1 1 0 0 0 0\np 3\n-1 -1 0\n0 1 0\n1 -1 0\n");
     csg_hit front = nearest(&b, ray(0, 0, -5, 0, 0, 0));
     assert_int_equal(hit_kind(&b, front), CSG_PRIM_TRIANGLE);
     assert_true(fabs((double)front.t - 5) < 1e-5);
@@ -140,7 +125,7 @@ static void test_one_sided(void **state)
     assert_int_equal(CSG_SURF_SUB(l.se[0]), CSG_SURF_HIDDEN);
     csg_blob_free(&b);
     /* transmitting: two-sided */
-    b = load("t.nff", NFF_VIEW "f 1 1 1 1 0 0 0.5 1.2\np 3\n-1 -1 0\n0 1 0\n1 -1 0\n");
+    b = flat_scene("t.nff", NFF_VIEW "f 1 1 1 1 0 0 0.5 1.2\np 3\n-1 -1 0\n0 1 0\n1 -1 0\n");
     assert_int_equal(hit_kind(&b, nearest(&b, back)), CSG_PRIM_TRIANGLE);
     csg_blob_free(&b);
 }
@@ -155,31 +140,31 @@ static void test_csg_meaning(void **state)
     csg_ray centre = ray(0, 0, -5, 0, 0, 0);      /* through the sphere */
     csg_ray outside = ray(1.5, -1.5, -5, 1.5, -1.5, 0); /* the triangle, outside it */
     /* intersection: the triangle's part inside the sphere, no sphere */
-    csg_blob b = load("t.pov", "intersection { " TRI " " BALL " }");
+    csg_blob b = flat_scene("t.pov", "intersection { " TRI " " BALL " }");
     csg_hit h = nearest(&b, centre);
     assert_int_equal(hit_kind(&b, h), CSG_PRIM_TRIANGLE);
     assert_true(fabs((double)h.t - 5) < 1e-5);
     assert_int_equal(nearest(&b, outside).surf, CSG_SURF_NONE);
     csg_blob_free(&b);
     /* difference triangle - sphere: the part outside */
-    b = load("t.pov", "difference { " TRI " " BALL " }");
+    b = flat_scene("t.pov", "difference { " TRI " " BALL " }");
     assert_int_equal(nearest(&b, centre).surf, CSG_SURF_NONE);
     assert_int_equal(hit_kind(&b, nearest(&b, outside)), CSG_PRIM_TRIANGLE);
     csg_blob_free(&b);
     /* difference sphere - triangle: the whole sphere */
-    b = load("t.pov", "difference { " BALL " " TRI " }");
+    b = flat_scene("t.pov", "difference { " BALL " " TRI " }");
     h = nearest(&b, centre);
     assert_int_equal(hit_kind(&b, h), CSG_PRIM_SPHERE);
     assert_true(fabs((double)h.t - 4) < 1e-5);
     assert_int_equal(nearest(&b, outside).surf, CSG_SURF_NONE);
     csg_blob_free(&b);
     /* union nested in an intersection: a solid, the triangle hidden inside */
-    b = load("t.pov", "intersection { union { " TRI " " BALL " } box { -3, 3 } }");
+    b = flat_scene("t.pov", "intersection { union { " TRI " " BALL " } box { -3, 3 } }");
     h = nearest(&b, centre);
     assert_int_equal(hit_kind(&b, h), CSG_PRIM_SPHERE);
     csg_blob_free(&b);
     /* two surfaces intersect in nothing */
-    b = load("t.pov", "intersection { " TRI " " TRI " }");
+    b = flat_scene("t.pov", "intersection { " TRI " " TRI " }");
     assert_int_equal(nearest(&b, centre).surf, CSG_SURF_NONE);
     csg_blob_free(&b);
 }
@@ -188,7 +173,7 @@ static void test_csg_meaning(void **state)
 static void test_concave_polygon(void **state)
 {
     (void)state;
-    csg_blob b = load("t.pov", "polygon { 6, <0, 0, 0>, <4, 0, 0>, <4, 4, 0>, <2, 1, 0>, "
+    csg_blob b = flat_scene("t.pov", "polygon { 6, <0, 0, 0>, <4, 0, 0>, <4, 4, 0>, <2, 1, 0>, "
                                "<0, 4, 0>, <0, 0, 0> }");
     assert_int_equal(csg_blob_hdr(b.bytes)->prim_count, 3);
     assert_int_equal(nearest(&b, ray(2, 2, -5, 2, 2, 0)).surf, CSG_SURF_NONE); /* the notch */
@@ -279,7 +264,7 @@ static void test_gear_polygon(void **state)
     for (int i = 0; i <= GEAR_N; i++)
         n += (size_t)sprintf(text + n, ", <%.17g, %.17g, 0>", v[i % GEAR_N].x, v[i % GEAR_N].y);
     sprintf(text + n, " }\n");
-    csg_blob b = load("gear.pov", text);
+    csg_blob b = flat_scene("gear.pov", text);
     free(text);
     int tri[3 * (GEAR_N - 2)];
     int count = csg_polygon_triangulate(v, GEAR_N, tri);
@@ -319,7 +304,7 @@ static void test_gear_polygon(void **state)
 static void test_smooth_normal(void **state)
 {
     (void)state;
-    csg_blob b = load("t.pov", "smooth_triangle { <0, 0, 0>, <0, 0, -1>, <1, 0, 0>, <1, 0, -1>, "
+    csg_blob b = flat_scene("t.pov", "smooth_triangle { <0, 0, 0>, <0, 0, -1>, <1, 0, 0>, <1, 0, -1>, "
                                "<0, 1, 0>, <0, 1, -1> }");
     csg_view v = csg_blob_view(b.bytes);
     assert_int_equal(v.prims[0].kind, CSG_PRIM_SMOOTH_TRIANGLE);
