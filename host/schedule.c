@@ -193,6 +193,7 @@ bool sched_add(sched *s, int tile, tile_rect r)
             s->first[w] = item;
         s->last[w] = item;
         s->queued[w]++;
+        s->in_queues++;
     } else if (sched_by_cost(s)) {
         sched_heap_push(s, item);
     } else {
@@ -232,11 +233,8 @@ void sched_close(sched *s)
 static int sched_waiting(const sched *s)
 {
     int again = s->again_n - s->again_head;
-    if (sched_queues(s)) { /* (the queues: `added` also counts the fill's items) */
-        for (int w = 0; w < s->workers; w++)
-            again += s->queued[w];
-        return again;
-    }
+    if (sched_queues(s))
+        return again + s->in_queues;
     return again + s->heap_n + (s->fifo_n - s->fifo_head);
 }
 
@@ -282,7 +280,7 @@ static int sched_pop_static(sched *s, int w)
         if (s->first[w] < 0)
             s->last[w] = -1;
         s->queued[w]--;
-        s->popped++;
+        s->in_queues--;
     }
     return item;
 }
@@ -306,7 +304,7 @@ static int sched_steal(sched *s, int w)
         s->next_of[before] = -1;
     s->last[victim] = before;
     s->queued[victim]--;
-    s->popped++;
+    s->in_queues--;
     s->stolen++;
     return item;
 }

@@ -138,7 +138,9 @@ typedef struct {
     int *again;         /* requeued items, again_head .. again_n          */
     int again_head, again_n, again_cap;
     int requeued;       /* items handed back by lost workers             */
-    int popped;         /* static, region: whole tiles taken from the queues */
+    int in_queues;      /* static, region: tiles in the queues, all told
+                           (not added - taken: the fill's items are added
+                           and never queued)                             */
     bool *released;     /* static: [w] lost, its queue open to all       */
     bool closed;        /* every tile was added or skipped                */
     bool fill;          /* the fill is on (sched_fill_enable)             */

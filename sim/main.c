@@ -321,11 +321,7 @@ static int sim_trace_missing(const sim_args *a, const sim_run *run)
             int h = a->height - y < a->tile ? a->height - y : a->tile;
             if (run->hetero && sim_rect_cost(run, (tile_rect){x, y, w, h}).hits < 0.5)
                 continue; /* (skipped: no item) */
-            int32_t *pages;
-            bool exact;
-            page_trace_pages(t, run->hetero ? 'S' : 'T', x, y, w, h, &pages, &exact);
-            free(pages);
-            missing += !exact;
+            missing += !page_trace_find(t, run->hetero ? 'S' : 'T', x, y, w, h);
         }
     return missing;
 }

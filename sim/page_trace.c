@@ -58,7 +58,7 @@ static bool parse_line(page_trace *t, char *line, const char **why)
         if (!grow((void **)&t->pages, &t->page_cap, t->page_count + 1, sizeof *t->pages))
             return false;
         t->pages[t->page_count++] = page;
-        int32_t index = page < 0 ? -1 - page : page;
+        int32_t index = page_trace_page(page);
         t->page_max = index > t->page_max ? index : t->page_max;
         *why = "malformed line (KIND X Y W H N PAGE...)";
     }
@@ -140,10 +140,12 @@ void page_trace_free(page_trace *t)
 static int page_order(const void *a, const void *b)
 {
     int32_t p = *(const int32_t *)a, q = *(const int32_t *)b;
-    int32_t i = p < 0 ? -1 - p : p, j = q < 0 ? -1 - q : q;
+    int32_t i = page_trace_page(p), j = page_trace_page(q);
     if (i != j)
         return i < j ? -1 : 1;
-    return (p < 0) == (q < 0) ? 0 : p < 0 ? -1 : 1; /* (a prefetch's first) */
+    return page_trace_prefetched(p) == page_trace_prefetched(q) ? 0
+           : page_trace_prefetched(p)                          ? -1 /* (a prefetch's first) */
+                                                               : 1;
 }
 
 /* The union of list[0 .. n): each page once, a prefetch's mark kept. */
@@ -151,13 +153,17 @@ static int32_t page_union(int32_t *list, int32_t n)
 {
     qsort(list, (size_t)n, sizeof *list, page_order);
     int32_t kept = 0;
-    for (int32_t k = 0; k < n; k++) {
-        int32_t i = list[k] < 0 ? -1 - list[k] : list[k];
-        int32_t last = kept > 0 ? (list[kept - 1] < 0 ? -1 - list[kept - 1] : list[kept - 1]) : -1;
-        if (kept == 0 || i != last)
+    for (int32_t k = 0; k < n; k++)
+        if (kept == 0 || page_trace_page(list[k]) != page_trace_page(list[kept - 1]))
             list[kept++] = list[k];
-    }
     return kept;
+}
+
+const page_trace_item *page_trace_find(const page_trace *t, char kind, int32_t x, int32_t y,
+                                       int32_t w, int32_t h)
+{
+    page_trace_item key = {kind, x, y, w, h, 0, 0};
+    return t->item_count ? bsearch(&key, t->items, t->item_count, sizeof key, item_order) : NULL;
 }
 
 int32_t page_trace_pages(const page_trace *t, char kind, int32_t x, int32_t y, int32_t w,
@@ -165,9 +171,7 @@ int32_t page_trace_pages(const page_trace *t, char kind, int32_t x, int32_t y, i
 {
     *out = NULL;
     *exact = false;
-    page_trace_item key = {kind, x, y, w, h, 0, 0};
-    const page_trace_item *hit =
-        t->item_count ? bsearch(&key, t->items, t->item_count, sizeof key, item_order) : NULL;
+    const page_trace_item *hit = page_trace_find(t, kind, x, y, w, h);
     size_t total = 0;
     if (hit) {
         *exact = true;

@@ -34,6 +34,20 @@ typedef struct {
     int32_t page_max;       /* the largest page number named (-1: none)  */
 } page_trace;
 
+/* A named page of a trace: its number, and whether a prefetch named it. */
+static inline int32_t page_trace_page(int32_t named)
+{
+    return named < 0 ? -1 - named : named;
+}
+static inline bool page_trace_prefetched(int32_t named)
+{
+    return named < 0;
+}
+
+/* The recorded item of `kind` with exactly rectangle (x, y, w, h), or NULL. */
+const page_trace_item *page_trace_find(const page_trace *t, char kind, int32_t x, int32_t y,
+                                       int32_t w, int32_t h);
+
 /* The traces in `paths` (separated by ':') into t; false with the reason
  * (file:line) in err on a file that cannot be read or a malformed line. */
 bool page_trace_load(page_trace *t, const char *paths, char *err, size_t err_size);

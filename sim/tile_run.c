@@ -117,91 +117,71 @@ void tile_time_stop(const tile_timer *t, tile_result *res)
  * (the prefetch on) in one request before its seconds, the others named
  * one by one, evenly over its seconds, the first at its start. */
 typedef struct {
-    csg_pager *pager;
-    int32_t *pages;     /* the trace's, -1 - page a prefetch's         */
-    int32_t count;
-    int32_t *demand;    /* those named on demand, in order              */
+    csg_pager *pager;   /* NULL: not paged                              */
+    pager_stats before; /* its counts when the item began               */
+    int32_t *demand;    /* the pages named on demand, in order          */
     int32_t demand_count, next;
     double install_s;   /* a byte's install, $CSGSIM_PAGE_INSTALL_S     */
 } sim_pages;
 
-/* The install of the bytes the pager fetched since `bytes_before`. */
-static void sim_install(const sim_pages *sp, uint64_t bytes_before)
+/* The page named (or the pages prefetched) by `name`, each fetched byte
+ * installed at its measured cost. */
+static void sim_fetch(sim_pages *sp, void (*name)(csg_pager *, const int32_t *, size_t),
+                      const int32_t *pages, size_t n)
 {
-    double s = (double)(sp->pager->stats.bytes - bytes_before) * sp->install_s;
+    uint64_t bytes = sp->pager->stats.bytes;
+    name(sp->pager, pages, n);
+    double s = (double)(sp->pager->stats.bytes - bytes) * sp->install_s;
     if (s > 0)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
 }
 
-/* The item's pages looked up and its prefetch done; false when none. */
-static bool sim_pages_begin(sim_pages *sp, tile_runner *tr, tile_rect r, bool traced)
+static void sim_need_page(csg_pager *p, const int32_t *page, size_t n)
+{
+    (void)n;
+    pager_need_page(p, *page);
+}
+
+/* The item's pages looked up in the trace, its prefetch done. */
+static void sim_pages_begin(sim_pages *sp, tile_runner *tr, tile_rect r, bool traced)
 {
     memset(sp, 0, sizeof *sp);
     const page_trace *t = page_trace_shared();
     sp->pager = pager_for(tr->blob);
-    if (!sp->pager || !t)
-        return false;
-    bool exact; /* (sim/main.c counts the tiles the trace has) */
-    sp->count = page_trace_pages(t, traced ? 'T' : 'S', r.x, r.y, r.width, r.height, &sp->pages,
-                                 &exact);
-    if (sp->count < 0) {
-        sp->pager->failed = true; /* (out of memory: the run's result void) */
-        sp->count = 0;
-    }
-    sp->install_s = sim_env_number("CSGSIM_PAGE_INSTALL_S", 0);
-    sp->demand = malloc((size_t)(sp->count ? sp->count : 1) * sizeof *sp->demand);
-    int32_t *ahead = malloc((size_t)(sp->count ? sp->count : 1) * sizeof *ahead);
-    int32_t ahead_count = 0;
-    if (!sp->demand || !ahead) {
-        sp->pager->failed = true;
-        free(ahead);
-        return true;
-    }
-    for (int32_t k = 0; k < sp->count; k++) {
-        int32_t p = sp->pages[k];
-        if (p < 0 && sp->pager->prefetch)
-            ahead[ahead_count++] = -1 - p;
-        else
-            sp->demand[sp->demand_count++] = p < 0 ? -1 - p : p;
-    }
-    uint64_t before = sp->pager->stats.bytes;
-    if (ahead_count > 0)
-        pager_prefetch_pages(sp->pager, ahead, (size_t)ahead_count);
-    sim_install(sp, before);
-    free(ahead);
-    return true;
-}
-
-/* The demand pages due by `at` of the item's `total` seconds, named. */
-static void sim_pages_due(sim_pages *sp, double at, double total)
-{
-    while (sp->next < sp->demand_count &&
-           (total <= 0 || total * sp->next / sp->demand_count <= at)) {
-        uint64_t before = sp->pager->stats.bytes;
-        pager_need_page(sp->pager, sp->demand[sp->next++]);
-        sim_install(sp, before);
-    }
-}
-
-static void sim_pages_end(sim_pages *sp, tile_rect r, bool traced, tile_result *res,
-                          const pager_stats *before)
-{
     if (!sp->pager)
         return;
-    pager_trace_item(sp->pager, traced ? 'T' : 'S', r.x, r.y, r.width, r.height);
-    pager_item_end(sp->pager);
-    res->paging = page_counts_since(before, &sp->pager->stats);
-    res->page_failed = sp->pager->failed;
-    free(sp->pages);
-    free(sp->demand);
+    sp->before = sp->pager->stats;
+    sp->install_s = sim_env_number("CSGSIM_PAGE_INSTALL_S", 0);
+    int32_t *pages = NULL;
+    bool exact; /* (sim/main.c counts the tiles the trace has) */
+    int32_t count = t ? page_trace_pages(t, traced ? 'T' : 'S', r.x, r.y, r.width, r.height,
+                                         &pages, &exact)
+                      : 0;
+    int32_t *ahead = count > 0 ? malloc((size_t)count * sizeof *ahead) : NULL;
+    sp->demand = count > 0 ? malloc((size_t)count * sizeof *sp->demand) : NULL;
+    if (count < 0 || (count > 0 && (!ahead || !sp->demand))) {
+        sp->pager->failed = true; /* (out of memory: the run's result void) */
+        count = 0;
+    }
+    size_t ahead_count = 0;
+    for (int32_t k = 0; k < count; k++) {
+        if (page_trace_prefetched(pages[k]) && sp->pager->prefetch)
+            ahead[ahead_count++] = page_trace_page(pages[k]);
+        else
+            sp->demand[sp->demand_count++] = page_trace_page(pages[k]);
+    }
+    if (ahead_count > 0)
+        sim_fetch(sp, pager_prefetch_pages, ahead, ahead_count);
+    free(ahead);
+    free(pages);
 }
 
-/* `seconds` of compute from `from` on, the demand pages due on the way
- * named where they fall. */
+/* `seconds` of compute from `from` on, of the item's `total`, the demand
+ * pages due on the way named where they fall. */
 static void sim_compute(sim_pages *sp, double from, double seconds, double total)
 {
     double at = from, end = from + seconds;
-    while (sp->pager && sp->next < sp->demand_count) {
+    for (; sp->next < sp->demand_count; sp->next++) {
         double due = total * sp->next / sp->demand_count;
         if (due > end)
             break;
@@ -209,10 +189,21 @@ static void sim_compute(sim_pages *sp, double from, double seconds, double total
             smpi_execute_flops((due - at) * SIM_HOST_FLOPS);
             at = due;
         }
-        sim_pages_due(sp, at, total);
+        sim_fetch(sp, sim_need_page, &sp->demand[sp->next], 1);
     }
     if (end > at)
         smpi_execute_flops((end - at) * SIM_HOST_FLOPS);
+}
+
+static void sim_pages_end(sim_pages *sp, tile_rect r, bool traced, tile_result *res)
+{
+    if (!sp->pager)
+        return;
+    pager_trace_item(sp->pager, traced ? 'T' : 'S', r.x, r.y, r.width, r.height);
+    pager_item_end(sp->pager);
+    res->paging = page_counts_since(&sp->before, &sp->pager->stats);
+    res->page_failed = sp->pager->failed;
+    free(sp->demand);
 }
 
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
@@ -230,9 +221,6 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     res->busy_s = cost.seconds;
     res->cpu_s = cost.seconds;
     sim_pages sp;
-    pager_stats before = {0};
-    if (pager_for(tr->blob))
-        before = pager_for(tr->blob)->stats;
     sim_pages_begin(&sp, tr, r, traced);
     /* in the bands of workers/tile_run.c, this rank's transfers moved on
      * between them as there (tile_runner.progress) */
@@ -244,9 +232,8 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
         sim_compute(&sp, cost.seconds * y0 / r.height, cost.seconds * band / r.height,
                     cost.seconds);
     }
-    if (sp.pager)
-        sim_pages_due(&sp, cost.seconds, cost.seconds); /* (any left: a 0 s item) */
-    sim_pages_end(&sp, r, traced, res, &before);
+    sim_compute(&sp, cost.seconds, 0, cost.seconds); /* (any left, rounding's) */
+    sim_pages_end(&sp, r, traced, res);
 }
 
 /* (the simulated costs do not tell the shadow answers apart) */
