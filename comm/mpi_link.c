@@ -90,6 +90,28 @@ _Static_assert(sizeof(MPI_Request) <= sizeof(((link_req *)0)->impl),
                "link_req must hold an MPI_Request");
 
 static bool link_model_legacy(void); /* (the protocol model: see there) */
+static void link_page_serve_turn(void); /* (pages: see there) */
+
+/* Pages of the scene: see link_page_fetch below. */
+#define LINK_TAG_PAGE_ASK 32001
+#define LINK_TAG_PAGE 32002
+#define LINK_PAGE_NAP_NS 10000L /* a worker waiting for a page naps at most this */
+#define LINK_PAGE_SERVE_NAP_NS 50000L /* a home (link_page_server) naps at most this */
+#define LINK_PAGE_SENDS 64 /* answers in flight at once (one a worker at most) */
+
+/* --page-home spread: this worker's answers to the others (link_page_server). */
+static struct {
+    link_page_pack pack;
+    void (*poll)(void *arg);
+    void *arg;
+    bool serving;  /* (within it: no second turn from its own sends' waits) */
+    bool held;     /* its own pages asked of rank 0 (link_page_fetch): no
+                      answers until they are in (and installed), or it
+                      would fetch them again to answer */
+    bool *suspect; /* a home asked no more (LINK_PAGE_HOME_WAIT_NS), by rank */
+    uint64_t rerouted; /* asks sent to rank 0 instead (link_page_rerouted) */
+} link_server;
+
 
 bool link_launched_by_mpirun(void)
 {
@@ -606,6 +628,7 @@ static bool link_idle_woken(link_idle *w)
 
 void link_idle_step(link_idle *w)
 {
+    link_page_serve_turn(); /* (a home answers whenever it waits) */
     if (link_idle_woken(w)) {
         link_idle_reset(w); /* something happened: poll again at once */
         return;
@@ -615,6 +638,8 @@ void link_idle_step(link_idle *w)
         return;
     }
     long nap = w->nap_ns < w->nap_max_ns ? w->nap_ns : w->nap_max_ns;
+    if (link_server.pack && nap > LINK_PAGE_SERVE_NAP_NS)
+        nap = LINK_PAGE_SERVE_NAP_NS; /* (another worker's ray may wait on this one) */
     if (link_receiving() && !link_model_legacy()) /* bytes on their way: a yield */
         nap = LINK_NAP_MIN_NS;
     if (w->ready) {
@@ -1091,6 +1116,7 @@ void link_progress(void)
      * that takes nothing is the cheapest) */
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
     link_in_test();
+    link_page_serve_turn();
 }
 
 void link_msg_free(link_msg *m)
@@ -1505,11 +1531,6 @@ void link_abort(int code)
  * The worker waits for the answer (its ray needs it); rank 0 answers in its
  * loop (link_page_serve) with background sends that it gives up on when
  * the worker is lost. */
-#define LINK_TAG_PAGE_ASK 32001
-#define LINK_TAG_PAGE 32002
-#define LINK_PAGE_NAP_NS 10000L /* a worker waiting for a page naps at most this */
-#define LINK_PAGE_SENDS 64 /* answers in flight at once (one a worker at most) */
-
 static struct {
     link_req req[LINK_PAGE_SENDS];
     unsigned char *data[LINK_PAGE_SENDS];
@@ -1517,16 +1538,250 @@ static struct {
     int ask_cap;
 } link_pages;
 
-bool link_page_fetch(const int32_t *pages, int n, void *out, size_t bytes)
+uint64_t link_page_rerouted(void)
 {
-    if (bytes > INT_MAX || n <= 0 ||
-        MPI_Send(pages, n * (int)sizeof *pages, MPI_BYTE, LINK_MASTER, LINK_TAG_PAGE_ASK,
-                 link_w.bcast_comm) != MPI_SUCCESS)
+    return link_server.rerouted;
+}
+
+void link_page_server(link_page_pack pack, void (*poll)(void *arg), void *arg)
+{
+    link_server.pack = pack;
+    link_server.poll = poll;
+    link_server.arg = arg;
+    if (!pack) {
+        free(link_server.suspect);
+        link_server.suspect = NULL;
+    }
+}
+
+/* The asks of other workers waiting here answered (a home's turn). */
+static void link_page_serve_turn(void)
+{
+    if (!link_server.pack || link_server.serving || link_server.held)
+        return;
+    link_server.serving = true;
+    if (link_server.poll)
+        link_server.poll(link_server.arg);
+    link_page_serve(link_server.pack, link_server.arg);
+    link_server.serving = false;
+}
+
+static long long link_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+/* One ask on its way: the page list sent from a copy (MPI may read it
+ * after the fetch returns when its home is given up on), the answer's
+ * receive posted: from rank 0 into the caller's buffer; from a home into
+ * one of its own, copied over once whole (a home that dies halfway
+ * through its answer leaves the receive for ever unfinished: that buffer
+ * is then left to MPI, and the caller's is written by rank 0's answer
+ * alone). */
+typedef struct {
+    MPI_Request ask, answer;
+    int32_t *copy;
+    unsigned char *bytes; /* a home's answer (NULL: rank 0's, into out) */
+    int rank;
+    bool answered;
+    bool broken; /* MPI failed on a home's answer (it died: --enable-recovery) */
+} link_page_wait;
+
+#define LINK_PAGE_CANCEL_NS 1000000000LL /* a cancelled answer's end, waited at most */
+
+static bool link_page_post(const link_page_ask *a, int rank, link_page_wait *w)
+{
+    w->rank = rank;
+    w->answered = false;
+    w->copy = malloc((size_t)a->n * sizeof *w->copy);
+    if (!w->copy)
         return false;
-    /* (short naps: the answer is tens of microseconds away, and the ray
-     * cannot go on without it) */
-    return link_recv_within(link_w.bcast_comm, out, (int)bytes, LINK_MASTER, LINK_TAG_PAGE,
-                            LINK_PAGE_NAP_NS) == LINK_OK;
+    memcpy(w->copy, a->pages, (size_t)a->n * sizeof *w->copy);
+    if (MPI_Isend(w->copy, a->n * (int)sizeof *w->copy, MPI_BYTE, rank, LINK_TAG_PAGE_ASK,
+                  link_w.bcast_comm, &w->ask) != MPI_SUCCESS) {
+        free(w->copy);
+        w->copy = NULL;
+        return false;
+    }
+    w->bytes = rank != LINK_MASTER ? malloc(a->bytes ? a->bytes : 1) : NULL;
+    if ((rank != LINK_MASTER && !w->bytes) ||
+        MPI_Irecv(w->bytes ? w->bytes : a->out, (int)a->bytes, MPI_BYTE, rank, LINK_TAG_PAGE,
+                  link_w.bcast_comm, &w->answer) != MPI_SUCCESS) {
+        w->answered = true; /* (nothing to wait for: the fetch fails) */
+        return false;
+    }
+    return true;
+}
+
+/* The answer in: a home's copied into place, its buffer freed. */
+static void link_page_take(const link_page_ask *a, link_page_wait *w)
+{
+    w->answered = true;
+    if (w->bytes) {
+        memcpy(a->out, w->bytes, a->bytes);
+        free(w->bytes);
+        w->bytes = NULL;
+    }
+}
+
+/* Is asks[k]'s answer in (whole: *ok false when not)? */
+static bool link_page_answered(const link_page_ask *a, link_page_wait *w, bool *ok)
+{
+    int flag = 0, got = -1;
+    MPI_Status st;
+    if (w->answered)
+        return true;
+    if (MPI_Test(&w->answer, &flag, &st) != MPI_SUCCESS) {
+        if (w->rank != LINK_MASTER) { /* (rank 0 is asked instead) */
+            w->broken = true;
+            return false;
+        }
+        *ok = false;
+        return true;
+    }
+    if (flag && (MPI_Get_count(&st, MPI_BYTE, &got) != MPI_SUCCESS || (size_t)got != a->bytes))
+        *ok = false;
+    if (flag)
+        link_page_take(a, w);
+    return w->answered;
+}
+
+/* A home silent for LINK_PAGE_HOME_WAIT_NS: its answer's receive
+ * cancelled (unless it came meanwhile), the ask sent to rank 0, that home
+ * never asked again (a late answer of its would match no receive). */
+static bool link_page_give_up(const link_page_ask *a, link_page_wait *w, bool *ok)
+{
+    int cancelled = w->broken, done = w->broken; /* (a failed receive is MPI's no more) */
+    MPI_Status st;
+    if (!w->broken && MPI_Cancel(&w->answer) != MPI_SUCCESS)
+        return false;
+    for (long long until = link_now_ns() + LINK_PAGE_CANCEL_NS; !done && link_now_ns() < until;)
+        if (MPI_Test(&w->answer, &done, &st) != MPI_SUCCESS)
+            done = cancelled = 1; /* (failed: MPI's no more) */
+        else if (done && MPI_Test_cancelled(&st, &cancelled) != MPI_SUCCESS)
+            return false;
+    if (done && !cancelled) { /* (it came after all) */
+        int got = -1;
+        *ok = *ok && MPI_Get_count(&st, MPI_BYTE, &got) == MPI_SUCCESS && (size_t)got == a->bytes;
+        link_page_take(a, w);
+        return true;
+    }
+    if (!done) /* (matched, and its sender gone halfway: left to MPI, with its buffer) */
+        MPI_Request_free(&w->answer);
+    else
+        free(w->bytes);
+    w->bytes = NULL;
+    if (!link_server.suspect)
+        link_server.suspect = calloc((size_t)link_w.size, sizeof *link_server.suspect);
+    if (link_server.suspect)
+        link_server.suspect[w->rank] = true;
+    MPI_Request_free(&w->ask); /* (its copy is MPI's until then: kept) */
+    w->broken = false;
+    link_server.rerouted++;
+    return link_page_post(a, LINK_MASTER, w);
+}
+
+bool link_page_fetch(const link_page_ask *asks, int n)
+{
+    link_page_wait *w = n > 0 ? calloc((size_t)n, sizeof *w) : NULL;
+    bool ok = w != NULL;
+    for (int k = 0; ok && k < n; k++) {
+        int rank = asks[k].rank;
+        if (asks[k].bytes > INT_MAX || asks[k].n <= 0 || rank < 0 || rank >= link_w.size)
+            ok = false;
+        else if (link_server.suspect && link_server.suspect[rank])
+            rank = LINK_MASTER, link_server.rerouted++;
+        ok = ok && link_page_post(&asks[k], rank, &w[k]);
+        if (!ok)
+            n = k + (w[k].copy != NULL); /* (what was posted is still waited for) */
+    }
+    /* (short naps: the answers are tens of microseconds away, and the ray
+     * cannot go on without them) */
+    link_idle idle;
+    link_idle_init(&idle, LINK_PAGE_NAP_NS, LINK_SPINS);
+    long long since = link_now_ns();
+    bool outer = !link_server.serving;
+    for (int left = n; left > 0;) {
+        left = 0;
+        int from_master = 0;
+        for (int k = 0; k < n; k++) {
+            bool in = link_page_answered(&asks[k], &w[k], &ok);
+            left += !in;
+            from_master += !in && w[k].rank == LINK_MASTER;
+        }
+        if (outer) /* (rank 0 answers whatever this rank does) */
+            link_server.held = from_master > 0;
+        if (left == 0)
+            break;
+        bool late = link_now_ns() - since > LINK_PAGE_HOME_WAIT_NS;
+        for (int k = 0; k < n; k++)
+            if (!w[k].answered && w[k].rank != LINK_MASTER && (late || w[k].broken) &&
+                !link_page_give_up(&asks[k], &w[k], &ok))
+                ok = false, w[k].answered = true; /* (MPI failed: the fetch fails) */
+        if (late)
+            since = link_now_ns();
+        link_idle_step(&idle);
+    }
+    if (outer)
+        link_server.held = false;
+    for (int k = 0; k < n; k++) { /* the asks' sends: done once answered */
+        int flag = 0;
+        while (w[k].copy && MPI_Test(&w[k].ask, &flag, MPI_STATUS_IGNORE) == MPI_SUCCESS && !flag)
+            link_idle_step(&idle);
+        if (flag)
+            free(w[k].copy);
+        else if (w[k].copy && MPI_Request_free(&w[k].ask) != MPI_SUCCESS)
+            ok = false; /* (MPI failed: its copy kept for it) */
+    }
+    link_idle_free(&idle);
+    free(w);
+    return ok;
+}
+
+struct link_page_async {
+    link_page_ask ask;
+    link_page_wait wait;
+};
+
+link_page_async *link_page_fetch_start(const link_page_ask *ask)
+{
+    link_page_async *a = malloc(sizeof *a);
+    if (!a)
+        return NULL;
+    a->ask = *ask;
+    memset(&a->wait, 0, sizeof a->wait);
+    if (ask->bytes > INT_MAX || ask->n <= 0 || ask->rank < 0 || ask->rank >= link_w.size ||
+        !link_page_post(&a->ask, ask->rank, &a->wait)) {
+        free(a); /* (a failed post: nothing of it is MPI's but a copy, kept) */
+        return NULL;
+    }
+    return a;
+}
+
+int link_page_fetch_test(link_page_async *a)
+{
+    bool ok = true;
+    int flag = 0;
+    if (!link_page_answered(&a->ask, &a->wait, &ok))
+        return 0;
+    if (MPI_Test(&a->wait.ask, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+        ok = false;
+    else if (!flag)
+        return 0; /* (its ask's send: done at the next call) */
+    free(a->wait.copy);
+    free(a);
+    return ok ? 1 : -1;
+}
+
+void link_page_fetch_cancel(link_page_async *a)
+{
+    MPI_Status st;
+    if (MPI_Cancel(&a->wait.answer) == MPI_SUCCESS)
+        MPI_Wait(&a->wait.answer, &st);
+    MPI_Request_free(&a->wait.ask); /* (its copy is MPI's until then: kept) */
+    free(a);
 }
 
 /* The sends done (or given up on: the worker is lost) freed; a free slot,

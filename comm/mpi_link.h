@@ -278,13 +278,44 @@ void link_finish(void);
 /* Ends every rank of the job with `code` (a rank that cannot go on). */
 void link_abort(int code);
 
-/* Pages of the scene (workers/pager.h).  A worker: pages[0 .. n) from
- * rank 0, their bytes packed into out (`bytes` in all); false when the
- * answer did not come whole.  Rank 0: every ASK waiting answered, its
+/* Pages of the scene (workers/pager.h).  A worker asks each rank that
+ * serves some of the pages it needs (rank 0, or the pages' homes) at once:
+ * asks[k]'s pages from asks[k].rank, their bytes packed into its out; it
+ * waits for every answer, answering other workers' asks meanwhile (its
+ * server, below).  A home that has not answered within
+ * LINK_PAGE_HOME_WAIT_NS (gone, or stopped) is asked no more: its pages
+ * come from rank 0 from then on.  False when an answer did not come whole.
+ * Rank 0, or a worker that holds pages: every ASK waiting answered, its
  * bytes packed by `pack` (malloc'd into *out; their size, 0 when it
  * cannot), sent in the background; returns how many were answered. */
-bool link_page_fetch(const int32_t *pages, int n, void *out, size_t bytes);
+typedef struct {
+    int rank;             /* who answers: rank 0, or the pages' home   */
+    const int32_t *pages;
+    int n;
+    unsigned char *out;   /* the answer's bytes, `bytes` of them        */
+    size_t bytes;
+} link_page_ask;
+#define LINK_PAGE_HOME_WAIT_NS 5000000000LL
+bool link_page_fetch(const link_page_ask *asks, int n);
+/* Asks this rank sent to rank 0 instead of a home, so far. */
+uint64_t link_page_rerouted(void);
+/* The same for one ask, in the background: started (NULL when it could
+ * not be), then tested until it ends: 1 its answer came whole (the handle
+ * freed), 0 not yet, -1 it failed (freed).  An ask of rank 0 only (a home's
+ * share filled: its answers come in the order of the asks). */
+typedef struct link_page_async link_page_async;
+link_page_async *link_page_fetch_start(const link_page_ask *ask);
+int link_page_fetch_test(link_page_async *a);
+/* An ask not ended given up (its answer's receive cancelled), freed. */
+void link_page_fetch_cancel(link_page_async *a);
 typedef size_t (*link_page_pack)(void *arg, const int32_t *pages, int n, unsigned char **out);
+/* A worker that holds pages (--page-home spread): `pack` answers the asks
+ * waiting whenever this rank makes progress or waits (link_progress, every
+ * wait's idle step), so a home's answer never waits for its own work;
+ * `poll` (may be NULL) is called there first (a background fill's turn).
+ * Neither while the rank waits for its own pages from rank 0, nor within
+ * itself.  NULL pack: none (the worker's end). */
+void link_page_server(link_page_pack pack, void (*poll)(void *arg), void *arg);
 int link_page_serve(link_page_pack pack, void *arg);
 
 #endif

@@ -120,6 +120,11 @@ typedef struct {
     int32_t page_policy;   /* enum pager_policy                         */
     int32_t page_prefetch; /* 1: an item's pages fetched in one request
                               before its rays (workers/pager.h)         */
+    int32_t page_homes;    /* > 0: the pages' homes are the workers
+                              (--page-home spread, workers/pager.h): each
+                              holds its share and answers the others'
+                              asks; 0: rank 0 serves every page         */
+    int32_t pad;
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may

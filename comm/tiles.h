@@ -40,6 +40,11 @@ typedef struct {
     uint64_t peak_bytes;  /* the most scene memory held (a maximum)     */
     uint64_t over_bytes;  /* the most an item went over the budget (a maximum) */
     uint64_t memory_bytes; /* the most memory pages held (a maximum)   */
+    uint64_t served;      /* other workers' requests this one answered
+                             (--page-home spread: the pages it holds) */
+    uint64_t served_bytes; /* the bytes of those answers              */
+    uint64_t rerouted;    /* asks sent to rank 0 instead of a home that
+                             did not answer (dead, or stopped)          */
     double wait_s;        /* seconds waiting for pages                  */
     double install_s;     /* seconds making room and copying pages into
                              place (the kernel's faults on fresh memory
@@ -57,6 +62,9 @@ static inline page_counts page_counts_since(const page_counts *before, const pag
     c.prefetched -= before->prefetched;
     c.evictions -= before->evictions;
     c.bytes -= before->bytes;
+    c.served -= before->served;
+    c.served_bytes -= before->served_bytes;
+    c.rerouted -= before->rerouted;
     c.wait_s -= before->wait_s;
     c.install_s -= before->install_s;
     return c;
@@ -71,6 +79,9 @@ static inline void page_counts_add(page_counts *sum, const page_counts *c)
     sum->prefetched += c->prefetched;
     sum->evictions += c->evictions;
     sum->bytes += c->bytes;
+    sum->served += c->served;
+    sum->served_bytes += c->served_bytes;
+    sum->rerouted += c->rerouted;
     sum->peak_bytes = c->peak_bytes > sum->peak_bytes ? c->peak_bytes : sum->peak_bytes;
     sum->over_bytes = c->over_bytes > sum->over_bytes ? c->over_bytes : sum->over_bytes;
     sum->memory_bytes = c->memory_bytes > sum->memory_bytes ? c->memory_bytes : sum->memory_bytes;

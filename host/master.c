@@ -159,23 +159,11 @@ static bool master_peer_gone(const master_session *m, int r)
 /* Every page request waiting, answered (link_page_serve's packer). */
 static size_t master_pack_pages(void *arg, const int32_t *pages, int n, unsigned char **out)
 {
-    const master_session *m = arg;
-    uint64_t bytes = 0;
-    for (int i = 0; i < n; i++) {
-        if (pages[i] < 0 || pages[i] >= m->plan.page_count)
-            return 0;
-        bytes += m->plan.pages[pages[i]].bytes;
-    }
-    *out = malloc(bytes ? bytes : 1);
-    if (!*out)
-        return 0;
-    unsigned char *at = *out;
-    for (int i = 0; i < n; i++) {
-        pager_pack_page(m->page_blob, &m->plan.pages[pages[i]], at);
-        at += m->plan.pages[pages[i]].bytes;
-    }
+    master_session *m = arg;
+    size_t bytes = pager_pack_pages(m->page_blob, &m->plan, pages, n, out);
     if (m->costs)
         m->costs->pages(bytes);
+    m->page_bytes_served += bytes;
     return bytes;
 }
 
@@ -189,7 +177,7 @@ static bool master_serve_pages(master_session *m)
 }
 
 int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
-                      uint64_t page_bytes, int policy, bool prefetch, csg_diag *d)
+                      uint64_t page_bytes, int policy, bool prefetch, int home, csg_diag *d)
 {
     const char *why = NULL;
     uint64_t page = page_bytes > 0 ? page_bytes : pager_page_bytes_for(budget);
@@ -210,6 +198,18 @@ int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budge
                         memory_format(m->plan.resident_bytes, need, sizeof need));
         return EXIT_BAD_INPUT;
     }
+    int32_t homes = pager_homes_for(home, m->workers, &m->plan, budget);
+    if (homes < 0) {
+        char share[32], have[32];
+        csg_error_plain(d, "--page-home spread: a worker's share of the pages, %s, does not fit in "
+                           "two thirds of what --scene-memory %s leaves beside the resident part "
+                           "(more workers, or a larger budget)",
+                        memory_format(pager_home_share(&m->plan, m->workers > 0 ? m->workers : 1),
+                                      share, sizeof share),
+                        memory_format(budget, have, sizeof have));
+        return EXIT_BAD_INPUT;
+    }
+    m->page_homes = homes;
     m->scene_memory = budget;
     m->page_policy = policy;
     m->page_prefetch = prefetch;
@@ -238,10 +238,12 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
             status = EXIT_FAILURE_RUN; /* (the workers exit at once) */
     }
     proto_setup setup = {status, tile, status == 0 ? blob->size : 0, m->batch, m->pixels,
-                         m->relays, m->workers + 1, 0, m->page_policy, m->page_prefetch};
+                         m->relays, m->workers + 1, 0, m->page_policy, m->page_prefetch,
+                         0, 0};
     if (packed) {
         setup.blob_size = packed_size;
         setup.scene_memory = m->scene_memory;
+        setup.page_homes = m->page_homes;
     }
     link_bcast_idle(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;

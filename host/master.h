@@ -73,9 +73,12 @@ typedef struct {
     uint64_t scene_memory;    /* > 0: each worker's scene budget, bytes   */
     int page_policy;          /* enum pager_policy                        */
     bool page_prefetch;       /* an item's pages fetched before its rays  */
+    int page_homes;           /* > 0: the workers are the pages' homes
+                                 (proto_setup.page_homes); 0: rank 0     */
     pager_plan plan;          /* the pages, once shared; served from blob  */
     const void *page_blob;    /* the scene the pages are served from      */
     uint64_t page_asks;       /* page requests answered                   */
+    uint64_t page_bytes_served; /* their bytes                            */
 } master_session;
 
 /* One tile phase: what to do and where the results go. */
@@ -138,10 +141,11 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
 /* --scene-memory, before master_share_scene: the blob (valid, `size`
  * bytes) laid out for pages of page_bytes (0: pager_page_bytes_for the
  * budget), its plan in m->plan, the budget checked against the resident
- * part, the session told to share it (policy: enum pager_policy).  0, or
- * the exit status with d filled. */
+ * part, the session told to share it (policy: enum pager_policy; home:
+ * enum pager_home, decided here for the session's workers).  0, or the
+ * exit status with d filled. */
 int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
-                      uint64_t page_bytes, int policy, bool prefetch, csg_diag *d);
+                      uint64_t page_bytes, int policy, bool prefetch, int home, csg_diag *d);
 /* The master's view of the shared scene gone, blob->bytes NULL then (the
  * caller frees a blob that was not shared, as before). */
 void master_release_scene(master_session *m, csg_blob *blob);

@@ -82,6 +82,9 @@ enum cli_kind {
       CLI_ON_RENDERS, "--scene-memory: the size a page aims at, KiB (default auto: a 512th of the budget, 16 to 128)")         \
     X("--page-policy", NULL, "lru|fifo", CLI_CHOICE, req.page_policy, 0, 0, cli_page_policies, \
       CLI_ON_RENDERS, "--scene-memory: the page evicted first (default lru)")                \
+    X("--page-home", NULL, "auto|master|spread", CLI_CHOICE, req.page_home, 0, 0, cli_page_homes, \
+      CLI_ON_RENDERS, "--scene-memory: who serves the pages: rank 0, or each page's home "   \
+                      "worker (default auto: spread from 128 workers where a share fits)")              \
     X("--page-prefetch", NULL, "on|off", CLI_SWITCH, req.no_page_prefetch, 0, 0, cli_fill,     \
       CLI_ON_RENDERS, "--scene-memory: an item's pages fetched in one request before its "    \
                       "rays (default on)")                                                     \

@@ -775,7 +775,8 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     }
     uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : 0;
     int status = master_plan_pages(ms, rs->blob.bytes, rs->blob.size, budget, page,
-                                   req->page_policy, !req->no_page_prefetch, d);
+                                   req->page_policy, !req->no_page_prefetch,
+                                   local ? PAGER_HOME_MASTER : req->page_home, d);
     if (status != EXIT_OK)
         return status;
     st->scene_memory = budget;
@@ -784,6 +785,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     st->resident_bytes = ms->plan.resident_bytes;
     st->page_policy = req->page_policy == PAGER_FIFO ? "fifo" : "lru";
     st->page_prefetch = ms->page_prefetch;
+    st->page_homes = ms->page_homes;
     if (!local)
         return EXIT_OK;
     size_t size = 0;
@@ -870,6 +872,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
     st.workers_lost = ms.workers_lost;
     st.scene_shared_ranks = ms.scene_shared + (ms.scene.shared ? 1 : 0);
     st.page_asks = ms.page_asks;
+    st.page_bytes_served = ms.page_bytes_served;
     st.scene_private_ranks = ms.workers + 1 - st.scene_shared_ranks;
 
     if (status == EXIT_OK) {

@@ -65,6 +65,7 @@ typedef struct {
     double scene_memory_mb;   /* --scene-memory: each worker's scene within
                                  this many MB (workers/pager.h); 0: whole */
     int page_policy;          /* --page-policy: enum pager_policy        */
+    int page_home;            /* --page-home: enum pager_home            */
     int page_kb;              /* --page-size: KiB a page aims at; 0: auto
                                  (pager_page_bytes_for the budget)        */
     bool no_page_prefetch;    /* --page-prefetch off                     */

@@ -101,12 +101,14 @@ static void stats_paging(FILE *f, const page_counts *c)
     fprintf(f, "{\"touches\": %llu, \"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
                "\"prefetched\": %llu, \"evictions\": %llu, \"bytes\": %llu, "
                "\"peak_bytes\": %llu, \"over_budget_bytes\": %llu, \"memory_peak_bytes\": %llu, "
-               "\"hit_rate\": ",
+               "\"served\": %llu, \"served_bytes\": %llu, \"rerouted\": %llu, \"hit_rate\": ",
             (unsigned long long)c->touches, (unsigned long long)c->faults,
             (unsigned long long)c->requests, (unsigned long long)c->pages,
             (unsigned long long)c->prefetched, (unsigned long long)c->evictions,
             (unsigned long long)c->bytes, (unsigned long long)c->peak_bytes,
-            (unsigned long long)c->over_bytes, (unsigned long long)c->memory_bytes);
+            (unsigned long long)c->over_bytes, (unsigned long long)c->memory_bytes,
+            (unsigned long long)c->served, (unsigned long long)c->served_bytes,
+            (unsigned long long)c->rerouted);
     stats_number(f, c->touches > 0 ? 1.0 - (double)c->pages / (double)c->touches : 1.0);
     fputs(", \"wait_s\": ", f);
     stats_number(f, c->wait_s);
@@ -206,11 +208,13 @@ void stats_print_json(FILE *f, const render_stats *s)
     if (s->scene_memory > 0) {
         fprintf(f, "  \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
                    "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
-                   "\"prefetch\": %s, \"asks_answered\": %llu},\n  \"paging\": ",
+                   "\"prefetch\": %s, \"asks_answered\": %llu, \"bytes_served\": %llu, "
+                   "\"homes\": %d},\n  \"paging\": ",
                 (unsigned long long)s->scene_memory, (unsigned long long)s->page_bytes,
                 s->page_count, (unsigned long long)s->resident_bytes,
                 s->page_policy ? s->page_policy : "lru", s->page_prefetch ? "true" : "false",
-                (unsigned long long)s->page_asks);
+                (unsigned long long)s->page_asks, (unsigned long long)s->page_bytes_served,
+                s->page_homes);
         stats_paging(f, &s->paging);
         fputs(",\n", f);
     }

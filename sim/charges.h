@@ -30,5 +30,8 @@ void sim_master_store_drain(void);
 /* Pages packed for a worker's request (--scene-memory): bytes x
  * $CSGSIM_MASTER_PAGE_S (seconds a byte; 0 when unset). */
 void sim_charge_master_pages(uint64_t bytes);
+/* A home worker's answer to another's page ask: its packing, at rank 0's
+ * rate ($CSGSIM_MASTER_PAGE_S), on the worker's host. */
+void sim_charge_worker_serve(uint64_t bytes);
 
 #endif

@@ -40,18 +40,20 @@
  *
  * --scene-memory MB (and --page-size KB, --page-policy lru|fifo,
  * --page-prefetch on|off, as csgtrace's): each worker holds the scene in
- * pages within MB megabytes, rank 0 serves the pages (the real plan, the
- * real requests and answers); each item names the pages its real one
+ * pages within MB megabytes, rank 0 serves the pages, or (--page-home)
+ * their home workers do (the real plan, the real requests and answers); each item names the pages its real one
  * named, from the page traces in $CSGSIM_PAGES (sim/page_trace.h:
  * recorded by a real render of the same scene, size and page size with
  * $CSGTRACE_PAGE_TRACE), through the worker's real cache.  What a real
  * worker spends installing a fetched page (copies, the kernel's faults)
  * is $CSGSIM_PAGE_INSTALL_S seconds a byte on its host; rank 0's packing,
- * $CSGSIM_MASTER_PAGE_S (bench/sim/paging.sh measures both).
+ * $CSGSIM_MASTER_PAGE_S (bench/sim/paging.sh measures both), and a home
+ * worker's the same when it answers another.
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
  *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|float]
- *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]]
+ *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]
+ *           [--page-home auto|master|spread]]
  *          --stats FILE.json
  * --pixels: what the workers' RESULTs carry a pixel (comm/pixels.h): rgb8
  * (default: what a render to an 8-bit file such as PNG sends) or float
@@ -91,6 +93,7 @@ typedef struct {
     int page_kb;             /* --page-size (0: auto)                     */
     int page_policy;         /* --page-policy: enum pager_policy          */
     bool page_prefetch;      /* --page-prefetch on|off                    */
+    int page_home;           /* --page-home: enum pager_home              */
 } sim_args;
 
 typedef struct {
@@ -161,6 +164,12 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         a->page_policy = strcmp(v, "fifo") == 0 ? PAGER_FIFO : PAGER_LRU;
         return strcmp(v, "fifo") == 0 || strcmp(v, "lru") == 0;
     }
+    if (strcmp(key, "--page-home") == 0) {
+        a->page_home = strcmp(v, "spread") == 0   ? PAGER_HOME_SPREAD
+                       : strcmp(v, "master") == 0 ? PAGER_HOME_MASTER
+                                                  : PAGER_HOME_AUTO;
+        return a->page_home != PAGER_HOME_AUTO || strcmp(v, "auto") == 0;
+    }
     if (strcmp(key, "--page-prefetch") == 0) {
         a->page_prefetch = strcmp(v, "on") == 0;
         return a->page_prefetch || strcmp(v, "off") == 0;
@@ -175,7 +184,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
     *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true,
-                    0, 0, PAGER_LRU, true};
+                    0, 0, PAGER_LRU, true, PAGER_HOME_AUTO};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -276,6 +285,8 @@ typedef struct {
     double tail_s;           /* from the first worker's last result on    */
     page_counts paging;      /* the workers' paging, all items            */
     uint64_t page_asks;      /* page requests rank 0 answered             */
+    uint64_t page_bytes_served; /* their bytes                            */
+    int page_homes;          /* > 0: the workers were the pages' homes    */
     int32_t page_count;      /* the plan's pages (0: not paged)           */
     uint64_t page_bytes, resident_bytes, budget;
 } sim_result;
@@ -352,19 +363,22 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
         int missing = sim_trace_missing(a, run);
         fprintf(f, ", \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
                    "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
-                   "\"prefetch\": %s, \"asks_answered\": %llu, \"trace_tiles_missing\": %d}, "
+                   "\"prefetch\": %s, \"asks_answered\": %llu, \"bytes_served\": %llu, "
+                   "\"homes\": %d, \"trace_tiles_missing\": %d}, "
                    "\"paging\": {\"touches\": %llu, "
                    "\"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
                    "\"prefetched\": %llu, \"evictions\": %llu, \"bytes\": %llu, "
+                   "\"served\": %llu, \"served_bytes\": %llu, "
                    "\"peak_bytes\": %llu, \"wait_s\": %.9g}",
                 (unsigned long long)r->budget, (unsigned long long)r->page_bytes, r->page_count,
                 (unsigned long long)r->resident_bytes, a->page_policy == PAGER_FIFO ? "fifo" : "lru",
                 a->page_prefetch ? "true" : "false", (unsigned long long)r->page_asks,
-                missing,
+                (unsigned long long)r->page_bytes_served, r->page_homes, missing,
                 (unsigned long long)p->touches, (unsigned long long)p->faults,
                 (unsigned long long)p->requests, (unsigned long long)p->pages,
                 (unsigned long long)p->prefetched, (unsigned long long)p->evictions,
-                (unsigned long long)p->bytes, (unsigned long long)p->peak_bytes, p->wait_s);
+                (unsigned long long)p->bytes, (unsigned long long)p->served,
+                (unsigned long long)p->served_bytes, (unsigned long long)p->peak_bytes, p->wait_s);
     }
     fputs("}\n", f);
     return fclose(f) == 0;
@@ -384,7 +398,8 @@ static int sim_plan_pages(const sim_args *a, master_session *m, csg_blob *blob, 
         return 0;
     int status = master_plan_pages(m, blob->bytes, blob->size,
                                    (uint64_t)(a->scene_memory_mb * 1e6),
-                                   (uint64_t)a->page_kb << 10, a->page_policy, a->page_prefetch, d);
+                                   (uint64_t)a->page_kb << 10, a->page_policy, a->page_prefetch,
+                                   a->page_home, d);
     const page_trace *t = page_trace_shared();
     if (status == 0 && !t) {
         csg_error_plain(d, "csgsim: --scene-memory needs the page traces ($CSGSIM_PAGES)");
@@ -443,8 +458,9 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
         master_release_scene(&m, blob); /* (threads: never shared, the blob stays) */
         *out = (sim_result){stats_clock() - t0, sim_napped_s(), job.items_done, m.batch,
                             run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
-                            0, 0, 0, job.paging, m.page_asks, plan.page_count,
-                            plan.page_bytes, plan.resident_bytes, m.scene_memory};
+                            0, 0, 0, job.paging, m.page_asks, m.page_bytes_served,
+                            m.page_homes, plan.page_count, plan.page_bytes, plan.resident_bytes,
+                            m.scene_memory};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         link_idle_free(&idle);
         sched_free(&run->s);
@@ -495,6 +511,7 @@ int main(int argc, char **argv)
     link_model_protocol((size_t)sim_env_number("CSGSIM_EAGER_BYTES", 0),
                         sim_env_number("CSGSIM_LEGACY_RUNTIME", 0) > 0);
     if (rank != 0) {
+        worker_set_serve_cost(sim_charge_worker_serve);
         int status = worker_run(rank, NULL, NULL);
         link_finish();
         return status;

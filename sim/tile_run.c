@@ -87,6 +87,16 @@ void sim_charge_master_pages(uint64_t bytes)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
 }
 
+void sim_charge_worker_serve(uint64_t bytes)
+{
+    static double page_s = -1; /* (a rank's own: SMPI privatizes it) */
+    if (page_s < 0)
+        page_s = sim_env_number("CSGSIM_MASTER_PAGE_S", 0);
+    double s = (double)bytes * page_s;
+    if (s > 0)
+        smpi_execute_flops(s * SIM_HOST_FLOPS);
+}
+
 void sim_master_store_drain(void)
 {
     const sim_master_costs *m = sim_master();

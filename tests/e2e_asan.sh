@@ -126,6 +126,13 @@ for mode in serial homo hetero; do
         --scene-memory 0.44 --page-size 16 --pass always --fill off
     check "paged_$mode" paged_ref "--scene-memory 0.44 (a 0.58 MB scene, 0.37 MB resident), $mode under mpirun"
 done
+# ... and the pages' homes (--page-home spread): 3 workers, each the home of
+# a third of the pages, answering the others while it renders
+for mode in homo hetero; do
+    sanitised "homes_$mode" 4 $mode "$T/paged.pov" --width 64 --height 48 --tile 8 \
+        --scene-memory 0.60 --page-size 16 --page-home spread --pass always --fill off
+    check "homes_$mode" paged_ref "--scene-memory 0.60 --page-home spread, $mode, 3 workers"
+done
 
 # failing NAME ERRORS TEXT WHAT: the run NAME failed as it should (exit
 # 1) with ERRORS error lines, one holding TEXT, no image, no sanitizer

@@ -11,8 +11,15 @@
 #   - hetero with the pass's records prefetches pages (prefetched > 0),
 #     without the prefetch none;
 #   - the tile log has each item's page faults and wait;
-#   - a budget below the resident part, and --scene-memory with --relays,
-#     are refused with a message (exit 2), no image written.
+#   - homes (--page-home spread, 3 workers): each worker holds a third of
+#     the pages and answers the others' asks; the image is the in-memory
+#     one (homo and hetero, float and double), rank 0 sent no more than
+#     the pages once (each to its home, when first needed), the workers
+#     answered one another, the cache evicted; auto leaves it to rank 0
+#     with 3 workers (it spreads from 128: test_pager);
+#   - a budget below the resident part, --scene-memory with --relays, and
+#     --page-home spread where a share does not fit are refused with a
+#     message (exit 2), no image written.
 # Usage: tests/e2e_paging.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -122,6 +129,47 @@ EXTRA=()
 paged serial-traced float env CSGTRACE_PAGE_TRACE="$T/serial.trace"
 trace_check serial-traced T "$T/serial.trace.0"
 
+# Homes: 3 workers (-np 4), a budget of the resident part and 0.6 of the
+# pages: a share (a third, about) fits in two thirds of it, the rest is
+# the cache, smaller than the two thirds a worker fetches from the others.
+MPI4=(timeout -s KILL 120 mpirun --bind-to none --oversubscribe -np 4)
+declare -A HOME_MB
+for prec in float double; do
+    HOME_MB[$prec]=$(python3 -c "import json,sys; j=json.load(open(sys.argv[1])); r=j['scene_memory']['resident_bytes']; print((r + 0.6 * (j['blob_bytes'] - r)) / 1e6)" "$T/probe-$prec.json")
+done
+# spread NAME PREC HOME ARGS...: a 3-worker render at that budget
+spread() {
+    local name=$1 prec=$2 home=$3
+    shift 3
+    local out=$T/$name.pfm
+    "${MPI4[@]}" "$BIN" render "$SCENE" "${SZ[@]}" --precision $prec --scene-memory "${HOME_MB[$prec]}" \
+        --page-home "$home" -o "$out" --stats "$out.json" "$@" >/dev/null 2>"$out.err" ||
+        { ko "$name: render failed: $(head -c 300 "$out.err")"; return 1; }
+    same "$T/full-$prec.pfm" "$out" && ok "$name: the in-memory image, bit for bit" ||
+        ko "$name: the image differs from the in-memory render"
+}
+for prec in float double; do
+    for mode in homo hetero; do
+        args=(--mode $mode)
+        [ $mode = hetero ] && args+=(--pass always --fill off)
+        spread spread-$mode-$prec $prec spread "${args[@]}" || continue
+        json "$T/spread-$mode-$prec.pfm.json" "j['scene_memory']['homes'] == 3 and 0 < j['scene_memory']['bytes_served'] <= j['blob_bytes'] - j['scene_memory']['resident_bytes']" &&
+            ok "spread-$mode-$prec: rank 0 sent each page once at most, to its home" ||
+            ko "spread-$mode-$prec: rank 0 served other than the homes' shares"
+        json "$T/spread-$mode-$prec.pfm.json" "j['paging']['served'] > 0 and j['paging']['served_bytes'] > 0 and j['paging']['faults'] > 0 and j['paging']['evictions'] > 0 and j['paging']['over_budget_bytes'] == max(0, j['paging']['peak_bytes'] - j['scene_memory']['budget_bytes'])" &&
+            ok "spread-$mode-$prec: the workers answered one another, the cache evicted" ||
+            ko "spread-$mode-$prec: no page went from worker to worker"
+    done
+done
+spread spread-auto float auto --mode homo &&
+    json "$T/spread-auto.pfm.json" "j['scene_memory']['homes'] == 0" &&
+    ok "--page-home auto with 3 workers: rank 0 serves (spread from 128)" || ko "--page-home auto: spread with 3 workers"
+spread spread-master float master --mode homo &&
+    json "$T/spread-master.pfm.json" "j['scene_memory']['homes'] == 0 and j['paging']['served'] == 0" &&
+    ok "--page-home master: rank 0 serves every page" || ko "--page-home master: pages served by workers"
+json "$T/homo-float.pfm.json" "j['scene_memory']['homes'] == 0" &&
+    ok "--page-home auto at two pages' budget: rank 0 serves" || ko "auto spread a share that does not fit"
+
 # Refusals.
 low=$(python3 -c "print((${RESIDENT[float]} - 1000) / 1e6)")
 "$BIN" render "$SCENE" "${SZ[@]}" --scene-memory "$low" -o "$T/low.pfm" >/dev/null 2>"$T/low.err"
@@ -135,5 +183,11 @@ rc=$?
 [ $rc -eq 2 ] && grep -q "does not apply with --relays" "$T/relays.err" && [ ! -e "$T/relays.pfm" ] &&
     ok "--scene-memory with --relays: refused (exit 2)" ||
     ko "--scene-memory with --relays: rc $rc, $(head -c 200 "$T/relays.err")"
+"${MPI4[@]}" "$BIN" render "$SCENE" "${SZ[@]}" --mode homo --scene-memory "${BUDGET_MB[float]}" \
+    --page-home spread -o "$T/nohome.pfm" >/dev/null 2>"$T/nohome.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "page-home spread: a worker's share" "$T/nohome.err" && [ ! -e "$T/nohome.pfm" ] &&
+    ok "--page-home spread where a share does not fit: refused (exit 2)" ||
+    ko "--page-home spread where a share does not fit: rc $rc, $(head -c 200 "$T/nohome.err")"
 
 e2e_finish

@@ -171,6 +171,36 @@ for mode in "${modes[@]}"; do
     case_check "worker 2 SIGKILLed inside a batch ($mode, 3 ranks, --batch 4): exit 0, serial image, its items reassigned" "$fails"
 done
 
+# Pages served by their homes (--scene-memory, --page-home spread, 3
+# workers): worker 2, the home of a third of the pages, killed on its
+# second item; the others ask rank 0 for its pages instead (after
+# LINK_PAGE_HOME_WAIT_NS, or at once when MPI reports the failure), and
+# the image is the serial one.
+PSCENE=$T/paged.pov
+"$BIN" gen spheres --count 1000 --occupancy 0.6 --seed 11 --width 64 --height 48 -o "$PSCENE" >/dev/null &&
+    "$BIN" render "$PSCENE" --width 64 --height 48 --tile 8 -o "$T/paged-ref.exr" --scene-memory 1 \
+        --stats "$T/paged-probe.json" >/dev/null 2>&1 || ko "paged scene and its serial render"
+PMB=$(python3 -c "import json,sys; j=json.load(open(sys.argv[1])); r=j['scene_memory']['resident_bytes']; print((r + 0.6 * (j['blob_bytes'] - r)) / 1e6)" "$T/paged-probe.json")
+for mode in "${modes[@]}"; do
+    fails=""
+    for i in $(seq "$REPEAT"); do
+        name=home-$mode-$i
+        args=(--mode "$mode")
+        [ "$mode" = hetero ] && args+=(--pass always --fill off)
+        saved_scene=$SCENE saved_sz=("${SZ[@]}")
+        SCENE=$PSCENE SZ=(--width 64 --height 48 --tile 8)
+        CSGTRACE_TEST_KILL_RANK=2 CSGTRACE_TEST_KILL_AFTER=1 \
+            run "$name" 4 "${args[@]}" --scene-memory "$PMB" --page-home spread
+        SCENE=$saved_scene SZ=("${saved_sz[@]}")
+        why=$(REF=paged-ref survived "$name" 1)
+        if [ -z "$why" ] && ! json "$T/$name.json" "j['scene_memory']['homes'] == 3 and j['paging']['rerouted'] > 0"; then
+            why="the pages were not spread, or no ask went to rank 0 instead: $(grep -o '"rerouted": [0-9]*' "$T/$name.json" | head -1)"
+        fi
+        [ -n "$why" ] && fails="$fails [$i: $why]"
+    done
+    case_check "the home of a third of the pages SIGKILLed ($mode, 4 ranks, --page-home spread): exit 0, serial image, its pages from rank 0" "$fails"
+done
+
 # Other moments and transports: a worker dead before its handshake; a
 # worker killed over TCP (no shared memory).
 fails=""

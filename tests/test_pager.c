@@ -13,7 +13,15 @@
  *   - an image rendered through the pager at a budget of the resident part
  *     and two pages is the in-memory one, bit for bit, with the primary
  *     rays' pages prefetched and on demand only;
- *   - a malformed plan and a budget below the resident part are refused.
+ *   - a malformed plan and a budget below the resident part are refused;
+ *   - homes (--page-home spread): a worker's share is its run of the
+ *     pages (the pages in W runs, in order), fetched once when first
+ *     needed (by the worker, to answer another, or by the background
+ *     fill), then held outside the cache (never evicted, never fetched
+ *     again), packed for other workers (its own pages only); a fetch takes
+ *     its own pages first, then the others sorted by their home's rank,
+ *     one run a home; a page the fill is bringing is waited for, not
+ *     fetched; the share's fit in the budget.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -214,6 +222,195 @@ static void test_lru_and_pinning(void **state)
     paged_grid_close(&g);
 }
 
+/* A fetch that checks its pages come sorted by home (of `homes_of`) and
+ * keeps them in `fetched`. */
+static csg_pager *homes_of;
+static int32_t fetched[4096];
+static int fetched_count;
+
+static bool fetch_by_home(void *arg, const int32_t *pages, int n, unsigned char *out, size_t bytes)
+{
+    for (int k = 0; k < n; k++) {
+        if (homes_of && k > 0 && pager_home_rank(homes_of, pages[k]) < pager_home_rank(homes_of, pages[k - 1]))
+            return false;
+        if (fetched_count < 4096)
+            fetched[fetched_count++] = pages[k];
+    }
+    return fetch_from(arg, pages, n, out, bytes);
+}
+
+enum { W = 3, RANK = 2 }; /* test_homes: 3 homes, this worker the second */
+
+/* Page i's home by the rule (pager.h): the pages in W runs, in order. */
+static int expected_home(int32_t i, int32_t pages)
+{
+    return 1 + (int)((int64_t)i * W / pages);
+}
+
+/* The background fill's pages, answered by the blob (pager.fill_wait). */
+static int32_t filling[64];
+static int filling_count;
+static const csg_blob *filling_blob;
+
+static void fill_from_blob(void *arg)
+{
+    source *s = arg;
+    unsigned char *bytes = NULL;
+    pager_pack_pages(filling_blob->bytes, s->plan, filling, filling_count, &bytes);
+    assert_non_null(bytes);
+    pager_home_fill(homes_of, filling, filling_count, bytes);
+    free(bytes);
+    filling_count = 0;
+}
+
+static void test_homes(void **state)
+{
+    (void)state;
+    paged_grid g;
+    grid_blob(32, &g.b);
+    const char *why = NULL;
+    assert_true(pager_plan_make(g.b.bytes, 16384, &g.plan, &why));
+    int32_t P = g.plan.page_count;
+    assert_true(P >= 3 * W);
+    uint64_t share[W + 1] = {0};
+    for (int32_t i = 0; i < P; i++)
+        share[expected_home(i, P)] += g.plan.pages[i].bytes;
+    uint64_t most = share[1] > share[2] ? share[1] : share[2];
+    most = share[3] > most ? share[3] : most;
+    assert_int_equal(pager_home_share(&g.plan, W), most);
+    /* the share in two thirds of what the budget leaves, a third the cache's */
+    uint64_t budget = g.plan.resident_bytes + most / 2 * 3 + 64;
+    assert_true(pager_homes_fit(&g.plan, W, budget));
+    assert_false(pager_homes_fit(&g.plan, W, g.plan.resident_bytes + most));
+    assert_false(pager_homes_fit(&g.plan, 0, budget));
+    /* the choice: spread where asked and it fits (else refused: -1); auto
+     * from PAGER_HOME_AUTO_WORKERS on; master never */
+    int32_t many = PAGER_HOME_AUTO_WORKERS;
+    uint64_t roomy = g.plan.resident_bytes + pager_home_share(&g.plan, many) * 3 / 2 + 64;
+    assert_int_equal(pager_homes_for(PAGER_HOME_SPREAD, W, &g.plan, budget), W);
+    assert_int_equal(pager_homes_for(PAGER_HOME_SPREAD, W, &g.plan, g.plan.resident_bytes + most), -1);
+    assert_int_equal(pager_homes_for(PAGER_HOME_AUTO, W, &g.plan, budget), 0);
+    assert_int_equal(pager_homes_for(PAGER_HOME_AUTO, many, &g.plan, roomy), many);
+    assert_int_equal(pager_homes_for(PAGER_HOME_AUTO, many, &g.plan, g.plan.resident_bytes), 0);
+    assert_int_equal(pager_homes_for(PAGER_HOME_MASTER, many, &g.plan, roomy), 0);
+
+    size_t len = 0;
+    void *packed = pager_pack_resident(g.b.bytes, &g.plan, &len);
+    assert_non_null(packed);
+    g.s = (source){g.b.bytes, &g.plan, 0};
+    csg_pager *p = &g.p;
+    assert_true(pager_open(p, packed, len, budget, PAGER_LRU, fetch_by_home, &g.s, &why));
+    free(packed);
+    homes_of = p;
+    fetched_count = 0;
+    assert_true(pager_take_homes(p, W, RANK));
+    assert_int_equal(g.s.calls, 0); /* (each when first needed) */
+    int32_t first = -1, count = 0; /* this worker's run of pages */
+    for (int32_t i = 0; i < P; i++) {
+        assert_int_equal(pager_home_rank(p, i), expected_home(i, P));
+        if (expected_home(i, P) == RANK) {
+            first = first < 0 ? i : first;
+            count++;
+        }
+    }
+    assert_true(count >= 3);
+
+    /* a first use: the own pages in a first fetch, held as homes (before
+     * the others' homes are waited on); the others in a second, sorted by
+     * home, cached */
+    int32_t mixed[] = {P - 1, first, 0, first + 1, P - 2, 1, first + 2, 2, P - 3};
+    pager_prefetch_pages(p, mixed, 9);
+    assert_int_equal(g.s.calls, 2);
+    assert_int_equal(fetched_count, 9);
+    for (int k = 0; k < 9; k++)
+        assert_int_equal(expected_home(fetched[k], P) == RANK, k < 3);
+    assert_int_equal(p->home_bytes, g.plan.pages[first].bytes + g.plan.pages[first + 1].bytes +
+                                        g.plan.pages[first + 2].bytes);
+    pager_item_end(p);
+    /* the own pages are never fetched again; the others may be */
+    int32_t own3[] = {first, first + 1, first + 2};
+    fetched_count = 0;
+    pager_prefetch_pages(p, own3, 3);
+    assert_int_equal(fetched_count, 0);
+    pager_item_end(p);
+    /* every page named, an item each: the cache evicts, the homes stay */
+    for (int32_t i = 0; i < P; i++) {
+        pager_need_page(p, i);
+        pager_item_end(p);
+    }
+    assert_false(p->failed);
+    assert_true(p->stats.evictions > 0);
+    assert_true(p->used <= p->budget);
+    for (int32_t i = first; i < first + count; i++) {
+        assert_true(p->here[i]);
+        assert_true(page_bytes_equal(p, &g.b, i));
+    }
+    assert_int_equal(p->home_bytes, share[RANK]);
+
+    /* answers to other workers: the own pages only, the blob's bytes */
+    int32_t own[] = {first, first + 1}, other[] = {0};
+    unsigned char *out = NULL, *want = NULL;
+    size_t bytes = pager_pack_homes(p, own, 2, &out);
+    assert_int_equal(bytes, pager_pack_pages(g.b.bytes, &g.plan, own, 2, &want));
+    assert_non_null(out);
+    assert_memory_equal(out, want, bytes);
+    assert_int_equal(p->stats.served, 1);
+    assert_int_equal(p->stats.served_bytes, bytes);
+    free(out);
+    free(want);
+    assert_int_equal(pager_pack_homes(p, other, 1, &out), 0);
+    assert_null(out);
+    pager_close(p);
+
+    /* an answer for an own page not here yet: fetched first, then held */
+    packed = pager_pack_resident(g.b.bytes, &g.plan, &len);
+    assert_true(pager_open(p, packed, len, budget, PAGER_LRU, fetch_by_home, &g.s, &why));
+    homes_of = p;
+    assert_true(pager_take_homes(p, W, RANK));
+    int32_t fresh[] = {first + count - 1};
+    bytes = pager_pack_homes(p, fresh, 1, &out);
+    assert_int_equal(bytes, g.plan.pages[fresh[0]].bytes);
+    assert_true(p->here[fresh[0]]);
+    assert_true(page_bytes_equal(p, &g.b, fresh[0]));
+    assert_false(p->serving);
+    free(out);
+    pager_close(p);
+
+    /* the background fill: the run of own pages in order, within the
+     * bytes asked for; a page of it needed meanwhile waits for the fill
+     * (no fetch of its own); a failed ask leaves its pages to be fetched */
+    assert_true(pager_open(p, packed, len, budget, PAGER_LRU, fetch_by_home, &g.s, &why));
+    free(packed);
+    homes_of = p;
+    assert_true(pager_take_homes(p, W, RANK));
+    p->fill_wait = fill_from_blob;
+    filling_blob = &g.b;
+    uint64_t fill_bytes = 0, two = g.plan.pages[first].bytes + g.plan.pages[first + 1].bytes;
+    filling_count = pager_home_fill_next(p, filling, 64, two, &fill_bytes);
+    assert_int_equal(filling_count, 2);
+    assert_int_equal(filling[0], first);
+    assert_int_equal(filling[1], first + 1);
+    assert_int_equal(fill_bytes, two);
+    assert_false(p->here[first] == 1 || p->here[first] == 2); /* (coming, not here) */
+    int calls = g.s.calls;
+    pager_need_page(p, first + 1);
+    assert_int_equal(g.s.calls, calls); /* the fill brought it */
+    assert_int_equal(filling_count, 0);
+    assert_true(page_bytes_equal(p, &g.b, first) && page_bytes_equal(p, &g.b, first + 1));
+    pager_item_end(p);
+    filling_count = pager_home_fill_next(p, filling, 1, 1, &fill_bytes);
+    assert_int_equal(filling_count, 1);
+    assert_int_equal(filling[0], first + 2);
+    pager_home_fill_failed(p, filling, filling_count);
+    filling_count = 0;
+    pager_need_page(p, first + 2);
+    assert_int_equal(g.s.calls, calls + 1); /* (fetched after all) */
+    assert_true(page_bytes_equal(p, &g.b, first + 2));
+    assert_false(p->failed);
+    homes_of = NULL;
+    paged_grid_close(&g);
+}
+
 /* Every pixel through tile_run_rect, reading the blob at `blob`. */
 static float *render(const void *blob, int w, int h)
 {
@@ -332,6 +529,7 @@ int main(void)
         cmocka_unit_test(test_image),
         cmocka_unit_test(test_relayout),
         cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_homes),
     };
     return cmocka_run_group_tests_name("pager", tests, NULL, NULL);
 }

@@ -18,6 +18,16 @@
 
 #define PAGER_MAGIC 0x50475231u /* "PGR1" */
 #define OS_PAGE ((uint64_t)4096)
+#define HOME_FETCH_BYTES ((uint64_t)8 << 20) /* a home's pages fetched in requests of this */
+
+/* csg_pager.here: where a page is. */
+enum { PAGE_ABSENT = 0, PAGE_CACHED = 1, PAGE_HOME = 2,
+       PAGE_COMING = 3 /* (its home's share filled in the background: asked of rank 0) */ };
+
+static bool present(const csg_pager *p, int32_t i)
+{
+    return p->here[i] == PAGE_CACHED || p->here[i] == PAGE_HOME;
+}
 
 /* ---- the blob's arrays, by stride ------------------------------------------------ */
 
@@ -448,6 +458,27 @@ void pager_pack_page(const void *blob, const pager_page *page, unsigned char *ou
     }
 }
 
+size_t pager_pack_pages(const void *blob, const pager_plan *plan, const int32_t *pages, int n,
+                        unsigned char **out)
+{
+    uint64_t bytes = 0;
+    *out = NULL;
+    for (int k = 0; k < n; k++) {
+        if (pages[k] < 0 || pages[k] >= plan->page_count)
+            return 0;
+        bytes += plan->pages[pages[k]].bytes;
+    }
+    *out = malloc(bytes ? bytes : 1);
+    if (!*out)
+        return 0;
+    unsigned char *at = *out;
+    for (int k = 0; k < n; k++) {
+        pager_pack_page(blob, &plan->pages[pages[k]], at);
+        at += plan->pages[pages[k]].bytes;
+    }
+    return (size_t)bytes;
+}
+
 /* ---- the worker's cache ------------------------------------------------------------- */
 
 static csg_pager *pagers_open; /* (a list: the simulated ranks share a process) */
@@ -635,6 +666,9 @@ void pager_close(csg_pager *p)
     free(p->is_page_node);
     free(p->refs);
     free(p->buffer);
+    free(p->home_count);
+    free(p->serve_buffer);
+    free(p->fetch_order);
     pager_plan_free(&p->plan);
     memset(p, 0, sizeof *p);
 }
@@ -675,7 +709,7 @@ static void order_append(csg_pager *p, int32_t i)
 static void evict(csg_pager *p, int32_t i)
 {
     order_unlink(p, i);
-    p->here[i] = 0;
+    p->here[i] = PAGE_ABSENT;
     p->used -= p->plan.pages[i].bytes;
     p->stats.evictions++;
     for (int r = 0; r < PAGER_RANGES; r++)
@@ -701,44 +735,100 @@ static void make_room(csg_pager *p, uint64_t bytes)
     p->stats.install_s += pager_clock() - t0;
 }
 
-/* pages[0 .. n), none here, fetched in one request. */
-static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
+/* pages[0 .. n) in the order their homes serve them (p->fetch_order):
+ * sorted by home rank, stably (a counting sort); pages itself when every
+ * page comes from rank 0. */
+static const int32_t *by_home(csg_pager *p, const int32_t *pages, int n)
+{
+    if (p->homes == 0 || n < 2 || p->serving) /* (serving: all its own, from rank 0) */
+        return pages;
+    int32_t *count = p->home_count;
+    memset(count, 0, ((size_t)p->homes + 1) * sizeof *count);
+    for (int k = 0; k < n; k++)
+        count[pager_home_rank(p, pages[k])]++;
+    for (int32_t h = 0, at = 0; h <= p->homes; h++) {
+        int32_t c = count[h];
+        count[h] = at;
+        at += c;
+    }
+    for (int k = 0; k < n; k++)
+        p->fetch_order[count[pager_home_rank(p, pages[k])]++] = pages[k];
+    return p->fetch_order;
+}
+
+/* Is page i one this worker holds as its home? */
+static bool is_mine(const csg_pager *p, int32_t i)
+{
+    return p->homes > 0 && pager_home_rank(p, i) == p->self;
+}
+
+/* pages[0 .. n), none here, fetched in one request (an ask to each home
+ * they have: the fetch callback's), then installed: this worker's own
+ * (homes) held for good outside the cache, the others cached.  A page
+ * installed meanwhile (a fetch to answer another worker, made while this
+ * one waited) is left as it is.  False when the fetch failed or memory is
+ * short (p->failed). */
+static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes);
+static void await_fill(csg_pager *p, const int32_t *pages, int n);
+
+static bool fetch_run(csg_pager *p, const int32_t *pages, int n)
 {
     uint64_t bytes = 0;
     for (int k = 0; k < n; k++)
         bytes += p->plan.pages[pages[k]].bytes;
     make_room(p, bytes);
-    if (bytes > p->buffer_cap) {
-        unsigned char *grown = realloc(p->buffer, bytes);
+    /* (a fetch made while answering another worker has its own buffer: the
+     * one this worker's own fetch waits on is in use) */
+    unsigned char **buffer = p->serving ? &p->serve_buffer : &p->buffer;
+    size_t *cap = p->serving ? &p->serve_buffer_cap : &p->buffer_cap;
+    if (bytes > *cap) {
+        unsigned char *grown = realloc(*buffer, bytes);
         if (!grown) {
             p->failed = true;
-            return;
+            return false;
         }
-        p->buffer = grown;
-        p->buffer_cap = bytes;
+        *buffer = grown;
+        *cap = bytes;
     }
+    pages = by_home(p, pages, n);
     double t0 = pager_clock();
-    bool ok = p->fetch(p->fetch_arg, pages, n, p->buffer, bytes);
+    bool ok = p->fetch(p->fetch_arg, pages, n, *buffer, bytes);
     p->stats.wait_s += pager_clock() - t0;
     if (!ok) {
         p->failed = true;
-        return;
+        return false;
     }
     p->stats.requests++;
     p->stats.pages += (uint64_t)n;
     p->stats.bytes += bytes;
-    t0 = pager_clock();
-    const unsigned char *at = p->buffer;
+    install(p, pages, n, *buffer);
+    return true;
+}
+
+/* pages[0 .. n), their bytes packed at `bytes`, written into place: this
+ * worker's own (homes) held for good outside the cache, the others
+ * cached; a page here already is left as it is. */
+static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes)
+{
+    double t0 = pager_clock();
+    const unsigned char *at = bytes;
     for (int k = 0; k < n; k++) {
         const pager_page *pg = &p->plan.pages[pages[k]];
+        if (present(p, pages[k])) {
+            at += pg->bytes;
+            continue;
+        }
         for (int r = 0; r < PAGER_RANGES; r++) {
             memcpy(p->base + pg->range[r].off, at, pg->range[r].len);
             at += pg->range[r].len;
             refs_add(p, &pg->range[r], +1);
         }
-        p->here[pages[k]] = 1;
-        order_append(p, pages[k]);
+        bool mine = is_mine(p, pages[k]);
+        p->here[pages[k]] = mine ? PAGE_HOME : PAGE_CACHED;
+        if (!mine)
+            order_append(p, pages[k]);
         p->used += pg->bytes;
+        p->home_bytes += mine ? pg->bytes : 0;
     }
     p->stats.install_s += pager_clock() - t0;
     if (p->used > p->stats.peak_bytes)
@@ -747,6 +837,49 @@ static void fetch_pages(csg_pager *p, const int32_t *pages, int n)
         p->stats.memory_bytes = p->mapped * OS_PAGE;
     if (p->used > p->budget && p->used - p->budget > p->stats.over_bytes)
         p->stats.over_bytes = p->used - p->budget;
+}
+
+/* fetch_run, this worker's own pages first when there are others too:
+ * installed before it waits on other homes, during which it answers their
+ * asks and so would otherwise fetch one of its own a second time. */
+static bool fetch_pages(csg_pager *p, const int32_t *pages, int n)
+{
+    if (p->homes > 0 && !p->serving) {
+        await_fill(p, pages, n); /* (rather than ask rank 0 for them twice) */
+        int left = 0;
+        for (int k = 0; k < n; k++)
+            left += !present(p, pages[k]);
+        if (left == 0)
+            return true;
+        if (left < n) { /* (the list without what the fill brought) */
+            int32_t *rest = malloc((size_t)left * sizeof *rest);
+            if (!rest) {
+                p->failed = true;
+                return false;
+            }
+            for (int k = 0, m = 0; k < n; k++)
+                if (!present(p, pages[k]))
+                    rest[m++] = pages[k];
+            bool ok = fetch_pages(p, rest, left);
+            free(rest);
+            return ok;
+        }
+    }
+    int own = 0;
+    for (int k = 0; p->homes > 0 && !p->serving && k < n; k++)
+        own += is_mine(p, pages[k]);
+    if (own == 0 || own == n)
+        return fetch_run(p, pages, n);
+    int32_t *split = malloc((size_t)n * sizeof *split);
+    if (!split) {
+        p->failed = true;
+        return false;
+    }
+    for (int k = 0, a = 0, b = own; k < n; k++)
+        split[is_mine(p, pages[k]) ? a++ : b++] = pages[k];
+    bool ok = fetch_run(p, split, own) && fetch_run(p, split + own, n - own);
+    free(split);
+    return ok;
 }
 
 /* Page i, first named in this item, in the trace's list; out of memory:
@@ -777,9 +910,9 @@ static bool named(csg_pager *p, int32_t i)
     p->stats.touches++;
     if (p->trace.file)
         trace_named(p, i);
-    if (!p->here[i])
+    if (!present(p, i))
         return true;
-    if (p->policy == PAGER_LRU) { /* the newest from now on */
+    if (p->here[i] == PAGE_CACHED && p->policy == PAGER_LRU) { /* the newest from now on */
         order_unlink(p, i);
         order_append(p, i);
     }
@@ -956,6 +1089,135 @@ void pager_item_end(csg_pager *p)
         p->epoch = 1;
     }
     make_room(p, 0);
+}
+
+/* ---- the pages' homes (--page-home spread) -------------------------------------------- */
+
+uint64_t pager_home_share(const pager_plan *plan, int32_t homes)
+{
+    uint64_t most = 0, share = 0;
+    for (int32_t i = 0; homes > 0 && i < plan->page_count; i++) { /* (a home's pages: a run) */
+        if (i > 0 && pager_home_of(i, plan->page_count, homes) != pager_home_of(i - 1, plan->page_count, homes))
+            share = 0;
+        share += plan->pages[i].bytes;
+        most = share > most ? share : most;
+    }
+    return most;
+}
+
+bool pager_homes_fit(const pager_plan *plan, int32_t homes, uint64_t budget)
+{
+    return homes > 0 && budget >= plan->resident_bytes &&
+           pager_home_share(plan, homes) <= (budget - plan->resident_bytes) / 3 * 2;
+}
+
+int32_t pager_homes_for(int home, int32_t workers, const pager_plan *plan, uint64_t budget)
+{
+    bool fits = pager_homes_fit(plan, workers, budget);
+    if (home == PAGER_HOME_SPREAD)
+        return fits ? workers : -1;
+    return home == PAGER_HOME_AUTO && workers >= PAGER_HOME_AUTO_WORKERS && fits ? workers : 0;
+}
+
+bool pager_take_homes(csg_pager *p, int32_t homes, int rank)
+{
+    if (homes <= 0 || rank < 1 || rank > homes)
+        return false;
+    p->home_count = calloc((size_t)homes + 1, sizeof *p->home_count);
+    p->fetch_order = malloc((size_t)(p->plan.page_count > 0 ? p->plan.page_count : 1) *
+                            sizeof *p->fetch_order);
+    if (!p->home_count || !p->fetch_order)
+        return false;
+    p->homes = homes; /* (from now on a page's home serves it; its own: rank 0) */
+    p->self = rank;
+    return true;
+}
+
+int pager_home_fill_next(csg_pager *p, int32_t *pages, int max, uint64_t max_bytes, uint64_t *bytes)
+{
+    int n = 0;
+    *bytes = 0;
+    if (p->homes <= 0)
+        return 0;
+    int32_t first = (int32_t)(((int64_t)(p->self - 1) * p->plan.page_count + p->homes - 1) / p->homes);
+    for (int32_t i = p->fill_next > 0 ? p->fill_next : first;
+         i < p->plan.page_count && is_mine(p, i) && n < max; i++) {
+        p->fill_next = i + 1;
+        if (p->here[i] != PAGE_ABSENT)
+            continue;
+        if (n > 0 && *bytes + p->plan.pages[i].bytes > max_bytes) {
+            p->fill_next = i; /* (the next run's first) */
+            break;
+        }
+        pages[n++] = i;
+        *bytes += p->plan.pages[i].bytes;
+    }
+    for (int k = 0; k < n; k++)
+        p->here[pages[k]] = PAGE_COMING;
+    return n;
+}
+
+void pager_home_fill_failed(csg_pager *p, const int32_t *pages, int n)
+{
+    for (int k = 0; k < n; k++)
+        if (p->here[pages[k]] == PAGE_COMING)
+            p->here[pages[k]] = PAGE_ABSENT;
+}
+
+/* Any of pages[0 .. n) coming in the background fill: waited for (the
+ * fill's current ask, which holds them all). */
+static void await_fill(csg_pager *p, const int32_t *pages, int n)
+{
+    for (int k = 0; k < n; k++)
+        if (p->here[pages[k]] == PAGE_COMING) {
+            if (p->fill_wait)
+                p->fill_wait(p->fetch_arg);
+            return;
+        }
+}
+
+void pager_home_fill(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes)
+{
+    uint64_t size = 0;
+    for (int k = 0; k < n; k++)
+        if (!present(p, pages[k]))
+            size += p->plan.pages[pages[k]].bytes;
+    make_room(p, size);
+    p->stats.pages += (uint64_t)n;
+    for (int k = 0; k < n; k++)
+        p->stats.bytes += p->plan.pages[pages[k]].bytes;
+    install(p, pages, n, bytes);
+}
+
+size_t pager_pack_homes(csg_pager *p, const int32_t *pages, int n, unsigned char **out)
+{
+    *out = NULL;
+    int absent = 0;
+    for (int k = 0; k < n; k++)
+        if (pages[k] < 0 || pages[k] >= p->plan.page_count || !is_mine(p, pages[k]) || p->serving)
+            return 0;
+    await_fill(p, pages, n);
+    for (int k = 0; k < n; k++)
+        absent += !present(p, pages[k]);
+    if (absent > 0) { /* (its own pages not here yet: from rank 0, once) */
+        int32_t *list = malloc((size_t)absent * sizeof *list);
+        if (!list)
+            return 0;
+        int m = 0;
+        for (int k = 0; k < n; k++)
+            if (!present(p, pages[k]))
+                list[m++] = pages[k];
+        p->serving = true;
+        bool ok = fetch_pages(p, list, m);
+        p->serving = false;
+        free(list);
+        if (!ok)
+            return 0;
+    }
+    size_t bytes = pager_pack_pages(p->base, &p->plan, pages, n, out);
+    p->stats.served += *out != NULL;
+    p->stats.served_bytes += bytes;
+    return bytes;
 }
 
 /* ---- the engine's calls (csg/device/intersect.h) -------------------------------------- */

@@ -106,12 +106,27 @@ void *pager_pack_resident(const void *blob, const pager_plan *plan, size_t *len)
 /* A page's bytes packed (its ranges one after the other) into out. */
 void pager_pack_page(const void *blob, const pager_page *page, unsigned char *out);
 
+/* pages[0 .. n) of `plan` packed one after the other from blob (an
+ * answer to an ask) into *out (malloc'd): their bytes, or 0 (*out NULL
+ * when a page is out of the plan or memory is short). */
+size_t pager_pack_pages(const void *blob, const pager_plan *plan, const int32_t *pages, int n,
+                        unsigned char **out);
 /* Where pages come from: the pages `pages[0 .. n)` packed one after the
  * other into out (bytes: their total); false when it failed. */
 typedef bool (*pager_fetch)(void *arg, const int32_t *pages, int n, unsigned char *out,
                             size_t bytes);
 
 enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
+/* Who serves a page (--page-home): rank 0 alone, or its home, a worker
+ * (VM_pRAY's owners): the pages in W runs, in order, worker w the home of
+ * the w-th (pager_home_of: an item's pages, neighbours in the BVH's
+ * order, mostly have one or two homes, so a fetch asks few), which holds
+ * them for the whole render, outside its cache.  auto: spread from
+ * PAGER_HOME_AUTO_WORKERS workers on, where a worker's share fits
+ * (pager_homes_fit), else rank 0 (pager_homes_for; bench/PAGING.md: below
+ * that rank 0 has time to spare, and a home's answers cost more). */
+enum pager_home { PAGER_HOME_AUTO = 0, PAGER_HOME_MASTER = 1, PAGER_HOME_SPREAD = 2 };
+#define PAGER_HOME_AUTO_WORKERS 128
 
 /* The pager's counts since it opened: the very counts a work item's
  * result carries (comm/tiles.h), the sums then taken over items. */
@@ -148,6 +163,21 @@ typedef struct csg_pager {
     uint64_t mapped;       /* memory pages in use (refs > 0)             */
     unsigned char *buffer; /* a fetch's bytes                             */
     size_t buffer_cap;
+    int32_t homes;         /* --page-home spread: the W workers that hold
+                              the pages (pager_home_rank; 0: every page
+                              from rank 0)                              */
+    int32_t *home_count;   /* homes + 1 counters (fetch_pages' sort)     */
+    int32_t *fetch_order;  /* a fetch's pages, sorted by home            */
+    int32_t self;          /* this worker's rank among the homes        */
+    int32_t fill_next;     /* pager_home_fill_next's next page (0: none yet) */
+    void (*fill_wait)(void *fetch_arg); /* waits for the background fill's
+                              current ask to end (NULL: none)            */
+    uint64_t home_bytes;   /* the pages held here as their home          */
+    bool serving;          /* fetching its own pages to answer another
+                              worker (pager_pack_homes), maybe while its
+                              own fetch waits                            */
+    unsigned char *serve_buffer; /* that fetch's bytes                  */
+    size_t serve_buffer_cap;
     bool failed;           /* a fetch failed: the image cannot be trusted */
     bool prefetch;         /* an item's pages named before its rays need
                               them, fetched in one request: a homo item's
@@ -170,6 +200,49 @@ void pager_close(csg_pager *p);
 /* The open pager whose address space `blob` is, else NULL. */
 csg_pager *pager_for(const void *blob);
 
+/* --page-home spread: the largest share of the plan's paged bytes that
+ * one of `homes` workers holds as their home. */
+uint64_t pager_home_share(const pager_plan *plan, int32_t homes);
+/* Does that share fit two thirds of what `budget` leaves beside the
+ * resident part (a third at least the cache's)? */
+bool pager_homes_fit(const pager_plan *plan, int32_t homes, uint64_t budget);
+/* The homes for `workers` by the choice `home` (enum pager_home): workers,
+ * or 0 (rank 0 serves); -1 for spread where a share does not fit. */
+int32_t pager_homes_for(int home, int32_t workers, const pager_plan *plan, uint64_t budget);
+/* The rank that serves page i: its home, or rank 0 (homes 0). */
+static inline int pager_home_of(int32_t page, int32_t page_count, int32_t homes)
+{
+    return 1 + (int)((int64_t)page * homes / page_count);
+}
+static inline int pager_home_rank(const csg_pager *p, int32_t page)
+{
+    return p->homes > 0 ? pager_home_of(page, p->plan.page_count, p->homes) : 0;
+}
+/* The worker of rank `rank` is the home of its share of the pages, of
+ * `homes` workers, from now on: each is fetched once (from rank 0: the
+ * fetch callback asks rank 0 for a page whose home is the asker itself),
+ * when this worker or another first needs it, and kept outside the cache,
+ * never evicted; every other page then comes from its home.  False when
+ * memory is short. */
+bool pager_take_homes(csg_pager *p, int32_t homes, int rank);
+/* The filling of a home's share in the background (in large asks of
+ * rank 0, rather than a page at a time when first needed): the next of
+ * its own pages not here, in page order, up to `max` of them and about
+ * max_bytes (*bytes: theirs); how many (0: the share is all here). */
+int pager_home_fill_next(csg_pager *p, int32_t *pages, int max, uint64_t max_bytes, uint64_t *bytes);
+/* Those pages (marked coming until then: a fetch of one waits for the
+ * fill, p->fill_wait, rather than ask for it again); their answer (the
+ * bytes packed at `bytes`) written into place;
+ * a page that came meanwhile is left as it is.  Counted as pages and
+ * bytes fetched (no request: a background one). */
+void pager_home_fill(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes);
+/* Their ask failed: not coming (fetched when needed). */
+void pager_home_fill_failed(csg_pager *p, const int32_t *pages, int n);
+/* An answer to another worker: pages[0 .. n), each one whose home this is
+ * (fetched from rank 0 first if it is not here yet), packed into *out
+ * (malloc'd): its bytes, or 0 (*out NULL) when one's home is elsewhere, a
+ * fetch failed or memory is short.  Counted as served. */
+size_t pager_pack_homes(csg_pager *p, const int32_t *pages, int n, unsigned char **out);
 /* A work item ends: the pages it used, pinned until now, may go; the
  * cache evicted down to the budget. */
 void pager_item_end(csg_pager *p);

@@ -17,6 +17,7 @@ bool tile_runner_init(tile_runner *tr, const void *blob, int tile)
     tr->records = malloc(tile_records_bytes(&tr->grid, tr->grid.pixels_max));
     tr->progress = NULL;
     tr->progress_arg = NULL;
+    tr->band_pixels = TILE_BAND_PIXELS;
     return tr->records != NULL;
 }
 

@@ -28,11 +28,16 @@ typedef struct {
      * each depends on its record alone (tile_run.c). */
     void (*progress)(void *arg);
     void *progress_arg;
+    int band_pixels;    /* a band's pixels, about: TILE_BAND_PIXELS, or
+                           TILE_BAND_PIXELS_HOME on a worker that answers
+                           other workers' page asks between bands (their
+                           rays wait on it: workers/pager.h, homes)     */
 } tile_runner;
 
 /* Pixels of a band of rows, about (tile_runner.progress): whole rows of
  * the rectangle, at least one. */
 #define TILE_BAND_PIXELS 1024
+#define TILE_BAND_PIXELS_HOME 64
 
 /* The rows of rectangle r a band holds (all of them without a hook); the
  * simulated build's tile_run_rect cuts its cost the same way. */
@@ -40,7 +45,7 @@ static inline int tile_band_rows(const tile_runner *tr, tile_rect r)
 {
     if (!tr->progress)
         return r.height;
-    int rows = TILE_BAND_PIXELS / (r.width * tr->grid.spp);
+    int rows = (tr->band_pixels > 0 ? tr->band_pixels : TILE_BAND_PIXELS) / (r.width * tr->grid.spp);
     return rows < 1 ? 1 : rows;
 }
 

@@ -54,6 +54,9 @@
 
 /* Messages taken and not yet answered: the items in flight and a STOP. */
 #define WORKER_QUEUE (PROTO_IN_FLIGHT + 1)
+#define WORKER_FILL_BYTES ((uint64_t)256 << 10) /* a home's share asked of rank 0 in these */
+#define WORKER_FILL_PAGES 256
+#define WORKER_FILL_NAP_NS 10000L
 
 typedef struct {
     int rank;
@@ -63,6 +66,16 @@ typedef struct {
     char failure[PROTO_FAIL_TEXT]; /* "" or why this worker cannot work */
     link_scene scene;     /* the blob: this rank's, or its node's one
                              copy, mapped (comm/mpi_link.h)            */
+    struct {              /* --page-home spread: the share filled in the
+                             background, an ask of rank 0 at a time */
+        link_page_async *ask;
+        int32_t pages[WORKER_FILL_PAGES];
+        int count;
+        unsigned char *bytes;
+        size_t cap;
+        bool begun, ended;
+        unsigned asks_ended;   /* (worker_fill_wait's)                    */
+    } fill;
     csg_pager pager;      /* --scene-memory: the scene in pages, its
                              resident part from the broadcast          */
     bool paged;
@@ -110,15 +123,103 @@ static void worker_receive_blob(worker_state *w, size_t size)
         worker_set_failure(w, "received an invalid scene blob (%zu bytes)", size);
 }
 
-/* pager_fetch: pages from rank 0 (comm/mpi_link.h). */
+/* pager_fetch: pages from rank 0, or from their homes (comm/mpi_link.h):
+ * the pager hands them sorted by home, so each run of one home is one
+ * ask; a worker's own home pages (pager_take_homes) come from rank 0. */
 static bool worker_fetch(void *arg, const int32_t *pages, int n, unsigned char *out, size_t bytes)
 {
-    (void)arg;
-    return link_page_fetch(pages, n, out, bytes);
+    worker_state *w = arg;
+    link_page_ask one, *asks = w->pager.homes > 0 ? calloc((size_t)n, sizeof *asks) : &one;
+    if (!asks)
+        return false;
+    int count = 0;
+    size_t at = 0;
+    for (int k = 0; k < n; k++) {
+        int rank = pager_home_rank(&w->pager, pages[k]);
+        rank = rank == w->rank ? 0 : rank;
+        if (count == 0 || asks[count - 1].rank != rank)
+            asks[count++] = (link_page_ask){rank, &pages[k], 0, (unsigned char *)out + at, 0};
+        asks[count - 1].n++;
+        asks[count - 1].bytes += w->pager.plan.pages[pages[k]].bytes;
+        at += w->pager.plan.pages[pages[k]].bytes;
+    }
+    uint64_t rerouted = link_page_rerouted();
+    bool ok = at == bytes && link_page_fetch(asks, count);
+    w->pager.stats.rerouted += link_page_rerouted() - rerouted;
+    if (asks != &one)
+        free(asks);
+    return ok;
+}
+
+static void (*worker_serve_cost)(uint64_t bytes); /* (the simulated build's) */
+
+void worker_set_serve_cost(void (*charge)(uint64_t bytes))
+{
+    worker_serve_cost = charge;
+}
+
+/* link_page_server's poll: the share's last ask answered, installed, the
+ * next sent (a failure ends the fill: the pages come when needed). */
+static void worker_fill_step(void *arg)
+{
+    worker_state *w = arg;
+    if (!w->fill.begun || w->fill.ended)
+        return;
+    if (w->fill.ask) {
+        int got = link_page_fetch_test(w->fill.ask);
+        if (got == 0)
+            return;
+        w->fill.ask = NULL;
+        w->fill.asks_ended++;
+        if (got > 0)
+            pager_home_fill(&w->pager, w->fill.pages, w->fill.count, w->fill.bytes);
+        else
+            pager_home_fill_failed(&w->pager, w->fill.pages, w->fill.count);
+        w->fill.ended = got < 0;
+    }
+    uint64_t bytes = 0;
+    w->fill.count = w->fill.ended ? 0 : pager_home_fill_next(&w->pager, w->fill.pages, WORKER_FILL_PAGES,
+                                                            WORKER_FILL_BYTES, &bytes);
+    if (w->fill.count > 0 && bytes > w->fill.cap) {
+        free(w->fill.bytes);
+        w->fill.bytes = malloc(bytes);
+        w->fill.cap = w->fill.bytes ? bytes : 0;
+    }
+    link_page_ask ask = {0, w->fill.pages, w->fill.count, w->fill.bytes, bytes};
+    w->fill.ask = w->fill.count > 0 && w->fill.bytes ? link_page_fetch_start(&ask) : NULL;
+    w->fill.ended = !w->fill.ask;
+    if (!w->fill.ask) /* (done, or out of memory: not coming) */
+        pager_home_fill_failed(&w->pager, w->fill.pages, w->fill.count);
+}
+
+/* pager.fill_wait: the fill's current ask ended (its pages are needed). */
+static void worker_fill_wait(void *arg)
+{
+    worker_state *w = arg;
+    unsigned ask = w->fill.asks_ended;
+    link_idle idle;
+    link_idle_init(&idle, WORKER_FILL_NAP_NS, 0); /* (short naps: a ray waits) */
+    while (w->fill.ask && w->fill.asks_ended == ask) {
+        worker_fill_step(w);
+        if (w->fill.asks_ended == ask)
+            link_idle_step(&idle);
+    }
+    link_idle_free(&idle);
+}
+
+/* link_page_pack: another worker's ask, of pages whose home is this one. */
+static size_t worker_pack_homes(void *arg, const int32_t *pages, int n, unsigned char **out)
+{
+    worker_state *w = arg;
+    size_t bytes = pager_pack_homes(&w->pager, pages, n, out);
+    if (worker_serve_cost)
+        worker_serve_cost(bytes);
+    return bytes;
 }
 
 /* --scene-memory: the resident part and the page plan (the setup's
- * blob_size bytes), broadcast by rank 0, which validated the whole blob. */
+ * blob_size bytes), broadcast by rank 0, which validated the whole blob;
+ * with homes, this worker's share of the pages. */
 static void worker_receive_pages(worker_state *w, const proto_setup *setup)
 {
     size_t size = (size_t)setup->blob_size;
@@ -129,10 +230,16 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
         why = "out of memory for the scene's resident part";
     if (got == LINK_OK && packed &&
         pager_open(&w->pager, packed, size, setup->scene_memory,
-                   (enum pager_policy)setup->page_policy, worker_fetch, NULL, &why)) {
+                   (enum pager_policy)setup->page_policy, worker_fetch, w, &why)) {
         w->paged = true;
         w->blob = w->pager.base;
         w->pager.prefetch = setup->page_prefetch != 0;
+        if (setup->page_homes > 0 && !pager_take_homes(&w->pager, setup->page_homes, w->rank))
+            worker_set_failure(w, "out of memory for the table of the scene's page homes");
+        else if (setup->page_homes > 0) {
+            w->pager.fill_wait = worker_fill_wait;
+            link_page_server(worker_pack_homes, worker_fill_step, w); /* (until worker_free) */
+        }
         if (!pager_trace_open(&w->pager, w->page_trace, w->rank))
             worker_set_failure(w, "cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
     } else {
@@ -164,6 +271,8 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     }
     bool ok = tile_runner_init(&w->runner, w->blob, setup->tile);
     w->runner.progress = worker_progress; /* (its answers move on meanwhile) */
+    if (w->paged && w->pager.homes > 0) /* (others' rays wait on its answers) */
+        w->runner.band_pixels = TILE_BAND_PIXELS_HOME;
     const tile_grid *g = &w->runner.grid;
     if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
         worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
@@ -261,7 +370,7 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
         len = start + worker_do_part(w, in, at, h, w->out[slot] + start);
         w->tiles_done++;
         if (w->paged && w->pager.failed) {
-            *why = "a page of the scene could not be fetched from rank 0";
+            *why = "a page of the scene could not be fetched";
             return 0;
         }
         if (end == in->len)
@@ -298,6 +407,10 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         return;
     }
     link_isend(w->parent, PROTO_TAG_RESULT, w->out[slot], len, &w->out_req[slot]);
+    if (w->paged && w->pager.homes > 0 && !w->fill.begun) {
+        w->fill.begun = true; /* (after its first item: rank 0 has dealt the first ones) */
+        worker_fill_step(w);
+    }
     for (int i = first; i < w->tiles_done; i++)
         test_hook_kill(w->rank, "send", i);
     w->out_next = (slot + 1) % PROTO_IN_FLIGHT;
@@ -313,6 +426,10 @@ static void worker_flush(worker_state *w)
 static void worker_free(worker_state *w)
 {
     link_scene_free(&w->scene);
+    link_page_server(NULL, NULL, NULL);
+    if (w->fill.ask)
+        link_page_fetch_cancel(w->fill.ask);
+    free(w->fill.bytes);
     if (w->paged)
         pager_close(&w->pager);
     free(w->rgb);

@@ -6,7 +6,7 @@
 #
 #   bench/sim/paging.sh [--scene FILE] [--size N] [--tile T] [--fractions "8 32"]
 #                       [--workers "1 16 64 256"] [--network ib] [--runs R]
-#                       [--pass-rate M] [--schedule S] [--reuse] [--out DIR]
+#                       [--pass-rate M] [--schedule S] [--page-home H] [--reuse] [--out DIR]
 #
 # 1. Real renders on this machine (R rounds, interleaved): serial in
 #    memory, and serial at each budget (the blob / fraction) with pages of
@@ -35,7 +35,9 @@
 #    figure for spheres, a hypothesis for this scene), in memory and at each
 #    budget (the prefetch on; off too at 64 workers).
 # --schedule S: the points with csgtrace's --schedule S (default: raster
-# in homo, cost in hetero), into DIR/points-S.csv; --reuse: steps 1 and 2
+# in homo, cost in hetero), into DIR/points-S.csv; --page-home H: the
+# points with csgtrace's --page-home H (auto, master, spread; default auto),
+# into DIR/points[-S]-H.csv when given; --reuse: steps 1 and 2
 # taken from an earlier run into DIR (its calibration, traces and maps).
 # Writes DIR/calibration.csv, DIR/check.csv, DIR/points.csv and prints the
 # tables (bench/PAGING.md holds them and their reading).
@@ -43,7 +45,7 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
 SCENE="" SIZE=4096 TILE=32 FRACTIONS="8 32" WORKERS="1 16 64 256" NETWORK=ib RUNS=5
-PASS_RATE=300 OUT=bench/results-paging/sim SCHEDULE="" REUSE=no
+PASS_RATE=300 OUT=bench/results-paging/sim SCHEDULE="" PAGE_HOME="" REUSE=no
 die() { echo "bench/sim/paging.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
     [ "$1" = --reuse ] || [ $# -ge 2 ] || die "$1 needs a value"
@@ -58,12 +60,14 @@ while [ $# -gt 0 ]; do
     --pass-rate) PASS_RATE=$2 ;;
     --out) OUT=$2 ;;
     --schedule) SCHEDULE=$2 ;;
+    --page-home) PAGE_HOME=$2 ;;
     --reuse) REUSE=yes; shift; continue ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
 done
 [[ "$SCHEDULE" =~ ^(|raster|cost|static|tail|region)$ ]] || die "--schedule: raster, cost, static, tail or region"
+[[ "$PAGE_HOME" =~ ^(|auto|master|spread)$ ]] || die "--page-home: auto, master or spread"
 [[ "$SIZE" =~ ^[1-9][0-9]{1,4}$ ]] || die "--size: 10..99999"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
 [[ "$FRACTIONS" =~ ^[0-9\ ]+$ ]] || die "--fractions: numbers"
@@ -175,7 +179,7 @@ point() {
     [ -n "$SCHEDULE" ] && args+=(--schedule "$SCHEDULE")
     [ "$f" = 0 ] || args+=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB
         --page-trace "$HOMO_TRACE:$HETERO_TRACE" --page-install-ns "${INSTALL[$f]}"
-        --master-page-ns "${PACK[$f]}")
+        --master-page-ns "${PACK[$f]}" --page-home "${PAGE_HOME:-auto}")
     bench/simulate.sh "$SCENE" "${args[@]}" "$@" >/dev/null 2>"$WORK/$name.err" ||
         { echo "point $name failed: $(tail -3 "$WORK/$name.err")" >&2; return 1; }
 }
@@ -188,7 +192,8 @@ print(",".join(str(x) for x in [sys.argv[2], d["workers"], d["mode"], sys.argv[3
       m.get("prefetch", ""), "%.6f" % d["makespan_s"], "%.4f" % d["efficiency"],
       "%.3f" % d["master_busy"], p.get("faults", 0), p.get("requests", 0), p.get("pages", 0),
       p.get("prefetched", 0), p.get("touches", 0), p.get("bytes", 0), "%.6f" % p.get("wait_s", 0),
-      m.get("asks_answered", 0), m.get("trace_tiles_missing", 0)]))
+      m.get("asks_answered", 0), m.get("trace_tiles_missing", 0), m.get("homes", 0),
+      m.get("bytes_served", 0), p.get("served_bytes", 0)]))
 EOF
 }
 
@@ -221,8 +226,8 @@ done
 fi
 
 # 3. the points
-POINTS=$OUT/points${SCHEDULE:+-$SCHEDULE}.csv
-echo "name,workers,mode,fraction,prefetch,makespan_s,efficiency,master_busy,faults,requests,pages,prefetched,touches,bytes,wait_s,asks,trace_tiles_missing" >"$POINTS"
+POINTS=$OUT/points${SCHEDULE:+-$SCHEDULE}${PAGE_HOME:+-$PAGE_HOME}.csv
+echo "name,workers,mode,fraction,prefetch,makespan_s,efficiency,master_busy,faults,requests,pages,prefetched,touches,bytes,wait_s,asks,trace_tiles_missing,homes,master_bytes_served,workers_bytes_served" >"$POINTS"
 for w in $WORKERS; do
     [ "$w" = 1 ] && continue
     for mode in homo hetero; do
