@@ -51,42 +51,30 @@ typedef struct {
                              pages included)                            */
 } page_counts;
 
+/* page_counts' sums (every field but the three maxima), one X(field) each:
+ * what page_counts_since subtracts and page_counts_add adds. */
+#define PAGE_COUNTS_SUMS(X)                                                                        \
+    X(touches) X(faults) X(requests) X(pages) X(prefetched) X(evictions) X(bytes) X(served)        \
+    X(served_bytes) X(rerouted) X(wait_s) X(install_s)
+
 /* The counts since `before`, the maxima as they are now (an item's). */
 static inline page_counts page_counts_since(const page_counts *before, const page_counts *now)
 {
     page_counts c = *now;
-    c.touches -= before->touches;
-    c.faults -= before->faults;
-    c.requests -= before->requests;
-    c.pages -= before->pages;
-    c.prefetched -= before->prefetched;
-    c.evictions -= before->evictions;
-    c.bytes -= before->bytes;
-    c.served -= before->served;
-    c.served_bytes -= before->served_bytes;
-    c.rerouted -= before->rerouted;
-    c.wait_s -= before->wait_s;
-    c.install_s -= before->install_s;
+#define PAGE_COUNTS_SINCE(f) c.f -= before->f;
+    PAGE_COUNTS_SUMS(PAGE_COUNTS_SINCE)
+#undef PAGE_COUNTS_SINCE
     return c;
 }
 
 static inline void page_counts_add(page_counts *sum, const page_counts *c)
 {
-    sum->touches += c->touches;
-    sum->faults += c->faults;
-    sum->requests += c->requests;
-    sum->pages += c->pages;
-    sum->prefetched += c->prefetched;
-    sum->evictions += c->evictions;
-    sum->bytes += c->bytes;
-    sum->served += c->served;
-    sum->served_bytes += c->served_bytes;
-    sum->rerouted += c->rerouted;
+#define PAGE_COUNTS_ADD(f) sum->f += c->f;
+    PAGE_COUNTS_SUMS(PAGE_COUNTS_ADD)
+#undef PAGE_COUNTS_ADD
     sum->peak_bytes = c->peak_bytes > sum->peak_bytes ? c->peak_bytes : sum->peak_bytes;
     sum->over_bytes = c->over_bytes > sum->over_bytes ? c->over_bytes : sum->over_bytes;
     sum->memory_bytes = c->memory_bytes > sum->memory_bytes ? c->memory_bytes : sum->memory_bytes;
-    sum->wait_s += c->wait_s;
-    sum->install_s += c->install_s;
 }
 
 /* The tiles of one image of one scene. */

@@ -342,7 +342,7 @@ static void test_homes(void **state)
     assert_true(p->stats.evictions > 0);
     assert_true(p->used <= p->budget);
     for (int32_t i = first; i < first + count; i++) {
-        assert_true(p->here[i]);
+        assert_int_equal(p->here[i], PAGE_HOME);
         assert_true(page_bytes_equal(p, &g.b, i));
     }
     assert_int_equal(p->home_bytes, share[RANK]);
@@ -391,17 +391,20 @@ static void test_homes(void **state)
     assert_int_equal(filling[0], first);
     assert_int_equal(filling[1], first + 1);
     assert_int_equal(fill_bytes, two);
-    assert_false(p->here[first] == 1 || p->here[first] == 2); /* (coming, not here) */
+    assert_int_equal(p->here[first], PAGE_COMING);
+    assert_int_equal(p->here[first + 1], PAGE_COMING);
     int calls = g.s.calls;
     pager_need_page(p, first + 1);
     assert_int_equal(g.s.calls, calls); /* the fill brought it */
     assert_int_equal(filling_count, 0);
+    assert_int_equal(p->here[first], PAGE_HOME);
     assert_true(page_bytes_equal(p, &g.b, first) && page_bytes_equal(p, &g.b, first + 1));
     pager_item_end(p);
     filling_count = pager_home_fill_next(p, filling, 1, 1, &fill_bytes);
     assert_int_equal(filling_count, 1);
     assert_int_equal(filling[0], first + 2);
     pager_home_fill_failed(p, filling, filling_count);
+    assert_int_equal(p->here[first + 2], PAGE_ABSENT);
     filling_count = 0;
     pager_need_page(p, first + 2);
     assert_int_equal(g.s.calls, calls + 1); /* (fetched after all) */

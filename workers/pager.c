@@ -21,9 +21,6 @@
 #define HOME_FETCH_BYTES ((uint64_t)8 << 20) /* a home's pages fetched in requests of this */
 
 /* csg_pager.here: where a page is. */
-enum { PAGE_ABSENT = 0, PAGE_CACHED = 1, PAGE_HOME = 2,
-       PAGE_COMING = 3 /* (its home's share filled in the background: asked of rank 0) */ };
-
 static bool present(const csg_pager *p, int32_t i)
 {
     return p->here[i] == PAGE_CACHED || p->here[i] == PAGE_HOME;

@@ -143,6 +143,10 @@ typedef struct {
     int count, cap;
 } pager_trace;
 
+/* csg_pager.here: a page absent, cached, held as this worker's own (a
+ * home's, outside the cache), or coming in its home's background fill
+ * (asked of rank 0, not here yet). */
+enum pager_page_state { PAGE_ABSENT = 0, PAGE_CACHED = 1, PAGE_HOME = 2, PAGE_COMING = 3 };
 typedef struct csg_pager {
     unsigned char *base;   /* the blob's address space: what the engine reads */
     size_t map_bytes;
@@ -154,7 +158,7 @@ typedef struct csg_pager {
     void *fetch_arg;
     uint32_t epoch;        /* the current item's number                   */
     uint32_t *stamp;       /* a page's last item (pinned when = epoch)     */
-    uint8_t *here;         /* a page is cached                            */
+    uint8_t *here;         /* where a page is: enum pager_page_state      */
     int32_t *prev, *next;  /* the cache's order, oldest first: head, tail  */
     int32_t head, tail;
     uint64_t *is_page_node; /* a bit a BVH node: entering it needs a page */
