@@ -9,7 +9,7 @@
 #       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy]
 #       [--scene-memory MB --page-trace FILE[:FILE...] [--page-size KB] [--page-policy lru|fifo]
 #        [--page-prefetch on|off] [--page-home auto|master|spread]
-#        [--page-install-ns I] [--master-page-ns P]] --stats F.json
+#        [--page-install-ns I] [--master-page-ns P] [--paged-cost-scale X]] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
 #    scene's sha256): three ($SIM_MAP_RENDERS) real renders at 384x384, tile 8, raster, 1 master
@@ -73,6 +73,9 @@
 # them).  --page-install-ns I: a worker's nanoseconds a fetched byte (its
 # copies into place, the kernel's faults); --master-page-ns P: rank 0's a
 # byte it packs; both measured by bench/sim/paging.sh (default 0).
+# --paged-cost-scale X: a paged item's seconds are the map's times X (its
+# prefetch walks, which the in-memory map does not have: the instructions'
+# ratio, bench/PAGING.md; default 1).
 # bench/SCALE.md has the values measured here.
 # Arguments are checked against fixed patterns and passed as separate words;
 # nothing from them is ever evaluated.
@@ -92,7 +95,7 @@ die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
-SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0
+SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -131,6 +134,7 @@ while [ $# -gt 0 ]; do
     --page-home) PAGE_HOME=$2 ;;
     --page-install-ns) PAGE_INSTALL_NS=$2 ;;
     --master-page-ns) MASTER_PAGE_NS=$2 ;;
+    --paged-cost-scale) PAGED_COST_SCALE=$2 ;;
     *) die "unknown option '$1'" ;;
     esac
     shift 2
@@ -172,6 +176,7 @@ esac
 [[ "$PAGE_POLICY" =~ ^(lru|fifo)$ ]] || die "--page-policy: lru or fifo"
 [[ "$PAGE_PREFETCH" =~ ^(on|off)$ ]] || die "--page-prefetch: on or off"
 [[ "$PAGE_HOME" =~ ^(auto|master|spread)$ ]] || die "--page-home: auto, master or spread"
+[[ "$PAGED_COST_SCALE" =~ ^[1-9](\.[0-9]{1,4})?$ ]] || die "--paged-cost-scale: 1..9.9999"
 [[ "$PAGE_INSTALL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--page-install-ns: nanoseconds, 0..9999.9999"
 [[ "$MASTER_PAGE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--master-page-ns: nanoseconds, 0..9999.9999"
 paging=()
@@ -263,7 +268,7 @@ CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_ST
 CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
 CSGSIM_EAGER_BYTES=$([ "$SENDER_PROGRESS" = yes ] && echo "$EAGER" || echo 0) \
 CSGSIM_PAGES=$PAGE_TRACE CSGSIM_PAGE_INSTALL_S=$(echo "$PAGE_INSTALL_NS / 1000000000" | bc -l) \
-CSGSIM_MASTER_PAGE_S=$(echo "$MASTER_PAGE_NS / 1000000000" | bc -l) \
+CSGSIM_MASTER_PAGE_S=$(echo "$MASTER_PAGE_NS / 1000000000" | bc -l) CSGSIM_PAGED_COST_SCALE=$PAGED_COST_SCALE \
 CSGSIM_PASS_DELAY_S=$PASS_DELAY CSGSIM_LEGACY_RUNTIME=$([ "$RUNTIME" = legacy ] && echo 1 || echo 0) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \

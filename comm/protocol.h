@@ -118,8 +118,9 @@ typedef struct {
                               broadcast is the resident part and the
                               page plan, blob_size bytes of it          */
     int32_t page_policy;   /* enum pager_policy                         */
-    int32_t page_prefetch; /* 1: an item's pages fetched in one request
-                              before its rays (workers/pager.h)         */
+    int32_t page_prefetch; /* enum pager_prefetch (workers/pager.h): 1 an
+                              item's pages fetched in one request before
+                              its rays, 2 its shadow rays' too          */
     int32_t page_homes;    /* > 0: the pages' homes are the workers
                               (--page-home spread, workers/pager.h): each
                               holds its share and answers the others'

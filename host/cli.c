@@ -15,6 +15,7 @@
 #include "../comm/protocol.h"
 #include "../csg/flatten.h"
 #include "../csg/numbers.h"
+#include "../workers/pager.h"
 #include "options.h"
 #include "output/claim.h"
 #include "output/file_atomic.h"
@@ -30,6 +31,7 @@ static const char *const cli_kernels[] = {"auto", "scalar", "packet", NULL}; /* 
 static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"        */
 static const char *const cli_page_policies[] = {"lru", "fifo", NULL}; /* enum pager_policy */
 static const char *const cli_page_homes[] = {"auto", "master", "spread", NULL}; /* enum pager_home */
+static const char *const cli_page_prefetch[] = {"off", "on", "shadows", NULL}; /* enum pager_prefetch */
 static const char *const cli_pass[] = {"auto", "always", NULL}; /* pass_always: "always" */
 static const char *const cli_simd[] = {"primary", "shadows", NULL}; /* simd_shadows: "shadows" */
 static const char *const cli_materials[] = {"opaque", "reflective", "transparent", NULL};
@@ -330,6 +332,7 @@ static void cli_defaults(cli_args *a)
     a->req.progress = PROGRESS_TTY;
     a->req.threshold = -1;
     a->req.schedule = -1; /* the mode's own */
+    a->req.page_prefetch = PAGER_PREFETCH_ON;
     a->repeat = 3;
     a->gen.count = -1; /* (required) */
     a->gen.occupancy = -1;

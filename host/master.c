@@ -177,7 +177,7 @@ static bool master_serve_pages(master_session *m)
 }
 
 int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
-                      uint64_t page_bytes, int policy, bool prefetch, int home, csg_diag *d)
+                      uint64_t page_bytes, int policy, int prefetch, int home, csg_diag *d)
 {
     const char *why = NULL;
     uint64_t page = page_bytes > 0 ? page_bytes : pager_page_bytes_for(budget);

@@ -72,7 +72,9 @@ typedef struct {
     /* --scene-memory (workers/pager.h), set before master_share_scene: */
     uint64_t scene_memory;    /* > 0: each worker's scene budget, bytes   */
     int page_policy;          /* enum pager_policy                        */
-    bool page_prefetch;       /* an item's pages fetched before its rays  */
+    int page_prefetch;        /* enum pager_prefetch: an item's pages
+                                 fetched before its rays (and its shadow
+                                 rays')                                  */
     int page_homes;           /* > 0: the workers are the pages' homes
                                  (proto_setup.page_homes); 0: rank 0     */
     pager_plan plan;          /* the pages, once shared; served from blob  */
@@ -145,7 +147,7 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
  * enum pager_home, decided here for the session's workers).  0, or the
  * exit status with d filled. */
 int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
-                      uint64_t page_bytes, int policy, bool prefetch, int home, csg_diag *d);
+                      uint64_t page_bytes, int policy, int prefetch, int home, csg_diag *d);
 /* The master's view of the shared scene gone, blob->bytes NULL then (the
  * caller frees a blob that was not shared, as before). */
 void master_release_scene(master_session *m, csg_blob *blob);

@@ -85,9 +85,9 @@ enum cli_kind {
     X("--page-home", NULL, "auto|master|spread", CLI_CHOICE, req.page_home, 0, 0, cli_page_homes, \
       CLI_ON_RENDERS, "--scene-memory: who serves the pages: rank 0, or each page's home "   \
                       "worker (default auto: spread from 128 workers where a share fits)")              \
-    X("--page-prefetch", NULL, "on|off", CLI_SWITCH, req.no_page_prefetch, 0, 0, cli_fill,     \
-      CLI_ON_RENDERS, "--scene-memory: an item's pages fetched in one request before its "    \
-                      "rays (default on)")                                                     \
+    X("--page-prefetch", NULL, "on|off|shadows", CLI_CHOICE, req.page_prefetch, 0, 0,          \
+      cli_page_prefetch, CLI_ON_RENDERS, "--scene-memory: an item's pages fetched in one "    \
+      "request before its rays; shadows: its shadow rays' too (default on)")                   \
     X("--store-threads", NULL, "N", CLI_INT, req.store_threads, 1, STORE_THREADS_MAX, NULL,    \
       CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default 1)")                    \
     X("--stats", NULL, "FILE.json", CLI_PATH, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \

@@ -775,7 +775,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     }
     uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : 0;
     int status = master_plan_pages(ms, rs->blob.bytes, rs->blob.size, budget, page,
-                                   req->page_policy, !req->no_page_prefetch,
+                                   req->page_policy, req->page_prefetch,
                                    local ? PAGER_HOME_MASTER : req->page_home, d);
     if (status != EXIT_OK)
         return status;
@@ -799,7 +799,8 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
         return EXIT_FAILURE_RUN;
     }
     rs->paged_local = true;
-    rs->pager.prefetch = !req->no_page_prefetch;
+    rs->pager.prefetch = req->page_prefetch != PAGER_PREFETCH_OFF;
+    rs->pager.prefetch_shadows = req->page_prefetch == PAGER_PREFETCH_SHADOWS;
     if (!pager_trace_open(&rs->pager, render_env(req)->page_trace, 0)) {
         csg_error_plain(d, "--scene-memory: cannot write the page trace ($CSGTRACE_PAGE_TRACE)");
         return EXIT_FAILURE_RUN;

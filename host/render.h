@@ -68,7 +68,7 @@ typedef struct {
     int page_home;            /* --page-home: enum pager_home            */
     int page_kb;              /* --page-size: KiB a page aims at; 0: auto
                                  (pager_page_bytes_for the budget)        */
-    bool no_page_prefetch;    /* --page-prefetch off                     */
+    int page_prefetch;        /* --page-prefetch: enum pager_prefetch     */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */

@@ -11,6 +11,7 @@
 
 #include "output/file_atomic.h"
 #include "pass/estimate.h"
+#include "../workers/pager.h"
 
 #include <errno.h>
 #include <math.h>
@@ -208,11 +209,13 @@ void stats_print_json(FILE *f, const render_stats *s)
     if (s->scene_memory > 0) {
         fprintf(f, "  \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
                    "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
-                   "\"prefetch\": %s, \"asks_answered\": %llu, \"bytes_served\": %llu, "
-                   "\"homes\": %d},\n  \"paging\": ",
+                   "\"prefetch\": %s, \"prefetch_shadows\": %s, \"asks_answered\": %llu, "
+                   "\"bytes_served\": %llu, \"homes\": %d},\n  \"paging\": ",
                 (unsigned long long)s->scene_memory, (unsigned long long)s->page_bytes,
                 s->page_count, (unsigned long long)s->resident_bytes,
-                s->page_policy ? s->page_policy : "lru", s->page_prefetch ? "true" : "false",
+                s->page_policy ? s->page_policy : "lru",
+                s->page_prefetch != PAGER_PREFETCH_OFF ? "true" : "false",
+                s->page_prefetch == PAGER_PREFETCH_SHADOWS ? "true" : "false",
                 (unsigned long long)s->page_asks, (unsigned long long)s->page_bytes_served,
                 s->page_homes);
         stats_paging(f, &s->paging);

@@ -237,7 +237,7 @@ typedef struct render_stats {
     uint64_t scene_memory, page_bytes, resident_bytes;
     int page_count;
     const char *page_policy;
-    bool page_prefetch;
+    int page_prefetch; /* enum pager_prefetch */
     uint64_t page_asks;       /* requests rank 0 answered               */
     uint64_t page_bytes_served; /* their bytes                          */
     int page_homes;           /* > 0: the workers were the pages' homes */

@@ -48,7 +48,9 @@
  * worker spends installing a fetched page (copies, the kernel's faults)
  * is $CSGSIM_PAGE_INSTALL_S seconds a byte on its host; rank 0's packing,
  * $CSGSIM_MASTER_PAGE_S (bench/sim/paging.sh measures both), and a home
- * worker's the same when it answers another.
+ * worker's the same when it answers another.  A paged item's seconds are
+ * the map's times $CSGSIM_PAGED_COST_SCALE (default 1: what paging adds to
+ * the tracing itself, the shadow rays' prefetch walks).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
  *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|float]

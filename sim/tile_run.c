@@ -225,6 +225,8 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     sim_cost cost = {0, 0, 0};
     if (c)
         cost = sim_costs_rect(c, tr->grid.width, tr->grid.height, r);
+    if (pager_for(tr->blob)) /* (a paged item's own extra work: its prefetch walks) */
+        cost.seconds *= sim_env_number("CSGSIM_PAGED_COST_SCALE", 1);
     memset(res, 0, sizeof *res);
     memset(rgb, 0, (size_t)r.width * (size_t)r.height * 3 * sizeof *rgb);
     res->hits = (uint32_t)(cost.hits + 0.5);

@@ -38,6 +38,7 @@
 #define WORKERS_FRUSTUM_H
 
 #include <math.h>
+#include <string.h>
 
 #include "../csg/device/intersect.h"
 #include "engine.h"
@@ -215,39 +216,83 @@ static inline bool frustum_walk(csg_view v, const frustum *f,
     return true;
 }
 
-/* Paged (workers/pager.h): the pages a walk with rect's pyramid would
- * enter, fetched in one request before it.  The BVH above the pages and
- * the pages' top boxes are resident, so which pages the pyramid meets is
- * known without them: the walk stops at each page's top. */
-static inline void frustum_prefetch_pages(csg_view v, const csg_camera *cam, int width,
-                                          int height, tile_rect rect)
+/* Paged (workers/pager.h): page tops gathered for one prefetch request,
+ * each once (a small open-addressed set), sent when the list is full
+ * (another request) and at the end (page_tops_send). */
+enum { PAGE_TOPS_MAX = 1024, PAGE_TOPS_SET = 4096 };
+typedef struct {
+    csg_pager *pager;
+    size_t n;
+    csg_i32 tops[PAGE_TOPS_MAX];
+    csg_i32 seen[PAGE_TOPS_SET]; /* node + 1; 0: free */
+} page_tops;
+
+static inline void page_tops_init(page_tops *t, csg_pager *pager)
 {
-    enum { TOPS = 1024 };
-    csg_i32 stack[CSG_BVH_STACK + 2], top = 0, tops[TOPS];
-    size_t n = 0;
-    frustum f;
-    if (!v.pager || !v.pager->prefetch || v.bvh_count == 0 ||
-        !frustum_of(cam, width, height, rect, &f))
-        return;
+    t->pager = pager;
+    t->n = 0;
+    memset(t->seen, 0, sizeof t->seen);
+}
+
+static inline void page_tops_send(page_tops *t)
+{
+    if (t->n > 0)
+        pager_prefetch_nodes(t->pager, t->tops, t->n);
+    t->n = 0;
+    memset(t->seen, 0, sizeof t->seen);
+}
+
+static inline void page_tops_add(page_tops *t, csg_i32 k)
+{
+    uint32_t h = ((uint32_t)k * 2654435761u) >> 20; /* (12 bits: PAGE_TOPS_SET) */
+    for (;; h = (h + 1) & (PAGE_TOPS_SET - 1)) {
+        if (t->seen[h] == k + 1)
+            return;
+        if (t->seen[h] == 0)
+            break;
+    }
+    t->seen[h] = k + 1;
+    t->tops[t->n++] = k;
+    if (t->n == PAGE_TOPS_MAX / 2) /* (the set stays at most half full) */
+        page_tops_send(t);
+}
+
+/* The tops of the pages a walk inside pyramid f could enter, onto t.
+ * The BVH above the pages and the pages' top boxes are resident, so which
+ * pages it meets is known without them: the walk stops at each page's
+ * top. */
+static inline void frustum_page_tops(csg_view v, const frustum *f, page_tops *t)
+{
+    csg_i32 stack[CSG_BVH_STACK + 2], top = 0;
     stack[top++] = 0;
     stack[top++] = 1;
     while (top > 0) {
         csg_i32 k = stack[--top];
         const csg_bvh_node *node = &v.bvh[k];
-        if (frustum_culls(&f, node->box, node->box + 3))
+        if (frustum_culls(f, node->box, node->box + 3))
             continue;
-        if (pager_is_page_top(v.pager, k)) {
-            tops[n++] = k;
-            if (n == TOPS) {
-                pager_prefetch_nodes(v.pager, tops, n);
-                n = 0;
-            }
-        } else if (node->count < 0 && top + 2 <= CSG_BVH_STACK + 2) {
+        if (pager_is_page_top(v.pager, k))
+            page_tops_add(t, k);
+        else if (node->count < 0 && top + 2 <= CSG_BVH_STACK + 2) {
             stack[top++] = node->first;
             stack[top++] = node->first + 1;
         }
     }
-    pager_prefetch_nodes(v.pager, tops, n);
+}
+
+/* The pages rect's primary rays' pyramid meets (frustum_page_tops),
+ * fetched in one request before its rays. */
+static inline void frustum_prefetch_pages(csg_view v, const csg_camera *cam, int width,
+                                          int height, tile_rect rect)
+{
+    frustum f;
+    if (!v.pager || !v.pager->prefetch || v.bvh_count == 0 ||
+        !frustum_of(cam, width, height, rect, &f))
+        return;
+    page_tops t;
+    page_tops_init(&t, v.pager);
+    frustum_page_tops(v, &f, &t);
+    page_tops_send(&t);
 }
 
 /* The longest candidate list any caller asks for (the OpenCL packet

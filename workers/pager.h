@@ -117,6 +117,10 @@ typedef bool (*pager_fetch)(void *arg, const int32_t *pages, int n, unsigned cha
                             size_t bytes);
 
 enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
+/* --page-prefetch (proto_setup.page_prefetch): none (every page on
+ * demand), an item's pages before its rays (csg_pager.prefetch), and
+ * those of its primary hits' shadow rays too (prefetch_shadows). */
+enum pager_prefetch { PAGER_PREFETCH_OFF = 0, PAGER_PREFETCH_ON = 1, PAGER_PREFETCH_SHADOWS = 2 };
 /* Who serves a page (--page-home): rank 0 alone, or its home, a worker
  * (VM_pRAY's owners): the pages in W runs, in order, worker w the home of
  * the w-th (pager_home_of: an item's pages, neighbours in the BVH's
@@ -187,6 +191,9 @@ typedef struct csg_pager {
                               them, fetched in one request: a homo item's
                               primary rays' (frustum.h), a hetero item's
                               hit records' (tile_run.c); off: on demand  */
+    bool prefetch_shadows; /* and, once its primary hits are known, the
+                              pages their shadow rays to the point
+                              lights will enter (workers/shade.c)       */
     bool prefetching;      /* pages named now are a prefetch's           */
     pager_trace trace;     /* file NULL: not traced                      */
     struct csg_pager *next_open; /* the process's open pagers (pager_for) */

@@ -233,7 +233,8 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
                    (enum pager_policy)setup->page_policy, worker_fetch, w, &why)) {
         w->paged = true;
         w->blob = w->pager.base;
-        w->pager.prefetch = setup->page_prefetch != 0;
+        w->pager.prefetch = setup->page_prefetch != PAGER_PREFETCH_OFF;
+        w->pager.prefetch_shadows = setup->page_prefetch == PAGER_PREFETCH_SHADOWS;
         if (setup->page_homes > 0 && !pager_take_homes(&w->pager, setup->page_homes, w->rank))
             worker_set_failure(w, "out of memory for the table of the scene's page homes");
         else if (setup->page_homes > 0) {
