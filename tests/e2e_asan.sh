@@ -126,6 +126,13 @@ for mode in serial homo hetero; do
         --scene-memory 0.44 --page-size 16 --pass always --fill off
     check "paged_$mode" paged_ref "--scene-memory 0.44 (a 0.58 MB scene, 0.37 MB resident), $mode under mpirun"
 done
+# ... the shadow rays' pages prefetched too (--page-prefetch shadows: the
+# walks of workers/shade.c, prefetch_shadow_pages)
+for mode in homo hetero; do
+    sanitised "shadows_$mode" 3 $mode "$T/paged.pov" --width 64 --height 48 --tile 8 \
+        --scene-memory 0.44 --page-size 16 --page-prefetch shadows --pass always --fill off
+    check "shadows_$mode" paged_ref "--scene-memory 0.44 --page-prefetch shadows, $mode under mpirun"
+done
 # ... and the pages' homes (--page-home spread): 3 workers, each the home of
 # a third of the pages, answering the others while it renders
 for mode in homo hetero; do

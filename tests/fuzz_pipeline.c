@@ -64,7 +64,8 @@ static bool fuzz_fetch(void *arg, const int32_t *pages, int n, unsigned char *ou
 }
 
 /* The tiles of blob b rendered through a pager of pages of one leaf each
- * and a budget of the resident part alone (prefetch on or off), equal to
+ * and a budget of the resident part alone (prefetch, the shadow rays'
+ * too, on or off), equal to
  * `pixels` (the in-memory render's, tile after tile). */
 static void render_paged(const csg_blob *b, const float *pixels, bool prefetch)
 {
@@ -84,6 +85,7 @@ static void render_paged(const csg_blob *b, const float *pixels, bool prefetch)
                                       &fp, &why),
                  "the pager did not open");
     p.prefetch = prefetch;
+    p.prefetch_shadows = prefetch; /* (the shadow rays' walks too: workers/shade.c) */
     tile_runner tr;
     fuzz_require(tile_runner_init(&tr, p.base, FUZZ_TILE), "out of memory");
     float rgb[FUZZ_TILE * FUZZ_TILE * 3];
