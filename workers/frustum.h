@@ -257,11 +257,13 @@ static inline void page_tops_add(page_tops *t, csg_i32 k)
         page_tops_send(t);
 }
 
-/* The tops of the pages a walk inside pyramid f could enter, onto t.
- * The BVH above the pages and the pages' top boxes are resident, so which
- * pages it meets is known without them: the walk stops at each page's
- * top. */
-static inline void frustum_page_tops(csg_view v, const frustum *f, page_tops *t)
+/* The tops of the pages whose boxes a walk of the BVH with the test
+ * meets(arg, node) could enter, onto t.  The BVH above the pages and the
+ * pages' top boxes are resident, so which pages it meets is known without
+ * them: the walk stops at each page's top.  (Inline with a constant test:
+ * the compiler makes one walk of each.) */
+static inline void page_tops_walk(csg_view v, bool (*meets)(const void *arg, const csg_bvh_node *n),
+                                  const void *arg, page_tops *t)
 {
     csg_i32 stack[CSG_BVH_STACK + 2], top = 0;
     stack[top++] = 0;
@@ -269,7 +271,7 @@ static inline void frustum_page_tops(csg_view v, const frustum *f, page_tops *t)
     while (top > 0) {
         csg_i32 k = stack[--top];
         const csg_bvh_node *node = &v.bvh[k];
-        if (frustum_culls(f, node->box, node->box + 3))
+        if (!meets(arg, node))
             continue;
         if (pager_is_page_top(v.pager, k))
             page_tops_add(t, k);
@@ -280,7 +282,12 @@ static inline void frustum_page_tops(csg_view v, const frustum *f, page_tops *t)
     }
 }
 
-/* The pages rect's primary rays' pyramid meets (frustum_page_tops),
+static inline bool frustum_meets_node(const void *f, const csg_bvh_node *n)
+{
+    return !frustum_culls(f, n->box, n->box + 3);
+}
+
+/* The pages rect's primary rays' pyramid meets (page_tops_walk),
  * fetched in one request before its rays. */
 static inline void frustum_prefetch_pages(csg_view v, const csg_camera *cam, int width,
                                           int height, tile_rect rect)
@@ -291,7 +298,7 @@ static inline void frustum_prefetch_pages(csg_view v, const csg_camera *cam, int
         return;
     page_tops t;
     page_tops_init(&t, v.pager);
-    frustum_page_tops(v, &f, &t);
+    page_tops_walk(v, frustum_meets_node, &f, &t);
     page_tops_send(&t);
 }
 

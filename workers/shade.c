@@ -1379,30 +1379,30 @@ static bool shadow_cell_new(shadow_cells *sc, vec3 p)
     }
 }
 
+/* A shadow segment's test of a BVH node: its box met on the segment,
+ * a little wider than the shadow ray's own walk tests it. */
+typedef struct {
+    csg_box_ray br;
+    real tmin, tmax;
+} shadow_segment;
+
+static bool segment_meets_node(const void *arg, const csg_bvh_node *n)
+{
+    const shadow_segment *s = arg;
+    real t_enter;
+    return csg_node_hit(n, &s->br, s->tmin, s->tmax, &t_enter);
+}
+
 /* The segment from p to the light `dist` away along unit l walked through
  * the BVH above the pages, the tops of the pages whose boxes it meets
- * onto t (a little wider than the shadow ray's own walk). */
+ * onto t. */
 static void segment_page_tops(const shade_ctx *c, vec3 p, vec3 l, real dist, page_tops *t)
 {
-    csg_i32 stack[CSG_BVH_STACK + 2], top = 0;
     csg_ray sr;
     sr.o = p;
     sr.d = l;
-    csg_box_ray br = csg_box_ray_of(sr);
-    stack[top++] = 0;
-    stack[top++] = 1;
-    while (top > 0) {
-        csg_i32 node = stack[--top];
-        real t_enter;
-        if (!csg_node_hit(&c->view.bvh[node], &br, -dist * R(1e-3), dist * R(1.001), &t_enter))
-            continue;
-        if (pager_is_page_top(c->view.pager, node))
-            page_tops_add(t, node);
-        else if (c->view.bvh[node].count < 0 && top + 2 <= CSG_BVH_STACK + 2) {
-            stack[top++] = c->view.bvh[node].first;
-            stack[top++] = c->view.bvh[node].first + 1;
-        }
-    }
+    shadow_segment s = {csg_box_ray_of(sr), -dist * R(1e-3), dist * R(1.001)};
+    page_tops_walk(c->view, segment_meets_node, &s, t);
 }
 
 /* Paged (workers/pager.h): the pages the shadow rays of rect's primary
