@@ -2,7 +2,8 @@
 # paging.sh — a worker's scene below a memory budget (--scene-memory,
 # workers/pager.h), swept from the whole scene down to 1/64 of its blob:
 # homo, hetero with the pass's prefetch and without it (and with the shadow
-# rays' pages too: --page-prefetch shadows), LRU and FIFO; the
+# rays' pages too: --page-prefetch shadows), the pages read one-sided
+# (--page-fetch get, the default) and asked of rank 0 (ask), LRU and FIFO; the
 # tile phase and the frame against the in-memory render's, the pages
 # faulted, fetched, the hit rate and the time waiting for pages.  Every
 # paged image is compared with the in-memory one (cmp: bit for bit).
@@ -58,9 +59,11 @@ BLOB=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['blob_byt
 # The configurations: NAME MODE FRACTION (0: in memory) EXTRA...
 configs=("memory-homo homo 0" "memory-hetero hetero 0")
 for f in $FRACTIONS; do
-    configs+=("homo-1/$f homo $f" "homo-noprefetch-1/$f homo $f --page-prefetch off"
+    configs+=("homo-1/$f homo $f" "homo-ask-1/$f homo $f --page-fetch ask"
+        "homo-noprefetch-1/$f homo $f --page-prefetch off"
         "homo-shadows-1/$f homo $f --page-prefetch shadows"
-        "hetero-1/$f hetero $f" "hetero-noprefetch-1/$f hetero $f --page-prefetch off"
+        "hetero-1/$f hetero $f" "hetero-ask-1/$f hetero $f --page-fetch ask"
+        "hetero-noprefetch-1/$f hetero $f --page-prefetch off"
         "hetero-shadows-1/$f hetero $f --page-prefetch shadows")
 done
 configs+=("homo-fifo-1/8 homo 8 --page-policy fifo" "hetero-fifo-1/8 hetero 8 --page-policy fifo")

@@ -8,7 +8,7 @@
 #       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
 #       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy]
 #       [--scene-memory MB --page-trace FILE[:FILE...] [--page-size KB] [--page-policy lru|fifo]
-#        [--page-prefetch on|off] [--page-home auto|master|spread]
+#        [--page-prefetch on|off] [--page-fetch get|ask] [--page-home auto|master|spread]
 #        [--page-install-ns I] [--master-page-ns P] [--paged-cost-scale X]] --stats F.json
 #
 # 1. A cost map of SCENE for the mode, cached in build/sim/maps (keyed by the
@@ -67,7 +67,7 @@
 # model against the node's runs of that code (bench/sim/node_validate.sh).
 # --scene-memory MB: each worker holds the scene within MB megabytes, in
 # pages served by rank 0 or their home workers (csgtrace --scene-memory;
-# --page-size, --page-policy, --page-prefetch, --page-home as there); every item names the pages its real one named
+# --page-size, --page-policy, --page-prefetch, --page-fetch, --page-home as there); every item names the pages its real one named
 # in the --page-trace files (a real render of the same scene, size, tile
 # and page size with $CSGTRACE_PAGE_TRACE set: bench/sim/paging.sh records
 # them).  --page-install-ns I: a worker's nanoseconds a fetched byte (its
@@ -95,7 +95,7 @@ die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
-SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
+SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_FETCH=get PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -131,6 +131,7 @@ while [ $# -gt 0 ]; do
     --page-size) PAGE_SIZE=$2 ;;
     --page-policy) PAGE_POLICY=$2 ;;
     --page-prefetch) PAGE_PREFETCH=$2 ;;
+    --page-fetch) PAGE_FETCH=$2 ;;
     --page-home) PAGE_HOME=$2 ;;
     --page-install-ns) PAGE_INSTALL_NS=$2 ;;
     --master-page-ns) MASTER_PAGE_NS=$2 ;;
@@ -175,6 +176,7 @@ esac
 [[ "$PAGE_SIZE" =~ ^(0|[1-9][0-9]{0,5})$ ]] || die "--page-size: KiB, 0 (auto) .. 999999"
 [[ "$PAGE_POLICY" =~ ^(lru|fifo)$ ]] || die "--page-policy: lru or fifo"
 [[ "$PAGE_PREFETCH" =~ ^(on|off)$ ]] || die "--page-prefetch: on or off"
+[[ "$PAGE_FETCH" =~ ^(get|ask)$ ]] || die "--page-fetch: get or ask"
 [[ "$PAGE_HOME" =~ ^(auto|master|spread)$ ]] || die "--page-home: auto, master or spread"
 [[ "$PAGED_COST_SCALE" =~ ^[1-9](\.[0-9]{1,4})?$ ]] || die "--paged-cost-scale: 1..9.9999"
 [[ "$PAGE_INSTALL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--page-install-ns: nanoseconds, 0..9999.9999"
@@ -185,7 +187,7 @@ if [ -n "$SCENE_MEMORY" ]; then
     IFS=: read -ra traces <<<"$PAGE_TRACE"
     for f in "${traces[@]}"; do [ -f "$f" ] || die "--page-trace: no file '$f'"; done
     paging=(--scene-memory "$SCENE_MEMORY" --page-policy "$PAGE_POLICY" --page-prefetch "$PAGE_PREFETCH"
-            --page-home "$PAGE_HOME")
+            --page-fetch "$PAGE_FETCH" --page-home "$PAGE_HOME")
     [ "$PAGE_SIZE" = 0 ] || paging+=(--page-size "$PAGE_SIZE")
 fi
 [ -n "$STATS" ] || die "--stats FILE.json is required"

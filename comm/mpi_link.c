@@ -1214,6 +1214,11 @@ static bool link_bcast_direct(void)
     return link_w.watched && rec && strcmp(rec, "1") == 0;
 }
 
+bool link_survives_loss(void)
+{
+    return link_bcast_direct();
+}
+
 /* The chunks to ranks to[0 .. n-1] (to NULL: every worker). */
 static link_status link_bcast_send(const void *data, size_t size, const int *to, int n_to)
 {
@@ -1846,4 +1851,85 @@ int link_page_serve(link_page_pack pack, void *arg)
         }
         served++;
     }
+}
+
+/* ---- one-sided pages (link_page_window) ----------------------------------------- */
+
+static struct {
+    MPI_Win win;
+    bool open;        /* this rank may read rank 0's blob through it */
+    const void *blob; /* rank 0's blob it exposes                    */
+    void *held;       /* that blob, the link's once its render ended  */
+} link_window = {MPI_WIN_NULL, false, NULL, NULL};
+
+bool link_page_window(void *blob, size_t size)
+{
+    if (link_window.win != MPI_WIN_NULL) { /* (a render's before: every rank is past it) */
+        if (link_window.open)
+            MPI_Win_unlock_all(link_window.win);
+        MPI_Win_free(&link_window.win);
+        free(link_window.held);
+        link_window.open = false;
+        link_window.blob = link_window.held = NULL;
+    }
+    MPI_Win win = MPI_WIN_NULL;
+    int made = MPI_Win_create(link_w.rank == LINK_MASTER ? blob : NULL,
+                              link_w.rank == LINK_MASTER ? (MPI_Aint)size : 0, 1, MPI_INFO_NULL,
+                              link_w.bcast_comm, &win) == MPI_SUCCESS,
+        all = 0;
+    if (MPI_Allreduce(&made, &all, 1, MPI_INT, MPI_MIN, link_w.bcast_comm) != MPI_SUCCESS)
+        all = 0;
+    if (!all) { /* (every rank made it or the job's MPI is broken: none is used) */
+        if (made)
+            MPI_Win_free(&win);
+        return false;
+    }
+    MPI_Win_set_errhandler(win, MPI_ERRORS_RETURN);
+    link_window.win = win;
+    if (link_w.rank == LINK_MASTER) {
+        link_window.blob = blob;
+        return true;
+    }
+    link_window.open = MPI_Win_lock_all(MPI_MODE_NOCHECK, win) == MPI_SUCCESS;
+    return link_window.open;
+}
+
+const void *link_page_window_blob(void)
+{
+    return link_window.blob;
+}
+
+void link_page_window_hold(void *blob)
+{
+    link_window.held = blob;
+}
+
+/* One get for the whole list: the same byte ranges on both sides (an
+ * hindexed type over the blob's offsets, from base here and from the
+ * window's start there), so the library moves them as one transfer (one
+ * message, or one vector of cross-memory reads) rather than one each. */
+bool link_page_get(void *base, const uint64_t *off, const uint64_t *len, int n)
+{
+    if (!link_window.open || n <= 0)
+        return link_window.open && n == 0;
+    MPI_Aint *disp = malloc((size_t)n * sizeof *disp);
+    int *count = malloc((size_t)n * sizeof *count);
+    MPI_Datatype ranges = MPI_DATATYPE_NULL;
+    bool ok = disp && count;
+    for (int k = 0; ok && k < n; k++) {
+        ok = len[k] <= INT_MAX && off[k] <= (uint64_t)PTRDIFF_MAX;
+        disp[k] = (MPI_Aint)off[k];
+        count[k] = (int)len[k];
+    }
+    ok = ok && MPI_Type_create_hindexed(n, count, disp, MPI_BYTE, &ranges) == MPI_SUCCESS &&
+         MPI_Type_commit(&ranges) == MPI_SUCCESS &&
+         MPI_Get(base, 1, ranges, LINK_MASTER, 0, 1, ranges, link_window.win) == MPI_SUCCESS &&
+         MPI_Win_flush(LINK_MASTER, link_window.win) == MPI_SUCCESS;
+    if (ranges != MPI_DATATYPE_NULL)
+        MPI_Type_free(&ranges);
+    free(disp);
+    free(count);
+    if (!ok && disp && count)
+        link_window.open = false; /* (MPI failed: for good) */
+    return ok;
 }

@@ -318,4 +318,30 @@ typedef size_t (*link_page_pack)(void *arg, const int32_t *pages, int n, unsigne
 void link_page_server(link_page_pack pack, void (*poll)(void *arg), void *arg);
 int link_page_serve(link_page_pack pack, void *arg);
 
+/* The job goes on past a lost rank (--enable-recovery): no collective
+ * call after the start (the scene is sent rank by rank). */
+bool link_survives_loss(void);
+
+/* One-sided pages (--page-fetch get; VM_pRAY's shared virtual memory):
+ * rank 0's blob opened as an MPI memory window on every rank at once
+ * (collective: rank 0 with its blob, each worker with NULL, 0), where the
+ * library can (Open MPI: osc/rdma over shared memory with cross-memory
+ * attach, or an RDMA network); true where this rank may read it: a
+ * worker whose window did not open asks (rank 0 answers either way).
+ * Not freed at the render's end: MPI_Win_free waits for every rank, which
+ * a stopped worker would make wait for ever, and such a worker may still
+ * read it.  The next render's window frees it (every rank is there, past
+ * the last), else it goes with the job, and with it the blob, which rank 0
+ * hands over (link_page_window_hold) rather than free. */
+bool link_page_window(void *blob, size_t size);
+/* The blob the window exposes (NULL: none), and rank 0 handing it over at
+ * its render's end: the link frees it (free) with the window. */
+const void *link_page_window_blob(void);
+void link_page_window_hold(void *blob);
+/* The byte ranges [off[k], off[k] + len[k]) of rank 0's blob, k < n,
+ * read to base + off[k], rank 0 taking no part; returns once they are in.
+ * False when memory is short or MPI failed (then for good: the fetch
+ * fails, as an ask's would). */
+bool link_page_get(void *base, const uint64_t *off, const uint64_t *len, int n);
+
 #endif

@@ -125,7 +125,9 @@ typedef struct {
                               (--page-home spread, workers/pager.h): each
                               holds its share and answers the others'
                               asks; 0: rank 0 serves every page         */
-    int32_t pad;
+    int32_t page_fetch;    /* enum pager_fetch_mode: GET, every rank opens
+                              rank 0's blob as a window once the resident
+                              part is in (link_page_window)             */
 } proto_setup;
 
 /* The largest batch (--batch), and the most bytes a batch's RESULT may

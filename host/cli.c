@@ -32,6 +32,7 @@ static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"
 static const char *const cli_page_policies[] = {"lru", "fifo", NULL}; /* enum pager_policy */
 static const char *const cli_page_homes[] = {"auto", "master", "spread", NULL}; /* enum pager_home */
 static const char *const cli_page_prefetch[] = {"off", "on", "shadows", NULL}; /* enum pager_prefetch */
+static const char *const cli_page_fetch[] = {"get", "ask", NULL}; /* enum pager_fetch_mode */
 static const char *const cli_pass[] = {"auto", "always", NULL}; /* pass_always: "always" */
 static const char *const cli_simd[] = {"primary", "shadows", NULL}; /* simd_shadows: "shadows" */
 static const char *const cli_materials[] = {"opaque", "reflective", "transparent", NULL};

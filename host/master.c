@@ -244,6 +244,12 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
         setup.blob_size = packed_size;
         setup.scene_memory = m->scene_memory;
         setup.page_homes = m->page_homes;
+        /* (homes answer their own pages; under --enable-recovery a rank
+         * may be gone before the window's collective creation) */
+        setup.page_fetch = m->page_fetch == PAGER_FETCH_GET && m->page_homes == 0 &&
+                                   !link_survives_loss()
+                               ? PAGER_FETCH_GET
+                               : PAGER_FETCH_ASK;
     }
     link_bcast_idle(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;
@@ -257,6 +263,8 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
         m->bytes_sent += (uint64_t)m->workers * packed_size;
         free(packed);
         m->page_blob = blob->bytes;
+        if (setup.page_fetch == PAGER_FETCH_GET)
+            m->page_window = link_page_window(blob->bytes, blob->size);
         return;
     }
     link_scene_send(&m->scene, blob->bytes, blob->size, csg_blob_valid);
@@ -271,6 +279,10 @@ void master_release_scene(master_session *m, csg_blob *blob)
 {
     pager_plan_free(&m->plan);
     m->page_blob = NULL;
+    if (blob->bytes && blob->bytes == link_page_window_blob()) {
+        link_page_window_hold(blob->bytes); /* (read one-sided: see there) */
+        blob->bytes = NULL;
+    }
     if (m->scene.shared)
         blob->bytes = NULL;
     link_scene_free(&m->scene);

@@ -77,6 +77,9 @@ typedef struct {
                                  rays')                                  */
     int page_homes;           /* > 0: the workers are the pages' homes
                                  (proto_setup.page_homes); 0: rank 0     */
+    int page_fetch;           /* enum pager_fetch_mode asked for          */
+    bool page_window;         /* rank 0's blob is open as a window: the
+                                 workers read pages one-sided           */
     pager_plan plan;          /* the pages, once shared; served from blob  */
     const void *page_blob;    /* the scene the pages are served from      */
     uint64_t page_asks;       /* page requests answered                   */

@@ -88,6 +88,9 @@ enum cli_kind {
     X("--page-prefetch", NULL, "on|off|shadows", CLI_CHOICE, req.page_prefetch, 0, 0,          \
       cli_page_prefetch, CLI_ON_RENDERS, "--scene-memory: an item's pages fetched in one "    \
       "request before its rays; shadows: its shadow rays' too (default on)")                   \
+    X("--page-fetch", NULL, "get|ask", CLI_CHOICE, req.page_fetch, 0, 0, cli_page_fetch,       \
+      CLI_ON_RENDERS, "--scene-memory: pages read one-sided from rank 0's memory (get, where "  \
+      "MPI opens it as a window) or asked of it (default get)")                                 \
     X("--store-threads", NULL, "N", CLI_INT, req.store_threads, 1, STORE_THREADS_MAX, NULL,    \
       CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default 1)")                    \
     X("--stats", NULL, "FILE.json", CLI_PATH, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \

@@ -759,6 +759,19 @@ static bool render_fetch_local(void *arg, const int32_t *pages, int n, unsigned 
     return at == bytes;
 }
 
+/* pager_fetch_into without workers: the ranges copied from rank 0's own
+ * blob straight into place (what a worker's one-sided read does). */
+static bool render_get_local(void *arg, const pager_range *ranges, int n, unsigned char *base)
+{
+    const render_state *rs = arg;
+    for (int k = 0; k < n; k++) {
+        if (ranges[k].off > rs->blob.size || ranges[k].len > rs->blob.size - ranges[k].off)
+            return false;
+        memcpy(base + ranges[k].off, rs->blob.bytes + ranges[k].off, ranges[k].len);
+    }
+    return true;
+}
+
 /* --scene-memory: the page plan (rank 0 validated the blob when it loaded
  * it), checked against the budget; without workers, rank 0's own pager
  * over it.  0, or the failure with d filled. */
@@ -786,6 +799,8 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     st->page_policy = req->page_policy == PAGER_FIFO ? "fifo" : "lru";
     st->page_prefetch = ms->page_prefetch;
     st->page_homes = ms->page_homes;
+    ms->page_fetch = req->page_fetch;
+    st->page_fetch = local && req->page_fetch == PAGER_FETCH_GET ? "get" : "ask";
     if (!local)
         return EXIT_OK;
     size_t size = 0;
@@ -799,6 +814,8 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
         return EXIT_FAILURE_RUN;
     }
     rs->paged_local = true;
+    if (req->page_fetch == PAGER_FETCH_GET)
+        rs->pager.fetch_into = render_get_local;
     rs->pager.prefetch = req->page_prefetch != PAGER_PREFETCH_OFF;
     rs->pager.prefetch_shadows = req->page_prefetch == PAGER_PREFETCH_SHADOWS;
     if (!pager_trace_open(&rs->pager, render_env(req)->page_trace, 0)) {
@@ -873,6 +890,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
     st.workers_lost = ms.workers_lost;
     st.scene_shared_ranks = ms.scene_shared + (ms.scene.shared ? 1 : 0);
     st.page_asks = ms.page_asks;
+    if (ms.page_window)
+        st.page_fetch = "get";
     st.page_bytes_served = ms.page_bytes_served;
     st.scene_private_ranks = ms.workers + 1 - st.scene_shared_ranks;
 

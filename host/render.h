@@ -69,6 +69,7 @@ typedef struct {
     int page_kb;              /* --page-size: KiB a page aims at; 0: auto
                                  (pager_page_bytes_for the budget)        */
     int page_prefetch;        /* --page-prefetch: enum pager_prefetch     */
+    int page_fetch;           /* --page-fetch: enum pager_fetch_mode      */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */

@@ -209,14 +209,15 @@ void stats_print_json(FILE *f, const render_stats *s)
     if (s->scene_memory > 0) {
         fprintf(f, "  \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
                    "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
-                   "\"prefetch\": %s, \"prefetch_shadows\": %s, \"asks_answered\": %llu, "
-                   "\"bytes_served\": %llu, \"homes\": %d},\n  \"paging\": ",
+                   "\"prefetch\": %s, \"prefetch_shadows\": %s, \"fetch\": \"%s\", "
+                   "\"asks_answered\": %llu, \"bytes_served\": %llu, \"homes\": %d},\n"
+                   "  \"paging\": ",
                 (unsigned long long)s->scene_memory, (unsigned long long)s->page_bytes,
                 s->page_count, (unsigned long long)s->resident_bytes,
                 s->page_policy ? s->page_policy : "lru",
                 s->page_prefetch != PAGER_PREFETCH_OFF ? "true" : "false",
                 s->page_prefetch == PAGER_PREFETCH_SHADOWS ? "true" : "false",
-                (unsigned long long)s->page_asks, (unsigned long long)s->page_bytes_served,
+                s->page_fetch ? s->page_fetch : "ask", (unsigned long long)s->page_asks, (unsigned long long)s->page_bytes_served,
                 s->page_homes);
         stats_paging(f, &s->paging);
         fputs(",\n", f);

@@ -241,6 +241,7 @@ typedef struct render_stats {
     uint64_t page_asks;       /* requests rank 0 answered               */
     uint64_t page_bytes_served; /* their bytes                          */
     int page_homes;           /* > 0: the workers were the pages' homes */
+    const char *page_fetch;   /* "get" (one-sided) or "ask"              */
     page_counts paging;
     uint64_t memory_estimate; /* host/memory.h: render_memory_need's total */
     int worker_count;       /* ranks - 1 (the relays' entries first)  */

@@ -96,6 +96,7 @@ typedef struct {
     int page_policy;         /* --page-policy: enum pager_policy          */
     bool page_prefetch;      /* --page-prefetch on|off                    */
     int page_home;           /* --page-home: enum pager_home              */
+    int page_fetch;          /* --page-fetch: enum pager_fetch_mode       */
 } sim_args;
 
 typedef struct {
@@ -176,6 +177,10 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         a->page_prefetch = strcmp(v, "on") == 0;
         return a->page_prefetch || strcmp(v, "off") == 0;
     }
+    if (strcmp(key, "--page-fetch") == 0) {
+        a->page_fetch = strcmp(v, "ask") == 0 ? PAGER_FETCH_ASK : PAGER_FETCH_GET;
+        return strcmp(v, "ask") == 0 || strcmp(v, "get") == 0;
+    }
     if (strcmp(key, "--stats") == 0) {
         a->stats = v;
         return true;
@@ -186,7 +191,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
     *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true,
-                    0, 0, PAGER_LRU, true, PAGER_HOME_AUTO};
+                    0, 0, PAGER_LRU, true, PAGER_HOME_AUTO, PAGER_FETCH_GET};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -291,6 +296,7 @@ typedef struct {
     int page_homes;          /* > 0: the workers were the pages' homes    */
     int32_t page_count;      /* the plan's pages (0: not paged)           */
     uint64_t page_bytes, resident_bytes, budget;
+    bool page_window;        /* the workers read rank 0's pages one-sided */
 } sim_result;
 
 /* Where the workers' time went: their items' seconds, how long the last
@@ -365,7 +371,8 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
         int missing = sim_trace_missing(a, run);
         fprintf(f, ", \"scene_memory\": {\"budget_bytes\": %llu, \"page_bytes\": %llu, "
                    "\"pages\": %d, \"resident_bytes\": %llu, \"policy\": \"%s\", "
-                   "\"prefetch\": %s, \"asks_answered\": %llu, \"bytes_served\": %llu, "
+                   "\"prefetch\": %s, \"fetch\": \"%s\", \"asks_answered\": %llu, "
+                   "\"bytes_served\": %llu, "
                    "\"homes\": %d, \"trace_tiles_missing\": %d}, "
                    "\"paging\": {\"touches\": %llu, "
                    "\"faults\": %llu, \"requests\": %llu, \"pages\": %llu, "
@@ -374,7 +381,8 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                    "\"peak_bytes\": %llu, \"wait_s\": %.9g}",
                 (unsigned long long)r->budget, (unsigned long long)r->page_bytes, r->page_count,
                 (unsigned long long)r->resident_bytes, a->page_policy == PAGER_FIFO ? "fifo" : "lru",
-                a->page_prefetch ? "true" : "false", (unsigned long long)r->page_asks,
+                a->page_prefetch ? "true" : "false", r->page_window ? "get" : "ask",
+                (unsigned long long)r->page_asks,
                 (unsigned long long)r->page_bytes_served, r->page_homes, missing,
                 (unsigned long long)p->touches, (unsigned long long)p->faults,
                 (unsigned long long)p->requests, (unsigned long long)p->pages,
@@ -402,6 +410,7 @@ static int sim_plan_pages(const sim_args *a, master_session *m, csg_blob *blob, 
                                    (uint64_t)(a->scene_memory_mb * 1e6),
                                    (uint64_t)a->page_kb << 10, a->page_policy, a->page_prefetch,
                                    a->page_home, d);
+    m->page_fetch = a->page_fetch;
     const page_trace *t = page_trace_shared();
     if (status == 0 && !t) {
         csg_error_plain(d, "csgsim: --scene-memory needs the page traces ($CSGSIM_PAGES)");
@@ -462,7 +471,7 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
                             run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
                             0, 0, 0, job.paging, m.page_asks, m.page_bytes_served,
                             m.page_homes, plan.page_count, plan.page_bytes, plan.resident_bytes,
-                            m.scene_memory};
+                            m.scene_memory, m.page_window};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         link_idle_free(&idle);
         sched_free(&run->s);

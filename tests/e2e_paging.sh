@@ -10,6 +10,10 @@
 #     budget between items (the most over it is the peak's excess);
 #   - hetero with the pass's records prefetches pages (prefetched > 0),
 #     without the prefetch none;
+#   - --page-fetch get (the default) reads the pages one-sided from rank
+#     0's window (rank 0 answers no ask); ask: rank 0 answers each request
+#     (homo float, hetero double), the same images; where MPI cannot open
+#     the window, asked for;
 #   - --page-prefetch shadows: the shadow rays' pages come before the
 #     shading too: an opaque scene's rays fault at most a twentieth as
 #     often as without a prefetch, under half as often as with `on`;
@@ -82,8 +86,26 @@ EXTRA=(--mode homo --page-policy fifo)
 paged homo-fifo float "${MPI[@]}"
 EXTRA=(--mode hetero --pass always --fill off)
 paged hetero-float float "${MPI[@]}"
-json "$T/hetero-float.pfm.json" "j['paging']['prefetched'] > 0 and j['scene_memory']['asks_answered'] > 0" &&
+json "$T/hetero-float.pfm.json" "j['paging']['prefetched'] > 0" &&
     ok "hetero: the hit records' pages were prefetched" || ko "hetero: nothing prefetched"
+# --page-fetch get (the default): the workers read rank 0's blob through
+# an MPI window, rank 0 answers no ask; ask: rank 0 answers each request.
+json "$T/homo-float.pfm.json" "j['scene_memory']['fetch'] == 'get' and j['scene_memory']['asks_answered'] == 0 and j['paging']['requests'] > 0" &&
+    ok "homo: pages read one-sided (--page-fetch get), rank 0 answered no ask" ||
+    ko "homo: the pages were not read one-sided"
+EXTRA=(--mode homo --page-fetch ask)
+paged homo-ask float "${MPI[@]}"
+json "$T/homo-ask.pfm.json" "j['scene_memory']['fetch'] == 'ask' and j['scene_memory']['asks_answered'] == j['paging']['requests'] > 0" &&
+    ok "homo, --page-fetch ask: rank 0 answered every request" || ko "homo, ask: rank 0's answers do not add up"
+EXTRA=(--mode hetero --pass always --fill off --page-fetch ask)
+paged hetero-ask double "${MPI[@]}"
+# Where MPI cannot open the window (shared memory without cross-memory
+# attach: Open MPI's osc/rdma refuses it), every rank learns it and the
+# pages are asked for: the same image.
+EXTRA=(--mode homo)
+paged homo-nowindow float env OMPI_MCA_btl_vader_single_copy_mechanism=none "${MPI[@]}"
+json "$T/homo-nowindow.pfm.json" "j['scene_memory']['fetch'] == 'ask' and j['scene_memory']['asks_answered'] > 0" &&
+    ok "homo, no window to open: the pages were asked for" || ko "homo, no window: not asked for"
 EXTRA=(--mode hetero --pass always --fill off --page-prefetch off)
 paged hetero-noprefetch float "${MPI[@]}"
 json "$T/hetero-noprefetch.pfm.json" "j['paging']['prefetched'] == 0" &&

@@ -454,6 +454,74 @@ static void test_image(void **state)
     paged_grid_close(&g);
 }
 
+/* pager_fetch_into from s's blob: each range copied into place; the
+ * ranges must come sorted, disjoint and not touching (merged). */
+static bool get_from(void *arg, const pager_range *ranges, int n, unsigned char *base)
+{
+    source *s = arg;
+    s->calls++;
+    for (int k = 0; k < n; k++) {
+        if (k > 0 && ranges[k - 1].off + ranges[k - 1].len >= ranges[k].off)
+            return false;
+        memcpy(base + ranges[k].off, (const unsigned char *)s->blob + ranges[k].off, ranges[k].len);
+    }
+    return true;
+}
+
+static bool refuse_get(void *arg, const pager_range *ranges, int n, unsigned char *base)
+{
+    (void)arg, (void)ranges, (void)n, (void)base;
+    return false;
+}
+
+/* Memory pages with a user (pager.refs), counted. */
+static uint64_t memory_pages_used(const csg_pager *p)
+{
+    uint64_t used = 0;
+    for (size_t k = 0; k < (p->map_bytes + 4095) / 4096; k++)
+        used += p->refs[k] > 0;
+    return used;
+}
+
+/* --page-fetch get's path (pager.fetch_into): pages read straight into
+ * place, their ranges merged into one call a request.  The same image at a
+ * budget of two pages (nearly every item evicts: a memory page shared by
+ * two pages must be counted once per page, or its release with the first
+ * zeroes the second's bytes), each request one call, and the memory pages
+ * held those of the pages here; a failed read fails the pager and gives
+ * the memory pages back. */
+static void test_in_place(void **state)
+{
+    (void)state;
+    paged_grid g;
+    paged_grid_open(&g, 2, PAGER_LRU);
+    g.p.fetch_into = get_from;
+    float *whole = render(g.b.bytes, 48, 40), *paged = render(g.p.base, 48, 40);
+    assert_memory_equal(whole, paged, (size_t)48 * 40 * 3 * sizeof *whole);
+    assert_false(g.p.failed);
+    assert_true(g.p.stats.evictions > 0 && g.p.stats.requests > 0);
+    assert_int_equal(g.s.calls, (int)g.p.stats.requests);
+    assert_int_equal(memory_pages_used(&g.p), g.p.mapped);
+    for (int32_t i = 0; i < g.p.plan.page_count; i++)
+        if (g.p.here[i])
+            assert_true(page_bytes_equal(&g.p, &g.b, i));
+    int32_t absent = 0;
+    while (absent < g.p.plan.page_count && g.p.here[absent])
+        absent++;
+    assert_true(absent < g.p.plan.page_count);
+    g.p.fetch_into = refuse_get;
+    g.p.budget = UINT64_MAX; /* (no eviction: the memory pages held stay as they are) */
+    uint64_t mapped = g.p.mapped;
+    pager_need_page(&g.p, absent);
+    assert_true(g.p.failed);
+    assert_false(g.p.here[absent]);
+    assert_int_equal(g.p.mapped, mapped);
+    assert_int_equal(memory_pages_used(&g.p), mapped);
+    free(whole);
+    free(paged);
+    paged_grid_close(&g);
+}
+
 /* Memory pages a pager over b holds for the resident part alone. */
 static uint64_t resident_memory(const csg_blob *b)
 {
@@ -530,6 +598,7 @@ int main(void)
         cmocka_unit_test(test_plan),
         cmocka_unit_test(test_lru_and_pinning),
         cmocka_unit_test(test_image),
+        cmocka_unit_test(test_in_place),
         cmocka_unit_test(test_relayout),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_homes),

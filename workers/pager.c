@@ -644,6 +644,7 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     }
     by_node_pages = p->plan.pages;
     qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
+
     p->budget = budget;
     p->used = p->stats.peak_bytes = w.resident_bytes;
     p->stats.memory_bytes = p->mapped * OS_PAGE;
@@ -679,6 +680,7 @@ void pager_close(csg_pager *p)
     free(p->home_count);
     free(p->serve_buffer);
     free(p->fetch_order);
+    free(p->spans);
     pager_plan_free(&p->plan);
     memset(p, 0, sizeof *p);
 }
@@ -779,6 +781,7 @@ static bool is_mine(const csg_pager *p, int32_t i)
  * one waited) is left as it is.  False when the fetch failed or memory is
  * short (p->failed). */
 static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes);
+static bool fetch_in_place(csg_pager *p, const int32_t *pages, int n, uint64_t bytes);
 static void await_fill(csg_pager *p, const int32_t *pages, int n);
 
 static bool fetch_run(csg_pager *p, const int32_t *pages, int n)
@@ -787,6 +790,8 @@ static bool fetch_run(csg_pager *p, const int32_t *pages, int n)
     for (int k = 0; k < n; k++)
         bytes += p->plan.pages[pages[k]].bytes;
     make_room(p, bytes);
+    if (p->fetch_into && !p->serving && p->homes == 0)
+        return fetch_in_place(p, pages, n, bytes);
     /* (a fetch made while answering another worker has its own buffer: the
      * one this worker's own fetch waits on is in use) */
     unsigned char **buffer = p->serving ? &p->serve_buffer : &p->buffer;
@@ -815,9 +820,31 @@ static bool fetch_run(csg_pager *p, const int32_t *pages, int n)
     return true;
 }
 
-/* pages[0 .. n), their bytes packed at `bytes`, written into place: this
- * worker's own (homes) held for good outside the cache, the others
- * cached; a page here already is left as it is. */
+/* Page i, its bytes in place, takes its place: this worker's own (homes)
+ * held for good outside the cache, another cached. */
+static void page_placed(csg_pager *p, int32_t i)
+{
+    bool mine = is_mine(p, i);
+    p->here[i] = mine ? PAGE_HOME : PAGE_CACHED;
+    if (!mine)
+        order_append(p, i);
+    p->used += p->plan.pages[i].bytes;
+    p->home_bytes += mine ? p->plan.pages[i].bytes : 0;
+}
+
+/* The peaks after an install. */
+static void installed(csg_pager *p)
+{
+    if (p->used > p->stats.peak_bytes)
+        p->stats.peak_bytes = p->used;
+    if (p->mapped * OS_PAGE > p->stats.memory_bytes)
+        p->stats.memory_bytes = p->mapped * OS_PAGE;
+    if (p->used > p->budget && p->used - p->budget > p->stats.over_bytes)
+        p->stats.over_bytes = p->used - p->budget;
+}
+
+/* pages[0 .. n), their bytes packed at `bytes`, written into place; a
+ * page here already is left as it is. */
 static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes)
 {
     double t0 = pager_clock();
@@ -833,20 +860,85 @@ static void install(csg_pager *p, const int32_t *pages, int n, const unsigned ch
             memcpy(p->base + pg->range[r].off, at, pg->range[r].len);
             at += pg->range[r].len;
         }
-        bool mine = is_mine(p, pages[k]);
-        p->here[pages[k]] = mine ? PAGE_HOME : PAGE_CACHED;
-        if (!mine)
-            order_append(p, pages[k]);
-        p->used += pg->bytes;
-        p->home_bytes += mine ? pg->bytes : 0;
+        page_placed(p, pages[k]);
     }
     p->stats.install_s += pager_clock() - t0;
-    if (p->used > p->stats.peak_bytes)
-        p->stats.peak_bytes = p->used;
-    if (p->mapped * OS_PAGE > p->stats.memory_bytes)
-        p->stats.memory_bytes = p->mapped * OS_PAGE;
-    if (p->used > p->budget && p->used - p->budget > p->stats.over_bytes)
-        p->stats.over_bytes = p->used - p->budget;
+    installed(p);
+}
+
+static int span_order(const void *x, const void *y)
+{
+    uint64_t a = ((const pager_range *)x)->off, b = ((const pager_range *)y)->off;
+    return a < b ? -1 : a > b;
+}
+
+/* The byte ranges of pages[0 .. n) in p->spans, by offset, those that
+ * touch merged (neighbours in the BVH's order share edges): how many, -1
+ * when memory is short. */
+static int spans_of(csg_pager *p, const int32_t *pages, int n)
+{
+    size_t most = (size_t)n * PAGER_RANGES;
+    if (most > p->spans_cap) {
+        pager_range *grown = realloc(p->spans, most * sizeof *grown);
+        if (!grown)
+            return -1;
+        p->spans = grown;
+        p->spans_cap = most;
+    }
+    size_t count = 0;
+    for (int k = 0; k < n; k++)
+        for (int r = 0; r < PAGER_RANGES; r++)
+            if (p->plan.pages[pages[k]].range[r].len > 0)
+                p->spans[count++] = p->plan.pages[pages[k]].range[r];
+    qsort(p->spans, count, sizeof *p->spans, span_order);
+    size_t merged = 0;
+    for (size_t k = 0; k < count; k++)
+        if (merged > 0 && p->spans[merged - 1].off + p->spans[merged - 1].len == p->spans[k].off)
+            p->spans[merged - 1].len += p->spans[k].len;
+        else
+            p->spans[merged++] = p->spans[k];
+    return (int)merged;
+}
+
+/* The memory pages of pages[0 .. n) gain (+1) or lose (-1) a user: each
+ * page's ranges one by one (a user a range, as evict counts them). */
+static void pages_refs_add(csg_pager *p, const int32_t *pages, int n, int delta)
+{
+    for (int k = 0; k < n; k++)
+        for (int r = 0; r < PAGER_RANGES; r++)
+            refs_add(p, &p->plan.pages[pages[k]].range[r], delta);
+}
+
+/* fetch_run's one-sided form (p->fetch_into, rank 0 serving): pages[0 ..
+ * n), none here, their memory pages mapped, then their bytes written in
+ * place by one call (no buffer, no copy of ours, and rank 0 does nothing);
+ * a failure gives the memory pages back. */
+static bool fetch_in_place(csg_pager *p, const int32_t *pages, int n, uint64_t bytes)
+{
+    int spans = spans_of(p, pages, n);
+    if (spans < 0) {
+        p->failed = true;
+        return false;
+    }
+    double t0 = pager_clock();
+    pages_refs_add(p, pages, n, +1);
+    double t1 = pager_clock();
+    bool ok = p->fetch_into(p->fetch_arg, p->spans, spans, p->base);
+    double t2 = pager_clock();
+    p->stats.wait_s += t2 - t1;
+    if (!ok) {
+        pages_refs_add(p, pages, n, -1);
+        p->failed = true;
+        return false;
+    }
+    p->stats.requests++;
+    p->stats.pages += (uint64_t)n;
+    p->stats.bytes += bytes;
+    for (int k = 0; k < n; k++)
+        page_placed(p, pages[k]);
+    p->stats.install_s += (t1 - t0) + (pager_clock() - t2);
+    installed(p);
+    return true;
 }
 
 /* fetch_run, this worker's own pages first when there are others too:

@@ -115,6 +115,14 @@ size_t pager_pack_pages(const void *blob, const pager_plan *plan, const int32_t 
  * other into out (bytes: their total); false when it failed. */
 typedef bool (*pager_fetch)(void *arg, const int32_t *pages, int n, unsigned char *out,
                             size_t bytes);
+/* Where pages come from, one-sided (--page-fetch get): the blob's byte
+ * ranges ranges[0 .. n) written at base + their offsets, from rank 0's
+ * memory window (comm/mpi_link.h, link_page_get) or its own copy, with
+ * no work of rank 0's and no copy through a buffer; false when it failed. */
+typedef bool (*pager_fetch_into)(void *arg, const pager_range *ranges, int n, unsigned char *base);
+/* --page-fetch: get (one-sided, where the MPI library opens rank 0's blob
+ * as a window; else as ask) or ask (a request rank 0 answers). */
+enum pager_fetch_mode { PAGER_FETCH_GET = 0, PAGER_FETCH_ASK = 1 };
 
 enum pager_policy { PAGER_LRU = 0, PAGER_FIFO = 1 };
 /* --page-prefetch (proto_setup.page_prefetch): none (every page on
@@ -159,7 +167,11 @@ typedef struct csg_pager {
     uint64_t used;         /* the resident part and the cached pages'     */
     enum pager_policy policy;
     pager_fetch fetch;
+    pager_fetch_into fetch_into; /* set: pages from rank 0 come this way
+                              (--page-fetch get); homes still ask       */
     void *fetch_arg;
+    pager_range *spans;    /* a one-sided fetch's ranges                 */
+    size_t spans_cap;
     uint32_t epoch;        /* the current item's number                   */
     uint32_t *stamp;       /* a page's last item (pinned when = epoch)     */
     uint8_t *here;         /* where a page is: enum pager_page_state      */

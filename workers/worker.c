@@ -158,6 +158,23 @@ void worker_set_serve_cost(void (*charge)(uint64_t bytes))
     worker_serve_cost = charge;
 }
 
+/* pager_fetch_into (--page-fetch get): the ranges read one-sided from
+ * rank 0's blob straight into place (comm/mpi_link.h, link_page_get). */
+static bool worker_get(void *arg, const pager_range *ranges, int n, unsigned char *base)
+{
+    (void)arg;
+    uint64_t *off = malloc((size_t)(n > 0 ? n : 1) * sizeof *off);
+    uint64_t *len = malloc((size_t)(n > 0 ? n : 1) * sizeof *len);
+    for (int k = 0; off && len && k < n; k++) {
+        off[k] = ranges[k].off;
+        len[k] = ranges[k].len;
+    }
+    bool ok = off && len && link_page_get(base, off, len, n);
+    free(off);
+    free(len);
+    return ok;
+}
+
 /* link_page_server's poll: the share's last ask answered, installed, the
  * next sent (a failure ends the fill: the pages come when needed). */
 static void worker_fill_step(void *arg)
@@ -247,6 +264,10 @@ static void worker_receive_pages(worker_state *w, const proto_setup *setup)
         worker_set_failure(w, "%s", why);
     }
     free(packed);
+    /* (collective: whether or not this worker's pager opened) */
+    if (got == LINK_OK && setup->page_fetch == PAGER_FETCH_GET && link_page_window(NULL, 0) &&
+        w->paged)
+        w->pager.fetch_into = worker_get;
 }
 
 /* tile_runner.progress: between bands of an item, this rank's transfers

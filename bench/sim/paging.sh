@@ -6,7 +6,8 @@
 #
 #   bench/sim/paging.sh [--scene FILE] [--size N] [--tile T] [--fractions "8 32"]
 #                       [--workers "1 16 64 256"] [--network ib] [--runs R]
-#                       [--pass-rate M] [--schedule S] [--page-home H] [--reuse] [--out DIR]
+#                       [--pass-rate M] [--schedule S] [--page-home H] [--page-fetch F]
+#                       [--reuse] [--out DIR]
 #
 # 1. Real renders on this machine (R rounds, interleaved): serial in
 #    memory, and serial at each budget (the blob / fraction) with pages of
@@ -37,7 +38,12 @@
 # --schedule S: the points with csgtrace's --schedule S (default: raster
 # in homo, cost in hetero), into DIR/points-S.csv; --page-home H: the
 # points with csgtrace's --page-home H (auto, master, spread; default auto),
-# into DIR/points[-S]-H.csv when given; --reuse: steps 1 and 2
+# into DIR/points[-S]-H.csv when given; --page-fetch F: the calibration
+# renders and the points with csgtrace's --page-fetch F (get, the default:
+# a worker's install is then making room and mapping fresh memory pages,
+# the copy being the one-sided read's, and rank 0 packs nothing, the
+# "packs" column the serial read's copy; ask: as before the window), into
+# DIR/points[-S][-H]-ask.csv for ask; --reuse: steps 1 and 2
 # taken from an earlier run into DIR (its calibration, traces and maps).
 # Writes DIR/calibration.csv, DIR/check.csv, DIR/points.csv and prints the
 # tables (bench/PAGING.md holds them and their reading).
@@ -45,7 +51,7 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$ROOT"
 SCENE="" SIZE=4096 TILE=32 FRACTIONS="8 32" WORKERS="1 16 64 256" NETWORK=ib RUNS=5
-PASS_RATE=300 OUT=bench/results-paging/sim SCHEDULE="" PAGE_HOME="" REUSE=no
+PASS_RATE=300 OUT=bench/results-paging/sim SCHEDULE="" PAGE_HOME="" PAGE_FETCH=get REUSE=no
 die() { echo "bench/sim/paging.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
     [ "$1" = --reuse ] || [ $# -ge 2 ] || die "$1 needs a value"
@@ -61,6 +67,7 @@ while [ $# -gt 0 ]; do
     --out) OUT=$2 ;;
     --schedule) SCHEDULE=$2 ;;
     --page-home) PAGE_HOME=$2 ;;
+    --page-fetch) PAGE_FETCH=$2 ;;
     --reuse) REUSE=yes; shift; continue ;;
     *) die "unknown option '$1'" ;;
     esac
@@ -68,6 +75,7 @@ while [ $# -gt 0 ]; do
 done
 [[ "$SCHEDULE" =~ ^(|raster|cost|static|tail|region)$ ]] || die "--schedule: raster, cost, static, tail or region"
 [[ "$PAGE_HOME" =~ ^(|auto|master|spread)$ ]] || die "--page-home: auto, master or spread"
+[[ "$PAGE_FETCH" =~ ^(get|ask)$ ]] || die "--page-fetch: get or ask"
 [[ "$SIZE" =~ ^[1-9][0-9]{1,4}$ ]] || die "--size: 10..99999"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
 [[ "$FRACTIONS" =~ ^[0-9\ ]+$ ]] || die "--fractions: numbers"
@@ -117,7 +125,7 @@ for ((round = 1; round <= RUNS; round++)); do
     for f in 0 $FRACTIONS; do
         args=() env=()
         if [ "$f" != 0 ]; then
-            args=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB)
+            args=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB --page-fetch "$PAGE_FETCH")
             [ "$round" = 1 ] && env=(CSGTRACE_PAGE_TRACE="$OUT/homo-1_$f.trace")
         fi
         out=$WORK/serial-$f-$round
@@ -179,7 +187,7 @@ point() {
     [ -n "$SCHEDULE" ] && args+=(--schedule "$SCHEDULE")
     [ "$f" = 0 ] || args+=(--scene-memory "$(budget_mb "$f")" --page-size $PAGE_KB
         --page-trace "$HOMO_TRACE:$HETERO_TRACE" --page-install-ns "${INSTALL[$f]}"
-        --master-page-ns "${PACK[$f]}" --page-home "${PAGE_HOME:-auto}")
+        --master-page-ns "${PACK[$f]}" --page-home "${PAGE_HOME:-auto}" --page-fetch "$PAGE_FETCH")
     bench/simulate.sh "$SCENE" "${args[@]}" "$@" >/dev/null 2>"$WORK/$name.err" ||
         { echo "point $name failed: $(tail -3 "$WORK/$name.err")" >&2; return 1; }
 }
@@ -226,7 +234,9 @@ done
 fi
 
 # 3. the points
-POINTS=$OUT/points${SCHEDULE:+-$SCHEDULE}${PAGE_HOME:+-$PAGE_HOME}.csv
+fetch_suffix=""
+[ "$PAGE_FETCH" = ask ] && fetch_suffix=-ask
+POINTS=$OUT/points${SCHEDULE:+-$SCHEDULE}${PAGE_HOME:+-$PAGE_HOME}$fetch_suffix.csv
 echo "name,workers,mode,fraction,prefetch,makespan_s,efficiency,master_busy,faults,requests,pages,prefetched,touches,bytes,wait_s,asks,trace_tiles_missing,homes,master_bytes_served,workers_bytes_served" >"$POINTS"
 for w in $WORKERS; do
     [ "$w" = 1 ] && continue
