@@ -198,6 +198,10 @@ int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budge
                         memory_format(m->plan.resident_bytes, need, sizeof need));
         return EXIT_BAD_INPUT;
     }
+    /* (auto: homes serve only asks; one-sided reads leave rank 0 idle, and
+     * at 256 simulated workers beat homes, bench/PAGING.md) */
+    if (home == PAGER_HOME_AUTO && m->page_fetch == PAGER_FETCH_GET && !link_survives_loss())
+        home = PAGER_HOME_MASTER;
     int32_t homes = pager_homes_for(home, m->workers, &m->plan, budget);
     if (homes < 0) {
         char share[32], have[32];

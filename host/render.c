@@ -787,6 +787,7 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
         return EXIT_BAD_INPUT;
     }
     uint64_t page = req->page_kb > 0 ? (uint64_t)req->page_kb << 10 : 0;
+    ms->page_fetch = req->page_fetch;
     int status = master_plan_pages(ms, rs->blob.bytes, rs->blob.size, budget, page,
                                    req->page_policy, req->page_prefetch,
                                    local ? PAGER_HOME_MASTER : req->page_home, d);
@@ -799,7 +800,6 @@ static int render_plan_pages(const render_request *req, master_session *ms, rend
     st->page_policy = req->page_policy == PAGER_FIFO ? "fifo" : "lru";
     st->page_prefetch = ms->page_prefetch;
     st->page_homes = ms->page_homes;
-    ms->page_fetch = req->page_fetch;
     st->page_fetch = local && req->page_fetch == PAGER_FETCH_GET ? "get" : "ask";
     if (!local)
         return EXIT_OK;

@@ -406,11 +406,11 @@ static int sim_plan_pages(const sim_args *a, master_session *m, csg_blob *blob, 
 {
     if (a->scene_memory_mb <= 0)
         return 0;
+    m->page_fetch = a->page_fetch;
     int status = master_plan_pages(m, blob->bytes, blob->size,
                                    (uint64_t)(a->scene_memory_mb * 1e6),
                                    (uint64_t)a->page_kb << 10, a->page_policy, a->page_prefetch,
                                    a->page_home, d);
-    m->page_fetch = a->page_fetch;
     const page_trace *t = page_trace_shared();
     if (status == 0 && !t) {
         csg_error_plain(d, "csgsim: --scene-memory needs the page traces ($CSGSIM_PAGES)");
@@ -542,13 +542,14 @@ int main(int argc, char **argv)
         link_finish();
         return 2;
     }
-    bool ok = sim_load(&a, &blob);
+    bool loaded = sim_load(&a, &blob), ok = loaded;
     run.hetero = a.hetero;
     run.width = a.width;
     run.height = a.height;
     run.pass_s = a.hetero ? sim_pass_seconds(run.costs, a.width, a.height) : 0;
     ok = ok && sim_master(&a, &run, &blob, ranks, &res) && sim_write(&a, &run, ranks - 1 - a.relays, &res);
-    if (!blob.bytes) {
+    if (!loaded) { /* (the workers still wait for a setup; not blob.bytes: a
+                    * window's blob is the link's after the render) */
         master_session m;
         master_begin(&m, ranks);
         master_end(&m, 2);

@@ -63,9 +63,18 @@ static bool fuzz_fetch(void *arg, const int32_t *pages, int n, unsigned char *ou
     return at == bytes;
 }
 
+/* pager_fetch_into (--page-fetch get's path): the ranges copied into place. */
+static bool fuzz_get(void *arg, const pager_range *ranges, int n, unsigned char *base)
+{
+    const fuzz_pages *fp = arg;
+    for (int k = 0; k < n; k++)
+        memcpy(base + ranges[k].off, (const unsigned char *)fp->blob + ranges[k].off, ranges[k].len);
+    return true;
+}
+
 /* The tiles of blob b rendered through a pager of pages of one leaf each
  * and a budget of the resident part alone (prefetch, the shadow rays'
- * too, on or off), equal to
+ * too, on, the pages through a buffer; or off, read in place), equal to
  * `pixels` (the in-memory render's, tile after tile). */
 static void render_paged(const csg_blob *b, const float *pixels, bool prefetch)
 {
@@ -86,6 +95,7 @@ static void render_paged(const csg_blob *b, const float *pixels, bool prefetch)
                  "the pager did not open");
     p.prefetch = prefetch;
     p.prefetch_shadows = prefetch; /* (the shadow rays' walks too: workers/shade.c) */
+    p.fetch_into = prefetch ? NULL : fuzz_get;
     tile_runner tr;
     fuzz_require(tile_runner_init(&tr, p.base, FUZZ_TILE), "out of memory");
     float rgb[FUZZ_TILE * FUZZ_TILE * 3];

@@ -517,40 +517,91 @@ static bool wire_valid(const pager_wire *w, const pager_page *pages, const pager
            bytes_left == resident;
 }
 
-/* The memory pages of range r gain (delta +1) or lose (-1) a user.  A run
- * of them whose first user comes is faulted in by one call before the
- * copy into place (MADV_POPULATE_WRITE, Linux 5.14: rather than a fault a
- * 4 KiB page during the copy; tetra10's install 1.255 -> 1.085 ns a byte,
- * bench/PAGING.md; a kernel without it refuses the call and the copy
- * faults them in, as before); a run whose last user goes is given back
- * (MADV_DONTNEED). */
+static void advise(csg_pager *p, uint64_t first, uint64_t count, bool populate);
+
+/* A run of memory pages [first, first + count) noted for advice (to fault
+ * in, or to give back: the list holds one kind at a time). */
+static void run_note(csg_pager *p, uint64_t first, uint64_t count, bool populate)
+{
+    if (p->runs_n > 0 && p->runs[p->runs_n - 1].off + p->runs[p->runs_n - 1].len == first) {
+        p->runs[p->runs_n - 1].len += count;
+        return;
+    }
+    if (p->runs_n == p->runs_cap) {
+        size_t cap = p->runs_cap ? 2 * p->runs_cap : 64;
+        pager_range *grown = realloc(p->runs, cap * sizeof *grown);
+        if (!grown) { /* (out of memory: advised at once) */
+            advise(p, first, count, populate);
+            return;
+        }
+        p->runs = grown;
+        p->runs_cap = cap;
+    }
+    p->runs[p->runs_n++] = (pager_range){first, count};
+}
+
+/* The memory pages of range r gain (delta +1) or lose (-1) a user.  The
+ * runs of them whose first user comes, or whose last goes, are noted
+ * (p->runs) for runs_advise, which faults the first in (MADV_POPULATE_WRITE)
+ * or gives the second back (MADV_DONTNEED). */
 static void refs_add(csg_pager *p, const pager_range *r, int delta)
 {
     if (r->len == 0)
         return;
-#ifdef MADV_POPULATE_WRITE
-    const int advice = delta > 0 ? MADV_POPULATE_WRITE : MADV_DONTNEED;
-#else
-    const int advice = delta > 0 ? -1 : MADV_DONTNEED;
-#endif
     uint64_t first = r->off / OS_PAGE, last = (r->off + r->len - 1) / OS_PAGE;
-    uint64_t run = 0, run_len = 0; /* a run of memory pages to advise */
+    uint64_t run = 0, run_len = 0;
     for (uint64_t k = first; k <= last; k++) {
         bool comes = p->refs[k] == 0, goes = p->refs[k] + delta == 0;
         p->mapped += comes - goes;
         p->refs[k] = (uint16_t)(p->refs[k] + delta);
-        if ((delta > 0 ? comes : goes) && advice >= 0) {
+        if (delta > 0 ? comes : goes) {
             if (run_len == 0)
                 run = k;
             run_len++;
             continue;
         }
         if (run_len > 0)
-            madvise(p->base + run * OS_PAGE, run_len * OS_PAGE, advice);
+            run_note(p, run, run_len, delta > 0);
         run_len = 0;
     }
     if (run_len > 0)
-        madvise(p->base + run * OS_PAGE, run_len * OS_PAGE, advice);
+        run_note(p, run, run_len, delta > 0);
+}
+
+static int run_order(const void *x, const void *y)
+{
+    uint64_t a = ((const pager_range *)x)->off, b = ((const pager_range *)y)->off;
+    return a < b ? -1 : a > b;
+}
+
+/* The runs noted since the last call advised, sorted and those that touch
+ * merged, one call each: a fetch's or an eviction's pages are mostly
+ * neighbours in the blob, so their runs of memory pages (four a page, one
+ * an array) become a few calls (bench/PAGING.md, *Pages read one-sided*).
+ * Faulting in (MADV_POPULATE_WRITE, Linux 5.14) before the bytes are
+ * written rather than a fault a 4 KiB page during the copy: tetra10's
+ * install 1.255 -> 1.085 ns a byte; a kernel without it refuses the call
+ * and the copy faults them in.  Giving back: MADV_DONTNEED. */
+static void advise(csg_pager *p, uint64_t first, uint64_t count, bool populate)
+{
+#ifdef MADV_POPULATE_WRITE
+    madvise(p->base + first * OS_PAGE, count * OS_PAGE, populate ? MADV_POPULATE_WRITE : MADV_DONTNEED);
+#else
+    if (!populate)
+        madvise(p->base + first * OS_PAGE, count * OS_PAGE, MADV_DONTNEED);
+#endif
+}
+
+static void runs_advise(csg_pager *p, bool populate)
+{
+    qsort(p->runs, p->runs_n, sizeof *p->runs, run_order);
+    for (size_t k = 0; k < p->runs_n;) {
+        uint64_t first = p->runs[k].off, end = first + p->runs[k].len;
+        for (k++; k < p->runs_n && p->runs[k].off <= end; k++)
+            end = p->runs[k].off + p->runs[k].len > end ? p->runs[k].off + p->runs[k].len : end;
+        advise(p, first, end - first, populate);
+    }
+    p->runs_n = 0;
 }
 
 static bool pager_alloc(csg_pager *p, int32_t pages, int32_t bvh_count)
@@ -681,6 +732,7 @@ void pager_close(csg_pager *p)
     free(p->serve_buffer);
     free(p->fetch_order);
     free(p->spans);
+    free(p->runs);
     pager_plan_free(&p->plan);
     memset(p, 0, sizeof *p);
 }
@@ -744,6 +796,7 @@ static void make_room(csg_pager *p, uint64_t bytes)
             break; /* (LRU: the pinned are the newest, all behind) */
         i = next;
     }
+    runs_advise(p, false);
     p->stats.install_s += pager_clock() - t0;
 }
 
@@ -848,6 +901,10 @@ static void installed(csg_pager *p)
 static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes)
 {
     double t0 = pager_clock();
+    for (int k = 0; k < n; k++) /* (their fresh memory pages first, in few calls) */
+        for (int r = 0; !present(p, pages[k]) && r < PAGER_RANGES; r++)
+            refs_add(p, &p->plan.pages[pages[k]].range[r], +1);
+    runs_advise(p, true);
     const unsigned char *at = bytes;
     for (int k = 0; k < n; k++) {
         const pager_page *pg = &p->plan.pages[pages[k]];
@@ -856,7 +913,6 @@ static void install(csg_pager *p, const int32_t *pages, int n, const unsigned ch
             continue;
         }
         for (int r = 0; r < PAGER_RANGES; r++) {
-            refs_add(p, &pg->range[r], +1); /* (its fresh memory pages first) */
             memcpy(p->base + pg->range[r].off, at, pg->range[r].len);
             at += pg->range[r].len;
         }
@@ -922,12 +978,14 @@ static bool fetch_in_place(csg_pager *p, const int32_t *pages, int n, uint64_t b
     }
     double t0 = pager_clock();
     pages_refs_add(p, pages, n, +1);
+    runs_advise(p, true);
     double t1 = pager_clock();
     bool ok = p->fetch_into(p->fetch_arg, p->spans, spans, p->base);
     double t2 = pager_clock();
     p->stats.wait_s += t2 - t1;
     if (!ok) {
         pages_refs_add(p, pages, n, -1);
+        runs_advise(p, false);
         p->failed = true;
         return false;
     }

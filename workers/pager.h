@@ -134,7 +134,8 @@ enum pager_prefetch { PAGER_PREFETCH_OFF = 0, PAGER_PREFETCH_ON = 1, PAGER_PREFE
  * the w-th (pager_home_of: an item's pages, neighbours in the BVH's
  * order, mostly have one or two homes, so a fetch asks few), which holds
  * them for the whole render, outside its cache.  auto: spread from
- * PAGER_HOME_AUTO_WORKERS workers on, where a worker's share fits
+ * PAGER_HOME_AUTO_WORKERS workers on, where a worker's share fits, when
+ * the pages are asked for (host/master.c: read one-sided, rank 0 serves)
  * (pager_homes_fit), else rank 0 (pager_homes_for; bench/PAGING.md: below
  * that rank 0 has time to spare, and a home's answers cost more). */
 enum pager_home { PAGER_HOME_AUTO = 0, PAGER_HOME_MASTER = 1, PAGER_HOME_SPREAD = 2 };
@@ -172,6 +173,9 @@ typedef struct csg_pager {
     void *fetch_arg;
     pager_range *spans;    /* a one-sided fetch's ranges                 */
     size_t spans_cap;
+    pager_range *runs;     /* runs of memory pages to advise (off, len:
+                              in memory pages; pager.c, runs_advise)     */
+    size_t runs_n, runs_cap;
     uint32_t epoch;        /* the current item's number                   */
     uint32_t *stamp;       /* a page's last item (pinned when = epoch)     */
     uint8_t *here;         /* where a page is: enum pager_page_state      */
