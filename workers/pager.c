@@ -391,6 +391,24 @@ static int range_order(const void *x, const void *y)
     return a->off < b->off ? -1 : a->off > b->off;
 }
 
+/* r[0 .. n) sorted by offset, those that overlap or touch merged into
+ * one: how many are left. */
+static size_t ranges_merge(pager_range *r, size_t n)
+{
+    qsort(r, n, sizeof *r, range_order);
+    size_t merged = 0;
+    for (size_t k = 0; k < n; k++) {
+        pager_range *last = merged > 0 ? &r[merged - 1] : NULL;
+        if (last && r[k].off <= last->off + last->len) {
+            uint64_t end = r[k].off + r[k].len;
+            last->len = end > last->off + last->len ? end - last->off : last->len;
+        } else {
+            r[merged++] = r[k];
+        }
+    }
+    return merged;
+}
+
 /* The resident ranges: what no page holds, in order (malloc'd; *n). */
 static pager_range *resident_ranges(const pager_plan *plan, int32_t *n)
 {
@@ -568,12 +586,6 @@ static void refs_add(csg_pager *p, const pager_range *r, int delta)
         run_note(p, run, run_len, delta > 0);
 }
 
-static int run_order(const void *x, const void *y)
-{
-    uint64_t a = ((const pager_range *)x)->off, b = ((const pager_range *)y)->off;
-    return a < b ? -1 : a > b;
-}
-
 /* The runs noted since the last call advised, sorted and those that touch
  * merged, one call each: a fetch's or an eviction's pages are mostly
  * neighbours in the blob, so their runs of memory pages (four a page, one
@@ -594,13 +606,9 @@ static void advise(csg_pager *p, uint64_t first, uint64_t count, bool populate)
 
 static void runs_advise(csg_pager *p, bool populate)
 {
-    qsort(p->runs, p->runs_n, sizeof *p->runs, run_order);
-    for (size_t k = 0; k < p->runs_n;) {
-        uint64_t first = p->runs[k].off, end = first + p->runs[k].len;
-        for (k++; k < p->runs_n && p->runs[k].off <= end; k++)
-            end = p->runs[k].off + p->runs[k].len > end ? p->runs[k].off + p->runs[k].len : end;
-        advise(p, first, end - first, populate);
-    }
+    size_t n = ranges_merge(p->runs, p->runs_n);
+    for (size_t k = 0; k < n; k++)
+        advise(p, p->runs[k].off, p->runs[k].len, populate);
     p->runs_n = 0;
 }
 
@@ -695,7 +703,6 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     }
     by_node_pages = p->plan.pages;
     qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
-
     p->budget = budget;
     p->used = p->stats.peak_bytes = w.resident_bytes;
     p->stats.memory_bytes = p->mapped * OS_PAGE;
@@ -896,15 +903,23 @@ static void installed(csg_pager *p)
         p->stats.over_bytes = p->used - p->budget;
 }
 
+/* The memory pages of those of pages[0 .. n) not here gain (+1) or lose
+ * (-1) a user: each page's ranges one by one (a user a range, as evict
+ * counts them), then advised in few calls. */
+static void pages_refs_add(csg_pager *p, const int32_t *pages, int n, int delta)
+{
+    for (int k = 0; k < n; k++)
+        for (int r = 0; !present(p, pages[k]) && r < PAGER_RANGES; r++)
+            refs_add(p, &p->plan.pages[pages[k]].range[r], delta);
+    runs_advise(p, delta > 0);
+}
+
 /* pages[0 .. n), their bytes packed at `bytes`, written into place; a
  * page here already is left as it is. */
 static void install(csg_pager *p, const int32_t *pages, int n, const unsigned char *bytes)
 {
     double t0 = pager_clock();
-    for (int k = 0; k < n; k++) /* (their fresh memory pages first, in few calls) */
-        for (int r = 0; !present(p, pages[k]) && r < PAGER_RANGES; r++)
-            refs_add(p, &p->plan.pages[pages[k]].range[r], +1);
-    runs_advise(p, true);
+    pages_refs_add(p, pages, n, +1); /* (their fresh memory pages first) */
     const unsigned char *at = bytes;
     for (int k = 0; k < n; k++) {
         const pager_page *pg = &p->plan.pages[pages[k]];
@@ -920,12 +935,6 @@ static void install(csg_pager *p, const int32_t *pages, int n, const unsigned ch
     }
     p->stats.install_s += pager_clock() - t0;
     installed(p);
-}
-
-static int span_order(const void *x, const void *y)
-{
-    uint64_t a = ((const pager_range *)x)->off, b = ((const pager_range *)y)->off;
-    return a < b ? -1 : a > b;
 }
 
 /* The byte ranges of pages[0 .. n) in p->spans, by offset, those that
@@ -946,24 +955,9 @@ static int spans_of(csg_pager *p, const int32_t *pages, int n)
         for (int r = 0; r < PAGER_RANGES; r++)
             if (p->plan.pages[pages[k]].range[r].len > 0)
                 p->spans[count++] = p->plan.pages[pages[k]].range[r];
-    qsort(p->spans, count, sizeof *p->spans, span_order);
-    size_t merged = 0;
-    for (size_t k = 0; k < count; k++)
-        if (merged > 0 && p->spans[merged - 1].off + p->spans[merged - 1].len == p->spans[k].off)
-            p->spans[merged - 1].len += p->spans[k].len;
-        else
-            p->spans[merged++] = p->spans[k];
-    return (int)merged;
+    return (int)ranges_merge(p->spans, count); /* (disjoint: merged where they touch) */
 }
 
-/* The memory pages of pages[0 .. n) gain (+1) or lose (-1) a user: each
- * page's ranges one by one (a user a range, as evict counts them). */
-static void pages_refs_add(csg_pager *p, const int32_t *pages, int n, int delta)
-{
-    for (int k = 0; k < n; k++)
-        for (int r = 0; r < PAGER_RANGES; r++)
-            refs_add(p, &p->plan.pages[pages[k]].range[r], delta);
-}
 
 /* fetch_run's one-sided form (p->fetch_into, rank 0 serving): pages[0 ..
  * n), none here, their memory pages mapped, then their bytes written in
@@ -978,14 +972,12 @@ static bool fetch_in_place(csg_pager *p, const int32_t *pages, int n, uint64_t b
     }
     double t0 = pager_clock();
     pages_refs_add(p, pages, n, +1);
-    runs_advise(p, true);
     double t1 = pager_clock();
     bool ok = p->fetch_into(p->fetch_arg, p->spans, spans, p->base);
     double t2 = pager_clock();
     p->stats.wait_s += t2 - t1;
     if (!ok) {
         pages_refs_add(p, pages, n, -1);
-        runs_advise(p, false);
         p->failed = true;
         return false;
     }
