@@ -822,6 +822,25 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     test_hook_kill(0, "item", L->job->items_done);
 }
 
+/* An answer's seconds, t0 to t1, added to the master's time taking
+ * results in, as far as they fall in the tile phase: none before the
+ * first item out; those after the latest result's arrival (t_last, the
+ * tile phase's end so far) kept apart too, since the tile phase may end
+ * there: the last result's own storing and the answers after it belong to
+ * the phase that follows (a master preempted there once took more
+ * "results" time than the tile phase lasted). */
+static void master_results_time(master_job *job, double t0, double t1, double t_last_before)
+{
+    if (job->t_first == 0)
+        return;
+    t0 = t0 > job->t_first ? t0 : job->t_first;
+    job->results_s += t1 - t0;
+    if (job->t_last != t_last_before) /* a result: the tile phase lasts to here */
+        job->results_past_s = t1 - job->t_last;
+    else
+        job->results_past_s += t1 - t0;
+}
+
 /* Every message waiting, taken and answered; true when there was one. */
 static bool master_receive(master_loop *L, link_msg *msg, size_t limit, csg_diag *d)
 {
@@ -843,9 +862,9 @@ static bool master_receive(master_loop *L, link_msg *msg, size_t limit, csg_diag
             break;
         }
         L->m->bytes_received += (uint64_t)msg->len;
-        double t0 = stats_clock();
+        double t0 = stats_clock(), t_last = L->job->t_last;
         master_answer(L, msg, d);
-        L->job->results_s += stats_clock() - t0;
+        master_results_time(L->job, t0, stats_clock(), t_last);
     }
     return any;
 }

@@ -126,6 +126,9 @@ typedef struct master_job {
     page_counts paging;       /* the workers' scene paging, all items     */
     double busy_s;            /* seconds of every item, all workers       */
     double results_s;         /* the master's seconds taking results in   */
+    double results_past_s;    /* of them, those after t_last (not in the
+                                 tile phase: the last result's storing,
+                                 answers after it)                        */
     int items_done;
     double t_first;           /* stats_clock(): first item out (0: none)  */
     double t_last;            /* the last result in                       */

@@ -65,7 +65,8 @@
  *                 workers when the ranks outnumber the cores
  *   master_results_s  seconds the master spent taking the workers' results
  *                 in (checking them, storing their pixels in the image,
- *                 appending finished tiles to the journal), MPI aside:
+ *                 appending finished tiles to the journal) within the
+ *                 tile phase (to the last result's arrival), MPI aside:
  *                 the work a result costs it, which bounds how many
  *                 workers one master can keep busy (bench/SCALE.md)
  *   pass_work_s   hetero, --pass auto: the CPU seconds the frame's
