@@ -13,7 +13,8 @@
  *   - an image rendered through the pager at a budget of the resident part
  *     and two pages is the in-memory one, bit for bit, with the primary
  *     rays' pages prefetched and on demand only;
- *   - a malformed plan and a budget below the resident part are refused;
+ *   - a malformed plan (two pages of one top too) and a budget below the
+ *     resident part are refused;
  *   - homes (--page-home spread): a worker's share is its run of the
  *     pages (the pages in W runs, in order), fetched once when first
  *     needed (by the worker, to answer another, or by the background
@@ -585,6 +586,21 @@ static void test_refusals(void **state)
     assert_false(pager_open(&p, packed, len - 1, plan.resident_bytes, PAGER_LRU, fetch_from, &s,
                             &why)); /* one byte short */
     packed[0] ^= 1u; /* not a plan */
+    assert_false(pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fetch_from, &s, &why));
+    assert_non_null(strstr(why, "malformed"));
+    packed[0] ^= 1u; /* a plan again, but two of its pages with one top (a walk
+                        finds a top's page by its rank among the tops) */
+    assert_true(plan.page_count >= 2);
+    size_t at = 0; /* (the pages follow the plan's header, in the plan's order) */
+    while (at + 2 * sizeof(pager_page) <= len &&
+           memcmp(packed + at, plan.pages, 2 * sizeof(pager_page)) != 0)
+        at++;
+    assert_true(at + 2 * sizeof(pager_page) <= len);
+    pager_page second = plan.pages[1];
+    assert_int_not_equal(plan.pages[0].node, second.node);
+    second.node = plan.pages[0].node;
+    memcpy(packed + at + sizeof second, &second, sizeof second);
+    why = NULL;
     assert_false(pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fetch_from, &s, &why));
     assert_non_null(strstr(why, "malformed"));
     free(packed);

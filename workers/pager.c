@@ -21,6 +21,15 @@
 #define HOME_FETCH_BYTES ((uint64_t)8 << 20) /* a home's pages fetched in requests of this */
 
 /* csg_pager.here: where a page is. */
+/* The bits set in x (without -mpopcnt GCC's builtin is a library call). */
+static inline int popcount64(uint64_t x)
+{
+    x -= (x >> 1) & 0x5555555555555555u;
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return (int)((x * 0x0101010101010101u) >> 56);
+}
+
 static bool present(const csg_pager *p, int32_t i)
 {
     return p->here[i] == PAGE_CACHED || p->here[i] == PAGE_HOME;
@@ -621,10 +630,12 @@ static bool pager_alloc(csg_pager *p, int32_t pages, int32_t bvh_count)
     p->prev = malloc(n * sizeof *p->prev);
     p->next = malloc(n * sizeof *p->next);
     p->is_page_node = calloc(((size_t)bvh_count + 64) / 64, sizeof *p->is_page_node);
+    p->top_rank = malloc(((size_t)bvh_count + 64) / 64 * sizeof *p->top_rank);
     p->refs = calloc(os_pages ? os_pages : 1, sizeof *p->refs);
     p->plan.pages = malloc(n * sizeof *p->plan.pages);
     p->plan.by_node = malloc(n * sizeof *p->plan.by_node);
-    return p->plan.by_node && p->stamp && p->here && p->prev && p->next && p->is_page_node && p->refs &&
+    return p->plan.by_node && p->stamp && p->here && p->prev && p->next && p->is_page_node &&
+           p->top_rank && p->refs &&
            p->plan.pages;
 }
 
@@ -703,6 +714,16 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
     }
     by_node_pages = p->plan.pages;
     qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
+    for (int32_t i = 1; i < w.page_count; i++)
+        if (p->plan.pages[p->plan.by_node[i]].node == p->plan.pages[p->plan.by_node[i - 1]].node) {
+            *why = "a malformed scene plan was received"; /* (two pages of one top) */
+            pager_close(p);
+            return false;
+        }
+    for (size_t k = 0, below = 0; k < ((size_t)w.bvh_count + 64) / 64; k++) {
+        p->top_rank[k] = (int32_t)below;
+        below += (size_t)popcount64(p->is_page_node[k]);
+    }
     p->budget = budget;
     p->used = p->stats.peak_bytes = w.resident_bytes;
     p->stats.memory_bytes = p->mapped * OS_PAGE;
@@ -733,6 +754,7 @@ void pager_close(csg_pager *p)
     free(p->prev);
     free(p->next);
     free(p->is_page_node);
+    free(p->top_rank);
     free(p->refs);
     free(p->buffer);
     free(p->home_count);
@@ -1098,20 +1120,15 @@ static int32_t page_search(const csg_pager *p, size_t offset, int32_t v)
     return found;
 }
 
+/* The page whose top is node k, or -1: its rank among the tops (the tops'
+ * node numbers do not follow the pages' order; plan.by_node does). */
 static int32_t page_of_node(const csg_pager *p, int32_t k)
 {
-    const int32_t *by = p->plan.by_node;
-    int32_t lo = 0, hi = p->plan.page_count - 1;
-    while (lo <= hi) { /* (the tops' node numbers do not follow the pages' order) */
-        int32_t mid = lo + (hi - lo) / 2, node = p->plan.pages[by[mid]].node;
-        if (node == k)
-            return by[mid];
-        if (node < k)
-            lo = mid + 1;
-        else
-            hi = mid - 1;
-    }
-    return -1;
+    uint32_t word = (uint32_t)k >> 6;
+    uint64_t bit = (uint64_t)1 << ((uint32_t)k & 63u);
+    if (k < 0 || k >= p->plan.bvh_count || !(p->is_page_node[word] & bit))
+        return -1;
+    return p->plan.by_node[p->top_rank[word] + popcount64(p->is_page_node[word] & (bit - 1))];
 }
 
 void pager_need_node(csg_pager *p, int32_t k)
@@ -1376,7 +1393,7 @@ size_t pager_pack_homes(csg_pager *p, const int32_t *pages, int n, unsigned char
 
 void csg_page_enter(struct csg_pager *p, csg_i32 node)
 {
-    pager_enter_node(p, node);
+    pager_need_node(p, node); /* (a page's top: CSG_PAGE_ENTER tested its bit) */
 }
 
 void csg_page_root(struct csg_pager *p, csg_i32 root)

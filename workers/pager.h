@@ -182,6 +182,9 @@ typedef struct csg_pager {
     int32_t *prev, *next;  /* the cache's order, oldest first: head, tail  */
     int32_t head, tail;
     uint64_t *is_page_node; /* a bit a BVH node: entering it needs a page */
+    int32_t *top_rank;      /* [w]: the bits set in is_page_node[0 .. w),
+                               so a top's place in plan.by_node is its
+                               rank: no search on the walks' path */
     uint16_t *refs;        /* a 4 KiB memory page's users (the resident
                               part counts once, for ever)                */
     uint64_t mapped;       /* memory pages in use (refs > 0)             */
@@ -287,6 +290,12 @@ static inline void pager_enter_node(csg_pager *p, int32_t k)
 {
     if (pager_is_page_top(p, k))
         pager_need_node(p, k);
+}
+/* The page tops' bits, for the walks to test inline (csg_view.page_tops,
+ * CSG_PAGE_ENTER in intersect.h): one call a top, none for other nodes. */
+static inline const uint64_t *pager_page_tops(const csg_pager *p)
+{
+    return p->is_page_node;
 }
 void pager_need_root(csg_pager *p, int32_t root);
 void pager_need_prim(csg_pager *p, int32_t prim);

@@ -165,6 +165,7 @@ static shade_ctx ctx_of(const void *blob)
     c.hdr = blob;
     c.view = csg_blob_view(b);
     c.view.pager = pager_for(blob);
+    c.view.page_tops = c.view.pager ? pager_page_tops(c.view.pager) : NULL;
     c.mats = (const csg_material *)(b + c.hdr->off_materials);
     c.maps = (const csg_map_color *)(b + c.hdr->off_maps);
     c.lights = (const csg_flat_light *)(b + c.hdr->off_lights);

@@ -85,6 +85,8 @@ typedef struct {
 #ifndef __OPENCL_VERSION__
     struct csg_pager *pager; /* a worker's scene below its memory budget
                                 (workers/pager.h); NULL: the whole blob */
+    const csg_u64 *page_tops; /* with a pager: a bit a BVH node, set where
+                                 a page's top is (pager_page_tops) */
 #endif
 } csg_view;
 
@@ -102,7 +104,11 @@ struct csg_pager;
 void csg_page_enter(struct csg_pager *p, csg_i32 node);
 void csg_page_root(struct csg_pager *p, csg_i32 root);
 void csg_page_prim(struct csg_pager *p, csg_i32 prim);
-#define CSG_PAGE_ENTER(v, k) ((v).pager ? csg_page_enter((v).pager, (k)) : (void)0)
+/* (the bit tested here: a call only at a page's top, a few nodes in a walk) */
+#define CSG_PAGE_ENTER(v, k)                                                           \
+    ((v).pager && ((v).page_tops[(csg_u32)(k) >> 6] >> ((csg_u32)(k) & 63u) & 1u)     \
+         ? csg_page_enter((v).pager, (k))                                              \
+         : (void)0)
 #define CSG_PAGE_ROOT(v, i) ((v).pager ? csg_page_root((v).pager, (i)) : (void)0)
 #define CSG_PAGE_PRIM(v, j) ((v).pager ? csg_page_prim((v).pager, (j)) : (void)0)
 #endif
@@ -125,6 +131,7 @@ CSG_FN csg_view csg_blob_view(CSG_GLOBAL const csg_u8 *blob)
     v.curve_count = h->curve_count;
 #ifndef __OPENCL_VERSION__
     v.pager = 0;
+    v.page_tops = 0;
 #endif
     return v;
 }
