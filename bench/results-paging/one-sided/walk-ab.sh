@@ -1,10 +1,11 @@
 #!/bin/bash
 # interleaved A/B of two builds, tetra9 1024x1024, 2 workers: the walks' page test inline
-# OLD and NEW: two builds of csgtrace (here: main before and after the walks' page test went inline)
+# OLD=build NEW=build: two builds of csgtrace (here: main at 4a24fa3 and 439734b,
+# before and after the walks' page test went inline); writes /tmp/abw/abw.csv
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1 OMPI_MCA_rmaps_base_oversubscribe=1
 cd "$(dirname "$0")/../../.."; export POCL_CACHE_DIR=$PWD/build/pocl-cache CSGTRACE_CL_CACHE=$PWD/build/cl-cache
 S=build/bench/tetra9.nff; C="--width 1024 --height 1024 --no-progress"; OUT=/tmp/abw; mkdir -p $OUT
-OLD=${OLD:-/tmp/ci/build/csgtrace}; NEW=${NEW:-/tmp/csgtrace-new}
+: "${OLD:?OLD=path to the first build}" "${NEW:?NEW=path to the second build}"
 echo "round,config,build,tile_phase_s,wait_s,install_s,identical" > $OUT/abw.csv
 $NEW render $S $C -o $OUT/ref.png >/dev/null
 for r in $(seq 1 ${RUNS:-7}); do
