@@ -570,17 +570,47 @@ static void test_relayout(void **state)
     csg_blob_free(&b);
 }
 
+/* The fixture of the wire's tests: a 16 x 16 grid's blob, its plan of
+ * 16 KiB pages, and the plan packed as it goes over the wire. */
+typedef struct {
+    csg_blob b;
+    pager_plan plan;
+    unsigned char *packed;
+    size_t len;
+} wire_fixture;
+
+static int wire_setup(void **state)
+{
+    wire_fixture *f = calloc(1, sizeof *f);
+    const char *why = NULL;
+    if (!f)
+        return -1;
+    grid_blob(16, &f->b);
+    if (!pager_plan_make(f->b.bytes, 16384, &f->plan, &why))
+        return -1;
+    f->packed = pager_pack_resident(f->b.bytes, &f->plan, &f->len);
+    *state = f;
+    return f->packed ? 0 : -1;
+}
+
+static int wire_teardown(void **state)
+{
+    wire_fixture *f = *state;
+    free(f->packed);
+    pager_plan_free(&f->plan);
+    csg_blob_free(&f->b);
+    free(f);
+    return 0;
+}
+
 static void test_refusals(void **state)
 {
-    (void)state;
-    csg_blob b;
-    grid_blob(16, &b);
-    pager_plan plan;
+    wire_fixture *f = *state;
+    const pager_plan plan = f->plan;
+    unsigned char *packed = f->packed;
+    size_t len = f->len;
     const char *why = NULL;
-    assert_true(pager_plan_make(b.bytes, 16384, &plan, &why));
-    size_t len = 0;
-    unsigned char *packed = pager_pack_resident(b.bytes, &plan, &len);
-    source s = {b.bytes, &plan, 0};
+    source s = {f->b.bytes, &f->plan, 0};
     csg_pager p;
     assert_false(pager_open(&p, packed, len, plan.resident_bytes - 1, PAGER_LRU, fetch_from, &s,
                             &why));
@@ -605,9 +635,6 @@ static void test_refusals(void **state)
     why = NULL;
     assert_false(pager_open(&p, packed, len, plan.resident_bytes, PAGER_LRU, fetch_from, &s, &why));
     assert_non_null(strstr(why, "malformed"));
-    free(packed);
-    pager_plan_free(&plan);
-    csg_blob_free(&b);
 }
 
 /* The plan as it comes over the wire, its head (counts, sizes, pages,
@@ -617,27 +644,23 @@ static void test_refusals(void **state)
  * top's page by its rank among them). */
 static void test_wire_mutations(void **state)
 {
-    (void)state;
-    csg_blob b;
-    grid_blob(16, &b);
-    pager_plan plan;
+    wire_fixture *f = *state;
+    const pager_plan plan = f->plan;
+    const unsigned char *packed = f->packed;
+    size_t len = f->len;
     const char *why = NULL;
-    assert_true(pager_plan_make(b.bytes, 16384, &plan, &why));
-    size_t len = 0;
-    unsigned char *packed = pager_pack_resident(b.bytes, &plan, &len);
-    assert_non_null(packed);
     /* (the head, the pages, the ranges' start: more than the plan's part) */
     size_t head = 64 + (size_t)plan.page_count * sizeof(pager_page) + 64;
     head = head < len ? head : len;
     unsigned char *mutant = malloc(len);
     assert_non_null(mutant);
-    source s = {b.bytes, &plan, 0};
+    source s = {f->b.bytes, &f->plan, 0};
     uint64_t seed = 0x9e3779b97f4a7c15u;
     int opened = 0, refused = 0;
     for (int it = 0; it < 3000; it++) {
         memcpy(mutant, packed, len);
         int flips = 1 + (int)rng_below(&seed, 4);
-        for (int f = 0; f < flips; f++)
+        for (int k = 0; k < flips; k++)
             mutant[rng_below(&seed, head)] ^= (unsigned char)(1u << rng_below(&seed, 8));
         csg_pager p;
         if (!pager_open(&p, mutant, len, plan.resident_bytes + 4 * 16384, PAGER_LRU, fetch_from, &s,
@@ -655,9 +678,6 @@ static void test_wire_mutations(void **state)
     /* (both kinds happen: 190 of 3000 open with this seed) */
     assert_true(refused > 0 && opened > 0);
     free(mutant);
-    free(packed);
-    pager_plan_free(&plan);
-    csg_blob_free(&b);
 }
 
 int main(void)
@@ -668,8 +688,8 @@ int main(void)
         cmocka_unit_test(test_image),
         cmocka_unit_test(test_in_place),
         cmocka_unit_test(test_relayout),
-        cmocka_unit_test(test_refusals),
-        cmocka_unit_test(test_wire_mutations),
+        cmocka_unit_test_setup_teardown(test_refusals, wire_setup, wire_teardown),
+        cmocka_unit_test_setup_teardown(test_wire_mutations, wire_setup, wire_teardown),
         cmocka_unit_test(test_homes),
     };
     return cmocka_run_group_tests_name("pager", tests, NULL, NULL);
