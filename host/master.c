@@ -176,6 +176,14 @@ static bool master_serve_pages(master_session *m)
     return served > 0;
 }
 
+/* Pages read one-sided (--page-fetch get) where they can be: not under
+ * --enable-recovery, where a rank may be gone before the window's
+ * collective creation. */
+static bool master_pages_one_sided(const master_session *m)
+{
+    return m->page_fetch == PAGER_FETCH_GET && !link_survives_loss();
+}
+
 int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budget,
                       uint64_t page_bytes, int policy, int prefetch, int home, csg_diag *d)
 {
@@ -200,7 +208,7 @@ int master_plan_pages(master_session *m, void *blob, size_t size, uint64_t budge
     }
     /* (auto: homes serve only asks; one-sided reads leave rank 0 idle, and
      * at 256 simulated workers beat homes, bench/PAGING.md) */
-    if (home == PAGER_HOME_AUTO && m->page_fetch == PAGER_FETCH_GET && !link_survives_loss())
+    if (home == PAGER_HOME_AUTO && master_pages_one_sided(m))
         home = PAGER_HOME_MASTER;
     int32_t homes = pager_homes_for(home, m->workers, &m->plan, budget);
     if (homes < 0) {
@@ -248,12 +256,9 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
         setup.blob_size = packed_size;
         setup.scene_memory = m->scene_memory;
         setup.page_homes = m->page_homes;
-        /* (homes answer their own pages; under --enable-recovery a rank
-         * may be gone before the window's collective creation) */
-        setup.page_fetch = m->page_fetch == PAGER_FETCH_GET && m->page_homes == 0 &&
-                                   !link_survives_loss()
-                               ? PAGER_FETCH_GET
-                               : PAGER_FETCH_ASK;
+        /* (homes answer their own pages) */
+        setup.page_fetch =
+            master_pages_one_sided(m) && m->page_homes == 0 ? PAGER_FETCH_GET : PAGER_FETCH_ASK;
     }
     link_bcast_idle(&setup, sizeof setup);
     m->bytes_sent += (uint64_t)m->workers * sizeof setup;

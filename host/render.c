@@ -639,7 +639,8 @@ static int render_image(const render_request *req, master_session *ms, render_st
     progress_end(&bar);
     mk->tiles_end = stats_clock();
     st->master_cpu_s = stats_thread_cpu() - cpu0;
-    st->master_results_s = job.results_s > job.results_past_s ? job.results_s - job.results_past_s : 0.0;
+    st->master_results_s =
+        job.results_s > job.results_past_s ? job.results_s - job.results_past_s : 0.0;
     st->store_threads = store_threads(rs->store);
     st->store_cpu_s = store_cpu_s(rs->store);
     st->cull_s = rs->feed.cull_s;

@@ -217,7 +217,8 @@ void stats_print_json(FILE *f, const render_stats *s)
                 s->page_policy ? s->page_policy : "lru",
                 s->page_prefetch != PAGER_PREFETCH_OFF ? "true" : "false",
                 s->page_prefetch == PAGER_PREFETCH_SHADOWS ? "true" : "false",
-                s->page_fetch ? s->page_fetch : "ask", (unsigned long long)s->page_asks, (unsigned long long)s->page_bytes_served,
+                s->page_fetch ? s->page_fetch : "ask", (unsigned long long)s->page_asks,
+                (unsigned long long)s->page_bytes_served,
                 s->page_homes);
         stats_paging(f, &s->paging);
         fputs(",\n", f);

@@ -20,7 +20,6 @@
 #define OS_PAGE ((uint64_t)4096)
 #define HOME_FETCH_BYTES ((uint64_t)8 << 20) /* a home's pages fetched in requests of this */
 
-/* csg_pager.here: where a page is. */
 /* The bits set in x (without -mpopcnt GCC's builtin is a library call). */
 static inline int popcount64(uint64_t x)
 {
@@ -30,6 +29,7 @@ static inline int popcount64(uint64_t x)
     return (int)((x * 0x0101010101010101u) >> 56);
 }
 
+/* csg_pager.here: where a page is. */
 static bool present(const csg_pager *p, int32_t i)
 {
     return p->here[i] == PAGE_CACHED || p->here[i] == PAGE_HOME;
@@ -980,7 +980,6 @@ static int spans_of(csg_pager *p, const int32_t *pages, int n)
     return (int)ranges_merge(p->spans, count); /* (disjoint: merged where they touch) */
 }
 
-
 /* fetch_run's one-sided form (p->fetch_into, rank 0 serving): pages[0 ..
  * n), none here, their memory pages mapped, then their bytes written in
  * place by one call (no buffer, no copy of ours, and rank 0 does nothing);
@@ -1124,11 +1123,11 @@ static int32_t page_search(const csg_pager *p, size_t offset, int32_t v)
  * node numbers do not follow the pages' order; plan.by_node does). */
 static int32_t page_of_node(const csg_pager *p, int32_t k)
 {
-    uint32_t word = (uint32_t)k >> 6;
-    uint64_t bit = (uint64_t)1 << ((uint32_t)k & 63u);
-    if (k < 0 || k >= p->plan.bvh_count || !(p->is_page_node[word] & bit))
+    if (k < 0 || k >= p->plan.bvh_count || !pager_is_page_top(p, k))
         return -1;
-    return p->plan.by_node[p->top_rank[word] + popcount64(p->is_page_node[word] & (bit - 1))];
+    uint32_t word = (uint32_t)k >> 6;
+    uint64_t below = ((uint64_t)1 << ((uint32_t)k & 63u)) - 1; /* (the bits before k's) */
+    return p->plan.by_node[p->top_rank[word] + popcount64(p->is_page_node[word] & below)];
 }
 
 void pager_need_node(csg_pager *p, int32_t k)

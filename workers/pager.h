@@ -278,18 +278,14 @@ size_t pager_pack_homes(csg_pager *p, const int32_t *pages, int n, unsigned char
 void pager_item_end(csg_pager *p);
 
 /* The page of BVH node k (a page's top), of root i, of primitive j, here
- * (fetched if it was not).  The node form is the walks' (the bit test
- * inline: most nodes are no page's top). */
+ * (fetched if it was not).  The node form is the walks', once they found
+ * k's bit set (CSG_PAGE_ENTER tests it inline: most nodes are no page's
+ * top). */
 void pager_need_page(csg_pager *p, int32_t page);
 void pager_need_node(csg_pager *p, int32_t k);
 static inline bool pager_is_page_top(const csg_pager *p, int32_t k)
 {
     return (p->is_page_node[(uint32_t)k >> 6] & ((uint64_t)1 << ((uint32_t)k & 63u))) != 0;
-}
-static inline void pager_enter_node(csg_pager *p, int32_t k)
-{
-    if (pager_is_page_top(p, k))
-        pager_need_node(p, k);
 }
 /* The page tops' bits, for the walks to test inline (csg_view.page_tops,
  * CSG_PAGE_ENTER in intersect.h): one call a top, none for other nodes. */
