@@ -35,7 +35,7 @@
 
 DEB_PACKAGES := build-essential pkg-config openmpi-bin libopenmpi-dev \
 	pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers clinfo \
-	zlib1g-dev libopenimageio-dev openimageio-tools povray povray-includes \
+	zlib1g-dev libzstd-dev libopenimageio-dev openimageio-tools povray povray-includes \
 	libcmocka-dev gnuplot-nox python3 nettle-dev libfreetype-dev
 # Only for the benchmarks: their reference programs (bench/embree_primary.c,
 # Tachyon for bench/spd.sh) and POV-Ray's sample scenes (bench/povray_samples.sh).
@@ -70,7 +70,9 @@ CXXFLAGS_COMMON = -std=c++17 -Wall -Wextra -Werror -g -MMD -MP -fPIC -fvisibilit
 	$(OIIO_CFLAGS)
 # PNG is written without the image module, with zlib (host/output/stream.c).
 ZLIB_LIBS = $(shell pkg-config --libs zlib 2>/dev/null || echo -lz)
-LDLIBS = -lOpenCL $(ZLIB_LIBS) $(FT_LIBS) -lnettle -lpthread -lm
+# 8-bit results compressed on the wire (--compress: comm/pixels_z.c).
+ZSTD_LIBS = $(shell pkg-config --libs libzstd 2>/dev/null || echo -lzstd)
+LDLIBS = -lOpenCL $(ZLIB_LIBS) $(ZSTD_LIBS) $(FT_LIBS) -lnettle -lpthread -lm
 # The image module: everything it needs resolved at link time (-z defs).
 MODULE_LDFLAGS = -shared -Wl,-z,defs -Wl,--as-needed
 MODULE := csgtrace-image.so
@@ -273,6 +275,10 @@ $(B)/bench/png_write: $(B)/obj/bench/png_write.o $(LIB_OBJS) | $(B)/$(MODULE)
 $(B)/bench/store_threads: $(B)/obj/bench/store_threads.o $(LIB_OBJS) | $(B)/$(MODULE)
 	@mkdir -p $(dir $@)
 	$(CC) $^ -o $@ $(LDLIBS)
+# What --compress costs a worker and rank 0 (bench/compress_tiles.c).
+$(B)/bench/compress_tiles: $(B)/obj/bench/compress_tiles.o $(B)/obj/comm/pixels_z.o
+	@mkdir -p $(dir $@)
+	$(CC) $^ -o $@ $(ZSTD_LIBS)
 # A nap's CPU time, what the simulation charges for it (bench/nap_cost.c).
 $(B)/bench/nap_cost: $(B)/obj/bench/nap_cost.o
 	@mkdir -p $(dir $@)
@@ -304,7 +310,7 @@ $(S)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(SIM_CC) $(CFLAGS_COMMON) -DCSG_DOUBLE $(OPT) -c $< -o $@
 $(S)/csgsim: $(SIM_OBJS)
-	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(ZLIB_LIBS) $(FT_LIBS) -lm
+	$(SIM_CC) $^ -o $@ -Wl,--wrap=sem_clockwait,--wrap=atexit $(ZLIB_LIBS) $(ZSTD_LIBS) $(FT_LIBS) -lm
 
 deps-sim:
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsimgrid-dev"

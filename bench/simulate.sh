@@ -3,7 +3,8 @@
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
-#       [--batch N|auto] [--pixels rgb8|float] [--fill on|off] [--relays K]
+#       [--batch N|auto] [--pixels rgb8|rgb8z|float] [--fill on|off] [--relays K]
+#       [--wire-map FILE] [--compress-ns D] [--decompress-ns I] [--hit-records send|retrace]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
 #       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
 #       [--pass-delay S] [--eager-bytes E] [--sender-progress yes|no] [--runtime current|legacy]
@@ -36,7 +37,16 @@
 # --batch N|auto: the master's batch limit (csgtrace --batch; default auto).
 # --pixels rgb8|float: what a RESULT carries a pixel: rgb8 (default) is a
 # render to an 8-bit file (PNG, ...: 3 bytes), float one to EXR (12 bytes,
-# as every render sent before 2026-11-25).
+# as every render sent before 2026-11-25), rgb8z the 8-bit bytes compressed
+# (csgtrace --compress: comm/pixels_z.h).  With rgb8z, --wire-map FILE:
+# each part carries the bytes a real render's part of that rectangle
+# compressed to (bench/sim/costmap.py --column wire_bytes of a render with
+# --compress on; without it, the simulated black pixels compress to almost
+# nothing); --compress-ns D: a worker's nanoseconds a raw byte compressed,
+# --decompress-ns I: rank 0's a byte decompressed (bench/compress_tiles.c
+# measures both; default 0).
+# --hit-records retrace (hetero): the records are not sent, each tile with
+# hits costs the homo (fill) map's seconds (csgtrace --hit-records).
 # --master-part-us A, --master-pixel-ns B: the master's own work on each
 # RESULT part of P pixels, A us + P x B ns (checking, storing the pixels,
 # queuing the journal), executed on its host; default 0 (only MPI's
@@ -96,6 +106,7 @@ SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS=
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
 SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_FETCH=get PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
+WIRE_MAP="" COMPRESS_NS=0 DECOMPRESS_NS=0 RECORDS=send
 [ $# -ge 1 ] || die "usage: SCENE --workers N --mode homo|hetero [--schedule S] [--tile T] [--network gige|ib|local] [--size WxH] --stats F.json"
 SCENE=$1; shift
 while [ $# -gt 0 ]; do
@@ -112,6 +123,10 @@ while [ $# -gt 0 ]; do
     --pass-rate) PASS_RATE=$2 ;;
     --batch) BATCH=$2 ;;
     --pixels) PIXELS=$2 ;;
+    --wire-map) WIRE_MAP=$2 ;;
+    --hit-records) RECORDS=$2 ;;
+    --compress-ns) COMPRESS_NS=$2 ;;
+    --decompress-ns) DECOMPRESS_NS=$2 ;;
     --fill) FILL=$2 ;;
     --relays) RELAYS=$2 ;;
     --master-part-us) PART_US=$2 ;;
@@ -154,7 +169,11 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
 [[ "$PASS_RATE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-rate: Mrays/s, a decimal number"
 [[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
-[[ "$PIXELS" =~ ^(rgb8|float)$ ]] || die "--pixels: rgb8 or float"
+[[ "$PIXELS" =~ ^(rgb8|rgb8z|float)$ ]] || die "--pixels: rgb8, rgb8z or float"
+[ -z "$WIRE_MAP" ] || [ -f "$WIRE_MAP" ] || die "--wire-map: no file '$WIRE_MAP'"
+[[ "$RECORDS" =~ ^(send|retrace)$ ]] || die "--hit-records: send or retrace"
+[[ "$COMPRESS_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--compress-ns: nanoseconds, 0..9999.9999"
+[[ "$DECOMPRESS_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,4})?$ ]] || die "--decompress-ns: nanoseconds, 0..9999.9999"
 [[ "$FILL" =~ ^(on|off)$ ]] || die "--fill: on or off"
 [[ "$RELAYS" =~ ^(0|[1-9][0-9]{0,2})$ ]] && [ "$RELAYS" -le 127 ] && [ "$RELAYS" -le "$WORKERS" ] || die "--relays: 0..min(127, workers)"
 [[ "$PART_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-part-us: microseconds, 0..9999.999"
@@ -220,11 +239,13 @@ ensure_map() {
 }
 if [ -n "$GIVEN_MAP" ]; then
     map=$GIVEN_MAP fill_map=$GIVEN_FILL_MAP
+    [ "$MODE$RECORDS" != heteroretrace ] || [ -n "$fill_map" ] ||
+        die "--hit-records retrace with --map needs --fill-map (what a whole tile costs)"
 else
     ensure_map "$MODE"
     map=$MAPS/$key-$MODE.costs
     fill_map=""
-    if [ "$MODE" = hetero ] && [ "$FILL" = on ]; then
+    if [ "$MODE" = hetero ] && { [ "$FILL" = on ] || [ "$RECORDS" = retrace ]; }; then
         ensure_map homo
         fill_map=$MAPS/$key-homo.costs
     fi
@@ -272,13 +293,16 @@ CSGSIM_EAGER_BYTES=$([ "$SENDER_PROGRESS" = yes ] && echo "$EAGER" || echo 0) \
 CSGSIM_PAGES=$PAGE_TRACE CSGSIM_PAGE_INSTALL_S=$(echo "$PAGE_INSTALL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_PAGE_S=$(echo "$MASTER_PAGE_NS / 1000000000" | bc -l) CSGSIM_PAGED_COST_SCALE=$PAGED_COST_SCALE \
 CSGSIM_PASS_DELAY_S=$PASS_DELAY CSGSIM_LEGACY_RUNTIME=$([ "$RUNTIME" = legacy ] && echo 1 || echo 0) \
+CSGSIM_WIRE_BYTES=$WIRE_MAP CSGSIM_COMPRESS_S=$(echo "$COMPRESS_NS / 1000000000" | bc -l) \
+CSGSIM_MASTER_DECOMPRESS_S=$(echo "$DECOMPRESS_NS / 1000000000" | bc -l) \
 CSGSIM_COSTS=$map CSGSIM_FILL_COSTS=$fill_map CSGSIM_PASS_SCALE=$PASS_SCALE CSGSIM_PASS_RATE=$PASS_RATE \
     smpirun -np $((WORKERS + RELAYS + 1)) -platform "$ROOT/bench/sim/$NETWORK.xml" \
     -hostfile "$work/hosts" "${opts[@]}" "$CSGSIM" "$SCENE" --mode "$MODE" --width "$WIDTH" \
-    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --fill "$FILL" --relays "$RELAYS" "${paging[@]}" --stats "$work/out.json" \
+    --height "$HEIGHT" --tile "$TILE" --schedule "$SCHEDULE" "${batch[@]}" --pixels "$PIXELS" --hit-records "$RECORDS" --fill "$FILL" --relays "$RELAYS" "${paging[@]}" --stats "$work/out.json" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
 python3 - "$work/out.json" "$NETWORK" "$STATS" "$PASS_SCALE" "$PASS_RATE" "$PART_US" "$PIXEL_NS" \
-    "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" "$EAGER" "$SENDER_PROGRESS" "$RUNTIME" <<'PY'
+    "$MESSAGE_US" "$STORE_NS" "$STORE_THREADS" "$NAP_US" "$EAGER" "$SENDER_PROGRESS" "$RUNTIME" \
+    "$COMPRESS_NS" "$DECOMPRESS_NS" "$WIRE_MAP" "$RECORDS" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 d["network"] = sys.argv[2]
@@ -293,6 +317,10 @@ d["nap_us"] = float(sys.argv[11])
 d["eager_bytes"] = int(sys.argv[12])
 d["sender_progress"] = sys.argv[13] == "yes"
 d["runtime"] = sys.argv[14]
+d["compress_ns"] = float(sys.argv[15])
+d["decompress_ns"] = float(sys.argv[16])
+d["wire_map"] = sys.argv[17]
+d["hit_records"] = sys.argv[18]
 with open(sys.argv[3], "w") as f:
     json.dump(d, f)
     f.write("\n")

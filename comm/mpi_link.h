@@ -222,6 +222,13 @@ void link_scene_free(link_scene *s);
  * rank whose leader died before telling it waits for ever, so it is
  * written off with it (host/master.c). */
 int link_node_leader(int rank);
+/* Do the job's ranks run on more than one node (by the sharing's split:
+ * false when it was not made, CSGTRACE_NODE_SCENE=off or threads)? */
+bool link_spans_nodes(void);
+/* Rank 0: the bytes a second between its node and another, measured at
+ * start when the job spans nodes (a 1 MiB exchange, timed the second
+ * time); 0 when it does not, or it could not be measured. */
+double link_between_nodes_bps(void);
 
 /* Where a worker computes (link_bind_worker).  With more ranks on a node
  * than CPUs, launched unbound (`mpirun --bind-to none`, which rank 0

@@ -33,18 +33,27 @@ extern "C" {
  * proto_result.pixels). */
 enum pixels_format {
     PIXELS_FLOAT = 0, /* 3 linear floats: float files (EXR), no file      */
-    PIXELS_RGB8 = 1   /* 3 bytes: what an 8-bit file holds                */
+    PIXELS_RGB8 = 1,  /* 3 bytes: what an 8-bit file holds                */
+    PIXELS_RGB8Z = 2  /* RGB8's bytes compressed, one Zstandard frame a part
+                         (--compress: comm/pixels_z.h)                  */
 };
 
-/* Bytes a pixel in `format`. */
+/* Is `format` one of the 8-bit ones (what an 8-bit file holds, compressed
+ * or not on the wire)? */
+static inline bool pixels_is_rgb8(int format)
+{
+    return format == PIXELS_RGB8 || format == PIXELS_RGB8Z;
+}
+
+/* Bytes a pixel in `format` (PIXELS_RGB8Z: once decompressed). */
 static inline size_t pixels_bytes(int format)
 {
-    return format == PIXELS_RGB8 ? 3 : 3 * sizeof(float);
+    return pixels_is_rgb8(format) ? 3 : 3 * sizeof(float);
 }
 
 static inline const char *pixels_format_name(int format)
 {
-    return format == PIXELS_RGB8 ? "rgb8" : "float";
+    return format == PIXELS_RGB8Z ? "rgb8z" : format == PIXELS_RGB8 ? "rgb8" : "float";
 }
 
 /* The display encoding of 8-bit files: the sRGB transfer curve (POV-Ray

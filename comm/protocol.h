@@ -40,7 +40,11 @@
  *                                          rgb[3 n] float, or (when the
  *                                          setup's pixels is RGB8) the
  *                                          3 n bytes of the 8-bit file
- *                                          (comm/pixels.h)
+ *                                          (comm/pixels.h), or (RGB8Z)
+ *                                          those bytes compressed, one
+ *                                          Zstandard frame of
+ *                                          proto_result.payload bytes
+ *                                          (comm/pixels_z.h)
  *                   or   PROTO_TAG_FAIL    proto_fail (for the whole TILE)
  *    Parts follow one another, each starting 8-byte aligned (zero bytes
  *    pad the one before; nothing follows the last): a TILE of one part
@@ -87,6 +91,7 @@
 
 #include "tiles.h"
 #include "pixels.h"
+#include "pixels_z.h"
 
 enum proto_tag {
     PROTO_TAG_READY = 1, /* worker: set up, waiting for tiles  */
@@ -208,6 +213,9 @@ typedef struct {
     int32_t pixels;         /* enum pixels_format of the pixels after  */
     int32_t rank;           /* the worker that computed it (a relay's
                                answer; a worker sends 0: itself)       */
+    uint32_t payload;       /* PIXELS_RGB8Z: the compressed bytes after
+                               the header (else 0)                     */
+    uint32_t pad;
     page_counts paging;     /* its scene paging during the part        */
 } proto_result;
 
@@ -271,17 +279,38 @@ static inline size_t proto_tile_part_at(const tile_grid *g, const char *data, si
     return at + part;
 }
 
-/* One RESULT part: header and n pixels in `format` (enum pixels_format). */
+/* One RESULT part: header and n pixels in `format` (enum pixels_format;
+ * PIXELS_RGB8Z: at most this, proto_result_part_of). */
 static inline size_t proto_result_part(size_t n, int format)
 {
     return sizeof(proto_result) + n * pixels_bytes(format);
+}
+
+/* The bytes of a RESULT part of n pixels in `format` whose header is h:
+ * PIXELS_RGB8Z's are the header's and its payload, which must be within
+ * what n pixels can compress to; 0 when it is not. */
+static inline size_t proto_result_part_of(const proto_result *h, size_t n, int format)
+{
+    if (format != PIXELS_RGB8Z)
+        return proto_result_part(n, format);
+    return h->payload <= pixels_compress_bound(n * 3) ? sizeof *h + h->payload : 0;
+}
+
+/* The most bytes a RESULT part of n pixels takes in any format: floats,
+ * or, for a part of a few pixels, what compressed bytes can take at worst
+ * (a frame's header and checksum: up to 66 bytes for 3). */
+static inline size_t proto_result_part_max(size_t n)
+{
+    size_t floats = proto_result_part(n, PIXELS_FLOAT);
+    size_t compressed = sizeof(proto_result) + pixels_compress_bound(n * 3);
+    return floats > compressed ? floats : compressed;
 }
 
 /* `batch`, lowered so that a RESULT of that many tiles of pixels_max
  * pixels stays within PROTO_BATCH_BYTES; at least 1. */
 static inline int proto_batch_fit(int batch, size_t pixels_max)
 {
-    while (batch > 1 && proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch) >
+    while (batch > 1 && proto_batch_bytes(proto_result_part_max(pixels_max), batch) >
                             PROTO_BATCH_BYTES)
         batch--;
     return batch;
@@ -295,10 +324,11 @@ static inline size_t proto_worker_limit(const tile_grid *g, int batch)
 }
 
 /* The largest message the master can be sent: the RESULT of `batch` of
- * the largest tiles (in floats: any part may be), or a FAIL. */
+ * the largest tiles (proto_result_part_max: any part may be so large), or
+ * a FAIL. */
 static inline size_t proto_master_limit(size_t pixels_max, int batch)
 {
-    size_t result = proto_batch_bytes(proto_result_part(pixels_max, PIXELS_FLOAT), batch);
+    size_t result = proto_batch_bytes(proto_result_part_max(pixels_max), batch);
     return result > sizeof(proto_fail) ? result : sizeof(proto_fail);
 }
 

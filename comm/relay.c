@@ -297,8 +297,8 @@ static size_t relay_keep_part(relay_state *s, const relay_worker *w, const link_
     memcpy(&h, msg->data + at, sizeof h);
     if (h.index != relay_tile_index(s, p) || h.pixels != s->pixels)
         return 0;
-    size_t len = proto_result_part(t->pixels[p.part], h.pixels);
-    if (msg->len - at < len || !(t->answer[p.part] = malloc(len)))
+    size_t len = proto_result_part_of(&h, t->pixels[p.part], h.pixels);
+    if (len == 0 || msg->len - at < len || !(t->answer[p.part] = malloc(len)))
         return 0;
     if (h.rank == 0)
         h.rank = w->rank;

@@ -36,7 +36,9 @@
     X(TEST_PASS_PAYS_MS, "CSGTRACE_TEST_PASS_PAYS_MS",                                         \
       "--pass auto's threshold, in ms of guessed primary-ray work")                           \
     X(TEST_NODE_RANKS, "CSGTRACE_TEST_NODE_RANKS",                                             \
-      "one machine pretends nodes of N consecutive ranks (the scene's copy a node)")
+      "one machine pretends nodes of N consecutive ranks (the scene's copy a node)")            \
+    X(TEST_LINK_MBPS, "CSGTRACE_TEST_LINK_MBPS",                                               \
+      "the link between nodes measured at start pretended that many MB/s")
 
 enum test_hook {
 #define TEST_HOOK_ID(id, name, what) id,

@@ -452,6 +452,8 @@ typedef struct {
     bool failed;             /* no more items go out; draining             */
     bool broken;             /* nothing can be received any more           */
     double checked;          /* stats_clock() of the last liveness check   */
+    pixels_zstream *decompressor; /* PIXELS_RGB8Z without the store thread */
+    uint8_t *unpacked;       /* a part decompressed there (pixels_max x 3) */
 } master_loop;
 
 static void master_lose(master_loop *L, int r, const char *fmt, ...)
@@ -465,7 +467,7 @@ bool master_idle_init(link_idle *idle)
 
 bool master_shades(const master_job *job, int item)
 {
-    return job->t && !job->sched->items[item].fill;
+    return job->t && !job->retrace && !job->sched->items[item].fill;
 }
 
 int master_work(const master_job *job, int item)
@@ -707,8 +709,9 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
     *len = 0;
     for (int i = 0; i < k; i++) {
         tile_rect r = job->sched->items[items[i]].rect;
+        size_t n = (size_t)r.width * (size_t)r.height;
         size_t at = proto_align(*len);
-        proto_result h;
+        proto_result h = {.pixels = session}; /* (cut off: the least it can be) */
         if (at <= msg->len && msg->len - at >= sizeof h) {
             memcpy(&h, msg->data + at, sizeof h);
             if (h.pixels != session) {
@@ -717,16 +720,70 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
                 return false;
             }
         }
-        *len = at + proto_result_part((size_t)r.width * (size_t)r.height, session);
+        size_t part = proto_result_part_of(&h, n, session);
+        if (part == 0) {
+            csg_error_plain(d, "worker %d: result of tile %d: %u compressed bytes for %zu pixels",
+                            msg->source, job->sched->items[items[i]].tile, (unsigned)h.payload, n);
+            return false;
+        }
+        *len = at + part;
     }
     return true;
 }
 
+/* A PIXELS_RGB8Z part's `in_bytes` decompressed into L->unpacked: exactly
+ * `bytes` bytes, or false (the context and the buffer made on first use). */
+static bool master_decompress(master_loop *L, const uint8_t *in, size_t in_bytes, size_t bytes)
+{
+    if (!L->decompressor) {
+        L->decompressor = pixels_decompressor_new();
+        L->unpacked = malloc(L->job->grid.pixels_max * 3);
+    }
+    return L->decompressor && L->unpacked && bytes <= L->job->grid.pixels_max * 3 &&
+           pixels_decompress(L->decompressor, in, in_bytes, L->unpacked, bytes);
+}
+
+/* Rectangle r's 8-bit bytes into the image: queued for the store thread,
+ * or stored here (no thread, or its ring full). */
+static void master_store_bytes(master_job *job, tile_rect r, const uint8_t *rgb8)
+{
+    if (!job->store || !store_queue(job->store, r, rgb8))
+        pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height, rgb8);
+}
+
+/* Worker `by`'s part for item `item` did not decompress to its rectangle:
+ * the render's error (false). */
+static bool master_corrupt_part(const master_job *job, int by, int item, csg_diag *d)
+{
+    csg_error_plain(d, "worker %d: result of tile %d: its compressed pixels are corrupt", by,
+                    job->sched->items[item].tile);
+    return false;
+}
+
+/* A compressed part the store thread could not decompress (its tag is the
+ * item): the render failed, its worker written off as for any bad
+ * answer; false then. */
+static bool master_check_stored(master_loop *L, csg_diag *d)
+{
+    int32_t item = store_corrupt(L->job->store);
+    if (item < 0 || L->failed)
+        return item < 0;
+    int by = L->job->sched->items[item].worker; /* (counted when it was queued) */
+    master_corrupt_part(L->job, by, item, d);
+    L->failed = true;
+    int child = L->m->relays > 0 && by > L->m->relays ? proto_parent(by, L->m->relays) : by;
+    if (child >= 1 && child <= L->m->children && !L->w[child].dead)
+        master_write_off(L, child);
+    return false;
+}
+
 /* Part `part` of a RESULT (its size already checked) for item `item`:
  * checked, stored, counted. */
-static bool master_take_part(master_job *job, const master_session *m, const link_msg *msg,
-                             const char *part, int item, csg_diag *d)
+static bool master_take_part(master_loop *L, const link_msg *msg, const char *part, int item,
+                             csg_diag *d)
 {
+    master_job *job = L->job;
+    const master_session *m = L->m;
     const sched_item *it = &job->sched->items[item];
     tile_rect r = it->rect;
     size_t n = (size_t)r.width * (size_t)r.height;
@@ -745,25 +802,36 @@ static bool master_take_part(master_job *job, const master_session *m, const lin
     /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
      * multiple of 8: floats aligned */
     const char *pixels = part + sizeof h;
-    if (h.pixels != PIXELS_RGB8)
+    if (h.pixels == PIXELS_RGB8Z) {
+        job->sched->items[item].wire_bytes = h.payload;
+        /* the store thread decompresses it (store_corrupt says if it cannot) */
+        bool queued = job->store && store_queue_compressed(job->store, r, (const uint8_t *)pixels,
+                                                           h.payload, item);
+        if (!queued && !master_decompress(L, (const uint8_t *)pixels, h.payload, n * 3))
+            return master_corrupt_part(job, by, item, d);
+        if (!queued) /* (no thread, or its ring full) */
+            master_store_bytes(job, r, L->unpacked);
+    } else if (!pixels_is_rgb8(h.pixels)) {
         tile_store_rgb(job->image, job->grid.width, r, (const float *)(const void *)pixels);
-    else if (!job->store || !store_queue(job->store, r, (const uint8_t *)pixels))
-        pixels_store_bytes_rect(job->image, job->grid.width, r.x, r.y, r.width, r.height,
-                                (const uint8_t *)pixels); /* (no thread, or its ring full) */
+    } else {
+        master_store_bytes(job, r, (const uint8_t *)pixels);
+    }
     tile_result res = {h.hits, {h.primary, h.shadow, h.reflected, h.refracted, h.over_budget,
                                  h.shadow_answered},
                        h.busy_s, h.cpu_s, h.paging, false};
     master_job_count(job, &job->workers[by - 1], by, item, &res, stats_clock());
     if (m->costs) /* (the simulated build: what a real master took) */
-        m->costs->part(n, h.pixels == PIXELS_RGB8);
+        m->costs->part(n, h.pixels, h.payload);
     return true;
 }
 
 /* A RESULT for items[0 .. k - 1] of the job, its parts in the session's
  * pixel format `session`: checked, stored, counted. */
-static bool master_take_result(master_job *job, const master_session *m, const link_msg *msg,
-                               const int *items, int k, csg_diag *d)
+static bool master_take_result(master_loop *L, const link_msg *msg, const int *items, int k,
+                               csg_diag *d)
 {
+    master_job *job = L->job;
+    const master_session *m = L->m;
     int session = m->pixels;
     size_t expected;
     if (!master_result_bytes(job, msg, items, k, session, &expected, d))
@@ -777,10 +845,12 @@ static bool master_take_result(master_job *job, const master_session *m, const l
         m->costs->message();
     size_t at = 0;
     for (int i = 0; i < k; i++) {
-        if (!master_take_part(job, m, msg, msg->data + at, items[i], d))
+        if (!master_take_part(L, msg, msg->data + at, items[i], d))
             return false;
         tile_rect r = job->sched->items[items[i]].rect;
-        at = proto_align(at + proto_result_part((size_t)r.width * (size_t)r.height, session));
+        proto_result h;
+        memcpy(&h, msg->data + at, sizeof h); /* (master_result_bytes checked them) */
+        at = proto_align(at + proto_result_part_of(&h, (size_t)r.width * (size_t)r.height, session));
     }
     return true;
 }
@@ -819,7 +889,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     else if (L->failed)
         ok = msg->len >= sizeof(proto_result); /* draining: an answer, not stored */
     else
-        ok = master_take_result(L->job, L->m, msg, items, k, d);
+        ok = master_take_result(L, msg, items, k, d);
     if (!ok) {
         L->failed = true;
         master_write_off(L, src);
@@ -930,6 +1000,8 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
         worked |= master_serve_pages(L->m); /* (a worker's ray waits for it) */
         worked |= master_dispatch(L, d);
         worked |= master_receive(L, &msg, limit, d);
+        if (L->job->store)
+            master_check_stored(L, d);
         master_tiles_stored(L->job, false);
         if (worked) {
             link_idle_reset(idle);
@@ -952,7 +1024,8 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
 {
-    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false, 0.0};
+    master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false, 0.0,
+                     NULL, NULL};
     link_idle own;
     link_idle *idle = job->idle ? job->idle : &own;
     bool ok = false;
@@ -977,10 +1050,14 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
         m->costs->drain();
     if (job->store) { /* the image whole before the caller reads it */
         store_drain(job->store);
+        if (L.w)
+            ok = master_check_stored(&L, d) && ok;
         master_tiles_stored(job, true);
     }
     if (!job->idle)
         link_idle_free(&own);
+    pixels_zstream_free(L.decompressor);
+    free(L.unpacked);
     free(L.w);
     return ok;
 }
@@ -1013,7 +1090,7 @@ void master_job_count(master_job *job, stats_worker *w, int rank, int item,
     job->busy_s += res->busy_s;
     job->items_done++;
     job->t_last = now;
-    if (!master_shades(job, item)) /* (hetero counts its others from the OpenCL tile hits) */
+    if (!job->t || it->fill) /* (hetero counts its others from the OpenCL tile hits) */
         job->pixels_hit += res->hits;
     journal_add_hits(job->journal, it->tile, res->hits);
     if (sched_done(job->sched, item)) { /* its tile is complete */

@@ -31,7 +31,9 @@
  * charges.h); NULL in a real render, where the work is simply done. */
 typedef struct {
     void (*message)(void);                /* a RESULT taken in            */
-    void (*part)(size_t pixels, bool rgb8); /* one of its parts stored     */
+    /* one of its parts stored, in enum pixels_format (compressed: its
+     * `compressed` bytes) */
+    void (*part)(size_t pixels, int format, size_t compressed);
     void (*drain)(void);                  /* the tile phase's end: the
                                              store threads' backlog       */
     void (*pages)(uint64_t bytes);        /* pages packed for a worker    */
@@ -98,6 +100,9 @@ typedef struct master_job {
     const uint32_t *known;    /* hetero --simd shadows: the records' shadow
                                  answers (csg/device/shadow.h); NULL: none */
     const uint32_t *lit;
+    bool retrace;             /* hetero --hit-records retrace: the records
+                                 are not sent, the workers trace the
+                                 primary rays of the tiles with hits       */
     sched *sched;             /* the work items, in the order to send     */
     /* While sched is not closed: makes the newly ready tiles known to it
      * (sched_add / sched_skip, sched_close after the last); with `wait`,
@@ -173,7 +178,8 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 void master_relay_floor(const master_session *m, sched *s);
 
 /* Is item `item` shaded from the pass's records (hetero, not a fill
- * tile), or rendered whole (its primary rays traced too)? */
+ * tile, the records sent), or rendered whole (its primary rays traced
+ * too)? */
 bool master_shades(const master_job *job, int item);
 /* What item `item` asks of a worker: enum proto_work (comm/protocol.h). */
 int master_work(const master_job *job, int item);

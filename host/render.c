@@ -594,6 +594,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     }
     int status = pass_prepare(rs->pass, &grid, use_workers ? &rs->idle : NULL, d);
     job->t = pass_t(rs->pass);
+    job->retrace = req->retrace;
     job->surf = pass_surf(rs->pass);
     job->known = pass_known(rs->pass);
     job->lit = pass_lit(rs->pass);
@@ -776,6 +777,27 @@ static bool render_get_local(void *arg, const pager_range *ranges, int n, unsign
 /* --scene-memory: the page plan (rank 0 validated the blob when it loaded
  * it), checked against the budget; without workers, rank 0's own pager
  * over it.  0, or the failure with d filled. */
+/* --compress auto compresses the 8-bit results when the link to another
+ * node, measured at start, is slower than this: about what rank 0's store
+ * thread takes in when it decompresses and stores (1.8 + 1.1 ns a byte,
+ * bench/SCALE.md, *Results on a slow link*).  Below it the results wait
+ * on the wire, and compressed ones arrive ten times faster; above it the
+ * thread would be the slower, and the workers' 1 % is spent for nothing
+ * (gigabit Ethernet: 125 MB/s, compressed; InfiniBand: not). */
+#define RENDER_COMPRESS_BELOW_BPS 300e6
+
+/* What the workers answer in: an 8-bit file's bytes (compressed as
+ * --compress asks), or floats. */
+static int render_result_pixels(const render_request *req)
+{
+    int format = pixels_format_for(req->out_path);
+    double bps = link_between_nodes_bps();
+    bool compress = req->compress == COMPRESS_ON ||
+                    (req->compress == COMPRESS_AUTO && link_spans_nodes() && bps > 0 &&
+                     bps < RENDER_COMPRESS_BELOW_BPS);
+    return format == PIXELS_RGB8 && compress ? PIXELS_RGB8Z : format;
+}
+
 static int render_plan_pages(const render_request *req, master_session *ms, render_state *rs,
                              render_stats *st, csg_diag *d)
 {
@@ -877,7 +899,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
     }
     ms.batch = req->batch;
     ms.relays = req->mode == MODE_SERIAL ? 0 : req->relays;
-    ms.pixels = pixels_format_for(req->out_path); /* 8-bit files: bytes back */
+    ms.pixels = render_result_pixels(req); /* 8-bit files: bytes back */
     master_share_scene(&ms, status, st.tile, &rs.blob);
     mk.loaded = stats_clock();
     st.blob_bytes = rs.blob.size;
@@ -885,6 +907,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
         status = render_image(req, &ms, &rs, &st, &mk, &d);
     st.batch = ms.batch;
     st.result_pixels = ms.workers > 0 ? pixels_format_name(ms.pixels) : "none";
+    st.hit_records = req->mode != MODE_HETERO ? "none" : req->retrace ? "retrace" : "send";
+    st.link_mbps = link_between_nodes_bps() / 1e6;
     st.tile_messages = ms.tile_messages;
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;

@@ -21,6 +21,10 @@ enum render_mode { MODE_SERIAL, MODE_HOMO, MODE_HETERO };
 enum progress_mode { PROGRESS_OFF, PROGRESS_TTY, PROGRESS_ON };
 /* auto: double only when float's rounding could show (csg/precision.h). */
 enum render_precision { PREC_FLOAT, PREC_DOUBLE, PREC_AUTO };
+/* --compress: 8-bit results compressed on the wire (comm/pixels_z.h) when
+ * the ranks span more than one node (a network between them: a gigabit
+ * link is the bound there, bench/SCALE.md), always, or never. */
+enum render_compress { COMPRESS_AUTO, COMPRESS_ON, COMPRESS_OFF };
 
 typedef struct {
     const char *scene_path;
@@ -70,6 +74,12 @@ typedef struct {
                                  (pager_page_bytes_for the budget)        */
     int page_prefetch;        /* --page-prefetch: enum pager_prefetch     */
     int page_fetch;           /* --page-fetch: enum pager_fetch_mode      */
+    int compress;             /* --compress: enum render_compress        */
+    bool retrace;             /* --hit-records retrace: hetero sends the
+                                 workers no records; they trace the
+                                 primary rays of the tiles with hits (a
+                                 slow link: records are 8-12 bytes a
+                                 pixel, bench/SCALE.md)                */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */

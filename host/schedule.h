@@ -95,6 +95,9 @@ typedef struct {
     bool resumed;      /* skipped: its pixels came from the journal of an
                           earlier run (--resume), not from the background */
     bool fill;         /* claimed by the fill: rendered whole, no records */
+    uint32_t wire_bytes; /* its pixels' bytes on the wire when compressed
+                            (--compress; 0: sent as they are; where the
+                            bools leave 4 bytes before the double)     */
     double estimate;   /* estimated ray casts; < 0: unknown (homo)       */
     int order;         /* dispatch order from 0; -1: not sent            */
     int worker;        /* the rank that computed it (0: the master)      */

@@ -225,6 +225,10 @@ void stats_print_json(FILE *f, const render_stats *s)
     }
     fputs("  \"result_pixels\": ", f);
     stats_string(f, s->result_pixels ? s->result_pixels : "none");
+    fputs(",\n  \"hit_records\": ", f);
+    stats_string(f, s->hit_records ? s->hit_records : "none");
+    fputs(",\n  \"link_mbps\": ", f);
+    stats_number(f, s->link_mbps);
     fputs(",\n", f);
     stats_workers(f, s);
     fputs("}\n", f);
@@ -280,7 +284,7 @@ static void stats_log_item(FILE *f, const sched_item *it, double t0)
     stats_number(f, it->cpu_s);
     fprintf(f, ", \"page_faults\": %u, \"page_wait_s\": ", (unsigned)it->page_faults);
     stats_number(f, it->page_wait_s);
-    fputs("}\n", f);
+    fprintf(f, ", \"wire_bytes\": %u}\n", (unsigned)it->wire_bytes);
 }
 
 static void stats_print_log(FILE *f, const void *arg)

@@ -143,8 +143,13 @@
  *   bytes_received bytes the master received from workers
  *   result_pixels what the workers' RESULTs carried a pixel: "rgb8" (the
  *                 8-bit file's bytes: the output is PNG, JPEG, TIFF, ...;
- *                 comm/pixels.h), "float" (EXR or no file), "none" (no
+ *                 comm/pixels.h), "rgb8z" (those compressed: --compress,
+ *                 comm/pixels_z.h), "float" (EXR or no file), "none" (no
  *                 workers)
+ *   link_mbps     MB/s between rank 0's node and another, measured at
+ *                 start (comm/mpi_link.h); 0: one node, or not measured
+ *   hit_records   hetero: "send" (the pass's records go with the tiles)
+ *                 or "retrace" (--hit-records retrace); else "none"
  *   blob_bytes    size of the flattened scene
  *   scene_shared_ranks   ranks (the master included) that read their
  *                 node's one copy of the blob in place (comm/mpi_link.h:
@@ -205,6 +210,8 @@ typedef struct render_stats {
     const char *schedule;   /* sched_policy_name                      */
     const char *cl_open;    /* hetero: when the OpenCL device opened   */
     const char *result_pixels; /* pixels_format_name, or "none"       */
+    const char *hit_records;   /* "send", "retrace" or "none"           */
+    double link_mbps;          /* between nodes, measured at start (0)  */
     char precision_why[256]; /* --precision auto: why, else ""       */
     char device[256];       /* OpenCL device name, "" if none        */
     char cl_program[128];   /* csg_features_program_name, "" if none */

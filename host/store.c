@@ -34,6 +34,7 @@
 
 #include "../comm/deadline.h"
 #include "../comm/pixels.h"
+#include "../comm/pixels_z.h"
 
 #define STORE_WAIT_NS 20000L               /* store_finished's naps      */
 /* An idle consumer looks again this often unless woken: waking it for
@@ -45,7 +46,9 @@
 typedef struct {
     int32_t x, y, width, height; /* width 0: the ring's end */
     uint32_t bytes;
-    uint8_t pad[STORE_ALIGN - 5 * sizeof(int32_t)];
+    int32_t compressed;            /* 1: the bytes are a Zstandard frame     */
+    int32_t tag;                 /* the caller's (store_corrupt)       */
+    uint8_t pad[STORE_ALIGN - 7 * sizeof(int32_t)];
 } store_record;
 _Static_assert(sizeof(store_record) == STORE_ALIGN, "a header is one STORE_ALIGN");
 _Static_assert(STORE_RING_BYTES % STORE_ALIGN == 0, "a ring's end always has room for a header");
@@ -58,12 +61,17 @@ typedef struct store_lane {
     pthread_mutex_t mutex;
     pthread_cond_t wake;
     pthread_t thread;
+    pixels_zstream *decompressor; /* the thread's, made on its first compressed */
+    uint8_t *unpacked;        /* part; the part decompressed                 */
+    size_t unpacked_cap;
 } store_lane;
 
 struct store {
     float *image;
     int width;
     atomic_int stop;
+    atomic_int corrupt; /* the tag + 1 of the first part that did not
+                           decompress to its rectangle; 0: none          */
     int lanes;
     store_lane *lane[STORE_THREADS_MAX];
     /* main thread only: the tiles store_after deferred, oldest first, and
@@ -106,10 +114,32 @@ static void store_wake(store_lane *l)
     }
 }
 
+/* A record's pixels into the image: decompressed first when compressed; false
+ * when they do not decompress to its rectangle (nothing stored). */
+static bool store_record_pixels(store_lane *l, const store_record *rec, const uint8_t *bytes)
+{
+    const store *s = l->owner;
+    if (rec->compressed) {
+        size_t need = (size_t)rec->width * (size_t)rec->height * 3;
+        if (!l->decompressor)
+            l->decompressor = pixels_decompressor_new();
+        if (need > l->unpacked_cap) {
+            free(l->unpacked);
+            l->unpacked = malloc(need);
+            l->unpacked_cap = l->unpacked ? need : 0;
+        }
+        if (!l->decompressor || !l->unpacked ||
+            !pixels_decompress(l->decompressor, bytes, rec->bytes, l->unpacked, need))
+            return false;
+        bytes = l->unpacked;
+    }
+    pixels_store_bytes_rect(s->image, s->width, rec->x, rec->y, rec->width, rec->height, bytes);
+    return true;
+}
+
 static void *store_run(void *arg)
 {
     store_lane *l = arg;
-    const store *s = l->owner;
     uint64_t at = atomic_load_explicit(&l->tail, memory_order_relaxed);
     while (store_wait_work(l, at)) {
         uint64_t head = atomic_load_explicit(&l->head, memory_order_acquire);
@@ -120,8 +150,10 @@ static void *store_run(void *arg)
             if (rec.width == 0) { /* the ring's end */
                 at += STORE_RING_BYTES - offset;
             } else {
-                pixels_store_bytes_rect(s->image, s->width, rec.x, rec.y, rec.width, rec.height,
-                                        l->ring + offset + sizeof rec);
+                if (!store_record_pixels(l, &rec, l->ring + offset + sizeof rec)) {
+                    int none = 0; /* (the first one is reported; set before the tail moves) */
+                    atomic_compare_exchange_strong(&l->owner->corrupt, &none, rec.tag + 1);
+                }
                 at += store_record_size(rec.bytes);
             }
             atomic_store_explicit(&l->tail, at, memory_order_release);
@@ -175,6 +207,8 @@ static void store_lane_join(store_lane *l)
     pthread_join(l->thread, NULL);
     pthread_cond_destroy(&l->wake);
     pthread_mutex_destroy(&l->mutex);
+    pixels_zstream_free(l->decompressor);
+    free(l->unpacked);
     free(l->ring);
     free(l);
 }
@@ -236,9 +270,10 @@ static uint64_t store_lane_waiting(store_lane *l)
            atomic_load_explicit(&l->tail, memory_order_acquire);
 }
 
-/* The record of `need` bytes into lane l: false when it has no room. */
-static bool store_lane_queue(store_lane *l, tile_rect r, uint32_t bytes, size_t need,
-                             const uint8_t *rgb8)
+/* Record `rec` and its bytes (`need` in all) into lane l: false when it
+ * has no room. */
+static bool store_lane_queue(store_lane *l, const store_record *rec, size_t need,
+                             const uint8_t *bytes)
 {
     uint64_t head = atomic_load_explicit(&l->head, memory_order_relaxed);
     uint64_t tail = atomic_load_explicit(&l->tail, memory_order_acquire);
@@ -251,22 +286,19 @@ static bool store_lane_queue(store_lane *l, tile_rect r, uint32_t bytes, size_t 
         memcpy(l->ring + offset, &end, sizeof end);
         offset = 0;
     }
-    store_record rec = {.x = r.x, .y = r.y, .width = r.width, .height = r.height, .bytes = bytes};
-    memcpy(l->ring + offset, &rec, sizeof rec);
-    memcpy(l->ring + offset + sizeof rec, rgb8, bytes);
+    memcpy(l->ring + offset, rec, sizeof *rec);
+    memcpy(l->ring + offset + sizeof *rec, bytes, rec->bytes);
     atomic_store(&l->head, head + skip + need); /* (sequentially consistent: see the top) */
     if (head + skip + need - tail > STORE_RING_BYTES / 4)
         store_wake(l); /* (a quarter full: not waiting for its next look) */
     return true;
 }
 
-bool store_queue(store *s, tile_rect r, const uint8_t *rgb8)
+/* Record `rec` and its bytes into the lane with room that waits least. */
+static bool store_queue_record(store *s, const store_record *rec, const uint8_t *bytes)
 {
-    if (r.width <= 0 || r.height <= 0)
-        return false;
-    uint32_t bytes = (uint32_t)((size_t)r.width * (size_t)r.height * 3);
-    size_t need = store_record_size(bytes);
-    if (need > STORE_RING_BYTES)
+    size_t need = store_record_size(rec->bytes);
+    if (rec->width <= 0 || rec->height <= 0 || need > STORE_RING_BYTES)
         return false;
     /* the lane with the fewest bytes waiting (ties: the next after the
      * last one used); the next fewest if it is full */
@@ -282,13 +314,33 @@ bool store_queue(store *s, tile_rect r, const uint8_t *rgb8)
                 least = waiting;
             }
         }
-        if (store_lane_queue(s->lane[best], r, bytes, need, rgb8)) {
+        if (store_lane_queue(s->lane[best], rec, need, bytes)) {
             s->last = best;
             return true;
         }
         tried[best] = true;
     }
     return false;
+}
+
+bool store_queue(store *s, tile_rect r, const uint8_t *rgb8)
+{
+    store_record rec = {.x = r.x, .y = r.y, .width = r.width, .height = r.height};
+    rec.bytes = (uint32_t)((size_t)r.width * (size_t)r.height * 3);
+    return store_queue_record(s, &rec, rgb8);
+}
+
+bool store_queue_compressed(store *s, tile_rect r, const uint8_t *z, size_t bytes, int32_t tag)
+{
+    store_record rec = {.x = r.x, .y = r.y, .width = r.width, .height = r.height,
+                        .bytes = (uint32_t)bytes, .compressed = 1, .tag = tag};
+    return bytes < STORE_RING_BYTES && tag >= 0 && tag < INT32_MAX &&
+           store_queue_record(s, &rec, z);
+}
+
+int32_t store_corrupt(const store *s)
+{
+    return s ? atomic_load((atomic_int *)&s->corrupt) - 1 : -1;
 }
 
 /* Has every lane's tail reached at[lane]? */
@@ -314,7 +366,7 @@ bool store_after(store *s, int tile)
     for (int k = 0; k < s->lanes; k++)
         heads[k] = atomic_load_explicit(&s->lane[k]->head, memory_order_relaxed);
     if (store_reached(s, heads))
-        return true;
+        return store_corrupt(s) < 0; /* (a corrupt part: no tile is ever complete) */
     if (s->pending_count >= s->tiles)
         return true; /* (each tile once: never) */
     int slot = (s->pending_first + s->pending_count) % s->tiles;
@@ -333,6 +385,8 @@ bool store_finished(store *s, int *tile, bool wait)
     if (!wait && !store_reached(s, at))
         return false;
     store_wait_for(s, at);
+    if (store_corrupt(s) >= 0)
+        return false;
     *tile = s->pending[s->pending_first];
     s->pending_first = (s->pending_first + 1) % s->tiles;
     s->pending_count--;

@@ -21,9 +21,13 @@
  * (`rgb8`) part's pixels are stored by the store thread (host/store.h), a
  * core of its own at that many seconds a pixel: queued while the ring has
  * room for them behind what the thread has not stored yet, else stored by
- * the loop itself at that cost. */
+ * the loop itself at that cost.  A compressed part (PIXELS_RGB8Z) is first
+ * decompressed by the store thread, as the real one does (a real render to an
+ * 8-bit file has one): $CSGSIM_MASTER_DECOMPRESS_S seconds a byte of its
+ * 3 x pixels (bench/compress_tiles.c measures it) more on the thread, or on
+ * the loop when every ring is full. */
 void sim_charge_master_message(void);
-void sim_charge_master_part(size_t pixels, bool rgb8);
+void sim_charge_master_part(size_t pixels, int format, size_t compressed);
 /* The end of the tile phase: waits until the store thread has stored
  * everything queued (master_run_tiles). */
 void sim_master_store_drain(void);

@@ -53,13 +53,17 @@
  * the tracing itself, the shadow rays' prefetch walks).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
- *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|float]
+ *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|rgb8z|float]
+ *          [--hit-records send|retrace]
  *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]
  *           [--page-home auto|master|spread]]
  *          --stats FILE.json
  * --pixels: what the workers' RESULTs carry a pixel (comm/pixels.h): rgb8
  * (default: what a render to an 8-bit file such as PNG sends) or float
- * (EXR; every render before 2026-11-25).
+ * (EXR; every render before 2026-11-25) or rgb8z (rgb8 compressed,
+ * --compress: each part's bytes those of the map $CSGSIM_WIRE_BYTES, its
+ * compress $CSGSIM_COMPRESS_S seconds a byte of 3 x pixels on the worker,
+ * its decompress $CSGSIM_MASTER_DECOMPRESS_S on rank 0).
  * writes makespan_s (scene broadcast to the last STOP), serial_s (every
  * item's seconds, plus the pass in hetero), efficiency and master_busy
  * (1 - the simulated seconds the master napped / makespan: its polls
@@ -97,6 +101,9 @@ typedef struct {
     bool page_prefetch;      /* --page-prefetch on|off                    */
     int page_home;           /* --page-home: enum pager_home              */
     int page_fetch;          /* --page-fetch: enum pager_fetch_mode       */
+    bool retrace;            /* --hit-records retrace (hetero): no records
+                                sent, the workers' tiles cost the fill
+                                map's (whole tiles)                     */
 } sim_args;
 
 typedef struct {
@@ -149,8 +156,14 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
     if (strcmp(key, "--relays") == 0)
         return sim_int(v, 0, 4096, &a->relays);
     if (strcmp(key, "--pixels") == 0) {
-        a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT : PIXELS_RGB8;
-        return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0;
+        a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT
+                    : strcmp(v, "rgb8z") == 0 ? PIXELS_RGB8Z
+                                              : PIXELS_RGB8;
+        return strcmp(v, "float") == 0 || strcmp(v, "rgb8") == 0 || strcmp(v, "rgb8z") == 0;
+    }
+    if (strcmp(key, "--hit-records") == 0) {
+        a->retrace = strcmp(v, "retrace") == 0;
+        return a->retrace || strcmp(v, "send") == 0;
     }
     if (strcmp(key, "--fill") == 0) {
         a->fill = strcmp(v, "on") == 0;
@@ -191,7 +204,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
     *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true,
-                    0, 0, PAGER_LRU, true, PAGER_HOME_AUTO, PAGER_FETCH_GET};
+                    0, 0, PAGER_LRU, true, PAGER_HOME_AUTO, PAGER_FETCH_GET, false};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
             a->scene = argv[i];
@@ -446,7 +459,8 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
     if (ok) {
         job = (master_job){.blob = blob->bytes, .grid = job.grid, .t = t, .surf = surf,
                            .sched = &run->s, .feed = sim_feed, .feed_arg = run, .idle = &idle,
-                           .image = job.image, .workers = job.workers};
+                           .image = job.image, .workers = job.workers,
+                           .retrace = a->retrace};
         if (run->hetero && a->fill) {
             sched_fill_enable(&run->s);
             job.fill = sim_fill;

@@ -12,12 +12,16 @@
  * And the master's own costs (charges.h), charged where a real master
  * spends them.
  */
+#include <stdint.h>
 #include <string.h>
+#include <stdlib.h>
 
 #include <simgrid/actor.h>
 #include <simgrid/engine.h>
 #include <smpi/smpi.h>
 
+#include "../comm/pixels.h"
+#include "../comm/pixels_z.h"
 #include "../host/store.h"
 #include "../workers/pager.h"
 #include "../workers/tile.h"
@@ -26,7 +30,7 @@
 #include "tile_sim.h"
 
 typedef struct {
-    double message_s, part_s, pixel_s, store_s, page_s;
+    double message_s, part_s, pixel_s, store_s, page_s, decompress_s;
     int store_threads;
     /* simulated time each store thread is busy until */
     double store_until[STORE_THREADS_MAX];
@@ -44,6 +48,7 @@ static sim_master_costs *sim_master(void)
         m.pixel_s = sim_env_number("CSGSIM_MASTER_PIXEL_S", 0);
         m.store_s = sim_env_number("CSGSIM_MASTER_STORE_S", 0);
         m.page_s = sim_env_number("CSGSIM_MASTER_PAGE_S", 0);
+        m.decompress_s = sim_env_number("CSGSIM_MASTER_DECOMPRESS_S", 0);
         double threads = sim_env_number("CSGSIM_MASTER_STORE_THREADS", 1);
         m.store_threads = threads > STORE_THREADS_MAX ? STORE_THREADS_MAX : (int)threads;
     }
@@ -57,11 +62,14 @@ void sim_charge_master_message(void)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
 }
 
-void sim_charge_master_part(size_t pixels, bool rgb8)
+void sim_charge_master_part(size_t pixels, int format, size_t compressed)
 {
     sim_master_costs *m = sim_master();
     double s = m->part_s + (double)pixels * m->pixel_s;
-    if (rgb8 && m->store_s > 0) {
+    /* what a store thread does with the part: store it, decompressed first */
+    double thread_s =
+        (double)pixels * (m->store_s + (format == PIXELS_RGB8Z ? 3 * m->decompress_s : 0));
+    if (pixels_is_rgb8(format) && thread_s > 0) {
         /* the thread with the least waiting (store.c: its ring's bytes not
          * stored yet), each on a core of its own */
         double now = simgrid_get_clock();
@@ -70,11 +78,13 @@ void sim_charge_master_part(size_t pixels, bool rgb8)
             if (m->store_until[i] < m->store_until[k])
                 k = i;
         double start = m->store_until[k] > now ? m->store_until[k] : now;
-        double waiting = (start - now) / m->store_s * 3; /* bytes not stored yet */
-        if (waiting + (double)pixels * 3 + STORE_ALIGN <= (double)STORE_RING_BYTES)
-            m->store_until[k] = start + (double)pixels * m->store_s;
+        /* the bytes a part takes in the ring, and those not stored yet */
+        double bytes = format == PIXELS_RGB8Z ? (double)compressed : (double)pixels * 3;
+        double waiting = (start - now) / thread_s * (bytes + STORE_ALIGN);
+        if (waiting + bytes + STORE_ALIGN <= (double)STORE_RING_BYTES)
+            m->store_until[k] = start + thread_s;
         else
-            s += (double)pixels * m->store_s; /* every ring is full */
+            s += thread_s; /* every ring is full */
     }
     if (s > 0)
         smpi_execute_flops(s * SIM_HOST_FLOPS);
@@ -254,4 +264,70 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
 {
     (void)answers;
     tile_run_rect(tr, r, records, rgb, res);
+}
+
+/* The frame of `bytes` bytes whose first `noise` are pseudo-random (they
+ * do not compress), the rest black, compressed into out: its length (0
+ * on failure). */
+static size_t sim_frame(uint8_t *scratch, size_t bytes, size_t noise, uint8_t *out)
+{
+    uint32_t x = 2463534242u; /* (xorshift32: the same bytes every time) */
+    for (size_t i = 0; i < bytes; i++) {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        scratch[i] = i < noise ? (uint8_t)x : 0;
+    }
+    static pixels_zstream *z; /* (SMPI privatizes it: a rank's own) */
+    if (!z)
+        z = pixels_compressor_new();
+    return pixels_compress(z, scratch, bytes, out);
+}
+
+/* The map of a real render's compressed bytes a pixel ($CSGSIM_WIRE_BYTES:
+ * a cost map whose seconds are bytes, bench/sim/costmap.py --column
+ * wire_bytes), loaded once; NULL when unset. */
+static const sim_costs *sim_wire_map(void)
+{
+    static sim_costs map;
+    static int state; /* 0 not tried, 1 loaded, -1 unset or failed */
+    const char *path = state == 0 ? getenv("CSGSIM_WIRE_BYTES") : NULL;
+    if (state == 0)
+        state = path && *path && sim_costs_load(path, &map) ? 1 : -1;
+    return state == 1 ? &map : NULL;
+}
+
+/* The simulated tile's pixels are black, which compresses to almost
+ * nothing: the part carries instead a frame as long as the real render's
+ * part of that rectangle was (the wire map; without one, the black bytes
+ * compressed), which decompresses to as many bytes as its pixels have
+ * (noise, then black: nobody looks at a simulated image), and its
+ * compression costs $CSGSIM_COMPRESS_S seconds a byte of 3 x pixels (the
+ * measured rate, bench/compress_tiles.c). */
+size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, pixels_zstream *z, const uint8_t *rgb8,
+                         uint8_t *out)
+{
+    size_t bytes = (size_t)r.width * (size_t)r.height * 3;
+    double s = (double)bytes * sim_env_number("CSGSIM_COMPRESS_S", 0);
+    if (s > 0)
+        smpi_execute_flops(s * SIM_HOST_FLOPS);
+    const sim_costs *wire = sim_wire_map();
+    if (!wire)
+        return pixels_compress(z, rgb8, bytes, out);
+    double want = sim_costs_rect(wire, tr->grid.width, tr->grid.height, r).seconds;
+    uint8_t *scratch = malloc(bytes);
+    if (!scratch)
+        return 0;
+    /* noise costs its bytes and a little: try, then correct */
+    size_t least = sim_frame(scratch, bytes, 0, out);
+    double guess = want - (double)least;
+    size_t noise = guess <= 0 ? 0 : guess >= (double)bytes ? bytes : (size_t)guess;
+    size_t len = sim_frame(scratch, bytes, noise, out);
+    if (len > 0 && noise > 0 && (double)len > want) {
+        size_t over = (size_t)((double)len - want);
+        noise = over < noise ? noise - over : 0;
+        len = sim_frame(scratch, bytes, noise, out);
+    }
+    free(scratch);
+    return len;
 }

@@ -15,6 +15,13 @@
 #     frame before the OpenCL build), none runs serially or to EXR, and
 #     --store-threads 3 gives the same PNG with 3 (store_threads,
 #     store_cpu_s in the stats).
+#   - compressed results (--compress, comm/pixels_z.h): homo and hetero, with
+#     batches and under a relay, give the serial PNG byte for byte, the
+#     stats say rgb8z and the master received fewer bytes than with plain
+#     bytes; auto compresses only when the ranks span more than one node
+#     and the link between them, measured at start, is slow (nodes of two
+#     ranks and the link's speed pretended: CSGTRACE_TEST_NODE_RANKS,
+#     CSGTRACE_TEST_LINK_MBPS).
 # Usage: tests/e2e_bytes.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -88,6 +95,49 @@ for mode in homo hetero; do
         ok "$mode: to TIFF (8-bit, through OpenImageIO): the serial PNG's pixels" ||
         ko "$mode: to TIFF"
 done
+
+# Deflated results: the same PNG, fewer bytes received.
+# (tile 1: a part of one pixel compresses to more than its floats would take)
+for run in "homo 3" "hetero 3" "homo 3 --batch 4" "hetero 3 --batch 4" "homo 5 --relays 1 --batch 3" \
+    "hetero 5 --relays 1" "homo 3 --tile 1 --batch 32"; do
+    set -- $run
+    mode=$1 np=$2 name=z-$(echo "$run" | tr -d ' -'); shift 2
+    bad=""
+    for c in on off; do
+        "${MPI[@]}" -np $np "$BIN" render "$T/random.pov" "${SZ[@]}" --mode $mode "$@" --compress $c \
+            -o "$T/$name-$c.png" --stats "$T/$name-$c.json" >/dev/null 2>&1 || bad+=" $c:failed"
+        cmp -s "$T/random-serial.png" "$T/$name-$c.png" || bad+=" $c:differs"
+    done
+    json "$T/$name-on.json" "j['result_pixels'] == 'rgb8z'" || bad+=" on:not-rgb8z"
+    json "$T/$name-off.json" "j['result_pixels'] == 'rgb8'" || bad+=" off:not-rgb8"
+    # (fewer bytes but for parts of one pixel, whose frame is larger)
+    [[ "$run" == *"--tile 1 "* ]] ||
+        python3 -c "import json,sys; a,b=(json.load(open(f))['bytes_received'] for f in sys.argv[1:]); sys.exit(0 if a < b else 1)" \
+            "$T/$name-on.json" "$T/$name-off.json" || bad+=" bytes:not-fewer"
+    [ -z "$bad" ] && ok "--compress on ($run): the serial PNG, byte for byte; rgb8z, fewer bytes received (but tile 1)" ||
+        ko "--compress on ($run):$bad"
+done
+# auto: plain bytes on one node, and across (pretended) nodes whose link,
+# measured at start, is fast (shared memory here); compressed across nodes
+# behind a slow one (125 MB/s, gigabit Ethernet, pretended).
+TBIN=$BIN-test
+if [ -x "$TBIN" ]; then
+    for case in "0 0" "2 0" "2 125"; do
+        set -- $case
+        CSGTRACE_TEST_NODE_RANKS=$1 CSGTRACE_TEST_LINK_MBPS=$2 "${MPI[@]}" -np 3 "$TBIN" render \
+            "$T/random.pov" "${SZ[@]}" --mode homo -o "$T/auto-$1-$2.png" --stats "$T/auto-$1-$2.json" \
+            >/dev/null 2>&1
+    done
+    cmp -s "$T/random-serial.png" "$T/auto-0-0.png" && cmp -s "$T/random-serial.png" "$T/auto-2-0.png" &&
+        cmp -s "$T/random-serial.png" "$T/auto-2-125.png" &&
+        json "$T/auto-0-0.json" "j['result_pixels'] == 'rgb8' and j['link_mbps'] == 0" &&
+        json "$T/auto-2-0.json" "j['result_pixels'] == 'rgb8' and j['link_mbps'] > 300" &&
+        json "$T/auto-2-125.json" "j['result_pixels'] == 'rgb8z' and j['link_mbps'] == 125" &&
+        ok "--compress auto: rgb8 on one node and across a fast link (measured), rgb8z across a slow one; the serial PNG each time" ||
+        ko "--compress auto"
+else
+    ko "--compress auto: $TBIN is not built (make all)"
+fi
 
 # Truthful stats: 9 bytes a pixel fewer received to PNG than to EXR.
 for extra in "" "--tile 8 --batch 4"; do

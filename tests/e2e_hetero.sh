@@ -58,6 +58,42 @@ for spec in "5 0.2 1" "20 0.5 2" "40 0.8 3" "200 0.6 4"; do
     fi
 done
 
+# --- --hit-records retrace: the pass only tells which tiles have hits; the
+# workers trace those tiles' primary rays themselves (a slow link): the
+# serial image, the same hits, the same tiles skipped, no records sent
+# (a few bytes a tile where the records took 8 a pixel); --simd shadows
+# with it is refused (exit 2, one message) ---
+scene=$T/gen_2.pov
+render rt_send 3 hetero "$scene" --width 96 --height 72 --tile 16 --batch 2
+render rt_re 3 hetero "$scene" --width 96 --height 72 --tile 16 --batch 2 --hit-records retrace
+render rt_rel 4 hetero "$scene" --width 96 --height 72 --tile 8 --relays 1 --hit-records retrace \
+    --precision double
+render rt_sd 0 serial "$scene" --width 96 --height 72 --precision double
+if same "$T/s_2.pfm" "$T/rt_re.pfm" && same "$T/s_2.pfm" "$T/rt_send.pfm" &&
+    same "$T/rt_sd.pfm" "$T/rt_rel.pfm" &&
+    python3 - "$T/rt_send.json" "$T/rt_re.json" "$T/rt_rel.json" <<'PY'; then
+import json, sys
+a, b, c = (json.load(open(f)) for f in sys.argv[1:])
+pixels = a['width'] * a['height']
+ok = (a['hit_records'] == 'send' and b['hit_records'] == 'retrace' and
+      c['hit_records'] == 'retrace' and a['tiles_degenerate'] > 0 and
+      b['tiles_degenerate'] == a['tiles_degenerate'] and b['pixels_hit'] == a['pixels_hit'] and
+      a['bytes_sent'] - b['bytes_sent'] >= 8 * pixels // 2 and
+      b['bytes_sent'] < a['bytes_sent'] // 10)
+print(a['bytes_sent'], b['bytes_sent'], a['pixels_hit'], b['pixels_hit'])
+sys.exit(0 if ok else 1)
+PY
+    ok "--hit-records retrace (batches, a relay, double): the serial image, the same hits and skipped tiles, no records sent"
+else
+    ko "--hit-records retrace: images or stats differ"
+fi
+"$BIN" render "$scene" -o "$T/rt_bad.pfm" --mode hetero --hit-records retrace --simd shadows \
+    >/dev/null 2>"$T/rt_bad.err"
+rc=$?
+[ $rc = 2 ] && [ "$(grep -c 'error:' "$T/rt_bad.err")" = 1 ] && [ ! -e "$T/rt_bad.pfm" ] &&
+    ok "--hit-records retrace with --simd shadows: exit 2, one message" ||
+    ko "--hit-records retrace with --simd shadows: exit $rc"
+
 # --- --simd shadows: the pass answers the primary hits' shadow rays (a
 # transparent blocker, a spotlight, an area light, a shadowless light and
 # 36 lights: the unknown paths too); hetero --simd shadows == serial with

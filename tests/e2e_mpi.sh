@@ -522,30 +522,52 @@ for ext in exr png; do
             -a "$(grep -c 'worker 1' "$TMP/rogue-$mode.err")" = 1 -a ! -e "$out"
     done
 done
+# rogue_refused NAME WORKER DESCRIPTION RELAYS RENDER-ARGS... -- ROGUE-MODE:
+# the render of $first with a rogue worker beside RELAYS relays ends with
+# exit 1, one message naming worker WORKER and no image.  (A relay that
+# ends the job with MPI_Abort, as on a message too large to take, races
+# mpirun's SIGTERM to rank 0, which may have rendered the lost items itself
+# and written the image first: then its line says the files are kept, and
+# they are.  The rogue's own line when its relay's abort beats mpirun's
+# SIGTERM to it, about 1 run in 100 on a loaded machine, is not the
+# render's.)
+rogue_refused() {
+    local name=$1 worker=$2 what=$3 relays=$4 out=$TMP/$1.png rc kept
+    shift 4
+    local args=() mode
+    while [ "$1" != -- ]; do args+=("$1"); shift; done
+    mode=$2
+    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np $((relays + 1)) \
+        "$BIN" render "$first" "${SZ[@]}" --mode homo --relays "$relays" "${args[@]}" -o "$out" \
+        : -np 1 "$ROGUE" "$mode" >"$TMP/$name.out" 2>"$TMP/$name.err"
+    rc=$?
+    kept=$(grep -c 'after the render had finished: its files are kept' "$TMP/$name.err")
+    grep -v ": error: worker $worker: the master is gone; exiting\$" "$TMP/$name.err" \
+        >"$TMP/$name.master.err"
+    check "$what: exit 1, one message naming worker $worker, no image (got $rc)" \
+        test $rc = 1 -a "$(error_lines "$name.master")" = 1 \
+        -a "$(grep -c "worker $worker" "$TMP/$name.master.err")" = 1 \
+        -a \( ! -e "$out" -o "$kept" = 1 \)
+}
+# Compressed results (--compress on): a frame longer than its pixels
+# could compress to, one that is not Zstandard, one that decompresses past
+# its tile: each refused, directly and through a relay (which forwards the
+# parts whose size fits, rank 0's store thread decompressing them).
+for mode in zbound zcorrupt zlong; do
+    [ -x "$ROGUE" ] || continue
+    for relays in 0 1; do
+        rogue_refused "rogue-z$relays-$mode" $((relays + 1)) \
+            "rogue worker, compressed ($mode, relays $relays)" $relays --compress on -- "$mode"
+    done
+done
 # The same rogue under a relay (ranks 0, 1: csgtrace with --relays 1; rank
-# 2: the rogue, relay 1's only worker): the relay refuses its answer, the
-# render ends with one message naming worker 2, exit 1, no image.  Tile 2
-# and --batch 32: the relay holds hundreds of parts and deals the rogue
-# several a message (part, one).  (A relay that ends the job with
-# MPI_Abort, as on a message too large to take, races mpirun's SIGTERM to
-# rank 0, which may have rendered the lost items itself and written the
-# image first: then its line says the files are kept, and they are.)
+# 2: the rogue, relay 1's only worker): the relay refuses its answer.
+# Tile 2 and --batch 32: the relay holds hundreds of parts and deals the
+# rogue several a message (part, one).
 for mode in big short index tag pixels part one; do
     [ -x "$ROGUE" ] || continue
-    out=$TMP/rogue-rel-$mode.png
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} timeout 120 "${MPIRUN[@]}" -np 2 "$BIN" render \
-        "$first" "${SZ[@]}" --mode homo --tile 2 --batch 32 --relays 1 -o "$out" \
-        : -np 1 "$ROGUE" "$mode" >"$TMP/rogue-rel-$mode.out" 2>"$TMP/rogue-rel-$mode.err"
-    rc=$?
-    kept=$(grep -c 'after the render had finished: its files are kept' "$TMP/rogue-rel-$mode.err")
-    # (the rogue's own line when its relay's abort beats mpirun's SIGTERM to
-    # it, about 1 run in 100 on a loaded machine, is not the render's)
-    grep -v ': error: worker 2: the master is gone; exiting$' "$TMP/rogue-rel-$mode.err" \
-        >"$TMP/rogue-rel-$mode.master.err"
-    check "rogue worker under a relay ($mode): exit 1, one message naming worker 2, no image (got $rc)" \
-        test $rc = 1 -a "$(error_lines "rogue-rel-$mode.master")" = 1 \
-        -a "$(grep -c 'worker 2' "$TMP/rogue-rel-$mode.master.err")" = 1 \
-        -a \( ! -e "$out" -o "$kept" = 1 \)
+    rogue_refused "rogue-rel-$mode" 2 "rogue worker under a relay ($mode)" 1 --tile 2 --batch 32 \
+        -- "$mode"
 done
 
 if [ $have_cl = 1 ]; then

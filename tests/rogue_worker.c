@@ -18,6 +18,11 @@
  *   pixels  a RESULT in a pixel format the session did not ask for: 8-bit
  *           to a float (EXR) render, an unknown one (7) to an 8-bit one,
  *           sized for 8-bit pixels
+ * and, to a render with --compress on (compressed 8-bit pixels):
+ *   zbound  a RESULT whose compressed bytes are more than its pixels could
+ *           ever compress to (sent whole: the size matches the header)
+ *   zcorrupt  a RESULT whose compressed bytes are not a Zstandard frame
+ *   zlong   a RESULT whose stream decompresses to more bytes than its tile
  * Well-sized answers come in the session's pixel format (proto_setup:
  * 3 bytes a pixel to an 8-bit file, 12 to a float one).
  * then waits for STOP and exits 0.  The master must report one error,
@@ -67,11 +72,47 @@ static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels, 
     free(msg);
 }
 
+/* Compressed modes (the session's pixels PIXELS_RGB8Z): a RESULT whose
+ * header's payload and bytes are MODE's. */
+static void rogue_compressed_reply(const char *mode, const link_msg *in, int parent)
+{
+    proto_tile t;
+    memcpy(&t, in->data, sizeof t);
+    size_t bytes = (size_t)t.width * (size_t)t.height * 3;
+    size_t extra = strcmp(mode, "zlong") == 0 ? 64 : 0; /* (decompresses past the tile) */
+    size_t room = pixels_compress_bound(bytes + extra) + pixels_compress_bound(bytes) + 64;
+    uint8_t *raw = calloc(1, bytes + extra);
+    char *msg = calloc(1, sizeof(proto_result) + room);
+    pixels_zstream *z = pixels_compressor_new();
+    if (!raw || !msg || !z)
+        exit(3);
+    uint8_t *payload = (uint8_t *)msg + sizeof(proto_result);
+    size_t len;
+    if (strcmp(mode, "zbound") == 0) {
+        len = pixels_compress_bound(bytes) + 8;
+    } else if (strcmp(mode, "zcorrupt") == 0) {
+        len = 40;
+        memset(payload, 0xab, len);
+    } else {
+        len = pixels_compress(z, raw, bytes + extra, payload);
+    }
+    proto_result r = {.index = t.index, .pixels = PIXELS_RGB8Z, .payload = (uint32_t)len};
+    memcpy(msg, &r, sizeof r);
+    link_send(parent, PROTO_TAG_RESULT, msg, sizeof r + len);
+    pixels_zstream_free(z);
+    free(raw);
+    free(msg);
+}
+
 /* The reply to the tile in `in` that MODE asks for. */
 static void rogue_reply(const char *mode, const link_msg *in, int pixels, int parent)
 {
     if (strcmp(mode, "part") == 0 || strcmp(mode, "one") == 0) {
         rogue_batch_reply(mode, in, pixels, parent);
+        return;
+    }
+    if (mode[0] == 'z') {
+        rogue_compressed_reply(mode, in, parent);
         return;
     }
     int claimed = pixels;

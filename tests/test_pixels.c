@@ -19,6 +19,7 @@
 
 #include "../host/output/image.h"
 #include "../comm/pixels.h"
+#include "../comm/pixels_z.h"
 #include "same_file.h"
 
 /* Every byte's stand-in converts back to that byte. */
@@ -235,6 +236,52 @@ static void test_png_from_bytes_is_png_of_floats(void **state)
     rmdir(dir);
 }
 
+/* A tile of rendered-like bytes (a flat background, a shaded disc) through
+ * a worker's compressor and rank 0's decompressor: the same bytes, fewer
+ * of them; and each way a part can be wrong refused without a byte
+ * written past its tile: cut short, one byte too many, the tile one byte
+ * smaller or larger, a flipped bit, nothing, the wrong kind of context. */
+static void test_compress_round_trip_and_refusals(void **state)
+{
+    (void)state;
+    enum { W = 32, H = 32, N = W * H * 3 };
+    uint8_t tile[N], back[N + 16];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            int d2 = (x - 16) * (x - 16) + (y - 16) * (y - 16);
+            for (int c = 0; c < 3; c++)
+                tile[(y * W + x) * 3 + c] = d2 < 144 ? (uint8_t)(200 - d2 + 17 * c) : 30;
+        }
+    pixels_zstream *def = pixels_compressor_new(), *inf = pixels_decompressor_new();
+    assert_non_null(def);
+    assert_non_null(inf);
+    uint8_t z[pixels_compress_bound(N) + 1];
+    size_t len = pixels_compress(def, tile, N, z);
+    assert_true(len > 0 && len < N / 3); /* (this disc: 775 bytes; rendered tiles: 11x) */
+    for (int round = 0; round < 2; round++) { /* (the streams are reused) */
+        memset(back, 0x5a, sizeof back);
+        assert_true(pixels_decompress(inf, z, len, back, N));
+        assert_memory_equal(back, tile, N);
+        assert_int_equal(back[N], 0x5a);
+        assert_int_equal(pixels_compress(def, tile, N, z), len);
+    }
+    assert_false(pixels_decompress(inf, z, len - 1, back, N));  /* cut short     */
+    z[len] = 0;
+    assert_false(pixels_decompress(inf, z, len + 1, back, N));  /* a byte after  */
+    memset(back, 0x5a, sizeof back);
+    assert_false(pixels_decompress(inf, z, len, back, N - 1));  /* tile smaller  */
+    assert_int_equal(back[N - 1], 0x5a);                        /* (nothing past) */
+    assert_false(pixels_decompress(inf, z, len, back, N + 1));  /* tile larger   */
+    assert_false(pixels_decompress(inf, z, 0, back, N));        /* nothing       */
+    z[len / 2] ^= 0x40; /* (the frame's checksum catches it) */
+    assert_false(pixels_decompress(inf, z, len, back, N));
+    assert_false(pixels_decompress(def, z, len, back, N));      /* a compressor  */
+    assert_int_equal(pixels_compress(inf, tile, N, z), 0);      /* a decompressor */
+    pixels_zstream_free(def);
+    pixels_zstream_free(inf);
+    pixels_zstream_free(NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -245,6 +292,7 @@ int main(void)
         cmocka_unit_test(test_format_for_path),
         cmocka_unit_test(test_png_from_bytes_is_png_of_floats),
         cmocka_unit_test(test_store_bytes_rect),
+        cmocka_unit_test(test_compress_round_trip_and_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -663,6 +663,12 @@ static void test_batch_bytes(void **state)
      * limit for every output) */
     assert_int_equal(proto_result_part(49, PIXELS_RGB8), sizeof(proto_result) + 49 * 3);
     assert_int_equal(proto_result_part(49, PIXELS_RGB8) + 49 * 9, odd);
+    /* compressed parts: a part of one pixel may take more than its floats
+     * (a frame's header and checksum), and the limits leave room for it */
+    assert_true(proto_result_part_max(1) >= sizeof(proto_result) + pixels_compress_bound(3));
+    assert_true(proto_result_part_max(1) > proto_result_part(1, PIXELS_FLOAT));
+    assert_true(proto_master_limit(1, 1) >= proto_result_part_max(1));
+    assert_int_equal(proto_result_part_max(49), odd);
 }
 
 int main(void)

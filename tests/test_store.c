@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "../comm/pixels.h"
+#include "../comm/pixels_z.h"
 #include "../host/store.h"
 
 enum { W = 300, H = 200, T = 20 }; /* tiles of 20x20: 15 x 10 */
@@ -148,6 +149,42 @@ static void test_thread_count(void **state)
     }
 }
 
+/* Compressed parts (--compress): the threads decompress each into its
+ * tile, the image as with plain bytes; then one part that is not a frame
+ * (tag 7): store_corrupt names it, nothing of it is stored, and no tile is
+ * ever given back as complete after it. */
+static void test_compressed_parts_and_a_corrupt_one(void **state)
+{
+    memset(image, 0, sizeof image);
+    memset(want, 0, sizeof want);
+    store *s = store_start(image, W, W / T * (H / T), threads_of(state));
+    pixels_zstream *z = pixels_compressor_new();
+    assert_non_null(s);
+    assert_non_null(z);
+    uint8_t frame[pixels_compress_bound(sizeof bytes)];
+    for (int i = 0; i < W / T * (H / T); i++) {
+        fill_bytes(i, 1);
+        expect(tile_of(i));
+        size_t len = pixels_compress(z, bytes, sizeof bytes, frame);
+        assert_true(len > 0);
+        assert_true(store_queue_compressed(s, tile_of(i), frame, len, i));
+    }
+    store_drain(s);
+    assert_int_equal(store_corrupt(s), -1);
+    assert_memory_equal(image, want, sizeof image);
+    assert_true(store_after(s, 1)); /* (all in: complete at once) */
+    memset(frame, 0xab, 40);
+    assert_true(store_queue_compressed(s, tile_of(0), frame, 40, 7));
+    store_drain(s);
+    assert_int_equal(store_corrupt(s), 7);
+    assert_memory_equal(image, want, sizeof image); /* (nothing of it stored) */
+    assert_false(store_after(s, 0));
+    int tile;
+    assert_false(store_finished(s, &tile, true));
+    pixels_zstream_free(z);
+    store_stop(s);
+}
+
 static int one = 1, three = 3;
 
 int main(void)
@@ -159,6 +196,8 @@ int main(void)
         cmocka_unit_test_prestate(test_every_part_stored, &three),
         cmocka_unit_test_prestate(test_tiles_given_back_once_stored, &three),
         cmocka_unit_test_prestate(test_too_large_refused_and_stop_drains, &three),
+        cmocka_unit_test_prestate(test_compressed_parts_and_a_corrupt_one, &one),
+        cmocka_unit_test_prestate(test_compressed_parts_and_a_corrupt_one, &three),
         cmocka_unit_test(test_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

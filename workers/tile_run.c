@@ -14,6 +14,7 @@
  * functions, the rectangle's measured cost executed on a simulated host.
  */
 #include "tile.h"
+#include "../comm/pixels_z.h"
 
 #include "pager.h"
 
@@ -102,4 +103,11 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
         res->paging = page_counts_since(&before, &pager->stats);
         res->page_failed = pager->failed;
     }
+}
+
+size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, pixels_zstream *z, const uint8_t *rgb8,
+                         uint8_t *out)
+{
+    (void)tr;
+    return pixels_compress(z, rgb8, (size_t)r.width * (size_t)r.height * 3, out);
 }

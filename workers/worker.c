@@ -91,7 +91,9 @@ typedef struct {
     size_t in_limit;      /* the largest message it may send us       */
     int batch;            /* parts in one TILE at most (the setup's)  */
     int pixels;           /* enum pixels_format asked for (the setup's) */
-    float *rgb;           /* PIXELS_RGB8: a part's floats, converted    */
+    float *rgb;           /* PIXELS_RGB8(Z): a part's floats, converted */
+    uint8_t *rgb8;        /* PIXELS_RGB8Z: a part's bytes, compressed     */
+    pixels_zstream *compressor; /* PIXELS_RGB8Z: kept between parts       */
     char *out[PROTO_IN_FLIGHT];     /* RESULTs: one part at first,    */
     size_t out_cap[PROTO_IN_FLIGHT]; /* grown to a batch's bytes       */
     link_req out_req[PROTO_IN_FLIGHT]; /* their sends                 */
@@ -296,19 +298,24 @@ static void worker_prepare(worker_state *w, const proto_setup *setup)
     if (w->paged && w->pager.homes > 0) /* (others' rays wait on its answers) */
         w->runner.band_pixels = TILE_BAND_PIXELS_HOME;
     const tile_grid *g = &w->runner.grid;
-    if (setup->pixels != PIXELS_FLOAT && setup->pixels != PIXELS_RGB8) {
+    if (setup->pixels != PIXELS_FLOAT && !pixels_is_rgb8(setup->pixels)) {
         worker_set_failure(w, "no valid pixel format received (%d)", (int)setup->pixels);
         return;
     }
     w->batch = setup->batch;
     w->pixels = setup->pixels;
     w->in_limit = proto_worker_limit(g, w->batch);
-    if (w->pixels == PIXELS_RGB8) {
+    if (pixels_is_rgb8(w->pixels)) {
         w->rgb = malloc(g->pixels_max * 3 * sizeof *w->rgb);
         ok = ok && w->rgb;
     }
+    if (w->pixels == PIXELS_RGB8Z) {
+        w->rgb8 = malloc(g->pixels_max * 3);
+        w->compressor = pixels_compressor_new();
+        ok = ok && w->rgb8 && w->compressor;
+    }
     for (int i = 0; i < PROTO_IN_FLIGHT; i++) {
-        w->out_cap[i] = proto_result_part(g->pixels_max, PIXELS_FLOAT);
+        w->out_cap[i] = proto_result_part_max(g->pixels_max);
         w->out[i] = malloc(w->out_cap[i]);
         ok = ok && w->out[i];
     }
@@ -326,8 +333,9 @@ static void worker_send_fail(const worker_state *w, int index, const char *text)
 }
 
 /* The rectangle of part h (at `at` in `in`), its answer into `out` (room
- * for it in floats): the answer's bytes.  PIXELS_RGB8: the bytes of the
- * 8-bit file (comm/pixels.h). */
+ * for it in floats): the answer's bytes, 0 when its pixels could not be
+ * compressed.  PIXELS_RGB8: the bytes of the 8-bit file (comm/pixels.h);
+ * PIXELS_RGB8Z: those compressed (comm/pixels_z.h). */
 static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
                              char *out)
 {
@@ -343,9 +351,18 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     tile_timer timer; /* (the part's whole work: the map of bench/sim/costmap.py) */
     tile_time_start(&timer);
     tile_run_rect_answered(&w->runner, r, payload, answers,
-                           w->pixels == PIXELS_RGB8 ? w->rgb : floats, &res);
-    if (w->pixels == PIXELS_RGB8)
+                           pixels_is_rgb8(w->pixels) ? w->rgb : floats, &res);
+    uint32_t compressed = 0;
+    if (w->pixels == PIXELS_RGB8) {
         pixels_to_rgb8(w->rgb, n * 3, (uint8_t *)floats);
+    } else if (w->pixels == PIXELS_RGB8Z) {
+        pixels_to_rgb8(w->rgb, n * 3, w->rgb8);
+        /* (out has room for the worst: proto_result_part_max) */
+        compressed = (uint32_t)tile_compress_rgb8(&w->runner, r, w->compressor, w->rgb8,
+                                               (uint8_t *)floats);
+        if (compressed == 0)
+            return 0;
+    }
     tile_time_stop(&timer, &res);
     proto_result head = {.index = h->index,
                          .hits = res.hits,
@@ -358,9 +375,10 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
                          .busy_s = res.busy_s,
                          .cpu_s = res.cpu_s,
                          .pixels = w->pixels,
+                         .payload = compressed,
                          .paging = res.paging};
     memcpy(out, &head, sizeof head);
-    return proto_result_part(n, w->pixels);
+    return proto_result_part_of(&head, n, w->pixels);
 }
 
 /* Every part of TILE `in` computed into RESULT buffer `slot`: the
@@ -383,13 +401,18 @@ static size_t worker_do_parts(worker_state *w, const link_msg *in, proto_tile *h
             test_hook_kill(w->rank, "item", w->tiles_done);
         }
         size_t start = proto_align(len);
-        size_t room = start + proto_result_part((size_t)h->width * (size_t)h->height, PIXELS_FLOAT);
+        size_t room = start + proto_result_part_max((size_t)h->width * (size_t)h->height);
         if (!proto_buffer(&w->out[slot], &w->out_cap[slot], room)) {
             *why = "out of memory for a batch of tiles";
             return 0;
         }
         memset(w->out[slot] + len, 0, start - len); /* the padding between parts */
-        len = start + worker_do_part(w, in, at, h, w->out[slot] + start);
+        size_t part = worker_do_part(w, in, at, h, w->out[slot] + start);
+        if (part == 0) {
+            *why = "the tile's pixels could not be compressed";
+            return 0;
+        }
+        len = start + part;
         w->tiles_done++;
         if (w->paged && w->pager.failed) {
             *why = "a page of the scene could not be fetched";
@@ -455,6 +478,8 @@ static void worker_free(worker_state *w)
     if (w->paged)
         pager_close(&w->pager);
     free(w->rgb);
+    free(w->rgb8);
+    pixels_zstream_free(w->compressor);
     tile_runner_free(&w->runner);
     for (int i = 0; i < WORKER_QUEUE; i++)
         link_msg_free(&w->queue[i]);

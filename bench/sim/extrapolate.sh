@@ -8,6 +8,10 @@
 # Writes CSV rows to stdout: network, workers, relays, mode, tile, makespan,
 # efficiency, master_busy, tail_s, ramp_s, bytes the master sent/received.
 #   POINTS="ib:64:0:homo ..." [SCHEDULE=raster|cost|tail] bench/sim/extrapolate.sh > out.csv
+# PIXELS=rgb8z (csgtrace --compress on) with WIRE_MAP (the compressed bytes a
+# tile, bench/sim/costmap.py --column wire_bytes), COMPRESS_NS, DECOMPRESS_NS
+# (bench/compress_tiles.c); RECORDS=retrace (csgtrace --hit-records
+# retrace: hetero's workers trace their primary rays, no records sent).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
@@ -15,6 +19,12 @@ TILE=${TILE:-32}
 SCHEDULE=${SCHEDULE:-raster}
 POINTS=${POINTS:-"ib:64:0:homo ib:64:0:hetero ib:256:16:homo ib:256:16:hetero ib:1024:32:homo ib:1024:32:hetero gige:64:0:hetero gige:64:0:homo"}
 TIMEOUT=${POINT_TIMEOUT:-900}
+PIXELS=${PIXELS:-rgb8} RECORDS=${RECORDS:-send}
+wire=(--pixels "$PIXELS")
+[ -n "${WIRE_MAP:-}" ] && wire+=(--wire-map "$WIRE_MAP")
+[ -n "${COMPRESS_NS:-}" ] && wire+=(--compress-ns "$COMPRESS_NS")
+[ -n "${DECOMPRESS_NS:-}" ] && wire+=(--decompress-ns "$DECOMPRESS_NS")
+[ "$RECORDS" = send ] || wire+=(--hit-records "$RECORDS")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$ROOT/build/csgtrace" gen spheres --count 50 --occupancy 0.5 --seed 1 --width 2048 --height 2048 \
@@ -32,7 +42,7 @@ for p in $POINTS; do
     [ "$mode" = hetero ] && fill=(--fill-map "$work/homo.costs")
     if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" --mode "$mode" \
         --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" --schedule "$SCHEDULE" \
-        --map "$work/$mode.costs" "${fill[@]}" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
+        --map "$work/$mode.costs" "${fill[@]}" "${wire[@]}" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
         python3 - "$work/p.json" "$net" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
