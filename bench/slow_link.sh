@@ -17,7 +17,7 @@ set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=${1:?usage: bench/slow_link.sh OUTDIR}
 RATE=${RATE:-30mbit} ROUNDS=${ROUNDS:-3} SIZE=${SIZE:-1024} NP=${NP:-3}
-CONFIGS=${CONFIGS:-"homo:off:send homo:on:send homo:auto:send hetero:off:send hetero:on:retrace"}
+CONFIGS=${CONFIGS:-"homo:off:send homo:auto:auto hetero:off:send hetero:auto:auto"}
 [ "$(id -u)" = 0 ] || { echo "bench/slow_link.sh: needs root (ip netns, tc)" >&2; exit 2; }
 [[ "$RATE" =~ ^[0-9]+[kmg]bit$ && "$SIZE" =~ ^[1-9][0-9]{0,4}$ && "$ROUNDS" =~ ^[1-9][0-9]?$ &&
    "$NP" =~ ^[2-9]$ ]] || { echo "bench/slow_link.sh: RATE (e.g. 30mbit), SIZE, ROUNDS, NP (2-9)" >&2; exit 2; }

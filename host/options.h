@@ -108,9 +108,10 @@ enum cli_kind {
     X("--compress", NULL, "auto|on|off", CLI_CHOICE, req.compress, 0, 0, cli_compress,         \
       CLI_ON_RENDERS, "8-bit results compressed on their way to rank 0 (default auto: when the " \
                       "ranks span more than one node)")                                        \
-    X("--hit-records", NULL, "send|retrace", CLI_SWITCH, req.retrace, 0, 0, cli_records,       \
-      CLI_ON_RENDERS, "hetero: the pass's hits sent with the tiles, or the workers trace "      \
-                      "the primary rays of the tiles with hits (a slow link; default send)")   \
+    X("--hit-records", NULL, "auto|send|retrace", CLI_CHOICE, req.hit_records, 0, 0,           \
+      cli_records, CLI_ON_RENDERS, "hetero: the pass's hits sent with the tiles, or the "       \
+      "workers trace the primary rays of the tiles with hits (default auto: retrace across a " \
+      "slow link)")                                                                            \
     X("--fill", NULL, "on|off", CLI_SWITCH, req.no_fill, 0, 0, cli_fill, CLI_ON_RENDERS,       \
       "hetero: workers render whole tiles while the pass is not ready (default on)")          \
     X("--pass", NULL, "auto|always", CLI_SWITCH, req.pass_always, 0, 0, cli_pass,              \

@@ -525,6 +525,43 @@ static void render_account(const render_state *rs, const master_job *job,
 }
 
 /* Everything the tile phase needs, the pass started; 0 or the failure. */
+/* A link to another node slower than this, measured at start, is slow:
+ * --compress auto compresses the 8-bit results and --hit-records auto
+ * sends no records over it.  It is about what rank 0's store thread takes
+ * in when it decompresses and stores (1.8 + 1.1 ns a byte, bench/
+ * SCALE.md, *Results on a slow link*): below it the results wait on the
+ * wire, and compressed ones arrive ten times faster; above it the thread
+ * would be the slower, and the workers' 1 % is spent for nothing.  The
+ * records, 8 bytes a pixel where a compressed result is 0.3, cost rank
+ * 0's link more there than the primary rays cost the workers (gigabit
+ * Ethernet: 125 MB/s, slow; InfiniBand: not). */
+#define RENDER_SLOW_LINK_BPS 300e6
+
+/* Do the ranks span nodes behind a slow link? */
+static bool render_link_slow(void)
+{
+    double bps = link_between_nodes_bps();
+    return link_spans_nodes() && bps > 0 && bps < RENDER_SLOW_LINK_BPS;
+}
+
+/* What the workers answer in: an 8-bit file's bytes (compressed as
+ * --compress asks), or floats. */
+static int render_result_pixels(const render_request *req)
+{
+    int format = pixels_format_for(req->out_path);
+    bool compress = req->compress == COMPRESS_ON ||
+                    (req->compress == COMPRESS_AUTO && render_link_slow());
+    return format == PIXELS_RGB8 && compress ? PIXELS_RGB8Z : format;
+}
+
+/* Does hetero send the workers no records (--hit-records)?  Never with
+ * --simd shadows, whose answers travel with them. */
+static bool render_retraces(const render_request *req)
+{
+    return req->hit_records == RECORDS_RETRACE ||
+           (req->hit_records == RECORDS_AUTO && !req->simd_shadows && render_link_slow());
+}
+
 static int render_prepare(const render_request *req, master_session *ms, render_state *rs,
                           render_stats *st, render_marks *mk, master_job *job, csg_diag *d)
 {
@@ -594,7 +631,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     }
     int status = pass_prepare(rs->pass, &grid, use_workers ? &rs->idle : NULL, d);
     job->t = pass_t(rs->pass);
-    job->retrace = req->retrace;
+    job->retrace = render_retraces(req);
     job->surf = pass_surf(rs->pass);
     job->known = pass_known(rs->pass);
     job->lit = pass_lit(rs->pass);
@@ -777,26 +814,6 @@ static bool render_get_local(void *arg, const pager_range *ranges, int n, unsign
 /* --scene-memory: the page plan (rank 0 validated the blob when it loaded
  * it), checked against the budget; without workers, rank 0's own pager
  * over it.  0, or the failure with d filled. */
-/* --compress auto compresses the 8-bit results when the link to another
- * node, measured at start, is slower than this: about what rank 0's store
- * thread takes in when it decompresses and stores (1.8 + 1.1 ns a byte,
- * bench/SCALE.md, *Results on a slow link*).  Below it the results wait
- * on the wire, and compressed ones arrive ten times faster; above it the
- * thread would be the slower, and the workers' 1 % is spent for nothing
- * (gigabit Ethernet: 125 MB/s, compressed; InfiniBand: not). */
-#define RENDER_COMPRESS_BELOW_BPS 300e6
-
-/* What the workers answer in: an 8-bit file's bytes (compressed as
- * --compress asks), or floats. */
-static int render_result_pixels(const render_request *req)
-{
-    int format = pixels_format_for(req->out_path);
-    double bps = link_between_nodes_bps();
-    bool compress = req->compress == COMPRESS_ON ||
-                    (req->compress == COMPRESS_AUTO && link_spans_nodes() && bps > 0 &&
-                     bps < RENDER_COMPRESS_BELOW_BPS);
-    return format == PIXELS_RGB8 && compress ? PIXELS_RGB8Z : format;
-}
 
 static int render_plan_pages(const render_request *req, master_session *ms, render_state *rs,
                              render_stats *st, csg_diag *d)
@@ -907,7 +924,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
         status = render_image(req, &ms, &rs, &st, &mk, &d);
     st.batch = ms.batch;
     st.result_pixels = ms.workers > 0 ? pixels_format_name(ms.pixels) : "none";
-    st.hit_records = req->mode != MODE_HETERO ? "none" : req->retrace ? "retrace" : "send";
+    st.hit_records = req->mode != MODE_HETERO ? "none" : render_retraces(req) ? "retrace" : "send";
     st.link_mbps = link_between_nodes_bps() / 1e6;
     st.tile_messages = ms.tile_messages;
     st.bytes_sent = ms.bytes_sent;

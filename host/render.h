@@ -25,6 +25,11 @@ enum render_precision { PREC_FLOAT, PREC_DOUBLE, PREC_AUTO };
  * the ranks span more than one node (a network between them: a gigabit
  * link is the bound there, bench/SCALE.md), always, or never. */
 enum render_compress { COMPRESS_AUTO, COMPRESS_ON, COMPRESS_OFF };
+/* --hit-records: hetero sends the workers the pass's records with their
+ * tiles, or none (retrace: they trace the primary rays of the tiles with
+ * hits; records are 8-12 bytes a pixel: a slow link's bound), or decides
+ * by the link, as --compress (auto). */
+enum render_records { RECORDS_AUTO, RECORDS_SEND, RECORDS_RETRACE };
 
 typedef struct {
     const char *scene_path;
@@ -75,11 +80,7 @@ typedef struct {
     int page_prefetch;        /* --page-prefetch: enum pager_prefetch     */
     int page_fetch;           /* --page-fetch: enum pager_fetch_mode      */
     int compress;             /* --compress: enum render_compress        */
-    bool retrace;             /* --hit-records retrace: hetero sends the
-                                 workers no records; they trace the
-                                 primary rays of the tiles with hits (a
-                                 slow link: records are 8-12 bytes a
-                                 pixel, bench/SCALE.md)                */
+    int hit_records;          /* --hit-records: enum render_records      */
     int store_threads;        /* --store-threads: rank 0's threads that
                                  store 8-bit results (host/store.h);
                                  <= 0: one                             */

@@ -21,7 +21,8 @@
 #     bytes; auto compresses only when the ranks span more than one node
 #     and the link between them, measured at start, is slow (nodes of two
 #     ranks and the link's speed pretended: CSGTRACE_TEST_NODE_RANKS,
-#     CSGTRACE_TEST_LINK_MBPS).
+#     CSGTRACE_TEST_LINK_MBPS); hetero's records likewise (--hit-records
+#     auto: none sent across a slow link).
 # Usage: tests/e2e_bytes.sh   (CSGTRACE_BIN: the binary, default build/csgtrace)
 set -u
 source "$(dirname "$0")/lib_e2e.sh"
@@ -135,6 +136,22 @@ if [ -x "$TBIN" ]; then
         json "$T/auto-2-125.json" "j['result_pixels'] == 'rgb8z' and j['link_mbps'] == 125" &&
         ok "--compress auto: rgb8 on one node and across a fast link (measured), rgb8z across a slow one; the serial PNG each time" ||
         ko "--compress auto"
+    # --hit-records auto: hetero sends its records but across a slow link
+    # (not with --simd shadows, whose answers need them)
+    for case in "0 0" "2 0" "2 125" "2 125 --simd shadows"; do
+        set -- $case
+        CSGTRACE_TEST_NODE_RANKS=$1 CSGTRACE_TEST_LINK_MBPS=$2 "${MPI[@]}" -np 3 "$TBIN" render \
+            "$T/random.pov" "${SZ[@]}" --mode hetero --fill off "${@:3}" -o "$T/rec-$1-$2-$#.png" \
+            --stats "$T/rec-$1-$2-$#.json" >/dev/null 2>&1
+    done
+    cmp -s "$T/random-serial.png" "$T/rec-0-0-2.png" && cmp -s "$T/random-serial.png" "$T/rec-2-125-2.png" &&
+        cmp -s "$T/random-serial.png" "$T/rec-2-125-4.png" &&
+        json "$T/rec-0-0-2.json" "j['hit_records'] == 'send'" &&
+        json "$T/rec-2-0-2.json" "j['hit_records'] == 'send'" &&
+        json "$T/rec-2-125-2.json" "j['hit_records'] == 'retrace' and j['result_pixels'] == 'rgb8z'" &&
+        json "$T/rec-2-125-4.json" "j['hit_records'] == 'send'" &&
+        ok "--hit-records auto: records sent on one node and across a fast link, none across a slow one (but with --simd shadows); the serial PNG" ||
+        ko "--hit-records auto"
 else
     ko "--compress auto: $TBIN is not built (make all)"
 fi
