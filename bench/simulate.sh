@@ -65,6 +65,8 @@
 # elsewhere (bench/sim/costmap.py from a real run's tile log: the node's,
 # bench/sim/node_validate.sh) instead of the ones recorded here.
 # --network node: one host of 16 cores sharing memory (bench/sim/node.xml).
+# --network slow30: gigabit Ethernet's cluster at 30 Mbit/s a link, TCP as
+# gige (bench/sim/slow30.xml: bench/slow_link.sh's real link).
 # --eager-bytes E: Open MPI's eager limit on the network (its 4.1 defaults:
 # shared memory 4096 (btl_vader_eager_limit; node, local), openib 12288 (ib),
 # tcp 65536 (gige)); a larger message waits for the receiver to match it.
@@ -161,7 +163,7 @@ done
 [ -n "$SCHEDULE" ] || { [ "$MODE" = hetero ] && SCHEDULE=cost || SCHEDULE=raster; }
 [[ "$SCHEDULE" =~ ^(raster|cost|static|tail|region)$ ]] || die "--schedule: raster, cost, static, tail or region"
 [[ "$TILE" =~ ^[1-9][0-9]{0,3}$ ]] || die "--tile: 1..9999"
-[[ "$NETWORK" =~ ^(gige|ib|local|node)$ ]] || die "--network: gige, ib, local or node"
+[[ "$NETWORK" =~ ^(gige|ib|local|node|slow30)$ ]] || die "--network: gige, ib, local, node or slow30"
 [ -z "$GIVEN_MAP" ] || [ -f "$GIVEN_MAP" ] || die "--map: no file '$GIVEN_MAP'"
 [ -z "$GIVEN_FILL_MAP" ] || [ -f "$GIVEN_FILL_MAP" ] || die "--fill-map: no file '$GIVEN_FILL_MAP'"
 [[ "$SIZE" =~ ^([1-9][0-9]{0,4})x([1-9][0-9]{0,4})$ ]] || die "--size: WxH"
@@ -184,7 +186,7 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$NAP_US" =~ ^(0|[1-9][0-9]{0,2})(\.[0-9]{1,3})?$ ]] || die "--nap-us: microseconds, 0..999.999"
 case $NETWORK in
 ib) : "${EAGER:=12288}" "${SENDER_PROGRESS:=no}" ;;
-gige) : "${EAGER:=65536}" "${SENDER_PROGRESS:=yes}" ;;
+gige | slow30) : "${EAGER:=65536}" "${SENDER_PROGRESS:=yes}" ;;
 *) : "${EAGER:=4096}" "${SENDER_PROGRESS:=yes}" ;;
 esac
 [[ "$PASS_DELAY" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-delay: seconds, a decimal number"
@@ -283,7 +285,13 @@ opts=(--cfg=smpi/simulate-computation:no --cfg=smpi/iprobe:$iprobe --cfg=smpi/te
       --cfg=smpi/os:$overhead --cfg=smpi/or:$overhead --cfg=smpi/host-speed:1Gf
       --cfg=smpi/async-small-thresh:$EAGER --cfg=smpi/send-is-detached-thresh:$EAGER
       --cfg=smpi/grow-injected-times:$GROW --log=root.thres:error)
-[ "$NETWORK" != gige ] && opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
+# $SIM_TCP_FACTORS=none drops SMPI's TCP factors on gige and slow30 too
+# (they cut a 3 KB message's bandwidth to 61 %: bench/SCALE.md, "Results
+# on a slow link", checks both against a real link).
+TCPF=${SIM_TCP_FACTORS:-smpi}
+[[ "$TCPF" =~ ^(smpi|none)$ ]] || die "SIM_TCP_FACTORS: smpi or none"
+{ { [ "$NETWORK" != gige ] && [ "$NETWORK" != slow30 ]; } || [ "$TCPF" = none ]; } &&
+    opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
