@@ -49,9 +49,10 @@ int main(int argc, char **argv)
     size_t most = (size_t)tile * (size_t)tile * 3, room = pixels_compress_bound(most);
     uint8_t *raw = malloc(most), *back = malloc(most), *z = malloc((size_t)tiles * room);
     size_t *len = calloc((size_t)tiles, sizeof *len), *raw_len = calloc((size_t)tiles, sizeof *len);
-    double *def_t = calloc((size_t)rounds, sizeof *def_t), *inf_t = calloc((size_t)rounds, sizeof *inf_t);
-    pixels_zstream *def = pixels_compressor_new(), *inf = pixels_decompressor_new();
-    if (!raw || !back || !z || !len || !raw_len || !def_t || !inf_t || !def || !inf)
+    double *comp_t = calloc((size_t)rounds, sizeof *comp_t);
+    double *decomp_t = calloc((size_t)rounds, sizeof *decomp_t);
+    pixels_zstream *comp = pixels_compressor_new(), *decomp = pixels_decompressor_new();
+    if (!raw || !back || !z || !len || !raw_len || !comp_t || !decomp_t || !comp || !decomp)
         return 3;
     size_t total_raw = 0, total_z = 0;
     for (int r = 0; r < rounds; r++) {
@@ -65,34 +66,34 @@ int main(int argc, char **argv)
                        img + ((size_t)(y + row) * (size_t)w + (size_t)x) * 3, (size_t)tw * 3);
             cut += bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - c0;
             raw_len[k] = (size_t)tw * (size_t)th * 3;
-            len[k] = pixels_compress(def, raw, raw_len[k], z + (size_t)k * room);
+            len[k] = pixels_compress(comp, raw, raw_len[k], z + (size_t)k * room);
             if (len[k] == 0)
                 return 4;
         }
-        def_t[r] = bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - t0 - cut;
+        comp_t[r] = bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - t0 - cut;
         t0 = bench_clock_s(CLOCK_THREAD_CPUTIME_ID);
         for (int k = 0; k < tiles; k++)
-            if (!pixels_decompress(inf, z + (size_t)k * room, len[k], back, raw_len[k]))
+            if (!pixels_decompress(decomp, z + (size_t)k * room, len[k], back, raw_len[k]))
                 return 5;
-        inf_t[r] = bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - t0;
+        decomp_t[r] = bench_clock_s(CLOCK_THREAD_CPUTIME_ID) - t0;
     }
     for (int k = 0; k < tiles; k++) {
         total_raw += raw_len[k];
         total_z += len[k];
     }
-    double dmin = def_t[0], imin = inf_t[0], dmax = def_t[0], imax = inf_t[0];
+    double cmin = comp_t[0], dmin = decomp_t[0], cmax = comp_t[0], dmax = decomp_t[0];
     for (int r = 1; r < rounds; r++) {
-        dmin = def_t[r] < dmin ? def_t[r] : dmin;
-        dmax = def_t[r] > dmax ? def_t[r] : dmax;
-        imin = inf_t[r] < imin ? inf_t[r] : imin;
-        imax = inf_t[r] > imax ? inf_t[r] : imax;
+        cmin = comp_t[r] < cmin ? comp_t[r] : cmin;
+        cmax = comp_t[r] > cmax ? comp_t[r] : cmax;
+        dmin = decomp_t[r] < dmin ? decomp_t[r] : dmin;
+        dmax = decomp_t[r] > dmax ? decomp_t[r] : dmax;
     }
-    double dmed = bench_median(def_t, rounds), imed = bench_median(inf_t, rounds);
+    double cmed = bench_median(comp_t, rounds), dmed = bench_median(decomp_t, rounds);
     double per = 1e9 / (double)total_raw;
     printf("%dx%d, %d tiles of %d: %zu bytes -> %zu compressed (%.2fx)\n", w, h, tiles, tile,
            total_raw, total_z, (double)total_raw / (double)total_z);
-    printf("compress: %.3f ns a byte (%.3f-%.3f), %d rounds\n", dmed * per, dmin * per, dmax * per,
+    printf("compress: %.3f ns a byte (%.3f-%.3f), %d rounds\n", cmed * per, cmin * per, cmax * per,
            rounds);
-    printf("decompress: %.3f ns a byte (%.3f-%.3f)\n", imed * per, imin * per, imax * per);
+    printf("decompress: %.3f ns a byte (%.3f-%.3f)\n", dmed * per, dmin * per, dmax * per);
     return 0;
 }

@@ -30,7 +30,7 @@ static const char *const cli_schedules[] = {"raster", "cost", "static", "tail", 
 static const char *const cli_kernels[] = {"auto", "scalar", "packet", NULL}; /* enum ocl_kernel */
 static const char *const cli_fill[] = {"on", "off", NULL};     /* no_fill: "off"        */
 static const char *const cli_compress[] = {"auto", "on", "off", NULL}; /* enum render_compress */
-static const char *const cli_records[] = {"auto", "send", "retrace", NULL}; /* enum render_records */
+static const char *const cli_records[] = {"auto", "send", "retrace", NULL}; /* render_records */
 static const char *const cli_page_policies[] = {"lru", "fifo", NULL}; /* enum pager_policy */
 static const char *const cli_page_homes[] = {"auto", "master", "spread", NULL}; /* enum pager_home */
 static const char *const cli_page_prefetch[] = {"off", "on", "shadows", NULL}; /* enum pager_prefetch */
@@ -385,7 +385,8 @@ static bool cli_complete(cli_args *a, bool seed_given, csg_diag *d)
     }
     if (a->command == CMD_RENDER)
         a->req.out_path = a->out_path;
-    if (a->req.hit_records == RECORDS_RETRACE && a->req.simd_shadows) { /* (the answers travel with the records) */
+    /* (--simd shadows' answers travel with the records) */
+    if (a->req.hit_records == RECORDS_RETRACE && a->req.simd_shadows) {
         csg_error_plain(d, "--hit-records retrace sends no records: --simd shadows has no way "
                            "to the workers");
         return false;

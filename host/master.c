@@ -850,7 +850,8 @@ static bool master_take_result(master_loop *L, const link_msg *msg, const int *i
         tile_rect r = job->sched->items[items[i]].rect;
         proto_result h;
         memcpy(&h, msg->data + at, sizeof h); /* (master_result_bytes checked them) */
-        at = proto_align(at + proto_result_part_of(&h, (size_t)r.width * (size_t)r.height, session));
+        size_t n = (size_t)r.width * (size_t)r.height;
+        at = proto_align(at + proto_result_part_of(&h, n, session));
     }
     return true;
 }

@@ -252,33 +252,33 @@ static void test_compress_round_trip_and_refusals(void **state)
             for (int c = 0; c < 3; c++)
                 tile[(y * W + x) * 3 + c] = d2 < 144 ? (uint8_t)(200 - d2 + 17 * c) : 30;
         }
-    pixels_zstream *def = pixels_compressor_new(), *inf = pixels_decompressor_new();
-    assert_non_null(def);
-    assert_non_null(inf);
+    pixels_zstream *comp = pixels_compressor_new(), *decomp = pixels_decompressor_new();
+    assert_non_null(comp);
+    assert_non_null(decomp);
     uint8_t z[pixels_compress_bound(N) + 1];
-    size_t len = pixels_compress(def, tile, N, z);
+    size_t len = pixels_compress(comp, tile, N, z);
     assert_true(len > 0 && len < N / 3); /* (this disc: 775 bytes; rendered tiles: 11x) */
-    for (int round = 0; round < 2; round++) { /* (the streams are reused) */
+    for (int round = 0; round < 2; round++) { /* (the contexts are reused) */
         memset(back, 0x5a, sizeof back);
-        assert_true(pixels_decompress(inf, z, len, back, N));
+        assert_true(pixels_decompress(decomp, z, len, back, N));
         assert_memory_equal(back, tile, N);
         assert_int_equal(back[N], 0x5a);
-        assert_int_equal(pixels_compress(def, tile, N, z), len);
+        assert_int_equal(pixels_compress(comp, tile, N, z), len);
     }
-    assert_false(pixels_decompress(inf, z, len - 1, back, N));  /* cut short     */
+    assert_false(pixels_decompress(decomp, z, len - 1, back, N)); /* cut short       */
     z[len] = 0;
-    assert_false(pixels_decompress(inf, z, len + 1, back, N));  /* a byte after  */
+    assert_false(pixels_decompress(decomp, z, len + 1, back, N)); /* a byte after    */
     memset(back, 0x5a, sizeof back);
-    assert_false(pixels_decompress(inf, z, len, back, N - 1));  /* tile smaller  */
-    assert_int_equal(back[N - 1], 0x5a);                        /* (nothing past) */
-    assert_false(pixels_decompress(inf, z, len, back, N + 1));  /* tile larger   */
-    assert_false(pixels_decompress(inf, z, 0, back, N));        /* nothing       */
+    assert_false(pixels_decompress(decomp, z, len, back, N - 1)); /* tile smaller    */
+    assert_int_equal(back[N - 1], 0x5a);                          /* (nothing past)  */
+    assert_false(pixels_decompress(decomp, z, len, back, N + 1)); /* tile larger     */
+    assert_false(pixels_decompress(decomp, z, 0, back, N));       /* nothing         */
     z[len / 2] ^= 0x40; /* (the frame's checksum catches it) */
-    assert_false(pixels_decompress(inf, z, len, back, N));
-    assert_false(pixels_decompress(def, z, len, back, N));      /* a compressor  */
-    assert_int_equal(pixels_compress(inf, tile, N, z), 0);      /* a decompressor */
-    pixels_zstream_free(def);
-    pixels_zstream_free(inf);
+    assert_false(pixels_decompress(decomp, z, len, back, N));
+    assert_false(pixels_decompress(comp, z, len, back, N));       /* a compressor    */
+    assert_int_equal(pixels_compress(decomp, tile, N, z), 0);     /* a decompressor  */
+    pixels_zstream_free(comp);
+    pixels_zstream_free(decomp);
     pixels_zstream_free(NULL);
 }
 
