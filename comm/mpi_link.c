@@ -1404,12 +1404,19 @@ int link_node_leader(int rank)
  * InfiniBand.  The other ranks take no part. */
 #define LINK_PROBE_BYTES ((size_t)1 << 20)
 
+/* The lowest rank on another node than rank 0's; -1 when none (or the
+ * nodes were not found). */
+static int link_other_node_rank(void)
+{
+    for (int r = 1; link_w.leader_of && r < link_w.size; r++)
+        if (link_w.leader_of[r] != link_w.leader_of[0])
+            return r;
+    return -1;
+}
+
 static void link_probe(void)
 {
-    int partner = -1;
-    for (int r = 1; r < link_w.size && partner < 0; r++)
-        if (link_w.leader_of[r] != link_w.leader_of[0])
-            partner = r;
+    int partner = link_other_node_rank();
     if (partner < 0 || (link_w.rank != 0 && link_w.rank != partner))
         return;
     char *buf = calloc(1, LINK_PROBE_BYTES);
@@ -1445,10 +1452,7 @@ double link_between_nodes_bps(void)
 
 bool link_spans_nodes(void)
 {
-    for (int r = 1; link_w.leader_of && r < link_w.size; r++)
-        if (link_w.leader_of[r] != link_w.leader_of[0])
-            return true;
-    return false;
+    return link_other_node_rank() >= 0;
 }
 
 static void link_scene_clear(link_scene *s, size_t size)

@@ -106,8 +106,8 @@ enum cli_kind {
       CLI_ON_RENDERS, "hetero: the pass traces the primary rays, or their shadow rays too "   \
                       "(default primary)")                                                     \
     X("--compress", NULL, "auto|on|off", CLI_CHOICE, req.compress, 0, 0, cli_compress,         \
-      CLI_ON_RENDERS, "8-bit results compressed on their way to rank 0 (default auto: when the " \
-                      "ranks span more than one node)")                                        \
+      CLI_ON_RENDERS, "8-bit results compressed on their way to rank 0 (default auto: across " \
+                      "nodes behind a link under 300 MB/s, measured at start)")                \
     X("--hit-records", NULL, "auto|send|retrace", CLI_CHOICE, req.hit_records, 0, 0,           \
       cli_records, CLI_ON_RENDERS, "hetero: the pass's hits sent with the tiles, or the "       \
       "workers trace the primary rays of the tiles with hits (default auto: retrace across a " \

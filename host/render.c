@@ -524,7 +524,6 @@ static void render_account(const render_state *rs, const master_job *job,
     st->tiles_culled = rs->feed.tiles_culled;
 }
 
-/* Everything the tile phase needs, the pass started; 0 or the failure. */
 /* A link to another node slower than this, measured at start, is slow:
  * --compress auto compresses the 8-bit results and --hit-records auto
  * sends no records over it.  It is about what rank 0's store thread takes
@@ -562,6 +561,7 @@ static bool render_retraces(const render_request *req)
            (req->hit_records == RECORDS_AUTO && !req->simd_shadows && render_link_slow());
 }
 
+/* Everything the tile phase needs, the pass started; 0 or the failure. */
 static int render_prepare(const render_request *req, master_session *ms, render_state *rs,
                           render_stats *st, render_marks *mk, master_job *job, csg_diag *d)
 {
@@ -814,7 +814,6 @@ static bool render_get_local(void *arg, const pager_range *ranges, int n, unsign
 /* --scene-memory: the page plan (rank 0 validated the blob when it loaded
  * it), checked against the budget; without workers, rank 0's own pager
  * over it.  0, or the failure with d filled. */
-
 static int render_plan_pages(const render_request *req, master_session *ms, render_state *rs,
                              render_stats *st, csg_diag *d)
 {

@@ -46,7 +46,7 @@
 typedef struct {
     int32_t x, y, width, height; /* width 0: the ring's end */
     uint32_t bytes;
-    int32_t compressed;            /* 1: the bytes are a Zstandard frame     */
+    int32_t compressed;          /* 1: the bytes are a Zstandard frame */
     int32_t tag;                 /* the caller's (store_corrupt)       */
     uint8_t pad[STORE_ALIGN - 7 * sizeof(int32_t)];
 } store_record;
@@ -61,8 +61,9 @@ typedef struct store_lane {
     pthread_mutex_t mutex;
     pthread_cond_t wake;
     pthread_t thread;
-    pixels_zstream *decompressor; /* the thread's, made on its first compressed */
-    uint8_t *unpacked;        /* part; the part decompressed                 */
+    pixels_zstream *decompressor; /* the thread's, made on its first
+                                     compressed part                 */
+    uint8_t *unpacked;        /* that part decompressed               */
     size_t unpacked_cap;
 } store_lane;
 
@@ -114,8 +115,8 @@ static void store_wake(store_lane *l)
     }
 }
 
-/* A record's pixels into the image: decompressed first when compressed; false
- * when they do not decompress to its rectangle (nothing stored). */
+/* A record's pixels into the image, decompressed first when compressed;
+ * false when they do not decompress to its rectangle (nothing stored). */
 static bool store_record_pixels(store_lane *l, const store_record *rec, const uint8_t *bytes)
 {
     const store *s = l->owner;

@@ -14,7 +14,8 @@
  * Use (master.c, from rank 0's main thread only):
  *   s = store_start(image, width, tiles, n); NULL: store every part yourself
  *   store_queue(s, rect, bytes)              false: no room, store it yourself
- *   store_queue_compressed(s, rect, z, n, tag) the same, the thread decompressing
+ *   store_queue_compressed(s, rect, z, n, tag)
+ *                                            the same, the thread decompressing
  *   store_corrupt(s)                         the tag of a part that did not
  *                                            decompress (the render has failed)
  *   store_after(s, tile)                     the tile is complete: true when
@@ -63,9 +64,9 @@ bool store_queue(store *s, tile_rect r, const uint8_t *rgb8);
  * caller's name for the part.  False when no ring has room for them
  * (nothing queued). */
 bool store_queue_compressed(store *s, tile_rect r, const uint8_t *z, size_t bytes, int32_t tag);
-/* The tag of the first compressed part that did not decompress to exactly its
- * rectangle (a worker's corrupt answer: nothing of it stored), or -1 when
- * none has so far.  From then on no tile is ever complete (store_after
+/* The tag of the first compressed part that did not decompress to exactly
+ * its rectangle (a worker's corrupt answer: nothing of it stored), or -1
+ * when none has so far.  From then on no tile is ever complete (store_after
  * and store_finished give none), so none reaches the journal or the
  * file. */
 int32_t store_corrupt(const store *s);

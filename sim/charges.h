@@ -22,10 +22,11 @@
  * core of its own at that many seconds a pixel: queued while the ring has
  * room for them behind what the thread has not stored yet, else stored by
  * the loop itself at that cost.  A compressed part (PIXELS_RGB8Z) is first
- * decompressed by the store thread, as the real one does (a real render to an
- * 8-bit file has one): $CSGSIM_MASTER_DECOMPRESS_S seconds a byte of its
- * 3 x pixels (bench/compress_tiles.c measures it) more on the thread, or on
- * the loop when every ring is full. */
+ * decompressed by the store thread, as the real one does (a real render
+ * to an 8-bit file has one): $CSGSIM_MASTER_DECOMPRESS_S seconds a byte
+ * of its 3 x pixels (bench/compress_tiles.c measures it) more on the
+ * thread, or on the loop when every ring is full; it takes its
+ * `compressed` bytes in the ring. */
 void sim_charge_master_message(void);
 void sim_charge_master_part(size_t pixels, int format, size_t compressed);
 /* The end of the tile phase: waits until the store thread has stored

@@ -267,9 +267,10 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
 }
 
 /* The frame of `bytes` bytes whose first `noise` are pseudo-random (they
- * do not compress), the rest black, compressed into out: its length (0
- * on failure). */
-static size_t sim_frame(uint8_t *scratch, size_t bytes, size_t noise, uint8_t *out)
+ * do not compress), the rest black, compressed by z into out: its length
+ * (0 on failure). */
+static size_t sim_frame(pixels_zstream *z, uint8_t *scratch, size_t bytes, size_t noise,
+                        uint8_t *out)
 {
     uint32_t x = 2463534242u; /* (xorshift32: the same bytes every time) */
     for (size_t i = 0; i < bytes; i++) {
@@ -278,9 +279,6 @@ static size_t sim_frame(uint8_t *scratch, size_t bytes, size_t noise, uint8_t *o
         x ^= x << 5;
         scratch[i] = i < noise ? (uint8_t)x : 0;
     }
-    static pixels_zstream *z; /* (SMPI privatizes it: a rank's own) */
-    if (!z)
-        z = pixels_compressor_new();
     return pixels_compress(z, scratch, bytes, out);
 }
 
@@ -290,11 +288,8 @@ static size_t sim_frame(uint8_t *scratch, size_t bytes, size_t noise, uint8_t *o
 static const sim_costs *sim_wire_map(void)
 {
     static sim_costs map;
-    static int state; /* 0 not tried, 1 loaded, -1 unset or failed */
-    const char *path = state == 0 ? getenv("CSGSIM_WIRE_BYTES") : NULL;
-    if (state == 0)
-        state = path && *path && sim_costs_load(path, &map) ? 1 : -1;
-    return state == 1 ? &map : NULL;
+    static int state;
+    return sim_costs_from_env("CSGSIM_WIRE_BYTES", &map, &state);
 }
 
 /* The simulated tile's pixels are black, which compresses to almost
@@ -305,7 +300,7 @@ static const sim_costs *sim_wire_map(void)
  * compression costs $CSGSIM_COMPRESS_S seconds a byte of 3 x pixels (the
  * measured rate, bench/compress_tiles.c). */
 size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, pixels_zstream *z, const uint8_t *rgb8,
-                         uint8_t *out)
+                          uint8_t *out)
 {
     size_t bytes = (size_t)r.width * (size_t)r.height * 3;
     double s = (double)bytes * sim_env_number("CSGSIM_COMPRESS_S", 0);
@@ -319,14 +314,14 @@ size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, pixels_zstream *z, const
     if (!scratch)
         return 0;
     /* noise costs its bytes and a little: try, then correct */
-    size_t least = sim_frame(scratch, bytes, 0, out);
+    size_t least = sim_frame(z, scratch, bytes, 0, out);
     double guess = want - (double)least;
     size_t noise = guess <= 0 ? 0 : guess >= (double)bytes ? bytes : (size_t)guess;
-    size_t len = sim_frame(scratch, bytes, noise, out);
+    size_t len = sim_frame(z, scratch, bytes, noise, out);
     if (len > 0 && noise > 0 && (double)len > want) {
         size_t over = (size_t)((double)len - want);
         noise = over < noise ? noise - over : 0;
-        len = sim_frame(scratch, bytes, noise, out);
+        len = sim_frame(z, scratch, bytes, noise, out);
     }
     free(scratch);
     return len;

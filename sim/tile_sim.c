@@ -104,14 +104,20 @@ const sim_costs *sim_costs_shared(void)
     return state == 1 ? &map : NULL;
 }
 
+const sim_costs *sim_costs_from_env(const char *name, sim_costs *map, int *state)
+{
+    const char *path = *state == 0 ? getenv(name) : NULL;
+    if (*state == 0)
+        *state = path && *path && sim_costs_load(path, map) ? 1 : -1;
+    return *state == 1 ? map : NULL;
+}
+
 const sim_costs *sim_costs_render(void)
 {
     static sim_costs map;
-    static int state; /* 0 not tried, 1 loaded, -1 failed or unset */
-    const char *path = state == 0 ? getenv("CSGSIM_FILL_COSTS") : NULL;
-    if (state == 0)
-        state = path && *path && sim_costs_load(path, &map) ? 1 : -1;
-    return state == 1 ? &map : sim_costs_shared();
+    static int state;
+    const sim_costs *c = sim_costs_from_env("CSGSIM_FILL_COSTS", &map, &state);
+    return c ? c : sim_costs_shared();
 }
 
 double sim_env_number(const char *name, double fallback)

@@ -43,6 +43,11 @@ sim_cost sim_costs_rect(const sim_costs *c, int width, int height, tile_rect r);
  * ranks run one at a time in one process); NULL when it cannot be read. */
 const sim_costs *sim_costs_shared(void);
 
+/* The map named by environment variable `name`, loaded the first time
+ * (*state 0; then 1 loaded, -1 unset, empty or unreadable) into *map;
+ * NULL unless loaded. */
+const sim_costs *sim_costs_from_env(const char *name, sim_costs *map, int *state);
+
 /* What a tile rendered whole costs (no records: homo, or hetero's fill):
  * the map named by $CSGSIM_FILL_COSTS (a homo map), else the shared one. */
 const sim_costs *sim_costs_render(void);

@@ -89,12 +89,12 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
                             const void *answers, float *rgb, tile_result *res);
 /* Rectangle r's 8-bit pixels (rgb8: 3 bytes a pixel) compressed by z into
  * out (room for pixels_compress_bound of them, comm/pixels_z.h): the
- * stream's bytes, 0 on failure.  Here because it is the tile's work that
- * the simulated build replaces (sim/tile_run.c: a stream of the measured
+ * frame's bytes, 0 on failure.  Here because it is the tile's work that
+ * the simulated build replaces (sim/tile_run.c: a frame of the measured
  * size, at the measured cost). */
 struct pixels_zstream;
 size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, struct pixels_zstream *z,
-                         const uint8_t *rgb8, uint8_t *out);
+                          const uint8_t *rgb8, uint8_t *out);
 /* tile_run_rect over the whole of tile `index`. */
 void tile_run(tile_runner *tr, int index, const void *records, float *rgb, tile_result *res);
 

@@ -106,7 +106,7 @@ void tile_run_rect_answered(tile_runner *tr, tile_rect r, const void *records,
 }
 
 size_t tile_compress_rgb8(tile_runner *tr, tile_rect r, pixels_zstream *z, const uint8_t *rgb8,
-                         uint8_t *out)
+                          uint8_t *out)
 {
     (void)tr;
     return pixels_compress(z, rgb8, (size_t)r.width * (size_t)r.height * 3, out);

@@ -92,8 +92,8 @@ typedef struct {
     int batch;            /* parts in one TILE at most (the setup's)  */
     int pixels;           /* enum pixels_format asked for (the setup's) */
     float *rgb;           /* PIXELS_RGB8(Z): a part's floats, converted */
-    uint8_t *rgb8;        /* PIXELS_RGB8Z: a part's bytes, compressed     */
-    pixels_zstream *compressor; /* PIXELS_RGB8Z: kept between parts       */
+    uint8_t *rgb8;        /* PIXELS_RGB8Z: a part's bytes, to compress */
+    pixels_zstream *compressor; /* PIXELS_RGB8Z: kept between parts   */
     char *out[PROTO_IN_FLIGHT];     /* RESULTs: one part at first,    */
     size_t out_cap[PROTO_IN_FLIGHT]; /* grown to a batch's bytes       */
     link_req out_req[PROTO_IN_FLIGHT]; /* their sends                 */
@@ -333,8 +333,8 @@ static void worker_send_fail(const worker_state *w, int index, const char *text)
 }
 
 /* The rectangle of part h (at `at` in `in`), its answer into `out` (room
- * for it in floats): the answer's bytes, 0 when its pixels could not be
- * compressed.  PIXELS_RGB8: the bytes of the 8-bit file (comm/pixels.h);
+ * for proto_result_part_max): the answer's bytes, 0 when its pixels could
+ * not be compressed.  PIXELS_RGB8: the bytes of the 8-bit file (comm/pixels.h);
  * PIXELS_RGB8Z: those compressed (comm/pixels_z.h). */
 static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, const proto_tile *h,
                              char *out)
@@ -359,7 +359,7 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
         pixels_to_rgb8(w->rgb, n * 3, w->rgb8);
         /* (out has room for the worst: proto_result_part_max) */
         compressed = (uint32_t)tile_compress_rgb8(&w->runner, r, w->compressor, w->rgb8,
-                                               (uint8_t *)floats);
+                                                  (uint8_t *)floats);
         if (compressed == 0)
             return 0;
     }
