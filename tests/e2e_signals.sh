@@ -5,7 +5,8 @@
 #     but the journal of the finished tiles (host/output/journal.h), which the
 #     line then names with the way to resume (tests/e2e_resume.sh resumes);
 #     the same for SIGHUP, SIGUSR1 and SIGPIPE (exit 128 + the signal); a
-#     SIGHUP ignored at the start (nohup) stays ignored;
+#     SIGHUP ignored at the start (nohup) stays ignored; SIGKILL leaves no
+#     temporary file (the image is unnamed until renamed into place);
 #   - SIGTERM during a long EXR write (the image module's), SIGKILL 0.3 s
 #     later as mpirun does: stopped at once, the temporary file removed;
 #   - under mpirun (3 ranks): SIGTERM and SIGINT to mpirun (which forwards
@@ -65,7 +66,9 @@ done
 for sig in HUP USR1 PIPE; do
     d=$T/serial-$sig
     mkdir -p "$d"
-    "$BIN" render "$T/slow.pov" --width 1400 --height 1400 -o "$d/o.png" --stats "$d/o.json" \
+    # (a signal ignored when the suite began, as under nohup, stays ignored
+    # in every child of the shell: its default action given back)
+    env --default-signal="$sig" "$BIN" render "$T/slow.pov" --width 1400 --height 1400 -o "$d/o.png" --stats "$d/o.json" \
         >"$d/out" 2>"$d/err" &
     pid=$!
     sleep 0.5
@@ -73,6 +76,31 @@ for sig in HUP USR1 PIPE; do
     wait $pid
     stopped serial-$sig $? $((128 + $(kill -l $sig))) SIG$sig
 done
+
+# SIGKILL (mpirun's, a second after its SIGTERM, to a rank that has not
+# ended): no handler runs, and still no image and no temporary file is
+# left, where the folder's file system has unnamed files (O_TMPFILE): the
+# image has no name until it is renamed into place (file_temp in
+# host/output/file_atomic.h); only the journal and the lock's file stay
+# (host/output/claim.h: the next render takes it over)
+d=$T/serial-KILL
+mkdir -p "$d"
+"$BIN" render "$T/slow.pov" "${LONG[@]}" --mode serial -o "$d/o.png" --stats "$d/o.json" \
+    >"$d/out" 2>"$d/err" &
+pid=$!
+sleep 1
+kill -KILL $pid
+{ wait $pid; } 2>/dev/null # (the shell's "Killed")
+rc=$?
+left=$(ls -A "$d" | grep -v -e '^out$' -e '^err$' -e '^o\.png\.journal$' -e '^o\.png\.lock$')
+if ! python3 -c 'import os, sys; os.close(os.open(sys.argv[1], os.O_TMPFILE | os.O_WRONLY))' "$d" \
+    2>/dev/null; then
+    echo "skip - SIGKILL: this file system has no unnamed files (O_TMPFILE): the named one stays"
+elif [ $rc = 137 ] && [ -z "$left" ] && [ -e "$d/o.png.journal" ]; then
+    ok "SIGKILL: nothing left but the journal and the lock's file"
+else
+    ko "SIGKILL: exit $rc, left: $left"
+fi
 
 # ... unless it was ignored when the render began (nohup): it stays ignored
 d=$T/nohup
@@ -121,6 +149,9 @@ for sig in TERM INT; do
     # the master's line goes through mpirun's output forwarding, which
     # mpirun, ending at once, may drop: reported, not required
     said=$(grep -c 'the render stopped' "$d/err")
+    # (the lock's file too: on a loaded machine mpirun's SIGKILL, a
+    # second after its SIGTERM, may come before rank 0's handler has run)
+    rm -f "$d/o.png.lock"
     if [ "$rc" != 0 ] && [ "$left" = 0 ] && nothing_written "$d"; then
         ok "mpirun SIG$sig: exit $rc, no rank left, nothing written but the journal (the master's line shown: $said)"
     else

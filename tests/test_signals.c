@@ -35,8 +35,9 @@ static int run_child(enum when when, const char *file, char *err, size_t cap)
     if (pid == 0) {
         dup2(fds[1], STDERR_FILENO);
         close(fds[0]);
-        if (when == IGNORED)
-            signal(SIGHUP, SIG_IGN); /* (nohup) */
+        /* (nohup), or as a terminal would start it whatever started the
+         * suite (under nohup every SIGHUP would stay ignored) */
+        signal(SIGHUP, when == IGNORED ? SIG_IGN : SIG_DFL);
         signals_install();
         if (when == OTHER_SIGNAL || when == IGNORED) {
             raise(SIGHUP);

@@ -5,12 +5,15 @@
 #include "file_atomic.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/random.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 /* The umask is read by setting it and setting it back at once. */
@@ -32,36 +35,213 @@ const char *file_strerror(int err, char *buf, size_t size)
     return buf;
 }
 
+/* ---- a file named once complete (file_temp) ---------------------------------- */
+
+#define TEMP_SUFFIX ".tmp.XXXXXX"
+
+/* "PATH.tmp.XXXXXX", malloc'd; NULL when out of memory. */
+static char *temp_template(const char *path)
+{
+    size_t n = strlen(path) + sizeof TEMP_SUFFIX;
+    char *name = malloc(n);
+    if (name)
+        snprintf(name, n, "%s" TEMP_SUFFIX, path);
+    return name;
+}
+
+/* Six random letters and digits over the template's X's, as mkstemp
+ * draws them. */
+static void temp_draw(char *name)
+{
+    static const char letters[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    unsigned char r[6];
+    if (getrandom(r, sizeof r, GRND_NONBLOCK) != (ssize_t)sizeof r) {
+        struct timespec ts; /* (no entropy yet: the clock and the pid will do) */
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        unsigned long x = (unsigned long)ts.tv_nsec ^ ((unsigned long)getpid() << 16);
+        for (size_t i = 0; i < sizeof r; i++, x = x * 6364136223846793005ul + 1442695040888963407ul)
+            r[i] = (unsigned char)(x >> 33);
+    }
+    char *x = name + strlen(name) - sizeof r;
+    for (size_t i = 0; i < sizeof r; i++)
+        x[i] = letters[r[i] % (sizeof letters - 1)];
+}
+
+/* /proc's name of descriptor fd, through which an unnamed file is linked. */
+static void temp_proc_name(int fd, char *buf, size_t size)
+{
+    snprintf(buf, size, "/proc/self/fd/%d", fd);
+}
+
+/* The folder part of path, malloc'd ("." when it has none). */
+static char *temp_folder(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        return strdup(".");
+    if (slash == path)
+        return strdup("/");
+    return strndup(path, (size_t)(slash - path));
+}
+
+static void temp_clear(file_temp *t)
+{
+    free(t->name);
+    free(t->path);
+    t->fd = -1;
+    t->name = NULL;
+    t->path = NULL;
+}
+
+void file_temp_discard(file_temp *t)
+{
+    int e = errno;
+    if (t->fd >= 0)
+        close(t->fd);
+    if (t->name)
+        unlink(t->name);
+    temp_clear(t);
+    errno = e;
+}
+
+bool file_temp_open_named(file_temp *t, const char *path, mode_t mode)
+{
+    t->fd = -1;
+    t->name = temp_template(path);
+    t->path = strdup(path);
+    if (!t->name || !t->path) {
+        temp_clear(t);
+        errno = ENOMEM;
+        return false;
+    }
+    t->fd = mkstemp(t->name);
+    if (t->fd < 0) {
+        int e = errno;
+        free(t->name);
+        t->name = NULL; /* (nothing was created under it) */
+        temp_clear(t);
+        errno = e;
+        return false;
+    }
+    if (fchmod(t->fd, mode) != 0) {
+        file_temp_discard(t);
+        return false;
+    }
+    return true;
+}
+
+bool file_temp_open(file_temp *t, const char *path, mode_t mode)
+{
+    t->fd = -1;
+    t->name = NULL;
+    t->path = strdup(path);
+    char *folder = temp_folder(path);
+    if (t->path && folder) {
+        /* (O_RDWR as mkstemp's; /proc must be there to link it later) */
+        t->fd = open(folder, O_TMPFILE | O_RDWR, mode);
+        char proc[64];
+        if (t->fd >= 0) {
+            temp_proc_name(t->fd, proc, sizeof proc);
+            if (access(proc, F_OK) == 0 && fchmod(t->fd, mode) == 0) {
+                free(folder);
+                return true;
+            }
+        }
+    }
+    free(folder);
+    if (t->fd >= 0)
+        close(t->fd);
+    temp_clear(t);
+    return file_temp_open_named(t, path, mode);
+}
+
+bool file_temp_name(file_temp *t)
+{
+    if (t->name)
+        return true;
+    if (t->fd < 0) {
+        errno = EBADF;
+        return false;
+    }
+    char *name = temp_template(t->path);
+    if (!name) {
+        errno = ENOMEM;
+        return false;
+    }
+    char proc[64];
+    temp_proc_name(t->fd, proc, sizeof proc);
+    for (int tries = 0; tries < 100; tries++) {
+        temp_draw(name);
+        if (linkat(AT_FDCWD, proc, AT_FDCWD, name, AT_SYMLINK_FOLLOW) == 0) {
+            t->name = name;
+            return true;
+        }
+        if (errno != EEXIST)
+            break;
+    }
+    int e = errno;
+    free(name);
+    errno = e;
+    return false;
+}
+
+bool file_temp_commit(file_temp *t)
+{
+    bool ok = file_temp_name(t);
+    int e = errno;
+    if (close(t->fd) != 0 && ok) {
+        ok = false;
+        e = errno;
+    }
+    t->fd = -1;
+    if (ok && rename(t->name, t->path) != 0) {
+        ok = false;
+        e = errno;
+    }
+    if (!ok) {
+        file_temp_discard(t);
+        errno = e;
+        return false;
+    }
+    temp_clear(t);
+    return true;
+}
+
+int file_temp_publish(file_temp *t)
+{
+    if (!file_temp_name(t) || rename(t->name, t->path) != 0) {
+        file_temp_discard(t);
+        return -1;
+    }
+    int fd = t->fd;
+    t->fd = -1;
+    temp_clear(t);
+    return fd;
+}
+
+/* ---- whole files ------------------------------------------------------------ */
+
 bool file_write_atomic_checked(const char *path, file_writer write, void *arg, char *err,
                                size_t err_size)
 {
-    size_t n = strlen(path) + sizeof ".tmp.XXXXXX";
-    char *tmp = malloc(n);
+    file_temp t;
     FILE *f = NULL;
-    int fd = -1;
-    if (!tmp) {
-        snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
-        return false;
-    }
     err[0] = '\0';
-    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
-    fd = mkstemp(tmp);
-    if (fd < 0 || fchmod(fd, file_default_mode()) != 0)
+    if (!file_temp_open(&t, path, file_default_mode()))
         goto fail;
-    f = fdopen(fd, "w");
-    if (!f)
+    int fd = dup(t.fd); /* (f's own: t's stays open to be named) */
+    if (fd < 0 || !(f = fdopen(fd, "w"))) {
+        if (fd >= 0)
+            close(fd);
         goto fail;
-    fd = -1; /* owned by f now */
+    }
     if (!write(f, arg, err, err_size) || fflush(f) != 0 || ferror(f))
         goto fail;
-    if (fclose(f) != 0) {
-        f = NULL;
-        goto fail;
-    }
+    int closed = fclose(f);
     f = NULL;
-    if (rename(tmp, path) != 0)
+    if (closed != 0 || !file_temp_commit(&t))
         goto fail;
-    free(tmp);
     return true;
 
 fail:
@@ -72,10 +252,7 @@ fail:
     }
     if (f)
         fclose(f);
-    if (fd >= 0)
-        close(fd);
-    unlink(tmp); /* harmless when mkstemp failed: no such file */
-    free(tmp);
+    file_temp_discard(&t); /* (harmless once committed or never opened) */
     return false;
 }
 

@@ -490,25 +490,19 @@ static int journal_create(const char *path, const journal_field *f, csg_diag *d)
 {
     char header[JOURNAL_HEADER_MAX];
     size_t n = journal_header_text(f, header, sizeof header);
-    size_t len = strlen(path) + sizeof ".tmp.XXXXXX";
-    char *tmp = malloc(len);
+    file_temp t;
     int fd = -1;
-    if (tmp) {
-        snprintf(tmp, len, "%s.tmp.XXXXXX", path);
-        fd = mkstemp(tmp);
+    if (file_temp_open(&t, path, file_default_mode())) {
+        if (file_write_all(t.fd, header, n))
+            fd = file_temp_publish(&t);
+        else
+            file_temp_discard(&t);
     }
-    if (fd < 0 || fchmod(fd, file_default_mode()) != 0 || !file_write_all(fd, header, n) ||
-        rename(tmp, path) != 0) {
+    if (fd < 0) {
         char why[160];
         csg_error_plain(d, "cannot create the journal %s: %s", path,
-                        tmp ? file_strerror(errno, why, sizeof why) : "out of memory");
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        fd = -1;
+                        file_strerror(errno, why, sizeof why));
     }
-    free(tmp);
     return fd;
 }
 

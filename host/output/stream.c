@@ -57,8 +57,8 @@ typedef struct {
 
 struct img_stream {
     enum stream_kind kind;
-    char *path, *tmp;
-    int fd;
+    char *path;
+    file_temp file;      /* the image until it is renamed over path  */
     const float *image;
     tile_grid grid;
     int bands, columns;
@@ -136,18 +136,18 @@ static bool stream_png_head(img_stream *s)
     ihdr[8] = 8; /* bits a sample */
     ihdr[9] = 2; /* RGB */
     stream_zlib_header(s->png_level, zhead);
-    return file_write_all(s->fd, signature, sizeof signature) &&
-           stream_chunk(s->fd, "IHDR", ihdr, sizeof ihdr) &&
-           stream_chunk(s->fd, "oFFs", offs, sizeof offs) && /* (0, 0 pixels: as before) */
-           stream_chunk(s->fd, "IDAT", zhead, sizeof zhead);
+    return file_write_all(s->file.fd, signature, sizeof signature) &&
+           stream_chunk(s->file.fd, "IHDR", ihdr, sizeof ihdr) &&
+           stream_chunk(s->file.fd, "oFFs", offs, sizeof offs) && /* (0, 0 pixels: as before) */
+           stream_chunk(s->file.fd, "IDAT", zhead, sizeof zhead);
 }
 
 static bool stream_png_tail(img_stream *s)
 {
     unsigned char adler[4];
     stream_put32(adler, s->adler);
-    return stream_chunk(s->fd, "IDAT", adler, sizeof adler) &&
-           stream_chunk(s->fd, "IEND", NULL, 0);
+    return stream_chunk(s->file.fd, "IDAT", adler, sizeof adler) &&
+           stream_chunk(s->file.fd, "IEND", NULL, 0);
 }
 
 static bool stream_placed(const img_stream *s)
@@ -171,7 +171,7 @@ static bool stream_write_band(img_stream *s, int b, const stream_band *band)
         off_t at = (off_t)s->header + stream_band_file_row(s, b) * (off_t)s->grid.width *
                                           (off_t)s->pixel_bytes;
         for (size_t done = 0; done < band->len;) {
-            ssize_t n = pwrite(s->fd, band->bytes + done, band->len - done, at + (off_t)done);
+            ssize_t n = pwrite(s->file.fd, band->bytes + done, band->len - done, at + (off_t)done);
             if (n < 0 && errno == EINTR)
                 continue;
             if (n <= 0)
@@ -181,7 +181,7 @@ static bool stream_write_band(img_stream *s, int b, const stream_band *band)
         return true;
     }
     for (size_t at = 0; at < band->len; at += STREAM_IDAT_MAX)
-        if (!stream_chunk(s->fd, "IDAT", band->bytes + at,
+        if (!stream_chunk(s->file.fd, "IDAT", band->bytes + at,
                           band->len - at < STREAM_IDAT_MAX ? band->len - at : STREAM_IDAT_MAX))
             return false;
     return true;
@@ -432,8 +432,7 @@ static enum stream_kind stream_kind_of(const char *path)
 
 static void stream_free(img_stream *s)
 {
-    if (s->fd >= 0)
-        close(s->fd);
+    file_temp_discard(&s->file); /* (nothing once committed) */
     for (int b = 0; s->band && b < s->bands; b++)
         free(s->band[b].bytes);
     pthread_mutex_destroy(&s->lock);
@@ -441,42 +440,34 @@ static void stream_free(img_stream *s)
     free(s->band);
     free(s->queue);
     free(s->tiles_left);
-    free(s->tmp);
     free(s->path);
     free(s);
 }
 
-/* The temporary file beside the output, its head written. */
+/* The file beside the output, unnamed where it can be (file_temp), its
+ * head written. */
 static bool stream_create(img_stream *s, char *err, size_t err_size)
 {
-    size_t n = strlen(s->path) + sizeof ".tmp.XXXXXX";
-    s->tmp = malloc(n);
-    if (!s->tmp) {
-        snprintf(err, err_size, "csgtrace: error: %s: out of memory", s->path);
-        return false;
-    }
-    snprintf(s->tmp, n, "%s.tmp.XXXXXX", s->path);
-    s->fd = mkstemp(s->tmp);
-    if (s->fd < 0) {
+    if (!file_temp_open(&s->file, s->path, file_default_mode())) {
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
                  strerror(errno));
         return false;
     }
-    signals_temporary(s->tmp); /* (a signal now removes it) */
+    signals_temporary(s->file.name); /* (a signal now removes it; NULL: unnamed) */
     char head[64];
     int len = s->kind == STREAM_PFM
                   ? snprintf(head, sizeof head, "PF\n%d %d\n-1.0\n", s->grid.width, s->grid.height)
                   : snprintf(head, sizeof head, "P6\n%d %d\n255\n", s->grid.width, s->grid.height);
     s->header = len;
     s->pixel_bytes = s->kind == STREAM_PFM ? 3 * 4 : 3;
-    bool ok = fchmod(s->fd, file_default_mode()) == 0 &&
-              (s->kind == STREAM_PNG ? stream_png_head(s) : file_write_all(s->fd, head, (size_t)len));
+    bool ok = s->kind == STREAM_PNG ? stream_png_head(s)
+                                    : file_write_all(s->file.fd, head, (size_t)len);
     if (!ok) {
         char why[160];
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
                  file_strerror(errno, why, sizeof why));
         signals_temporary(NULL);
-        unlink(s->tmp);
+        file_temp_discard(&s->file);
     }
     return ok;
 }
@@ -489,7 +480,7 @@ img_stream *img_stream_open(const char *path, const float *image, const tile_gri
         snprintf(err, err_size, "csgtrace: error: %s: out of memory", path);
         return NULL;
     }
-    s->fd = -1;
+    s->file.fd = -1;
     s->image = image;
     s->grid = *grid;
     s->columns = tile_columns(grid);
@@ -588,19 +579,19 @@ bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *e
     bool ok = !s->failed && s->written == s->bands;
     if (ok && s->kind == STREAM_PNG && !stream_png_tail(s))
         error = errno;
-    if (close(s->fd) != 0 && !error)
+    if (!error && !file_temp_name(&s->file))
         error = errno;
-    s->fd = -1;
+    signals_temporary(s->file.name); /* (named for the moment before its rename) */
     if (!error && s->hold)
         signals_hold(); /* (from the rename on, a signal waits for the caller's release) */
-    if (!error && rename(s->tmp, s->path) != 0)
+    if (!error && !file_temp_commit(&s->file))
         error = errno;
     ok = !error;
     if (!ok) {
         char why[160];
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
                  file_strerror(error, why, sizeof why));
-        unlink(s->tmp);
+        file_temp_discard(&s->file);
     }
     signals_temporary(NULL);
     r->bands = s->bands;
@@ -622,7 +613,7 @@ void img_stream_abort(img_stream *s)
         pthread_mutex_unlock(&s->lock);
         for (int t = 0; t < s->threads; t++)
             pthread_join(s->thread[t], NULL);
-        unlink(s->tmp);
+        file_temp_discard(&s->file);
         signals_temporary(NULL);
     }
     stream_free(s);

@@ -168,13 +168,10 @@ void *cl_cache_load(const char *dir, const cl_cache_key_t *key, size_t *size)
 
 void cl_cache_store(const char *dir, const cl_cache_key_t *key, const void *payload, size_t size)
 {
-    char path[PATH_MAX], tmp[PATH_MAX + 16];
+    char path[PATH_MAX];
+    file_temp t;
     if (!dir || size == 0 || size > CL_CACHE_MAX_BYTES ||
-        !cl_cache_path(dir, key, path, sizeof path) ||
-        (size_t)snprintf(tmp, sizeof tmp, "%s.tmp.XXXXXX", path) >= sizeof tmp)
-        return;
-    int fd = mkstemp(tmp);
-    if (fd < 0)
+        !cl_cache_path(dir, key, path, sizeof path) || !file_temp_open(&t, path, 0600))
         return;
     cl_cache_header h;
     memset(&h, 0, sizeof h);
@@ -182,8 +179,8 @@ void cl_cache_store(const char *dir, const cl_cache_key_t *key, const void *payl
     memcpy(h.key, key->bytes, sizeof h.key);
     h.size = size;
     cl_cache_digest(key, payload, size, h.digest);
-    bool ok = file_write_all(fd, &h, sizeof h) && file_write_all(fd, payload, size);
-    ok = close(fd) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0)
-        unlink(tmp);
+    if (file_write_all(t.fd, &h, sizeof h) && file_write_all(t.fd, payload, size))
+        file_temp_commit(&t);
+    else
+        file_temp_discard(&t);
 }
