@@ -226,8 +226,9 @@ int link_node_leader(int rank);
  * false when it was not made, CSGTRACE_NODE_SCENE=off or threads)? */
 bool link_spans_nodes(void);
 /* Rank 0: the bytes a second between its node and another, measured at
- * start when the job spans nodes (a 1 MiB exchange, timed the second
- * time); 0 when it does not, or it could not be measured. */
+ * start when the job spans nodes (1 MiB exchanged, the fastest of three
+ * timed exchanges after one that opens the connection); 0 when it does
+ * not, or it could not be measured. */
 double link_between_nodes_bps(void);
 
 /* Where a worker computes (link_bind_worker).  With more ranks on a node

@@ -35,7 +35,10 @@
  *                           PROTO_WORK_SHADE_ANSWERED: then their shadow
  *                           answers (tile_pack_answers)]
  *      worker -> master  PROTO_TAG_RESULT  k parts, in the TILE's order,
- *                                          each proto_result + the n
+ *                                          each proto_result (its
+ *                                          paging counts only with
+ *                                          PROTO_RESULT_PAGING:
+ *                                          proto_result_head) + the n
  *                                          pixels in proto_result.pixels:
  *                                          rgb[3 n] float, or (when the
  *                                          setup's pixels is RGB8) the
@@ -215,9 +218,48 @@ typedef struct {
                                answer; a worker sends 0: itself)       */
     uint32_t payload;       /* PIXELS_RGB8Z: the compressed bytes after
                                the header (else 0)                     */
-    uint32_t pad;
-    page_counts paging;     /* its scene paging during the part        */
+    uint32_t flags;         /* PROTO_RESULT_*                          */
+    page_counts paging;     /* its scene paging during the part: on the
+                               wire only with PROTO_RESULT_PAGING      */
 } proto_result;
+
+/* proto_result.flags: the paging counts follow (a worker below a scene
+ * budget sends them; without one they would be 120 zero bytes a part,
+ * 2 MB of a 4096x4096 frame in tiles of 32). */
+#define PROTO_RESULT_PAGING 1u
+
+/* The bytes of a result header on the wire: all of it, or all but its
+ * paging counts (a multiple of 8 either way: the pixels stay aligned). */
+#define PROTO_RESULT_HEAD_MIN offsetof(proto_result, paging)
+static inline size_t proto_result_head(const proto_result *h)
+{
+    return (h->flags & PROTO_RESULT_PAGING) ? sizeof *h : PROTO_RESULT_HEAD_MIN;
+}
+
+/* The header at p, `avail` bytes there, into h (its paging counts zero
+ * when they are not sent): its bytes on the wire, 0 when avail is less. */
+static inline size_t proto_result_read(const char *p, size_t avail, proto_result *h)
+{
+    if (avail < PROTO_RESULT_HEAD_MIN)
+        return 0;
+    memcpy(h, p, PROTO_RESULT_HEAD_MIN);
+    size_t head = proto_result_head(h);
+    if (avail < head)
+        return 0;
+    if (head > PROTO_RESULT_HEAD_MIN)
+        memcpy(&h->paging, p + PROTO_RESULT_HEAD_MIN, sizeof h->paging);
+    else
+        memset(&h->paging, 0, sizeof h->paging);
+    return head;
+}
+
+/* h at p as it goes on the wire: its bytes. */
+static inline size_t proto_result_write(char *p, const proto_result *h)
+{
+    size_t head = proto_result_head(h);
+    memcpy(p, h, head);
+    return head;
+}
 
 #define PROTO_FAIL_TEXT 240
 typedef struct {
@@ -279,21 +321,23 @@ static inline size_t proto_tile_part_at(const tile_grid *g, const char *data, si
     return at + part;
 }
 
-/* One RESULT part: header and n pixels in `format` (enum pixels_format;
- * PIXELS_RGB8Z: at most this, proto_result_part_of). */
+/* One RESULT part at most: header (with its paging counts) and n pixels
+ * in `format` (enum pixels_format; PIXELS_RGB8Z: at most this,
+ * proto_result_part_of). */
 static inline size_t proto_result_part(size_t n, int format)
 {
     return sizeof(proto_result) + n * pixels_bytes(format);
 }
 
 /* The bytes of a RESULT part of n pixels in `format` whose header is h:
- * PIXELS_RGB8Z's are the header's and its payload, which must be within
- * what n pixels can compress to; 0 when it is not. */
+ * its header's on the wire (proto_result_head) and its pixels', or for
+ * PIXELS_RGB8Z its payload, which must be within what n pixels can
+ * compress to; 0 when it is not. */
 static inline size_t proto_result_part_of(const proto_result *h, size_t n, int format)
 {
     if (format != PIXELS_RGB8Z)
-        return proto_result_part(n, format);
-    return h->payload <= pixels_compress_bound(n * 3) ? sizeof *h + h->payload : 0;
+        return proto_result_head(h) + n * pixels_bytes(format);
+    return h->payload <= pixels_compress_bound(n * 3) ? proto_result_head(h) + h->payload : 0;
 }
 
 /* The most bytes a RESULT part of n pixels takes in any format: floats,

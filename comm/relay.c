@@ -291,10 +291,9 @@ static size_t relay_keep_part(relay_state *s, const relay_worker *w, const link_
                               size_t at, relay_part p)
 {
     relay_tile *t = &s->ring[p.slot];
-    proto_result h;
-    if (at > msg->len || msg->len - at < sizeof h)
+    proto_result h = {0};
+    if (at > msg->len || proto_result_read(msg->data + at, msg->len - at, &h) == 0)
         return 0;
-    memcpy(&h, msg->data + at, sizeof h);
     if (h.index != relay_tile_index(s, p) || h.pixels != s->pixels)
         return 0;
     size_t len = proto_result_part_of(&h, t->pixels[p.part], h.pixels);
@@ -303,7 +302,7 @@ static size_t relay_keep_part(relay_state *s, const relay_worker *w, const link_
     if (h.rank == 0)
         h.rank = w->rank;
     memcpy(t->answer[p.part], msg->data + at, len);
-    memcpy(t->answer[p.part], &h, sizeof h);
+    proto_result_write(t->answer[p.part], &h); /* (with its rank) */
     t->answer_len[p.part] = len;
     t->answered++;
     s->busy_s += h.busy_s;

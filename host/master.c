@@ -712,8 +712,7 @@ static bool master_result_bytes(const master_job *job, const link_msg *msg, cons
         size_t n = (size_t)r.width * (size_t)r.height;
         size_t at = proto_align(*len);
         proto_result h = {.pixels = session}; /* (cut off: the least it can be) */
-        if (at <= msg->len && msg->len - at >= sizeof h) {
-            memcpy(&h, msg->data + at, sizeof h);
+        if (at <= msg->len && proto_result_read(msg->data + at, msg->len - at, &h) > 0) {
             if (h.pixels != session) {
                 csg_error_plain(d, "worker %d: result of tile %d in another pixel format",
                                 msg->source, job->sched->items[items[i]].tile);
@@ -787,8 +786,8 @@ static bool master_take_part(master_loop *L, const link_msg *msg, const char *pa
     const sched_item *it = &job->sched->items[item];
     tile_rect r = it->rect;
     size_t n = (size_t)r.width * (size_t)r.height;
-    proto_result h;
-    memcpy(&h, part, sizeof h);
+    proto_result h = {0};
+    size_t head = proto_result_read(part, SIZE_MAX, &h); /* (its size checked) */
     /* a relay's part names its worker (one of the relay's group) */
     int by = m->relays > 0 && h.rank > m->relays && h.rank <= m->workers &&
                      proto_parent(h.rank, m->relays) == msg->source
@@ -799,9 +798,9 @@ static bool master_take_part(master_loop *L, const link_msg *msg, const char *pa
                         (int)h.index, it->tile);
         return false;
     }
-    /* msg->data is malloc'd, parts start 8-byte aligned and sizeof h is a
-     * multiple of 8: floats aligned */
-    const char *pixels = part + sizeof h;
+    /* msg->data is malloc'd, parts start 8-byte aligned and a header's
+     * bytes are a multiple of 8: floats aligned */
+    const char *pixels = part + head;
     if (h.pixels == PIXELS_RGB8Z) {
         job->sched->items[item].wire_bytes = h.payload;
         /* the store thread decompresses it (store_corrupt says if it cannot) */
@@ -848,8 +847,8 @@ static bool master_take_result(master_loop *L, const link_msg *msg, const int *i
         if (!master_take_part(L, msg, msg->data + at, items[i], d))
             return false;
         tile_rect r = job->sched->items[items[i]].rect;
-        proto_result h;
-        memcpy(&h, msg->data + at, sizeof h); /* (master_result_bytes checked them) */
+        proto_result h = {0};
+        proto_result_read(msg->data + at, msg->len - at, &h); /* (master_result_bytes checked) */
         size_t n = (size_t)r.width * (size_t)r.height;
         at = proto_align(at + proto_result_part_of(&h, n, session));
     }
@@ -888,7 +887,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     if (!ok)
         csg_error_plain(report, "worker %d: unexpected message (tag %d)", src, msg->tag);
     else if (L->failed)
-        ok = msg->len >= sizeof(proto_result); /* draining: an answer, not stored */
+        ok = msg->len >= PROTO_RESULT_HEAD_MIN; /* draining: an answer, not stored */
     else
         ok = master_take_result(L, msg, items, k, d);
     if (!ok) {

@@ -671,10 +671,49 @@ static void test_batch_bytes(void **state)
     assert_int_equal(proto_result_part_max(49), odd);
 }
 
+/* A result's header goes without its paging counts unless a worker pages
+ * (PROTO_RESULT_PAGING): 88 bytes or 208, both multiples of 8; read back,
+ * absent counts are zero whatever the buffer held; a header cut short is
+ * refused. */
+static void test_result_head(void **state)
+{
+    (void)state;
+    char wire[sizeof(proto_result) + 16];
+    proto_result h = {.index = 7, .hits = 3, .busy_s = 0.25, .pixels = PIXELS_RGB8};
+    h.paging.faults = 99; /* (not sent: no flag) */
+    memset(wire, 0x5a, sizeof wire);
+    size_t head = proto_result_write(wire, &h);
+    assert_int_equal(head, PROTO_RESULT_HEAD_MIN);
+    assert_int_equal(head % 8, 0);
+    assert_true(head + sizeof h.paging == sizeof h);
+    proto_result back;
+    memset(&back, 0xff, sizeof back);
+    assert_int_equal(proto_result_read(wire, sizeof wire, &back), head);
+    assert_int_equal(back.index, 7);
+    assert_int_equal(back.hits, 3);
+    assert_true(back.busy_s == 0.25);
+    assert_int_equal(back.paging.faults, 0); /* (0x5a bytes after the header: ignored) */
+    assert_int_equal(proto_result_part_of(&back, 49, PIXELS_RGB8), head + 49 * 3);
+    assert_int_equal(proto_result_read(wire, head - 1, &back), 0);
+
+    h.flags = PROTO_RESULT_PAGING;
+    head = proto_result_write(wire, &h);
+    assert_int_equal(head, sizeof(proto_result));
+    assert_int_equal(proto_result_read(wire, sizeof wire, &back), head);
+    assert_int_equal(back.paging.faults, 99);
+    assert_int_equal(proto_result_part_of(&back, 49, PIXELS_FLOAT),
+                     proto_result_part(49, PIXELS_FLOAT));
+    assert_int_equal(proto_result_read(wire, head - 8, &back), 0); /* (its counts cut off) */
+    /* compressed: the header's bytes and the payload */
+    h = (proto_result){.pixels = PIXELS_RGB8Z, .payload = 40};
+    assert_int_equal(proto_result_part_of(&h, 49, PIXELS_RGB8Z), PROTO_RESULT_HEAD_MIN + 40);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_raster_order),
+        cmocka_unit_test(test_result_head),
         cmocka_unit_test(test_cost_order),
         cmocka_unit_test(test_cost_without_estimates),
         cmocka_unit_test(test_static_assignment),

@@ -12,6 +12,13 @@
 # tile, bench/sim/costmap.py --column wire_bytes), COMPRESS_NS, DECOMPRESS_NS
 # (bench/compress_tiles.c); RECORDS=retrace (csgtrace --hit-records
 # retrace: hetero's workers trace their primary rays, no records sent).
+# JITTERS="0 0.1 0.2 0.3" runs each point once a value: rank 0 charged
+# that many microseconds more a RESULT message (--master-message-us), far
+# below what any measurement resolves (an item costs 350 us in the
+# median), so the rows' spread is the schedule's sensitivity to timing
+# (bench/SCALE.md, *the results' headers*: which tile ends last moves with
+# any change); each row ends with its jitter, and stderr gets each point's
+# median and range.  Default "0": one run, as before.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
@@ -19,6 +26,7 @@ TILE=${TILE:-32}
 SCHEDULE=${SCHEDULE:-raster}
 POINTS=${POINTS:-"ib:64:0:homo ib:64:0:hetero ib:256:16:homo ib:256:16:hetero ib:1024:32:homo ib:1024:32:hetero gige:64:0:hetero gige:64:0:homo"}
 TIMEOUT=${POINT_TIMEOUT:-900}
+JITTERS=${JITTERS:-0}
 PIXELS=${PIXELS:-rgb8} RECORDS=${RECORDS:-send}
 wire=(--pixels "$PIXELS")
 [ -n "${WIRE_MAP:-}" ] && wire+=(--wire-map "$WIRE_MAP")
@@ -33,24 +41,35 @@ for mode in homo hetero; do
     python3 "$ROOT/bench/sim/costmap.py" "$work/$mode.costs" "$NODE/scaling/${mode}16.json" \
         "$NODE/scaling/${mode}16.jsonl"
 done
-echo "network,workers,relays,mode,tile,makespan_s,efficiency,efficiency_ranks,master_busy,tail_s,ramp_s,bytes_sent,bytes_received"
+echo "network,workers,relays,mode,tile,makespan_s,efficiency,efficiency_ranks,master_busy,tail_s,ramp_s,bytes_sent,bytes_received,jitter_us"
 for p in $POINTS; do
     IFS=: read -r net workers relays mode <<<"$p"
     [[ "$net" =~ ^(ib|gige)$ && "$workers" =~ ^[0-9]+$ && "$relays" =~ ^[0-9]+$ && "$mode" =~ ^(homo|hetero)$ ]] ||
         { echo "bad point '$p'" >&2; exit 2; }
     fill=()
     [ "$mode" = hetero ] && fill=(--fill-map "$work/homo.costs")
-    if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" --mode "$mode" \
-        --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" --schedule "$SCHEDULE" \
-        --map "$work/$mode.costs" "${fill[@]}" "${wire[@]}" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
-        python3 - "$work/p.json" "$net" <<'PY'
+    : >"$work/point.csv"
+    for jitter in $JITTERS; do
+        if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" \
+            --mode "$mode" --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" \
+            --schedule "$SCHEDULE" --map "$work/$mode.costs" "${fill[@]}" "${wire[@]}" \
+            --master-message-us "$jitter" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
+            python3 - "$work/p.json" "$net" "$jitter" <<'PY' | tee -a "$work/point.csv"
 import json, sys
 d = json.load(open(sys.argv[1]))
 print(f"{sys.argv[2]},{d['workers']},{d['relays']},{d['mode']},{d['tile']},{d['makespan_s']:.5f},"
       f"{d['efficiency']:.4f},{d['efficiency_ranks']:.4f},{d['master_busy']:.3f},{d['tail_s']:.5f},"
-      f"{d['ramp_s']:.5f},{d['bytes_sent']},{d['bytes_received']}", flush=True)
+      f"{d['ramp_s']:.5f},{d['bytes_sent']},{d['bytes_received']},{sys.argv[3]}", flush=True)
 PY
-    else
-        echo "$net,$workers,$relays,$mode,$TILE,,,,,,,, # failed or past ${TIMEOUT} s: $(tail -1 "$work/err")"
-    fi
+        else
+            echo "$net,$workers,$relays,$mode,$TILE,,,,,,,,,$jitter # failed or past ${TIMEOUT} s: $(tail -1 "$work/err")"
+        fi
+    done
+    python3 - "$work/point.csv" "$p" >&2 <<'PY'
+import csv, statistics, sys
+effs = sorted(float(r[6]) for r in csv.reader(open(sys.argv[1])) if len(r) > 6 and r[6])
+if len(effs) > 1:
+    print(f"# {sys.argv[2]}: efficiency median {100 * statistics.median(effs):.1f} % "
+          f"({100 * effs[0]:.1f}-{100 * effs[-1]:.1f} %, {len(effs)} runs)")
+PY
 done
