@@ -46,7 +46,7 @@
  * 384x384: workers busy 88-90 % of the tile phase without it, 93-95 % with).
  *
  * Relays (--relays K, relay.h): rank 0 then deals only to ranks 1 .. K
- * (m->children), each holding up to PROTO_RELAY_IN_FLIGHT batches (m->depth)
+ * (m->children), each holding up to master_depth batches (PROTO_RELAY_*)
  * sized for its group (the scheduler counts K consumers and keeps a floor:
  * sched_batch_floor); a part of a relay's RESULT names the worker that
  * computed it, and its stats go to that worker.  Rank 0 still watches
@@ -89,7 +89,6 @@ void master_begin(master_session *m, int ranks)
     memset(m, 0, sizeof *m);
     m->workers = ranks > 1 ? ranks - 1 : 0;
     m->children = m->workers;
-    m->depth = PROTO_IN_FLIGHT;
     m->lost = m->workers > 0 ? calloc((size_t)m->workers + 1, sizeof *m->lost) : NULL;
     m->lost_before = m->lost ? calloc((size_t)m->workers + 1, sizeof *m->lost_before) : NULL;
     for (int r = 1; m->lost_before && r <= m->workers; r++)
@@ -235,7 +234,6 @@ void master_share_scene(master_session *m, int status, int tile, csg_blob *blob)
     if (m->relays < 0 || m->relays >= m->workers)
         m->relays = 0; /* (the command line refuses these) */
     m->children = m->relays > 0 ? m->relays : m->workers;
-    m->depth = m->relays > 0 ? PROTO_RELAY_IN_FLIGHT : PROTO_IN_FLIGHT;
     /* a relay's batches feed a group: auto is as large as they go */
     m->batch = m->relays > 0 && m->batch == 0
                    ? PROTO_BATCH_MAX
@@ -436,7 +434,7 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 typedef struct {
     int item[PROTO_DEPTH_MAX][PROTO_BATCH_MAX]; /* held batches, ring from head */
     int count[PROTO_DEPTH_MAX];    /* items in each                       */
-    int head, n;                   /* (the ring is the session's depth)    */
+    int head, n;                   /* (the ring is the job's depth)        */
     char *buf[PROTO_DEPTH_MAX];    /* the TILE of ring position k          */
     size_t cap[PROTO_DEPTH_MAX];   /* its bytes (grown to the batch's)     */
     link_req req[PROTO_DEPTH_MAX]; /* and its send                        */
@@ -454,7 +452,18 @@ typedef struct {
     double checked;          /* stats_clock() of the last liveness check   */
     pixels_zstream *decompressor; /* PIXELS_RGB8Z without the store thread */
     uint8_t *unpacked;       /* a part decompressed there (pixels_max x 3) */
+    int depth;               /* batches a child holds at most: master_depth */
 } master_loop;
+
+/* Batches a child holds at most in a job scheduled by s: a worker
+ * PROTO_IN_FLIGHT; a relay PROTO_RELAY_IN_FLIGHT when the order knows no
+ * costs, PROTO_RELAY_DEPTH_COST when it does (comm/protocol.h says why). */
+static int master_depth(const master_session *m, const sched *s)
+{
+    if (m->relays <= 0)
+        return PROTO_IN_FLIGHT;
+    return s->estimate ? PROTO_RELAY_DEPTH_COST : PROTO_RELAY_IN_FLIGHT;
+}
 
 static void master_lose(master_loop *L, int r, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
@@ -512,7 +521,7 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
 static bool master_send_batch(master_loop *L, int r, const int *items, int k, csg_diag *d)
 {
     master_worker *w = &L->w[r];
-    int pos = (w->head + w->n) % L->m->depth;
+    int pos = (w->head + w->n) % L->depth;
     if (!proto_buffer(&w->buf[pos], &w->cap[pos], master_tile_bytes(L->job, items, k))) {
         csg_error_plain(d, "master: out of memory");
         return false;
@@ -548,7 +557,7 @@ static bool master_room(master_loop *L, int r, int depth)
     master_worker *w = &L->w[r];
     if (w->dead || w->n >= depth)
         return false;
-    link_req *q = &w->req[(w->head + w->n) % L->m->depth];
+    link_req *q = &w->req[(w->head + w->n) % L->depth];
     if (q->active && link_req_wait(q) == LINK_LOST) {
         master_lose(L, r, "its process is gone");
         return false;
@@ -578,7 +587,7 @@ static int master_fill_batch(master_loop *L, double now, int *items, csg_diag *d
 static bool master_dispatch(master_loop *L, csg_diag *d)
 {
     bool sent = false;
-    for (int depth = 1; depth <= L->m->depth && !L->failed; depth++) {
+    for (int depth = 1; depth <= L->depth && !L->failed; depth++) {
         for (int r = 1; r <= L->m->children && !L->failed; r++) {
             if (!master_room(L, r, depth))
                 continue;
@@ -619,10 +628,10 @@ static void master_lose(master_loop *L, int r, const char *fmt, ...)
     va_end(ap);
     int held = 0;
     for (int k = 0; k < w->n; k++)
-        held += w->count[(w->head + k) % L->m->depth];
+        held += w->count[(w->head + k) % L->depth];
     master_mark_lost(L->m, r, held, "%s", why);
     for (int k = 0; k < w->n && !L->failed; k++) {
-        int pos = (w->head + k) % L->m->depth;
+        int pos = (w->head + k) % L->depth;
         for (int i = 0; i < w->count[pos] && !L->failed; i++)
             if (!sched_requeue(L->job->sched, w->item[pos][i]))
                 L->failed = true; /* (out of memory: the render cannot end well) */
@@ -872,7 +881,7 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
     master_worker *w = &L->w[src];
     const int *items = w->item[w->head];
     int k = w->count[w->head];
-    w->head = (w->head + 1) % L->m->depth;
+    w->head = (w->head + 1) % L->depth;
     w->n--;
     w->since = stats_clock(); /* the next item's turn */
     L->outstanding--;
@@ -1025,7 +1034,7 @@ static bool master_deal(master_loop *L, link_idle *idle, csg_diag *d)
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
 {
     master_loop L = {m, job, calloc((size_t)m->workers + 1, sizeof *L.w), 0, false, false, 0.0,
-                     NULL, NULL};
+                     NULL, NULL, master_depth(m, job->sched)};
     link_idle own;
     link_idle *idle = job->idle ? job->idle : &own;
     bool ok = false;
@@ -1062,11 +1071,14 @@ bool master_run_tiles(master_session *m, master_job *job, csg_diag *d)
     return ok;
 }
 
-void master_relay_floor(const master_session *m, sched *s)
+int master_relay_floor(const master_session *m, sched *s)
 {
-    if (m->relays > 0) /* (each relay's group kept fed) */
-        sched_batch_floor(s, proto_relay_batch_floor(m->workers + 1, m->relays),
-                          m->relays * m->depth);
+    if (m->relays <= 0)
+        return 0;
+    int depth = master_depth(m, s); /* (each relay's group kept fed) */
+    sched_batch_floor(s, proto_relay_batch_floor(m->workers + 1, m->relays, depth),
+                      m->relays * depth);
+    return depth;
 }
 
 void master_job_count(master_job *job, stats_worker *w, int rank, int item,

@@ -45,7 +45,6 @@ typedef struct {
                                  set before master_share_scene; 0: none  */
     int children;             /* rank 0 deals to ranks 1 .. children: the
                                  relays, or every worker                 */
-    int depth;                /* TILEs a child holds at most              */
     bool shared;              /* the setup broadcast happened             */
     bool greeted;             /* every worker's handshake was received    */
     bool setup_failed;        /* a worker failed its setup                */
@@ -173,9 +172,10 @@ void master_release_scene(master_session *m, csg_blob *blob);
 bool master_run_tiles(master_session *m, master_job *job, csg_diag *d);
 
 /* With relays (after master_share_scene), the floor of every batch of
- * the scheduler that feeds them (schedule.h: sched_batch_floor); without,
- * nothing. */
-void master_relay_floor(const master_session *m, sched *s);
+ * the scheduler that feeds them (schedule.h: sched_batch_floor), and the
+ * batches each relay will hold at most in a job of s (comm/protocol.h:
+ * PROTO_RELAY_*); without relays, nothing, and 0. */
+int master_relay_floor(const master_session *m, sched *s);
 
 /* Is item `item` shaded from the pass's records (hetero, not a fill
  * tile, the records sent), or rendered whole (its primary rays traced

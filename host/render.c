@@ -590,7 +590,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         return EXIT_FAILURE_RUN;
     }
     if (use_workers)
-        master_relay_floor(ms, &rs->sched);
+        st->relay_depth = master_relay_floor(ms, &rs->sched);
     if (req->out_path) {
         int status = journal_open(req->out_path, rs->blob.bytes, &grid, req->resume, rs->image,
                                   JOURNAL_AFTER_S, &rs->journal, d);

@@ -21,6 +21,9 @@
  *   width, height, tile, ranks (ranks: MPI processes, 1 without mpirun)
  *   in_flight     work items a worker holds at once (protocol.h)
  *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)
+ *   relay_depth   batches rank 0 keeps at each relay (comm/protocol.h:
+ *                 16 in raster order, 8 where the order knows the costs;
+ *                 0 without relays)
  *   store_threads rank 0's threads that stored the workers' 8-bit results
  *                 (--store-threads, host/store.h; 0: none ran, the loop
  *                 stored every result: float output, serial, one rank)
@@ -231,6 +234,7 @@ typedef struct render_stats {
     int batch;                                    /* (above)            */
     int relays;               /* ranks 1 .. relays relay (--relays): not in
                                  `workers` of the JSON                     */
+    int relay_depth;          /* batches each relay holds at most (0: none) */
     int store_threads;        /* rank 0's store threads that ran          */
     int write_bands, write_bands_early; /* the image's bands, and those
                                  encoded before the last tile was in     */

@@ -406,10 +406,12 @@ done
 # Ranks 1 .. K relay: rank 0 deals them batches, they deal their workers;
 # the image is the serial one, every item is computed by a worker (never a
 # relay), the stats name the relays and list only the workers, and rank 0
-# sends fewer TILE messages than the items.
-relayed() { # relayed STATS K: K relays, fewer messages than items
+# sends fewer TILE messages than the items, keeping 16 batches at a relay
+# in homo (no estimates) and 8 in hetero (comm/protocol.h: PROTO_RELAY_*).
+relayed() { # relayed STATS K MODE: K relays, fewer messages than items
     python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
-sys.exit(0 if j['relays'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] else 1)" "$@"
+sys.exit(0 if j['relays'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] \
+and j['relay_depth'] == (16 if sys.argv[3] == 'homo' else 8) else 1)" "$@"
 }
 for mode in "${modes[@]}"; do
     for cfg in "4 1 raster" "5 2 cost" "6 2 tail" "7 3 static"; do
@@ -423,8 +425,8 @@ for mode in "${modes[@]}"; do
         elif ! check_stats "$TMP/$name.json" "$mode" "$np" 2>"$TMP/$name.py" ||
             ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
             bad "--relays $k, $mode, K=$np: $(tail -1 "$TMP/$name.py")"
-        elif [ "$sched" != static ] && ! relayed "$TMP/$name.json" "$k"; then
-            bad "--relays $k, $mode, K=$np: not relayed ($(grep -E '"(relays|tile_messages|items_sent)"' "$TMP/$name.json" | tr -d '\n ')"
+        elif [ "$sched" != static ] && ! relayed "$TMP/$name.json" "$k" "$mode"; then
+            bad "--relays $k, $mode, K=$np: not relayed ($(grep -E '"(relays|relay_depth|tile_messages|items_sent)"' "$TMP/$name.json" | tr -d '\n ')"
         else
             ok "--relays $k --schedule $sched, $mode, K=$np, tile 5: == serial, items on workers only, stats and tile log consistent"
         fi
