@@ -346,8 +346,8 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     const void *answers = h->work == PROTO_WORK_SHADE_ANSWERED /* (after the records) */
                               ? (const char *)payload + tile_records_bytes(&w->runner.grid, n)
                               : NULL;
-    proto_result head = {.flags = w->paged ? PROTO_RESULT_PAGING : 0u};
-    float *floats = (float *)(void *)(out + proto_result_head(&head));
+    const uint32_t flags = w->paged ? PROTO_RESULT_PAGING : 0u;
+    float *floats = (float *)(void *)(out + proto_result_head(&(proto_result){.flags = flags}));
     tile_result res;
     tile_timer timer; /* (the part's whole work: the map of bench/sim/costmap.py) */
     tile_time_start(&timer);
@@ -365,20 +365,20 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
             return 0;
     }
     tile_time_stop(&timer, &res);
-    head = (proto_result){.index = h->index,
-                          .hits = res.hits,
-                          .primary = res.rays.primary,
-                          .shadow = res.rays.shadow,
-                          .reflected = res.rays.reflected,
-                          .refracted = res.rays.refracted,
-                          .over_budget = res.rays.over_budget,
-                          .shadow_answered = res.rays.shadow_answered,
-                          .busy_s = res.busy_s,
-                          .cpu_s = res.cpu_s,
-                          .pixels = w->pixels,
-                          .payload = compressed,
-                          .flags = head.flags,
-                          .paging = res.paging};
+    proto_result head = {.index = h->index,
+                         .hits = res.hits,
+                         .primary = res.rays.primary,
+                         .shadow = res.rays.shadow,
+                         .reflected = res.rays.reflected,
+                         .refracted = res.rays.refracted,
+                         .over_budget = res.rays.over_budget,
+                         .shadow_answered = res.rays.shadow_answered,
+                         .busy_s = res.busy_s,
+                         .cpu_s = res.cpu_s,
+                         .pixels = w->pixels,
+                         .payload = compressed,
+                         .flags = flags,
+                         .paging = res.paging};
     proto_result_write(out, &head);
     return proto_result_part_of(&head, n, w->pixels);
 }

@@ -116,10 +116,8 @@ bool file_temp_open_named(file_temp *t, const char *path, mode_t mode)
         return false;
     }
     t->fd = mkstemp(t->name);
-    if (t->fd < 0) {
+    if (t->fd < 0) { /* (nothing was created under the name) */
         int e = errno;
-        free(t->name);
-        t->name = NULL; /* (nothing was created under it) */
         temp_clear(t);
         errno = e;
         return false;
