@@ -3,7 +3,7 @@
 #
 #   bench/simulate.sh SCENE --workers N --mode homo|hetero [--schedule S]
 #       [--tile T] [--network gige|ib|local] [--size WxH] [--pass-scale F | --pass-rate M]
-#       [--batch N|auto] [--pixels rgb8|rgb8z|float] [--fill on|off] [--relays K]
+#       [--batch N|auto] [--pieces N|auto] [--pixels rgb8|rgb8z|float] [--fill on|off] [--relays K]
 #       [--wire-map FILE] [--compress-ns D] [--decompress-ns I] [--hit-records send|retrace]
 #       [--master-part-us A --master-pixel-ns B] [--master-message-us M]
 #       [--master-store-ns C [--store-threads N]] [--nap-us U] [--map FILE [--fill-map FILE]]
@@ -35,6 +35,7 @@
 # --pass-delay S: the device's set-up, seconds before the pass's first slice
 # (cl_setup_s of the stats; default 0).
 # --batch N|auto: the master's batch limit (csgtrace --batch; default auto).
+# --pieces N|auto: the items a tile goes as (csgtrace --pieces; default auto).
 # --pixels rgb8|float: what a RESULT carries a pixel: rgb8 (default) is a
 # render to an 8-bit file (PNG, ...: 3 bytes), float one to EXR (12 bytes,
 # as every render sent before 2026-11-25), rgb8z the 8-bit bytes compressed
@@ -104,7 +105,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 [[ "$MAP_RENDERS" =~ ^[1-9][0-9]?$ ]] || { echo "bench/simulate.sh: SIM_MAP_RENDERS: 1..99" >&2; exit 2; }
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
-SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIXELS=rgb8 FILL=on RELAYS=0
+SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIECES=auto PIXELS=rgb8 FILL=on RELAYS=0
 PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
 SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_FETCH=get PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
@@ -124,6 +125,7 @@ while [ $# -gt 0 ]; do
     --pass-scale) PASS_SCALE=$2 ;;
     --pass-rate) PASS_RATE=$2 ;;
     --batch) BATCH=$2 ;;
+    --pieces) PIECES=$2 ;;
     --pixels) PIXELS=$2 ;;
     --wire-map) WIRE_MAP=$2 ;;
     --hit-records) RECORDS=$2 ;;
@@ -171,6 +173,7 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PASS_SCALE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ && "$PASS_SCALE" =~ [1-9] ]] || die "--pass-scale: a positive decimal number"
 [[ "$PASS_RATE" =~ ^(0|[1-9][0-9]*)?(\.[0-9]{1,6})?$ ]] || die "--pass-rate: Mrays/s, a decimal number"
 [[ "$BATCH" =~ ^(auto|[1-9][0-9]?)$ ]] || die "--batch: auto or 1..99"
+[[ "$PIECES" =~ ^(auto|1|4|16|64)$ ]] || die "--pieces: auto, 1, 4, 16 or 64"
 [[ "$PIXELS" =~ ^(rgb8|rgb8z|float)$ ]] || die "--pixels: rgb8, rgb8z or float"
 [ -z "$WIRE_MAP" ] || [ -f "$WIRE_MAP" ] || die "--wire-map: no file '$WIRE_MAP'"
 [[ "$RECORDS" =~ ^(send|retrace)$ ]] || die "--hit-records: send or retrace"
@@ -294,6 +297,7 @@ TCPF=${SIM_TCP_FACTORS:-smpi}
     opts+=(--cfg=smpi/lat-factor:0:1 --cfg=smpi/bw-factor:0:1)
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
+[ "$PIECES" = auto ] || batch+=(--pieces "$PIECES")
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \

@@ -391,6 +391,15 @@ static bool cli_complete(cli_args *a, bool seed_given, csg_diag *d)
                            "to the workers");
         return false;
     }
+    if (a->req.pieces > 0 && (a->req.pieces & (a->req.pieces - 1) || a->req.pieces & 0xaaaaaaaa)) {
+        csg_error_plain(d, "--pieces: 1, 4, 16, 64 or auto, got %d", a->req.pieces);
+        return false;
+    }
+    if (a->req.pieces > 1 && (a->req.schedule == SCHED_STATIC || a->req.schedule == SCHED_REGION)) {
+        csg_error_plain(d, "--pieces %d: the %s schedule sends whole tiles", a->req.pieces,
+                        sched_policy_name((enum sched_policy)a->req.schedule));
+        return false;
+    }
     if (!outputs_distinct(a, d) || !library_from_env(a, d))
         return false;
     a->parse.image_width = a->req.width;

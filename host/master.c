@@ -565,14 +565,18 @@ static bool master_room(master_loop *L, int r, int depth)
     return true;
 }
 
-/* Nothing ready: fill items for one message into items[] (as many as a
- * batch of ready items would hold: guided by what is left, so the last
- * ones go alone); how many (L->failed when out of memory). */
-static int master_fill_batch(master_loop *L, double now, int *items, csg_diag *d)
+/* Nothing (more) ready: fill items for one message into items[], at most
+ * `room` (as many as a batch of ready items would hold: guided by what is
+ * left, so the last ones go alone); how many (L->failed when out of
+ * memory). */
+static int master_fill_batch(master_loop *L, double now, int *items, int room, csg_diag *d)
 {
     int want = sched_fill_batch(L->job->sched, L->m->batch), k = 0;
+    want = want < room ? want : room;
     for (; k < want; k++) {
-        int item = L->job->fill(L->job, now, d);
+        int item = sched_next_fill_piece(L->job->sched, now); /* (the claimed tile's, cut) */
+        if (item < 0)
+            item = L->job->fill(L->job, now, d);
         if (item < 0) {
             L->failed |= item == -2;
             break;
@@ -594,8 +598,12 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
             double now = stats_clock();
             int items[PROTO_BATCH_MAX];
             int k = sched_next_batch(L->job->sched, r - 1, now, L->m->batch, items);
-            if (k == 0 && L->job->fill)
-                k = master_fill_batch(L, now, items, d);
+            /* (the pass's tiles ready run out: the message topped up with the
+             * fill's, or a pass slower than the workers keeps their stocks
+             * at what it trickles while the fill waits: bench/SCALE.md,
+             * *Pieces*) */
+            if (k < L->m->batch && L->job->fill && sched_ready(L->job->sched) == 0)
+                k += master_fill_batch(L, now, items + k, L->m->batch - k, d);
             if (k == 0)
                 continue;
             if (L->job->t_first == 0)

@@ -73,6 +73,9 @@ enum cli_kind {
       cli_schedules, CLI_ON_RENDERS, "which tile goes next (default raster; hetero cost)")     \
     X("--batch", NULL, "N|auto", CLI_INT_AUTO, req.batch, 1, PROTO_BATCH_MAX, NULL,            \
       CLI_ON_RENDERS, "work items a message may carry (default auto: 8 from 32 workers)")      \
+    X("--pieces", NULL, "N|auto", CLI_INT_AUTO, req.pieces, 1, SCHED_PIECES_MAX, NULL,         \
+      CLI_ON_RENDERS, "the work items a tile goes as: 1, 4, 16 or 64 (default auto: cut "    \
+                      "in 4 from 128 workers with under 128 tiles each, unless compressed)")               \
     X("--relays", NULL, "K", CLI_INT, req.relays, 0, CLI_RELAYS_MAX, NULL, CLI_ON_RENDERS,     \
       "ranks 1..K become masters of groups of workers (default 0)")                            \
     X("--scene-memory", NULL, "MB", CLI_REAL, req.scene_memory_mb, 0.001, 1e9, NULL,         \

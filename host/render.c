@@ -589,6 +589,14 @@ static int render_prepare(const render_request *req, master_session *ms, render_
         csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
         return EXIT_FAILURE_RUN;
     }
+    st->pieces = use_workers ? sched_pieces_auto(req->pieces, ms->workers - ms->relays,
+                                                 st->tiles_total, st->tile,
+                                                 ms->pixels == PIXELS_RGB8Z)
+                             : 1;
+    if (!sched_cut(&rs->sched, st->pieces)) {
+        csg_error_plain(d, "out of memory for a %dx%d image", st->width, st->height);
+        return EXIT_FAILURE_RUN;
+    }
     if (use_workers)
         st->relay_depth = master_relay_floor(ms, &rs->sched);
     if (req->out_path) {

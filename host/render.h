@@ -68,6 +68,8 @@ typedef struct {
                                  shows it pays (host/render.c)         */
     int batch;                /* work items in one message at most
                                  (--batch); 0: auto (host/schedule.h)  */
+    int pieces;               /* the items a tile goes as (--pieces: 1,
+                                 4, 16, 64); 0: auto (host/schedule.h) */
     int relays;               /* --relays: ranks 1 .. relays are relays,
                                  masters of groups of workers
                                  (comm/relay.h); 0: none               */

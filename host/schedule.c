@@ -79,19 +79,27 @@ void sched_free(sched *s)
 
 /* ---- items ----------------------------------------------------------------- */
 
-/* A new item for rectangle r of tile `tile`; -1 when out of memory. */
-/* A new item; its estimate asked for when `estimated` (and estimates exist). */
+/* Room for `more` items beyond s->count; false when out of memory. */
+static bool sched_reserve(sched *s, int more)
+{
+    if (s->count + more <= s->cap)
+        return true;
+    int cap = s->cap * 2 > s->count + more ? s->cap * 2 : s->count + more;
+    sched_item *grown = realloc(s->items, (size_t)cap * sizeof *grown);
+    if (!grown)
+        return false;
+    s->items = grown;
+    s->cap = cap;
+    return true;
+}
+
+/* A new item for rectangle r of tile `tile`; -1 when out of memory.  Its
+ * estimate is asked for when `estimated` (and estimates exist). */
 static int sched_new_item(sched *s, int tile, tile_rect r, int piece, bool skipped,
                           bool estimated)
 {
-    if (s->count == s->cap) {
-        int cap = s->cap * 2;
-        sched_item *grown = realloc(s->items, (size_t)cap * sizeof *grown);
-        if (!grown)
-            return -1;
-        s->items = grown;
-        s->cap = cap;
-    }
+    if (!sched_reserve(s, 1))
+        return -1;
     sched_item *it = &s->items[s->count];
     memset(it, 0, sizeof *it);
     it->rect = r;
@@ -178,14 +186,11 @@ static int sched_owner(const sched *s, int tile)
     return w < 0 ? 0 : w >= s->workers ? s->workers - 1 : w;
 }
 
-bool sched_add(sched *s, int tile, tile_rect r)
+/* Item `item` into the policy's ready structure, its estimate counted. */
+static void sched_queue(sched *s, int item)
 {
-    int item = sched_new_item(s, tile, r, 0, false, true);
-    if (item < 0)
-        return false;
-    s->tile_left[tile] = 1;
     if (sched_queues(s)) {
-        int w = sched_owner(s, tile);
+        int w = sched_owner(s, s->items[item].tile);
         s->next_of[item] = -1;
         if (s->last[w] >= 0)
             s->next_of[s->last[w]] = item;
@@ -200,12 +205,106 @@ bool sched_add(sched *s, int tile, tile_rect r)
         s->fifo[s->fifo_n++] = item;
         s->ready_estimate += sched_estimate_of(s, item);
     }
-    s->added++;
-    s->known++;
     double e = sched_estimate_of(s, item);
     s->added_estimate += e;
     s->max_estimate = e > s->max_estimate ? e : s->max_estimate;
+    s->added_items++;
+}
+
+/* The i-th of n cuts of the span [at, at + len): ceil(len i / n) on. */
+static int sched_cut_at(int at, int len, int i, int n)
+{
+    return at + (len * i + n - 1) / n;
+}
+
+/* The pieces of tile `tile` (rectangle r), s->cuts x s->cuts of them less
+ * the empty ones, made into out[]: each with its own estimate, or marked
+ * a fill item (rendered whole: no records, no estimate); how many, 0 when
+ * memory runs out (then none is made). */
+static int sched_make_pieces(sched *s, int tile, tile_rect r, bool fill, int *out)
+{
+    int c = s->cuts, n = 0;
+    if (!sched_reserve(s, c * c)) /* (before any piece exists) */
+        return 0;
+    for (int j = 0; j < c; j++)
+        for (int i = 0; i < c; i++) {
+            int x0 = sched_cut_at(r.x, r.width, i, c), x1 = sched_cut_at(r.x, r.width, i + 1, c);
+            int y0 = sched_cut_at(r.y, r.height, j, c), y1 = sched_cut_at(r.y, r.height, j + 1, c);
+            if (x1 > x0 && y1 > y0) {
+                out[n] = sched_new_item(s, tile, (tile_rect){x0, y0, x1 - x0, y1 - y0},
+                                        j * c + i + 1, false, !fill);
+                s->items[out[n++]].fill = fill;
+            }
+        }
+    s->tile_left[tile] = n;
+    return n;
+}
+
+/* Tile item `item` replaced by its pieces, each queued; false (nothing
+ * made) when memory runs out. */
+static bool sched_queue_pieces(sched *s, int item)
+{
+    int made[SCHED_PIECES_MAX];
+    int n = sched_make_pieces(s, s->items[item].tile, s->items[item].rect, false, made);
+    for (int k = 0; k < n; k++)
+        sched_queue(s, made[k]);
+    if (n > 0)
+        s->items[item].split = true;
+    return n > 0;
+}
+
+bool sched_add(sched *s, int tile, tile_rect r)
+{
+    bool cut = s->cuts > 1;
+    int item = sched_new_item(s, tile, r, 0, false, !cut);
+    if (item < 0)
+        return false;
+    s->tile_left[tile] = 1;
+    if (!cut || !sched_queue_pieces(s, item)) {
+        if (cut && s->estimate) /* (out of memory for the pieces: the tile goes whole) */
+            s->items[item].estimate = s->estimate(s->estimate_arg, r);
+        sched_queue(s, item);
+    }
+    s->added++;
+    s->known++;
     return true;
+}
+
+bool sched_cut(sched *s, int pieces)
+{
+    int c = 1;
+    while (c * c < pieces)
+        c *= 2;
+    if (c <= 1 || sched_queues(s))
+        return true; /* (static, region: whole tiles) */
+    size_t n = (size_t)s->tiles * (size_t)(c * c);
+    int *fifo = realloc(s->fifo, n * sizeof *fifo);
+    if (fifo)
+        s->fifo = fifo;
+    int *heap = fifo ? realloc(s->heap, n * sizeof *heap) : NULL;
+    if (heap)
+        s->heap = heap;
+    if (!heap)
+        return false;
+    s->cuts = c;
+    return true;
+}
+
+int sched_pieces_auto(int requested, int workers, int tiles, int tile_edge, bool compressed)
+{
+    int c = 1;
+    if (requested > 0) {
+        while (c * c < requested && 2 * c <= tile_edge) /* (pieces of a pixel at least) */
+            c *= 2;
+        return c * c;
+    }
+    if (workers < SCHED_PIECES_WORKERS || compressed)
+        return 1;
+    /* (one cut at most: 16 pieces a tile at 1024 workers, 262 144 items a
+     * frame, keep rank 0 busy 88 % of the frame on their parts) */
+    bool cut = (double)tiles < (double)SCHED_PIECES_ITEMS * workers &&
+               tile_edge / 2 >= SCHED_PIECE_MIN;
+    return cut ? 4 : 1;
 }
 
 bool sched_skip(sched *s, int tile, tile_rect r)
@@ -232,10 +331,15 @@ void sched_close(sched *s)
 /* Whole tiles ready and not yet sent (static: every worker's). */
 static int sched_waiting(const sched *s)
 {
-    int again = s->again_n - s->again_head;
+    int again = s->again_n - s->again_head + (s->fill_pieces_n - s->fill_pieces_head);
     if (sched_queues(s))
         return again + s->in_queues;
     return again + s->heap_n + (s->fifo_n - s->fifo_head);
+}
+
+int sched_ready(const sched *s)
+{
+    return sched_waiting(s) + (s->front_n - s->front_head);
 }
 
 /* Splits whole tile `item` into its quarters, queued in `front`; false
@@ -250,16 +354,8 @@ static bool sched_split(sched *s, int item)
                       {r.x, r.y + h0, w0, r.height - h0},
                       {r.x + w0, r.y + h0, r.width - w0, r.height - h0}};
     int n = 0, made[4];
-    if (r.width * r.height < 2)
+    if (r.width * r.height < 2 || !sched_reserve(s, 4)) /* (before any piece exists) */
         return false;
-    if (s->count + 4 > s->cap) { /* grow once, before any piece exists */
-        int cap = s->cap * 2 > s->count + 4 ? s->cap * 2 : s->count + 4;
-        sched_item *grown = realloc(s->items, (size_t)cap * sizeof *grown);
-        if (!grown)
-            return false;
-        s->items = grown;
-        s->cap = cap;
-    }
     for (int k = 0; k < 4; k++)
         if (q[k].width > 0 && q[k].height > 0)
             made[n++] = sched_new_item(s, tile, q[k], k + 1, false, true);
@@ -363,12 +459,14 @@ int sched_next(sched *s, int w, double now)
     int item = -1;
     if (s->again_head < s->again_n) {
         item = s->again[s->again_head++];
+    } else if (s->fill_pieces_head < s->fill_pieces_n) {
+        item = s->fill_pieces[s->fill_pieces_head++];
     } else if (s->front_head < s->front_n) {
         item = s->front[s->front_head++];
     } else {
         bool tail = sched_in_tail(s);
         item = sched_pop(s, w < 0 || w >= s->workers ? 0 : w);
-        if (item >= 0 && tail && sched_split(s, item))
+        if (item >= 0 && tail && s->items[item].piece == 0 && sched_split(s, item))
             item = s->front[s->front_head++];
     }
     if (item >= 0)
@@ -461,7 +559,7 @@ static int sched_floor(const sched *s, double left)
 /* Items left: ready, and those of the tiles not known yet. */
 static double sched_items_left(const sched *s)
 {
-    return sched_waiting(s) + sched_unknown(s, s->added - s->filled);
+    return sched_waiting(s) + sched_unknown(s, s->added_items);
 }
 
 int sched_batch(const sched *s, int limit)
@@ -549,14 +647,31 @@ bool sched_fill_skip(sched *s, int tile, tile_rect r)
 
 int sched_next_fill(sched *s, double now, int tile, tile_rect r)
 {
-    int item = sched_new_item(s, tile, r, 0, false, false); /* (no records to estimate from) */
-    if (item < 0)
-        return -1;
-    sched_item *it = &s->items[item];
-    it->fill = true;
+    int item = -1;
+    if (s->cuts > 1 && s->fill_pieces_head == s->fill_pieces_n) { /* its pieces: the first
+                                                           now, the others next */
+        s->fill_pieces_n = sched_make_pieces(s, tile, r, true, s->fill_pieces);
+        s->fill_pieces_head = s->fill_pieces_n > 0;
+        item = s->fill_pieces_n > 0 ? s->fill_pieces[0] : -1;
+    }
+    if (item < 0) { /* (whole: not cut, or out of memory for the pieces) */
+        item = sched_new_item(s, tile, r, 0, false, false); /* (no records to estimate from) */
+        if (item < 0)
+            return -1;
+        s->items[item].fill = true;
+        s->tile_left[tile] = 1;
+    }
     sched_mark_sent(s, item, now);
-    s->tile_left[tile] = 1;
     s->added++;
+    return item;
+}
+
+int sched_next_fill_piece(sched *s, double now)
+{
+    if (s->fill_pieces_head == s->fill_pieces_n)
+        return -1;
+    int item = s->fill_pieces[s->fill_pieces_head++];
+    sched_mark_sent(s, item, now);
     return item;
 }
 

@@ -27,6 +27,18 @@
  *           quarters, so the last workers finish within a quarter tile of
  *           each other (VM_pRAY's small work items, at the end only).
  *
+ * Pieces (--pieces, sched_cut): with raster, cost and tail a tile may go
+ * as 4, 16 or 64 pieces from the start, each an item of its own with its
+ * own estimate, queued as tiles are: the tile (its culling, the journal,
+ * the image's bands) stays the unit of the image, the item becomes
+ * smaller.  When the workers are many, a frame has few tiles a worker and
+ * the costliest tiles (the spheres' rims: 10 ms against a 0.35 ms median
+ * at 4096x4096) make the tail, which no order that does not know the costs
+ * avoids; auto (sched_pieces_auto) cuts tiles in 4 from
+ * SCHED_PIECES_WORKERS workers on where a worker would have fewer than
+ * SCHED_PIECES_ITEMS tiles, unless the results go compressed
+ * (bench/SCALE.md, *Pieces*).  Static and region keep whole tiles.
+ *
  * Batches (--batch): the master may hand a worker several items in one
  * message (sched_next_batch).  sched_batch_limit says how many at most
  * (auto: 1 unless the workers are many).  How many the next message
@@ -53,7 +65,8 @@
  * too: PROTO_WORK_RENDER), so no worker waits for the OpenCL set-up or
  * pass.  The tiles claimed that way are the fill's: the feed offers the
  * pass's tiles only above them (sched_fill_front), and the pass stops
- * there.  A fill item has no estimate and is never split or batched.
+ * there.  A fill item has no estimate; it is cut into pieces as the
+ * others are (sched_cut), never split by tail.
  *
  * A worker that is lost (its process died) hands its items back
  * (sched_requeue): they go out again before anything else, to whoever
@@ -85,13 +98,18 @@ enum sched_policy {
 #define SCHED_BATCH_AUTO 8     /* auto: at most this many items a message   */
 #define SCHED_BATCH_SPREAD 4      /* rounds, batches cut by count       */
 #define SCHED_BATCH_SPREAD_COST 2 /* rounds, batches cut by estimates   */
+#define SCHED_PIECES_WORKERS 128  /* auto: tiles cut from this many workers on */
+#define SCHED_PIECES_ITEMS 128    /* auto: ...in 4 when a worker has fewer tiles */
+#define SCHED_PIECE_MIN 8         /* auto: a quarter's edge at least (pixels) */
+#define SCHED_PIECES_MAX 64       /* --pieces: 1, 4, 16 or 64               */
 
 typedef struct {
     tile_rect rect;
     int tile;          /* the tile the rectangle lies in                 */
-    int piece;         /* 0: the whole tile; 1 .. 4: a quarter of it     */
+    int piece;         /* 0: the whole tile; 1 .. 4: a quarter of it (tail),
+                          1 .. cuts^2: a piece of it (sched_cut)       */
     bool skipped;      /* degenerate: filled by the master, never sent   */
-    bool split;        /* replaced by its pieces (tail): never sent      */
+    bool split;        /* replaced by its pieces: never sent             */
     bool resumed;      /* skipped: its pixels came from the journal of an
                           earlier run (--resume), not from the background */
     bool fill;         /* claimed by the fill: rendered whole, no records */
@@ -134,6 +152,8 @@ typedef struct {
     int *queued;        /* static, region: each worker's queue's length   */
     int stolen;         /* region: tiles taken from another's band       */
     int added;          /* tiles added (not skipped), for static         */
+    int added_items;    /* items queued for them (a cut tile's pieces)   */
+    int cuts;           /* a tile added goes as cuts x cuts pieces (1: whole) */
     int front[4];       /* tail: the pieces of the tile being split       */
     int front_head, front_n;
     int *tile_left;     /* items of each tile not yet done                */
@@ -148,6 +168,9 @@ typedef struct {
     bool closed;        /* every tile was added or skipped                */
     bool fill;          /* the fill is on (sched_fill_enable)             */
     int fill_front;     /* the fill's tiles: this index and every later  */
+    int fill_pieces[SCHED_PIECES_MAX]; /* the pieces of the tile the fill
+                           claimed last, not yet handed out (cut tiles)   */
+    int fill_pieces_head, fill_pieces_n;
     int filled;         /* tiles the fill claimed                        */
     int batch_floor;    /* a batch takes at least this many items when
                            they are ready (1; a relay's group: more)...  */
@@ -169,6 +192,20 @@ void sched_free(sched *s);
  * while its TILEs are out. */
 void sched_batch_floor(sched *s, int floor, int slots);
 
+/* From now on each tile added goes as `pieces` items (1, 4, 16, 64:
+ * rounded up to a square of a power of two), before any tile is added;
+ * static and region keep whole tiles.  False when out of memory. */
+bool sched_cut(sched *s, int pieces);
+/* The pieces a tile goes as: `requested` (--pieces N: 1, 4, 16, 64), cut
+ * no finer than a pixel on a side (tile edge 2: at most 4), or, for 0
+ * (auto), 1 below SCHED_PIECES_WORKERS workers or where the results go
+ * `compressed` (a slow link: rank 0's bytes bound the frame, and pieces
+ * add headers and compress less), else 4 when whole tiles would give a
+ * worker fewer than SCHED_PIECES_ITEMS items and the quarters have edges
+ * of SCHED_PIECE_MIN pixels at least.  Never 16 or 64 unless asked: at
+ * 1024 workers rank 0's work on 16 parts a tile bounds the frame. */
+int sched_pieces_auto(int requested, int workers, int tiles, int tile_edge, bool compressed);
+
 /* Tile `tile` (rectangle r) is ready to be sent / is degenerate. */
 bool sched_add(sched *s, int tile, tile_rect r);
 bool sched_skip(sched *s, int tile, tile_rect r);
@@ -188,6 +225,8 @@ bool sched_requeue(sched *s, int item);
 void sched_release(sched *s, int w);
 /* Closed and every item handed out. */
 bool sched_finished(const sched *s);
+/* Items ready to be handed out now (sched_next would give one). */
+int sched_ready(const sched *s);
 /* The most items one message may carry: `requested` (--batch N, 1 ..
  * max) or, for 0 (auto), SCHED_BATCH_AUTO from SCHED_BATCH_WORKERS
  * workers on and 1 below. */
@@ -216,8 +255,14 @@ int sched_fill_batch(const sched *s, int limit);
  * never sent (skipped, as sched_skip's). */
 bool sched_fill_skip(sched *s, int tile, tile_rect r);
 /* Claimed tile `tile` (rectangle r) handed out at once as a fill item
- * (marked sent as by sched_next); the item, or -1 when out of memory. */
+ * (marked sent as by sched_next); the item, or -1 when out of memory.
+ * A cut tile (sched_cut) goes as its pieces: the first now, the others
+ * by sched_next_fill_piece (or sched_next) before any other tile is
+ * claimed. */
 int sched_next_fill(sched *s, double now, int tile, tile_rect r);
+/* The next piece of the tile the fill claimed last, marked sent; -1 when
+ * none is left. */
+int sched_next_fill_piece(sched *s, double now);
 /* Item `item` is done; true when that completes its tile. */
 bool sched_done(sched *s, int item);
 

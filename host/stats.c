@@ -176,9 +176,9 @@ void stats_print_json(FILE *f, const render_stats *s)
     stats_string(f, s->cl_open ? s->cl_open : "none");
     fprintf(f, ",\n  \"width\": %d,\n  \"height\": %d,\n  \"tile\": %d,\n  \"ranks\": %d,\n"
                "  \"spp\": %d,\n  \"in_flight\": %d,\n  \"relays\": %d,\n"
-               "  \"relay_depth\": %d,\n  \"store_threads\": %d,\n",
+               "  \"relay_depth\": %d,\n  \"pieces\": %d,\n  \"store_threads\": %d,\n",
             s->width, s->height, s->tile, s->ranks, s->spp > 0 ? s->spp : 1, s->in_flight,
-            s->relays, s->relay_depth, s->store_threads);
+            s->relays, s->relay_depth, s->pieces > 0 ? s->pieces : 1, s->store_threads);
     stats_phases(f, s);
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
@@ -362,12 +362,12 @@ static int stats_skipped(const sched *s)
     return n;
 }
 
-/* Tiles the fill claimed and workers rendered whole. */
+/* Tiles the fill claimed and workers rendered from scratch (whole or cut). */
 static int stats_filled(const sched *s)
 {
     int n = 0;
     for (int i = 0; i < s->count; i++)
-        n += s->items[i].fill;
+        n += s->items[i].fill && s->items[i].piece <= 1; /* (a cut tile: its first piece) */
     return n;
 }
 

@@ -24,6 +24,8 @@
  *   relay_depth   batches rank 0 keeps at each relay (comm/protocol.h:
  *                 16 in raster order, 8 where the order knows the costs;
  *                 0 without relays)
+ *   pieces        the work items a tile went as (--pieces, host/schedule.h:
+ *                 1, or 4, 16, 64 where the workers are many)
  *   store_threads rank 0's threads that stored the workers' 8-bit results
  *                 (--store-threads, host/store.h; 0: none ran, the loop
  *                 stored every result: float output, serial, one rank)
@@ -235,6 +237,7 @@ typedef struct render_stats {
     int relays;               /* ranks 1 .. relays relay (--relays): not in
                                  `workers` of the JSON                     */
     int relay_depth;          /* batches each relay holds at most (0: none) */
+    int pieces;               /* items a tile went as (--pieces)         */
     int store_threads;        /* rank 0's store threads that ran          */
     int write_bands, write_bands_early; /* the image's bands, and those
                                  encoded before the last tile was in     */

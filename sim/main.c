@@ -53,7 +53,8 @@
  * the tracing itself, the shadow rays' prefetch walks).
  *
  *   csgsim SCENE --mode homo|hetero --width W --height H --tile T
- *          --schedule raster|cost|static|tail|region [--batch N] [--pixels rgb8|rgb8z|float]
+ *          --schedule raster|cost|static|tail|region [--batch N] [--pieces N]
+ *          [--pixels rgb8|rgb8z|float]
  *          [--hit-records send|retrace]
  *          [--scene-memory MB [--page-size KB] [--page-policy P] [--page-prefetch on|off]
  *           [--page-home auto|master|spread]]
@@ -92,6 +93,7 @@ typedef struct {
     bool hetero;
     int width, height, tile, policy;
     int batch;               /* --batch: 0 auto (master.h)               */
+    int pieces;              /* --pieces: 0 auto (schedule.h)            */
     int relays;              /* --relays: ranks 1 .. relays relay (0)    */
     int pixels;              /* --pixels: enum pixels_format             */
     bool fill;               /* --fill on|off (hetero)                    */
@@ -114,6 +116,7 @@ typedef struct {
     double serial_s;         /* the items' seconds, the pass included   */
     bool hetero;
     int width, height;
+    int pieces;              /* the items a tile went as (--pieces)      */
 } sim_run;
 
 static bool sim_int(const char *text, int lo, int hi, int *out)
@@ -155,6 +158,8 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
         return sim_int(v, 1, PROTO_BATCH_MAX, &a->batch);
     if (strcmp(key, "--relays") == 0)
         return sim_int(v, 0, 4096, &a->relays);
+    if (strcmp(key, "--pieces") == 0)
+        return sim_int(v, 1, SCHED_PIECES_MAX, &a->pieces);
     if (strcmp(key, "--pixels") == 0) {
         a->pixels = strcmp(v, "float") == 0 ? PIXELS_FLOAT
                     : strcmp(v, "rgb8z") == 0 ? PIXELS_RGB8Z
@@ -203,7 +208,7 @@ static bool sim_option(sim_args *a, const char *key, const char *v)
 
 static bool sim_parse(int argc, char **argv, sim_args *a)
 {
-    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, PIXELS_RGB8, true,
+    *a = (sim_args){NULL, NULL, "homo", false, 384, 384, 32, -1, 0, 0, 0, PIXELS_RGB8, true,
                     0, 0, PAGER_LRU, true, PAGER_HOME_AUTO, PAGER_FETCH_GET, false};
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && !a->scene)
@@ -340,6 +345,24 @@ static void sim_timeline(const sched *s, int workers, double t0, double end, sim
     free(last);
 }
 
+/* Every item handed out, one CSV line each, into $CSGSIM_ITEM_LOG when it
+ * is set (times from t0): what ends last, and why (bench/SCALE.md). */
+static void sim_item_log(const sched *s, double t0)
+{
+    const char *path = getenv("CSGSIM_ITEM_LOG");
+    FILE *f = path && path[0] ? fopen(path, "w") : NULL;
+    if (!f)
+        return;
+    fputs("tile,piece,fill,worker,estimate,busy_s,sent_s,done_s\n", f);
+    for (int i = 0; i < s->count; i++) {
+        const sched_item *it = &s->items[i];
+        if (it->order >= 0)
+            fprintf(f, "%d,%d,%d,%d,%.6g,%.9g,%.9g,%.9g\n", it->tile, it->piece, it->fill,
+                    it->worker, it->estimate, it->busy_s, it->sent_s - t0, it->done_s - t0);
+    }
+    fclose(f);
+}
+
 /* The grid's tiles (hetero: those with hits) the page trace has no item
  * of the mode's kind for (their pages are then the union of the items
  * they overlap: another tile size; none: a trace of another render). */
@@ -370,7 +393,7 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
                "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
                "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
-               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f",
+               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f, \"pieces\": %d",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
@@ -378,7 +401,7 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
             (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent,
             a->fill && run->hetero ? "true" : "false",
             r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
-            serial / ((workers + a->relays) * r->makespan_s));
+            serial / ((workers + a->relays) * r->makespan_s), run->pieces);
     if (r->page_count > 0) {
         const page_counts *p = &r->paging;
         int missing = sim_trace_missing(a, run);
@@ -475,9 +498,13 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
         m.pixels = a->pixels;
         int status = sim_plan_pages(a, &m, blob, &d);
         master_share_scene(&m, status, a->tile, blob);
+        run->pieces = sched_pieces_auto(a->pieces, ranks - 1 - a->relays,
+                                        tile_count(&job.grid), a->tile,
+                                        a->pixels == PIXELS_RGB8Z);
+        bool cut = sched_cut(&run->s, run->pieces);
         master_relay_floor(&m, &run->s);
         run->pass_t0 = stats_clock() + sim_env_number("CSGSIM_PASS_DELAY_S", 0);
-        ok = status == 0 && master_run_tiles(&m, &job, &d);
+        ok = cut && status == 0 && master_run_tiles(&m, &job, &d);
         pager_plan plan = m.plan; /* (its sizes: master_end frees the pages) */
         master_end(&m, ok ? 0 : 1);
         master_release_scene(&m, blob); /* (threads: never shared, the blob stays) */
@@ -487,6 +514,7 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
                             m.page_homes, plan.page_count, plan.page_bytes, plan.resident_bytes,
                             m.scene_memory, m.page_window};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
+        sim_item_log(&run->s, t0);
         link_idle_free(&idle);
         sched_free(&run->s);
     } else { /* out of memory before the start: the workers still need a STOP */

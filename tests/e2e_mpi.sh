@@ -294,7 +294,7 @@ for t in range(s["tiles_total"]):
     assert area.get(t) == min(T, W - tx) * min(T, H - ty), (t, area.get(t))
 assert skipped == s["tiles_degenerate"], (skipped, s["tiles_degenerate"])
 fill = [i["tile"] for i in sent if i["fill"]]
-assert len(fill) == s["tiles_filled"] and (s["mode"] == "hetero" or not fill), fill
+assert len(set(fill)) == s["tiles_filled"] and (s["mode"] == "hetero" or not fill), fill
 assert all(f > i["tile"] for f in fill for i in items if not i["fill"]), "fill from the bottom up"
 assert len(sent) == s["items_sent"] and sorted(i["order"] for i in sent) == list(range(len(sent)))
 assert not sent or sum(i["cpu_s"] for i in sent) > 0, "no CPU time in the tile log"
@@ -320,8 +320,8 @@ if schedule == "region" and s["ranks"] > 2 and K == 0:
         assert s["mode"] != "homo" or not mine or owner(mine[0]["tile"]) == w, ("region: first tile", w)
 if schedule == "tail" and s["tiles_sent"] > 2 * 2 * max(s["ranks"] - 1, 1) and s["tiles_filled"] == 0:
     assert any(i["piece"] > 0 for i in sent), "tail: no piece"  # (the fill may take the last tiles whole)
-elif schedule != "tail":
-    assert all(i["piece"] == 0 for i in sent), "pieces outside tail"
+elif schedule != "tail" and s.get("pieces", 1) == 1:
+    assert all(i["piece"] == 0 for i in sent), "pieces outside tail (and --pieces)"
 EOF
 }
 if render st-h3 3 "$first" "${SZ[@]}" --mode homo --tile 8 --stats "$TMP/st-h3.json" &&
@@ -402,6 +402,25 @@ for sched in raster cost static tail region; do
         fi
     done
 done
+# render_logged NAME NP MODE SCHEDULE WHAT ARGS...: a render with its stats
+# and tile log that equals the serial image, its stats and log consistent;
+# else one FAIL line saying WHAT and why, and a failure.
+render_logged() {
+    local name=$1 np=$2 mode=$3 sched=$4 what=$5
+    shift 5
+    if ! render "$name" "$np" "$first" "${SZ[@]}" --mode "$mode" --schedule "$sched" "$@" \
+        --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
+        bad "$what (exit: $(grep -m1 ': error: ' "$TMP/$name.err"))"
+    elif ! same "$R" "$name"; then
+        bad "$what: pixels differ from serial"
+    elif ! check_stats "$TMP/$name.json" "$mode" "$np" 2>"$TMP/$name.py" ||
+        ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
+        bad "$what: $(tail -1 "$TMP/$name.py")"
+    else
+        return 0
+    fi
+    return 1
+}
 # ---- relays: a second level of masters (--relays, comm/relay.h) ----------------------
 # Ranks 1 .. K relay: rank 0 deals them batches, they deal their workers;
 # the image is the serial one, every item is computed by a worker (never a
@@ -417,14 +436,9 @@ for mode in "${modes[@]}"; do
     for cfg in "4 1 raster" "5 2 cost" "6 2 tail" "7 3 static"; do
         read -r np k sched <<<"$cfg"
         name=rel-$mode-$np-$k
-        if ! render "$name" "$np" "$first" "${SZ[@]}" --mode "$mode" --tile 5 --relays "$k" \
-            --schedule "$sched" --tile-log "$TMP/$name.jsonl" --stats "$TMP/$name.json"; then
-            bad "--relays $k, $mode, K=$np (exit: $(grep -m1 ': error: ' "$TMP/$name.err"))"
-        elif ! same "$R" "$name"; then
-            bad "--relays $k, $mode, K=$np: pixels differ from serial"
-        elif ! check_stats "$TMP/$name.json" "$mode" "$np" 2>"$TMP/$name.py" ||
-            ! check_tile_log "$TMP/$name.jsonl" "$TMP/$name.json" "$sched" 2>>"$TMP/$name.py"; then
-            bad "--relays $k, $mode, K=$np: $(tail -1 "$TMP/$name.py")"
+        if ! render_logged "$name" "$np" "$mode" "$sched" "--relays $k, $mode, K=$np" \
+            --tile 5 --relays "$k"; then
+            : # (said)
         elif [ "$sched" != static ] && ! relayed "$TMP/$name.json" "$k" "$mode"; then
             bad "--relays $k, $mode, K=$np: not relayed ($(grep -E '"(relays|relay_depth|tile_messages|items_sent)"' "$TMP/$name.json" | tr -d '\n ')"
         else
@@ -432,6 +446,53 @@ for mode in "${modes[@]}"; do
         fi
     done
 done
+# ---- pieces: tiles cut into work items from the start (--pieces) ---------------------
+# Every tile goes as N pieces (the fill's too): the image is the serial
+# one, the log's pieces partition each tile as schedule.c cuts it, the
+# stats say N (a request cut no finer than a pixel).
+pieced() { # pieced STATS LOG N: N pieces, each tile cut as schedule.c cuts it
+    python3 - "$@" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+items = [json.loads(line) for line in open(sys.argv[2])]
+n = int(sys.argv[3])
+c = {1: 1, 4: 2, 16: 4, 64: 8}[n]
+assert s["pieces"] == n, s["pieces"]
+def spans(length):  # the non-empty cuts of an edge: ceil(length i / c)
+    at = [(length * i + c - 1) // c for i in range(c + 1)]
+    return sum(1 for i in range(c) if at[i + 1] > at[i])
+per_tile = {}
+for it in items:
+    if not it["skipped"]:
+        per_tile.setdefault(it["tile"], []).append(it)
+for t, its in per_tile.items():  # (the fill's tiles too)
+    w = sum(i["width"] for i in its if i["y"] == its[0]["y"])
+    h = sum(i["height"] for i in its if i["x"] == its[0]["x"])
+    assert len(its) == spans(w) * spans(h), (t, len(its), w, h)
+    assert min(i["piece"] for i in its) >= 1, its
+EOF
+}
+for mode in "${modes[@]}"; do
+    for cfg in "3 0 raster 4 4" "5 2 cost 16 16" "4 0 tail 64 16"; do # (64: cuts of 8 > tile 7)
+        read -r np k sched n cut <<<"$cfg"
+        name=pcs-$mode-$np-$n
+        if ! render_logged "$name" "$np" "$mode" "$sched" "--pieces $n, $mode, K=$np" \
+            --tile 7 --relays "$k" --pieces "$n"; then
+            : # (said)
+        elif ! pieced "$TMP/$name.json" "$TMP/$name.jsonl" "$cut" 2>"$TMP/$name.py"; then
+            bad "--pieces $n, $mode, K=$np: not cut as asked ($(tail -1 "$TMP/$name.py"))"
+        else
+            ok "--pieces $n --schedule $sched --relays $k, $mode, K=$np, tile 7: == serial, $cut pieces partition each tile"
+        fi
+    done
+done
+if "$BIN" render "$first" -o "$TMP/pcs-bad.pfm" --pieces 8 >/dev/null 2>"$TMP/pcs-bad.err"; then
+    bad "--pieces 8 accepted"
+elif [ $? = 2 ] && grep -q -- "--pieces: 1, 4, 16, 64 or auto, got 8" "$TMP/pcs-bad.err" && [ ! -e "$TMP/pcs-bad.pfm" ]; then
+    ok "--pieces 8 refused (exit 2, says which values)"
+else
+    bad "--pieces 8: $(cat "$TMP/pcs-bad.err")"
+fi
 [ $have_cl = 1 ] && render_same "double hetero K=5 --relays 2 --batch 3 == serial" dbl-ref dbl-rel 5 \
     "$first" "${SZ[@]}" --mode hetero --tile 7 --precision double --relays 2 --batch 3
 for mode in "${modes[@]}"; do # (a relay holding hundreds of parts deals several a message)

@@ -7,6 +7,10 @@
  *     worker k mod W and nothing of another worker's;
  *   - tail splits the last tiles into quarters that partition each tile
  *     exactly, and tells when a tile's last piece is done;
+ *   - pieces (sched_cut): every tile goes as 4 / 16 / 64 pieces that
+ *     partition it exactly (odd edges, tiles narrower than the cuts), in
+ *     cost order of the pieces' own estimates, batched, each tile complete
+ *     once; static keeps whole tiles; the auto rule (sched_pieces_auto);
  *   - nothing is handed out twice, everything once, before `finished`;
  *   - a lost worker's items (sched_requeue) go out again before anything
  *     else, and `finished` waits for them; a lost worker's static share
@@ -250,6 +254,46 @@ static void test_fill(void **state)
     sched_free(&s);
 }
 
+/* The fill's tiles cut too: the first piece at once, the others next
+ * (sched_next_fill_piece, or sched_next once the fill stops claiming),
+ * the tile complete with its last piece, finished only with none left. */
+static void test_fill_pieces(void **state)
+{
+    (void)state;
+    double cost[4] = {1, 2, 3, 4};
+    sched s;
+    assert_true(sched_init(&s, SCHED_COST, 2, 2, 4, table_estimate, cost));
+    assert_true(sched_cut(&s, 4));
+    sched_fill_enable(&s);
+    int tile = sched_fill_claim(&s, 0);
+    assert_int_equal(tile, 3);
+    int got[4];
+    got[0] = sched_next_fill(&s, 1.0, tile, rect_of(tile));
+    got[1] = sched_next_fill_piece(&s, 1.0);
+    for (int i = 0; i < 3; i++) /* the pass's tiles 0 .. 2 */
+        assert_true(sched_add(&s, i, rect_of(i)));
+    sched_close(&s);
+    assert_false(sched_finished(&s)); /* two pieces of the fill's tile left */
+    got[2] = sched_next(&s, 0, 2.0);  /* they go before the pass's tiles */
+    got[3] = sched_next(&s, 1, 2.0);
+    int area = 0;
+    for (int k = 0; k < 4; k++) {
+        const sched_item *it = &s.items[got[k]];
+        assert_true(it->fill && it->tile == 3 && it->piece == k + 1 && it->estimate < 0);
+        area += it->rect.width * it->rect.height;
+        assert_int_equal(sched_done(&s, got[k]), k == 3); /* complete with the last */
+    }
+    assert_int_equal(area, 256);
+    assert_int_equal(sched_next_fill_piece(&s, 3.0), -1);
+    int rest[12];
+    assert_int_equal(drain(&s, 0, rest, 12), 12); /* the pass's tiles, 4 pieces each */
+    for (int k = 0; k < 12; k++)
+        assert_false(s.items[rest[k]].fill);
+    assert_true(sched_finished(&s));
+    assert_int_equal(s.filled, 1);
+    sched_free(&s);
+}
+
 static void test_requeue(void **state)
 {
     (void)state;
@@ -333,6 +377,135 @@ static void test_tail_split(void **state)
 }
 
 /* A 1x1 tile cannot be split: it goes whole. */
+/* Hands out everything in batches of at most `limit` for worker 0 and
+ * marks it done: pieces' areas per tile into area[], the tiles completed. */
+static int drain_done(sched *s, int limit, int *area, int *items)
+{
+    int got[PROTO_BATCH_MAX], k, complete = 0;
+    *items = 0;
+    while ((k = sched_next_batch(s, 0, 0.0, limit, got)) > 0)
+        for (int i = 0; i < k; i++) {
+            const sched_item *it = &s->items[got[i]];
+            assert_false(it->split);
+            area[it->tile] += it->rect.width * it->rect.height;
+            complete += sched_done(s, got[i]);
+            (*items)++;
+        }
+    return complete;
+}
+
+/* Each tile as 4, 16, 64 pieces: they partition it (an odd edge tile of
+ * 15x16, a 3x16 one narrower than 8 cuts), each tile is complete once,
+ * and cost order follows the pieces' estimates. */
+static void test_pieces(void **state)
+{
+    (void)state;
+    enum { TILES = 6 };
+    double cost[TILES] = {1, 5, 2, 4, 3, 6};
+    const int pieces[] = {4, 16, 64};
+    for (size_t c = 0; c < sizeof pieces / sizeof *pieces; c++) {
+        sched s;
+        assert_true(sched_init(&s, SCHED_COST, 2, 2, TILES, table_estimate, cost));
+        assert_true(sched_cut(&s, pieces[c]));
+        for (int i = 0; i < TILES; i++) {
+            tile_rect r = rect_of(i);
+            r.width = i == TILES - 1 ? 15 : i == TILES - 2 ? 3 : 16;
+            assert_true(sched_add(&s, i, r));
+        }
+        sched_close(&s);
+        int cuts = pieces[c] == 4 ? 2 : pieces[c] == 16 ? 4 : 8;
+        /* 4 full tiles and the 15-wide one cut whole; the 3-wide one has
+         * 3 non-empty columns of cuts once cuts > 3 */
+        int expect = 5 * pieces[c] + (cuts > 3 ? 3 * cuts : pieces[c]);
+        int area[TILES] = {0}, items = 0, complete = 0;
+        double last = 1e30;
+        for (int item; (item = sched_next(&s, 0, 0.0)) >= 0;) {
+            const sched_item *it = &s.items[item];
+            assert_true(it->piece >= 1 && it->piece <= pieces[c]);
+            assert_true(it->estimate <= last); /* largest first, piece by piece */
+            last = it->estimate;
+            area[it->tile] += it->rect.width * it->rect.height;
+            items++;
+            complete += sched_done(&s, item);
+        }
+        assert_int_equal(complete, TILES);
+        assert_int_equal(items, expect);
+        for (int i = 0; i < TILES; i++)
+            assert_int_equal(area[i], (i == TILES - 1 ? 15 : i == TILES - 2 ? 3 : 16) * 16);
+        assert_true(sched_finished(&s));
+        sched_free(&s);
+    }
+}
+
+/* Batches of pieces: every piece once, each tile complete exactly once
+ * (its last piece), raster and cost; static keeps whole tiles. */
+static void test_pieces_batches(void **state)
+{
+    (void)state;
+    enum { TILES = 40 };
+    double cost[TILES];
+    for (int i = 0; i < TILES; i++)
+        cost[i] = 1 + (i * 7) % 5;
+    const enum sched_policy policies[] = {SCHED_RASTER, SCHED_COST, SCHED_TAIL};
+    for (size_t p = 0; p < sizeof policies / sizeof *policies; p++) {
+        sched s;
+        assert_true(sched_init(&s, policies[p], 4, 2, TILES, table_estimate, cost));
+        assert_true(sched_cut(&s, 16));
+        for (int i = 0; i < TILES; i++)
+            assert_true(sched_add(&s, i, rect_of(i)));
+        sched_close(&s);
+        int area[TILES] = {0}, items = 0;
+        assert_int_equal(drain_done(&s, 8, area, &items), TILES);
+        assert_int_equal(items, 16 * TILES);
+        for (int i = 0; i < TILES; i++)
+            assert_int_equal(area[i], 256);
+        assert_true(sched_finished(&s));
+        sched_free(&s);
+    }
+    sched s;
+    assert_true(sched_init(&s, SCHED_STATIC, 4, 2, TILES, NULL, NULL));
+    assert_true(sched_cut(&s, 16));
+    for (int i = 0; i < TILES; i++)
+        assert_true(sched_add(&s, i, rect_of(i)));
+    sched_close(&s);
+    int area[TILES] = {0}, items = 0, complete = 0;
+    for (int w = 0; w < 4; w++)
+        for (int item; (item = sched_next(&s, w, 0.0)) >= 0; items++) {
+            assert_int_equal(s.items[item].piece, 0);
+            area[s.items[item].tile] += 256;
+            complete += sched_done(&s, item);
+        }
+    assert_int_equal(items, TILES);
+    assert_int_equal(complete, TILES);
+    sched_free(&s);
+}
+
+/* auto: whole tiles below SCHED_PIECES_WORKERS workers; from there
+ * quarters where a worker would have fewer than SCHED_PIECES_ITEMS tiles,
+ * a quarter's edge at least SCHED_PIECE_MIN; a request is taken as it is
+ * (no finer than a pixel). */
+static void test_pieces_auto(void **state)
+{
+    (void)state;
+    int tiles4096 = 128 * 128; /* 4096x4096 in tiles of 32 */
+    assert_int_equal(sched_pieces_auto(0, 15, 64 * 64, 32, false), 1);
+    assert_int_equal(sched_pieces_auto(0, SCHED_PIECES_WORKERS - 1, 16, 32, false), 1);
+    assert_int_equal(sched_pieces_auto(0, 64, tiles4096, 32, false), 1);
+    assert_int_equal(sched_pieces_auto(0, 128, tiles4096, 32, false), 1);  /* 128 a worker */
+    assert_int_equal(sched_pieces_auto(0, 256, tiles4096, 32, false), 4);  /* 64 -> 256 */
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 32, false), 4); /* one cut at most */
+    assert_int_equal(sched_pieces_auto(0, 4096, tiles4096, 32, false), 4);
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 16, false), 4);
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096 / 4, 64, false), 4);
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 15, false), 1); /* quarters under 8 */
+    assert_int_equal(sched_pieces_auto(4, 2, 10, 32, false), 4);
+    assert_int_equal(sched_pieces_auto(64, 2, 10, 7, false), 16); /* cuts of 8 > 7 pixels */
+    assert_int_equal(sched_pieces_auto(16, 2, 10, 1, false), 1);
+    /* compressed results (a slow link): whole tiles, unless asked */
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 32, true), 1);
+    assert_int_equal(sched_pieces_auto(16, 1024, tiles4096, 32, true), 16);
+}
+
 static void test_tail_one_pixel(void **state)
 {
     (void)state;
@@ -720,9 +893,13 @@ int main(void)
         cmocka_unit_test(test_region),
         cmocka_unit_test(test_requeue),
         cmocka_unit_test(test_fill),
+        cmocka_unit_test(test_fill_pieces),
         cmocka_unit_test(test_static_release),
         cmocka_unit_test(test_tail_split),
         cmocka_unit_test(test_tail_one_pixel),
+        cmocka_unit_test(test_pieces),
+        cmocka_unit_test(test_pieces_batches),
+        cmocka_unit_test(test_pieces_auto),
         cmocka_unit_test(test_batch_limit),
         cmocka_unit_test(test_batch_sizes),
         cmocka_unit_test(test_batch_spread),

@@ -7,7 +7,7 @@
 # (bench/simulate.sh: --eager-bytes, --sender-progress defaults).
 # Writes CSV rows to stdout: network, workers, relays, mode, tile, makespan,
 # efficiency, master_busy, tail_s, ramp_s, bytes the master sent/received.
-#   POINTS="ib:64:0:homo ..." [SCHEDULE=raster|cost|tail] bench/sim/extrapolate.sh > out.csv
+#   POINTS="ib:64:0:homo ..." [SCHEDULE=raster|cost|tail] [PIECES=auto|1|4|16|64] bench/sim/extrapolate.sh > out.csv
 # PIXELS=rgb8z (csgtrace --compress on) with WIRE_MAP (the compressed bytes a
 # tile, bench/sim/costmap.py --column wire_bytes), COMPRESS_NS, DECOMPRESS_NS
 # (bench/compress_tiles.c); RECORDS=retrace (csgtrace --hit-records
@@ -27,8 +27,8 @@ SCHEDULE=${SCHEDULE:-raster}
 POINTS=${POINTS:-"ib:64:0:homo ib:64:0:hetero ib:256:16:homo ib:256:16:hetero ib:1024:32:homo ib:1024:32:hetero gige:64:0:hetero gige:64:0:homo"}
 TIMEOUT=${POINT_TIMEOUT:-900}
 JITTERS=${JITTERS:-0}
-PIXELS=${PIXELS:-rgb8} RECORDS=${RECORDS:-send}
-wire=(--pixels "$PIXELS")
+PIXELS=${PIXELS:-rgb8} RECORDS=${RECORDS:-send} PIECES=${PIECES:-auto}
+wire=(--pixels "$PIXELS" --pieces "$PIECES")
 [ -n "${WIRE_MAP:-}" ] && wire+=(--wire-map "$WIRE_MAP")
 [ -n "${COMPRESS_NS:-}" ] && wire+=(--compress-ns "$COMPRESS_NS")
 [ -n "${DECOMPRESS_NS:-}" ] && wire+=(--decompress-ns "$DECOMPRESS_NS")
