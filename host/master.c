@@ -598,10 +598,10 @@ static bool master_dispatch(master_loop *L, csg_diag *d)
             double now = stats_clock();
             int items[PROTO_BATCH_MAX];
             int k = sched_next_batch(L->job->sched, r - 1, now, L->m->batch, items);
-            /* (the pass's tiles ready run out: the message topped up with the
-             * fill's, or a pass slower than the workers keeps their stocks
-             * at what it trickles while the fill waits: bench/SCALE.md,
-             * *Pieces*) */
+            /* the pass's ready tiles ran out before the batch was full: the
+             * fill's top it up (else a pass slower than the workers keeps
+             * their stocks at what it trickles while the fill waits:
+             * bench/SCALE.md, *tiles cut into pieces*) */
             if (k < L->m->batch && L->job->fill && sched_ready(L->job->sched) == 0)
                 k += master_fill_batch(L, now, items + k, L->m->batch - k, d);
             if (k == 0)

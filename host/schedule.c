@@ -585,6 +585,8 @@ static double sched_peek_estimate(const sched *s)
 {
     if (s->again_head < s->again_n)
         return s->items[s->again[s->again_head]].estimate;
+    if (s->fill_pieces_head < s->fill_pieces_n)
+        return 0.0; /* (a fill item: no estimate) */
     if (s->heap_n > 0)
         return s->items[s->heap[0]].estimate;
     return s->fifo_head < s->fifo_n ? s->items[s->fifo[s->fifo_head]].estimate : 0.0;
@@ -611,7 +613,7 @@ int sched_next_batch(sched *s, int w, double now, int limit, int *out)
             break; /* (the tail began: its pieces go one a message) */
         if ((out[k] = sched_next(s, w, now)) < 0)
             break;
-        sum += s->items[out[k]].estimate;
+        sum += sched_estimate_of(s, out[k]);
     }
     return k;
 }

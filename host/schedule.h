@@ -37,7 +37,8 @@
  * avoids; auto (sched_pieces_auto) cuts tiles in 4 from
  * SCHED_PIECES_WORKERS workers on where a worker would have fewer than
  * SCHED_PIECES_ITEMS tiles, unless the results go compressed
- * (bench/SCALE.md, *Pieces*).  Static and region keep whole tiles.
+ * (bench/SCALE.md, *tiles cut into pieces*).  Static and region keep
+ * whole tiles.
  *
  * Batches (--batch): the master may hand a worker several items in one
  * message (sched_next_batch).  sched_batch_limit says how many at most
