@@ -217,13 +217,13 @@ static int sched_cut_at(int at, int len, int i, int n)
     return at + (len * i + n - 1) / n;
 }
 
-/* The pieces of tile `tile` (rectangle r), s->cuts x s->cuts of them less
- * the empty ones, made into out[]: each with its own estimate, or marked
- * a fill item (rendered whole: no records, no estimate); how many, 0 when
- * memory runs out (then none is made). */
-static int sched_make_pieces(sched *s, int tile, tile_rect r, bool fill, int *out)
+/* The pieces of tile `tile` (rectangle r), c x c of them less the empty
+ * ones, numbered from 1 row by row, made into out[]: each with its own
+ * estimate, or marked a fill item (rendered whole: no records, no
+ * estimate); how many, 0 when memory runs out (then none is made). */
+static int sched_make_pieces(sched *s, int tile, tile_rect r, int c, bool fill, int *out)
 {
-    int c = s->cuts, n = 0;
+    int n = 0;
     if (!sched_reserve(s, c * c)) /* (before any piece exists) */
         return 0;
     for (int j = 0; j < c; j++)
@@ -245,7 +245,8 @@ static int sched_make_pieces(sched *s, int tile, tile_rect r, bool fill, int *ou
 static bool sched_queue_pieces(sched *s, int item)
 {
     int made[SCHED_PIECES_MAX];
-    int n = sched_make_pieces(s, s->items[item].tile, s->items[item].rect, false, made);
+    int n = sched_make_pieces(s, s->items[item].tile, s->items[item].rect, s->cuts, false,
+                              made);
     for (int k = 0; k < n; k++)
         sched_queue(s, made[k]);
     if (n > 0)
@@ -347,23 +348,13 @@ int sched_ready(const sched *s)
 static bool sched_split(sched *s, int item)
 {
     tile_rect r = s->items[item].rect;
-    int tile = s->items[item].tile;
-    int w0 = (r.width + 1) / 2, h0 = (r.height + 1) / 2;
-    tile_rect q[4] = {{r.x, r.y, w0, h0},
-                      {r.x + w0, r.y, r.width - w0, h0},
-                      {r.x, r.y + h0, w0, r.height - h0},
-                      {r.x + w0, r.y + h0, r.width - w0, r.height - h0}};
-    int n = 0, made[4];
-    if (r.width * r.height < 2 || !sched_reserve(s, 4)) /* (before any piece exists) */
+    int n = r.width * r.height < 2 ? 0 : sched_make_pieces(s, s->items[item].tile, r, 2, false,
+                                                           s->front);
+    if (n == 0)
         return false;
-    for (int k = 0; k < 4; k++)
-        if (q[k].width > 0 && q[k].height > 0)
-            made[n++] = sched_new_item(s, tile, q[k], k + 1, false, true);
     s->items[item].split = true;
-    s->tile_left[tile] = n;
     s->front_head = 0;
     s->front_n = n;
-    memcpy(s->front, made, (size_t)n * sizeof *made);
     return true;
 }
 
@@ -652,7 +643,7 @@ int sched_next_fill(sched *s, double now, int tile, tile_rect r)
     int item = -1;
     if (s->cuts > 1 && s->fill_pieces_head == s->fill_pieces_n) { /* its pieces: the first
                                                            now, the others next */
-        s->fill_pieces_n = sched_make_pieces(s, tile, r, true, s->fill_pieces);
+        s->fill_pieces_n = sched_make_pieces(s, tile, r, s->cuts, true, s->fill_pieces);
         s->fill_pieces_head = s->fill_pieces_n > 0;
         item = s->fill_pieces_n > 0 ? s->fill_pieces[0] : -1;
     }
