@@ -298,6 +298,8 @@ TCPF=${SIM_TCP_FACTORS:-smpi}
 batch=()
 [ "$BATCH" = auto ] || batch=(--batch "$BATCH")
 [ "$PIECES" = auto ] || batch+=(--pieces "$PIECES")
+# (the workers append their lines: sim/tile_run.c, sim_work_log)
+[ -z "${CSGSIM_WORK_LOG:-}" ] || echo "rank,x,y,width,height,start_s,end_s" >"$CSGSIM_WORK_LOG"
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \

@@ -53,9 +53,13 @@
  *    pad the one before; nothing follows the last): a TILE of one part
  *    is exactly the single item's header and payload.  k <= batch, the
  *    limit broadcast in the setup (1: one item a message).
- *    Every TILE gets exactly one answer, in the order the TILEs were sent
- *    (a worker answers first in, first out), so an answer belongs to the
- *    oldest TILE the worker holds; a worker holds at most PROTO_IN_FLIGHT.
+ *    Every TILE gets exactly one answer.  A worker answers first in,
+ *    first out, and holds at most PROTO_IN_FLIGHT; a relay answers each
+ *    TILE once all its parts are answered, in whatever order they end
+ *    (else one costly part would hold back every TILE after it, and with
+ *    them rank 0's room to send the group more: bench/SCALE.md, *1024
+ *    workers*).  The master finds the TILE an answer belongs to by its
+ *    first part (proto_result's index, x and y), a FAIL by its oldest.
  *    Large messages go in the background on both sides (link_isend): the
  *    master never waits on a busy worker, a worker never on the master.
  *    A worker whose answer breaks the protocol (wrong size, tile or tag)
@@ -162,18 +166,32 @@ static inline int proto_ready_scene_shared(const char *data, size_t len)
 
 /* Work items a worker holds at most: the one it computes and the next. */
 #define PROTO_IN_FLIGHT 2
-/* TILEs a relay holds at most: its group's work while it waits for the
- * oldest one's last part.  How many rank 0 keeps there depends on the
- * order of the work (host/master.c: master_depth): all of them without
- * estimates (homo, raster), PROTO_RELAY_DEPTH_COST with them (hetero, the
- * costly tiles first).  Simulated at 256 workers on InfiniBand, four runs
- * each (bench/SCALE.md, *the results' headers*): a depth of 16 against 8
- * gives homo 82.0 % against 78.5 % and hetero 78.1 % against 84.1 %: a
- * deeper queue hides rank 0's answer behind more work, but commits the
- * costly tiles to a group early, and the groups' stocks end uneven. */
-#define PROTO_RELAY_IN_FLIGHT 16
+/* TILEs a relay holds at most: its group's work while parts of them are
+ * computed.  How many rank 0 keeps there (proto_relay_depth) depends on
+ * the order of the work and on the group: without estimates (homo,
+ * raster) a TILE a worker of the group, at least PROTO_RELAY_DEPTH; with
+ * them (hetero, the costly tiles first) one for two workers, at least
+ * PROTO_RELAY_DEPTH_COST.  Simulated on InfiniBand (bench/SCALE.md): at
+ * 256 workers (groups of 16, four runs each, *the results' headers*) a
+ * depth of 16 against 8 gave homo 82.0 % against 78.5 % and hetero
+ * 78.1 % against 84.1 %: a deeper queue hides rank 0's answer behind
+ * more work, but commits the costly tiles to a group early, and the
+ * groups' stocks end uneven; at 1024 (groups of 32, *relays answer as
+ * their TILEs end*) 16 TILEs were 16 items a worker, and the groups ran
+ * dry waiting for rank 0: 32 and 16 instead. */
+#define PROTO_RELAY_IN_FLIGHT 32
+#define PROTO_RELAY_DEPTH 16
 #define PROTO_RELAY_DEPTH_COST 8
 #define PROTO_DEPTH_MAX PROTO_RELAY_IN_FLIGHT
+/* The TILEs rank 0 keeps at a relay of `group` workers, the order of the
+ * work knowing costs or not (see PROTO_RELAY_IN_FLIGHT). */
+static inline int proto_relay_depth(int group, int costs)
+{
+    int least = costs ? PROTO_RELAY_DEPTH_COST : PROTO_RELAY_DEPTH;
+    int want = costs ? group / 2 : group;
+    return want < least ? least : want > 2 * least ? 2 * least : want;
+}
+
 /* The rank rank r takes its TILEs from: 0, or its relay when there are
  * `relays` (the workers dealt round-robin over them). */
 static inline int proto_parent(int r, int relays)
@@ -215,6 +233,9 @@ typedef struct {
 typedef struct {
     int32_t index;          /* the tile of the rectangle answered      */
     uint32_t hits;          /* primary samples that hit                */
+    int32_t x, y;           /* the rectangle's top-left pixel: with
+                               index, which item this part answers (a
+                               relay answers its TILEs in any order)   */
     uint64_t primary, shadow, reflected, refracted; /* rays traced    */
     uint64_t over_budget;   /* pixels that met their ray budget        */
     uint64_t shadow_answered; /* shadow rays answered by the records   */

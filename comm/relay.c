@@ -9,8 +9,9 @@
  *      queued; the workers' answers: each part's RESULT part kept with its
  *      TILE); deal the queued parts to the workers with room, one level of
  *      PROTO_IN_FLIGHT at a time, each message an even share of the queue
- *      (at least one part); answer rank 0's oldest TILE once every part of
- *      it is answered, and so on in order; with nothing to do, the idle
+ *      (at least one part); answer each of rank 0's TILEs once every part
+ *      of it is answered, whatever came before it (rank 0 finds it by its
+ *      first part: protocol.h), the oldest first; with nothing to do, the idle
  *      wait (poll, then nap: a quarter of the mean item time, at most
  *      LINK_NAP_MAX_NS);
  *   3. STOP: passed to every worker of the group, then the relay returns
@@ -19,8 +20,9 @@
  * makes the parts concerned fail: their TILE is answered with FAIL (the
  * first reason), as a worker answers, and rank 0 stops and drains.
  *
- * Invariants: at most PROTO_RELAY_IN_FLIGHT TILEs of rank 0 are held
- * (rank 0 sends no more), so the queue never holds more than their parts;
+ * Invariants: at most PROTO_RELAY_IN_FLIGHT TILEs of rank 0 are held, a
+ * slot each until answered (rank 0 sends no more), so the queue never
+ * holds more than their parts;
  * a worker holds at most PROTO_IN_FLIGHT messages, answered oldest first;
  * every part is answered exactly once; a send buffer is reused only once
  * its send is done.
@@ -48,6 +50,8 @@ typedef struct {
 
 /* One TILE of rank 0, held until every part of it is answered. */
 typedef struct {
+    bool held;                       /* the slot holds a TILE              */
+    long order;                      /* TILEs that came before it          */
     link_msg in;
     int parts;
     size_t at[PROTO_BATCH_MAX];      /* each part's offset in in.data      */
@@ -77,8 +81,9 @@ typedef struct {
 typedef struct {
     int rank, relays, batch, pixels;
     tile_grid grid;
-    relay_tile ring[PROTO_RELAY_IN_FLIGHT]; /* rank 0's TILEs, oldest at head */
-    int head, n;
+    relay_tile ring[PROTO_RELAY_IN_FLIGHT]; /* rank 0's TILEs, a slot each */
+    int n;                     /* slots held                            */
+    long arrived;              /* TILEs taken so far                    */
     relay_part queue[PROTO_RELAY_IN_FLIGHT * PROTO_BATCH_MAX]; /* not dealt */
     int q_head, q_n;
     relay_worker *w;
@@ -163,12 +168,25 @@ static void relay_take_tile(relay_state *s, int slot)
     relay_drain_queue(s);
 }
 
-/* The oldest TILEs whose parts are all answered, answered to rank 0 in
- * order (a RESULT of the parts, or the FAIL). */
+/* The oldest held TILE whose parts are all answered; -1: none. */
+static int relay_complete_slot(const relay_state *s)
+{
+    int found = -1;
+    for (int k = 0; k < PROTO_RELAY_IN_FLIGHT; k++) {
+        const relay_tile *t = &s->ring[k];
+        if (t->held && t->answered == t->parts && (found < 0 || t->order < s->ring[found].order))
+            found = k;
+    }
+    return found;
+}
+
+/* The TILEs whose parts are all answered, answered to rank 0 (a RESULT of
+ * the parts, or the FAIL), the oldest first; their slots freed. */
 static void relay_answer_root(relay_state *s)
 {
-    while (s->n > 0 && s->ring[s->head].answered == s->ring[s->head].parts) {
-        relay_tile *t = &s->ring[s->head];
+    int slot;
+    while (s->n > 0 && (slot = relay_complete_slot(s)) >= 0) {
+        relay_tile *t = &s->ring[slot];
         link_req_wait(&t->out_req); /* (this slot's last answer) */
         size_t len = 0;
         for (int i = 0; !t->failed && i < t->parts; i++)
@@ -196,7 +214,7 @@ static void relay_answer_root(relay_state *s)
             free(t->answer[i]);
             t->answer[i] = NULL;
         }
-        s->head = (s->head + 1) % PROTO_RELAY_IN_FLIGHT;
+        t->held = false;
         s->n--;
     }
 }
@@ -277,12 +295,18 @@ static void relay_fail_parts(relay_state *s, const relay_part *held, int from, i
     }
 }
 
-/* The tile of part p. */
-static int relay_tile_index(const relay_state *s, relay_part p)
+/* Part p's header. */
+static proto_tile relay_part_head(const relay_state *s, relay_part p)
 {
     proto_tile h;
     memcpy(&h, s->ring[p.slot].in.data + s->ring[p.slot].at[p.part], sizeof h);
-    return h.index;
+    return h;
+}
+
+/* The tile of part p. */
+static int relay_tile_index(const relay_state *s, relay_part p)
+{
+    return relay_part_head(s, p).index;
 }
 
 /* Part `i` of worker w's answer, at `at` in msg: kept with its TILE; where
@@ -294,7 +318,8 @@ static size_t relay_keep_part(relay_state *s, const relay_worker *w, const link_
     proto_result h = {0};
     if (at > msg->len || proto_result_read(msg->data + at, msg->len - at, &h) == 0)
         return 0;
-    if (h.index != relay_tile_index(s, p) || h.pixels != s->pixels)
+    proto_tile sent = relay_part_head(s, p);
+    if (h.index != sent.index || h.x != sent.x || h.y != sent.y || h.pixels != s->pixels)
         return 0;
     size_t len = proto_result_part_of(&h, t->pixels[p.part], h.pixels);
     if (len == 0 || msg->len - at < len || !(t->answer[p.part] = malloc(len)))
@@ -433,7 +458,12 @@ static bool relay_receive(relay_state *s, link_msg *msg, size_t limit, int *stop
             return true;
         }
         if (msg->source == LINK_MASTER && s->n < PROTO_RELAY_IN_FLIGHT) {
-            int slot = (s->head + s->n++) % PROTO_RELAY_IN_FLIGHT;
+            int slot = 0;
+            while (s->ring[slot].held) /* (one is free: n < PROTO_RELAY_IN_FLIGHT) */
+                slot++;
+            s->ring[slot].held = true;
+            s->ring[slot].order = s->arrived++;
+            s->n++;
             link_msg kept = s->ring[slot].in; /* (the buffers swap: no copy) */
             s->ring[slot].in = *msg;
             *msg = kept;

@@ -38,7 +38,9 @@
     X(TEST_NODE_RANKS, "CSGTRACE_TEST_NODE_RANKS",                                             \
       "one machine pretends nodes of N consecutive ranks (the scene's copy a node)")            \
     X(TEST_LINK_MBPS, "CSGTRACE_TEST_LINK_MBPS",                                               \
-      "the link between nodes measured at start pretended that many MB/s")
+      "the link between nodes measured at start pretended that many MB/s")                      \
+    X(TEST_SLOW_WORKER, "CSGTRACE_TEST_SLOW_WORKER",                                           \
+      "worker R takes 20 ms longer over each message of work (a costly part)")
 
 enum test_hook {
 #define TEST_HOOK_ID(id, name, what) id,

@@ -54,10 +54,12 @@
  * oldest batch is overdue, is lost with its whole group (their watchdog
  * sockets closed), its batches requeued.
  *
- * Invariants: workers[r] holds the batches of items rank r computes,
- * oldest first, at most PROTO_IN_FLIGHT, each with its send buffer and
- * request in the ring position it occupies; an answer belongs to the
- * oldest batch and has one part per item, in order; STOP only
+ * Invariants: workers[r] holds the batches of items rank r computes, at
+ * most the job's depth, each in a slot with its send buffer and request
+ * (a slot is reused once its batch is answered, so its send is done); an
+ * answer has one part per item, in order, and belongs to the oldest batch
+ * of a worker, or of a relay to the batch its first part names (a relay
+ * answers as its batches end, protocol.h); STOP only
  * goes once no live worker holds an item; a send buffer is reused or
  * freed only when its send is done; no message larger than the largest
  * RESULT is taken (link_recv's limit); the bytes counters count every
@@ -432,10 +434,12 @@ static void master_greet(master_session *m, link_msg *msg, csg_diag *d)
 #define MASTER_HANG_MIN_S 10.0
 
 typedef struct {
-    int item[PROTO_DEPTH_MAX][PROTO_BATCH_MAX]; /* held batches, ring from head */
-    int count[PROTO_DEPTH_MAX];    /* items in each                       */
-    int head, n;                   /* (the ring is the job's depth)        */
-    char *buf[PROTO_DEPTH_MAX];    /* the TILE of ring position k          */
+    int item[PROTO_DEPTH_MAX][PROTO_BATCH_MAX]; /* held batches, a slot each */
+    int count[PROTO_DEPTH_MAX];    /* items in each; 0: the slot is free   */
+    long order[PROTO_DEPTH_MAX];   /* when each was sent (sends before it) */
+    long sends;                    /* batches sent so far                  */
+    int n;                         /* slots held (the job's depth at most) */
+    char *buf[PROTO_DEPTH_MAX];    /* the TILE of slot k                   */
     size_t cap[PROTO_DEPTH_MAX];   /* its bytes (grown to the batch's)     */
     link_req req[PROTO_DEPTH_MAX]; /* and its send                        */
     bool dead;                     /* written off: nothing more expected   */
@@ -456,13 +460,13 @@ typedef struct {
 } master_loop;
 
 /* Batches a child holds at most in a job scheduled by s: a worker
- * PROTO_IN_FLIGHT; a relay PROTO_RELAY_IN_FLIGHT when the order knows no
- * costs, PROTO_RELAY_DEPTH_COST when it does (comm/protocol.h says why). */
+ * PROTO_IN_FLIGHT; a relay proto_relay_depth for the largest group and
+ * the order (comm/protocol.h says why). */
 static int master_depth(const master_session *m, const sched *s)
 {
     if (m->relays <= 0)
         return PROTO_IN_FLIGHT;
-    return s->estimate ? PROTO_RELAY_DEPTH_COST : PROTO_RELAY_IN_FLIGHT;
+    return proto_relay_depth(proto_group(1, m->workers + 1, m->relays), s->estimate != NULL);
 }
 
 static void master_lose(master_loop *L, int r, const char *fmt, ...)
@@ -517,11 +521,30 @@ static size_t master_tile_bytes(const master_job *job, const int *items, int k)
     return len;
 }
 
+/* A free slot of w (one is: w->n < the depth). */
+static int master_free_slot(const master_loop *L, const master_worker *w)
+{
+    int k = 0;
+    while (k < L->depth - 1 && w->count[k] > 0)
+        k++;
+    return k;
+}
+
+/* The slot of w's oldest batch (w->n > 0). */
+static int master_oldest_slot(const master_loop *L, const master_worker *w)
+{
+    int oldest = -1;
+    for (int k = 0; k < L->depth; k++)
+        if (w->count[k] > 0 && (oldest < 0 || w->order[k] < w->order[oldest]))
+            oldest = k;
+    return oldest;
+}
+
 /* Items items[0 .. k - 1] to rank r in one TILE. */
 static bool master_send_batch(master_loop *L, int r, const int *items, int k, csg_diag *d)
 {
     master_worker *w = &L->w[r];
-    int pos = (w->head + w->n) % L->depth;
+    int pos = master_free_slot(L, w);
     if (!proto_buffer(&w->buf[pos], &w->cap[pos], master_tile_bytes(L->job, items, k))) {
         csg_error_plain(d, "master: out of memory");
         return false;
@@ -534,6 +557,7 @@ static bool master_send_batch(master_loop *L, int r, const int *items, int k, cs
         w->item[pos][i] = items[i]; /* held from now on: a lost worker hands it back */
     }
     w->count[pos] = k;
+    w->order[pos] = w->sends++;
     if (w->n++ == 0)
         w->since = stats_clock();
     L->outstanding++;
@@ -550,14 +574,15 @@ static bool master_send_batch(master_loop *L, int r, const int *items, int k, cs
     return true;
 }
 
-/* Room at rank r for one more batch: its next send buffer free (its last
- * TILE was answered, so the send is done, unless the worker died). */
+/* Room at rank r for one more batch: a free slot, whose send buffer is
+ * free too (its TILE was answered, so the send is done, unless the worker
+ * died). */
 static bool master_room(master_loop *L, int r, int depth)
 {
     master_worker *w = &L->w[r];
     if (w->dead || w->n >= depth)
         return false;
-    link_req *q = &w->req[(w->head + w->n) % L->depth];
+    link_req *q = &w->req[master_free_slot(L, w)];
     if (q->active && link_req_wait(q) == LINK_LOST) {
         master_lose(L, r, "its process is gone");
         return false;
@@ -621,6 +646,7 @@ static void master_write_off(master_loop *L, int r)
 {
     L->outstanding -= L->w[r].n;
     L->w[r].n = 0;
+    memset(L->w[r].count, 0, sizeof L->w[r].count);
     L->w[r].dead = true;
 }
 
@@ -635,14 +661,17 @@ static void master_lose(master_loop *L, int r, const char *fmt, ...)
     vsnprintf(why, sizeof why, fmt, ap);
     va_end(ap);
     int held = 0;
-    for (int k = 0; k < w->n; k++)
-        held += w->count[(w->head + k) % L->depth];
+    for (int k = 0; k < L->depth; k++)
+        held += w->count[k];
     master_mark_lost(L->m, r, held, "%s", why);
-    for (int k = 0; k < w->n && !L->failed; k++) {
-        int pos = (w->head + k) % L->depth;
+    while (w->n > 0 && !L->failed) { /* (oldest first) */
+        int pos = master_oldest_slot(L, w);
         for (int i = 0; i < w->count[pos] && !L->failed; i++)
             if (!sched_requeue(L->job->sched, w->item[pos][i]))
                 L->failed = true; /* (out of memory: the render cannot end well) */
+        w->count[pos] = 0;
+        w->n--;
+        L->outstanding--;
     }
     sched_release(L->job->sched, r - 1);
     master_write_off(L, r);
@@ -664,9 +693,10 @@ static double master_hang_limit(const master_job *job)
 /* How many items' time worker w's oldest batch may take: its items one
  * after the other, or at a relay, spread over its group (each worker has
  * one more item ahead of them). */
-static double master_hang_items(const master_session *m, int r, const master_worker *w)
+static double master_hang_items(const master_loop *L, int r, const master_worker *w)
 {
-    int items = w->count[w->head];
+    const master_session *m = L->m;
+    int items = w->count[master_oldest_slot(L, w)];
     if (m->relays == 0)
         return items;
     int group = master_group_size(m, r);
@@ -690,7 +720,7 @@ static int master_check_workers(master_loop *L)
             continue;
         if (master_peer_gone(L->m, r))
             master_lose(L, r, "its process is gone");
-        else if (limit > 0 && w->n > 0 && now - w->since > limit * master_hang_items(L->m, r, w))
+        else if (limit > 0 && w->n > 0 && now - w->since > limit * master_hang_items(L, r, w))
             master_lose(L, r, "no answer for %.1f s", now - w->since);
         else
             live++;
@@ -815,6 +845,11 @@ static bool master_take_part(master_loop *L, const link_msg *msg, const char *pa
                         (int)h.index, it->tile);
         return false;
     }
+    if (h.x != r.x || h.y != r.y) {
+        csg_error_plain(d, "worker %d: result for tile %d at %d,%d, sent at %d,%d", by,
+                        (int)h.index, (int)h.x, (int)h.y, r.x, r.y);
+        return false;
+    }
     /* msg->data is malloc'd, parts start 8-byte aligned and a header's
      * bytes are a multiple of 8: floats aligned */
     const char *pixels = part + head;
@@ -872,7 +907,29 @@ static bool master_take_result(master_loop *L, const link_msg *msg, const int *i
     return true;
 }
 
-/* One message from a worker, taken: the answer to its oldest batch. */
+/* The slot of rank src's batch that msg answers: a relay's RESULT names
+ * it by its first part (tile and rectangle: relays answer as their
+ * batches end), anything else answers the oldest; -1 when the part names
+ * none of the relay's batches (a relay breaking the protocol). */
+static int master_answered_slot(const master_loop *L, int src, const link_msg *msg)
+{
+    const master_worker *w = &L->w[src];
+    proto_result h;
+    if (L->m->relays == 0 || L->failed || msg->tag != PROTO_TAG_RESULT ||
+        proto_result_read(msg->data, msg->len, &h) == 0)
+        return master_oldest_slot(L, w);
+    for (int k = 0; k < L->depth; k++) {
+        if (w->count[k] == 0)
+            continue;
+        const sched_item *first = &L->job->sched->items[w->item[k][0]];
+        if (first->tile == h.index && first->rect.x == h.x && first->rect.y == h.y)
+            return k;
+    }
+    return -1;
+}
+
+/* One message from a worker, taken: the answer to one of its batches
+ * (master_answered_slot). */
 static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
 {
     int src = msg->source;
@@ -887,9 +944,21 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         return;
     }
     master_worker *w = &L->w[src];
-    const int *items = w->item[w->head];
-    int k = w->count[w->head];
-    w->head = (w->head + 1) % L->depth;
+    int slot = master_answered_slot(L, src, msg);
+    if (slot < 0) {
+        proto_result h;
+        proto_result_read(msg->data, msg->len, &h); /* (read: master_answered_slot) */
+        csg_error_plain(d, "relay %d: result for tile %d at %d,%d, none of its tiles sent", src,
+                        (int)h.index, (int)h.x, (int)h.y);
+        L->failed = true;
+        master_write_off(L, src);
+        return;
+    }
+    if (slot != master_oldest_slot(L, w))
+        L->m->answers_early++; /* (a relay's: a costly part held back no other) */
+    const int *items = w->item[slot];
+    int k = w->count[slot];
+    w->count[slot] = 0;
     w->n--;
     w->since = stats_clock(); /* the next item's turn */
     L->outstanding--;

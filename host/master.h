@@ -63,6 +63,8 @@ typedef struct {
                                  set before master_share_scene (host/
                                  pixels.h: pixels_format_for the output)  */
     uint64_t tile_messages;   /* TILE messages sent                       */
+    uint64_t answers_early;   /* relays' answers to a TILE sent after
+                                 one still held (comm/protocol.h)         */
     uint64_t bytes_sent;      /* to workers: scene + tiles + stops        */
     uint64_t bytes_received;  /* from workers                             */
     const master_costs *costs; /* the simulated build's (NULL: none)      */

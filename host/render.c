@@ -934,6 +934,7 @@ static int render_job(const render_request *req, int ranks, pass *p)
     st.hit_records = req->mode != MODE_HETERO ? "none" : render_retraces(req) ? "retrace" : "send";
     st.link_mbps = link_between_nodes_bps() / 1e6;
     st.tile_messages = ms.tile_messages;
+    st.answers_early = ms.answers_early;
     st.bytes_sent = ms.bytes_sent;
     st.bytes_received = ms.bytes_received;
     st.workers_lost = ms.workers_lost;

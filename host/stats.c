@@ -189,8 +189,9 @@ void stats_print_json(FILE *f, const render_stats *s)
             s->tiles_culled, s->tiles_resumed, s->tiles_sent, s->tiles_filled);
     fprintf(f, "  \"write_bands\": %d,\n  \"write_bands_early\": %d,\n", s->write_bands,
             s->write_bands_early);
-    fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n", s->batch > 0 ? s->batch : 1,
-            (unsigned long long)s->tile_messages);
+    fprintf(f, "  \"batch\": %d,\n  \"tile_messages\": %llu,\n  \"answers_early\": %llu,\n",
+            s->batch > 0 ? s->batch : 1, (unsigned long long)s->tile_messages,
+            (unsigned long long)s->answers_early);
     fprintf(f, "  \"workers_lost\": %d,\n  \"items_reassigned\": %d,\n", s->workers_lost,
             s->items_reassigned);
     fprintf(f, "  \"pixels\": %llu,\n  \"pixels_hit\": %llu,\n  \"max_rays_per_pixel\": %d,\n"

@@ -22,8 +22,9 @@
  *   in_flight     work items a worker holds at once (protocol.h)
  *   relays        ranks that relay (--relays; 0: rank 0 deals to every worker)
  *   relay_depth   batches rank 0 keeps at each relay (comm/protocol.h:
- *                 16 in raster order, 8 where the order knows the costs;
- *                 0 without relays)
+ *                 proto_relay_depth: 16 in raster order, 8 where the order
+ *                 knows the costs, more for groups over 16 workers; 0
+ *                 without relays)
  *   pieces        the work items a tile went as (--pieces, host/schedule.h:
  *                 1, or 4, 16, 64 where the workers are many)
  *   store_threads rank 0's threads that stored the workers' 8-bit results
@@ -127,6 +128,9 @@
  *                 without workers)
  *   tile_messages TILE messages the master sent (items_sent when batch
  *                 is 1; 0 without workers)
+ *   answers_early of their answers, those of a relay that came before the
+ *                 answer to a TILE sent earlier (a relay answers each
+ *                 TILE as soon as its parts are done: comm/protocol.h)
  *   workers_lost  workers lost during the render (their process died, or
  *                 they hung: host/master.c); the render went on without
  *                 them
@@ -242,7 +246,7 @@ typedef struct render_stats {
     int write_bands, write_bands_early; /* the image's bands, and those
                                  encoded before the last tile was in     */
     double write_cpu_s;       /* the image encoder threads' CPU seconds    */
-    uint64_t tile_messages;
+    uint64_t tile_messages, answers_early;
     uint64_t pixels, pixels_hit;
     ray_counts rays;
     uint64_t bytes_sent, bytes_received, blob_bytes;

@@ -315,6 +315,7 @@ typedef struct {
     int32_t page_count;      /* the plan's pages (0: not paged)           */
     uint64_t page_bytes, resident_bytes, budget;
     bool page_window;        /* the workers read rank 0's pages one-sided */
+    uint64_t answers_early;  /* relays' answers that overtook an older one */
 } sim_result;
 
 /* Where the workers' time went: their items' seconds, how long the last
@@ -393,7 +394,8 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"master_busy\": %.6f, \"batch\": %d, \"tile_messages\": %llu, "
                "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
                "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
-               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f, \"pieces\": %d",
+               "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f, \"pieces\": %d, "
+               "\"answers_early\": %llu",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
@@ -401,7 +403,8 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
             (unsigned long long)r->bytes_received, (unsigned long long)r->bytes_sent,
             a->fill && run->hetero ? "true" : "false",
             r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
-            serial / ((workers + a->relays) * r->makespan_s), run->pieces);
+            serial / ((workers + a->relays) * r->makespan_s), run->pieces,
+            (unsigned long long)r->answers_early);
     if (r->page_count > 0) {
         const page_counts *p = &r->paging;
         int missing = sim_trace_missing(a, run);
@@ -512,7 +515,7 @@ static bool sim_master(const sim_args *a, sim_run *run, csg_blob *blob, int rank
                             run->s.filled, m.tile_messages, m.bytes_received, m.bytes_sent,
                             0, 0, 0, job.paging, m.page_asks, m.page_bytes_served,
                             m.page_homes, plan.page_count, plan.page_bytes, plan.resident_bytes,
-                            m.scene_memory, m.page_window};
+                            m.scene_memory, m.page_window, m.answers_early};
         sim_timeline(&run->s, ranks - 1, t0, stats_clock(), out);
         sim_item_log(&run->s, t0);
         link_idle_free(&idle);

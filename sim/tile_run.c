@@ -13,6 +13,7 @@
  * spends them.
  */
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 #include <stdlib.h>
 
@@ -226,9 +227,33 @@ static void sim_pages_end(sim_pages *sp, tile_rect r, bool traced, tile_result *
     free(sp->demand);
 }
 
+/* Every item's compute on its worker, one CSV line each (rank, rectangle,
+ * start and end in simulated seconds), appended to $CSGSIM_WORK_LOG when
+ * it is set: the item log's times are rank 0's (when it sent the item,
+ * when it had the result), these the worker's.  Appended, because each
+ * simulated rank has its own copy of these statics (SMPI privatises
+ * them) and opens the file for itself; bench/simulate.sh starts it. */
+static void sim_work_log(tile_rect r, double start, double end)
+{
+    static FILE *f;
+    static bool opened;
+    if (!opened) {
+        opened = true;
+        const char *path = getenv("CSGSIM_WORK_LOG");
+        f = path && path[0] ? fopen(path, "a") : NULL;
+    }
+    if (!f)
+        return;
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    fprintf(f, "%d,%d,%d,%d,%d,%.9f,%.9f\n", rank, r.x, r.y, r.width, r.height, start, end);
+    fflush(f);
+}
+
 void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb,
                    tile_result *res)
 {
+    double started = simgrid_get_clock();
     /* shaded from records (hetero), or rendered whole (homo; hetero's fill) */
     bool traced = !records;
     const sim_costs *c = traced ? sim_costs_render() : sim_costs_shared();
@@ -256,6 +281,7 @@ void tile_run_rect(tile_runner *tr, tile_rect r, const void *records, float *rgb
     }
     sim_compute(&sp, cost.seconds, 0, cost.seconds); /* (any left, rounding's) */
     sim_pages_end(&sp, r, traced, res);
+    sim_work_log(r, started, simgrid_get_clock());
 }
 
 /* (the simulated costs do not tell the shadow answers apart) */

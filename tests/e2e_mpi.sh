@@ -446,6 +446,20 @@ for mode in "${modes[@]}"; do
         fi
     done
 done
+# A relay answers each batch as soon as its parts are done, not behind an
+# older one still computing (comm/protocol.h): with worker 2 of relay 1
+# slow (20 ms more a message, CSGTRACE_TEST_SLOW_WORKER), rank 0 takes
+# answers to later batches first (answers_early > 0; in order it was 0
+# whatever the workers did) and still puts each part where it belongs.
+if CSGTRACE_TEST_SLOW_WORKER=2 render_logged rel-early 4 homo raster \
+    "--relays 1, a slow worker" --tile 2 --relays 1; then
+    if python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
+sys.exit(0 if 0 < j['answers_early'] < j['tile_messages'] else 1)" "$TMP/rel-early.json"; then
+        ok "--relays 1, worker 2 slow: answers out of order ($(grep -o '"answers_early": [0-9]*' "$TMP/rel-early.json")), == serial"
+    else
+        bad "--relays 1, worker 2 slow: no answer came early ($(grep -E '"(answers_early|tile_messages)"' "$TMP/rel-early.json" | tr -d '\n ')"
+    fi
+fi
 # ---- pieces: tiles cut into work items from the start (--pieces) ---------------------
 # Every tile goes as N pieces (the fill's too): the image is the serial
 # one, the log's pieces partition each tile as schedule.c cuts it, the

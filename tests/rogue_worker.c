@@ -63,7 +63,8 @@ static void rogue_batch_reply(const char *mode, const link_msg *in, int pixels, 
         exit(3);
     len = 0;
     for (int i = 0; i < n; i++) {
-        proto_result r = {.index = t[i].index + (n > 1 && i == n - 1), .pixels = pixels,
+        proto_result r = {.index = t[i].index + (n > 1 && i == n - 1), .x = t[i].x,
+                          .y = t[i].y, .pixels = pixels,
                           .flags = PROTO_RESULT_PAGING}; /* (the whole header: allowed) */
         len = proto_align(len);
         memcpy(msg + len, &r, sizeof r);
@@ -97,8 +98,8 @@ static void rogue_compressed_reply(const char *mode, const link_msg *in, int par
     } else {
         len = pixels_compress(z, raw, bytes + extra, payload);
     }
-    proto_result r = {.index = t.index, .pixels = PIXELS_RGB8Z, .payload = (uint32_t)len,
-                      .flags = PROTO_RESULT_PAGING};
+    proto_result r = {.index = t.index, .x = t.x, .y = t.y, .pixels = PIXELS_RGB8Z,
+                      .payload = (uint32_t)len, .flags = PROTO_RESULT_PAGING};
     memcpy(msg, &r, sizeof r);
     link_send(parent, PROTO_TAG_RESULT, msg, sizeof r + len);
     pixels_zstream_free(z);
@@ -132,7 +133,7 @@ static void rogue_reply(const char *mode, const link_msg *in, int pixels, int pa
     if (!msg)
         exit(3);
     proto_result r = {.index = strcmp(mode, "index") == 0 ? t.index + 1 : t.index,
-                      .pixels = claimed, .flags = PROTO_RESULT_PAGING};
+                      .x = t.x, .y = t.y, .pixels = claimed, .flags = PROTO_RESULT_PAGING};
     memcpy(msg, &r, sizeof r);
     link_send(parent, strcmp(mode, "tag") == 0 ? 99 : PROTO_TAG_RESULT, msg, len);
     free(msg);

@@ -845,18 +845,20 @@ static void test_batch_bytes(void **state)
 }
 
 /* A result's header goes without its paging counts unless a worker pages
- * (PROTO_RESULT_PAGING): 88 bytes or 208, both multiples of 8; read back,
+ * (PROTO_RESULT_PAGING): 96 bytes or 216, both multiples of 8; read back,
  * absent counts are zero whatever the buffer held; a header cut short is
  * refused. */
 static void test_result_head(void **state)
 {
     (void)state;
     char wire[sizeof(proto_result) + 16];
-    proto_result h = {.index = 7, .hits = 3, .busy_s = 0.25, .pixels = PIXELS_RGB8};
+    proto_result h = {.index = 7, .hits = 3, .x = 48, .y = 16, .busy_s = 0.25,
+                      .pixels = PIXELS_RGB8};
     h.paging.faults = 99; /* (not sent: no flag) */
     memset(wire, 0x5a, sizeof wire);
     size_t head = proto_result_write(wire, &h);
     assert_int_equal(head, PROTO_RESULT_HEAD_MIN);
+    assert_int_equal(head, 96);
     assert_int_equal(head % 8, 0);
     assert_true(head + sizeof h.paging == sizeof h);
     proto_result back;
@@ -864,6 +866,8 @@ static void test_result_head(void **state)
     assert_int_equal(proto_result_read(wire, sizeof wire, &back), head);
     assert_int_equal(back.index, 7);
     assert_int_equal(back.hits, 3);
+    assert_int_equal(back.x, 48); /* (the rectangle: which item it answers) */
+    assert_int_equal(back.y, 16);
     assert_true(back.busy_s == 0.25);
     assert_int_equal(back.paging.faults, 0); /* (0x5a bytes after the header: ignored) */
     assert_int_equal(proto_result_part_of(&back, 49, PIXELS_RGB8), head + 49 * 3);
@@ -882,11 +886,30 @@ static void test_result_head(void **state)
     assert_int_equal(proto_result_part_of(&h, 49, PIXELS_RGB8Z), PROTO_RESULT_HEAD_MIN + 40);
 }
 
+/* The batches rank 0 keeps at a relay: 16 (8 with costs) up to groups of
+ * 16 workers, then one a worker (one for two), at most 32 (16): never
+ * more than a relay holds. */
+static void test_relay_depth(void **state)
+{
+    (void)state;
+    for (int costs = 0; costs <= 1; costs++) {
+        int least = costs ? PROTO_RELAY_DEPTH_COST : PROTO_RELAY_DEPTH;
+        assert_int_equal(proto_relay_depth(1, costs), least);
+        assert_int_equal(proto_relay_depth(16, costs), least);
+        assert_int_equal(proto_relay_depth(24, costs), costs ? 12 : 24);
+        assert_int_equal(proto_relay_depth(32, costs), 2 * least);
+        assert_int_equal(proto_relay_depth(1000, costs), 2 * least);
+        for (int g = 0; g < 200; g++)
+            assert_true(proto_relay_depth(g, costs) <= PROTO_RELAY_IN_FLIGHT);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_raster_order),
         cmocka_unit_test(test_result_head),
+        cmocka_unit_test(test_relay_depth),
         cmocka_unit_test(test_cost_order),
         cmocka_unit_test(test_cost_without_estimates),
         cmocka_unit_test(test_static_assignment),

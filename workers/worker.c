@@ -44,6 +44,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "../comm/mpi_link.h"
 #include "../comm/protocol.h"
@@ -367,6 +368,8 @@ static size_t worker_do_part(worker_state *w, const link_msg *in, size_t at, con
     tile_time_stop(&timer, &res);
     proto_result head = {.index = h->index,
                          .hits = res.hits,
+                         .x = h->x,
+                         .y = h->y,
                          .primary = res.rays.primary,
                          .shadow = res.rays.shadow,
                          .reflected = res.rays.reflected,
@@ -444,6 +447,10 @@ static void worker_answer_tile(worker_state *w, const link_msg *in)
         worker_send_fail(w, h.index, "internal failure injected by CSGTRACE_TEST_FAIL_WORKER");
         w->tiles_done++;
         return;
+    }
+    if (test_hook_number(TEST_SLOW_WORKER, 1 << 30) == w->rank) { /* (tests only) */
+        struct timespec slow = {0, 20000000L};
+        nanosleep(&slow, NULL);
     }
     int slot = w->out_next, first = w->tiles_done;
     link_req_wait(&w->out_req[slot]); /* its last RESULT is delivered */
