@@ -865,9 +865,14 @@ typedef struct {
 } link_incoming;
 
 static struct {
-    link_incoming *slot; /* [count] matched, not handed out yet         */
+    link_incoming *slot; /* [count] matched, not handed out yet, in the
+                            order they were matched                    */
     int count, cap;
     uint64_t next_order;
+    uint32_t *seen;      /* by source rank: == pass when a scan has met
+                            one of its slots (the first is its oldest)  */
+    uint32_t pass;
+    int ranks;           /* seen's length                              */
 } link_in;
 
 /* The slots that may still hand out (or lose) a message of `source`. */
@@ -957,17 +962,69 @@ static link_status link_in_match(int source, size_t limit, link_msg *big)
     }
 }
 
-/* The receives posted, tested: each done or not. */
-static link_status link_in_test(void)
+/* A new scan of the slots (link_in_first); false without the marks
+ * (out of memory, or a source beyond them: every slot then counts as the
+ * oldest of its source, which only the slower, exact check tells). */
+static bool link_in_scan(void)
 {
+    if (!link_in.seen && link_w.size > 0) {
+        link_in.seen = calloc((size_t)link_w.size, sizeof *link_in.seen);
+        link_in.ranks = link_in.seen ? link_w.size : 0;
+    }
+    if (++link_in.pass == 0) { /* (wrapped: the old marks cleared) */
+        if (link_in.seen)
+            memset(link_in.seen, 0, (size_t)link_in.ranks * sizeof *link_in.seen);
+        link_in.pass = 1;
+    }
+    return link_in.seen != NULL;
+}
+
+/* Slot i, met in a scan in the slots' order: the oldest of its source not
+ * handed out yet? */
+static bool link_in_first(int i, bool marked)
+{
+    int src = link_in.slot[i].msg.source;
+    if (marked && src >= 0 && src < link_in.ranks) {
+        bool first = link_in.seen[src] != link_in.pass;
+        link_in.seen[src] = link_in.pass;
+        return first;
+    }
+    for (int k = 0; k < i; k++) /* (the slots are in their order) */
+        if (link_in.slot[k].msg.source == src)
+            return false;
+    return true;
+}
+
+/* The receives posted, tested: each done or not; with `oldest`, only the
+ * oldest of each source, the one that can be handed out next (a rank with
+ * a thousand messages on their way, rank 0 at the end of a frame of 1024
+ * workers, otherwise tests each of them at every turn: bench/SCALE.md). */
+static link_status link_in_test_some(bool oldest)
+{
+    bool marked = oldest && link_in_scan();
     for (int i = 0; i < link_in.count; i++) {
         link_incoming *in = &link_in.slot[i];
         int flag = 0;
+        if (oldest && !link_in_first(i, marked))
+            continue;
         if (!in->done && MPI_Test(&in->rq, &flag, MPI_STATUS_IGNORE) != MPI_SUCCESS)
             return LINK_ERROR;
         in->done = in->done || flag;
     }
     return LINK_OK;
+}
+
+static link_status link_in_test(void)
+{
+    return link_in_test_some(false);
+}
+
+/* Slot i removed, the others kept in their order. */
+static void link_in_remove(int i)
+{
+    memmove(&link_in.slot[i], &link_in.slot[i + 1],
+            (size_t)(link_in.count - i - 1) * sizeof *link_in.slot);
+    link_in.count--;
 }
 
 /* Slot i handed out into m (m's old buffer dropped), the slot removed. */
@@ -977,25 +1034,22 @@ static void link_in_take(int i, link_msg *m)
     free(m->data);
     *m = in->msg;
     m->data[m->len] = '\0';
-    link_in.slot[i] = link_in.slot[--link_in.count];
+    link_in_remove(i);
 }
 
 /* The oldest message of `source` whose bytes are all in (its source's
  * older ones handed out first), into m: LINK_OK; LINK_LOST when the
  * oldest one's sender died first (m->source says who; the request and its
- * buffer are left to MPI); LINK_NONE when none is complete. */
+ * buffer are left to MPI); LINK_NONE when none is complete.  One pass over
+ * the slots, which are in the order they were matched: the first of each
+ * source met is its oldest, the first such one complete the answer. */
 static link_status link_in_next(int source, link_msg *m)
 {
+    bool marked = link_in_scan();
     int best = -1;
-    for (int i = 0; i < link_in.count; i++) {
+    for (int i = 0; i < link_in.count && best < 0; i++) {
         const link_incoming *in = &link_in.slot[i];
-        if (!link_in_matches(in, source))
-            continue;
-        bool older = false; /* an older one of its own source is not out yet */
-        for (int k = 0; k < link_in.count && !older; k++)
-            older = link_in.slot[k].msg.source == in->msg.source &&
-                    link_in.slot[k].order < in->order;
-        if (!older && (best < 0 || in->order < link_in.slot[best].order) &&
+        if (link_in_first(i, marked) && link_in_matches(in, source) &&
             (in->done || link_peer_lost(in->msg.source)))
             best = i;
     }
@@ -1006,7 +1060,7 @@ static link_status link_in_next(int source, link_msg *m)
         return LINK_OK;
     }
     m->source = link_in.slot[best].msg.source; /* (lost: the buffer is MPI's) */
-    link_in.slot[best] = link_in.slot[--link_in.count];
+    link_in_remove(best);
     return LINK_LOST;
 }
 
@@ -1080,7 +1134,7 @@ static link_status link_in_turn(int source, size_t limit, link_msg *m)
     link_model_step();
     link_status got = link_in_match(source, limit, m);
     if (got == LINK_OK)
-        got = link_model.legacy ? link_model_whole() : link_in_test();
+        got = link_model.legacy ? link_model_whole() : link_in_test_some(true);
     return got == LINK_OK ? link_in_next(source, m) : got;
 }
 

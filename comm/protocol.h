@@ -76,8 +76,9 @@
  * worker rank r belongs to relay proto_parent(r, K) and speaks the
  * protocol above with it instead of rank 0.  To rank 0 a relay is one
  * worker that holds up to PROTO_RELAY_IN_FLIGHT TILEs and answers each
- * with one RESULT (or FAIL), in order, as a worker does; each part of its
- * RESULT names in proto_result.rank the worker that computed it.  The
+ * with one RESULT (or FAIL), as soon as every part of it is done, so not
+ * always in order (step 3); each part of its RESULT names in
+ * proto_result.rank the worker that computed it.  The
  * setup broadcast still goes to every rank, and rank 0 still watches
  * every rank's process (mpi_link.h): a relay or any worker of its group lost
  * loses the whole group at once.

@@ -302,8 +302,11 @@ int sched_pieces_auto(int requested, int workers, int tiles, int tile_edge, bool
     if (workers < SCHED_PIECES_WORKERS || compressed)
         return 1;
     /* (one cut at most: 16 pieces a tile at 1024 workers, 262 144 items a
-     * frame, keep rank 0 busy 88 % of the frame on their parts) */
+     * frame, keep rank 0 busy 88 % of the frame on their parts; and none
+     * where a worker has few tiles: rank 0's own work on each part, 0.2
+     * us, then outweighs the tail the quarters shorten) */
     bool cut = (double)tiles < (double)SCHED_PIECES_ITEMS * workers &&
+               (double)tiles >= (double)SCHED_PIECES_FEWEST * workers &&
                tile_edge / 2 >= SCHED_PIECE_MIN;
     return cut ? 4 : 1;
 }

@@ -426,7 +426,8 @@ render_logged() {
 # the image is the serial one, every item is computed by a worker (never a
 # relay), the stats name the relays and list only the workers, and rank 0
 # sends fewer TILE messages than the items, keeping 16 batches at a relay
-# in homo (no estimates) and 8 in hetero (comm/protocol.h: PROTO_RELAY_*).
+# in homo (no estimates) and 8 in hetero (comm/protocol.h:
+# proto_relay_depth, for groups of 16 workers or fewer as these).
 relayed() { # relayed STATS K MODE: K relays, fewer messages than items
     python3 -c "import json,sys; j=json.load(open(sys.argv[1])); \
 sys.exit(0 if j['relays'] == int(sys.argv[2]) and 0 < j['tile_messages'] < j['items_sent'] \

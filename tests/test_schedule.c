@@ -493,11 +493,15 @@ static void test_pieces_auto(void **state)
     assert_int_equal(sched_pieces_auto(0, 64, tiles4096, 32, false), 1);
     assert_int_equal(sched_pieces_auto(0, 128, tiles4096, 32, false), 1);  /* 128 a worker */
     assert_int_equal(sched_pieces_auto(0, 256, tiles4096, 32, false), 4);  /* 64 -> 256 */
-    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 32, false), 4); /* one cut at most */
-    assert_int_equal(sched_pieces_auto(0, 4096, tiles4096, 32, false), 4);
-    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 16, false), 4);
-    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096 / 4, 64, false), 4);
-    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 15, false), 1); /* quarters under 8 */
+    assert_int_equal(sched_pieces_auto(0, 512, tiles4096, 32, false), 4);  /* 32 -> 128 */
+    /* 16 tiles a worker: rank 0's work on the parts outweighs the tail */
+    assert_int_equal(sched_pieces_auto(0, 1024, tiles4096, 32, false), 1);
+    assert_int_equal(sched_pieces_auto(0, 4096, tiles4096, 32, false), 1);
+    assert_int_equal(sched_pieces_auto(0, 1024, 4 * tiles4096, 32, false), 4); /* 8192x8192 */
+    assert_int_equal(sched_pieces_auto(0, 1024, 4 * tiles4096, 16, false), 4); /* one cut at most */
+    assert_int_equal(sched_pieces_auto(0, 128, tiles4096 / 4, 64, false), 4); /* tile 64 */
+    assert_int_equal(sched_pieces_auto(0, 256, tiles4096 / 4, 64, false), 1);
+    assert_int_equal(sched_pieces_auto(0, 256, tiles4096, 15, false), 1); /* quarters under 8 */
     assert_int_equal(sched_pieces_auto(4, 2, 10, 32, false), 4);
     assert_int_equal(sched_pieces_auto(64, 2, 10, 7, false), 16); /* cuts of 8 > 7 pixels */
     assert_int_equal(sched_pieces_auto(16, 2, 10, 1, false), 1);

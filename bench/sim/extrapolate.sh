@@ -19,6 +19,11 @@
 # (bench/SCALE.md, *the results' headers*: which tile ends last moves with
 # any change); each row ends with its jitter, and stderr gets each point's
 # median and range.  Default "0": one run, as before.
+# MASTER_COSTS=yes charges rank 0's own work as bench/SCALE.md measured it
+# (*the master's own work*, master_cost.sh): its loop 0.75 us a RESULT +
+# 0.20 us a part + 0.42 ns a pixel, each store thread 5.4 ns a pixel, with
+# STORE_THREADS of them (default 1, csgtrace's default); without it rank 0
+# costs only its messages, as every row before 2026-11-29 (night).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 NODE=${NODE:-$ROOT/../shared/node/h200-2026-11-28}
@@ -33,6 +38,14 @@ wire=(--pixels "$PIXELS" --pieces "$PIECES")
 [ -n "${COMPRESS_NS:-}" ] && wire+=(--compress-ns "$COMPRESS_NS")
 [ -n "${DECOMPRESS_NS:-}" ] && wire+=(--decompress-ns "$DECOMPRESS_NS")
 [ "$RECORDS" = send ] || wire+=(--hit-records "$RECORDS")
+MASTER_COSTS=${MASTER_COSTS:-no} STORE_THREADS=${STORE_THREADS:-1}
+[[ "$MASTER_COSTS" =~ ^(yes|no)$ ]] || { echo "MASTER_COSTS: yes or no" >&2; exit 2; }
+message_us=0
+if [ "$MASTER_COSTS" = yes ]; then
+    message_us=0.75
+    wire+=(--master-part-us 0.20 --master-pixel-ns 0.42 --master-store-ns 5.4
+           --store-threads "$STORE_THREADS")
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$ROOT/build/csgtrace" gen spheres --count 50 --occupancy 0.5 --seed 1 --width 2048 --height 2048 \
@@ -53,7 +66,7 @@ for p in $POINTS; do
         if timeout "$TIMEOUT" "$ROOT/bench/simulate.sh" "$work/s50.pov" --workers "$workers" \
             --mode "$mode" --network "$net" --size 4096x4096 --tile "$TILE" --relays "$relays" \
             --schedule "$SCHEDULE" --map "$work/$mode.costs" "${fill[@]}" "${wire[@]}" \
-            --master-message-us "$jitter" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
+            --master-message-us "$(printf %.3f "$(echo "$message_us + $jitter" | bc -l)")" --stats "$work/p.json" >/dev/null 2>"$work/err"; then
             python3 - "$work/p.json" "$net" "$jitter" <<'PY' | tee -a "$work/point.csv"
 import json, sys
 d = json.load(open(sys.argv[1]))
