@@ -962,9 +962,9 @@ static link_status link_in_match(int source, size_t limit, link_msg *big)
     }
 }
 
-/* A new scan of the slots (link_in_first); false without the marks
- * (out of memory, or a source beyond them: every slot then counts as the
- * oldest of its source, which only the slower, exact check tells). */
+/* A new scan of the slots (link_in_first); false without the marks (out
+ * of memory): link_in_first then looks back over the slots instead, as it
+ * does for a source beyond the marks. */
 static bool link_in_scan(void)
 {
     if (!link_in.seen && link_w.size > 0) {

@@ -57,9 +57,10 @@
  *    first out, and holds at most PROTO_IN_FLIGHT; a relay answers each
  *    TILE once all its parts are answered, in whatever order they end
  *    (else one costly part would hold back every TILE after it, and with
- *    them rank 0's room to send the group more: bench/SCALE.md, *1024
- *    workers*).  The master finds the TILE an answer belongs to by its
- *    first part (proto_result's index, x and y), a FAIL by its oldest.
+ *    them rank 0's room to send the group more: bench/SCALE.md, *relays
+ *    answer as their TILEs end*).  The master finds the TILE an answer
+ *    belongs to by its first part (proto_result's index, x and y), a FAIL
+ *    by its oldest.
  *    Large messages go in the background on both sides (link_isend): the
  *    master never waits on a busy worker, a worker never on the master.
  *    A worker whose answer breaks the protocol (wrong size, tile or tag)
