@@ -908,21 +908,21 @@ static bool master_take_result(master_loop *L, const link_msg *msg, const int *i
 }
 
 /* The slot of rank src's batch that msg answers: a relay's RESULT names
- * it by its first part (tile and rectangle: relays answer as their
- * batches end), anything else answers the oldest; -1 when the part names
- * none of the relay's batches (a relay breaking the protocol). */
-static int master_answered_slot(const master_loop *L, int src, const link_msg *msg)
+ * it by its first part (tile and rectangle, read into *h: relays answer
+ * as their batches end), anything else answers the oldest; -1 when the
+ * part names none of the relay's batches (a relay breaking the protocol). */
+static int master_answered_slot(const master_loop *L, int src, const link_msg *msg,
+                                proto_result *h)
 {
     const master_worker *w = &L->w[src];
-    proto_result h;
     if (L->m->relays == 0 || L->failed || msg->tag != PROTO_TAG_RESULT ||
-        proto_result_read(msg->data, msg->len, &h) == 0)
+        proto_result_read(msg->data, msg->len, h) == 0)
         return master_oldest_slot(L, w);
     for (int k = 0; k < L->depth; k++) {
         if (w->count[k] == 0)
             continue;
         const sched_item *first = &L->job->sched->items[w->item[k][0]];
-        if (first->tile == h.index && first->rect.x == h.x && first->rect.y == h.y)
+        if (first->tile == h->index && first->rect.x == h->x && first->rect.y == h->y)
             return k;
     }
     return -1;
@@ -944,10 +944,9 @@ static void master_answer(master_loop *L, const link_msg *msg, csg_diag *d)
         return;
     }
     master_worker *w = &L->w[src];
-    int slot = master_answered_slot(L, src, msg);
+    proto_result h;
+    int slot = master_answered_slot(L, src, msg, &h);
     if (slot < 0) {
-        proto_result h;
-        proto_result_read(msg->data, msg->len, &h); /* (read: master_answered_slot) */
         csg_error_plain(d, "relay %d: result for tile %d at %d,%d, none of its tiles sent", src,
                         (int)h.index, (int)h.x, (int)h.y);
         L->failed = true;
