@@ -56,9 +56,9 @@
 # master's store thread (host/store.h), C ns a pixel on a core of its own,
 # while its ring has room (A and B are then the loop's part without the
 # store); default 0: no store thread, the loop stores them (B).
-# --store-threads N: so many store threads (csgtrace --store-threads), each
-# on a core of its own at C ns a pixel, a part going to the one that is
-# free first; default 1.
+# --store-threads N|auto: so many store threads (csgtrace --store-threads),
+# each on a core of its own at C ns a pixel, a part going to the one that
+# is free first; default auto, csgtrace's (one a 64 workers, 1 to 8).
 # --nap-us U: every nap that runs out (mpi_link.c's idle wait, any rank) costs
 # its rank U us of CPU besides (the timer and the wake-up: 6.4 measured
 # here, bench/SCALE.md); default 0.
@@ -106,7 +106,7 @@ MAP_RENDERS=${SIM_MAP_RENDERS:-3}
 
 die() { echo "bench/simulate.sh: $*" >&2; exit 2; }
 SCENE="" WORKERS="" MODE="" SCHEDULE="" TILE=32 NETWORK=gige SIZE=384x384 STATS="" PASS_SCALE=1 PASS_RATE=0 BATCH=auto PIECES=auto PIXELS=rgb8 FILL=on RELAYS=0
-PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=1 NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
+PART_US=0 PIXEL_NS=0 MESSAGE_US=0 STORE_NS=0 STORE_THREADS=auto NAP_US=0 GIVEN_MAP="" GIVEN_FILL_MAP=""
 EAGER="" SENDER_PROGRESS="" RUNTIME=current PASS_DELAY=0
 SCENE_MEMORY="" PAGE_TRACE="" PAGE_SIZE=0 PAGE_POLICY=lru PAGE_PREFETCH=on PAGE_FETCH=get PAGE_HOME=auto PAGE_INSTALL_NS=0 MASTER_PAGE_NS=0 PAGED_COST_SCALE=1
 WIRE_MAP="" COMPRESS_NS=0 DECOMPRESS_NS=0 RECORDS=send
@@ -185,7 +185,7 @@ WIDTH=${BASH_REMATCH[1]} HEIGHT=${BASH_REMATCH[2]}
 [[ "$PIXEL_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-pixel-ns: nanoseconds, 0..9999.999"
 [[ "$MESSAGE_US" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-message-us: microseconds, 0..9999.999"
 [[ "$STORE_NS" =~ ^(0|[1-9][0-9]{0,3})(\.[0-9]{1,3})?$ ]] || die "--master-store-ns: nanoseconds, 0..9999.999"
-[[ "$STORE_THREADS" =~ ^[1-8]$ ]] || die "--store-threads: 1..8"
+[[ "$STORE_THREADS" =~ ^([1-8]|auto)$ ]] || die "--store-threads: 1..8 or auto"
 [[ "$NAP_US" =~ ^(0|[1-9][0-9]{0,2})(\.[0-9]{1,3})?$ ]] || die "--nap-us: microseconds, 0..999.999"
 case $NETWORK in
 ib) : "${EAGER:=12288}" "${SENDER_PROGRESS:=no}" ;;
@@ -302,7 +302,8 @@ batch=()
 [ -z "${CSGSIM_WORK_LOG:-}" ] || echo "rank,x,y,width,height,start_s,end_s" >"$CSGSIM_WORK_LOG"
 CSGSIM_MASTER_PART_S=$(echo "$PART_US / 1000000" | bc -l) CSGSIM_MASTER_PIXEL_S=$(echo "$PIXEL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_MESSAGE_S=$(echo "$MESSAGE_US / 1000000" | bc -l) CSGSIM_MASTER_STORE_S=$(echo "$STORE_NS / 1000000000" | bc -l) \
-CSGSIM_MASTER_STORE_THREADS=$STORE_THREADS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
+CSGSIM_MASTER_STORE_THREADS=$([ "$STORE_THREADS" = auto ] && echo 0 || echo "$STORE_THREADS") \
+CSGSIM_WORKERS=$WORKERS CSGSIM_NAP_CPU_S=$(echo "$NAP_US / 1000000" | bc -l) \
 CSGSIM_EAGER_BYTES=$([ "$SENDER_PROGRESS" = yes ] && echo "$EAGER" || echo 0) \
 CSGSIM_PAGES=$PAGE_TRACE CSGSIM_PAGE_INSTALL_S=$(echo "$PAGE_INSTALL_NS / 1000000000" | bc -l) \
 CSGSIM_MASTER_PAGE_S=$(echo "$MASTER_PAGE_NS / 1000000000" | bc -l) CSGSIM_PAGED_COST_SCALE=$PAGED_COST_SCALE \
@@ -326,7 +327,7 @@ d["master_part_us"] = float(sys.argv[6])
 d["master_pixel_ns"] = float(sys.argv[7])
 d["master_message_us"] = float(sys.argv[8])
 d["master_store_ns"] = float(sys.argv[9])
-d["master_store_threads"] = int(sys.argv[10]) if float(sys.argv[9]) > 0 else 0  # (C 0: none)
+d["master_store_threads"] = d["store_threads"] if float(sys.argv[9]) > 0 else 0  # (C 0: none)
 d["nap_us"] = float(sys.argv[11])
 d["eager_bytes"] = int(sys.argv[12])
 d["sender_progress"] = sys.argv[13] == "yes"

@@ -16,39 +16,33 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-/* What the encoder holds beside the image, and whether while the tiles
- * are rendered (*during): a PNG's encoded bands until they are written in
+/* What the encoder holds beside the image while the tiles are rendered
+ * (every format is written band by band meanwhile): a PNG's encoded bands until they are written in
  * order (at worst, an image that does not compress, every band but the
  * first: 3 bytes a pixel); a PPM's band on each encoder thread, written at
  * once (one band of every CPU's, at most MEMORY_WRITER_STRIP_ROWS rows);
- * the module's formats, written after the tiles: a strip of 8-bit bytes,
- * or OpenImageIO's chunk of floats. */
-static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path, bool *during)
+ * the module's formats, handed a band at a time in order by one thread: a
+ * strip of 8-bit bytes, or a band of floats in the format's buffers
+ * (OpenEXR's line buffers) and as many bytes again for their compressed
+ * copy, at most. */
+static uint64_t memory_writer(uint64_t width, uint64_t height, const char *out_path)
 {
     uint64_t row = width * 3 * sizeof(float);
     uint64_t rows = height < MEMORY_WRITER_STRIP_ROWS ? height : MEMORY_WRITER_STRIP_ROWS;
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    *during = false;
     if (!out_path)
         return 0;
     switch (img_format_of(out_path)) {
     case IMG_FORMAT_PNG:
-        *during = true;
         return width * height * 3;
     case IMG_FORMAT_PPM:
-        *during = true;
         return rows * width * 3 * (uint64_t)(cpus > 0 ? cpus : 1);
     case IMG_FORMAT_PFM:
-        *during = true;
         return rows * row * (uint64_t)(cpus > 0 ? cpus : 1);
     case IMG_FORMAT_MODULE:
         break;
     }
-    if (pixels_format_for(out_path) == PIXELS_RGB8)
-        return rows * width * 3;
-    uint64_t chunk = MEMORY_WRITER_FLOAT_CHUNK / row * row;
-    chunk = chunk > row ? chunk : row;
-    return chunk < row * height ? chunk : row * height;
+    return pixels_format_for(out_path) == PIXELS_RGB8 ? rows * width * 3 : 2 * rows * row;
 }
 
 /* What the master keeps a tile, allocated for every tile at the start of
@@ -89,10 +83,8 @@ render_memory render_memory_need(int width, int height, int tile, int spp, size_
         m.records = w * h * record;
         m.device = w * (uint64_t)(slice_rows < height ? slice_rows : height) * record;
     }
-    bool during;
-    m.writer = memory_writer(w, h, out_path, &during);
-    uint64_t beside = m.records + m.device > m.writer ? m.records + m.device : m.writer;
-    m.total = m.image + m.tiles + (during ? m.records + m.device + m.writer : beside);
+    m.writer = memory_writer(w, h, out_path);
+    m.total = m.image + m.tiles + m.records + m.device + m.writer;
     return m;
 }
 

@@ -22,10 +22,8 @@ typedef struct {
                          tile phase to the end (memory_tile_bytes a
                          tile: --tile 1 makes it the largest part)       */
     uint64_t total;   /* the peak: the image, the tiles, the records
-                         (tile phase) and the writer when it encodes
-                         during the tile phase (PNG, PPM), else the
-                         larger of the records and the writer (written
-                         after the records are freed)                    */
+                         (tile phase) and the writer, which encodes
+                         during the tile phase (every format)            */
 } render_memory;
 
 /* The master's bookkeeping of one tile, in bytes (memory.c lists it);
@@ -64,9 +62,6 @@ void memory_prefault_start(memory_prefault *p, void *image, size_t bytes);
 void *memory_image_alloc(size_t bytes);
 /* Waits for the thread (if any); safe to call again. */
 void memory_prefault_join(memory_prefault *p);
-/* OpenImageIO's write_image of a float file converts at most this many
- * bytes of scanlines at a time (or one scanline). */
-#define MEMORY_WRITER_FLOAT_CHUNK ((uint64_t)16 << 20)
 
 /* The peak of a render of width x height pixels in tiles of `tile`, at
  * `spp` samples, `real_size` bytes a real; `slice_rows` > 0 (hetero) adds

@@ -94,8 +94,9 @@ enum cli_kind {
     X("--page-fetch", NULL, "get|ask", CLI_CHOICE, req.page_fetch, 0, 0, cli_page_fetch,       \
       CLI_ON_RENDERS, "--scene-memory: pages read one-sided from rank 0's memory (get, where "  \
       "MPI opens it as a window) or asked of it (default get)")                                 \
-    X("--store-threads", NULL, "N", CLI_INT, req.store_threads, 1, STORE_THREADS_MAX, NULL,    \
-      CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default 1)")                    \
+    X("--store-threads", NULL, "N|auto", CLI_INT_AUTO, req.store_threads, 1, STORE_THREADS_MAX, \
+      NULL, CLI_ON_RENDERS, "rank 0's threads storing 8-bit results (default auto: one a "    \
+      "64 workers)")                                                                           \
     X("--stats", NULL, "FILE.json", CLI_PATH, req.stats_path, 0, 0, NULL, CLI_ON_RENDERS,      \
       "the render's figures as JSON (compare: every run)")                                     \
     X("--tile-log", NULL, "FILE.jsonl", CLI_PATH, req.tile_log_path, 0, 0, NULL,               \

@@ -86,7 +86,8 @@ typedef struct {
     bool helpers;          /* the journal's writer, the prefault, the store
                               thread started (render_start_helpers)      */
     int store_threads;     /* threads to store the workers' 8-bit results
-                              (--store-threads; 0: none wanted)         */
+                              (--store-threads, auto: store_threads_auto;
+                              0: none wanted)                           */
     store *store;          /* they (store.h; NULL: none)                 */
     csg_pager pager;       /* --scene-memory without workers: rank 0's
                               own tiles read the scene through it       */
@@ -448,6 +449,21 @@ static int render_fill(master_job *job, double now, csg_diag *d)
     return feed_fill(&rs->feed, job, now, d);
 }
 
+/* d filled with the image writer's message err about `out`: its own
+ * ("csgtrace: error: ..."), the module's ("OUT: ..."), or anything else
+ * (named after the output). */
+static void render_write_error(const char *out, const char *err, csg_diag *d)
+{
+    size_t named = strlen(out);
+    if (strstr(err, "error:"))
+        snprintf(d->message, sizeof d->message, "%s", err);
+    else if (strncmp(err, out, named) == 0 && err[named] == ':')
+        csg_error_plain(d, "%s", err);
+    else
+        csg_error_plain(d, "%s: %s", out, err[0] ? err : "cannot write the image");
+    d->failed = 1;
+}
+
 /* Step 4: the image file; 0 or 1 with d filled. */
 static int render_write(const render_request *req, render_state *rs, render_stats *st,
                         csg_diag *d)
@@ -467,14 +483,7 @@ static int render_write(const render_request *req, render_state *rs, render_stat
     st->write_cpu_s = report.cpu_s;
     if (ok)
         return EXIT_OK;
-    size_t named = strlen(req->out_path); /* (the module's messages begin "OUT: ") */
-    if (strstr(err, "error:"))
-        snprintf(d->message, sizeof d->message, "%s", err);
-    else if (strncmp(err, req->out_path, named) == 0 && err[named] == ':')
-        csg_error_plain(d, "%s", err);
-    else
-        csg_error_plain(d, "%s: %s", req->out_path, err[0] ? err : "cannot write the image");
-    d->failed = 1;
+    render_write_error(req->out_path, err, d);
     return EXIT_FAILURE_RUN;
 }
 
@@ -606,11 +615,10 @@ static int render_prepare(const render_request *req, master_session *ms, render_
             return status;
     }
     if (req->out_path) { /* (the image written as its bands are final) */
-        char err[512];
+        char err[512] = "";
         rs->stream = img_stream_open(req->out_path, rs->image, &grid, err, sizeof err);
         if (!rs->stream) {
-            snprintf(d->message, sizeof d->message, "%s", err);
-            d->failed = 1;
+            render_write_error(req->out_path, err, d);
             return EXIT_FAILURE_RUN;
         }
     }
@@ -618,7 +626,8 @@ static int render_prepare(const render_request *req, master_session *ms, render_
               rs->blob.bytes);
     rs->prefault_bytes = use_workers ? st->pixels * 3 * sizeof *rs->image : 0;
     if (use_workers && pixels_format_for(req->out_path) == PIXELS_RGB8)
-        rs->store_threads = req->store_threads > 0 ? req->store_threads : 1;
+        rs->store_threads = req->store_threads > 0 ? req->store_threads
+                                                   : store_threads_auto(ms->workers - ms->relays);
     job->journal = rs->journal;
     job->stream = rs->stream;
     job->blob = rs->blob.bytes;

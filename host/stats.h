@@ -95,13 +95,14 @@
  *                 8-bit results into the image, off the master's loop
  *   slices        OpenCL slices of the pass (0 without one)
  *   write_bands   the image's bands (rows of tiles), each encoded once the
- *                 tiles over it are final, while the tiles go on (PNG,
- *                 PPM: host/output/stream.h); 0 when the file is written
- *                 whole at the end (the image module's formats) or there
- *                 is none
- *   write_bands_early  of them, encoded before the last tile was in (the
- *                 rest are write_s's work)
- *   write_cpu_s   the CPU seconds of the image's encoder threads
+ *                 tiles over it are final, while the tiles go on
+ *                 (host/output/stream.h; the image module's formats in
+ *                 order, from the top); 0 when there is none
+ *   write_bands_early  of them, taken by the encoder before the last tile
+ *                 was in (the rest are write_s's work)
+ *   write_cpu_s   the CPU seconds of the image's encoder threads (for the
+ *                 module's formats, what its writer thread encoded, not
+ *                 the pools' threads of the finish)
  *
  *   tiles_total   tiles of the image
  *   tiles_degenerate  tiles no primary ray hit (hetero: filled with the

@@ -221,6 +221,12 @@ static void store_free(store *s)
     free(s);
 }
 
+int store_threads_auto(int workers)
+{
+    int n = (workers + STORE_WORKERS_A_THREAD - 1) / STORE_WORKERS_A_THREAD;
+    return n < 1 ? 1 : n > STORE_THREADS_MAX ? STORE_THREADS_MAX : n;
+}
+
 store *store_start(float *image, int width, int tiles, int threads)
 {
     store *s = calloc(1, sizeof *s);

@@ -43,8 +43,20 @@
 #define STORE_RING_BYTES ((size_t)8 << 20)
 #define STORE_ALIGN 32
 #define STORE_THREADS_MAX 8
+/* --store-threads auto: a thread for every so many workers.  A thread
+ * stores 185 to 300 M pixels a second (5.4 ns a pixel with 16 parts a
+ * RESULT in 4 KiB pages, 3.3 with huge pages: bench/SCALE.md), and a
+ * worker on the paper's scene returns about 1.2 M a second (the node's
+ * 15 workers, 2048x2048 and 4096x4096): one thread keeps up with 150-250
+ * such workers, 64 with workers two to four times faster. */
+#define STORE_WORKERS_A_THREAD 64
 
 typedef struct store store;
+
+/* The store threads of --store-threads auto for `workers` workers (the
+ * relays not counted): one for every STORE_WORKERS_A_THREAD, 1 to
+ * STORE_THREADS_MAX. */
+int store_threads_auto(int workers);
 
 /* `threads` store threads (1..STORE_THREADS_MAX; as many as start) for an
  * image `width` pixels wide of `tiles` tiles; NULL (out of memory, no

@@ -29,6 +29,10 @@
  * `compressed` bytes in the ring. */
 void sim_charge_master_message(void);
 void sim_charge_master_part(size_t pixels, int format, size_t compressed);
+/* The store threads the charges model ($CSGSIM_MASTER_STORE_THREADS, or
+ * --store-threads auto's for $CSGSIM_WORKERS workers when it is unset or
+ * 0). */
+int sim_master_store_threads(void);
 /* The end of the tile phase: waits until the store thread has stored
  * everything queued (master_run_tiles). */
 void sim_master_store_drain(void);

@@ -395,7 +395,7 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
                "\"result_pixels\": \"%s\", \"bytes_received\": %llu, \"bytes_sent\": %llu, "
                "\"fill\": %s, \"tiles_filled\": %d, \"work_s\": %.9g, \"ramp_s\": %.9g, "
                "\"tail_s\": %.9g, \"relays\": %d, \"efficiency_ranks\": %.6f, \"pieces\": %d, "
-               "\"answers_early\": %llu",
+               "\"answers_early\": %llu, \"store_threads\": %d",
             workers, a->mode_name, sched_policy_name((enum sched_policy)a->policy), a->tile,
             a->width, a->height, r->items, run->pass_s, r->makespan_s, serial,
             serial / (workers * r->makespan_s), 1 - r->napped_s / r->makespan_s, r->batch,
@@ -404,7 +404,7 @@ static bool sim_write(const sim_args *a, const sim_run *run, int workers, const 
             a->fill && run->hetero ? "true" : "false",
             r->filled, r->work_s, r->ramp_s, r->tail_s, a->relays,
             serial / ((workers + a->relays) * r->makespan_s), run->pieces,
-            (unsigned long long)r->answers_early);
+            (unsigned long long)r->answers_early, sim_master_store_threads());
     if (r->page_count > 0) {
         const page_counts *p = &r->paging;
         int missing = sim_trace_missing(a, run);

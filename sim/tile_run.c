@@ -50,10 +50,19 @@ static sim_master_costs *sim_master(void)
         m.store_s = sim_env_number("CSGSIM_MASTER_STORE_S", 0);
         m.page_s = sim_env_number("CSGSIM_MASTER_PAGE_S", 0);
         m.decompress_s = sim_env_number("CSGSIM_MASTER_DECOMPRESS_S", 0);
-        double threads = sim_env_number("CSGSIM_MASTER_STORE_THREADS", 1);
+        /* (0: --store-threads auto, for $CSGSIM_WORKERS workers, as the
+         * render chooses them) */
+        double threads = sim_env_number("CSGSIM_MASTER_STORE_THREADS", 0);
+        if (threads < 1)
+            threads = store_threads_auto((int)sim_env_number("CSGSIM_WORKERS", 1));
         m.store_threads = threads > STORE_THREADS_MAX ? STORE_THREADS_MAX : (int)threads;
     }
     return &m;
+}
+
+int sim_master_store_threads(void)
+{
+    return sim_master()->store_threads;
 }
 
 void sim_charge_master_message(void)

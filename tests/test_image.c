@@ -5,8 +5,8 @@
  * $CSGTRACE_IMAGE_WRITER=oiio) over a sweep of every region of the
  * encoding, a PFM holds every float as it is (the module has no PFM
  * writer: its reader checks it), a streamed file's bytes do not depend on the order its bands
- * are final in nor on its threads, and a failed write names the file and
- * leaves nothing behind.
+ * are final in nor on its threads, the module's formats stream too, and a
+ * failed write names the file and leaves nothing behind.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <dirent.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -51,6 +52,25 @@ static int entries(const char *dir)
         n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
     closedir(d);
     return n;
+}
+
+/* The size of the one file in `dir` (a stream's temporary file). */
+static long only_file_size(const char *dir)
+{
+    DIR *d = opendir(dir);
+    char path[512] = "";
+    int n = 0;
+    assert_non_null(d);
+    for (struct dirent *e; (e = readdir(d));)
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0) {
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            n++;
+        }
+    closedir(d);
+    assert_int_equal(n, 1);
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    return (long)st.st_size;
 }
 
 /* Every float of [0, 1] at a stride of ~500 ulps (both parts of the sRGB
@@ -263,6 +283,57 @@ static void test_stream_order_changes_nothing(void **state)
     free(rgb);
 }
 
+/* The module's formats are streamed too, their rows handed over in order
+ * as the bands above them are final: a stream with its tiles final in a
+ * scrambled order holds the pixels of the whole image written at once
+ * (EXR's floats, TIFF's bytes; their files differ only by the time they
+ * were written), every band went through the stream; the rows of the
+ * bands that are final are in the file before the stream is finished; an
+ * aborted stream leaves nothing. */
+static void test_module_formats_stream(void **state)
+{
+    scratch *s = *state;
+    float *rgb = sweep_image();
+    char err[512] = "";
+    const char *exts[] = {"exr", "tif"};
+    tile_grid g = {SWEEP_W, SWEEP_H, 7, 1, sizeof(float), 0};
+    int tiles = tile_count(&g), bands = (SWEEP_H + IMG_STREAM_ROWS - 1) / IMG_STREAM_ROWS;
+    for (int e = 0; e < 2; e++) {
+        name_files(s, exts[e]);
+        assert_int_equal(img_format_of(s->b), IMG_FORMAT_MODULE);
+        assert_true(img_write_rgb(s->a, rgb, SWEEP_W, SWEEP_H, err, sizeof err));
+        img_stream *st = img_stream_open(s->b, rgb, &g, err, sizeof err);
+        assert_non_null(st);
+        assert_int_equal(entries(s->dir), 2); /* (its temporary file beside the output) */
+        img_stream_start(st);
+        for (int k = 0; k < tiles; k++)
+            img_stream_tile(st, (int)(((long)k * 7919) % tiles));
+        img_stream_report r;
+        assert_true(img_stream_finish(st, 0, &r, err, sizeof err));
+        assert_int_equal(r.bands, bands);
+        assert_true(r.bands_early <= bands);
+        assert_int_equal(entries(s->dir), 2);
+        assert_same_pixels(s->a, s->b);
+        unlink(s->a);
+        unlink(s->b);
+    }
+    name_files(s, "exr");
+    img_stream *st = img_stream_open(s->a, rgb, &g, err, sizeof err);
+    assert_non_null(st);
+    long opened = only_file_size(s->dir), now = opened;
+    img_stream_start(st);
+    for (int k = 0; k < tiles / 2; k++) /* (the first bands final, the rest not) */
+        img_stream_tile(st, k);
+    for (int wait = 0; wait < 1000 && now == opened; wait++) {
+        usleep(10000); /* (the encoder thread hands them over meanwhile: 10 s at most) */
+        now = only_file_size(s->dir);
+    }
+    assert_true(now > opened); /* (their rows compressed into it) */
+    img_stream_abort(st);
+    assert_int_equal(entries(s->dir), 0);
+    free(rgb);
+}
+
 /* A folder that does not exist: false, the file named, nothing written;
  * an existing file is left as it was when a write fails. */
 static void test_failed_write_names_the_file(void **state)
@@ -321,6 +392,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_pfm_holds_every_float, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_stream_order_changes_nothing, scratch_setup,
+                                        scratch_teardown),
+        cmocka_unit_test_setup_teardown(test_module_formats_stream, scratch_setup,
                                         scratch_teardown),
         cmocka_unit_test_setup_teardown(test_failed_write_names_the_file, scratch_setup,
                                         scratch_teardown),

@@ -160,6 +160,15 @@ static void test_estimate_counts_the_tiles(void **state)
     render_memory hetero = render_memory_need(2000, 2000, 1, 1, 4, 128, "x.png");
     assert_true(memory_tile_bytes(true) > memory_tile_bytes(false));
     assert_int_equal(hetero.tiles, 4000000ull * memory_tile_bytes(true));
+    /* the module's formats are written during the tile phase too: their
+     * band counted beside the records (8-bit: a strip of bytes; EXR: a
+     * band of floats and its compressed copy) */
+    render_memory exr = render_memory_need(2000, 2000, 32, 1, 4, 128, "x.exr");
+    render_memory tif = render_memory_need(2000, 2000, 32, 1, 4, 128, "x.tif");
+    assert_int_equal(exr.writer, 2ull * 64 * 2000 * 12);
+    assert_int_equal(tif.writer, 64ull * 2000 * 3);
+    assert_int_equal(exr.total, exr.image + exr.tiles + exr.records + exr.device + exr.writer);
+    assert_int_equal(tif.total, tif.image + tif.tiles + tif.records + tif.device + tif.writer);
 }
 
 int main(void)

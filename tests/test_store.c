@@ -135,7 +135,8 @@ static void test_too_large_refused_and_stop_drains(void **state)
     free(src);
 }
 
-/* The thread count is clamped to 1 .. STORE_THREADS_MAX; NULL has none. */
+/* The thread count is clamped to 1 .. STORE_THREADS_MAX; NULL has none;
+ * auto's count for so many workers. */
 static void test_thread_count(void **state)
 {
     (void)state;
@@ -147,6 +148,11 @@ static void test_thread_count(void **state)
         assert_int_equal(store_threads(s), got[i]);
         store_stop(s);
     }
+    /* --store-threads auto: one a STORE_WORKERS_A_THREAD workers, 1 to the most */
+    int workers[] = {0, 1, 15, 64, 65, 256, 512, 1024, 100000};
+    int threads[] = {1, 1, 1, 1, 2, 4, 8, 8, STORE_THREADS_MAX};
+    for (int i = 0; i < 9; i++)
+        assert_int_equal(store_threads_auto(workers[i]), threads[i]);
 }
 
 /* Compressed parts (--compress): the threads decompress each into its

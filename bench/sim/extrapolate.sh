@@ -22,7 +22,8 @@
 # MASTER_COSTS=yes charges rank 0's own work as bench/SCALE.md measured it
 # (*the master's own work*, master_cost.sh): its loop 0.75 us a RESULT +
 # 0.20 us a part + 0.42 ns a pixel, each store thread 5.4 ns a pixel, with
-# STORE_THREADS of them (default 1, csgtrace's default); without it rank 0
+# STORE_THREADS of them (default auto, csgtrace's default: one a 64
+# workers; 1 until 2026-11-29, late); without it rank 0
 # costs only its messages, as every row before 2026-11-29 (night).
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -38,7 +39,7 @@ wire=(--pixels "$PIXELS" --pieces "$PIECES")
 [ -n "${COMPRESS_NS:-}" ] && wire+=(--compress-ns "$COMPRESS_NS")
 [ -n "${DECOMPRESS_NS:-}" ] && wire+=(--decompress-ns "$DECOMPRESS_NS")
 [ "$RECORDS" = send ] || wire+=(--hit-records "$RECORDS")
-MASTER_COSTS=${MASTER_COSTS:-no} STORE_THREADS=${STORE_THREADS:-1}
+MASTER_COSTS=${MASTER_COSTS:-no} STORE_THREADS=${STORE_THREADS:-auto}
 [[ "$MASTER_COSTS" =~ ^(yes|no)$ ]] || { echo "MASTER_COSTS: yes or no" >&2; exit 2; }
 message_us=0
 if [ "$MASTER_COSTS" = yes ]; then

@@ -32,8 +32,9 @@ typedef struct {
 void img_configure(const img_settings *s);
 img_settings img_settings_now(void);
 
-/* Who writes a file of `path`'s extension: csgtrace itself, band by band
- * (PNG, PPM, PFM: stream.h), or the OpenImageIO module, whole.  PFM (the
+/* Who writes a file of `path`'s extension: csgtrace itself (PNG, PPM,
+ * PFM), or the OpenImageIO module; a render streams either band by band
+ * (stream.h).  PFM (the
  * Portable Float Map: linear floats, rows bottom up) is csgtrace's own:
  * OpenImageIO reads it but has no writer for it. */
 typedef enum { IMG_FORMAT_PNG, IMG_FORMAT_PPM, IMG_FORMAT_PFM, IMG_FORMAT_MODULE } img_format;
@@ -64,6 +65,21 @@ bool img_module_write_rgb(const char *path, const float *rgb, int width, int hei
  * once. */
 bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
                       char *err, size_t err_size);
+
+/* The module's writer a run of rows at a time (host/output/stream.c):
+ * img_module_open makes the temporary file beside `path` (named to the
+ * signal handler) and opens the format's writer on it; img_module_rows
+ * hands it rows y0 .. y1 - 1 (rgb: row y0's first value), every row once
+ * and in order; img_module_close completes the file and renames it over
+ * `path` (`hold` as img_module_write's); img_module_abort removes it.
+ * Each false or NULL with the message in err; close and abort free f. */
+typedef struct img_module_file img_module_file;
+img_module_file *img_module_open(const char *path, int width, int height, char *err,
+                                 size_t err_size);
+bool img_module_rows(img_module_file *f, int y0, int y1, const float *rgb, char *err,
+                     size_t err_size);
+bool img_module_close(img_module_file *f, bool hold, char *err, size_t err_size);
+void img_module_abort(img_module_file *f);
 
 /* Is there a writer for the format of `path` (its extension)?  A render
  * asks before it starts, not after its last tile: for a format of the

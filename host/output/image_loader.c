@@ -201,36 +201,104 @@ static void module_write_failed(const char *tmp, char *err, size_t err_size)
                  (unsigned long long)rl.rlim_cur);
 }
 
-bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
-                      char *err, size_t err_size)
+struct img_module_file {
+    const img_module *m;
+    void *file; /* the module's handle */
+    char *tmp;  /* the temporary file beside the target */
+    char *path; /* the target */
+};
+
+static void module_file_free(img_module_file *f)
+{
+    free(f->tmp);
+    free(f->path);
+    free(f);
+}
+
+img_module_file *img_module_open(const char *path, int width, int height, char *err,
+                                 size_t err_size)
 {
     const img_module *m = module_or_error(path, err, err_size);
     if (!m)
-        return false;
-    char *tmp = module_temporary(path);
+        return NULL;
+    img_module_file *f = calloc(1, sizeof *f);
+    char *target = strdup(path), *tmp = NULL;
+    errno = ENOMEM;
+    if (f && target)
+        tmp = module_temporary(path); /* (errno when it cannot) */
     if (!tmp) {
         char why[160];
         snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path,
                  file_strerror(errno, why, sizeof why));
-        return false;
+        free(target);
+        free(f);
+        return NULL;
     }
+    *f = (img_module_file){m, NULL, tmp, target};
     signals_temporary(tmp); /* (a signal now removes it, however long the write) */
     err[0] = '\0';
-    bool ok = m->write_rgb(path, tmp, rgb, width, height, loader.settings.png_level, err,
-                           err_size);
-    if (!ok)
+    f->file = m->open_file(path, tmp, width, height, loader.settings.png_level, err, err_size);
+    if (!f->file) {
         module_write_failed(tmp, err, err_size);
+        unlink(tmp);
+        signals_temporary(NULL);
+        module_file_free(f);
+        return NULL;
+    }
+    return f;
+}
+
+bool img_module_rows(img_module_file *f, int y0, int y1, const float *rgb, char *err,
+                     size_t err_size)
+{
+    err[0] = '\0';
+    if (f->m->write_rows(f->file, y0, y1, rgb, err, err_size))
+        return true;
+    module_write_failed(f->tmp, err, err_size);
+    return false;
+}
+
+bool img_module_close(img_module_file *f, bool hold, char *err, size_t err_size)
+{
+    err[0] = '\0';
+    bool ok = f->m->close_file(f->file, err, err_size);
+    if (!ok)
+        module_write_failed(f->tmp, err, err_size);
     if (ok && hold)
         signals_hold(); /* (from the rename on, a signal waits for the caller's release) */
-    if (ok && rename(tmp, path) != 0) {
-        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", path, strerror(errno));
+    if (ok && rename(f->tmp, f->path) != 0) {
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", f->path, strerror(errno));
         ok = false;
     }
     if (!ok)
-        unlink(tmp);
+        unlink(f->tmp);
     signals_temporary(NULL);
-    free(tmp);
+    module_file_free(f);
     return ok;
+}
+
+void img_module_abort(img_module_file *f)
+{
+    if (!f)
+        return;
+    char ignored[64];
+    f->m->close_file(f->file, ignored, sizeof ignored);
+    unlink(f->tmp);
+    signals_temporary(NULL);
+    module_file_free(f);
+}
+
+bool img_module_write(const char *path, const float *rgb, int width, int height, bool hold,
+                      char *err, size_t err_size)
+{
+    img_module_file *f = img_module_open(path, width, height, err, err_size);
+    if (!f)
+        return false;
+    if (!img_module_rows(f, 0, height, rgb, err, err_size)) {
+        img_module_abort(f);
+        return false;
+    }
+    return img_module_close(f, hold, err, err_size);
 }
 
 bool img_module_write_rgb(const char *path, const float *rgb, int width, int height, char *err,

@@ -6,8 +6,10 @@
  * is caught here and turned into a false return with a message, so the C
  * side never sees C++.
  *
- * 8-bit files are encoded and written a strip of rows at a time
- * (write_display), so the writer never holds a copy of the whole image.
+ * A file is written a run of rows at a time (open_file, file_rows,
+ * close_file), as host/output/stream.c hands its bands over while the
+ * image is rendered; 8-bit rows are encoded a strip at a time
+ * (write_rows), so the writer never holds a copy of the whole image.
  *
  * Writing goes to the temporary file the loader made beside the target
  * (same extension, so OpenImageIO picks the same format), which the loader
@@ -70,14 +72,18 @@ void display_strip(const float *rgb, int width, int y0, int y1, std::vector<unsi
     });
 }
 
-/* The pixels of an 8-bit file, a strip at a time (display_strip). */
-bool write_display(ImageOutput &out, const float *rgb, int width, int height)
+/* Rows y0 .. y1 - 1 (`rgb`: row y0's first value) written: an 8-bit
+ * file's a strip at a time (display_strip), a float file's as they are. */
+bool write_rows(ImageOutput &out, bool floats, const float *rgb, int width, int y0, int y1)
 {
+    if (floats)
+        return out.write_scanlines(y0, y1, 0, TypeDesc::FLOAT, rgb);
     std::vector<unsigned char> bytes;
-    for (int y0 = 0; y0 < height; y0 += display_strip_rows) {
-        int y1 = std::min(height, y0 + display_strip_rows);
-        display_strip(rgb, width, y0, y1, bytes);
-        if (!out.write_scanlines(y0, y1, 0, TypeDesc::UINT8, bytes.data()))
+    size_t row = (size_t)width * 3;
+    for (int s0 = y0; s0 < y1; s0 += display_strip_rows) {
+        int s1 = std::min(y1, s0 + display_strip_rows);
+        display_strip(rgb + row * (size_t)(s0 - y0), width, 0, s1 - s0, bytes);
+        if (!out.write_scanlines(s0, s1, 0, TypeDesc::UINT8, bytes.data()))
             return false;
     }
     return true;
@@ -125,28 +131,47 @@ std::unique_ptr<ImageOutput> output_for(const std::string &path, char *err, size
     return out;
 }
 
-bool write_rgb(const char *path_c, const char *tmp, const float *rgb, int width, int height,
-               int png_level, char *err, size_t esz)
+/* A file being written (image_module.h: open_file .. close_file). */
+struct module_file {
+    std::unique_ptr<ImageOutput> out;
+    std::string path; /* the target: the name messages give */
+    int width;
+    bool floats;
+};
+
+module_file *open_file(const char *path_c, const char *tmp, int width, int height, int png_level,
+                       char *err, size_t esz)
 {
     std::string path(path_c);
-    std::string ext = extension_of(path);
     auto out = output_for(path, err, esz);
     if (!out)
-        return false;
-    ImageSpec spec(width, height, 3, pixels_format_for(path_c) == PIXELS_FLOAT ? TypeDesc::FLOAT : TypeDesc::UINT8);
-    if (ext == "png")
+        return nullptr;
+    bool floats = pixels_format_for(path_c) == PIXELS_FLOAT;
+    ImageSpec spec(width, height, 3, floats ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    if (extension_of(path) == "png")
         set_png_options(spec, png_level);
     if (!out->open(tmp, spec)) {
         set_error(err, esz, path + ": " + out->geterror());
-        return false;
+        return nullptr;
     }
-    bool ok = pixels_format_for(path_c) == PIXELS_FLOAT ? out->write_image(TypeDesc::FLOAT, rgb)
-                                   : write_display(*out, rgb, width, height);
-    std::string werr = ok ? "" : out->geterror();
-    ok = out->close() && ok;
-    if (!ok)
-        set_error(err, esz, path + ": " + (werr.empty() ? out->geterror() : werr));
-    return ok;
+    return new module_file{std::move(out), path, width, floats};
+}
+
+bool file_rows(module_file *f, int y0, int y1, const float *rgb, char *err, size_t esz)
+{
+    if (write_rows(*f->out, f->floats, rgb, f->width, y0, y1))
+        return true;
+    set_error(err, esz, f->path + ": " + f->out->geterror());
+    return false;
+}
+
+bool close_file(module_file *f, char *err, size_t esz)
+{
+    std::unique_ptr<module_file> owned(f);
+    if (f->out->close())
+        return true;
+    set_error(err, esz, f->path + ": " + f->out->geterror());
+    return false;
 }
 
 struct free_deleter {
@@ -229,12 +254,31 @@ template <class F> bool guarded(const char *subject, const char *doing, char *er
     return false;
 }
 
-bool module_write_rgb(const char *path, const char *tmp, const float *rgb, int width, int height,
-                      int png_level, char *err, size_t esz)
+void *module_open_file(const char *path, const char *tmp, int width, int height, int png_level,
+                       char *err, size_t esz)
 {
-    return guarded(path, "writing the image", err, esz, [&] {
-        return write_rgb(path, tmp, rgb, width, height, png_level, err, esz);
+    module_file *f = nullptr;
+    guarded(path, "opening the image", err, esz, [&] {
+        f = open_file(path, tmp, width, height, png_level, err, esz);
+        return f != nullptr;
     });
+    return f;
+}
+
+bool module_write_rows(void *f, int y0, int y1, const float *rgb, char *err, size_t esz)
+{
+    module_file *file = static_cast<module_file *>(f);
+    return guarded(file->path.c_str(), "writing the image", err, esz,
+                   [&] { return file_rows(file, y0, y1, rgb, err, esz); });
+}
+
+bool module_close_file(void *f, char *err, size_t esz)
+{
+    module_file *file = static_cast<module_file *>(f);
+    char path[1024]; /* (close_file frees the file; copied without allocating) */
+    std::snprintf(path, sizeof path, "%s", file->path.c_str());
+    return guarded(path, "writing the image", err, esz,
+                   [&] { return close_file(file, err, esz); });
 }
 
 bool module_read_rgb(const char *path, float **rgb, int *width, int *height, char *err,
@@ -258,9 +302,9 @@ bool module_can_write(const char *path, char *err, size_t esz)
                    [&] { return output_for(path, err, esz) != nullptr; });
 }
 
-const img_module module_table = {IMG_MODULE_ABI,        sizeof(img_module), module_write_rgb,
-                                 module_read_rgb,       module_compare_files,
-                                 module_can_write};
+const img_module module_table = {IMG_MODULE_ABI,       sizeof(img_module),   module_open_file,
+                                 module_write_rows,    module_close_file,    module_read_rgb,
+                                 module_compare_files, module_can_write};
 
 } // namespace
 

@@ -8,7 +8,9 @@
  * once), and whichever thread finishes the band next in file order writes
  * the run of encoded bands from there (one writer at a time), so the file
  * grows in order while the bands are encoded out of it (a PPM band has
- * its place: it is written at once, by the thread that encoded it).  img_stream_finish
+ * its place: it is written at once, by the thread that encoded it; the
+ * image module's formats encode nothing ahead: the writer hands the run's
+ * rows to the module, which encodes them as it writes).  img_stream_finish
  * adds threads for what is left, waits until every band is written, ends
  * the file and renames it over the output.
  *
@@ -83,6 +85,8 @@ struct img_stream {
     bool finishing;
     bool hold;           /* img_stream_hold_signals: hold at the rename */
     double cpu_s;        /* the encoder threads', summed at their end */
+    img_module_file *module; /* STREAM_MODULE: the module's writer     */
+    char module_err[512];    /* its first message (the one writer's)   */
 };
 
 /* ---- the file ------------------------------------------------------------------- */
@@ -161,6 +165,21 @@ static off_t stream_band_file_row(const img_stream *s, int b)
     int y0 = b * IMG_STREAM_ROWS;
     int y1 = y0 + IMG_STREAM_ROWS < s->grid.height ? y0 + IMG_STREAM_ROWS : s->grid.height;
     return s->kind == STREAM_PFM ? (off_t)(s->grid.height - y1) : (off_t)y0;
+}
+
+/* The rows of bands b0 .. b1 - 1 handed to the module's writer (they are
+ * its next). */
+static bool stream_write_module(img_stream *s, int b0, int b1)
+{
+    int y0 = b0 * IMG_STREAM_ROWS;
+    int y1 = b1 * IMG_STREAM_ROWS < s->grid.height ? b1 * IMG_STREAM_ROWS : s->grid.height;
+    char err[sizeof s->module_err];
+    if (img_module_rows(s->module, y0, y1, s->image + (size_t)y0 * (size_t)s->grid.width * 3, err,
+                        sizeof err))
+        return true;
+    if (!s->module_err[0]) /* (the first failure's: set by the one writer) */
+        snprintf(s->module_err, sizeof s->module_err, "%s", err);
+    return false;
 }
 
 /* Band b's bytes to the file: a placed kind's at its place, by any
@@ -276,6 +295,8 @@ static bool stream_encode(img_stream *s, int b, stream_band *band)
     int y0, y1;
     stream_rows(s, b, &y0, &y1);
     size_t n = (size_t)s->grid.width * 3, rows = (size_t)(y1 - y0);
+    if (s->kind == STREAM_MODULE)
+        return true; /* (the module encodes the rows as they are written) */
     if (s->kind == STREAM_PFM)
         return stream_encode_pfm(s, y0, y1, band);
     if (s->kind == STREAM_PPM) {
@@ -323,26 +344,33 @@ static bool stream_encode(img_stream *s, int b, stream_band *band)
 /* ---- the threads ----------------------------------------------------------------- */
 
 /* The run of encoded bands from next_write written, by this thread alone;
- * called and returning with the lock held. */
+ * called and returning with the lock held.  The module is handed every
+ * band of the run that is final at once (one call: OpenEXR compresses
+ * its chunks of 16 rows in parallel on its threads), a PNG's bands one by
+ * one. */
 static void stream_write_ready(img_stream *s)
 {
     if (s->writing)
         return; /* (the writer will take this band too) */
     s->writing = true;
     while (s->next_write < s->bands && s->band[s->next_write].encoded) {
-        int b = s->next_write;
+        int b = s->next_write, end = b + 1;
+        while (s->kind == STREAM_MODULE && end < s->bands && s->band[end].encoded)
+            end++;
         stream_band band = s->band[b];
         pthread_mutex_unlock(&s->lock);
-        bool ok = s->failed || stream_write_band(s, b, &band);
+        bool ok = s->failed || (s->kind == STREAM_MODULE ? stream_write_module(s, b, end)
+                                                         : stream_write_band(s, b, &band));
         int error = errno;
         pthread_mutex_lock(&s->lock);
         if (!ok)
             stream_fail(s, error);
-        s->adler = (uint32_t)adler32_combine(s->adler, band.adler, (z_off_t)band.raw);
+        if (s->kind == STREAM_PNG)
+            s->adler = (uint32_t)adler32_combine(s->adler, band.adler, (z_off_t)band.raw);
         free(band.bytes);
         s->band[b].bytes = NULL;
-        s->next_write++;
-        s->written++;
+        s->written += end - b;
+        s->next_write = end;
     }
     s->writing = false;
     pthread_cond_broadcast(&s->cond);
@@ -507,7 +535,9 @@ img_stream *img_stream_open(const char *path, const float *image, const tile_gri
         for (int b = b0; b <= b1; b++)
             s->tiles_left[b] += s->columns;
     }
-    if (s->kind != STREAM_MODULE && !stream_create(s, err, err_size)) {
+    if (s->kind == STREAM_MODULE)
+        s->module = img_module_open(path, grid->width, grid->height, err, err_size);
+    if (s->kind == STREAM_MODULE ? !s->module : !stream_create(s, err, err_size)) {
         stream_free(s);
         return NULL;
     }
@@ -516,7 +546,7 @@ img_stream *img_stream_open(const char *path, const float *image, const tile_gri
 
 void img_stream_start(img_stream *s)
 {
-    if (s && s->kind != STREAM_MODULE && s->threads == 0)
+    if (s && s->threads == 0)
         stream_add_thread(s); /* (none: img_stream_finish's threads do it all) */
 }
 
@@ -527,7 +557,7 @@ void img_stream_hold_signals(img_stream *s)
 
 void img_stream_tile(img_stream *s, int tile)
 {
-    if (!s || s->kind == STREAM_MODULE)
+    if (!s)
         return;
     int b0, b1;
     stream_bands_of(s, tile / s->columns, &b0, &b1);
@@ -549,32 +579,11 @@ static int stream_cpus(void)
     return n > 0 ? n : 1;
 }
 
-bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *err,
-                       size_t err_size)
+/* The file of a PNG, PPM or PFM stream completed (every band written)
+ * and renamed over the output; false with the message in err (nothing
+ * left under the output's name). */
+static bool stream_file_end(img_stream *s, char *err, size_t err_size)
 {
-    memset(r, 0, sizeof *r);
-    if (s->kind == STREAM_MODULE) { /* (written whole, as ever) */
-        bool ok = img_module_write(s->path, s->image, s->grid.width, s->grid.height, s->hold, err,
-                                   err_size);
-        stream_free(s);
-        return ok;
-    }
-    pthread_mutex_lock(&s->lock);
-    s->finishing = true;
-    int left = s->queue_tail - s->queue_head;
-    pthread_mutex_unlock(&s->lock);
-    if (threads <= 0)
-        threads = stream_cpus();
-    while (s->threads < threads && s->threads < left && stream_add_thread(s))
-        continue; /* (more: the rest encode in parallel) */
-    pthread_mutex_lock(&s->lock);
-    s->stop = true;
-    pthread_cond_broadcast(&s->cond);
-    pthread_mutex_unlock(&s->lock);
-    if (s->threads == 0)
-        stream_encoder(s); /* (no thread could be made: here) */
-    for (int t = 0; t < s->threads; t++)
-        pthread_join(s->thread[t], NULL);
     int error = s->failed ? s->error : 0;
     bool ok = !s->failed && s->written == s->bands;
     if (ok && s->kind == STREAM_PNG && !stream_png_tail(s))
@@ -594,6 +603,50 @@ bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *e
         file_temp_discard(&s->file);
     }
     signals_temporary(NULL);
+    return ok;
+}
+
+/* The same for the module's file: closed and renamed, or removed. */
+static bool stream_module_end(img_stream *s, char *err, size_t err_size)
+{
+    img_module_file *f = s->module;
+    s->module = NULL;
+    if (!s->failed && s->written == s->bands)
+        return img_module_close(f, s->hold, err, err_size);
+    char why[160];
+    if (s->module_err[0])
+        snprintf(err, err_size, "%s", s->module_err);
+    else
+        snprintf(err, err_size, "csgtrace: error: cannot write %s: %s", s->path,
+                 file_strerror(s->error, why, sizeof why));
+    img_module_abort(f);
+    return false;
+}
+
+bool img_stream_finish(img_stream *s, int threads, img_stream_report *r, char *err,
+                       size_t err_size)
+{
+    memset(r, 0, sizeof *r);
+    pthread_mutex_lock(&s->lock);
+    s->finishing = true;
+    int left = s->queue_tail - s->queue_head;
+    pthread_mutex_unlock(&s->lock);
+    if (threads <= 0)
+        threads = stream_cpus();
+    if (s->kind == STREAM_MODULE)
+        threads = 1; /* (its rows go to one writer in order; the module spreads their work) */
+    while (s->threads < threads && s->threads < left && stream_add_thread(s))
+        continue; /* (more: the rest encode in parallel) */
+    pthread_mutex_lock(&s->lock);
+    s->stop = true;
+    pthread_cond_broadcast(&s->cond);
+    pthread_mutex_unlock(&s->lock);
+    if (s->threads == 0)
+        stream_encoder(s); /* (no thread could be made: here) */
+    for (int t = 0; t < s->threads; t++)
+        pthread_join(s->thread[t], NULL);
+    bool ok = s->kind == STREAM_MODULE ? stream_module_end(s, err, err_size)
+                                       : stream_file_end(s, err, err_size);
     r->bands = s->bands;
     r->bands_early = s->encoded_early;
     r->cpu_s = s->cpu_s;
@@ -605,14 +658,17 @@ void img_stream_abort(img_stream *s)
 {
     if (!s)
         return;
-    if (s->kind != STREAM_MODULE) {
-        pthread_mutex_lock(&s->lock);
-        s->stop = true;
-        s->queue_head = s->queue_tail; /* (nothing more to encode) */
-        pthread_cond_broadcast(&s->cond);
-        pthread_mutex_unlock(&s->lock);
-        for (int t = 0; t < s->threads; t++)
-            pthread_join(s->thread[t], NULL);
+    pthread_mutex_lock(&s->lock);
+    s->stop = true;
+    s->queue_head = s->queue_tail; /* (nothing more to encode) */
+    pthread_cond_broadcast(&s->cond);
+    pthread_mutex_unlock(&s->lock);
+    for (int t = 0; t < s->threads; t++)
+        pthread_join(s->thread[t], NULL);
+    if (s->kind == STREAM_MODULE) {
+        img_module_abort(s->module);
+        s->module = NULL;
+    } else {
         file_temp_discard(&s->file);
         signals_temporary(NULL);
     }

@@ -18,11 +18,16 @@
  * not on that order, the tile size or the mode (a serial render's PNG is
  * a parallel one's, byte for byte); the zlib
  * header, the bands' deflate streams, their Adler-32 combined, in IDAT
- * chunks.  PPM: each band's bytes at its place.  Every other format is
- * written whole by the image module at the end (img_write_rgb): a tail.
+ * chunks.  PPM: each band's bytes at its place.  Every other format goes
+ * to the image module's writer (image.h: img_module_open), its bands' rows
+ * handed over by one thread in file order, each once it and every band
+ * above it are final: rendered top down, the file grows as the bands
+ * complete; in another order (hetero's cost order) a band waits for the
+ * bands above it.
  *
  * The pixels are read from the caller's float image (3 a pixel, linear),
- * converted by comm/pixels.h: the file is img_write_rgb's pixel for pixel.
+ * converted by comm/pixels.h (the module: as its whole-image writer
+ * converts them): the file is img_write_rgb's pixel for pixel.
  * Nothing is ever left under the output's name unless the stream
  * finished; the temporary file is named to the signal handler
  * (host/signals.h), which removes it when a signal ends the render.
@@ -62,7 +67,7 @@ void img_stream_hold_signals(img_stream *s);
 
 /* What a stream did (the render's stats). */
 typedef struct {
-    int bands;         /* bands of the image (0: written whole at the end) */
+    int bands;         /* bands of the image                               */
     int bands_early;   /* of them, encoded before img_stream_finish        */
     double cpu_s;      /* the encoder threads' CPU seconds                 */
 } img_stream_report;
