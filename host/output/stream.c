@@ -159,11 +159,18 @@ static bool stream_placed(const img_stream *s)
     return s->kind == STREAM_PPM || s->kind == STREAM_PFM;
 }
 
+/* Rows y0 .. y1 - 1 of band b. */
+static void stream_rows(const img_stream *s, int b, int *y0, int *y1)
+{
+    *y0 = b * IMG_STREAM_ROWS;
+    *y1 = *y0 + IMG_STREAM_ROWS < s->grid.height ? *y0 + IMG_STREAM_ROWS : s->grid.height;
+}
+
 /* The first file row of band b: PPM's rows run top down, PFM's bottom up. */
 static off_t stream_band_file_row(const img_stream *s, int b)
 {
-    int y0 = b * IMG_STREAM_ROWS;
-    int y1 = y0 + IMG_STREAM_ROWS < s->grid.height ? y0 + IMG_STREAM_ROWS : s->grid.height;
+    int y0, y1;
+    stream_rows(s, b, &y0, &y1);
     return s->kind == STREAM_PFM ? (off_t)(s->grid.height - y1) : (off_t)y0;
 }
 
@@ -171,8 +178,9 @@ static off_t stream_band_file_row(const img_stream *s, int b)
  * its next). */
 static bool stream_write_module(img_stream *s, int b0, int b1)
 {
-    int y0 = b0 * IMG_STREAM_ROWS;
-    int y1 = b1 * IMG_STREAM_ROWS < s->grid.height ? b1 * IMG_STREAM_ROWS : s->grid.height;
+    int y0, y1, last_y0;
+    stream_rows(s, b0, &y0, &y1);
+    stream_rows(s, b1 - 1, &last_y0, &y1);
     char err[sizeof s->module_err];
     if (img_module_rows(s->module, y0, y1, s->image + (size_t)y0 * (size_t)s->grid.width * 3, err,
                         sizeof err))
@@ -207,13 +215,6 @@ static bool stream_write_band(img_stream *s, int b, const stream_band *band)
 }
 
 /* ---- encoding a band --------------------------------------------------------- */
-
-/* Rows y0 .. y1 - 1 of band b. */
-static void stream_rows(const img_stream *s, int b, int *y0, int *y1)
-{
-    *y0 = b * IMG_STREAM_ROWS;
-    *y1 = *y0 + IMG_STREAM_ROWS < s->grid.height ? *y0 + IMG_STREAM_ROWS : s->grid.height;
-}
 
 /* PNG's Paeth predictor. */
 static int stream_paeth(int a, int b, int c)
@@ -292,11 +293,11 @@ static bool stream_encode_pfm(const img_stream *s, int y0, int y1, stream_band *
 /* Band b encoded into *band; false when out of memory. */
 static bool stream_encode(img_stream *s, int b, stream_band *band)
 {
+    if (s->kind == STREAM_MODULE)
+        return true; /* (the module encodes the rows as they are written) */
     int y0, y1;
     stream_rows(s, b, &y0, &y1);
     size_t n = (size_t)s->grid.width * 3, rows = (size_t)(y1 - y0);
-    if (s->kind == STREAM_MODULE)
-        return true; /* (the module encodes the rows as they are written) */
     if (s->kind == STREAM_PFM)
         return stream_encode_pfm(s, y0, y1, band);
     if (s->kind == STREAM_PPM) {
