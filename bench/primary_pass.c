@@ -12,7 +12,10 @@
  * for the scene's feature set (csg/features.h, what `csgtrace render`
  * builds), packet+kinds, +csg specialised on that part of it alone (the
  * gain of each specialisation), or on several (packet+kinds+csg);
- * the plain name is the general program.
+ * the plain name is the general program.  +copy: the records go through
+ * device buffers and are copied out, as on a discrete GPU, where the
+ * plain variant writes them in place on a device in host memory (the
+ * records' arrays are ocl_records_alloc's).
  *
  * Parses and flattens the scene as `csgtrace render` does, opens one
  * OpenCL context per kernel variant (ocl_open_kernel; the build and
@@ -36,7 +39,8 @@
  *                        "min_s", "max_s",
  *                        "mrays_per_s", "mrays_per_core", "cpu_median_s",
  *                        "cpu_min_s", "cpu_max_s", "mrays_per_cpu_s",
- *                        "compile_s", "kernel", "identical"}}}
+ *                        "compile_s", "kernel", "records_in_place",
+ *                        "identical"}}}
  * with mrays_per_s = rays / median_s / 1e6 (wall clock), mrays_per_core
  * that over cores (1 for c, the device's compute units for OpenCL), and
  * mrays_per_cpu_s = rays / cpu_median_s / 1e6, where cpu_s is the CPU time
@@ -70,6 +74,7 @@ typedef struct {
     void *t;           /* the records of the last pass         */
     uint32_t *surf;
     bool identical;    /* every pass equalled the C records     */
+    bool in_place;     /* its passes wrote the records in place  */
 } variant;
 
 /* The C worker's records of the whole image, tile by tile (as a worker
@@ -122,6 +127,7 @@ static bool run_once(variant *v, const engine *e, const void *blob, void *tile_t
     if (!ok)
         fprintf(stderr, "primary_pass: %s: %s\n", v->name, d.message[0] ? d.message : "failed");
     *seconds = tm.primary_s;
+    v->in_place = tm.records_in_place;
     return ok;
 }
 
@@ -145,11 +151,12 @@ static void print_variant(const variant *v, int repeat, uint64_t rays, bool last
     printf("\"cores\": %d, \"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, "
            "\"mrays_per_s\": %.4f, \"mrays_per_core\": %.4f, \"cpu_median_s\": %.6f, "
            "\"cpu_min_s\": %.6f, \"cpu_max_s\": %.6f, \"mrays_per_cpu_s\": %.4f, "
-           "\"compile_s\": %.3f, \"kernel\": \"%s\", \"identical\": %s}%s\n",
+           "\"compile_s\": %.3f, \"kernel\": \"%s\", \"records_in_place\": %s, "
+           "\"identical\": %s}%s\n",
            cores, median, v->times[0], v->times[repeat - 1], (double)rays / median / 1e6,
            (double)rays / median / 1e6 / cores, cpu, v->cpu[0], v->cpu[repeat - 1],
            (double)rays / cpu / 1e6, v->open.compile_s, v->ctx ? v->open.kernel : "c",
-           v->identical ? "true" : "false", last ? "" : ",");
+           v->in_place ? "true" : "false", v->identical ? "true" : "false", last ? "" : ",");
 }
 
 static int usage(void)
@@ -157,7 +164,8 @@ static int usage(void)
     fprintf(stderr, "usage: primary_pass SCENE.pov [--width W] [--height H] [--spp N] "
                     "[--repeat R] [--precision float|double] [--variants c,scalar,packet]\n"
                     "  a kernel variant may end in +spec (the program specialised on the "
-                    "scene), +kinds or +csg (on that part of it only)\n");
+                    "scene), +kinds or +csg (on that part of it only), +copy (records "
+                    "copied out of device buffers)\n");
     return 2;
 }
 
@@ -178,6 +186,8 @@ static bool variant_features(const char *parts, csg_features scene, csg_features
             f.kinds = scene.kinds;
         else if (len == 3 && !strncmp(parts, "csg", len))
             bit = CSG_FEAT_CSG;
+        else if (len == 4 && !strncmp(parts, "copy", len))
+            ; /* (not a feature: variant_open) */
         else
             return false;
         f.uses = (f.uses & ~bit) | (scene.uses & bit);
@@ -203,7 +213,8 @@ static int variant_open(variant *v, bool dbl, csg_features scene)
         fprintf(stderr, "primary_pass: unknown variant '%s'\n", v->name);
         return 2;
     }
-    ocl_options opt = {.use_double = dbl, .features = &f};
+    ocl_options opt = {.use_double = dbl, .features = &f,
+                       .copy_records = plus && strstr(plus, "copy") != NULL};
     csg_diag d;
     memset(&d, 0, sizeof d);
     if (!ocl_open_kernel(&opt, kernel, &v->ctx, &v->open, &d)) {
@@ -271,8 +282,8 @@ int main(int argc, char **argv)
         v->identical = true;
         v->times = malloc((size_t)repeat * sizeof *v->times);
         v->cpu = malloc((size_t)repeat * sizeof *v->cpu);
-        v->t = malloc((size_t)rays * rs);
-        v->surf = malloc((size_t)rays * sizeof *v->surf);
+        v->t = ocl_records_alloc((size_t)rays * rs);
+        v->surf = ocl_records_alloc((size_t)rays * sizeof *v->surf);
         if (!v->times || !v->cpu || !v->t || !v->surf) {
             fprintf(stderr, "primary_pass: out of memory\n");
             return 1;

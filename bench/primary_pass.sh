@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # bench/primary_pass.sh — throughput of the primary pass: the OpenCL pass in
 # both kernel variants (packet, scalar) against the C worker's own primary
-# rays, on random-sphere scenes of N = 10 .. 10^4 spheres.
+# rays, on random-sphere scenes of N = 10 .. 10^4 spheres; the packet kernel
+# also with its records copied out of device buffers (packet+copy: what a
+# discrete GPU does, and what a CPU device did before the records were
+# written in place).
 #
 #   bench/primary_pass.sh [--counts "10 50 200 1000 10000"] [--size 1024]
 #                         [--repeat 7] [--occupancy 0.5] [--seed 1]
@@ -59,7 +62,8 @@ for n in $COUNTS; do
             -o "$scene" >/dev/null
     fi
     echo "N = $n: $SIZE x $SIZE, $REPEAT rounds" >&2
-    "$HARNESS" "$scene" --width "$SIZE" --height "$SIZE" --repeat "$REPEAT" >"$OUT/N$n.json"
+    "$HARNESS" "$scene" --width "$SIZE" --height "$SIZE" --repeat "$REPEAT" \
+        --variants c,scalar,packet,packet+copy >"$OUT/N$n.json"
 done
 
 LOAD_END=$(cut -d' ' -f1-3 /proc/loadavg)
@@ -87,16 +91,26 @@ for n, j in zip(counts, rows):
         n, wall(v["c"], j["rays"]), wall(v["scalar"], j["rays"]), wall(v["packet"], j["rays"]),
         v["packet"]["mrays_per_core"] / v["c"]["mrays_per_core"],
         v["packet"]["mrays_per_core"] / v["scalar"]["mrays_per_core"]))
-print("\nMrays per CPU-second (CPU time of the whole process): median (min-max)\n")
-print("| N | C worker | scalar kernel | packet kernel | packet / C | records identical |")
-print("| ---: | ---: | ---: | ---: | ---: | :---: |")
+print("\nMrays per CPU-second (CPU time of the whole process): median (min-max); packet / C "
+      "also paired round by round (the rounds are interleaved): median (min-max)\n")
+print("| N | C worker | scalar kernel | packet kernel | packet, records copied | packet / C "
+      "| paired | packet / copied, paired | records in place | records identical |")
+print("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | :---: | :---: |")
 def cpu(v, rays):
     return "%.2f (%.2f-%.2f)" % (v["mrays_per_cpu_s"], rays / v["cpu_max_s"] / 1e6,
                                  rays / v["cpu_min_s"] / 1e6)
+def paired(num, den):
+    r = sorted(d / n for n, d in zip(num["cpu_rounds_s"], den["cpu_rounds_s"]))
+    m = len(r) // 2
+    med = r[m] if len(r) % 2 else (r[m - 1] + r[m]) / 2
+    return "%.2fx (%.2f-%.2f)" % (med, r[0], r[-1])
 for n, j in zip(counts, rows):
     v = j["variants"]
-    same = all(v[k]["identical"] for k in ("scalar", "packet"))
-    print("| %s | %s | %s | %s | %.1fx | %s |" % (
+    same = all(v[k]["identical"] for k in v)
+    print("| %s | %s | %s | %s | %s | %.1fx | %s | %s | %s | %s |" % (
         n, cpu(v["c"], j["rays"]), cpu(v["scalar"], j["rays"]), cpu(v["packet"], j["rays"]),
-        v["packet"]["mrays_per_cpu_s"] / v["c"]["mrays_per_cpu_s"], "yes" if same else "NO"))
+        cpu(v["packet+copy"], j["rays"]),
+        v["packet"]["mrays_per_cpu_s"] / v["c"]["mrays_per_cpu_s"], paired(v["packet"], v["c"]),
+        paired(v["packet"], v["packet+copy"]),
+        "yes" if v["packet"]["records_in_place"] else "no", "yes" if same else "NO"))
 EOF

@@ -528,6 +528,7 @@ static void render_account(const render_state *rs, const master_job *job,
     st->wall_s = mk->written - mk->start;
     st->pass_s = began ? pass_end - pr->start : 0.0;
     st->slices = pr->tm.slices;
+    st->cl_records_in_place = pr->tm.records_in_place;
     stats_tile_figures(st, &rs->sched, job->t_first, job->t_last, job->busy_s);
     st->tiles_resumed = journal_tiles_resumed(rs->journal);
     st->tiles_culled = rs->feed.tiles_culled;

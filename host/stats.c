@@ -183,6 +183,9 @@ void stats_print_json(FILE *f, const render_stats *s)
     fprintf(f, "  \"tiles_total\": %d,\n  \"tiles_sent\": %d,\n  \"tiles_degenerate\": %d,\n"
                "  \"items_sent\": %d,\n  \"slices\": %d,\n",
             s->tiles_total, s->tiles_sent, s->tiles_degenerate, s->items_sent, s->slices);
+    fputs("  \"cl_records\": ", f);
+    stats_string(f, s->slices == 0 ? "" : s->cl_records_in_place ? "in place" : "copied");
+    fputs(",\n", f);
     fprintf(f,
             "  \"tiles_culled\": %d,\n  \"tiles_resumed\": %d,\n  \"tiles_rendered\": %d,\n"
             "  \"tiles_filled\": %d,\n",

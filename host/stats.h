@@ -94,6 +94,10 @@
  *                 (store_threads; 0 when none ran): storing the workers'
  *                 8-bit results into the image, off the master's loop
  *   slices        OpenCL slices of the pass (0 without one)
+ *   cl_records    where the pass's kernels wrote the hit records: "in
+ *                 place" (a device in host memory, a CPU: straight into
+ *                 the master's arrays), "copied" (out of device buffers,
+ *                 a discrete GPU); "" without a pass
  *   write_bands   the image's bands (rows of tiles), each encoded once the
  *                 tiles over it are final, while the tiles go on
  *                 (host/output/stream.h; the image module's formats in
@@ -235,6 +239,7 @@ typedef struct render_stats {
     double store_cpu_s;                           /* (below)            */
     double pass_work_s, guess_cpu_s, cull_s;      /* (below)            */
     int tiles_total, tiles_sent, tiles_degenerate, tiles_culled, items_sent, slices;
+    bool cl_records_in_place; /* (read with slices > 0) */
     int tiles_resumed;        /* taken from the journal (--resume)        */
     int tiles_filled;         /* rendered whole while the pass ran (fill) */
     int workers_lost, items_reassigned; /* a dead worker's items go on  */

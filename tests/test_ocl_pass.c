@@ -11,7 +11,13 @@
  *     waits only for the few slices on the queue (OCL_PASS_WINDOW);
  *   - a pass limited to the top rows (ocl_pass_limit: the fill took the
  *     rest) stops there, whole, with those rows' records and counts
- *     equal to the whole pass's.
+ *     equal to the whole pass's;
+ *   - on a device in host memory (PoCL's CPU device) with arrays from
+ *     ocl_records_alloc and slices that start aligned, the kernels write
+ *     the records in place (timing.records_in_place), the shadow answers
+ *     too, ended early or limited as well: the same records, bit for bit,
+ *     as copied out of device buffers (unaligned slices, or a context
+ *     told to copy).
  * The scene is parsed from SDL and flattened in float (the kernel's own
  * correctness is test_ocl's business).
  */
@@ -176,12 +182,120 @@ static void test_limit(void **state)
     free(part);
 }
 
+/* A pass's records in arrays of ocl_records_alloc (NULL known: no shadow
+ * answers). */
+typedef struct {
+    float *t;
+    uint32_t *surf, *known, *lit, *hits;
+} aligned_records;
+
+static aligned_records aligned_alloc_records(bool shadows)
+{
+    size_t n = (size_t)W * H, tiles = sizeof ((records *)0)->hits / sizeof(uint32_t);
+    aligned_records a = {ocl_records_alloc(n * sizeof(float)),
+                         ocl_records_alloc(n * sizeof(uint32_t)),
+                         shadows ? ocl_records_alloc(n * sizeof(uint32_t)) : NULL,
+                         shadows ? ocl_records_alloc(n * sizeof(uint32_t)) : NULL,
+                         calloc(tiles, sizeof(uint32_t))};
+    assert_non_null(a.t);
+    assert_non_null(a.surf);
+    assert_non_null(a.hits);
+    assert_true(!shadows || (a.known && a.lit));
+    return a;
+}
+
+/* Every record made wrong, so that one a pass does not write shows. */
+static void clear_records(aligned_records *a)
+{
+    size_t n = (size_t)W * H;
+    memset(a->t, 0xff, n * sizeof *a->t);
+    memset(a->surf, 0xff, n * sizeof *a->surf);
+    if (a->known) {
+        memset(a->known, 0xff, n * sizeof *a->known);
+        memset(a->lit, 0xff, n * sizeof *a->lit);
+    }
+}
+
+static void aligned_free_records(aligned_records *a)
+{
+    free(a->t);
+    free(a->surf);
+    free(a->known);
+    free(a->lit);
+    free(a->hits);
+}
+
+/* A background pass of `slice` rows over a, polled to its end (or to
+ * `limit` rows when below H); whether it wrote in place. */
+static bool run_pass(ocl_ctx *ctx, const void *blob, int slice, int limit, aligned_records *a)
+{
+    csg_diag d = {{0}, 0};
+    ocl_timing tm;
+    memset(&tm, 0, sizeof tm);
+    ocl_pass *p = NULL;
+    clear_records(a);
+    assert_true(ocl_pass_begin(ctx, blob, TILE, slice, a->t, a->surf, a->known, a->lit, a->hits,
+                               NULL, NULL, &p, &d));
+    if (limit < H)
+        ocl_pass_limit(p, limit);
+    int rows = 0;
+    while (rows < limit)
+        assert_true((rows = ocl_pass_rows(p, true, &d)) >= 0);
+    assert_true(ocl_pass_end(p, &tm, &d));
+    return tm.records_in_place;
+}
+
+static void assert_records_equal(const aligned_records *a, const aligned_records *b, int rows)
+{
+    size_t n = (size_t)W * (size_t)rows;
+    assert_memory_equal(a->t, b->t, n * sizeof *a->t);
+    assert_memory_equal(a->surf, b->surf, n * sizeof *a->surf);
+    if (a->known) {
+        assert_memory_equal(a->known, b->known, n * sizeof *a->known);
+        assert_memory_equal(a->lit, b->lit, n * sizeof *a->lit);
+    }
+    for (int i = 0; i < rows / TILE * ((W + TILE - 1) / TILE); i++)
+        assert_int_equal(a->hits[i], b->hits[i]);
+}
+
+static void test_in_place(void **state)
+{
+    fixture *fx = *state;
+    csg_diag d = {{0}, 0};
+    ocl_timing tm;
+    memset(&tm, 0, sizeof tm);
+    ocl_options copy_opt = {.copy_records = 1};
+    ocl_ctx *copying = NULL;
+    assert_true(ocl_open(&copy_opt, &copying, &tm, &d));
+    /* W = 90 floats a row: 16 rows start every slice on 128 bytes (PoCL's
+     * CL_DEVICE_MEM_BASE_ADDR_ALIGN), 8 rows do not */
+    enum { ALIGNED_ROWS = 16, UNALIGNED_ROWS = TILE };
+    for (int shadows = 0; shadows < 2; shadows++) {
+        aligned_records ref = aligned_alloc_records(shadows);
+        aligned_records got = aligned_alloc_records(shadows);
+        assert_false(run_pass(copying, fx->blob.bytes, ALIGNED_ROWS, H, &ref));
+        assert_false(run_pass(fx->ctx, fx->blob.bytes, UNALIGNED_ROWS, H, &got));
+        assert_records_equal(&got, &ref, H);
+        bool in_place = run_pass(fx->ctx, fx->blob.bytes, ALIGNED_ROWS, H, &got);
+        assert_true(in_place || !tm.cpu_device); /* (PoCL's CPU device works in host memory) */
+        assert_records_equal(&got, &ref, H);
+        for (int limit = 0; limit < H; limit += 2 * ALIGNED_ROWS + 3) { /* 0, 35 rows */
+            assert_true(run_pass(fx->ctx, fx->blob.bytes, ALIGNED_ROWS, limit, &got) == in_place);
+            assert_records_equal(&got, &ref, limit);
+        }
+        aligned_free_records(&ref);
+        aligned_free_records(&got);
+    }
+    ocl_close(copying);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_background_equals_whole),
         cmocka_unit_test(test_end_early),
         cmocka_unit_test(test_limit),
+        cmocka_unit_test(test_in_place),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

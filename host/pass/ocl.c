@@ -106,6 +106,11 @@ struct ocl_ctx {
     cl_ulong global_mem;    /* CL_DEVICE_GLOBAL_MEM_SIZE             */
     cl_uint compute_units;  /* CL_DEVICE_MAX_COMPUTE_UNITS           */
     bool cpu;               /* CL_DEVICE_TYPE_CPU                    */
+    bool unified;           /* CL_DEVICE_HOST_UNIFIED_MEMORY: the device
+                               works in host memory (CPUs, integrated
+                               GPUs), so records can be written in place */
+    size_t base_align;      /* CL_DEVICE_MEM_BASE_ADDR_ALIGN, in bytes   */
+    bool copy_records;      /* ocl_options.copy_records                   */
     /* The record buffers of a slice, kept from pass to pass (grown when a
      * pass needs more): fresh buffers cost a page fault a page at the
      * kernel's first write, a third of a pass of a simple scene. */
@@ -393,6 +398,15 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clGetDeviceInfo(CL_DEVICE_TYPE)", err);
     c->cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    cl_bool unified = CL_FALSE;
+    cl_uint align_bits = 0;
+    err = clGetDeviceInfo(c->device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified,
+                          NULL);
+    if (err == CL_SUCCESS) /* (deprecated by OpenCL 2.0: an error is "no") */
+        err = clGetDeviceInfo(c->device, CL_DEVICE_MEM_BASE_ADDR_ALIGN, sizeof align_bits,
+                              &align_bits, NULL);
+    c->unified = err == CL_SUCCESS && unified && align_bits >= 8;
+    c->base_align = align_bits / 8;
     cl_device_fp_config fp = 0;
     err = clGetDeviceInfo(c->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
     if (err != CL_SUCCESS)
@@ -733,17 +747,35 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, 
     return (int)rows;
 }
 
+/* A slice's record arrays, in the order of csg_shadows' arguments 3..6:
+ * t (a real a record), surf, and the shadow answers known and lit (a word
+ * each; absent without them). */
+enum { OCL_REC_T, OCL_REC_SURF, OCL_REC_KNOWN, OCL_REC_LIT, OCL_RECS };
+
 typedef struct {
-    cl_mem blob, t, surf, hits, cells;
-    cl_mem known, lit; /* the shadow answers (NULL: none asked) */
+    cl_mem m[OCL_RECS]; /* (known, lit: NULL when no answers are asked) */
+} ocl_records;
+
+typedef struct {
+    cl_mem blob, hits, cells;
+    ocl_records rec; /* a slice's records on the device (copied out), or, in
+                        place, the caller's whole arrays (USE_HOST_PTR) */
 } ocl_pass_buffers;
+
+static void ocl_release_records(ocl_records *r)
+{
+    for (int i = 0; i < OCL_RECS; i++)
+        if (r->m[i])
+            clReleaseMemObject(r->m[i]);
+}
 
 static void ocl_release_buffers(ocl_pass_buffers *b)
 {
-    cl_mem *all[] = {&b->blob, &b->t, &b->surf, &b->hits, &b->cells, &b->known, &b->lit};
+    cl_mem *all[] = {&b->blob, &b->hits, &b->cells};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (*all[i])
             clReleaseMemObject(*all[i]);
+    ocl_release_records(&b->rec);
 }
 
 static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void *host,
@@ -881,43 +913,31 @@ static void ocl_shadow_grid(const ocl_ctx *c, cl_int record_width, cl_int rows, 
 }
 
 /* The shadow answers of a slice's records (csg_shadows after csg_primary on
- * the in-order queue), read into known_out and lit_out. */
-static bool ocl_run_shadows(ocl_ctx *c, ocl_pass_buffers *b, cl_int y0, cl_int rows,
-                            cl_int record_width, uint32_t *known_out, uint32_t *lit_out,
-                            csg_diag *d)
+ * the in-order queue) into rec's known and lit. */
+static bool ocl_run_shadows(ocl_ctx *c, cl_mem blob, const ocl_records *rec, cl_int y0,
+                            cl_int rows, cl_int record_width, csg_diag *d)
 {
     const char *k = "csg_shadows";
-    bool ok = ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &b->blob, d) &&
+    bool ok = ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &blob, d) &&
               ocl_arg(c->k_shadows, k, 1, sizeof(cl_int), &y0, d) &&
-              ocl_arg(c->k_shadows, k, 2, sizeof(cl_int), &rows, d) &&
-              ocl_arg(c->k_shadows, k, 3, sizeof(cl_mem), &b->t, d) &&
-              ocl_arg(c->k_shadows, k, 4, sizeof(cl_mem), &b->surf, d) &&
-              ocl_arg(c->k_shadows, k, 5, sizeof(cl_mem), &b->known, d) &&
-              ocl_arg(c->k_shadows, k, 6, sizeof(cl_mem), &b->lit, d);
+              ocl_arg(c->k_shadows, k, 2, sizeof(cl_int), &rows, d);
+    for (int i = 0; ok && i < OCL_RECS; i++)
+        ok = ocl_arg(c->k_shadows, k, (cl_uint)(3 + i), sizeof(cl_mem), &rec->m[i], d);
     if (!ok)
         return false;
-    size_t g = c->group_shadows;
     size_t grid[2];
     ocl_shadow_grid(c, record_width, rows, grid);
-    size_t local[2] = {g, 1};
-    size_t bytes = (size_t)record_width * (size_t)rows * sizeof(uint32_t);
+    size_t local[2] = {c->group_shadows, 1};
     cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
                                         NULL);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
-    err = clEnqueueReadBuffer(c->queue, b->known, CL_FALSE, 0, bytes, known_out, 0, NULL, NULL);
-    if (err == CL_SUCCESS)
-        err = clEnqueueReadBuffer(c->queue, b->lit, CL_FALSE, 0, bytes, lit_out, 0, NULL, NULL);
-    return err == CL_SUCCESS || ocl_fail(d, "clEnqueueReadBuffer(shadow answers)", err);
+    return err == CL_SUCCESS || ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
 }
 
-/* One slice: rows y0 .. y0 + rows - 1 enqueued, records read into the
- * caller's arrays, its tile counts into hits_out; *done: the event of its
- * last read. */
+/* One slice's kernels: rows y0 .. y0 + rows - 1 traced into rec (their
+ * shadow answers too when rec has them), its tile counts into b->hits. */
 static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
-                          ocl_pass_buffers *b, const ocl_cells *cells, void *t_out,
-                          uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
-                          uint32_t *hits_out, cl_event *done, csg_diag *d)
+                          ocl_pass_buffers *b, const ocl_records *rec, const ocl_cells *cells,
+                          csg_diag *d)
 {
     cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
     cl_int tiles_x = (h->width + tile - 1) / tile;
@@ -927,13 +947,13 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     bool ok = ocl_arg(c->k_primary, kp, 0, sizeof(cl_mem), &b->blob, d) &&
               ocl_arg(c->k_primary, kp, 1, sizeof(cl_int), &cy0, d) &&
               ocl_arg(c->k_primary, kp, 2, sizeof(cl_int), &crows, d) &&
-              ocl_arg(c->k_primary, kp, 3, sizeof(cl_mem), &b->t, d) &&
-              ocl_arg(c->k_primary, kp, 4, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_primary, kp, 3, sizeof(cl_mem), &rec->m[OCL_REC_T], d) &&
+              ocl_arg(c->k_primary, kp, 4, sizeof(cl_mem), &rec->m[OCL_REC_SURF], d) &&
               ocl_arg(c->k_primary, kp, 5, sizeof(cl_mem), &b->cells, d) &&
               ocl_arg(c->k_primary, kp, 6, sizeof(cl_int), &cells->edge, d) &&
               ocl_arg(c->k_primary, kp, 7, sizeof(cl_int), &cells->cap, d) &&
               ocl_arg(c->k_tiles, kt, 0, sizeof(cl_mem), &b->blob, d) &&
-              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_mem), &b->surf, d) &&
+              ocl_arg(c->k_tiles, kt, 1, sizeof(cl_mem), &rec->m[OCL_REC_SURF], d) &&
               ocl_arg(c->k_tiles, kt, 2, sizeof(cl_int), &cy0, d) &&
               ocl_arg(c->k_tiles, kt, 3, sizeof(cl_int), &crows, d) &&
               ocl_arg(c->k_tiles, kt, 4, sizeof(cl_int), &ctile, d) &&
@@ -959,28 +979,23 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
                                  NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
-    size_t npix = (size_t)record_width * (size_t)rows, first = (size_t)record_width * (size_t)y0;
-    if (known_out && !ocl_run_shadows(c, b, cy0, crows, record_width, known_out + first,
-                                      lit_out + first, d))
-        return false;
-    size_t rs = h->real_size;
-    err = clEnqueueReadBuffer(c->queue, b->t, CL_FALSE, 0, npix * rs,
-                              (char *)t_out + first * rs, 0, NULL, NULL);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clEnqueueReadBuffer(t)", err);
-    err = clEnqueueReadBuffer(c->queue, b->surf, CL_FALSE, 0, npix * sizeof(uint32_t),
-                              surf_out + first, 0, NULL, NULL);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clEnqueueReadBuffer(surf)", err);
-    size_t nt = (size_t)tiles_x * (size_t)tile_rows;
-    err = clEnqueueReadBuffer(c->queue, b->hits, CL_FALSE, 0, nt * sizeof(uint32_t), hits_out,
-                              0, NULL, done);
-    if (err != CL_SUCCESS)
-        return ocl_fail(d, "clEnqueueReadBuffer(tile hits)", err);
-    return true;
+    return !rec->m[OCL_REC_KNOWN] || ocl_run_shadows(c, b->blob, rec, cy0, crows, record_width, d);
 }
 
 /* ---- the pass, in the background ------------------------------------------------ */
+
+/* In place, a slice's regions of the caller's arrays: the sub-buffers its
+ * kernels write, and the mappings through which the caller reads them
+ * (kept until the pass ends). */
+typedef struct {
+    ocl_records sub;
+    void *mapped[OCL_RECS];
+} ocl_slice_mem;
+
+static size_t ocl_rec_size(const csg_blob_header *h, int i)
+{
+    return i == OCL_REC_T ? (size_t)h->real_size : sizeof(uint32_t);
+}
 
 struct ocl_pass {
     ocl_ctx *c;
@@ -989,11 +1004,12 @@ struct ocl_pass {
     int tile, rows, slices;   /* rows a slice (the last may be shorter)   */
     int enqueued, done;       /* slices enqueued; complete and counted    */
     int needed;               /* slices the caller needs (ocl_pass_limit)  */
-    void *t_out;              /* the caller's arrays the slices fill       */
-    uint32_t *surf_out;
-    uint32_t *known_out, *lit_out; /* the shadow answers (NULL: none)      */
+    void *out[OCL_RECS];      /* the caller's arrays the slices fill (the
+                                 shadow answers' NULL: none asked)        */
+    bool in_place;            /* the kernels write them (ocl_pass_in_place) */
     size_t tiles_x, stride;   /* counts a slice may hold                  */
     ocl_pass_buffers b;
+    ocl_slice_mem *mem;       /* in place: each slice's regions           */
     ocl_cells cells;          /* the packet kernel's culling cells        */
     uint32_t *host_hits;      /* slice k's counts at k * stride           */
     uint32_t *tile_hits;      /* the caller's                             */
@@ -1014,6 +1030,44 @@ static void CL_CALLBACK ocl_slice_done(cl_event e, cl_int status, void *arg)
     atomic_fetch_sub(&p->callbacks, 1);
 }
 
+/* Whether the kernels can write the records straight into the caller's
+ * arrays, nothing copied: a device that works in host memory (a CPU, an
+ * integrated GPU; not told to copy), every array and every slice's start
+ * aligned as a sub-buffer must be, and each array within the device's
+ * largest buffer.  (A discrete GPU keeps device buffers and copies out:
+ * a host array there would be read across the bus at every access.) */
+static bool ocl_pass_in_place(const ocl_pass *p)
+{
+    const ocl_ctx *c = p->c;
+    if (!c->unified || c->copy_records)
+        return false;
+    size_t row = (size_t)p->h->width * (size_t)p->h->spp;
+    for (int i = 0; i < OCL_RECS; i++) {
+        size_t size = ocl_rec_size(p->h, i);
+        if (p->out[i] && ((uintptr_t)p->out[i] % c->base_align != 0 ||
+                          row * (size_t)p->rows * size % c->base_align != 0 ||
+                          row * (size_t)p->h->height * size > c->max_alloc))
+            return false;
+    }
+    return true;
+}
+
+/* The record buffers: a slice's on the device, or, in place, one over
+ * each of the caller's whole arrays. */
+static bool ocl_pass_records(ocl_pass *p, csg_diag *d)
+{
+    static const char *const names[OCL_RECS] = {"t", "surf", "known", "lit"};
+    const csg_blob_header *h = p->h;
+    size_t n = (size_t)h->width * (size_t)h->spp * (size_t)(p->in_place ? h->height : p->rows);
+    cl_mem_flags flags = CL_MEM_READ_WRITE | (p->in_place ? CL_MEM_USE_HOST_PTR : 0);
+    for (int i = 0; i < OCL_RECS; i++)
+        if (p->out[i] && !ocl_create_buffer(p->c, flags, n * ocl_rec_size(h, i),
+                                            p->in_place ? p->out[i] : NULL, &p->b.rec.m[i],
+                                            names[i], d))
+            return false;
+    return true;
+}
+
 /* The buffers, the per-slice arrays and the slicing of a new pass. */
 static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
 {
@@ -1025,44 +1079,109 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
     p->rows = ocl_slice_rows(c, h, tile, want);
     p->slices = (h->height + p->rows - 1) / p->rows;
     p->needed = p->slices;
+    p->in_place = ocl_pass_in_place(p);
     size_t tile_rows = (size_t)(p->rows + tile - 1) / (size_t)tile + 1; /* touched by a slice */
     if (tile_rows > tiles_y)
         tile_rows = tiles_y;
     p->stride = p->tiles_x * tile_rows;
-    size_t npix = (size_t)h->width * (size_t)h->spp * (size_t)p->rows; /* records a slice */
     p->host_hits = malloc((size_t)p->slices * p->stride * sizeof(uint32_t));
     p->events = calloc((size_t)p->slices, sizeof *p->events);
-    if (!p->host_hits || !p->events || !ocl_cells_alloc(&p->cells, c->kernel, h->width, h->height)) {
+    p->mem = p->in_place ? calloc((size_t)p->slices, sizeof *p->mem) : NULL;
+    if (!p->host_hits || !p->events || (p->in_place && !p->mem) ||
+        !ocl_cells_alloc(&p->cells, c->kernel, h->width, h->height)) {
         csg_error_plain(d, "out of memory");
         return false;
     }
     return ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
                              (void *)blob, &p->b.blob, "scene", d) &&
-           ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * h->real_size, NULL, &p->b.t, "t", d) &&
-           (!p->known_out ||
-            (ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * sizeof(uint32_t), NULL, &p->b.known,
-                               "known", d) &&
-             ocl_create_buffer(c, CL_MEM_WRITE_ONLY, npix * sizeof(uint32_t), NULL, &p->b.lit,
-                               "lit", d))) &&
-           ocl_create_buffer(c, CL_MEM_READ_WRITE, npix * sizeof(uint32_t), NULL, &p->b.surf,
-                             "surf", d) &&
+           ocl_pass_records(p, d) &&
            ocl_create_buffer(c, CL_MEM_WRITE_ONLY, p->stride * sizeof(uint32_t), NULL, &p->b.hits,
                              "tile hits", d) &&
            ocl_create_buffer(c, CL_MEM_READ_ONLY, ocl_cells_bytes(&p->cells), NULL, &p->b.cells,
                              "cells", d);
 }
 
-/* Slice k on the queue with its completion callback. */
+/* Where slice k (records first .. first + n - 1) writes: the pass's
+ * device buffers, or, in place, its own regions of the caller's arrays. */
+static bool ocl_slice_records(ocl_pass *p, int k, size_t first, size_t n, ocl_records *rec,
+                              csg_diag *d)
+{
+    if (!p->in_place) {
+        *rec = p->b.rec;
+        return true;
+    }
+    ocl_slice_mem *m = &p->mem[k];
+    for (int i = 0; i < OCL_RECS; i++) {
+        if (!p->b.rec.m[i])
+            continue;
+        size_t size = ocl_rec_size(p->h, i);
+        cl_buffer_region region = {first * size, n * size};
+        cl_int err;
+        m->sub.m[i] = clCreateSubBuffer(p->b.rec.m[i], CL_MEM_READ_WRITE,
+                                        CL_BUFFER_CREATE_TYPE_REGION, &region, &err);
+        if (err != CL_SUCCESS)
+            return ocl_fail(d, "clCreateSubBuffer(records)", err);
+    }
+    *rec = m->sub;
+    return true;
+}
+
+/* Slice k's records where the caller reads them, after its kernels on the
+ * in-order queue: read out of the device buffers, or, in place, mapped
+ * (a buffer over host memory maps at that memory: OpenCL's rule for
+ * CL_MEM_USE_HOST_PTR, so the device's writes are all the caller needs). */
+static bool ocl_slice_download(ocl_pass *p, int k, size_t first, size_t n, csg_diag *d)
+{
+    for (int i = 0; i < OCL_RECS; i++) {
+        if (!p->b.rec.m[i])
+            continue;
+        size_t size = ocl_rec_size(p->h, i);
+        char *dst = (char *)p->out[i] + first * size;
+        cl_int err;
+        if (!p->in_place) {
+            err = clEnqueueReadBuffer(p->c->queue, p->b.rec.m[i], CL_FALSE, 0, n * size, dst, 0,
+                                      NULL, NULL);
+            if (err != CL_SUCCESS)
+                return ocl_fail(d, "clEnqueueReadBuffer(records)", err);
+            continue;
+        }
+        void *at = clEnqueueMapBuffer(p->c->queue, p->b.rec.m[i], CL_FALSE, CL_MAP_READ,
+                                      first * size, n * size, 0, NULL, NULL, &err);
+        if (err != CL_SUCCESS)
+            return ocl_fail(d, "clEnqueueMapBuffer(records)", err);
+        p->mem[k].mapped[i] = at;
+        if (at != dst) {
+            csg_error_plain(d, "OpenCL: the device mapped its records away from the host "
+                               "memory they were created over (CL_MEM_USE_HOST_PTR)");
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Slice k on the queue (its kernels, its records to the caller, its tile
+ * counts) with its completion callback on the last. */
 static bool ocl_pass_enqueue_slice(ocl_pass *p, int k, csg_diag *d)
 {
-    int y0 = k * p->rows, n = p->h->height - y0 < p->rows ? p->h->height - y0 : p->rows;
+    const csg_blob_header *h = p->h;
+    int y0 = k * p->rows, n = h->height - y0 < p->rows ? h->height - y0 : p->rows;
+    size_t row = (size_t)h->width * (size_t)h->spp;
+    size_t first = row * (size_t)y0, count = row * (size_t)n;
+    size_t nt = p->tiles_x * (size_t)((y0 + n - 1) / p->tile - y0 / p->tile + 1);
+    ocl_records rec;
     if (!ocl_cells_upto(p->c, &p->cells, p->b.cells, p->blob, y0 + n - 1, d) ||
-        !ocl_run_slice(p->c, p->h, p->tile, y0, n, &p->b, &p->cells, p->t_out, p->surf_out,
-                       p->known_out, p->lit_out, p->host_hits + (size_t)k * p->stride, &p->events[k], d))
+        !ocl_slice_records(p, k, first, count, &rec, d) ||
+        !ocl_run_slice(p->c, h, p->tile, y0, n, &p->b, &rec, &p->cells, d) ||
+        !ocl_slice_download(p, k, first, count, d))
         return false;
+    cl_int err = clEnqueueReadBuffer(p->c->queue, p->b.hits, CL_FALSE, 0, nt * sizeof(uint32_t),
+                                     p->host_hits + (size_t)k * p->stride, 0, NULL,
+                                     &p->events[k]);
+    if (err != CL_SUCCESS)
+        return ocl_fail(d, "clEnqueueReadBuffer(tile hits)", err);
     p->enqueued++;
     atomic_fetch_add(&p->callbacks, 1);
-    cl_int err = clSetEventCallback(p->events[k], CL_COMPLETE, ocl_slice_done, p);
+    err = clSetEventCallback(p->events[k], CL_COMPLETE, ocl_slice_done, p);
     if (err != CL_SUCCESS) {
         atomic_fetch_sub(&p->callbacks, 1);
         return ocl_fail(d, "clSetEventCallback", err);
@@ -1085,6 +1204,16 @@ static bool ocl_pass_enqueue(ocl_pass *p, bool all, csg_diag *d)
             return false;
     cl_int err = more ? clFlush(p->c->queue) : CL_SUCCESS;
     return err == CL_SUCCESS || ocl_fail(d, "clFlush", err);
+}
+
+/* (A page: more than any device's CL_DEVICE_MEM_BASE_ADDR_ALIGN seen, 128
+ * bytes on PoCL; the kernels' first writes then fault whole pages in.) */
+#define OCL_RECORDS_ALIGN ((size_t)4096)
+
+void *ocl_records_alloc(size_t bytes)
+{
+    size_t whole = (bytes + OCL_RECORDS_ALIGN - 1) / OCL_RECORDS_ALIGN * OCL_RECORDS_ALIGN;
+    return aligned_alloc(OCL_RECORDS_ALIGN, whole ? whole : OCL_RECORDS_ALIGN);
 }
 
 bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void *t_out,
@@ -1113,10 +1242,10 @@ bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void
     p->tile_hits = tile_hits;
     p->notify = notify;
     p->notify_arg = notify_arg;
-    p->t_out = t_out;
-    p->surf_out = surf_out;
-    p->known_out = known_out;
-    p->lit_out = lit_out;
+    p->out[OCL_REC_T] = t_out;
+    p->out[OCL_REC_SURF] = surf_out;
+    p->out[OCL_REC_KNOWN] = known_out;
+    p->out[OCL_REC_LIT] = lit_out;
     atomic_init(&p->callbacks, 0);
     p->t0 = ocl_now();
     bool ok = ocl_pass_alloc(p, blob, slice_rows, d);
@@ -1177,6 +1306,23 @@ void ocl_pass_limit(ocl_pass *p, int rows)
         p->needed = needed; /* (slices on the queue beyond it still run) */
 }
 
+/* In place, every slice's mappings given back once the queue is done (the
+ * caller's arrays keep the records); the first error, if any. */
+static cl_int ocl_pass_unmap(ocl_pass *p)
+{
+    cl_int first = CL_SUCCESS;
+    for (int k = 0; p->mem && k < p->slices; k++)
+        for (int i = 0; i < OCL_RECS; i++) {
+            if (!p->mem[k].mapped[i])
+                continue;
+            cl_int err = clEnqueueUnmapMemObject(p->c->queue, p->b.rec.m[i],
+                                                 p->mem[k].mapped[i], 0, NULL, NULL);
+            first = first != CL_SUCCESS ? first : err;
+        }
+    cl_int err = p->mem ? clFinish(p->c->queue) : CL_SUCCESS;
+    return first != CL_SUCCESS ? first : err;
+}
+
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
 {
     if (!p)
@@ -1189,15 +1335,22 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
         struct timespec ts = {0, 20000};
         nanosleep(&ts, NULL);
     }
+    err = ocl_pass_unmap(p);
+    if (err != CL_SUCCESS && ok)
+        ok = ocl_fail(d, "clEnqueueUnmapMemObject(records)", err);
     if (timing) {
         timing->slices = p->enqueued;
         timing->primary_s = (p->t_end > 0 ? p->t_end : ocl_now()) - p->t0;
         timing->compute_units = (int)p->c->compute_units;
         ocl_kernel_name(p->c, timing->kernel, sizeof timing->kernel);
         ocl_device_name(p->c->device, timing->device_name, sizeof timing->device_name);
+        timing->records_in_place = p->in_place;
     }
     for (int k = 0; k < p->enqueued; k++)
         clReleaseEvent(p->events[k]);
+    for (int k = 0; p->mem && k < p->slices; k++)
+        ocl_release_records(&p->mem[k].sub);
+    free(p->mem);
     ocl_release_buffers(&p->b);
     free(p->cells.host);
     free(p->host_hits);
@@ -1305,6 +1458,7 @@ bool ocl_open_program(ocl_ctx *c, const ocl_options *opt, enum ocl_kernel kernel
     double t_open = ocl_now();
     c->use_double = opt->use_double;
     c->max_slice_bytes = opt->max_slice_bytes;
+    c->copy_records = opt->copy_records;
     c->source = opt->source ? opt->source : csg_kernel_source;
     c->cache_dir = opt->cache_dir;
     c->features = opt->features ? csg_features_specialised(*opt->features)

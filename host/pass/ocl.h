@@ -33,6 +33,9 @@ typedef struct {
                               (cl_cache.h); NULL: none                   */
     const char *source;  /* the program's source; NULL: the one embedded
                             in the program (tests give a broken one)     */
+    int copy_records;    /* the pass's records go through device buffers
+                            and are copied out, even where the device could
+                            write them in place (tests: both ways)       */
 } ocl_options;
 
 /* The primary kernel's variant (simd_kernels/primary.cl): one ray a
@@ -55,6 +58,11 @@ typedef struct {
     int slices;          /* passes the image needed                       */
     int compute_units;   /* CL_DEVICE_MAX_COMPUTE_UNITS (cores of a CPU)   */
     bool cpu_device;     /* the device is a CPU (CL_DEVICE_TYPE_CPU)      */
+    bool records_in_place; /* the last pass's kernels wrote their records
+                            straight into the caller's arrays (a device
+                            in host memory, arrays aligned for it: see
+                            ocl_pass_begin); false: copied out of device
+                            buffers                                      */
     char kernel[32];     /* the variant built: "scalar", "packet 16 (4x4)" */
     char device_name[256];
 } ocl_timing;
@@ -115,6 +123,11 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
  * (both or neither; NULL: none): each slice's shadow answers too (the
  * csg_shadows kernel, as ocl_shadow_answers), in the records' order. */
 typedef struct ocl_pass ocl_pass;
+/* Records in host memory aligned for a device that works in host memory
+ * (a CPU, an integrated GPU): the pass's kernels then write them in place,
+ * nothing copied (timing->records_in_place); NULL when out of memory;
+ * free() gives them back.  Any other array works too, through a copy. */
+void *ocl_records_alloc(size_t bytes);
 bool ocl_pass_begin(ocl_ctx *ctx, const void *blob, int tile, int slice_rows, void *t_out,
                     uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
                     uint32_t *tile_hits, void (*notify)(void *), void *notify_arg,

@@ -322,8 +322,11 @@ static csg_features pass_features(const pass *p)
 static bool pass_open_context(pass *p, csg_diag *d)
 {
     csg_features features = pass_features(p);
-    ocl_options opt = {p->cfg.device, csg_blob_hdr(p->blob)->real_size == 8, 0, &features,
-                       p->cfg.packet, p->cfg.cache_dir[0] ? p->cfg.cache_dir : NULL, NULL};
+    ocl_options opt = {.device = p->cfg.device,
+                       .use_double = csg_blob_hdr(p->blob)->real_size == 8,
+                       .features = &features,
+                       .packet = p->cfg.packet,
+                       .cache_dir = p->cfg.cache_dir[0] ? p->cfg.cache_dir : NULL};
     p->ctx = p->cfg.keep ? *p->cfg.keep : NULL;
     if (!p->ctx && p->thread_running) {
         p->ctx = p->build_on_device_thread ? pass_thread_result(p, d) : pass_thread_take(p, d);
@@ -567,11 +570,11 @@ int pass_prepare(pass *p, const tile_grid *g, link_idle *wake, csg_diag *d)
     size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp; /* records */
     p->grid = *g;
     p->wake = wake;
-    p->t = malloc(n * g->real_size);
-    p->surf = malloc(n * sizeof *p->surf);
+    p->t = ocl_records_alloc(n * g->real_size); /* (written in place where the device can) */
+    p->surf = ocl_records_alloc(n * sizeof *p->surf);
     if (p->cfg.shadows) {
-        p->known = malloc(n * sizeof *p->known);
-        p->lit = malloc(n * sizeof *p->lit);
+        p->known = ocl_records_alloc(n * sizeof *p->known);
+        p->lit = ocl_records_alloc(n * sizeof *p->lit);
     }
     p->tile_hits = calloc((size_t)tile_count(g), sizeof *p->tile_hits);
     if (!p->t || !p->surf || !p->tile_hits || (p->cfg.shadows && (!p->known || !p->lit))) {
