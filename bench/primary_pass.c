@@ -214,7 +214,7 @@ static int variant_open(variant *v, bool dbl, csg_features scene)
         return 2;
     }
     ocl_options opt = {.use_double = dbl, .features = &f,
-                       .copy_records = plus && strstr(plus, "copy") != NULL};
+                       .copy_buffers = plus && strstr(plus, "copy") != NULL};
     csg_diag d;
     memset(&d, 0, sizeof d);
     if (!ocl_open_kernel(&opt, kernel, &v->ctx, &v->open, &d)) {

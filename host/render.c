@@ -990,6 +990,8 @@ static int render_job(const render_request *req, int ranks, pass *p)
     master_end(&ms, status);
     if (rs.paged_local)
         pager_close(&rs.pager);
+    pass_free(rs.pass); /* (the device may read the scene in place: ended before it goes) */
+    rs.pass = NULL;
     master_release_scene(&ms, &rs.blob);
     render_free(&rs);
     return status;

@@ -264,7 +264,7 @@ static void test_in_place(void **state)
     csg_diag d = {{0}, 0};
     ocl_timing tm;
     memset(&tm, 0, sizeof tm);
-    ocl_options copy_opt = {.copy_records = 1};
+    ocl_options copy_opt = {.copy_buffers = 1};
     ocl_ctx *copying = NULL;
     assert_true(ocl_open(&copy_opt, &copying, &tm, &d));
     /* W = 90 floats a row: 16 rows start every slice on 128 bytes (PoCL's

@@ -110,7 +110,7 @@ struct ocl_ctx {
                                works in host memory (CPUs, integrated
                                GPUs), so records can be written in place */
     size_t base_align;      /* CL_DEVICE_MEM_BASE_ADDR_ALIGN, in bytes   */
-    bool copy_records;      /* ocl_options.copy_records                   */
+    bool copy_buffers;      /* ocl_options.copy_buffers                   */
     /* The record buffers of a slice, kept from pass to pass (grown when a
      * pass needs more): fresh buffers cost a page fault a page at the
      * kernel's first write, a third of a pass of a simple scene. */
@@ -790,6 +790,16 @@ static bool ocl_create_buffer(ocl_ctx *c, cl_mem_flags flags, size_t size, void 
     return false;
 }
 
+/* A buffer the kernels only read, over host memory that stays as it is
+ * while they may (the scene, records given back): used in place on a
+ * device that works in host memory, nothing copied; copied in elsewhere. */
+static bool ocl_input_buffer(ocl_ctx *c, size_t size, const void *host, cl_mem *out,
+                             const char *what, csg_diag *d)
+{
+    cl_mem_flags how = c->unified && !c->copy_buffers ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR;
+    return ocl_create_buffer(c, CL_MEM_READ_ONLY | how, size, (void *)host, out, what, d);
+}
+
 /* ---- the packet kernel's culling cells ----------------------------------------------
  * The packet kernel culls as the C worker does (workers/frustum.h): the
  * image in square cells of `edge` pixels, each with the bounded roots the
@@ -1039,7 +1049,7 @@ static void CL_CALLBACK ocl_slice_done(cl_event e, cl_int status, void *arg)
 static bool ocl_pass_in_place(const ocl_pass *p)
 {
     const ocl_ctx *c = p->c;
-    if (!c->unified || c->copy_records)
+    if (!c->unified || c->copy_buffers)
         return false;
     size_t row = (size_t)p->h->width * (size_t)p->h->spp;
     for (int i = 0; i < OCL_RECS; i++) {
@@ -1092,8 +1102,7 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
         csg_error_plain(d, "out of memory");
         return false;
     }
-    return ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
-                             (void *)blob, &p->b.blob, "scene", d) &&
+    return ocl_input_buffer(c, (size_t)h->total_size, blob, &p->b.blob, "scene", d) &&
            ocl_pass_records(p, d) &&
            ocl_create_buffer(c, CL_MEM_WRITE_ONLY, p->stride * sizeof(uint32_t), NULL, &p->b.hits,
                              "tile hits", d) &&
@@ -1458,7 +1467,7 @@ bool ocl_open_program(ocl_ctx *c, const ocl_options *opt, enum ocl_kernel kernel
     double t_open = ocl_now();
     c->use_double = opt->use_double;
     c->max_slice_bytes = opt->max_slice_bytes;
-    c->copy_records = opt->copy_records;
+    c->copy_buffers = opt->copy_buffers;
     c->source = opt->source ? opt->source : csg_kernel_source;
     c->cache_dir = opt->cache_dir;
     c->features = opt->features ? csg_features_specialised(*opt->features)
@@ -1564,12 +1573,9 @@ bool ocl_shadow_answers(ocl_ctx *c, const void *blob, const void *t_image,
     size_t group = 1;
     double t0 = ocl_now();
     bool ok =
-        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)h->total_size,
-                          (void *)blob, &b.blob, "scene", d) &&
-        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * h->real_size,
-                          (void *)t_image, &b.t, "t", d) &&
-        ocl_create_buffer(c, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(uint32_t),
-                          (void *)surf_image, &b.surf, "surf", d) &&
+        ocl_input_buffer(c, (size_t)h->total_size, blob, &b.blob, "scene", d) &&
+        ocl_input_buffer(c, n * h->real_size, t_image, &b.t, "t", d) &&
+        ocl_input_buffer(c, n * sizeof(uint32_t), surf_image, &b.surf, "surf", d) &&
         ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.known, "known", d) &&
         ocl_create_buffer(c, CL_MEM_WRITE_ONLY, n * sizeof(uint32_t), NULL, &b.lit, "lit", d) &&
         ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &b.blob, d) &&

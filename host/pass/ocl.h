@@ -33,9 +33,11 @@ typedef struct {
                               (cl_cache.h); NULL: none                   */
     const char *source;  /* the program's source; NULL: the one embedded
                             in the program (tests give a broken one)     */
-    int copy_records;    /* the pass's records go through device buffers
-                            and are copied out, even where the device could
-                            write them in place (tests: both ways)       */
+    int copy_buffers;    /* the pass's buffers are the device's own, the
+                            scene copied in and the records copied out,
+                            even where the device works in host memory
+                            and could use them in place (tests and the
+                            harness: both ways)                           */
 } ocl_options;
 
 /* The primary kernel's variant (simd_kernels/primary.cl): one ray a
