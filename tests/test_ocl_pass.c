@@ -17,7 +17,10 @@
  *     the records in place (timing.records_in_place), the shadow answers
  *     too, ended early or limited as well: the same records, bit for bit,
  *     as copied out of device buffers (unaligned slices, or a context
- *     told to copy).
+ *     told to copy);
+ *   - a device sliced as a GPU is (CSGTRACE_TEST_CL_SLICE_RECORDS: at
+ *     least so many records a slice, in whole tile rows) takes fewer,
+ *     larger slices than the caller asks, with the same records.
  * The scene is parsed from SDL and flattened in float (the kernel's own
  * correctness is test_ocl's business).
  */
@@ -289,6 +292,41 @@ static void test_in_place(void **state)
     ocl_close(copying);
 }
 
+static void test_device_slices(void **state)
+{
+    fixture *fx = *state;
+    csg_diag d = {{0}, 0};
+    ocl_timing tm;
+    memset(&tm, 0, sizeof tm);
+    setenv("CSGTRACE_TEST_CL_SLICE_RECORDS", "2000", 1); /* 22.2 rows of 90: 24 */
+    ocl_options opt = {0};
+    ocl_ctx *gpu_like = NULL;
+    bool opened = ocl_open(&opt, &gpu_like, &tm, &d);
+    unsetenv("CSGTRACE_TEST_CL_SLICE_RECORDS");
+    assert_true(opened);
+    records *whole = calloc(1, sizeof *whole), *got = calloc(1, sizeof *got);
+    assert_true(ocl_primary_pass(fx->ctx, fx->blob.bytes, TILE, whole->t, whole->surf,
+                                 whole->hits, &tm, &d));
+    ocl_pass *p = NULL;
+    memset(got, 0xff, sizeof *got);
+    assert_true(ocl_pass_begin(gpu_like, fx->blob.bytes, TILE, TILE, got->t, got->surf, NULL, NULL,
+                               got->hits, NULL, NULL, &p, &d));
+    int rows = 0, seen = 0;
+    while (rows < H) {
+        assert_true((rows = ocl_pass_rows(p, true, &d)) > seen);
+        assert_true(rows % 24 == 0 || rows == H); /* slices of 24 rows */
+        seen = rows;
+    }
+    assert_true(ocl_pass_end(p, &tm, &d));
+    assert_int_equal(tm.slices, 3); /* 61 rows */
+    assert_memory_equal(got->t, whole->t, sizeof got->t);
+    assert_memory_equal(got->surf, whole->surf, sizeof got->surf);
+    assert_memory_equal(got->hits, whole->hits, sizeof got->hits);
+    free(whole);
+    free(got);
+    ocl_close(gpu_like);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -296,6 +334,7 @@ int main(void)
         cmocka_unit_test(test_end_early),
         cmocka_unit_test(test_limit),
         cmocka_unit_test(test_in_place),
+        cmocka_unit_test(test_device_slices),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -76,6 +76,16 @@ extern const char csg_kernel_source[];
  * footprint of a large image; 256 MiB slices still hold 32 M pixels, far
  * more parallelism than any device needs, and cost one launch each. */
 #define OCL_DEFAULT_SLICE_BYTES ((uint64_t)256 << 20)
+/* The least records of a slice on a device that is not a CPU.  A GPU
+ * needs hundreds of thousands of work-items in flight to be busy, and each
+ * slice costs launches, reads and the master's turn to top the queue up:
+ * on a 16-core node's H200 (issue 36's renders), slices of one tile row
+ * (65 536 - 131 072 records) took 2.2-2.5 ms each where the kernel's own
+ * rate (bench/GPU.md) would take 0.1-0.3 ms: the pass ran at 54-75
+ * Mrays/s.  2^20 records are 8 tile rows of a 4096-wide image, 16
+ * slices for the frame.  A CPU device keeps one tile row: it shares the
+ * cores with the workers, and each slice's tiles go out sooner. */
+#define OCL_DEVICE_SLICE_RECORDS ((uint64_t)1 << 20)
 /* Slices of a pass on the queue beyond the last complete one: enough to
  * keep the device busy between two polls of the master, few enough that
  * ocl_pass_limit stops the pass soon (host/render.c's fill). */
@@ -111,6 +121,8 @@ struct ocl_ctx {
                                GPUs), so records can be written in place */
     size_t base_align;      /* CL_DEVICE_MEM_BASE_ADDR_ALIGN, in bytes   */
     bool copy_buffers;      /* ocl_options.copy_buffers                   */
+    uint64_t slice_records; /* the least records of a pass's slice: 0 on
+                               a CPU, OCL_DEVICE_SLICE_RECORDS elsewhere */
     /* The record buffers of a slice, kept from pass to pass (grown when a
      * pass needs more): fresh buffers cost a page fault a page at the
      * kernel's first write, a third of a pass of a simple scene. */
@@ -407,6 +419,10 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
                               &align_bits, NULL);
     c->unified = err == CL_SUCCESS && unified && align_bits >= 8;
     c->base_align = align_bits / 8;
+    /* tests: CSGTRACE_TEST_CL_SLICE_RECORDS=N slices a CPU device's pass as
+     * a GPU's is, N records at least */
+    long long least = test_hook_number(TEST_CL_SLICE_RECORDS, LLONG_MAX);
+    c->slice_records = least > 0 ? (uint64_t)least : c->cpu ? 0 : OCL_DEVICE_SLICE_RECORDS;
     cl_device_fp_config fp = 0;
     err = clGetDeviceInfo(c->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
     if (err != CL_SUCCESS)
@@ -722,8 +738,9 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
 }
 
 /* Rows of one slice: as many as the device, the options and `want` (> 0)
- * allow, a whole number of tile rows when at least one fits, and at least
- * one row. */
+ * allow (at least OCL_DEVICE_SLICE_RECORDS' worth on a device that is not
+ * a CPU, memory allowing), a whole number of tile rows when at least one
+ * fits, and at least one row. */
 static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, int want)
 {
     uint64_t w = (uint64_t)h->width * (uint64_t)h->spp, rs = h->real_size; /* records a row */
@@ -736,8 +753,10 @@ static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, 
     uint64_t cap = c->max_slice_bytes ? (uint64_t)c->max_slice_bytes : OCL_DEFAULT_SLICE_BYTES;
     if (cap / row_bytes < rows)
         rows = cap / row_bytes;
+    uint64_t least = (c->slice_records + w - 1) / w; /* rows, whole tile rows */
+    least = (least + (uint64_t)tile - 1) / (uint64_t)tile * (uint64_t)tile;
     if (want > 0 && (uint64_t)want < rows)
-        rows = (uint64_t)want;
+        rows = (uint64_t)want > least ? (uint64_t)want : (least < rows ? least : rows);
     if (rows >= (uint64_t)tile)
         rows -= rows % (uint64_t)tile;
     if (rows < 1)
