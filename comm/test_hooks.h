@@ -31,8 +31,6 @@
       "the OpenCL program's build takes that much longer")                                     \
     X(TEST_CL_MAX_ALLOC, "CSGTRACE_TEST_CL_MAX_ALLOC",                                         \
       "the device's largest buffer, in bytes, pretended")                                      \
-    X(TEST_CL_SLICE_RECORDS, "CSGTRACE_TEST_CL_SLICE_RECORDS",                                 \
-      "the pass's slices hold that many records at least, as on a GPU")                        \
     X(TEST_FILL_TILES, "CSGTRACE_TEST_FILL_TILES",                                             \
       "the fill claims at most so many tiles while a pass may come")                           \
     X(TEST_PASS_PAYS_MS, "CSGTRACE_TEST_PASS_PAYS_MS",                                         \

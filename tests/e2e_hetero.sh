@@ -161,6 +161,23 @@ CSGTRACE_CL_SPECIALISE=2 render sp_bad 0 hetero "$T/gen_1.pov" --width 8 --heigh
 grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/sp_bad.err" &&
     ok "a bad CSGTRACE_CL_SPECIALISE is refused" || ko "CSGTRACE_CL_SPECIALISE=2: $(head -c 300 "$T/sp_bad.err")"
 
+# --- the pass's slices as large as $CSGTRACE_CL_SLICE asks (a GPU's
+# default): 5000 records of 96 a row are 52.1 rows, 64 in tiles of 16: two
+# slices for 72 rows where the default takes three (two tile rows a slice);
+# the records written in place (PoCL's CPU device works in host memory),
+# the serial image ---
+CSGTRACE_CL_SLICE=5000 render sl_2 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
+render sl_d_2 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
+if same "$T/s_2.pfm" "$T/sl_2.pfm" && json "$T/sl_2.json" "j['slices'] == 2" &&
+    json "$T/sl_d_2.json" "j['slices'] == 3" && json "$T/sl_2.json" "j['cl_records'] == 'in place'"; then
+    ok "CSGTRACE_CL_SLICE=5000: two slices of 64 rows (the default: three), in place, the serial image"
+else
+    ko "CSGTRACE_CL_SLICE: $(grep -h -e '"slices"' -e cl_records "$T/sl_2.json" "$T/sl_d_2.json" | tr -d '\n') $(head -c 300 "$T/sl_2.err")"
+fi
+CSGTRACE_CL_SLICE=0 render sl_bad 0 hetero "$T/gen_1.pov" --width 8 --height 8
+grep -q "CSGTRACE_CL_SLICE must be a whole number" "$T/sl_bad.err" &&
+    ok "a bad CSGTRACE_CL_SLICE is refused" || ko "CSGTRACE_CL_SLICE=0: $(head -c 300 "$T/sl_bad.err")"
+
 # --- the POV-Ray cross-check scenes (tests/povray: the gamma modes, the
 # constructs of POV-Ray's sample scenes): the same image in every mode and
 # both kernels (the linear floats, so every file's bytes too), each on the

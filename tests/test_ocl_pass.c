@@ -18,9 +18,9 @@
  *     too, ended early or limited as well: the same records, bit for bit,
  *     as copied out of device buffers (unaligned slices, or a context
  *     told to copy);
- *   - a device sliced as a GPU is (CSGTRACE_TEST_CL_SLICE_RECORDS: at
- *     least so many records a slice, in whole tile rows) takes fewer,
- *     larger slices than the caller asks, with the same records.
+ *   - a device sliced as a GPU is (ocl_options.slice_records: at least so
+ *     many records a slice, in whole tile rows) takes fewer, larger
+ *     slices than the caller asks, with the same records.
  * The scene is parsed from SDL and flattened in float (the kernel's own
  * correctness is test_ocl's business).
  */
@@ -298,12 +298,9 @@ static void test_device_slices(void **state)
     csg_diag d = {{0}, 0};
     ocl_timing tm;
     memset(&tm, 0, sizeof tm);
-    setenv("CSGTRACE_TEST_CL_SLICE_RECORDS", "2000", 1); /* 22.2 rows of 90: 24 */
-    ocl_options opt = {0};
+    ocl_options opt = {.slice_records = 2000}; /* 22.2 rows of 90: 24 */
     ocl_ctx *gpu_like = NULL;
-    bool opened = ocl_open(&opt, &gpu_like, &tm, &d);
-    unsetenv("CSGTRACE_TEST_CL_SLICE_RECORDS");
-    assert_true(opened);
+    assert_true(ocl_open(&opt, &gpu_like, &tm, &d));
     records *whole = calloc(1, sizeof *whole), *got = calloc(1, sizeof *got);
     assert_true(ocl_primary_pass(fx->ctx, fx->blob.bytes, TILE, whole->t, whole->surf,
                                  whole->hits, &tm, &d));

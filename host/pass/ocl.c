@@ -121,8 +121,9 @@ struct ocl_ctx {
                                GPUs), so records can be written in place */
     size_t base_align;      /* CL_DEVICE_MEM_BASE_ADDR_ALIGN, in bytes   */
     bool copy_buffers;      /* ocl_options.copy_buffers                   */
-    uint64_t slice_records; /* the least records of a pass's slice: 0 on
-                               a CPU, OCL_DEVICE_SLICE_RECORDS elsewhere */
+    uint64_t slice_records; /* the least records of a pass's slice
+                               (ocl_options.slice_records, or the
+                               device's default)                         */
     /* The record buffers of a slice, kept from pass to pass (grown when a
      * pass needs more): fresh buffers cost a page fault a page at the
      * kernel's first write, a third of a pass of a simple scene. */
@@ -419,10 +420,6 @@ static bool ocl_check_device(ocl_ctx *c, const char *name, csg_diag *d)
                               &align_bits, NULL);
     c->unified = err == CL_SUCCESS && unified && align_bits >= 8;
     c->base_align = align_bits / 8;
-    /* tests: CSGTRACE_TEST_CL_SLICE_RECORDS=N slices a CPU device's pass as
-     * a GPU's is, N records at least */
-    long long least = test_hook_number(TEST_CL_SLICE_RECORDS, LLONG_MAX);
-    c->slice_records = least > 0 ? (uint64_t)least : c->cpu ? 0 : OCL_DEVICE_SLICE_RECORDS;
     cl_device_fp_config fp = 0;
     err = clGetDeviceInfo(c->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
     if (err != CL_SUCCESS)
@@ -738,9 +735,9 @@ static bool ocl_check_blob(const ocl_ctx *c, const csg_blob_header *h, int tile,
 }
 
 /* Rows of one slice: as many as the device, the options and `want` (> 0)
- * allow (at least OCL_DEVICE_SLICE_RECORDS' worth on a device that is not
- * a CPU, memory allowing), a whole number of tile rows when at least one
- * fits, and at least one row. */
+ * allow (at least c->slice_records' worth, memory allowing: none asked on
+ * a CPU by default, OCL_DEVICE_SLICE_RECORDS on any other device), a whole
+ * number of tile rows when at least one fits, and at least one row. */
 static int ocl_slice_rows(const ocl_ctx *c, const csg_blob_header *h, int tile, int want)
 {
     uint64_t w = (uint64_t)h->width * (uint64_t)h->spp, rs = h->real_size; /* records a row */
@@ -1494,6 +1491,9 @@ bool ocl_open_program(ocl_ctx *c, const ocl_options *opt, enum ocl_kernel kernel
     const char *name = timing->device_name;
     if (!ocl_check_device(c, name, d) || !ocl_pick_kernel(c, kernel, opt->packet, d))
         return false;
+    c->slice_records = opt->slice_records ? (uint64_t)opt->slice_records
+                       : c->cpu           ? 0
+                                          : OCL_DEVICE_SLICE_RECORDS;
     timing->compute_units = (int)c->compute_units;
     timing->cpu_device = c->cpu;
     ocl_kernel_name(c, timing->kernel, sizeof timing->kernel);

@@ -15,6 +15,9 @@
 
 typedef struct ocl_ctx ocl_ctx; /* struct ocl_ctx is named in render.h */
 
+/* The most records ocl_options.slice_records may ask ($CSGTRACE_CL_SLICE). */
+#define OCL_SLICE_RECORDS_MAX (1LL << 30)
+
 typedef struct {
     const char *device;  /* "P:D" (platform and device index), a substring
                             of the device name, or NULL for the first
@@ -33,6 +36,11 @@ typedef struct {
                               (cl_cache.h); NULL: none                   */
     const char *source;  /* the program's source; NULL: the one embedded
                             in the program (tests give a broken one)     */
+    size_t slice_records; /* a background pass's slices hold at least so
+                            many records, in whole tile rows (memory
+                            allowing); 0: the device's default, none on a
+                            CPU (the caller's rows), 2^20 on any other
+                            device (ocl.c: OCL_DEVICE_SLICE_RECORDS)      */
     int copy_buffers;    /* the pass's buffers are the device's own, the
                             scene copied in and the records copied out,
                             even where the device works in host memory
@@ -110,7 +118,8 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
 /* The same pass in the background, for a caller with other work (the
  * master serving its workers): ocl_pass_begin puts the first slices of
  * `slice_rows` rows (0: as many as the device allows; the device may
- * allow fewer) on the queue and returns at once; every ocl_pass_rows
+ * allow fewer, and slices of at least ocl_options.slice_records records
+ * make them more) on the queue and returns at once; every ocl_pass_rows
  * call tops the queue up (a few slices beyond the last complete one,
  * so call it often: the master does in every turn); notify(notify_arg), if given, is
  * called from an OpenCL thread whenever a slice completes (keep it short

@@ -326,6 +326,7 @@ static bool pass_open_context(pass *p, csg_diag *d)
                        .use_double = csg_blob_hdr(p->blob)->real_size == 8,
                        .features = &features,
                        .packet = p->cfg.packet,
+                       .slice_records = (size_t)p->cfg.slice_records,
                        .cache_dir = p->cfg.cache_dir[0] ? p->cfg.cache_dir : NULL};
     p->ctx = p->cfg.keep ? *p->cfg.keep : NULL;
     if (!p->ctx && p->thread_running) {
@@ -530,6 +531,13 @@ bool pass_settings(const csg_config *env, pass_config *cfg, csg_diag *d)
         return false;
     }
     cfg->packet = (int)width;
+    long long records = 0;
+    if (env->cl_slice && !number_whole(env->cl_slice, 1, OCL_SLICE_RECORDS_MAX, &records)) {
+        csg_error_plain(d, "CSGTRACE_CL_SLICE must be a whole number of records from 1 to %lld, "
+                           "not \"%s\"", (long long)OCL_SLICE_RECORDS_MAX, env->cl_slice);
+        return false;
+    }
+    cfg->slice_records = records;
     return true;
 }
 

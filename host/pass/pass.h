@@ -54,13 +54,16 @@ typedef struct {
                                hits' shadow rays too (csg_shadows)      */
     int packet;             /* the packet kernel's width ($CSGTRACE_CL_
                                PACKET; 0: the device's)                  */
+    long long slice_records; /* the least records of a slice ($CSGTRACE_
+                               CL_SLICE; 0: the device's default)        */
     char cache_dir[4096];   /* compiled programs kept here ("": none;
                                pass/cl_cache.h)                          */
 } pass_config;
 
 /* The settings of the environment (host/config.h) the pass takes into
  * cfg: the kernel variant when cfg's is auto, the packet's width, the
- * general program; false with d filled when one is not valid. */
+ * general program, the least records of a slice; false with d filled when
+ * one is not valid. */
 bool pass_settings(const csg_config *env, pass_config *cfg, csg_diag *d);
 
 /* Does --pass auto apply?  Hetero with the fill (a static schedule has
