@@ -135,11 +135,13 @@ typedef CSG_PK_U lane_uint;
 #define CSG_PK_COLD static __attribute__((noinline))
 
 /* The packet compilation of the shared geometry: v3_add_pk, ...,
- * csg_leaf_first_hit_pk, csg_hit_wins_pk, csg_camera_ray_pk (lanes.h). */
+ * csg_leaf_first_hit_pk, csg_hit_wins_pk, csg_camera_ray_pk,
+ * csg_light_line_pk (lanes.h). */
 #define CSG_LANES_PACKET
 #include "vec_lanes.h"
 #include "intersect_lanes.h"
 #include "camera_lanes.h"
+#include "light_lanes.h"
 #undef CSG_LANES_PACKET
 
 __constant lane_int csg_pk_lane_ids[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};

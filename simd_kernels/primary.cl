@@ -115,6 +115,35 @@ static __global const int *pk_cell_list(__global const int *cells, int cell, int
     return list + 1;
 }
 
+/* The camera rays of the packet at column c0, row r0 of a slice from row
+ * y0 of `rows` (packet.h: lane k at (k % COLS, k / COLS)), every lane's
+ * what csg_sample_ray gives it; *live: the lanes that are records. */
+static inline __attribute__((always_inline)) csg_ray_pk
+pk_packet_rays(__global const uchar *blob, int y0, int rows, int c0, int r0, intv *live)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    int width = h->width, spp = h->spp, cols = width * spp;
+    intv lane = CSG_PK_LOAD(csg_pk_lane_ids);
+    intv dc = lane % CSG_PACKET_COLS;
+    intv col = c0 + dc, row = r0 + lane / CSG_PACKET_COLS;
+    *live = (col < cols) & (row < rows);
+    /* pixel x = col / spp and sample s = col % spp, without a division per
+     * lane: from the first column's, carrying at most COLS - 1 times */
+    intv x = col, s = (intv)(0);
+    if (spp > 1) {
+        x = (intv)(c0 / spp);
+        s = c0 % spp + dc;
+        for (int k = 1; k < CSG_PACKET_COLS; k++) {
+            intv wrap = s >= spp;
+            s = select(s, s - spp, wrap);
+            x = select(x, x + 1, wrap);
+        }
+    }
+    realv ox, oy;
+    csg_sample_offset_pk(spp, s, &ox, &oy);
+    return csg_camera_ray_pk(csg_blob_camera(blob), width, h->height, x, y0 + row, ox, oy);
+}
+
 /* One work-item a packet of CSG_PACKET records, CSG_PACKET_COLS of a row
  * by CSG_PACKET_ROWS rows (packet.h): the variant for CPUs.  Lanes beyond
  * the image trace a finite ray off the image and write nothing.  The
@@ -130,27 +159,10 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     int r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
     if (c0 >= cols || r0 >= rows) /* the grid is padded to whole work-groups */
         return;
-    intv lane = CSG_PK_LOAD(csg_pk_lane_ids);
-    intv dc = lane % CSG_PACKET_COLS;
-    intv col = c0 + dc, row = r0 + lane / CSG_PACKET_COLS;
-    intv live = (col < cols) & (row < rows);
-    /* pixel x = col / spp and sample s = col % spp, without a division per
-     * lane: from the first column's, carrying at most COLS - 1 times */
-    intv x = col, s = (intv)(0);
-    if (spp > 1) {
-        x = (intv)(c0 / spp);
-        s = c0 % spp + dc;
-        for (int k = 1; k < CSG_PACKET_COLS; k++) {
-            intv wrap = s >= spp;
-            s = select(s, s - spp, wrap);
-            x = select(x, x + 1, wrap);
-        }
-    }
-    realv ox, oy;
-    csg_sample_offset_pk(spp, s, &ox, &oy);
+    intv live;
+    csg_ray_pk rays = pk_packet_rays(blob, y0, rows, c0, r0, &live);
     pk_packet pk;
-    pk_packet_init(&pk, csg_camera_ray_pk(csg_blob_camera(blob), width, h->height, x, y0 + row,
-                                          ox, oy), live);
+    pk_packet_init(&pk, rays, live);
     int n;
     __global const int *cands =
         pk_cell_list(cells, cell, cell_cap, width, spp, cols, y0, rows, c0, r0, &n);
@@ -199,9 +211,20 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
     __global const csg_flat_light *lights = (__global const csg_flat_light *)(blob + h->off_lights);
     real ax[CSG_PACKET], ay[CSG_PACKET], az[CSG_PACKET];
     real nx[CSG_PACKET], ny[CSG_PACKET], nz[CSG_PACKET];
-    int hit[CSG_PACKET];
+    lane_int hit[CSG_PACKET];
     uint known[CSG_PACKET], lit[CSG_PACKET];
     size_t at[CSG_PACKET];
+    /* the lanes' camera rays at once, then each lane's frame */
+    intv live;
+    csg_ray_pk rays = pk_packet_rays(blob, y0, rows, c0, r0, &live);
+    real rox[CSG_PACKET], roy[CSG_PACKET], roz[CSG_PACKET];
+    real rdx[CSG_PACKET], rdy[CSG_PACKET], rdz[CSG_PACKET];
+    CSG_PK_STORE(rays.o.x, rox);
+    CSG_PK_STORE(rays.o.y, roy);
+    CSG_PK_STORE(rays.o.z, roz);
+    CSG_PK_STORE(rays.d.x, rdx);
+    CSG_PK_STORE(rays.d.y, rdy);
+    CSG_PK_STORE(rays.d.z, rdz);
     for (int k = 0; k < CSG_PACKET; k++) {
         int col = c0 + k % CSG_PACKET_COLS, row = r0 + k / CSG_PACKET_COLS;
         known[k] = 0u;
@@ -214,8 +237,9 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         hit[k] = surf_in[at[k]] != CSG_SURF_NONE;
         if (!hit[k])
             continue;
-        csg_ray r = csg_sample_ray(csg_blob_camera(blob), width, h->height, col / spp, y0 + row,
-                                   spp, col % spp);
+        csg_ray r;
+        r.o = v3(rox[k], roy[k], roz[k]);
+        r.d = v3(rdx[k], rdy[k], rdz[k]);
         csg_hit_frame f = csg_hit_frame_of(v, r, t_in[at[k]], surf_in[at[k]]);
         vec3 nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n;
         ax[k] = f.above.x;
@@ -230,38 +254,29 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         __global const csg_flat_light *lt = &lights[i];
         if (!csg_shadow_answerable(lt))
             continue;
-        real lx[CSG_PACKET], ly[CSG_PACKET], lz[CSG_PACKET], reach[CSG_PACKET];
-        lane_int ok[CSG_PACKET], blocked[CSG_PACKET], touched[CSG_PACKET];
-        int any = 0;
-        for (int k = 0; k < CSG_PACKET; k++) {
-            vec3 l = v3(R(0.0), R(0.0), R(1.0));
-            real dist = R(1.0);
-            ok[k] = hit[k] && csg_light_line(lt, v3(ax[k], ay[k], az[k]), &l, &dist) &&
-                    v3_dot(v3(nx[k], ny[k], nz[k]), l) > R(0.0);
-            if (!ok[k]) { /* a finite ray that takes no part */
-                l = v3(R(0.0), R(0.0), R(1.0));
-                dist = R(1.0);
-            }
-            ok[k] = ok[k] ? -1 : 0;
-            any |= ok[k];
-            lx[k] = l.x;
-            ly[k] = l.y;
-            lz[k] = l.z;
-            reach[k] = csg_shadow_reach(dist);
-        }
-        if (!any)
+        /* every lane's line to the light at once (light_lanes.h): the
+         * same operations per lane as csg_shadow_masks' one ray */
+        vec3_pk o = v3_pk(CSG_PK_LOAD(ax), CSG_PK_LOAD(ay), CSG_PK_LOAD(az));
+        vec3_pk nf = v3_pk(CSG_PK_LOAD(nx), CSG_PK_LOAD(ny), CSG_PK_LOAD(nz));
+        vec3_pk l;
+        realv dist;
+        intv line = csg_light_line_pk(lt, o, &l, &dist);
+        intv okv = (CSG_PK_LOAD(hit) != (intv)0) & line & (v3_dot_pk(nf, l) > R(0.0));
+        /* (a lane that takes no part: a finite ray) */
+        l = v3_pk(select((realv)R(0.0), l.x, okv), select((realv)R(0.0), l.y, okv),
+                  select((realv)R(1.0), l.z, okv));
+        dist = select((realv)R(1.0), dist, okv);
+        if (!CSG_PK_ANY(okv))
             continue;
+        lane_int ok[CSG_PACKET], blocked[CSG_PACKET], touched[CSG_PACKET];
+        CSG_PK_STORE(okv, ok);
         csg_ray_pk r;
-        r.o.x = CSG_PK_LOAD(ax);
-        r.o.y = CSG_PK_LOAD(ay);
-        r.o.z = CSG_PK_LOAD(az);
-        r.d.x = CSG_PK_LOAD(lx);
-        r.d.y = CSG_PK_LOAD(ly);
-        r.d.z = CSG_PK_LOAD(lz);
+        r.o = o;
+        r.d = l;
         pk_packet pk;
-        pk_packet_init(&pk, r, CSG_PK_LOAD(ok));
+        pk_packet_init(&pk, r, okv);
         intv b, t;
-        pk_shadow_walk(v, &pk, CSG_PK_LOAD(reach), &b, &t);
+        pk_shadow_walk(v, &pk, csg_shadow_reach_pk(dist), &b, &t);
         CSG_PK_STORE(b, blocked);
         CSG_PK_STORE(t, touched);
         for (int k = 0; k < CSG_PACKET; k++) {

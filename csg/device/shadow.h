@@ -61,55 +61,9 @@ CSG_FN csg_hit_frame csg_hit_frame_of(csg_view v, csg_ray r, real t, csg_u32 sur
     return f;
 }
 
-/* POV-Ray's ComputeOneWhiteLightRay: the unit direction *l from point o to
- * light lt whose centre is `center` (its position, or a point of an area
- * light's grid) and how far the shadow ray goes. */
-CSG_FN void csg_light_ray(CSG_GLOBAL const csg_flat_light *lt, vec3 o, vec3 center, vec3 *l,
-                          real *dist)
-{
-    if (lt->kind == CSG_LIGHT_CYLINDER) {
-        vec3 dir = v3_sub(center, v3_load(lt->point_at));
-        real len = v3_length(dir);
-        *dist = v3_dot(v3_sub(center, o), dir) / len;
-        *l = v3_scale(dir, R(1.0) / len);
-    } else {
-        vec3 to_light = v3_sub(center, o);
-        *dist = v3_length(to_light);
-        *l = v3_scale(to_light, R(1.0) / *dist);
-    }
-    if (lt->parallel) {
-        if (lt->area) {
-            vec3 v1 = v3_normalize(v3_sub(center, v3_load(lt->point_at)));
-            *dist *= v3_dot(v1, *l);
-            *l = v1;
-        } else {
-            vec3 d = v3_load(lt->direction);
-            *dist *= -v3_dot(d, *l);
-            *l = v3_neg(d);
-        }
-    }
-}
-
-/* The line from o to light lt's position that shading and its shadow ray
- * follow; 0 when the light is skipped (o at the light). */
-CSG_FN int csg_light_line(CSG_GLOBAL const csg_flat_light *lt, vec3 o, vec3 *l, real *dist)
-{
-    csg_light_ray(lt, o, v3_load(lt->position), l, dist);
-    return *dist > R(0.0) || lt->parallel;
-}
-
-/* POV-Ray's SHADOW_TOLERANCE (trace.cpp, TracePointLightShadowRay): a
- * surface closer than 1e-3 to the light casts no shadow, so a light on
- * a surface (lights/laser.pov: a spotlight on a cylinder's cap) is not
- * hidden by it where rounding puts the cap before the light.  Below a
- * distance of 1 it shrinks with the distance (1e-3 of it), so a scene
- * drawn at 10^-4 of its size keeps its shadows (POV-Ray's absolute
- * tolerance would remove them all; tests/test_stability's scale
- * invariance); from 1 on it is POV-Ray's.  The segment's end. */
-CSG_FN real csg_shadow_reach(real dist)
-{
-    return dist - r_fmin(R(1.0e-3), R(1.0e-3) * dist);
-}
+/* csg_light_ray, csg_light_line and csg_shadow_reach: the one-ray
+ * compilation of light_lanes.h. */
+#include "light_lanes.h"
 
 /* Whether opaque root i has a visible boundary on (0, dist) of r. */
 CSG_FN int csg_shadow_opaque_blocks(csg_view v, csg_i32 i, csg_ray r, real dist)
