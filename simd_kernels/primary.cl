@@ -115,6 +115,18 @@ static __global const int *pk_cell_list(__global const int *cells, int cell, int
     return list + 1;
 }
 
+/* This work-item's packet: its first record's column *c0 and row *r0 in
+ * the slice of `rows` rows; false when it lies beyond them (the grid is
+ * padded to whole work-groups). */
+static inline __attribute__((always_inline)) bool
+pk_packet_at(__global const uchar *blob, int rows, int *c0, int *r0)
+{
+    __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
+    *c0 = (int)get_global_id(0) * CSG_PACKET_COLS;
+    *r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
+    return *c0 < h->width * h->spp && *r0 < rows;
+}
+
 /* The camera rays of the packet at column c0, row r0 of a slice from row
  * y0 of `rows` (packet.h: lane k at (k % COLS, k / COLS)), every lane's
  * what csg_sample_ray gives it; *live: the lanes that are records. */
@@ -154,10 +166,8 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
                           int cell_cap)
 {
     __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
-    int width = h->width, spp = h->spp, cols = width * spp;
-    int c0 = (int)get_global_id(0) * CSG_PACKET_COLS;
-    int r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
-    if (c0 >= cols || r0 >= rows) /* the grid is padded to whole work-groups */
+    int width = h->width, spp = h->spp, cols = width * spp, c0, r0;
+    if (!pk_packet_at(blob, rows, &c0, &r0))
         return;
     intv live;
     csg_ray_pk rays = pk_packet_rays(blob, y0, rows, c0, r0, &live);
@@ -194,18 +204,18 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
 }
 
 /* The shadow answers of a packet of records (the grid of csg_primary's
- * packet variant): each lane's frame and line to the light by the one-ray
- * code (shadow.h), then, light by light, the walk of the lanes that need
- * it as a packet (pk_shadow_walk); the same answers as csg_shadow_masks. */
+ * packet variant): the lanes' camera rays at once (pk_packet_rays), each
+ * lane's hit frame by the one-ray code (shadow.h), then, light by light,
+ * every lane's line to the light at once (light_lanes.h) and the walk of
+ * the lanes that need it as a packet (pk_shadow_walk); the same answers
+ * as csg_shadow_masks. */
 __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
                           __global const real *t_in, __global const uint *surf_in,
                           __global uint *known_out, __global uint *lit_out)
 {
     __global const csg_blob_header *h = (__global const csg_blob_header *)blob;
-    int width = h->width, spp = h->spp, cols = width * spp;
-    int c0 = (int)get_global_id(0) * CSG_PACKET_COLS;
-    int r0 = (int)get_global_id(1) * CSG_PACKET_ROWS;
-    if (c0 >= cols || r0 >= rows) /* the grid is padded to whole work-groups */
+    int cols = h->width * h->spp, c0, r0;
+    if (!pk_packet_at(blob, rows, &c0, &r0))
         return;
     csg_view v = csg_blob_view(blob);
     __global const csg_flat_light *lights = (__global const csg_flat_light *)(blob + h->off_lights);
