@@ -21,6 +21,7 @@
 #                 SimGrid's SMPI, tiles replaced by measured costs (bench/sim/)
 #   make bench-scale  the simulated 16..1024-worker grid (bench/SCALE.md)
 #   make fuzz     libFuzzer over the whole pipeline for FUZZ_SECONDS (60)
+#   make fuzz-seeds  the same fuzzer over its seeds only (what CI runs)
 #   make clean
 #
 # The engine sources (flattening, tracing, shading) are compiled twice, once
@@ -113,7 +114,7 @@ TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 
 .PHONY: sim bench-scale deps-sim
-.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary bench-paging golden fuzz \
+.PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary bench-paging golden fuzz fuzz-seeds \
 	bench-node \
 	clean install uninstall
 all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker \
@@ -225,7 +226,7 @@ FUZZ_SAN := -fsanitize=address,undefined,float-cast-overflow \
 FUZZ_CFLAGS = -std=c11 $(filter-out -Werror -Wdouble-promotion,$(WARN)) -ffp-contract=off -fno-fast-math $(DEFS) $(FT_CFLAGS) -g -O1 -MMD -MP $(FUZZ_SAN)
 FUZZ_C := $(filter-out $(ENGINE_SRCS),$(wildcard csg/*.c csg/lang/*.c)) \
 	workers/engine_common.c workers/tile.c workers/tile_run.c workers/pager.c workers/noise.c \
-	comm/pixels.c \
+	comm/pixels.c comm/pixels_z.c \
 	comm/tiles.c
 FUZZ_OBJS := $(FUZZ_C:%.c=$(F)/obj/%.o) $(ENGINE_SRCS:%.c=$(F)/obj/float/%.o) \
 	$(ENGINE_SRCS:%.c=$(F)/obj/double/%.o)
@@ -240,7 +241,7 @@ $(F)/obj/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DCSG_DOUBLE -c $< -o $@
 $(F)/fuzz_pipeline: $(F)/obj/tests/fuzz_pipeline.o $(FUZZ_OBJS)
-	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ $(FT_LIBS) -lm
+	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ -o $@ $(ZLIB_LIBS) $(ZSTD_LIBS) $(FT_LIBS) -lm
 $(F)/pov.dict: csg/lang/lexer.c csg/device/patterns.h
 	@mkdir -p $(dir $@)
 	sed -n 's/^ *{"\([a-z_0-9]*\)", CSG_KW_.*/"\1"/p' csg/lang/lexer.c >$@
@@ -255,6 +256,13 @@ fuzz: deps $(F)/fuzz_pipeline $(F)/pov.dict
 	cp scenes/*.pov tests/fuzz_seeds/*.pov $(F)/seeds/
 	$(F)/fuzz_pipeline -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 \
 		-dict=$(F)/pov.dict $(F)/corpus $(F)/seeds
+
+# The fuzzer over its seeds alone, no fuzzing (.ci/run, after make test):
+# the fuzzer still builds, and no past finding (tests/fuzz_seeds) is back.
+fuzz-seeds: deps $(F)/fuzz_pipeline
+	@mkdir -p $(F)/seeds
+	cp scenes/*.pov tests/fuzz_seeds/*.pov $(F)/seeds/
+	$(F)/fuzz_pipeline -runs=0 -max_len=4096 -timeout=10 $(F)/seeds
 
 # Benchmark helpers (never part of csgtrace): the primary-pass timing
 # harness over the engine, and the Embree reference it is compared with.

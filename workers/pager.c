@@ -404,6 +404,8 @@ static int range_order(const void *x, const void *y)
  * one: how many are left. */
 static size_t ranges_merge(pager_range *r, size_t n)
 {
+    if (n < 2) /* (nothing to sort: r may be NULL, which qsort may not be given) */
+        return n;
     qsort(r, n, sizeof *r, range_order);
     size_t merged = 0;
     for (size_t k = 0; k < n; k++) {
@@ -713,7 +715,8 @@ bool pager_open(csg_pager *p, const void *packed, size_t len, uint64_t budget,
         p->plan.by_node[i] = i;
     }
     by_node_pages = p->plan.pages;
-    qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
+    if (w.page_count > 1)
+        qsort(p->plan.by_node, (size_t)w.page_count, sizeof *p->plan.by_node, by_node_order);
     for (int32_t i = 1; i < w.page_count; i++)
         if (p->plan.pages[p->plan.by_node[i]].node == p->plan.pages[p->plan.by_node[i - 1]].node) {
             *why = "a malformed scene plan was received"; /* (two pages of one top) */
