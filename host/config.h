@@ -19,7 +19,7 @@
     X(cl_packet, "CSGTRACE_CL_PACKET", "the packet kernel's width: 2, 4, 8 or 16")            \
     X(cl_slice, "CSGTRACE_CL_SLICE", "the least hit records of a slice of the OpenCL pass, "  \
                                      "in whole tile rows (default: a tile row on a CPU "      \
-                                     "device, 1048576 on a GPU)")                             \
+                                     "device, 4194304 on a GPU)")                             \
     X(cl_specialise, "CSGTRACE_CL_SPECIALISE",                                                 \
       "0: build the general OpenCL program, not one for the scene's features")                 \
     X(cl_cache, "CSGTRACE_CL_CACHE", "the folder of compiled OpenCL programs; off: none "      \

@@ -78,14 +78,13 @@ extern const char csg_kernel_source[];
 #define OCL_DEFAULT_SLICE_BYTES ((uint64_t)256 << 20)
 /* The least records of a slice on a device that is not a CPU.  A GPU
  * needs hundreds of thousands of work-items in flight to be busy, and each
- * slice costs launches, reads and the master's turn to top the queue up:
- * on a 16-core node's H200 (issue 36's renders), slices of one tile row
- * (65 536 - 131 072 records) took 2.2-2.5 ms each where the kernel's own
- * rate (bench/GPU.md) would take 0.1-0.3 ms: the pass ran at 54-75
- * Mrays/s.  2^20 records are 8 tile rows of a 4096-wide image, 16
- * slices for the frame.  A CPU device keeps one tile row: it shares the
- * cores with the workers, and each slice's tiles go out sooner. */
-#define OCL_DEVICE_SLICE_RECORDS ((uint64_t)1 << 20)
+ * slice costs launches, reads and the master's turn to top the queue up.
+ * Measured on an H200, 4096x4096 (bench/GPU.md, bench/gpu_pass.sh): the
+ * pass took 0.222 s in 128 slices of a tile row, 0.188 s in 16 (2^20
+ * records), 0.132 s in 4 (2^22), the kernel alone 0.018 s.  A CPU device
+ * keeps one tile row: it shares the cores with the workers, and each
+ * slice's tiles go out sooner. */
+#define OCL_DEVICE_SLICE_RECORDS ((uint64_t)1 << 22)
 /* Slices of a pass on the queue beyond the last complete one: enough to
  * keep the device busy between two polls of the master, few enough that
  * ocl_pass_limit stops the pass soon (host/render.c's fill). */

@@ -39,7 +39,7 @@ typedef struct {
     size_t slice_records; /* a background pass's slices hold at least so
                             many records, in whole tile rows (memory
                             allowing); 0: the device's default, none on a
-                            CPU (the caller's rows), 2^20 on any other
+                            CPU (the caller's rows), 2^22 on any other
                             device (ocl.c: OCL_DEVICE_SLICE_RECORDS)      */
     int copy_buffers;    /* the pass's buffers are the device's own, the
                             scene copied in and the records copied out,
