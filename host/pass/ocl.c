@@ -123,9 +123,6 @@ struct ocl_ctx {
     uint64_t slice_records; /* the least records of a pass's slice
                                (ocl_options.slice_records, or the
                                device's default)                         */
-    /* The record buffers of a slice, kept from pass to pass (grown when a
-     * pass needs more): fresh buffers cost a page fault a page at the
-     * kernel's first write, a third of a pass of a simple scene. */
     size_t max_slice_bytes; /* 0: no limit beyond the device's       */
     const char *source;     /* the program's source (ocl_options)     */
     const char *cache_dir;  /* compiled programs kept here (NULL: none) */
