@@ -18,10 +18,11 @@
 #   2. Hetero renders with `--pass always --fill off` (every tile waits for
 #      its slice: the pass is on the critical path, nothing hides it) under
 #      mpirun -np NP, for each slice setting ("default": the device's own,
-#      one tile row on a CPU device, 2^20 records on a GPU; a number: that
+#      one tile row on a CPU device, 2^22 records on a GPU; a number: that
 #      many records at least), ROUNDS rounds interleaved (each setting once
 #      a round); medians (min-max) of pass_s, its Mrays/s, the slices, the
-#      tile phase and the frame, and pass_s over the kernel's own time.
+#      tile phase and the frame, pass_s over the kernel's own time, and
+#      the pass on the device's clock (kernels, copies, span).
 # Every render's image is compared with the first one's (cmp).
 # Writes OUT/summary.md, OUT/kernel.json, OUT/render-SLICE-ROUND.json; prints
 # the summary.  On the device machine: pack with ../shared/node/pack.sh
@@ -112,15 +113,22 @@ if kernel:
           "device wall clock): " + "; ".join("%s %.1f Mrays/s (%.4f s)"
           % (v, rays / kernel[v]["median_s"] / 1e6, kernel[v]["median_s"]) for v in kernel) + ".\n")
 best = min(kernel[v]["median_s"] for v in kernel) if kernel else None
-print("| CSGTRACE_CL_SLICE | slices | pass_s | pass Mrays/s | pass / kernel | tile phase s | frame s |")
-print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+print("| CSGTRACE_CL_SLICE | slices | pass_s | pass Mrays/s | pass / kernel | device: kernels s "
+      "| device: copies s | device: span s | tile phase s | frame s |")
+print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
 for s in slices:
     js = runs[s]
     p = [j["pass_s"] for j in js]
     ratio = "%.2fx" % (statistics.median(p) / best) if best else "-"
-    print("| %s | %d | %s | %.1f | %s | %s | %s |" % (
-        s, js[0]["slices"], med(p), rays / statistics.median(p) / 1e6, ratio,
+    dev = [med([j.get(k, float("nan")) for j in js])
+           for k in ("pass_kernel_s", "pass_copy_s", "pass_device_s")]
+    print("| %s | %d | %s | %.1f | %s | %s | %s | %s | %s | %s |" % (
+        s, js[0]["slices"], med(p), rays / statistics.median(p) / 1e6, ratio, *dev,
         med([j["tile_phase_s"] for j in js]), med([j["wall_s"] for j in js])))
 print("\nEvery render's image equals the first one's (cmp). pass / kernel: the median pass_s "
-      "over the faster kernel variant's own time (issue 36: <= 1.5x).")
+      "over the faster kernel variant's own time (issue 36: <= 1.5x). device: the pass on "
+      "the device's clock (the stats' pass_kernel_s, pass_copy_s, pass_device_s): its "
+      "kernels, the records' copies after them, and the first kernel's start to the last "
+      "copy's end; span - kernels - copies: the device idle between slices; pass_s - span: "
+      "the host before the first kernel (buffers, the scene's upload) and after the last copy.")
 EOF

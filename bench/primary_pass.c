@@ -15,7 +15,7 @@
  * the plain name is the general program.  +copy: the records go through
  * device buffers and are copied out, as on a discrete GPU, where the
  * plain variant writes them in place on a device in host memory (the
- * records' arrays are ocl_records_alloc's).
+ * records' arrays are memory_pages_alloc's).
  *
  * Parses and flattens the scene as `csgtrace render` does, opens one
  * OpenCL context per kernel variant (ocl_open_kernel; the build and
@@ -57,6 +57,7 @@
 
 #include "../csg/features.h"
 #include "../csg/lang/parser.h"
+#include "../host/memory.h"
 #include "../host/pass/ocl.h"
 #include "../workers/engine.h"
 #include "timing.h"
@@ -282,8 +283,8 @@ int main(int argc, char **argv)
         v->identical = true;
         v->times = malloc((size_t)repeat * sizeof *v->times);
         v->cpu = malloc((size_t)repeat * sizeof *v->cpu);
-        v->t = ocl_records_alloc((size_t)rays * rs);
-        v->surf = ocl_records_alloc((size_t)rays * sizeof *v->surf);
+        v->t = memory_pages_alloc((size_t)rays * rs, false);
+        v->surf = memory_pages_alloc((size_t)rays * sizeof *v->surf, false);
         if (!v->times || !v->cpu || !v->t || !v->surf) {
             fprintf(stderr, "primary_pass: out of memory\n");
             return 1;

@@ -15,7 +15,7 @@
  *
  * ORDER: `raster` (tile after tile, as one worker's results come) or
  * `scattered` (every 97th tile: the parts of batches, which lie across the
- * image); PAGES: `huge` (the image from memory_image_alloc, as a render
+ * image); PAGES: `huge` (the image from memory_pages_alloc, as a render
  * has it) or `small` (4 KiB pages: the same memory without the request).
  *
  * The main thread never stores a part itself here (master.c does when
@@ -88,7 +88,7 @@ int main(int argc, char **argv)
     double *seconds = malloc((size_t)counts * (size_t)rounds * sizeof *seconds);
     double *cpu = malloc((size_t)counts * (size_t)rounds * sizeof *cpu);
     size_t ibytes = (size_t)side * (size_t)side * 3 * sizeof(float);
-    float *image = huge ? memory_image_alloc(ibytes)
+    float *image = huge ? memory_pages_alloc(ibytes, true)
                         : aligned_alloc(2u << 20, (ibytes + (2u << 20) - 1) / (2u << 20) * (2u << 20));
     uint8_t *bytes = malloc((size_t)64 * PART * PART * 3);
     if (!threads || !seconds || !cpu || !image || !bytes)

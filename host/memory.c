@@ -145,16 +145,32 @@ const char *memory_format(uint64_t bytes, char *buf, size_t size)
 
 #define MEMORY_PREFAULT_MIN ((size_t)8 << 20)
 #define MEMORY_PREFAULT_STEP ((size_t)1 << 20) /* a madvise call at a time */
+#define MEMORY_SMALL_ALIGN ((size_t)4096) /* a small page on x86-64 (memory_pages_alloc) */
 
+static size_t memory_page_size(void)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    return page > 0 ? (size_t)page : MEMORY_SMALL_ALIGN;
+}
+
+/* Step by step, MEMORY_PREFAULT_STEP of the longest range and the same
+ * fraction of every other, in turn (whole pages: the ranges start and end
+ * on one, memory_prefault_start_arrays). */
 static void *memory_prefault_run(void *arg)
 {
 #ifdef MADV_POPULATE_WRITE
     memory_prefault *p = arg;
-    for (size_t at = 0; at < p->len; at += MEMORY_PREFAULT_STEP) {
-        size_t n = p->len - at < MEMORY_PREFAULT_STEP ? p->len - at : MEMORY_PREFAULT_STEP;
-        if (madvise(p->start + at, n, MADV_POPULATE_WRITE) != 0)
-            break; /* (an older kernel: EINVAL; the stores fault as before) */
-    }
+    size_t page = memory_page_size(), longest = 0;
+    for (int i = 0; i < p->count; i++)
+        longest = p->len[i] > longest ? p->len[i] : longest;
+    size_t steps = (longest + MEMORY_PREFAULT_STEP - 1) / MEMORY_PREFAULT_STEP;
+    for (size_t k = 0; k < steps; k++)
+        for (int i = 0; i < p->count; i++) {
+            size_t chunk = ((p->len[i] + steps - 1) / steps + page - 1) / page * page;
+            size_t from = k * chunk, to = from + chunk < p->len[i] ? from + chunk : p->len[i];
+            if (to > from && madvise(p->start[i] + from, to - from, MADV_POPULATE_WRITE) != 0)
+                return NULL; /* (an older kernel: EINVAL; the stores fault as before) */
+        }
 #else
     (void)arg;
 #endif
@@ -163,30 +179,42 @@ static void *memory_prefault_run(void *arg)
 
 #define MEMORY_HUGE_PAGE ((size_t)2 << 20)
 
-void *memory_image_alloc(size_t bytes)
+void *memory_pages_alloc(size_t bytes, bool huge)
 {
-    if (bytes < MEMORY_PREFAULT_MIN)
-        return malloc(bytes ? bytes : 1);
-    size_t whole = (bytes + MEMORY_HUGE_PAGE - 1) / MEMORY_HUGE_PAGE * MEMORY_HUGE_PAGE;
-    void *p = aligned_alloc(MEMORY_HUGE_PAGE, whole);
+    size_t align = !huge || bytes < MEMORY_PREFAULT_MIN ? MEMORY_SMALL_ALIGN : MEMORY_HUGE_PAGE;
+    size_t whole = (bytes + align - 1) / align * align;
+    void *p = aligned_alloc(align, whole ? whole : align);
 #ifdef MADV_HUGEPAGE
-    if (p)
+    if (p && align == MEMORY_HUGE_PAGE)
         madvise(p, whole, MADV_HUGEPAGE); /* (a request: small pages if refused) */
 #endif
     return p;
 }
 
-void memory_prefault_start(memory_prefault *p, void *image, size_t bytes)
+void memory_prefault_start_arrays(memory_prefault *p, void *const *arrays, const size_t *bytes,
+                                  int count)
 {
     memset(p, 0, sizeof *p);
-    long page = sysconf(_SC_PAGESIZE);
-    if (!image || bytes < MEMORY_PREFAULT_MIN || page <= 0)
-        return;
-    uintptr_t first = ((uintptr_t)image + (uintptr_t)page - 1) / (uintptr_t)page * (uintptr_t)page;
-    uintptr_t end = ((uintptr_t)image + bytes) / (uintptr_t)page * (uintptr_t)page;
-    p->start = (char *)first;
-    p->len = end - first;
-    p->running = pthread_create(&p->thread, NULL, memory_prefault_run, p) == 0;
+    uintptr_t page = (uintptr_t)memory_page_size();
+    size_t total = 0;
+    for (int i = 0; i < count && i < MEMORY_PREFAULT_RANGES; i++) {
+        if (!arrays[i])
+            continue;
+        uintptr_t first = ((uintptr_t)arrays[i] + page - 1) / page * page;
+        uintptr_t end = ((uintptr_t)arrays[i] + bytes[i]) / page * page;
+        if (end <= first)
+            continue;
+        p->start[p->count] = (char *)first;
+        p->len[p->count++] = end - first;
+        total += end - first;
+    }
+    if (total >= MEMORY_PREFAULT_MIN)
+        p->running = pthread_create(&p->thread, NULL, memory_prefault_run, p) == 0;
+}
+
+void memory_prefault_start(memory_prefault *p, void *image, size_t bytes)
+{
+    memory_prefault_start_arrays(p, &image, &bytes, 1);
 }
 
 void memory_prefault_join(memory_prefault *p)

@@ -528,6 +528,9 @@ static void render_account(const render_state *rs, const master_job *job,
     st->wall_s = mk->written - mk->start;
     st->pass_s = began ? pass_end - pr->start : 0.0;
     st->slices = pr->tm.slices;
+    st->pass_kernel_s = began ? pr->tm.device_kernel_s : 0.0;
+    st->pass_copy_s = began ? pr->tm.device_copy_s : 0.0;
+    st->pass_device_s = began ? pr->tm.device_span_s : 0.0;
     st->cl_records_in_place = pr->tm.records_in_place;
     stats_tile_figures(st, &rs->sched, job->t_first, job->t_last, job->busy_s);
     st->tiles_resumed = journal_tiles_resumed(rs->journal);
@@ -589,7 +592,7 @@ static int render_prepare(const render_request *req, master_session *ms, render_
     if (hetero && pass_open(rs->pass, rs->blob.bytes, d) != EXIT_OK) /* (fill: meanwhile) */
         return EXIT_FAILURE_RUN;
     mk->cl_ready = stats_clock();
-    rs->image = memory_image_alloc(st->pixels * 3 * sizeof *rs->image);
+    rs->image = memory_pages_alloc(st->pixels * 3 * sizeof *rs->image, true);
     rs->workers = calloc((size_t)st->worker_count + 1, sizeof *rs->workers); /* (+ the
                                                    master, should every worker be lost) */
     rs->idle_ready = use_workers && master_idle_init(&rs->idle);

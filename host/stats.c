@@ -145,7 +145,8 @@ static void stats_workers(FILE *f, const render_stats *s)
  * in the order they are printed. */
 #define STATS_TIMES(X)                                                                  \
     X(wall_s) X(setup_s) X(cl_setup_s) X(compile_s) X(primary_s) X(pipelined_s)      \
-    X(secondary_s) X(write_s) X(pass_s) X(tile_phase_s) X(tail_s) X(busy_fraction)   \
+    X(secondary_s) X(write_s) X(pass_s) X(pass_kernel_s) X(pass_copy_s)              \
+    X(pass_device_s) X(tile_phase_s) X(tail_s) X(busy_fraction)                      \
     X(estimate_spearman) X(master_cpu_s) X(master_results_s) X(store_cpu_s)     \
     X(pass_work_s) X(guess_cpu_s) X(cull_s) X(write_cpu_s)
 

@@ -56,6 +56,15 @@
  *   write_s       image file writing
  *   Derived (not phases):
  *   pass_s        the OpenCL pass: its start .. its last slice complete
+ *   pass_kernel_s, pass_copy_s, pass_device_s  the same pass on the
+ *                 device's own clock (0 where its queue times nothing):
+ *                 its kernels, the copies of their records to the host
+ *                 after them (mappings where written in place), and its
+ *                 first kernel's start .. its last copy's end; what the
+ *                 span holds beyond the two the device waited for the
+ *                 host, and what pass_s holds beyond the span the host
+ *                 spent before the first kernel (buffers, the scene's
+ *                 upload) and after the last copy (seeing it complete)
  *   tile_phase_s  first item out .. last result in (pipelined_s +
  *                 secondary_s, less any wait before the first item)
  *   tail_s        the last result in - the first worker going idle for
@@ -234,6 +243,7 @@ typedef struct render_stats {
     double wall_s, setup_s, compile_s, primary_s, secondary_s, write_s;
     double cl_setup_s, pipelined_s;               /* phases (above)     */
     double pass_s, tile_phase_s, tail_s;          /* derived            */
+    double pass_kernel_s, pass_copy_s, pass_device_s; /* (below)         */
     double busy_fraction, estimate_spearman;
     double master_cpu_s, master_results_s;        /* (below)            */
     double store_cpu_s;                           /* (below)            */

@@ -165,14 +165,17 @@ grep -q "CSGTRACE_CL_SPECIALISE must be 0 or 1" "$T/sp_bad.err" &&
 # default): 5000 records of 96 a row are 52.1 rows, 64 in tiles of 16: two
 # slices for 72 rows where the default takes three (two tile rows a slice);
 # the records written in place (PoCL's CPU device works in host memory),
-# the serial image ---
+# the serial image; the device's clock tells the pass's kernels and copies
+# (a queue that times its commands: PoCL's does), within its span ---
 CSGTRACE_CL_SLICE=5000 render sl_2 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
 render sl_d_2 3 hetero "$T/gen_2.pov" --width 96 --height 72 --tile 16
 if same "$T/s_2.pfm" "$T/sl_2.pfm" && json "$T/sl_2.json" "j['slices'] == 2" &&
-    json "$T/sl_d_2.json" "j['slices'] == 3" && json "$T/sl_2.json" "j['cl_records'] == 'in place'"; then
-    ok "CSGTRACE_CL_SLICE=5000: two slices of 64 rows (the default: three), in place, the serial image"
+    json "$T/sl_d_2.json" "j['slices'] == 3" && json "$T/sl_2.json" "j['cl_records'] == 'in place'" &&
+    json "$T/sl_2.json" "j['pass_kernel_s'] > 0 and j['pass_copy_s'] >= 0 and
+        j['pass_device_s'] >= j['pass_kernel_s'] + j['pass_copy_s'] - 1e-9"; then
+    ok "CSGTRACE_CL_SLICE=5000: two slices of 64 rows (the default: three), in place, the serial image, the device's times"
 else
-    ko "CSGTRACE_CL_SLICE: $(grep -h -e '"slices"' -e cl_records "$T/sl_2.json" "$T/sl_d_2.json" | tr -d '\n') $(head -c 300 "$T/sl_2.err")"
+    ko "CSGTRACE_CL_SLICE: $(grep -h -e '"slices"' -e cl_records -e '"pass_' "$T/sl_2.json" "$T/sl_d_2.json" | tr -d '\n') $(head -c 300 "$T/sl_2.err")"
 fi
 CSGTRACE_CL_SLICE=0 render sl_bad 0 hetero "$T/gen_1.pov" --width 8 --height 8
 grep -q "CSGTRACE_CL_SLICE must be a whole number" "$T/sl_bad.err" &&

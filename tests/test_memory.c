@@ -2,7 +2,7 @@
  * test_memory.c — the image's pages faulted in by a thread of their own
  * (host/memory.h, memory_prefault_*): the pages become resident, what the
  * master stores meanwhile is kept, small images go without a thread; and
- * the image's memory (memory_image_alloc): a large one aligned to 2 MiB
+ * the image's memory (memory_pages_alloc): a large one aligned to 2 MiB
  * and in huge pages where the kernel grants them on request; the peak's
  * estimate counts the tiles' bookkeeping (render_memory_need).
  */
@@ -61,6 +61,41 @@ static void test_pages_become_resident(void **state)
     }
     memory_prefault_join(&p); /* (again: nothing to wait for) */
     free(image);
+}
+
+/* Several arrays at once (the pass's hit records): every page of each
+ * resident once the thread is done, what was written meanwhile kept, a
+ * NULL array and one under a page skipped; arrays of under 8 MiB in all
+ * go without a thread. */
+static void test_arrays_become_resident(void **state)
+{
+    (void)state;
+    size_t sizes[4] = {BIG / 2, BIG / 4 + 100, 0, 1000};
+    char *a = memory_pages_alloc(sizes[0], false), *b = memory_pages_alloc(sizes[1], false);
+    char *tiny = memory_pages_alloc(sizes[3], false);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_non_null(tiny);
+    void *const arrays[4] = {a, b, NULL, tiny};
+    memory_prefault p;
+    memory_prefault_start_arrays(&p, arrays, sizes, 4);
+    assert_true(p.running);
+    assert_int_equal(p.count, 2); /* (the NULL one and the one under a page: none) */
+    b[7] = 42;
+    memory_prefault_join(&p);
+    long page = sysconf(_SC_PAGESIZE);
+    if (madvise(a, (size_t)page, MADV_POPULATE_WRITE) == 0) {
+        assert_int_equal(resident_pages(a, sizes[0]), (long)(sizes[0] / (size_t)page));
+        assert_int_equal(resident_pages(b, sizes[1]), (long)(sizes[1] / (size_t)page));
+    }
+    assert_int_equal(b[7], 42);
+    size_t small[2] = {(size_t)3 << 20, (size_t)4 << 20};
+    void *const two[2] = {a, b};
+    memory_prefault_start_arrays(&p, two, small, 2);
+    assert_false(p.running);
+    free(a);
+    free(b);
+    free(tiny);
 }
 
 /* Stores made while the thread runs are all there afterwards. */
@@ -132,17 +167,22 @@ static long huge_kb_at(const void *p)
 static void test_image_memory(void **state)
 {
     (void)state;
-    float *small = memory_image_alloc(1000);
+    float *small = memory_pages_alloc(1000, true);
     assert_non_null(small);
+    assert_int_equal((uintptr_t)small % 4096, 0); /* (a device may write it in place) */
     small[249] = 1.0f;
     free(small);
-    char *image = memory_image_alloc(BIG + 12345);
+    char *image = memory_pages_alloc(BIG + 12345, true);
     assert_non_null(image);
     assert_int_equal((uintptr_t)image % ((uintptr_t)2 << 20), 0);
     memset(image, 1, BIG + 12345);
     if (huge_pages_on_request())
         assert_true(huge_kb_at(image) > 0);
     free(image);
+    char *records = memory_pages_alloc(BIG + 12345, false); /* (the hit records) */
+    assert_non_null(records);
+    assert_int_equal((uintptr_t)records % 4096, 0);
+    free(records);
 }
 
 /* The estimate counts the master's bookkeeping of every tile: --tile 1 at
@@ -176,6 +216,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pages_become_resident),
         cmocka_unit_test(test_stores_meanwhile_are_kept),
+        cmocka_unit_test(test_arrays_become_resident),
         cmocka_unit_test(test_small_images_go_without),
         cmocka_unit_test(test_image_memory),
         cmocka_unit_test(test_estimate_counts_the_tiles),

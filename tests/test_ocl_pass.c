@@ -13,7 +13,7 @@
  *     rest) stops there, whole, with those rows' records and counts
  *     equal to the whole pass's;
  *   - on a device in host memory (PoCL's CPU device) with arrays from
- *     ocl_records_alloc and slices that start aligned, the kernels write
+ *     memory_pages_alloc and slices that start aligned, the kernels write
  *     the records in place (timing.records_in_place), the shadow answers
  *     too, ended early or limited as well: the same records, bit for bit,
  *     as copied out of device buffers (unaligned slices, or a context
@@ -36,6 +36,7 @@
 
 #include "../csg/flatten.h"
 #include "../csg/lang/parser.h"
+#include "../host/memory.h"
 #include "../host/pass/ocl.h"
 
 enum { W = 90, H = 61, TILE = 8 };
@@ -185,7 +186,7 @@ static void test_limit(void **state)
     free(part);
 }
 
-/* A pass's records in arrays of ocl_records_alloc (NULL known: no shadow
+/* A pass's records in arrays of memory_pages_alloc (NULL known: no shadow
  * answers). */
 typedef struct {
     float *t;
@@ -195,10 +196,10 @@ typedef struct {
 static aligned_records aligned_alloc_records(bool shadows)
 {
     size_t n = (size_t)W * H, tiles = sizeof ((records *)0)->hits / sizeof(uint32_t);
-    aligned_records a = {ocl_records_alloc(n * sizeof(float)),
-                         ocl_records_alloc(n * sizeof(uint32_t)),
-                         shadows ? ocl_records_alloc(n * sizeof(uint32_t)) : NULL,
-                         shadows ? ocl_records_alloc(n * sizeof(uint32_t)) : NULL,
+    aligned_records a = {memory_pages_alloc(n * sizeof(float), false),
+                         memory_pages_alloc(n * sizeof(uint32_t), false),
+                         shadows ? memory_pages_alloc(n * sizeof(uint32_t), false) : NULL,
+                         shadows ? memory_pages_alloc(n * sizeof(uint32_t), false) : NULL,
                          calloc(tiles, sizeof(uint32_t))};
     assert_non_null(a.t);
     assert_non_null(a.surf);
@@ -229,8 +230,10 @@ static void aligned_free_records(aligned_records *a)
 }
 
 /* A background pass of `slice` rows over a, polled to its end (or to
- * `limit` rows when below H); whether it wrote in place. */
-static bool run_pass(ocl_ctx *ctx, const void *blob, int slice, int limit, aligned_records *a)
+ * `limit` rows when below H), its timing into *out (NULL: none); whether
+ * it wrote in place. */
+static bool run_pass_timed(ocl_ctx *ctx, const void *blob, int slice, int limit,
+                           aligned_records *a, ocl_timing *out)
 {
     csg_diag d = {{0}, 0};
     ocl_timing tm;
@@ -245,7 +248,14 @@ static bool run_pass(ocl_ctx *ctx, const void *blob, int slice, int limit, align
     while (rows < limit)
         assert_true((rows = ocl_pass_rows(p, true, &d)) >= 0);
     assert_true(ocl_pass_end(p, &tm, &d));
+    if (out)
+        *out = tm;
     return tm.records_in_place;
+}
+
+static bool run_pass(ocl_ctx *ctx, const void *blob, int slice, int limit, aligned_records *a)
+{
+    return run_pass_timed(ctx, blob, slice, limit, a, NULL);
 }
 
 static void assert_records_equal(const aligned_records *a, const aligned_records *b, int rows)
@@ -292,6 +302,33 @@ static void test_in_place(void **state)
     ocl_close(copying);
 }
 
+/* The pass on the device's clock (PoCL's queue times its commands): its
+ * kernels, the copies after them (real ones on a context told to copy),
+ * within the span from the first kernel to the last copy. */
+static void test_device_times(void **state)
+{
+    fixture *fx = *state;
+    csg_diag d = {{0}, 0};
+    ocl_timing tm;
+    memset(&tm, 0, sizeof tm);
+    ocl_options copy_opt = {.copy_buffers = 1};
+    ocl_ctx *copying = NULL;
+    assert_true(ocl_open(&copy_opt, &copying, &tm, &d));
+    aligned_records a = aligned_alloc_records(true);
+    for (int copy = 0; copy < 2; copy++) {
+        ocl_ctx *ctx = copy ? copying : fx->ctx;
+        run_pass_timed(ctx, fx->blob.bytes, 16, H, &a, &tm);
+        assert_true(tm.device_kernel_s > 0.0);
+        assert_true(tm.device_copy_s >= 0.0);
+        if (copy)
+            assert_true(tm.device_copy_s > 0.0);
+        assert_true(tm.device_span_s + 1e-9 >= tm.device_kernel_s + tm.device_copy_s);
+        assert_true(tm.device_span_s < 60.0);
+    }
+    aligned_free_records(&a);
+    ocl_close(copying);
+}
+
 static void test_device_slices(void **state)
 {
     fixture *fx = *state;
@@ -332,6 +369,7 @@ int main(void)
         cmocka_unit_test(test_limit),
         cmocka_unit_test(test_in_place),
         cmocka_unit_test(test_device_slices),
+        cmocka_unit_test(test_device_times),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

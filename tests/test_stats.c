@@ -315,7 +315,7 @@ static void test_phases_add_up(void **state)
         sum += js_num(fx->json, phases[i]);
     assert_true(fabs(sum - js_num(fx->json, "wall_s")) < 1e-9);
     assert_true(fabs(stats_phase_sum(&fx->s) - fx->s.wall_s) < 1e-12);
-    const char *derived[] = { "pass_s", "tile_phase_s", "tail_s", "busy_fraction",
+    const char *derived[] = { "pass_s", "pass_kernel_s", "pass_copy_s", "pass_device_s", "tile_phase_s", "tail_s", "busy_fraction",
                               "estimate_spearman", "slices", "in_flight", "master_cpu_s", "master_results_s",
                               "relay_depth", "pieces", "store_threads", "store_cpu_s", "pass_work_s", "guess_cpu_s",
                               "cull_s", "tiles_culled" };

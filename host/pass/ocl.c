@@ -119,6 +119,8 @@ struct ocl_ctx {
                                works in host memory (CPUs, integrated
                                GPUs), so records can be written in place */
     size_t base_align;      /* CL_DEVICE_MEM_BASE_ADDR_ALIGN, in bytes   */
+    bool profiling;         /* the queue times its commands (a pass's
+                               device times: ocl_pass_profile)            */
     bool copy_buffers;      /* ocl_options.copy_buffers                   */
     uint64_t slice_records; /* the least records of a pass's slice
                                (ocl_options.slice_records, or the
@@ -937,7 +939,7 @@ static void ocl_shadow_grid(const ocl_ctx *c, cl_int record_width, cl_int rows, 
 /* The shadow answers of a slice's records (csg_shadows after csg_primary on
  * the in-order queue) into rec's known and lit. */
 static bool ocl_run_shadows(ocl_ctx *c, cl_mem blob, const ocl_records *rec, cl_int y0,
-                            cl_int rows, cl_int record_width, csg_diag *d)
+                            cl_int rows, cl_int record_width, cl_event *done, csg_diag *d)
 {
     const char *k = "csg_shadows";
     bool ok = ocl_arg(c->k_shadows, k, 0, sizeof(cl_mem), &blob, d) &&
@@ -951,15 +953,16 @@ static bool ocl_run_shadows(ocl_ctx *c, cl_mem blob, const ocl_records *rec, cl_
     ocl_shadow_grid(c, record_width, rows, grid);
     size_t local[2] = {c->group_shadows, 1};
     cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_shadows, 2, NULL, grid, local, 0, NULL,
-                                        NULL);
+                                        done);
     return err == CL_SUCCESS || ocl_fail(d, "clEnqueueNDRangeKernel(csg_shadows)", err);
 }
 
 /* One slice's kernels: rows y0 .. y0 + rows - 1 traced into rec (their
- * shadow answers too when rec has them), its tile counts into b->hits. */
+ * shadow answers too when rec has them), its tile counts into b->hits;
+ * marks (NULL: none) gets the events of the first and the last. */
 static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0, int rows,
                           ocl_pass_buffers *b, const ocl_records *rec, const ocl_cells *cells,
-                          csg_diag *d)
+                          cl_event marks[2], csg_diag *d)
 {
     cl_int cy0 = y0, crows = rows, ctile = tile, record_width = h->width * h->spp;
     cl_int tiles_x = (h->width + tile - 1) / tile;
@@ -993,15 +996,17 @@ static bool ocl_run_slice(ocl_ctx *c, const csg_blob_header *h, int tile, int y0
     size_t pix_group[2] = {gp, 1};
     size_t tiles[2] = {((size_t)tiles_x + gt - 1) / gt * gt, (size_t)tile_rows};
     size_t tiles_group[2] = {gt, 1};
+    bool shadows = rec->m[OCL_REC_KNOWN] != NULL;
     cl_int err = clEnqueueNDRangeKernel(c->queue, c->k_primary, 2, NULL, pix, pix_group, 0, NULL,
-                                        NULL);
+                                        marks ? &marks[0] : NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_primary)", err);
     err = clEnqueueNDRangeKernel(c->queue, c->k_tiles, 2, NULL, tiles, tiles_group, 0, NULL,
-                                 NULL);
+                                 marks && !shadows ? &marks[1] : NULL);
     if (err != CL_SUCCESS)
         return ocl_fail(d, "clEnqueueNDRangeKernel(csg_tile_hits)", err);
-    return !rec->m[OCL_REC_KNOWN] || ocl_run_shadows(c, b->blob, rec, cy0, crows, record_width, d);
+    return !shadows ||
+           ocl_run_shadows(c, b->blob, rec, cy0, crows, record_width, marks ? &marks[1] : NULL, d);
 }
 
 /* ---- the pass, in the background ------------------------------------------------ */
@@ -1036,6 +1041,8 @@ struct ocl_pass {
     uint32_t *host_hits;      /* slice k's counts at k * stride           */
     uint32_t *tile_hits;      /* the caller's                             */
     cl_event *events;         /* the last read of each slice              */
+    cl_event (*marks)[2];     /* each slice's first and last kernel (a
+                                 queue that times its commands; else NULL) */
     void (*notify)(void *);
     void *notify_arg;
     atomic_int callbacks;     /* registered and not yet run               */
@@ -1109,7 +1116,8 @@ static bool ocl_pass_alloc(ocl_pass *p, const void *blob, int want, csg_diag *d)
     p->host_hits = malloc((size_t)p->slices * p->stride * sizeof(uint32_t));
     p->events = calloc((size_t)p->slices, sizeof *p->events);
     p->mem = p->in_place ? calloc((size_t)p->slices, sizeof *p->mem) : NULL;
-    if (!p->host_hits || !p->events || (p->in_place && !p->mem) ||
+    p->marks = c->profiling ? calloc((size_t)p->slices, sizeof *p->marks) : NULL;
+    if (!p->host_hits || !p->events || (p->in_place && !p->mem) || (c->profiling && !p->marks) ||
         !ocl_cells_alloc(&p->cells, c->kernel, h->width, h->height)) {
         csg_error_plain(d, "out of memory");
         return false;
@@ -1192,7 +1200,8 @@ static bool ocl_pass_enqueue_slice(ocl_pass *p, int k, csg_diag *d)
     ocl_records rec;
     if (!ocl_cells_upto(p->c, &p->cells, p->b.cells, p->blob, y0 + n - 1, d) ||
         !ocl_slice_records(p, k, first, count, &rec, d) ||
-        !ocl_run_slice(p->c, h, p->tile, y0, n, &p->b, &rec, &p->cells, d) ||
+        !ocl_run_slice(p->c, h, p->tile, y0, n, &p->b, &rec, &p->cells,
+                       p->marks ? p->marks[k] : NULL, d) ||
         !ocl_slice_download(p, k, first, count, d))
         return false;
     cl_int err = clEnqueueReadBuffer(p->c->queue, p->b.hits, CL_FALSE, 0, nt * sizeof(uint32_t),
@@ -1225,16 +1234,6 @@ static bool ocl_pass_enqueue(ocl_pass *p, bool all, csg_diag *d)
             return false;
     cl_int err = more ? clFlush(p->c->queue) : CL_SUCCESS;
     return err == CL_SUCCESS || ocl_fail(d, "clFlush", err);
-}
-
-/* (A page: more than any device's CL_DEVICE_MEM_BASE_ADDR_ALIGN seen, 128
- * bytes on PoCL; the kernels' first writes then fault whole pages in.) */
-#define OCL_RECORDS_ALIGN ((size_t)4096)
-
-void *ocl_records_alloc(size_t bytes)
-{
-    size_t whole = (bytes + OCL_RECORDS_ALIGN - 1) / OCL_RECORDS_ALIGN * OCL_RECORDS_ALIGN;
-    return aligned_alloc(OCL_RECORDS_ALIGN, whole ? whole : OCL_RECORDS_ALIGN);
 }
 
 bool ocl_pass_begin(ocl_ctx *c, const void *blob, int tile, int slice_rows, void *t_out,
@@ -1344,6 +1343,41 @@ static cl_int ocl_pass_unmap(ocl_pass *p)
     return first != CL_SUCCESS ? first : err;
 }
 
+/* A command's start or end on the device's clock, in ns (0: unknown). */
+static cl_ulong ocl_event_time(cl_event e, cl_profiling_info which)
+{
+    cl_ulong t = 0;
+    if (!e || clGetEventProfilingInfo(e, which, sizeof t, &t, NULL) != CL_SUCCESS)
+        return 0;
+    return t;
+}
+
+/* What the device's clock says of the pass (once the queue is done):
+ * each slice's kernels, from the first's start to the last's end; its
+ * copies (or mappings) after them, to its last read's end; and the span
+ * from the first slice's start to the last's end.  On the in-order queue
+ * the rest of the span is the device idle between slices, waiting for
+ * the host to enqueue.  All 0 where the queue does not time commands. */
+static void ocl_pass_profile(const ocl_pass *p, ocl_timing *timing)
+{
+    timing->device_kernel_s = timing->device_copy_s = timing->device_span_s = 0.0;
+    cl_ulong first = 0, last = 0, kernels = 0, copies = 0;
+    for (int k = 0; p->marks && k < p->enqueued; k++) {
+        cl_ulong k0 = ocl_event_time(p->marks[k][0], CL_PROFILING_COMMAND_START);
+        cl_ulong k1 = ocl_event_time(p->marks[k][1], CL_PROFILING_COMMAND_END);
+        cl_ulong r1 = ocl_event_time(p->events[k], CL_PROFILING_COMMAND_END);
+        if (!k0 || k1 < k0 || r1 < k1)
+            return; /* (a device whose clock says nothing usable) */
+        kernels += k1 - k0;
+        copies += r1 - k1;
+        first = k == 0 || k0 < first ? k0 : first;
+        last = r1 > last ? r1 : last;
+    }
+    timing->device_kernel_s = (double)kernels * 1e-9;
+    timing->device_copy_s = (double)copies * 1e-9;
+    timing->device_span_s = (double)(last - first) * 1e-9;
+}
+
 bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
 {
     if (!p)
@@ -1366,9 +1400,14 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
         ocl_kernel_name(p->c, timing->kernel, sizeof timing->kernel);
         ocl_device_name(p->c->device, timing->device_name, sizeof timing->device_name);
         timing->records_in_place = p->in_place;
+        ocl_pass_profile(p, timing);
     }
-    for (int k = 0; k < p->enqueued; k++)
+    for (int k = 0; k < p->enqueued; k++) {
         clReleaseEvent(p->events[k]);
+        for (int i = 0; p->marks && i < 2; i++)
+            if (p->marks[k][i])
+                clReleaseEvent(p->marks[k][i]);
+    }
     for (int k = 0; p->mem && k < p->slices; k++)
         ocl_release_records(&p->mem[k].sub);
     free(p->mem);
@@ -1376,6 +1415,7 @@ bool ocl_pass_end(ocl_pass *p, ocl_timing *timing, csg_diag *d)
     free(p->cells.host);
     free(p->host_hits);
     free(p->events);
+    free(p->marks);
     free(p);
     return ok;
 }
@@ -1414,6 +1454,8 @@ static bool ocl_warm_up(ocl_ctx *c, csg_diag *d)
     csg_blob_free(&blob);
     return ok;
 }
+
+bool ocl_cpu_device(const ocl_ctx *c) { return c->cpu; }
 
 csg_features ocl_features(const ocl_ctx *c)
 {
@@ -1460,7 +1502,12 @@ bool ocl_open_device(const char *device, ocl_ctx **out, ocl_timing *timing, csg_
         ocl_fail(d, "clCreateContext", err);
         goto fail;
     }
-    c->queue = clCreateCommandQueue(c->context, c->device, 0, &err);
+    /* (timed commands, where the device can: what a pass's wall time is
+     * made of, ocl_pass_profile) */
+    c->queue = clCreateCommandQueue(c->context, c->device, CL_QUEUE_PROFILING_ENABLE, &err);
+    c->profiling = err == CL_SUCCESS;
+    if (err != CL_SUCCESS)
+        c->queue = clCreateCommandQueue(c->context, c->device, 0, &err);
     if (err != CL_SUCCESS) {
         ocl_fail(d, "clCreateCommandQueue", err);
         goto fail;

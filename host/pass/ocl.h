@@ -66,6 +66,14 @@ typedef struct {
     double primary_s;    /* the pass: buffers, upload, kernels, download
                             (begin .. the last slice seen complete)      */
     int slices;          /* passes the image needed                       */
+    double device_kernel_s; /* the last pass on the device's clock (0:
+                            the queue does not time commands): its
+                            slices' kernels, ...                         */
+    double device_copy_s;   /* ...their records' copies (mappings in
+                            place) and tile counts after them, ...       */
+    double device_span_s;   /* ...and the first slice's start to the last
+                            one's end: the rest of it the device waited
+                            for the host to enqueue                      */
     int compute_units;   /* CL_DEVICE_MAX_COMPUTE_UNITS (cores of a CPU)   */
     bool cpu_device;     /* the device is a CPU (CL_DEVICE_TYPE_CPU)      */
     bool records_in_place; /* the last pass's kernels wrote their records
@@ -100,6 +108,8 @@ bool ocl_specialise(ocl_ctx *ctx, csg_features need, ocl_timing *timing, csg_dia
 /* The feature set the context's program was built for (everything for
  * the general program). */
 csg_features ocl_features(const ocl_ctx *ctx);
+/* Whether the device is the host's CPU (CL_DEVICE_TYPE_CPU: PoCL's). */
+bool ocl_cpu_device(const ocl_ctx *ctx);
 
 /* ocl_open_kernel with OCL_KERNEL_AUTO. */
 bool ocl_open(const ocl_options *opt, ocl_ctx **out, ocl_timing *timing, csg_diag *d);
@@ -134,11 +144,11 @@ bool ocl_primary_pass(ocl_ctx *ctx, const void *blob, int tile, void *t_out, uin
  * (both or neither; NULL: none): each slice's shadow answers too (the
  * csg_shadows kernel, as ocl_shadow_answers), in the records' order. */
 typedef struct ocl_pass ocl_pass;
-/* Records in host memory aligned for a device that works in host memory
- * (a CPU, an integrated GPU): the pass's kernels then write them in place,
- * nothing copied (timing->records_in_place); NULL when out of memory;
- * free() gives them back.  Any other array works too, through a copy. */
-void *ocl_records_alloc(size_t bytes);
+/* Records in page-aligned host memory (memory_pages_alloc, host/memory.h)
+ * on a device that works in host memory (a CPU, an integrated GPU): the
+ * pass's kernels write them in place, nothing copied
+ * (timing->records_in_place).  Any other array works too, through a
+ * copy. */
 bool ocl_pass_begin(ocl_ctx *ctx, const void *blob, int tile, int slice_rows, void *t_out,
                     uint32_t *surf_out, uint32_t *known_out, uint32_t *lit_out,
                     uint32_t *tile_hits, void (*notify)(void *), void *notify_arg,
