@@ -271,15 +271,24 @@ static void assert_records_equal(const aligned_records *a, const aligned_records
         assert_int_equal(a->hits[i], b->hits[i]);
 }
 
+/* A context of the default device told to copy its records out of device
+ * buffers (ocl_options.copy_buffers), as on a discrete GPU; *tm its
+ * opening's timing. */
+static ocl_ctx *open_copying(ocl_timing *tm)
+{
+    csg_diag d = {{0}, 0};
+    memset(tm, 0, sizeof *tm);
+    ocl_options copy_opt = {.copy_buffers = 1};
+    ocl_ctx *copying = NULL;
+    assert_true(ocl_open(&copy_opt, &copying, tm, &d));
+    return copying;
+}
+
 static void test_in_place(void **state)
 {
     fixture *fx = *state;
-    csg_diag d = {{0}, 0};
     ocl_timing tm;
-    memset(&tm, 0, sizeof tm);
-    ocl_options copy_opt = {.copy_buffers = 1};
-    ocl_ctx *copying = NULL;
-    assert_true(ocl_open(&copy_opt, &copying, &tm, &d));
+    ocl_ctx *copying = open_copying(&tm);
     /* W = 90 floats a row: 16 rows start every slice on 128 bytes (PoCL's
      * CL_DEVICE_MEM_BASE_ADDR_ALIGN), 8 rows do not */
     enum { ALIGNED_ROWS = 16, UNALIGNED_ROWS = TILE };
@@ -308,12 +317,8 @@ static void test_in_place(void **state)
 static void test_device_times(void **state)
 {
     fixture *fx = *state;
-    csg_diag d = {{0}, 0};
     ocl_timing tm;
-    memset(&tm, 0, sizeof tm);
-    ocl_options copy_opt = {.copy_buffers = 1};
-    ocl_ctx *copying = NULL;
-    assert_true(ocl_open(&copy_opt, &copying, &tm, &d));
+    ocl_ctx *copying = open_copying(&tm);
     aligned_records a = aligned_alloc_records(true);
     for (int copy = 0; copy < 2; copy++) {
         ocl_ctx *ctx = copy ? copying : fx->ctx;
