@@ -9,8 +9,10 @@
 #      with the pass on the device's clock (kernels, copies, span: the
 #      stats' pass_kernel_s, pass_copy_s, pass_device_s), by slice size
 #      (issue 36: the pass <= 1.5x the kernel).
-#   2. csgtrace compare at 4096x4096 with the defaults (issue 36: hetero
-#      >= 25 % ahead on the node; issue 35: busy >= 90 % in both modes).
+#   2. csgtrace compare at 4096x4096 with the defaults, then with --simd
+#      shadows (the device answers the primary hits' shadow rays too) (issue
+#      36: hetero >= 25 % ahead on the node, >= 1.5x homo with the first
+#      generation on the GPU; issue 35: busy >= 90 % in both modes).
 #   3. bench/node.py (make bench-node's script): serial, homo and hetero at
 #      np = 2 .. the node's CPUs, 2048x2048, tile 32 and 64, PNG (issue 35:
 #      busy >= 95 %, frame speed-up >= 12x with 15 workers, write tail
@@ -71,6 +73,10 @@ scene=$W/s50.pov
 timeout 180 $MPIRUN -np "$NP" "$BIN" compare "$scene" --width "$SIZE" --height "$SIZE" \
     --repeat "$ROUNDS" --stats "$W/compare.json" >"$W/compare.txt" 2>&1
 say "compare: exit $?"
+timeout 180 $MPIRUN -np "$NP" "$BIN" compare "$scene" --width "$SIZE" --height "$SIZE" \
+    --repeat "$ROUNDS" --simd shadows --stats "$W/compare-shadows.json" \
+    >"$W/compare-shadows.txt" 2>&1
+say "compare --simd shadows: exit $?"
 
 say "3. the node (bench/node.py, ${NODE_SIZE}x$NODE_SIZE)"
 timeout 240 python3 "$ROOT/bench/node.py" --bin "$BIN" --mpirun "$MPIRUN" --rounds "$ROUNDS" \
