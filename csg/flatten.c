@@ -366,6 +366,11 @@ static bool material_pattern(flat_builder *fb, const csg_pigment *pig, const csg
     m->map_first = m->map_count = m->pad = 0;
     if (m->pattern == CSG_PATTERN_PLAIN)
         return true;
+    /* (a map's pigment or the sky's has no texture to set it: the wave
+     * sources of its ripples or waves, which every other blob leaves as
+     * it was) */
+    if (m->pattern == CSG_PATTERN_RIPPLES || m->pattern == CSG_PATTERN_WAVES)
+        m->number_of_waves = fb->scene->globals.number_of_waves;
     m->wave = pig->wave;
     m->exponent = (real)pig->exponent;
     m->noise_gen = csg_noise_of(fb->scene, pig);
