@@ -101,6 +101,8 @@ typedef CSG_PK_U lane_uint;
 #define CSG_PK_AS_UINT(x) CSG_CAT(as_, CSG_PK_V(CSG_PK_U))(x)
 #define CSG_PK_AS_REAL(x) CSG_CAT(as_, CSG_PK_V(CSG_PK_R))(x)
 #define CSG_PK_I_AS_U(x) CSG_CAT(as_, CSG_PK_V(CSG_PK_U))(x)
+#define CSG_PK_AS_INT(x) CSG_CAT(as_, CSG_PK_V(CSG_PK_I))(x)      /* realv -> intv, bits */
+#define CSG_PK_TO_INT(x) CSG_CAT(convert_, CSG_PK_V(CSG_PK_I))(x) /* toward zero, as C */
 #define CSG_PK_LOAD(p) CSG_CAT(vload, CSG_PACKET)(0, p)
 #define CSG_PK_STORE(v, p) CSG_CAT(vstore, CSG_PACKET)(v, 0, p)
 
@@ -136,12 +138,14 @@ typedef CSG_PK_U lane_uint;
 
 /* The packet compilation of the shared geometry: v3_add_pk, ...,
  * csg_leaf_first_hit_pk, csg_hit_wins_pk, csg_camera_ray_pk,
- * csg_light_line_pk (lanes.h). */
+ * csg_light_line_pk, offset_point_pk, csg_frame_offset_pk (lanes.h). */
 #define CSG_LANES_PACKET
 #include "vec_lanes.h"
 #include "intersect_lanes.h"
 #include "camera_lanes.h"
 #include "light_lanes.h"
+#include "offset_lanes.h"
+#include "frame_lanes.h"
 #undef CSG_LANES_PACKET
 
 __constant lane_int csg_pk_lane_ids[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};

@@ -203,9 +203,55 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
     }
 }
 
+/* The hit frames (where the shadow rays start, the normal facing the
+ * ray) of every lane that hit surface s, when s is an untransformed
+ * sphere's: csg_hit_frame_of's operations (shadow.h; its normals those of
+ * csg_surface_normal, a sphere's geometric and shading normals being the
+ * same) on every lane at once (frame_lanes.h), kept for those lanes, which
+ * are marked done; 0 and nothing done for any other surface. */
+static inline int pk_sphere_frames(csg_view v, csg_ray_pk rays, realv t, const uint *sl,
+                                   const lane_int *hit, uint s, lane_int *done, real *ax,
+                                   real *ay, real *az, real *nx, real *ny, real *nz)
+{
+    __global const csg_prim *p = &v.prims[CSG_SURF_PRIM(s)];
+    if (p->kind != CSG_PRIM_SPHERE || (p->flags & CSG_PF_XFORM))
+        return 0;
+    vec3_pk wp = csg_hit_point_pk(rays, t);
+    vec3_pk n = csg_sphere_surface_normal_pk(p->p, s, wp);
+    __global const csg_root *root = &v.roots[p->root];
+    intv entering;
+    vec3_pk ngf;
+    realv mag;
+    vec3_pk above = csg_frame_offset_pk(rays, t, wp, n,
+                                        (realv)offset_box_magnitude(root->lo, root->hi),
+                                        &entering, &ngf, &mag);
+    intv away = v3_dot_pk(n, rays.d) > R(0.0);
+    real fx[CSG_PACKET], fy[CSG_PACKET], fz[CSG_PACKET];
+    real gx[CSG_PACKET], gy[CSG_PACKET], gz[CSG_PACKET];
+    CSG_PK_STORE(above.x, fx);
+    CSG_PK_STORE(above.y, fy);
+    CSG_PK_STORE(above.z, fz);
+    CSG_PK_STORE(select(n.x, -n.x, away), gx);
+    CSG_PK_STORE(select(n.y, -n.y, away), gy);
+    CSG_PK_STORE(select(n.z, -n.z, away), gz);
+    for (int k = 0; k < CSG_PACKET; k++) {
+        if (!hit[k] || sl[k] != s)
+            continue;
+        ax[k] = fx[k];
+        ay[k] = fy[k];
+        az[k] = fz[k];
+        nx[k] = gx[k];
+        ny[k] = gy[k];
+        nz[k] = gz[k];
+        done[k] = 1;
+    }
+    return 1;
+}
+
 /* The shadow answers of a packet of records (the grid of csg_primary's
- * packet variant): the lanes' camera rays at once (pk_packet_rays), each
- * lane's hit frame by the one-ray code (shadow.h), then, light by light,
+ * packet variant): the lanes' camera rays at once (pk_packet_rays), the
+ * hit frames of the lanes that met one sphere at once (pk_sphere_frames),
+ * any other lane's by the one-ray code (shadow.h), then, light by light,
  * every lane's line to the light at once (light_lanes.h) and the walk of
  * the lanes that need it as a packet (pk_shadow_walk); the same answers
  * as csg_shadow_masks. */
@@ -235,22 +281,37 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
     CSG_PK_STORE(rays.d.x, rdx);
     CSG_PK_STORE(rays.d.y, rdy);
     CSG_PK_STORE(rays.d.z, rdz);
+    real tl[CSG_PACKET];
+    uint sl[CSG_PACKET];
+    lane_int done[CSG_PACKET];
     for (int k = 0; k < CSG_PACKET; k++) {
         int col = c0 + k % CSG_PACKET_COLS, row = r0 + k / CSG_PACKET_COLS;
         known[k] = 0u;
         lit[k] = 0u;
         ax[k] = ay[k] = az[k] = nx[k] = ny[k] = nz[k] = R(0.0); /* lanes without a hit */
+        tl[k] = R(0.0);
+        sl[k] = CSG_SURF_NONE;
+        done[k] = 0;
         hit[k] = col < cols && row < rows;
         if (!hit[k])
             continue;
         at[k] = (size_t)row * (size_t)cols + (size_t)col;
-        hit[k] = surf_in[at[k]] != CSG_SURF_NONE;
-        if (!hit[k])
+        sl[k] = surf_in[at[k]];
+        tl[k] = t_in[at[k]];
+        hit[k] = sl[k] != CSG_SURF_NONE;
+    }
+    /* each lane's frame: the lanes that hit one untransformed sphere's
+     * surface together (pk_sphere_frames), any other lane by the one-ray
+     * code */
+    for (int k = 0; k < CSG_PACKET; k++) {
+        if (!hit[k] || done[k] ||
+            pk_sphere_frames(v, rays, CSG_PK_LOAD(tl), sl, hit, sl[k], done, ax, ay, az, nx, ny,
+                             nz))
             continue;
         csg_ray r;
         r.o = v3(rox[k], roy[k], roz[k]);
         r.d = v3(rdx[k], rdy[k], rdz[k]);
-        csg_hit_frame f = csg_hit_frame_of(v, r, t_in[at[k]], surf_in[at[k]]);
+        csg_hit_frame f = csg_hit_frame_of(v, r, tl[k], sl[k]);
         vec3 nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n;
         ax[k] = f.above.x;
         ay[k] = f.above.y;

@@ -1377,6 +1377,36 @@ static void test_curved_shadows(void **state)
     csg_blob_free(&blob);
 }
 
+/* Spheres whose hit frames the packet kernel makes for every lane that
+ * met one at once (simd_kernels/primary.cl, pk_sphere_frames; the one-ray
+ * code for the rest): a sphere at the origin (points in the near-zero
+ * band of the offset, offset.h, beside points outside it), one carved out
+ * of a box (its surface flipped), a huge one far off (the box magnitude
+ * bound), one scaled unevenly (transformed: the one-ray code), spheres
+ * side by side in one packet, lights grazing them; the answers equal
+ * C's in both variants. */
+static void test_sphere_frame_shadows(void **state)
+{
+    fixture *fx = *state;
+    static const char sdl[] =
+        "camera { location <0.3, 1.5, -4> look_at <0, 0.2, 0> }\n"
+        "plane { y, -1.2 pigment { color rgb 1 } }\n"
+        "sphere { 0, 0.6 pigment { color rgb 1 } }\n"
+        "difference { box { <1, -1.2, -0.5>, <2, 0.2, 0.5> } sphere { <1.5, 0.2, 0>, 0.45 }\n"
+        "  pigment { color rgb <1, 0.5, 0.2> } }\n"
+        "sphere { <0, -1e4, 3e4>, 2.99e4 pigment { color rgb 0.5 } }\n"
+        "sphere { <-1.5, 0, 0>, 0.5 scale <1, 2, 1> pigment { color rgb <0.2, 1, 0.2> } }\n"
+        "sphere { <-0.7, -0.9, -1.5>, 0.05 } sphere { <-0.6, -0.9, -1.5>, 0.05 }\n"
+        "sphere { <-0.65, -0.8, -1.5>, 0.05 }\n"
+        "light_source { <-4, 6, -5> color rgb 1 }\n"
+        "light_source { <6, 0.3, -1> color rgb 0.5 }\n"
+        "light_source { <0, 0.6, 0> color rgb 0.3 }\n";
+    csg_blob blob = text_blob("sphere frames", sdl, 96, 72, 1);
+    for (int var = 0; var < VARIANTS; var++)
+        assert_true(check_shadow_masks(fx->ctx[var], &blob, "sphere frames") > 96 * 72 / 4);
+    csg_blob_free(&blob);
+}
+
 /* Random scenes of many opaque objects (CSG, planes, a deep BVH): the
  * packet walk of the shadow rays must reach exactly the roots the one-ray
  * walk reaches (a child's box may pass where its parent's did not: a
@@ -1538,6 +1568,7 @@ int main(void)
         cmocka_unit_test(test_shadow_answers),
         cmocka_unit_test(test_shadow_answers_random),
         cmocka_unit_test(test_curved_shadows),
+        cmocka_unit_test(test_sphere_frame_shadows),
     };
     return cmocka_run_group_tests(tests, group_setup, group_teardown);
 }

@@ -63,15 +63,6 @@ typedef int32_t offset_bits;
 #define OFFSET_ORIGIN (R(1.0) / R(32.0))
 #define OFFSET_ERR_ULPS R(16.0)
 
-/* The magnitude of the computation that produced o + t d. */
-CSG_FN real offset_magnitude(vec3 o, vec3 d, real t)
-{
-    real om = r_fmax(r_fabs(o.x), r_fmax(r_fabs(o.y), r_fabs(o.z)));
-    real dm = r_fmax(r_fabs(d.x), r_fmax(r_fabs(d.y), r_fabs(d.z)));
-    real m = r_fmax(om, t * dm);
-    return m == m ? m : R(0.0); /* a NaN magnitude adds nothing */
-}
-
 /* The magnitude of the object's coordinates, from its world bounding box
  * (infinite bounds skipped): a point on a sphere of radius 1e4 is found
  * with errors of ulps of 1e4, however near the ray's origin it lies. */
@@ -87,39 +78,27 @@ CSG_FN real offset_box_magnitude(CSG_GLOBAL const real *lo, CSG_GLOBAL const rea
     return m;
 }
 
-/* Wächter and Binder's offset of one component, near-zero band scaled. */
-CSG_FN real offset_wb(real p, real n, real scale)
-{
-    if (r_fabs(p) < OFFSET_ORIGIN * scale)
-        return p + OFFSET_FLOAT_SCALE * scale * n;
-    offset_bits step = (offset_bits)(OFFSET_INT_SCALE * n);
 #ifdef __OPENCL_VERSION__
-    offset_bits bits = OFFSET_AS_BITS(p);
-    bits += p < R(0.0) ? -step : step;
-    return OFFSET_AS_REAL(bits);
+CSG_FN offset_bits offset_as_bits(real p) { return OFFSET_AS_BITS(p); }
+CSG_FN real offset_as_real(offset_bits b) { return OFFSET_AS_REAL(b); }
 #else
-    offset_bits bits;
-    memcpy(&bits, &p, sizeof p);
-    bits += p < R(0.0) ? -step : step;
-    real q;
-    memcpy(&q, &bits, sizeof q);
-    return q;
+CSG_FN offset_bits offset_as_bits(real p)
+{
+    offset_bits b;
+    memcpy(&b, &p, sizeof p);
+    return b;
+}
+CSG_FN real offset_as_real(offset_bits b)
+{
+    real p;
+    memcpy(&p, &b, sizeof p);
+    return p;
+}
 #endif
-}
 
-CSG_FN real offset_component(real p, real n, real m)
-{
-    real wb = offset_wb(p, n, r_fmin(R(1.0), m));
-    real ab = p + OFFSET_ERR_ULPS * OFFSET_UNIT_ROUNDOFF * m * n;
-    return n >= R(0.0) ? r_fmax(wb, ab) : r_fmin(wb, ab);
-}
-
-/* p moved off the surface along n (unit, pointing to the side the new ray
- * leaves to); m from offset_magnitude of the ray that found p. */
-CSG_FN vec3 offset_point(vec3 p, vec3 n, real m)
-{
-    return v3(offset_component(p.x, n.x, m), offset_component(p.y, n.y, m),
-              offset_component(p.z, n.z, m));
-}
+/* offset_magnitude, offset_wb, offset_component, offset_point: the one-ray
+ * compilation of offset_lanes.h (simd_kernels/packet.h compiles them for a
+ * packet: ..._pk). */
+#include "offset_lanes.h"
 
 #endif

@@ -41,10 +41,14 @@ typedef struct {
     vec3 above; /* where reflected and shadow rays start                     */
 } csg_hit_frame;
 
+/* csg_hit_point, csg_frame_offset, csg_sphere_surface_normal: the one-ray
+ * compilation of frame_lanes.h. */
+#include "frame_lanes.h"
+
 CSG_FN csg_hit_frame csg_hit_frame_of(csg_view v, csg_ray r, real t, csg_u32 surf)
 {
     csg_hit_frame f;
-    f.p = v3_add(r.o, v3_scale(r.d, t));
+    f.p = csg_hit_point(r, t);
     f.n = csg_surface_normal(v.prims, surf, f.p);
     /* the side of the geometry decides where secondary rays start and
      * whether the ray enters (a smooth triangle's normals may point
@@ -53,11 +57,11 @@ CSG_FN csg_hit_frame csg_hit_frame_of(csg_view v, csg_ray r, real t, csg_u32 sur
     /* (a curved side's shading normal is its spline's; the ray met the
      * chord, whose normal ng stays) */
     f.n = csg_surface_shading_normal(v, surf, f.p, r.d, f.n);
-    f.entering = v3_dot(f.ng, r.d) < R(0.0);
-    f.ngf = f.entering ? f.ng : v3_neg(f.ng);
     CSG_GLOBAL const csg_root *root = &v.roots[v.prims[CSG_SURF_PRIM(surf)].root];
-    f.mag = r_fmax(offset_magnitude(r.o, r.d, t), offset_box_magnitude(root->lo, root->hi));
-    f.above = offset_point(f.p, f.ngf, f.mag);
+    csg_i32 entering;
+    f.above = csg_frame_offset(r, t, f.p, f.ng, offset_box_magnitude(root->lo, root->hi),
+                               &entering, &f.ngf, &f.mag);
+    f.entering = entering;
     return f;
 }
 
