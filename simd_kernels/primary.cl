@@ -288,15 +288,11 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
      * forward: the kernel's samples -10 %), then each lane's frame */
     intv live;
     csg_ray_pk rays = pk_packet_rays(blob, y0, rows, c0, r0, &live);
-    real rox[CSG_PACKET], roy[CSG_PACKET], roz[CSG_PACKET];
-    real rdx[CSG_PACKET], rdy[CSG_PACKET], rdz[CSG_PACKET];
-    CSG_PK_STORE(rays.o.x, rox);
-    CSG_PK_STORE(rays.o.y, roy);
-    CSG_PK_STORE(rays.o.z, roz);
-    CSG_PK_STORE(rays.d.x, rdx);
-    CSG_PK_STORE(rays.d.y, rdy);
-    CSG_PK_STORE(rays.d.z, rdz);
-    realv tv = CSG_PK_LOAD(tl);
+    /* (a whole packet's t read as rows, composed in registers:
+     * CSG_PK_ROWS_LOAD; its lanes without a hit are never used) */
+    realv tv = c0 + CSG_PACKET_COLS <= cols && r0 + CSG_PACKET_ROWS <= rows
+                   ? CSG_PK_ROWS_LOAD(t_in + (size_t)r0 * (size_t)cols + (size_t)c0, (size_t)cols)
+                   : CSG_PK_LOAD(tl);
     /* each lane's frame: the lanes that hit one untransformed sphere's
      * surface together (pk_sphere_frames), any other lane by the one-ray
      * code */
@@ -304,9 +300,12 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         if (!hit[k] || done[k] ||
             pk_sphere_frames(v, rays, tv, sl, hit, sl[k], done, ax, ay, az, nx, ny, nz))
             continue;
-        csg_ray r;
-        r.o = v3(rox[k], roy[k], roz[k]);
-        r.d = v3(rdx[k], rdy[k], rdz[k]);
+        /* (its camera ray again by the one-ray code, the same bits as its
+         * lane's: the packet's rays kept in arrays for this were read back
+         * whole from narrow stores, a stall the store buffer cannot hide) */
+        int col = c0 + k % CSG_PACKET_COLS;
+        csg_ray r = csg_sample_ray(csg_blob_camera(blob), h->width, h->height, col / h->spp,
+                                   y0 + r0 + k / CSG_PACKET_COLS, h->spp, col % h->spp);
         csg_hit_frame f = csg_hit_frame_of(v, r, tl[k], sl[k]);
         vec3 nf = v3_dot(f.n, r.d) > R(0.0) ? v3_neg(f.n) : f.n;
         ax[k] = f.above.x;
