@@ -130,18 +130,19 @@ typedef CSG_PK_U lane_uint;
 #define CSG_PK_ROW_LOAD(p) CSG_CAT(vload, CSG_PACKET_COLS)(0, p)
 #define CSG_PK_ROW_STORE(v, p) CSG_CAT(vstore, CSG_PACKET_COLS)(v, 0, p)
 #define CSG_PK_ROW_UINT(v) CSG_CAT(convert_uint, CSG_PACKET_COLS)(v)
-/* A whole packet's reals from memory (its rows, `stride` apart), composed
- * in registers: a vector read of a private array just written lane by
- * lane waits until those narrow stores reach the cache (the store buffer
- * does not forward them into one wide load). */
+/* A whole packet's values from memory (its rows, `stride` apart) as a
+ * vector of type T (realv, CSG_PK_V(uint)), composed in registers: a
+ * vector read of a private array just written lane by lane waits until
+ * those narrow stores reach the cache (the store buffer does not forward
+ * them into one wide load). */
 #if CSG_PACKET_ROWS == 1
-#define CSG_PK_ROWS_LOAD(p, stride) CSG_PK_ROW_LOAD(p)
+#define CSG_PK_ROWS_LOAD(T, p, stride) CSG_PK_ROW_LOAD(p)
 #elif CSG_PACKET_ROWS == 2
-#define CSG_PK_ROWS_LOAD(p, stride) ((realv)(CSG_PK_ROW_LOAD(p), CSG_PK_ROW_LOAD((p) + (stride))))
+#define CSG_PK_ROWS_LOAD(T, p, stride) ((T)(CSG_PK_ROW_LOAD(p), CSG_PK_ROW_LOAD((p) + (stride))))
 #elif CSG_PACKET_ROWS == 4
-#define CSG_PK_ROWS_LOAD(p, stride)                                                        \
-    ((realv)(CSG_PK_ROW_LOAD(p), CSG_PK_ROW_LOAD((p) + (stride)),                          \
-             CSG_PK_ROW_LOAD((p) + 2 * (stride)), CSG_PK_ROW_LOAD((p) + 3 * (stride))))
+#define CSG_PK_ROWS_LOAD(T, p, stride)                                                     \
+    ((T)(CSG_PK_ROW_LOAD(p), CSG_PK_ROW_LOAD((p) + (stride)),                              \
+         CSG_PK_ROW_LOAD((p) + 2 * (stride)), CSG_PK_ROW_LOAD((p) + 3 * (stride))))
 #else
 #error "CSG_PACKET / CSG_PACKET_COLS: 1, 2 or 4 rows (host/pass/ocl.c picks them)"
 #endif

@@ -204,14 +204,18 @@ __kernel void csg_primary(__global const uchar *blob, int y0, int rows, __global
 }
 
 /* The hit frames (where the shadow rays start, the normal facing the
- * ray) of every lane that hit surface s, when s is an untransformed
- * sphere's: csg_hit_frame_of's operations (shadow.h; its normals those of
- * csg_surface_normal, a sphere's geometric and shading normals being the
- * same) on every lane at once (frame_lanes.h), kept for those lanes, which
- * are marked done; 0 and nothing done for any other surface. */
-static inline int pk_sphere_frames(csg_view v, csg_ray_pk rays, realv t, const uint *sl,
-                                   const lane_int *hit, uint s, lane_int *done, real *ax,
-                                   real *ay, real *az, real *nx, real *ny, real *nz)
+ * ray) of the lanes `lanes`, which hit surface s, when s is an
+ * untransformed sphere's: csg_hit_frame_of's operations (shadow.h; its
+ * normals those of csg_surface_normal, a sphere's geometric and shading
+ * normals being the same) on every lane at once (frame_lanes.h), merged
+ * into fr for those lanes; 0 and nothing done for any other surface. */
+typedef struct {
+    vec3_pk above; /* where each lane's shadow rays start             */
+    vec3_pk nf;    /* its normal, turned to face the camera ray       */
+} pk_frames;
+
+static inline int pk_sphere_frames(csg_view v, csg_ray_pk rays, realv t, intv lanes, uint s,
+                                   pk_frames *fr)
 {
     __global const csg_prim *p = &v.prims[CSG_SURF_PRIM(s)];
     if (p->kind != CSG_PRIM_SPHERE || (p->flags & CSG_PF_XFORM))
@@ -226,18 +230,11 @@ static inline int pk_sphere_frames(csg_view v, csg_ray_pk rays, realv t, const u
                                         (realv)offset_box_magnitude(root->lo, root->hi),
                                         &entering, &ngf, &mag);
     intv away = v3_dot_pk(n, rays.d) > R(0.0);
-    lane_int same[CSG_PACKET]; /* the lanes whose frames these are */
-    for (int k = 0; k < CSG_PACKET; k++) {
-        same[k] = hit[k] && sl[k] == s ? -1 : 0;
-        done[k] |= same[k];
-    }
-    intv m = CSG_PK_LOAD(same);
-    CSG_PK_STORE(select(CSG_PK_LOAD(ax), above.x, m), ax);
-    CSG_PK_STORE(select(CSG_PK_LOAD(ay), above.y, m), ay);
-    CSG_PK_STORE(select(CSG_PK_LOAD(az), above.z, m), az);
-    CSG_PK_STORE(select(CSG_PK_LOAD(nx), select(n.x, -n.x, away), m), nx);
-    CSG_PK_STORE(select(CSG_PK_LOAD(ny), select(n.y, -n.y, away), m), ny);
-    CSG_PK_STORE(select(CSG_PK_LOAD(nz), select(n.z, -n.z, away), m), nz);
+    fr->above = v3_pk(select(fr->above.x, above.x, lanes), select(fr->above.y, above.y, lanes),
+                      select(fr->above.z, above.z, lanes));
+    fr->nf = v3_pk(select(fr->nf.x, select(n.x, -n.x, away), lanes),
+                   select(fr->nf.y, select(n.y, -n.y, away), lanes),
+                   select(fr->nf.z, select(n.z, -n.z, away), lanes));
     return 1;
 }
 
@@ -258,11 +255,8 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         return;
     csg_view v = csg_blob_view(blob);
     __global const csg_flat_light *lights = (__global const csg_flat_light *)(blob + h->off_lights);
-    real ax[CSG_PACKET], ay[CSG_PACKET], az[CSG_PACKET];
-    real nx[CSG_PACKET], ny[CSG_PACKET], nz[CSG_PACKET];
     lane_int hit[CSG_PACKET];
     uint known[CSG_PACKET], lit[CSG_PACKET];
-    size_t at[CSG_PACKET];
     real tl[CSG_PACKET];
     uint sl[CSG_PACKET];
     lane_int done[CSG_PACKET];
@@ -270,39 +264,61 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         int col = c0 + k % CSG_PACKET_COLS, row = r0 + k / CSG_PACKET_COLS;
         known[k] = 0u;
         lit[k] = 0u;
-        ax[k] = ay[k] = az[k] = nx[k] = ny[k] = nz[k] = R(0.0); /* lanes without a hit */
         tl[k] = R(0.0);
         sl[k] = CSG_SURF_NONE;
         done[k] = 0;
         hit[k] = col < cols && row < rows;
         if (!hit[k])
             continue;
-        at[k] = (size_t)row * (size_t)cols + (size_t)col;
-        sl[k] = surf_in[at[k]];
-        tl[k] = t_in[at[k]];
+        size_t at = (size_t)row * (size_t)cols + (size_t)col;
+        sl[k] = surf_in[at];
+        tl[k] = t_in[at];
         hit[k] = sl[k] != CSG_SURF_NONE;
     }
-    /* the lanes' camera rays at once (after the records: the loop's
-     * narrow stores into tl reach the cache while they are computed,
-     * before the packet reads tl whole, which the store buffer cannot
-     * forward: the kernel's samples -10 %), then each lane's frame */
+    /* The packet's t and surfaces as vectors: a whole packet's read by
+     * rows into registers (CSG_PK_ROWS_LOAD), not from the arrays the
+     * loop above has just written lane by lane (a wide read of narrow
+     * stores waits for them to reach the cache); the frames below stay
+     * in registers for the same reason. */
+    realv tv;
+    CSG_PK_V(uint) sv;
+    if (c0 + CSG_PACKET_COLS <= cols && r0 + CSG_PACKET_ROWS <= rows) {
+        size_t first = (size_t)r0 * (size_t)cols + (size_t)c0;
+        tv = CSG_PK_ROWS_LOAD(realv, t_in + first, (size_t)cols);
+        sv = CSG_PK_ROWS_LOAD(CSG_PK_V(uint), surf_in + first, (size_t)cols);
+    } else {
+        tv = CSG_PK_LOAD(tl);
+        sv = CSG_PK_LOAD(sl);
+    }
+    intv hitv = CSG_PK_TO_INT(sv != (CSG_PK_V(uint))CSG_SURF_NONE); /* (sl: none beyond) */
+    /* the lanes' camera rays at once, then each lane's frame: the lanes
+     * that hit one untransformed sphere's surface together
+     * (pk_sphere_frames), any other lane by the one-ray code */
     intv live;
     csg_ray_pk rays = pk_packet_rays(blob, y0, rows, c0, r0, &live);
-    /* (a whole packet's t read as rows, composed in registers:
-     * CSG_PK_ROWS_LOAD; its lanes without a hit are never used) */
-    realv tv = c0 + CSG_PACKET_COLS <= cols && r0 + CSG_PACKET_ROWS <= rows
-                   ? CSG_PK_ROWS_LOAD(t_in + (size_t)r0 * (size_t)cols + (size_t)c0, (size_t)cols)
-                   : CSG_PK_LOAD(tl);
-    /* each lane's frame: the lanes that hit one untransformed sphere's
-     * surface together (pk_sphere_frames), any other lane by the one-ray
-     * code */
+    pk_frames fr;
+    fr.above = fr.nf = v3_pk((realv)R(0.0), (realv)R(0.0), (realv)R(0.0)); /* (no hit) */
+    real ax[CSG_PACKET], ay[CSG_PACKET], az[CSG_PACKET]; /* the one-ray code's frames, */
+    real nx[CSG_PACKET], ny[CSG_PACKET], nz[CSG_PACKET];
+    lane_int one_ray[CSG_PACKET]; /* in these lanes */
+    bool any_one_ray = false;
     for (int k = 0; k < CSG_PACKET; k++) {
-        if (!hit[k] || done[k] ||
-            pk_sphere_frames(v, rays, tv, sl, hit, sl[k], done, ax, ay, az, nx, ny, nz))
+        if (!hit[k] || done[k])
             continue;
-        /* (its camera ray again by the one-ray code, the same bits as its
-         * lane's: the packet's rays kept in arrays for this were read back
-         * whole from narrow stores, a stall the store buffer cannot hide) */
+        intv same = hitv & CSG_PK_TO_INT(sv == (CSG_PK_V(uint))sl[k]);
+        if (pk_sphere_frames(v, rays, tv, same, sl[k], &fr)) {
+            for (int j = k + 1; j < CSG_PACKET; j++)
+                done[j] |= sl[j] == sl[k];
+            continue;
+        }
+        if (!any_one_ray)
+            for (int j = 0; j < CSG_PACKET; j++) {
+                one_ray[j] = 0;
+                ax[j] = ay[j] = az[j] = nx[j] = ny[j] = nz[j] = R(0.0);
+            }
+        any_one_ray = true;
+        /* (its camera ray again by the one-ray code: the same bits as its
+         * lane's) */
         int col = c0 + k % CSG_PACKET_COLS;
         csg_ray r = csg_sample_ray(csg_blob_camera(blob), h->width, h->height, col / h->spp,
                                    y0 + r0 + k / CSG_PACKET_COLS, h->spp, col % h->spp);
@@ -314,6 +330,14 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
         nx[k] = nf.x;
         ny[k] = nf.y;
         nz[k] = nf.z;
+        one_ray[k] = -1;
+    }
+    if (any_one_ray) {
+        intv m = CSG_PK_LOAD(one_ray);
+        fr.above = v3_pk(select(fr.above.x, CSG_PK_LOAD(ax), m), select(fr.above.y, CSG_PK_LOAD(ay), m),
+                         select(fr.above.z, CSG_PK_LOAD(az), m));
+        fr.nf = v3_pk(select(fr.nf.x, CSG_PK_LOAD(nx), m), select(fr.nf.y, CSG_PK_LOAD(ny), m),
+                      select(fr.nf.z, CSG_PK_LOAD(nz), m));
     }
     int n = h->light_count < CSG_SHADOW_LIGHTS ? h->light_count : CSG_SHADOW_LIGHTS;
     for (int i = 0; i < n; i++) {
@@ -322,12 +346,11 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
             continue;
         /* every lane's line to the light at once (light_lanes.h): the
          * same operations per lane as csg_shadow_masks' one ray */
-        vec3_pk o = v3_pk(CSG_PK_LOAD(ax), CSG_PK_LOAD(ay), CSG_PK_LOAD(az));
-        vec3_pk nf = v3_pk(CSG_PK_LOAD(nx), CSG_PK_LOAD(ny), CSG_PK_LOAD(nz));
+        vec3_pk o = fr.above;
         vec3_pk l;
         realv dist;
         intv line = csg_light_line_pk(lt, o, &l, &dist);
-        intv okv = (CSG_PK_LOAD(hit) != (intv)0) & line & (v3_dot_pk(nf, l) > R(0.0));
+        intv okv = hitv & line & (v3_dot_pk(fr.nf, l) > R(0.0));
         /* (a lane that takes no part: a finite ray) */
         l = v3_pk(select((realv)R(0.0), l.x, okv), select((realv)R(0.0), l.y, okv),
                   select((realv)R(1.0), l.z, okv));
