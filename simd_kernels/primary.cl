@@ -334,7 +334,8 @@ __kernel void csg_shadows(__global const uchar *blob, int y0, int rows,
     }
     if (any_one_ray) {
         intv m = CSG_PK_LOAD(one_ray);
-        fr.above = v3_pk(select(fr.above.x, CSG_PK_LOAD(ax), m), select(fr.above.y, CSG_PK_LOAD(ay), m),
+        fr.above = v3_pk(select(fr.above.x, CSG_PK_LOAD(ax), m),
+                         select(fr.above.y, CSG_PK_LOAD(ay), m),
                          select(fr.above.z, CSG_PK_LOAD(az), m));
         fr.nf = v3_pk(select(fr.nf.x, CSG_PK_LOAD(nx), m), select(fr.nf.y, CSG_PK_LOAD(ny), m),
                       select(fr.nf.z, CSG_PK_LOAD(nz), m));

@@ -600,7 +600,8 @@ int pass_prepare(pass *p, const tile_grid *g, link_idle *wake, csg_diag *d)
     size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp; /* records */
     p->grid = *g;
     p->wake = wake;
-    p->t = memory_pages_alloc(n * g->real_size, false); /* (written in place where the device can) */
+    /* (small pages: written in place where the device can, host/memory.h) */
+    p->t = memory_pages_alloc(n * g->real_size, false);
     p->surf = memory_pages_alloc(n * sizeof *p->surf, false);
     if (p->cfg.shadows) {
         p->known = memory_pages_alloc(n * sizeof *p->known, false);
