@@ -117,8 +117,12 @@ TEST_BINS_ASAN := $(TEST_SRCS:tests/%.c=$(BA)/tests/%)
 .PHONY: all asan deps deps-bench test demo bench bench-full bench-accuracy bench-speed bench-primary bench-paging golden fuzz fuzz-seeds \
 	bench-node \
 	clean install uninstall
+# (the harnesses that link the engine and the OpenCL pass too: an A/B that
+# copies one after `make all` would otherwise time the old code)
+BENCH_HARNESSES := $(addprefix $(B)/bench/,primary_rays primary_pass shadow_pass png_write \
+	store_threads)
 all: $(B)/csgtrace $(B)/csgtrace-test $(B)/$(MODULE) $(TEST_BINS) $(B)/tests/rogue_worker \
-	$(B)/tests/progress_probe
+	$(B)/tests/progress_probe $(BENCH_HARNESSES)
 asan: $(BA)/csgtrace $(BA)/$(MODULE) $(TEST_BINS_ASAN)
 
 
