@@ -46,7 +46,7 @@ uint64_t memory_tile_bytes(bool hetero);
  * - The hit records of hetero's pass (host/pass/pass.c), its arrays a
  *   step of each in turn, so that the first slices' records are resident
  *   first.  Fresh, their 134 MB at 4096x4096 took 65-100 ms of page
- *   faults touched in small pages on this machine's core (35-45 ms
+ *   faults touched in small pages on this machine's core (34-44 ms
  *   through MADV_POPULATE_WRITE), where the H200's kernel took 18 ms for
  *   the whole frame: the driver's copies into the arrays (a discrete GPU)
  *   took them, after each slice's kernels.

@@ -488,6 +488,14 @@ int pass_slice_rows(const tile_grid *g)
     return rows < (size_t)g->height ? (int)rows : g->height;
 }
 
+/* The bytes of each record array of a grid (t, surf, known, lit). */
+static void pass_record_bytes(const tile_grid *g, size_t bytes[4])
+{
+    size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp;
+    bytes[0] = n * g->real_size;
+    bytes[1] = bytes[2] = bytes[3] = n * sizeof(uint32_t);
+}
+
 /* A device that is not the host's CPU (a GPU) has its driver copy each
  * slice's records into the arrays after its kernels, and each fresh page
  * faults there: 134 MB at 4096x4096, 65-100 ms of faults on one core of
@@ -495,15 +503,14 @@ int pass_slice_rows(const tile_grid *g)
  * thread faults them in meanwhile, while the device traces (host/
  * memory.h).  On a CPU device the kernels' threads are the cores a thread
  * more would take: 2048x2048 on 2 cores, the pass 0.083 s with it, 0.061 s
- * without (5 rounds interleaved, medians). */
+ * without (5 rounds interleaved, medians; the records then in huge pages). */
 static void pass_prefault_records(pass *p)
 {
     if (ocl_cpu_device(p->ctx))
         return;
-    size_t n = (size_t)p->grid.width * (size_t)p->grid.height * (size_t)p->grid.spp;
     void *const arrays[] = {p->t, p->surf, p->known, p->lit};
-    const size_t bytes[] = {n * p->grid.real_size, n * sizeof *p->surf, n * sizeof *p->known,
-                            n * sizeof *p->lit};
+    size_t bytes[4];
+    pass_record_bytes(&p->grid, bytes);
     memory_prefault_start_arrays(&p->records_prefault, arrays, bytes, 4);
 }
 
@@ -600,12 +607,14 @@ int pass_prepare(pass *p, const tile_grid *g, link_idle *wake, csg_diag *d)
     size_t n = (size_t)g->width * (size_t)g->height * (size_t)g->spp; /* records */
     p->grid = *g;
     p->wake = wake;
+    size_t bytes[4];
+    pass_record_bytes(g, bytes);
     /* (small pages: written in place where the device can, host/memory.h) */
-    p->t = memory_pages_alloc(n * g->real_size, false);
-    p->surf = memory_pages_alloc(n * sizeof *p->surf, false);
+    p->t = memory_pages_alloc(bytes[0], false);
+    p->surf = memory_pages_alloc(bytes[1], false);
     if (p->cfg.shadows) {
-        p->known = memory_pages_alloc(n * sizeof *p->known, false);
-        p->lit = memory_pages_alloc(n * sizeof *p->lit, false);
+        p->known = memory_pages_alloc(bytes[2], false);
+        p->lit = memory_pages_alloc(bytes[3], false);
     }
     p->tile_hits = calloc((size_t)tile_count(g), sizeof *p->tile_hits);
     if (!p->t || !p->surf || !p->tile_hits || (p->cfg.shadows && (!p->known || !p->lit))) {
